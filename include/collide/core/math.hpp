@@ -1,0 +1,51 @@
+#pragma once
+/// @file
+/// The math layer: glm vectors under short names, plus the few 2D helpers glm does not have
+/// (cross products of 2D vectors, perpendiculars). Everything in collide is `float` unless a
+/// comment says why not.
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <cmath>
+
+namespace collide {
+
+using Vec2 = glm::vec2;
+using Vec3 = glm::vec3;
+
+/// z of the 3D cross product of (a, 0) and (b, 0): positive when b is counter-clockwise of a.
+[[nodiscard]] constexpr float cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
+/// Cross of a 2D vector with the scalar z-axis vector s*k: (s*a.y, -s*a.x).
+[[nodiscard]] constexpr Vec2 cross(Vec2 a, float s) noexcept { return {s * a.y, -s * a.x}; }
+/// Cross of the scalar z-axis vector s*k with a 2D vector: (-s*a.y, s*a.x).
+[[nodiscard]] constexpr Vec2 cross(float s, Vec2 a) noexcept { return {-s * a.y, s * a.x}; }
+/// `a` rotated 90 degrees counter-clockwise.
+[[nodiscard]] constexpr Vec2 left_perp(Vec2 a) noexcept { return {-a.y, a.x}; }
+/// `a` rotated 90 degrees clockwise: the outward normal direction of a counter-clockwise edge.
+[[nodiscard]] constexpr Vec2 right_perp(Vec2 a) noexcept { return {a.y, -a.x}; }
+
+[[nodiscard]] constexpr float dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
+[[nodiscard]] constexpr float length_squared(Vec2 a) noexcept { return a.x * a.x + a.y * a.y; }
+[[nodiscard]] inline float length(Vec2 a) noexcept { return std::sqrt(length_squared(a)); }
+[[nodiscard]] constexpr float distance_squared(Vec2 a, Vec2 b) noexcept {
+  return length_squared(b - a);
+}
+[[nodiscard]] inline float distance(Vec2 a, Vec2 b) noexcept { return length(b - a); }
+
+/// `a` scaled to unit length; the zero vector when `a` is too short to have a direction.
+[[nodiscard]] inline Vec2 normalize_or_zero(Vec2 a) noexcept {
+  const float len = length(a);
+  return len > 1e-30f ? a * (1.0f / len) : Vec2{0.0f, 0.0f};
+}
+
+/// Both components finite (not NaN, not infinite).
+[[nodiscard]] inline bool is_finite(Vec2 a) noexcept {
+  return std::isfinite(a.x) && std::isfinite(a.y);
+}
+[[nodiscard]] inline bool is_finite(Vec3 a) noexcept {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+
+}  // namespace collide

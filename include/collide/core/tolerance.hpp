@@ -1,0 +1,36 @@
+#pragma once
+/// @file
+/// Named tolerances. Geometry in collide is in "world units" (metres or pixels, the caller's
+/// choice); tolerances that must scale with the scene are relative to a shape's size and say so.
+
+namespace collide {
+
+/// Relative tolerance of single-precision geometry: results are exact to about this fraction of
+/// the size of the shapes involved (the query spec promises 1e-4 of the scene's size).
+inline constexpr float kRelativeTolerance = 1e-5f;
+
+/// Two polygon vertices closer than this fraction of the polygon's size are the same vertex.
+inline constexpr float kWeldTolerance = 1e-5f;
+
+/// A polygon whose area is below this fraction of its squared size is degenerate (collinear).
+inline constexpr float kDegenerateAreaTolerance = 1e-6f;
+
+/// Contact points within this fraction of the shapes' size of each other are merged.
+inline constexpr float kContactMergeTolerance = 1e-4f;
+
+/// GJK stops when the distance improves by less than this fraction of the current distance
+/// (van den Bergen 2003, 4.3.4).
+inline constexpr float kGjkRelativeTolerance = 1e-6f;
+
+/// GJK iteration cap: far above what convex polygons of kMaxPolygonVertices need.
+inline constexpr int kGjkMaxIterations = 40;
+
+/// When deciding which polygon provides the reference face, prefer A unless B's separation is
+/// larger by this fraction of the shapes' size: keeps the choice stable across frames
+/// (Catto, "Contact Manifolds", GDC 2007).
+inline constexpr float kReferenceFaceTolerance = 1e-3f;
+
+/// Faces closer to parallel than this sine of angle are treated as parallel.
+inline constexpr float kParallelTolerance = 1e-4f;
+
+}  // namespace collide

@@ -1,0 +1,41 @@
+#pragma once
+/// @file
+/// Point queries: the closest point on a shape's surface to a point, the signed distance, and
+/// the Voronoi region (closest feature) the point lies in (the lesson's "Voronoi Regions";
+/// Ericson, Real-Time Collision Detection, 5.1).
+
+#include <collide/narrow/manifold.hpp>
+#include <collide/shape/shape2d.hpp>
+
+namespace collide {
+
+/// A feature of a shape's core: which vertex or edge a point is closest to.
+/// Circle: face 0. Capsule and segment: vertex 0 (end a), vertex 1 (end b), edge 0 (the side to
+/// the right of a -> b), edge 1 (the side to the right of b -> a). Polygon: vertex i, or edge i
+/// (from vertex i to i + 1).
+struct Feature {
+  FeatureType type = FeatureType::vertex;
+  int index = 0;
+  friend constexpr bool operator==(Feature, Feature) noexcept = default;
+};
+
+/// Result of a point query. World space.
+struct PointQuery {
+  bool inside = false;      ///< the point lies strictly inside the solid shape
+  float distance = 0.0f;    ///< signed distance to the surface: negative inside, world units
+  Vec2 closest{0.0f, 0.0f}; ///< closest point on the surface
+  /// Voronoi feature of the core the point lies in: the feature whose region holds the point
+  /// outside the core; inside a polygon's core, the edge of least penetration.
+  Feature feature{};
+};
+
+/// Closest surface point of shape placed by `xf` to world point `point`, with signed distance
+/// and Voronoi feature. Shapes must be valid; `point` and `xf` finite.
+template <Shape2DType S>
+[[nodiscard]] PointQuery closest_point(const S& shape, const Transform& xf, Vec2 point) noexcept;
+
+/// `closest_point` for a shape whose type is known only at run time.
+[[nodiscard]] PointQuery closest_point(const Shape2D& shape, const Transform& xf,
+                                       Vec2 point) noexcept;
+
+}  // namespace collide

@@ -1,0 +1,68 @@
+#pragma once
+/// @file
+/// `distance`: how far apart two convex shapes are, and their closest points, by GJK
+/// (Gilbert, Johnson & Keerthi 1988; Ericson, Real-Time Collision Detection, 9.5; the simplex
+/// solver by signed barycentric coordinates of Catto, "Computing Distance", GDC 2010).
+///
+/// GJK runs on the shapes' cores (see ConvexProxy) and applies the radii after convergence,
+/// which is exact for circles, capsules and rounded polygons. A `SimplexCache` carried from one
+/// frame to the next warm-starts GJK with last frame's closest features.
+
+#include <collide/narrow/support.hpp>
+
+#include <array>
+#include <cstdint>
+
+namespace collide {
+
+/// GJK warm-start state: the vertex pairs of the last simplex. Zero-initialise for a cold
+/// start; pass the same cache for the same pair of shapes every frame.
+struct SimplexCache {
+  int count = 0;                          ///< simplex vertices stored, 0..3
+  std::array<std::uint8_t, 3> index_a{};  ///< core point indices on A
+  std::array<std::uint8_t, 3> index_b{};  ///< core point indices on B
+};
+
+/// How GJK ended.
+enum class GjkStatus : std::uint8_t {
+  separated,   ///< cores apart; distance and points are exact
+  overlapped,  ///< cores overlap (the origin is inside the Minkowski difference)
+  max_iterations,  ///< hit kGjkMaxIterations; the result is the best found (never seen in tests)
+};
+
+/// Result of a distance query. All points world space.
+struct DistanceResult {
+  /// Distance between the shapes (radii applied), world units; 0 when they overlap.
+  float distance = 0.0f;
+  /// Closest point on A's surface. When overlapping: a point of A inside B (the cores' witness).
+  Vec2 point_a{0.0f, 0.0f};
+  /// Closest point on B's surface. When overlapping: a point of B inside A.
+  Vec2 point_b{0.0f, 0.0f};
+  /// Unit direction from A to B along the closest points; zero when the cores overlap.
+  Vec2 normal{0.0f, 0.0f};
+  int iterations = 0;  ///< GJK iterations used
+  GjkStatus status = GjkStatus::separated;
+};
+
+/// GJK distance between two convex proxies placed by `xa` and `xb`. `cache` (optional) is read
+/// to warm-start and written with the final simplex. Proxies must hold 1..kMaxPolygonVertices
+/// finite points.
+[[nodiscard]] DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa,
+                                          const ConvexProxy& b, const Transform& xb,
+                                          SimplexCache* cache = nullptr) noexcept;
+
+/// Distance and closest points between shape A placed by `xa` and shape B placed by `xb`, any
+/// pair of 2D shape types. Swapping A and B swaps the points and flips the normal.
+template <Shape2DType A, Shape2DType B>
+[[nodiscard]] DistanceResult distance(const A& a, const Transform& xa, const B& b,
+                                      const Transform& xb,
+                                      SimplexCache* cache = nullptr) noexcept {
+  return gjk_distance(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+}
+
+/// `distance` for shapes of types known only at run time.
+[[nodiscard]] DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,
+                                      const Transform& xb,
+                                      SimplexCache* cache = nullptr) noexcept;
+
+}  // namespace collide

@@ -1,0 +1,121 @@
+#include <collide/core/error.hpp>
+#include <collide/shape/polygon.hpp>
+
+#include "support/test_util.hpp"
+
+#include <limits>
+
+namespace collide {
+namespace {
+
+TEST(MakePolygon, HullOfShuffledPointsIsCounterClockwiseAndConvex) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<Vec2> pts;
+    const int n = 3 + static_cast<int>(rng() % 40);
+    for (int i = 0; i < n; ++i) pts.push_back(test::random_point(rng, 10.0f));
+    Polygon p;
+    try {
+      p = make_polygon(pts);
+    } catch (const InvalidInput&) {
+      continue;  // collinear draws are legitimately rejected
+    }
+    ASSERT_GE(p.count, 3);
+    for (int i = 0; i < p.count; ++i) {
+      const Vec2 a = p.vertex(i), b = p.vertex(i + 1), c = p.vertex(i + 2);
+      EXPECT_GT(cross(b - a, c - b), 0.0f) << "corner " << i + 1 << " not a left turn";
+      EXPECT_NEAR(length(p.normals[i]), 1.0f, 1e-5f);
+      EXPECT_NEAR(dot(p.normals[i], b - a), 0.0f, 1e-4f);
+    }
+    // Every input point is inside the hull (brute force against each edge).
+    for (Vec2 q : pts) {
+      for (int i = 0; i < p.count; ++i) {
+        EXPECT_LE(dot(p.normals[i], q - p.vertices[i]), 1e-4f);
+      }
+    }
+  }
+}
+
+TEST(MakePolygon, RejectsBadInputWithMessage) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<Vec2> two = {{0, 0}, {1, 0}};
+  const std::vector<Vec2> dup = {{0, 0}, {1, 0}, {1, 0}, {0, 0}};
+  const std::vector<Vec2> line = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  const std::vector<Vec2> with_nan = {{0, 0}, {1, 0}, {nan, 1}};
+  const std::vector<Vec2> with_inf = {{0, 0}, {inf, 0}, {0, 1}};
+  const std::vector<Vec2> tri = {{0, 0}, {1, 0}, {0, 1}};
+  EXPECT_THROW((void)make_polygon(two), InvalidInput);
+  EXPECT_THROW((void)make_polygon(dup), InvalidInput);
+  EXPECT_THROW((void)make_polygon(line), InvalidInput);
+  EXPECT_THROW((void)make_polygon(with_inf), InvalidInput);
+  EXPECT_THROW((void)make_polygon(tri, -1.0f), InvalidInput);
+  EXPECT_THROW((void)make_polygon(tri, nan), InvalidInput);
+  try {
+    (void)make_polygon(with_nan);
+    FAIL() << "NaN accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 2"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MakeConvexPolygon, KeepsOrderAndRejectsClockwiseOrConcave) {
+  const std::vector<Vec2> ccw = {{0, 0}, {2, 0}, {2, 1}, {0, 1}};
+  const Polygon p = make_convex_polygon(ccw);
+  ASSERT_EQ(p.count, 4);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(p.vertices[i], ccw[i]);
+  EXPECT_VEC2_NEAR(p.centroid, Vec2(1.0f, 0.5f), 1e-6f);
+
+  const std::vector<Vec2> cw = {{0, 0}, {0, 1}, {2, 1}, {2, 0}};
+  EXPECT_THROW((void)make_convex_polygon(cw), InvalidInput);
+  const std::vector<Vec2> concave = {{0, 0}, {2, 0}, {1, 0.5f}, {2, 1}, {0, 1}};
+  try {
+    (void)make_convex_polygon(concave);
+    FAIL() << "concave accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 2"), std::string::npos) << e.what();
+  }
+  const std::vector<Vec2> straight = {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {0, 1}};
+  EXPECT_THROW((void)make_convex_polygon(straight), InvalidInput);
+  // A pentagram's outline turns left at every corner but winds twice.
+  std::vector<Vec2> star;
+  for (int i = 0; i < 5; ++i) {
+    const float a = 2.0f * test::kPi * static_cast<float>(2 * i) / 5.0f;
+    star.push_back({std::cos(a), std::sin(a)});
+  }
+  EXPECT_THROW((void)make_convex_polygon(star), InvalidInput);
+}
+
+TEST(MakePolygon, SixtyFourVerticesFitTheInlineStorage) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i < kMaxPolygonVertices; ++i) {
+    const float a = 2.0f * test::kPi * static_cast<float>(i) / kMaxPolygonVertices;
+    pts.push_back({std::cos(a), std::sin(a)});
+  }
+  EXPECT_EQ(make_polygon(pts).count, kMaxPolygonVertices);
+  EXPECT_EQ(make_convex_polygon(pts).count, kMaxPolygonVertices);
+  pts.push_back({1.5f, 0.2f});
+  pts.push_back({0.2f, 1.5f});
+  pts.push_back({-1.5f, -0.2f});
+  // Hull has at most 64 + 3 vertices minus whatever the new points swallow: still checked.
+  try {
+    const Polygon p = make_polygon(pts);
+    EXPECT_LE(p.count, kMaxPolygonVertices);
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("kMaxPolygonVertices"), std::string::npos);
+  }
+}
+
+TEST(MakeBox, RotatedBoxAabbMatchesCorners) {
+  const Polygon box = make_box({2.0f, 1.0f}, {1.0f, 1.0f}, test::kPi / 2.0f);
+  const Aabb aabb = compute_aabb(box, Transform::from({10.0f, 0.0f}, 0.0f));
+  EXPECT_NEAR(aabb.min.x, 10.0f, 1e-5f);
+  EXPECT_NEAR(aabb.max.x, 12.0f, 1e-5f);
+  EXPECT_NEAR(aabb.min.y, -1.0f, 1e-5f);
+  EXPECT_NEAR(aabb.max.y, 3.0f, 1e-5f);
+  EXPECT_THROW((void)make_box({0.0f, 1.0f}), InvalidInput);
+  EXPECT_NEAR(signed_area(std::span(box.vertices.data(), 4)), 8.0f, 1e-4f);
+}
+
+}  // namespace
+}  // namespace collide
