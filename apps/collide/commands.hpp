@@ -1,0 +1,12 @@
+#pragma once
+// Each subcommand of the `collide` tool lives in its own `<name>_command.cpp` and registers itself
+// on the top-level CLI11 app through one of these functions (called from main.cpp).
+
+#include <CLI/CLI.hpp>
+
+namespace collide::cli {
+
+/// `collide query [FILE]`: JSON Lines questions in, answers out (spec/query-jsonl.md).
+void register_query_command(CLI::App& app);
+
+}  // namespace collide::cli
