@@ -1,0 +1,28 @@
+# cmake -DSOURCE_DIR=... -DBUILD_DIR=... -DWORK_DIR=... -DMODE=find_package|add_subdirectory -P
+# Installs collide into a scratch prefix (find_package mode) or vendors it (add_subdirectory
+# mode), then configures, builds and runs the consumer project.
+file(REMOVE_RECURSE ${WORK_DIR})
+if(MODE STREQUAL "find_package")
+  execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
+                  RESULT_VARIABLE rc OUTPUT_QUIET)
+  if(rc)
+    message(FATAL_ERROR "install failed")
+  endif()
+  set(configure_args -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+else()
+  set(configure_args -DCOLLIDE_SOURCE_DIR=${SOURCE_DIR})
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/consumer
+                        -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release ${configure_args}
+                RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "consumer configure failed (${MODE})")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "consumer build failed (${MODE})")
+endif()
+execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc)
+if(rc)
+  message(FATAL_ERROR "consumer run failed (${MODE})")
+endif()
