@@ -25,29 +25,11 @@ constexpr float kFarPointTol = 4e-3f;
 
 Transform compose(const Transform& g, const Transform& x) { return mul(g, x); }
 
-/// A pair placed so that about half the draws overlap.
-struct Scene {
-  Shape2D a, b;
-  Transform xa, xb;
-};
-
-/// Rough reach of a random shape of each type from its origin: placement scales with it.
-float reach(ShapeType2D t) {
-  constexpr float kReach[] = {0.35f, 0.55f, 0.5f, 0.25f};
-  return kReach[static_cast<int>(t)];
-}
-
-Scene random_scene(std::mt19937& rng, ShapeType2D ta, ShapeType2D tb) {
-  Scene s{test::random_shape(rng, ta, 1.0f), test::random_shape(rng, tb, 1.0f), {}, {}};
-  s.xa = test::random_transform(rng, 1.0f);
-  const float extent = reach(ta) + reach(tb);
-  s.xb = Transform::from(s.xa.p + test::random_point(rng, extent),
-                         uniform(rng, -test::kPi, test::kPi));
-  return s;
-}
+using test::Scene;
+using test::random_scene;
 
 /// Checks one distance result against brute force; returns the kind of case it was
-/// (0 apart, 1 radii overlap with cores apart, 2 cores overlap).
+/// (0 apart, 1 radii overlap with cores apart, 2 cores overlap, 3 cores touch within kTol).
 int check_against_brute_force(const Scene& s, const DistanceResult& r, const std::string& what) {
   const test::WorldCore ca = test::world_core(s.a, s.xa);
   const test::WorldCore cb = test::world_core(s.b, s.xb);
@@ -75,7 +57,8 @@ int check_against_brute_force(const Scene& s, const DistanceResult& r, const std
     }
     return 0;
   }
-  if (core == 0.0 && r.status == GjkStatus::overlapped) {
+  if (core > 0.0) return 3;  // cores touch within kTol: only the distance is judged
+  if (r.status == GjkStatus::overlapped) {
     // Cores overlap: one witness point, inside both cores.
     EXPECT_LE(distance(r.point_a, r.point_b), kTol) << what;
     EXPECT_LE(test::brute_point_distance(ca.points, {r.point_a.x, r.point_a.y}), kTol) << what;
@@ -89,7 +72,7 @@ TEST(GjkDistance, EveryPairTypeAgreesWithBruteForce) {
   std::mt19937 rng(20261121);
   for (ShapeType2D ta : kAllTypes2D) {
     for (ShapeType2D tb : kAllTypes2D) {
-      std::array<int, 3> kinds{};
+      std::array<int, 4> kinds{};
       int core_overlap_reported = 0;
       const int trials = 400;
       for (int i = 0; i < trials; ++i) {
@@ -105,8 +88,9 @@ TEST(GjkDistance, EveryPairTypeAgreesWithBruteForce) {
       // Both outcomes exercised: apart, and overlapping (radii or cores).
       EXPECT_GT(kinds[0], trials * 3 / 10) << pair;
       EXPECT_GT(kinds[1] + kinds[2], trials * 3 / 10) << pair;
-      // Overlapping cores are reported as such (segments can cross only on a line: rarer).
-      EXPECT_GE(core_overlap_reported, kinds[2] * 95 / 100) << pair;
+      // Overlapping cores are reported as such; cores that merely touch (within rounding) may
+      // come out as apart at a distance of ~0, which the distance check above accepts.
+      EXPECT_LE(kinds[2] - core_overlap_reported, 1 + kinds[2] / 20) << pair;
       if (ta != ShapeType2D::segment || tb != ShapeType2D::segment) {
         if (ta != ShapeType2D::circle && tb != ShapeType2D::circle) EXPECT_GT(kinds[2], 0) << pair;
       }

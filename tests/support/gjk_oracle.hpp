@@ -202,4 +202,25 @@ inline const char* type_label(ShapeType2D t) {
   return names[static_cast<int>(t)];
 }
 
+/// A pair placed so that about half the draws overlap.
+struct Scene {
+  Shape2D a, b;
+  Transform xa, xb;
+};
+
+/// Rough reach of a random shape of each type from its origin: placement scales with it.
+inline float reach(ShapeType2D t) {
+  constexpr float kReach[] = {0.35f, 0.55f, 0.5f, 0.15f};
+  return kReach[static_cast<int>(t)];
+}
+
+/// Shapes about 1 unit across (random_shape), B placed near A so that about half overlap.
+inline Scene random_scene(std::mt19937& rng, ShapeType2D ta, ShapeType2D tb) {
+  Scene s{random_shape(rng, ta, 1.0f), random_shape(rng, tb, 1.0f), {}, {}};
+  s.xa = random_transform(rng, 1.0f);
+  const float extent = reach(ta) + reach(tb);
+  s.xb = Transform::from(s.xa.p + random_point(rng, extent), uniform(rng, -kPi, kPi));
+  return s;
+}
+
 }  // namespace collide::test
