@@ -12,9 +12,12 @@ namespace collide {
 namespace {
 
 /// The starting simplex: the cached one if its indices are valid for these proxies and it is
-/// not degenerate now (the shapes may have moved since), else one vertex (0, 0).
+/// not degenerate now (the shapes may have moved since), else the seed vertex (gjk.hpp), which
+/// costs one support evaluation: `seeded` is then true.
 detail::GjkSimplex start_simplex(const ConvexProxy& a, const ConvexProxy& b,
-                                 const Transform& b_in_a, const SimplexCache* cache) noexcept {
+                                 const Transform& b_in_a, const SimplexCache* cache,
+                                 bool& seeded) noexcept {
+  seeded = false;
   detail::GjkSimplex s;
   const int cached = cache != nullptr ? cache->count : 0;
   if (cached >= 1 && cached <= 3) {
@@ -44,8 +47,9 @@ detail::GjkSimplex start_simplex(const ConvexProxy& a, const ConvexProxy& b,
       return s;
     }
   }
-  s.v[0] = detail::make_vertex(a, b, b_in_a, 0, 0);
+  s.v[0] = detail::seed_vertex(a, b, b_in_a);
   s.count = 1;
+  seeded = true;
   return s;
 }
 
@@ -59,11 +63,13 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
   const float ra = a.radius();
   const float rb = b.radius();
 
-  detail::GjkSimplex s = start_simplex(a, b, b_in_a, cache);
+  bool seeded = false;
+  detail::GjkSimplex s = start_simplex(a, b, b_in_a, cache, seeded);
   const float scale = detail::gjk_scale(s.v[0], ra + rb);
   DistanceResult out;
   const detail::GjkEnd end =
       detail::run_gjk(a, b, b_in_a, s, scale, detail::GjkRunToEnd{}, out.iterations);
+  if (seeded) ++out.iterations;  // the seed's support evaluation counts as an iteration
 
   if (cache != nullptr) {
     cache->count = s.count;

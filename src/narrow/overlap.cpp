@@ -81,7 +81,7 @@ struct GjkOverlapBounds {
   const Transform b_in_a = inv_mul(xa, xb);
   const float radius_sum = a.radius() + b.radius();
   detail::GjkSimplex s;
-  s.v[0] = detail::make_vertex(a, b, b_in_a, 0, 0);
+  s.v[0] = detail::seed_vertex(a, b, b_in_a);
   s.count = 1;
   const float scale = detail::gjk_scale(s.v[0], radius_sum);
   const float reach = radius_sum + kRelativeTolerance * scale;

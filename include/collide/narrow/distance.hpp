@@ -46,7 +46,8 @@ struct DistanceResult {
   Vec2 point_b{0.0f, 0.0f};
   /// Unit direction from A to B along the closest points; zero when the cores overlap.
   Vec2 normal{0.0f, 0.0f};
-  int iterations = 0;  ///< GJK iterations used
+  int iterations = 0;  ///< GJK iterations used: support points evaluated (a cold start
+                       ///< spends one on its seed)
   GjkStatus status = GjkStatus::separated;
 };
 
