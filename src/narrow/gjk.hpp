@@ -32,20 +32,19 @@
 namespace collide::detail {
 
 /// One simplex vertex: a core point of A, one of B (both in A's frame), their difference
-/// w = wb - wa (a point of the Minkowski difference B - A), and w's barycentric weight in the
-/// closest point.
+/// w = wb - wa (a point of the Minkowski difference B - A), and the core point indices.
+/// Left uninitialised on purpose: simplices are built vertex by vertex in the hot loop.
 struct GjkVertex {
-  Vec2 wa{0.0f, 0.0f};
-  Vec2 wb{0.0f, 0.0f};
-  Vec2 w{0.0f, 0.0f};
-  float weight = 1.0f;
-  int ia = 0;
-  int ib = 0;
+  Vec2 wa;
+  Vec2 wb;
+  Vec2 w;
+  int ia;
+  int ib;
 };
 
-/// 1 to 3 vertices of the Minkowski difference.
+/// 1 to 3 vertices of the Minkowski difference (only the first `count` are meaningful).
 struct GjkSimplex {
-  std::array<GjkVertex, 3> v{};
+  std::array<GjkVertex, 3> v;
   int count = 0;
 };
 
@@ -61,13 +60,12 @@ enum class GjkEnd : unsigned char {
 /// The simplex vertex for core point `ia` of A and `ib` of B, with B placed by `b_in_a`.
 [[nodiscard]] inline GjkVertex make_vertex(const ConvexProxy& a, const ConvexProxy& b,
                                            const Transform& b_in_a, int ia, int ib) noexcept {
-  GjkVertex v;
+  GjkVertex v;  // NOLINT: every field is set below
   v.ia = ia;
   v.ib = ib;
   v.wa = a.point(ia);
   v.wb = transform_point(b_in_a, b.point(ib));
   v.w = v.wb - v.wa;
-  v.weight = 1.0f;
   return v;
 }
 
@@ -84,7 +82,8 @@ enum class GjkEnd : unsigned char {
 }
 
 /// Reduce an edge simplex to the sub-simplex (edge or one end) whose Voronoi region holds the
-/// origin, and set the barycentric weights of the origin's projection.
+/// origin. Only signs are needed here; the weights are computed once, at the end
+/// (witness_points), so the loop does no division.
 inline void solve_edge(GjkSimplex& s) noexcept {
   const Vec2 w1 = s.v[0].w;
   const Vec2 w2 = s.v[1].w;
@@ -92,22 +91,12 @@ inline void solve_edge(GjkSimplex& s) noexcept {
   // Unnormalised barycentric coordinates of the origin's projection on the line w1 w2:
   // u1 = (w2 - 0).e12 and u2 = (0 - w1).e12; a non-positive one puts the origin beyond the
   // other end.
-  const float u1 = dot(w2, e12);
-  const float u2 = -dot(w1, e12);
-  if (u2 <= 0.0f) {  // region of w1
-    s.v[0].weight = 1.0f;
+  if (!(-dot(w1, e12) > 0.0f)) {  // u2 <= 0: region of w1
     s.count = 1;
-    return;
-  }
-  if (u1 <= 0.0f) {  // region of w2
+  } else if (!(dot(w2, e12) > 0.0f)) {  // u1 <= 0: region of w2
     s.v[0] = s.v[1];
-    s.v[0].weight = 1.0f;
     s.count = 1;
-    return;
   }
-  const float inv = 1.0f / (u1 + u2);
-  s.v[0].weight = u1 * inv;
-  s.v[1].weight = u2 * inv;
 }
 
 /// Reduce a triangle simplex to the sub-simplex whose Voronoi region holds the origin: one of
@@ -134,86 +123,79 @@ inline void solve_triangle(GjkSimplex& s) noexcept {
   const float t3 = area * cross(w1, w2);
 
   if (u12_2 <= 0.0f && u13_3 <= 0.0f) {  // region of w1
-    s.v[0].weight = 1.0f;
     s.count = 1;
-    return;
-  }
-  if (u12_1 > 0.0f && u12_2 > 0.0f && t3 <= 0.0f) {  // region of edge w1 w2
-    const float inv = 1.0f / (u12_1 + u12_2);
-    s.v[0].weight = u12_1 * inv;
-    s.v[1].weight = u12_2 * inv;
+  } else if (u12_1 > 0.0f && u12_2 > 0.0f && t3 <= 0.0f) {  // region of edge w1 w2
     s.count = 2;
-    return;
-  }
-  if (u13_1 > 0.0f && u13_3 > 0.0f && t2 <= 0.0f) {  // region of edge w1 w3
-    const float inv = 1.0f / (u13_1 + u13_3);
-    s.v[0].weight = u13_1 * inv;
-    s.v[2].weight = u13_3 * inv;
+  } else if (u13_1 > 0.0f && u13_3 > 0.0f && t2 <= 0.0f) {  // region of edge w1 w3
     s.v[1] = s.v[2];
     s.count = 2;
-    return;
-  }
-  if (u12_1 <= 0.0f && u23_3 <= 0.0f) {  // region of w2
+  } else if (u12_1 <= 0.0f && u23_3 <= 0.0f) {  // region of w2
     s.v[0] = s.v[1];
-    s.v[0].weight = 1.0f;
     s.count = 1;
-    return;
-  }
-  if (u13_1 <= 0.0f && u23_2 <= 0.0f) {  // region of w3
+  } else if (u13_1 <= 0.0f && u23_2 <= 0.0f) {  // region of w3
     s.v[0] = s.v[2];
-    s.v[0].weight = 1.0f;
     s.count = 1;
-    return;
-  }
-  if (u23_2 > 0.0f && u23_3 > 0.0f && t1 <= 0.0f) {  // region of edge w2 w3
-    const float inv = 1.0f / (u23_2 + u23_3);
-    s.v[1].weight = u23_2 * inv;
-    s.v[2].weight = u23_3 * inv;
+  } else if (u23_2 > 0.0f && u23_3 > 0.0f && t1 <= 0.0f) {  // region of edge w2 w3
     s.v[0] = s.v[2];
     s.count = 2;
-    return;
   }
-  // Interior: the origin is inside the triangle.
-  const float inv = 1.0f / (t1 + t2 + t3);
-  s.v[0].weight = t1 * inv;
-  s.v[1].weight = t2 * inv;
-  s.v[2].weight = t3 * inv;
+  // else the interior: the origin is inside the triangle.
 }
 
-/// Witness points on A's and B's cores (A's frame) from the barycentric weights.
+/// Witness points on A's and B's cores (A's frame): the barycentric coordinates of the
+/// simplex's closest point to the origin, applied to the A and B halves of its vertices.
 inline void witness_points(const GjkSimplex& s, Vec2& pa, Vec2& pb) noexcept {
-  switch (s.count) {
-    case 1:
+  if (s.count == 1) {
+    pa = s.v[0].wa;
+    pb = s.v[0].wb;
+  } else if (s.count == 2) {
+    const Vec2 e12 = s.v[1].w - s.v[0].w;
+    const float u1 = dot(s.v[1].w, e12);
+    const float u2 = -dot(s.v[0].w, e12);
+    const float inv = 1.0f / (u1 + u2);  // > 0: solve_edge kept the edge only if both are
+    const float a1 = u1 * inv;
+    const float a2 = u2 * inv;
+    pa = a1 * s.v[0].wa + a2 * s.v[1].wa;
+    pb = a1 * s.v[0].wb + a2 * s.v[1].wb;
+  } else {
+    // The origin is inside: the weighted A and B points coincide; take A's.
+    const Vec2 w1 = s.v[0].w;
+    const Vec2 w2 = s.v[1].w;
+    const Vec2 w3 = s.v[2].w;
+    const float t1 = cross(w2, w3);
+    const float t2 = cross(w3, w1);
+    const float t3 = cross(w1, w2);
+    const float sum = t1 + t2 + t3;  // twice the signed area; 0 only for a flat triangle
+    if (sum != 0.0f) {
+      const float inv = 1.0f / sum;
+      pa = (t1 * inv) * s.v[0].wa + (t2 * inv) * s.v[1].wa + (t3 * inv) * s.v[2].wa;
+    } else {
       pa = s.v[0].wa;
-      pb = s.v[0].wb;
-      break;
-    case 2:
-      pa = s.v[0].weight * s.v[0].wa + s.v[1].weight * s.v[1].wa;
-      pb = s.v[0].weight * s.v[0].wb + s.v[1].weight * s.v[1].wb;
-      break;
-    default:
-      // The origin is inside: the weighted A and B points coincide; take A's.
-      pa = s.v[0].weight * s.v[0].wa + s.v[1].weight * s.v[1].wa + s.v[2].weight * s.v[2].wa;
-      pb = pa;
-      break;
+    }
+    pb = pa;
   }
 }
 
 /// An early-exit policy that never decides: run GJK to convergence (distance queries).
+///
+/// Policies see the bounds on the core distance without divisions: `d` is the search
+/// direction (towards the origin, not unit), dd = |d|^2, k = d.v for the simplex's closest
+/// point v (k < 0, and |v| = -k / |d| is the upper bound), and dw = d.w for the new support
+/// point w (every point of the Minkowski difference has d.x <= dw, so if dw < 0 the distance
+/// is at least -dw / |d|: the lower bound).
 struct GjkRunToEnd {
-  /// Called with the simplex's closest point v (|v|^2 = vv): true stops with decided_touch.
-  [[nodiscard]] constexpr bool touching(float /*vv*/) const noexcept { return false; }
-  /// Called with the new support point w, searched in direction -v: true stops with
-  /// decided_apart.
-  [[nodiscard]] constexpr bool apart(Vec2 /*v*/, float /*vv*/, Vec2 /*w*/) const noexcept {
+  /// Upper bound -k/|d| known: true stops with decided_touch.
+  [[nodiscard]] constexpr bool touching(float /*k*/, float /*dd*/) const noexcept {
     return false;
   }
+  /// Lower bound -dw/|d| known: true stops with decided_apart.
+  [[nodiscard]] constexpr bool apart(float /*dw*/, float /*dd*/) const noexcept { return false; }
 };
 
-/// Run GJK on the simplex `s` (1..3 valid vertices on entry; on exit the final simplex with its
-/// barycentric weights). `scale` is the size of the problem in A's frame (coordinate magnitude):
-/// the origin counts as on the simplex when within kRelativeTolerance * scale of it.
-/// `policy` may stop early (see GjkRunToEnd). `iterations` counts support points added.
+/// Run GJK on the simplex `s` (1..3 valid vertices on entry; on exit the final simplex).
+/// `scale` is the size of the problem in A's frame (coordinate magnitude): the origin counts as
+/// on the simplex when within kRelativeTolerance * scale of it. `policy` may stop early (see
+/// GjkRunToEnd). `iterations` counts support points evaluated.
 template <class Policy>
 [[nodiscard]] GjkEnd run_gjk(const ConvexProxy& a, const ConvexProxy& b, const Transform& b_in_a,
                              GjkSimplex& s, float scale, const Policy& policy,
@@ -224,8 +206,8 @@ template <class Policy>
   for (;;) {
     // The vertices before reduction: a new support point equal to one of them means GJK is
     // cycling on a flat piece of D (converged within rounding).
-    std::array<int, 3> saved_a{};
-    std::array<int, 3> saved_b{};
+    std::array<int, 3> saved_a;
+    std::array<int, 3> saved_b;
     const int saved_count = s.count;
     for (int i = 0; i < saved_count; ++i) {
       saved_a[i] = s.v[i].ia;
@@ -239,24 +221,22 @@ template <class Policy>
       if (s.count == 3) return GjkEnd::overlapped;
     }
 
-    // Closest point v of the simplex and search direction d towards the origin. On an edge,
-    // d is the edge's perpendicular (exact), and v its projection, rather than the weighted sum
-    // of the ends, which loses digits to cancellation near the origin.
-    Vec2 v;
+    // Search direction d from the simplex's closest point v towards the origin. On an edge, d
+    // is the edge's perpendicular (exact), not -v computed from weights, which loses digits to
+    // cancellation near the origin.
     Vec2 d;
     if (s.count == 1) {
-      v = s.v[0].w;
-      d = -v;
+      d = -s.v[0].w;
     } else {
       const Vec2 w1 = s.v[0].w;
       const Vec2 e12 = s.v[1].w - w1;
       d = cross(e12, -w1) > 0.0f ? left_perp(e12) : right_perp(e12);
-      const float dd = dot(d, d);
-      v = dd > 0.0f ? d * (dot(w1, d) / dd) : w1;
     }
-    const float vv = dot(v, v);
-    if (!(vv > on_simplex2)) return GjkEnd::overlapped;  // origin on the simplex (or NaN)
-    if (policy.touching(vv)) return GjkEnd::decided_touch;
+    const float dd = dot(d, d);
+    const float k = dot(d, s.v[0].w);  // = -|v| |d|
+    // Origin on the simplex (|v| <= on_simplex), or NaN: the cores touch or overlap.
+    if (!(k < 0.0f && k * k > on_simplex2 * dd)) return GjkEnd::overlapped;
+    if (policy.touching(k, dd)) return GjkEnd::decided_touch;
     if (iterations == kGjkMaxIterations) return GjkEnd::max_iterations;
 
     // Support point of D = B - A in direction d: B's farthest along d, A's farthest along -d.
@@ -267,11 +247,11 @@ template <class Policy>
     const Vec2 w = wb - wa;
     ++iterations;
 
-    if (policy.apart(v, vv, w)) return GjkEnd::decided_apart;
-    // No progress: the new point is no closer along v than the simplex (van den Bergen's
-    // relative test: |v|^2 - v.w is an upper bound on the gap between |v| and the distance,
-    // times |v|).
-    if (vv - dot(v, w) <= kGjkRelativeTolerance * vv) return GjkEnd::converged;
+    const float dw = dot(d, w);
+    if (policy.apart(dw, dd)) return GjkEnd::decided_apart;
+    // No progress: the gap between the upper and lower bounds, (dw - k) / |d|, is within
+    // kGjkRelativeTolerance of the upper bound -k / |d| (van den Bergen 2003, 4.3.4).
+    if (dw - k <= kGjkRelativeTolerance * -k) return GjkEnd::converged;
     for (int i = 0; i < saved_count; ++i) {
       if (saved_a[i] == ia && saved_b[i] == ib) return GjkEnd::converged;
     }
@@ -281,7 +261,6 @@ template <class Policy>
     nv.w = w;
     nv.ia = ia;
     nv.ib = ib;
-    nv.weight = 1.0f;
   }
 }
 

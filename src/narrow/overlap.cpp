@@ -63,15 +63,15 @@ template <bool a_is_point, bool b_is_point>
   return within_reach(d2, radius_sum, scale);
 }
 
-/// GJK early-exit policy for a yes/no question: stop as soon as the upper bound |v| of the core
-/// distance is within reach (touching) or the lower bound v.w / |v| exceeds it (apart).
+/// GJK early-exit policy for a yes/no question: stop as soon as the upper bound of the core
+/// distance is within reach (touching) or the lower bound exceeds it (apart). Squared and
+/// multiplied out, with d, dd, k, dw as in GjkRunToEnd: -k/|d| <= reach and -dw/|d| > reach.
 struct GjkOverlapBounds {
   float reach2;  ///< (ra + rb + slop)^2
 
-  [[nodiscard]] bool touching(float vv) const noexcept { return vv <= reach2; }
-  [[nodiscard]] bool apart(Vec2 v, float vv, Vec2 w) const noexcept {
-    const float vw = dot(v, w);
-    return vw > 0.0f && vw * vw > reach2 * vv;
+  [[nodiscard]] bool touching(float k, float dd) const noexcept { return k * k <= reach2 * dd; }
+  [[nodiscard]] bool apart(float dw, float dd) const noexcept {
+    return dw < 0.0f && dw * dw > reach2 * dd;
   }
 };
 
