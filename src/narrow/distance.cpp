@@ -59,6 +59,7 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
                             const Transform& xb, SimplexCache* cache) noexcept {
   COLLIDE_ASSERT(a.count() >= 1 && a.count() <= kMaxPolygonVertices, "proxy A point count");
   COLLIDE_ASSERT(b.count() >= 1 && b.count() <= kMaxPolygonVertices, "proxy B point count");
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
   const Transform b_in_a = inv_mul(xa, xb);
   const float ra = a.radius();
   const float rb = b.radius();

@@ -3,6 +3,7 @@
 #include "gjk.hpp"
 #include "segment_closest.hpp"
 
+#include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/support.hpp>
 
@@ -106,6 +107,7 @@ struct GjkOverlapBounds {
 
 template <Shape2DType A, Shape2DType B>
 bool overlap(const A& a, const Transform& xa, const B& b, const Transform& xb) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
   if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
     return overlap_gjk(ConvexProxy(a), xa, ConvexProxy(b), xb);
   } else {
