@@ -64,6 +64,8 @@ struct Pair {
   Shape b;
   Transform xa;
   std::vector<Transform> xb;  ///< one per frame (slow motion); frame 0 for cold runs
+  b2Transform xa_b2;
+  std::vector<b2Transform> xb_b2;  ///< xb converted once, so Box2D pays no conversion
 };
 
 /// A batch of pairs: A a polygon with `na` vertices (or a circle if na == 1), B likewise.
@@ -102,7 +104,9 @@ std::vector<Pair> make_pairs(int na, int nb, unsigned seed) {
       const float t = 0.005f * float(f);  // a slowly orbiting, slowly turning B
       p.xb.push_back(Transform::from(
           p.xa.p + dist * Vec2{std::cos(dir + t), std::sin(dir + t)}, rot + 2.0f * t));
+      p.xb_b2.push_back(to_b2(p.xb.back()));
     }
+    p.xa_b2 = to_b2(p.xa);
   }
   return pairs;
 }
@@ -140,7 +144,7 @@ void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, boo
   for (size_t i = 0; i < pairs->size(); ++i) {
     inputs[i].proxyA = b2_proxy((*pairs)[i].a);
     inputs[i].proxyB = b2_proxy((*pairs)[i].b);
-    inputs[i].transformA = to_b2((*pairs)[i].xa);
+    inputs[i].transformA = (*pairs)[i].xa_b2;
     inputs[i].useRadii = true;
   }
   std::vector<b2SimplexCache> caches(pairs->size());
@@ -150,7 +154,7 @@ void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, boo
     float sum = 0.0f;
     for (size_t i = 0; i < pairs->size(); ++i) {
       b2DistanceInput& in = inputs[i];
-      in.transformB = to_b2((*pairs)[i].xb[warm ? frame : 0]);
+      in.transformB = (*pairs)[i].xb_b2[warm ? frame : 0];
       b2SimplexCache cold;
       cold.count = 0;
       b2DistanceOutput out;
@@ -173,17 +177,10 @@ void overlap_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
 }
 
 void overlap_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
-  std::vector<b2Transform> xa;
-  std::vector<b2Transform> xb;
-  for (const Pair& p : *pairs) {
-    xa.push_back(to_b2(p.xa));
-    xb.push_back(to_b2(p.xb[0]));
-  }
   for (auto _ : state) {
     int hits = 0;
-    for (size_t i = 0; i < pairs->size(); ++i) {
-      const Pair& p = (*pairs)[i];
-      hits += b2TestOverlap(&p.a.b2_polygon, 0, &p.b.b2_polygon, 0, xa[i], xb[i]) ? 1 : 0;
+    for (const Pair& p : *pairs) {
+      hits += b2TestOverlap(&p.a.b2_polygon, 0, &p.b.b2_polygon, 0, p.xa_b2, p.xb_b2[0]) ? 1 : 0;
     }
     benchmark::DoNotOptimize(hits);
   }

@@ -12,6 +12,11 @@
 #include <collide/shape/shape2d.hpp>
 
 #include <array>
+#include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace collide {
 
@@ -47,6 +52,9 @@ class ConvexProxy {
   /// index. Linear scan: for the sizes collide allows, faster than hill climbing.
   [[nodiscard]] int support_index(Vec2 direction) const noexcept {
     const Vec2* p = points();
+#if defined(__SSE2__)
+    if (count_ >= kSimdSupportMinPoints) return support_index_simd(p, count_, direction);
+#endif
     int best = 0;
     float best_dot = dot(p[0], direction);
     for (int i = 1; i < count_; ++i) {
@@ -60,6 +68,56 @@ class ConvexProxy {
   }
 
  private:
+#if defined(__SSE2__)
+  /// Point sets at least this big take the SIMD scan (measured: bench_narrow_distance).
+  static constexpr int kSimdSupportMinPoints = 8;
+
+  /// The scalar scan of support_index, four points at a time (SSE2): lane j keeps the best of
+  /// points j, j+4, j+8... (first index on ties); the lanes are then merged without branches:
+  /// the maximum, then the lowest index among the lanes that hold it.
+  [[nodiscard]] static int support_index_simd(const Vec2* p, int n, Vec2 direction) noexcept {
+    const __m128 dx = _mm_set1_ps(direction.x);
+    const __m128 dy = _mm_set1_ps(direction.y);
+    __m128 best = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+    __m128i best_index = _mm_setzero_si128();
+    __m128i index = _mm_setr_epi32(0, 1, 2, 3);
+    const __m128i four = _mm_set1_epi32(4);
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+      const __m128 p01 = _mm_loadu_ps(&p[i].x);      // x0 y0 x1 y1
+      const __m128 p23 = _mm_loadu_ps(&p[i + 2].x);  // x2 y2 x3 y3
+      const __m128 xs = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 ys = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
+      const __m128 dots = _mm_add_ps(_mm_mul_ps(xs, dx), _mm_mul_ps(ys, dy));
+      const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(dots, best));
+      best = _mm_max_ps(dots, best);  // a NaN dot keeps the old best, as the scalar scan
+      best_index =
+          _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
+      index = _mm_add_epi32(index, four);
+    }
+    // Maximum over the lanes, broadcast to all of them.
+    __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
+    top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
+    // Lowest index among the lanes holding it (indices < 64 fit the 16-bit minimum).
+    const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
+    __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
+                                     _mm_andnot_si128(holds, _mm_set1_epi32(0x7fff)));
+    candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
+    candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
+    int result = _mm_cvtsi128_si32(candidate) & 0x7fff;
+    float result_dot = _mm_cvtss_f32(top);
+    for (; i < n; ++i) {  // the last n % 4 points
+      const float d = dot(p[i], direction);
+      if (d > result_dot) {
+        result = i;
+        result_dot = d;
+      }
+    }
+    // All dots NaN: no lane improved on -infinity; the scalar scan answers 0 then too.
+    return result == 0x7fff ? 0 : result;
+  }
+#endif
+
   std::array<Vec2, 2> buffer_{};
   const Vec2* points_ = nullptr;
   int count_ = 0;
