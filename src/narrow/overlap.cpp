@@ -86,8 +86,14 @@ struct GjkOverlapBounds {
   s.count = 1;
   const float scale = detail::gjk_scale(s.v[0], radius_sum);
   const float reach = radius_sum + kRelativeTolerance * scale;
+  const GjkOverlapBounds bounds{reach * reach};
+  // The seed is the support pair along c = B's origin in A's frame, so every point of the
+  // Minkowski difference has c.x >= c.w0: a separating-axis test for free, which settles most
+  // well-separated pairs before any iteration.
+  const Vec2 c = b_in_a.p;
+  if (bounds.apart(-dot(c, s.v[0].w), dot(c, c))) return false;
   int iterations = 0;
-  switch (detail::run_gjk(a, b, b_in_a, s, scale, GjkOverlapBounds{reach * reach}, iterations)) {
+  switch (detail::run_gjk(a, b, b_in_a, s, scale, bounds, iterations)) {
     case detail::GjkEnd::overlapped:
     case detail::GjkEnd::decided_touch:
       return true;
