@@ -86,17 +86,17 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
   const Vec2 delta = pb - pa;
   const float core_distance = length(delta);
   if (end == detail::GjkEnd::overlapped || !(core_distance > 0.0f)) {
-    // Cores overlap: one point inside both, no normal.
-    out.point_a = transform_point(xa, pa);
-    out.point_b = transform_point(xa, pb);
+    // Cores overlap (or touch within rounding, pa ~ pb): one point inside both, no normal.
+    out.point_a = transform_point(xa, 0.5f * (pa + pb));
+    out.point_b = out.point_a;
     out.status = GjkStatus::overlapped;
     return out;
   }
   out.status = end == detail::GjkEnd::max_iterations ? GjkStatus::max_iterations
                                                      : GjkStatus::separated;
   // Cores apart: move each witness out along the normal by its radius. If the radii overlap
-  // (core distance < ra + rb) the moved points pass each other and lie inside the other shape,
-  // and the distance clamps to 0.
+  // (core distance < ra + rb) the moved points pass each other, dot(pb - pa, n) being minus the
+  // penetration depth, and the distance clamps to 0.
   const Vec2 n = delta * (1.0f / core_distance);
   pa += ra * n;
   pb -= rb * n;

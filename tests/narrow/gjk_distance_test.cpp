@@ -339,6 +339,7 @@ TEST(GjkDistance, OverlappingCoresReportOverlapped) {
     EXPECT_EQ(r.status, GjkStatus::overlapped);
     EXPECT_EQ(r.distance, 0.0f);
     EXPECT_EQ(r.normal, Vec2(0.0f, 0.0f));
+    EXPECT_EQ(r.point_a, r.point_b);
     const test::WorldCore ca = test::world_core(box, xa);
     const test::WorldCore cb = test::world_core(p, xb);
     EXPECT_LE(test::brute_point_distance(ca.points, {r.point_a.x, r.point_a.y}), kTol);
