@@ -240,8 +240,10 @@ template <class Policy>
     if (iterations == kGjkMaxIterations) return GjkEnd::max_iterations;
 
     // Support point of D = B - A in direction d: B's farthest along d, A's farthest along -d.
-    const int ib = b.support_index(inv_rotate(b_in_a.q, d));
-    const int ia = a.support_index(-d);
+    // Walk from the newest simplex vertex's points: the support moves little per iteration.
+    const GjkVertex& last = s.v[s.count - 1];
+    const int ib = b.support_index_from(inv_rotate(b_in_a.q, d), last.ib);
+    const int ia = a.support_index_from(-d, last.ia);
     const Vec2 wb = transform_point(b_in_a, b.point(ib));
     const Vec2 wa = a.point(ia);
     const Vec2 w = wb - wa;

@@ -52,5 +52,38 @@ TEST(GjkSupport, TiesGoToTheLowestIndex) {
   EXPECT_GT(tied, 100);  // the ties really happened
 }
 
+TEST(GjkSupport, WalkFromAnyStartReachesTheMaximumOnPolygons) {
+  // support_index_from walks the outline of a polygon; it must end at a farthest point from
+  // every start, for polygons of every size, including boxes whose faces tie.
+  std::mt19937 rng(3);
+  int walked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 3 + trial % 62;
+    const Polygon poly = trial % 10 == 0 ? make_box({1.0f, 0.5f})
+                                         : test::random_polygon(rng, n, 1.0f + trial * 0.1f);
+    const ConvexProxy proxy(poly);
+    std::vector<Vec2> pts(poly.vertices.begin(), poly.vertices.begin() + poly.count);
+    const Vec2 dirs[] = {test::random_point(rng, 1.0f), {1, 0}, {0, -1}};
+    for (Vec2 d : dirs) {
+      const float top = dot(pts[reference_support(pts, d)], d);
+      for (int start = 0; start < poly.count; ++start) {
+        const int i = proxy.support_index_from(d, start);
+        ASSERT_GE(i, 0);
+        ASSERT_LT(i, poly.count);
+        EXPECT_EQ(dot(pts[i], d), top) << "n " << poly.count << " start " << start;
+        walked += i != start ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(walked, 1000);
+  // A raw point set is not known to be an outline: the walk falls back to the full scan.
+  std::vector<Vec2> cloud;
+  for (int i = 0; i < 20; ++i) cloud.push_back(test::random_point(rng, 5.0f));
+  const ConvexProxy raw(cloud.data(), 20, 0.0f);
+  for (int start = 0; start < 20; ++start) {
+    EXPECT_EQ(raw.support_index_from({0.3f, 0.7f}, start), reference_support(cloud, {0.3f, 0.7f}));
+  }
+}
+
 }  // namespace
 }  // namespace collide

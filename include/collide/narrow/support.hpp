@@ -26,7 +26,10 @@ class ConvexProxy {
  public:
   /// Polygon: its vertices (not copied) and its rounding radius.
   explicit ConvexProxy(const Polygon& polygon) noexcept
-      : points_(polygon.vertices.data()), count_(polygon.count), radius_(polygon.radius) {}
+      : points_(polygon.vertices.data()),
+        count_(polygon.count),
+        radius_(polygon.radius),
+        convex_outline_(true) {}
   /// Circle: its centre and radius.
   explicit ConvexProxy(const Circle& circle) noexcept
       : buffer_{circle.center, circle.center}, count_(1), radius_(circle.radius) {}
@@ -49,7 +52,9 @@ class ConvexProxy {
   [[nodiscard]] float radius() const noexcept { return radius_; }
 
   /// Index of the core point farthest along `direction` (local space); ties go to the lowest
-  /// index. Linear scan: for the sizes collide allows, faster than hill climbing.
+  /// index. Full scan (SIMD from kSimdSupportMinPoints points), correct for any point set and
+  /// the right choice without a good starting guess; with one, on a polygon, use
+  /// support_index_from.
   [[nodiscard]] int support_index(Vec2 direction) const noexcept {
     const Vec2* p = points();
 #if defined(__SSE2__)
@@ -65,6 +70,39 @@ class ConvexProxy {
       }
     }
     return best;
+  }
+
+  /// A core point farthest along `direction`, found by walking from point `start` to a
+  /// neighbour while that improves: on a strictly convex outline (a polygon) the projection is
+  /// unimodal around the outline, so the walk ends at the maximum and costs only the points it
+  /// passes (about 3 when `start` is last iteration's answer). Ties: the first one reached.
+  /// Point sets that are not a polygon's outline take the full scan.
+  [[nodiscard]] int support_index_from(Vec2 direction, int start) const noexcept {
+    if (!convex_outline_) return support_index(direction);
+    const Vec2* p = points();
+    const int n = count_;
+    int i = start;
+    float best = dot(p[i], direction);
+    int next = i + 1 == n ? 0 : i + 1;
+    float next_dot = dot(p[next], direction);
+    if (next_dot > best) {  // uphill forwards
+      do {
+        i = next;
+        best = next_dot;
+        next = i + 1 == n ? 0 : i + 1;
+        next_dot = dot(p[next], direction);
+      } while (next_dot > best);
+      return i;
+    }
+    int prev = i == 0 ? n - 1 : i - 1;
+    float prev_dot = dot(p[prev], direction);
+    while (prev_dot > best) {  // uphill backwards (or already at the top)
+      i = prev;
+      best = prev_dot;
+      prev = i == 0 ? n - 1 : i - 1;
+      prev_dot = dot(p[prev], direction);
+    }
+    return i;
   }
 
  private:
@@ -122,6 +160,7 @@ class ConvexProxy {
   const Vec2* points_ = nullptr;
   int count_ = 0;
   float radius_ = 0.0f;
+  bool convex_outline_ = false;  ///< points are a strictly convex counter-clockwise outline
 };
 
 }  // namespace collide
