@@ -5,6 +5,9 @@
 
 #include <collide/shape/polygon.hpp>
 
+#include <limits>
+#include <span>
+
 namespace collide {
 
 /// The edge normal of A that separates A from B the most.
@@ -17,9 +20,21 @@ struct EdgeSeparation {
 };
 
 /// Over A's edge normals, the axis of greatest separation of B's core from A's core, with B
-/// given in A's local frame by `b_in_a` (use inv_mul(xa, xb)). O(n m).
+/// given in A's local frame by `b_in_a` (use inv_mul(xa, xb)). Works for the 2-vertex polygons
+/// that stand for capsules and segments too. O(n m).
 /// Ericson, Real-Time Collision Detection, 5.2.1; Catto GDC 2007.
 [[nodiscard]] EdgeSeparation find_max_separation(const Polygon& a, const Polygon& b,
                                                  const Transform& b_in_a) noexcept;
+
+/// The same test on raw arrays already in one frame: edge i of polygon 1 starts at
+/// `vertices1[i]` and has unit outward normal `normals1[i]`; `vertices2` are the other polygon's
+/// core vertices. Returns as soon as an axis separates by more than `early_exit` (then
+/// `separation` > `early_exit` but may not be the largest); pass the radius sum to stop at the
+/// first axis that proves the rounded shapes apart. The spans must have equal sizes 1..64 and
+/// `vertices2` must not be empty. Used by `contact`, which moves B into A's frame once.
+[[nodiscard]] EdgeSeparation find_max_separation(
+    std::span<const Vec2> vertices1, std::span<const Vec2> normals1,
+    std::span<const Vec2> vertices2,
+    float early_exit = std::numeric_limits<float>::infinity()) noexcept;
 
 }  // namespace collide
