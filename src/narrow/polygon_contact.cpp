@@ -12,7 +12,7 @@
 //    planes and keep the points within the radii sum of the reference face: 1 or 2 points.
 //    If the cores are apart (rounded shapes only reach here then), the closest points of the two
 //    edges tell vertex-vertex contact (one point, normal along the closest points) from face
-//    contact (clip as above).
+//    contact (clip as above, against whichever edge holds the inside closest point).
 // Catto, "Contact Manifolds", GDC 2007; Ericson, Real-Time Collision Detection, 5.2.1, 5.1.9.
 
 #include "contact_routines.hpp"
@@ -53,52 +53,20 @@ int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
   return best;
 }
 
-/// The manifold with polygon 1 as "A": reference edge `reference.edge` of p1, normal its
-/// outward normal (or, for vertex-vertex contact of rounded shapes, the direction between the
-/// closest core points). `frame` maps the shared local frame to world space. `apart` is the
-/// separation below which the cores count as touching.
-Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
-                                 const LocalPolygon& p2, const Transform& frame,
-                                 float apart) noexcept {
-  const int i11 = reference.edge;
-  const int i12 = p1.next(i11);
+/// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
+/// edge `i11` of p1 and keep the points within the radii sum of the reference face. Normal: the
+/// reference edge's outward normal. `frame` maps the shared local frame to world space.
+Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
+                       const Transform& frame) noexcept {
   const Vec2 n1 = p1.normals[i11];
-  const int i21 = incident_edge(p2, n1);
-  const int i22 = p2.next(i21);
-  const EdgeRef ref{p1.vertices[i11], p1.vertices[i12], i11, i12};
-  const EdgeRef inc{p2.vertices[i21], p2.vertices[i22], i21, i22};
+  const EdgeRef ref{p1.vertices[i11], p1.vertices[p1.next(i11)], i11, p1.next(i11)};
+  const EdgeRef inc{p2.vertices[i21], p2.vertices[p2.next(i21)], i21, p2.next(i21)};
   const float r1 = p1.radius;
   const float r2 = p2.radius;
   const float radius = r1 + r2;
-
-  Manifold m;
-  if (reference.separation > apart) {
-    // Cores apart, rounded surfaces within reach: is it corner against corner?
-    const EdgeClosestPoints closest =
-        closest_points_between_edges(ref.start, ref.end, inc.start, inc.end);
-    const bool end1 = closest.fraction1 == 0.0f || closest.fraction1 == 1.0f;
-    const bool end2 = closest.fraction2 == 0.0f || closest.fraction2 == 1.0f;
-    if (end1 && end2) {
-      const Vec2 d = closest.point2 - closest.point1;
-      const float dist2 = length_squared(d);
-      if (!(dist2 <= radius * radius)) return m;
-      const float dist = std::sqrt(dist2);
-      const Vec2 n = d * (1.0f / dist);  // dist >= separation > apart > 0
-      // Midway between A's surface point1 + r1 n and B's point2 - r2 n.
-      const Vec2 mid = closest.point1 + (0.5f * (r1 + dist - r2)) * n;
-      const int v1 = closest.fraction1 == 0.0f ? i11 : i12;
-      const int v2 = closest.fraction2 == 0.0f ? i21 : i22;
-      m.normal = rotate(frame.q, n);
-      m.points[0] = {transform_point(frame, mid), radius - dist,
-                     ContactId{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
-                               FeatureType::vertex, FeatureType::vertex}};
-      m.count = 1;
-      return m;
-    }
-  }
-
-  // Face contact: the tangent left_perp(n1) is the unit direction of the reference edge.
+  // The tangent left_perp(n1) is the unit direction of the reference edge.
   const ClippedEdge clipped = clip_incident_edge(ref, left_perp(n1), inc);
+  Manifold m;
   for (int k = 0; k < clipped.count; ++k) {
     const ClipVertex& cv = clipped.vertices[k];
     const float separation = dot(n1, cv.point - ref.start);  // of the cores
@@ -111,6 +79,111 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
   }
   if (m.count > 0) m.normal = rotate(frame.q, n1);
   return m;
+}
+
+/// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth.
+Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
+                                const Transform& frame) noexcept {
+  const Vec2 n1 = p1.normals[i11];
+  int deepest = 0;
+  for (int k = 1; k < p2.count; ++k) {
+    if (dot(n1, p2.vertices[k]) < dot(n1, p2.vertices[deepest])) deepest = k;
+  }
+  const float separation = dot(n1, p2.vertices[deepest] - p1.vertices[i11]);
+  const float radius = p1.radius + p2.radius;
+  Manifold m;
+  if (!(separation <= radius)) return m;
+  m.normal = rotate(frame.q, n1);
+  m.points[0] = {
+      transform_point(frame, p2.vertices[deepest] +
+                                 (0.5f * (p1.radius - separation - p2.radius)) * n1),
+      radius - separation,
+      ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
+                FeatureType::edge, FeatureType::vertex}};
+  m.count = 1;
+  return m;
+}
+
+/// Closest points of edge e1 of p1 and edge e2 of p2, with the edges.
+struct ClosestEdges {
+  int e1 = 0;
+  int e2 = 0;
+  EdgeClosestPoints points{};
+  float distance2 = 0.0f;
+};
+
+ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
+                           int e2) noexcept {
+  const EdgeClosestPoints c = closest_points_between_edges(
+      p1.vertices[e1], p1.vertices[p1.next(e1)], p2.vertices[e2], p2.vertices[p2.next(e2)]);
+  return {e1, e2, c, distance_squared(c.point1, c.point2)};
+}
+
+/// The edge of `p` on the other side of the end of edge `e` where `fraction` sits (0: start,
+/// 1: end), or `e` itself when the fraction is inside the edge.
+int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
+  if (fraction == 0.0f) return e == 0 ? p.count - 1 : e - 1;
+  if (fraction == 1.0f) return p.next(e);
+  return e;
+}
+
+/// The manifold with polygon 1 as "A" and `reference.edge` of p1 the axis of greatest
+/// separation. `apart` is the core separation above which the cores count as apart (rounded
+/// shapes only). Then the exact closest features of the cores decide, found by walking from
+/// the reference and incident edges to neighbouring edges while the distance drops (a closest
+/// feature walk, as in Lin-Canny and V-Clip; one or two steps in practice): corner against
+/// corner gives one point with the normal along the closest points; a corner against the inside
+/// of an edge makes that edge the reference face; otherwise p1's edge is.
+Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
+                                 const LocalPolygon& p2, const Transform& frame,
+                                 float apart) noexcept {
+  const int i11 = reference.edge;
+  const int i21 = incident_edge(p2, p1.normals[i11]);
+  if (!(reference.separation > apart)) return clip_manifold(p1, i11, p2, i21, frame);
+
+  ClosestEdges best = closest_edges(p1, i11, p2, i21);
+  for (int step = 0; step < p1.count + p2.count; ++step) {
+    const int across1 = edge_across(p1, best.e1, best.points.fraction1);
+    const int across2 = edge_across(p2, best.e2, best.points.fraction2);
+    ClosestEdges next = best;
+    if (across1 != best.e1) {
+      const ClosestEdges c = closest_edges(p1, across1, p2, best.e2);
+      if (c.distance2 < next.distance2) next = c;
+    }
+    if (across2 != best.e2) {
+      const ClosestEdges c = closest_edges(p1, best.e1, p2, across2);
+      if (c.distance2 < next.distance2) next = c;
+    }
+    if (!(next.distance2 < best.distance2)) break;
+    best = next;
+  }
+  const float f1 = best.points.fraction1;
+  const float f2 = best.points.fraction2;
+  const bool end1 = f1 == 0.0f || f1 == 1.0f;
+  const bool end2 = f2 == 0.0f || f2 == 1.0f;
+  if (end1 && end2) {
+    const float r1 = p1.radius;
+    const float r2 = p2.radius;
+    if (!(best.distance2 <= (r1 + r2) * (r1 + r2))) return {};
+    const float dist = std::sqrt(best.distance2);
+    const Vec2 n = (best.points.point2 - best.points.point1) * (1.0f / dist);  // dist > apart
+    // Midway between A's surface point1 + r1 n and B's point2 - r2 n.
+    const Vec2 mid = best.points.point1 + (0.5f * (r1 + dist - r2)) * n;
+    const int v1 = f1 == 0.0f ? best.e1 : p1.next(best.e1);
+    const int v2 = f2 == 0.0f ? best.e2 : p2.next(best.e2);
+    Manifold m;
+    m.normal = rotate(frame.q, n);
+    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist,
+                   ContactId{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
+                             FeatureType::vertex, FeatureType::vertex}};
+    m.count = 1;
+    return m;
+  }
+  if (end1) {
+    return reversed(
+        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normals[best.e2]), frame));
+  }
+  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normals[best.e1]), frame);
 }
 
 }  // namespace
@@ -155,10 +228,18 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   const Transform frame{transform_point(xa, origin), xa.q};
   const LocalPolygon pa{va.data(), a.normals.data(), na, a.radius};
   const LocalPolygon pb{vb.data(), normals_b.data(), nb, b.radius};
-  if (sep_b.separation > sep_a.separation + kReferenceFaceTolerance * size) {
-    return reversed(reference_face_manifold(pb, sep_b, pa, frame, apart));
-  }
-  return reference_face_manifold(pa, sep_a, pb, frame, apart);
+  const bool b_reference = sep_b.separation > sep_a.separation + kReferenceFaceTolerance * size;
+  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, frame, apart))
+                           : reference_face_manifold(pa, sep_a, pb, frame, apart);
+  if (m.count > 0 || std::max(sep_a.separation, sep_b.separation) > apart) return m;
+  // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
+  // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
+  // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
+  m = b_reference ? reference_face_manifold(pa, sep_a, pb, frame, apart)
+                  : reversed(reference_face_manifold(pb, sep_b, pa, frame, apart));
+  if (m.count > 0) return m;
+  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, frame))
+                     : deepest_point_manifold(pa, sep_a.edge, pb, frame);
 }
 
 }  // namespace collide::detail
