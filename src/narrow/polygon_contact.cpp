@@ -53,11 +53,21 @@ int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
   return best;
 }
 
+/// What the routines below share: the map from the shared local frame to world space and the
+/// scene's length tolerances.
+struct Context {
+  Transform frame;      ///< local (A's frame, origin at A's vertex 0) to world
+  float apart = 0.0f;   ///< core separation above which the cores count as apart
+  float merge = 0.0f;   ///< contact points closer than this are one point
+};
+
 /// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
-/// edge `i11` of p1 and keep the points within the radii sum of the reference face. Normal: the
-/// reference edge's outward normal. `frame` maps the shared local frame to world space.
+/// edge `i11` of p1 and keep the points within the radii sum of the reference face (merged into
+/// one when they coincide, as when segments meet end to end). Normal: the reference edge's
+/// outward normal.
 Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
-                       const Transform& frame) noexcept {
+                       const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normals[i11];
   const EdgeRef ref{p1.vertices[i11], p1.vertices[p1.next(i11)], i11, p1.next(i11)};
   const EdgeRef inc{p2.vertices[i21], p2.vertices[p2.next(i21)], i21, p2.next(i21)};
@@ -67,6 +77,7 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
   // The tangent left_perp(n1) is the unit direction of the reference edge.
   const ClippedEdge clipped = clip_incident_edge(ref, left_perp(n1), inc);
   Manifold m;
+  Vec2 kept[2];
   for (int k = 0; k < clipped.count; ++k) {
     const ClipVertex& cv = clipped.vertices[k];
     const float separation = dot(n1, cv.point - ref.start);  // of the cores
@@ -74,8 +85,13 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
       // B's core point is cv.point; A's surface lies at (r1 - separation) along n1 from it and
       // B's at -r2: the midpoint is half their sum.
       const Vec2 mid = cv.point + (0.5f * (r1 - separation - r2)) * n1;
+      kept[m.count] = mid;
       m.points[m.count++] = {transform_point(frame, mid), radius - separation, cv.id};
     }
+  }
+  if (m.count == 2 && distance_squared(kept[0], kept[1]) <= ctx.merge * ctx.merge) {
+    if (m.points[1].depth > m.points[0].depth) m.points[0] = m.points[1];
+    m.count = 1;
   }
   if (m.count > 0) m.normal = rotate(frame.q, n1);
   return m;
@@ -83,7 +99,8 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
 
 /// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth.
 Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
-                                const Transform& frame) noexcept {
+                                const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normals[i11];
   int deepest = 0;
   for (int k = 1; k < p2.count; ++k) {
@@ -135,11 +152,11 @@ int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
 /// corner gives one point with the normal along the closest points; a corner against the inside
 /// of an edge makes that edge the reference face; otherwise p1's edge is.
 Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
-                                 const LocalPolygon& p2, const Transform& frame,
-                                 float apart) noexcept {
+                                 const LocalPolygon& p2, const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
   const int i11 = reference.edge;
   const int i21 = incident_edge(p2, p1.normals[i11]);
-  if (!(reference.separation > apart)) return clip_manifold(p1, i11, p2, i21, frame);
+  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx);
 
   ClosestEdges best = closest_edges(p1, i11, p2, i21);
   for (int step = 0; step < p1.count + p2.count; ++step) {
@@ -181,9 +198,9 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
   }
   if (end1) {
     return reversed(
-        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normals[best.e2]), frame));
+        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normals[best.e2]), ctx));
   }
-  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normals[best.e1]), frame);
+  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normals[best.e1]), ctx);
 }
 
 }  // namespace
@@ -223,23 +240,39 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
       find_max_separation(verts_b, std::span(normals_b.data(), nb), verts_a, radius);
   if (sep_b.separation > radius) return {};
 
+  EdgeSeparation ref_a = sep_a;
+  if (na == 2 && nb == 2) {
+    // Two segments' Minkowski difference is a parallelogram whose edge normals are the two
+    // segment normals, except when the segments are parallel: then it is a segment and its end
+    // caps add the segments' direction as an axis (collinear segments are apart only along it).
+    const Vec2 t = left_perp(a.normals[0]);
+    const float lo_a = std::min(dot(t, va[0]), dot(t, va[1]));
+    const float hi_a = std::max(dot(t, va[0]), dot(t, va[1]));
+    const float lo_b = std::min(dot(t, vb[0]), dot(t, vb[1]));
+    const float hi_b = std::max(dot(t, vb[0]), dot(t, vb[1]));
+    const float axial = std::max(lo_b - hi_a, lo_a - hi_b);
+    if (axial > radius) return {};
+    // Apart along the direction: the closest features decide (from A's edge, see below).
+    if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
+  }
+
   const float size = std::max({extent_a.x, extent_a.y, extent_b.x, extent_b.y});
-  const float apart = kRelativeTolerance * size;
-  const Transform frame{transform_point(xa, origin), xa.q};
+  const Context ctx{{transform_point(xa, origin), xa.q}, kRelativeTolerance * size,
+                    kContactMergeTolerance * size};
   const LocalPolygon pa{va.data(), a.normals.data(), na, a.radius};
   const LocalPolygon pb{vb.data(), normals_b.data(), nb, b.radius};
-  const bool b_reference = sep_b.separation > sep_a.separation + kReferenceFaceTolerance * size;
-  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, frame, apart))
-                           : reference_face_manifold(pa, sep_a, pb, frame, apart);
-  if (m.count > 0 || std::max(sep_a.separation, sep_b.separation) > apart) return m;
+  const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
+  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
+                           : reference_face_manifold(pa, ref_a, pb, ctx);
+  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return m;
   // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
   // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
   // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
-  m = b_reference ? reference_face_manifold(pa, sep_a, pb, frame, apart)
-                  : reversed(reference_face_manifold(pb, sep_b, pa, frame, apart));
+  m = b_reference ? reference_face_manifold(pa, ref_a, pb, ctx)
+                  : reversed(reference_face_manifold(pb, sep_b, pa, ctx));
   if (m.count > 0) return m;
-  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, frame))
-                     : deepest_point_manifold(pa, sep_a.edge, pb, frame);
+  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, ctx))
+                     : deepest_point_manifold(pa, ref_a.edge, pb, ctx);
 }
 
 }  // namespace collide::detail
