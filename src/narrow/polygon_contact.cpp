@@ -17,6 +17,7 @@
 
 #include "contact_routines.hpp"
 #include "polygon_clip.hpp"
+#include "sat_soa.hpp"
 
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/sat.hpp>
@@ -31,12 +32,13 @@ namespace {
 
 /// A polygon's core in the shared local frame.
 struct LocalPolygon {
-  const Vec2* vertices = nullptr;
+  const SoaVertices* soa = nullptr;
   const Vec2* normals = nullptr;
   int count = 0;
   float radius = 0.0f;
 
   [[nodiscard]] int next(int i) const noexcept { return i + 1 == count ? 0 : i + 1; }
+  [[nodiscard]] Vec2 vertex(int i) const noexcept { return soa->vertex(i); }
 };
 
 /// Index of the edge of `p` whose normal is most anti-parallel to `normal`.
@@ -69,8 +71,8 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
                        const Context& ctx) noexcept {
   const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normals[i11];
-  const EdgeRef ref{p1.vertices[i11], p1.vertices[p1.next(i11)], i11, p1.next(i11)};
-  const EdgeRef inc{p2.vertices[i21], p2.vertices[p2.next(i21)], i21, p2.next(i21)};
+  const EdgeRef ref{p1.vertex(i11), p1.vertex(p1.next(i11)), i11, p1.next(i11)};
+  const EdgeRef inc{p2.vertex(i21), p2.vertex(p2.next(i21)), i21, p2.next(i21)};
   const float r1 = p1.radius;
   const float r2 = p2.radius;
   const float radius = r1 + r2;
@@ -104,15 +106,15 @@ Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPoly
   const Vec2 n1 = p1.normals[i11];
   int deepest = 0;
   for (int k = 1; k < p2.count; ++k) {
-    if (dot(n1, p2.vertices[k]) < dot(n1, p2.vertices[deepest])) deepest = k;
+    if (dot(n1, p2.vertex(k)) < dot(n1, p2.vertex(deepest))) deepest = k;
   }
-  const float separation = dot(n1, p2.vertices[deepest] - p1.vertices[i11]);
+  const float separation = dot(n1, p2.vertex(deepest) - p1.vertex(i11));
   const float radius = p1.radius + p2.radius;
   Manifold m;
   if (!(separation <= radius)) return m;
   m.normal = rotate(frame.q, n1);
   m.points[0] = {
-      transform_point(frame, p2.vertices[deepest] +
+      transform_point(frame, p2.vertex(deepest) +
                                  (0.5f * (p1.radius - separation - p2.radius)) * n1),
       radius - separation,
       ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
@@ -132,7 +134,7 @@ struct ClosestEdges {
 ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
                            int e2) noexcept {
   const EdgeClosestPoints c = closest_points_between_edges(
-      p1.vertices[e1], p1.vertices[p1.next(e1)], p2.vertices[e2], p2.vertices[p2.next(e2)]);
+      p1.vertex(e1), p1.vertex(p1.next(e1)), p2.vertex(e2), p2.vertex(p2.next(e2)));
   return {e1, e2, c, distance_squared(c.point1, c.point2)};
 }
 
@@ -213,31 +215,21 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   const Vec2 origin = a.vertices[0];
   const Vec2 shift = b_in_a.p - origin;
 
-  // Both cores in A's frame, origin at A's vertex 0; sizes for the relative tolerances.
-  std::array<Vec2, kMaxPolygonVertices> va;
-  std::array<Vec2, kMaxPolygonVertices> vb;
-  std::array<Vec2, kMaxPolygonVertices> normals_b;
-  Vec2 extent_a{0.0f, 0.0f};
-  for (int i = 0; i < na; ++i) {
-    va[i] = a.vertices[i] - origin;
-    extent_a = glm::max(extent_a, glm::abs(va[i]));
-  }
-  Vec2 extent_b{0.0f, 0.0f};
-  const Vec2 b0 = b.vertices[0];
-  for (int j = 0; j < nb; ++j) {
-    vb[j] = rotate(b_in_a.q, b.vertices[j]) + shift;
-    normals_b[j] = rotate(b_in_a.q, b.normals[j]);
-    extent_b = glm::max(extent_b, glm::abs(b.vertices[j] - b0));
-  }
+  // Both cores in A's frame, origin at A's vertex 0, as x and y arrays (for the separating
+  // axis test's four-wide inner loop).
+  SoaVertices va;
+  SoaVertices vb;
+  for (int i = 0; i < na; ++i) va.set(i, a.vertices[i] - origin);
+  va.finish(na);
+  for (int j = 0; j < nb; ++j) vb.set(j, rotate(b_in_a.q, b.vertices[j]) + shift);
+  vb.finish(nb);
   const float radius = a.radius + b.radius;
 
-  const std::span<const Vec2> verts_a(va.data(), na);
-  const std::span<const Vec2> verts_b(vb.data(), nb);
-  const EdgeSeparation sep_a =
-      find_max_separation(verts_a, std::span(a.normals.data(), na), verts_b, radius);
+  const EdgeSeparation sep_a = find_max_separation_soa(va, a.normals.data(), vb, radius);
   if (sep_a.separation > radius) return {};
-  const EdgeSeparation sep_b =
-      find_max_separation(verts_b, std::span(normals_b.data(), nb), verts_a, radius);
+  std::array<Vec2, kMaxPolygonVertices> normals_b;
+  for (int j = 0; j < nb; ++j) normals_b[j] = rotate(b_in_a.q, b.normals[j]);
+  const EdgeSeparation sep_b = find_max_separation_soa(vb, normals_b.data(), va, radius);
   if (sep_b.separation > radius) return {};
 
   EdgeSeparation ref_a = sep_a;
@@ -246,21 +238,27 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     // segment normals, except when the segments are parallel: then it is a segment and its end
     // caps add the segments' direction as an axis (collinear segments are apart only along it).
     const Vec2 t = left_perp(a.normals[0]);
-    const float lo_a = std::min(dot(t, va[0]), dot(t, va[1]));
-    const float hi_a = std::max(dot(t, va[0]), dot(t, va[1]));
-    const float lo_b = std::min(dot(t, vb[0]), dot(t, vb[1]));
-    const float hi_b = std::max(dot(t, vb[0]), dot(t, vb[1]));
-    const float axial = std::max(lo_b - hi_a, lo_a - hi_b);
+    const float a0 = dot(t, va.vertex(0)), a1 = dot(t, va.vertex(1));
+    const float b0 = dot(t, vb.vertex(0)), b1 = dot(t, vb.vertex(1));
+    const float axial = std::max(std::min(b0, b1) - std::max(a0, a1),
+                                 std::min(a0, a1) - std::max(b0, b1));
     if (axial > radius) return {};
     // Apart along the direction: the closest features decide (from A's edge, see below).
     if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
   }
 
-  const float size = std::max({extent_a.x, extent_a.y, extent_b.x, extent_b.y});
+  // The size that the tolerances scale with: the longer of the two competing faces (largest
+  // coordinate extent), found without a loop or a square root.
+  const auto edge_extent = [](const SoaVertices& v, int e) {
+    return glm::abs(v.vertex(e + 1 == v.count ? 0 : e + 1) - v.vertex(e));
+  };
+  const Vec2 ea = edge_extent(va, sep_a.edge);
+  const Vec2 eb = edge_extent(vb, sep_b.edge);
+  const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
   const Context ctx{{transform_point(xa, origin), xa.q}, kRelativeTolerance * size,
                     kContactMergeTolerance * size};
-  const LocalPolygon pa{va.data(), a.normals.data(), na, a.radius};
-  const LocalPolygon pb{vb.data(), normals_b.data(), nb, b.radius};
+  const LocalPolygon pa{&va, a.normals.data(), na, a.radius};
+  const LocalPolygon pb{&vb, normals_b.data(), nb, b.radius};
   const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
   Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
                            : reference_face_manifold(pa, ref_a, pb, ctx);

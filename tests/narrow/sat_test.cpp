@@ -28,8 +28,11 @@ TEST(SatFindMaxSeparation, MatchesBruteForceOverEveryEdge) {
   int apart = 0, overlapping = 0;
   const int trials = 2000;
   for (int t = 0; t < trials; ++t) {
-    const Polygon a = test::random_polygon(rng, 3 + static_cast<int>(rng() % 10), 1.0f);
-    const Polygon b = test::random_polygon(rng, 3 + static_cast<int>(rng() % 10), 1.0f);
+    // Up to 64 vertices: many-sided polygons make the deepest-vertex walk go far.
+    const int na = t % 4 == 0 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const int nb = t % 4 == 1 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const Polygon a = test::random_polygon(rng, na, 1.0f);
+    const Polygon b = test::random_polygon(rng, nb, 1.0f);
     const Transform xa = test::random_transform(rng, 2.0f);
     const Transform xb = test::random_transform(rng, 2.0f);
     const EdgeSeparation s = find_max_separation(a, b, inv_mul(xa, xb));
@@ -37,6 +40,10 @@ TEST(SatFindMaxSeparation, MatchesBruteForceOverEveryEdge) {
     for (int i = 0; i < a.count; ++i) best = std::max(best, world_edge_separation(a, xa, b, xb, i));
     EXPECT_NEAR(s.separation, best, 1e-4f);
     EXPECT_NEAR(world_edge_separation(a, xa, b, xb, s.edge), best, 1e-4f) << "edge " << s.edge;
+    // The support vertex is B's deepest along the chosen axis.
+    const Vec2 n = rotate(xa.q, a.normals[s.edge]);
+    EXPECT_NEAR(dot(n, transform_point(xb, b.vertices[s.support]) - transform_point(xa, a.vertices[s.edge])),
+                world_edge_separation(a, xa, b, xb, s.edge), 1e-4f);
     (s.separation > 0.0f ? apart : overlapping)++;
   }
   EXPECT_GT(apart, trials * 3 / 10);
