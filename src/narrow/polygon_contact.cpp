@@ -30,23 +30,23 @@
 namespace collide::detail {
 namespace {
 
-/// A polygon's core in the shared local frame.
+/// A polygon's core in the shared local frame, with its rounding radius.
 struct LocalPolygon {
-  const SoaVertices* soa = nullptr;
-  const Vec2* normals = nullptr;
+  const SoaPolygon* soa = nullptr;
   int count = 0;
   float radius = 0.0f;
 
   [[nodiscard]] int next(int i) const noexcept { return i + 1 == count ? 0 : i + 1; }
   [[nodiscard]] Vec2 vertex(int i) const noexcept { return soa->vertex(i); }
+  [[nodiscard]] Vec2 normal(int i) const noexcept { return soa->normal(i); }
 };
 
 /// Index of the edge of `p` whose normal is most anti-parallel to `normal`.
 int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
   int best = 0;
-  float lowest = dot(normal, p.normals[0]);
+  float lowest = dot(normal, p.normal(0));
   for (int i = 1; i < p.count; ++i) {
-    const float d = dot(normal, p.normals[i]);
+    const float d = dot(normal, p.normal(i));
     if (d < lowest) {
       lowest = d;
       best = i;
@@ -70,7 +70,7 @@ struct Context {
 Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
                        const Context& ctx) noexcept {
   const Transform& frame = ctx.frame;
-  const Vec2 n1 = p1.normals[i11];
+  const Vec2 n1 = p1.normal(i11);
   const EdgeRef ref{p1.vertex(i11), p1.vertex(p1.next(i11)), i11, p1.next(i11)};
   const EdgeRef inc{p2.vertex(i21), p2.vertex(p2.next(i21)), i21, p2.next(i21)};
   const float r1 = p1.radius;
@@ -103,7 +103,7 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
 Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
                                 const Context& ctx) noexcept {
   const Transform& frame = ctx.frame;
-  const Vec2 n1 = p1.normals[i11];
+  const Vec2 n1 = p1.normal(i11);
   int deepest = 0;
   for (int k = 1; k < p2.count; ++k) {
     if (dot(n1, p2.vertex(k)) < dot(n1, p2.vertex(deepest))) deepest = k;
@@ -157,7 +157,7 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
                                  const LocalPolygon& p2, const Context& ctx) noexcept {
   const Transform& frame = ctx.frame;
   const int i11 = reference.edge;
-  const int i21 = incident_edge(p2, p1.normals[i11]);
+  const int i21 = incident_edge(p2, p1.normal(i11));
   if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx);
 
   ClosestEdges best = closest_edges(p1, i11, p2, i21);
@@ -200,9 +200,9 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
   }
   if (end1) {
     return reversed(
-        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normals[best.e2]), ctx));
+        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx));
   }
-  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normals[best.e1]), ctx);
+  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx);
 }
 
 }  // namespace
@@ -215,29 +215,35 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   const Vec2 origin = a.vertices[0];
   const Vec2 shift = b_in_a.p - origin;
 
-  // Both cores in A's frame, origin at A's vertex 0, as x and y arrays (for the separating
-  // axis test's four-wide inner loop).
-  SoaVertices va;
-  SoaVertices vb;
-  for (int i = 0; i < na; ++i) va.set(i, a.vertices[i] - origin);
-  va.finish(na);
-  for (int j = 0; j < nb; ++j) vb.set(j, rotate(b_in_a.q, b.vertices[j]) + shift);
-  vb.finish(nb);
+  // Both cores in A's frame, origin at A's vertex 0, as x and y arrays (the separating axis
+  // test runs four edges wide on them).
+  SoaPolygon pa_soa;
+  SoaPolygon pb_soa;
+  for (int i = 0; i < na; ++i) {
+    pa_soa.set_vertex(i, a.vertices[i] - origin);
+    pa_soa.set_normal(i, a.normals[i]);
+  }
+  pa_soa.finish_vertices(na);
+  pa_soa.finish_normals();
+  for (int j = 0; j < nb; ++j) pb_soa.set_vertex(j, rotate(b_in_a.q, b.vertices[j]) + shift);
+  pb_soa.finish_vertices(nb);
   const float radius = a.radius + b.radius;
 
-  const EdgeSeparation sep_a = find_max_separation_soa(va, a.normals.data(), vb, radius);
+  const EdgeSeparation sep_a = find_max_separation_soa(pa_soa, pb_soa, radius);
   if (sep_a.separation > radius) return {};
-  std::array<Vec2, kMaxPolygonVertices> normals_b;
-  for (int j = 0; j < nb; ++j) normals_b[j] = rotate(b_in_a.q, b.normals[j]);
-  const EdgeSeparation sep_b = find_max_separation_soa(vb, normals_b.data(), va, radius);
+  for (int j = 0; j < nb; ++j) pb_soa.set_normal(j, rotate(b_in_a.q, b.normals[j]));
+  pb_soa.finish_normals();
+  const EdgeSeparation sep_b = find_max_separation_soa(pb_soa, pa_soa, radius);
   if (sep_b.separation > radius) return {};
+  const SoaPolygon& va = pa_soa;
+  const SoaPolygon& vb = pb_soa;
 
   EdgeSeparation ref_a = sep_a;
   if (na == 2 && nb == 2) {
     // Two segments' Minkowski difference is a parallelogram whose edge normals are the two
     // segment normals, except when the segments are parallel: then it is a segment and its end
     // caps add the segments' direction as an axis (collinear segments are apart only along it).
-    const Vec2 t = left_perp(a.normals[0]);
+    const Vec2 t = left_perp(a.normals[0]);  // A's direction, in A's frame
     const float a0 = dot(t, va.vertex(0)), a1 = dot(t, va.vertex(1));
     const float b0 = dot(t, vb.vertex(0)), b1 = dot(t, vb.vertex(1));
     const float axial = std::max(std::min(b0, b1) - std::max(a0, a1),
@@ -249,16 +255,16 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
 
   // The size that the tolerances scale with: the longer of the two competing faces (largest
   // coordinate extent), found without a loop or a square root.
-  const auto edge_extent = [](const SoaVertices& v, int e) {
-    return glm::abs(v.vertex(e + 1 == v.count ? 0 : e + 1) - v.vertex(e));
+  const auto edge_extent = [](const SoaPolygon& p, int e) {
+    return glm::abs(p.vertex(p.next(e)) - p.vertex(e));
   };
   const Vec2 ea = edge_extent(va, sep_a.edge);
   const Vec2 eb = edge_extent(vb, sep_b.edge);
   const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
   const Context ctx{{transform_point(xa, origin), xa.q}, kRelativeTolerance * size,
                     kContactMergeTolerance * size};
-  const LocalPolygon pa{&va, a.normals.data(), na, a.radius};
-  const LocalPolygon pb{&vb, normals_b.data(), nb, b.radius};
+  const LocalPolygon pa{&pa_soa, na, a.radius};
+  const LocalPolygon pb{&pb_soa, nb, b.radius};
   const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
   Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
                            : reference_face_manifold(pa, ref_a, pb, ctx);

@@ -10,68 +10,73 @@
 namespace collide {
 
 namespace detail {
-namespace {
-
-// The smallest of dot(n, v2_j) over polygon 2's vertices. Scalar meaning:
-//   lowest = min_j (n.x * x[j] + n.y * y[j])
-// With GCC or Clang, four vertices per step in one SIMD register (generic vector extension,
-// SSE on x86, NEON on ARM); elsewhere the plain loop.
-#if defined(__GNUC__) || defined(__clang__)
-using Lanes = float __attribute__((vector_size(16)));
-
-float lowest_projection(const SoaVertices& v, Vec2 n) noexcept {
-  Lanes x, y;
-  __builtin_memcpy(&x, v.x, sizeof(Lanes));
-  __builtin_memcpy(&y, v.y, sizeof(Lanes));
-  Lanes lo = n.x * x + n.y * y;
-  for (int j = kSatLanes; j < v.padded; j += kSatLanes) {
-    __builtin_memcpy(&x, v.x + j, sizeof(Lanes));
-    __builtin_memcpy(&y, v.y + j, sizeof(Lanes));
-    const Lanes d = n.x * x + n.y * y;
-    lo = d < lo ? d : lo;
-  }
-  const float a = lo[0] < lo[1] ? lo[0] : lo[1];
-  const float b = lo[2] < lo[3] ? lo[2] : lo[3];
-  return a < b ? a : b;
-}
-#else
-float lowest_projection(const SoaVertices& v, Vec2 n) noexcept {
-  float lo = n.x * v.x[0] + n.y * v.y[0];
-  for (int j = 1; j < v.count; ++j) {
-    const float d = n.x * v.x[j] + n.y * v.y[j];
-    lo = d < lo ? d : lo;
-  }
-  return lo;
-}
-#endif
-
-}  // namespace
 
 // Separating axis test over the edge normals of polygon 1 (Ericson 5.2.1). For edge i, the
 // separation of polygon 2 along the outward normal n_i is the smallest signed distance of its
 // vertices to the edge's line: min_j dot(n_i, v2_j - v1_i) = min_j dot(n_i, v2_j) - dot(n_i, v1_i).
 // The largest of these over i is the axis of greatest separation (> 0: apart) or, when every
-// axis overlaps, of least penetration. O(n m), the m side four at a time.
-EdgeSeparation find_max_separation_soa(const SoaVertices& v1, const Vec2* normals1,
-                                       const SoaVertices& v2, float early_exit) noexcept {
+// axis overlaps, of least penetration. O(n m).
+//
+// Scalar meaning of one step, for the four edges i..i+3 at once:
+//   lowest[k] = min_j (nx[i+k] * x2[j] + ny[i+k] * y2[j])
+//   separation[k] = lowest[k] - (nx[i+k] * x1[i+k] + ny[i+k] * y1[i+k])
+// With GCC or Clang the four lanes are one SIMD register (generic vector extension: SSE on x86,
+// NEON on ARM); elsewhere a plain loop over the lanes. A separating axis ends the test after
+// its group of four.
+#if defined(__GNUC__) || defined(__clang__)
+namespace {
+using Lanes = float __attribute__((vector_size(16)));
+Lanes load(const float* p) noexcept {
+  Lanes v;
+  __builtin_memcpy(&v, p, sizeof(Lanes));
+  return v;
+}
+}  // namespace
+#endif
+
+EdgeSeparation find_max_separation_soa(const SoaPolygon& p1, const SoaPolygon& p2,
+                                       float early_exit) noexcept {
   EdgeSeparation best{0, -std::numeric_limits<float>::infinity(), 0};
-  for (int i = 0; i < v1.count; ++i) {
-    const Vec2 n = normals1[i];
-    const float separation = lowest_projection(v2, n) - (n.x * v1.x[i] + n.y * v1.y[i]);
-    if (separation > best.separation) {
-      best.edge = i;
-      best.separation = separation;
-      if (separation > early_exit) break;  // a separating axis: the shapes are apart
+  for (int i = 0; i < p1.padded; i += kSatLanes) {
+    float separation[kSatLanes];
+#if defined(__GNUC__) || defined(__clang__)
+    const Lanes nx = load(p1.nx + i);
+    const Lanes ny = load(p1.ny + i);
+    Lanes lowest = nx * p2.x[0] + ny * p2.y[0];
+    for (int j = 1; j < p2.count; ++j) {
+      const Lanes d = nx * p2.x[j] + ny * p2.y[j];
+      lowest = d < lowest ? d : lowest;
     }
+    const Lanes s = lowest - (nx * load(p1.x + i) + ny * load(p1.y + i));
+    __builtin_memcpy(separation, &s, sizeof(Lanes));
+#else
+    for (int k = 0; k < kSatLanes; ++k) {
+      const Vec2 n = p1.normal(i + k);
+      float lowest = dot(n, p2.vertex(0));
+      for (int j = 1; j < p2.count; ++j) {
+        const float d = dot(n, p2.vertex(j));
+        lowest = d < lowest ? d : lowest;
+      }
+      separation[k] = lowest - dot(n, p1.vertex(i + k));
+    }
+#endif
+    const int lanes = p1.count - i < kSatLanes ? p1.count - i : kSatLanes;
+    for (int k = 0; k < lanes; ++k) {
+      if (separation[k] > best.separation) {
+        best.edge = i + k;
+        best.separation = separation[k];
+      }
+    }
+    if (best.separation > early_exit) break;  // a separating axis: the shapes are apart
   }
   return best;
 }
 
-int deepest_vertex(const SoaVertices& v, Vec2 n) noexcept {
+int deepest_vertex(const SoaPolygon& p, Vec2 n) noexcept {
   int best = 0;
-  float deepest = dot(n, v.vertex(0));
-  for (int j = 1; j < v.count; ++j) {
-    const float d = dot(n, v.vertex(j));
+  float deepest = dot(n, p.vertex(0));
+  for (int j = 1; j < p.count; ++j) {
+    const float d = dot(n, p.vertex(j));
     if (d < deepest) {
       deepest = d;
       best = j;
@@ -89,16 +94,20 @@ EdgeSeparation find_max_separation(std::span<const Vec2> vertices1,
                      vertices1.size() <= static_cast<size_t>(kMaxPolygonVertices) &&
                      vertices2.size() <= static_cast<size_t>(kMaxPolygonVertices),
                  "find_max_separation: bad polygon sizes");
-  detail::SoaVertices v1;
-  detail::SoaVertices v2;
+  detail::SoaPolygon p1;
+  detail::SoaPolygon p2;
   const int n1 = static_cast<int>(vertices1.size());
   const int n2 = static_cast<int>(vertices2.size());
-  for (int i = 0; i < n1; ++i) v1.set(i, vertices1[i]);
-  v1.finish(n1);
-  for (int j = 0; j < n2; ++j) v2.set(j, vertices2[j]);
-  v2.finish(n2);
-  EdgeSeparation s = detail::find_max_separation_soa(v1, normals1.data(), v2, early_exit);
-  s.support = detail::deepest_vertex(v2, normals1[s.edge]);
+  for (int i = 0; i < n1; ++i) {
+    p1.set_vertex(i, vertices1[i]);
+    p1.set_normal(i, normals1[i]);
+  }
+  p1.finish_vertices(n1);
+  p1.finish_normals();
+  for (int j = 0; j < n2; ++j) p2.set_vertex(j, vertices2[j]);
+  p2.finish_vertices(n2);
+  EdgeSeparation s = detail::find_max_separation_soa(p1, p2, early_exit);
+  s.support = detail::deepest_vertex(p2, normals1[s.edge]);
   return s;
 }
 

@@ -24,15 +24,15 @@ struct EdgeSeparation {
 
 /// Over A's edge normals, the axis of greatest separation of B's core from A's core, with B
 /// given in A's local frame by `b_in_a` (use inv_mul(xa, xb)). Works for the 2-vertex polygons
-/// that stand for capsules and segments too. O(n m), four vertices of B at a time.
+/// that stand for capsules and segments too. O(n m), four edges of A at a time.
 /// Ericson, Real-Time Collision Detection, 5.2.1; Catto GDC 2007.
 [[nodiscard]] EdgeSeparation find_max_separation(const Polygon& a, const Polygon& b,
                                                  const Transform& b_in_a) noexcept;
 
 /// The same test on raw arrays already in one frame: edge i of polygon 1 starts at
 /// `vertices1[i]` and has unit outward normal `normals1[i]`; `vertices2` are the other polygon's
-/// core vertices. Returns as soon as an axis separates by more than `early_exit` (then `separation` >
-/// `early_exit` but may not be the largest); pass the radius sum to stop at the first axis that
+/// core vertices. Returns once an axis separates by more than `early_exit` (checked after
+/// each group of four edges; then `separation` > `early_exit` but may not be the largest); pass the radius sum to stop at the first axis that
 /// proves the rounded shapes apart. The spans must have equal sizes 1..64 and `vertices2` must
 /// not be empty. Used by `contact`, which moves B into A's frame once.
 [[nodiscard]] EdgeSeparation find_max_separation(
