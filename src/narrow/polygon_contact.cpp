@@ -47,10 +47,9 @@ int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
   float lowest = dot(normal, p.normal(0));
   for (int i = 1; i < p.count; ++i) {
     const float d = dot(normal, p.normal(i));
-    if (d < lowest) {
-      lowest = d;
-      best = i;
-    }
+    const bool lower = d < lowest;  // selects, not branches: the winner is data
+    best = lower ? i : best;
+    lowest = lower ? d : lowest;
   }
   return best;
 }

@@ -60,12 +60,12 @@ EdgeSeparation find_max_separation_soa(const SoaPolygon& p1, const SoaPolygon& p
       separation[k] = lowest - dot(n, p1.vertex(i + k));
     }
 #endif
-    const int lanes = p1.count - i < kSatLanes ? p1.count - i : kSatLanes;
-    for (int k = 0; k < lanes; ++k) {
-      if (separation[k] > best.separation) {
-        best.edge = i + k;
-        best.separation = separation[k];
-      }
+    // Padded lanes repeat the last edge, so they tie with it and never win (strictly greater
+    // wins). Selects rather than branches: which edge wins is data, not a pattern.
+    for (int k = 0; k < kSatLanes; ++k) {
+      const bool better = separation[k] > best.separation;
+      best.edge = better ? i + k : best.edge;
+      best.separation = better ? separation[k] : best.separation;
     }
     if (best.separation > early_exit) break;  // a separating axis: the shapes are apart
   }
