@@ -4,12 +4,11 @@
 // collide's `contact` returns them; Box2D needs b2Collide* followed by b2WorldManifold.
 // Pairs read side by side: BM_Contact_Poly4/collide, BM_Contact_Poly4/box2d.
 
-#include <collide/narrow/contact.hpp>
-
 #include <benchmark/benchmark.h>
 #include <box2d/box2d.h>
 
 #include <cmath>
+#include <collide/narrow/contact.hpp>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -35,8 +34,8 @@ std::vector<Vec2> random_convex(std::mt19937& rng, int n) {
   std::vector<Vec2> pts;
   const float rx = uniform(rng, 0.3f, 0.6f), ry = uniform(rng, 0.3f, 0.6f);
   for (int i = 0; i < n; ++i) {
-    const float angle = 2.0f * kPi * (static_cast<float>(i) + uniform(rng, -0.25f, 0.25f)) /
-                        static_cast<float>(n);
+    const float angle =
+        2.0f * kPi * (static_cast<float>(i) + uniform(rng, -0.25f, 0.25f)) / static_cast<float>(n);
     pts.push_back({rx * std::cos(angle), ry * std::sin(angle)});
   }
   return pts;
@@ -167,7 +166,10 @@ BENCHMARK(BM_Contact_Poly4_collide)->Name("BM_Contact_Poly4/collide")->Arg(kPair
 BENCHMARK(BM_Contact_Poly4_box2d)->Name("BM_Contact_Poly4/box2d")->Arg(kPairs)->Arg(64);
 BENCHMARK(BM_Contact_Poly8_collide)->Name("BM_Contact_Poly8/collide")->Arg(kPairs)->Arg(64);
 BENCHMARK(BM_Contact_Poly8_box2d)->Name("BM_Contact_Poly8/box2d")->Arg(kPairs)->Arg(64);
-BENCHMARK(BM_Contact_CirclePoly_collide)->Name("BM_Contact_CirclePoly/collide")->Arg(kPairs)->Arg(64);
+BENCHMARK(BM_Contact_CirclePoly_collide)
+    ->Name("BM_Contact_CirclePoly/collide")
+    ->Arg(kPairs)
+    ->Arg(64);
 BENCHMARK(BM_Contact_CirclePoly_box2d)->Name("BM_Contact_CirclePoly/box2d")->Arg(kPairs)->Arg(64);
 
 BENCHMARK_MAIN();

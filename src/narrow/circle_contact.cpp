@@ -1,10 +1,10 @@
 // Contacts with a circle: circle-circle analytically, polygon-circle by the Voronoi region of
 // the circle's centre. Both give one point midway between the surfaces.
 
-#include "contact_routines.hpp"
-
 #include <cmath>
 #include <limits>
+
+#include "contact_routines.hpp"
 
 namespace collide::detail {
 namespace {

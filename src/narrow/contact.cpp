@@ -2,13 +2,11 @@
 // pair and whether the pair is served in swapped order; swapped pairs are answered by
 // `reversed` of the other order, here and nowhere else.
 
+#include <collide/core/error.hpp>
 #include <collide/narrow/contact.hpp>
+#include <type_traits>
 
 #include "contact_routines.hpp"
-
-#include <collide/core/error.hpp>
-
-#include <type_traits>
 
 namespace collide {
 namespace {
@@ -20,15 +18,22 @@ struct TableEntry {
   bool swapped;  ///< served as contact(B, A), then reversed
 };
 
-// Rows: A's type, columns: B's type, both in ShapeType2D order (circle, capsule, polygon,
-// segment). Capsules and segments count as 2-vertex polygons.
+constexpr TableEntry kCircles{Routine::circles, false};
+constexpr TableEntry kPolygonCircle{Routine::polygon_circle, false};
+constexpr TableEntry kCirclePolygon{Routine::polygon_circle, true};  // served reversed
+constexpr TableEntry kPolygons{Routine::polygons, false};
+
+// Rows: A's type, columns: B's type, both in ShapeType2D order. Capsules and segments count as
+// 2-vertex polygons.
+// clang-format off
 constexpr TableEntry kContactTable[4][4] = {
-    // B: circle                      capsule                       polygon                       segment
-    {{Routine::circles, false},        {Routine::polygon_circle, true}, {Routine::polygon_circle, true}, {Routine::polygon_circle, true}},   // A: circle
-    {{Routine::polygon_circle, false}, {Routine::polygons, false},      {Routine::polygons, false},      {Routine::polygons, false}},        // A: capsule
-    {{Routine::polygon_circle, false}, {Routine::polygons, false},      {Routine::polygons, false},      {Routine::polygons, false}},        // A: polygon
-    {{Routine::polygon_circle, false}, {Routine::polygons, false},      {Routine::polygons, false},      {Routine::polygons, false}},        // A: segment
+    // B: circle     capsule         polygon         segment
+    {kCircles,       kCirclePolygon, kCirclePolygon, kCirclePolygon},  // A: circle
+    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: capsule
+    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: polygon
+    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: segment
 };
+// clang-format on
 
 template <class S>
 constexpr int type_index() noexcept {
@@ -80,18 +85,16 @@ Manifold contact(const A& a, const Transform& xa, const B& b, const Transform& x
 
 Manifold contact(const Shape2D& a, const Transform& xa, const Shape2D& b,
                  const Transform& xb) noexcept {
-  return std::visit(
-      [&](const auto& sa, const auto& sb) { return contact(sa, xa, sb, xb); }, a, b);
+  return std::visit([&](const auto& sa, const auto& sb) { return contact(sa, xa, sb, xb); }, a, b);
 }
 
 // Every ordered pair, so the template's definition can stay in this file.
-#define COLLIDE_CONTACT_PAIR(A, B)                                                      \
-  template Manifold contact<A, B>(const A&, const Transform&, const B&, const Transform&) \
-      noexcept;
-#define COLLIDE_CONTACT_ROW(A)      \
-  COLLIDE_CONTACT_PAIR(A, Circle)   \
-  COLLIDE_CONTACT_PAIR(A, Capsule)  \
-  COLLIDE_CONTACT_PAIR(A, Polygon)  \
+#define COLLIDE_CONTACT_PAIR(A, B) \
+  template Manifold contact<A, B>(const A&, const Transform&, const B&, const Transform&) noexcept;
+#define COLLIDE_CONTACT_ROW(A)     \
+  COLLIDE_CONTACT_PAIR(A, Circle)  \
+  COLLIDE_CONTACT_PAIR(A, Capsule) \
+  COLLIDE_CONTACT_PAIR(A, Polygon) \
   COLLIDE_CONTACT_PAIR(A, Segment)
 COLLIDE_CONTACT_ROW(Circle)
 COLLIDE_CONTACT_ROW(Capsule)

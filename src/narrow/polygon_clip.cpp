@@ -1,8 +1,7 @@
 #include "polygon_clip.hpp"
 
-#include <collide/core/tolerance.hpp>
-
 #include <algorithm>
+#include <collide/core/tolerance.hpp>
 
 namespace collide::detail {
 

@@ -7,9 +7,8 @@
 //  - closest_points_between_edges: closest points of two segments (Ericson 5.1.9), used for
 //    rounded shapes whose cores are apart.
 
-#include <collide/narrow/manifold.hpp>
-
 #include <array>
+#include <collide/narrow/manifold.hpp>
 
 namespace collide::detail {
 

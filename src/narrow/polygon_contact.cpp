@@ -3,29 +3,32 @@
 //
 // 1. Move B into A's local frame once, shifted so that A's vertex 0 is the origin: coordinates
 //    stay small however far from the world origin the pair is.
-// 2. Separating axis test over A's edge normals, then B's (sat.cpp); stop at the first axis that
-//    separates the rounded shapes.
-// 3. The reference face is the axis of greatest separation, preferring A within a tolerance
-//    relative to the shapes' size so that the choice does not flicker between frames. The
-//    incident edge is the edge of the other polygon most anti-parallel to the reference normal.
+// 2. Separating axis test over A's edge normals, then B's (sat.cpp), four edges at a time; stop
+//    at an axis that separates the rounded shapes. Two parallel segments also need their common
+//    direction as an axis.
+// 3. The reference face is the axis of greatest separation, preferring A unless B's is larger by
+//    kReferenceFaceTolerance of the faces' size, so that the choice does not flicker between
+//    frames. The incident edge is the other polygon's edge most anti-parallel to the reference
+//    normal.
 // 4. If the cores overlap (or nearly touch), clip the incident edge to the reference edge's side
 //    planes and keep the points within the radii sum of the reference face: 1 or 2 points.
-//    If the cores are apart (rounded shapes only reach here then), the closest points of the two
-//    edges tell vertex-vertex contact (one point, normal along the closest points) from face
-//    contact (clip as above, against whichever edge holds the inside closest point).
+//    If the cores are apart (rounded shapes only reach here then), the exact closest features of
+//    the cores decide: corner against corner gives one point with the normal along the closest
+//    points, otherwise clip against whichever edge holds the inside closest point.
+// 5. If deep overlap of many short edges leaves the incident edge beside the reference edge,
+//    try the other polygon's face, then report the deepest vertex alone.
 // Catto, "Contact Manifolds", GDC 2007; Ericson, Real-Time Collision Detection, 5.2.1, 5.1.9.
-
-#include "contact_routines.hpp"
-#include "polygon_clip.hpp"
-#include "sat_soa.hpp"
-
-#include <collide/core/tolerance.hpp>
-#include <collide/narrow/sat.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/sat.hpp>
 #include <span>
+
+#include "contact_routines.hpp"
+#include "polygon_clip.hpp"
+#include "sat_soa.hpp"
 
 namespace collide::detail {
 namespace {
@@ -57,9 +60,9 @@ int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
 /// What the routines below share: the map from the shared local frame to world space and the
 /// scene's length tolerances.
 struct Context {
-  Transform frame;      ///< local (A's frame, origin at A's vertex 0) to world
-  float apart = 0.0f;   ///< core separation above which the cores count as apart
-  float merge = 0.0f;   ///< contact points closer than this are one point
+  Transform frame;     ///< local (A's frame, origin at A's vertex 0) to world
+  float apart = 0.0f;  ///< core separation above which the cores count as apart
+  float merge = 0.0f;  ///< contact points closer than this are one point
 };
 
 /// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
@@ -112,12 +115,11 @@ Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPoly
   Manifold m;
   if (!(separation <= radius)) return m;
   m.normal = rotate(frame.q, n1);
-  m.points[0] = {
-      transform_point(frame, p2.vertex(deepest) +
-                                 (0.5f * (p1.radius - separation - p2.radius)) * n1),
-      radius - separation,
-      ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
-                FeatureType::edge, FeatureType::vertex}};
+  m.points[0] = {transform_point(frame, p2.vertex(deepest) +
+                                            (0.5f * (p1.radius - separation - p2.radius)) * n1),
+                 radius - separation,
+                 ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
+                           FeatureType::edge, FeatureType::vertex}};
   m.count = 1;
   return m;
 }
@@ -132,8 +134,8 @@ struct ClosestEdges {
 
 ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
                            int e2) noexcept {
-  const EdgeClosestPoints c = closest_points_between_edges(
-      p1.vertex(e1), p1.vertex(p1.next(e1)), p2.vertex(e2), p2.vertex(p2.next(e2)));
+  const EdgeClosestPoints c = closest_points_between_edges(p1.vertex(e1), p1.vertex(p1.next(e1)),
+                                                           p2.vertex(e2), p2.vertex(p2.next(e2)));
   return {e1, e2, c, distance_squared(c.point1, c.point2)};
 }
 
@@ -198,8 +200,7 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
     return m;
   }
   if (end1) {
-    return reversed(
-        clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx));
+    return reversed(clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx));
   }
   return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx);
 }
@@ -245,8 +246,8 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     const Vec2 t = left_perp(a.normals[0]);  // A's direction, in A's frame
     const float a0 = dot(t, va.vertex(0)), a1 = dot(t, va.vertex(1));
     const float b0 = dot(t, vb.vertex(0)), b1 = dot(t, vb.vertex(1));
-    const float axial = std::max(std::min(b0, b1) - std::max(a0, a1),
-                                 std::min(a0, a1) - std::max(b0, b1));
+    const float axial =
+        std::max(std::min(b0, b1) - std::max(a0, a1), std::min(a0, a1) - std::max(b0, b1));
     if (axial > radius) return {};
     // Apart along the direction: the closest features decide (from A's edge, see below).
     if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
@@ -260,7 +261,8 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   const Vec2 ea = edge_extent(va, sep_a.edge);
   const Vec2 eb = edge_extent(vb, sep_b.edge);
   const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
-  const Context ctx{{transform_point(xa, origin), xa.q}, kRelativeTolerance * size,
+  const Context ctx{{transform_point(xa, origin), xa.q},
+                    kRelativeTolerance * size,
                     kContactMergeTolerance * size};
   const LocalPolygon pa{&pa_soa, na, a.radius};
   const LocalPolygon pb{&pb_soa, nb, b.radius};

@@ -1,11 +1,9 @@
+#include <array>
+#include <collide/core/error.hpp>
 #include <collide/narrow/sat.hpp>
+#include <limits>
 
 #include "sat_soa.hpp"
-
-#include <collide/core/error.hpp>
-
-#include <array>
-#include <limits>
 
 namespace collide {
 
@@ -87,8 +85,7 @@ int deepest_vertex(const SoaPolygon& p, Vec2 n) noexcept {
 
 }  // namespace detail
 
-EdgeSeparation find_max_separation(std::span<const Vec2> vertices1,
-                                   std::span<const Vec2> normals1,
+EdgeSeparation find_max_separation(std::span<const Vec2> vertices1, std::span<const Vec2> normals1,
                                    std::span<const Vec2> vertices2, float early_exit) noexcept {
   COLLIDE_ASSERT(vertices1.size() == normals1.size() && !vertices1.empty() && !vertices2.empty() &&
                      vertices1.size() <= static_cast<size_t>(kMaxPolygonVertices) &&

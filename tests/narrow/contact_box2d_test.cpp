@@ -12,7 +12,7 @@ namespace {
 using test::box2d_contact;
 using test::OracleManifold;
 
-constexpr float kTol = 2e-4f;     // geometry of size ~1 in float
+constexpr float kTol = 2e-4f;        // geometry of size ~1 in float
 constexpr float kAmbiguous = 1e-3f;  // |depth| below this: touching is a coin toss
 
 /// Oracle points deeper than kAmbiguous, and ours: the sets to compare.

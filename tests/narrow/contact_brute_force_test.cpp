@@ -6,10 +6,10 @@
 //    is the radii sum (for apart cores: the normal runs along the closest points);
 //  - each point's two surface points lie in their shapes, and every depth is within [0, true].
 
-#include "narrow/contact_oracle.hpp"
-
 #include <collide/core/tolerance.hpp>
 #include <collide/shape/shape2d.hpp>
+
+#include "narrow/contact_oracle.hpp"
 
 namespace collide {
 namespace {
@@ -134,10 +134,9 @@ TEST(ContactBruteForce, EveryOrderedPairOfShapeTypes) {
         const Shape2D a = random_shape(rng, ta);
         const Shape2D b = random_shape(rng, tb);
         const Transform xa = test::random_transform(rng, 1.0f);
-        const Transform xb =
-            place_at_depth(world_core(a, xa), b, xa.p, random_direction(rng),
-                           test::uniform(rng, -test::kPi, test::kPi),
-                           test::uniform(rng, -0.4f, 0.6f));
+        const Transform xb = place_at_depth(world_core(a, xa), b, xa.p, random_direction(rng),
+                                            test::uniform(rng, -test::kPi, test::kPi),
+                                            test::uniform(rng, -0.4f, 0.6f));
         SCOPED_TRACE(::testing::Message() << type_name(a) << "-" << type_name(b) << " #" << t);
         const Manifold m = contact(a, xa, b, xb);
         const auto ca = world_core(a, xa), cb = world_core(b, xb);
@@ -148,8 +147,8 @@ TEST(ContactBruteForce, EveryOrderedPairOfShapeTypes) {
           return;
         }
       }
-      EXPECT_GT(touching, trials * 3 / 10) << type_name(random_shape(rng, ta)) << "-"
-                                           << type_name(random_shape(rng, tb));
+      EXPECT_GT(touching, trials * 3 / 10)
+          << type_name(random_shape(rng, ta)) << "-" << type_name(random_shape(rng, tb));
       EXPECT_GT(apart, trials * 3 / 10);
     }
   }
@@ -166,9 +165,9 @@ TEST(ContactBruteForce, RoundedShapesNearlyTouching) {
     Shape2D b = random_shape(rng, rng() % 2 ? ShapeType2D::capsule : ShapeType2D::polygon);
     if (auto* p = std::get_if<Polygon>(&b)) p->radius = test::uniform(rng, 0.05f, 0.3f);
     const Transform xa = test::random_transform(rng, 0.5f);
-    const Transform xb =
-        place_at_depth(world_core(a, xa), b, xa.p, random_direction(rng),
-                       test::uniform(rng, -test::kPi, test::kPi), test::uniform(rng, -0.02f, 0.02f));
+    const Transform xb = place_at_depth(world_core(a, xa), b, xa.p, random_direction(rng),
+                                        test::uniform(rng, -test::kPi, test::kPi),
+                                        test::uniform(rng, -0.02f, 0.02f));
     const auto ca = world_core(a, xa), cb = world_core(b, xb);
     if (test::signed_core_distance(ca, cb) <= 0.0f) continue;  // cores overlap: not this test
     SCOPED_TRACE(::testing::Message() << type_name(a) << "-" << type_name(b) << " #" << t);
@@ -201,9 +200,9 @@ Polygon ellipse_polygon(std::mt19937& rng, int n, float rx, float ry, float radi
   std::vector<Vec2> pts;
   const Rot2 q = Rot2::from_angle(test::uniform(rng, -test::kPi, test::kPi));
   for (int i = 0; i < n; ++i) {
-    const float angle =
-        2.0f * test::kPi * (static_cast<float>(i) + test::uniform(rng, -0.3f, 0.3f)) /
-        static_cast<float>(n);
+    const float angle = 2.0f * test::kPi *
+                        (static_cast<float>(i) + test::uniform(rng, -0.3f, 0.3f)) /
+                        static_cast<float>(n);
     pts.push_back(rotate(q, {rx * std::cos(angle), ry * std::sin(angle)}));
   }
   return make_convex_polygon(pts, radius);
@@ -214,8 +213,8 @@ TEST(ContactBruteForce, SixtyFourVertexPolygons) {
   int touching = 0, apart = 0, big = 0;
   const int trials = 300;
   for (int t = 0; t < trials; ++t) {
-    const Polygon a = ellipse_polygon(rng, kMaxPolygonVertices, 1.0f, 0.6f,
-                                      rng() % 2 ? 0.0f : 0.1f);
+    const Polygon a =
+        ellipse_polygon(rng, kMaxPolygonVertices, 1.0f, 0.6f, rng() % 2 ? 0.0f : 0.1f);
     const Polygon b = t % 2 == 0 ? ellipse_polygon(rng, kMaxPolygonVertices, 0.8f, 0.5f)
                                  : make_box({0.5f, 0.3f}, 0.0f);
     big += a.count == kMaxPolygonVertices ? 1 : 0;

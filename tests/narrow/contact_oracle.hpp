@@ -2,15 +2,14 @@
 // Independent truths for the contact tests: Box2D 2.4 manifolds in world space, and brute-force
 // geometry on world-space cores (point sets grown by a radius).
 
-#include <collide/narrow/contact.hpp>
-
-#include "support/test_util.hpp"
-
 #include <box2d/box2d.h>
 
 #include <algorithm>
+#include <collide/narrow/contact.hpp>
 #include <limits>
 #include <vector>
+
+#include "support/test_util.hpp"
 
 namespace collide::test {
 
@@ -68,7 +67,8 @@ inline OracleManifold box2d_world(const b2Manifold& m, const Transform& xa, floa
   wm.Initialize(&m, to_b2(xa), ra, to_b2(xb), rb);
   out.normal = from_b2(wm.normal);
   for (int i = 0; i < m.pointCount; ++i) {
-    if (wm.separations[i] <= 0.0f) out.points.push_back({from_b2(wm.points[i]), -wm.separations[i]});
+    if (wm.separations[i] <= 0.0f)
+      out.points.push_back({from_b2(wm.points[i]), -wm.separations[i]});
   }
   return out;
 }
@@ -228,8 +228,7 @@ inline float true_depth(const WorldCore& a, const WorldCore& b) {
 inline ::testing::AssertionResult same_points(const Manifold& m, const OracleManifold& o,
                                               float tol) {
   if (m.count != static_cast<int>(o.points.size())) {
-    return ::testing::AssertionFailure()
-           << "count " << m.count << " vs oracle " << o.points.size();
+    return ::testing::AssertionFailure() << "count " << m.count << " vs oracle " << o.points.size();
   }
   for (int i = 0; i < m.count; ++i) {
     bool found = false;

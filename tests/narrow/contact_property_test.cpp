@@ -2,12 +2,11 @@
 // exactly, parallel faces, swapping A and B, rigid motions of the whole scene, far from the
 // origin, and feature ids that stay put under tiny motions.
 
-#include "narrow/contact_oracle.hpp"
-
-#include <collide/core/tolerance.hpp>
-
 #include <algorithm>
+#include <collide/core/tolerance.hpp>
 #include <optional>
+
+#include "narrow/contact_oracle.hpp"
 
 namespace collide {
 namespace {
@@ -30,9 +29,9 @@ std::optional<ManifoldPoint> find_point(const Manifold& m, ContactId id) {
   }
   if (m.count == 0) return ::testing::AssertionSuccess();
   if (distance(m.normal, expected.normal) > tol) {
-    return ::testing::AssertionFailure() << "normal (" << m.normal.x << ", " << m.normal.y
-                                         << ") vs (" << expected.normal.x << ", "
-                                         << expected.normal.y << ")";
+    return ::testing::AssertionFailure()
+           << "normal (" << m.normal.x << ", " << m.normal.y << ") vs (" << expected.normal.x
+           << ", " << expected.normal.y << ")";
   }
   for (int i = 0; i < expected.count; ++i) {
     const auto p = find_point(m, expected.points[i].id);
@@ -40,9 +39,9 @@ std::optional<ManifoldPoint> find_point(const Manifold& m, ContactId id) {
     if (distance(p->point, expected.points[i].point) > point_tol ||
         std::fabs(p->depth - expected.points[i].depth) > tol) {
       return ::testing::AssertionFailure()
-             << "point " << i << " (" << p->point.x << ", " << p->point.y << ") depth "
-             << p->depth << " vs (" << expected.points[i].point.x << ", "
-             << expected.points[i].point.y << ") depth " << expected.points[i].depth;
+             << "point " << i << " (" << p->point.x << ", " << p->point.y << ") depth " << p->depth
+             << " vs (" << expected.points[i].point.x << ", " << expected.points[i].point.y
+             << ") depth " << expected.points[i].depth;
     }
   }
   return ::testing::AssertionSuccess();
@@ -80,8 +79,10 @@ bool ambiguous(const Shape2D& a, const Transform& xa, const Shape2D& b, const Tr
   const auto ca = world_core(a, xa), cb = world_core(b, xb);
   if (std::fabs(test::true_depth(ca, cb)) < 1e-3f) return true;
   float sep_a = -1e30f, sep_b = -1e30f;
-  for (Vec2 n : test::core_axes(ca)) sep_a = std::max(sep_a, test::core_separation_along(n, ca, cb));
-  for (Vec2 n : test::core_axes(cb)) sep_b = std::max(sep_b, test::core_separation_along(n, cb, ca));
+  for (Vec2 n : test::core_axes(ca))
+    sep_a = std::max(sep_a, test::core_separation_along(n, ca, cb));
+  for (Vec2 n : test::core_axes(cb))
+    sep_b = std::max(sep_b, test::core_separation_along(n, cb, ca));
   return std::fabs(sep_a - sep_b) < 0.01f;
 }
 
@@ -216,16 +217,16 @@ TEST(ContactAnalytic, SeparatedGivesNothing) {
                     make_capsule({1.8f, 0.6f}, {3.0f, 0.6f}, 0.4f), id)
                 .count,
             0);
-  EXPECT_EQ(contact(make_segment({-1, 0}, {1, 0}), id, make_segment({1.01f, -1}, {1.01f, 1}), id)
-                .count,
-            0);
+  EXPECT_EQ(
+      contact(make_segment({-1, 0}, {1, 0}), id, make_segment({1.01f, -1}, {1.01f, 1}), id).count,
+      0);
   // Collinear segments and capsules with a gap (only the segments' direction separates them).
   EXPECT_EQ(contact(make_segment({-1, 0}, {0, 0}), id, make_segment({0.1f, 0}, {1, 0}), id).count,
             0);
-  EXPECT_EQ(contact(make_capsule({-1, 0}, {0, 0}, 0.2f), id, make_capsule({0.5f, 0}, {1, 0}, 0.2f),
-                    id)
-                .count,
-            0);
+  EXPECT_EQ(
+      contact(make_capsule({-1, 0}, {0, 0}, 0.2f), id, make_capsule({0.5f, 0}, {1, 0}, 0.2f), id)
+          .count,
+      0);
   // Rounded corners just apart on the diagonal (face axes alone would say they overlap).
   EXPECT_EQ(contact(make_box({1.0f, 1.0f}, 0.25f), id, make_box({1.0f, 1.0f}, 0.25f),
                     Transform{{2.31f, 2.41f}, {}})
@@ -314,12 +315,21 @@ TEST(ContactProperties, FeatureIdsStayPutUnderTinyMotion) {
       {"wide box on box", make_box({1.0f, 1.0f}), make_box({2.0f, 0.5f}), {{0.2f, 1.45f}, {}}, 2},
       {"box corner in box", make_box({1.0f, 1.0f}), make_box({0.5f, 0.5f}),
        Transform::from({0.1f, 1.65f}, 0.7f), 1},
-      {"capsule on box", make_box({1.0f, 1.0f}), make_capsule({-0.5f, 0.0f}, {0.5f, 0.0f}, 0.2f),
-       {{0.1f, 1.15f}, {}}, 2},
-      {"rounded corners", make_box({1.0f, 1.0f}, 0.25f), make_box({1.0f, 1.0f}, 0.25f),
-       {{2.25f, 2.3f}, {}}, 1},
-      {"circle on polygon corner", make_box({1.0f, 1.0f}), make_circle({0.0f, 0.0f}, 0.5f),
-       {{1.3f, 1.3f}, {}}, 1},
+      {"capsule on box",
+       make_box({1.0f, 1.0f}),
+       make_capsule({-0.5f, 0.0f}, {0.5f, 0.0f}, 0.2f),
+       {{0.1f, 1.15f}, {}},
+       2},
+      {"rounded corners",
+       make_box({1.0f, 1.0f}, 0.25f),
+       make_box({1.0f, 1.0f}, 0.25f),
+       {{2.25f, 2.3f}, {}},
+       1},
+      {"circle on polygon corner",
+       make_box({1.0f, 1.0f}),
+       make_circle({0.0f, 0.0f}, 0.5f),
+       {{1.3f, 1.3f}, {}},
+       1},
       {"segment across capsule", make_segment({-2.0f, 0.0f}, {2.0f, 0.0f}),
        make_capsule({0.0f, 0.0f}, {0.0f, 1.0f}, 0.3f), Transform::from({0.1f, 0.2f}, 0.1f), 1},
   };
@@ -329,8 +339,8 @@ TEST(ContactProperties, FeatureIdsStayPutUnderTinyMotion) {
     const Manifold base = contact(s.a, Transform{}, s.b, s.xb);
     ASSERT_EQ(base.count, s.count);
     for (int k = 0; k < 200; ++k) {
-      const Transform nudge = Transform::from(test::random_point(rng, 1e-3f),
-                                              test::uniform(rng, -1e-3f, 1e-3f));
+      const Transform nudge =
+          Transform::from(test::random_point(rng, 1e-3f), test::uniform(rng, -1e-3f, 1e-3f));
       const Manifold m = contact(s.a, Transform{}, s.b, mul(nudge, s.xb));
       ASSERT_EQ(m.count, base.count);
       for (int i = 0; i < base.count; ++i) {

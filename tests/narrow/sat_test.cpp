@@ -2,11 +2,10 @@
 // computed in world space from world vertices.
 
 #include <collide/narrow/sat.hpp>
-
-#include "support/test_util.hpp"
-
 #include <limits>
 #include <vector>
+
+#include "support/test_util.hpp"
 
 namespace collide {
 namespace {
@@ -29,8 +28,10 @@ TEST(SatFindMaxSeparation, MatchesBruteForceOverEveryEdge) {
   const int trials = 2000;
   for (int t = 0; t < trials; ++t) {
     // Up to 64 vertices: many-sided polygons make the deepest-vertex walk go far.
-    const int na = t % 4 == 0 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
-    const int nb = t % 4 == 1 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const int na =
+        t % 4 == 0 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const int nb =
+        t % 4 == 1 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
     const Polygon a = test::random_polygon(rng, na, 1.0f);
     const Polygon b = test::random_polygon(rng, nb, 1.0f);
     const Transform xa = test::random_transform(rng, 2.0f);
@@ -42,7 +43,8 @@ TEST(SatFindMaxSeparation, MatchesBruteForceOverEveryEdge) {
     EXPECT_NEAR(world_edge_separation(a, xa, b, xb, s.edge), best, 1e-4f) << "edge " << s.edge;
     // The support vertex is B's deepest along the chosen axis.
     const Vec2 n = rotate(xa.q, a.normals[s.edge]);
-    EXPECT_NEAR(dot(n, transform_point(xb, b.vertices[s.support]) - transform_point(xa, a.vertices[s.edge])),
+    EXPECT_NEAR(dot(n, transform_point(xb, b.vertices[s.support]) -
+                           transform_point(xa, a.vertices[s.edge])),
                 world_edge_separation(a, xa, b, xb, s.edge), 1e-4f);
     (s.separation > 0.0f ? apart : overlapping)++;
   }

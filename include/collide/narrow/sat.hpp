@@ -4,7 +4,6 @@
 /// polygons are apart iff the perpendicular of some edge of one of them separates them.
 
 #include <collide/shape/polygon.hpp>
-
 #include <limits>
 #include <span>
 
@@ -31,10 +30,11 @@ struct EdgeSeparation {
 
 /// The same test on raw arrays already in one frame: edge i of polygon 1 starts at
 /// `vertices1[i]` and has unit outward normal `normals1[i]`; `vertices2` are the other polygon's
-/// core vertices. Returns once an axis separates by more than `early_exit` (checked after
-/// each group of four edges; then `separation` > `early_exit` but may not be the largest); pass the radius sum to stop at the first axis that
-/// proves the rounded shapes apart. The spans must have equal sizes 1..64 and `vertices2` must
-/// not be empty. Used by `contact`, which moves B into A's frame once.
+/// core vertices. Returns once an axis separates by more than `early_exit` (checked after each
+/// group of four edges; then `separation` > `early_exit` but may not be the largest); pass the
+/// radius sum to stop at an axis that proves the rounded shapes apart. The spans must have
+/// sizes 1..kMaxPolygonVertices (the first two equal). `contact` uses the same test on x/y
+/// arrays it builds once in A's frame.
 [[nodiscard]] EdgeSeparation find_max_separation(
     std::span<const Vec2> vertices1, std::span<const Vec2> normals1,
     std::span<const Vec2> vertices2,
