@@ -9,8 +9,8 @@
 namespace collide {
 namespace {
 
-using test::box2d_contact;
-using test::OracleManifold;
+using contact_test::box2d_contact;
+using contact_test::OracleManifold;
 
 constexpr float kTol = 2e-4f;        // geometry of size ~1 in float
 constexpr float kAmbiguous = 1e-3f;  // |depth| below this: touching is a coin toss
@@ -52,13 +52,14 @@ void compare(const Manifold& ours, const OracleManifold& oracle, float depth, Ta
   if (!ours.touching()) return;
   ++tally.touching;
   EXPECT_VEC2_NEAR(ours.normal, oracle.normal, kTol);
-  EXPECT_TRUE(test::same_points(deep_points(ours), deep_points(oracle), kTol));
+  EXPECT_TRUE(contact_test::same_points(deep_points(ours), deep_points(oracle), kTol));
 }
 
 /// Largest separation of B along A's edge normals, brute force.
-float max_axis_separation(const test::WorldCore& a, const test::WorldCore& b) {
+float max_axis_separation(const contact_test::WorldCore& a, const contact_test::WorldCore& b) {
   float best = -1e30f;
-  for (Vec2 n : test::core_axes(a)) best = std::max(best, test::core_separation_along(n, a, b));
+  for (Vec2 n : contact_test::core_axes(a))
+    best = std::max(best, contact_test::core_separation_along(n, a, b));
   return best;
 }
 
@@ -71,14 +72,15 @@ TEST(ContactBox2D, PolygonPolygon) {
     const Polygon b = test::random_polygon(rng, 3 + static_cast<int>(rng() % 6), 0.7f);
     const Transform xa = test::random_transform(rng, 1.2f);
     const Transform xb = test::random_transform(rng, 1.2f);
-    const auto ca = test::world_core(a, xa), cb = test::world_core(b, xb);
+    const auto ca = contact_test::world_core(a, xa), cb = contact_test::world_core(b, xb);
     const float sep_a = max_axis_separation(ca, cb), sep_b = max_axis_separation(cb, ca);
     if (std::fabs(sep_a - sep_b) < 0.01f) {  // reference face is a near-tie
       ++tally.skipped;
       continue;
     }
     SCOPED_TRACE(t);
-    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb), test::true_depth(ca, cb), tally);
+    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb), contact_test::true_depth(ca, cb),
+            tally);
   }
   tally.expect_coverage(trials);
 }
@@ -93,8 +95,10 @@ TEST(ContactBox2D, CircleCircle) {
     const Transform xa = test::random_transform(rng, 1.2f);
     const Transform xb = test::random_transform(rng, 1.2f);
     SCOPED_TRACE(t);
-    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb),
-            test::true_depth(test::world_core(a, xa), test::world_core(b, xb)), tally);
+    compare(
+        contact(a, xa, b, xb), box2d_contact(a, xa, b, xb),
+        contact_test::true_depth(contact_test::world_core(a, xa), contact_test::world_core(b, xb)),
+        tally);
   }
   tally.expect_coverage(trials);
 }
@@ -110,8 +114,10 @@ TEST(ContactBox2D, PolygonCircleBothOrders) {
     const Transform xb = test::random_transform(rng, 1.2f);
     SCOPED_TRACE(t);
     const Manifold ab = contact(a, xa, b, xb);
-    compare(ab, box2d_contact(a, xa, b, xb),
-            test::true_depth(test::world_core(a, xa), test::world_core(b, xb)), tally);
+    compare(
+        ab, box2d_contact(a, xa, b, xb),
+        contact_test::true_depth(contact_test::world_core(a, xa), contact_test::world_core(b, xb)),
+        tally);
     // Circle first: the table serves it as reversed(polygon, circle).
     const Manifold ba = contact(b, xb, a, xa);
     ASSERT_EQ(ba.count, ab.count);
@@ -134,8 +140,10 @@ TEST(ContactBox2D, SegmentCircle) {
     const Transform xa = test::random_transform(rng, 0.5f);
     const Transform xb = test::random_transform(rng, 0.5f);
     SCOPED_TRACE(t);
-    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb),
-            test::true_depth(test::world_core(a, xa), test::world_core(b, xb)), tally);
+    compare(
+        contact(a, xa, b, xb), box2d_contact(a, xa, b, xb),
+        contact_test::true_depth(contact_test::world_core(a, xa), contact_test::world_core(b, xb)),
+        tally);
   }
   tally.expect_coverage(trials);
 }
@@ -149,7 +157,7 @@ TEST(ContactBox2D, SegmentPolygon) {
     const Polygon b = test::random_polygon(rng, 3 + static_cast<int>(rng() % 6), 0.7f);
     const Transform xa = test::random_transform(rng, 0.6f);
     const Transform xb = test::random_transform(rng, 0.6f);
-    const auto ca = test::world_core(a, xa), cb = test::world_core(b, xb);
+    const auto ca = contact_test::world_core(a, xa), cb = contact_test::world_core(b, xb);
     // Box2D keeps the edge's axis unless the polygon's is better by 2% + 0.001 (hysteresis);
     // skip pairs where that choice and ours could differ.
     const float sep_edge = max_axis_separation(ca, cb), sep_poly = max_axis_separation(cb, ca);
@@ -158,7 +166,8 @@ TEST(ContactBox2D, SegmentPolygon) {
       continue;
     }
     SCOPED_TRACE(t);
-    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb), test::true_depth(ca, cb), tally);
+    compare(contact(a, xa, b, xb), box2d_contact(a, xa, b, xb), contact_test::true_depth(ca, cb),
+            tally);
   }
   tally.expect_coverage(trials);
 }

@@ -45,8 +45,8 @@ Shape2D random_shape(std::mt19937& rng, ShapeType2D type) {
   return Circle{};
 }
 
-test::WorldCore world_core(const Shape2D& s, const Transform& xf) {
-  return std::visit([&](const auto& shape) { return test::world_core(shape, xf); }, s);
+contact_test::WorldCore world_core(const Shape2D& s, const Transform& xf) {
+  return std::visit([&](const auto& shape) { return contact_test::world_core(shape, xf); }, s);
 }
 
 struct Outcome {
@@ -55,8 +55,9 @@ struct Outcome {
 };
 
 /// Checks one manifold against brute force; returns whether the pair touches.
-Outcome check_brute_force(const Manifold& m, const test::WorldCore& a, const test::WorldCore& b) {
-  const float depth = test::true_depth(a, b);
+Outcome check_brute_force(const Manifold& m, const contact_test::WorldCore& a,
+                          const contact_test::WorldCore& b) {
+  const float depth = contact_test::true_depth(a, b);
   if (std::fabs(depth) < 1e-3f) return {depth >= 0.0f, true};  // either answer is fair
   if (depth < 0.0f) {
     EXPECT_EQ(m.count, 0) << "apart by " << -depth << " but touching";
@@ -68,7 +69,7 @@ Outcome check_brute_force(const Manifold& m, const test::WorldCore& a, const tes
   EXPECT_GE(m.max_depth(), depth - kTol);
   EXPECT_LE(m.max_depth(), depth + kHysteresis);
   const float radius = a.radius + b.radius;
-  const float along_normal = radius - test::core_separation_along(m.normal, a, b);
+  const float along_normal = radius - contact_test::core_separation_along(m.normal, a, b);
   EXPECT_GE(along_normal, depth - kTol);
   EXPECT_LE(along_normal, depth + kHysteresis)
       << "normal (" << m.normal.x << ", " << m.normal.y << ") does not realise the depth";
@@ -78,8 +79,8 @@ Outcome check_brute_force(const Manifold& m, const test::WorldCore& a, const tes
     EXPECT_LE(p.depth, depth + kHysteresis);
     const Vec2 on_a = p.point + 0.5f * p.depth * m.normal;
     const Vec2 on_b = p.point - 0.5f * p.depth * m.normal;
-    EXPECT_LE(test::point_core_distance(on_a, a), a.radius + kTol) << "point " << i;
-    EXPECT_LE(test::point_core_distance(on_b, b), b.radius + kTol) << "point " << i;
+    EXPECT_LE(contact_test::point_core_distance(on_a, a), a.radius + kTol) << "point " << i;
+    EXPECT_LE(contact_test::point_core_distance(on_b, b), b.radius + kTol) << "point " << i;
   }
   return {true, false};
 }
@@ -88,13 +89,13 @@ Outcome check_brute_force(const Manifold& m, const test::WorldCore& a, const tes
 /// depth is about `target` (bisection; depth decreases as B moves out along the ray). If even
 /// B at A's origin is shallower than `target`, B stays there.
 template <class ShapeB>
-Transform place_at_depth(const test::WorldCore& a, const ShapeB& b, Vec2 origin, Vec2 u,
+Transform place_at_depth(const contact_test::WorldCore& a, const ShapeB& b, Vec2 origin, Vec2 u,
                          float angle, float target) {
   const auto placed = [&](float s) { return Transform::from(origin + s * u, angle); };
   float lo = 0.0f, hi = 10.0f;
   for (int k = 0; k < 40; ++k) {
     const float mid = 0.5f * (lo + hi);
-    const float d = test::true_depth(a, world_core(b, placed(mid)));
+    const float d = contact_test::true_depth(a, world_core(b, placed(mid)));
     (d > target ? lo : hi) = mid;
   }
   return placed(lo);
@@ -106,8 +107,8 @@ Vec2 random_direction(std::mt19937& rng) {
 }
 
 /// On failure: the inputs and the answer, to turn into a regression test.
-void dump(const Manifold& m, const test::WorldCore& a, const test::WorldCore& b) {
-  for (const test::WorldCore* w : {&a, &b}) {
+void dump(const Manifold& m, const contact_test::WorldCore& a, const contact_test::WorldCore& b) {
+  for (const contact_test::WorldCore* w : {&a, &b}) {
     std::printf("core:");
     for (Vec2 p : w->points) std::printf(" (%.9g, %.9g)", p.x, p.y);
     std::printf(" radius %.9g\n", w->radius);
@@ -169,13 +170,14 @@ TEST(ContactBruteForce, RoundedShapesNearlyTouching) {
                                         test::uniform(rng, -test::kPi, test::kPi),
                                         test::uniform(rng, -0.02f, 0.02f));
     const auto ca = world_core(a, xa), cb = world_core(b, xb);
-    if (test::signed_core_distance(ca, cb) <= 0.0f) continue;  // cores overlap: not this test
+    if (contact_test::signed_core_distance(ca, cb) <= 0.0f)
+      continue;  // cores overlap: not this test
     SCOPED_TRACE(::testing::Message() << type_name(a) << "-" << type_name(b) << " #" << t);
     const Manifold m = contact(a, xa, b, xb);
     const Outcome o = check_brute_force(m, ca, cb);
     if (o.ambiguous) {
       // Still exact in the ambiguous band when it reports contact.
-      if (m.touching()) EXPECT_NEAR(m.max_depth(), test::true_depth(ca, cb), kHysteresis);
+      if (m.touching()) EXPECT_NEAR(m.max_depth(), contact_test::true_depth(ca, cb), kHysteresis);
       (m.touching() ? touching : apart)++;
     } else {
       (o.touching ? touching : apart)++;
@@ -220,11 +222,11 @@ TEST(ContactBruteForce, SixtyFourVertexPolygons) {
     big += a.count == kMaxPolygonVertices ? 1 : 0;
     const Transform xa = test::random_transform(rng, 1.0f);
     const Transform xb =
-        place_at_depth(test::world_core(a, xa), b, xa.p, random_direction(rng),
+        place_at_depth(contact_test::world_core(a, xa), b, xa.p, random_direction(rng),
                        test::uniform(rng, -test::kPi, test::kPi), test::uniform(rng, -0.5f, 0.6f));
     SCOPED_TRACE(t);
     const Manifold m = contact(a, xa, b, xb);
-    const auto ca = test::world_core(a, xa), cb = test::world_core(b, xb);
+    const auto ca = contact_test::world_core(a, xa), cb = contact_test::world_core(b, xb);
     const Outcome o = check_brute_force(m, ca, cb);
     if (!o.ambiguous) (o.touching ? touching : apart)++;
     if (::testing::Test::HasFailure()) {

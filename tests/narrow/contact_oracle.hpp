@@ -11,7 +11,7 @@
 
 #include "support/test_util.hpp"
 
-namespace collide::test {
+namespace collide::contact_test {
 
 // ---- Box2D -------------------------------------------------------------------------------
 
@@ -245,4 +245,4 @@ inline ::testing::AssertionResult same_points(const Manifold& m, const OracleMan
   return ::testing::AssertionSuccess();
 }
 
-}  // namespace collide::test
+}  // namespace collide::contact_test

@@ -69,20 +69,20 @@ Shape2D random_shape(std::mt19937& rng) {
   }
 }
 
-test::WorldCore world_core(const Shape2D& s, const Transform& xf) {
-  return std::visit([&](const auto& shape) { return test::world_core(shape, xf); }, s);
+contact_test::WorldCore world_core(const Shape2D& s, const Transform& xf) {
+  return std::visit([&](const auto& shape) { return contact_test::world_core(shape, xf); }, s);
 }
 
 /// True when the answer may legitimately depend on rounding: near touching, or the two shapes'
 /// best face axes nearly tied (the reference face is a choice then).
 bool ambiguous(const Shape2D& a, const Transform& xa, const Shape2D& b, const Transform& xb) {
   const auto ca = world_core(a, xa), cb = world_core(b, xb);
-  if (std::fabs(test::true_depth(ca, cb)) < 1e-3f) return true;
+  if (std::fabs(contact_test::true_depth(ca, cb)) < 1e-3f) return true;
   float sep_a = -1e30f, sep_b = -1e30f;
-  for (Vec2 n : test::core_axes(ca))
-    sep_a = std::max(sep_a, test::core_separation_along(n, ca, cb));
-  for (Vec2 n : test::core_axes(cb))
-    sep_b = std::max(sep_b, test::core_separation_along(n, cb, ca));
+  for (Vec2 n : contact_test::core_axes(ca))
+    sep_a = std::max(sep_a, contact_test::core_separation_along(n, ca, cb));
+  for (Vec2 n : contact_test::core_axes(cb))
+    sep_b = std::max(sep_b, contact_test::core_separation_along(n, cb, ca));
   return std::fabs(sep_a - sep_b) < 0.01f;
 }
 
