@@ -44,7 +44,9 @@ Manifold contact_circles(const Circle& a, const Transform& xa, const Circle& b,
 // two sides of one segment, so its end regions are always tested.
 Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Circle& b,
                                 const Transform& xb) noexcept {
-  const Vec2 c = transform_point(inv_mul(xa, xb), b.center);
+  // B's centre in A's frame; the world offset is formed first, so far from the origin only
+  // small numbers are rotated.
+  const Vec2 c = inv_rotate(xa.q, (xb.p - xa.p) + rotate(xb.q, b.center));
   const float radius = a.radius + b.radius;
   int edge = 0;
   float separation = -std::numeric_limits<float>::infinity();
@@ -53,7 +55,7 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
     if (s > separation) {
       separation = s;
       edge = i;
-      if (s > radius) return {};
+      if (s > radius) return {};  // a separating axis
     }
   }
   const int next = edge + 1 == a.count ? 0 : edge + 1;
