@@ -45,7 +45,8 @@ template <Shape2DType S>
 
 /// The ray that continues a laser after it hits a mirror: it starts at the hit point and keeps
 /// the length the incoming ray had left, mirrored about the hit normal. `hit` must be a hit of
-/// `ray`.
+/// `ray`. Rounding can put the new start a hair behind the mirror, so a laser loop should not
+/// cast the reflected ray at the mirror it just left (a convex mirror cannot be hit again).
 [[nodiscard]] constexpr Ray reflect(const Ray& ray, const RayHit& hit) noexcept {
   return Ray{hit.point, (1.0f - hit.fraction) * reflect(ray.translation, hit.normal)};
 }
