@@ -48,6 +48,17 @@ void clip(const Outline& in, Vec2 normal, Vec2 point, Outline& out) noexcept {
   }
 }
 
+/// Largest side of the bounding box of `count` points.
+float extent(const Vec2* v, int count) noexcept {
+  Vec2 lo = v[0];
+  Vec2 hi = v[0];
+  for (int k = 1; k < count; ++k) {
+    lo = glm::min(lo, v[k]);
+    hi = glm::max(hi, v[k]);
+  }
+  return std::max(hi.x - lo.x, hi.y - lo.y);
+}
+
 void reject_rounded(const Polygon& p, const char* name) {
   if (p.radius != 0.0f) {
     throw InvalidInput(std::string("intersect: polygon ") + name + " radius is " +
@@ -76,15 +87,10 @@ OverlapPolygon intersect(const Polygon& a, const Transform& xa, const Polygon& b
 
   OverlapPolygon result;
   if (in->count < 3) return result;
-  // Drop repeated vertices (a clip line through a vertex) within the weld tolerance of the
-  // outline's size, and measure the area about the first vertex (keeps precision).
-  Vec2 lo = in->v[0];
-  Vec2 hi = lo;
-  for (int k = 1; k < in->count; ++k) {
-    lo = glm::min(lo, in->v[k]);
-    hi = glm::max(hi, in->v[k]);
-  }
-  const float size = std::max(hi.x - lo.x, hi.y - lo.y);
+  // Tolerances scale with the inputs' size (the larger polygon's bounding box): drop repeated
+  // vertices (a clip line through a vertex) within the weld tolerance, and measure the area
+  // about the first vertex (keeps precision).
+  const float size = std::max(extent(a.vertices.data(), a.count), extent(b.vertices.data(), b.count));
   const float weld2 = (kWeldTolerance * size) * (kWeldTolerance * size);
   Outline& poly = *out;
   poly.count = 0;

@@ -18,37 +18,42 @@
 namespace collide {
 namespace {
 
-/// Vertices of a placed polygon in world space, on the stack.
-struct WorldVertices {
-  std::array<Vec2, kMaxPolygonVertices> v;
+/// A placed polygon, on the stack: vertex i is at origin + rel[i], world space. Edge directions
+/// and the lowest vertex come from `rel`, rotated but not yet moved: far from the world origin
+/// they keep full precision, so parallel edges are still recognised as parallel.
+struct PlacedVertices {
+  std::array<Vec2, kMaxPolygonVertices> rel;
+  Vec2 origin{0.0f, 0.0f};
   int count = 0;
 };
 
-WorldVertices place(const Polygon& poly, const Transform& xf, float sign) noexcept {
-  WorldVertices out;
+PlacedVertices place(const Polygon& poly, const Transform& xf, float sign) noexcept {
+  PlacedVertices out;
   out.count = poly.count;
-  for (int i = 0; i < poly.count; ++i) out.v[i] = sign * transform_point(xf, poly.vertices[i]);
+  out.origin = sign * xf.p;
+  for (int i = 0; i < poly.count; ++i) out.rel[i] = sign * rotate(xf.q, poly.vertices[i]);
   return out;
 }
 
 /// Index of the lowest vertex, the leftmost among equally low ones.
-int lowest(const WorldVertices& p) noexcept {
+int lowest(const PlacedVertices& p) noexcept {
   int best = 0;
   for (int i = 1; i < p.count; ++i) {
-    const Vec2 v = p.v[i];
-    const Vec2 b = p.v[best];
+    const Vec2 v = p.rel[i];
+    const Vec2 b = p.rel[best];
     if (v.y < b.y || (v.y == b.y && v.x < b.x)) best = i;
   }
   return best;
 }
 
-MinkowskiPolygon merge(const WorldVertices& a, const WorldVertices& b, float radius) {
+MinkowskiPolygon merge(const PlacedVertices& a, const PlacedVertices& b, float radius) {
   const int n = a.count;
   const int m = b.count;
   const int i0 = lowest(a);
   const int j0 = lowest(b);
-  auto va = [&](int k) { return a.v[(i0 + k) % n]; };
-  auto vb = [&](int k) { return b.v[(j0 + k) % m]; };
+  auto va = [&](int k) { return a.rel[(i0 + k) % n]; };
+  auto vb = [&](int k) { return b.rel[(j0 + k) % m]; };
+  const Vec2 origin = a.origin + b.origin;
   MinkowskiPolygon out;
   out.radius = radius;
   out.vertices.reserve(static_cast<size_t>(n + m));
@@ -58,7 +63,7 @@ MinkowskiPolygon merge(const WorldVertices& a, const WorldVertices& b, float rad
   int i = 0;
   int j = 0;
   while (i < n || j < m) {
-    out.vertices.push_back(va(i) + vb(j));
+    out.vertices.push_back(origin + (va(i) + vb(j)));
     const Vec2 ea = va(i + 1) - va(i);
     const Vec2 eb = vb(j + 1) - vb(j);
     if (i == n) {
