@@ -39,26 +39,27 @@ RayHit to_world(const LocalHit& h, const Transform& xf, const Ray& ray) noexcept
   return {true, h.fraction, ray.at(h.fraction), rotate(xf.q, h.normal)};
 }
 
-/// First entry of the ray p + t d, t in [0, 1], into the disc of `radius` about `center`.
-/// Ericson 5.3.2, with the discriminant computed from the ray's closest approach to the centre
-/// (r^2 - |m_perp|^2) instead of b^2 - c, which cancels badly for rays that pass far away
-/// (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems 7).
-LocalHit ray_disc(Vec2 p, Vec2 d, Vec2 center, float radius) noexcept {
-  const Vec2 m = p - center;
+/// First entry of the ray m + t d, t in [0, 1], into the disc of `radius` about the origin
+/// (m is the ray's origin relative to the disc's centre). Ericson 5.3.2, with the discriminant
+/// computed from the ray's closest approach to the centre (r^2 - |m_perp|^2) instead of
+/// b^2 - c, which cancels badly for rays that pass far away (Haines et al., "Precision
+/// Improvements for Ray/Sphere Intersection", Ray Tracing Gems 7). One division; the normal is
+/// the hit point over the radius, which is unit by construction.
+inline LocalHit ray_disc(Vec2 m, Vec2 d, float radius) noexcept {
   const float c = length_squared(m) - radius * radius;
   const float b = dot(m, d);
   // Origin in the closed disc (no entry), or outside and not heading towards the centre.
   if (!(c > 0.0f) || b >= 0.0f) return {};
-  const float dd = length_squared(d);
-  const float tc = -b / dd;                  // parameter of the closest approach
-  const Vec2 closest = m + tc * d;           // centre to closest approach
+  const float inv_dd = 1.0f / length_squared(d);
+  const float tc = -b * inv_dd;     // parameter of the closest approach
+  const Vec2 closest = m + tc * d;  // centre to closest approach
   const float disc = radius * radius - length_squared(closest);
   if (disc < 0.0f) return {};
-  const float t = tc - std::sqrt(disc / dd);
+  const float t = tc - std::sqrt(disc * inv_dd);
   if (!(t <= 1.0f)) return {};
-  const Vec2 n = normalize_or_zero(m + t * d);
   // A zero-radius disc hit dead on has no surface direction: face the ray.
-  return {true, t > 0.0f ? t : 0.0f, n != Vec2{0.0f, 0.0f} ? n : -normalize_or_zero(d)};
+  const Vec2 n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
+  return {true, t > 0.0f ? t : 0.0f, n};
 }
 
 /// Capsule in its own axis frame: core from (0, 0) to (length, 0), radius r. The capsule is the
@@ -79,7 +80,7 @@ LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
   } else if (p.x >= 0.0f && p.x <= length) {
     return {};  // starts in the rectangle: inside
   }
-  return ray_disc(p, d, {x_at_side < 0.0f ? 0.0f : length, 0.0f}, r);
+  return ray_disc(p - Vec2{x_at_side < 0.0f ? 0.0f : length, 0.0f}, d, r);
 }
 
 /// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
@@ -130,10 +131,6 @@ Clip clip_ray_polygon(const Polygon& poly, Vec2 p, Vec2 d, float offset) noexcep
   return {edge, lo_num / lo_den, false};
 }
 
-LocalHit raycast_local(const Circle& circle, Vec2 p, Vec2 d) noexcept {
-  return ray_disc(p, d, circle.center, circle.radius);
-}
-
 LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
   // Into the capsule's axis frame: x along a -> b from a, y to the left.
   const Vec2 axis = capsule.b - capsule.a;
@@ -148,13 +145,47 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
   return {true, h.fraction, h.normal.x * u + h.normal.y * left_perp(u)};
 }
 
-LocalHit raycast_local(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+/// Entry of p + t d, t in [0, 1], into a convex polygon (no radius), by the sides of the ray's
+/// line. side_i is the sign of w_i = cross(d, v_i - p): +1 for vertices left of the line, -1
+/// right, 0 on it. A convex outline crosses a line twice; walking counter-clockwise it crosses
+/// from left to right where the line enters (right to left where it exits). So the entering
+/// edge is the one with side_i > side_{i+1} (+1 to 0 or -1, or 0 to -1), and the ray enters
+/// there at t = cross(v_i - p, e_i) / cross(d, e_i), which must lie in (0, 1]: t <= 0 means p
+/// is already past the entry (inside, or beyond the polygon). No such edge: the line misses,
+/// or touches nothing but a corner from the right. A line along an edge or through a corner
+/// enters at that edge or corner (touching counts). A zero-length ray has every side 0: miss.
+///
+/// Cheaper than clipping by every edge (Cyrus-Beck): one cross product per vertex, no normals
+/// read, one division; and the scan is branch-free (the edge is picked by a mask), so random
+/// rays cost no mispredictions.
+Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+  const int n = poly.count;
+  const float c = cross(d, p);
+  auto side = [&](int i) {
+    const float w = cross(d, poly.vertices[i]) - c;
+    return static_cast<int>(w > 0.0f) - static_cast<int>(w < 0.0f);
+  };
+  const int side0 = side(0);
+  int prev = side0;
+  int edge = -1;
+  for (int i = 1; i <= n; ++i) {
+    const int cur = i < n ? side(i) : side0;
+    const int take = -static_cast<int>(prev > cur);  // all ones when edge i - 1 enters
+    edge = (edge & ~take) | ((i - 1) & take);
+    prev = cur;
+  }
+  if (edge < 0) return {};
+  const Vec2 v = poly.vertices[edge];
+  const Vec2 e = poly.vertices[edge + 1 < n ? edge + 1 : 0] - v;
+  const float t = cross(v - p, e) / cross(d, e);  // cross(d, e) = w_{i+1} - w_i < 0
+  if (!(t > 0.0f && t <= 1.0f)) return {};
+  return {edge, t, false};
+}
+
+/// Rounded polygon (radius > 0).
+LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   const float r = poly.radius;
   const Clip clip = clip_ray_polygon(poly, p, d, r);
-  if (r == 0.0f) {
-    if (clip.edge < 0) return {};
-    return {true, clip.fraction, poly.normals[clip.edge]};
-  }
   // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
   // at each vertex. It lies inside the polygon of edges pushed out by r, and differs from it
   // only in the corner kites beyond each vertex, which are bounded towards the shape by that
@@ -177,7 +208,7 @@ LocalHit raycast_local(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
     if (!(q.distance > 0.0f) || q.feature.type != FeatureType::vertex) return {};
     vertex = q.feature.index;
   }
-  return ray_disc(p, d, poly.vertices[vertex], r);
+  return ray_disc(p - poly.vertices[vertex], d, r);
 }
 
 /// Two-sided segment. The ray crosses the segment's line at t = -side / den, where side is the
@@ -215,13 +246,40 @@ LocalHit raycast_local(const Segment& seg, Vec2 p, Vec2 d) noexcept {
   return {true, t, side < 0.0f ? right : -right};
 }
 
+RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) noexcept {
+  const LocalRay local = to_local(xf, ray);
+  if (poly.radius > 0.0f) {
+    if (!(length_squared(local.translation) > 0.0f)) return {};
+    return to_world(raycast_rounded(poly, local.origin, local.translation), xf, ray);
+  }
+  const Clip clip = cast_sides(poly, local.origin, local.translation);
+  if (clip.edge < 0) return {};
+  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, poly.normals[clip.edge])};
+}
+
+/// Shapes with corners: cast in the local frame, rotate the normal back.
+template <class S>
+RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexcept {
+  const LocalRay local = to_local(xf, ray);
+  if (!(length_squared(local.translation) > 0.0f)) return {};
+  return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
+}
+
+/// A disc looks the same in every frame: only the origin needs to be made relative to the
+/// centre, as (origin - p) - R c so that large coordinates cancel first. No rotation of the
+/// ray or the normal.
+RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
+  const Vec2 m = (ray.origin - xf.p) - rotate(xf.q, circle.center);
+  const LocalHit h = ray_disc(m, ray.translation, circle.radius);  // zero length: b = 0, miss
+  if (!h.hit) return {};
+  return {true, h.fraction, ray.at(h.fraction), h.normal};
+}
+
 }  // namespace
 
 template <Shape2DType S>
 RayHit raycast(const S& shape, const Transform& xf, const Ray& ray) noexcept {
-  const LocalRay local = to_local(xf, ray);
-  if (!(length_squared(local.translation) > 0.0f)) return {};
-  return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
+  return raycast_placed(shape, xf, ray);
 }
 
 template RayHit raycast(const Circle&, const Transform&, const Ray&) noexcept;
