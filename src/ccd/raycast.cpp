@@ -12,7 +12,9 @@
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace collide {
 namespace {
@@ -146,37 +148,40 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
 }
 
 /// Entry of p + t d, t in [0, 1], into a convex polygon (no radius), by the sides of the ray's
-/// line. side_i is the sign of w_i = cross(d, v_i - p): +1 for vertices left of the line, -1
-/// right, 0 on it. A convex outline crosses a line twice; walking counter-clockwise it crosses
-/// from left to right where the line enters (right to left where it exits). So the entering
-/// edge is the one with side_i > side_{i+1} (+1 to 0 or -1, or 0 to -1), and the ray enters
-/// there at t = cross(v_i - p, e_i) / cross(d, e_i), which must lie in (0, 1]: t <= 0 means p
-/// is already past the entry (inside, or beyond the polygon). No such edge: the line misses,
-/// or touches nothing but a corner from the right. A line along an edge or through a corner
-/// enters at that edge or corner (touching counts). A zero-length ray has every side 0: miss.
+/// line. Vertex i is left of the line when w_i = cross(d, v_i - p) > 0, right when w_i < 0. A
+/// convex outline crosses a line twice; walking counter-clockwise it crosses from left to right
+/// where the line enters (right to left where it exits). So the entering edge i is one that
+/// leaves the left side (left_i and not left_{i+1}) or arrives on the right side (not right_i
+/// and right_{i+1}), and the ray enters there at t = cross(v_i - p, e_i) / cross(d, e_i), which
+/// must lie in (0, 1]: t <= 0 means p is already past the entry (inside, or beyond the
+/// polygon). No such edge: the line misses. A line along an edge or through a corner enters at
+/// that edge or corner (touching counts); a zero-length ray has no vertex on either side: miss.
 ///
 /// Cheaper than clipping by every edge (Cyrus-Beck): one cross product per vertex, no normals
-/// read, one division; and the scan is branch-free (the edge is picked by a mask), so random
-/// rays cost no mispredictions.
+/// read, one division. The sides are gathered as bit masks and the edge found by counting
+/// trailing zeros, so the scan has no data-dependent branch for random rays to mispredict.
 Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+  static_assert(kMaxPolygonVertices <= 64, "side masks hold one bit per vertex");
   const int n = poly.count;
   const float c = cross(d, p);
-  auto side = [&](int i) {
+  std::uint64_t left = 0;
+  std::uint64_t right = 0;
+  for (int i = 0; i < n; ++i) {
     const float w = cross(d, poly.vertices[i]) - c;
-    return static_cast<int>(w > 0.0f) - static_cast<int>(w < 0.0f);
-  };
-  const int side0 = side(0);
-  int prev = side0;
-  int edge = -1;
-  for (int i = 1; i <= n; ++i) {
-    const int cur = i < n ? side(i) : side0;
-    const int take = -static_cast<int>(prev > cur);  // all ones when edge i - 1 enters
-    edge = (edge & ~take) | ((i - 1) & take);
-    prev = cur;
+    left |= static_cast<std::uint64_t>(w > 0.0f) << i;
+    right |= static_cast<std::uint64_t>(w < 0.0f) << i;
   }
-  if (edge < 0) return {};
+  // Bit i of next_*: the side of vertex i + 1 (vertex 0 for the last edge).
+  const int last = n - 1;
+  const std::uint64_t next_left = (left >> 1) | ((left & 1u) << last);
+  const std::uint64_t next_right = (right >> 1) | ((right & 1u) << last);
+  const std::uint64_t enters = (left & ~next_left) | (~right & next_right);
+  const std::uint64_t in_range = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1u;
+  const std::uint64_t edges = enters & in_range;
+  if (edges == 0) return {};
+  const int edge = std::countr_zero(edges);
   const Vec2 v = poly.vertices[edge];
-  const Vec2 e = poly.vertices[edge + 1 < n ? edge + 1 : 0] - v;
+  const Vec2 e = poly.vertices[edge < last ? edge + 1 : 0] - v;
   const float t = cross(v - p, e) / cross(d, e);  // cross(d, e) = w_{i+1} - w_i < 0
   if (!(t > 0.0f && t <= 1.0f)) return {};
   return {edge, t, false};
@@ -254,7 +259,13 @@ RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) 
   }
   const Clip clip = cast_sides(poly, local.origin, local.translation);
   if (clip.edge < 0) return {};
-  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, poly.normals[clip.edge])};
+  // The edge's unit normal, from the edge itself: poly.normals lives 512 bytes past the
+  // vertices, and reading it only once the edge is known stalls on a cache miss when the
+  // polygon is cold (as it is when a broad phase hands over scattered candidates).
+  const Vec2 v = poly.vertices[clip.edge];
+  const Vec2 e = poly.vertices[clip.edge + 1 < poly.count ? clip.edge + 1 : 0] - v;
+  const Vec2 normal = right_perp(e) * (1.0f / length(e));
+  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, normal)};
 }
 
 /// Shapes with corners: cast in the local frame, rotate the normal back.
