@@ -85,9 +85,16 @@ LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
   return ray_disc(p - Vec2{x_at_side < 0.0f ? 0.0f : length, 0.0f}, d, r);
 }
 
+/// Where a ray enters a convex polygon, in its local frame.
+struct Clip {
+  int edge = -1;          ///< entering edge, -1 if none
+  float fraction = 0.0f;  ///< entry fraction when edge >= 0
+  bool inside = false;    ///< no entry because the origin lies in the closed polygon
+};
+
 /// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
 /// n_i . (x - v_i) <= offset of a convex polygon (Cyrus & Beck 1978; Ericson 5.3.8).
-/// offset 0 is the polygon; offset r is the polygon with every edge pushed out by r.
+/// offset r is the polygon with every edge pushed out by r (used for rounded polygons).
 /// Returns the entering edge, or -1 when the ray misses or starts inside (never enters); then
 /// `inside` tells which.
 ///
@@ -95,11 +102,6 @@ LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
 /// den = n . d; the ray is inside the half-plane for t with t * den <= num. Entering edges
 /// (den < 0) raise the lower bound num / den, leaving edges (den > 0) lower the upper bound.
 /// Bounds are kept as fractions with positive denominators so the loop never divides.
-struct Clip {
-  int edge = -1;          ///< entering edge, -1 if none
-  float fraction = 0.0f;  ///< entry fraction when edge >= 0
-  bool inside = false;    ///< the origin lies in the closed polygon
-};
 
 Clip clip_ray_polygon(const Polygon& poly, Vec2 p, Vec2 d, float offset) noexcept {
   // lower = lo_num / lo_den, upper = up_num / up_den, denominators > 0.

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -268,6 +269,70 @@ TEST(Raycast, RoundedPolygonMatchesUnionOfBox2DPieces) {
   std::mt19937 rng(5);
   compare_with_oracle(random_polygons(rng, true), rng, 4.5f, {0.0f, 0.0f}, kNear);
   compare_with_oracle(random_polygons(rng, true), rng, 4.5f, kFarAway, kFar);
+}
+
+/// The first crossing of the ray with any edge segment, by brute force over all edges.
+Truth edge_by_edge(const std::vector<Vec2>& world, const Ray& ray) {
+  Truth best;
+  for (size_t i = 0; i < world.size(); ++i) {
+    const Vec2 a = world[i], b = world[(i + 1) % world.size()];
+    const float den = cross(ray.translation, b - a);
+    if (den == 0.0f) continue;
+    const float t = cross(a - ray.origin, b - a) / den;
+    const float s = cross(a - ray.origin, ray.translation) / den;
+    if (t >= 0.0f && t <= 1.0f && s >= 0.0f && s <= 1.0f && (!best.hit || t < best.fraction)) {
+      best = {true, t, normalize_or_zero(right_perp(b - a))};
+    }
+  }
+  return best;
+}
+
+// Polygons beyond Box2D's 8 vertices, up to kMaxPolygonVertices (the side masks use all 64
+// bits), against the first crossing over every edge.
+TEST(Raycast, LargePolygonsMatchEdgeByEdge) {
+  std::mt19937 rng(16);
+  int hits = 0, misses = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = trial % 2 ? kMaxPolygonVertices : 9 + static_cast<int>(rng() % 55);
+    std::vector<Vec2> pts;
+    for (int i = 0; i < n; ++i) {
+      const float a = 2.0f * test::kPi * (static_cast<float>(i) + uniform(rng, -0.2f, 0.2f)) / n;
+      pts.push_back({2.0f * std::cos(a), 1.5f * std::sin(a)});
+    }
+    const Polygon poly = make_convex_polygon(pts);
+    const Transform xf = test::random_transform(rng, 10.0f);
+    const std::vector<Vec2> world = test::world_vertices(poly, xf);
+    for (int k = 0; k < 20; ++k) {
+      const Vec2 origin = xf.p + test::random_point(rng, 4.0f);
+      const Ray ray{origin, (xf.p + test::random_point(rng, 2.0f) - origin) * uniform(rng, 0.5f, 2.0f)};
+      const test::BruteDistance start = test::brute_distance(world, origin);
+      Truth truth = start.inside ? Truth{} : edge_by_edge(world, ray);
+      const RayHit ours = raycast(poly, xf, ray);
+      ASSERT_EQ(ours.hit, truth.hit) << "trial " << trial << " ray " << k;
+      if (!truth.hit) {
+        ++misses;
+        continue;
+      }
+      ++hits;
+      EXPECT_NEAR(ours.fraction, truth.fraction, 1e-5f);
+      EXPECT_VEC2_NEAR(ours.normal, truth.normal, 1e-3f);
+    }
+  }
+  EXPECT_GT(hits, 1200);
+  EXPECT_GT(misses, 1200);
+}
+
+// Edge case 0: a ray with a NaN coordinate reports no hit rather than garbage.
+TEST(Raycast, NonFiniteRayMisses) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<Shape2D> shapes = {make_circle({0.0f, 0.0f}, 1.0f),
+                                       make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.5f),
+                                       make_box({1.0f, 1.0f}), make_box({1.0f, 1.0f}, 0.5f),
+                                       make_segment({-1.0f, 0.0f}, {1.0f, 0.0f})};
+  for (const Shape2D& s : shapes) {
+    EXPECT_FALSE(raycast(s, Transform{}, Ray{{nan, 0.0f}, {6.0f, 0.0f}}).hit) << type_name(s);
+    EXPECT_FALSE(raycast(s, Transform{}, Ray{{-3.0f, 0.0f}, {6.0f, nan}}).hit) << type_name(s);
+  }
 }
 
 // Edge case 1: a ray that starts inside never enters, however it is aimed and however long.
