@@ -16,6 +16,14 @@
 #include <cmath>
 #include <cstdint>
 
+// SSE2 is part of every x86-64 CPU; elsewhere the scalar loops run.
+#if defined(__SSE2__) || defined(_M_X64)
+#define COLLIDE_RAYCAST_SSE2 1
+#include <emmintrin.h>
+#else
+#define COLLIDE_RAYCAST_SSE2 0
+#endif
+
 namespace collide {
 namespace {
 
@@ -165,13 +173,32 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
 Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   static_assert(kMaxPolygonVertices <= 64, "side masks hold one bit per vertex");
   const int n = poly.count;
+  // Bit i of left / right: w_i > 0 / w_i < 0, where w_i > 0 <=> cross(d, v_i) > cross(d, p).
   const float c = cross(d, p);
   std::uint64_t left = 0;
   std::uint64_t right = 0;
-  for (int i = 0; i < n; ++i) {
-    const float w = cross(d, poly.vertices[i]) - c;
-    left |= static_cast<std::uint64_t>(w > 0.0f) << i;
-    right |= static_cast<std::uint64_t>(w < 0.0f) << i;
+  int i = 0;
+#if COLLIDE_RAYCAST_SSE2
+  // Four vertices at a time, the same arithmetic as the scalar loop below (bench/ray_cast.cpp:
+  // 8-gons 31 -> 20 ns, 4-gons 23 -> 18 ns). Vertices are stored x0 y0 x1 y1 ...: two loads and
+  // two shuffles give the x and y of four vertices, compare masks give four side bits at once.
+  const __m128 dx = _mm_set1_ps(d.x);
+  const __m128 dy = _mm_set1_ps(d.y);
+  const __m128 cc = _mm_set1_ps(c);
+  for (; i + 4 <= n; i += 4) {
+    const __m128 v01 = _mm_loadu_ps(&poly.vertices[i].x);
+    const __m128 v23 = _mm_loadu_ps(&poly.vertices[i + 2].x);
+    const __m128 xs = _mm_shuffle_ps(v01, v23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 ys = _mm_shuffle_ps(v01, v23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 k = _mm_sub_ps(_mm_mul_ps(dx, ys), _mm_mul_ps(dy, xs));
+    left |= static_cast<std::uint64_t>(_mm_movemask_ps(_mm_cmpgt_ps(k, cc))) << i;
+    right |= static_cast<std::uint64_t>(_mm_movemask_ps(_mm_cmplt_ps(k, cc))) << i;
+  }
+#endif
+  for (; i < n; ++i) {
+    const float k = cross(d, poly.vertices[i]);
+    left |= static_cast<std::uint64_t>(k > c) << i;
+    right |= static_cast<std::uint64_t>(k < c) << i;
   }
   // Bit i of next_*: the side of vertex i + 1 (vertex 0 for the last edge).
   const int last = n - 1;
