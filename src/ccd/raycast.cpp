@@ -16,12 +16,17 @@
 #include <cmath>
 #include <cstdint>
 
-// SSE2 is part of every x86-64 CPU; elsewhere the scalar loops run.
+// SSE2 is part of every x86-64 CPU; elsewhere the scalar loops run (define
+// COLLIDE_RAYCAST_SSE2=0 to run them on x86 too).
+#ifndef COLLIDE_RAYCAST_SSE2
 #if defined(__SSE2__) || defined(_M_X64)
 #define COLLIDE_RAYCAST_SSE2 1
-#include <emmintrin.h>
 #else
 #define COLLIDE_RAYCAST_SSE2 0
+#endif
+#endif
+#if COLLIDE_RAYCAST_SSE2
+#include <emmintrin.h>
 #endif
 
 namespace collide {
