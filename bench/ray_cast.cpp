@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 #include <box2d/box2d.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -167,6 +168,43 @@ void run_box2d(benchmark::State& state, const Set& set) {
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
 }
 
+/// The lesson's early out, measured: a bounding-circle pretest in front of the polygon cast.
+/// collide's Polygon stores no bounding radius, so here it is precomputed per polygon (about the
+/// local origin, where the generated polygons are centred). The pretest asks whether the ray
+/// segment comes within the radius of the centre (closest point on the segment).
+void BM_PolygonRaycast_collide_circle_pretest(benchmark::State& state) {
+  const PolygonSet& set = polygons(static_cast<int>(state.range(0)));
+  static std::vector<float> radius2[2];
+  std::vector<float>& r2 = radius2[state.range(0) == 4 ? 0 : 1];
+  if (r2.empty()) {
+    for (const Polygon& p : set.ours) {
+      float m = 0.0f;
+      for (int i = 0; i < p.count; ++i) m = std::max(m, length_squared(p.vertices[i]));
+      r2.push_back(m);
+    }
+  }
+  const int shape_mask = static_cast<int>(state.range(1));
+  int i = 0;
+  int64_t hits = 0, casts = 0, pretest_passes = 0;
+  for (auto _ : state) {
+    const Case& c = set.cases[i];
+    const int s = i & shape_mask;
+    const Vec2 m = c.xf.p - c.ray.origin;  // centre relative to the ray origin
+    const float along = std::clamp(dot(m, c.ray.translation) / length_squared(c.ray.translation), 0.0f, 1.0f);
+    RayHit h;
+    if (distance_squared(m, along * c.ray.translation) <= r2[s]) {
+      ++pretest_passes;
+      h = raycast(set.ours[s], c.xf, c.ray);
+    }
+    benchmark::DoNotOptimize(h);
+    hits += h.hit;
+    ++casts;
+    i = (i + 1) & (kCases - 1);
+  }
+  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+  state.counters["pretest_pass_rate"] = static_cast<double>(pretest_passes) / static_cast<double>(casts);
+}
+
 void BM_PolygonRaycast_collide(benchmark::State& state) {
   run_collide(state, polygons(static_cast<int>(state.range(0))));
 }
@@ -179,6 +217,7 @@ void BM_CircleRaycast_box2d(benchmark::State& state) { run_box2d(state, circles(
 // Arguments: vertex count (polygons), shape mask (kHot or kCold).
 BENCHMARK(BM_PolygonRaycast_collide)->ArgsProduct({{4, 8}, {kHot, kCold}});
 BENCHMARK(BM_PolygonRaycast_box2d)->ArgsProduct({{4, 8}, {kHot, kCold}});
+BENCHMARK(BM_PolygonRaycast_collide_circle_pretest)->ArgsProduct({{4, 8}, {kHot, kCold}});
 BENCHMARK(BM_CircleRaycast_collide)->Args({0, kHot})->Args({0, kCold});
 BENCHMARK(BM_CircleRaycast_box2d)->Args({0, kHot})->Args({0, kCold});
 
