@@ -78,7 +78,8 @@ PolygonSet make_polygons(int n) {
     const float start = uniform(rng, 0.0f, 6.28f);
     const float size = uniform(rng, 0.5f, 2.0f);
     for (int i = 0; i < n; ++i) {
-      const float a = start + 6.2831853f * (static_cast<float>(i) + uniform(rng, -0.25f, 0.25f)) / n;
+      const float a =
+          start + 6.2831853f * (static_cast<float>(i) + uniform(rng, -0.25f, 0.25f)) / n;
       const float r = size * uniform(rng, 0.7f, 1.0f);
       pts.push_back({r * std::cos(a), r * std::sin(a)});
     }
@@ -190,7 +191,8 @@ void BM_PolygonRaycast_collide_circle_pretest(benchmark::State& state) {
     const Case& c = set.cases[i];
     const int s = i & shape_mask;
     const Vec2 m = c.xf.p - c.ray.origin;  // centre relative to the ray origin
-    const float along = std::clamp(dot(m, c.ray.translation) / length_squared(c.ray.translation), 0.0f, 1.0f);
+    const float along =
+        std::clamp(dot(m, c.ray.translation) / length_squared(c.ray.translation), 0.0f, 1.0f);
     RayHit h;
     if (distance_squared(m, along * c.ray.translation) <= r2[s]) {
       ++pretest_passes;
@@ -202,7 +204,8 @@ void BM_PolygonRaycast_collide_circle_pretest(benchmark::State& state) {
     i = (i + 1) & (kCases - 1);
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
-  state.counters["pretest_pass_rate"] = static_cast<double>(pretest_passes) / static_cast<double>(casts);
+  state.counters["pretest_pass_rate"] =
+      static_cast<double>(pretest_passes) / static_cast<double>(casts);
 }
 
 void BM_PolygonRaycast_collide(benchmark::State& state) {
