@@ -57,32 +57,4 @@ ClippedEdge clip_incident_edge(const EdgeRef& reference, Vec2 tangent,
   return out;
 }
 
-// Minimise |(p1 + s d1) - (p2 + t d2)|^2 over the unit square: the unconstrained minimum of the
-// line pair clamped to segment 1, then t from s, re-clamping s if t had to be clamped
-// (Ericson 5.1.9). Near-parallel edges (sine of angle below kParallelTolerance) take s = 0.
-EdgeClosestPoints closest_points_between_edges(Vec2 p1, Vec2 q1, Vec2 p2, Vec2 q2) noexcept {
-  const Vec2 d1 = q1 - p1;
-  const Vec2 d2 = q2 - p2;
-  const Vec2 r = p1 - p2;
-  const float a = dot(d1, d1);
-  const float e = dot(d2, d2);
-  const float b = dot(d1, d2);
-  const float c = dot(d1, r);
-  const float f = dot(d2, r);
-  const float denom = a * e - b * b;  // = a e sin^2(angle)
-  float s = 0.0f;
-  if (denom > kParallelTolerance * kParallelTolerance * a * e) {
-    s = std::clamp((b * f - c * e) / denom, 0.0f, 1.0f);
-  }
-  float t = (b * s + f) / e;
-  if (t < 0.0f) {
-    t = 0.0f;
-    s = std::clamp(-c / a, 0.0f, 1.0f);
-  } else if (t > 1.0f) {
-    t = 1.0f;
-    s = std::clamp((b - c) / a, 0.0f, 1.0f);
-  }
-  return {p1 + s * d1, p2 + t * d2, s, t};
-}
-
 }  // namespace collide::detail

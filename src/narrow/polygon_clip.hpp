@@ -4,8 +4,6 @@
 //  - clip_incident_edge: clip the incident edge to the slab between the reference edge's side
 //    planes (Sutherland-Hodgman on a segment; Catto, "Contact Manifolds", GDC 2007;
 //    Ericson, Real-Time Collision Detection, 8.3.2).
-//  - closest_points_between_edges: closest points of two segments (Ericson 5.1.9), used for
-//    rounded shapes whose cores are apart.
 
 #include <array>
 #include <collide/narrow/manifold.hpp>
@@ -39,18 +37,5 @@ struct EdgeRef {
 /// get id (reference vertex of that plane, incident edge).
 [[nodiscard]] ClippedEdge clip_incident_edge(const EdgeRef& reference, Vec2 tangent,
                                              const EdgeRef& incident) noexcept;
-
-/// Closest points of segments p1-q1 and p2-q2 (both of nonzero length):
-/// point1 = p1 + fraction1 (q1 - p1), point2 = p2 + fraction2 (q2 - p2). A fraction is exactly
-/// 0 or 1 when the closest point is an end point. Ericson, Real-Time Collision Detection, 5.1.9.
-/// (A twin of the overlap code's segment closest points; to be merged.)
-struct EdgeClosestPoints {
-  Vec2 point1{0.0f, 0.0f};
-  Vec2 point2{0.0f, 0.0f};
-  float fraction1 = 0.0f;
-  float fraction2 = 0.0f;
-};
-[[nodiscard]] EdgeClosestPoints closest_points_between_edges(Vec2 p1, Vec2 q1, Vec2 p2,
-                                                             Vec2 q2) noexcept;
 
 }  // namespace collide::detail

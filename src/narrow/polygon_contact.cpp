@@ -28,6 +28,7 @@
 
 #include "contact_routines.hpp"
 #include "polygon_clip.hpp"
+#include "segment_closest.hpp"
 #include "sat_soa.hpp"
 
 namespace collide::detail {
@@ -128,15 +129,15 @@ Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPoly
 struct ClosestEdges {
   int e1 = 0;
   int e2 = 0;
-  EdgeClosestPoints points{};
+  SegmentSegmentClosest points{};
   float distance2 = 0.0f;
 };
 
 ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
                            int e2) noexcept {
-  const EdgeClosestPoints c = closest_points_between_edges(p1.vertex(e1), p1.vertex(p1.next(e1)),
-                                                           p2.vertex(e2), p2.vertex(p2.next(e2)));
-  return {e1, e2, c, distance_squared(c.point1, c.point2)};
+  const SegmentSegmentClosest c = closest_between_segments(
+      p1.vertex(e1), p1.vertex(p1.next(e1)), p2.vertex(e2), p2.vertex(p2.next(e2)));
+  return {e1, e2, c, c.distance_squared};
 }
 
 /// The edge of `p` on the other side of the end of edge `e` where `fraction` sits (0: start,
@@ -163,8 +164,8 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
 
   ClosestEdges best = closest_edges(p1, i11, p2, i21);
   for (int step = 0; step < p1.count + p2.count; ++step) {
-    const int across1 = edge_across(p1, best.e1, best.points.fraction1);
-    const int across2 = edge_across(p2, best.e2, best.points.fraction2);
+    const int across1 = edge_across(p1, best.e1, best.points.s);
+    const int across2 = edge_across(p2, best.e2, best.points.t);
     ClosestEdges next = best;
     if (across1 != best.e1) {
       const ClosestEdges c = closest_edges(p1, across1, p2, best.e2);
@@ -177,8 +178,8 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
     if (!(next.distance2 < best.distance2)) break;
     best = next;
   }
-  const float f1 = best.points.fraction1;
-  const float f2 = best.points.fraction2;
+  const float f1 = best.points.s;
+  const float f2 = best.points.t;
   const bool end1 = f1 == 0.0f || f1 == 1.0f;
   const bool end2 = f2 == 0.0f || f2 == 1.0f;
   if (end1 && end2) {
