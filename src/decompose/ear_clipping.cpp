@@ -1,0 +1,85 @@
+// Ear clipping triangulation of a simple counter-clockwise outline.
+
+#include <collide/decompose/convex_decomposition.hpp>
+
+#include <collide/core/error.hpp>
+
+#include "corner_turn.hpp"
+
+#include <string>
+
+namespace collide {
+namespace {
+
+/// p inside the counter-clockwise triangle a, b, c, on its boundary, or outside by no more than
+/// `tol` (a turn, twice an area): a vertex on or near the cut a-c blocks the cut, whichever way
+/// float rounding puts it.
+bool in_closed_triangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c, float tol) noexcept {
+  return cross(b - a, p - a) >= -tol && cross(c - b, p - b) >= -tol && cross(a - c, p - c) >= -tol;
+}
+
+}  // namespace
+
+std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outline,
+                                                      std::string_view name, int first_corner) {
+  const int n = static_cast<int>(outline.size());
+  std::vector<TriangleIndices> triangles;
+  if (n < 3) return triangles;
+  triangles.reserve(static_cast<size_t>(n - 2));
+  const float straight = detail::straight_turn_tolerance(detail::outline_size(outline));
+
+  // The remaining polygon as a doubly linked ring of outline indices.
+  std::vector<int> prev(static_cast<size_t>(n));
+  std::vector<int> next(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    prev[i] = (i + n - 1) % n;
+    next[i] = (i + 1) % n;
+  }
+  // An ear: all three corners of its triangle strictly convex (so the triangle is a valid
+  // Polygon) and no other remaining vertex in the closed triangle (so the cut is a diagonal).
+  auto is_ear = [&](int i) {
+    const Vec2 a = outline[prev[i]];
+    const Vec2 b = outline[i];
+    const Vec2 c = outline[next[i]];
+    if (detail::corner_turn(a, b, c) <= straight || detail::corner_turn(b, c, a) <= straight ||
+        detail::corner_turn(c, a, b) <= straight) {
+      return false;
+    }
+    for (int j = next[next[i]]; j != prev[i]; j = next[j]) {
+      if (in_closed_triangle(outline[j], a, b, c, straight)) return false;
+    }
+    return true;
+  };
+
+  int remaining = n;
+  int cursor = ((first_corner % n) + n) % n;
+  int since_last_ear = 0;  // corners inspected since the last clip: a full lap means no ear
+  while (remaining > 3) {
+    if (is_ear(cursor)) {
+      triangles.push_back({prev[cursor], cursor, next[cursor]});
+      next[prev[cursor]] = next[cursor];
+      prev[next[cursor]] = prev[cursor];
+      cursor = prev[cursor];  // the corners beside the cut changed; look there first
+      --remaining;
+      since_last_ear = 0;
+      continue;
+    }
+    cursor = next[cursor];
+    if (++since_last_ear > remaining) {
+      // Either what is left is flat (a zero-area sliver of straight corners: nothing to add),
+      // or float rounding hid every ear of a nearly self-touching outline.
+      std::vector<Vec2> rest;
+      for (int k = 0, j = cursor; k < remaining; ++k, j = next[j]) rest.push_back(outline[j]);
+      if (std::fabs(signed_area(rest)) <= straight) return triangles;
+      throw InvalidInput(std::string(name) +
+                         ": polygon could not be triangulated (outline nearly touches itself)");
+    }
+  }
+  const TriangleIndices last{prev[cursor], cursor, next[cursor]};
+  if (detail::corner_turn(outline[last[0]], outline[last[1]], outline[last[2]]) > straight) {
+    triangles.push_back(last);
+  }
+  return triangles;
+}
+
+}  // namespace collide
