@@ -35,18 +35,25 @@ std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outl
     prev[i] = (i + n - 1) % n;
     next[i] = (i + 1) % n;
   }
+  // Only a corner that is not strictly convex can lie in an ear's triangle (a convex corner
+  // inside would put a reflex one inside too), so the ear test scans those alone.
+  std::vector<unsigned char> convex(static_cast<size_t>(n));
+  auto update = [&](int i) {
+    convex[i] = detail::corner_turn(outline[prev[i]], outline[i], outline[next[i]]) > straight;
+  };
+  for (int i = 0; i < n; ++i) update(i);
   // An ear: all three corners of its triangle strictly convex (so the triangle is a valid
   // Polygon) and no other remaining vertex in the closed triangle (so the cut is a diagonal).
   auto is_ear = [&](int i) {
+    if (!convex[i]) return false;
     const Vec2 a = outline[prev[i]];
     const Vec2 b = outline[i];
     const Vec2 c = outline[next[i]];
-    if (detail::corner_turn(a, b, c) <= straight || detail::corner_turn(b, c, a) <= straight ||
-        detail::corner_turn(c, a, b) <= straight) {
+    if (detail::corner_turn(b, c, a) <= straight || detail::corner_turn(c, a, b) <= straight) {
       return false;
     }
     for (int j = next[next[i]]; j != prev[i]; j = next[j]) {
-      if (in_closed_triangle(outline[j], a, b, c, straight)) return false;
+      if (!convex[j] && in_closed_triangle(outline[j], a, b, c, straight)) return false;
     }
     return true;
   };
@@ -57,9 +64,13 @@ std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outl
   while (remaining > 3) {
     if (is_ear(cursor)) {
       triangles.push_back({prev[cursor], cursor, next[cursor]});
-      next[prev[cursor]] = next[cursor];
-      prev[next[cursor]] = prev[cursor];
-      cursor = prev[cursor];  // the corners beside the cut changed; look there first
+      const int before = prev[cursor];
+      const int after = next[cursor];
+      next[before] = after;
+      prev[after] = before;
+      update(before);
+      update(after);
+      cursor = before;  // the corners beside the cut changed; look there first
       --remaining;
       since_last_ear = 0;
       continue;

@@ -6,106 +6,124 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <unordered_map>
 
 namespace collide {
-namespace {
-
-std::uint64_t edge_key(int from, int to) noexcept {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(from)) << 32) |
-         static_cast<std::uint32_t>(to);
-}
-
-/// `piece` rotated so that it starts at vertex `first`.
-std::vector<int> starting_at(const std::vector<int>& piece, int first) {
-  std::vector<int> out(piece.size());
-  const auto it = std::find(piece.begin(), piece.end(), first);
-  std::rotate_copy(piece.begin(), it, piece.end(), out.begin());
-  return out;
-}
-
-}  // namespace
 
 std::vector<std::vector<int>> merge_hertel_mehlhorn(std::span<const Vec2> outline,
                                                     std::span<const TriangleIndices> triangles) {
-  std::vector<std::vector<int>> pieces;
-  pieces.reserve(triangles.size());
-  // owner[a -> b] = the piece whose counter-clockwise boundary holds the directed edge a -> b.
-  std::unordered_map<std::uint64_t, int> owner;
-  for (const TriangleIndices& t : triangles) {
-    const int id = static_cast<int>(pieces.size());
-    pieces.push_back({t[0], t[1], t[2]});
-    for (int k = 0; k < 3; ++k) owner[edge_key(t[k], t[(k + 1) % 3])] = id;
+  // The triangulation as half-edges: half-edge h = 3 t + j runs from corner j of triangle t to
+  // corner j + 1. Pieces are rings of half-edges linked by next/prev; removing a diagonal
+  // splices two rings into one, so a merge costs O(1) and allocates nothing.
+  const int m = static_cast<int>(triangles.size());
+  const int count = 3 * m;
+  auto origin = [&](int h) { return triangles[static_cast<size_t>(h / 3)][static_cast<size_t>(h % 3)]; };
+  auto dest = [&](int h) { return triangles[static_cast<size_t>(h / 3)][static_cast<size_t>((h % 3 + 1) % 3)]; };
+  std::vector<int> next(static_cast<size_t>(count));
+  std::vector<int> prev(static_cast<size_t>(count));
+  std::vector<int> twin(static_cast<size_t>(count), -1);
+  for (int h = 0; h < count; ++h) {
+    next[h] = 3 * (h / 3) + (h % 3 + 1) % 3;
+    prev[h] = 3 * (h / 3) + (h % 3 + 2) % 3;
   }
-  if (outline.empty()) return pieces;
-  const float straight = detail::straight_turn_tolerance(detail::outline_size(outline));
-  std::vector<bool> alive(pieces.size(), true);
-
-  // Each diagonal once (a < b), in the order the triangulation made them.
-  for (const TriangleIndices& t : triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = t[k];
-      const int b = t[(k + 1) % 3];
-      if (a > b) continue;
-      const auto pa = owner.find(edge_key(a, b));
-      const auto qa = owner.find(edge_key(b, a));
-      if (pa == owner.end() || qa == owner.end()) continue;  // an outline edge
-      const int p = pa->second;
-      const int q = qa->second;
-      if (p == q) continue;
-      const size_t merged_count = pieces[p].size() + pieces[q].size() - 2;
-      if (merged_count > static_cast<size_t>(kMaxPolygonVertices)) continue;
-      // P holds a -> b, Q holds b -> a. Merged boundary: P from b round to a, then Q's
-      // vertices strictly between a and b.
-      const std::vector<int> pr = starting_at(pieces[p], b);  // b ... a
-      const std::vector<int> qr = starting_at(pieces[q], a);  // a ... b
-      // Removing a-b changes only the corners at a and b; a straight corner is fine (the
-      // vertex is dropped when the piece becomes a Polygon), a reflex one is not.
-      const bool convex_at_a =
-          detail::corner_turn(outline[pr[pr.size() - 2]], outline[a], outline[qr[1]]) >= -straight;
-      const bool convex_at_b =
-          detail::corner_turn(outline[qr[qr.size() - 2]], outline[b], outline[pr[1]]) >= -straight;
-      if (!convex_at_a || !convex_at_b) continue;
-      std::vector<int> merged = pr;
-      merged.insert(merged.end(), qr.begin() + 1, qr.end() - 1);
-      owner.erase(edge_key(a, b));
-      owner.erase(edge_key(b, a));
-      for (size_t i = 0; i < merged.size(); ++i) {
-        owner[edge_key(merged[i], merged[(i + 1) % merged.size()])] = p;
+  {  // A diagonal is the edge two triangles share, once in each direction. Bucket half-edges
+     // by origin vertex (counting sort); the twin of a -> b is the b -> a in b's bucket.
+    const int n = static_cast<int>(outline.size());
+    std::vector<int> start(static_cast<size_t>(n) + 1, 0);
+    for (int h = 0; h < count; ++h) ++start[static_cast<size_t>(origin(h)) + 1];
+    for (int v = 0; v < n; ++v) start[v + 1] += start[v];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    std::vector<int> by_origin(static_cast<size_t>(count));
+    for (int h = 0; h < count; ++h) by_origin[fill[origin(h)]++] = h;
+    for (int h = 0; h < count; ++h) {
+      const int b = dest(h);
+      for (int k = start[b]; k < start[b + 1]; ++k) {
+        if (dest(by_origin[k]) == origin(h)) twin[h] = by_origin[k];
       }
-      pieces[p] = std::move(merged);
-      pieces[q].clear();
-      alive[q] = false;
     }
   }
-  std::vector<std::vector<int>> out;
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    if (alive[i]) out.push_back(std::move(pieces[i]));
+  // Union-find over triangles tracks which piece a half-edge is in and its vertex count.
+  std::vector<int> parent(static_cast<size_t>(m));
+  std::vector<int> size(static_cast<size_t>(m), 3);
+  for (int t = 0; t < m; ++t) parent[t] = t;
+  auto find = [&](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  std::vector<bool> removed(static_cast<size_t>(count), false);
+  const float straight = outline.empty()
+                             ? 0.0f
+                             : detail::straight_turn_tolerance(detail::outline_size(outline));
+
+  // Each diagonal once, in the order the triangulation made them.
+  for (int h = 0; h < count; ++h) {
+    const int g = twin[h];
+    if (g < h) continue;  // an outline edge (-1) or already seen from the other side
+    const int p = find(h / 3);
+    const int q = find(g / 3);
+    if (p == q || size[p] + size[q] - 2 > kMaxPolygonVertices) continue;
+    // h runs a -> b in piece P, g runs b -> a in piece Q. Removing a-b changes only the corners
+    // at a and b; a straight corner is fine (decompose_convex drops the vertex), a reflex one
+    // is not.
+    const Vec2 a = outline[origin(h)];
+    const Vec2 b = outline[dest(h)];
+    const bool convex_at_a =
+        detail::corner_turn(outline[origin(prev[h])], a, outline[dest(next[g])]) >= -straight;
+    const bool convex_at_b =
+        detail::corner_turn(outline[origin(prev[g])], b, outline[dest(next[h])]) >= -straight;
+    if (!convex_at_a || !convex_at_b) continue;
+    next[prev[h]] = next[g];
+    prev[next[g]] = prev[h];
+    next[prev[g]] = next[h];
+    prev[next[h]] = prev[g];
+    removed[h] = removed[g] = true;
+    parent[q] = p;
+    size[p] += size[q] - 2;
   }
-  return out;
+
+  std::vector<std::vector<int>> pieces;
+  std::vector<bool> visited(static_cast<size_t>(count), false);
+  for (int h = 0; h < count; ++h) {
+    if (removed[h] || visited[h]) continue;
+    std::vector<int>& piece = pieces.emplace_back();
+    piece.reserve(static_cast<size_t>(size[find(h / 3)]));
+    for (int e = h; !visited[e]; e = next[e]) {
+      visited[e] = true;
+      piece.push_back(origin(e));
+    }
+  }
+  return pieces;
 }
 
 std::vector<Polygon> decompose_convex(std::span<const Vec2> points, std::string_view name) {
   const SimpleOutline outline = make_simple_outline(points, name);
   const int n = static_cast<int>(outline.vertices.size());
   std::vector<std::vector<int>> pieces;
-  const int starts = n <= kDecompositionRetryLimit ? n : 1;
-  for (int start = 0; start < starts; ++start) {
+  const float straight = detail::straight_turn_tolerance(detail::outline_size(outline.vertices));
+  // Every reflex vertex must be resolved by a cut and one cut resolves at most two, so no
+  // decomposition has fewer than ceil(r / 2) + 1 pieces (Chazelle & Dobkin 1985): stop trying
+  // triangulations once one reaches that.
+  int reflex = 0;
+  for (int i = 0; i < n; ++i) {
+    reflex += detail::corner_turn(outline.vertices[(i + n - 1) % n], outline.vertices[i],
+                                  outline.vertices[(i + 1) % n]) < -straight;
+  }
+  const size_t lower_bound = static_cast<size_t>((reflex + 1) / 2 + 1);
+  const int starts = std::min(n, kDecompositionStarts);
+  for (int k = 0; k < starts && pieces.size() != lower_bound; ++k) {
     std::vector<std::vector<int>> candidate = merge_hertel_mehlhorn(
-        outline.vertices, triangulate_ear_clipping(outline.vertices, name, start));
+        outline.vertices, triangulate_ear_clipping(outline.vertices, name, k * n / starts));
     if (pieces.empty() || candidate.size() < pieces.size()) pieces = std::move(candidate);
   }
   std::vector<Polygon> out;
   out.reserve(pieces.size());
-  const float straight = detail::straight_turn_tolerance(detail::outline_size(outline.vertices));
   std::vector<Vec2> corners;
   for (const std::vector<int>& piece : pieces) {
     corners.clear();
     for (int i : piece) corners.push_back(outline.vertices[static_cast<size_t>(i)]);
     // Merging may leave straight corners where a diagonal met the outline; drop them.
     for (size_t i = 0; corners.size() > 3 && i < corners.size();) {
-      const size_t n = corners.size();
-      if (detail::corner_turn(corners[(i + n - 1) % n], corners[i], corners[(i + 1) % n]) <=
+      const size_t c = corners.size();
+      if (detail::corner_turn(corners[(i + c - 1) % c], corners[i], corners[(i + 1) % c]) <=
           straight) {
         corners.erase(corners.begin() + static_cast<std::ptrdiff_t>(i));
         i = 0;

@@ -19,9 +19,9 @@
 
 namespace collide {
 
-/// `decompose_convex` tries every triangulation start for outlines of at most this many
-/// vertices and keeps the fewest pieces.
-inline constexpr int kDecompositionRetryLimit = 32;
+/// How many triangulations (ear-search starts, spread evenly around the outline)
+/// `decompose_convex` tries before keeping the one with the fewest pieces.
+inline constexpr int kDecompositionStarts = 8;
 
 /// Three indices into an outline, counter-clockwise.
 using TriangleIndices = std::array<int, 3>;
@@ -67,9 +67,8 @@ struct SimpleOutline {
 
 /// Convex pieces of the simple polygon `points` (either winding): `make_simple_outline`, then
 /// ear clipping, then Hertel-Mehlhorn. Hertel-Mehlhorn's result depends on the triangulation,
-/// so for outlines of up to kDecompositionRetryLimit vertices every ear-search start is tried
-/// and the fewest pieces kept (O(n^4) worst case, n <= 32, load time only); larger outlines get
-/// one triangulation. A convex input comes back as one piece. Each piece is a
+/// so up to kDecompositionStarts triangulations are tried and the fewest pieces kept (each
+/// O(n^2) typical, O(n^3) worst; load time only). A convex input comes back as one piece. Each piece is a
 /// valid Polygon (strictly convex, counter-clockwise, at most kMaxPolygonVertices vertices) in
 /// the same frame as `points`; their union is the input and their interiors are disjoint.
 /// Throws InvalidInput as `make_simple_outline`, every message starting with `name`.
