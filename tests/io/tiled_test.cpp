@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <tuple>
 
 namespace collide {
 namespace {
@@ -553,6 +554,82 @@ TEST(Tiled, FlipYMirrorsEveryCollider) {
     EXPECT_NEAR(after.max.x, before[i].max.x, 1e-2f);
     EXPECT_NEAR(after.min.y, height - before[i].max.y, 1e-2f);
     EXPECT_NEAR(after.max.y, height - before[i].min.y, 1e-2f);
+  }
+}
+
+/// Colliders reduced to comparable facts: kind of shape, world AABB, source object and cell.
+std::vector<std::tuple<int, int, int, int, float, float, float, float>> summary(const TiledMap& map) {
+  std::vector<std::tuple<int, int, int, int, float, float, float, float>> out;
+  for (const TiledCollider& c : map.colliders) {
+    const Aabb box = compute_aabb(c.shape, c.transform);
+    auto r = [](float v) { return std::round(v * 1000.0f) / 1000.0f; };
+    out.emplace_back(static_cast<int>(c.shape.index()), c.source.object_id, c.source.cell_x,
+                     c.source.cell_y, r(box.min.x), r(box.min.y), r(box.max.x), r(box.max.y));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Tiled, EveryTileDataEncodingGivesTheSameCells) {
+  TempDir dir;
+  // One 4x3 layer, gids 1 0 2 0 / 0 2 0 0 / 0 0 0 1, in each encoding Tiled writes.
+  const std::vector<std::pair<std::string, std::string>> encodings{
+      {R"(encoding="csv")", "1,0,2,0,\n0,2,0,0,\n0,0,0,1"},
+      {R"(encoding="base64")", "AQAAAAAAAAACAAAAAAAAAAAAAAACAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAABAAAA"},
+      {R"(encoding="base64" compression="zlib")", "eJxjZIAAJgYEQGYjA0YgBgAA7AAH"},
+      {R"(encoding="base64" compression="gzip")", "\n   H4sIAAAAAAACA2NkgAAmBgRAZiMDRiAGANngFvEwAAAA\n  "},
+      {"", R"(<tile gid="1"/><tile/><tile gid="2"/><tile/><tile/><tile gid="2"/><tile/><tile/><tile/><tile/><tile/><tile gid="1"/>)"}};
+  std::vector<std::tuple<int, int, int, int, float, float, float, float>> first;
+  int k = 0;
+  for (const auto& [attributes, data] : encodings) {
+    const fs::path file = dir.write("enc" + std::to_string(k++) + ".tmx",
+                                    map_xml(R"(<layer name="L" width="4" height="3"><data )" +
+                                            attributes + ">" + data + "</data></layer>"));
+    const TiledMap map = load_tiled_map(file);
+    EXPECT_EQ(map.tile_cells, 4) << attributes;
+    if (first.empty()) {
+      first = summary(map);
+      EXPECT_EQ(first.size(), 4u);
+    } else {
+      EXPECT_EQ(summary(map), first) << attributes;
+    }
+  }
+}
+
+TEST(Tiled, JsonAndXmlOfTheSameMapGiveTheSameColliders) {
+  TempDir dir;
+  const std::uint32_t flipped = 2u | kTiledFlipVertical | kTiledFlipDiagonal;
+  const fs::path xml = dir.write("same.tmx", map_xml(
+      R"(<group name="g" offsetx="3" offsety="-4">
+         <layer name="cells" width="4" height="3" offsetx="2" offsety="1"><data encoding="base64" compression="zlib">eJxjZIAAJgYEQGYjA0YgBgAA7AAH</data></layer>
+         <objectgroup name="things">
+          <object id="1" x="10" y="20" width="30" height="8" rotation="30"/>
+          <object id="2" x="50" y="5" width="12" height="20"><ellipse/></object>
+          <object id="3" x="70" y="70" rotation="-15"><polygon points="0,0 20,0 20,20 10,5 0,20"/></object>
+          <object id="4" x="5" y="90"><polyline points="0,0 10,0 10,10"/></object>
+          <object id="5" gid=")" + std::to_string(flipped) + R"(" x="100" y="100" width="32" height="16" rotation="45"/>
+         </objectgroup></group>)"));
+  const fs::path json = dir.write("same.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 4, "height": 3,
+    "tilewidth": 16, "tileheight": 16, "infinite": false,
+    "tilesets": [{"firstgid": 1, "name": "t", "tilewidth": 16, "tileheight": 16, "tilecount": 4, "tiles": [
+      {"id": 0, "objectgroup": {"objects": [{"id": 1, "x": 0, "y": 0, "width": 4, "height": 2}]}},
+      {"id": 1, "objectgroup": {"objects": [{"id": 1, "x": 2, "y": 3, "polygon": [{"x": 0, "y": 0}, {"x": 6, "y": 0}, {"x": 0, "y": 4}]}]}}]}],
+    "layers": [{"type": "group", "name": "g", "offsetx": 3, "offsety": -4, "layers": [
+      {"type": "tilelayer", "name": "cells", "width": 4, "height": 3, "offsetx": 2, "offsety": 1,
+       "encoding": "base64", "compression": "zlib", "data": "eJxjZIAAJgYEQGYjA0YgBgAA7AAH"},
+      {"type": "objectgroup", "name": "things", "objects": [
+        {"id": 1, "x": 10, "y": 20, "width": 30, "height": 8, "rotation": 30},
+        {"id": 2, "x": 50, "y": 5, "width": 12, "height": 20, "ellipse": true},
+        {"id": 3, "x": 70, "y": 70, "rotation": -15, "polygon": [{"x": 0, "y": 0}, {"x": 20, "y": 0}, {"x": 20, "y": 20}, {"x": 10, "y": 5}, {"x": 0, "y": 20}]},
+        {"id": 4, "x": 5, "y": 90, "polyline": [{"x": 0, "y": 0}, {"x": 10, "y": 0}, {"x": 10, "y": 10}]},
+        {"id": 5, "gid": )" + std::to_string(flipped) + R"(, "x": 100, "y": 100, "width": 32, "height": 16, "rotation": 45}]}]}]})");
+  const TiledMap a = load_tiled_map(xml);
+  const TiledMap b = load_tiled_map(json);
+  EXPECT_EQ(a.objects.size(), 5u);
+  EXPECT_GE(a.colliders.size(), 12u);  // 4 cells, box, ellipse, 2+ polygon pieces, 2 links, tile
+  EXPECT_EQ(summary(a), summary(b));
+  for (const TiledMap* m : {&a, &b}) {
+    for (const TiledObject& o : m->objects) EXPECT_EQ(o.layer, "g/things");
   }
 }
 
