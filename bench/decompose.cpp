@@ -50,13 +50,13 @@ std::vector<std::vector<Vec2>> make_inputs(int n, int count) {
   return out;
 }
 
-void BM_Collide(benchmark::State& state) {
+void run_collide(benchmark::State& state, int triangulations) {
   const auto inputs = make_inputs(static_cast<int>(state.range(0)), 64);
   double pieces = 0.0;
   for (auto _ : state) {
     pieces = 0.0;
     for (const auto& poly : inputs) {
-      const auto result = collide::decompose_convex(poly);
+      const auto result = collide::decompose_convex(poly, "bench", triangulations);
       pieces += static_cast<double>(result.size());
       benchmark::DoNotOptimize(result.data());
     }
@@ -64,6 +64,11 @@ void BM_Collide(benchmark::State& state) {
   state.counters["pieces"] = pieces / static_cast<double>(inputs.size());
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(inputs.size()));
 }
+
+/// The default: best of kDecompositionStarts triangulations (fewest pieces).
+void BM_Collide(benchmark::State& state) { run_collide(state, collide::kDecompositionStarts); }
+/// One triangulation: the fastest setting.
+void BM_CollideOneTriangulation(benchmark::State& state) { run_collide(state, 1); }
 
 void BM_Chipmunk(benchmark::State& state) {
   const auto inputs = make_inputs(static_cast<int>(state.range(0)), 64);
@@ -93,6 +98,7 @@ void BM_Chipmunk(benchmark::State& state) {
 }
 
 BENCHMARK(BM_Collide)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CollideOneTriangulation)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Chipmunk)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <collide/core/error.hpp>
 
 #include "corner_turn.hpp"
+#include "decomposition_steps.hpp"
 
 #include <string>
 
@@ -20,24 +21,29 @@ bool in_closed_triangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c, float tol) noexcept {
 
 }  // namespace
 
-std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outline,
-                                                      std::string_view name, int first_corner) {
+namespace detail {
+
+void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_corner,
+              DecompositionScratch& scratch, std::vector<TriangleIndices>& triangles) {
   const int n = static_cast<int>(outline.size());
-  std::vector<TriangleIndices> triangles;
-  if (n < 3) return triangles;
+  triangles.clear();
+  if (n < 3) return;
   triangles.reserve(static_cast<size_t>(n - 2));
   const float straight = detail::straight_turn_tolerance(detail::outline_size(outline));
 
   // The remaining polygon as a doubly linked ring of outline indices.
-  std::vector<int> prev(static_cast<size_t>(n));
-  std::vector<int> next(static_cast<size_t>(n));
+  std::vector<int>& prev = scratch.ring_prev;
+  std::vector<int>& next = scratch.ring_next;
+  prev.resize(static_cast<size_t>(n));
+  next.resize(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
     prev[i] = (i + n - 1) % n;
     next[i] = (i + 1) % n;
   }
   // Only a corner that is not strictly convex can lie in an ear's triangle (a convex corner
   // inside would put a reflex one inside too), so the ear test scans those alone.
-  std::vector<unsigned char> convex(static_cast<size_t>(n));
+  std::vector<unsigned char>& convex = scratch.convex;
+  convex.resize(static_cast<size_t>(n));
   auto update = [&](int i) {
     convex[i] = detail::corner_turn(outline[prev[i]], outline[i], outline[next[i]]) > straight;
   };
@@ -81,7 +87,7 @@ std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outl
       // or float rounding hid every ear of a nearly self-touching outline.
       std::vector<Vec2> rest;
       for (int k = 0, j = cursor; k < remaining; ++k, j = next[j]) rest.push_back(outline[j]);
-      if (std::fabs(signed_area(rest)) <= straight) return triangles;
+      if (std::fabs(signed_area(rest)) <= straight) return;
       throw InvalidInput(std::string(name) +
                          ": polygon could not be triangulated (outline nearly touches itself)");
     }
@@ -90,6 +96,15 @@ std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outl
   if (detail::corner_turn(outline[last[0]], outline[last[1]], outline[last[2]]) > straight) {
     triangles.push_back(last);
   }
+}
+
+}  // namespace detail
+
+std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outline,
+                                                      std::string_view name, int first_corner) {
+  detail::DecompositionScratch scratch;
+  std::vector<TriangleIndices> triangles;
+  detail::ear_clip(outline, name, first_corner, scratch, triangles);
   return triangles;
 }
 

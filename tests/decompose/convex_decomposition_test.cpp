@@ -296,6 +296,9 @@ TEST(ConvexDecomposition, RandomSmallPolygonsNearOptimum) {
     }
     const std::vector<Polygon> pieces = decompose_convex(pts);
     check_decomposition(pts, pieces, rng, 100);
+    const std::vector<Polygon> one = decompose_convex(pts, "one", 1);
+    check_decomposition(pts, one, rng, 50);
+    EXPECT_LE(pieces.size(), one.size()) << "more triangulations never give more pieces";
     const int optimum = optimum_pieces(outline.vertices);
     EXPECT_GE(static_cast<int>(pieces.size()), optimum);
     EXPECT_LE(static_cast<int>(pieces.size()), 4 * optimum);
@@ -303,6 +306,7 @@ TEST(ConvexDecomposition, RandomSmallPolygonsNearOptimum) {
     total_optimum += optimum;
   }
   std::printf("random 5..9-gons: %d pieces against an optimum of %d\n", total, total_optimum);
+  EXPECT_LE(total * 20, total_optimum * 21) << "more than 5% above the optimum";
   EXPECT_LE(total, total_optimum * 3 / 2) << "far from optimal on average";
 }
 
@@ -393,6 +397,7 @@ TEST(ConvexDecomposition, RejectsBadInputNamingThePolygon) {
     EXPECT_EQ(text.rfind("level.tmx object 12: ", 0), 0u) << text;
   };
   expect_has(message({{0, 0}, {1, nan}, {1, 1}}), "vertex 1: not finite");
+  EXPECT_THROW((void)decompose_convex(kLShape, "L", 0), InvalidInput);
   expect_has(message({{0, 0}, {1, 0}}), "at least 3");
   expect_has(message({{0, 0}, {1, 0}, {1, 0}, {0, 0}}), "fewer than 3 distinct");
   expect_has(message({{0, 0}, {1, 1}, {2, 2}, {3, 3}}), "zero area");

@@ -67,12 +67,16 @@ struct SimpleOutline {
 
 /// Convex pieces of the simple polygon `points` (either winding): `make_simple_outline`, then
 /// ear clipping, then Hertel-Mehlhorn. Hertel-Mehlhorn's result depends on the triangulation,
-/// so up to kDecompositionStarts triangulations are tried and the fewest pieces kept (each
-/// O(n^2) typical, O(n^3) worst; load time only). A convex input comes back as one piece. Each piece is a
+/// so up to `triangulations` of them (ear searches starting at corners spread evenly around the
+/// outline) are tried and the fewest pieces kept; each costs O(n^2) typical, O(n^3) worst.
+/// Trying stops early when a result reaches the lower bound ceil(r / 2) + 1 (r reflex corners).
+/// A convex input comes back as one piece. Each piece is a
 /// valid Polygon (strictly convex, counter-clockwise, at most kMaxPolygonVertices vertices) in
 /// the same frame as `points`; their union is the input and their interiors are disjoint.
 /// Throws InvalidInput as `make_simple_outline`, every message starting with `name`.
+/// Throws InvalidInput also if `triangulations` < 1.
 [[nodiscard]] std::vector<Polygon> decompose_convex(std::span<const Vec2> points,
-                                                    std::string_view name = "polygon");
+                                                    std::string_view name = "polygon",
+                                                    int triangulations = kDecompositionStarts);
 
 }  // namespace collide

@@ -1,0 +1,36 @@
+#pragma once
+// Private to src/decompose: the triangulation and merge steps on caller-owned scratch memory,
+// so decompose_convex can try several triangulations without allocating for each.
+
+#include <collide/decompose/convex_decomposition.hpp>
+
+#include <vector>
+
+namespace collide::detail {
+
+/// Working arrays of the two steps; their capacity is reused from call to call.
+struct DecompositionScratch {
+  std::vector<int> ring_prev, ring_next;  // ear clipping: the remaining polygon
+  std::vector<unsigned char> convex;      // ear clipping: corner strictly convex
+  std::vector<int> next, prev, twin;      // merge: half-edge rings and diagonal partners
+  std::vector<int> bucket_start, bucket_fill, by_origin;  // merge: half-edges by origin
+  std::vector<int> parent, size;          // merge: union-find of triangles into pieces
+  std::vector<unsigned char> removed, visited;
+};
+
+/// Convex pieces, flattened: piece k is vertices[start[k] .. start[k + 1]).
+struct FlatPieces {
+  std::vector<int> start;
+  std::vector<int> vertices;
+  [[nodiscard]] size_t count() const noexcept { return start.empty() ? 0 : start.size() - 1; }
+};
+
+/// triangulate_ear_clipping into `out` (cleared first).
+void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_corner,
+              DecompositionScratch& scratch, std::vector<TriangleIndices>& out);
+
+/// merge_hertel_mehlhorn into `out` (cleared first).
+void merge_triangles(std::span<const Vec2> outline, std::span<const TriangleIndices> triangles,
+                     DecompositionScratch& scratch, FlatPieces& out);
+
+}  // namespace collide::detail
