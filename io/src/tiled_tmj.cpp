@@ -119,7 +119,6 @@ TiledObject read_object(const Json& j, const Where& w, TiledMap* map) {
     own_shape = false;
   }
   if (!own_shape && !has_shape) obj.kind = obj.gid != 0 ? TiledShapeKind::tile : TiledShapeKind::rectangle;
-  if (obj.gid != 0 && !own_shape && !has_shape) obj.kind = TiledShapeKind::tile;
   return obj;
 }
 

@@ -166,12 +166,10 @@ TiledObject read_object(const pugi::xml_node& node, const std::filesystem::path&
   const float degrees = number(node, "rotation", obj.rotation * 180.0f / std::numbers::pi_v<float>, file);
   obj.rotation = degrees * std::numbers::pi_v<float> / 180.0f;
   if (node.attribute("gid")) obj.gid = gid_attribute(node, file);
-  if (read_shape(node, obj, file)) {
-    has_shape = true;
-  } else if (!has_shape) {
+  // Without a shape element of its own or its template's, an object is a tile or a rectangle.
+  if (!read_shape(node, obj, file) && !has_shape) {
     obj.kind = obj.gid != 0 ? TiledShapeKind::tile : TiledShapeKind::rectangle;
   }
-  if (obj.gid != 0 && !has_shape) obj.kind = TiledShapeKind::tile;
   return obj;
 }
 
