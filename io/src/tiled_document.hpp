@@ -53,6 +53,8 @@ struct Document {
 
 /// An external tileset file (.tsx XML, or .tsj/.json), with `first_gid` set by the caller.
 [[nodiscard]] TiledTileset read_tileset_file(const std::filesystem::path& file);
+/// A .tsj/.json tileset file (read_tileset_file dispatches here).
+[[nodiscard]] TiledTileset read_tileset_json(const std::filesystem::path& file);
 
 /// A template file (.tx XML): its object, and the tileset its gid refers to (if any).
 struct Template {
@@ -62,7 +64,10 @@ struct Template {
   std::uint32_t tileset_first_gid = 1;   ///< first gid of that tileset in the template
   bool has_shape = false;                 ///< the template names its kind (ellipse, polygon...)
 };
+/// A template file: .tx (XML) or .tj (JSON).
 [[nodiscard]] Template read_template(const std::filesystem::path& file);
+/// A .tj template (read_template dispatches here).
+[[nodiscard]] Template read_template_json(const std::filesystem::path& file);
 
 /// The gid of a template object rewritten for `map`: the template's tileset is looked up among
 /// the map's tilesets by file (and appended to them when the map does not use it yet).

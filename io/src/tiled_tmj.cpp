@@ -81,7 +81,6 @@ TiledObject read_object(const Json& j, const Where& w, TiledMap* map) {
   if (j.contains("template")) {
     if (map == nullptr) w.fail("templates are not allowed here");
     const std::filesystem::path tx = w.file.parent_path() / text(j, "template");
-    if (tx.extension() != ".tx") w.fail("template " + tx.generic_string() + ": only .tx templates are supported");
     try {
       const Template tmpl = read_template(tx);
       obj = tmpl.object;
@@ -228,17 +227,50 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
   }
 }
 
-}  // namespace
-
-Document read_tmj(const std::filesystem::path& file) {
+Json load_json(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) fail(file, "file", "cannot be read");
-  Json root;
   try {
-    root = Json::parse(in);
+    return Json::parse(in);
   } catch (const Json::parse_error& e) {
     fail(file, "JSON at byte " + std::to_string(e.byte), e.what());
   }
+}
+
+}  // namespace
+
+TiledTileset read_tileset_json(const std::filesystem::path& file) {
+  const Json root = load_json(file);
+  const Where w{file, ""};
+  if (!root.is_object()) w.fail("not a Tiled tileset (not a JSON object)");
+  TiledTileset ts = read_tileset(root, w);
+  ts.source = file;
+  return ts;
+}
+
+Template read_template_json(const std::filesystem::path& file) {
+  const Json root = load_json(file);
+  const Where w{file, ""};
+  if (!root.is_object() || !root.contains("object")) w.fail("not a Tiled template (no \"object\")");
+  Template t;
+  const Json& object = root["object"];
+  t.object = read_object(object, Where{file, "object"}, nullptr);
+  t.has_shape = object.value("ellipse", false) || object.value("point", false) ||
+                object.contains("text") || object.contains("polygon") || object.contains("polyline");
+  t.has_gid = object.contains("gid");
+  if (root.contains("tileset")) {
+    const Json& ts = root["tileset"];
+    t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, w));
+    if (ts.contains("source")) t.tileset_source = file.parent_path() / text(ts, "source");
+  }
+  if (t.has_gid && t.tileset_source.empty()) {
+    w.fail("tile object template without an external tileset source");
+  }
+  return t;
+}
+
+Document read_tmj(const std::filesystem::path& file) {
+  const Json root = load_json(file);
   const Where w{file, ""};
   if (!root.is_object() || text(root, "type") != "map") w.fail("not a Tiled map (type is not \"map\")");
   Document doc;

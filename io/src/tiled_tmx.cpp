@@ -267,7 +267,7 @@ void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 o
 
 TiledTileset read_tileset_file(const std::filesystem::path& file) {
   const std::string ext = file.extension().string();
-  if (ext == ".tsj" || ext == ".json") fail(file, "file", "JSON tilesets are not supported yet");
+  if (ext == ".tsj" || ext == ".json") return read_tileset_json(file);
   const pugi::xml_document doc = load_xml(file);
   const pugi::xml_node root = doc.child("tileset");
   if (!root) fail(file, "root", "not a Tiled tileset (no <tileset> element)");
@@ -279,6 +279,7 @@ TiledTileset read_tileset_file(const std::filesystem::path& file) {
 Template read_template(const std::filesystem::path& file) {
   // Read on every use: templates are a few hundred bytes, and a cache would go stale while a
   // game reloads edited maps.
+  if (file.extension() == ".tj") return read_template_json(file);
   const pugi::xml_document doc = load_xml(file);
   const pugi::xml_node root = doc.child("template");
   if (!root) fail(file, "root", "not a Tiled template (no <template> element)");

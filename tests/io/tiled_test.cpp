@@ -633,6 +633,29 @@ TEST(Tiled, JsonAndXmlOfTheSameMapGiveTheSameColliders) {
   }
 }
 
+TEST(Tiled, JsonTilesetsAndTemplatesServeBothMapFormats) {
+  TempDir dir;
+  dir.write("t.tsj", R"({"type": "tileset", "name": "t", "tilewidth": 16, "tileheight": 16, "tilecount": 4,
+    "tiles": [{"id": 0, "objectgroup": {"objects": [{"id": 1, "x": 0, "y": 0, "width": 4, "height": 2}]}}]})");
+  dir.write("crate.tj", R"({"type": "template", "tileset": {"firstgid": 1, "source": "t.tsj"},
+    "object": {"name": "crate", "gid": 1, "width": 32, "height": 32}})");
+  const fs::path xml = dir.write("m.tmx", R"(<map orientation="orthogonal" width="4" height="4" tilewidth="16" tileheight="16">
+    <tileset firstgid="5" source="t.tsj"/>
+    <objectgroup name="o"><object id="7" template="crate.tj" x="10" y="50"/></objectgroup></map>)");
+  const fs::path json = dir.write("m.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 4, "height": 4,
+    "tilewidth": 16, "tileheight": 16, "tilesets": [{"firstgid": 5, "source": "t.tsj"}],
+    "layers": [{"type": "objectgroup", "name": "o", "objects": [{"id": 7, "template": "crate.tj", "x": 10, "y": 50}]}]})");
+  for (const fs::path& file : {xml, json}) {
+    SCOPED_TRACE(file.filename().string());
+    const TiledMap map = load_tiled_map(file);
+    ASSERT_EQ(map.objects.size(), 1u);
+    EXPECT_EQ(map.objects[0].name, "crate");
+    EXPECT_EQ(map.objects[0].gid, 5u);  // the template's gid 1 of t.tsj is gid 5 in this map
+    // Tile box (0,0)-(4,2) scaled 2x, anchored at the bottom-left corner (10, 50).
+    EXPECT_AABB_NEAR(merged_aabb(colliders_of(map, 7)), Vec2(10, 18), Vec2(18, 22), 1e-4f);
+  }
+}
+
 // ---- malformed input ---------------------------------------------------------------------------
 
 TEST(Tiled, MalformedFilesNameTheFileAndTheElement) {

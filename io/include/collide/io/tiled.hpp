@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// Static collision geometry from Tiled maps (https://www.mapeditor.org): `.tmx` (XML) with
-/// external `.tsx` tilesets and `.tx` templates, and `.tmj`/`.json` (JSON) exports.
+/// Static collision geometry from Tiled maps (https://www.mapeditor.org): `.tmx` (XML) and
+/// `.tmj`/`.json` (JSON) maps, with external tilesets (`.tsx` or `.tsj`/`.json`) and object
+/// templates (`.tx` or `.tj`) in either format.
 ///
 /// Coordinates. Everything is in Tiled's own map space: pixels, x to the right, **y down**,
 /// origin at the map's top-left corner. collide's math does not care which way y points, but the
