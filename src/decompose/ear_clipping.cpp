@@ -32,6 +32,23 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
   const float straight = detail::straight_turn_tolerance(detail::outline_size(outline));
 
   // The remaining polygon as a doubly linked ring of outline indices.
+  // Half-edge partners, filled as triangles are cut: ring_twin[v] is the half-edge of an
+  // already cut triangle that runs opposite to the ring edge v -> next(v) (-1: outline edge).
+  std::vector<int>& ring_twin = scratch.ring_twin;
+  std::vector<int>& twin = scratch.twin;
+  ring_twin.assign(static_cast<size_t>(n), -1);
+  twin.assign(static_cast<size_t>(3 * (n - 2)), -1);
+  auto emit = [&](int p, int c, int x) {  // triangle p, c, x: half-edges p->c, c->x, x->p
+    const int h = 3 * static_cast<int>(triangles.size());
+    triangles.push_back({p, c, x});
+    for (const auto& [edge, from] : {std::pair{h, p}, std::pair{h + 1, c}}) {
+      if (ring_twin[from] >= 0) {
+        twin[edge] = ring_twin[from];
+        twin[ring_twin[from]] = edge;
+      }
+    }
+    ring_twin[p] = h + 2;  // the cut x -> p faces the new ring edge p -> x
+  };
   std::vector<int>& prev = scratch.ring_prev;
   std::vector<int>& next = scratch.ring_next;
   prev.resize(static_cast<size_t>(n));
@@ -69,7 +86,7 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
   int since_last_ear = 0;  // corners inspected since the last clip: a full lap means no ear
   while (remaining > 3) {
     if (is_ear(cursor)) {
-      triangles.push_back({prev[cursor], cursor, next[cursor]});
+      emit(prev[cursor], cursor, next[cursor]);
       const int before = prev[cursor];
       const int after = next[cursor];
       next[before] = after;
@@ -94,7 +111,7 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
   }
   const TriangleIndices last{prev[cursor], cursor, next[cursor]};
   if (detail::corner_turn(outline[last[0]], outline[last[1]], outline[last[2]]) > straight) {
-    triangles.push_back(last);
+    emit(last[0], last[1], last[2]);
   }
 }
 

@@ -16,7 +16,7 @@ namespace collide {
 namespace detail {
 
 void merge_triangles(std::span<const Vec2> outline, std::span<const TriangleIndices> triangles,
-                     DecompositionScratch& scratch, FlatPieces& out) {
+                     DecompositionScratch& scratch, FlatPieces& out, bool twins_known) {
   // The triangulation as half-edges: half-edge h = 3 t + j runs from corner j of triangle t to
   // corner j + 1. Pieces are rings of half-edges linked by next/prev; removing a diagonal
   // splices two rings into one, so a merge costs O(1) and allocates nothing.
@@ -29,12 +29,12 @@ void merge_triangles(std::span<const Vec2> outline, std::span<const TriangleIndi
   std::vector<int>& twin = scratch.twin;
   next.resize(static_cast<size_t>(count));
   prev.resize(static_cast<size_t>(count));
-  twin.assign(static_cast<size_t>(count), -1);
+  if (!twins_known) twin.assign(static_cast<size_t>(count), -1);
   for (int h = 0; h < count; ++h) {
     next[h] = 3 * (h / 3) + (h % 3 + 1) % 3;
     prev[h] = 3 * (h / 3) + (h % 3 + 2) % 3;
   }
-  {  // A diagonal is the edge two triangles share, once in each direction. Bucket half-edges
+  if (!twins_known) {  // A diagonal is the edge two triangles share, once in each direction. Bucket half-edges
      // by origin vertex (counting sort); the twin of a -> b is the b -> a in b's bucket.
     const int n = static_cast<int>(outline.size());
     std::vector<int>& start = scratch.bucket_start;
@@ -116,7 +116,7 @@ std::vector<std::vector<int>> merge_hertel_mehlhorn(std::span<const Vec2> outlin
                                                     std::span<const TriangleIndices> triangles) {
   detail::DecompositionScratch scratch;
   detail::FlatPieces flat;
-  detail::merge_triangles(outline, triangles, scratch, flat);
+  detail::merge_triangles(outline, triangles, scratch, flat, false);
   std::vector<std::vector<int>> pieces;
   for (size_t k = 0; k < flat.count(); ++k) {
     pieces.emplace_back(flat.vertices.begin() + flat.start[k], flat.vertices.begin() + flat.start[k + 1]);
@@ -148,7 +148,7 @@ std::vector<Polygon> decompose_convex(std::span<const Vec2> points, std::string_
   const int starts = std::min(n, triangulations);
   for (int k = 0; k < starts && pieces.count() != lower_bound; ++k) {
     detail::ear_clip(outline.vertices, name, k * n / starts, scratch, triangles);
-    detail::merge_triangles(outline.vertices, triangles, scratch, candidate);
+    detail::merge_triangles(outline.vertices, triangles, scratch, candidate, true);
     if (k == 0 || candidate.count() < pieces.count()) std::swap(pieces, candidate);
   }
   std::vector<Polygon> out;

@@ -111,9 +111,17 @@ SimpleOutline make_simple_outline(std::span<const Vec2> points, std::string_view
     throw InvalidInput(label(name) + "polygon has zero area (all vertices collinear)");
   }
   const size_t n = out.vertices.size();
+  // Edge boxes first: most pairs are far apart, and a box test is cheaper than orientations.
+  std::vector<Aabb> boxes(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 a = out.vertices[i];
+    const Vec2 b = out.vertices[(i + 1) % n];
+    boxes[i] = {glm::min(a, b), glm::max(a, b)};
+  }
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 2; j < n; ++j) {
       if (i == 0 && j == n - 1) continue;  // adjacent through the wrap-around
+      if (!overlap(boxes[i], boxes[j])) continue;
       if (segments_touch(out.vertices[i], out.vertices[i + 1], out.vertices[j],
                          out.vertices[(j + 1) % n])) {
         throw InvalidInput(label(name) + "polygon is self-intersecting: edge " +

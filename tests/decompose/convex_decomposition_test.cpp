@@ -299,6 +299,11 @@ TEST(ConvexDecomposition, RandomSmallPolygonsNearOptimum) {
     const std::vector<Polygon> one = decompose_convex(pts, "one", 1);
     check_decomposition(pts, one, rng, 50);
     EXPECT_LE(pieces.size(), one.size()) << "more triangulations never give more pieces";
+    // The public steps (edge partners found by search) agree with the fused path (partners
+    // recorded while cutting ears).
+    const std::vector<TriangleIndices> triangles = triangulate_ear_clipping(outline.vertices);
+    EXPECT_EQ(triangles.size(), outline.vertices.size() - 2);
+    EXPECT_EQ(merge_hertel_mehlhorn(outline.vertices, triangles).size(), one.size());
     const int optimum = optimum_pieces(outline.vertices);
     EXPECT_GE(static_cast<int>(pieces.size()), optimum);
     EXPECT_LE(static_cast<int>(pieces.size()), 4 * optimum);
