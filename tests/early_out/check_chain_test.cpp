@@ -102,6 +102,16 @@ TEST(EarlyOut, RunningStatsAverageThenFollowChanges) {
   EXPECT_NEAR(s.stats().cost, 100.0, 1e-6);
 }
 
+TEST(EarlyOut, RunningStatsClipPreemptionOutliers) {
+  RunningStats s(1.0 / 16.0);
+  for (int i = 0; i < 64; ++i) s.add_cost(100.0);
+  s.add_cost(1e7);  // the thread was preempted for 10 ms during one measurement
+  EXPECT_LE(s.stats().cost, 100.0 + (kCostOutlierFactor - 1.0) * 100.0 / 16.0 + 1e-9);
+  EXPECT_GT(s.stats().cost, 100.0);  // it still counts, as a large but bounded sample
+  for (int i = 0; i < 400; ++i) s.add_cost(1000.0);  // a real change is followed
+  EXPECT_NEAR(s.stats().cost, 1000.0, 1e-3);
+}
+
 // ---- the online chain, on synthetic checks with a fake clock -------------------------------------
 
 /// Synthetic checks with known costs and pass rates. Running one advances a fake clock by its
@@ -240,6 +250,27 @@ TEST(EarlyOut, ChainTimingIntervalSkipsClockReads) {
   EXPECT_LE(clock_reads, 100 * 6);  // only 1 in 10 evaluations reads the clock
   EXPECT_GT(clock_reads, 0);
   EXPECT_GT(chain.report().measured_cost, 0.0);
+}
+
+TEST(EarlyOut, ChainTakesTheClockReadsOutOfItsMeasurements) {
+  // A fake clock whose every read costs 5 units: the stopwatch must not be charged to checks.
+  Synthetic s;
+  s.checks = {{2.0, 0.5}, {30.0, 0.5}};
+  const std::array<bool, 2> none{};
+  CheckChain<2> chain(none);
+  auto reading_clock = [&] {
+    s.clock += 5.0;
+    return s.clock;
+  };
+  for (int e = 0; e < 2000; ++e) {
+    s.new_pair();
+    (void)chain.evaluate([&](int i, CheckStage st) { return s.run(i, st); }, reading_clock);
+  }
+  EXPECT_NEAR(chain.exact_stats(0).cost, 2.0, 1e-9);
+  EXPECT_NEAR(chain.exact_stats(1).cost, 30.0, 1e-9);
+  // Order: 2 / 0.5 < 30 / 0.5, and the whole-evaluation cost is 2 + 0.5 * 30 = 17 on average.
+  EXPECT_EQ(chain.order()[0], 0);
+  EXPECT_NEAR(chain.report().measured_cost, 17.0, 4.0);
 }
 
 TEST(EarlyOut, ChainRejectsBadConfiguration) {

@@ -65,9 +65,15 @@ void optimal_order(std::span<const CheckStats> checks, std::span<int> order);
 /// The lesson's rule for a redundant pretest: worth running iff t_pre < (1 - p_pre) t_exact.
 [[nodiscard]] bool pretest_pays(const CheckStats& pretest, double exact_cost) noexcept;
 
+/// Once warmed up, a cost sample above this multiple of the running estimate is clipped to it:
+/// a thread preempted mid-check must not teach the chain that the check is slow (a winsorized
+/// mean; a real change still moves the estimate by a factor of this per sample).
+inline constexpr double kCostOutlierFactor = 16.0;
+
 /// A moving average of a check's cost and pass rate. The first samples are averaged plainly
 /// (weight 1/n) so the estimate is useful at once; after 1/alpha samples it becomes an
-/// exponential moving average with weight `alpha`, which follows a changing scene.
+/// exponential moving average with weight `alpha`, which follows a changing scene. Cost samples
+/// far above the estimate are clipped (kCostOutlierFactor).
 class RunningStats {
  public:
   RunningStats() noexcept = default;
@@ -79,7 +85,9 @@ class RunningStats {
   }
   void add_cost(double cost) noexcept {
     ++costs_;
-    cost_ += weight(costs_) * (cost - cost_);
+    const double w = weight(costs_);
+    if (w <= alpha_ && cost > kCostOutlierFactor * cost_) cost = kCostOutlierFactor * cost_;
+    cost_ += w * (cost - cost_);
   }
   [[nodiscard]] CheckStats stats() const noexcept { return {cost_, pass_rate_}; }
   [[nodiscard]] std::uint64_t outcomes() const noexcept { return outcomes_; }
@@ -118,7 +126,9 @@ struct CheckChainReport {
   std::uint64_t evaluations = 0;   ///< calls to evaluate()
   std::uint64_t rejections = 0;    ///< evaluations that returned false
   std::uint64_t reorders = 0;      ///< times the order or a pretest choice changed
-  double measured_cost = 0.0;      ///< mean measured time of the timed evaluations
+  /// Moving average of the measured time of whole timed evaluations (the chain's own clock
+  /// reads taken out, preemption outliers clipped as in RunningStats).
+  double measured_cost = 0.0;
   double expected_cost = 0.0;      ///< model cost of the current order and pretest choices
   double fixed_order_cost = 0.0;   ///< model cost of declaration order, every pretest on
   /// Fraction of the fixed order's cost the chain's choices save (model), in (-inf, 1].
@@ -163,6 +173,7 @@ class CheckChain {
       u.has_pretest = has_pretest[i];
       u.pretest_on = u.has_pretest;  // the fixed order's habit: pretest first
       u.unit = u.pretest = u.exact = RunningStats(options.alpha);
+      total_ = RunningStats(options.alpha);
       order_[i] = i;
     }
   }
@@ -175,8 +186,19 @@ class CheckChain {
   bool evaluate(Run&& run, Clock&& now = Clock{}) {
     ++evaluations_;
     const bool timed = evaluations_ % options_.timing_interval == 0;
+    if (timed && !calibrated_) calibrate(now);
+    int reads = 0;  // clock reads in this evaluation, to take their cost out of the total
+    auto read = [&] {
+      ++reads;
+      return now();
+    };
+    // A sample is the time between two clock reads minus what one read costs.
+    auto elapsed = [&](double since) {
+      const double t = read() - since - clock_overhead_;
+      return t > 0.0 ? t : 0.0;
+    };
     const bool explore = evaluations_ % options_.explore_interval == 0;
-    const double start = timed ? now() : 0.0;
+    const double start = timed ? read() : 0.0;
     bool all_pass = true;
     for (int k = 0; k < count_; ++k) {
       const int i = order_[k];
@@ -184,17 +206,17 @@ class CheckChain {
       bool pass = true;
       bool rejected_by_pretest = false;
       if (u.has_pretest && (u.pretest_on || explore)) {
-        const double t0 = timed ? now() : 0.0;
+        const double t0 = timed ? read() : 0.0;
         const bool pre = run(i, CheckStage::pretest);
-        if (timed) u.pretest.add_cost(now() - t0);
+        if (timed) u.pretest.add_cost(elapsed(t0));
         u.pretest.add_outcome(pre);
         rejected_by_pretest = !pre;
         if (!pre && u.pretest_on && !explore) pass = false;
       }
       if (pass) {
-        const double t0 = timed ? now() : 0.0;
+        const double t0 = timed ? read() : 0.0;
         pass = run(i, CheckStage::exact);
-        if (timed) u.exact.add_cost(now() - t0);
+        if (timed) u.exact.add_cost(elapsed(t0));
         u.exact.add_outcome(pass);
         COLLIDE_ASSERT(!(rejected_by_pretest && pass),
                        "check chain: a pretest rejected a pair its exact check accepts");
@@ -207,8 +229,8 @@ class CheckChain {
       }
     }
     if (timed) {
-      ++timed_evaluations_;
-      total_time_ += now() - start;
+      const double total = read() - start - static_cast<double>(reads - 1) * clock_overhead_;
+      total_.add_cost(total > 0.0 ? total : 0.0);
     }
     if (!all_pass) ++rejections_;
     if (evaluations_ % options_.reorder_interval == 0) decide();
@@ -260,7 +282,7 @@ class CheckChain {
     r.evaluations = evaluations_;
     r.rejections = rejections_;
     r.reorders = reorders_;
-    r.measured_cost = timed_evaluations_ > 0 ? total_time_ / static_cast<double>(timed_evaluations_) : 0.0;
+    r.measured_cost = total_.stats().cost;
     std::array<CheckStats, MaxChecks> current{};
     std::array<CheckStats, MaxChecks> fixed{};
     std::array<int, MaxChecks> declared{};
@@ -295,15 +317,30 @@ class CheckChain {
     return {cost, pass};
   }
 
+  /// The cost of one clock read, measured once as the least of a few back-to-back pairs (0 for
+  /// a fake clock that does not move), so cheap checks are not charged for the stopwatch.
+  template <class Clock>
+  void calibrate(Clock& now) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 16; ++i) {
+      const double a = now();
+      const double b = now();
+      best = b - a < best ? b - a : best;
+    }
+    clock_overhead_ = best > 0.0 ? best : 0.0;
+    calibrated_ = true;
+  }
+
   CheckChainOptions options_;
+  bool calibrated_ = false;
+  double clock_overhead_ = 0.0;
   int count_ = 0;
   std::array<Unit, MaxChecks> units_{};
   std::array<int, MaxChecks> order_{};
   std::uint64_t evaluations_ = 0;
   std::uint64_t rejections_ = 0;
   std::uint64_t reorders_ = 0;
-  std::uint64_t timed_evaluations_ = 0;
-  double total_time_ = 0.0;
+  RunningStats total_{};  ///< time of whole timed evaluations (outliers clipped)
 };
 
 }  // namespace collide
