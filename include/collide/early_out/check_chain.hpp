@@ -173,9 +173,9 @@ class CheckChain {
       u.has_pretest = has_pretest[i];
       u.pretest_on = u.has_pretest;  // the fixed order's habit: pretest first
       u.unit = u.pretest = u.exact = RunningStats(options.alpha);
-      total_ = RunningStats(options.alpha);
       order_[i] = i;
     }
+    total_ = RunningStats(options.alpha);
   }
 
   /// Runs the checks in the current order until one rejects; true if all pass. `run(i, stage)`
