@@ -45,6 +45,7 @@ void HashGridN<D>::reserve(int boxes, int cell_entries) {
   entry_id_.reserve(cell_entries);
   ids_.reserve(cell_entries);
   cells_.reserve(cell_entries);
+  cursor_.reserve(cell_entries);
   cell_start_.reserve(static_cast<std::size_t>(cell_entries) + 1);
   table_.reserve(std::bit_ceil(static_cast<std::size_t>(2 * cell_entries + 2)));
 }

@@ -187,9 +187,14 @@ void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction,
     const float r = visit(cell, limit);
     if (r < limit) limit = r;
     if (limit <= 0.0f) return;
+    // The next boundary crossed; at a tie (a cell corner) an axis stepping up goes first:
+    // the corner point itself belongs to the cell above on those axes (floor), so that cell
+    // must be visited before the axes stepping down move on.
     int axis = 0;
     for (int k = 1; k < D; ++k) {
-      if (t_next[k] < t_next[axis]) axis = k;
+      if (t_next[k] < t_next[axis] || (t_next[k] == t_next[axis] && step[axis] < step[k])) {
+        axis = k;
+      }
     }
     if (t_next[axis] > static_cast<double>(limit)) return;
     cell[axis] += step[axis];
