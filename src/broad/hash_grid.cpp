@@ -91,9 +91,20 @@ int HashGridN<D>::find_or_add_cell(const CellN<D>& cell) {
 template <int D>
 void HashGridN<D>::build(std::span<const AabbN<D>> boxes) {
   validate_boxes(boxes);
+  chosen_cell_size_ =
+      options_.cell_size > 0.0f ? options_.cell_size : suggest_cell_size(boxes, scratch_);
+  update(boxes);
+}
+
+template <int D>
+void HashGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  if (chosen_cell_size_ == 0.0f) {
+    build(boxes);
+    return;
+  }
+  validate_boxes(boxes);
   boxes_.assign(boxes.begin(), boxes.end());
-  const float cell = options_.cell_size > 0.0f ? options_.cell_size : suggest_cell_size(boxes, scratch_);
-  grid_ = make_grid_mapping(bounds_of(boxes), cell);
+  grid_ = make_grid_mapping(bounds_of(boxes), chosen_cell_size_);
 
   cells_.clear();
   entry_cell_.clear();

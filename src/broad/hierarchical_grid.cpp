@@ -43,9 +43,20 @@ HierarchicalGridN<D>::HierarchicalGridN(Options options) : options_(options) {
 template <int D>
 void HierarchicalGridN<D>::build(std::span<const AabbN<D>> boxes) {
   validate_boxes(boxes);
+  base_ = options_.base_cell_size > 0.0f ? options_.base_cell_size
+                                         : suggest_cell_size(boxes, scratch_);
+  update(boxes);
+}
+
+template <int D>
+void HierarchicalGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  if (base_ == 0.0f) {
+    build(boxes);
+    return;
+  }
+  validate_boxes(boxes);
   boxes_.assign(boxes.begin(), boxes.end());
-  const float base = options_.base_cell_size > 0.0f ? options_.base_cell_size
-                                                    : suggest_cell_size(boxes, scratch_);
+  const float base = base_;
   for (Level& level : levels_) level.ids.clear();
   const int n = size();
   for (int i = 0; i < n; ++i) {

@@ -12,9 +12,11 @@ namespace collide::detail {
 
 inline constexpr int kRadixDigitBits = 11;
 
-/// Sorts `data` by the low `key_bits` bits of `record.key`; `scratch` is reused storage.
+/// Sorts `data` by bits [first_bit, first_bit + key_bits) of `record.key`; `scratch` is reused
+/// storage.
 template <class Record>
-void radix_sort_by_key(std::vector<Record>& data, std::vector<Record>& scratch, int key_bits) {
+void radix_sort_by_key(std::vector<Record>& data, std::vector<Record>& scratch, int first_bit,
+                       int key_bits) {
   constexpr std::size_t kBuckets = std::size_t{1} << kRadixDigitBits;
   constexpr std::uint64_t kMask = kBuckets - 1;
   constexpr int kMaxPasses = (64 + kRadixDigitBits - 1) / kRadixDigitBits;
@@ -24,12 +26,14 @@ void radix_sort_by_key(std::vector<Record>& data, std::vector<Record>& scratch, 
 
   std::array<std::array<std::uint32_t, kBuckets>, kMaxPasses> counts{};
   for (const Record& r : data) {
-    for (int p = 0; p < passes; ++p) ++counts[p][(r.key >> (p * kRadixDigitBits)) & kMask];
+    for (int p = 0; p < passes; ++p) {
+      ++counts[p][(r.key >> (first_bit + p * kRadixDigitBits)) & kMask];
+    }
   }
   scratch.resize(n);
   for (int p = 0; p < passes; ++p) {
     std::array<std::uint32_t, kBuckets>& offset = counts[p];
-    const int shift = p * kRadixDigitBits;
+    const int shift = first_bit + p * kRadixDigitBits;
     if (offset[(data[0].key >> shift) & kMask] == n) continue;  // one digit value: nothing moves
     std::uint32_t sum = 0;
     for (std::uint32_t& c : offset) sum += std::exchange(c, sum);

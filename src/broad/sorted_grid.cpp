@@ -22,51 +22,111 @@ SortedGridN<D>::SortedGridN(Options options) : options_(options) {
 }
 
 template <int D>
-void SortedGridN<D>::add_entries(int id, const AabbN<D>& box) {
-  for_each_cell<D>(grid_.cell_of(box.min), grid_.cell_of(box.max), [&](const CellN<D>& c) {
-    keys_.push_back({grid_.linear_index(c), static_cast<std::uint32_t>(id), 0u});
-    return true;
-  });
+template <class Emit>
+void SortedGridN<D>::emit_cells(const AabbN<D>& box, Emit&& emit) const {
+  // Linear keys of the covered cells, x fastest, without re-deriving each key from scratch.
+  const CellN<D> lo = grid_.cell_of(box.min);
+  const CellN<D> hi = grid_.cell_of(box.max);
+  const auto nx = static_cast<std::uint64_t>(grid_.dims[0]);
+  if constexpr (D == 2) {
+    for (int y = lo.y; y <= hi.y; ++y) {
+      const std::uint64_t row = static_cast<std::uint64_t>(y) * nx;
+      for (int x = lo.x; x <= hi.x; ++x) emit(row + static_cast<std::uint64_t>(x));
+    }
+  } else {
+    const std::uint64_t ny = static_cast<std::uint64_t>(grid_.dims[1]);
+    for (int z = lo.z; z <= hi.z; ++z) {
+      for (int y = lo.y; y <= hi.y; ++y) {
+        const std::uint64_t row = (static_cast<std::uint64_t>(z) * ny + static_cast<std::uint64_t>(y)) * nx;
+        for (int x = lo.x; x <= hi.x; ++x) emit(row + static_cast<std::uint64_t>(x));
+      }
+    }
+  }
 }
 
 template <int D>
-void SortedGridN<D>::sort_and_gather(std::span<const AabbN<D>> boxes) {
-  std::uint64_t max_key = 0;
-  for (const SortKey& k : keys_) max_key = std::max(max_key, k.key);
-  detail::radix_sort_by_key(keys_, keys_scratch_, static_cast<int>(std::bit_width(max_key)));
-
-  entries_.resize(keys_.size());
+template <class Record, class Split>
+void SortedGridN<D>::sort_and_gather(std::vector<Record>& keys, std::vector<Record>& scratch,
+                                     int first_bit, int key_bits,
+                                     std::span<const AabbN<D>> boxes, Split&& split) {
+  detail::radix_sort_by_key(keys, scratch, first_bit, key_bits);
+  entries_.resize(keys.size());
   runs_.clear();
-  for (std::size_t e = 0; e < keys_.size(); ++e) {
-    entries_[e] = {boxes[keys_[e].id], static_cast<int>(keys_[e].id)};
-    if (e == 0 || keys_[e].key != keys_[e - 1].key) {
-      runs_.push_back({keys_[e].key, static_cast<int>(e)});
+  std::uint64_t previous = ~std::uint64_t{0};
+  for (std::size_t e = 0; e < keys.size(); ++e) {
+    const auto [cell_key, id] = split(keys[e]);
+    entries_[e] = {boxes[id], id};
+    if (cell_key != previous) {
+      runs_.push_back({cell_key, static_cast<int>(e)});
+      previous = cell_key;
     }
   }
-  runs_.push_back({~std::uint64_t{0}, static_cast<int>(keys_.size())});
+  runs_.push_back({~std::uint64_t{0}, static_cast<int>(keys.size())});
+}
+
+template <int D>
+template <class ForEachId>
+void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_id) {
+  std::uint64_t total_cells = 1;  // below 2^62 (make_grid_mapping)
+  for (int k = 0; k < D; ++k) total_cells *= static_cast<std::uint64_t>(grid_.dims[k]);
+  const int key_bits = static_cast<int>(std::bit_width(total_cells - 1));
+  const int id_bits = std::max(
+      1, static_cast<int>(std::bit_width(static_cast<std::uint32_t>(boxes.size()))));
+  if (key_bits + id_bits <= 64) {
+    packed_.clear();
+    for_each_id([&](int id) {
+      emit_cells(boxes[id], [&](std::uint64_t key) {
+        packed_.push_back({key << id_bits | static_cast<std::uint64_t>(id)});
+      });
+    });
+    const std::uint64_t id_mask = (std::uint64_t{1} << id_bits) - 1;
+    sort_and_gather(packed_, packed_scratch_, id_bits, key_bits, boxes, [&](const PackedKey& k) {
+      return std::pair{k.key >> id_bits, static_cast<int>(k.key & id_mask)};
+    });
+  } else {
+    wide_.clear();
+    for_each_id([&](int id) {
+      emit_cells(boxes[id], [&](std::uint64_t key) {
+        wide_.push_back({key, static_cast<std::uint32_t>(id), 0u});
+      });
+    });
+    sort_and_gather(wide_, wide_scratch_, 0, key_bits, boxes, [](const WideKey& k) {
+      return std::pair{k.key, static_cast<int>(k.id)};
+    });
+  }
 }
 
 template <int D>
 void SortedGridN<D>::build(std::span<const AabbN<D>> boxes) {
   validate_boxes(boxes);
+  chosen_cell_size_ =
+      options_.cell_size > 0.0f ? options_.cell_size : suggest_cell_size(boxes, scratch_);
+  update(boxes);
+}
+
+template <int D>
+void SortedGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  if (chosen_cell_size_ == 0.0f) {
+    build(boxes);
+    return;
+  }
+  validate_boxes(boxes);
   boxes_.assign(boxes.begin(), boxes.end());
   count_ = static_cast<int>(boxes.size());
-  const float cell =
-      options_.cell_size > 0.0f ? options_.cell_size : suggest_cell_size(boxes, scratch_);
-  grid_ = make_grid_mapping(bounds_of(boxes), cell);
-  keys_.clear();
+  grid_ = make_grid_mapping(bounds_of(boxes), chosen_cell_size_);
   oversized_.clear();
   is_oversized_.assign(boxes.size(), 0);
-  const int n = static_cast<int>(boxes.size());
-  for (int i = 0; i < n; ++i) {
-    if (grid_.cell_count(boxes[i]) > static_cast<double>(options_.max_cells_per_box)) {
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
+  const double max_cells = options_.max_cells_per_box;
+  fill(boxes, [&](auto&& add) {
+    for (int i = 0; i < count_; ++i) {
+      if (grid_.cell_count(boxes[i]) > max_cells) {
+        oversized_.push_back(i);
+        is_oversized_[i] = 1;
+        continue;
+      }
+      add(i);
     }
-    add_entries(i, boxes[i]);
-  }
-  sort_and_gather(boxes);
+  });
 }
 
 template <int D>
@@ -77,9 +137,9 @@ void SortedGridN<D>::build_subset(std::span<const AabbN<D>> boxes, std::span<con
   oversized_.clear();
   is_oversized_.clear();
   grid_ = grid;
-  keys_.clear();
-  for (const int id : ids) add_entries(id, boxes[id]);
-  sort_and_gather(boxes);
+  fill(boxes, [&](auto&& add) {
+    for (const int id : ids) add(id);
+  });
 }
 
 template <int D>
@@ -197,7 +257,8 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 template <int D>
 std::size_t SortedGridN<D>::memory_bytes() const noexcept {
   return boxes_.capacity() * sizeof(AabbN<D>) +
-         (keys_.capacity() + keys_scratch_.capacity()) * sizeof(SortKey) +
+         (packed_.capacity() + packed_scratch_.capacity()) * sizeof(PackedKey) +
+         (wide_.capacity() + wide_scratch_.capacity()) * sizeof(WideKey) +
          entries_.capacity() * sizeof(CellEntry) + runs_.capacity() * sizeof(Run) +
          oversized_.capacity() * sizeof(int) + is_oversized_.capacity() +
          scratch_.capacity() * sizeof(float);

@@ -53,8 +53,9 @@ class HashGridN {
 
   /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
   void build(std::span<const AabbN<D>> boxes);
-  /// Same as build (a uniform grid is cheap to rebuild).
-  void update(std::span<const AabbN<D>> boxes) { build(boxes); }
+  /// Rebuilds from the moved boxes (a uniform grid is cheap to rebuild), keeping the cell size
+  /// chosen at build. Throws as build.
+  void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: cells in order of first use, then ids
   /// ascending in a cell; oversized boxes last.
@@ -85,6 +86,7 @@ class HashGridN {
 
   Options options_{};
   GridMapping<D> grid_{};
+  float chosen_cell_size_ = 0.0f;        // from the data at build; kept by update
   std::vector<AabbN<D>> boxes_;
   std::vector<CellN<D>> cells_;          // coordinates of each occupied cell, in order of first use
   std::vector<int> cell_start_;          // ids of cell c: ids_[cell_start_[c] .. cell_start_[c+1])

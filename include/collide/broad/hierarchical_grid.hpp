@@ -43,8 +43,8 @@ class HierarchicalGridN {
 
   /// Rebuilds all levels. Throws InvalidInput for a non-finite box or min > max.
   void build(std::span<const AabbN<D>> boxes);
-  /// Same as build.
-  void update(std::span<const AabbN<D>> boxes) { build(boxes); }
+  /// Rebuilds from the moved boxes, keeping the base cell size chosen at build.
+  void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
   /// its own pairs then its boxes against the coarser levels.
@@ -67,6 +67,7 @@ class HierarchicalGridN {
   };
 
   Options options_{};
+  float base_ = 0.0f;          // level 0 cell size chosen at build
   std::vector<AabbN<D>> boxes_;
   std::vector<Level> levels_;  // sorted by exponent; empty ones kept for reuse
   std::vector<float> scratch_;

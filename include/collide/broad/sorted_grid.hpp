@@ -48,8 +48,8 @@ class SortedGridN {
 
   /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
   void build(std::span<const AabbN<D>> boxes);
-  /// Same as build.
-  void update(std::span<const AabbN<D>> boxes) { build(boxes); }
+  /// Rebuilds from the moved boxes, keeping the cell size chosen at build. Throws as build.
+  void update(std::span<const AabbN<D>> boxes);
 
   /// Builds over only the boxes listed in `ids` (validated by the caller) on a given grid, with
   /// no oversized list: a level of HierarchicalGrid. Pairs and queries then cover those ids.
@@ -79,7 +79,12 @@ class SortedGridN {
   [[nodiscard]] std::span<const CellEntry> cell_entries(const CellN<D>& cell) const noexcept;
 
  private:
-  struct SortKey {
+  // Sort records: the cell key and the id packed in one word when they fit in 64 bits (half
+  // the memory traffic of the wide record), else side by side.
+  struct PackedKey {
+    std::uint64_t key;  // cell key << id_bits_ | id
+  };
+  struct WideKey {
     std::uint64_t key;
     std::uint32_t id;
     std::uint32_t unused;
@@ -89,16 +94,24 @@ class SortedGridN {
     int begin;
   };
 
-  void add_entries(int id, const AabbN<D>& box);
-  void sort_and_gather(std::span<const AabbN<D>> boxes);
+  template <class ForEachId>
+  void fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_id);
+  template <class Emit>
+  void emit_cells(const AabbN<D>& box, Emit&& emit) const;
+  template <class Record, class Split>
+  void sort_and_gather(std::vector<Record>& keys, std::vector<Record>& scratch, int first_bit,
+                       int key_bits, std::span<const AabbN<D>> boxes, Split&& split);
   [[nodiscard]] int find_run(std::uint64_t key) const noexcept;
 
   Options options_{};
   GridMapping<D> grid_{};
   int count_ = 0;                     // objects in the grid
   std::vector<AabbN<D>> boxes_;       // copy of the input (oversized tests and ray casts)
-  std::vector<SortKey> keys_;         // (cell key, id), radix-sorted
-  std::vector<SortKey> keys_scratch_;
+  float chosen_cell_size_ = 0.0f;     // from the data at build; kept by update
+  std::vector<PackedKey> packed_;     // (cell key, id) entries, radix-sorted
+  std::vector<PackedKey> packed_scratch_;
+  std::vector<WideKey> wide_;
+  std::vector<WideKey> wide_scratch_;
   std::vector<CellEntry> entries_;    // boxes in key order
   std::vector<Run> runs_;             // first entry of each cell, plus an end sentinel
   std::vector<int> oversized_;
