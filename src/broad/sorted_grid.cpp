@@ -23,10 +23,8 @@ SortedGridN<D>::SortedGridN(Options options) : options_(options) {
 
 template <int D>
 template <class Emit>
-void SortedGridN<D>::emit_cells(const AabbN<D>& box, Emit&& emit) const {
+void SortedGridN<D>::emit_cells(const CellN<D>& lo, const CellN<D>& hi, Emit&& emit) const {
   // Linear keys of the covered cells, x fastest, without re-deriving each key from scratch.
-  const CellN<D> lo = grid_.cell_of(box.min);
-  const CellN<D> hi = grid_.cell_of(box.max);
   const auto nx = static_cast<std::uint64_t>(grid_.dims[0]);
   if constexpr (D == 2) {
     for (int y = lo.y; y <= hi.y; ++y) {
@@ -53,7 +51,8 @@ void SortedGridN<D>::sort_and_gather(std::vector<Record>& keys, std::vector<Reco
   entries_.resize(keys.size());
   runs_.clear();
   std::uint64_t previous = ~std::uint64_t{0};
-  for (std::size_t e = 0; e < keys.size(); ++e) {
+  const std::size_t count = keys.size();
+  for (std::size_t e = 0; e < count; ++e) {
     const auto [cell_key, id] = split(keys[e]);
     entries_[e] = {boxes[id], id};
     if (cell_key != previous) {
@@ -74,8 +73,8 @@ void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_
       1, static_cast<int>(std::bit_width(static_cast<std::uint32_t>(boxes.size()))));
   if (key_bits + id_bits <= 64) {
     packed_.clear();
-    for_each_id([&](int id) {
-      emit_cells(boxes[id], [&](std::uint64_t key) {
+    for_each_id([&](int id, const CellN<D>& lo, const CellN<D>& hi) {
+      emit_cells(lo, hi, [&](std::uint64_t key) {
         packed_.push_back({key << id_bits | static_cast<std::uint64_t>(id)});
       });
     });
@@ -85,8 +84,8 @@ void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_
     });
   } else {
     wide_.clear();
-    for_each_id([&](int id) {
-      emit_cells(boxes[id], [&](std::uint64_t key) {
+    for_each_id([&](int id, const CellN<D>& lo, const CellN<D>& hi) {
+      emit_cells(lo, hi, [&](std::uint64_t key) {
         wide_.push_back({key, static_cast<std::uint32_t>(id), 0u});
       });
     });
@@ -119,12 +118,16 @@ void SortedGridN<D>::update(std::span<const AabbN<D>> boxes) {
   const double max_cells = options_.max_cells_per_box;
   fill(boxes, [&](auto&& add) {
     for (int i = 0; i < count_; ++i) {
-      if (grid_.cell_count(boxes[i]) > max_cells) {
+      const CellN<D> lo = grid_.cell_of(boxes[i].min);
+      const CellN<D> hi = grid_.cell_of(boxes[i].max);
+      double cells = 1.0;
+      for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
+      if (cells > max_cells) {
         oversized_.push_back(i);
         is_oversized_[i] = 1;
         continue;
       }
-      add(i);
+      add(i, lo, hi);
     }
   });
 }
@@ -138,7 +141,7 @@ void SortedGridN<D>::build_subset(std::span<const AabbN<D>> boxes, std::span<con
   is_oversized_.clear();
   grid_ = grid;
   fill(boxes, [&](auto&& add) {
-    for (const int id : ids) add(id);
+    for (const int id : ids) add(id, grid_.cell_of(boxes[id].min), grid_.cell_of(boxes[id].max));
   });
 }
 

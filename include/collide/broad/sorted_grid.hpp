@@ -97,7 +97,7 @@ class SortedGridN {
   template <class ForEachId>
   void fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_id);
   template <class Emit>
-  void emit_cells(const AabbN<D>& box, Emit&& emit) const;
+  void emit_cells(const CellN<D>& lo, const CellN<D>& hi, Emit&& emit) const;
   template <class Record, class Split>
   void sort_and_gather(std::vector<Record>& keys, std::vector<Record>& scratch, int first_bit,
                        int key_bits, std::span<const AabbN<D>> boxes, Split&& split);
