@@ -375,29 +375,31 @@ void add(const std::string& name, int max_n) {
 
 int main(int argc, char** argv) {
   constexpr int k1e4 = 10000, k1e5 = 100000, k1e6 = 1000000;
+  // Where one frame of a contender takes seconds (over ~2 us per object at 1e5, growing), it is
+  // not run at 1e6; sweep and prune also stops at 1e5 (its sweep grows as n^1.5 in these worlds).
   // collide, 2D
   add<2, Collide<2, SortedGridN<2>>>("collide_sorted_grid", k1e6);
   add<2, Collide<2, HierarchicalGridN<2>>>("collide_hierarchical_grid", k1e6);
   add<2, Collide<2, HashGridN<2>>>("collide_hash_grid", k1e6);
   add<2, CollideTemporal<2>>("collide_temporal", k1e6);
-  add<2, Collide<2, SweepAndPruneN<2>>>("collide_sweep_and_prune", k1e6);
-  add<2, Collide<2, DynamicTreeN<2>>>("collide_dynamic_tree", k1e6);
+  add<2, Collide<2, SweepAndPruneN<2>>>("collide_sweep_and_prune", k1e5);
+  add<2, Collide<2, DynamicTreeN<2>>>("collide_dynamic_tree", k1e5);
   // peers, 2D
-  add<2, Box2DTree>("Box2D_b2DynamicTree", k1e6);
+  add<2, Box2DTree>("Box2D_b2DynamicTree", k1e5);
   add<2, Chipmunk<true>>("Chipmunk_cpSpaceHash", k1e6);
-  add<2, Chipmunk<false>>("Chipmunk_cpBBTree", k1e6);
-  add<2, Box2DBroadPhaseNewPairs>("Box2D_b2BroadPhase_new_pairs", k1e6);
+  add<2, Chipmunk<false>>("Chipmunk_cpBBTree", k1e5);
+  add<2, Box2DBroadPhaseNewPairs>("Box2D_b2BroadPhase_new_pairs", k1e5);
   // collide, 3D
   add<3, Collide<3, SortedGridN<3>>>("collide_sorted_grid", k1e6);
   add<3, Collide<3, HierarchicalGridN<3>>>("collide_hierarchical_grid", k1e6);
   add<3, Collide<3, HashGridN<3>>>("collide_hash_grid", k1e6);
   add<3, CollideTemporal<3>>("collide_temporal", k1e6);
-  add<3, Collide<3, SweepAndPruneN<3>>>("collide_sweep_and_prune", k1e6);
-  add<3, Collide<3, DynamicTreeN<3>>>("collide_dynamic_tree", k1e6);
+  add<3, Collide<3, SweepAndPruneN<3>>>("collide_sweep_and_prune", k1e5);
+  add<3, Collide<3, DynamicTreeN<3>>>("collide_dynamic_tree", k1e5);
   // peers, 3D
-  add<3, Bullet<btDbvtBroadphase>>("Bullet_btDbvtBroadphase", k1e6);
-  add<3, Bullet<bt32BitAxisSweep3>>("Bullet_btAxisSweep3", k1e5);
-  add<3, Fcl<false>>("FCL_DynamicAABBTree", k1e5);
+  add<3, Fcl<false>>("FCL_DynamicAABBTree", k1e6);
+  add<3, Bullet<btDbvtBroadphase>>("Bullet_btDbvtBroadphase", k1e5);
+  add<3, Bullet<bt32BitAxisSweep3>>("Bullet_btAxisSweep3", k1e4);
   add<3, Fcl<true>>("FCL_SpatialHashing", k1e4);
 
   for (const int n : {k1e4, k1e5, k1e6}) {

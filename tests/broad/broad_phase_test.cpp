@@ -160,6 +160,31 @@ TYPED_TEST(BroadPhaseTest, MovingWorldMatchesBruteForceEveryFrame) {
   }
 }
 
+// Steady state allocates nothing: once the vectors have grown, the same world moving on keeps
+// the memory of the structure and of the pair list unchanged.
+TYPED_TEST(BroadPhaseTest, SteadyStateFramesAllocateNothing) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(13);
+  auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 300, 10.0f, 0.2f, 1.0f),
+                                     10.0f, 0.0f);  // velocity 0: the same boxes every frame
+  typename TypeParam::Type bp;
+  bp.build(world.boxes);
+  PairList pairs;
+  bp.update(world.boxes);
+  bp.find_pairs(pairs);
+  const std::size_t memory = bp.memory_bytes();
+  const std::size_t capacity = pairs.capacity();
+  const BroadPair* data = pairs.data();
+  for (int frame = 0; frame < 5; ++frame) {
+    bp.update(world.boxes);
+    bp.find_pairs(pairs);
+  }
+  EXPECT_EQ(bp.memory_bytes(), memory);
+  EXPECT_EQ(pairs.capacity(), capacity);
+  EXPECT_EQ(pairs.data(), data);
+  EXPECT_FALSE(pairs.empty());
+}
+
 TYPED_TEST(BroadPhaseTest, QueriesMatchBruteForce) {
   constexpr int D = TypeParam::D;
   std::mt19937 rng(99);
