@@ -266,15 +266,44 @@ void DynamicTreeN<D>::traverse(Overlaps&& overlaps, Visit&& visit) const {
 }
 
 template <int D>
-void DynamicTreeN<D>::find_pairs(PairList& pairs) const {
+void DynamicTreeN<D>::find_pairs(PairList& pairs) {
   pairs.clear();
-  for (int i = 0; i < size(); ++i) {
-    const AabbN<D> box = tight_[i];
-    traverse([&](const AabbN<D>& node_box) { return overlap(box, node_box); },
-             [&](int j) {
-               if (j > i && overlap(box, tight_[j])) pairs.emplace_back(i, j);
-               return true;
-             });
+  if (root_ < 0) return;
+  // The tree against itself: a node's pairs are those inside each child plus those between the
+  // two children; two subtrees are opened only while their boxes overlap, the larger first.
+  // Each pair of leaves is met once, with no query per object. (van den Bergen, Collision
+  // Detection in Interactive 3D Environments, 2004, 5.3.)
+  constexpr int kSelf = -1;  // a task (node, kSelf): the pairs inside node
+  pair_stack_.clear();
+  pair_stack_.push_back({root_, kSelf});
+  while (!pair_stack_.empty()) {
+    const auto [a, b] = pair_stack_.back();
+    pair_stack_.pop_back();
+    const Node& na = nodes_[a];
+    if (b == kSelf) {
+      if (na.child1 < 0) continue;
+      pair_stack_.push_back({na.child1, na.child2});
+      pair_stack_.push_back({na.child2, kSelf});
+      pair_stack_.push_back({na.child1, kSelf});
+      continue;
+    }
+    const Node& nb = nodes_[b];
+    if (!overlap(na.box, nb.box)) continue;
+    if (na.child1 < 0 && nb.child1 < 0) {
+      const int i = na.object, j = nb.object;
+      if (overlap(tight_[i], tight_[j])) pairs.emplace_back(std::min(i, j), std::max(i, j));
+      continue;
+    }
+    // Open the internal node with the larger box (a leaf never opens).
+    const bool open_a =
+        nb.child1 < 0 || (na.child1 >= 0 && surface_metric(na.box) >= surface_metric(nb.box));
+    if (open_a) {
+      pair_stack_.push_back({na.child2, b});
+      pair_stack_.push_back({na.child1, b});
+    } else {
+      pair_stack_.push_back({a, nb.child2});
+      pair_stack_.push_back({a, nb.child1});
+    }
   }
 }
 
@@ -305,7 +334,7 @@ void DynamicTreeN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 template <int D>
 std::size_t DynamicTreeN<D>::memory_bytes() const noexcept {
   return nodes_.capacity() * sizeof(Node) + tight_.capacity() * sizeof(AabbN<D>) +
-         leaf_.capacity() * sizeof(int);
+         leaf_.capacity() * sizeof(int) + pair_stack_.capacity() * sizeof(std::pair<int, int>);
 }
 
 template class DynamicTreeN<2>;

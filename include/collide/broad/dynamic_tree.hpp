@@ -17,6 +17,7 @@
 #include <collide/broad/broad_phase.hpp>
 
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace collide {
@@ -43,9 +44,9 @@ class DynamicTreeN {
   /// different number of boxes rebuilds. Throws InvalidInput as build.
   void update(std::span<const AabbN<D>> boxes);
 
-  /// Every overlapping pair once, i < j: for each i in ascending order, the tree is queried
-  /// with i's box (tight boxes decide, fat boxes only prune).
-  void find_pairs(PairList& pairs) const;
+  /// Every overlapping pair once as (smaller id, larger id), by traversing the tree against
+  /// itself (fat boxes prune, tight boxes decide); order: depth first, deterministic.
+  void find_pairs(PairList& pairs);
   void query(const AabbN<D>& box, QueryCallback callback) const;
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Nodes whose fat box the (clipped) ray meets are opened; leaves are tested with the tight
@@ -85,6 +86,7 @@ class DynamicTreeN {
   int free_list_ = -1;
   std::vector<AabbN<D>> tight_;  // current box of each object
   std::vector<int> leaf_;        // leaf node of each object
+  std::vector<std::pair<int, int>> pair_stack_;  // find_pairs traversal, kept for reuse
   int reinserted_ = 0;
 };
 
