@@ -27,7 +27,9 @@ class BruteForceN {
   /// Ids whose box the ray meets, ascending, honouring clipping by the callback.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept {
     return boxes_.capacity() * sizeof(AabbN<D>);
   }

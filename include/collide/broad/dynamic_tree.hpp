@@ -47,13 +47,17 @@ class DynamicTreeN {
   /// Every overlapping pair once as (smaller id, larger id), by traversing the tree against
   /// itself (fat boxes prune, tight boxes decide); order: depth first, deterministic.
   void find_pairs(PairList& pairs);
+  /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
+  /// Each id whose box contains `point` (boundary included), once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Nodes whose fat box the (clipped) ray meets are opened; leaves are tested with the tight
   /// box.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(tight_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
   /// Height of the tree (a leaf alone: 0); -1 when empty.
   [[nodiscard]] int height() const noexcept { return root_ < 0 ? -1 : nodes_[root_].height; }

@@ -68,7 +68,9 @@ class HashGridN {
   /// ray (3D-DDA); clipping by the callback ends the walk early.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
   /// The grid of the last build (cell size actually used, bounds).
   [[nodiscard]] const GridMapping<D>& grid() const noexcept { return grid_; }

@@ -49,12 +49,16 @@ class HierarchicalGridN {
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
   /// its own pairs then its boxes against the coarser levels.
   void find_pairs(PairList& pairs) const;
+  /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
+  /// Each id whose box contains `point` (boundary included), once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Each level in turn, fine to coarse (not sorted by distance along the ray).
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
   /// Levels holding at least one box in the last build.
   [[nodiscard]] int level_count() const noexcept;

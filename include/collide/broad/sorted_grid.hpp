@@ -68,7 +68,9 @@ class SortedGridN {
   /// Each id whose box the ray meets once: oversized boxes first, then along the ray (3D-DDA).
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return count_; }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
   [[nodiscard]] const GridMapping<D>& grid() const noexcept { return grid_; }
   [[nodiscard]] int cell_count() const noexcept { return static_cast<int>(runs_.size()) - 1; }

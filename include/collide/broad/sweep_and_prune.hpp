@@ -33,12 +33,16 @@ class SweepAndPruneN {
 
   /// Every overlapping pair once as (smaller id, larger id), in sweep order.
   void find_pairs(PairList& pairs) const;
+  /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
+  /// Each id whose box contains `point` (boundary included), once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Boxes in sweep order within the ray's extent along the sweep axis.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(items_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept {
     return items_.capacity() * sizeof(Item);
   }

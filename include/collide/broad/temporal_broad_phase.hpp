@@ -80,7 +80,9 @@ class TemporalBroadPhaseN {
   /// Each id whose current box the ray meets, once.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
+  /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
   [[nodiscard]] const Stats& stats() const noexcept { return stats_; }
   /// The horizon in use (after the automatic choice).
