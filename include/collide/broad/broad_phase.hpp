@@ -1,0 +1,125 @@
+#pragma once
+/// @file
+/// The one interface every broad phase in collide shares (DESIGN.md "Broad phase").
+///
+/// A broad phase is built or updated from a span of AABBs whose ids are their indices. It
+/// reports every overlapping pair (touching counts: boxes are closed) exactly once, as
+/// (i, j) with i < j, in an order that depends only on the input (deterministic). It answers
+/// AABB queries, point queries and ray casts. The structures are interchangeable: each is
+/// tested to produce exactly the brute-force pair set, and a game picks by benchmark.
+///
+/// Callbacks are `FunctionRef`s: non-owning, no allocation, valid only during the call.
+
+#include <collide/core/aabb.hpp>
+#include <collide/core/ray.hpp>
+
+#include <concepts>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <span>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace collide {
+
+/// A non-owning reference to a callable, like C++26 std::function_ref: two pointers, no
+/// allocation. Must not outlive the callable it refers to.
+template <class Signature>
+class FunctionRef;
+
+template <class R, class... Args>
+class FunctionRef<R(Args...)> {
+ public:
+  template <class F>
+    requires(!std::is_same_v<std::remove_cvref_t<F>, FunctionRef> &&
+             std::is_invocable_r_v<R, F&, Args...>)
+  FunctionRef(F&& f) noexcept  // NOLINT(google-explicit-constructor): implicit by design
+      : object_(const_cast<void*>(static_cast<const void*>(std::addressof(f)))),
+        call_([](void* object, Args... args) -> R {
+          return std::invoke(*static_cast<std::remove_reference_t<F>*>(object),
+                             std::forward<Args>(args)...);
+        }) {}
+
+  R operator()(Args... args) const { return call_(object_, std::forward<Args>(args)...); }
+
+ private:
+  void* object_;
+  R (*call_)(void*, Args...);
+};
+
+/// One overlapping pair of ids (indices into the span of boxes), first < second.
+using BroadPair = std::pair<int, int>;
+
+/// The output of `find_pairs`: cleared and refilled on each call, so a vector kept across frames
+/// stops allocating once it has grown to the largest pair count.
+using PairList = std::vector<BroadPair>;
+
+/// Called with each id whose box overlaps (or contains) the query. Return true to go on,
+/// false to stop the query.
+using QueryCallback = FunctionRef<bool(int id)>;
+
+/// Called with each id whose box the ray meets within [0, max_fraction], and the current
+/// max_fraction. Return the new max_fraction (point = origin + fraction * translation): return
+/// max_fraction to go on unchanged, a smaller value to clip the ray (e.g. the fraction at which
+/// the exact shape was hit), 0 to stop. Values above the current max_fraction are ignored.
+/// (Box2D and Jolt use the same convention.)
+using RayCallback = FunctionRef<float(int id, float max_fraction)>;
+
+/// What every broad phase offers, for D = 2 or 3. `build` takes a fresh set of boxes; `update`
+/// takes the same objects (same count) after they moved and may reuse work (incremental
+/// structures) or rebuild (grids). Both throw InvalidInput for a box with a non-finite
+/// coordinate or min > max, naming the box index. `find_pairs` refills its output.
+template <class T, int D>
+concept BroadPhase =
+    requires(T& bp, const T& cbp, std::span<const AabbN<D>> boxes, PairList& pairs,
+             const AabbN<D>& box, const VecN<D>& point, const RayN<D>& ray, QueryCallback qcb,
+             RayCallback rcb) {
+      bp.build(boxes);
+      bp.update(boxes);
+      bp.find_pairs(pairs);
+      cbp.query(box, qcb);
+      cbp.query_point(point, qcb);
+      cbp.ray_cast(ray, rcb);
+      { cbp.size() } -> std::same_as<int>;
+      { cbp.memory_bytes() } -> std::same_as<std::size_t>;
+    };
+
+/// Throws InvalidInput unless every box has finite coordinates and min <= max on each axis, and
+/// there are fewer than 2^31 - 1 boxes. The message names the first bad box, e.g.
+/// "box 7: min.y > max.y" or "box 3: coordinate not finite".
+template <int D>
+void validate_boxes(std::span<const AabbN<D>> boxes);
+
+/// Fraction in [0, max_fraction] at which the ray (point = origin + fraction * translation)
+/// first touches the closed box; 0 when it starts inside; a negative value on a miss. Slab
+/// method (Kay & Kajiya 1986; Ericson, Real-Time Collision Detection, 5.3.3), written so an axis
+/// the ray does not move along (translation 0) needs the origin inside that slab, with no NaN.
+template <int D>
+[[nodiscard]] float ray_box_fraction(const RayN<D>& ray, const AabbN<D>& box,
+                                     float max_fraction) noexcept {
+  float t_enter = 0.0f;
+  float t_exit = max_fraction;
+  for (int k = 0; k < D; ++k) {
+    const float o = ray.origin[k];
+    const float d = ray.translation[k];
+    if (d == 0.0f) {
+      if (o < box.min[k] || o > box.max[k]) return -1.0f;
+      continue;
+    }
+    const float inv = 1.0f / d;
+    float t0 = (box.min[k] - o) * inv;
+    float t1 = (box.max[k] - o) * inv;
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t_enter) t_enter = t0;
+    if (t1 < t_exit) t_exit = t1;
+    if (!(t_enter <= t_exit)) return -1.0f;
+  }
+  return t_enter;
+}
+
+/// Sorts pairs lexicographically: the canonical order of the registry and of the tests.
+void sort_pairs(PairList& pairs);
+
+}  // namespace collide

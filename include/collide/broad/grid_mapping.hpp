@@ -1,0 +1,206 @@
+#pragma once
+/// @file
+/// World coordinates to uniform-grid cells, shared by every grid broad phase: which cells a box
+/// covers, which single cell owns a pair (so each pair is reported once), and the walk of a ray
+/// through the cells (3D-DDA, Amanatides & Woo, "A Fast Voxel Traversal Algorithm for Ray
+/// Tracing", Eurographics 1987).
+///
+/// Cell convention: cell c along an axis covers [origin + c*size, origin + (c+1)*size). Both
+/// corners of a box use floor (the lesson's question "shouldn't max use ceil?": no — a box whose
+/// max lies exactly on a cell boundary touches the next cell's boxes there, so it must be listed
+/// in that cell too). Because floor((x - origin) / size) never decreases as x grows, the cell of
+/// max(a, b) is the max of the cells, and this is what makes the one-owner rule exact.
+
+#include <collide/broad/broad_phase.hpp>
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace collide {
+
+/// Integer cell coordinates in D dimensions.
+template <int D>
+using CellN = glm::vec<D, int, glm::defaultp>;
+
+/// Most cells along one axis of any grid: cell coordinates stay far from int overflow.
+inline constexpr double kMaxGridCellsPerAxis = 1073741824.0;  // 2^30
+/// Most cells in the whole grid: a linear cell index fits in 62 bits.
+inline constexpr double kMaxGridCells = 4.6e18;  // just under 2^62
+
+/// A uniform grid laid over the world bounds of a set of boxes.
+template <int D>
+struct GridMapping {
+  AabbN<D> bounds{};            ///< world bounds of the boxes the grid was built from
+  VecN<D> origin{0.0f};         ///< corner of cell 0 (= bounds.min)
+  float cell_size = 1.0f;       ///< side of a square/cubic cell, world units
+  float inv_cell_size = 1.0f;   ///< 1 / cell_size
+  CellN<D> dims{1};             ///< cells per axis; cells run from 0 to dims - 1
+
+  /// The cell holding `p`, clamped to the grid (points outside map to the nearest border cell).
+  [[nodiscard]] CellN<D> cell_of(const VecN<D>& p) const noexcept {
+    CellN<D> c;
+    for (int k = 0; k < D; ++k) {
+      const float v = std::floor((p[k] - origin[k]) * inv_cell_size);
+      // Written so NaN lands on 0 rather than in undefined float-to-int conversion.
+      const float clamped = v >= 0.0f ? std::min(v, static_cast<float>(dims[k] - 1)) : 0.0f;
+      c[k] = static_cast<int>(clamped);
+    }
+    return c;
+  }
+
+  /// The single cell that reports the pair (a, b) of overlapping boxes: the one holding the
+  /// min corner of their intersection. Both boxes cover it, so each pair is found in exactly
+  /// one cell without any set of already-reported pairs.
+  [[nodiscard]] CellN<D> owner_cell(const AabbN<D>& a, const AabbN<D>& b) const noexcept {
+    return cell_of(glm::max(a.min, b.min));
+  }
+
+  /// Number of cells the box covers (as a double: a huge box may cover more than 2^63).
+  [[nodiscard]] double cell_count(const AabbN<D>& box) const noexcept {
+    const CellN<D> lo = cell_of(box.min), hi = cell_of(box.max);
+    double n = 1.0;
+    for (int k = 0; k < D; ++k) n *= static_cast<double>(hi[k] - lo[k] + 1);
+    return n;
+  }
+
+  /// Linear index of a cell, x fastest: below kMaxGridCells by construction.
+  [[nodiscard]] std::uint64_t linear_index(const CellN<D>& c) const noexcept {
+    std::uint64_t key = 0;
+    for (int k = D - 1; k >= 0; --k) {
+      key = key * static_cast<std::uint64_t>(dims[k]) + static_cast<std::uint64_t>(c[k]);
+    }
+    return key;
+  }
+};
+
+/// Whether `c` lies in the cell range [lo, hi] on every axis.
+template <int D>
+[[nodiscard]] constexpr bool cell_in_range(const CellN<D>& c, const CellN<D>& lo,
+                                           const CellN<D>& hi) noexcept {
+  for (int k = 0; k < D; ++k) {
+    if (c[k] < lo[k] || c[k] > hi[k]) return false;
+  }
+  return true;
+}
+
+/// Calls `visit(cell)` for every cell in [lo, hi], x fastest. `visit` returns false to stop;
+/// returns false when stopped.
+template <int D, class Visit>
+bool for_each_cell(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) {
+  CellN<D> c = lo;
+  for (;;) {
+    if (!visit(c)) return false;
+    int k = 0;
+    for (; k < D; ++k) {
+      if (c[k] < hi[k]) {
+        ++c[k];
+        break;
+      }
+      c[k] = lo[k];
+    }
+    if (k == D) return true;
+  }
+}
+
+/// Bounds of all boxes; an empty span gives the zero box.
+template <int D>
+[[nodiscard]] AabbN<D> bounds_of(std::span<const AabbN<D>> boxes) noexcept {
+  if (boxes.empty()) return {};
+  AabbN<D> b = boxes[0];
+  for (const AabbN<D>& box : boxes) b = merge(b, box);
+  return b;
+}
+
+/// A grid over `bounds` with cells of `cell_size` (> 0), enlarged when needed so that no axis
+/// has more than kMaxGridCellsPerAxis cells and the grid no more than kMaxGridCells: results stay
+/// exact, only the cells get coarser. This is what lets positions 1e6 from the origin work.
+template <int D>
+[[nodiscard]] GridMapping<D> make_grid_mapping(const AabbN<D>& bounds, float cell_size) noexcept {
+  GridMapping<D> g;
+  g.bounds = bounds;
+  g.origin = bounds.min;
+  const VecN<D> extent = bounds.max - bounds.min;
+  double size = cell_size;
+  for (;;) {
+    double total = 1.0;
+    bool fits = true;
+    for (int k = 0; k < D; ++k) {
+      const double n = std::floor(static_cast<double>(extent[k]) / size) + 2.0;
+      fits = fits && n <= kMaxGridCellsPerAxis;
+      total *= n;
+    }
+    if (fits && total <= kMaxGridCells) break;
+    size *= 2.0;
+  }
+  g.cell_size = static_cast<float>(size);
+  g.inv_cell_size = 1.0f / g.cell_size;
+  for (int k = 0; k < D; ++k) {
+    // The same float arithmetic as cell_of, so the max corner's cell is always inside the grid.
+    const float top = std::floor((bounds.max[k] - g.origin[k]) * g.inv_cell_size);
+    g.dims[k] = static_cast<int>(top) + 1;
+  }
+  return g;
+}
+
+/// A cell size for boxes of these sizes: twice the median of their largest sides, so a typical
+/// box covers 1 to 2 cells per axis. Points-only input falls back to the spacing of n points
+/// spread over the bounds. Never below the float resolution of the world bounds. `scratch` is
+/// reused to avoid allocation.
+template <int D>
+[[nodiscard]] float suggest_cell_size(std::span<const AabbN<D>> boxes, std::vector<float>& scratch);
+
+/// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
+/// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,
+/// max_fraction)` returns the new max_fraction (smaller clips the walk, 0 stops it). At a tie
+/// (the ray through a cell corner) it steps one axis at a time, so no cell the ray touches is
+/// skipped.
+template <int D, class Visit>
+void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction, Visit&& visit) {
+  const float t_start = ray_box_fraction(ray, g.bounds, max_fraction);
+  if (t_start < 0.0f) return;
+  CellN<D> cell = g.cell_of(ray.at(t_start));
+  CellN<D> step{0};
+  double t_next[D];   // fraction at which the ray crosses the next boundary on each axis
+  double t_delta[D];  // fraction to cross one whole cell on each axis
+  for (int k = 0; k < D; ++k) {
+    const double d = ray.translation[k];
+    if (d == 0.0) {
+      t_next[k] = std::numeric_limits<double>::infinity();
+      t_delta[k] = 0.0;
+      continue;
+    }
+    step[k] = d > 0.0 ? 1 : -1;
+    const double boundary = static_cast<double>(g.origin[k]) +
+                            static_cast<double>(cell[k] + (d > 0.0 ? 1 : 0)) * g.cell_size;
+    t_next[k] = (boundary - static_cast<double>(ray.origin[k])) / d;
+    t_delta[k] = static_cast<double>(g.cell_size) / std::abs(d);
+  }
+  float limit = max_fraction;
+  for (;;) {
+    const float r = visit(cell, limit);
+    if (r < limit) limit = r;
+    if (limit <= 0.0f) return;
+    // The next boundary crossed; at a tie (a cell corner) an axis stepping up goes first:
+    // the corner point itself belongs to the cell above on those axes (floor), so that cell
+    // must be visited before the axes stepping down move on.
+    int axis = 0;
+    for (int k = 1; k < D; ++k) {
+      if (t_next[k] < t_next[axis] || (t_next[k] == t_next[axis] && step[axis] < step[k])) {
+        axis = k;
+      }
+    }
+    if (t_next[axis] > static_cast<double>(limit)) return;
+    cell[axis] += step[axis];
+    if (cell[axis] < 0 || cell[axis] >= g.dims[axis]) return;
+    t_next[axis] += t_delta[axis];
+  }
+}
+
+}  // namespace collide

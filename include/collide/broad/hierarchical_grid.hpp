@@ -1,0 +1,83 @@
+#pragma once
+/// @file
+/// A hierarchical grid: levels of cells whose size grows by 4 from one level to the next, so
+/// that 0.1-unit and 100-unit objects mix. Each box lives in one level only, the first whose
+/// cells are at least as large as the box, so it covers at most 2 cells per axis; small boxes
+/// do not share cells with (and get tested against everything in) the cells of big ones, and a
+/// big box does not fill thousands of small cells. (Ericson, Real-Time Collision Detection,
+/// 7.2.2; Mirtich, "Efficient Algorithms for Two-Phase Collision Detection", 1997.)
+///
+/// Each level is a SortedGrid over its boxes. Pairs inside a level come from that level's
+/// cells; a box meets the boxes of every coarser level by looking up the at most 2^D cells it
+/// covers there, and the pair is reported only from the cell (of the coarser level) holding the
+/// min corner of the intersection, so each pair comes out once.
+///
+/// Memory per object: about that of a SortedGrid entry (2^D cells at most, usually 1 to 2 per
+/// axis), plus an int for its level.
+
+#include <collide/broad/broad_phase.hpp>
+#include <collide/broad/grid_mapping.hpp>
+#include <collide/broad/sorted_grid.hpp>
+
+#include <span>
+#include <vector>
+
+namespace collide {
+
+/// Multi-level uniform grid over boxes in D dimensions.
+template <int D>
+class HierarchicalGridN {
+ public:
+  struct Options {
+    /// Cell size of level 0 in world units; 0 (the default) chooses twice the median box size.
+    /// Levels above are 4, 16, 64... times larger, levels below 4, 16... times smaller.
+    float base_cell_size = 0.0f;
+  };
+
+  /// Cell size ratio between consecutive levels.
+  static constexpr float kLevelRatio = 4.0f;
+
+  HierarchicalGridN() = default;
+  /// Throws InvalidInput for a negative or non-finite base cell size.
+  explicit HierarchicalGridN(Options options);
+
+  /// Rebuilds all levels. Throws InvalidInput for a non-finite box or min > max.
+  void build(std::span<const AabbN<D>> boxes);
+  /// Rebuilds from the moved boxes, keeping the base cell size chosen at build.
+  void update(std::span<const AabbN<D>> boxes);
+
+  /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
+  /// its own pairs then its boxes against the coarser levels.
+  void find_pairs(PairList& pairs) const;
+  /// Each id whose box overlaps `box` (touching counts), once.
+  void query(const AabbN<D>& box, QueryCallback callback) const;
+  /// Each id whose box contains `point` (boundary included), once.
+  void query_point(const VecN<D>& point, QueryCallback callback) const;
+  /// Each level in turn, fine to coarse (not sorted by distance along the ray).
+  void ray_cast(const RayN<D>& ray, RayCallback callback) const;
+
+  /// Number of objects given to the last build or update.
+  [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
+  [[nodiscard]] std::size_t memory_bytes() const noexcept;
+  /// Levels holding at least one box in the last build.
+  [[nodiscard]] int level_count() const noexcept;
+
+ private:
+  struct Level {
+    int exponent = 0;        // cell size = base * kLevelRatio^exponent
+    std::vector<int> ids;    // boxes in this level, ascending
+    SortedGridN<D> grid;
+  };
+
+  Options options_{};
+  float base_ = 0.0f;          // level 0 cell size chosen at build
+  std::vector<AabbN<D>> boxes_;
+  std::vector<Level> levels_;  // sorted by exponent; empty ones kept for reuse
+  std::vector<float> scratch_;
+};
+
+using HierarchicalGrid = HierarchicalGridN<2>;
+using HierarchicalGrid3 = HierarchicalGridN<3>;
+
+}  // namespace collide

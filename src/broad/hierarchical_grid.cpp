@@ -1,0 +1,162 @@
+#include <collide/broad/hierarchical_grid.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace collide {
+
+namespace {
+
+/// Levels below and above the base: cells from base / 4^8 to base * 4^24.
+constexpr int kFinestLevel = -8;
+constexpr int kCoarsestLevel = 24;
+
+/// The first level whose cells are at least `largest_side` wide.
+int level_for(float largest_side, float base) noexcept {
+  int level = 0;
+  float cell = base;
+  if (largest_side > cell) {
+    while (largest_side > cell && level < kCoarsestLevel) {
+      cell *= HierarchicalGridN<2>::kLevelRatio;
+      ++level;
+    }
+  } else {
+    while (level > kFinestLevel && largest_side <= cell / HierarchicalGridN<2>::kLevelRatio) {
+      cell /= HierarchicalGridN<2>::kLevelRatio;
+      --level;
+    }
+  }
+  return level;
+}
+
+}  // namespace
+
+template <int D>
+HierarchicalGridN<D>::HierarchicalGridN(Options options) : options_(options) {
+  if (!std::isfinite(options.base_cell_size) || options.base_cell_size < 0.0f) {
+    throw InvalidInput("HierarchicalGrid options base_cell_size: negative or not finite");
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::build(std::span<const AabbN<D>> boxes) {
+  validate_boxes(boxes);
+  base_ = options_.base_cell_size > 0.0f ? options_.base_cell_size
+                                         : suggest_cell_size(boxes, scratch_);
+  update(boxes);
+}
+
+template <int D>
+void HierarchicalGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  if (base_ == 0.0f) {
+    build(boxes);
+    return;
+  }
+  validate_boxes(boxes);
+  boxes_.assign(boxes.begin(), boxes.end());
+  const float base = base_;
+  for (Level& level : levels_) level.ids.clear();
+  const int n = size();
+  for (int i = 0; i < n; ++i) {
+    const VecN<D> s = boxes[i].size();
+    float largest = s[0];
+    for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
+    const int exponent = level_for(largest, base);
+    auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
+                               [](const Level& l, int e) { return l.exponent < e; });
+    if (it == levels_.end() || it->exponent != exponent) {
+      it = levels_.insert(it, Level{});
+      it->exponent = exponent;
+    }
+    it->ids.push_back(i);
+  }
+  const AabbN<D> world = bounds_of(boxes);
+  for (Level& level : levels_) {
+    const float cell = base * std::pow(kLevelRatio, static_cast<float>(level.exponent));
+    level.grid.build_subset(boxes_, level.ids, make_grid_mapping(world, cell));
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::find_pairs(PairList& pairs) const {
+  pairs.clear();
+  const std::size_t level_total = levels_.size();
+  for (std::size_t l = 0; l < level_total; ++l) {
+    if (levels_[l].ids.empty()) continue;
+    levels_[l].grid.append_pairs(pairs);
+    for (std::size_t m = l + 1; m < level_total; ++m) {
+      const SortedGridN<D>& coarse = levels_[m].grid;
+      if (levels_[m].ids.empty()) continue;
+      const GridMapping<D>& g = coarse.grid();
+      for (const int a : levels_[l].ids) {
+        const AabbN<D> box = boxes_[a];
+        for_each_cell<D>(g.cell_of(box.min), g.cell_of(box.max), [&](const CellN<D>& cell) {
+          for (const auto& entry : coarse.cell_entries(cell)) {
+            if (overlap(box, entry.box) && g.owner_cell(box, entry.box) == cell) {
+              pairs.emplace_back(std::min(a, entry.id), std::max(a, entry.id));
+            }
+          }
+          return true;
+        });
+      }
+    }
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
+  bool go_on = true;
+  for (const Level& level : levels_) {
+    if (!go_on) return;
+    level.grid.query(box, [&](int id) { return go_on = callback(id); });
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) const {
+  bool go_on = true;
+  for (const Level& level : levels_) {
+    if (!go_on) return;
+    level.grid.query_point(point, [&](int id) { return go_on = callback(id); });
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
+  float limit = 1.0f;
+  for (const Level& level : levels_) {
+    if (limit <= 0.0f) return;
+    // A level's walk starts at fraction 1; boxes beyond the clip of earlier levels are skipped
+    // here, and returning `limit` clips the level's walk.
+    level.grid.ray_cast(ray, [&](int id, float) {
+      if (ray_box_fraction(ray, boxes_[id], limit) < 0.0f) return limit;
+      const float r = callback(id, limit);
+      if (r < limit) limit = r;
+      return limit;
+    });
+  }
+}
+
+template <int D>
+int HierarchicalGridN<D>::level_count() const noexcept {
+  return static_cast<int>(std::count_if(levels_.begin(), levels_.end(),
+                                        [](const Level& l) { return !l.ids.empty(); }));
+}
+
+template <int D>
+std::size_t HierarchicalGridN<D>::memory_bytes() const noexcept {
+  std::size_t bytes = boxes_.capacity() * sizeof(AabbN<D>) + scratch_.capacity() * sizeof(float) +
+                      levels_.capacity() * sizeof(Level);
+  for (const Level& level : levels_) {
+    bytes += level.ids.capacity() * sizeof(int) + level.grid.memory_bytes();
+  }
+  return bytes;
+}
+
+template class HierarchicalGridN<2>;
+template class HierarchicalGridN<3>;
+static_assert(BroadPhase<HierarchicalGridN<2>, 2> && BroadPhase<HierarchicalGridN<3>, 3>);
+
+}  // namespace collide

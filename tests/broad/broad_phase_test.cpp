@@ -1,0 +1,302 @@
+// Every broad phase against the brute-force reference: same pair set (each pair once, i < j),
+// same answers to AABB, point and ray queries, on static and moving worlds in 2D and 3D.
+
+#include <collide/broad/brute_force.hpp>
+#include <collide/broad/dynamic_tree.hpp>
+#include <collide/broad/hash_grid.hpp>
+#include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/sorted_grid.hpp>
+#include <collide/broad/sweep_and_prune.hpp>
+#include <collide/core/error.hpp>
+
+#include "support/broad_worlds.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <set>
+#include <string>
+
+namespace collide {
+namespace {
+
+using test::Boxes;
+
+template <class BP, int Dim>
+struct Case {
+  using Type = BP;
+  static constexpr int D = Dim;
+};
+
+/// The named worlds every structure must get exactly right.
+template <int D>
+std::vector<std::pair<std::string, Boxes<D>>> static_worlds() {
+  std::mt19937 rng(1234 + D);
+  std::vector<std::pair<std::string, Boxes<D>>> worlds;
+  // 3D worlds are smaller so that pairs are about as frequent as in 2D.
+  const float scale = D == 2 ? 1.0f : 0.4f;
+  worlds.emplace_back("uniform", test::uniform_world<D>(rng, 600, 30.0f * scale, 0.1f, 1.5f));
+  worlds.emplace_back("clustered", test::clustered_world<D>(rng, 500, 50.0f));
+  worlds.emplace_back("mixed_size", test::mixed_size_world<D>(rng, 600, 200.0f));
+  worlds.emplace_back("huge_object", test::huge_object_world<D>(rng, 500, 40.0f * scale));
+  worlds.emplace_back("touching", test::touching_world<D>(rng, 500, D == 2 ? 20 : 8));
+  worlds.emplace_back("negative",
+                      test::uniform_world<D>(rng, 500, 20.0f * scale, 0.1f, 1.0f, -1000.0f));
+  worlds.emplace_back("far_1e4",
+                      test::uniform_world<D>(rng, 500, 30.0f * scale, 0.1f, 1.5f, 1.0e4f));
+  worlds.emplace_back("far_1e6",
+                      test::uniform_world<D>(rng, 500, 300.0f * scale, 1.0f, 15.0f, 1.0e6f));
+  // Points (zero-size boxes) on a small lattice: many exact duplicates.
+  Boxes<D> points;
+  std::uniform_int_distribution<int> lattice(-3, 3);
+  for (int i = 0; i < 300; ++i) {
+    VecN<D> p;
+    for (int k = 0; k < D; ++k) p[k] = static_cast<float>(lattice(rng));
+    points.push_back({p, p});
+  }
+  worlds.emplace_back("points", points);
+  worlds.emplace_back("one_box", Boxes<D>{test::box_at<D>(VecN<D>(1.0f), VecN<D>(1.0f))});
+  worlds.emplace_back("empty", Boxes<D>{});
+  return worlds;
+}
+
+template <int D>
+PairList brute_pairs(std::span<const AabbN<D>> boxes) {
+  BruteForceN<D> brute;
+  brute.build(boxes);
+  PairList pairs;
+  brute.find_pairs(pairs);
+  return pairs;
+}
+
+/// Checks the structure's pairs against brute force: same set, each once, i < j.
+template <int D, class BP>
+void expect_same_pairs(BP& bp, std::span<const AabbN<D>> boxes, const PairList& expected,
+                       const std::string& what) {
+  PairList pairs;
+  bp.find_pairs(pairs);
+  for (const auto& [i, j] : pairs) {
+    ASSERT_LT(i, j) << what;
+    ASSERT_TRUE(overlap(boxes[i], boxes[j])) << what << " pair " << i << "," << j;
+  }
+  PairList sorted = pairs;
+  sort_pairs(sorted);
+  EXPECT_TRUE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end())
+      << what << ": a pair reported twice";
+  EXPECT_EQ(sorted.size(), expected.size()) << what;
+  EXPECT_TRUE(sorted == expected) << what << ": pair sets differ";
+}
+
+template <class C>
+class BroadPhaseTest : public ::testing::Test {};
+
+using Cases = ::testing::Types<
+    Case<BruteForceN<2>, 2>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
+    Case<SortedGridN<2>, 2>, Case<SortedGridN<3>, 3>, Case<HierarchicalGridN<2>, 2>,
+    Case<HierarchicalGridN<3>, 3>, Case<DynamicTreeN<2>, 2>, Case<DynamicTreeN<3>, 3>,
+    Case<SweepAndPruneN<2>, 2>, Case<SweepAndPruneN<3>, 3>>;
+TYPED_TEST_SUITE(BroadPhaseTest, Cases);
+
+TYPED_TEST(BroadPhaseTest, ModelsTheBroadPhaseConcept) {
+  static_assert(BroadPhase<typename TypeParam::Type, TypeParam::D>);
+}
+
+TYPED_TEST(BroadPhaseTest, PairsMatchBruteForceOnEveryStaticWorld) {
+  constexpr int D = TypeParam::D;
+  for (const auto& [name, boxes] : static_worlds<D>()) {
+    const PairList expected = brute_pairs<D>(boxes);
+    if (boxes.size() > 100) {
+      // The world is neither empty of pairs nor all pairs: both outcomes are exercised.
+      EXPECT_GT(expected.size(), boxes.size() / 20) << name;
+      EXPECT_LT(expected.size(), boxes.size() * (boxes.size() - 1) / 4) << name;
+    }
+    typename TypeParam::Type bp;
+    bp.build(boxes);
+    EXPECT_EQ(bp.size(), static_cast<int>(boxes.size()));
+    expect_same_pairs<D>(bp, boxes, expected, name);
+    if (!boxes.empty()) EXPECT_GE(bp.memory_bytes(), boxes.size() * sizeof(AabbN<D>)) << name;
+  }
+}
+
+TYPED_TEST(BroadPhaseTest, PairOrderIsDeterministic) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(5);
+  const Boxes<D> boxes = test::clustered_world<D>(rng, 400, 20.0f);
+  typename TypeParam::Type a, b;
+  a.build(boxes);
+  b.build(boxes);
+  b.build(boxes);  // a second build of the same boxes must not change the order either
+  PairList pa, pb;
+  a.find_pairs(pa);
+  b.find_pairs(pb);
+  EXPECT_FALSE(pa.empty());
+  EXPECT_TRUE(pa == pb);
+}
+
+TYPED_TEST(BroadPhaseTest, MovingWorldMatchesBruteForceEveryFrame) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(77);
+  for (const float offset : {0.0f, -5000.0f, 1.0e4f}) {
+    auto world = test::moving_world<D>(
+        rng, test::uniform_world<D>(rng, 400, 15.0f, 0.2f, 1.2f, offset), 15.0f, 0.3f, offset);
+    // A few big and tiny boxes among them, moving too.
+    world.boxes[3] = test::box_at<D>(VecN<D>(offset), VecN<D>(12.0f));
+    world.boxes[7] = test::box_at<D>(VecN<D>(offset + 1.0f), VecN<D>(0.0f));
+    typename TypeParam::Type bp;
+    bp.build(world.boxes);
+    std::size_t total = 0;
+    for (int frame = 0; frame < 25; ++frame) {
+      world.step();
+      bp.update(world.boxes);
+      const PairList expected = brute_pairs<D>(world.boxes);
+      total += expected.size();
+      expect_same_pairs<D>(bp, world.boxes, expected,
+                           "offset " + std::to_string(offset) + " frame " + std::to_string(frame));
+      if (::testing::Test::HasFailure()) return;
+    }
+    EXPECT_GT(total, 25u * 100u);
+  }
+}
+
+// Steady state allocates nothing: once the vectors have grown, the same world moving on keeps
+// the memory of the structure and of the pair list unchanged.
+TYPED_TEST(BroadPhaseTest, SteadyStateFramesAllocateNothing) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(13);
+  auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 300, 10.0f, 0.2f, 1.0f),
+                                     10.0f, 0.0f);  // velocity 0: the same boxes every frame
+  typename TypeParam::Type bp;
+  bp.build(world.boxes);
+  PairList pairs;
+  bp.update(world.boxes);
+  bp.find_pairs(pairs);
+  const std::size_t memory = bp.memory_bytes();
+  const std::size_t capacity = pairs.capacity();
+  const BroadPair* data = pairs.data();
+  for (int frame = 0; frame < 5; ++frame) {
+    bp.update(world.boxes);
+    bp.find_pairs(pairs);
+  }
+  EXPECT_EQ(bp.memory_bytes(), memory);
+  EXPECT_EQ(pairs.capacity(), capacity);
+  EXPECT_EQ(pairs.data(), data);
+  EXPECT_FALSE(pairs.empty());
+}
+
+TYPED_TEST(BroadPhaseTest, QueriesMatchBruteForce) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(99);
+  for (const auto& [name, boxes] : static_worlds<D>()) {
+    typename TypeParam::Type bp;
+    bp.build(boxes);
+    BruteForceN<D> brute;
+    brute.build(boxes);
+    const AabbN<D> world = bounds_of<D>(boxes);
+    const VecN<D> lo = world.min - 0.1f * world.size() - VecN<D>(1.0f);
+    const VecN<D> hi = world.max + 0.1f * world.size() + VecN<D>(1.0f);
+    int box_hits = 0, point_hits = 0, ray_hits = 0;
+    for (int q = 0; q < 60; ++q) {
+      VecN<D> a, b;
+      for (int k = 0; k < D; ++k) {
+        a[k] = test::uniform_f(rng, lo[k], hi[k]);
+        b[k] = test::uniform_f(rng, lo[k], hi[k]);
+      }
+      // Half the queries start at a box: the hit rate stays high in sparse worlds.
+      if (!boxes.empty() && q % 2 == 1) a = boxes[rng() % boxes.size()].center();
+      // AABB query: a box from a towards b, up to 1/8 of the way.
+      const AabbN<D> qbox{glm::min(a, a + (b - a) * 0.125f), glm::max(a, a + (b - a) * 0.125f)};
+      std::vector<int> got, want;
+      bp.query(qbox, [&](int id) { got.push_back(id); return true; });
+      brute.query(qbox, [&](int id) { want.push_back(id); return true; });
+      std::sort(got.begin(), got.end());
+      EXPECT_TRUE(std::adjacent_find(got.begin(), got.end()) == got.end()) << name << " query dup";
+      EXPECT_EQ(got, want) << name << " query " << q;
+      box_hits += !want.empty();
+
+      // Point query at a box corner or a random point.
+      const VecN<D> p = (!boxes.empty() && q % 2 == 0) ? boxes[rng() % boxes.size()].max : a;
+      got.clear();
+      want.clear();
+      bp.query_point(p, [&](int id) { got.push_back(id); return true; });
+      brute.query_point(p, [&](int id) { want.push_back(id); return true; });
+      std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, want) << name << " point " << q;
+      point_hits += !want.empty();
+
+      // Ray cast without clipping: every box the segment meets, once.
+      const RayN<D> ray{a, b - a};
+      got.clear();
+      want.clear();
+      bp.ray_cast(ray, [&](int id, float f) { got.push_back(id); return f; });
+      brute.ray_cast(ray, [&](int id, float f) { want.push_back(id); return f; });
+      std::sort(got.begin(), got.end());
+      EXPECT_TRUE(std::adjacent_find(got.begin(), got.end()) == got.end()) << name << " ray dup";
+      EXPECT_EQ(got, want) << name << " ray " << q;
+      ray_hits += !want.empty();
+
+      // Ray cast clipped to each box's entry: the closest box entry is found.
+      float best = 2.0f, want_best = 2.0f;
+      const auto clip = [&](float& out) {
+        return [&](int id, float limit) {
+          const float f = ray_box_fraction(ray, boxes[id], limit);
+          if (f >= 0.0f && f < out) out = f;
+          return f >= 0.0f ? f : limit;
+        };
+      };
+      bp.ray_cast(ray, clip(best));
+      brute.ray_cast(ray, clip(want_best));
+      EXPECT_EQ(best, want_best) << name << " closest ray " << q;
+    }
+    if (boxes.size() > 100) {
+      EXPECT_GT(box_hits, 10) << name;
+      EXPECT_LT(box_hits, 60) << name;
+      EXPECT_GT(point_hits, 10) << name;
+      if (name != "points") EXPECT_GT(ray_hits, 10) << name;
+    }
+  }
+}
+
+TYPED_TEST(BroadPhaseTest, QueriesStopWhenTheCallbackSaysSo) {
+  constexpr int D = TypeParam::D;
+  std::mt19937 rng(3);
+  const Boxes<D> boxes = test::clustered_world<D>(rng, 300, 10.0f);
+  typename TypeParam::Type bp;
+  bp.build(boxes);
+  int calls = 0;
+  bp.query(bounds_of<D>(boxes), [&](int) { return ++calls < 3; });
+  EXPECT_EQ(calls, 3);
+  calls = 0;
+  // A ray from inside box 0 meets at least box 0.
+  const AabbN<D> world = bounds_of<D>(boxes);
+  bp.ray_cast(RayN<D>{boxes[0].center(), world.max - boxes[0].center()},
+              [&](int, float) { ++calls; return 0.0f; });
+  EXPECT_EQ(calls, 1);
+}
+
+TYPED_TEST(BroadPhaseTest, RejectsNonFiniteAndInvertedBoxesNamingTheIndex) {
+  constexpr int D = TypeParam::D;
+  Boxes<D> boxes(5, test::box_at<D>(VecN<D>(0.0f), VecN<D>(1.0f)));
+  typename TypeParam::Type bp;
+  boxes[3].min[1] = std::numeric_limits<float>::quiet_NaN();
+  try {
+    bp.build(boxes);
+    FAIL() << "NaN accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("box 3"), std::string::npos) << e.what();
+  }
+  boxes[3] = test::box_at<D>(VecN<D>(0.0f), VecN<D>(1.0f));
+  boxes[2].min[D - 1] = 5.0f;
+  try {
+    bp.build(boxes);
+    FAIL() << "min > max accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("box 2"), std::string::npos) << e.what();
+  }
+  boxes[2].min[D - 1] = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(bp.build(boxes), InvalidInput);
+}
+
+}  // namespace
+}  // namespace collide

@@ -1,0 +1,260 @@
+// The grids' own promises: the lesson's bugs stay fixed, cells chosen from the data, huge
+// boxes kept out of the cells, cells widened for worlds far from the origin, levels for mixed
+// sizes, ray walks exact along cell boundaries and through cell corners, and pair sets that do
+// not change under rigid motions that map boxes to boxes.
+
+#include <collide/broad/brute_force.hpp>
+#include <collide/broad/dynamic_tree.hpp>
+#include <collide/broad/hash_grid.hpp>
+#include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/registry.hpp>
+#include <collide/broad/sorted_grid.hpp>
+#include <collide/core/error.hpp>
+
+#include "support/broad_worlds.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace collide {
+namespace {
+
+template <int D>
+PairList brute_pairs(std::span<const AabbN<D>> boxes) {
+  BruteForceN<D> brute;
+  brute.build(boxes);
+  PairList pairs;
+  brute.find_pairs(pairs);
+  return pairs;
+}
+
+template <class BP, int D>
+PairList pairs_of(BP& bp, std::span<const AabbN<D>> boxes) {
+  bp.build(boxes);
+  PairList pairs;
+  bp.find_pairs(pairs);
+  sort_pairs(pairs);
+  return pairs;
+}
+
+// Regression for the lesson's exercise: two boxes sharing 25 cells were reported 25 times.
+TEST(HashGrid, PairSharingManyCellsIsReportedOnce) {
+  const std::vector<Aabb> boxes = {{{0.0f, 0.0f}, {5.0f, 5.0f}}, {{0.5f, 0.5f}, {4.5f, 4.5f}}};
+  HashGrid grid({.cell_size = 1.0f});
+  EXPECT_EQ((pairs_of<HashGrid, 2>(grid, boxes)), (PairList{{0, 1}}));
+  SortedGrid sorted({.cell_size = 1.0f});
+  EXPECT_EQ((pairs_of<SortedGrid, 2>(sorted, boxes)), (PairList{{0, 1}}));
+}
+
+// Regression for the lesson's exercise: with a map instead of a multimap, a cell kept one box.
+TEST(HashGrid, ManyBoxesInOneCellAllPair) {
+  const std::vector<Aabb3> boxes(6, Aabb3{{0.1f, 0.1f, 0.1f}, {0.2f, 0.2f, 0.2f}});
+  HashGrid3 grid({.cell_size = 1.0f});
+  EXPECT_EQ((pairs_of<HashGrid3, 3>(grid, boxes).size()), 15u);
+}
+
+// Boxes whose faces, edges and corners lie exactly on cell boundaries, for several cell sizes
+// (the lesson's "shouldn't max use ceil?").
+TEST(HashGrid, TouchingOnCellBoundaries) {
+  std::mt19937 rng(8);
+  const auto boxes2 = test::touching_world<2>(rng, 400, 12);
+  const auto boxes3 = test::touching_world<3>(rng, 400, 6);
+  const PairList want2 = brute_pairs<2>(boxes2), want3 = brute_pairs<3>(boxes3);
+  ASSERT_GT(want2.size(), 200u);
+  ASSERT_GT(want3.size(), 100u);
+  for (const float cell : {0.5f, 1.0f, 2.0f, 3.0f}) {
+    HashGrid h2({.cell_size = cell});
+    HashGrid3 h3({.cell_size = cell});
+    SortedGrid s2({.cell_size = cell});
+    SortedGrid3 s3({.cell_size = cell});
+    HierarchicalGrid g2({.base_cell_size = cell});
+    HierarchicalGrid3 g3({.base_cell_size = cell});
+    EXPECT_EQ((pairs_of<HashGrid, 2>(h2, boxes2)), want2) << cell;
+    EXPECT_EQ((pairs_of<HashGrid3, 3>(h3, boxes3)), want3) << cell;
+    EXPECT_EQ((pairs_of<SortedGrid, 2>(s2, boxes2)), want2) << cell;
+    EXPECT_EQ((pairs_of<SortedGrid3, 3>(s3, boxes3)), want3) << cell;
+    EXPECT_EQ((pairs_of<HierarchicalGrid, 2>(g2, boxes2)), want2) << cell;
+    EXPECT_EQ((pairs_of<HierarchicalGrid3, 3>(g3, boxes3)), want3) << cell;
+  }
+}
+
+TEST(HashGrid, CellSizeIsChosenFromTheData) {
+  std::vector<Aabb> boxes;
+  for (int i = 0; i < 100; ++i) {
+    const float x = static_cast<float>(i % 10) * 3.0f, y = static_cast<float>(i / 10) * 3.0f;
+    const float side = i < 60 ? 2.0f : 0.5f;  // median largest side 2
+    boxes.push_back({{x, y}, {x + side, y + side}});
+  }
+  HashGrid grid;
+  grid.build(boxes);
+  EXPECT_FLOAT_EQ(grid.grid().cell_size, 4.0f);
+  EXPECT_EQ(grid.oversized_count(), 0);
+}
+
+TEST(HashGrid, HugeBoxesStayOutOfTheCells) {
+  std::mt19937 rng(2);
+  auto boxes = test::huge_object_world<2>(rng, 500, 40.0f);
+  HashGrid grid;
+  SortedGrid sorted;
+  const PairList want = brute_pairs<2>(boxes);
+  EXPECT_EQ((pairs_of<HashGrid, 2>(grid, boxes)), want);
+  EXPECT_EQ((pairs_of<SortedGrid, 2>(sorted, boxes)), want);
+  EXPECT_EQ(grid.oversized_count(), 4);
+  EXPECT_EQ(sorted.oversized_count(), 4);
+  EXPECT_LT(grid.cell_count(), 2000);
+}
+
+TEST(HashGrid, RejectsBadOptions) {
+  EXPECT_THROW(HashGrid({.cell_size = -1.0f}), InvalidInput);
+  EXPECT_THROW(HashGrid({.cell_size = std::nanf("")}), InvalidInput);
+  EXPECT_THROW(HashGrid({.cell_size = 1.0f, .max_cells_per_box = 0}), InvalidInput);
+  EXPECT_THROW(SortedGrid({.cell_size = -1.0f}), InvalidInput);
+  EXPECT_THROW(HierarchicalGrid({.base_cell_size = -1.0f}), InvalidInput);
+  EXPECT_THROW(DynamicTree({.margin = -1.0f}), InvalidInput);
+}
+
+TEST(HashGrid, ReserveMakesLaterBuildsAllocationFree) {
+  std::mt19937 rng(6);
+  const auto boxes = test::uniform_world<2>(rng, 1000, 30.0f, 0.1f, 1.0f);
+  HashGrid grid;
+  grid.reserve(1000, 8000);
+  const std::size_t reserved = grid.memory_bytes();
+  grid.build(boxes);
+  PairList pairs;
+  grid.find_pairs(pairs);
+  EXPECT_EQ(grid.memory_bytes(), reserved);
+  EXPECT_FALSE(pairs.empty());
+}
+
+// A world spanning +-1e6 with a cell size the coordinates cannot resolve: the grid widens its
+// cells until the linear cell index fits, and stays exact.
+TEST(SortedGrid, WorldsFarFromTheOriginWidenTheCells) {
+  std::mt19937 rng(17);
+  auto boxes2 = test::uniform_world<2>(rng, 400, 1.0e6f, 1.0f, 20.0f);
+  auto cluster2 = test::uniform_world<2>(rng, 200, 50.0f, 0.5f, 2.0f, 9.9e5f);
+  boxes2.insert(boxes2.end(), cluster2.begin(), cluster2.end());
+  auto boxes3 = test::uniform_world<3>(rng, 400, 1.0e6f, 1.0f, 20.0f);
+  auto cluster3 = test::uniform_world<3>(rng, 200, 10.0f, 0.5f, 2.0f, -9.9e5f);
+  boxes3.insert(boxes3.end(), cluster3.begin(), cluster3.end());
+  SortedGrid s2({.cell_size = 1e-3f});
+  SortedGrid3 s3({.cell_size = 1e-3f});
+  const PairList want2 = brute_pairs<2>(boxes2), want3 = brute_pairs<3>(boxes3);
+  ASSERT_GT(want2.size(), 50u);
+  ASSERT_GT(want3.size(), 50u);
+  EXPECT_EQ((pairs_of<SortedGrid, 2>(s2, boxes2)), want2);
+  EXPECT_EQ((pairs_of<SortedGrid3, 3>(s3, boxes3)), want3);
+  EXPECT_GT(s2.grid().cell_size, 1e-3f);
+  EXPECT_GT(s3.grid().cell_size, 0.5f);  // 2e6 / 2^21 cells per axis in 3D
+  HashGrid h2({.cell_size = 1e-3f});
+  EXPECT_EQ((pairs_of<HashGrid, 2>(h2, boxes2)), want2);
+}
+
+TEST(HierarchicalGrid, MixedSizesGetTheirOwnLevels) {
+  std::mt19937 rng(23);
+  const auto boxes = test::mixed_size_world<3>(rng, 2000, 300.0f);
+  HierarchicalGrid3 grid;
+  EXPECT_EQ((pairs_of<HierarchicalGrid3, 3>(grid, boxes)), brute_pairs<3>(boxes));
+  EXPECT_GE(grid.level_count(), 2);
+  // A uniform grid on the same data sends the 100-unit boxes to its oversized list.
+  HashGrid3 hash;
+  hash.build(boxes);
+  EXPECT_GT(hash.oversized_count(), 50);
+}
+
+// Rays exactly along cell boundaries and through cell corners, on a lattice of boxes whose
+// faces lie on those boundaries: the 3D-DDA walk must visit every cell that holds a box the
+// ray touches.
+TEST(GridRayCast, AlongCellBoundariesAndThroughCorners) {
+  std::mt19937 rng(31);
+  const auto boxes = test::touching_world<2>(rng, 300, 10);
+  HashGrid hash({.cell_size = 1.0f});
+  SortedGrid sorted({.cell_size = 1.0f});
+  HierarchicalGrid levels({.base_cell_size = 1.0f});
+  BruteForce brute;
+  hash.build(boxes);
+  sorted.build(boxes);
+  levels.build(boxes);
+  brute.build(boxes);
+  int hits = 0;
+  for (int i = -10; i <= 10; ++i) {
+    const float c = static_cast<float>(i);
+    const Ray rays[] = {
+        {{-15.0f, c}, {30.0f, 0.0f}},   // along a horizontal boundary
+        {{c, 15.0f}, {0.0f, -30.0f}},   // along a vertical boundary, downwards
+        {{-12.0f, c - 12.0f}, {24.0f, 24.0f}},  // diagonal through lattice corners
+        {{12.0f, c + 12.0f}, {-24.0f, -24.0f}}, // the same, backwards
+        {{c, -12.0f}, {-24.0f, 24.0f}},         // the other diagonal
+    };
+    for (const Ray& ray : rays) {
+      std::vector<int> want, got_hash, got_sorted, got_levels;
+      brute.ray_cast(ray, [&](int id, float f) { want.push_back(id); return f; });
+      hash.ray_cast(ray, [&](int id, float f) { got_hash.push_back(id); return f; });
+      sorted.ray_cast(ray, [&](int id, float f) { got_sorted.push_back(id); return f; });
+      levels.ray_cast(ray, [&](int id, float f) { got_levels.push_back(id); return f; });
+      for (auto* got : {&got_hash, &got_sorted, &got_levels}) {
+        std::sort(got->begin(), got->end());
+        EXPECT_EQ(*got, want) << "ray from " << ray.origin.x << "," << ray.origin.y;
+      }
+      hits += !want.empty();
+    }
+  }
+  EXPECT_GT(hits, 60);
+}
+
+// Quarter turns, mirror images and integer translations (up to 1e4) map boxes with integer
+// corners to such boxes exactly: the pair set must be the same under every one of them.
+TEST(BroadPhases, PairsInvariantUnderRigidMotionsOfTheLattice) {
+  std::mt19937 rng(41);
+  const auto boxes = test::touching_world<3>(rng, 400, 6);
+  const PairList want = brute_pairs<3>(boxes);
+  ASSERT_GT(want.size(), 100u);
+  std::uniform_int_distribution<int> shift(-10000, 10000);
+  for (int trial = 0; trial < 6; ++trial) {
+    int perm[3] = {0, 1, 2};
+    std::shuffle(perm, perm + 3, rng);
+    const float sign[3] = {rng() % 2 ? 1.0f : -1.0f, rng() % 2 ? 1.0f : -1.0f,
+                           rng() % 2 ? 1.0f : -1.0f};
+    const Vec3 t{static_cast<float>(shift(rng)), static_cast<float>(shift(rng)),
+                 static_cast<float>(shift(rng))};
+    std::vector<Aabb3> moved;
+    for (const Aabb3& b : boxes) {
+      Aabb3 m;
+      for (int k = 0; k < 3; ++k) {
+        const float lo = sign[k] * b.min[perm[k]], hi = sign[k] * b.max[perm[k]];
+        m.min[k] = std::min(lo, hi) + t[k];
+        m.max[k] = std::max(lo, hi) + t[k];
+      }
+      moved.push_back(m);
+    }
+    for (const std::string_view name : broadphase_names()) {
+      EXPECT_EQ(find_pairs(name, std::span<const Aabb3>(moved)), want) << name << " " << trial;
+    }
+  }
+}
+
+TEST(DynamicTree, SmallMotionsReinsertFewLeavesAndTheTreeStaysShallow) {
+  std::mt19937 rng(51);
+  auto world = test::moving_world<2>(rng, test::uniform_world<2>(rng, 4000, 100.0f, 0.5f, 1.0f),
+                                     100.0f, 0.05f);
+  DynamicTree tree;
+  tree.build(world.boxes);
+  EXPECT_LE(tree.height(), 2 * 12 + 4);  // about 2 log2(4000)
+  int reinserted = 0;
+  for (int frame = 0; frame < 40; ++frame) {
+    world.step();
+    tree.update(world.boxes);
+    reinserted += tree.reinserted_count();
+  }
+  EXPECT_LT(reinserted, 40 * 4000 / 5);
+  EXPECT_GT(reinserted, 0);
+  EXPECT_LE(tree.height(), 2 * 12 + 6);
+  PairList pairs;
+  tree.find_pairs(pairs);
+  sort_pairs(pairs);
+  EXPECT_EQ(pairs, brute_pairs<2>(world.boxes));
+}
+
+}  // namespace
+}  // namespace collide

@@ -1,0 +1,152 @@
+// The temporal broad phase against brute force at every frame: objects within their speed
+// bounds, objects bouncing, objects teleporting; and the count of skipped checks.
+
+#include <collide/broad/brute_force.hpp>
+#include <collide/broad/temporal_broad_phase.hpp>
+#include <collide/core/error.hpp>
+
+#include "support/broad_worlds.hpp"
+
+#include <gtest/gtest.h>
+
+namespace collide {
+namespace {
+
+template <int D>
+PairList brute_pairs(std::span<const AabbN<D>> boxes) {
+  BruteForceN<D> brute;
+  brute.build(boxes);
+  PairList pairs;
+  brute.find_pairs(pairs);
+  return pairs;
+}
+
+/// Speed bound of each object: its largest per-axis step per frame (the box moves by the
+/// velocity each frame of one time unit), with 1% headroom plus the float rounding of a step
+/// at the world's coordinates (half an ulp per corner: 6e-8 of the magnitude; 4e-7 to be safe).
+template <int D>
+std::vector<float> bounds_of_world(const test::MovingWorld<D>& world) {
+  const float rounding = 4e-7f * (std::abs(world.offset) + world.extent + 2.0f);
+  std::vector<float> speeds;
+  for (const VecN<D>& v : world.velocity) {
+    float m = 0.0f;
+    for (int k = 0; k < D; ++k) m = std::max(m, std::abs(v[k]));
+    speeds.push_back(1.01f * m + rounding);
+  }
+  return speeds;
+}
+
+template <int D>
+void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::int64_t& violations) {
+  std::mt19937 rng(11 + D);
+  auto world = test::moving_world<D>(
+      rng, test::uniform_world<D>(rng, 500, D == 2 ? 25.0f : 10.0f, 0.2f, 1.0f, offset),
+      D == 2 ? 25.0f : 10.0f, 0.05f, offset);
+  world.velocity[0] = VecN<D>(0.0f);  // a resting object: speed bound 0
+  TemporalBroadPhaseN<D> temporal;
+  temporal.build(world.boxes, bounds_of_world(world), 0.0);
+  PairList pairs;
+  std::size_t total = 0;
+  for (int frame = 1; frame <= 150; ++frame) {
+    world.step();
+    if (teleport_every > 0 && frame % teleport_every == 0) {
+      // Object 1 jumps onto another object, breaking its bound.
+      const int target = 2 + frame % 50;
+      const VecN<D> shift = world.boxes[target].center() - world.boxes[1].center();
+      world.boxes[1].min += shift;
+      world.boxes[1].max += shift;
+    }
+    temporal.update(world.boxes, static_cast<double>(frame));
+    temporal.find_pairs(pairs);
+    sort_pairs(pairs);
+    const PairList expected = brute_pairs<D>(world.boxes);
+    total += expected.size();
+    ASSERT_EQ(pairs, expected) << "frame " << frame;
+  }
+  EXPECT_GT(total, 150u * 20u);
+  skipped = temporal.stats().skipped_checks;
+  violations = temporal.stats().bound_violations;
+  // The candidate set is rebuilt only every few frames, and most checks are skipped.
+  EXPECT_LT(temporal.stats().rebuilds, 150 / 2 + 150 / std::max(teleport_every, 1));
+  EXPECT_GT(temporal.stats().skipped_checks, temporal.stats().checks);
+}
+
+template <class T>
+class TemporalTest : public ::testing::Test {};
+using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
+TYPED_TEST_SUITE(TemporalTest, Dims);
+
+TYPED_TEST(TemporalTest, MatchesBruteForceEveryFrameWithinSpeedBounds) {
+  for (const float offset : {0.0f, -3000.0f, 1.0e4f}) {
+    std::int64_t skipped = 0, violations = 0;
+    run_frames<TypeParam::value>(offset, 0, skipped, violations);
+    EXPECT_GT(skipped, 1000) << offset;
+    EXPECT_EQ(violations, 0) << offset;
+  }
+}
+
+TYPED_TEST(TemporalTest, TeleportingObjectIsNotMissed) {
+  std::int64_t skipped = 0, violations = 0;
+  run_frames<TypeParam::value>(0.0f, 7, skipped, violations);
+  EXPECT_GE(violations, 150 / 7);
+}
+
+TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
+  constexpr int D = TypeParam::value;
+  std::mt19937 rng(4);
+  auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 300, 15.0f, 0.2f, 1.0f),
+                                     15.0f, 0.1f);
+  TemporalBroadPhaseN<D> temporal;
+  temporal.build(world.boxes, bounds_of_world(world), 0.0);
+  BruteForceN<D> brute;
+  PairList pairs;
+  int hits = 0;
+  for (int frame = 1; frame <= 20; ++frame) {
+    world.step();
+    if (frame == 10) world.boxes[5].min[0] += 100.0f, world.boxes[5].max[0] += 100.0f;  // teleport
+    temporal.update(world.boxes, frame);
+    if (frame % 2 == 0) temporal.find_pairs(pairs);  // queries also right between rebuilds
+    brute.build(world.boxes);
+    const AabbN<D> q = test::box_at<D>(world.boxes[frame].center(), VecN<D>(2.0f));
+    std::vector<int> got, want;
+    temporal.query(q, [&](int id) { got.push_back(id); return true; });
+    brute.query(q, [&](int id) { want.push_back(id); return true; });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << frame;
+    got.clear();
+    want.clear();
+    const RayN<D> ray{world.boxes[frame].center(), VecN<D>(10.0f)};
+    temporal.ray_cast(ray, [&](int id, float f) { got.push_back(id); return f; });
+    brute.ray_cast(ray, [&](int id, float f) { want.push_back(id); return f; });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << frame;
+    hits += !want.empty();
+    got.clear();
+    want.clear();
+    temporal.query_point(world.boxes[frame].max, [&](int id) { got.push_back(id); return true; });
+    brute.query_point(world.boxes[frame].max, [&](int id) { want.push_back(id); return true; });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << frame;
+  }
+  EXPECT_EQ(hits, 20);
+}
+
+TYPED_TEST(TemporalTest, RejectsBadSpeedsTimesAndCounts) {
+  constexpr int D = TypeParam::value;
+  const test::Boxes<D> boxes(4, test::box_at<D>(VecN<D>(0.0f), VecN<D>(1.0f)));
+  TemporalBroadPhaseN<D> temporal;
+  try {
+    temporal.build(boxes, std::vector<float>{1.0f, 1.0f, -1.0f, 1.0f});
+    FAIL() << "negative speed accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("speed bound 2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(temporal.build(boxes, std::vector<float>{1.0f}), InvalidInput);
+  temporal.build(boxes, std::vector<float>(4, 1.0f), 5.0);
+  EXPECT_THROW(temporal.update(boxes, 4.0), InvalidInput);
+  EXPECT_THROW(temporal.update(test::Boxes<D>(3, boxes[0]), 6.0), InvalidInput);
+  EXPECT_THROW(TemporalBroadPhaseN<D>({.horizon = -1.0}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace collide

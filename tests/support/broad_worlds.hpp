@@ -1,0 +1,138 @@
+#pragma once
+// Test worlds for the broad phases: seeded random box sets in 2D and 3D, each aimed at a
+// weakness of some structure (crowded cells, huge boxes, boxes touching exactly on cell
+// boundaries, negative and far-from-origin coordinates), and moving versions of them.
+
+#include <collide/broad/broad_phase.hpp>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace collide::test {
+
+template <int D>
+using Boxes = std::vector<AabbN<D>>;
+
+inline float uniform_f(std::mt19937& rng, float lo, float hi) {
+  return std::uniform_real_distribution<float>(lo, hi)(rng);
+}
+
+template <int D>
+VecN<D> random_vec(std::mt19937& rng, float lo, float hi) {
+  VecN<D> v;
+  for (int k = 0; k < D; ++k) v[k] = uniform_f(rng, lo, hi);
+  return v;
+}
+
+template <int D>
+AabbN<D> box_at(const VecN<D>& center, const VecN<D>& half) {
+  return {center - half, center + half};
+}
+
+/// n boxes with centres uniform in [offset - extent, offset + extent]^D, half sizes in [lo, hi].
+template <int D>
+Boxes<D> uniform_world(std::mt19937& rng, int n, float extent, float lo, float hi,
+                       float offset = 0.0f) {
+  Boxes<D> boxes;
+  for (int i = 0; i < n; ++i) {
+    boxes.push_back(box_at<D>(VecN<D>(offset) + random_vec<D>(rng, -extent, extent),
+                              random_vec<D>(rng, lo, hi)));
+  }
+  return boxes;
+}
+
+/// n boxes in a few tight Gaussian clusters: many boxes per cell.
+template <int D>
+Boxes<D> clustered_world(std::mt19937& rng, int n, float extent) {
+  std::vector<VecN<D>> centres;
+  for (int c = 0; c < 5; ++c) centres.push_back(random_vec<D>(rng, -extent, extent));
+  std::normal_distribution<float> spread(0.0f, extent * 0.03f);
+  Boxes<D> boxes;
+  for (int i = 0; i < n; ++i) {
+    VecN<D> p = centres[rng() % centres.size()];
+    for (int k = 0; k < D; ++k) p[k] += spread(rng);
+    boxes.push_back(box_at<D>(p, random_vec<D>(rng, 0.05f, 0.5f)));
+  }
+  return boxes;
+}
+
+/// Mostly 0.1-unit boxes with some 100-unit boxes among them.
+template <int D>
+Boxes<D> mixed_size_world(std::mt19937& rng, int n, float extent) {
+  Boxes<D> boxes;
+  for (int i = 0; i < n; ++i) {
+    const bool big = rng() % 20 == 0;
+    const VecN<D> half = big ? random_vec<D>(rng, 20.0f, 50.0f) : random_vec<D>(rng, 0.05f, 0.1f);
+    boxes.push_back(box_at<D>(random_vec<D>(rng, -extent, extent), half));
+  }
+  return boxes;
+}
+
+/// A uniform world plus a few boxes that cover most of it (ground planes, trigger volumes).
+template <int D>
+Boxes<D> huge_object_world(std::mt19937& rng, int n, float extent) {
+  Boxes<D> boxes = uniform_world<D>(rng, n, extent, 0.2f, 1.0f);
+  for (int i = 0; i < 4; ++i) {
+    const int at = static_cast<int>(rng() % boxes.size());
+    boxes[at] = box_at<D>(random_vec<D>(rng, -extent * 0.2f, extent * 0.2f),
+                          random_vec<D>(rng, extent * 0.5f, extent));
+  }
+  return boxes;
+}
+
+/// Boxes with integer corners on a lattice of unit cells: neighbours share faces, edges and
+/// corners exactly on cell boundaries (cell size 1), including points and repeated boxes.
+template <int D>
+Boxes<D> touching_world(std::mt19937& rng, int n, int extent) {
+  Boxes<D> boxes;
+  std::uniform_int_distribution<int> pos(-extent, extent);
+  std::uniform_int_distribution<int> len(0, 2);
+  for (int i = 0; i < n; ++i) {
+    AabbN<D> b;
+    for (int k = 0; k < D; ++k) {
+      b.min[k] = static_cast<float>(pos(rng));
+      b.max[k] = b.min[k] + static_cast<float>(len(rng));
+    }
+    boxes.push_back(b);
+    if (rng() % 10 == 0) boxes.push_back(b);  // an exact duplicate
+  }
+  return boxes;
+}
+
+/// Moves every box by a random velocity in [-speed, speed]^D per frame (a random walk that
+/// keeps its velocity; bounced back at the world edge).
+template <int D>
+struct MovingWorld {
+  Boxes<D> boxes;
+  std::vector<VecN<D>> velocity;
+  float extent = 0.0f;
+  float offset = 0.0f;
+
+  void step() {
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const VecN<D> c = boxes[i].center() + velocity[i];
+      for (int k = 0; k < D; ++k) {
+        if (c[k] > offset + extent || c[k] < offset - extent) velocity[i][k] = -velocity[i][k];
+      }
+      boxes[i].min += velocity[i];
+      boxes[i].max += velocity[i];
+    }
+  }
+};
+
+template <int D>
+MovingWorld<D> moving_world(std::mt19937& rng, Boxes<D> boxes, float extent, float speed,
+                            float offset = 0.0f) {
+  MovingWorld<D> w;
+  w.boxes = std::move(boxes);
+  w.extent = extent;
+  w.offset = offset;
+  for (std::size_t i = 0; i < w.boxes.size(); ++i) {
+    w.velocity.push_back(random_vec<D>(rng, -speed, speed));
+  }
+  return w;
+}
+
+}  // namespace collide::test
