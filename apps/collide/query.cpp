@@ -4,6 +4,7 @@
 
 #include "query.hpp"
 
+#include <collide/broad/registry.hpp>
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
 #include <collide/narrow/closest_point.hpp>
@@ -158,6 +159,46 @@ std::string feature_name(Feature f) {
   return std::string(kind) + " " + std::to_string(f.index);
 }
 
+/// The `boxes` of a `pairs` question: each [minx, miny, maxx, maxy] (2D) or
+/// [minx, miny, minz, maxx, maxy, maxz] (3D), one dimension for all.
+json answer_pairs(const json& q) {
+  const json& boxes = require(q, "boxes", "");
+  if (!boxes.is_array()) fail("boxes", "expected an array of boxes");
+  std::string name;
+  if (const auto it = q.find("broadphase"); it != q.end()) {
+    if (!it->is_string()) fail("broadphase", "expected a name");
+    name = it->get<std::string>();
+  }
+  const size_t width = boxes.empty() || !boxes[0].is_array() ? 4 : boxes[0].size();
+  if (width != 4 && width != 6) fail("boxes[0]", "expected 4 (2D) or 6 (3D) numbers");
+  std::vector<Aabb> boxes2;
+  std::vector<Aabb3> boxes3;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const std::string field = "boxes[" + std::to_string(i) + "]";
+    const json& b = boxes[i];
+    if (!b.is_array() || b.size() != width) {
+      fail(field, "expected " + std::to_string(width) + " numbers like boxes[0]");
+    }
+    float v[6];
+    for (size_t k = 0; k < width; ++k) v[k] = to_float(b[k], field + "[" + std::to_string(k) + "]");
+    if (width == 4) {
+      boxes2.push_back({{v[0], v[1]}, {v[2], v[3]}});
+    } else {
+      boxes3.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+    }
+  }
+  PairList pairs;
+  try {
+    pairs = width == 4 ? find_pairs(name, boxes2) : find_pairs(name, boxes3);
+  } catch (const InvalidInput& e) {
+    const std::string why = e.what();
+    fail(why.rfind("box ", 0) == 0 ? "boxes" : "broadphase", why);
+  }
+  json out = json::array();
+  for (const auto& [i, j] : pairs) out.push_back(json::array({i, j}));
+  return json::object({{"pairs", out}});
+}
+
 json answer(const json& q) {
   if (!q.is_object()) fail("", "expected a JSON object");
   const json& op_json = require(q, "op", "");
@@ -213,7 +254,9 @@ json answer(const json& q) {
     out["distance"] = number(r.distance);
     out["closest"] = vec(r.closest);
     out["feature"] = feature_name(r.feature);
-  } else if (op == "toi" || op == "pairs") {
+  } else if (op == "pairs") {
+    out = answer_pairs(q);
+  } else if (op == "toi") {
     fail("op", "\"" + op + "\" is not available in this version");
   } else {
     fail("op", "unknown op \"" + op + "\"");
@@ -260,16 +303,25 @@ std::size_t answer_query_stream(std::istream& in, std::ostream& out) {
 }
 
 std::string query_ops_help() {
-  return
+  std::string text =
       "Ops (one JSON object per line; every answer echoes \"id\"):\n"
       "  overlap        a, xa, b, xb                 -> overlap\n"
       "  contact        a, xa, b, xb                 -> touching, normal (A to B), depth, points, depths\n"
       "  distance       a, xa, b, xb                 -> distance, pa, pb\n"
       "  raycast        shape, x, origin, translation -> hit, fraction, point, normal\n"
       "  closest_point  shape, x, point               -> inside, distance (signed), closest, feature\n"
+      "  pairs          boxes, broadphase?            -> pairs ([i, j], i < j, sorted, each once)\n"
       "Shapes: circle {center, radius}, capsule {a, b, radius}, box {half, radius?},\n"
       "        polygon {vertices (convex, counter-clockwise), radius?}, segment {a, b}\n"
-      "Transforms: {\"p\": [x, y], \"angle\": radians}; omitted means identity.\n";
+      "Transforms: {\"p\": [x, y], \"angle\": radians}; omitted means identity.\n"
+      "Boxes: [minx, miny, maxx, maxy] (2D) or [minx, miny, minz, maxx, maxy, maxz] (3D).\n"
+      "Broad phases (\"broadphase\"; the first is the default):\n";
+  for (const BroadPhaseInfo& info : broadphases()) {
+    const std::string name(info.name);
+    text += "  " + name + std::string(name.size() < 18 ? 18 - name.size() : 1, ' ') +
+            std::string(info.description) + "\n";
+  }
+  return text;
 }
 
 }  // namespace collide::cli

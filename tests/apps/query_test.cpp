@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <random>
+#include <vector>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -166,6 +168,59 @@ TEST(Query, TheShippedExampleRunsThroughTheRealBinaryWithoutErrors) {
     ++count;
   }
   EXPECT_GE(count, 8);
+}
+
+}  // namespace
+}  // namespace collide::cli
+
+namespace collide::cli {
+namespace {
+
+TEST(QueryPairs, EveryBroadPhaseGivesTheBruteForcePairsIn2DAnd3D) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> pos(-10.0f, 10.0f);
+  std::uniform_real_distribution<float> size(0.1f, 6.0f);
+  for (const int dim : {2, 3}) {
+    json boxes = json::array();
+    std::vector<std::vector<float>> raw;
+    for (int i = 0; i < 60; ++i) {
+      std::vector<float> lo, hi;
+      for (int k = 0; k < dim; ++k) {
+        lo.push_back(pos(rng));
+        hi.push_back(lo.back() + size(rng));
+      }
+      std::vector<float> b = lo;
+      b.insert(b.end(), hi.begin(), hi.end());
+      raw.push_back(b);
+      boxes.push_back(b);
+    }
+    json expected = json::array();
+    for (size_t i = 0; i < raw.size(); ++i) {
+      for (size_t j = i + 1; j < raw.size(); ++j) {
+        bool touch = true;
+        for (int k = 0; k < dim; ++k) {
+          touch = touch && raw[i][k] <= raw[j][k + dim] && raw[j][k] <= raw[i][k + dim];
+        }
+        if (touch) expected.push_back(json::array({i, j}));
+      }
+    }
+    ASSERT_GT(expected.size(), 20u);  // dense enough that pairs and non-pairs both occur
+    ASSERT_LT(expected.size(), raw.size() * (raw.size() - 1) / 4);
+    for (const char* name : {"", "hash_grid", "dynamic_tree", "sweep_and_prune", "brute_force"}) {
+      json q = {{"id", name}, {"op", "pairs"}, {"boxes", boxes}};
+      if (*name != '\0') q["broadphase"] = name;
+      const json a = ask(q.dump());
+      EXPECT_EQ(a["pairs"], expected) << "broadphase '" << name << "' in " << dim << "D";
+    }
+  }
+  EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1]], "broadphase": "octree"})")
+                .find("hash_grid"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [0, 0, 1]]})").find("boxes[1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [2, 0, 1, 1]]})").find("box 1"),
+            std::string::npos);
+  EXPECT_NE(query_ops_help().find("sweep_and_prune"), std::string::npos);
 }
 
 }  // namespace
