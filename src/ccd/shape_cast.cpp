@@ -210,14 +210,21 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   int iteration = 0;
   bool converged = false;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
-    const float dist = length(v);
-    if (simplex.count == 3 || dist - radius <= tolerance) {
-      converged = true;
+    const float dist = length(v);  // upper bound of the cores' distance at x
+    if (simplex.count == 3 || dist == 0.0f) {
+      converged = true;  // the cores touch or overlap at x
       break;
     }
     const Vec2 n = v * (1.0f / dist);
     const CastVertex p = support(n);
-    const float gap = dot(x - p.w, n) - radius;  // lower bound of the separation at x
+    const float lower = dot(x - p.w, n);  // lower bound of the cores' distance at x
+    if (dist - radius <= tolerance && dist - lower <= tolerance) {
+      // Within tolerance of touching, and the simplex is the closest feature (not a chord
+      // through A - B), so its barycentric coordinates give the contact point.
+      converged = true;
+      break;
+    }
+    const float gap = lower - radius;  // lower bound of the separation at x
     bool moved = false;
     if (gap > 0.0f) {
       const float rn = dot(r, n);
@@ -275,6 +282,12 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
       pb += simplex.v[i].bary * simplex.v[i].pb;
     }
   }
+  // The normal. When the cores are apart by more than the tolerance (rounded shapes), the
+  // direction between their closest points: the simplex is their closest feature pair, so it
+  // is exact, and on a curved surface it is the only right one. Otherwise the normal of the
+  // last support plane the ray advanced to: x lies on it, so the shapes' separation along it is
+  // exactly zero at t, which makes it a contact normal (at a vertex, one of the valid ones).
+  // Without an advance (overlapped at t = 0) and with touching cores there is none.
   const float dist = length(v);
   Vec2 n_local{0.0f, 0.0f};
   if (simplex.count < 3 && dist > tolerance) {

@@ -95,7 +95,9 @@ inline TranslationTruth translation_truth(const ConvexProxy& pa, const Transform
       best = k;
     }
   }
-  // Golden section around the best sample (the distance is convex in t).
+  // Golden section around the best sample (the distance is convex in t), remembering where the
+  // smallest distance was seen.
+  double t_best = best / double(samples);
   double lo = std::max(0, best - 1) / double(samples);
   double hi = std::min(samples, best + 1) / double(samples);
   const double g = 0.6180339887498949;
@@ -104,27 +106,23 @@ inline TranslationTruth translation_truth(const ConvexProxy& pa, const Transform
     const double m2 = lo + g * (hi - lo);
     const float d1 = truth.distance_at(a, b, float(m1));
     const float d2 = truth.distance_at(a, b, float(m2));
-    if (d1 < best_d) best_d = d1;
-    if (d2 < best_d) best_d = d2;
+    if (d1 < best_d) {
+      best_d = d1;
+      t_best = m1;
+    }
+    if (d2 < best_d) {
+      best_d = d2;
+      t_best = m2;
+    }
     if (d1 <= d2) {
       hi = m2;
     } else {
       lo = m1;
     }
   }
-  double t_min = 0.5 * (lo + hi);
-  if (best_d == 0.0f && truth.distance_at(a, b, float(t_min)) > 0.0f) {
-    // the zero came from a sample or a probe: find one
-    for (int k = 0; k <= samples; ++k) {
-      if (truth.distance_at(a, b, float(k) / float(samples)) == 0.0f) {
-        t_min = k / double(samples);
-        break;
-      }
-    }
-    if (truth.distance_at(a, b, float(t_min)) > 0.0f) t_min = lo;
-  }
+  const double t_min = t_best;
   truth.min_distance = best_d;
-  truth.touches = best_d == 0.0f && truth.distance_at(a, b, float(t_min)) == 0.0f;
+  truth.touches = best_d == 0.0f;
   if (truth.touches) {
     // First zero: the distance is non-increasing on [0, t_min], so touching is monotone there.
     double l = 0.0;
