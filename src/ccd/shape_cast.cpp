@@ -1,5 +1,7 @@
 #include <collide/ccd/shape_cast.hpp>
 
+#include "../narrow/gjk.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -9,137 +11,6 @@
 namespace collide {
 namespace {
 
-/// A point of the Minkowski difference of the cores, w = pa - pb, remembering where it came
-/// from. Everything is in A's local frame with both shapes at their t = 0 positions.
-struct CastVertex {
-  Vec2 w;       ///< pa - pb
-  Vec2 pa;      ///< core point of A
-  Vec2 pb;      ///< core point of B, in A's frame
-  int ia;       ///< index of pa in A's proxy
-  int ib;       ///< index of pb in B's proxy
-  float bary;   ///< barycentric coordinate of the closest point (set by `closest`)
-};
-
-/// Up to three points of A - B whose convex hull holds the point of A - B closest to the
-/// current ray point x found so far.
-struct CastSimplex {
-  std::array<CastVertex, 3> v{};
-  int count = 0;
-
-  /// Reduce the simplex to the smallest sub-simplex whose hull holds the point c closest to `x`
-  /// and return x - c; barycentric coordinates of c go to `bary`. Voronoi regions of the
-  /// vertices, edges and triangle decided by signed barycentric coordinates (Ericson, Real-Time
-  /// Collision Detection, 5.1.2 and 5.1.5; Catto, "Computing Distance", GDC 2010). Works on
-  /// y = w - x so the origin is the query point. On an edge, x - c is computed as the edge's
-  /// perpendicular scaled by a cross product rather than as a difference of points: its
-  /// direction then stays exact to float precision even when the points are far from x, which
-  /// the support planes built on it need.
-  Vec2 closest(Vec2 x) noexcept {
-    if (count == 1) {
-      v[0].bary = 1.0f;
-      return x - v[0].w;
-    }
-    if (count == 2) return closest_on_edge(x, 0, 1);
-    return closest_in_triangle(x);
-  }
-
- private:
-  /// Keep only vertex i; returns x - its point.
-  Vec2 keep_vertex(Vec2 x, int i) noexcept {
-    v[0] = v[i];
-    v[0].bary = 1.0f;
-    count = 1;
-    return x - v[0].w;
-  }
-
-  /// x minus the closest point to x on the edge v[i]-v[j]; the simplex becomes that edge or one
-  /// of its ends.
-  Vec2 closest_on_edge(Vec2 x, int i, int j) noexcept {
-    const Vec2 yi = v[i].w - x;
-    const Vec2 yj = v[j].w - x;
-    const Vec2 e = yj - yi;
-    const float ui = dot(yj, e);   // > 0: x projects before vertex j
-    const float uj = -dot(yi, e);  // > 0: x projects after vertex i
-    if (uj <= 0.0f) return keep_vertex(x, i);
-    if (ui <= 0.0f) return keep_vertex(x, j);
-    const CastVertex a = v[i];
-    const CastVertex b = v[j];
-    v[0] = a;
-    v[1] = b;
-    count = 2;
-    const float inv = 1.0f / (ui + uj);
-    v[0].bary = ui * inv;
-    v[1].bary = uj * inv;
-    // -(bary_i yi + bary_j yj), the part of -yi perpendicular to e.
-    return (cross(yi, yj) * inv) * left_perp(e);
-  }
-
-  Vec2 closest_in_triangle(Vec2 x) noexcept {
-    const Vec2 y0 = v[0].w - x;
-    const Vec2 y1 = v[1].w - x;
-    const Vec2 y2 = v[2].w - x;
-    // Edge coordinates: u01_0 > 0 means x lies before vertex 1 along edge 0->1, and so on.
-    const Vec2 e01 = y1 - y0;
-    const Vec2 e02 = y2 - y0;
-    const Vec2 e12 = y2 - y1;
-    const float u01_0 = dot(y1, e01);
-    const float u01_1 = -dot(y0, e01);
-    const float u02_0 = dot(y2, e02);
-    const float u02_2 = -dot(y0, e02);
-    const float u12_1 = dot(y2, e12);
-    const float u12_2 = -dot(y1, e12);
-    // Triangle coordinates: signed areas of the sub-triangles facing each vertex, signed by the
-    // triangle's own orientation so that all three are positive inside.
-    const float n = cross(e01, e02);
-    const float t0 = n * cross(y1, y2);
-    const float t1 = n * cross(y2, y0);
-    const float t2 = n * cross(y0, y1);
-
-    if (u01_1 <= 0.0f && u02_2 <= 0.0f) return keep_vertex(x, 0);
-    if (u01_0 <= 0.0f && u12_2 <= 0.0f) return keep_vertex(x, 1);
-    if (u02_0 <= 0.0f && u12_1 <= 0.0f) return keep_vertex(x, 2);
-    if (u01_0 > 0.0f && u01_1 > 0.0f && t2 <= 0.0f) return closest_on_edge(x, 0, 1);
-    if (u02_0 > 0.0f && u02_2 > 0.0f && t1 <= 0.0f) return closest_on_edge(x, 0, 2);
-    if (u12_1 > 0.0f && u12_2 > 0.0f && t0 <= 0.0f) return closest_on_edge(x, 1, 2);
-    const float sum = t0 + t1 + t2;
-    if (!(sum > 0.0f)) {
-      // Degenerate (collinear) triangle the region tests could not place: take the best edge.
-      return best_edge(x);
-    }
-    const float inv = 1.0f / sum;
-    v[0].bary = t0 * inv;
-    v[1].bary = t1 * inv;
-    v[2].bary = t2 * inv;
-    return Vec2{0.0f, 0.0f};  // inside: the closest point is x itself
-  }
-
-  Vec2 best_edge(Vec2 x) noexcept {
-    const CastSimplex original = *this;
-    int best_i = 0;
-    int best_j = 1;
-    float best = 0.0f;
-    constexpr int kEdges[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    for (int k = 0; k < 3; ++k) {
-      CastSimplex s = original;
-      const float d2 = length_squared(s.closest_on_edge(x, kEdges[k][0], kEdges[k][1]));
-      if (k == 0 || d2 < best) {
-        best = d2;
-        best_i = kEdges[k][0];
-        best_j = kEdges[k][1];
-      }
-    }
-    return closest_on_edge(x, best_i, best_j);
-  }
-
- public:
-  [[nodiscard]] bool contains(int ia, int ib) const noexcept {
-    for (int i = 0; i < count; ++i) {
-      if (v[i].ia == ia && v[i].ib == ib) return true;
-    }
-    return false;
-  }
-};
-
 /// Distance from point 0 of the core to its farthest point, plus the radius: the shape's size,
 /// which the tolerances scale with.
 float proxy_size(const ConvexProxy& p) noexcept {
@@ -147,6 +18,22 @@ float proxy_size(const ConvexProxy& p) noexcept {
   float r2 = 0.0f;
   for (int i = 1; i < p.count(); ++i) r2 = std::max(r2, distance_squared(p0, p.point(i)));
   return std::sqrt(r2) + p.radius();
+}
+
+[[nodiscard]] bool holds(const detail::GjkSimplex& s, int ia, int ib) noexcept {
+  for (int i = 0; i < s.count; ++i) {
+    if (s.v[i].ia == ia && s.v[i].ib == ib) return true;
+  }
+  return false;
+}
+
+/// Same vertex pairs (as a set)?
+[[nodiscard]] bool same_vertices(const detail::GjkSimplex& s, const detail::GjkSimplex& r) noexcept {
+  if (s.count != r.count) return false;
+  for (int i = 0; i < s.count; ++i) {
+    if (!holds(r, s.v[i].ia, s.v[i].ib)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -160,76 +47,105 @@ void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb
 }
 }  // namespace detail
 
-// GJK ray cast (van den Bergen 2004), on the Minkowski difference D = A - B of the cores in A's
-// frame, with the ray x(t) = t r, r = vb - va, and the radius sum R handled as a margin:
-// the shapes touch at t when x(t) is within R of D.
+// GJK ray cast (van den Bergen 2004). The GJK machinery (simplex of Minkowski difference
+// points, signed-barycentric reduction, witness points) is the one of gjk_distance
+// (src/narrow/gjk.hpp), so it works on D = B - A in A's frame: the shapes touch at t when the
+// ray point x(t) = t s, s = va - vb, is within the radius sum R of D. The simplex points are
+// stored relative to x, so the reduction finds the simplex point closest to x.
 //
-// Loop invariant: no contact before t. Each step takes v = x - c, c the point of the current
-// simplex closest to x, and the support point p of D along v. The plane through p with normal
-// v bounds D, so the separation at x is at least gap = (x - p) . v/|v| - R. If gap > 0 the ray
-// may safely move forward to where it meets that plane (shifted by R); if it moves away from
-// the plane instead, it never touches D. Then p joins the simplex and c is recomputed. The
-// loop ends when |x - c| - R, an upper bound of the separation at x, is within tolerance.
+// Loop invariant: no contact before t. Each step takes the search direction n (unit, from the
+// simplex's closest point towards x) and the support point p of D along n. The plane through p
+// with normal n bounds D, so the separation at x is at least gap = (x - p).n - R. If gap > 0
+// the ray may safely move forward to where it meets that plane (shifted by R); if it moves
+// along or away from the plane instead, it never touches D. Then p joins the simplex. The
+// loop ends when the upper bound of the separation at x (distance to the simplex, minus R) is
+// within tolerance and the simplex is D's closest feature (lower and upper bounds agree).
 ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 va,
                                const ConvexProxy& b, const Transform& xb, Vec2 vb) noexcept {
   COLLIDE_ASSERT(is_finite(va) && is_finite(vb), "shape cast velocities must be finite");
   COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "shape cast proxies must hold points");
 
-  const Transform xr = inv_mul(xa, xb);  // B's placement in A's frame
-  const Vec2 r = inv_rotate(xa.q, vb - va);
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 ray = inv_rotate(xa.q, va - vb);  // x(t) = t * ray, A's frame
   const float radius = a.radius() + b.radius();
 
   const float size_a = proxy_size(a);
   const float size_b = proxy_size(b);
   const float smaller = std::min(size_a, size_b) > 0.0f ? std::min(size_a, size_b)
                                                         : std::max(size_a, size_b);
-  const float magnitude = length(r) + length(xr.p) + size_a + size_b;
+  const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
 
-  auto support = [&](Vec2 d) noexcept {
-    const int ia = a.support_index(d);
-    const int ib = b.support_index(inv_rotate(xr.q, -d));
-    const Vec2 pa = a.point(ia);
-    const Vec2 pb = transform_point(xr, b.point(ib));
-    return CastVertex{pa - pb, pa, pb, ia, ib, 0.0f};
-  };
-
-  CastSimplex simplex;
-  {
-    const Vec2 pb = transform_point(xr, b.point(0));
-    simplex.v[0] = CastVertex{a.point(0) - pb, a.point(0), pb, 0, 0, 1.0f};
-    simplex.count = 1;
-  }
+  detail::GjkSimplex simplex;
+  simplex.v[0] = detail::seed_vertex(a, b, b_in_a);  // x = 0: relative is absolute
+  simplex.count = 1;
 
   ShapeCastResult result;
   float t = 0.0f;
-  Vec2 x{0.0f, 0.0f};
-  Vec2 plane_normal{0.0f, 0.0f};
+  Vec2 plane_normal{0.0f, 0.0f};  // of the last support plane advanced to, from D towards x
+  Vec2 n{0.0f, 0.0f};             // current search direction, unit
+  float dist = 0.0f;              // distance from x to the simplex
   bool advanced = false;
-  Vec2 v = x - simplex.v[0].w;
-  int iteration = 0;
   bool converged = false;
+  bool moved = true;
+  bool stalled = false;
+  detail::GjkSimplex previous;  // the reduced simplex of the last iteration
+  previous.count = 0;
+  int iteration = 0;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
-    const float dist = length(v);  // upper bound of the cores' distance at x
-    if (simplex.count == 3 || dist == 0.0f) {
-      converged = true;  // the cores touch or overlap at x
+    if (simplex.count == 2) {
+      detail::solve_edge(simplex);
+    } else if (simplex.count == 3) {
+      detail::solve_triangle(simplex);
+      if (simplex.count == 3) {
+        converged = true;  // x inside the cores' difference: they touch or overlap at t
+        break;
+      }
+    }
+    if (!moved && same_vertices(simplex, previous)) {
+      // The new support point was dropped again and x did not move: no progress is possible
+      // in float; the distance is as converged as it gets.
+      converged = dist - radius <= tolerance;
+      stalled = !converged;
       break;
     }
-    const Vec2 n = v * (1.0f / dist);
-    const CastVertex p = support(n);
-    const float lower = dot(x - p.w, n);  // lower bound of the cores' distance at x
-    if (dist - radius <= tolerance && dist - lower <= tolerance) {
-      // Within tolerance of touching, and the simplex is the closest feature (not a chord
-      // through A - B), so its barycentric coordinates give the contact point.
+    previous = simplex;
+    // Direction from the simplex towards x; on an edge the edge's perpendicular (exact even
+    // when the points are far from x, which the support planes built on it need).
+    const Vec2 w0 = simplex.v[0].w;
+    Vec2 d = -w0;
+    if (simplex.count == 2) {
+      const Vec2 e = simplex.v[1].w - w0;
+      d = cross(e, -w0) > 0.0f ? left_perp(e) : right_perp(e);
+    }
+    const float d_len = length(d);
+    dist = -dot(d, w0) / d_len;
+    if (!(dist > 0.0f)) {
+      converged = true;  // x on the simplex: the cores touch at t
+      break;
+    }
+    n = d * (1.0f / d_len);
+
+    const int ia = a.support_index(-n);
+    const int ib = b.support_index(inv_rotate(b_in_a.q, n));
+    const Vec2 wa = a.point(ia);
+    const Vec2 wb = transform_point(b_in_a, b.point(ib));
+    Vec2 w = (wb - wa) - t * ray;  // relative to x
+    const float lower = -dot(n, w);  // lower bound of the cores' distance at x
+    if (dist - radius <= tolerance && (dist - lower <= tolerance || dist <= tolerance)) {
+      // Within tolerance of touching, and either the simplex is the closest feature (not a
+      // chord through D), so its barycentric coordinates give the contact point, or x is
+      // within tolerance of the simplex itself (cores touching: any simplex point that close
+      // to x is on D's boundary, and the search direction is rounding noise).
       converged = true;
       break;
     }
     const float gap = lower - radius;  // lower bound of the separation at x
-    bool moved = false;
+    moved = false;
     if (gap > 0.0f) {
-      const float rn = dot(r, n);
+      const float rn = dot(ray, n);
       if (!(rn < 0.0f)) {
-        // Moving along or away from a plane that A - B lies behind: never closer than gap.
+        // Moving along or away from a plane that D lies behind: never closer than gap.
         if (gap > tolerance) break;
       } else {
         float t_new = t + gap / -rn;
@@ -238,31 +154,37 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
           if (gap + (1.0f - t) * rn > tolerance) break;
           t_new = 1.0f;
         }
+        const Vec2 dx = (t_new - t) * ray;
+        for (int i = 0; i < simplex.count; ++i) simplex.v[i].w -= dx;
+        w -= dx;
         moved = t_new > t;
         t = t_new;
-        x = t * r;
         plane_normal = n;
         advanced = true;
       }
     }
-    if (simplex.contains(p.ia, p.ib)) {
+    if (holds(simplex, ia, ib)) {
       if (!moved) {
-        // No new support point and x did not move: the distance has converged to within
-        // rounding, and the support plane says it is at most the radius sum.
+        // No new support point and x did not move: converged within rounding, and the
+        // support plane says the separation is at most the tolerance.
         converged = true;
         break;
       }
     } else {
-      simplex.v[simplex.count++] = p;
+      detail::GjkVertex& nv = simplex.v[simplex.count++];
+      nv.wa = wa;
+      nv.wb = wb;
+      nv.w = w;
+      nv.ia = ia;
+      nv.ib = ib;
     }
-    v = simplex.closest(x);
   }
   result.iterations = iteration;
   result.t = t;
 
   if (!converged) {
-    result.status = iteration >= kShapeCastMaxIterations ? ImpactStatus::failed
-                                                         : ImpactStatus::separated;
+    result.status = iteration >= kShapeCastMaxIterations || stalled ? ImpactStatus::failed
+                                                                    : ImpactStatus::separated;
     if (result.status == ImpactStatus::separated) result.t = 1.0f;
     return result;
   }
@@ -270,30 +192,22 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   // Contact: the closest features' points from the simplex's barycentric coordinates.
   Vec2 pa{0.0f, 0.0f};
   Vec2 pb{0.0f, 0.0f};
-  if (simplex.count == 3) {
-    // x inside the core triangle: `closest` already left the coordinates of x in `bary`.
-    for (int i = 0; i < 3; ++i) {
-      pa += simplex.v[i].bary * simplex.v[i].pa;
-      pb += simplex.v[i].bary * simplex.v[i].pb;
-    }
-  } else {
-    for (int i = 0; i < simplex.count; ++i) {
-      pa += simplex.v[i].bary * simplex.v[i].pa;
-      pb += simplex.v[i].bary * simplex.v[i].pb;
-    }
-  }
-  // The normal. When the cores are apart by more than the tolerance (rounded shapes), the
-  // direction between their closest points: the simplex is their closest feature pair, so it
-  // is exact, and on a curved surface it is the only right one. Otherwise the normal of the
-  // last support plane the ray advanced to: x lies on it, so the shapes' separation along it is
-  // exactly zero at t, which makes it a contact normal (at a vertex, one of the valid ones).
-  // Without an advance (overlapped at t = 0) and with touching cores there is none.
-  const float dist = length(v);
+  detail::witness_points(simplex, pa, pb);
+  // With x inside the triangle, witness_points returns A's point for both (right only at
+  // x = 0); B's point at t = 0 is A's plus x, since x is the difference B - A there.
+  if (simplex.count == 3) pb = pa + t * ray;
+  // The normal, from A to B (D = B - A, so against the direction from D towards x). When the
+  // cores are apart by more than the tolerance (rounded shapes), the direction between their
+  // closest points: the simplex is their closest feature pair, so it is exact, and on a curved
+  // surface it is the only right one. Otherwise the normal of the last support plane the ray
+  // advanced to: x lies on it, so the shapes' separation along it is exactly zero at t, which
+  // makes it a contact normal (at a vertex, one of the valid ones). Without an advance
+  // (overlapped at t = 0) and with touching cores there is none.
   Vec2 n_local{0.0f, 0.0f};
   if (simplex.count < 3 && dist > tolerance) {
-    n_local = v * (1.0f / dist);
+    n_local = -n;
   } else if (advanced) {
-    n_local = plane_normal;
+    n_local = -plane_normal;
   }
   const Vec2 surface_a = pa + t * inv_rotate(xa.q, va) + a.radius() * n_local;
   const Vec2 surface_b = pb + t * inv_rotate(xa.q, vb) - b.radius() * n_local;
