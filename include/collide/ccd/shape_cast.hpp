@@ -96,7 +96,9 @@ template <Shape2DType A, Shape2DType B>
 /// The explicit path for polygons: builds the Minkowski difference A - B (world space, radius
 /// ra + rb) with `minkowski_difference` and casts the ray from the origin along vb - va into it
 /// with `raycast` (the lesson's picture, literally). Same result fields as `gjk_shape_cast`
-/// (iterations 0); the contact point is the middle of the shapes' touching features. Allocates:
+/// (iterations 0); the contact point is the middle of the shapes' touching features (vertex
+/// against edge: the vertex; edge against edge: the middle of the shared part). When the
+/// shapes overlap at t = 0 it reports status overlapped, t 0, and no point or normal. Allocates:
 /// a reference and a picture-maker, not for the hot path. Throws InvalidInput if a transform or
 /// velocity is not finite, or A - B has more than kMaxPolygonVertices vertices.
 [[nodiscard]] ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2 va,
