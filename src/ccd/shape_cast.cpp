@@ -1,6 +1,7 @@
 #include <collide/ccd/shape_cast.hpp>
 
 #include "../narrow/gjk.hpp"
+#include "shape_size.hpp"
 
 #include <collide/core/error.hpp>
 
@@ -10,15 +11,6 @@
 
 namespace collide {
 namespace {
-
-/// Distance from point 0 of the core to its farthest point, plus the radius: the shape's size,
-/// which the tolerances scale with.
-float proxy_size(const ConvexProxy& p) noexcept {
-  const Vec2 p0 = p.point(0);
-  float r2 = 0.0f;
-  for (int i = 1; i < p.count(); ++i) r2 = std::max(r2, distance_squared(p0, p.point(i)));
-  return std::sqrt(r2) + p.radius();
-}
 
 [[nodiscard]] bool holds(const detail::GjkSimplex& s, int ia, int ib) noexcept {
   for (int i = 0; i < s.count; ++i) {
@@ -69,10 +61,9 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   const Vec2 ray = inv_rotate(xa.q, va - vb);  // x(t) = t * ray, A's frame
   const float radius = a.radius() + b.radius();
 
-  const float size_a = proxy_size(a);
-  const float size_b = proxy_size(b);
-  const float smaller = std::min(size_a, size_b) > 0.0f ? std::min(size_a, size_b)
-                                                        : std::max(size_a, size_b);
+  const float size_a = detail::proxy_size(a);
+  const float size_b = detail::proxy_size(b);
+  const float smaller = detail::smaller_size(size_a, size_b);
   const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
 

@@ -179,3 +179,72 @@ inline Shape2D random_shape(std::mt19937& rng, int type, float size) {
 inline constexpr int kShapeKinds = 5;
 
 }  // namespace collide::test
+
+namespace collide::test {
+
+/// The truth about two shapes moving along sweeps (rotation included), by sub-stepping: Box2D
+/// distances at `samples` + 1 even times, the first touching sample refined by bisection
+/// against the last apart one.
+struct SweepTruth {
+  bool touches = false;      ///< some sample has the shapes touching (distance 0)
+  float t_first = 1.0f;      ///< first touch (when touches)
+  float min_distance = 0.0f; ///< smallest sampled distance
+};
+
+inline SweepTruth sweep_truth(const ConvexProxy& pa, const Sweep& sa, const ConvexProxy& pb,
+                              const Sweep& sb, int samples = 4000) {
+  const B2Proxy a(pa);
+  const B2Proxy b(pb);
+  SweepTruth truth;
+  truth.min_distance = 1e30f;
+  for (int k = 0; k <= samples; ++k) {
+    const float t = float(k) / float(samples);
+    const float d = b2_distance(a, sa.at(t), b, sb.at(t));
+    truth.min_distance = std::min(truth.min_distance, d);
+    if (d == 0.0f && !truth.touches) {
+      truth.touches = true;
+      double lo = k == 0 ? 0.0 : double(k - 1) / samples;
+      double hi = t;
+      if (k == 0) {
+        truth.t_first = 0.0f;
+        continue;
+      }
+      for (int i = 0; i < 50; ++i) {
+        const double m = 0.5 * (lo + hi);
+        if (b2_distance(a, sa.at(float(m)), b, sb.at(float(m))) == 0.0f) {
+          hi = m;
+        } else {
+          lo = m;
+        }
+      }
+      truth.t_first = float(hi);
+    }
+  }
+  return truth;
+}
+
+/// Box2D 2.4's b2TimeOfImpact on the same proxies (exact core points) and sweeps.
+inline b2TOIOutput b2_time_of_impact(const B2Proxy& a, const Sweep& sa, const B2Proxy& b,
+                                     const Sweep& sb) {
+  auto to_b2_sweep = [](const Sweep& s) {
+    b2Sweep w;
+    w.localCenter.Set(s.local_center.x, s.local_center.y);
+    w.c0.Set(s.c0.x, s.c0.y);
+    w.c.Set(s.c1.x, s.c1.y);
+    w.a0 = s.a0;
+    w.a = s.a1;
+    w.alpha0 = 0.0f;
+    return w;
+  };
+  b2TOIInput in;
+  in.proxyA = a.proxy;
+  in.proxyB = b.proxy;
+  in.sweepA = to_b2_sweep(sa);
+  in.sweepB = to_b2_sweep(sb);
+  in.tMax = 1.0f;
+  b2TOIOutput out;
+  b2TimeOfImpact(&out, &in);
+  return out;
+}
+
+}  // namespace collide::test
