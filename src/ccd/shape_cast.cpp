@@ -19,14 +19,27 @@ namespace {
   return false;
 }
 
-/// Same vertex pairs (as a set)?
-[[nodiscard]] bool same_vertices(const detail::GjkSimplex& s, const detail::GjkSimplex& r) noexcept {
-  if (s.count != r.count) return false;
-  for (int i = 0; i < s.count; ++i) {
-    if (!holds(r, s.v[i].ia, s.v[i].ib)) return false;
+/// The vertex pairs of a simplex, to notice an iteration that changed nothing.
+struct SimplexIds {
+  std::array<int, 3> ia{};
+  std::array<int, 3> ib{};
+  int count = 0;
+
+  explicit SimplexIds(const detail::GjkSimplex& s) noexcept : count(s.count) {
+    for (int i = 0; i < s.count; ++i) {
+      ia[i] = s.v[i].ia;
+      ib[i] = s.v[i].ib;
+    }
   }
-  return true;
-}
+  /// Same vertex pairs as `s`, as a set?
+  [[nodiscard]] bool same_as(const detail::GjkSimplex& s) const noexcept {
+    if (s.count != count) return false;
+    for (int i = 0; i < count; ++i) {
+      if (!holds(s, ia[i], ib[i])) return false;
+    }
+    return true;
+  }
+};
 
 }  // namespace
 
@@ -68,7 +81,10 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
 
   detail::GjkSimplex simplex;
-  simplex.v[0] = detail::seed_vertex(a, b, b_in_a);  // x = 0: relative is absolute
+  // Start from the first core points (x = 0, so relative is absolute). The seed of
+  // gjk_distance (support pair between the origins) saved no time here: casts converge in 2-3
+  // iterations either way and the seed costs one support query.
+  simplex.v[0] = detail::make_vertex(a, b, b_in_a, 0, 0);
   simplex.count = 1;
 
   ShapeCastResult result;
@@ -80,8 +96,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   bool converged = false;
   bool moved = true;
   bool stalled = false;
-  detail::GjkSimplex previous;  // the reduced simplex of the last iteration
-  previous.count = 0;
+  SimplexIds previous(simplex);  // the reduced simplex of the last iteration
   int iteration = 0;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
     if (simplex.count == 2) {
@@ -93,14 +108,14 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         break;
       }
     }
-    if (!moved && same_vertices(simplex, previous)) {
+    if (!moved && previous.same_as(simplex)) {
       // The new support point was dropped again and x did not move: no progress is possible
       // in float; the distance is as converged as it gets.
       converged = dist - radius <= tolerance;
       stalled = !converged;
       break;
     }
-    previous = simplex;
+    previous = SimplexIds(simplex);
     // Direction from the simplex towards x; on an edge the edge's perpendicular (exact even
     // when the points are far from x, which the support planes built on it need).
     const Vec2 w0 = simplex.v[0].w;
