@@ -244,14 +244,19 @@ void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool b
   }
   const float target = box2d_target ? b2_linearSlop : -1.0f;
   std::vector<float> times(pairs->size(), -1.0f);
+  double iterations = 0.0;
   for (auto _ : state) {
+    int iters = 0;
     for (size_t i = 0; i < pairs->size(); ++i) {
       const Pair& p = (*pairs)[i];
       const ToiResult r = time_of_impact(pa[i], p.sa, pb[i], p.sb, target);
       times[i] = r.status == ImpactStatus::hit ? r.t : -1.0f;
+      iters += r.iterations;
     }
+    iterations = iters;
     benchmark::DoNotOptimize(times.data());
   }
+  state.counters["iters"] = iterations / double(pairs->size());
   report(state, *pairs, times);
 }
 

@@ -91,7 +91,8 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   float t = 0.0f;
   Vec2 plane_normal{0.0f, 0.0f};  // of the last support plane advanced to, from D towards x
   Vec2 n{0.0f, 0.0f};             // current search direction, unit
-  float dist = 0.0f;              // distance from x to the simplex
+  float dist = 0.0f;              // distance from x to the simplex: upper bound of the cores'
+  float lower_known = -INFINITY;  // best lower bound of the cores' distance at x (support planes)
   bool advanced = false;
   bool converged = false;
   bool moved = true;
@@ -131,6 +132,12 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
       break;
     }
     n = d * (1.0f / d_len);
+    if (dist - radius <= tolerance && dist - lower_known <= tolerance) {
+      // Converged without another support query: the last plane already bounds the distance
+      // from below (the usual end, right after the ray advanced onto a plane).
+      converged = true;
+      break;
+    }
 
     const int ia = a.support_index(-n);
     const int ib = b.support_index(inv_rotate(b_in_a.q, n));
@@ -138,6 +145,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
     const Vec2 wb = transform_point(b_in_a, b.point(ib));
     Vec2 w = (wb - wa) - t * ray;  // relative to x
     const float lower = -dot(n, w);  // lower bound of the cores' distance at x
+    lower_known = std::max(lower_known, lower);
     if (dist - radius <= tolerance && (dist - lower <= tolerance || dist <= tolerance)) {
       // Within tolerance of touching, and either the simplex is the closest feature (not a
       // chord through D), so its barycentric coordinates give the contact point, or x is
@@ -154,6 +162,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         // Moving along or away from a plane that D lies behind: never closer than gap.
         if (gap > tolerance) break;
       } else {
+        const float t_old = t;
         float t_new = t + gap / -rn;
         if (!(t_new <= 1.0f)) {
           // Reaches the plane only after the step; a hit only if within tolerance at t = 1.
@@ -167,6 +176,9 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         t = t_new;
         plane_normal = n;
         advanced = true;
+        // At the new x the plane through p is exactly the radius sum away (or, clamped at
+        // t = 1, gap + (1 - t) rn further).
+        lower_known = lower + (t_new - t_old) * rn;
       }
     }
     if (holds(simplex, ia, ib)) {

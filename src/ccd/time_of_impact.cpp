@@ -18,6 +18,19 @@ float reach_from(const ConvexProxy& p, Vec2 local_center) noexcept {
   return std::sqrt(r2);
 }
 
+/// How fast body turning at `w` (radians per unit t) now moves its farthest-going core point
+/// along the world direction `n`: max over core points p of w * cross(R (p - c), n), at least
+/// 0. Rotation keeps cross products, so this is w * cross(p - c, m) with m = R^-1 n: a support
+/// query along right_perp(m), signed by the turn.
+float turning_rate(const ConvexProxy& p, const Transform& xf, Vec2 center, float w,
+                   Vec2 n) noexcept {
+  if (w == 0.0f) return 0.0f;
+  const Vec2 m = inv_rotate(xf.q, n);
+  const Vec2 along = w > 0.0f ? right_perp(m) : -right_perp(m);
+  const Vec2 r = p.point(p.support_index(along)) - center;
+  return std::max(w * cross(r, m), 0.0f);
+}
+
 /// Fill point, normal and separation from a GJK result on the cores at the reported time.
 void set_contact(ToiResult& r, const DistanceResult& cores, float ra, float rb) noexcept {
   r.separation = std::max(cores.distance - (ra + rb), 0.0f);
@@ -83,7 +96,9 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
   SimplexCache cache{};
   float t = 0.0f;
   for (r.iterations = 1; r.iterations <= kToiMaxIterations; ++r.iterations) {
-    const DistanceResult cores = gjk_distance(core_a, sweep_a.at(t), core_b, sweep_b.at(t), &cache);
+    const Transform xa = sweep_a.at(t);
+    const Transform xb = sweep_b.at(t);
+    const DistanceResult cores = gjk_distance(core_a, xa, core_b, xb, &cache);
     if (cores.status == GjkStatus::overlapped || cores.distance < goal + tolerance) {
       // Within the target (or overlapping): at t = 0 the shapes started there; later, this is
       // the time of impact (the steps never overshoot, up to rounding).
@@ -110,21 +125,10 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
     const float move_rate = std::max(dot(relative_move, n), 0.0f);
     float step = 0.0f;
     if (move_rate + turn_speed > 0.0f) step = gap / (move_rate + turn_speed);
-    {
-      const Transform xa = sweep_a.at(t);
-      const Transform xb = sweep_b.at(t);
-      float turn_a = 0.0f;
-      for (int i = 0; i < a.count(); ++i) {
-        turn_a = std::max(turn_a, wa * cross(rotate(xa.q, a.point(i) - sweep_a.local_center), n));
-      }
-      float turn_b = 0.0f;
-      for (int i = 0; i < b.count(); ++i) {
-        turn_b = std::max(turn_b, -wb * cross(rotate(xb.q, b.point(i) - sweep_b.local_center), n));
-      }
-      const float k0 = move_rate + turn_a + turn_b;
-      const float root = std::sqrt(k0 * k0 + 2.0f * turn_growth * gap);
-      if (k0 + root > 0.0f) step = std::max(step, 2.0f * gap / (k0 + root));
-    }
+    const float k0 = move_rate + turning_rate(a, xa, sweep_a.local_center, wa, n) +
+                     turning_rate(b, xb, sweep_b.local_center, wb, -n);
+    const float root = std::sqrt(k0 * k0 + 2.0f * turn_growth * gap);
+    if (k0 + root > 0.0f) step = std::max(step, 2.0f * gap / (k0 + root));
     if (!(move_rate + turn_speed > 0.0f)) break;  // nothing approaches: separated
     t += step;
     if (!(t <= 1.0f)) break;
