@@ -40,6 +40,30 @@ TEST(Sweep, InterpolatesCentreAndAngle) {
   }
 }
 
+// 1b. Same motion as Box2D's b2Sweep (the oracle of the time of impact tests relies on it).
+TEST(Sweep, MatchesBox2DSweep) {
+  std::mt19937 rng(4);
+  for (int k = 0; k < 100; ++k) {
+    const Sweep s{test::random_point(rng, 1.0f), test::random_point(rng, 10.0f),
+                  test::random_point(rng, 10.0f), uniform(rng, -kPi, kPi),
+                  uniform(rng, -3.0f * kPi, 3.0f * kPi)};
+    b2Sweep w;
+    w.localCenter.Set(s.local_center.x, s.local_center.y);
+    w.c0.Set(s.c0.x, s.c0.y);
+    w.c.Set(s.c1.x, s.c1.y);
+    w.a0 = s.a0;
+    w.a = s.a1;
+    w.alpha0 = 0.0f;
+    const float t = uniform(rng, 0.0f, 1.0f);
+    b2Transform x;
+    w.GetTransform(&x, t);
+    const Transform ours = s.at(t);
+    EXPECT_VEC2_NEAR(ours.p, Vec2(x.p.x, x.p.y), 2e-5f);
+    EXPECT_NEAR(ours.q.c, x.q.c, 1e-5f);
+    EXPECT_NEAR(ours.q.s, x.q.s, 1e-5f);
+  }
+}
+
 // 2. Pure translation: the swept box is exactly the union of the boxes along the way.
 TEST(Sweep, TranslationBoxIsExact) {
   std::mt19937 rng(5);
