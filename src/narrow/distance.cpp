@@ -17,35 +17,35 @@ namespace {
 detail::GjkSimplex start_simplex(const ConvexProxy& a, const ConvexProxy& b,
                                  const Transform& b_in_a, const SimplexCache* cache,
                                  bool& seeded) noexcept {
-  seeded = false;
   detail::GjkSimplex s;
   const int cached = cache != nullptr ? cache->count : 0;
-  if (cached >= 1 && cached <= 3) {
-    bool valid = true;
-    for (int i = 0; i < cached && valid; ++i) {
-      const int ia = cache->index_a[i];
-      const int ib = cache->index_b[i];
-      valid = ia < a.count() && ib < b.count();
-      for (int j = 0; j < i && valid; ++j) {
-        valid = !(cache->index_a[j] == ia && cache->index_b[j] == ib);
-      }
-      if (valid) s.v[i] = detail::make_vertex(a, b, b_in_a, ia, ib);
+  bool valid = cached >= 1 && cached <= 3;
+  for (int i = 0; i < cached && valid; ++i) {
+    valid = cache->index_a[i] < a.count() && cache->index_b[i] < b.count();
+  }
+  if (valid) {
+    for (int i = 0; i < cached; ++i) {
+      s.v[i] = detail::make_vertex(a, b, b_in_a, cache->index_a[i], cache->index_b[i]);
     }
-    if (valid) {
-      s.count = cached;
-      // Degenerate now? An edge shorter, or a triangle thinner, than rounding at this scale
-      // would give meaningless barycentric weights: keep only its first vertex.
-      const float tol = kRelativeTolerance * detail::gjk_scale(s.v[0], 0.0f);
+    s.count = cached;
+    // Degenerate now (or repeated vertices)? An edge shorter, or a triangle thinner, than
+    // rounding at this scale would give meaningless barycentric weights: keep its first vertex.
+    const float tol = kRelativeTolerance * detail::gjk_scale(s.v[0], 0.0f);
+    const float tol2 = tol * tol;
+    if (cached >= 2) {
+      const Vec2 e12 = s.v[1].w - s.v[0].w;
+      const float e12_2 = dot(e12, e12);
       if (cached == 2) {
-        if (!(distance_squared(s.v[0].w, s.v[1].w) > tol * tol)) s.count = 1;
-      } else if (cached == 3) {
-        const Vec2 e12 = s.v[1].w - s.v[0].w;
+        if (!(e12_2 > tol2)) s.count = 1;
+      } else {
         const Vec2 e13 = s.v[2].w - s.v[0].w;
-        const float size = std::max(length(e12), length(e13));
-        if (!(std::abs(cross(e12, e13)) > tol * size)) s.count = 1;
+        const float twice_area = cross(e12, e13);
+        // Height over the longer edge <= tol, squared: area^2 <= tol^2 |e|^2.
+        if (!(twice_area * twice_area > tol2 * std::max(e12_2, dot(e13, e13)))) s.count = 1;
       }
-      return s;
     }
+    seeded = false;
+    return s;
   }
   s.v[0] = detail::seed_vertex(a, b, b_in_a);
   s.count = 1;
@@ -59,6 +59,7 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
                             const Transform& xb, SimplexCache* cache) noexcept {
   COLLIDE_ASSERT(a.count() >= 1 && a.count() <= kMaxPolygonVertices, "proxy A point count");
   COLLIDE_ASSERT(b.count() >= 1 && b.count() <= kMaxPolygonVertices, "proxy B point count");
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
   const Transform b_in_a = inv_mul(xa, xb);
   const float ra = a.radius();
   const float rb = b.radius();
@@ -85,17 +86,17 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
   const Vec2 delta = pb - pa;
   const float core_distance = length(delta);
   if (end == detail::GjkEnd::overlapped || !(core_distance > 0.0f)) {
-    // Cores overlap: one point inside both, no normal.
-    out.point_a = transform_point(xa, pa);
-    out.point_b = transform_point(xa, pb);
+    // Cores overlap (or touch within rounding, pa ~ pb): one point inside both, no normal.
+    out.point_a = transform_point(xa, 0.5f * (pa + pb));
+    out.point_b = out.point_a;
     out.status = GjkStatus::overlapped;
     return out;
   }
   out.status = end == detail::GjkEnd::max_iterations ? GjkStatus::max_iterations
                                                      : GjkStatus::separated;
   // Cores apart: move each witness out along the normal by its radius. If the radii overlap
-  // (core distance < ra + rb) the moved points pass each other and lie inside the other shape,
-  // and the distance clamps to 0.
+  // (core distance < ra + rb) the moved points pass each other, dot(pb - pa, n) being minus the
+  // penetration depth, and the distance clamps to 0.
   const Vec2 n = delta * (1.0f / core_distance);
   pa += ra * n;
   pb -= rb * n;

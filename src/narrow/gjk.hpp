@@ -81,6 +81,9 @@ enum class GjkEnd : unsigned char {
   return make_vertex(a, b, b_in_a, a.support_index(c), b.support_index(inv_rotate(b_in_a.q, -c)));
 }
 
+/// (ia, ib) packed into one int; indices are < kMaxPolygonVertices.
+[[nodiscard]] constexpr int vertex_key(int ia, int ib) noexcept { return ia | (ib << 8); }
+
 /// Reduce an edge simplex to the sub-simplex (edge or one end) whose Voronoi region holds the
 /// origin. Only signs are needed here; the weights are computed once, at the end
 /// (witness_points), so the loop does no division.
@@ -204,15 +207,11 @@ template <class Policy>
   const float on_simplex2 = on_simplex * on_simplex;
   iterations = 0;
   for (;;) {
-    // The vertices before reduction: a new support point equal to one of them means GJK is
-    // cycling on a flat piece of D (converged within rounding).
-    std::array<int, 3> saved_a;
-    std::array<int, 3> saved_b;
-    const int saved_count = s.count;
-    for (int i = 0; i < saved_count; ++i) {
-      saved_a[i] = s.v[i].ia;
-      saved_b[i] = s.v[i].ib;
-    }
+    // The vertices before reduction, as (ia, ib) keys: a new support point equal to one of
+    // them means GJK is cycling on a flat piece of D (converged within rounding). Unused slots
+    // hold -1, so the test below is three compares and no loop.
+    std::array<int, 3> saved{-1, -1, -1};
+    for (int i = 0; i < s.count; ++i) saved[i] = vertex_key(s.v[i].ia, s.v[i].ib);
 
     if (s.count == 2) {
       solve_edge(s);
@@ -230,7 +229,8 @@ template <class Policy>
     } else {
       const Vec2 w1 = s.v[0].w;
       const Vec2 e12 = s.v[1].w - w1;
-      d = cross(e12, -w1) > 0.0f ? left_perp(e12) : right_perp(e12);
+      // The side of the edge the origin is on (right_perp = -left_perp), without a branch.
+      d = left_perp(e12) * (cross(e12, -w1) > 0.0f ? 1.0f : -1.0f);
     }
     const float dd = dot(d, d);
     const float k = dot(d, s.v[0].w);  // = -|v| |d|
@@ -240,8 +240,10 @@ template <class Policy>
     if (iterations == kGjkMaxIterations) return GjkEnd::max_iterations;
 
     // Support point of D = B - A in direction d: B's farthest along d, A's farthest along -d.
-    const int ib = b.support_index(inv_rotate(b_in_a.q, d));
-    const int ia = a.support_index(-d);
+    // Walk from the newest simplex vertex's points: the support moves little per iteration.
+    const GjkVertex& last = s.v[s.count - 1];
+    const int ib = b.support_index_from(inv_rotate(b_in_a.q, d), last.ib);
+    const int ia = a.support_index_from(-d, last.ia);
     const Vec2 wb = transform_point(b_in_a, b.point(ib));
     const Vec2 wa = a.point(ia);
     const Vec2 w = wb - wa;
@@ -252,9 +254,8 @@ template <class Policy>
     // No progress: the gap between the upper and lower bounds, (dw - k) / |d|, is within
     // kGjkRelativeTolerance of the upper bound -k / |d| (van den Bergen 2003, 4.3.4).
     if (dw - k <= kGjkRelativeTolerance * -k) return GjkEnd::converged;
-    for (int i = 0; i < saved_count; ++i) {
-      if (saved_a[i] == ia && saved_b[i] == ib) return GjkEnd::converged;
-    }
+    const int key = vertex_key(ia, ib);
+    if ((key == saved[0]) | (key == saved[1]) | (key == saved[2])) return GjkEnd::converged;
     GjkVertex& nv = s.v[s.count++];
     nv.wa = wa;
     nv.wb = wb;

@@ -3,6 +3,7 @@
 #include "gjk.hpp"
 #include "segment_closest.hpp"
 
+#include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/support.hpp>
 
@@ -85,8 +86,14 @@ struct GjkOverlapBounds {
   s.count = 1;
   const float scale = detail::gjk_scale(s.v[0], radius_sum);
   const float reach = radius_sum + kRelativeTolerance * scale;
+  const GjkOverlapBounds bounds{reach * reach};
+  // The seed is the support pair along c = B's origin in A's frame, so every point of the
+  // Minkowski difference has c.x >= c.w0: a separating-axis test for free, which settles most
+  // well-separated pairs before any iteration.
+  const Vec2 c = b_in_a.p;
+  if (bounds.apart(-dot(c, s.v[0].w), dot(c, c))) return false;
   int iterations = 0;
-  switch (detail::run_gjk(a, b, b_in_a, s, scale, GjkOverlapBounds{reach * reach}, iterations)) {
+  switch (detail::run_gjk(a, b, b_in_a, s, scale, bounds, iterations)) {
     case detail::GjkEnd::overlapped:
     case detail::GjkEnd::decided_touch:
       return true;
@@ -106,6 +113,7 @@ struct GjkOverlapBounds {
 
 template <Shape2DType A, Shape2DType B>
 bool overlap(const A& a, const Transform& xa, const B& b, const Transform& xb) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
   if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
     return overlap_gjk(ConvexProxy(a), xa, ConvexProxy(b), xb);
   } else {

@@ -203,6 +203,37 @@ TEST(GjkDistance, AgreesWithBox2DIncluding64VertexAndRoundedPolygons) {
   EXPECT_LT(apart, trials * 7 / 10);
 }
 
+TEST(GjkDistance, TinyHugeAndSliverShapesScaleTheirAccuracy) {
+  // Tolerances are relative: scenes 1e-3 and 1e3 across, and thin slivers (aspect 1:200), are
+  // answered to 1e-4 of their own size, never at max_iterations.
+  std::mt19937 rng(123);
+  int apart = 0;
+  int trials = 0;
+  for (const float size : {1e-3f, 1.0f, 1e3f}) {
+    for (int i = 0; i < 200; ++i, ++trials) {
+      const float sliver = 0.005f * size;
+      const std::vector<Vec2> thin = {{-size, -sliver}, {size, -sliver}, {size, sliver},
+                                      {-size, sliver}};
+      const Polygon a = i % 2 ? make_polygon(thin) : test::random_polygon(rng, 6, size);
+      const Polygon b = i % 3 ? test::random_polygon(rng, 5, 0.5f * size, 0.05f * size)
+                              : make_polygon(thin);
+      const Transform xa = Transform::from(test::random_point(rng, size), uniform(rng, -3.0f, 3.0f));
+      const Transform xb =
+          Transform::from(xa.p + test::random_point(rng, 2.0f * size), uniform(rng, -3.0f, 3.0f));
+      const DistanceResult r = distance(a, xa, b, xb);
+      const test::WorldCore ca = test::world_core(a, xa);
+      const test::WorldCore cb = test::world_core(b, xb);
+      const double truth =
+          std::max(test::brute_core_distance(ca.points, cb.points) - ca.radius - cb.radius, 0.0);
+      EXPECT_NEAR(r.distance, truth, 1e-4 * 4.0 * size) << "size " << size << " trial " << i;
+      EXPECT_NE(r.status, GjkStatus::max_iterations);
+      if (truth > 1e-4 * size) ++apart;
+    }
+  }
+  EXPECT_GT(apart, trials * 3 / 10);
+  EXPECT_LT(apart, trials * 9 / 10);
+}
+
 TEST(GjkDistance, ParallelFacesAtKnownGap) {
   // Two 2x2 boxes with parallel faces 0.5 apart, under random rigid transforms.
   std::mt19937 rng(3);
@@ -308,6 +339,7 @@ TEST(GjkDistance, OverlappingCoresReportOverlapped) {
     EXPECT_EQ(r.status, GjkStatus::overlapped);
     EXPECT_EQ(r.distance, 0.0f);
     EXPECT_EQ(r.normal, Vec2(0.0f, 0.0f));
+    EXPECT_EQ(r.point_a, r.point_b);
     const test::WorldCore ca = test::world_core(box, xa);
     const test::WorldCore cb = test::world_core(p, xb);
     EXPECT_LE(test::brute_point_distance(ca.points, {r.point_a.x, r.point_a.y}), kTol);

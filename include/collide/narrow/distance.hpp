@@ -52,8 +52,13 @@ struct DistanceResult {
 };
 
 /// GJK distance between two convex proxies placed by `xa` and `xb`. `cache` (optional) is read
-/// to warm-start and written with the final simplex. Proxies must hold 1..kMaxPolygonVertices
-/// finite points.
+/// to warm-start (ignored if its indices do not fit these proxies or its simplex is now
+/// degenerate) and written with the final simplex. Proxies must hold 1..kMaxPolygonVertices
+/// finite points and transforms must be finite rigid (both checked by COLLIDE_ASSERT in debug
+/// builds: shapes and transforms are trusted here, see core/error.hpp). Runs in A's local frame (B is moved there once), so pairs far from the origin
+/// are as accurate as pairs near it; cores closer than kRelativeTolerance of their coordinates'
+/// size count as overlapping. Cold starts are seeded with the support points along the line
+/// between the two shapes' local origins. Allocates nothing.
 [[nodiscard]] DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa,
                                           const ConvexProxy& b, const Transform& xb,
                                           SimplexCache* cache = nullptr) noexcept;
