@@ -90,7 +90,8 @@ OverlapPolygon intersect(const Polygon& a, const Transform& xa, const Polygon& b
   // Tolerances scale with the inputs' size (the larger polygon's bounding box): drop repeated
   // vertices (a clip line through a vertex) within the weld tolerance, and measure the area
   // about the first vertex (keeps precision).
-  const float size = std::max(extent(a.vertices.data(), a.count), extent(b.vertices.data(), b.count));
+  const float size =
+      std::max(extent(a.vertices.data(), a.count), extent(b.vertices.data(), b.count));
   const float weld2 = (kWeldTolerance * size) * (kWeldTolerance * size);
   Outline& poly = *out;
   poly.count = 0;

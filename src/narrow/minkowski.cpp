@@ -73,8 +73,8 @@ MinkowskiPolygon merge(const PlacedVertices& a, const PlacedVertices& b, float r
     } else {
       const float turn = cross(ea, eb);  // > 0: B's edge turns further, take A's first
       // Same direction within kParallelTolerance (sine of the angle): one merged edge.
-      const bool parallel = std::fabs(turn) <= kParallelTolerance * length(ea) * length(eb) &&
-                            dot(ea, eb) > 0.0f;
+      const bool parallel =
+          std::fabs(turn) <= kParallelTolerance * length(ea) * length(eb) && dot(ea, eb) > 0.0f;
       if (parallel) {
         ++i;
         ++j;

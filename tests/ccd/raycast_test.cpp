@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -149,13 +150,14 @@ struct Tolerances {
 /// Random rays around a shape placed by random transforms, compared with the oracle. Rays
 /// start and end in a disc of `reach` around the shape's placement; `far` offsets everything.
 template <class S>
-void compare_with_oracle(const std::vector<S>& shapes, std::mt19937& rng, float reach,
-                         Vec2 far, const Tolerances& tol) {
+void compare_with_oracle(const std::vector<S>& shapes, std::mt19937& rng, float reach, Vec2 far,
+                         const Tolerances& tol) {
   int hits = 0, misses = 0, disagreements = 0, total = 0;
   for (const S& shape : shapes) {
     const Oracle oracle = oracle_for(shape);
     for (int k = 0; k < 200; ++k) {
-      const Transform xf{far + test::random_point(rng, 5.0f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+      const Transform xf{far + test::random_point(rng, 5.0f),
+                         Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
       // Aim at a point near the shape, and stop short of it or overshoot.
       const Vec2 origin = xf.p + test::random_point(rng, reach);
       const Vec2 target = transform_point(xf, aim_point(shape, rng, 0.6f * reach));
@@ -213,7 +215,8 @@ const Vec2 kFarAway{1.0e4f, -1.0e4f};
 
 std::vector<Circle> random_circles(std::mt19937& rng) {
   std::vector<Circle> v;
-  for (int i = 0; i < 20; ++i) v.push_back(make_circle(test::random_point(rng, 1.0f), uniform(rng, 0.3f, 3.0f)));
+  for (int i = 0; i < 20; ++i)
+    v.push_back(make_circle(test::random_point(rng, 1.0f), uniform(rng, 0.3f, 3.0f)));
   return v;
 }
 std::vector<Capsule> random_capsules(std::mt19937& rng) {
@@ -270,12 +273,78 @@ TEST(Raycast, RoundedPolygonMatchesUnionOfBox2DPieces) {
   compare_with_oracle(random_polygons(rng, true), rng, 4.5f, kFarAway, kFar);
 }
 
+/// The first crossing of the ray with any edge segment, by brute force over all edges.
+Truth edge_by_edge(const std::vector<Vec2>& world, const Ray& ray) {
+  Truth best;
+  for (size_t i = 0; i < world.size(); ++i) {
+    const Vec2 a = world[i], b = world[(i + 1) % world.size()];
+    const float den = cross(ray.translation, b - a);
+    if (den == 0.0f) continue;
+    const float t = cross(a - ray.origin, b - a) / den;
+    const float s = cross(a - ray.origin, ray.translation) / den;
+    if (t >= 0.0f && t <= 1.0f && s >= 0.0f && s <= 1.0f && (!best.hit || t < best.fraction)) {
+      best = {true, t, normalize_or_zero(right_perp(b - a))};
+    }
+  }
+  return best;
+}
+
+// Polygons beyond Box2D's 8 vertices, up to kMaxPolygonVertices (the side masks use all 64
+// bits), against the first crossing over every edge.
+TEST(Raycast, LargePolygonsMatchEdgeByEdge) {
+  std::mt19937 rng(16);
+  int hits = 0, misses = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = trial % 2 ? kMaxPolygonVertices : 9 + static_cast<int>(rng() % 55);
+    std::vector<Vec2> pts;
+    for (int i = 0; i < n; ++i) {
+      const float a = 2.0f * test::kPi * (static_cast<float>(i) + uniform(rng, -0.2f, 0.2f)) / n;
+      pts.push_back({2.0f * std::cos(a), 1.5f * std::sin(a)});
+    }
+    const Polygon poly = make_convex_polygon(pts);
+    const Transform xf = test::random_transform(rng, 10.0f);
+    const std::vector<Vec2> world = test::world_vertices(poly, xf);
+    for (int k = 0; k < 20; ++k) {
+      const Vec2 origin = xf.p + test::random_point(rng, 4.0f);
+      const Ray ray{origin,
+                    (xf.p + test::random_point(rng, 2.0f) - origin) * uniform(rng, 0.5f, 2.0f)};
+      const test::BruteDistance start = test::brute_distance(world, origin);
+      Truth truth = start.inside ? Truth{} : edge_by_edge(world, ray);
+      const RayHit ours = raycast(poly, xf, ray);
+      ASSERT_EQ(ours.hit, truth.hit) << "trial " << trial << " ray " << k;
+      if (!truth.hit) {
+        ++misses;
+        continue;
+      }
+      ++hits;
+      EXPECT_NEAR(ours.fraction, truth.fraction, 1e-5f);
+      EXPECT_VEC2_NEAR(ours.normal, truth.normal, 1e-3f);
+    }
+  }
+  EXPECT_GT(hits, 1200);
+  EXPECT_GT(misses, 1200);
+}
+
+// Edge case 0: a ray with a NaN coordinate reports no hit rather than garbage.
+TEST(Raycast, NonFiniteRayMisses) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<Shape2D> shapes = {make_circle({0.0f, 0.0f}, 1.0f),
+                                       make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.5f),
+                                       make_box({1.0f, 1.0f}), make_box({1.0f, 1.0f}, 0.5f),
+                                       make_segment({-1.0f, 0.0f}, {1.0f, 0.0f})};
+  for (const Shape2D& s : shapes) {
+    EXPECT_FALSE(raycast(s, Transform{}, Ray{{nan, 0.0f}, {6.0f, 0.0f}}).hit) << type_name(s);
+    EXPECT_FALSE(raycast(s, Transform{}, Ray{{-3.0f, 0.0f}, {6.0f, nan}}).hit) << type_name(s);
+  }
+}
+
 // Edge case 1: a ray that starts inside never enters, however it is aimed and however long.
 TEST(Raycast, RayStartingInsideMisses) {
   std::mt19937 rng(6);
-  const std::vector<Shape2D> shapes = {
-      make_circle({0.5f, 0.0f}, 1.0f), make_capsule({-1.0f, 0.0f}, {1.0f, 0.5f}, 0.5f),
-      make_box({1.0f, 0.5f}), make_box({1.0f, 0.5f}, 0.3f), test::random_polygon(rng, 7, 1.0f, 0.2f)};
+  const std::vector<Shape2D> shapes = {make_circle({0.5f, 0.0f}, 1.0f),
+                                       make_capsule({-1.0f, 0.0f}, {1.0f, 0.5f}, 0.5f),
+                                       make_box({1.0f, 0.5f}), make_box({1.0f, 0.5f}, 0.3f),
+                                       test::random_polygon(rng, 7, 1.0f, 0.2f)};
   int tested = 0;
   for (const Shape2D& shape : shapes) {
     for (int k = 0; k < 300; ++k) {
@@ -365,18 +434,23 @@ TEST(Raycast, RayCollinearWithSegment) {
   for (int k = 0; k < 50; ++k) {
     const Transform xf = k == 0 ? Transform{} : test::random_transform(rng, 10.0f);
     const float tol = 1e-5f;
-    const RayHit from_left = raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {4.0f, 0.0f})});
+    const RayHit from_left =
+        raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {4.0f, 0.0f})});
     ASSERT_TRUE(from_left.hit);
     EXPECT_NEAR(from_left.fraction, 0.5f, tol);
     EXPECT_VEC2_NEAR(from_left.point, transform_point(xf, {-1.0f, 0.0f}), 2.0f * tol);
     EXPECT_VEC2_NEAR(from_left.normal, rotate(xf.q, {-1.0f, 0.0f}), 1e-5f);
-    const RayHit from_right = raycast(seg, xf, Ray{transform_point(xf, {2.0f, 0.0f}), rotate(xf.q, {-4.0f, 0.0f})});
+    const RayHit from_right =
+        raycast(seg, xf, Ray{transform_point(xf, {2.0f, 0.0f}), rotate(xf.q, {-4.0f, 0.0f})});
     ASSERT_TRUE(from_right.hit);
     EXPECT_NEAR(from_right.fraction, 0.25f, tol);
     EXPECT_VEC2_NEAR(from_right.normal, rotate(xf.q, {1.0f, 0.0f}), 1e-5f);
-    EXPECT_FALSE(raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {-4.0f, 0.0f})}).hit);
-    EXPECT_FALSE(raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {1.0f, 0.0f})}).hit);
-    EXPECT_FALSE(raycast(seg, xf, Ray{transform_point(xf, {0.5f, 0.0f}), rotate(xf.q, {4.0f, 0.0f})}).hit);
+    EXPECT_FALSE(
+        raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {-4.0f, 0.0f})}).hit);
+    EXPECT_FALSE(
+        raycast(seg, xf, Ray{transform_point(xf, {-3.0f, 0.0f}), rotate(xf.q, {1.0f, 0.0f})}).hit);
+    EXPECT_FALSE(
+        raycast(seg, xf, Ray{transform_point(xf, {0.5f, 0.0f}), rotate(xf.q, {4.0f, 0.0f})}).hit);
   }
 }
 
@@ -399,12 +473,14 @@ void bounce_between(const Mirror& bottom, const Mirror& top, float bottom_face, 
   const float theta = 0.7f;
   std::mt19937 rng(10);
   for (int trial = 0; trial < 20; ++trial) {
-    const Transform xf = trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 50.0f);
+    const Transform xf =
+        trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 50.0f);
     const float tol = trial % 2 ? 2e-2f : 1e-3f;
     const Transform xb{transform_point(xf, {0.0f, bottom_face}), xf.q};
     const Transform xt{transform_point(xf, {0.0f, top_face}), xf.q};
     const float total = 40.0f;
-    Ray ray{transform_point(xf, {0.0f, kH / 2}), rotate(xf.q, total * Vec2{std::cos(theta), std::sin(theta)})};
+    Ray ray{transform_point(xf, {0.0f, kH / 2}),
+            rotate(xf.q, total * Vec2{std::cos(theta), std::sin(theta)})};
     float travelled = 0.0f;
     for (int k = 0; k < 8; ++k) {
       const bool top_next = k % 2 == 0;
@@ -414,7 +490,8 @@ void bounce_between(const Mirror& bottom, const Mirror& top, float bottom_face, 
       // The mirror just left: the reflected ray starts on it, and rounding may put that start
       // a hair behind it, so it can be re-hit at fraction ~0. A laser loop skips it.
       if (other.hit) EXPECT_LE(other.fraction * length(ray.translation), tol) << "bounce " << k;
-      const Vec2 expected{(kH / 2 + static_cast<float>(k) * kH) / std::tan(theta), top_next ? kH : 0.0f};
+      const Vec2 expected{(kH / 2 + static_cast<float>(k) * kH) / std::tan(theta),
+                          top_next ? kH : 0.0f};
       SCOPED_TRACE(k);
       EXPECT_VEC2_NEAR(h.point, transform_point(xf, expected), tol);
       EXPECT_VEC2_NEAR(h.normal, rotate(xf.q, {0.0f, top_next ? -1.0f : 1.0f}), 1e-4f);

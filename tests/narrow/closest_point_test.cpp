@@ -46,7 +46,8 @@ TEST(ClosestPoint, PolygonMatchesMinOverEdges) {
     const float radius = trial % 2 ? uniform(rng, 0.05f, 0.8f) : 0.0f;
     const float size = uniform(rng, 0.5f, 4.0f);
     const Polygon poly = test::random_polygon(rng, 3 + trial % 10, size, radius);
-    const Transform xf{far + test::random_point(rng, 10.0f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xf{far + test::random_point(rng, 10.0f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
     const std::vector<Vec2> world = test::world_vertices(poly, Transform{xf.p - far, xf.q});
     const float tol = far_out ? 4e-3f : 2e-4f;
     for (int k = 0; k < 30; ++k) {
@@ -107,7 +108,8 @@ TEST(ClosestPoint, PolygonFeatureOfEachVoronoiRegion) {
       const Vec2 in_wedge = v + 2.0f * (a * n_prev + b * n);
       const PointQuery qv = closest_point(poly, xf, transform_point(xf, in_wedge));
       EXPECT_EQ(qv.feature, (Feature{FeatureType::vertex, i}));
-      EXPECT_VEC2_NEAR(qv.closest, transform_point(xf, v + poly.radius * normalize_or_zero(in_wedge - v)), tol);
+      EXPECT_VEC2_NEAR(qv.closest,
+                       transform_point(xf, v + poly.radius * normalize_or_zero(in_wedge - v)), tol);
       // Edge i's region: the slab over the edge, outside it.
       const float s = uniform(rng, 0.05f, 0.95f), h = uniform(rng, 0.01f, 3.0f);
       const Vec2 in_slab = v + s * (w - v) + h * n;
@@ -152,7 +154,8 @@ TEST(ClosestPoint, CircleAnalytic) {
   EXPECT_GT(inside, 600);
   EXPECT_GT(outside, 600);
   // The centre itself: distance -radius, some surface point.
-  const PointQuery at_center = closest_point(make_circle({1.0f, 2.0f}, 0.5f), Transform{}, {1.0f, 2.0f});
+  const PointQuery at_center =
+      closest_point(make_circle({1.0f, 2.0f}, 0.5f), Transform{}, {1.0f, 2.0f});
   EXPECT_FLOAT_EQ(at_center.distance, -0.5f);
   EXPECT_NEAR(distance(at_center.closest, Vec2(1.0f, 2.0f)), 0.5f, 1e-6f);
 }
@@ -160,8 +163,8 @@ TEST(ClosestPoint, CircleAnalytic) {
 /// Capsule (radius r) and segment (r = 0) against dense sampling of the core, plus features by
 /// construction: before a, past b, right and left of a -> b.
 template <class S>
-void check_segment_like(const S& shape, Vec2 a, Vec2 b, float r, std::mt19937& rng,
-                        int& inside, int& outside) {
+void check_segment_like(const S& shape, Vec2 a, Vec2 b, float r, std::mt19937& rng, int& inside,
+                        int& outside) {
   const bool far = rng() % 2 == 0;
   const Transform xf = test::random_transform(rng, far ? 1.0e4f : 10.0f);
   const float length_ab = distance(a, b);
@@ -183,8 +186,10 @@ void check_segment_like(const S& shape, Vec2 a, Vec2 b, float r, std::mt19937& r
                          b + h * u + uniform(rng, -1.0f, 1.0f) * h * right,
                          a + uniform(rng, 0.05f, 0.95f) * (b - a) + h * right,
                          a + uniform(rng, 0.05f, 0.95f) * (b - a) - h * right};
-  const Feature expected[4] = {{FeatureType::vertex, 0}, {FeatureType::vertex, 1},
-                               {FeatureType::edge, 0}, {FeatureType::edge, 1}};
+  const Feature expected[4] = {{FeatureType::vertex, 0},
+                               {FeatureType::vertex, 1},
+                               {FeatureType::edge, 0},
+                               {FeatureType::edge, 1}};
   for (int c = 0; c < 4; ++c) {
     const PointQuery q = closest_point(shape, xf, transform_point(xf, cases[c]));
     EXPECT_EQ(q.feature, expected[c]) << "case " << c;
@@ -214,7 +219,8 @@ TEST(ClosestPoint, SegmentMatchesSampledSegment) {
   EXPECT_EQ(inside, 0);  // a segment has no inside
   EXPECT_EQ(outside, 4000);
   // On the segment: distance 0, the point itself, edge 0 by convention.
-  const PointQuery on = closest_point(make_segment({-1.0f, 0.0f}, {1.0f, 0.0f}), Transform{}, {0.25f, 0.0f});
+  const PointQuery on =
+      closest_point(make_segment({-1.0f, 0.0f}, {1.0f, 0.0f}), Transform{}, {0.25f, 0.0f});
   EXPECT_EQ(on.distance, 0.0f);
   EXPECT_VEC2_NEAR(on.closest, Vec2(0.25f, 0.0f), 0.0f);
   EXPECT_EQ(on.feature, (Feature{FeatureType::edge, 0}));

@@ -62,7 +62,8 @@ TEST(Intersect, OverlappingBoxesAnalytic) {
   const Polygon b = make_box({1.0f, 1.5f}, {2.5f, 0.5f}, 0.0f);
   // Overlap: x in [1.5, 2], y in [-1, 1]: area 1, centroid (1.75, 0).
   for (int trial = 0; trial < 100; ++trial) {
-    const Transform xf = trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 10.0f);
+    const Transform xf =
+        trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 10.0f);
     const float tol = trial % 2 ? 4e-3f : 1e-5f;
     const OverlapPolygon o = intersect(a, xf, b, xf);
     ASSERT_EQ(o.count, 4);
@@ -81,8 +82,10 @@ TEST(Intersect, RandomPairsMatchBruteForceOverlap) {
     const Vec2 far = far_out ? Vec2{-1.0e4f, 1.0e4f} : Vec2{0.0f, 0.0f};
     const Polygon a = test::random_polygon(rng, 3 + trial % 10, uniform(rng, 0.5f, 2.0f));
     const Polygon b = test::random_polygon(rng, 3 + trial % 9, uniform(rng, 0.5f, 2.0f));
-    const Transform xa{far + test::random_point(rng, 1.5f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
-    const Transform xb{far + test::random_point(rng, 1.5f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xa{far + test::random_point(rng, 1.5f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xb{far + test::random_point(rng, 1.5f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
     const OverlapPolygon o = intersect(a, xa, b, xb);
     const std::vector<Vec2> wa = test::world_vertices(a, {xa.p - far, xa.q});
     const std::vector<Vec2> wb = test::world_vertices(b, {xb.p - far, xb.q});
@@ -143,7 +146,8 @@ TEST(Intersect, TouchingAndDisjointAreEmpty) {
   const Polygon a = make_box({1.0f, 1.0f});
   for (int trial = 0; trial < 100; ++trial) {
     const bool far = trial % 2 == 1;
-    const Transform xf = trial == 0 ? Transform{} : test::random_transform(rng, far ? 1.0e4f : 10.0f);
+    const Transform xf =
+        trial == 0 ? Transform{} : test::random_transform(rng, far ? 1.0e4f : 10.0f);
     auto placed = [&](Vec2 offset) { return Transform{transform_point(xf, offset), xf.q}; };
     // Sliver allowed: placement rounding (2e-3 far, 2e-6 near) times the edge length 2.
     const float sliver = far ? 4e-3f : 0.0f;
@@ -170,15 +174,19 @@ TEST(Intersect, ContainedPolygonIsTheOverlap) {
     const Polygon outer = make_box({3.0f, 3.0f});
     const Polygon inner = test::random_polygon(rng, 3 + trial % 12, 1.0f);
     const Transform xo = test::random_transform(rng, far ? 1.0e4f : 10.0f);
-    const Transform xi{transform_point(xo, test::random_point(rng, 1.5f)), Rot2::from_angle(uniform(rng, -3.0f, 3.0f))};
+    const Transform xi{transform_point(xo, test::random_point(rng, 1.5f)),
+                       Rot2::from_angle(uniform(rng, -3.0f, 3.0f))};
     for (int order = 0; order < 2; ++order) {
-      const OverlapPolygon o = order == 0 ? intersect(outer, xo, inner, xi) : intersect(inner, xi, outer, xo);
+      const OverlapPolygon o =
+          order == 0 ? intersect(outer, xo, inner, xi) : intersect(inner, xi, outer, xo);
       ASSERT_EQ(o.count, inner.count);
-      EXPECT_NEAR(o.area, signed_area(std::span<const Vec2>(inner.vertices.data(), inner.count)), tol);
+      EXPECT_NEAR(o.area, signed_area(std::span<const Vec2>(inner.vertices.data(), inner.count)),
+                  tol);
       EXPECT_VEC2_NEAR(o.centroid, transform_point(xi, inner.centroid), tol);
       for (int i = 0; i < inner.count; ++i) {
         float best = INFINITY;
-        for (int k = 0; k < o.count; ++k) best = std::min(best, distance(o.vertices[k], transform_point(xi, inner.vertices[i])));
+        for (int k = 0; k < o.count; ++k)
+          best = std::min(best, distance(o.vertices[k], transform_point(xi, inner.vertices[i])));
         EXPECT_LE(best, tol);
       }
     }

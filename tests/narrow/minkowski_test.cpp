@@ -75,9 +75,11 @@ TEST(Minkowski, DifferenceIsHullOfPairwiseDifferences) {
     const bool far = trial % 4 == 0;
     const float ra = trial % 3 == 0 ? uniform(rng, 0.1f, 0.5f) : 0.0f;
     const Polygon a = test::random_polygon(rng, 3 + trial % 12, uniform(rng, 0.5f, 3.0f), ra);
-    const Polygon b = test::random_polygon(rng, 3 + (trial / 12) % 12, uniform(rng, 0.5f, 3.0f), 0.25f);
+    const Polygon b =
+        test::random_polygon(rng, 3 + (trial / 12) % 12, uniform(rng, 0.5f, 3.0f), 0.25f);
     const Transform xa = test::random_transform(rng, far ? 1.0e4f : 10.0f);
-    const Transform xb{xa.p + test::random_point(rng, 5.0f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xb{xa.p + test::random_point(rng, 5.0f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
     const MinkowskiPolygon diff = minkowski_difference(a, xa, b, xb);
     expect_hull_of(diff, pairwise(test::world_vertices(a, xa), test::world_vertices(b, xb), -1.0f),
                    far ? 4e-3f : 1e-4f);
@@ -89,7 +91,8 @@ TEST(Minkowski, DifferenceIsHullOfPairwiseDifferences) {
 TEST(Minkowski, ParallelEdgesMerge) {
   std::mt19937 rng(23);
   for (int trial = 0; trial < 50; ++trial) {
-    const Transform xf = trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 10.0f);
+    const Transform xf =
+        trial == 0 ? Transform{} : test::random_transform(rng, trial % 2 ? 1.0e4f : 10.0f);
     const float tol = trial % 2 ? 8e-3f : 1e-5f;
     const Polygon a = make_box({1.0f, 2.0f});
     const Polygon b = make_box({0.5f, 0.25f}, {3.0f, 1.0f}, 0.0f);
@@ -97,7 +100,8 @@ TEST(Minkowski, ParallelEdgesMerge) {
     const MinkowskiPolygon sum = minkowski_sum(a, xf, b, xb);
     ASSERT_EQ(sum.vertices.size(), 4u);
     const Vec2 center = transform_point(xf, {0.0f, 0.0f}) + transform_point(xb, {3.0f, 1.0f});
-    for (Vec2 corner : {Vec2{-1.5f, -2.25f}, Vec2{1.5f, -2.25f}, Vec2{1.5f, 2.25f}, Vec2{-1.5f, 2.25f}}) {
+    for (Vec2 corner :
+         {Vec2{-1.5f, -2.25f}, Vec2{1.5f, -2.25f}, Vec2{1.5f, 2.25f}, Vec2{-1.5f, 2.25f}}) {
       const Vec2 expected = center + rotate(xf.q, corner);
       float best = INFINITY;
       for (Vec2 v : sum.vertices) best = std::min(best, distance(v, expected));
@@ -121,8 +125,10 @@ TEST(Minkowski, SignedDistanceToOriginMatchesBruteForce) {
     // Place both near a common far point; the brute force works on the same inputs shifted
     // exactly back to the origin.
     const Vec2 base = far ? Vec2{1.0e4f, -1.0e4f} : Vec2{0.0f, 0.0f};
-    const Transform xa{base + test::random_point(rng, 2.0f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
-    const Transform xb{base + test::random_point(rng, 2.0f), Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xa{base + test::random_point(rng, 2.0f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
+    const Transform xb{base + test::random_point(rng, 2.0f),
+                       Rot2::from_angle(uniform(rng, -3.2f, 3.2f))};
     const MinkowskiPolygon diff = minkowski_difference(a, xa, b, xb);
     const std::vector<Vec2> wa = test::world_vertices(a, {xa.p - base, xa.q});
     const std::vector<Vec2> wb = test::world_vertices(b, {xb.p - base, xb.q});

@@ -87,7 +87,7 @@ struct BruteDistance {
   float boundary = 0.0f;
   bool inside = false;
   Vec2 closest{0.0f, 0.0f};
-  int edge = 0;  ///< edge whose segment holds the closest point
+  int edge = 0;    ///< edge whose segment holds the closest point
   float s = 0.0f;  ///< where on that edge, 0..1
 };
 inline BruteDistance brute_distance(const std::vector<Vec2>& v, Vec2 p) {

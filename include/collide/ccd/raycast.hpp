@@ -18,16 +18,19 @@ struct RayHit {
 
 /// First entry of `ray` (world space) into the shape placed by `xf`. A ray must enter to hit:
 /// one that starts in the closed shape (inside, or exactly on its surface whichever way it
-/// heads) reports no hit, and so does a ray of zero length. The ray is moved into the shape's
+/// heads) reports no hit, and so do a ray of zero length and a ray with a NaN coordinate. Shapes
+/// must be valid (built by the make_* functions), `xf` finite. The ray is moved into the shape's
 /// local frame first, so precision does not degrade far from the world origin.
 /// - Circle: analytic quadratic (Ericson, Real-Time Collision Detection, 5.3.2), discriminant
 ///   from the closest approach (Haines et al., Ray Tracing Gems, ch. 7).
 /// - Capsule: its flat sides as a slab, then the end disc on the side the ray meets (Ericson
 ///   5.3.7 in 2D).
-/// - Polygon: clipping the ray by each edge half-plane (Cyrus & Beck 1978; Ericson 5.3.8); a
-///   rounded polygon is exactly the union of its core, its edges pushed out by the radius and
-///   a disc at each vertex: the pushed-out polygon is clipped, then one vertex disc is tested
-///   when the entry lands beyond an edge's end.
+/// - Polygon: the ray's line splits the vertices into left and right; walking
+///   counter-clockwise, the edge that crosses from left to right is where the line enters (a
+///   branch-free scan, one division). A rounded polygon is exactly the union of its core, its
+///   edges pushed out by the radius and a disc at each vertex: the pushed-out polygon is
+///   clipped by its edge half-planes (Cyrus & Beck 1978; Ericson 5.3.8), then one vertex disc
+///   is tested when the entry lands beyond an edge's end.
 /// - Segment: two-sided, the normal faces the ray's origin. A ray along the segment's line
 ///   (parallel within kParallelTolerance, on the line within kRelativeTolerance of the
 ///   segment's length) hits the nearer end with the normal pointing back along the ray, since
