@@ -93,11 +93,14 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   Vec2 n{0.0f, 0.0f};             // current search direction, unit
   float dist = 0.0f;              // distance from x to the simplex: upper bound of the cores'
   float lower_known = -INFINITY;  // best lower bound of the cores' distance at x (support planes)
+  Vec2 lower_normal{0.0f, 0.0f};  // normal of the plane that gives it
   bool advanced = false;
   bool converged = false;
   bool moved = true;
   bool stalled = false;
   SimplexIds previous(simplex);  // the reduced simplex of the last iteration
+  int last_ia = 0;               // last support points: where the next support walk starts
+  int last_ib = 0;
   int iteration = 0;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
     if (simplex.count == 2) {
@@ -132,20 +135,29 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
       break;
     }
     n = d * (1.0f / d_len);
-    if (dist - radius <= tolerance && dist - lower_known <= tolerance) {
-      // Converged without another support query: the last plane already bounds the distance
-      // from below (the usual end, right after the ray advanced onto a plane).
+    if (dist - radius <= tolerance && dist - lower_known <= tolerance &&
+        dist * std::fabs(cross(n, lower_normal)) <= tolerance && dot(n, lower_normal) > 0.0f) {
+      // Converged without another support query (the usual end, right after the ray advanced
+      // onto a plane): that plane bounds the distance from below, and the simplex's direction
+      // is the plane's (within tolerance at this distance), so the simplex's closest point
+      // lies on D's boundary in that plane: it is D's closest feature, not a chord.
       converged = true;
       break;
     }
 
-    const int ia = a.support_index(-n);
-    const int ib = b.support_index(inv_rotate(b_in_a.q, n));
+    // Support points walked from the last ones (polygons; other proxies scan).
+    const int ia = a.support_index_from(-n, last_ia);
+    const int ib = b.support_index_from(inv_rotate(b_in_a.q, n), last_ib);
+    last_ia = ia;
+    last_ib = ib;
     const Vec2 wa = a.point(ia);
     const Vec2 wb = transform_point(b_in_a, b.point(ib));
     Vec2 w = (wb - wa) - t * ray;  // relative to x
     const float lower = -dot(n, w);  // lower bound of the cores' distance at x
-    lower_known = std::max(lower_known, lower);
+    if (lower > lower_known) {
+      lower_known = lower;
+      lower_normal = n;
+    }
     if (dist - radius <= tolerance && (dist - lower <= tolerance || dist <= tolerance)) {
       // Within tolerance of touching, and either the simplex is the closest feature (not a
       // chord through D), so its barycentric coordinates give the contact point, or x is
@@ -179,6 +191,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         // At the new x the plane through p is exactly the radius sum away (or, clamped at
         // t = 1, gap + (1 - t) rn further).
         lower_known = lower + (t_new - t_old) * rn;
+        lower_normal = n;
       }
     }
     if (holds(simplex, ia, ib)) {
