@@ -2,6 +2,7 @@
 
 #include "shape_size.hpp"
 
+#include <collide/core/tolerance.hpp>
 #include <collide/narrow/distance.hpp>
 
 #include <algorithm>
@@ -73,10 +74,16 @@ ToiResult translation_toi(const ConvexProxy& a, const Sweep& sweep_a, const Conv
 
 ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const ConvexProxy& b,
                          const Sweep& sweep_b, float target) noexcept {
-  if (target < 0.0f) {
-    target = kToiTargetSeparation *
-             detail::smaller_size(detail::proxy_size(a), detail::proxy_size(b));
-  }
+  const float size_a = detail::proxy_size(a);
+  const float size_b = detail::proxy_size(b);
+  if (target < 0.0f) target = kToiTargetSeparation * detail::smaller_size(size_a, size_b);
+  // Not below what float can resolve: the world positions are subtracted first (rounding
+  // relative to their magnitude), and GJK then counts shapes closer than kRelativeTolerance of
+  // their coordinates' size as touching.
+  const float magnitude = std::max(std::max(length(sweep_a.c0), length(sweep_a.c1)),
+                                   std::max(length(sweep_b.c0), length(sweep_b.c1)));
+  target = std::max({target, kToiRoundingTarget * (magnitude + size_a + size_b),
+                     2.0f * kRelativeTolerance * (size_a + size_b)});
   if (sweep_a.a0 == sweep_a.a1 && sweep_b.a0 == sweep_b.a1) {
     return translation_toi(a, sweep_a, b, sweep_b, target);
   }

@@ -38,6 +38,12 @@ namespace collide {
 /// before touching, so a solver that moves them to the time of impact leaves a sliver of gap.
 inline constexpr float kToiTargetSeparation = 1e-3f;
 
+/// Smallest target, as a fraction of the coordinates' magnitude (positions of the sweeps plus
+/// the shapes' sizes): below about 30 float ulps the distance itself is rounding noise. At
+/// 1e4 from the origin the target is then at least 0.04. The target is also kept at least
+/// twice GJK's touching tolerance (kRelativeTolerance of the two shapes' sizes).
+inline constexpr float kToiRoundingTarget = 4e-6f;
+
 /// The separation at the reported time is within this fraction of the target of the target.
 inline constexpr float kToiToleranceFraction = 0.25f;
 
@@ -66,7 +72,8 @@ struct ToiResult {
 
 /// First time in [0, 1] at which proxy A moving along `sweep_a` and proxy B moving along
 /// `sweep_b` come within `target` of each other (world units; a negative value means the
-/// default, kToiTargetSeparation times the smaller shape's size), reported within
+/// default, kToiTargetSeparation times the smaller shape's size; raised to the float
+/// resolution of the problem, see kToiRoundingTarget), reported within
 /// kToiToleranceFraction * target of it. Radii are included exactly. Conservative
 /// advancement (Mirtich 1996); pure translations use the GJK ray cast (van den Bergen 2004).
 /// Never allocates. Sweeps must be finite (COLLIDE_ASSERT only; the validated entry points
