@@ -287,6 +287,37 @@ TEST(ShapeCast, NoTunnellingThroughThinWalls) {
   EXPECT_EQ(shots, 3 * 2 * 300);
 }
 
+// 7b. Polygons of kMaxPolygonVertices vertices (near-circles: many nearly parallel edges, the
+// hard case for a simplex method) converge well within the iteration cap and stay exact.
+TEST(ShapeCast, LargePolygonsConverge) {
+  std::mt19937 rng(64);
+  int hits = 0;
+  for (int k = 0; k < 100; ++k) {
+    const Polygon a = test::random_polygon(rng, kMaxPolygonVertices, uniform(rng, 0.5f, 2.0f));
+    const Polygon b = test::random_polygon(rng, kMaxPolygonVertices, uniform(rng, 0.5f, 2.0f));
+    Scene s{test::random_transform(rng, 5.0f), test::random_point(rng, 10.0f),
+            test::random_transform(rng, 5.0f), test::random_point(rng, 10.0f)};
+    if (k % 2 == 0) s.vb = s.va + (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f);  // aimed
+    const ShapeCastResult r = shape_cast(a, s.xa, s.va, b, s.xb, s.vb);
+    ASSERT_NE(r.status, ImpactStatus::failed) << k;
+    EXPECT_LT(r.iterations, kShapeCastMaxIterations / 2);
+    const ConvexProxy pa(a);
+    const ConvexProxy pb(b);
+    const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
+    if (truth.touches) {
+      ASSERT_TRUE(r.hit) << k;
+      EXPECT_LE(r.t, truth.t_first + late_tolerance(pa, pb, s));
+    }
+    if (r.status != ImpactStatus::hit) continue;
+    ++hits;
+    const test::B2Proxy ba(pa);
+    const test::B2Proxy bb(pb);
+    EXPECT_LE(truth.distance_at(ba, bb, r.t), hit_tolerance(pa, pb, s));
+  }
+  EXPECT_GT(hits, 30);
+  EXPECT_LT(hits, 80);
+}
+
 // 8. The Shape2D overload (used by the query tool) gives the same answer as the typed one.
 TEST(ShapeCast, VariantMatchesTyped) {
   const Capsule cap = make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.25f);
