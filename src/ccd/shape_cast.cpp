@@ -1,0 +1,258 @@
+#include <collide/ccd/shape_cast.hpp>
+
+#include "../narrow/gjk.hpp"
+#include "shape_size.hpp"
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace collide {
+namespace {
+
+[[nodiscard]] bool holds(const detail::GjkSimplex& s, int ia, int ib) noexcept {
+  for (int i = 0; i < s.count; ++i) {
+    if (s.v[i].ia == ia && s.v[i].ib == ib) return true;
+  }
+  return false;
+}
+
+/// The vertex pairs of a simplex, to notice an iteration that changed nothing.
+struct SimplexIds {
+  std::array<int, 3> ia{};
+  std::array<int, 3> ib{};
+  int count = 0;
+
+  explicit SimplexIds(const detail::GjkSimplex& s) noexcept : count(s.count) {
+    for (int i = 0; i < s.count; ++i) {
+      ia[i] = s.v[i].ia;
+      ib[i] = s.v[i].ib;
+    }
+  }
+  /// Same vertex pairs as `s`, as a set?
+  [[nodiscard]] bool same_as(const detail::GjkSimplex& s) const noexcept {
+    if (s.count != count) return false;
+    for (int i = 0; i < count; ++i) {
+      if (!holds(s, ia[i], ib[i])) return false;
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+namespace detail {
+void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb) {
+  if (!is_valid(xa)) throw InvalidInput("xa: not finite or rotation not unit length");
+  if (!is_valid(xb)) throw InvalidInput("xb: not finite or rotation not unit length");
+  if (!is_finite(va)) throw InvalidInput("va: not finite");
+  if (!is_finite(vb)) throw InvalidInput("vb: not finite");
+}
+}  // namespace detail
+
+// GJK ray cast (van den Bergen 2004). The GJK machinery (simplex of Minkowski difference
+// points, signed-barycentric reduction, witness points) is the one of gjk_distance
+// (src/narrow/gjk.hpp), so it works on D = B - A in A's frame: the shapes touch at t when the
+// ray point x(t) = t s, s = va - vb, is within the radius sum R of D. The simplex points are
+// stored relative to x, so the reduction finds the simplex point closest to x.
+//
+// Loop invariant: no contact before t. Each step takes the search direction n (unit, from the
+// simplex's closest point towards x) and the support point p of D along n. The plane through p
+// with normal n bounds D, so the separation at x is at least gap = (x - p).n - R. If gap > 0
+// the ray may safely move forward to where it meets that plane (shifted by R); if it moves
+// along or away from the plane instead, it never touches D. Then p joins the simplex. The
+// loop ends when the upper bound of the separation at x (distance to the simplex, minus R) is
+// within tolerance and the simplex is D's closest feature (lower and upper bounds agree).
+ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 va,
+                               const ConvexProxy& b, const Transform& xb, Vec2 vb) noexcept {
+  COLLIDE_ASSERT(is_finite(va) && is_finite(vb), "shape cast velocities must be finite");
+  COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "shape cast proxies must hold points");
+
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 ray = inv_rotate(xa.q, va - vb);  // x(t) = t * ray, A's frame
+  const float radius = a.radius() + b.radius();
+
+  const float size_a = detail::proxy_size(a);
+  const float size_b = detail::proxy_size(b);
+  const float smaller = detail::smaller_size(size_a, size_b);
+  const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
+  const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
+
+  detail::GjkSimplex simplex;
+  // Start from the first core points (x = 0, so relative is absolute). The seed of
+  // gjk_distance (support pair between the origins) saved no time here: casts converge in 2-3
+  // iterations either way and the seed costs one support query.
+  simplex.v[0] = detail::make_vertex(a, b, b_in_a, 0, 0);
+  simplex.count = 1;
+
+  ShapeCastResult result;
+  float t = 0.0f;
+  Vec2 plane_normal{0.0f, 0.0f};  // of the last support plane advanced to, from D towards x
+  Vec2 n{0.0f, 0.0f};             // current search direction, unit
+  float dist = 0.0f;              // distance from x to the simplex: upper bound of the cores'
+  float lower_known = -INFINITY;  // best lower bound of the cores' distance at x (support planes)
+  Vec2 lower_normal{0.0f, 0.0f};  // normal of the plane that gives it
+  bool advanced = false;
+  bool converged = false;
+  bool moved = true;
+  bool stalled = false;
+  SimplexIds previous(simplex);  // the reduced simplex of the last iteration
+  int last_ia = 0;               // last support points: where the next support walk starts
+  int last_ib = 0;
+  int iteration = 0;
+  for (; iteration < kShapeCastMaxIterations; ++iteration) {
+    if (simplex.count == 2) {
+      detail::solve_edge(simplex);
+    } else if (simplex.count == 3) {
+      detail::solve_triangle(simplex);
+      if (simplex.count == 3) {
+        converged = true;  // x inside the cores' difference: they touch or overlap at t
+        break;
+      }
+    }
+    if (!moved && previous.same_as(simplex)) {
+      // The new support point was dropped again and x did not move: no progress is possible
+      // in float; the distance is as converged as it gets.
+      converged = dist - radius <= tolerance;
+      stalled = !converged;
+      break;
+    }
+    previous = SimplexIds(simplex);
+    // Direction from the simplex towards x; on an edge the edge's perpendicular (exact even
+    // when the points are far from x, which the support planes built on it need).
+    const Vec2 w0 = simplex.v[0].w;
+    Vec2 d = -w0;
+    if (simplex.count == 2) {
+      const Vec2 e = simplex.v[1].w - w0;
+      d = cross(e, -w0) > 0.0f ? left_perp(e) : right_perp(e);
+    }
+    const float d_len = length(d);
+    dist = -dot(d, w0) / d_len;
+    if (!(dist > 0.0f)) {
+      converged = true;  // x on the simplex: the cores touch at t
+      break;
+    }
+    n = d * (1.0f / d_len);
+    if (dist - radius <= tolerance && dist - lower_known <= tolerance &&
+        dist * std::fabs(cross(n, lower_normal)) <= tolerance && dot(n, lower_normal) > 0.0f) {
+      // Converged without another support query (the usual end, right after the ray advanced
+      // onto a plane): that plane bounds the distance from below, and the simplex's direction
+      // is the plane's (within tolerance at this distance), so the simplex's closest point
+      // lies on D's boundary in that plane: it is D's closest feature, not a chord.
+      converged = true;
+      break;
+    }
+
+    // Support points walked from the last ones (polygons; other proxies scan).
+    const int ia = a.support_index_from(-n, last_ia);
+    const int ib = b.support_index_from(inv_rotate(b_in_a.q, n), last_ib);
+    last_ia = ia;
+    last_ib = ib;
+    const Vec2 wa = a.point(ia);
+    const Vec2 wb = transform_point(b_in_a, b.point(ib));
+    Vec2 w = (wb - wa) - t * ray;  // relative to x
+    const float lower = -dot(n, w);  // lower bound of the cores' distance at x
+    if (lower > lower_known) {
+      lower_known = lower;
+      lower_normal = n;
+    }
+    if (dist - radius <= tolerance && (dist - lower <= tolerance || dist <= tolerance)) {
+      // Within tolerance of touching, and either the simplex is the closest feature (not a
+      // chord through D), so its barycentric coordinates give the contact point, or x is
+      // within tolerance of the simplex itself (cores touching: any simplex point that close
+      // to x is on D's boundary, and the search direction is rounding noise).
+      converged = true;
+      break;
+    }
+    const float gap = lower - radius;  // lower bound of the separation at x
+    moved = false;
+    if (gap > 0.0f) {
+      const float rn = dot(ray, n);
+      if (!(rn < 0.0f)) {
+        // Moving along or away from a plane that D lies behind: never closer than gap.
+        if (gap > tolerance) break;
+      } else {
+        const float t_old = t;
+        float t_new = t + gap / -rn;
+        if (!(t_new <= 1.0f)) {
+          // Reaches the plane only after the step; a hit only if within tolerance at t = 1.
+          if (gap + (1.0f - t) * rn > tolerance) break;
+          t_new = 1.0f;
+        }
+        const Vec2 dx = (t_new - t) * ray;
+        for (int i = 0; i < simplex.count; ++i) simplex.v[i].w -= dx;
+        w -= dx;
+        moved = t_new > t;
+        t = t_new;
+        plane_normal = n;
+        advanced = true;
+        // At the new x the plane through p is exactly the radius sum away (or, clamped at
+        // t = 1, gap + (1 - t) rn further).
+        lower_known = lower + (t_new - t_old) * rn;
+        lower_normal = n;
+      }
+    }
+    if (holds(simplex, ia, ib)) {
+      if (!moved) {
+        // No new support point and x did not move: converged within rounding, and the
+        // support plane says the separation is at most the tolerance.
+        converged = true;
+        break;
+      }
+    } else {
+      detail::GjkVertex& nv = simplex.v[simplex.count++];
+      nv.wa = wa;
+      nv.wb = wb;
+      nv.w = w;
+      nv.ia = ia;
+      nv.ib = ib;
+    }
+  }
+  result.iterations = iteration;
+  result.t = t;
+
+  if (!converged) {
+    result.status = iteration >= kShapeCastMaxIterations || stalled ? ImpactStatus::failed
+                                                                    : ImpactStatus::separated;
+    if (result.status == ImpactStatus::separated) result.t = 1.0f;
+    return result;
+  }
+
+  // Contact: the closest features' points from the simplex's barycentric coordinates.
+  Vec2 pa{0.0f, 0.0f};
+  Vec2 pb{0.0f, 0.0f};
+  detail::witness_points(simplex, pa, pb);
+  // With x inside the triangle, witness_points returns A's point for both (right only at
+  // x = 0); B's point at t = 0 is A's plus x, since x is the difference B - A there.
+  if (simplex.count == 3) pb = pa + t * ray;
+  // The normal, from A to B (D = B - A, so against the direction from D towards x). When the
+  // cores are apart by more than the tolerance (rounded shapes), the direction between their
+  // closest points: the simplex is their closest feature pair, so it is exact, and on a curved
+  // surface it is the only right one. Otherwise the normal of the last support plane the ray
+  // advanced to: x lies on it, so the shapes' separation along it is exactly zero at t, which
+  // makes it a contact normal (at a vertex, one of the valid ones). Without an advance
+  // (overlapped at t = 0) and with touching cores there is none.
+  Vec2 n_local{0.0f, 0.0f};
+  if (simplex.count < 3 && dist > tolerance) {
+    n_local = -n;
+  } else if (advanced) {
+    n_local = -plane_normal;
+  }
+  const Vec2 surface_a = pa + t * inv_rotate(xa.q, va) + a.radius() * n_local;
+  const Vec2 surface_b = pb + t * inv_rotate(xa.q, vb) - b.radius() * n_local;
+  result.hit = true;
+  result.status = advanced ? ImpactStatus::hit : ImpactStatus::overlapped;
+  result.point = transform_point(xa, 0.5f * (surface_a + surface_b));
+  result.normal = rotate(xa.q, n_local);
+  return result;
+}
+
+ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va, const Shape2D& b,
+                           const Transform& xb, Vec2 vb) {
+  detail::check_cast_input(xa, va, xb, vb);
+  return gjk_shape_cast(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
+}
+
+}  // namespace collide
