@@ -6,6 +6,7 @@
 
 #include <collide/broad/registry.hpp>
 #include <collide/ccd/raycast.hpp>
+#include <collide/ccd/shape_cast.hpp>
 #include <collide/core/error.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/contact.hpp>
@@ -257,7 +258,28 @@ json answer(const json& q) {
   } else if (op == "pairs") {
     out = answer_pairs(q);
   } else if (op == "toi") {
-    fail("op", "\"" + op + "\" is not available in this version");
+    const Shape2D a = to_shape(require(q, "a", ""), "a");
+    const Shape2D b = to_shape(require(q, "b", ""), "b");
+    const Transform xa = to_transform(q, "xa");
+    const Transform xb = to_transform(q, "xb");
+    const Vec2 va = to_vec2(require(q, "va", ""), "va");
+    const Vec2 vb = to_vec2(require(q, "vb", ""), "vb");
+    ShapeCastResult r;
+    try {
+      r = shape_cast(a, xa, va, b, xb, vb);
+    } catch (const InvalidInput& e) {
+      fail("", e.what());
+    }
+    if (r.status == ImpactStatus::failed) {
+      fail("", "time of impact did not converge (iteration cap); no contact before t = " +
+                   std::to_string(r.t));
+    }
+    out["hit"] = r.hit;
+    if (r.hit) {
+      out["t"] = number(r.t);
+      out["point"] = vec(r.point);
+      out["normal"] = vec(r.normal);
+    }
   } else {
     fail("op", "unknown op \"" + op + "\"");
   }
@@ -310,6 +332,7 @@ std::string query_ops_help() {
       "  distance       a, xa, b, xb                 -> distance, pa, pb\n"
       "  raycast        shape, x, origin, translation -> hit, fraction, point, normal\n"
       "  closest_point  shape, x, point               -> inside, distance (signed), closest, feature\n"
+      "  toi            a, xa, va, b, xb, vb          -> hit, t (first touch in [0, 1]), point, normal\n"
       "  pairs          boxes, broadphase?            -> pairs ([i, j], i < j, sorted, each once)\n"
       "Shapes: circle {center, radius}, capsule {a, b, radius}, box {half, radius?},\n"
       "        polygon {vertices (convex, counter-clockwise), radius?}, segment {a, b}\n"

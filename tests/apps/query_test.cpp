@@ -225,3 +225,35 @@ TEST(QueryPairs, EveryBroadPhaseGivesTheBruteForcePairsIn2DAnd3D) {
 
 }  // namespace
 }  // namespace collide::cli
+
+namespace collide::cli {
+namespace {
+
+TEST(QueryToi, FirstTouchOfTwoApproachingShapesIsAnalytic) {
+  // Circles of radius 1, 10 apart, closing at 16 per step: gap 8 closes at t = 0.5.
+  const json r = ask(R"({"id": "toi", "op": "toi", "a": {"type": "circle", "radius": 1},
+      "va": [8, 0], "b": {"type": "circle", "radius": 1}, "xb": {"p": [10, 0]}, "vb": [-8, 0]})");
+  ASSERT_TRUE(r["hit"].get<bool>()) << r.dump();
+  EXPECT_NEAR(r["t"].get<double>(), 0.5, 1e-3);
+  EXPECT_NEAR(r["normal"][0].get<double>(), 1.0, 1e-4);
+  EXPECT_NEAR(r["point"][0].get<double>(), 5.0, 1e-2);
+  // A box fired at a thin wall far faster than its own size per step is still caught.
+  const json wall = ask(R"({"op": "toi", "a": {"type": "box", "half": [0.1, 0.1]},
+      "va": [1000, 0], "b": {"type": "segment", "a": [0, -1], "b": [0, 1]}, "xb": {"p": [500, 0]},
+      "vb": [0, 0]})");
+  ASSERT_TRUE(wall["hit"].get<bool>());
+  EXPECT_NEAR(wall["t"].get<double>(), (500.0 - 0.1) / 1000.0, 1e-4);
+  const json miss = ask(R"({"op": "toi", "a": {"type": "circle", "radius": 1}, "va": [0, 5],
+      "b": {"type": "circle", "radius": 1}, "xb": {"p": [10, 0]}, "vb": [0, 0]})");
+  EXPECT_FALSE(miss["hit"].get<bool>());
+  const json already = ask(R"({"op": "toi", "a": {"type": "circle", "radius": 1}, "va": [1, 0],
+      "b": {"type": "circle", "radius": 1}, "xb": {"p": [1, 0]}, "vb": [0, 0]})");
+  ASSERT_TRUE(already["hit"].get<bool>());
+  EXPECT_EQ(already["t"].get<double>(), 0.0);
+  EXPECT_NE(error_of(R"({"op": "toi", "a": {"type": "circle", "radius": 1},
+      "b": {"type": "circle", "radius": 1}, "vb": [0, 0]})").find("va: missing"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace collide::cli
