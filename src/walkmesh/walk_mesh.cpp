@@ -1,0 +1,223 @@
+// Queries and movement on a built walk mesh. Building and cleaning is in walk_mesh_build.cpp.
+#include <collide/walkmesh/walk_mesh.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace collide {
+namespace {
+
+/// Weights clamped to >= 0 and scaled to sum 1 (float drift after a step).
+Vec3 clean_weights(Vec3 w) noexcept {
+  w = glm::max(w, Vec3(0.0f));
+  const float sum = w.x + w.y + w.z;
+  return sum > 0.0f ? w / sum : Vec3(1.0f, 0.0f, 0.0f);
+}
+
+/// The rotation that takes unit normal n0 to unit normal n1 about the unit edge axis they share.
+/// Half-angle form: q = (1 + n0.n1, n0 x n1) normalised; for opposite normals (a fold of 180
+/// degrees) the axis is the edge itself.
+glm::quat rotation_between(Vec3 n0, Vec3 n1, Vec3 edge_axis) noexcept {
+  const float w = 1.0f + glm::dot(n0, n1);
+  const Vec3 v = glm::cross(n0, n1);
+  if (w <= kFoldBackTolerance) return {0.0f, edge_axis.x, edge_axis.y, edge_axis.z};
+  return glm::normalize(glm::quat(w, v.x, v.y, v.z));
+}
+
+}  // namespace
+
+int WalkMesh::local_edge(std::uint32_t t, std::uint32_t u, std::uint32_t v) const noexcept {
+  const glm::uvec3 tri = triangles_[t];
+  for (int e = 0; e < 3; ++e) {
+    if (tri[e] == u && tri[(e + 1) % 3] == v) return e;
+  }
+  return -1;
+}
+
+Vec3 WalkMesh::to_world_point(const WalkPoint& p) const noexcept {
+  const Vec3 local = p.weights.x * positions_[p.indices.x] + p.weights.y * positions_[p.indices.y] +
+                     p.weights.z * positions_[p.indices.z];
+  return origin_ + local;
+}
+
+Vec3 WalkMesh::to_world_triangle_normal(const WalkPoint& p) const noexcept {
+  return triangle_normals_[p.triangle];
+}
+
+Vec3 WalkMesh::to_world_smooth_normal(const WalkPoint& p) const noexcept {
+  const Vec3 n = p.weights.x * vertex_normals_[p.indices.x] + p.weights.y * vertex_normals_[p.indices.y] +
+                 p.weights.z * vertex_normals_[p.indices.z];
+  const float len = glm::length(n);
+  return len > 0.0f ? n / len : triangle_normals_[p.triangle];
+}
+
+float WalkMesh::triangle_area(std::uint32_t t) const noexcept {
+  const glm::uvec3 tri = triangles_[t];
+  const Vec3 a = positions_[tri.x];
+  return 0.5f * glm::length(glm::cross(positions_[tri.y] - a, positions_[tri.z] - a));
+}
+
+WalkPoint WalkMesh::nearest_walk_point(Vec3 world) const {
+  if (!is_finite(world)) throw InvalidInput("nearest_walk_point: world point is not finite");
+  if (triangles_.empty()) throw InvalidInput("nearest_walk_point: the walk mesh is empty");
+  const BvhNearest hit = bvh_.nearest(world - origin_);
+  return {triangles_[hit.triangle], clean_weights(hit.closest.weights), hit.triangle};
+}
+
+WalkPoint WalkMesh::walk_point(std::uint32_t triangle, Vec3 weights) const {
+  if (triangle >= triangles_.size()) {
+    throw InvalidInput("walk_point: triangle " + std::to_string(triangle) + " out of range (" +
+                       std::to_string(triangles_.size()) + " triangles)");
+  }
+  if (!is_finite(weights) || weights.x < 0.0f || weights.y < 0.0f || weights.z < 0.0f ||
+      !(weights.x + weights.y + weights.z > 0.0f)) {
+    throw InvalidInput("walk_point: weights must be finite, non-negative and of positive sum");
+  }
+  return {triangles_[triangle], weights / (weights.x + weights.y + weights.z), triangle};
+}
+
+bool WalkMesh::is_valid(const WalkPoint& p, float tolerance) const noexcept {
+  if (p.triangle >= triangles_.size()) return false;
+  const glm::uvec3 t = triangles_[p.triangle];
+  const bool rotation = (p.indices == t) || (p.indices == glm::uvec3(t.y, t.z, t.x)) ||
+                        (p.indices == glm::uvec3(t.z, t.x, t.y));
+  if (!rotation || !is_finite(p.weights)) return false;
+  const Vec3 w = p.weights;
+  return w.x >= -tolerance && w.y >= -tolerance && w.z >= -tolerance &&
+         std::fabs(w.x + w.y + w.z - 1.0f) <= tolerance;
+}
+
+// The step, a world vector, moves the weights at constant rates: the rate of corner a is the
+// signed area swept against the opposite edge, dw_a = n.((c - b) x step) / |n|^2, and so on
+// (the derivative of the barycentric formula, Ericson 3.4). This projects the step onto the
+// triangle's plane by itself. The point leaves through the edge opposite the first corner whose
+// weight reaches zero.
+TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept {
+  const Vec3 a = positions_[start.indices.x];
+  const Vec3 b = positions_[start.indices.y];
+  const Vec3 c = positions_[start.indices.z];
+  const Vec3 n = glm::cross(b - a, c - a);
+  const float nn = glm::dot(n, n);
+  Vec3 rate{glm::dot(n, glm::cross(c - b, step)), glm::dot(n, glm::cross(a - c, step)),
+            glm::dot(n, glm::cross(b - a, step))};
+  rate /= nn;
+  const float largest = std::max({std::fabs(rate.x), std::fabs(rate.y), std::fabs(rate.z)});
+  TriangleWalk out;
+  out.end = start;
+  if (!(largest > 0.0f)) return out;  // no motion in the plane (or a NaN step)
+  for (int k = 0; k < 3; ++k) {
+    if (std::fabs(rate[k]) <= kBarycentricRateTolerance * largest) rate[k] = 0.0f;
+  }
+
+  int hit = -1;
+  float time = 1.0f;
+  for (int k = 0; k < 3; ++k) {
+    if (rate[k] >= 0.0f) continue;
+    const float t = std::max(start.weights[k], 0.0f) / -rate[k];
+    // Ties (a point on a vertex) go to the corner whose weight falls fastest: the edge the step
+    // crosses most directly.
+    if (t < time || (t == time && hit >= 0 && rate[k] < rate[hit])) {
+      time = t;
+      hit = k;
+    }
+  }
+  if (hit < 0) {
+    out.end.weights = clean_weights(start.weights + rate);
+    return out;
+  }
+  Vec3 w = start.weights + time * rate;
+  w[hit] = 0.0f;
+  w = clean_weights(w);
+  // Rotate so the edge reached is (x, y) and the corner opposite it is z.
+  const int i = (hit + 1) % 3;
+  const int j = (hit + 2) % 3;
+  out.end.indices = {start.indices[i], start.indices[j], start.indices[hit]};
+  out.end.weights = {w[i], w[j], 0.0f};
+  out.time = time;
+  out.hit_edge = true;
+  return out;
+}
+
+std::optional<EdgeCrossing> WalkMesh::cross_edge(const WalkPoint& start) const noexcept {
+  if (start.weights.z != 0.0f || start.triangle >= triangles_.size()) return std::nullopt;
+  const std::uint32_t x = start.indices.x;
+  const std::uint32_t y = start.indices.y;
+  const int e = local_edge(start.triangle, x, y);
+  if (e < 0) return std::nullopt;
+  const std::uint32_t next = neighbors_[start.triangle][e];
+  if (next == kNoNeighbor) return std::nullopt;
+  const int back = local_edge(next, y, x);
+  if (back < 0) return std::nullopt;  // cannot happen: links join opposite directed edges
+  EdgeCrossing out;
+  out.end.triangle = next;
+  out.end.indices = {y, x, triangles_[next][(back + 2) % 3]};
+  out.end.weights = {start.weights.y, start.weights.x, 0.0f};
+  const Vec3 axis = glm::normalize(positions_[y] - positions_[x]);
+  out.rotation = rotation_between(triangle_normals_[start.triangle], triangle_normals_[next], axis);
+  return out;
+}
+
+// The walk loop: walk in the current triangle; at an edge, cross it and rotate what is left of
+// the step into the new triangle (so the step keeps its length over folds); at a boundary edge,
+// keep only the step's component along the edge and slide. Two wall hits in a row without
+// progress mean a corner that absorbs the step.
+WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
+  WalkResult out;
+  out.end = start;
+  const Vec3 n0 = triangle_normals_[start.triangle];
+  Vec3 heading = step - glm::dot(step, n0) * n0;  // the whole step, tangent, carried along
+  float left = 1.0f;                              // fraction of `heading` still to walk
+  const float done_length = kWalkLengthTolerance * size_;
+  bool stalled_at_wall = false;
+  WalkPoint p = start;
+  int iteration = 0;
+  for (; iteration < kMaxWalkIterations; ++iteration) {
+    const float heading_length = glm::length(heading);
+    if (!(left * heading_length > done_length)) break;
+    const TriangleWalk in = walk_in_triangle(p, left * heading);
+    out.distance += in.time * left * heading_length;
+    p = in.end;
+    if (!in.hit_edge) {
+      left = 0.0f;
+      break;
+    }
+    const bool progressed = in.time > 0.0f;
+    left *= 1.0f - in.time;
+    if (const auto crossing = cross_edge(p)) {
+      p = crossing->end;
+      heading = crossing->rotation * heading;
+      // Remove the float drift off the new plane, keeping the length.
+      const Vec3 n = triangle_normals_[p.triangle];
+      const Vec3 tangent = heading - glm::dot(heading, n) * n;
+      const float tangent_length = glm::length(tangent);
+      heading = tangent_length > 0.0f ? tangent * (heading_length / tangent_length) : tangent;
+      ++out.edges_crossed;
+      stalled_at_wall = false;
+      continue;
+    }
+    // A wall: slide along it.
+    ++out.walls_hit;
+    if (!progressed && stalled_at_wall) {
+      out.status = WalkStatus::blocked;
+      break;
+    }
+    stalled_at_wall = !progressed;
+    const Vec3 along = glm::normalize(positions_[p.indices.y] - positions_[p.indices.x]);
+    const Vec3 slide = glm::dot(heading, along) * along;
+    if (!(glm::length(slide) > kWallSlideTolerance * heading_length)) {
+      heading = Vec3(0.0f);
+      out.status = WalkStatus::blocked;  // walked (almost) straight into the wall
+      break;
+    }
+    heading = slide;
+  }
+  if (iteration == kMaxWalkIterations) out.status = WalkStatus::iteration_limit;
+  out.end = p;
+  out.end_step = heading;
+  return out;
+}
+
+}  // namespace collide
