@@ -90,21 +90,10 @@ bool has_directed_edge(glm::uvec3 t, std::uint32_t u, std::uint32_t v) {
 
 }  // namespace
 
-WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options) {
+void validate_triangle_soup(const TriangleSoup& soup) {
   const std::string name = where(soup);
-  if (!is_finite(options.up) || !(glm::length(options.up) > 0.0f)) {
-    throw InvalidInput(name + ": WalkMeshOptions.up must be a finite non-zero vector");
-  }
-  if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0f) {
-    throw InvalidInput(name + ": WalkMeshOptions.weld_tolerance must be finite and >= 0");
-  }
   if (soup.triangles.empty()) throw InvalidInput(name + ": no triangles");
-  const Vec3 up = glm::normalize(options.up);
-
-  // 1. Validate every triangle; only the vertices triangles use must be finite.
   const std::size_t nv = soup.positions.size();
-  std::vector<bool> used(nv, false);
-  Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
   for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = soup.triangles[t][k];
@@ -116,8 +105,29 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
         throw InvalidInput(name + ": triangle " + std::to_string(t) + ": vertex " + std::to_string(v) +
                            " is not finite");
       }
-      used[v] = true;
-      box = merge(box, Aabb3{soup.positions[v], soup.positions[v]});
+    }
+  }
+}
+
+WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options) {
+  const std::string name = where(soup);
+  if (!is_finite(options.up) || !(glm::length(options.up) > 0.0f)) {
+    throw InvalidInput(name + ": WalkMeshOptions.up must be a finite non-zero vector");
+  }
+  if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0f) {
+    throw InvalidInput(name + ": WalkMeshOptions.weld_tolerance must be finite and >= 0");
+  }
+  validate_triangle_soup(soup);
+  const Vec3 up = glm::normalize(options.up);
+
+  // 1. Bounds of the vertices that triangles use (only those must be finite).
+  const std::size_t nv = soup.positions.size();
+  std::vector<bool> used(nv, false);
+  Aabb3 box{soup.positions[soup.triangles[0].x], soup.positions[soup.triangles[0].x]};
+  for (const glm::uvec3& t : soup.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      used[t[k]] = true;
+      box = merge(box, Aabb3{soup.positions[t[k]], soup.positions[t[k]]});
     }
   }
 
@@ -294,7 +304,7 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   }
   std::vector<bool> turn(islands);
   for (std::uint32_t i = 0; i < islands; ++i) {
-    if (std::fabs(up_sum[i]) > 1e-3 * area_sum[i]) {
+    if (std::fabs(up_sum[i]) > kIslandUpTolerance * area_sum[i]) {
       turn[i] = up_sum[i] < 0.0;
     } else {
       turn[i] = flipped_area[i] > 0.5 * area_sum[i];

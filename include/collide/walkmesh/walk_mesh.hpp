@@ -26,6 +26,8 @@
 
 namespace collide {
 
+struct WalkAgent;  // make_walk_mesh.hpp
+
 /// No neighbour across this edge: a boundary (wall) of the walk mesh.
 inline constexpr std::uint32_t kNoNeighbor = 0xffffffffu;
 /// Vertices closer than this fraction of the mesh's size are welded into one.
@@ -33,6 +35,9 @@ inline constexpr float kWalkWeldTolerance = 1e-5f;
 /// A triangle whose area is below this fraction of its longest edge squared is degenerate
 /// (collinear corners): it has no usable plane and is dropped.
 inline constexpr float kWalkDegenerateTolerance = 1e-6f;
+/// An island whose area-weighted normal has an up component below this fraction of its area has
+/// no clear up side (a closed surface, a wall): it keeps the winding most of its input had.
+inline constexpr double kIslandUpTolerance = 1e-3;
 /// A barycentric rate smaller than this fraction of the largest rate of a step is zero: a step
 /// along an edge keeps the point exactly on that edge.
 inline constexpr float kBarycentricRateTolerance = 1e-6f;
@@ -82,6 +87,8 @@ struct WalkMeshStats {
   std::size_t orientation_conflicts = 0; ///< links cut because no consistent winding exists (Moebius-like)
   std::size_t boundary_edges = 0;        ///< edges without a neighbour (walls)
   std::size_t islands = 0;               ///< connected pieces
+  std::size_t too_steep_triangles = 0;   ///< make_walk_mesh: dropped, steeper than the agent's max slope
+  std::size_t low_headroom_triangles = 0;  ///< make_walk_mesh: dropped, level geometry within the agent's height above
 };
 
 /// Result of `walk_in_triangle`.
@@ -190,6 +197,7 @@ class WalkMesh {
 
  private:
   friend WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options);
+  friend WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent);
 
   /// Local edge index (0..2) of directed edge (u, v) in triangle t, or -1.
   [[nodiscard]] int local_edge(std::uint32_t t, std::uint32_t u, std::uint32_t v) const noexcept;
@@ -206,6 +214,11 @@ class WalkMesh {
   TriangleBvh bvh_;
   WalkMeshStats stats_{};
 };
+
+/// Checks that every triangle of `soup` indexes existing, finite vertices and that there is at
+/// least one triangle. Throws InvalidInput naming the soup and the triangle, e.g.
+/// "level.obj: triangle 12: vertex index 900 out of range (512 vertices)".
+void validate_triangle_soup(const TriangleSoup& soup);
 
 /// Builds a walk mesh from any triangle soup, the robust way real level meshes need
 /// (the failure modes behind recastnavigation issues #263, #377 and #556 in mind):
