@@ -91,22 +91,32 @@ bool WalkMesh::is_valid(const WalkPoint& p, float tolerance) const noexcept {
 }
 
 // The step, a world vector, moves the weights at constant rates: the rate of corner a is the
-// signed area swept against the opposite edge, dw_a = n.((c - b) x step) / |n|^2, and so on
-// (the derivative of the barycentric formula, Ericson 3.4). This projects the step onto the
-// triangle's plane by itself. The point leaves through the edge opposite the first corner whose
-// weight reaches zero.
+// signed area swept against the opposite edge, dw_a = n.((c - b) x step) / |n|^2 = g_a.step with
+// g_a = n x (c - b) / |n|^2 (the gradient of the barycentric weight, Ericson 3.4), precomputed per
+// triangle. This projects the step onto the triangle's plane by itself. The point leaves through
+// the edge opposite the first corner whose weight reaches zero.
+namespace {
+constexpr int kNext[5] = {0, 1, 2, 0, 1};  // (i + k) % 3 without dividing
+}  // namespace
+
+inline Vec3 WalkMesh::weight_rates(const WalkPoint& p, Vec3 step) const noexcept {
+  const glm::uvec3 tri = triangles_[p.triangle];
+  const int r = p.indices.x == tri.x ? 0 : (p.indices.x == tri.y ? 1 : 2);
+  const std::array<Vec3, 3>& g = weight_gradients_[p.triangle];
+  return {glm::dot(g[r], step), glm::dot(g[kNext[r + 1]], step), glm::dot(g[kNext[r + 2]], step)};
+}
+
 TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept {
-  const Vec3 a = positions_[start.indices.x];
-  const Vec3 b = positions_[start.indices.y];
-  const Vec3 c = positions_[start.indices.z];
-  const Vec3 n = glm::cross(b - a, c - a);
-  const float nn = glm::dot(n, n);
-  Vec3 rate{glm::dot(n, glm::cross(c - b, step)), glm::dot(n, glm::cross(a - c, step)),
-            glm::dot(n, glm::cross(b - a, step))};
-  rate /= nn;
-  const float largest = std::max({std::fabs(rate.x), std::fabs(rate.y), std::fabs(rate.z)});
+  Vec3 rate = weight_rates(start, step);
   TriangleWalk out;
   out.end = start;
+  // Fast path: the whole step stays inside the triangle.
+  const Vec3 moved = start.weights + rate;
+  if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {
+    out.end.weights = moved * (1.0f / (moved.x + moved.y + moved.z));
+    return out;
+  }
+  const float largest = std::max({std::fabs(rate.x), std::fabs(rate.y), std::fabs(rate.z)});
   if (!(largest > 0.0f)) return out;  // no motion in the plane (or a NaN step)
   for (int k = 0; k < 3; ++k) {
     if (std::fabs(rate[k]) <= kBarycentricRateTolerance * largest) rate[k] = 0.0f;
@@ -132,8 +142,8 @@ TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const
   w[hit] = 0.0f;
   w = clean_weights(w);
   // Rotate so the edge reached is (x, y) and the corner opposite it is z.
-  const int i = (hit + 1) % 3;
-  const int j = (hit + 2) % 3;
+  const int i = kNext[hit + 1];
+  const int j = kNext[hit + 2];
   out.end.indices = {start.indices[i], start.indices[j], start.indices[hit]};
   out.end.weights = {w[i], w[j], 0.0f};
   out.time = time;
@@ -145,37 +155,48 @@ std::optional<EdgeCrossing> WalkMesh::cross_edge(const WalkPoint& start) const n
   if (start.weights.z != 0.0f || start.triangle >= triangles_.size()) return std::nullopt;
   const std::uint32_t x = start.indices.x;
   const std::uint32_t y = start.indices.y;
-  const int e = local_edge(start.triangle, x, y);
-  if (e < 0) return std::nullopt;
+  // indices is a rotation of the stored triangle, so edge (x, y) is stored edge "where x is".
+  const glm::uvec3 tri = triangles_[start.triangle];
+  const int e = x == tri.x ? 0 : (x == tri.y ? 1 : (x == tri.z ? 2 : -1));
+  if (e < 0 || tri[kNext[e + 1]] != y) return std::nullopt;
   const std::uint32_t next = neighbors_[start.triangle][e];
   if (next == kNoNeighbor) return std::nullopt;
-  const int back = local_edge(next, y, x);
-  if (back < 0) return std::nullopt;  // cannot happen: links join opposite directed edges
+  const int back = neighbor_edges_[start.triangle][e];  // (y, x) in the neighbour
   EdgeCrossing out;
   out.end.triangle = next;
-  out.end.indices = {y, x, triangles_[next][(back + 2) % 3]};
+  out.end.indices = {y, x, triangles_[next][kNext[back + 2]]};
   out.end.weights = {start.weights.y, start.weights.x, 0.0f};
-  const Vec3 axis = glm::normalize(positions_[y] - positions_[x]);
-  out.rotation = rotation_between(triangle_normals_[start.triangle], triangle_normals_[next], axis);
+  const Vec3 n0 = triangle_normals_[start.triangle];
+  const Vec3 n1 = triangle_normals_[next];
+  if (n0 != n1) out.rotation = rotation_between(n0, n1, glm::normalize(positions_[y] - positions_[x]));
   return out;
 }
 
 // The walk loop: walk in the current triangle; at an edge, cross it and rotate what is left of
 // the step into the new triangle (so the step keeps its length over folds); at a boundary edge,
-// keep only the step's component along the edge and slide. Two wall hits in a row without
-// progress mean a corner that absorbs the step.
+// keep only the step's component along the edge and slide. Two wall hits without progress in
+// between mean a corner that absorbs the step.
 WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
   WalkResult out;
   out.end = start;
   const Vec3 n0 = triangle_normals_[start.triangle];
   Vec3 heading = step - glm::dot(step, n0) * n0;  // the whole step, tangent, carried along
+  // Fast path: the whole step stays in the start triangle (most steps of a walking agent).
+  const Vec3 moved = start.weights + weight_rates(start, heading);
+  if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {
+    out.end.weights = moved * (1.0f / (moved.x + moved.y + moved.z));
+    out.end_step = heading;
+    out.distance = glm::length(heading);
+    return out;
+  }
   float left = 1.0f;                              // fraction of `heading` still to walk
   const float done_length = kWalkLengthTolerance * size_;
-  bool stalled_at_wall = false;
+  bool wall_since_progress = false;  // a wall was reached and nothing was walked since
+  int idle = 0;                      // iterations in a row that walked nothing
   WalkPoint p = start;
   int iteration = 0;
+  float heading_length = glm::length(heading);
   for (; iteration < kMaxWalkIterations; ++iteration) {
-    const float heading_length = glm::length(heading);
     if (!(left * heading_length > done_length)) break;
     const TriangleWalk in = walk_in_triangle(p, left * heading);
     out.distance += in.time * left * heading_length;
@@ -184,35 +205,44 @@ WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
       left = 0.0f;
       break;
     }
-    const bool progressed = in.time > 0.0f;
+    if (in.time > 0.0f) {
+      wall_since_progress = false;
+      idle = 0;
+    } else if (++idle > kMaxIdleIterations) {
+      out.status = WalkStatus::blocked;  // circling a vertex without moving
+      break;
+    }
     left *= 1.0f - in.time;
     if (const auto crossing = cross_edge(p)) {
       p = crossing->end;
-      heading = crossing->rotation * heading;
-      // Remove the float drift off the new plane, keeping the length.
-      const Vec3 n = triangle_normals_[p.triangle];
-      const Vec3 tangent = heading - glm::dot(heading, n) * n;
-      const float tangent_length = glm::length(tangent);
-      heading = tangent_length > 0.0f ? tangent * (heading_length / tangent_length) : tangent;
+      if (crossing->rotation.w != 1.0f) {  // a fold (not the identity): turn the step over it
+        heading = crossing->rotation * heading;
+        // Remove the float drift off the new plane, keeping the length.
+        const Vec3 n = triangle_normals_[p.triangle];
+        const Vec3 tangent = heading - glm::dot(heading, n) * n;
+        const float tangent_length = glm::length(tangent);
+        heading = tangent_length > 0.0f ? tangent * (heading_length / tangent_length) : tangent;
+      }
       ++out.edges_crossed;
-      stalled_at_wall = false;
       continue;
     }
-    // A wall: slide along it.
+    // A wall: slide along it. A second wall before any progress means the slide along the first
+    // one points out of the mesh too: a corner, which absorbs the step.
     ++out.walls_hit;
-    if (!progressed && stalled_at_wall) {
+    if (wall_since_progress) {
       out.status = WalkStatus::blocked;
       break;
     }
-    stalled_at_wall = !progressed;
+    wall_since_progress = true;
     const Vec3 along = glm::normalize(positions_[p.indices.y] - positions_[p.indices.x]);
-    const Vec3 slide = glm::dot(heading, along) * along;
-    if (!(glm::length(slide) > kWallSlideTolerance * heading_length)) {
+    const float along_length = glm::dot(heading, along);
+    if (!(std::fabs(along_length) > kWallSlideTolerance * heading_length)) {
       heading = Vec3(0.0f);
       out.status = WalkStatus::blocked;  // walked (almost) straight into the wall
       break;
     }
-    heading = slide;
+    heading = along_length * along;
+    heading_length = std::fabs(along_length);
   }
   if (iteration == kMaxWalkIterations) out.status = WalkStatus::iteration_limit;
   out.end = p;

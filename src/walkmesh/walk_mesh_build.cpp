@@ -337,6 +337,7 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
 
   // 8. Neighbours from the links that survived.
   mesh.neighbors_.assign(nt, {kNoNeighbor, kNoNeighbor, kNoNeighbor});
+  mesh.neighbor_edges_.assign(nt, {0, 0, 0});
   for (const Link& link : links) {
     if (link.cut) continue;
     int e0 = mesh.local_edge(link.t0, link.lo, link.hi);
@@ -345,16 +346,23 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
     if (e1 < 0) e1 = mesh.local_edge(link.t1, link.hi, link.lo);
     mesh.neighbors_[link.t0][e0] = link.t1;
     mesh.neighbors_[link.t1][e1] = link.t0;
+    mesh.neighbor_edges_[link.t0][e0] = static_cast<std::uint8_t>(e1);
+    mesh.neighbor_edges_[link.t1][e1] = static_cast<std::uint8_t>(e0);
   }
 
   // 9. Normals, bounds, BVH, statistics.
   mesh.triangle_normals_.resize(nt);
+  mesh.weight_gradients_.resize(nt);
   mesh.vertex_normals_.assign(mesh.positions_.size(), Vec3(0.0f));
   for (std::uint32_t t = 0; t < nt; ++t) {
     const glm::uvec3 tri = mesh.triangles_[t];
     const Vec3 n = glm::cross(mesh.positions_[tri.y] - mesh.positions_[tri.x],
                               mesh.positions_[tri.z] - mesh.positions_[tri.x]);
     mesh.triangle_normals_[t] = glm::normalize(n);
+    const float inv_nn = 1.0f / glm::dot(n, n);
+    const Vec3 a = mesh.positions_[tri.x], b = mesh.positions_[tri.y], c = mesh.positions_[tri.z];
+    mesh.weight_gradients_[t] = {glm::cross(n, c - b) * inv_nn, glm::cross(n, a - c) * inv_nn,
+                                 glm::cross(n, b - a) * inv_nn};
     for (int k = 0; k < 3; ++k) mesh.vertex_normals_[tri[k]] += n;  // area-weighted
   }
   for (std::size_t v = 0; v < mesh.vertex_normals_.size(); ++v) {

@@ -49,6 +49,9 @@ inline constexpr float kFoldBackTolerance = 1e-6f;
 /// At a wall, a slide that keeps less than this fraction of the step counts as running straight
 /// into the wall: the walk stops there (`WalkStatus::blocked`) instead of creeping along.
 inline constexpr float kWallSlideTolerance = 1e-4f;
+/// A walk that visits this many triangles in a row without moving (turning around a vertex) stops
+/// as blocked: the step points out of the mesh at that vertex.
+inline constexpr int kMaxIdleIterations = 64;
 /// Most triangles one `walk` visits (edge crossings plus wall slides); a walk that needs more
 /// stops and says so (`WalkStatus::iteration_limit`).
 inline constexpr int kMaxWalkIterations = 1024;
@@ -199,6 +202,8 @@ class WalkMesh {
   friend WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options);
   friend WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent);
 
+  /// How a step (world vector) changes the weights of p, in p's corner order.
+  [[nodiscard]] Vec3 weight_rates(const WalkPoint& p, Vec3 step) const noexcept;
   /// Local edge index (0..2) of directed edge (u, v) in triangle t, or -1.
   [[nodiscard]] int local_edge(std::uint32_t t, std::uint32_t u, std::uint32_t v) const noexcept;
 
@@ -209,7 +214,11 @@ class WalkMesh {
   std::vector<Vec3> vertex_normals_;                  ///< unit, area-weighted
   std::vector<glm::uvec3> triangles_;                 ///< counter-clockwise from up
   std::vector<Vec3> triangle_normals_;                ///< unit
+  /// Per triangle, per corner: the gradient of that corner's barycentric weight, so that a step
+  /// changes the weights by dot(gradient, step).
+  std::vector<std::array<Vec3, 3>> weight_gradients_;
   std::vector<std::array<std::uint32_t, 3>> neighbors_;
+  std::vector<std::array<std::uint8_t, 3>> neighbor_edges_;  ///< the same edge's index in the neighbour
   std::vector<std::uint32_t> islands_;
   TriangleBvh bvh_;
   WalkMeshStats stats_{};
