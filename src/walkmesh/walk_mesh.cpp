@@ -14,7 +14,7 @@ namespace {
 Vec3 clean_weights(Vec3 w) noexcept {
   w = glm::max(w, Vec3(0.0f));
   const float sum = w.x + w.y + w.z;
-  return sum > 0.0f ? w / sum : Vec3(1.0f, 0.0f, 0.0f);
+  return sum > 0.0f ? w * (1.0f / sum) : Vec3(1.0f, 0.0f, 0.0f);
 }
 
 /// The rotation that takes unit normal n0 to unit normal n1 about the unit edge axis they share.
@@ -125,7 +125,7 @@ TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const
   int hit = -1;
   float time = 1.0f;
   for (int k = 0; k < 3; ++k) {
-    if (rate[k] >= 0.0f) continue;
+    if (rate[k] >= 0.0f || start.weights[k] + rate[k] >= 0.0f) continue;  // stays >= 0 for the whole step
     const float t = std::max(start.weights[k], 0.0f) / -rate[k];
     // Ties (a point on a vertex) go to the corner whose weight falls fastest: the edge the step
     // crosses most directly.

@@ -18,8 +18,12 @@ namespace collide {
 
 /// Most triangles in one BVH leaf.
 inline constexpr int kBvhLeafTriangles = 4;
-/// Depth of the fixed traversal stack. Median splits give depth about log2(n / 4) + 1, so this
-/// holds meshes far beyond 2^40 triangles.
+/// Candidate split planes per axis for the binned surface area heuristic.
+inline constexpr int kBvhBins = 16;
+/// Depth of the fixed traversal stack. A traversal holds at most one pending sibling per level,
+/// so this bounds the tree depth that queries handle; SAH trees of real levels are far shallower.
+/// Deeper subtrees would be skipped (never overrun): the build falls back to median splits when
+/// SAH cannot split, so depth stays near log2(n).
 inline constexpr int kBvhStackSize = 64;
 
 /// The triangle nearest to a point.
@@ -29,8 +33,9 @@ struct BvhNearest {
   float distance_squared = std::numeric_limits<float>::infinity();  ///< squared distance to it
 };
 
-/// Static AABB tree over triangles, built top-down by median splits on the longest axis of the
-/// triangle centroids (Ericson, Real-Time Collision Detection, 6.2.1). The tree keeps its own copy
+/// Static AABB tree over triangles, built top-down by the binned surface area heuristic (Wald,
+/// "On fast construction of SAH-based bounding volume hierarchies", 2007; Ericson, Real-Time
+/// Collision Detection, 6.2), falling back to median splits. The tree keeps its own copy
 /// of the corners in leaf order, so a query touches contiguous memory. Coordinates are those
 /// given to the constructor (callers shift large worlds to a local origin first).
 class TriangleBvh {
