@@ -305,6 +305,48 @@ TEST(WalkMesh, RandomWalksStayOnTheMesh) {
   EXPECT_GT(walls, 20);
 }
 
+TEST(WalkMesh, Regression377WalkEndingOnAnEdgeSharedWithAnotherIslandStaysOnItsIsland) {
+  // recastnavigation #377: a move ending exactly on an edge shared with an unconnected polygon,
+  // re-located by position, jumped to the other component. A walk point keeps its triangle, so
+  // it cannot. Floor: two flat triangles over edge (0,1); a fin stands on the same edge.
+  const TriangleSoup s{"fin", {{0, 0, 0}, {0, 0, 2}, {2, 0, 1}, {-2, 0, 1}, {0, 2, 1}}, {{0, 1, 2}, {0, 4, 1}, {1, 0, 3}}};
+  const WalkMesh mesh = build_walk_mesh(s);
+  ASSERT_EQ(mesh.stats().islands, 2u);
+  const WalkPoint start = mesh.nearest_walk_point({1.0f, 0.0f, 1.0f});
+  const WalkResult to_edge = mesh.walk(start, {-1.0f, 0.0f, 0.0f});  // ends exactly on the shared edge
+  EXPECT_LT(distance(mesh.to_world_point(to_edge.end), {0.0f, 0.0f, 1.0f}), 1e-6);
+  EXPECT_EQ(mesh.island(to_edge.end.triangle), mesh.island(start.triangle));
+  const WalkResult on = mesh.walk(to_edge.end, {-1.0f, 0.0f, 0.0f});  // and walking on continues on the floor
+  EXPECT_EQ(mesh.island(on.end.triangle), mesh.island(start.triangle));
+  EXPECT_LT(distance(mesh.to_world_point(on.end), {-1.0f, 0.0f, 1.0f}), 1e-6);
+  EXPECT_EQ(on.walls_hit, 0);
+}
+
+TEST(WalkMesh, Regression263And556PointsExactlyOnEdgesAreValidEverywhere) {
+  // recastnavigation #263 and #556: a point exactly on a polygon edge (from a clamp or a random
+  // point) failed point-in-polygon, so later queries rejected it. Here every query accepts
+  // walk points with zero weights.
+  std::mt19937 rng(19);
+  const WalkMesh mesh = build_walk_mesh(test::grid_soup(rng, 8, 1.0f, 0.3f, hills));
+  int on_edge = 0;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const float u = test::uniform01(rng);
+    for (const Vec3 w : {Vec3(u, 1.0f - u, 0.0f), Vec3(0.0f, u, 1.0f - u), Vec3(0.0f, 0.0f, 1.0f)}) {
+      const WalkPoint p = mesh.walk_point(t, w);
+      ASSERT_TRUE(mesh.is_valid(p, 0.0f + 1e-6f));
+      const Vec3 world = mesh.to_world_point(p);
+      EXPECT_LT(distance(mesh.to_world_point(mesh.nearest_walk_point(world)), world), 1e-5);
+      const WalkResult still = mesh.walk(p, Vec3(0.0f));
+      EXPECT_EQ(still.end.triangle, p.triangle);
+      EXPECT_LT(distance(mesh.to_world_point(still.end), world), 1e-6);
+      const WalkResult moved = mesh.walk(p, random_tangent(rng, mesh.to_world_triangle_normal(p), 0.5f));
+      ASSERT_TRUE(mesh.is_valid(moved.end));
+      ++on_edge;
+    }
+  }
+  EXPECT_GT(on_edge, 300);
+}
+
 // ---- building from messy soups ----------------------------------------------------------------
 
 TEST(WalkMeshBuild, WeldingAnUnsharedSoupRecoversTheMesh) {
