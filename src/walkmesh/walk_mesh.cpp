@@ -101,52 +101,72 @@ constexpr int kNext[5] = {0, 1, 2, 0, 1};  // (i + k) % 3 without dividing
 
 inline Vec3 WalkMesh::weight_rates(const WalkPoint& p, Vec3 step) const noexcept {
   const glm::uvec3 tri = triangles_[p.triangle];
-  const int r = p.indices.x == tri.x ? 0 : (p.indices.x == tri.y ? 1 : 2);
+  const int r = tri.x == p.indices.x ? 0 : (tri.y == p.indices.x ? 1 : 2);
   const std::array<Vec3, 3>& g = weight_gradients_[p.triangle];
   return {glm::dot(g[r], step), glm::dot(g[kNext[r + 1]], step), glm::dot(g[kNext[r + 2]], step)};
 }
+
+namespace {
+
+/// The corner whose weight reaches zero first while the weights move by `rate` over time
+/// [0, 1], and when; corner -1 when none does. Rates below kBarycentricRateTolerance of the
+/// largest are zeroed first (in `rate`), so a step along an edge keeps the point on it. Ties (a
+/// point on a vertex) go to the corner whose weight falls fastest: the edge crossed most directly.
+struct FirstZero {
+  int corner = -1;
+  float time = 1.0f;
+};
+FirstZero first_zero(Vec3 w, Vec3& rate) noexcept {
+  FirstZero out;
+  const float largest = std::max({std::fabs(rate.x), std::fabs(rate.y), std::fabs(rate.z)});
+  if (!(largest > 0.0f)) {  // no motion in the plane (or a NaN step)
+    rate = Vec3(0.0f);
+    return out;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (std::fabs(rate[k]) <= kBarycentricRateTolerance * largest) rate[k] = 0.0f;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (rate[k] >= 0.0f || w[k] + rate[k] >= 0.0f) continue;  // stays >= 0 for the whole step
+    const float t = std::max(w[k], 0.0f) / -rate[k];
+    if (t < out.time || (t == out.time && out.corner >= 0 && rate[k] < rate[out.corner])) {
+      out.time = t;
+      out.corner = k;
+    }
+  }
+  return out;
+}
+
+/// Rotation r of a walk point's indices against its stored triangle: indices[m] == tri[(m + r) % 3].
+int rotation_of(const WalkPoint& p, glm::uvec3 tri) noexcept {
+  return p.indices.x == tri.x ? 0 : (p.indices.x == tri.y ? 1 : 2);
+}
+
+}  // namespace
 
 TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept {
   Vec3 rate = weight_rates(start, step);
   TriangleWalk out;
   out.end = start;
-  // Fast path: the whole step stays inside the triangle.
   const Vec3 moved = start.weights + rate;
-  if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {
+  if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {  // the whole step stays inside
     out.end.weights = moved * (1.0f / (moved.x + moved.y + moved.z));
     return out;
   }
-  const float largest = std::max({std::fabs(rate.x), std::fabs(rate.y), std::fabs(rate.z)});
-  if (!(largest > 0.0f)) return out;  // no motion in the plane (or a NaN step)
-  for (int k = 0; k < 3; ++k) {
-    if (std::fabs(rate[k]) <= kBarycentricRateTolerance * largest) rate[k] = 0.0f;
-  }
-
-  int hit = -1;
-  float time = 1.0f;
-  for (int k = 0; k < 3; ++k) {
-    if (rate[k] >= 0.0f || start.weights[k] + rate[k] >= 0.0f) continue;  // stays >= 0 for the whole step
-    const float t = std::max(start.weights[k], 0.0f) / -rate[k];
-    // Ties (a point on a vertex) go to the corner whose weight falls fastest: the edge the step
-    // crosses most directly.
-    if (t < time || (t == time && hit >= 0 && rate[k] < rate[hit])) {
-      time = t;
-      hit = k;
-    }
-  }
-  if (hit < 0) {
+  const FirstZero hit = first_zero(start.weights, rate);
+  if (hit.corner < 0) {
     out.end.weights = clean_weights(start.weights + rate);
     return out;
   }
-  Vec3 w = start.weights + time * rate;
-  w[hit] = 0.0f;
+  Vec3 w = start.weights + hit.time * rate;
+  w[hit.corner] = 0.0f;
   w = clean_weights(w);
   // Rotate so the edge reached is (x, y) and the corner opposite it is z.
-  const int i = kNext[hit + 1];
-  const int j = kNext[hit + 2];
-  out.end.indices = {start.indices[i], start.indices[j], start.indices[hit]};
+  const int i = kNext[hit.corner + 1];
+  const int j = kNext[hit.corner + 2];
+  out.end.indices = {start.indices[i], start.indices[j], start.indices[hit.corner]};
   out.end.weights = {w[i], w[j], 0.0f};
-  out.time = time;
+  out.time = hit.time;
   out.hit_edge = true;
   return out;
 }
@@ -181,48 +201,71 @@ WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
   out.end = start;
   const Vec3 n0 = triangle_normals_[start.triangle];
   Vec3 heading = step - glm::dot(step, n0) * n0;  // the whole step, tangent, carried along
-  // Fast path: the whole step stays in the start triangle (most steps of a walking agent).
-  const Vec3 moved = start.weights + weight_rates(start, heading);
-  if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {
-    out.end.weights = moved * (1.0f / (moved.x + moved.y + moved.z));
-    out.end_step = heading;
-    out.distance = glm::length(heading);
-    return out;
-  }
-  float left = 1.0f;                              // fraction of `heading` still to walk
+  // The same steps as walk_in_triangle + cross_edge, written inline on (triangle, rotation,
+  // weights): the edge reached and the neighbour's rotation follow from the stored edge
+  // indices, with no searching and no edge-form copies.
+  std::uint32_t t = start.triangle;
+  int r = rotation_of(start, triangles_[t]);  // indices[m] == triangles_[t][(m + r) % 3]
+  Vec3 w = start.weights;
+  float heading_length = glm::length(heading);
+  float left = 1.0f;                 // fraction of `heading` still to walk
   const float done_length = kWalkLengthTolerance * size_;
   bool wall_since_progress = false;  // a wall was reached and nothing was walked since
   int idle = 0;                      // iterations in a row that walked nothing
-  WalkPoint p = start;
   int iteration = 0;
-  float heading_length = glm::length(heading);
   for (; iteration < kMaxWalkIterations; ++iteration) {
     if (!(left * heading_length > done_length)) break;
-    const TriangleWalk in = walk_in_triangle(p, left * heading);
-    out.distance += in.time * left * heading_length;
-    p = in.end;
-    if (!in.hit_edge) {
+    const Vec3 s = left * heading;
+    const std::array<Vec3, 3>& g = weight_gradients_[t];
+    Vec3 rate{glm::dot(g[r], s), glm::dot(g[kNext[r + 1]], s), glm::dot(g[kNext[r + 2]], s)};
+    const Vec3 moved = w + rate;
+    if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {  // the rest fits in this triangle
+      w = moved * (1.0f / (moved.x + moved.y + moved.z));
+      out.distance += left * heading_length;
       left = 0.0f;
       break;
     }
-    if (in.time > 0.0f) {
+    const FirstZero hit = first_zero(w, rate);
+    if (hit.corner < 0) {
+      w = clean_weights(w + rate);
+      out.distance += left * heading_length;
+      left = 0.0f;
+      break;
+    }
+    out.distance += hit.time * left * heading_length;
+    Vec3 on_edge = w + hit.time * rate;
+    on_edge[hit.corner] = 0.0f;
+    w = clean_weights(on_edge);
+    if (hit.time > 0.0f) {
       wall_since_progress = false;
       idle = 0;
     } else if (++idle > kMaxIdleIterations) {
       out.status = WalkStatus::blocked;  // circling a vertex without moving
       break;
     }
-    left *= 1.0f - in.time;
-    if (const auto crossing = cross_edge(p)) {
-      p = crossing->end;
-      if (crossing->rotation.w != 1.0f) {  // a fold (not the identity): turn the step over it
-        heading = crossing->rotation * heading;
-        // Remove the float drift off the new plane, keeping the length.
-        const Vec3 n = triangle_normals_[p.triangle];
-        const Vec3 tangent = heading - glm::dot(heading, n) * n;
+    left *= 1.0f - hit.time;
+    // The edge reached runs from corner i to corner j: stored edge e of triangle t.
+    const int i = kNext[hit.corner + 1];
+    const int j = kNext[hit.corner + 2];
+    const int e = kNext[i + r];
+    const glm::uvec3 tri = triangles_[t];
+    const std::uint32_t next = neighbors_[t][e];
+    if (next != kNoNeighbor) {
+      // Cross: the neighbour stores the edge as (y, x) at index `back`, so rotating its corners
+      // by `back` gives indices (y, x, z') and weights (w_y, w_x, 0).
+      const int back = neighbor_edges_[t][e];
+      const Vec3 n_old = triangle_normals_[t];
+      const Vec3 n_new = triangle_normals_[next];
+      if (n_old != n_new) {  // a fold: turn the step over it, then remove drift off the new plane
+        const Vec3 axis = glm::normalize(positions_[tri[kNext[e + 1]]] - positions_[tri[e]]);
+        heading = rotation_between(n_old, n_new, axis) * heading;
+        const Vec3 tangent = heading - glm::dot(heading, n_new) * n_new;
         const float tangent_length = glm::length(tangent);
         heading = tangent_length > 0.0f ? tangent * (heading_length / tangent_length) : tangent;
       }
+      w = {w[j], w[i], 0.0f};
+      t = next;
+      r = back;
       ++out.edges_crossed;
       continue;
     }
@@ -234,7 +277,7 @@ WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
       break;
     }
     wall_since_progress = true;
-    const Vec3 along = glm::normalize(positions_[p.indices.y] - positions_[p.indices.x]);
+    const Vec3 along = glm::normalize(positions_[tri[kNext[e + 1]]] - positions_[tri[e]]);
     const float along_length = glm::dot(heading, along);
     if (!(std::fabs(along_length) > kWallSlideTolerance * heading_length)) {
       heading = Vec3(0.0f);
@@ -245,7 +288,8 @@ WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
     heading_length = std::fabs(along_length);
   }
   if (iteration == kMaxWalkIterations) out.status = WalkStatus::iteration_limit;
-  out.end = p;
+  const glm::uvec3 tri = triangles_[t];
+  out.end = {{tri[r], tri[kNext[r + 1]], tri[kNext[r + 2]]}, w, t};
   out.end_step = heading;
   return out;
 }
