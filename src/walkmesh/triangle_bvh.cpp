@@ -142,16 +142,16 @@ BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
   stack[top++] = {0, distance_squared(nodes_[0].bounds, p)};
   while (top > 0) {
     const Entry entry = stack[--top];
-    if (entry.distance_squared > best.distance_squared) continue;
+    if (entry.distance_squared >= best.distance_squared) continue;  // cannot be strictly nearer
     const Node& node = nodes_[entry.node];
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-        if (distance_squared(leaf_bounds_[i], p) > best.distance_squared) continue;
+        if (distance_squared(leaf_bounds_[i], p) >= best.distance_squared) continue;
         const auto& t = corners_[i];
         const TrianglePoint q = closest_point_on_triangle(p, t[0], t[1], t[2]);
         const Vec3 d = q.point - p;
         const float d2 = glm::dot(d, d);
-        if (d2 < best.distance_squared || (d2 == best.distance_squared && ids_[i] < best.triangle)) {
+        if (d2 < best.distance_squared) {
           best = {ids_[i], q, d2};
         }
       }
@@ -162,10 +162,10 @@ BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
     const Entry l{node.first, distance_squared(nodes_[node.first].bounds, p)};
     const Entry r{node.first + 1, distance_squared(nodes_[node.first + 1].bounds, p)};
     if (l.distance_squared <= r.distance_squared) {
-      if (r.distance_squared <= best.distance_squared) stack[top++] = r;
+      if (r.distance_squared < best.distance_squared) stack[top++] = r;
       stack[top++] = l;
     } else {
-      if (l.distance_squared <= best.distance_squared) stack[top++] = l;
+      if (l.distance_squared < best.distance_squared) stack[top++] = l;
       stack[top++] = r;
     }
   }

@@ -46,7 +46,8 @@ class TriangleBvh {
   TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles);
 
   /// The exact nearest point of all triangles to `p`: branch and bound, nearer child first,
-  /// pruning boxes farther than the best so far. No allocation. Ties keep the lower index.
+  /// pruning boxes no nearer than the best so far (so among triangles at exactly the same
+  /// distance, the first one found wins: deterministic for a given tree). No allocation.
   [[nodiscard]] BvhNearest nearest(Vec3 p) const noexcept;
 
   /// Calls `visit(triangle index)` for every triangle whose bounding box overlaps `box`.
