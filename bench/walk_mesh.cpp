@@ -143,7 +143,6 @@ struct Scene {
     detour = build_detour(level);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    const collide::Aabb3 box = walk_mesh.bounds();
     // Start points: walk-mesh points where Detour also has ground within 0.3 m.
     while (starts.size() < kAgents) {
       const std::uint32_t t = static_cast<std::uint32_t>(rng() % walk_mesh.triangle_count());
@@ -165,7 +164,6 @@ struct Scene {
       const Vec3 p = walk_mesh.to_world_point(walk_mesh.walk_point(t, {unit(rng), unit(rng), unit(rng)}));
       queries.push_back(p + Vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
     }
-    (void)box;
   }
 };
 

@@ -6,6 +6,8 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -83,6 +85,104 @@ struct Link {
   std::uint32_t t0, t1, lo, hi;
   bool cut = false;
 };
+
+/// Splits triangles at T-junctions: a vertex lying inside an unshared edge of another triangle
+/// (within `tolerance`), as where a refined part of a mesh meets an unrefined one. The triangle
+/// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding; repeated until no
+/// unshared edge holds a vertex (at most kMaxTJunctionPasses passes). Candidate vertices for an
+/// edge come from the axis-sorted vertex list whose slab around the edge holds the fewest.
+std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<Vec3>& local,
+                              float tolerance) {
+  std::vector<std::uint32_t> verts;
+  {
+    std::vector<bool> seen(local.size(), false);
+    for (const glm::uvec3& t : tris) {
+      for (int k = 0; k < 3; ++k) {
+        if (!seen[t[k]]) {
+          seen[t[k]] = true;
+          verts.push_back(t[k]);
+        }
+      }
+    }
+  }
+  std::array<std::vector<std::uint32_t>, 3> sorted;
+  for (int axis = 0; axis < 3; ++axis) {
+    sorted[axis] = verts;
+    std::sort(sorted[axis].begin(), sorted[axis].end(),
+              [&](std::uint32_t a, std::uint32_t b) { return local[a][axis] < local[b][axis]; });
+  }
+  std::size_t splits = 0;
+  for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
+    struct Use {
+      std::uint32_t lo, hi, triangle;
+      int edge;
+    };
+    std::vector<Use> uses;
+    uses.reserve(3 * tris.size());
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3];
+        uses.push_back({std::min(u, v), std::max(u, v), t, e});
+      }
+    }
+    std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) {
+      return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi;
+    });
+    std::vector<bool> split_this_pass(tris.size(), false);
+    std::size_t before = tris.size();
+    for (std::size_t i = 0; i < uses.size();) {
+      std::size_t j = i + 1;
+      while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+      if (j - i == 1 && !split_this_pass[uses[i].triangle]) {
+        const std::uint32_t t = uses[i].triangle;
+        const int e = uses[i].edge;
+        const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
+        const Vec3 a = local[u], d = local[v] - a;
+        const float dd = glm::dot(d, d);
+        // The axis whose slab around the edge holds the fewest vertices.
+        int best_axis = 0;
+        std::size_t best_count = std::numeric_limits<std::size_t>::max();
+        std::array<std::pair<std::size_t, std::size_t>, 3> range{};
+        for (int axis = 0; axis < 3; ++axis) {
+          const float lo = std::min(a[axis], local[v][axis]) - tolerance;
+          const float hi = std::max(a[axis], local[v][axis]) + tolerance;
+          const auto& list = sorted[axis];
+          const auto first = std::lower_bound(list.begin(), list.end(), lo,
+                                              [&](std::uint32_t q, float value) { return local[q][axis] < value; });
+          const auto last = std::upper_bound(list.begin(), list.end(), hi,
+                                             [&](float value, std::uint32_t q) { return value < local[q][axis]; });
+          range[axis] = {static_cast<std::size_t>(first - list.begin()), static_cast<std::size_t>(last - list.begin())};
+          if (range[axis].second - range[axis].first < best_count) {
+            best_count = range[axis].second - range[axis].first;
+            best_axis = axis;
+          }
+        }
+        std::uint32_t w = kUnset;
+        float w_param = 2.0f;
+        for (std::size_t k = range[best_axis].first; k < range[best_axis].second && dd > 0.0f; ++k) {
+          const std::uint32_t q = sorted[best_axis][k];
+          if (q == u || q == v) continue;
+          const float s = glm::dot(local[q] - a, d) / dd;
+          if (!(s > 0.0f && s < 1.0f)) continue;
+          const Vec3 off = local[q] - (a + s * d);
+          if (glm::dot(off, off) <= tolerance * tolerance && s < w_param) {
+            w = q;
+            w_param = s;
+          }
+        }
+        if (w != kUnset) {
+          tris[t] = {u, w, x};
+          tris.push_back({w, v, x});
+          split_this_pass[t] = true;
+          ++splits;
+        }
+      }
+      i = j;
+    }
+    if (tris.size() == before) break;
+  }
+  return splits;
+}
 
 bool has_directed_edge(glm::uvec3 t, std::uint32_t u, std::uint32_t v) {
   return (t.x == u && t.y == v) || (t.y == u && t.z == v) || (t.z == u && t.x == v);
@@ -193,6 +293,8 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
     throw InvalidInput(name + ": no usable triangles (all " + std::to_string(soup.triangles.size()) +
                        " are degenerate or duplicates)");
   }
+  stats.t_junction_splits = split_t_junctions(tris, local, std::max(options.weld_tolerance * mesh.size_,
+                                                                     kWalkWeldTolerance * mesh.size_));
   const auto nt = static_cast<std::uint32_t>(tris.size());
 
   // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the

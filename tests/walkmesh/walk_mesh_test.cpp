@@ -392,6 +392,22 @@ TEST(WalkMeshBuild, DegenerateAndDuplicateTrianglesAreDropped) {
   EXPECT_EQ(mesh.triangle_count(), clean);
 }
 
+TEST(WalkMeshBuild, TJunctionsAreSplitSoBothSidesLink) {
+  // Two unit squares side by side in xz; the left one is split at the midpoint (1, 0.5) of the
+  // shared edge x = 1, the right one is not: a T-junction, which would be a wall.
+  const TriangleSoup s{"t-junction",
+                       {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {2, 0, 0}, {2, 0, 1}, {1, 0, 0.5f}},
+                       {{0, 6, 1}, {0, 3, 6}, {3, 2, 6}, {1, 5, 4}, {1, 2, 5}}};
+  const WalkMesh mesh = build_walk_mesh(s);
+  EXPECT_EQ(mesh.stats().t_junction_splits, 1u);
+  EXPECT_EQ(mesh.stats().boundary_edges, 6u);  // the outline: one edge per side, two on top and bottom
+  for (const float z : {0.25f, 0.5f, 0.75f}) {
+    const WalkResult r = mesh.walk(mesh.nearest_walk_point({0.5f, 0.0f, z}), {1.0f, 0.0f, 0.0f});
+    EXPECT_EQ(r.walls_hit, 0) << z;
+    EXPECT_LT(distance(mesh.to_world_point(r.end), {1.5f, 0.0f, z}), 1e-6);
+  }
+}
+
 TEST(WalkMeshBuild, NonManifoldEdgeLinksTheFlatContinuation) {
   // Two floor triangles share edge (0,1); a third triangle (a fin) stands up on the same edge.
   const TriangleSoup s{"fin",

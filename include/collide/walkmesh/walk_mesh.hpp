@@ -52,6 +52,9 @@ inline constexpr float kWallSlideTolerance = 1e-4f;
 /// A walk that visits this many triangles in a row without moving (turning around a vertex) stops
 /// as blocked: the step points out of the mesh at that vertex.
 inline constexpr int kMaxIdleIterations = 64;
+/// Passes of T-junction splitting in build_walk_mesh (each pass splits every triangle with a
+/// vertex on an unshared edge once; an edge holding n vertices needs n passes).
+inline constexpr int kMaxTJunctionPasses = 16;
 /// Most triangles one `walk` visits (edge crossings plus wall slides); a walk that needs more
 /// stops and says so (`WalkStatus::iteration_limit`).
 inline constexpr int kMaxWalkIterations = 1024;
@@ -85,6 +88,7 @@ struct WalkMeshStats {
   std::size_t welded_vertices = 0;       ///< input vertices merged into an earlier one
   std::size_t degenerate_triangles = 0;  ///< dropped: repeated corner after welding, or no area
   std::size_t duplicate_triangles = 0;   ///< dropped: same three vertices as an earlier triangle
+  std::size_t t_junction_splits = 0;     ///< triangles split where a vertex lay inside an unshared edge
   std::size_t non_manifold_edges = 0;    ///< edges shared by more than two triangles
   std::size_t flipped_triangles = 0;     ///< triangles whose winding was reversed to agree with neighbours and up
   std::size_t orientation_conflicts = 0; ///< links cut because no consistent winding exists (Moebius-like)
@@ -233,6 +237,8 @@ void validate_triangle_soup(const TriangleSoup& soup);
 /// (the failure modes behind recastnavigation issues #263, #377 and #556 in mind):
 ///  - welds vertices closer than `weld_tolerance` times the mesh size (hash grid);
 ///  - drops degenerate triangles (repeated corners, no area) and duplicates;
+///  - splits triangles at T-junctions (a vertex inside another triangle's unshared edge), so the
+///    two sides link instead of leaving a wall between them;
 ///  - pairs triangles over each edge; an edge shared by more than two triangles links the pairs
 ///    that continue each other most flatly, the others see a wall there;
 ///  - makes the winding consistent across links (breadth-first), then turns each island so its
