@@ -4,6 +4,7 @@
 #include "commands.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
 #include <collide/draw/canvas.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/io/png.hpp>
@@ -101,7 +102,8 @@ int run_walk(const WalkOptions& o) {
   }
   // The independent check: each position must be a valid point of its triangle and lie on the
   // mesh as nearest_walk_point (the BVH, not the walking code) sees it.
-  const float on_mesh_tolerance = 1e-6f * (mesh.size() + glm::length(mesh.origin()));
+  // Float precision of positions: kRelativeTolerance of the coordinates' magnitude.
+  const float on_mesh_tolerance = kRelativeTolerance * (mesh.size() + glm::length(mesh.origin()));
   double distance = 0.0, worst = 0.0;
   long crossings = 0, wall_hits = 0, blocked = 0, off_mesh = 0, checks = 0;
   for (int step = 0; step < o.steps; ++step) {

@@ -1,5 +1,7 @@
 #include <collide/walkmesh/closest_point_triangle.hpp>
 
+#include <algorithm>
+
 namespace collide {
 
 // Ericson 5.1.5: test the Voronoi regions of a, b, c, then of the three edges, and otherwise
@@ -40,16 +42,22 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
     return {b + w * (c - b), {0.0f, 1.0f - w, w}};
   }
 
-  const float sum = va + vb + vc;
-  if (!(sum > 0.0f)) {
+  // Face region. Ericson's weights vb / sum, vc / sum are differences of products of dot
+  // products, which cancel badly on slivers; project onto the plane instead and take the weights
+  // as signed sub-areas against the normal (better conditioned, same answer in exact arithmetic).
+  const Vec3 n = glm::cross(ab, ac);
+  const float nn = glm::dot(n, n);
+  if (!(nn > 0.0f)) {
     // Degenerate (zero-area) triangle that fell through every region test: take vertex a,
     // the only answer that is always on the triangle.
     return {a, {1.0f, 0.0f, 0.0f}};
   }
-  const float denom = 1.0f / sum;  // face region
-  const float v = vb * denom;
-  const float w = vc * denom;
-  return {a + ab * v + ac * w, {1.0f - v - w, v, w}};
+  const Vec3 q = p - n * (glm::dot(ap, n) / nn);
+  const float inv = 1.0f / nn;
+  // q - a = v ab + w ac, so (q - a) x ac = v n and ab x (q - a) = w n.
+  const float v = std::clamp(glm::dot(n, glm::cross(q - a, ac)) * inv, 0.0f, 1.0f);
+  const float w = std::clamp(glm::dot(n, glm::cross(ab, q - a)) * inv, 0.0f, 1.0f - v);
+  return {q, {1.0f - v - w, v, w}};
 }
 
 }  // namespace collide

@@ -89,7 +89,28 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   TriangleSoup walkable;
   walkable.name = level.name;
   walkable.positions = level.positions;
-  std::size_t too_steep = 0, low_headroom = 0;
+  std::size_t too_steep = 0, low_headroom = 0, refined = 0;
+  auto blocked = [&](std::uint32_t self, const std::array<Vec3, 3>& base) {
+    bool hit = false;
+    Aabb3 prism_box{glm::min(glm::min(base[0], base[1]), base[2]), glm::max(glm::max(base[0], base[1]), base[2])};
+    prism_box = merge(prism_box, Aabb3{prism_box.min + lift, prism_box.max + lift});
+    bvh.query(prism_box, [&](std::uint32_t other) {
+      if (hit || other == self) return;
+      const glm::uvec3 o = level.triangles[other];
+      hit = penetrates(base, lift, {local[o.x], local[o.y], local[o.z]}, tolerance);
+    });
+    return hit;
+  };
+  // A triangle partly under an obstacle is split into four at its edge midpoints, again and
+  // again, keeping the pieces with headroom, until pieces are smaller than
+  // kHeadroomRefineFraction of the agent's height. Neighbours that were not split meet the
+  // pieces at T-junctions, which build_walk_mesh splits so they link.
+  const float min_edge = kHeadroomRefineFraction * agent.height;
+  struct Piece {
+    std::array<Vec3, 3> corners;  // local coordinates
+    int depth;
+  };
+  std::vector<Piece> pieces;
   for (std::uint32_t t = 0; t < level.triangles.size(); ++t) {
     const glm::uvec3 tri = level.triangles[t];
     const std::array<Vec3, 3> base{local[tri.x], local[tri.y], local[tri.z]};
@@ -99,21 +120,39 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       ++too_steep;  // (degenerate triangles have no slope; build_walk_mesh would drop them anyway)
       continue;
     }
-    bool blocked = false;
-    if (agent.height > 0.0f) {
-      Aabb3 prism_box{glm::min(glm::min(base[0], base[1]), base[2]), glm::max(glm::max(base[0], base[1]), base[2])};
-      prism_box = merge(prism_box, Aabb3{prism_box.min + lift, prism_box.max + lift});
-      bvh.query(prism_box, [&](std::uint32_t other) {
-        if (blocked || other == t) return;
-        const glm::uvec3 o = level.triangles[other];
-        blocked = penetrates(base, lift, {local[o.x], local[o.y], local[o.z]}, tolerance);
-      });
-    }
-    if (blocked) {
-      ++low_headroom;
+    if (agent.height <= 0.0f || !blocked(t, base)) {
+      walkable.triangles.push_back(tri);
       continue;
     }
-    walkable.triangles.push_back(tri);
+    bool dropped = false, split = false;
+    pieces.assign(1, {base, 0});
+    while (!pieces.empty()) {
+      const Piece piece = pieces.back();
+      pieces.pop_back();
+      const auto& c = piece.corners;
+      if (piece.depth > 0 && !blocked(t, c)) {
+        const auto first = static_cast<unsigned>(walkable.positions.size());
+        for (const Vec3& corner : c) walkable.positions.push_back(origin + corner);
+        walkable.triangles.push_back({first, first + 1, first + 2});
+        continue;
+      }
+      const float longest = std::sqrt(std::max({glm::dot(c[1] - c[0], c[1] - c[0]), glm::dot(c[2] - c[1], c[2] - c[1]),
+                                                glm::dot(c[0] - c[2], c[0] - c[2])}));
+      if (piece.depth >= kMaxHeadroomRefineDepth || !(longest > min_edge)) {
+        dropped = true;
+        continue;
+      }
+      split = true;
+      // Midpoints as (a + b) * 0.5 are the same float for both triangles sharing an edge.
+      const Vec3 m01 = (c[0] + c[1]) * 0.5f, m12 = (c[1] + c[2]) * 0.5f, m20 = (c[2] + c[0]) * 0.5f;
+      const int d = piece.depth + 1;
+      pieces.push_back({{c[0], m01, m20}, d});
+      pieces.push_back({{m01, c[1], m12}, d});
+      pieces.push_back({{m20, m12, c[2]}, d});
+      pieces.push_back({{m01, m12, m20}, d});
+    }
+    refined += split ? 1 : 0;
+    low_headroom += dropped ? 1 : 0;
   }
   if (walkable.triangles.empty()) {
     throw InvalidInput(name + ": no walkable triangles (" + std::to_string(too_steep) + " too steep, " +
@@ -123,6 +162,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   mesh.stats_.input_triangles = level.triangles.size();
   mesh.stats_.too_steep_triangles = too_steep;
   mesh.stats_.low_headroom_triangles = low_headroom;
+  mesh.stats_.headroom_refined_triangles = refined;
   return mesh;
 }
 

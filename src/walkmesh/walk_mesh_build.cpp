@@ -88,7 +88,8 @@ struct Link {
 
 /// Splits triangles at T-junctions: a vertex lying inside an unshared edge of another triangle
 /// (within `tolerance`), as where a refined part of a mesh meets an unrefined one. The triangle
-/// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding; repeated until no
+/// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding, when a triangle at
+/// w runs along (u, v) on the far side from x (overlapping geometry is left alone); repeated until no
 /// unshared edge holds a vertex (at most kMaxTJunctionPasses passes). Candidate vertices for an
 /// edge come from the axis-sorted vertex list whose slab around the edge holds the fewest.
 std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<Vec3>& local,
@@ -128,6 +129,20 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
     std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) {
       return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi;
     });
+    // Triangles around each vertex, to check that a vertex found on an edge really belongs to the
+    // other side of it (and not to geometry overlapping this triangle).
+    std::vector<std::uint32_t> around_start(local.size() + 1, 0), around;
+    for (const glm::uvec3& t : tris) {
+      for (int k = 0; k < 3; ++k) ++around_start[t[k] + 1];
+    }
+    for (std::size_t v = 0; v < local.size(); ++v) around_start[v + 1] += around_start[v];
+    around.resize(around_start.back());
+    {
+      std::vector<std::uint32_t> fill(around_start.begin(), around_start.end() - 1);
+      for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        for (int k = 0; k < 3; ++k) around[fill[tris[t][k]]++] = t;
+      }
+    }
     std::vector<bool> split_this_pass(tris.size(), false);
     std::size_t before = tris.size();
     for (std::size_t i = 0; i < uses.size();) {
@@ -165,12 +180,34 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
           const float s = glm::dot(local[q] - a, d) / dd;
           if (!(s > 0.0f && s < 1.0f)) continue;
           const Vec3 off = local[q] - (a + s * d);
-          if (glm::dot(off, off) <= tolerance * tolerance && s < w_param) {
+          if (!(glm::dot(off, off) <= tolerance * tolerance && s < w_param)) continue;
+          // A true T-junction: some triangle at q has an edge along (u, v) and lies on the other
+          // side of it than x.
+          const Vec3 x_side = glm::cross(d, local[x] - a);
+          bool other_side = false;
+          for (std::uint32_t k2 = around_start[q]; k2 < around_start[q + 1] && !other_side; ++k2) {
+            const glm::uvec3 o = tris[around[k2]];
+            for (int c = 0; c < 3 && !other_side; ++c) {
+              const std::uint32_t y = o[c];
+              if (y == q) continue;
+              const float sy = glm::dot(local[y] - a, d) / dd;
+              const Vec3 off_y = local[y] - (a + sy * d);
+              if (sy < -1e-6f || sy > 1.0f + 1e-6f || glm::dot(off_y, off_y) > tolerance * tolerance) continue;
+              const std::uint32_t third = o[0] + o[1] + o[2] - q - y;  // the corner off the line
+              other_side = glm::dot(glm::cross(d, local[third] - a), x_side) < 0.0f;
+            }
+          }
+          if (other_side) {
             w = q;
             w_param = s;
           }
         }
-        if (w != kUnset) {
+        auto solid = [&](std::uint32_t p0, std::uint32_t p1, std::uint32_t p2) {  // the degenerate test of step 3
+          const Vec3 e0 = local[p1] - local[p0], e1 = local[p2] - local[p1], e2 = local[p0] - local[p2];
+          const float longest2 = std::max({glm::dot(e0, e0), glm::dot(e1, e1), glm::dot(e2, e2)});
+          return glm::length(glm::cross(e0, -e2)) > kWalkDegenerateTolerance * longest2;
+        };
+        if (w != kUnset && solid(u, w, x) && solid(w, v, x)) {
           tris[t] = {u, w, x};
           tris.push_back({w, v, x});
           split_this_pass[t] = true;
@@ -316,17 +353,21 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
     std::size_t j = i + 1;
     while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
     const std::size_t count = j - i;
+    const Vec3 p = local[uses[i].lo];
+    const Vec3 axis = glm::normalize(local[uses[i].hi] - p);
+    auto side = [&](std::size_t k) {  // unit direction from the edge to the third vertex
+      Vec3 d = local[uses[k].third] - p;
+      d -= glm::dot(d, axis) * axis;
+      return glm::normalize(d);
+    };
     if (count == 2) {
-      links.push_back({uses[i].triangle, uses[i + 1].triangle, uses[i].lo, uses[i].hi});
+      // Two triangles folded back onto each other (overlapping geometry) are not a walkable
+      // continuation: no link, a wall.
+      if (!(glm::dot(side(i), side(i + 1)) > kFoldBackLinkCos)) {
+        links.push_back({uses[i].triangle, uses[i + 1].triangle, uses[i].lo, uses[i].hi});
+      }
     } else if (count > 2) {
       ++stats.non_manifold_edges;
-      const Vec3 p = local[uses[i].lo];
-      const Vec3 axis = glm::normalize(local[uses[i].hi] - p);
-      auto side = [&](std::size_t k) {  // unit direction from the edge to the third vertex
-        Vec3 d = local[uses[k].third] - p;
-        d -= glm::dot(d, axis) * axis;
-        return glm::normalize(d);
-      };
       struct Candidate {
         float flatness;
         std::size_t a, b;
@@ -339,7 +380,7 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
                        [](const Candidate& x, const Candidate& y) { return x.flatness > y.flatness; });
       std::vector<bool> paired(count, false);
       for (const Candidate& c : candidates) {
-        if (paired[c.a - i] || paired[c.b - i]) continue;
+        if (paired[c.a - i] || paired[c.b - i] || -c.flatness > kFoldBackLinkCos) continue;
         paired[c.a - i] = paired[c.b - i] = true;
         links.push_back({uses[c.a].triangle, uses[c.b].triangle, uses[c.a].lo, uses[c.a].hi});
       }

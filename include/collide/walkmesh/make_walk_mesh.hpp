@@ -12,6 +12,12 @@ namespace collide {
 /// triangle as touching, not blocking (walls standing on the triangle's edges, its neighbours).
 inline constexpr float kHeadroomTolerance = 1e-5f;
 
+/// A level triangle partly under an obstacle is split until its pieces are smaller than this
+/// fraction of the agent's height; pieces with headroom are kept.
+inline constexpr float kHeadroomRefineFraction = 0.125f;
+/// Most rounds of four-way splitting of one level triangle for headroom (4^6 = 4096 pieces).
+inline constexpr int kMaxHeadroomRefineDepth = 6;
+
 /// The walking agent a walk mesh is made for.
 struct WalkAgent {
   float max_slope = 0.785398f;  ///< steepest walkable slope, radians from horizontal, [0, pi/2)
@@ -25,9 +31,11 @@ struct WalkAgent {
 ///    (levels wind inconsistently), so the underside of a thin floor is the same floor.
 ///  - headroom: no triangle of the level meets the prism swept by the triangle moved up by
 ///    `height` (exact separating-axis test of prism against triangle, Ericson 5.2.1 / 4.4;
-///    touching within kHeadroomTolerance does not count). Whole triangles are kept or dropped:
-///    a large floor triangle partly under an obstacle is dropped entirely (no clipping).
-/// The stats count the triangles dropped as too steep and for headroom. Throws InvalidInput for
+///    touching within kHeadroomTolerance does not count). A triangle that fails is split in four
+///    at its edge midpoints, recursively, keeping the pieces that pass, down to pieces of
+///    kHeadroomRefineFraction of the agent's height (kMaxHeadroomRefineDepth rounds at most):
+///    the walk mesh follows obstacles to that resolution (no exact clipping).
+/// The stats count the level triangles too steep, with some part dropped for headroom, and split. Throws InvalidInput for
 /// what `validate_triangle_soup` rejects, a bad agent field (named), or no walkable triangle.
 [[nodiscard]] WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent = {});
 

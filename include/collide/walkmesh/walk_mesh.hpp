@@ -52,6 +52,9 @@ inline constexpr float kWallSlideTolerance = 1e-4f;
 /// A walk that visits this many triangles in a row without moving (turning around a vertex) stops
 /// as blocked: the step points out of the mesh at that vertex.
 inline constexpr int kMaxIdleIterations = 64;
+/// Two triangles over an edge whose far corners lie in directions with a cosine above this
+/// (folded back onto each other within about 2.5 degrees: overlapping geometry) are not linked.
+inline constexpr float kFoldBackLinkCos = 0.999f;
 /// Passes of T-junction splitting in build_walk_mesh (each pass splits every triangle with a
 /// vertex on an unshared edge once; an edge holding n vertices needs n passes).
 inline constexpr int kMaxTJunctionPasses = 16;
@@ -95,7 +98,8 @@ struct WalkMeshStats {
   std::size_t boundary_edges = 0;        ///< edges without a neighbour (walls)
   std::size_t islands = 0;               ///< connected pieces
   std::size_t too_steep_triangles = 0;   ///< make_walk_mesh: dropped, steeper than the agent's max slope
-  std::size_t low_headroom_triangles = 0;  ///< make_walk_mesh: dropped, level geometry within the agent's height above
+  std::size_t low_headroom_triangles = 0;  ///< make_walk_mesh: level triangles with some part dropped, geometry within the agent's height above
+  std::size_t headroom_refined_triangles = 0;  ///< make_walk_mesh: level triangles split to keep the parts with headroom
 };
 
 /// Result of `walk_in_triangle`.
@@ -240,7 +244,8 @@ void validate_triangle_soup(const TriangleSoup& soup);
 ///  - splits triangles at T-junctions (a vertex inside another triangle's unshared edge), so the
 ///    two sides link instead of leaving a wall between them;
 ///  - pairs triangles over each edge; an edge shared by more than two triangles links the pairs
-///    that continue each other most flatly, the others see a wall there;
+///    that continue each other most flatly, the others see a wall there; triangles folded back
+///    onto each other (kFoldBackLinkCos) are never linked;
 ///  - makes the winding consistent across links (breadth-first), then turns each island so its
 ///    area-weighted normal points up (ties keep the input's majority winding); links that admit
 ///    no consistent winding are cut;
