@@ -17,6 +17,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -143,9 +144,18 @@ struct Scene {
     detour = build_detour(level);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    // Points uniform over the walkable area (not per triangle: the walk mesh has many small
+    // pieces along obstacles).
+    std::vector<float> cumulative(walk_mesh.triangle_count());
+    float area = 0.0f;
+    for (std::uint32_t t = 0; t < walk_mesh.triangle_count(); ++t) cumulative[t] = (area += walk_mesh.triangle_area(t));
+    auto random_triangle = [&]() {
+      const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), unit(rng) * area);
+      return static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(it - cumulative.begin(), walk_mesh.triangle_count() - 1));
+    };
     // Start points: walk-mesh points where Detour also has ground within 0.3 m.
     while (starts.size() < kAgents) {
-      const std::uint32_t t = static_cast<std::uint32_t>(rng() % walk_mesh.triangle_count());
+      const std::uint32_t t = random_triangle();
       const Vec3 p = walk_mesh.to_world_point(walk_mesh.walk_point(t, {unit(rng), unit(rng), unit(rng)}));
       dtPolyRef ref = 0;
       float nearest[3];
@@ -160,7 +170,7 @@ struct Scene {
       }
     }
     for (int i = 0; i < kQueries; ++i) {
-      const std::uint32_t t = static_cast<std::uint32_t>(rng() % walk_mesh.triangle_count());
+      const std::uint32_t t = random_triangle();
       const Vec3 p = walk_mesh.to_world_point(walk_mesh.walk_point(t, {unit(rng), unit(rng), unit(rng)}));
       queries.push_back(p + Vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f));
     }

@@ -14,7 +14,7 @@ inline constexpr float kHeadroomTolerance = 1e-5f;
 
 /// A level triangle partly under an obstacle is split until its pieces are smaller than this
 /// fraction of the agent's height; pieces with headroom are kept.
-inline constexpr float kHeadroomRefineFraction = 0.125f;
+inline constexpr float kHeadroomRefineFraction = 0.25f;
 /// Most rounds of four-way splitting of one level triangle for headroom (4^6 = 4096 pieces).
 inline constexpr int kMaxHeadroomRefineDepth = 6;
 
