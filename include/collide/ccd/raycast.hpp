@@ -16,11 +16,25 @@ struct RayHit {
   Vec2 normal{0.0f, 0.0f};   ///< unit outward surface normal at `point`, world space
 };
 
-/// First entry of `ray` (world space) into the shape placed by `xf`. A ray that starts inside
-/// the shape (or exactly on its surface heading in) reports no hit: it never enters. A ray of
-/// zero length reports no hit. Circle and capsule: analytic quadratic (Ericson 5.3.2);
-/// polygon: clipping the ray by each edge half-plane (Cyrus & Beck 1978; Ericson 5.3.8), and a
-/// rounded polygon as the union of its offset edges and vertex circles.
+/// First entry of `ray` (world space) into the shape placed by `xf`. A ray must enter to hit:
+/// one that starts in the closed shape (inside, or exactly on its surface whichever way it
+/// heads) reports no hit, and so do a ray of zero length and a ray with a NaN coordinate. Shapes
+/// must be valid (built by the make_* functions), `xf` finite. The ray is moved into the shape's
+/// local frame first, so precision does not degrade far from the world origin.
+/// - Circle: analytic quadratic (Ericson, Real-Time Collision Detection, 5.3.2), discriminant
+///   from the closest approach (Haines et al., Ray Tracing Gems, ch. 7).
+/// - Capsule: its flat sides as a slab, then the end disc on the side the ray meets (Ericson
+///   5.3.7 in 2D).
+/// - Polygon: the ray's line splits the vertices into left and right; walking
+///   counter-clockwise, the edge that crosses from left to right is where the line enters (a
+///   branch-free scan, one division). A rounded polygon is exactly the union of its core, its
+///   edges pushed out by the radius and a disc at each vertex: the pushed-out polygon is
+///   clipped by its edge half-planes (Cyrus & Beck 1978; Ericson 5.3.8), then one vertex disc
+///   is tested when the entry lands beyond an edge's end.
+/// - Segment: two-sided, the normal faces the ray's origin. A ray along the segment's line
+///   (parallel within kParallelTolerance, on the line within kRelativeTolerance of the
+///   segment's length) hits the nearer end with the normal pointing back along the ray, since
+///   touching counts; one starting on the segment reports no hit.
 template <Shape2DType S>
 [[nodiscard]] RayHit raycast(const S& shape, const Transform& xf, const Ray& ray) noexcept;
 
@@ -34,7 +48,8 @@ template <Shape2DType S>
 
 /// The ray that continues a laser after it hits a mirror: it starts at the hit point and keeps
 /// the length the incoming ray had left, mirrored about the hit normal. `hit` must be a hit of
-/// `ray`.
+/// `ray`. Rounding can put the new start a hair behind the mirror, so a laser loop should not
+/// cast the reflected ray at the mirror it just left (a convex mirror cannot be hit again).
 [[nodiscard]] constexpr Ray reflect(const Ray& ray, const RayHit& hit) noexcept {
   return Ray{hit.point, (1.0f - hit.fraction) * reflect(ray.translation, hit.normal)};
 }

@@ -30,7 +30,11 @@ struct PointQuery {
 };
 
 /// Closest surface point of shape placed by `xf` to world point `point`, with signed distance
-/// and Voronoi feature. Shapes must be valid; `point` and `xf` finite.
+/// and Voronoi feature; radii (circles, capsules, rounded polygons) applied along the direction
+/// from the core's closest point to `point`. Ties: a point on a segment or capsule core is in
+/// edge 0; the centre of a circle gets the closest point in local +x. A segment has no inside
+/// (distance >= 0). Shapes must be valid; `point` and `xf` finite. O(n) for polygons: the edge
+/// of greatest separation, then a walk through the Voronoi regions (Ericson 5.1.2-5.1.5).
 template <Shape2DType S>
 [[nodiscard]] PointQuery closest_point(const S& shape, const Transform& xf, Vec2 point) noexcept;
 

@@ -25,7 +25,9 @@ struct SimplexCache {
 
 /// How GJK ended.
 enum class GjkStatus : std::uint8_t {
-  separated,   ///< cores apart; distance and points are exact
+  /// Cores apart; distance, points and normal are exact. The shapes themselves may still
+  /// overlap through their radii: then distance is 0 (see DistanceResult::point_a).
+  separated,
   overlapped,  ///< cores overlap (the origin is inside the Minkowski difference)
   max_iterations,  ///< hit kGjkMaxIterations; the result is the best found (never seen in tests)
 };
@@ -34,19 +36,29 @@ enum class GjkStatus : std::uint8_t {
 struct DistanceResult {
   /// Distance between the shapes (radii applied), world units; 0 when they overlap.
   float distance = 0.0f;
-  /// Closest point on A's surface. When overlapping: a point of A inside B (the cores' witness).
+  /// Closest point on A's surface: A's core witness moved by A's radius along `normal`.
+  /// When the radii overlap (cores apart, distance 0) it is still that point, A's deepest point
+  /// towards B, and dot(point_b - point_a, normal) = -(penetration depth) <= 0. When the cores
+  /// overlap: a point inside both cores (equal to point_b).
   Vec2 point_a{0.0f, 0.0f};
-  /// Closest point on B's surface. When overlapping: a point of B inside A.
+  /// Closest point on B's surface: B's core witness moved by B's radius against `normal`; as
+  /// point_a for the overlapping cases.
   Vec2 point_b{0.0f, 0.0f};
   /// Unit direction from A to B along the closest points; zero when the cores overlap.
   Vec2 normal{0.0f, 0.0f};
-  int iterations = 0;  ///< GJK iterations used
+  int iterations = 0;  ///< GJK iterations used: support points evaluated (a cold start
+                       ///< spends one on its seed)
   GjkStatus status = GjkStatus::separated;
 };
 
 /// GJK distance between two convex proxies placed by `xa` and `xb`. `cache` (optional) is read
-/// to warm-start and written with the final simplex. Proxies must hold 1..kMaxPolygonVertices
-/// finite points.
+/// to warm-start (ignored if its indices do not fit these proxies or its simplex is now
+/// degenerate) and written with the final simplex. Proxies must hold 1..kMaxPolygonVertices
+/// finite points and transforms must be finite rigid (both checked by COLLIDE_ASSERT in debug
+/// builds: shapes and transforms are trusted here, see core/error.hpp). Runs in A's local frame (B is moved there once), so pairs far from the origin
+/// are as accurate as pairs near it; cores closer than kRelativeTolerance of their coordinates'
+/// size count as overlapping. Cold starts are seeded with the support points along the line
+/// between the two shapes' local origins. Allocates nothing.
 [[nodiscard]] DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa,
                                           const ConvexProxy& b, const Transform& xb,
                                           SimplexCache* cache = nullptr) noexcept;

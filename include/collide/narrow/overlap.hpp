@@ -7,11 +7,16 @@
 
 namespace collide {
 
-/// True when shape A placed by `xa` and shape B placed by `xb` share at least one point
-/// (touching counts, within float rounding). Circle pairs and circle-segment/capsule pairs are
-/// analytic; pairs with a polygon use GJK with early exit on a separating direction (Gilbert,
-/// Johnson & Keerthi 1988; the lower bound of van den Bergen 2003, 4.3.4), which stops as soon
-/// as either bound decides. Shapes must be valid; transforms finite.
+/// True when shape A placed by `xa` and shape B placed by `xb` share at least one point.
+/// Touching counts: shapes whose gap is within float rounding (kRelativeTolerance of the
+/// coordinates' size, in A's frame) overlap. Pairs of circles, capsules and segments are
+/// analytic: the closest points of a point or segment to a segment (Ericson, Real-Time Collision
+/// Detection, 5.1.2 and 5.1.9) against the sum of the radii. Pairs with a polygon use GJK with
+/// early exit (Gilbert, Johnson & Keerthi 1988), which stops as soon as either bound decides:
+/// the simplex's distance to the origin within the radii (overlap), or the support point's
+/// separating-axis lower bound beyond them (apart; van den Bergen 2003, 4.3.4). Shapes must be
+/// valid (built by the make_* functions); transforms finite. Swapping A and B gives the same
+/// answer except possibly for gaps within the rounding band.
 template <Shape2DType A, Shape2DType B>
 [[nodiscard]] bool overlap(const A& a, const Transform& xa, const B& b,
                            const Transform& xb) noexcept;

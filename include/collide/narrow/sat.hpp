@@ -4,6 +4,8 @@
 /// polygons are apart iff the perpendicular of some edge of one of them separates them.
 
 #include <collide/shape/polygon.hpp>
+#include <limits>
+#include <span>
 
 namespace collide {
 
@@ -14,12 +16,28 @@ struct EdgeSeparation {
   /// (the cores are that far apart along it); <= 0 is minus the overlap along the least
   /// penetrated axis of this polygon. World units.
   float separation = 0.0f;
+  /// Vertex of the second polygon deepest along the axis (its support point in the direction
+  /// of minus the edge normal): the incident edge is one of its two edges.
+  int support = 0;
 };
 
 /// Over A's edge normals, the axis of greatest separation of B's core from A's core, with B
-/// given in A's local frame by `b_in_a` (use inv_mul(xa, xb)). O(n m).
+/// given in A's local frame by `b_in_a` (use inv_mul(xa, xb)). Works for the 2-vertex polygons
+/// that stand for capsules and segments too. O(n m), four edges of A at a time.
 /// Ericson, Real-Time Collision Detection, 5.2.1; Catto GDC 2007.
 [[nodiscard]] EdgeSeparation find_max_separation(const Polygon& a, const Polygon& b,
                                                  const Transform& b_in_a) noexcept;
+
+/// The same test on raw arrays already in one frame: edge i of polygon 1 starts at
+/// `vertices1[i]` and has unit outward normal `normals1[i]`; `vertices2` are the other polygon's
+/// core vertices. Returns once an axis separates by more than `early_exit` (checked after each
+/// group of four edges; then `separation` > `early_exit` but may not be the largest); pass the
+/// radius sum to stop at an axis that proves the rounded shapes apart. The spans must have
+/// sizes 1..kMaxPolygonVertices (the first two equal). `contact` uses the same test on x/y
+/// arrays it builds once in A's frame.
+[[nodiscard]] EdgeSeparation find_max_separation(
+    std::span<const Vec2> vertices1, std::span<const Vec2> normals1,
+    std::span<const Vec2> vertices2,
+    float early_exit = std::numeric_limits<float>::infinity()) noexcept;
 
 }  // namespace collide

@@ -25,11 +25,13 @@ inline constexpr int kMaxPolygonVertices = 64;
 ///
 /// Size: about 1 KiB (vertex and normal arrays are inline).
 struct Polygon {
+  // Small fields first: a query on a small polygon then touches the count, the radius and the
+  // first vertices in neighbouring cache lines rather than lines 1 KiB apart.
+  int count = 0;                                   ///< number of vertices
+  float radius = 0.0f;                             ///< rounding radius, >= 0
+  Vec2 centroid{0.0f, 0.0f};                       ///< area centroid of the core, local space
   std::array<Vec2, kMaxPolygonVertices> vertices;  ///< local space, counter-clockwise
   std::array<Vec2, kMaxPolygonVertices> normals;   ///< unit outward normal of edge i
-  Vec2 centroid{0.0f, 0.0f};                       ///< area centroid of the core, local space
-  float radius = 0.0f;                             ///< rounding radius, >= 0
-  int count = 0;                                   ///< number of vertices
 
   /// Vertex i wrapped modulo count.
   [[nodiscard]] Vec2 vertex(int i) const noexcept { return vertices[static_cast<size_t>(i % count)]; }

@@ -1,0 +1,275 @@
+// The JSON Lines query protocol. Parsing turns JSON into validated shapes (every rejection names
+// its field), then the library answers; formatting writes floats with the fewest digits that
+// round-trip.
+
+#include "query.hpp"
+
+#include <collide/ccd/raycast.hpp>
+#include <collide/core/error.hpp>
+#include <collide/narrow/closest_point.hpp>
+#include <collide/narrow/contact.hpp>
+#include <collide/narrow/distance.hpp>
+#include <collide/narrow/overlap.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <istream>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace collide::cli {
+namespace {
+
+using nlohmann::json;
+
+/// A rejected question; the message names the field.
+struct QueryError {
+  std::string message;
+};
+
+[[noreturn]] void fail(const std::string& field, const std::string& why) {
+  throw QueryError{field.empty() ? why : field + ": " + why};
+}
+
+/// A float written with the fewest digits that read back as the same float.
+json number(float v) {
+  if (v == 0.0f) v = 0.0f;  // print -0 as 0
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return json(std::strtod(std::string(buf, res.ptr).c_str(), nullptr));
+}
+
+json vec(Vec2 v) { return json::array({number(v.x), number(v.y)}); }
+
+const json& require(const json& obj, const char* key, const std::string& where) {
+  const auto it = obj.find(key);
+  if (it == obj.end()) fail(where.empty() ? std::string(key) : where + "." + key, "missing");
+  return *it;
+}
+
+std::string path(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "." + key;
+}
+
+float to_float(const json& j, const std::string& field) {
+  if (!j.is_number()) fail(field, "expected a number");
+  const double d = j.get<double>();
+  const auto f = static_cast<float>(d);
+  if (!std::isfinite(d) || !std::isfinite(f)) fail(field, "not a finite float");
+  return f;
+}
+
+/// A 2D point. 3D coordinates are recognised and rejected with a clear message: this build
+/// answers 2D questions only.
+Vec2 to_vec2(const json& j, const std::string& field) {
+  if (!j.is_array()) fail(field, "expected an array of 2 numbers");
+  if (j.size() == 3) fail(field, "3D coordinates: this version answers 2D questions only");
+  if (j.size() != 2) fail(field, "expected 2 numbers, got " + std::to_string(j.size()));
+  return {to_float(j[0], field + "[0]"), to_float(j[1], field + "[1]")};
+}
+
+float radius_field(const json& shape, const std::string& where, bool required) {
+  const auto it = shape.find("radius");
+  if (it == shape.end()) {
+    if (required) fail(path(where, "radius"), "missing");
+    return 0.0f;
+  }
+  const float r = to_float(*it, path(where, "radius"));
+  if (r < 0.0f) fail(path(where, "radius"), "negative");
+  return r;
+}
+
+/// Runs a library constructor, turning its InvalidInput into an error naming the field.
+template <class F>
+auto build(const std::string& where, F&& make) {
+  try {
+    return make();
+  } catch (const InvalidInput& e) {
+    fail(where, e.what());
+  }
+}
+
+Shape2D to_shape(const json& j, const std::string& where) {
+  if (!j.is_object()) fail(where, "expected a shape object");
+  const json& type_json = require(j, "type", where);
+  if (!type_json.is_string()) fail(path(where, "type"), "expected a string");
+  const std::string type = type_json.get<std::string>();
+  if (type == "circle" || type == "sphere") {
+    const auto c = j.find("center");
+    const Vec2 center = c == j.end() ? Vec2{0.0f, 0.0f} : to_vec2(*c, path(where, "center"));
+    const float r = radius_field(j, where, true);
+    return build(where, [&] { return make_circle(center, r); });
+  }
+  if (type == "capsule") {
+    const Vec2 a = to_vec2(require(j, "a", where), path(where, "a"));
+    const Vec2 b = to_vec2(require(j, "b", where), path(where, "b"));
+    const float r = radius_field(j, where, true);
+    return build(where, [&] { return make_capsule(a, b, r); });
+  }
+  if (type == "segment") {
+    const Vec2 a = to_vec2(require(j, "a", where), path(where, "a"));
+    const Vec2 b = to_vec2(require(j, "b", where), path(where, "b"));
+    return build(where, [&] { return make_segment(a, b); });
+  }
+  if (type == "box") {
+    const Vec2 half = to_vec2(require(j, "half", where), path(where, "half"));
+    const float r = radius_field(j, where, false);
+    return build(where, [&] { return make_box(half, r); });
+  }
+  if (type == "polygon") {
+    const json& vs = require(j, "vertices", where);
+    const std::string field = path(where, "vertices");
+    if (!vs.is_array()) fail(field, "expected an array of points");
+    std::vector<Vec2> points;
+    for (size_t i = 0; i < vs.size(); ++i) {
+      points.push_back(to_vec2(vs[i], field + "[" + std::to_string(i) + "]"));
+    }
+    const float r = radius_field(j, where, false);
+    return build(where, [&] { return make_convex_polygon(points, r); });
+  }
+  if (type == "hull" || type == "triangle") {
+    fail(path(where, "type"), "\"" + type + "\" is a 3D shape: this version answers 2D questions only");
+  }
+  fail(path(where, "type"), "unknown shape type \"" + type + "\"");
+}
+
+Transform to_transform(const json& q, const char* key) {
+  const auto it = q.find(key);
+  if (it == q.end()) return Transform{};
+  const std::string where = key;
+  if (!it->is_object()) fail(where, "expected {\"p\": [x, y], \"angle\": radians}");
+  Transform xf;
+  if (const auto p = it->find("p"); p != it->end()) xf.p = to_vec2(*p, where + ".p");
+  if (it->contains("q")) fail(where + ".q", "quaternions are 3D: this version answers 2D questions only");
+  if (const auto a = it->find("angle"); a != it->end()) {
+    xf.q = Rot2::from_angle(to_float(*a, where + ".angle"));
+  }
+  return xf;
+}
+
+std::string feature_name(Feature f) {
+  const char* kind = f.type == FeatureType::vertex ? "vertex"
+                     : f.type == FeatureType::edge ? "edge"
+                                                   : "face";
+  return std::string(kind) + " " + std::to_string(f.index);
+}
+
+json answer(const json& q) {
+  if (!q.is_object()) fail("", "expected a JSON object");
+  const json& op_json = require(q, "op", "");
+  if (!op_json.is_string()) fail("op", "expected a string");
+  const std::string op = op_json.get<std::string>();
+  json out;
+  if (op == "overlap" || op == "contact" || op == "distance") {
+    const Shape2D a = to_shape(require(q, "a", ""), "a");
+    const Shape2D b = to_shape(require(q, "b", ""), "b");
+    const Transform xa = to_transform(q, "xa");
+    const Transform xb = to_transform(q, "xb");
+    if (op == "overlap") {
+      out["overlap"] = overlap(a, xa, b, xb);
+    } else if (op == "contact") {
+      const Manifold m = contact(a, xa, b, xb);
+      out["touching"] = m.touching();
+      if (m.touching()) {
+        out["normal"] = vec(m.normal);
+        out["depth"] = number(m.max_depth());
+        json points = json::array();
+        json depths = json::array();
+        for (int i = 0; i < m.count; ++i) {
+          points.push_back(vec(m.points[i].point));
+          depths.push_back(number(m.points[i].depth));
+        }
+        out["points"] = points;
+        out["depths"] = depths;
+      }
+    } else {
+      const DistanceResult d = distance(a, xa, b, xb);
+      out["distance"] = number(d.distance);
+      out["pa"] = vec(d.point_a);
+      out["pb"] = vec(d.point_b);
+    }
+  } else if (op == "raycast") {
+    const Shape2D shape = to_shape(require(q, "shape", ""), "shape");
+    const Transform x = to_transform(q, "x");
+    const Ray ray{to_vec2(require(q, "origin", ""), "origin"),
+                  to_vec2(require(q, "translation", ""), "translation")};
+    const RayHit hit = raycast(shape, x, ray);
+    out["hit"] = hit.hit;
+    if (hit.hit) {
+      out["fraction"] = number(hit.fraction);
+      out["point"] = vec(hit.point);
+      out["normal"] = vec(hit.normal);
+    }
+  } else if (op == "closest_point") {
+    const Shape2D shape = to_shape(require(q, "shape", ""), "shape");
+    const Transform x = to_transform(q, "x");
+    const Vec2 point = to_vec2(require(q, "point", ""), "point");
+    const PointQuery r = closest_point(shape, x, point);
+    out["inside"] = r.inside;
+    out["distance"] = number(r.distance);
+    out["closest"] = vec(r.closest);
+    out["feature"] = feature_name(r.feature);
+  } else if (op == "toi" || op == "pairs") {
+    fail("op", "\"" + op + "\" is not available in this version");
+  } else {
+    fail("op", "unknown op \"" + op + "\"");
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string answer_query_line(std::string_view line) {
+  if (line.find_first_not_of(" \t\r\n") == std::string_view::npos) return {};
+  json id = nullptr;
+  json out;
+  try {
+    const json q = json::parse(line);
+    if (q.is_object()) {
+      if (const auto it = q.find("id"); it != q.end()) id = *it;
+    }
+    out = answer(q);
+  } catch (const json::exception& e) {
+    // Syntax errors, and numbers beyond double range (1e999), which JSON parsing rejects.
+    out = json::object({{"error", std::string("line is not valid JSON: ") + e.what()}});
+  } catch (const QueryError& e) {
+    out = json::object({{"error", e.message}});
+  } catch (const std::exception& e) {
+    out = json::object({{"error", std::string("internal error: ") + e.what()}});
+  }
+  json result = json::object({{"id", id}});
+  result.update(out);
+  return result.dump();
+}
+
+std::size_t answer_query_stream(std::istream& in, std::ostream& out) {
+  std::size_t answered = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::string reply = answer_query_line(line);
+    if (reply.empty()) continue;
+    out << reply << '\n';
+    ++answered;
+  }
+  out.flush();
+  return answered;
+}
+
+std::string query_ops_help() {
+  return
+      "Ops (one JSON object per line; every answer echoes \"id\"):\n"
+      "  overlap        a, xa, b, xb                 -> overlap\n"
+      "  contact        a, xa, b, xb                 -> touching, normal (A to B), depth, points, depths\n"
+      "  distance       a, xa, b, xb                 -> distance, pa, pb\n"
+      "  raycast        shape, x, origin, translation -> hit, fraction, point, normal\n"
+      "  closest_point  shape, x, point               -> inside, distance (signed), closest, feature\n"
+      "Shapes: circle {center, radius}, capsule {a, b, radius}, box {half, radius?},\n"
+      "        polygon {vertices (convex, counter-clockwise), radius?}, segment {a, b}\n"
+      "Transforms: {\"p\": [x, y], \"angle\": radians}; omitted means identity.\n";
+}
+
+}  // namespace collide::cli

@@ -1,0 +1,156 @@
+#pragma once
+/// @file
+/// Static collision geometry from Tiled maps (https://www.mapeditor.org): `.tmx` (XML) and
+/// `.tmj`/`.json` (JSON) maps, with external tilesets (`.tsx` or `.tsj`/`.json`) and object
+/// templates (`.tx` or `.tj`) in either format.
+///
+/// Coordinates. Everything is in Tiled's own map space: pixels, x to the right, **y down**,
+/// origin at the map's top-left corner. collide's math does not care which way y points, but the
+/// words do: a polygon that collide calls counter-clockwise (positive signed area) looks
+/// clockwise on a y-down screen, and a positive rotation (Tiled's `rotation`, degrees clockwise
+/// on screen) is a positive angle in these coordinates. Games whose world is y-up can call
+/// `flip_y`, which mirrors every collider about the horizontal line y = height / 2.
+///
+/// What becomes a collider (one `TiledCollider` per convex piece):
+///  - rectangle objects -> a box (Polygon); a rectangle of zero width or height -> a Segment;
+///  - ellipse objects -> a Circle when width == height, otherwise a convex Polygon of
+///    kTiledEllipseVertices vertices on the ellipse (inscribed: it covers slightly less area);
+///  - polygon objects -> convex pieces by `decompose_convex` (concave outlines allowed);
+///  - polyline objects -> one Segment per link (a chain; zero-length links are skipped);
+///  - tile objects and non-empty cells of tile layers -> the collision shapes that the tileset
+///    gives the tile (Tiled's collision editor), with the gid's flip bits (horizontal, vertical,
+///    diagonal) and the object's scale and rotation applied. A tile object whose tile has no
+///    collision shapes becomes a box of its image rectangle if
+///    `TiledLoadOptions::tile_object_image_boxes` is set (the default);
+///  - point and text objects -> no collider (they are listed in `TiledMap::objects`).
+/// Layer offsets and the offsets of nested groups are applied; parallax factors are not (they
+/// change drawing only). Hidden layers are loaded too (collision layers are often hidden).
+/// Images are never opened, so missing images are fine. The XML parser never fetches the
+/// external DTD that old maps name in their DOCTYPE.
+///
+/// Supported: orthogonal maps, finite or infinite (chunked) tile layers, tile data as csv,
+/// base64, base64 + zlib and base64 + gzip, and legacy `<tile gid>` elements.
+/// Rejected with InvalidInput: isometric, staggered and hexagonal maps, zstd-compressed data.
+
+#include <collide/core/transform.hpp>
+#include <collide/shape/shape2d.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace collide {
+
+/// Vertices of the convex polygon that stands in for a non-circular Tiled ellipse.
+inline constexpr int kTiledEllipseVertices = 16;
+
+/// The gid bits Tiled uses for flips (https://doc.mapeditor.org/en/stable/reference/global-tile-ids/).
+inline constexpr std::uint32_t kTiledFlipHorizontal = 0x80000000u;
+inline constexpr std::uint32_t kTiledFlipVertical = 0x40000000u;
+inline constexpr std::uint32_t kTiledFlipDiagonal = 0x20000000u;
+inline constexpr std::uint32_t kTiledRotateHexagonal120 = 0x10000000u;
+/// The gid without its flip bits.
+inline constexpr std::uint32_t kTiledGidMask = 0x0fffffffu;
+
+/// What a Tiled object is.
+enum class TiledShapeKind : unsigned char { rectangle, ellipse, polygon, polyline, point, text, tile };
+
+/// Lower-case name of the kind ("rectangle", ..., "tile").
+[[nodiscard]] const char* to_string(TiledShapeKind kind) noexcept;
+
+/// A Tiled object as the file describes it, templates merged. Map pixels, y down.
+struct TiledObject {
+  int id = 0;                 ///< Tiled's object id (0 inside tilesets when absent)
+  std::string name;           ///< `name`
+  std::string type;           ///< `type` (Tiled < 1.9) or `class` (Tiled >= 1.9)
+  TiledShapeKind kind = TiledShapeKind::rectangle;
+  Vec2 position{0.0f, 0.0f};  ///< x, y in the layer's frame; a tile object's bottom-left corner
+  Vec2 size{0.0f, 0.0f};      ///< width, height (pixels); zero when the file gives none
+  float rotation = 0.0f;      ///< radians about `position`, positive = clockwise on screen
+  std::vector<Vec2> points;   ///< polygon/polyline points relative to `position`
+  std::uint32_t gid = 0;      ///< tile objects: global tile id with flip bits; otherwise 0
+  std::string layer;          ///< layer path, groups joined by '/' ("Collision", "g/objects")
+  Vec2 layer_offset{0.0f, 0.0f};  ///< summed offsets of the layer and its groups
+  std::string template_file;  ///< the `.tx` it was instantiated from, empty if none
+};
+
+/// One tile of a tileset that carries collision shapes or its own image size.
+struct TiledTile {
+  int id = 0;                       ///< local tile id within the tileset
+  Vec2 image_size{0.0f, 0.0f};      ///< per-tile image size (image collections), else tile size
+  std::vector<TiledObject> collision;  ///< collision shapes in the tile's pixels, y down
+};
+
+/// A tileset, embedded or external.
+struct TiledTileset {
+  std::string name;
+  std::uint32_t first_gid = 1;    ///< gid of local tile 0 in the map that uses it
+  int tile_count = 0;             ///< `tilecount`
+  Vec2 tile_size{0.0f, 0.0f};     ///< `tilewidth`, `tileheight`
+  Vec2 tile_offset{0.0f, 0.0f};   ///< `<tileoffset>`: drawing offset of every tile
+  std::filesystem::path source;   ///< the `.tsx`/`.tsj` file, empty when embedded
+  std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image
+
+  /// The tile with local id `id`, or nullptr.
+  [[nodiscard]] const TiledTile* find(int id) const noexcept;
+};
+
+/// Where a collider came from: for error messages, picking and game logic.
+struct TiledSource {
+  std::string layer;            ///< layer path ("group/layer")
+  int object_id = 0;            ///< Tiled object id; 0 for a tile-layer cell
+  std::string name;             ///< object name
+  std::string type;             ///< object type/class
+  TiledShapeKind kind = TiledShapeKind::rectangle;  ///< the object's kind (tile for cells)
+  bool from_tile = false;       ///< true: a collision shape of a tile (cell or tile object)
+  int tile_shape_id = 0;        ///< from_tile: id of the collision object inside the tile
+  std::uint32_t gid = 0;        ///< tile gid with flip bits, 0 when not from a tile
+  int cell_x = -1;              ///< tile-layer cell column, -1 otherwise
+  int cell_y = -1;              ///< tile-layer cell row, -1 otherwise
+};
+
+/// One convex piece of static geometry: `shape` in local space, placed by `transform`.
+struct TiledCollider {
+  Shape2D shape;
+  Transform transform;  ///< local -> map pixels (y down)
+  TiledSource source;
+};
+
+/// A loaded map: its header, its tilesets and objects as the file describes them, and the
+/// static colliders built from them.
+struct TiledMap {
+  std::filesystem::path path;
+  std::string orientation;           ///< always "orthogonal" (others are rejected)
+  int width = 0;                     ///< in tiles (finite maps)
+  int height = 0;                    ///< in tiles (finite maps)
+  Vec2 tile_size{0.0f, 0.0f};        ///< map tile size, pixels
+  bool infinite = false;             ///< chunked tile layers
+  std::vector<TiledTileset> tilesets;
+  std::vector<TiledObject> objects;  ///< every object of every object layer, in file order
+  int tile_cells = 0;                ///< non-empty tile-layer cells
+  std::vector<TiledCollider> colliders;
+};
+
+/// Options of `load_tiled_map`.
+struct TiledLoadOptions {
+  /// A tile object whose tile has no collision shapes becomes a box of its image rectangle.
+  bool tile_object_image_boxes = true;
+};
+
+/// Loads a `.tmx` or `.tmj`/`.json` map and builds its static colliders (see the file comment
+/// for what becomes what). External tilesets and templates resolve relative to the file that
+/// names them. Throws InvalidInput naming the file and the element when a file cannot be read
+/// or parsed, an attribute is missing or not a number, a polygon is self-intersecting or
+/// degenerate, a gid names no tileset, tile data does not decode to width x height gids, or
+/// the map is not orthogonal. Allocates; load time only.
+[[nodiscard]] TiledMap load_tiled_map(const std::filesystem::path& path,
+                                      const TiledLoadOptions& options = {});
+
+/// Mirrors every collider of `map` about y = height_pixels / 2 (map height in pixels for finite
+/// maps), for games whose world is y-up: a point (x, y) moves to (x, height_pixels - y),
+/// rotations change sign, polygons are re-wound counter-clockwise. `objects` are left as the
+/// file describes them. Throws InvalidInput if height_pixels is not finite.
+void flip_y(TiledMap& map, float height_pixels);
+
+}  // namespace collide

@@ -1,0 +1,338 @@
+// The XML side of Tiled: .tmx maps, .tsx tilesets, .tx templates (pugixml; no DTD is fetched,
+// pugixml never loads external entities).
+
+#include "tiled_document.hpp"
+
+#include <collide/core/error.hpp>
+
+#include <pugixml.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+
+namespace collide::tiled {
+namespace {
+
+/// "<object id=12>", "<layer name="Far">", "<tileset firstgid=43>": the element as a reader
+/// finds it in the file.
+std::string element_label(const pugi::xml_node& node) {
+  std::string out = "<";
+  out += node.name();
+  for (const char* key : {"id", "name", "firstgid"}) {
+    if (const pugi::xml_attribute a = node.attribute(key)) {
+      out += std::string(" ") + key + "=" + a.value();
+      break;
+    }
+  }
+  return out + ">";
+}
+
+pugi::xml_document load_xml(const std::filesystem::path& file) {
+  pugi::xml_document doc;
+  // parse_default skips the DOCTYPE and never resolves external entities.
+  const pugi::xml_parse_result result = doc.load_file(file.c_str(), pugi::parse_default);
+  if (!result) {
+    if (result.status == pugi::status_file_not_found || result.status == pugi::status_io_error) {
+      fail(file, "file", "cannot be read");
+    }
+    fail(file, "XML at byte " + std::to_string(result.offset), result.description());
+  }
+  return doc;
+}
+
+double parse_number(std::string_view text, bool& ok) {
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  ok = ec == std::errc() && ptr == text.data() + text.size();
+  return value;
+}
+
+/// A numeric attribute; `fallback` when absent. Fails naming the element and attribute when it
+/// is not a finite number.
+float number(const pugi::xml_node& node, const char* key, float fallback,
+             const std::filesystem::path& file) {
+  const pugi::xml_attribute a = node.attribute(key);
+  if (!a) return fallback;
+  bool ok = false;
+  const double v = parse_number(a.value(), ok);
+  if (!ok) {
+    fail(file, element_label(node),
+         std::string("attribute ") + key + ": '" + a.value() + "' is not a number");
+  }
+  return finite_or_fail(v, file, element_label(node), std::string("attribute ") + key);
+}
+
+int integer(const pugi::xml_node& node, const char* key, int fallback,
+            const std::filesystem::path& file) {
+  const float v = number(node, key, static_cast<float>(fallback), file);
+  if (v != std::floor(v)) {
+    fail(file, element_label(node), std::string("attribute ") + key + ": not an integer");
+  }
+  return static_cast<int>(v);
+}
+
+std::uint32_t gid_attribute(const pugi::xml_node& node, const std::filesystem::path& file) {
+  const pugi::xml_attribute a = node.attribute("gid");
+  if (!a) return 0;
+  const std::string_view text = a.value();
+  std::uint32_t gid = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), gid);
+  if (ec != std::errc() || ptr != text.data() + text.size()) {
+    fail(file, element_label(node), "attribute gid: '" + std::string(text) + "' is not a tile gid");
+  }
+  return gid;
+}
+
+std::vector<Vec2> parse_points(const pugi::xml_node& shape, const pugi::xml_node& object,
+                               const std::filesystem::path& file) {
+  std::vector<Vec2> points;
+  const std::string_view text = shape.attribute("points").value();
+  const std::string what = std::string(shape.name()) + " points";
+  size_t pos = 0;
+  while (pos < text.size()) {
+    while (pos < text.size() && text[pos] == ' ') ++pos;
+    if (pos >= text.size()) break;
+    size_t end = text.find(' ', pos);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view pair = text.substr(pos, end - pos);
+    const size_t comma = pair.find(',');
+    bool okx = false, oky = false;
+    const double x = comma == std::string_view::npos ? 0.0 : parse_number(pair.substr(0, comma), okx);
+    const double y = comma == std::string_view::npos ? 0.0 : parse_number(pair.substr(comma + 1), oky);
+    if (!okx || !oky) {
+      fail(file, element_label(object), what + ": '" + std::string(pair) + "' is not a pair x,y");
+    }
+    points.push_back({finite_or_fail(x, file, element_label(object), what),
+                      finite_or_fail(y, file, element_label(object), what)});
+    pos = end;
+  }
+  if (points.size() < 2) {
+    fail(file, element_label(object), what + ": needs at least 2 points, got " +
+                                          std::to_string(points.size()));
+  }
+  return points;
+}
+
+/// Reads the shape child (ellipse, polygon, ...) of an object; false when it has none.
+bool read_shape(const pugi::xml_node& node, TiledObject& obj, const std::filesystem::path& file) {
+  for (const pugi::xml_node child : node.children()) {
+    const std::string_view n = child.name();
+    if (n == "ellipse") {
+      obj.kind = TiledShapeKind::ellipse;
+    } else if (n == "point") {
+      obj.kind = TiledShapeKind::point;
+    } else if (n == "text") {
+      obj.kind = TiledShapeKind::text;
+    } else if (n == "polygon" || n == "polyline") {
+      obj.kind = n == "polygon" ? TiledShapeKind::polygon : TiledShapeKind::polyline;
+      obj.points = parse_points(child, node, file);
+    } else {
+      continue;
+    }
+    return true;
+  }
+  return false;
+}
+
+/// Reads an <object>, merging its template. `map` receives template tilesets (may be null
+/// inside tilesets, where templates are not allowed).
+TiledObject read_object(const pugi::xml_node& node, const std::filesystem::path& file,
+                        TiledMap* map) {
+  TiledObject obj;
+  bool has_shape = false;
+  if (const pugi::xml_attribute t = node.attribute("template")) {
+    if (map == nullptr) fail(file, element_label(node), "templates are not allowed here");
+    const std::filesystem::path tx = file.parent_path() / t.value();
+    try {
+      const Template tmpl = read_template(tx);
+      obj = tmpl.object;
+      has_shape = tmpl.has_shape;
+      if (tmpl.has_gid) obj.gid = map_template_gid(*map, tmpl);
+    } catch (const InvalidInput& e) {
+      fail(file, element_label(node), e.what());  // say which object asked for it
+    }
+    obj.template_file = tx.generic_string();
+  }
+  obj.id = integer(node, "id", obj.id, file);
+  if (const pugi::xml_attribute a = node.attribute("name")) obj.name = a.value();
+  if (const pugi::xml_attribute a = node.attribute("type")) obj.type = a.value();
+  if (const pugi::xml_attribute a = node.attribute("class")) obj.type = a.value();
+  obj.position = {number(node, "x", obj.position.x, file), number(node, "y", obj.position.y, file)};
+  obj.size = {number(node, "width", obj.size.x, file), number(node, "height", obj.size.y, file)};
+  if (obj.size.x < 0.0f || obj.size.y < 0.0f) {
+    fail(file, element_label(node), "width and height must be >= 0");
+  }
+  const float degrees = number(node, "rotation", obj.rotation * 180.0f / std::numbers::pi_v<float>, file);
+  obj.rotation = degrees * std::numbers::pi_v<float> / 180.0f;
+  if (node.attribute("gid")) obj.gid = gid_attribute(node, file);
+  // Without a shape element of its own or its template's, an object is a tile or a rectangle.
+  if (!read_shape(node, obj, file) && !has_shape) {
+    obj.kind = obj.gid != 0 ? TiledShapeKind::tile : TiledShapeKind::rectangle;
+  }
+  return obj;
+}
+
+TiledTileset read_tileset_node(const pugi::xml_node& node, const std::filesystem::path& file) {
+  TiledTileset ts;
+  ts.name = node.attribute("name").value();
+  ts.tile_size = {number(node, "tilewidth", 0.0f, file), number(node, "tileheight", 0.0f, file)};
+  ts.tile_count = integer(node, "tilecount", 0, file);
+  if (const pugi::xml_node off = node.child("tileoffset")) {
+    ts.tile_offset = {number(off, "x", 0.0f, file), number(off, "y", 0.0f, file)};
+  }
+  for (const pugi::xml_node tile : node.children("tile")) {
+    TiledTile t;
+    if (!tile.attribute("id")) fail(file, element_label(tile), "attribute id: missing");
+    t.id = integer(tile, "id", 0, file);
+    t.image_size = ts.tile_size;
+    bool keep = false;
+    if (const pugi::xml_node image = tile.child("image")) {
+      t.image_size = {number(image, "width", ts.tile_size.x, file),
+                      number(image, "height", ts.tile_size.y, file)};
+      keep = true;
+    }
+    if (const pugi::xml_node group = tile.child("objectgroup")) {
+      for (const pugi::xml_node o : group.children("object")) {
+        t.collision.push_back(read_object(o, file, nullptr));
+      }
+      keep = keep || !t.collision.empty();
+    }
+    if (keep) ts.tiles.push_back(std::move(t));
+  }
+  return ts;
+}
+
+void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 offset,
+                     const std::filesystem::path& file, Document& doc) {
+  TileLayer layer{name, offset, {}};
+  const pugi::xml_node data = node.child("data");
+  if (!data) fail(file, element_label(node), "has no <data>");
+  const std::string encoding = data.attribute("encoding").value();
+  const std::string compression = data.attribute("compression").value();
+  auto add = [&](const pugi::xml_node& holder, int x0, int y0, int w, int h) {
+    if (w < 0 || h < 0) fail(file, element_label(holder), "negative width or height");
+    std::vector<std::uint32_t> gids;
+    if (encoding.empty()) {  // legacy: one <tile gid=".."/> per cell
+      for (const pugi::xml_node t : holder.children("tile")) gids.push_back(gid_attribute(t, file));
+      if (gids.size() != static_cast<size_t>(w) * static_cast<size_t>(h)) {
+        fail(file, element_label(holder), "<tile> count " + std::to_string(gids.size()) +
+                                              " is not width x height");
+      }
+    } else {
+      gids = decode_tile_data(holder.text().get(), encoding, compression,
+                              static_cast<size_t>(w) * static_cast<size_t>(h), file,
+                              element_label(node) + ": " + element_label(holder));
+    }
+    for (int i = 0; i < w * h; ++i) {
+      if (gids[i] != 0) layer.cells.push_back({x0 + i % w, y0 + i / w, gids[i]});
+    }
+  };
+  if (data.child("chunk")) {
+    for (const pugi::xml_node chunk : data.children("chunk")) {
+      add(chunk, integer(chunk, "x", 0, file), integer(chunk, "y", 0, file),
+          integer(chunk, "width", 0, file), integer(chunk, "height", 0, file));
+    }
+  } else {
+    add(data, 0, 0, integer(node, "width", 0, file), integer(node, "height", 0, file));
+  }
+  doc.map.tile_cells += static_cast<int>(layer.cells.size());
+  doc.tile_layers.push_back(std::move(layer));
+}
+
+void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 offset,
+                 const std::filesystem::path& file, Document& doc) {
+  for (const pugi::xml_node node : parent.children()) {
+    const std::string_view kind = node.name();
+    if (kind != "layer" && kind != "objectgroup" && kind != "group") continue;
+    const std::string name = prefix + node.attribute("name").value();
+    const Vec2 here = offset + Vec2{number(node, "offsetx", 0.0f, file),
+                                    number(node, "offsety", 0.0f, file)};
+    if (kind == "group") {
+      read_layers(node, name + "/", here, file, doc);
+    } else if (kind == "layer") {
+      read_tile_layer(node, name, here, file, doc);
+    } else {
+      for (const pugi::xml_node o : node.children("object")) {
+        TiledObject obj = read_object(o, file, &doc.map);
+        obj.layer = name;
+        obj.layer_offset = here;
+        doc.map.objects.push_back(std::move(obj));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TiledTileset read_tileset_file(const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".tsj" || ext == ".json") return read_tileset_json(file);
+  const pugi::xml_document doc = load_xml(file);
+  const pugi::xml_node root = doc.child("tileset");
+  if (!root) fail(file, "root", "not a Tiled tileset (no <tileset> element)");
+  TiledTileset ts = read_tileset_node(root, file);
+  ts.source = file;
+  return ts;
+}
+
+Template read_template(const std::filesystem::path& file) {
+  // Read on every use: templates are a few hundred bytes, and a cache would go stale while a
+  // game reloads edited maps.
+  if (file.extension() == ".tj") return read_template_json(file);
+  const pugi::xml_document doc = load_xml(file);
+  const pugi::xml_node root = doc.child("template");
+  if (!root) fail(file, "root", "not a Tiled template (no <template> element)");
+  const pugi::xml_node object = root.child("object");
+  if (!object) fail(file, "<template>", "has no <object>");
+  Template t;
+  t.object = read_object(object, file, nullptr);
+  TiledObject probe;
+  t.has_shape = read_shape(object, probe, file);
+  t.has_gid = object.attribute("gid");
+  if (const pugi::xml_node ts = root.child("tileset")) {
+    t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, file));
+    if (ts.attribute("source")) t.tileset_source = file.parent_path() / ts.attribute("source").value();
+  }
+  if (t.has_gid && t.tileset_source.empty()) {
+    fail(file, "<template>", "tile object template without an external <tileset source>");
+  }
+  return t;
+}
+
+Document read_tmx(const std::filesystem::path& file) {
+  const pugi::xml_document xml = load_xml(file);
+  const pugi::xml_node root = xml.child("map");
+  if (!root) fail(file, "root", "not a Tiled map (no <map> element)");
+  Document doc;
+  TiledMap& map = doc.map;
+  map.path = file;
+  map.orientation = root.attribute("orientation").value();
+  map.width = integer(root, "width", 0, file);
+  map.height = integer(root, "height", 0, file);
+  map.tile_size = {number(root, "tilewidth", 0.0f, file), number(root, "tileheight", 0.0f, file)};
+  map.infinite = integer(root, "infinite", 0, file) != 0;
+  if (map.orientation != "orthogonal") {
+    fail(file, "<map>", "orientation '" + map.orientation + "' is not supported (orthogonal only)");
+  }
+  for (const pugi::xml_node node : root.children("tileset")) {
+    if (!node.attribute("firstgid")) fail(file, element_label(node), "attribute firstgid: missing");
+    const auto first = static_cast<std::uint32_t>(integer(node, "firstgid", 1, file));
+    TiledTileset ts;
+    if (node.attribute("source")) {
+      try {
+        ts = read_tileset_file(file.parent_path() / node.attribute("source").value());
+      } catch (const InvalidInput& e) {
+        fail(file, element_label(node), e.what());  // say which map asked for it
+      }
+    } else {
+      ts = read_tileset_node(node, file);
+    }
+    ts.first_gid = first;
+    map.tilesets.push_back(std::move(ts));
+  }
+  read_layers(root, "", Vec2{0.0f, 0.0f}, file, doc);
+  return doc;
+}
+
+}  // namespace collide::tiled

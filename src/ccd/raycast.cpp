@@ -1,0 +1,339 @@
+// Ray casts against single 2D shapes.
+//
+// Every cast first moves the ray into the shape's local frame (subtract the position, then undo
+// the rotation), so a shape and a ray 1e4 units from the world origin lose no more precision
+// than the same pair at the origin. All work is then local; the normal is rotated back once.
+//
+// Convention shared by all shapes: the ray must *enter* the shape. A ray whose origin lies in
+// the closed shape (inside, or on the surface) reports no hit, and so does a ray of zero length.
+
+#include <collide/ccd/raycast.hpp>
+
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/closest_point.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+// SSE2 is part of every x86-64 CPU; elsewhere the scalar loops run (define
+// COLLIDE_RAYCAST_SSE2=0 to run them on x86 too).
+#ifndef COLLIDE_RAYCAST_SSE2
+#if defined(__SSE2__) || defined(_M_X64)
+#define COLLIDE_RAYCAST_SSE2 1
+#else
+#define COLLIDE_RAYCAST_SSE2 0
+#endif
+#endif
+#if COLLIDE_RAYCAST_SSE2
+#include <emmintrin.h>
+#endif
+
+namespace collide {
+namespace {
+
+/// A hit in a shape's local frame: fraction along the ray and unit outward normal (local).
+struct LocalHit {
+  bool hit = false;
+  float fraction = 0.0f;
+  Vec2 normal{0.0f, 0.0f};
+};
+
+/// The local ray: origin and translation in the shape's frame.
+struct LocalRay {
+  Vec2 origin;
+  Vec2 translation;
+};
+
+LocalRay to_local(const Transform& xf, const Ray& ray) noexcept {
+  return {inv_transform_point(xf, ray.origin), inv_rotate(xf.q, ray.translation)};
+}
+
+RayHit to_world(const LocalHit& h, const Transform& xf, const Ray& ray) noexcept {
+  if (!h.hit) return {};
+  return {true, h.fraction, ray.at(h.fraction), rotate(xf.q, h.normal)};
+}
+
+/// First entry of the ray m + t d, t in [0, 1], into the disc of `radius` about the origin
+/// (m is the ray's origin relative to the disc's centre). Ericson 5.3.2, with the discriminant
+/// computed from the ray's closest approach to the centre (r^2 - |m_perp|^2) instead of
+/// b^2 - c, which cancels badly for rays that pass far away (Haines et al., "Precision
+/// Improvements for Ray/Sphere Intersection", Ray Tracing Gems 7). One division; the normal is
+/// the hit point over the radius, which is unit by construction.
+inline LocalHit ray_disc(Vec2 m, Vec2 d, float radius) noexcept {
+  const float c = length_squared(m) - radius * radius;
+  const float b = dot(m, d);
+  // Origin in the closed disc (no entry), or outside and not heading towards the centre.
+  if (!(c > 0.0f) || b >= 0.0f) return {};
+  const float inv_dd = 1.0f / length_squared(d);
+  const float tc = -b * inv_dd;     // parameter of the closest approach
+  const Vec2 closest = m + tc * d;  // centre to closest approach
+  const float disc = radius * radius - length_squared(closest);
+  if (disc < 0.0f) return {};
+  const float t = tc - std::sqrt(disc * inv_dd);
+  if (!(t <= 1.0f)) return {};
+  // A zero-radius disc hit dead on has no surface direction: face the ray.
+  const Vec2 n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
+  return {true, t > 0.0f ? t : 0.0f, n};
+}
+
+/// Capsule in its own axis frame: core from (0, 0) to (length, 0), radius r. The capsule is the
+/// union of the slab |y| <= r over 0 <= x <= length and the two end discs (Ericson 5.3.7 in 2D).
+/// If the ray starts above/below the slab, it can only enter through a flat side or, when it
+/// crosses the side's line beyond an end, through that end's disc (to reach the rectangle from
+/// there it has to pass through the disc). If it starts level with the slab, only the disc on
+/// its side can be first.
+LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
+  float x_at_side = p.x;  // where the ray meets the slab, or the origin if it starts level
+  if (std::fabs(p.y) > r) {
+    const float side = p.y > 0.0f ? 1.0f : -1.0f;
+    if (!(side * d.y < 0.0f)) return {};  // moving away from or parallel to the slab
+    const float t = (p.y - side * r) / -d.y;
+    if (!(t <= 1.0f)) return {};
+    x_at_side = p.x + t * d.x;
+    if (x_at_side >= 0.0f && x_at_side <= length) return {true, t, {0.0f, side}};
+  } else if (p.x >= 0.0f && p.x <= length) {
+    return {};  // starts in the rectangle: inside
+  }
+  return ray_disc(p - Vec2{x_at_side < 0.0f ? 0.0f : length, 0.0f}, d, r);
+}
+
+/// Where a ray enters a convex polygon, in its local frame.
+struct Clip {
+  int edge = -1;          ///< entering edge, -1 if none
+  float fraction = 0.0f;  ///< entry fraction when edge >= 0
+  bool inside = false;    ///< no entry because the origin lies in the closed polygon
+};
+
+/// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
+/// n_i . (x - v_i) <= offset of a convex polygon (Cyrus & Beck 1978; Ericson 5.3.8).
+/// offset r is the polygon with every edge pushed out by r (used for rounded polygons).
+/// Returns the entering edge, or -1 when the ray misses or starts inside (never enters); then
+/// `inside` tells which.
+///
+/// Each edge gives num = offset - n . (p - v) (>= 0 when p is inside the half-plane) and
+/// den = n . d; the ray is inside the half-plane for t with t * den <= num. Entering edges
+/// (den < 0) raise the lower bound num / den, leaving edges (den > 0) lower the upper bound.
+/// Bounds are kept as fractions with positive denominators so the loop never divides.
+
+Clip clip_ray_polygon(const Polygon& poly, Vec2 p, Vec2 d, float offset) noexcept {
+  // lower = lo_num / lo_den, upper = up_num / up_den, denominators > 0.
+  float lo_num = 0.0f, lo_den = 1.0f;
+  float up_num = 1.0f, up_den = 1.0f;
+  int edge = -1;
+  const int n = poly.count;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 normal = poly.normals[i];
+    const float num = offset - dot(normal, p - poly.vertices[i]);
+    const float den = dot(normal, d);
+    if (den < 0.0f) {
+      // Entering: t >= num / den = (-num) / (-den). Take it if above the lower bound.
+      if (-num * lo_den > lo_num * -den) {
+        lo_num = -num;
+        lo_den = -den;
+        edge = i;
+      }
+    } else if (den > 0.0f) {
+      if (num * up_den < up_num * den) {  // leaving: t <= num / den
+        up_num = num;
+        up_den = den;
+      }
+    } else if (num < 0.0f) {
+      return {};  // parallel and outside this edge: never inside
+    }
+    if (up_num * lo_den < lo_num * up_den) return {};  // upper < lower: empty
+  }
+  // No entering edge raised the lower bound above 0: the origin is inside every half-plane.
+  if (edge < 0) return {-1, 0.0f, true};
+  return {edge, lo_num / lo_den, false};
+}
+
+LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
+  // Into the capsule's axis frame: x along a -> b from a, y to the left.
+  const Vec2 axis = capsule.b - capsule.a;
+  const float length = collide::length(axis);
+  const Vec2 u = axis * (1.0f / length);
+  const Vec2 rel = p - capsule.a;
+  const Vec2 pa{dot(rel, u), cross(u, rel)};
+  const Vec2 da{dot(d, u), cross(u, d)};
+  const LocalHit h = ray_capsule_axis(pa, da, length, capsule.radius);
+  if (!h.hit) return h;
+  // Axis frame back to the capsule's local frame: x along u, y along left_perp(u).
+  return {true, h.fraction, h.normal.x * u + h.normal.y * left_perp(u)};
+}
+
+/// Entry of p + t d, t in [0, 1], into a convex polygon (no radius), by the sides of the ray's
+/// line. Vertex i is left of the line when w_i = cross(d, v_i - p) > 0, right when w_i < 0. A
+/// convex outline crosses a line twice; walking counter-clockwise it crosses from left to right
+/// where the line enters (right to left where it exits). So the entering edge i is one that
+/// leaves the left side (left_i and not left_{i+1}) or arrives on the right side (not right_i
+/// and right_{i+1}), and the ray enters there at t = cross(v_i - p, e_i) / cross(d, e_i), which
+/// must lie in (0, 1]: t <= 0 means p is already past the entry (inside, or beyond the
+/// polygon). No such edge: the line misses. A line along an edge or through a corner enters at
+/// that edge or corner (touching counts); a zero-length ray has no vertex on either side: miss.
+///
+/// Cheaper than clipping by every edge (Cyrus-Beck): one cross product per vertex, no normals
+/// read, one division. The sides are gathered as bit masks and the edge found by counting
+/// trailing zeros, so the scan has no data-dependent branch for random rays to mispredict.
+Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+  static_assert(kMaxPolygonVertices <= 64, "side masks hold one bit per vertex");
+  const int n = poly.count;
+  // Bit i of left / right: w_i > 0 / w_i < 0, where w_i > 0 <=> cross(d, v_i) > cross(d, p).
+  const float c = cross(d, p);
+  std::uint64_t left = 0;
+  std::uint64_t right = 0;
+  int i = 0;
+#if COLLIDE_RAYCAST_SSE2
+  // Four vertices at a time, the same arithmetic as the scalar loop below (bench/ray_cast.cpp:
+  // 8-gons 31 -> 20 ns, 4-gons 23 -> 18 ns). Vertices are stored x0 y0 x1 y1 ...: two loads and
+  // two shuffles give the x and y of four vertices, compare masks give four side bits at once.
+  const __m128 dx = _mm_set1_ps(d.x);
+  const __m128 dy = _mm_set1_ps(d.y);
+  const __m128 cc = _mm_set1_ps(c);
+  for (; i + 4 <= n; i += 4) {
+    const __m128 v01 = _mm_loadu_ps(&poly.vertices[i].x);
+    const __m128 v23 = _mm_loadu_ps(&poly.vertices[i + 2].x);
+    const __m128 xs = _mm_shuffle_ps(v01, v23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 ys = _mm_shuffle_ps(v01, v23, _MM_SHUFFLE(3, 1, 3, 1));
+    const __m128 k = _mm_sub_ps(_mm_mul_ps(dx, ys), _mm_mul_ps(dy, xs));
+    left |= static_cast<std::uint64_t>(_mm_movemask_ps(_mm_cmpgt_ps(k, cc))) << i;
+    right |= static_cast<std::uint64_t>(_mm_movemask_ps(_mm_cmplt_ps(k, cc))) << i;
+  }
+#endif
+  for (; i < n; ++i) {
+    const float k = cross(d, poly.vertices[i]);
+    left |= static_cast<std::uint64_t>(k > c) << i;
+    right |= static_cast<std::uint64_t>(k < c) << i;
+  }
+  // Bit i of next_*: the side of vertex i + 1 (vertex 0 for the last edge).
+  const int last = n - 1;
+  const std::uint64_t next_left = (left >> 1) | ((left & 1u) << last);
+  const std::uint64_t next_right = (right >> 1) | ((right & 1u) << last);
+  const std::uint64_t enters = (left & ~next_left) | (~right & next_right);
+  const std::uint64_t in_range = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1u;
+  const std::uint64_t edges = enters & in_range;
+  if (edges == 0) return {};
+  const int edge = std::countr_zero(edges);
+  const Vec2 v = poly.vertices[edge];
+  const Vec2 e = poly.vertices[edge < last ? edge + 1 : 0] - v;
+  const float t = cross(v - p, e) / cross(d, e);  // cross(d, e) = w_{i+1} - w_i < 0
+  if (!(t > 0.0f && t <= 1.0f)) return {};
+  return {edge, t, false};
+}
+
+/// Rounded polygon (radius > 0).
+LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+  const float r = poly.radius;
+  const Clip clip = clip_ray_polygon(poly, p, d, r);
+  // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
+  // at each vertex. It lies inside the polygon of edges pushed out by r, and differs from it
+  // only in the corner kites beyond each vertex, which are bounded towards the shape by that
+  // vertex's disc. So: the entry into the pushed-out polygon is the answer when it lands
+  // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
+  int vertex = -1;
+  if (clip.edge >= 0) {
+    const int i = clip.edge;
+    const Vec2 v0 = poly.vertices[i];
+    const Vec2 v1 = poly.vertices[i + 1 < poly.count ? i + 1 : 0];
+    const Vec2 e = v1 - v0;
+    const float s = dot(p + clip.fraction * d - v0, e);
+    if (s >= 0.0f && s <= length_squared(e)) return {true, clip.fraction, poly.normals[i]};
+    vertex = s < 0.0f ? i : (i + 1 < poly.count ? i + 1 : 0);
+  } else {
+    // No entry into the pushed-out polygon: a miss, or the origin is already in it. In a kite
+    // outside the rounded shape the ray can still hit that kite's vertex disc.
+    if (!clip.inside) return {};
+    const PointQuery q = closest_point(poly, Transform{}, p);
+    if (!(q.distance > 0.0f) || q.feature.type != FeatureType::vertex) return {};
+    vertex = q.feature.index;
+  }
+  return ray_disc(p - poly.vertices[vertex], d, r);
+}
+
+/// Two-sided segment. The ray crosses the segment's line at t = -side / den, where side is the
+/// origin's signed distance to the line (times the length) and den the rate of change.
+/// Collinear rays (parallel within kParallelTolerance and on the line within
+/// kRelativeTolerance of the length) hit the nearer end, facing the ray, since touching counts.
+LocalHit raycast_local(const Segment& seg, Vec2 p, Vec2 d) noexcept {
+  const Vec2 e = seg.b - seg.a;
+  const Vec2 rel = p - seg.a;
+  const float side = cross(e, rel);  // > 0: origin to the left of a -> b
+  const float den = cross(e, d);
+  const float ee = length_squared(e);
+  const float dd = length_squared(d);
+  if (!(dd > 0.0f)) return {};
+  const bool parallel = den * den <= kParallelTolerance * kParallelTolerance * ee * dd;
+  const bool on_line = side * side <= kRelativeTolerance * kRelativeTolerance * ee * ee;
+  if (parallel && on_line) {
+    // Along the line: parameters on the segment of the origin (s0) and its rate (ds).
+    const float s0 = dot(rel, e) / ee;
+    const float ds = dot(d, e) / ee;
+    if (s0 < 0.0f && ds > 0.0f && -s0 <= ds) return {true, -s0 / ds, -e * (1.0f / std::sqrt(ee))};
+    if (s0 > 1.0f && ds < 0.0f && s0 - 1.0f <= -ds) {
+      return {true, (s0 - 1.0f) / -ds, e * (1.0f / std::sqrt(ee))};
+    }
+    return {};  // heading away, too short, or starting on the segment
+  }
+  // Must start strictly off the line and move towards it: side and den of opposite signs.
+  if (!(side * den < 0.0f)) return {};
+  const float t = -side / den;
+  if (!(t <= 1.0f)) return {};
+  // Where along the segment it crosses: s = cross(rel, d) / cross(e, d), must be in [0, 1].
+  const float s = cross(rel, d) / den;
+  if (!(s >= 0.0f && s <= 1.0f)) return {};
+  const Vec2 right = right_perp(e) * (1.0f / std::sqrt(ee));
+  return {true, t, side < 0.0f ? right : -right};
+}
+
+RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) noexcept {
+  const LocalRay local = to_local(xf, ray);
+  if (poly.radius > 0.0f) {
+    if (!(length_squared(local.translation) > 0.0f)) return {};
+    return to_world(raycast_rounded(poly, local.origin, local.translation), xf, ray);
+  }
+  const Clip clip = cast_sides(poly, local.origin, local.translation);
+  if (clip.edge < 0) return {};
+  // The edge's unit normal, from the edge itself: poly.normals lives 512 bytes past the
+  // vertices, and reading it only once the edge is known stalls on a cache miss when the
+  // polygon is cold (as it is when a broad phase hands over scattered candidates).
+  const Vec2 v = poly.vertices[clip.edge];
+  const Vec2 e = poly.vertices[clip.edge + 1 < poly.count ? clip.edge + 1 : 0] - v;
+  const Vec2 normal = right_perp(e) * (1.0f / length(e));
+  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, normal)};
+}
+
+/// Shapes with corners: cast in the local frame, rotate the normal back.
+template <class S>
+RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexcept {
+  const LocalRay local = to_local(xf, ray);
+  if (!(length_squared(local.translation) > 0.0f)) return {};
+  return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
+}
+
+/// A disc looks the same in every frame: only the origin needs to be made relative to the
+/// centre, as (origin - p) - R c so that large coordinates cancel first. No rotation of the
+/// ray or the normal.
+RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
+  const Vec2 m = (ray.origin - xf.p) - rotate(xf.q, circle.center);
+  const LocalHit h = ray_disc(m, ray.translation, circle.radius);  // zero length: b = 0, miss
+  if (!h.hit) return {};
+  return {true, h.fraction, ray.at(h.fraction), h.normal};
+}
+
+}  // namespace
+
+template <Shape2DType S>
+RayHit raycast(const S& shape, const Transform& xf, const Ray& ray) noexcept {
+  return raycast_placed(shape, xf, ray);
+}
+
+template RayHit raycast(const Circle&, const Transform&, const Ray&) noexcept;
+template RayHit raycast(const Capsule&, const Transform&, const Ray&) noexcept;
+template RayHit raycast(const Polygon&, const Transform&, const Ray&) noexcept;
+template RayHit raycast(const Segment&, const Transform&, const Ray&) noexcept;
+
+RayHit raycast(const Shape2D& shape, const Transform& xf, const Ray& ray) noexcept {
+  return std::visit([&](const auto& s) { return raycast(s, xf, ray); }, shape);
+}
+
+}  // namespace collide

@@ -1,0 +1,28 @@
+#pragma once
+// Internal: the contact routines behind the dispatch table in contact.cpp. Each is written for
+// one order of its pair; the table serves the other order through `reversed`. Capsules and
+// segments reach `contact_polygons` and `contact_polygon_circle` as 2-vertex polygons.
+
+#include <collide/core/transform.hpp>
+#include <collide/narrow/manifold.hpp>
+#include <collide/shape/circle.hpp>
+#include <collide/shape/polygon.hpp>
+
+namespace collide::detail {
+
+/// Two circles: analytic (circle_contact.cpp).
+[[nodiscard]] Manifold contact_circles(const Circle& a, const Transform& xa, const Circle& b,
+                                       const Transform& xb) noexcept;
+
+/// A polygon (or 2-vertex polygon) and a circle: Voronoi region of the circle's centre
+/// (Ericson 5.2.7; circle_contact.cpp).
+[[nodiscard]] Manifold contact_polygon_circle(const Polygon& a, const Transform& xa,
+                                              const Circle& b, const Transform& xb) noexcept;
+
+/// Two polygons (or 2-vertex polygons): separating axis test, then reference face and incident
+/// edge clipping, or closest core features for rounded shapes whose cores are apart
+/// (polygon_contact.cpp).
+[[nodiscard]] Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
+                                        const Transform& xb) noexcept;
+
+}  // namespace collide::detail

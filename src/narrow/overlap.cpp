@@ -1,0 +1,147 @@
+#include <collide/narrow/overlap.hpp>
+
+#include "gjk.hpp"
+#include "segment_closest.hpp"
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/support.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <variant>
+
+namespace collide {
+namespace {
+
+/// Largest coordinate magnitude of `p`: rounding of arithmetic on p is about ulp of this.
+[[nodiscard]] float coord_size(Vec2 p) noexcept { return std::max(std::abs(p.x), std::abs(p.y)); }
+
+/// Circles, capsules and segments are all a segment [p, q] (a point for a circle) grown by a
+/// radius. Here in A's local frame.
+struct RoundedSegment {
+  Vec2 p;
+  Vec2 q;
+  float radius;
+};
+
+[[nodiscard]] RoundedSegment rounded_segment(const Circle& c, const Transform& xf) noexcept {
+  const Vec2 p = transform_point(xf, c.center);
+  return {p, p, c.radius};
+}
+[[nodiscard]] RoundedSegment rounded_segment(const Capsule& c, const Transform& xf) noexcept {
+  return {transform_point(xf, c.a), transform_point(xf, c.b), c.radius};
+}
+[[nodiscard]] RoundedSegment rounded_segment(const Segment& s, const Transform& xf) noexcept {
+  return {transform_point(xf, s.a), transform_point(xf, s.b), 0.0f};
+}
+
+/// Closest distance^2 <= (ra + rb + slop)^2, where slop absorbs rounding at this scale, so that
+/// exactly touching shapes count as overlapping.
+[[nodiscard]] bool within_reach(float distance_squared, float radius_sum, float scale) noexcept {
+  const float reach = radius_sum + kRelativeTolerance * scale;
+  return distance_squared <= reach * reach;
+}
+
+/// Analytic test for two rounded segments; `a_is_point` / `b_is_point` (circles) pick the
+/// cheapest closest-point routine at compile time.
+template <bool a_is_point, bool b_is_point>
+[[nodiscard]] bool overlap_rounded(const RoundedSegment& a, const RoundedSegment& b) noexcept {
+  const float radius_sum = a.radius + b.radius;
+  float scale = std::max({coord_size(a.p), coord_size(a.q), coord_size(b.p), coord_size(b.q)});
+  scale += radius_sum;
+  float d2;
+  if constexpr (a_is_point && b_is_point) {
+    d2 = distance_squared(a.p, b.p);  // circle-circle
+  } else if constexpr (a_is_point) {
+    d2 = detail::closest_on_segment(a.p, b.p, b.q).distance_squared;
+  } else if constexpr (b_is_point) {
+    d2 = detail::closest_on_segment(b.p, a.p, a.q).distance_squared;
+  } else {
+    d2 = detail::closest_between_segments(a.p, a.q, b.p, b.q).distance_squared;
+  }
+  return within_reach(d2, radius_sum, scale);
+}
+
+/// GJK early-exit policy for a yes/no question: stop as soon as the upper bound of the core
+/// distance is within reach (touching) or the lower bound exceeds it (apart). Squared and
+/// multiplied out, with d, dd, k, dw as in GjkRunToEnd: -k/|d| <= reach and -dw/|d| > reach.
+struct GjkOverlapBounds {
+  float reach2;  ///< (ra + rb + slop)^2
+
+  [[nodiscard]] bool touching(float k, float dd) const noexcept { return k * k <= reach2 * dd; }
+  [[nodiscard]] bool apart(float dw, float dd) const noexcept {
+    return dw < 0.0f && dw * dw > reach2 * dd;
+  }
+};
+
+/// Boolean GJK on two proxies (van den Bergen 2003, 4.3.4: the separating-axis lower bound).
+[[nodiscard]] bool overlap_gjk(const ConvexProxy& a, const Transform& xa, const ConvexProxy& b,
+                               const Transform& xb) noexcept {
+  const Transform b_in_a = inv_mul(xa, xb);
+  const float radius_sum = a.radius() + b.radius();
+  detail::GjkSimplex s;
+  s.v[0] = detail::seed_vertex(a, b, b_in_a);
+  s.count = 1;
+  const float scale = detail::gjk_scale(s.v[0], radius_sum);
+  const float reach = radius_sum + kRelativeTolerance * scale;
+  const GjkOverlapBounds bounds{reach * reach};
+  // The seed is the support pair along c = B's origin in A's frame, so every point of the
+  // Minkowski difference has c.x >= c.w0: a separating-axis test for free, which settles most
+  // well-separated pairs before any iteration.
+  const Vec2 c = b_in_a.p;
+  if (bounds.apart(-dot(c, s.v[0].w), dot(c, c))) return false;
+  int iterations = 0;
+  switch (detail::run_gjk(a, b, b_in_a, s, scale, bounds, iterations)) {
+    case detail::GjkEnd::overlapped:
+    case detail::GjkEnd::decided_touch:
+      return true;
+    case detail::GjkEnd::decided_apart:
+    case detail::GjkEnd::converged:  // converged only after touching() said no at this |v|
+      return false;
+    case detail::GjkEnd::max_iterations:
+      break;
+  }
+  Vec2 pa;
+  Vec2 pb;
+  detail::witness_points(s, pa, pb);
+  return distance_squared(pa, pb) <= reach * reach;
+}
+
+}  // namespace
+
+template <Shape2DType A, Shape2DType B>
+bool overlap(const A& a, const Transform& xa, const B& b, const Transform& xb) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
+  if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
+    return overlap_gjk(ConvexProxy(a), xa, ConvexProxy(b), xb);
+  } else {
+    // Everything in A's frame, so large world coordinates cancel first.
+    return overlap_rounded<std::is_same_v<A, Circle>, std::is_same_v<B, Circle>>(
+        rounded_segment(a, Transform{}), rounded_segment(b, inv_mul(xa, xb)));
+  }
+}
+
+bool overlap(const Shape2D& a, const Transform& xa, const Shape2D& b,
+             const Transform& xb) noexcept {
+  return std::visit([&](const auto& sa, const auto& sb) { return overlap(sa, xa, sb, xb); }, a,
+                    b);
+}
+
+// The 16 ordered pairs the header's template promises.
+#define COLLIDE_OVERLAP_PAIR(A, B) \
+  template bool overlap<A, B>(const A&, const Transform&, const B&, const Transform&) noexcept;
+#define COLLIDE_OVERLAP_ROW(A)        \
+  COLLIDE_OVERLAP_PAIR(A, Circle)     \
+  COLLIDE_OVERLAP_PAIR(A, Capsule)    \
+  COLLIDE_OVERLAP_PAIR(A, Polygon)    \
+  COLLIDE_OVERLAP_PAIR(A, Segment)
+COLLIDE_OVERLAP_ROW(Circle)
+COLLIDE_OVERLAP_ROW(Capsule)
+COLLIDE_OVERLAP_ROW(Polygon)
+COLLIDE_OVERLAP_ROW(Segment)
+#undef COLLIDE_OVERLAP_ROW
+#undef COLLIDE_OVERLAP_PAIR
+
+}  // namespace collide

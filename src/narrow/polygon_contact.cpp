@@ -1,0 +1,284 @@
+// Contact between two convex polygons, rounded or not (capsules and segments arrive as
+// 2-vertex polygons).
+//
+// 1. Move B into A's local frame once, shifted so that A's vertex 0 is the origin: coordinates
+//    stay small however far from the world origin the pair is.
+// 2. Separating axis test over A's edge normals, then B's (sat.cpp), four edges at a time; stop
+//    at an axis that separates the rounded shapes. Two parallel segments also need their common
+//    direction as an axis.
+// 3. The reference face is the axis of greatest separation, preferring A unless B's is larger by
+//    kReferenceFaceTolerance of the faces' size, so that the choice does not flicker between
+//    frames. The incident edge is the other polygon's edge most anti-parallel to the reference
+//    normal.
+// 4. If the cores overlap (or nearly touch), clip the incident edge to the reference edge's side
+//    planes and keep the points within the radii sum of the reference face: 1 or 2 points.
+//    If the cores are apart (rounded shapes only reach here then), the exact closest features of
+//    the cores decide: corner against corner gives one point with the normal along the closest
+//    points, otherwise clip against whichever edge holds the inside closest point.
+// 5. If deep overlap of many short edges leaves the incident edge beside the reference edge,
+//    try the other polygon's face, then report the deepest vertex alone.
+// Catto, "Contact Manifolds", GDC 2007; Ericson, Real-Time Collision Detection, 5.2.1, 5.1.9.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/sat.hpp>
+#include <span>
+
+#include "contact_routines.hpp"
+#include "polygon_clip.hpp"
+#include "segment_closest.hpp"
+#include "sat_soa.hpp"
+
+namespace collide::detail {
+namespace {
+
+/// A polygon's core in the shared local frame, with its rounding radius.
+struct LocalPolygon {
+  const SoaPolygon* soa = nullptr;
+  int count = 0;
+  float radius = 0.0f;
+
+  [[nodiscard]] int next(int i) const noexcept { return i + 1 == count ? 0 : i + 1; }
+  [[nodiscard]] Vec2 vertex(int i) const noexcept { return soa->vertex(i); }
+  [[nodiscard]] Vec2 normal(int i) const noexcept { return soa->normal(i); }
+};
+
+/// Index of the edge of `p` whose normal is most anti-parallel to `normal`.
+int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
+  int best = 0;
+  float lowest = dot(normal, p.normal(0));
+  for (int i = 1; i < p.count; ++i) {
+    const float d = dot(normal, p.normal(i));
+    const bool lower = d < lowest;  // selects, not branches: the winner is data
+    best = lower ? i : best;
+    lowest = lower ? d : lowest;
+  }
+  return best;
+}
+
+/// What the routines below share: the map from the shared local frame to world space and the
+/// scene's length tolerances.
+struct Context {
+  Transform frame;     ///< local (A's frame, origin at A's vertex 0) to world
+  float apart = 0.0f;  ///< core separation above which the cores count as apart
+  float merge = 0.0f;  ///< contact points closer than this are one point
+};
+
+/// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
+/// edge `i11` of p1 and keep the points within the radii sum of the reference face (merged into
+/// one when they coincide, as when segments meet end to end). Normal: the reference edge's
+/// outward normal.
+Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
+                       const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
+  const Vec2 n1 = p1.normal(i11);
+  const EdgeRef ref{p1.vertex(i11), p1.vertex(p1.next(i11)), i11, p1.next(i11)};
+  const EdgeRef inc{p2.vertex(i21), p2.vertex(p2.next(i21)), i21, p2.next(i21)};
+  const float r1 = p1.radius;
+  const float r2 = p2.radius;
+  const float radius = r1 + r2;
+  // The tangent left_perp(n1) is the unit direction of the reference edge.
+  const ClippedEdge clipped = clip_incident_edge(ref, left_perp(n1), inc);
+  Manifold m;
+  Vec2 kept[2];
+  for (int k = 0; k < clipped.count; ++k) {
+    const ClipVertex& cv = clipped.vertices[k];
+    const float separation = dot(n1, cv.point - ref.start);  // of the cores
+    if (separation <= radius) {
+      // B's core point is cv.point; A's surface lies at (r1 - separation) along n1 from it and
+      // B's at -r2: the midpoint is half their sum.
+      const Vec2 mid = cv.point + (0.5f * (r1 - separation - r2)) * n1;
+      kept[m.count] = mid;
+      m.points[m.count++] = {transform_point(frame, mid), radius - separation, cv.id};
+    }
+  }
+  if (m.count == 2 && distance_squared(kept[0], kept[1]) <= ctx.merge * ctx.merge) {
+    if (m.points[1].depth > m.points[0].depth) m.points[0] = m.points[1];
+    m.count = 1;
+  }
+  if (m.count > 0) m.normal = rotate(frame.q, n1);
+  return m;
+}
+
+/// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth.
+Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
+                                const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
+  const Vec2 n1 = p1.normal(i11);
+  int deepest = 0;
+  for (int k = 1; k < p2.count; ++k) {
+    if (dot(n1, p2.vertex(k)) < dot(n1, p2.vertex(deepest))) deepest = k;
+  }
+  const float separation = dot(n1, p2.vertex(deepest) - p1.vertex(i11));
+  const float radius = p1.radius + p2.radius;
+  Manifold m;
+  if (!(separation <= radius)) return m;
+  m.normal = rotate(frame.q, n1);
+  m.points[0] = {transform_point(frame, p2.vertex(deepest) +
+                                            (0.5f * (p1.radius - separation - p2.radius)) * n1),
+                 radius - separation,
+                 ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
+                           FeatureType::edge, FeatureType::vertex}};
+  m.count = 1;
+  return m;
+}
+
+/// Closest points of edge e1 of p1 and edge e2 of p2, with the edges.
+struct ClosestEdges {
+  int e1 = 0;
+  int e2 = 0;
+  SegmentSegmentClosest points{};
+  float distance2 = 0.0f;
+};
+
+ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
+                           int e2) noexcept {
+  const SegmentSegmentClosest c = closest_between_segments(
+      p1.vertex(e1), p1.vertex(p1.next(e1)), p2.vertex(e2), p2.vertex(p2.next(e2)));
+  return {e1, e2, c, c.distance_squared};
+}
+
+/// The edge of `p` on the other side of the end of edge `e` where `fraction` sits (0: start,
+/// 1: end), or `e` itself when the fraction is inside the edge.
+int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
+  if (fraction == 0.0f) return e == 0 ? p.count - 1 : e - 1;
+  if (fraction == 1.0f) return p.next(e);
+  return e;
+}
+
+/// The manifold with polygon 1 as "A" and `reference.edge` of p1 the axis of greatest
+/// separation. `apart` is the core separation above which the cores count as apart (rounded
+/// shapes only). Then the exact closest features of the cores decide, found by walking from
+/// the reference and incident edges to neighbouring edges while the distance drops (a closest
+/// feature walk, as in Lin-Canny and V-Clip; one or two steps in practice): corner against
+/// corner gives one point with the normal along the closest points; a corner against the inside
+/// of an edge makes that edge the reference face; otherwise p1's edge is.
+Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
+                                 const LocalPolygon& p2, const Context& ctx) noexcept {
+  const Transform& frame = ctx.frame;
+  const int i11 = reference.edge;
+  const int i21 = incident_edge(p2, p1.normal(i11));
+  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx);
+
+  ClosestEdges best = closest_edges(p1, i11, p2, i21);
+  for (int step = 0; step < p1.count + p2.count; ++step) {
+    const int across1 = edge_across(p1, best.e1, best.points.s);
+    const int across2 = edge_across(p2, best.e2, best.points.t);
+    ClosestEdges next = best;
+    if (across1 != best.e1) {
+      const ClosestEdges c = closest_edges(p1, across1, p2, best.e2);
+      if (c.distance2 < next.distance2) next = c;
+    }
+    if (across2 != best.e2) {
+      const ClosestEdges c = closest_edges(p1, best.e1, p2, across2);
+      if (c.distance2 < next.distance2) next = c;
+    }
+    if (!(next.distance2 < best.distance2)) break;
+    best = next;
+  }
+  const float f1 = best.points.s;
+  const float f2 = best.points.t;
+  const bool end1 = f1 == 0.0f || f1 == 1.0f;
+  const bool end2 = f2 == 0.0f || f2 == 1.0f;
+  if (end1 && end2) {
+    const float r1 = p1.radius;
+    const float r2 = p2.radius;
+    if (!(best.distance2 <= (r1 + r2) * (r1 + r2))) return {};
+    const float dist = std::sqrt(best.distance2);
+    const Vec2 n = (best.points.point2 - best.points.point1) * (1.0f / dist);  // dist > apart
+    // Midway between A's surface point1 + r1 n and B's point2 - r2 n.
+    const Vec2 mid = best.points.point1 + (0.5f * (r1 + dist - r2)) * n;
+    const int v1 = f1 == 0.0f ? best.e1 : p1.next(best.e1);
+    const int v2 = f2 == 0.0f ? best.e2 : p2.next(best.e2);
+    Manifold m;
+    m.normal = rotate(frame.q, n);
+    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist,
+                   ContactId{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
+                             FeatureType::vertex, FeatureType::vertex}};
+    m.count = 1;
+    return m;
+  }
+  if (end1) {
+    return reversed(clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx));
+  }
+  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx);
+}
+
+}  // namespace
+
+Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
+                          const Transform& xb) noexcept {
+  const int na = a.count;
+  const int nb = b.count;
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 origin = a.vertices[0];
+  const Vec2 shift = b_in_a.p - origin;
+
+  // Both cores in A's frame, origin at A's vertex 0, as x and y arrays (the separating axis
+  // test runs four edges wide on them).
+  SoaPolygon pa_soa;
+  SoaPolygon pb_soa;
+  for (int i = 0; i < na; ++i) {
+    pa_soa.set_vertex(i, a.vertices[i] - origin);
+    pa_soa.set_normal(i, a.normals[i]);
+  }
+  pa_soa.finish_vertices(na);
+  pa_soa.finish_normals();
+  for (int j = 0; j < nb; ++j) pb_soa.set_vertex(j, rotate(b_in_a.q, b.vertices[j]) + shift);
+  pb_soa.finish_vertices(nb);
+  const float radius = a.radius + b.radius;
+
+  const EdgeSeparation sep_a = find_max_separation_soa(pa_soa, pb_soa, radius);
+  if (sep_a.separation > radius) return {};
+  for (int j = 0; j < nb; ++j) pb_soa.set_normal(j, rotate(b_in_a.q, b.normals[j]));
+  pb_soa.finish_normals();
+  const EdgeSeparation sep_b = find_max_separation_soa(pb_soa, pa_soa, radius);
+  if (sep_b.separation > radius) return {};
+  const SoaPolygon& va = pa_soa;
+  const SoaPolygon& vb = pb_soa;
+
+  EdgeSeparation ref_a = sep_a;
+  if (na == 2 && nb == 2) {
+    // Two segments' Minkowski difference is a parallelogram whose edge normals are the two
+    // segment normals, except when the segments are parallel: then it is a segment and its end
+    // caps add the segments' direction as an axis (collinear segments are apart only along it).
+    const Vec2 t = left_perp(a.normals[0]);  // A's direction, in A's frame
+    const float a0 = dot(t, va.vertex(0)), a1 = dot(t, va.vertex(1));
+    const float b0 = dot(t, vb.vertex(0)), b1 = dot(t, vb.vertex(1));
+    const float axial =
+        std::max(std::min(b0, b1) - std::max(a0, a1), std::min(a0, a1) - std::max(b0, b1));
+    if (axial > radius) return {};
+    // Apart along the direction: the closest features decide (from A's edge, see below).
+    if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
+  }
+
+  // The size that the tolerances scale with: the longer of the two competing faces (largest
+  // coordinate extent), found without a loop or a square root.
+  const auto edge_extent = [](const SoaPolygon& p, int e) {
+    return glm::abs(p.vertex(p.next(e)) - p.vertex(e));
+  };
+  const Vec2 ea = edge_extent(va, sep_a.edge);
+  const Vec2 eb = edge_extent(vb, sep_b.edge);
+  const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
+  const Context ctx{{transform_point(xa, origin), xa.q},
+                    kRelativeTolerance * size,
+                    kContactMergeTolerance * size};
+  const LocalPolygon pa{&pa_soa, na, a.radius};
+  const LocalPolygon pb{&pb_soa, nb, b.radius};
+  const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
+  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
+                           : reference_face_manifold(pa, ref_a, pb, ctx);
+  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return m;
+  // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
+  // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
+  // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
+  m = b_reference ? reference_face_manifold(pa, ref_a, pb, ctx)
+                  : reversed(reference_face_manifold(pb, sep_b, pa, ctx));
+  if (m.count > 0) return m;
+  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, ctx))
+                     : deepest_point_manifold(pa, ref_a.edge, pb, ctx);
+}
+
+}  // namespace collide::detail

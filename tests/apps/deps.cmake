@@ -1,0 +1,4 @@
+target_link_libraries(${target} PRIVATE collide_cli_lib)
+target_compile_definitions(${target} PRIVATE COLLIDE_CLI_PATH="$<TARGET_FILE:collide_cli>"
+                                             COLLIDE_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/examples")
+add_dependencies(${target} collide_cli)
