@@ -9,4 +9,7 @@ namespace collide::cli {
 /// `collide query [FILE]`: JSON Lines questions in, answers out (spec/query-jsonl.md).
 void register_query_command(CLI::App& app);
 
+/// `collide walk MESH.obj`: walk mesh of a level, agents wandering on it (walkmesh/).
+void register_walk_command(CLI::App& app);
+
 }  // namespace collide::cli

@@ -1,0 +1,528 @@
+// Building a walk mesh from a triangle soup: validation, welding, cleaning, edge pairing,
+// consistent winding, islands. Real level meshes have all of these problems at once
+// (SOURCES.md: dungeon.obj has 138 edges shared by more than two triangles).
+#include <collide/walkmesh/walk_mesh.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+
+namespace collide {
+namespace {
+
+constexpr std::uint32_t kUnset = 0xffffffffu;
+
+std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
+
+/// Integer cell of a hash grid, hashed for unordered_map.
+struct Cell {
+  std::int64_t x, y, z;
+  friend bool operator==(const Cell&, const Cell&) = default;
+};
+struct CellHash {
+  std::size_t operator()(const Cell& c) const noexcept {
+    return static_cast<std::size_t>(c.x * 73856093LL ^ c.y * 19349663LL ^ c.z * 83492791LL);
+  }
+};
+
+/// Welds positions closer than `radius` (the first one seen wins) with a hash grid of cell size
+/// `radius`, searching the 27 cells around each point. Returns the representative of each input.
+std::vector<std::uint32_t> weld(const std::vector<Vec3>& local, const std::vector<bool>& used,
+                                float radius, std::size_t& welded) {
+  std::vector<std::uint32_t> rep(local.size(), kUnset);
+  const float cell = radius > 0.0f ? radius : 1.0f;
+  const float r2 = radius * radius;
+  std::unordered_map<Cell, std::vector<std::uint32_t>, CellHash> grid;
+  grid.reserve(local.size());
+  for (std::uint32_t i = 0; i < local.size(); ++i) {
+    if (!used[i]) continue;
+    const Vec3 p = local[i];
+    const Cell c{static_cast<std::int64_t>(std::floor(p.x / cell)),
+                 static_cast<std::int64_t>(std::floor(p.y / cell)),
+                 static_cast<std::int64_t>(std::floor(p.z / cell))};
+    std::uint32_t found = kUnset;
+    for (std::int64_t dx = -1; dx <= 1 && found == kUnset; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1 && found == kUnset; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1 && found == kUnset; ++dz) {
+          const auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t j : it->second) {
+            const Vec3 d = local[j] - p;
+            if (glm::dot(d, d) <= r2) {
+              found = j;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (found == kUnset) {
+      rep[i] = i;
+      grid[c].push_back(i);
+    } else {
+      rep[i] = found;
+      ++welded;
+    }
+  }
+  return rep;
+}
+
+/// One side of a link between two triangles over an edge.
+struct EdgeUse {
+  std::uint32_t lo, hi;  ///< the edge's vertices, lo < hi
+  std::uint32_t triangle;
+  std::uint32_t third;   ///< the triangle's vertex opposite the edge
+};
+
+/// Two triangles joined over edge (lo, hi).
+struct Link {
+  std::uint32_t t0, t1, lo, hi;
+  bool cut = false;
+};
+
+/// Splits triangles at T-junctions: a vertex lying inside an unshared edge of another triangle
+/// (within `tolerance`), as where a refined part of a mesh meets an unrefined one. The triangle
+/// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding, when a triangle at
+/// w runs along (u, v) on the far side from x (overlapping geometry is left alone); repeated until no
+/// unshared edge holds a vertex (at most kMaxTJunctionPasses passes). Candidate vertices for an
+/// edge come from the axis-sorted vertex list whose slab around the edge holds the fewest.
+std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<Vec3>& local,
+                              float tolerance) {
+  std::vector<std::uint32_t> verts;
+  {
+    std::vector<bool> seen(local.size(), false);
+    for (const glm::uvec3& t : tris) {
+      for (int k = 0; k < 3; ++k) {
+        if (!seen[t[k]]) {
+          seen[t[k]] = true;
+          verts.push_back(t[k]);
+        }
+      }
+    }
+  }
+  std::array<std::vector<std::uint32_t>, 3> sorted;
+  for (int axis = 0; axis < 3; ++axis) {
+    sorted[axis] = verts;
+    std::sort(sorted[axis].begin(), sorted[axis].end(),
+              [&](std::uint32_t a, std::uint32_t b) { return local[a][axis] < local[b][axis]; });
+  }
+  std::size_t splits = 0;
+  for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
+    struct Use {
+      std::uint32_t lo, hi, triangle;
+      int edge;
+    };
+    std::vector<Use> uses;
+    uses.reserve(3 * tris.size());
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3];
+        uses.push_back({std::min(u, v), std::max(u, v), t, e});
+      }
+    }
+    std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) {
+      return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi;
+    });
+    // Triangles around each vertex, to check that a vertex found on an edge really belongs to the
+    // other side of it (and not to geometry overlapping this triangle).
+    std::vector<std::uint32_t> around_start(local.size() + 1, 0), around;
+    for (const glm::uvec3& t : tris) {
+      for (int k = 0; k < 3; ++k) ++around_start[t[k] + 1];
+    }
+    for (std::size_t v = 0; v < local.size(); ++v) around_start[v + 1] += around_start[v];
+    around.resize(around_start.back());
+    {
+      std::vector<std::uint32_t> fill(around_start.begin(), around_start.end() - 1);
+      for (std::uint32_t t = 0; t < tris.size(); ++t) {
+        for (int k = 0; k < 3; ++k) around[fill[tris[t][k]]++] = t;
+      }
+    }
+    std::vector<bool> split_this_pass(tris.size(), false);
+    std::size_t before = tris.size();
+    for (std::size_t i = 0; i < uses.size();) {
+      std::size_t j = i + 1;
+      while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+      if (j - i == 1 && !split_this_pass[uses[i].triangle]) {
+        const std::uint32_t t = uses[i].triangle;
+        const int e = uses[i].edge;
+        const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
+        const Vec3 a = local[u], d = local[v] - a;
+        const float dd = glm::dot(d, d);
+        // The axis whose slab around the edge holds the fewest vertices.
+        int best_axis = 0;
+        std::size_t best_count = std::numeric_limits<std::size_t>::max();
+        std::array<std::pair<std::size_t, std::size_t>, 3> range{};
+        for (int axis = 0; axis < 3; ++axis) {
+          const float lo = std::min(a[axis], local[v][axis]) - tolerance;
+          const float hi = std::max(a[axis], local[v][axis]) + tolerance;
+          const auto& list = sorted[axis];
+          const auto first = std::lower_bound(list.begin(), list.end(), lo,
+                                              [&](std::uint32_t q, float value) { return local[q][axis] < value; });
+          const auto last = std::upper_bound(list.begin(), list.end(), hi,
+                                             [&](float value, std::uint32_t q) { return value < local[q][axis]; });
+          range[axis] = {static_cast<std::size_t>(first - list.begin()), static_cast<std::size_t>(last - list.begin())};
+          if (range[axis].second - range[axis].first < best_count) {
+            best_count = range[axis].second - range[axis].first;
+            best_axis = axis;
+          }
+        }
+        std::uint32_t w = kUnset;
+        float w_param = 2.0f;
+        for (std::size_t k = range[best_axis].first; k < range[best_axis].second && dd > 0.0f; ++k) {
+          const std::uint32_t q = sorted[best_axis][k];
+          if (q == u || q == v) continue;
+          const float s = glm::dot(local[q] - a, d) / dd;
+          if (!(s > 0.0f && s < 1.0f)) continue;
+          const Vec3 off = local[q] - (a + s * d);
+          if (!(glm::dot(off, off) <= tolerance * tolerance && s < w_param)) continue;
+          // A true T-junction: some triangle at q has an edge along (u, v) and lies on the other
+          // side of it than x.
+          const Vec3 x_side = glm::cross(d, local[x] - a);
+          bool other_side = false;
+          for (std::uint32_t k2 = around_start[q]; k2 < around_start[q + 1] && !other_side; ++k2) {
+            const glm::uvec3 o = tris[around[k2]];
+            for (int c = 0; c < 3 && !other_side; ++c) {
+              const std::uint32_t y = o[c];
+              if (y == q) continue;
+              const float sy = glm::dot(local[y] - a, d) / dd;
+              const Vec3 off_y = local[y] - (a + sy * d);
+              if (sy < -1e-6f || sy > 1.0f + 1e-6f || glm::dot(off_y, off_y) > tolerance * tolerance) continue;
+              const std::uint32_t third = o[0] + o[1] + o[2] - q - y;  // the corner off the line
+              other_side = glm::dot(glm::cross(d, local[third] - a), x_side) < 0.0f;
+            }
+          }
+          if (other_side) {
+            w = q;
+            w_param = s;
+          }
+        }
+        auto solid = [&](std::uint32_t p0, std::uint32_t p1, std::uint32_t p2) {  // the degenerate test of step 3
+          const Vec3 e0 = local[p1] - local[p0], e1 = local[p2] - local[p1], e2 = local[p0] - local[p2];
+          const float longest2 = std::max({glm::dot(e0, e0), glm::dot(e1, e1), glm::dot(e2, e2)});
+          return glm::length(glm::cross(e0, -e2)) > kWalkDegenerateTolerance * longest2;
+        };
+        if (w != kUnset && solid(u, w, x) && solid(w, v, x)) {
+          tris[t] = {u, w, x};
+          tris.push_back({w, v, x});
+          split_this_pass[t] = true;
+          ++splits;
+        }
+      }
+      i = j;
+    }
+    if (tris.size() == before) break;
+  }
+  return splits;
+}
+
+bool has_directed_edge(glm::uvec3 t, std::uint32_t u, std::uint32_t v) {
+  return (t.x == u && t.y == v) || (t.y == u && t.z == v) || (t.z == u && t.x == v);
+}
+
+}  // namespace
+
+void validate_triangle_soup(const TriangleSoup& soup) {
+  const std::string name = where(soup);
+  if (soup.triangles.empty()) throw InvalidInput(name + ": no triangles");
+  const std::size_t nv = soup.positions.size();
+  for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = soup.triangles[t][k];
+      if (v >= nv) {
+        throw InvalidInput(name + ": triangle " + std::to_string(t) + ": vertex index " +
+                           std::to_string(v) + " out of range (" + std::to_string(nv) + " vertices)");
+      }
+      if (!is_finite(soup.positions[v])) {
+        throw InvalidInput(name + ": triangle " + std::to_string(t) + ": vertex " + std::to_string(v) +
+                           " is not finite");
+      }
+    }
+  }
+}
+
+WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options) {
+  const std::string name = where(soup);
+  if (!is_finite(options.up) || !(glm::length(options.up) > 0.0f)) {
+    throw InvalidInput(name + ": WalkMeshOptions.up must be a finite non-zero vector");
+  }
+  if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0f) {
+    throw InvalidInput(name + ": WalkMeshOptions.weld_tolerance must be finite and >= 0");
+  }
+  validate_triangle_soup(soup);
+  const Vec3 up = glm::normalize(options.up);
+
+  // 1. Bounds of the vertices that triangles use (only those must be finite).
+  const std::size_t nv = soup.positions.size();
+  std::vector<bool> used(nv, false);
+  Aabb3 box{soup.positions[soup.triangles[0].x], soup.positions[soup.triangles[0].x]};
+  for (const glm::uvec3& t : soup.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      used[t[k]] = true;
+      box = merge(box, Aabb3{soup.positions[t[k]], soup.positions[t[k]]});
+    }
+  }
+
+  // 2. Shift to a local origin (float precision far from the world origin), then weld.
+  WalkMesh mesh;
+  mesh.origin_ = box.center();
+  const Vec3 extent = box.size();
+  mesh.size_ = std::max({extent.x, extent.y, extent.z});
+  std::vector<Vec3> local(nv);
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (used[i]) local[i] = soup.positions[i] - mesh.origin_;
+  }
+  WalkMeshStats stats;
+  stats.input_triangles = soup.triangles.size();
+  const std::vector<std::uint32_t> rep = weld(local, used, options.weld_tolerance * mesh.size_,
+                                              stats.welded_vertices);
+
+  // 3. Drop degenerate and duplicate triangles.
+  std::vector<glm::uvec3> tris;
+  tris.reserve(soup.triangles.size());
+  for (const glm::uvec3& in : soup.triangles) {
+    const glm::uvec3 t{rep[in.x], rep[in.y], rep[in.z]};
+    if (t.x == t.y || t.y == t.z || t.z == t.x) {
+      ++stats.degenerate_triangles;
+      continue;
+    }
+    const Vec3 a = local[t.x], b = local[t.y], c = local[t.z];
+    const float longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+    if (!(glm::length(glm::cross(b - a, c - a)) > kWalkDegenerateTolerance * longest2)) {
+      ++stats.degenerate_triangles;
+      continue;
+    }
+    tris.push_back(t);
+  }
+  {
+    std::vector<std::pair<glm::uvec3, std::uint32_t>> keys(tris.size());
+    for (std::uint32_t i = 0; i < tris.size(); ++i) {
+      glm::uvec3 k = tris[i];
+      if (k.x > k.y) std::swap(k.x, k.y);
+      if (k.y > k.z) std::swap(k.y, k.z);
+      if (k.x > k.y) std::swap(k.x, k.y);
+      keys[i] = {k, i};
+    }
+    std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+      if (a.first.x != b.first.x) return a.first.x < b.first.x;
+      if (a.first.y != b.first.y) return a.first.y < b.first.y;
+      if (a.first.z != b.first.z) return a.first.z < b.first.z;
+      return a.second < b.second;
+    });
+    std::vector<bool> keep(tris.size(), true);
+    for (std::size_t i = 1; i < keys.size(); ++i) {
+      if (keys[i].first == keys[i - 1].first) keep[keys[i].second] = false;
+    }
+    std::vector<glm::uvec3> unique;
+    unique.reserve(tris.size());
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      if (keep[i]) unique.push_back(tris[i]);
+    }
+    stats.duplicate_triangles = tris.size() - unique.size();
+    tris = std::move(unique);
+  }
+  if (tris.empty()) {
+    throw InvalidInput(name + ": no usable triangles (all " + std::to_string(soup.triangles.size()) +
+                       " are degenerate or duplicates)");
+  }
+  stats.t_junction_splits = split_t_junctions(tris, local, std::max(options.weld_tolerance * mesh.size_,
+                                                                     kWalkWeldTolerance * mesh.size_));
+  const auto nt = static_cast<std::uint32_t>(tris.size());
+
+  // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the
+  //    pairs that continue each other most flatly (their thirds on opposite sides of the edge).
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * tris.size());
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3];
+      uses.push_back({std::min(u, v), std::max(u, v), t, tris[t][(e + 2) % 3]});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return a.lo != b.lo ? a.lo < b.lo : (a.hi != b.hi ? a.hi < b.hi : a.triangle < b.triangle);
+  });
+  std::vector<Link> links;
+  links.reserve(3 * tris.size() / 2);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+    const std::size_t count = j - i;
+    const Vec3 p = local[uses[i].lo];
+    const Vec3 axis = glm::normalize(local[uses[i].hi] - p);
+    auto side = [&](std::size_t k) {  // unit direction from the edge to the third vertex
+      Vec3 d = local[uses[k].third] - p;
+      d -= glm::dot(d, axis) * axis;
+      return glm::normalize(d);
+    };
+    if (count == 2) {
+      // Two triangles folded back onto each other (overlapping geometry) are not a walkable
+      // continuation: no link, a wall.
+      if (!(glm::dot(side(i), side(i + 1)) > kFoldBackLinkCos)) {
+        links.push_back({uses[i].triangle, uses[i + 1].triangle, uses[i].lo, uses[i].hi});
+      }
+    } else if (count > 2) {
+      ++stats.non_manifold_edges;
+      struct Candidate {
+        float flatness;
+        std::size_t a, b;
+      };
+      std::vector<Candidate> candidates;
+      for (std::size_t a = i; a < j; ++a) {
+        for (std::size_t b = a + 1; b < j; ++b) candidates.push_back({-glm::dot(side(a), side(b)), a, b});
+      }
+      std::stable_sort(candidates.begin(), candidates.end(),
+                       [](const Candidate& x, const Candidate& y) { return x.flatness > y.flatness; });
+      std::vector<bool> paired(count, false);
+      for (const Candidate& c : candidates) {
+        if (paired[c.a - i] || paired[c.b - i] || -c.flatness > kFoldBackLinkCos) continue;
+        paired[c.a - i] = paired[c.b - i] = true;
+        links.push_back({uses[c.a].triangle, uses[c.b].triangle, uses[c.a].lo, uses[c.a].hi});
+      }
+    }
+    i = j;
+  }
+  std::vector<std::array<std::uint32_t, 3>> links_of(nt, {kUnset, kUnset, kUnset});
+  for (std::uint32_t l = 0; l < links.size(); ++l) {
+    for (std::uint32_t t : {links[l].t0, links[l].t1}) {
+      for (auto& slot : links_of[t]) {
+        if (slot == kUnset) {
+          slot = l;
+          break;
+        }
+      }
+    }
+  }
+
+  // 5. Consistent winding by breadth-first search over links: linked triangles must use their
+  //    shared edge in opposite directions. A link that cannot agree is cut. Islands fall out.
+  std::vector<std::int8_t> flip(nt, -1);
+  std::vector<std::uint32_t> island(nt, kUnset);
+  std::vector<std::uint32_t> queue;
+  queue.reserve(nt);
+  std::uint32_t islands = 0;
+  for (std::uint32_t seed = 0; seed < nt; ++seed) {
+    if (flip[seed] >= 0) continue;
+    const std::uint32_t id = islands++;
+    flip[seed] = 0;
+    island[seed] = id;
+    queue.clear();
+    queue.push_back(seed);
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t t = queue[q];
+      for (std::uint32_t l : links_of[t]) {
+        if (l == kUnset || links[l].cut) continue;
+        Link& link = links[l];
+        const std::uint32_t other = link.t0 == t ? link.t1 : link.t0;
+        const bool same_direction = has_directed_edge(tris[t], link.lo, link.hi) ==
+                                    has_directed_edge(tris[other], link.lo, link.hi);
+        const std::int8_t want = static_cast<std::int8_t>(flip[t] ^ (same_direction ? 1 : 0));
+        if (flip[other] < 0) {
+          flip[other] = want;
+          island[other] = id;
+          queue.push_back(other);
+        } else if (flip[other] != want) {
+          link.cut = true;
+          ++stats.orientation_conflicts;
+        }
+      }
+    }
+  }
+
+  // 6. Turn each island so its area-weighted normal points up; an island with no clear up side
+  //    (a closed surface, a vertical wall) keeps the winding most of its input area had.
+  std::vector<double> up_sum(islands, 0.0), area_sum(islands, 0.0), flipped_area(islands, 0.0);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const Vec3 n = glm::cross(local[tris[t].y] - local[tris[t].x], local[tris[t].z] - local[tris[t].x]);
+    const double area = glm::length(n);
+    const double facing = glm::dot(n, up) * (flip[t] ? -1.0 : 1.0);
+    up_sum[island[t]] += facing;
+    area_sum[island[t]] += area;
+    if (flip[t]) flipped_area[island[t]] += area;
+  }
+  std::vector<bool> turn(islands);
+  for (std::uint32_t i = 0; i < islands; ++i) {
+    if (std::fabs(up_sum[i]) > kIslandUpTolerance * area_sum[i]) {
+      turn[i] = up_sum[i] < 0.0;
+    } else {
+      turn[i] = flipped_area[i] > 0.5 * area_sum[i];
+    }
+  }
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if ((flip[t] != 0) != turn[island[t]]) {
+      std::swap(tris[t].y, tris[t].z);
+      ++stats.flipped_triangles;
+    }
+  }
+
+  // 7. Compact the vertices, store them relative to the origin.
+  std::vector<std::uint32_t> index(nv, kUnset);
+  for (glm::uvec3& t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      if (index[t[k]] == kUnset) {
+        index[t[k]] = static_cast<std::uint32_t>(mesh.positions_.size());
+        mesh.positions_.push_back(local[t[k]]);
+      }
+      t[k] = index[t[k]];
+    }
+  }
+  for (Link& link : links) {
+    link.lo = index[link.lo];
+    link.hi = index[link.hi];
+  }
+  mesh.triangles_ = std::move(tris);
+  mesh.islands_ = std::move(island);
+
+  // 8. Neighbours from the links that survived.
+  mesh.neighbors_.assign(nt, {kNoNeighbor, kNoNeighbor, kNoNeighbor});
+  mesh.neighbor_edges_.assign(nt, {0, 0, 0});
+  for (const Link& link : links) {
+    if (link.cut) continue;
+    int e0 = mesh.local_edge(link.t0, link.lo, link.hi);
+    if (e0 < 0) e0 = mesh.local_edge(link.t0, link.hi, link.lo);
+    int e1 = mesh.local_edge(link.t1, link.lo, link.hi);
+    if (e1 < 0) e1 = mesh.local_edge(link.t1, link.hi, link.lo);
+    mesh.neighbors_[link.t0][e0] = link.t1;
+    mesh.neighbors_[link.t1][e1] = link.t0;
+    mesh.neighbor_edges_[link.t0][e0] = static_cast<std::uint8_t>(e1);
+    mesh.neighbor_edges_[link.t1][e1] = static_cast<std::uint8_t>(e0);
+  }
+
+  // 9. Normals, bounds, BVH, statistics.
+  mesh.triangle_normals_.resize(nt);
+  mesh.weight_gradients_.resize(nt);
+  mesh.vertex_normals_.assign(mesh.positions_.size(), Vec3(0.0f));
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const glm::uvec3 tri = mesh.triangles_[t];
+    const Vec3 n = glm::cross(mesh.positions_[tri.y] - mesh.positions_[tri.x],
+                              mesh.positions_[tri.z] - mesh.positions_[tri.x]);
+    mesh.triangle_normals_[t] = glm::normalize(n);
+    const float inv_nn = 1.0f / glm::dot(n, n);
+    const Vec3 a = mesh.positions_[tri.x], b = mesh.positions_[tri.y], c = mesh.positions_[tri.z];
+    mesh.weight_gradients_[t] = {glm::cross(n, c - b) * inv_nn, glm::cross(n, a - c) * inv_nn,
+                                 glm::cross(n, b - a) * inv_nn};
+    for (int k = 0; k < 3; ++k) mesh.vertex_normals_[tri[k]] += n;  // area-weighted
+  }
+  for (std::size_t v = 0; v < mesh.vertex_normals_.size(); ++v) {
+    const float len = glm::length(mesh.vertex_normals_[v]);
+    mesh.vertex_normals_[v] = len > 0.0f ? mesh.vertex_normals_[v] / len : up;
+  }
+  mesh.local_bounds_ = {mesh.positions_[0], mesh.positions_[0]};
+  for (const Vec3& p : mesh.positions_) mesh.local_bounds_ = merge(mesh.local_bounds_, Aabb3{p, p});
+  mesh.bvh_ = TriangleBvh(mesh.positions_, mesh.triangles_);
+  for (const auto& n : mesh.neighbors_) {
+    for (std::uint32_t x : n) stats.boundary_edges += x == kNoNeighbor ? 1 : 0;
+  }
+  stats.triangles = nt;
+  stats.vertices = mesh.positions_.size();
+  stats.islands = islands;
+  mesh.stats_ = stats;
+  return mesh;
+}
+
+}  // namespace collide

@@ -1,0 +1,256 @@
+// Walk meshes from the real Recast demo levels (dungeon.obj: non-manifold edges, many islands;
+// undulating.obj: coordinates near 5000) and make_walk_mesh's slope and headroom filters.
+#include "walk_fixtures.hpp"
+
+#include <collide/core/error.hpp>
+#include <collide/io/obj.hpp>
+#include <collide/walkmesh/make_walk_mesh.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace collide {
+namespace {
+
+using test::brute_distance;
+using test::random_tangent;
+using test::random_walk_point;
+using test::uniform;
+
+std::string mesh_path(const char* name) { return std::string(COLLIDE_DATA_DIR) + "/meshes/recast/" + name; }
+
+const TriangleSoup& dungeon() {
+  static const TriangleSoup soup = io::load_obj(mesh_path("dungeon.obj"));
+  return soup;
+}
+const TriangleSoup& undulating() {
+  static const TriangleSoup soup = io::load_obj(mesh_path("undulating.obj"));
+  return soup;
+}
+
+double distance(Vec3 a, Vec3 b) { return glm::length(glm::dvec3(a) - glm::dvec3(b)); }
+
+/// Segment-triangle intersection in double precision (Moeller-Trumbore), an independent check
+/// of the headroom filter.
+bool segment_hits_triangle(glm::dvec3 p, glm::dvec3 q, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec3 d = q - p, e1 = b - a, e2 = c - a;
+  const glm::dvec3 h = glm::cross(d, e2);
+  const double det = glm::dot(e1, h);
+  if (std::fabs(det) < 1e-12) return false;
+  const glm::dvec3 s = p - a;
+  const double u = glm::dot(s, h) / det;
+  if (u < 0.0 || u > 1.0) return false;
+  const glm::dvec3 qv = glm::cross(s, e1);
+  const double v = glm::dot(d, qv) / det;
+  if (v < 0.0 || u + v > 1.0) return false;
+  const double t = glm::dot(e2, qv) / det;
+  return t >= 0.0 && t <= 1.0;
+}
+
+TEST(LevelWalkMesh, WholeDungeonBuildsWithItsKnownDefects) {
+  const WalkMesh mesh = build_walk_mesh(dungeon());
+  const WalkMeshStats& s = mesh.stats();
+  // SOURCES.md: 5,101 vertices, 10,133 triangles, no degenerate ones, 138 non-manifold edges.
+  // The level also has T-junctions; each split adds a triangle (and may add a shared edge).
+  EXPECT_GT(s.t_junction_splits, 0u);
+  EXPECT_EQ(s.triangles, 10133u + s.t_junction_splits);
+  EXPECT_EQ(s.vertices, 5101u);
+  EXPECT_EQ(s.degenerate_triangles, 0u);
+  EXPECT_GE(s.non_manifold_edges, 138u);
+  EXPECT_GE(s.boundary_edges, 432u);  // the open edges, plus unpaired sides of non-manifold edges
+  EXPECT_GT(s.islands, 1u);
+}
+
+TEST(LevelWalkMesh, UndulatingIslandsMatchAnIndependentCount) {
+  // Union-find over shared vertex indices: the terrain plus 50 six-vertex props.
+  const TriangleSoup& soup = undulating();
+  std::vector<std::uint32_t> parent(soup.positions.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const glm::uvec3& t : soup.triangles) {
+    parent[find(t.y)] = find(t.x);
+    parent[find(t.z)] = find(t.x);
+  }
+  std::size_t roots = 0;
+  for (std::uint32_t i = 0; i < parent.size(); ++i) roots += find(i) == i;
+  const WalkMesh mesh = build_walk_mesh(soup);
+  EXPECT_EQ(mesh.stats().islands, roots);
+  // SOURCES.md counts 196 unshared edges; two knife-edge folds (< 2.5 degrees, kFoldBackLinkCos)
+  // in the props are not linked either, which adds their four sides.
+  EXPECT_GE(mesh.stats().boundary_edges, 196u);
+  EXPECT_LE(mesh.stats().boundary_edges, 196u + 8u);
+  EXPECT_EQ(mesh.stats().non_manifold_edges, 0u);
+}
+
+TEST(LevelWalkMesh, MakeWalkMeshKeepsWalkableSlopesWithHeadroom) {
+  const TriangleSoup& level = dungeon();
+  const WalkAgent agent{0.785398f, 2.0f, {0, 1, 0}};
+  const WalkMesh mesh = make_walk_mesh(level, agent);
+  const WalkMeshStats& s = mesh.stats();
+  EXPECT_EQ(s.input_triangles, level.triangles.size());
+  EXPECT_GT(s.too_steep_triangles, 1000u);
+  EXPECT_GT(s.low_headroom_triangles, 100u);
+  EXPECT_GT(s.triangles, 1000u);
+  EXPECT_GT(s.headroom_refined_triangles, 100u);  // partly covered triangles keep their open parts
+  EXPECT_LE(s.too_steep_triangles + s.low_headroom_triangles, level.triangles.size());
+  std::mt19937 rng(51);
+  int checked = 0, facing_down = 0;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const WalkPoint p = mesh.walk_point(t, Vec3(1.0f));
+    const float up = mesh.to_world_triangle_normal(p).y;
+    EXPECT_GE(std::fabs(up), std::cos(agent.max_slope) - 1e-5f);  // walkable slope
+    facing_down += up < 0.0f;
+    if (t % 5 != 0) continue;
+    // Headroom: vertical segments over points of a kept triangle meet no level triangle.
+    for (int k = 0; k < 3; ++k) {
+      float u = test::uniform01(rng), v = test::uniform01(rng);
+      if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+      const WalkPoint sample = mesh.walk_point(t, {1.0f - u - v, u, v});
+      // Level geometry that touches the space above within kHeadroomTolerance does not count:
+      // stay that far inside the triangle.
+      bool near_edge = false;
+      const glm::uvec3 tri = mesh.triangle(t);
+      for (int e = 0; e < 3; ++e) {
+        const glm::dvec3 a(mesh.world_vertex(tri[e])), b(mesh.world_vertex(tri[(e + 1) % 3]));
+        const glm::dvec3 q(mesh.to_world_point(sample));
+        const double s = std::clamp(glm::dot(q - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
+        near_edge |= glm::length(q - (a + s * (b - a))) < 4.0 * kHeadroomTolerance * 100.0;
+      }
+      if (near_edge) continue;
+      const glm::dvec3 base(mesh.to_world_point(sample));
+      const glm::dvec3 lo = base + glm::dvec3(0, 0.01, 0), hi = base + glm::dvec3(0, agent.height - 0.01, 0);
+      for (const glm::uvec3& o : level.triangles) {
+        ASSERT_FALSE(segment_hits_triangle(lo, hi, level.positions[o.x], level.positions[o.y], level.positions[o.z]))
+            << "kept triangle " << t << " has level geometry above it: level triangle " << (&o - level.triangles.data())
+            << " base " << base.x << " " << base.y << " " << base.z << " obstacle " << level.positions[o.x].x << ","
+            << level.positions[o.x].y << "," << level.positions[o.x].z << " " << level.positions[o.y].x << ","
+            << level.positions[o.y].y << "," << level.positions[o.y].z << " " << level.positions[o.z].x << ","
+            << level.positions[o.z].y << "," << level.positions[o.z].z;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+  // Islands are wound to face up; only where the walkable surface folds over itself (two-sided
+  // slopes meeting at a sharp crease) can a few triangles end up facing down.
+  EXPECT_LT(facing_down, static_cast<int>(mesh.triangle_count() / 1000));
+  // A taller agent fits in fewer places, a steeper-walking one in more.
+  EXPECT_LT(make_walk_mesh(level, {0.785398f, 4.0f, {0, 1, 0}}).triangle_count(), mesh.triangle_count());
+  EXPECT_GT(make_walk_mesh(level, {1.2f, 2.0f, {0, 1, 0}}).triangle_count(), mesh.triangle_count());
+}
+
+TEST(LevelWalkMesh, NearestWalkPointEqualsBruteForceOnRealLevels) {
+  std::mt19937 rng(53);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    const Aabb3 box = fatten(mesh.bounds(), 2.0f);
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 q(uniform(rng, box.min.x, box.max.x), uniform(rng, box.min.y, box.max.y),
+                   uniform(rng, box.min.z, box.max.z));
+      const WalkPoint p = mesh.nearest_walk_point(q);
+      ASSERT_TRUE(mesh.is_valid(p));
+      const double tol = 1e-6 * (100.0 + glm::length(glm::dvec3(q)));  // ~5e-3 near 5000
+      EXPECT_NEAR(distance(mesh.to_world_point(p), q), brute_distance(mesh, q), tol) << level->name << " " << i;
+    }
+  }
+}
+
+TEST(LevelWalkMesh, AgentsWalkingOnRealLevelsStayOnTheMesh) {
+  std::mt19937 rng(57);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    const double tol = 1e-6 * (100.0 + glm::length(glm::dvec3(mesh.origin())));
+    int walls = 0, crossings = 0;
+    for (int agent = 0; agent < 10; ++agent) {
+      WalkPoint p = random_walk_point(mesh, rng);
+      for (int step = 0; step < 40; ++step) {
+        const WalkResult r = mesh.walk(p, random_tangent(rng, mesh.to_world_triangle_normal(p), uniform(rng, 0.0f, 3.0f)));
+        ASSERT_TRUE(mesh.is_valid(r.end));
+        EXPECT_NE(r.status, WalkStatus::iteration_limit);
+        EXPECT_EQ(mesh.island(r.end.triangle), mesh.island(p.triangle));
+        ASSERT_LT(brute_distance(mesh, mesh.to_world_point(r.end)), tol) << level->name;
+        walls += r.walls_hit > 0;
+        crossings += r.edges_crossed;
+        p = r.end;
+      }
+    }
+    EXPECT_GT(walls, 10) << level->name;
+    EXPECT_GT(crossings, 200) << level->name;
+  }
+}
+
+TEST(LevelWalkMesh, WalkThereAndBackOnRealLevels) {
+  std::mt19937 rng(59);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    const double tol = 2e-6 * (100.0 + glm::length(glm::dvec3(mesh.origin())));
+    int returned = 0;
+    for (int i = 0; i < 400; ++i) {
+      const WalkPoint start = random_walk_point(mesh, rng);
+      const WalkResult go = mesh.walk(start, random_tangent(rng, mesh.to_world_triangle_normal(start), 1.5f));
+      if (go.walls_hit > 0) continue;
+      const WalkResult back = mesh.walk(go.end, -go.end_step);
+      EXPECT_EQ(back.walls_hit, 0);
+      EXPECT_LT(distance(mesh.to_world_point(back.end), mesh.to_world_point(start)), tol) << level->name << " " << i;
+      ++returned;
+    }
+    EXPECT_GT(returned, 100) << level->name;
+  }
+}
+
+TEST(LevelWalkMesh, CrossingEdgesOnRealLevelsKeepsTheWorldPosition) {
+  std::mt19937 rng(61);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    const double tol = 1e-6 * (100.0 + glm::length(glm::dvec3(mesh.origin())));
+    int crossed = 0;
+    for (int i = 0; i < 1000; ++i) {
+      const WalkPoint p = random_walk_point(mesh, rng);
+      const TriangleWalk w = mesh.walk_in_triangle(p, random_tangent(rng, mesh.to_world_triangle_normal(p), 5.0f));
+      if (!w.hit_edge) continue;
+      if (const auto c = mesh.cross_edge(w.end)) {
+        ++crossed;
+        EXPECT_LT(distance(mesh.to_world_point(w.end), mesh.to_world_point(c->end)), tol);
+      }
+    }
+    EXPECT_GT(crossed, 300) << level->name;
+  }
+}
+
+TEST(LevelWalkMesh, ErrorsNameTheFileAndTheTriangle) {
+  const std::string path = ::testing::TempDir() + "broken_level.obj";
+  {
+    std::ofstream f(path);
+    f << "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 2 3\nf 3 2 1\n";
+  }
+  const TriangleSoup soup = io::load_obj(path);
+  EXPECT_EQ(soup.name, "broken_level.obj");
+  TriangleSoup bad = soup;
+  bad.triangles[2].y = 40;
+  try {
+    (void)make_walk_mesh(bad);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "broken_level.obj: triangle 2: vertex index 40 out of range (3 vertices)");
+  }
+  EXPECT_THROW((void)io::load_obj(::testing::TempDir() + "no_such_level.obj"), InvalidInput);
+  EXPECT_THROW((void)make_walk_mesh(soup, {2.0f, 2.0f, {0, 1, 0}}), InvalidInput);   // max_slope
+  EXPECT_THROW((void)make_walk_mesh(soup, {0.5f, -1.0f, {0, 1, 0}}), InvalidInput);  // height
+  // A wall only: nothing walkable, said so.
+  const TriangleSoup wall{"wall.obj", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}};
+  try {
+    (void)make_walk_mesh(wall);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("wall.obj: no walkable triangles"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace collide
