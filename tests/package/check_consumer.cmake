@@ -12,7 +12,7 @@ if(MODE STREQUAL "find_package")
 else()
   set(configure_args -DCOLLIDE_SOURCE_DIR=${SOURCE_DIR})
 endif()
-execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/consumer
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer
                         -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release ${configure_args}
                 RESULT_VARIABLE rc)
 if(rc)
