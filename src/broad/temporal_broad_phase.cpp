@@ -99,6 +99,37 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
 }
 
 template <int D>
+void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bounds) {
+  if (speed_bounds.size() != speeds_.size()) {
+    throw InvalidInput("speed bounds: " + std::to_string(speed_bounds.size()) + " for " +
+                       std::to_string(speeds_.size()) + " objects");
+  }
+  for (std::size_t i = 0; i < speed_bounds.size(); ++i) {
+    if (!std::isfinite(speed_bounds[i]) || speed_bounds[i] < 0.0f) {
+      throw InvalidInput("speed bound " + std::to_string(i) + ": negative or not finite");
+    }
+  }
+  bool any_raised = false;
+  raised_.assign(speeds_.size(), 0);
+  for (std::size_t i = 0; i < speeds_.size(); ++i) {
+    if (speed_bounds[i] > speeds_[i]) {
+      raised_[i] = 1;
+      any_raised = true;
+    }
+    speeds_[i] = speed_bounds[i];
+  }
+  if (!any_raised || needs_rebuild_) return;
+  // A sleeping pair with a faster object may meet sooner than its wake time: check it at the
+  // next find_pairs. (Its grown box assumed the old bound, too; update() rebuilds when an
+  // object leaves it.)
+  for (std::size_t c = 0; c < candidates_.size(); ++c) {
+    if (raised_[std::size_t(candidates_[c].first)] || raised_[std::size_t(candidates_[c].second)]) {
+      wake_[c] = std::min(wake_[c], time_);
+    }
+  }
+}
+
+template <int D>
 void TemporalBroadPhaseN<D>::rebuild() {
   grown_.resize(boxes_.size());
   for (std::size_t i = 0; i < boxes_.size(); ++i) {

@@ -91,6 +91,40 @@ TYPED_TEST(TemporalTest, TeleportingObjectIsNotMissed) {
   EXPECT_GE(violations, 150 / 7);
 }
 
+// Objects that change speed (a game's collision response) announce it with set_speed_bounds
+// after each frame: raised bounds wake their sleeping pairs, so nothing is missed and no
+// rebuild is needed, and checks are still skipped.
+TYPED_TEST(TemporalTest, ChangingSpeedsAreSafeWithoutRebuilds) {
+  constexpr int D = TypeParam::value;
+  std::mt19937 rng(21 + D);
+  auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 400, 20.0f, 0.2f, 1.0f),
+                                     20.0f, 0.02f);
+  TemporalBroadPhaseN<D> temporal;
+  temporal.build(world.boxes, bounds_of_world(world), 0.0);
+  PairList pairs;
+  std::uniform_int_distribution<int> pick(0, 399);
+  for (int frame = 1; frame <= 120; ++frame) {
+    world.step();
+    temporal.update(world.boxes, static_cast<double>(frame));
+    temporal.find_pairs(pairs);
+    sort_pairs(pairs);
+    ASSERT_EQ(pairs, brute_pairs<D>(world.boxes)) << "frame " << frame;
+    // Ten objects speed up fivefold, ten slow down, from this frame on.
+    for (int k = 0; k < 10; ++k) {
+      const std::size_t up = std::size_t(pick(rng)), down = std::size_t(pick(rng));
+      if (std::abs(world.velocity[up][0]) < 0.2f) world.velocity[up] *= 5.0f;
+      world.velocity[down] *= 0.5f;
+    }
+    temporal.set_speed_bounds(bounds_of_world(world));
+  }
+  EXPECT_EQ(temporal.stats().bound_violations, 0);
+  EXPECT_GT(temporal.stats().skipped_checks, 0);
+  EXPECT_THROW(temporal.set_speed_bounds(std::vector<float>(3, 1.0f)), InvalidInput);
+  std::vector<float> bad = bounds_of_world(world);
+  bad[7] = -1.0f;
+  EXPECT_THROW(temporal.set_speed_bounds(bad), InvalidInput);
+}
+
 TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
   constexpr int D = TypeParam::value;
   std::mt19937 rng(4);

@@ -71,6 +71,11 @@ class TemporalBroadPhaseN {
   /// not finite or goes backwards.
   void update(std::span<const AabbN<D>> boxes, double time);
 
+  /// New speed bounds from the current time on (one per object, >= 0, finite): for objects
+  /// whose speed changes (a bounce, a collision response). A raised bound wakes the object's
+  /// sleeping candidate pairs (their wake times assumed the old bound); a lowered one keeps
+  /// the wake times, which stay conservative. Throws InvalidInput for a bad bound or count.
+  void set_speed_bounds(std::span<const float> speed_bounds);
   /// Every pair overlapping at the current time, once, i < j; order: candidate order.
   void find_pairs(PairList& pairs);
   /// Each id whose current box overlaps `box`, once.
@@ -104,6 +109,7 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
+  std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
   Stats stats_{};
 };
 
