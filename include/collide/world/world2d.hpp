@@ -1,0 +1,403 @@
+#pragma once
+/// @file
+/// `World2D`: what a game does with collision every frame, in one place. Static colliders and
+/// moving bodies; `step(dt)` runs the lesson's pipeline,
+///
+///   broad phase -> early out -> narrow phase -> continuous collision -> contact events,
+///
+/// and the world answers the queries a game asks between frames: ray casts with reflections
+/// (lasers and mirrors), AABB and point queries (mouse picks), shape casts (is the player
+/// standing on something?).
+///
+/// One step of `dt` seconds:
+///  1. Integrate. Each body moves by velocity * dt (plus the push-out left by last step's
+///     body-body contacts) and turns by angular velocity * dt. A body that would move more than
+///     kCcdMotionFraction of its own size (or is flagged `bullet`) moves by continuous collision
+///     against the statics: time of impact (`time_of_impact`: GJK ray cast into the Minkowski
+///     difference, conservative advancement with rotation), stop there, reflect, go on with the
+///     rest of the step (up to kMaxCcdBounces times). Slower bodies move the whole step at once.
+///  2. Statics. Each body's swept box is looked up in the statics' tree (DynamicTree); each
+///     candidate goes through the early-out chain (filter, AABB, bounding-circle pretest) and
+///     the exact `contact`; the body is pushed out by the deepest contact and its velocity
+///     reflected (a kinematic bounce), up to kResolveIterations times.
+///  3. Bodies. The bodies' swept boxes go to the body broad phase (the temporal broad phase by
+///     default: pairs that cannot meet yet are skipped), each pair through its own early-out
+///     chain and `contact`. Touching bodies exchange their velocity components along the normal
+///     (equal masses, elastic) and are pushed apart by half the depth each, applied with the
+///     next step's motion so that it, too, cannot tunnel.
+///  4. Events. This step's touching pairs are compared with last step's: begin, persist, end;
+///     contact points are matched across steps by feature id (`ContactId`).
+///  5. Check. An independent brute-force pass counts bodies that end the step inside static
+///     geometry (tunnelling) or outside the world's bounds; both must stay 0.
+///
+/// Units: world units (metres or pixels, the caller's choice), seconds, radians
+/// (counter-clockwise in a y-up world). Determinism: the same calls in the same order give the
+/// same state bit for bit on the same build (`state_hash`), whatever broad phase is chosen and
+/// whatever the early-out chains learn (they reorder checks, which never changes a result).
+///
+/// Not thread-safe: one thread steps and queries a world. Allocation happens when bodies or
+/// statics are added; steady-state steps reuse their buffers.
+
+#include <collide/broad/broad_phase.hpp>
+#include <collide/ccd/raycast.hpp>
+#include <collide/ccd/shape_cast.hpp>
+#include <collide/core/aabb.hpp>
+#include <collide/core/ray.hpp>
+#include <collide/draw/debug_draw.hpp>
+#include <collide/early_out/check_chain.hpp>
+#include <collide/narrow/manifold.hpp>
+#include <collide/shape/shape2d.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace collide {
+
+/// A body that would move more than this fraction of its size in one step (its size: the radius
+/// of the largest circle that fits its narrowest piece) moves by continuous collision.
+inline constexpr float kCcdMotionFraction = 0.25f;
+/// Most bounces a fast body makes within one step; the rest of its motion is dropped after that.
+inline constexpr int kMaxCcdBounces = 4;
+/// Most push-out passes of a body against the statics per step (corners need two).
+inline constexpr int kResolveIterations = 4;
+/// A body-body push is capped per step at this fraction of the body's bounding radius, so a
+/// deep overlap comes apart over a few steps instead of throwing bodies across the world.
+inline constexpr float kMaxPushFraction = 0.5f;
+/// A body counts as tunnelled (inside static geometry) when it overlaps a static deeper than
+/// this fraction of its size at the end of a step (the independent check).
+inline constexpr float kTunnelDepthFraction = 0.05f;
+
+/// Which pairs interact: A and B do iff (A.layer & B.mask) != 0 and (B.layer & A.mask) != 0.
+struct CollisionFilter {
+  std::uint32_t layer = 1u;            ///< the layers this collider is on (usually one bit)
+  std::uint32_t mask = 0xffffffffu;    ///< the layers it interacts with
+};
+
+/// True when the two filters let their colliders interact.
+[[nodiscard]] constexpr bool should_collide(CollisionFilter a, CollisionFilter b) noexcept {
+  return (a.layer & b.mask) != 0u && (b.layer & a.mask) != 0u;
+}
+
+/// Handle of a static collider: an index that stays valid for the world's lifetime.
+struct StaticId {
+  std::uint32_t index = 0;
+  friend constexpr bool operator==(StaticId, StaticId) noexcept = default;
+};
+
+/// Handle of a body: index plus generation, so a handle of a removed body is recognised as stale
+/// even after its slot is reused.
+struct BodyId {
+  std::uint32_t index = 0;
+  std::uint32_t generation = 0;
+  friend constexpr bool operator==(BodyId, BodyId) noexcept = default;
+};
+
+/// One convex piece of a static or a body: what contacts and queries name.
+struct ColliderRef {
+  bool is_static = true;    ///< a piece of a static (else of a body)
+  std::uint32_t index = 0;  ///< StaticId::index or BodyId::index
+  std::uint16_t piece = 0;  ///< which of the owner's shapes
+  /// Packed into one integer (statics sort before bodies), for ordering and keys.
+  [[nodiscard]] constexpr std::uint64_t key() const noexcept {
+    return (std::uint64_t{is_static ? 0u : 1u} << 48) | (std::uint64_t{index} << 16) | piece;
+  }
+  friend constexpr bool operator==(ColliderRef, ColliderRef) noexcept = default;
+};
+
+/// A static collider: one or more convex shapes (a concave outline goes in as the pieces of
+/// `convex_pieces`) placed by one transform. Statics never move.
+struct StaticDef {
+  std::vector<Shape2D> shapes;  ///< local space, at least one
+  Transform transform;          ///< local -> world
+  std::uint64_t user_id = 0;    ///< the game's own id, echoed in contacts and queries
+  CollisionFilter filter{};
+  bool sensor = false;          ///< reports overlaps (events), never pushes
+};
+
+/// A moving body: one or more convex shapes moving together, with a velocity. Kinematic: it
+/// keeps its velocity until it bounces (reflection about the contact normal) or the game sets it.
+struct BodyDef {
+  std::vector<Shape2D> shapes;       ///< local space, at least one
+  Transform transform;               ///< local -> world at the start
+  Vec2 velocity{0.0f, 0.0f};         ///< world units per second
+  float angular_velocity = 0.0f;     ///< radians per second, counter-clockwise
+  std::uint64_t user_id = 0;
+  CollisionFilter filter{};
+  bool sensor = false;               ///< passes through everything, reports overlaps
+  bool bullet = false;               ///< always use continuous collision, whatever its speed
+};
+
+/// The convex pieces of a simple polygon outline (either winding; concave allowed), for
+/// StaticDef/BodyDef shapes: one piece when it is convex, else `decompose_convex` (ear clipping
+/// + Hertel-Mehlhorn). Throws InvalidInput naming `name` for a self-intersecting, degenerate or
+/// non-finite outline.
+[[nodiscard]] std::vector<Shape2D> convex_pieces(std::span<const Vec2> outline,
+                                                 std::string_view name = "polygon");
+
+/// Which broad phase finds body-body pairs (statics always live in a DynamicTree). Every choice
+/// finds the same pairs; only the speed differs.
+enum class WorldBroadPhase : std::uint8_t {
+  temporal,           ///< speed bounds: pairs that cannot meet yet are skipped (the default)
+  hierarchical_grid,  ///< grid levels for mixed sizes
+  sorted_grid,        ///< radix-sorted uniform grid
+  hash_grid,          ///< the lesson's hashed grid
+  dynamic_tree,       ///< incremental AABB tree
+  sweep_and_prune,    ///< insertion-sorted intervals
+  brute_force,        ///< every pair: the reference
+};
+
+/// Lower-case name of a WorldBroadPhase ("temporal", "hash_grid", ...).
+[[nodiscard]] const char* to_string(WorldBroadPhase broad_phase) noexcept;
+/// The WorldBroadPhase named `name`; throws InvalidInput listing the valid names otherwise.
+[[nodiscard]] WorldBroadPhase world_broad_phase_from_string(std::string_view name);
+
+/// Options of a World2D.
+struct WorldOptions {
+  WorldBroadPhase broad_phase = WorldBroadPhase::temporal;
+  /// Where bodies belong. When set, the end-of-step check counts bodies whose centre left it
+  /// (`StepStats::escaped`); the world does not enforce it (give it walls as statics).
+  std::optional<Aabb> bounds;
+  /// Learn check costs and pass rates and reorder the early-out chains (the lesson's t / (1 - p)
+  /// rule). Off: the declaration order with every pretest on, for comparison.
+  bool adaptive_early_out = true;
+  /// Run the independent end-of-step check (tunnelling, escapes). It costs a brute-force pass
+  /// per step; games turn it off, tests and `collide run` keep it on.
+  bool check_each_step = true;
+};
+
+/// A contact between two colliders in a step: touching at the end of the step, or hit by a fast
+/// body during its continuous motion (then the manifold is the one at the time of impact, and
+/// the body has usually bounced away by the end of the step: a bullet's hit is still reported).
+/// `a` is always a body piece; `b` a static piece or a piece of another body (a.index < b.index).
+struct Contact {
+  ColliderRef a;
+  ColliderRef b;
+  Manifold manifold;      ///< normal from A to B, world space; 1-2 points with feature ids
+  bool sensor = false;    ///< one side is a sensor: reported, no response
+  std::uint64_t user_a = 0;  ///< user id of A's owner
+  std::uint64_t user_b = 0;  ///< user id of B's owner
+};
+
+/// What happened to a touching pair this step.
+enum class ContactEventType : std::uint8_t {
+  begin,    ///< touching now, not last step
+  persist,  ///< touching now and last step
+  end,      ///< touching last step, not now
+};
+
+/// Lower-case name ("begin", "persist", "end").
+[[nodiscard]] const char* to_string(ContactEventType type) noexcept;
+
+/// A contact event. For `end`, `manifold` is last step's.
+struct ContactEvent {
+  ContactEventType type = ContactEventType::begin;
+  ColliderRef a;
+  ColliderRef b;
+  std::uint64_t user_a = 0;  ///< user id of A's owner
+  std::uint64_t user_b = 0;  ///< user id of B's owner
+  Manifold manifold;
+  bool sensor = false;
+  /// Bit i set: point i has the same feature id as a point of last step's manifold (the same
+  /// contact point, so a game can carry its data over). Always 0 for begin and end.
+  std::uint8_t persisted_points = 0;
+};
+
+/// Counters and timings of a step (or, from `total_stats`, summed over all steps).
+struct StepStats {
+  std::int64_t steps = 0;
+  std::int64_t bodies = 0;             ///< alive bodies (summed per step in totals)
+  std::int64_t static_pieces = 0;      ///< convex static pieces
+  // Broad phase
+  std::int64_t body_pairs = 0;         ///< body-body pairs from the broad phase (swept boxes)
+  std::int64_t static_candidates = 0;  ///< body-static pairs from the statics' tree
+  std::int64_t broad_skipped_checks = 0;  ///< pair checks the temporal broad phase skipped
+  // Early out (both chains)
+  std::int64_t filtered = 0;           ///< rejected by layer/mask or same body
+  std::int64_t aabb_rejected = 0;      ///< rejected by the tight boxes
+  std::int64_t pretest_rejected = 0;   ///< rejected by the bounding-circle pretest
+  std::int64_t narrow_tests = 0;       ///< exact contact computations
+  // Narrow phase and response
+  std::int64_t contacts = 0;           ///< touching pairs at the end of the step
+  std::int64_t sensor_contacts = 0;    ///< of which involve a sensor
+  std::int64_t pushes = 0;             ///< push-outs applied against statics
+  // Continuous collision
+  std::int64_t ccd_bodies = 0;         ///< bodies moved by continuous collision
+  std::int64_t toi_queries = 0;        ///< time-of-impact queries run
+  std::int64_t toi_hits = 0;           ///< of which stopped a body before the end of its motion
+  // Events
+  std::int64_t begin_events = 0;
+  std::int64_t persist_events = 0;
+  std::int64_t end_events = 0;
+  // Independent check
+  std::int64_t tunnelled = 0;          ///< bodies ending a step inside static geometry
+  std::int64_t escaped = 0;            ///< bodies ending a step outside WorldOptions::bounds
+  float max_static_depth = 0.0f;       ///< deepest body-static overlap seen by the check
+  // Time per phase, seconds (steady clock)
+  double time_integrate = 0.0;         ///< motion and continuous collision
+  double time_statics = 0.0;           ///< statics' tree, early out, narrow, push-out
+  double time_broad = 0.0;             ///< body broad phase
+  double time_bodies = 0.0;            ///< body pairs' early out, narrow, response
+  double time_events = 0.0;            ///< event matching
+  double time_check = 0.0;             ///< the independent check
+
+  /// Adds `other`'s counters and times (max for max_static_depth).
+  void accumulate(const StepStats& other) noexcept;
+};
+
+/// Which colliders a query sees.
+struct QueryFilter {
+  std::uint32_t mask = 0xffffffffu;  ///< layers to see: colliders whose filter.layer & mask
+  bool statics = true;
+  bool bodies = true;
+  bool sensors = false;              ///< sensors are skipped unless this is set
+  std::optional<BodyId> ignore;      ///< a body to skip (the caster itself)
+};
+
+/// A world ray cast hit.
+struct WorldRayHit {
+  ColliderRef collider;
+  std::uint64_t user_id = 0;
+  RayHit hit;  ///< fraction along the ray, point, outward normal (world space)
+};
+
+/// Most segments of a laser path.
+inline constexpr int kMaxLaserBounces = 16;
+
+/// A laser and its reflections: points[0] is the origin, points[i + 1] the end of segment i;
+/// hits[i] is what segment i hit (segments - 1 hits, plus one more when the last segment ended
+/// on a surface rather than running out of length).
+struct LaserPath {
+  std::array<Vec2, kMaxLaserBounces + 2> points{};
+  int segments = 0;
+  std::array<WorldRayHit, kMaxLaserBounces + 1> hits{};
+  int hit_count = 0;
+};
+
+/// A world shape cast hit.
+struct WorldCastHit {
+  bool hit = false;
+  ColliderRef collider;
+  std::uint64_t user_id = 0;
+  float fraction = 1.0f;     ///< of the translation at first touch, [0, 1]
+  Vec2 point{0.0f, 0.0f};    ///< contact point at first touch, world space
+  Vec2 normal{0.0f, 0.0f};   ///< unit, from the cast shape towards what it hit
+};
+
+/// Called with each collider a query finds; return false to stop. Non-owning (no allocation).
+using ColliderCallback = FunctionRef<bool(const ColliderRef&)>;
+
+/// What `draw` includes.
+struct WorldDrawOptions {
+  bool statics = true;
+  bool bodies = true;
+  bool contacts = true;           ///< contact points and normals
+  float normal_length = 0.0f;     ///< arrow length; 0: a fraction of the median body size
+};
+
+/// The collision world. See the file comment for what a step does.
+class World2D {
+ public:
+  /// Throws InvalidInput for non-finite or empty bounds.
+  explicit World2D(const WorldOptions& options = {});
+  ~World2D();
+  World2D(World2D&&) noexcept;
+  World2D& operator=(World2D&&) noexcept;
+  World2D(const World2D&) = delete;
+  World2D& operator=(const World2D&) = delete;
+
+  /// Adds a static collider. Throws InvalidInput, naming the field, for no shapes, more than
+  /// 65535 shapes, or a non-finite or non-unit transform. Shapes must come from the make_*
+  /// functions (they are trusted as valid).
+  StaticId add_static(const StaticDef& def);
+  /// Adds a body. Throws InvalidInput as add_static, and for a non-finite velocity.
+  BodyId add_body(const BodyDef& def);
+  /// Removes a body; its contacts end (reported as end events by the next step). Throws
+  /// InvalidInput for a stale or unknown id.
+  void remove_body(BodyId id);
+  /// True when `id` names a body that is still in the world.
+  [[nodiscard]] bool contains(BodyId id) const noexcept;
+
+  /// A body's current state. Throw InvalidInput for a stale id.
+  [[nodiscard]] const Transform& transform(BodyId id) const;
+  [[nodiscard]] Vec2 velocity(BodyId id) const;
+  [[nodiscard]] float angular_velocity(BodyId id) const;
+  [[nodiscard]] std::span<const Shape2D> shapes(BodyId id) const;
+  [[nodiscard]] std::uint64_t user_id(BodyId id) const;
+  /// Setters; throw InvalidInput for a stale id or non-finite values. A teleport is fine: the
+  /// broad phase notices the broken speed bound and rebuilds.
+  void set_transform(BodyId id, const Transform& xf);
+  void set_velocity(BodyId id, Vec2 velocity, float angular_velocity = 0.0f);
+  /// Every alive body's id, in index order.
+  [[nodiscard]] std::vector<BodyId> body_ids() const;
+  [[nodiscard]] int body_count() const noexcept;
+  [[nodiscard]] int static_count() const noexcept;
+  /// Static `id`'s definition. Throws InvalidInput for an unknown id.
+  [[nodiscard]] const StaticDef& static_def(StaticId id) const;
+  /// User id of the static or body that owns `collider`.
+  [[nodiscard]] std::uint64_t user_id(const ColliderRef& collider) const;
+
+  /// Advances the world by `dt` seconds (see the file comment). Throws InvalidInput if dt is
+  /// not finite or negative.
+  void step(float dt);
+
+  /// Contacts of the last step (touching at its end, or hit during it), sorted by (a, b).
+  [[nodiscard]] std::span<const Contact> contacts() const noexcept;
+  /// Events of the last step, sorted by (a, b).
+  [[nodiscard]] std::span<const ContactEvent> events() const noexcept;
+  /// Counters and timings of the last step, and summed over all steps.
+  [[nodiscard]] const StepStats& last_step_stats() const noexcept;
+  [[nodiscard]] const StepStats& total_stats() const noexcept;
+  /// What the early-out chains learned: [0] body-static pairs, [1] body-body pairs.
+  /// Check order: 0 filter, 1 AABB, 2 exact contact (pretest: bounding circles).
+  [[nodiscard]] std::array<CheckChainReport, 2> early_out_reports() const;
+  /// The current order of each chain (indices as above) and whether the pretest is on.
+  [[nodiscard]] std::array<std::array<int, 3>, 2> early_out_orders() const;
+  [[nodiscard]] std::array<bool, 2> early_out_pretests() const;
+
+  /// The first collider `ray` (world space, point = origin + fraction * translation) enters.
+  /// Statics through their tree, bodies through the body broad phase (both boxes, then the
+  /// exact `raycast`). A ray starting inside a collider does not hit it (see `raycast`).
+  [[nodiscard]] std::optional<WorldRayHit> raycast(const Ray& ray, const QueryFilter& filter = {}) const;
+  /// The lesson's laser and mirrors: casts `ray`, reflects at each hit about the surface normal
+  /// (keeping the remaining length), up to `max_bounces` reflections (<= kMaxLaserBounces).
+  /// Throws InvalidInput for a non-finite ray or max_bounces out of range.
+  [[nodiscard]] LaserPath cast_laser(const Ray& ray, int max_bounces,
+                                     const QueryFilter& filter = {}) const;
+  /// Each collider whose shape overlaps the box (exact, not just the bounding boxes).
+  void query_aabb(const Aabb& box, const QueryFilter& filter, const ColliderCallback& callback) const;
+  /// Each collider whose shape contains `point` (a mouse pick; boundary counts).
+  void query_point(Vec2 point, const QueryFilter& filter, const ColliderCallback& callback) const;
+  /// Earliest collider that `shape` placed by `xf` touches while translating by `translation`
+  /// (GJK shape cast against each candidate). Colliders it overlaps at the start are reported
+  /// at fraction 0. Throws InvalidInput for non-finite input.
+  [[nodiscard]] WorldCastHit shape_cast(const Shape2D& shape, const Transform& xf,
+                                        Vec2 translation, const QueryFilter& filter = {}) const;
+  /// Is body `id` standing on something? Casts each of its shapes by `down` (e.g. (0, -0.05) in
+  /// a y-up world) against everything but itself; the earliest hit, if any, is the ground.
+  [[nodiscard]] WorldCastHit ground_check(BodyId id, Vec2 down) const;
+
+  /// Draws statics, bodies (fast ones, those that used continuous collision last step, as
+  /// DrawRole::fast_body) and the last step's contacts.
+  void draw(DebugDraw& draw, const WorldDrawOptions& options = {}) const;
+  /// Draws a laser path (segments as DrawRole::laser, hit points as DrawRole::laser_hit).
+  static void draw_laser(DebugDraw& draw, const LaserPath& path);
+
+  /// A hash of every body's transform and velocities (bit patterns, in index order): equal
+  /// hashes mean equal states. FNV-1a, 64 bits.
+  [[nodiscard]] std::uint64_t state_hash() const noexcept;
+  /// Box around every static and body, world space (empty box at the origin for an empty world).
+  [[nodiscard]] Aabb bounds() const noexcept;
+
+  /// The implementation (opaque outside src/world; named here so the sources can share it).
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace collide

@@ -1,0 +1,829 @@
+// World2D: statics and bodies, and the step (see the header for the pipeline).
+
+#include "world_impl.hpp"
+
+#include <collide/ccd/sweep.hpp>
+#include <collide/ccd/time_of_impact.hpp>
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+#include <collide/decompose/convex_decomposition.hpp>
+#include <collide/narrow/contact.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <string>
+#include <type_traits>
+
+namespace collide {
+
+namespace detail {
+
+namespace {
+
+/// Bounding circles are grown by this fraction of their radius, so that rounding can never make
+/// the pretest reject a pair whose exact contact reports touching (the pretest must be
+/// redundant: it may only reject pairs the exact test rejects too).
+constexpr float kPretestSlack = 1e-4f;
+
+/// A body's speed bound for the temporal broad phase is its next step's motion per second times
+/// this (room for push-outs by statics, which are not known in advance).
+constexpr float kSpeedBoundSlack = 1.5f;
+
+}  // namespace
+
+PieceInfo piece_info(const Shape2D& shape) {
+  return std::visit(
+      [](const auto& s) -> PieceInfo {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Circle>) {
+          return {s.center, s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b) + s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Segment>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b), 0.0f};
+        } else {
+          float reach = 0.0f;
+          float inner = std::numeric_limits<float>::infinity();
+          for (int i = 0; i < s.count; ++i) {
+            reach = std::max(reach, distance(s.vertices[i], s.centroid));
+            inner = std::min(inner, dot(s.normals[i], s.vertices[i] - s.centroid));
+          }
+          return {s.centroid, reach + s.radius, std::max(inner, 0.0f) + s.radius};
+        }
+      },
+      shape);
+}
+
+float shape_area(const Shape2D& shape) {
+  constexpr float pi = std::numbers::pi_v<float>;
+  return std::visit(
+      [](const auto& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Circle>) {
+          return pi * s.radius * s.radius;
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          return 2.0f * s.radius * distance(s.a, s.b) + pi * s.radius * s.radius;
+        } else if constexpr (std::is_same_v<S, Segment>) {
+          return 0.0f;
+        } else {
+          float perimeter = 0.0f;
+          for (int i = 0; i < s.count; ++i) perimeter += distance(s.vertices[i], s.vertex(i + 1));
+          return signed_area({s.vertices.data(), static_cast<size_t>(s.count)}) +
+                 perimeter * s.radius + pi * s.radius * s.radius;
+        }
+      },
+      shape);
+}
+
+Vec2 shape_centroid(const Shape2D& shape) { return piece_info(shape).circle_center; }
+
+}  // namespace detail
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double>(to - from).count();
+}
+
+void check_transform(const Transform& xf, const std::string& field) {
+  if (!is_valid(xf)) throw InvalidInput(field + ": not finite or rotation not unit length");
+}
+
+void check_shapes(const std::vector<Shape2D>& shapes, const std::string& field) {
+  if (shapes.empty()) throw InvalidInput(field + ": no shapes");
+  if (shapes.size() > 0xffff) throw InvalidInput(field + ": more than 65535 shapes");
+}
+
+CheckChainOptions chain_options(bool adaptive) {
+  CheckChainOptions o;
+  o.timing_interval = 8;  // read the clock on one pair in 8: the stopwatch must not cost more than it saves
+  o.reorder_interval = 256;
+  if (!adaptive) {  // never re-decide, never explore: declaration order, every pretest on
+    o.reorder_interval = 0xffffffffu;
+    o.explore_interval = 0xffffffffu;
+  }
+  return o;
+}
+
+constexpr std::array<bool, 3> kChainPretests = {false, false, true};
+
+/// `v` shortened to at most `max_length`.
+Vec2 clamp_length(Vec2 v, float max_length) {
+  const float len2 = length_squared(v);
+  if (len2 <= max_length * max_length) return v;
+  return v * (max_length / std::sqrt(len2));
+}
+
+/// `v` with its component along unit `n` mirrored when it points along n.
+Vec2 reflect_if_approaching(Vec2 v, Vec2 n) {
+  const float vn = dot(v, n);
+  return vn > 0.0f ? v - 2.0f * vn * n : v;
+}
+
+/// The transform after moving the centre of rotation `local_center` by `d` and turning by `rot`.
+Transform moved(const Transform& xf, Vec2 local_center, Vec2 d, float rot) {
+  if (rot == 0.0f) return {xf.p + d, xf.q};
+  const Vec2 c = transform_point(xf, local_center) + d;
+  const Rot2 q = mul(Rot2::from_angle(rot), xf.q);
+  return {c - rotate(q, local_center), q};
+}
+
+bool contact_less(const Contact& x, const Contact& y) {
+  const std::uint64_t xa = x.a.key(), ya = y.a.key();
+  return xa != ya ? xa < ya : x.b.key() < y.b.key();
+}
+
+int compare_contacts(const Contact& x, const Contact& y) {
+  if (contact_less(x, y)) return -1;
+  if (contact_less(y, x)) return 1;
+  return 0;
+}
+
+constexpr std::array<const char*, 7> kBroadPhaseNames = {
+    "temporal", "hierarchical_grid", "sorted_grid", "hash_grid",
+    "dynamic_tree", "sweep_and_prune", "brute_force"};
+
+}  // namespace
+
+const char* to_string(WorldBroadPhase broad_phase) noexcept {
+  return kBroadPhaseNames[static_cast<std::size_t>(broad_phase)];
+}
+
+WorldBroadPhase world_broad_phase_from_string(std::string_view name) {
+  for (std::size_t i = 0; i < kBroadPhaseNames.size(); ++i) {
+    if (name == kBroadPhaseNames[i]) return static_cast<WorldBroadPhase>(i);
+  }
+  std::string valid;
+  for (const char* n : kBroadPhaseNames) valid += valid.empty() ? n : std::string(", ") + n;
+  throw InvalidInput("broad phase: unknown name \"" + std::string(name) + "\" (valid: " + valid +
+                     ")");
+}
+
+const char* to_string(ContactEventType type) noexcept {
+  switch (type) {
+    case ContactEventType::begin: return "begin";
+    case ContactEventType::persist: return "persist";
+    case ContactEventType::end: return "end";
+  }
+  return "unknown";
+}
+
+std::vector<Shape2D> convex_pieces(std::span<const Vec2> outline, std::string_view name) {
+  std::vector<Shape2D> pieces;
+  for (Polygon& p : decompose_convex(outline, name)) pieces.emplace_back(std::move(p));
+  return pieces;
+}
+
+void StepStats::accumulate(const StepStats& o) noexcept {
+  steps += o.steps;
+  bodies += o.bodies;
+  static_pieces += o.static_pieces;
+  body_pairs += o.body_pairs;
+  static_candidates += o.static_candidates;
+  broad_skipped_checks += o.broad_skipped_checks;
+  filtered += o.filtered;
+  aabb_rejected += o.aabb_rejected;
+  pretest_rejected += o.pretest_rejected;
+  narrow_tests += o.narrow_tests;
+  contacts += o.contacts;
+  sensor_contacts += o.sensor_contacts;
+  pushes += o.pushes;
+  ccd_bodies += o.ccd_bodies;
+  toi_queries += o.toi_queries;
+  toi_hits += o.toi_hits;
+  begin_events += o.begin_events;
+  persist_events += o.persist_events;
+  end_events += o.end_events;
+  tunnelled += o.tunnelled;
+  escaped += o.escaped;
+  max_static_depth = std::max(max_static_depth, o.max_static_depth);
+  time_integrate += o.time_integrate;
+  time_statics += o.time_statics;
+  time_broad += o.time_broad;
+  time_bodies += o.time_bodies;
+  time_events += o.time_events;
+  time_check += o.time_check;
+}
+
+// ---- Impl helpers ---------------------------------------------------------------------------
+
+World2D::Impl::Impl(const WorldOptions& o)
+    : options(o),
+      body_broad(o.broad_phase),
+      static_chain(kChainPretests, chain_options(o.adaptive_early_out)),
+      body_chain(kChainPretests, chain_options(o.adaptive_early_out)) {}
+
+detail::Body& World2D::Impl::body(BodyId id) {
+  if (id.index >= bodies.size() || !bodies[id.index].alive ||
+      bodies[id.index].generation != id.generation) {
+    throw InvalidInput("body " + std::to_string(id.index) + ": removed or unknown");
+  }
+  return bodies[id.index];
+}
+
+const detail::Body& World2D::Impl::body(BodyId id) const {
+  return const_cast<Impl*>(this)->body(id);
+}
+
+const Shape2D& World2D::Impl::shape(const ColliderRef& c) const {
+  return c.is_static ? statics[c.index].shapes[c.piece] : bodies[c.index].shapes[c.piece];
+}
+
+Transform World2D::Impl::transform(const ColliderRef& c) const {
+  return c.is_static ? statics[c.index].transform : bodies[c.index].xf;
+}
+
+CollisionFilter World2D::Impl::filter(const ColliderRef& c) const {
+  return c.is_static ? statics[c.index].filter : bodies[c.index].filter;
+}
+
+bool World2D::Impl::is_sensor(const ColliderRef& c) const {
+  return c.is_static ? statics[c.index].sensor : bodies[c.index].sensor;
+}
+
+std::uint64_t World2D::Impl::user_id(const ColliderRef& c) const {
+  return c.is_static ? statics[c.index].user_id : bodies[c.index].user_id;
+}
+
+Aabb World2D::Impl::piece_box(const detail::Body& b, int piece) const {
+  return compute_aabb(b.shapes[piece], b.xf);
+}
+
+Aabb World2D::Impl::body_box(const detail::Body& b) const {
+  Aabb box = piece_box(b, 0);
+  for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, piece_box(b, int(k)));
+  return box;
+}
+
+void World2D::Impl::refresh_static_tree() {
+  if (!static_tree_dirty) return;
+  std::vector<Aabb> boxes(static_pieces.size());
+  for (std::size_t i = 0; i < static_pieces.size(); ++i) boxes[i] = static_pieces[i].box;
+  static_tree.build(boxes);
+  static_tree_dirty = false;
+}
+
+bool World2D::Impl::evaluate_pair(detail::WorldCheckChain& chain, const ColliderRef& a,
+                                  const ColliderRef& b, const Aabb& box_a, const Aabb& box_b,
+                                  Vec2 circle_a, float radius_a, Vec2 circle_b, float radius_b,
+                                  Manifold& out, StepStats& stats) {
+  int rejected_by = -1;  // first check (or 3: the pretest) that said no
+  const auto run = [&](int check, CheckStage stage) {
+    bool pass = false;
+    if (check == detail::kCheckFilter) {
+      pass = !(a.is_static == b.is_static && a.index == b.index) &&
+             should_collide(filter(a), filter(b));
+    } else if (check == detail::kCheckAabb) {
+      pass = overlap(box_a, box_b);
+    } else if (stage == CheckStage::pretest) {
+      const float r = (radius_a + radius_b) * (1.0f + detail::kPretestSlack);
+      pass = distance_squared(circle_a, circle_b) <= r * r;
+      if (!pass && rejected_by < 0) rejected_by = 3;
+      return pass;
+    } else {
+      ++stats.narrow_tests;
+      out = contact(shape(a), transform(a), shape(b), transform(b));
+      pass = out.touching();
+    }
+    if (!pass && rejected_by < 0) rejected_by = check;
+    return pass;
+  };
+  const bool pass = chain.evaluate(run);
+  if (!pass) {
+    if (rejected_by == detail::kCheckFilter) ++stats.filtered;
+    if (rejected_by == detail::kCheckAabb) ++stats.aabb_rejected;
+    if (rejected_by == 3) ++stats.pretest_rejected;
+  }
+  return pass;
+}
+
+// ---- Step -----------------------------------------------------------------------------------
+
+void World2D::Impl::integrate(float dt, StepStats& stats) {
+  if (proxies_changed) {
+    proxies.clear();
+    for (std::uint32_t i = 0; i < bodies.size(); ++i) {
+      if (!bodies[i].alive) continue;
+      for (std::size_t k = 0; k < bodies[i].shapes.size(); ++k) {
+        proxies.push_back({i, static_cast<std::uint16_t>(k)});
+      }
+    }
+  }
+  proxy_start_boxes.resize(proxies.size());
+  for (std::size_t p = 0; p < proxies.size(); ++p) {
+    proxy_start_boxes[p] = piece_box(bodies[proxies[p].body], proxies[p].piece);
+  }
+  const bool have_statics = !static_pieces.empty();
+  for (std::uint32_t i = 0; i < bodies.size(); ++i) {
+    detail::Body& b = bodies[i];
+    if (!b.alive) continue;
+    b.used_ccd = false;
+    const Vec2 d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
+    b.push = {0.0f, 0.0f};
+    const float rot = b.angular_velocity * dt;
+    const float motion = length(d) + std::fabs(rot) * b.bounding_radius;
+    const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
+    if (b.sensor || !have_statics || !fast || motion == 0.0f) {
+      b.xf = moved(b.xf, b.local_center, d, rot);
+    } else {
+      move_with_ccd(i, d, rot, stats);
+    }
+  }
+}
+
+void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepStats& stats) {
+  detail::Body& b = bodies[index];
+  b.used_ccd = true;
+  ++stats.ccd_bodies;
+  for (int bounce = 0; bounce <= kMaxCcdBounces; ++bounce) {
+    const Sweep sweep = Sweep::from_motion(b.xf, b.local_center, d, rot);
+    Aabb box = swept_aabb(b.shapes[0], sweep);
+    for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, swept_aabb(b.shapes[k], sweep));
+    candidates.clear();
+    static_tree.query(box, [&](int id) {
+      candidates.push_back(id);
+      return true;
+    });
+    std::sort(candidates.begin(), candidates.end());
+    float best_t = 1.0f;
+    Vec2 best_n{0.0f, 0.0f};
+    Vec2 best_point{0.0f, 0.0f};
+    int best_id = -1;
+    std::size_t best_k = 0;
+    bool found = false;
+    bool stop = false;  // a query failed: stop at its safe time
+    for (const int id : candidates) {
+      const detail::StaticPiece& sp = static_pieces[id];
+      const StaticDef& st = statics[sp.owner];
+      if (st.sensor || !should_collide(b.filter, st.filter)) continue;
+      const Shape2D& static_shape = st.shapes[sp.piece];
+      const Sweep still = Sweep::from_motion(st.transform, {0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f);
+      for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+        if (b.shapes.size() > 1 && !overlap(swept_aabb(b.shapes[k], sweep), sp.box)) continue;
+        ++stats.toi_queries;
+        const ToiResult r = time_of_impact(ConvexProxy(b.shapes[k]), sweep,
+                                           ConvexProxy(static_shape), still);
+        if (r.status == ImpactStatus::hit || r.status == ImpactStatus::failed) {
+          if (r.t < best_t) {
+            best_t = r.t;
+            best_n = r.normal;
+            best_point = r.point;
+            best_id = id;
+            best_k = k;
+            found = true;
+            stop = r.status == ImpactStatus::failed;
+          }
+        } else if (r.status == ImpactStatus::overlapped) {
+          // Already touching at the start: only a motion into the static is stopped; sliding
+          // along it or leaving it goes on (the push-out pass settles the rest).
+          Vec2 n = r.normal;
+          if (n == Vec2{0.0f, 0.0f}) {
+            n = contact(b.shapes[k], b.xf, static_shape, st.transform).normal;
+          }
+          if (dot(d, n) > 0.0f && best_t > 0.0f) {
+            best_t = 0.0f;
+            best_n = n;
+            best_point = r.point;
+            best_id = id;
+            best_k = k;
+            found = true;
+            stop = false;
+          }
+        }
+      }
+    }
+    b.xf = sweep.at(best_t);
+    if (!found) break;
+    ++stats.toi_hits;
+    if (best_id >= 0 && !stop && best_n != Vec2{0.0f, 0.0f}) record_impact(index, best_k, best_id, best_n, best_point);
+    if (stop || best_n == Vec2{0.0f, 0.0f}) break;
+    b.velocity = reflect_if_approaching(b.velocity, best_n);
+    d = reflect_if_approaching((1.0f - best_t) * d, best_n);
+    rot *= 1.0f - best_t;
+  }
+}
+
+void World2D::Impl::record_impact(std::uint32_t index, std::size_t piece, int static_piece,
+                                  Vec2 normal, Vec2 point) {
+  const detail::Body& b = bodies[index];
+  const detail::StaticPiece& sp = static_pieces[static_piece];
+  const StaticDef& st = statics[sp.owner];
+  Contact c{ColliderRef{false, index, static_cast<std::uint16_t>(piece)},
+            ColliderRef{true, sp.owner, sp.piece}, {}, false, b.user_id, st.user_id};
+  // The exact manifold at the impact pose when the shapes already touch there (it carries
+  // feature ids); else the time of impact's own point and normal at depth 0.
+  c.manifold = contact(b.shapes[piece], b.xf, st.shapes[sp.piece], st.transform);
+  if (!c.manifold.touching()) {
+    c.manifold.normal = normal;
+    c.manifold.count = 1;
+    c.manifold.points[0] = ManifoldPoint{point, 0.0f, ContactId{}};
+  }
+  ccd_contacts.push_back(c);
+}
+
+void World2D::Impl::resolve_statics(StepStats& stats) {
+  std::size_t first_proxy = 0;
+  for (std::uint32_t i = 0; i < bodies.size(); ++i) {
+    detail::Body& b = bodies[i];
+    if (!b.alive) continue;
+    const std::size_t piece_count = b.shapes.size();
+    Aabb start = proxy_start_boxes[first_proxy];
+    for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first_proxy + k]);
+    first_proxy += piece_count;
+    if (static_pieces.empty()) continue;
+    for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
+      body_contacts.clear();
+      const Aabb query_box = merge(start, body_box(b));
+      candidates.clear();
+      static_tree.query(query_box, [&](int id) {
+        candidates.push_back(id);
+        return true;
+      });
+      std::sort(candidates.begin(), candidates.end());
+      stats.static_candidates += static_cast<std::int64_t>(candidates.size() * piece_count);
+      for (std::size_t k = 0; k < piece_count; ++k) {
+        const ColliderRef a{false, i, static_cast<std::uint16_t>(k)};
+        const Aabb box_a = piece_box(b, int(k));
+        const Vec2 circle_a = transform_point(b.xf, b.pieces[k].circle_center);
+        for (const int id : candidates) {
+          const detail::StaticPiece& sp = static_pieces[id];
+          const ColliderRef other{true, sp.owner, sp.piece};
+          Manifold m;
+          if (evaluate_pair(static_chain, a, other, box_a, sp.box, circle_a,
+                            b.pieces[k].circle_radius, sp.circle_center, sp.circle_radius, m,
+                            stats)) {
+            const StaticDef& st = statics[sp.owner];
+            body_contacts.push_back({a, other, m, b.sensor || st.sensor, b.user_id, st.user_id});
+          }
+        }
+      }
+      // The deepest solid contact pushes the body out; then look again (corners).
+      const Contact* deepest = nullptr;
+      float depth = kRelativeTolerance * b.inner_size;
+      for (const Contact& c : body_contacts) {
+        if (!c.sensor && c.manifold.max_depth() > depth) {
+          depth = c.manifold.max_depth();
+          deepest = &c;
+        }
+      }
+      if (deepest == nullptr || iteration == kResolveIterations) break;
+      const Vec2 n = deepest->manifold.normal;  // from the body to the static
+      b.xf.p -= depth * n;
+      b.velocity = reflect_if_approaching(b.velocity, n);
+      ++stats.pushes;
+    }
+    contacts.insert(contacts.end(), body_contacts.begin(), body_contacts.end());
+  }
+}
+
+float World2D::Impl::speed_bound(const detail::Body& b, float dt) const {
+  // Next step a swept box moves by at most the motion (velocity, bounces keep its length, plus
+  // the deferred push) and the turn; kSpeedBoundSlack leaves room for static push-outs. A body
+  // that breaks it costs the temporal broad phase a rebuild, never a missed pair.
+  const float push = std::min(length(b.push), kMaxPushFraction * b.bounding_radius);
+  const float per_second = dt > 0.0f ? push / dt : 0.0f;
+  return detail::kSpeedBoundSlack * (length(b.velocity) + per_second) +
+         std::fabs(b.angular_velocity) * b.bounding_radius;
+}
+
+void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
+  const auto t0 = Clock::now();
+  const std::size_t n = proxies.size();
+  proxy_boxes.resize(n);
+  proxy_speeds.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const detail::Body& b = bodies[proxies[p].body];
+    proxy_boxes[p] = merge(proxy_start_boxes[p], piece_box(b, proxies[p].piece));
+    proxy_speeds[p] = speed_bound(b, dt);
+  }
+  body_broad.set(proxy_boxes, proxy_speeds, time + dt, !proxies_changed);
+  proxies_changed = false;
+  body_boxes_current = true;
+  body_broad.find_pairs(pairs);
+  const std::int64_t skipped = body_broad.skipped_checks();
+  stats.broad_skipped_checks = skipped >= last_skipped ? skipped - last_skipped : skipped;
+  last_skipped = skipped;
+  stats.body_pairs = static_cast<std::int64_t>(pairs.size());
+  const auto t1 = Clock::now();
+  stats.time_broad = seconds(t0, t1);
+
+  for (const auto& [p, q] : pairs) {
+    const detail::Proxy pa = proxies[p];
+    const detail::Proxy pb = proxies[q];
+    const ColliderRef a{false, pa.body, pa.piece};
+    const ColliderRef b{false, pb.body, pb.piece};
+    detail::Body& ba = bodies[pa.body];
+    detail::Body& bb = bodies[pb.body];
+    Manifold m;
+    if (!evaluate_pair(body_chain, a, b, piece_box(ba, pa.piece), piece_box(bb, pb.piece),
+                       transform_point(ba.xf, ba.pieces[pa.piece].circle_center),
+                       ba.pieces[pa.piece].circle_radius,
+                       transform_point(bb.xf, bb.pieces[pb.piece].circle_center),
+                       bb.pieces[pb.piece].circle_radius, m, stats)) {
+      continue;
+    }
+    const bool sensor = ba.sensor || bb.sensor;
+    contacts.push_back({a, b, m, sensor, ba.user_id, bb.user_id});
+    if (sensor) continue;
+    // Equal masses, elastic: swap the velocity components along the normal when approaching.
+    const Vec2 normal = m.normal;
+    const float approach = dot(bb.velocity - ba.velocity, normal);
+    if (approach < 0.0f) {
+      ba.velocity += approach * normal;
+      bb.velocity -= approach * normal;
+    }
+    const float half = 0.5f * m.max_depth();
+    ba.push -= half * normal;
+    bb.push += half * normal;
+  }
+  // The response changed velocities and pushes: tell the broad phase how fast the swept boxes
+  // may move from now on, so its sleeping pairs stay safe without a rebuild.
+  for (std::size_t p = 0; p < n; ++p) proxy_speeds[p] = speed_bound(bodies[proxies[p].body], dt);
+  body_broad.set_speed_bounds(proxy_speeds);
+  stats.time_bodies = seconds(t1, Clock::now());
+}
+
+void World2D::Impl::make_events(StepStats& stats) {
+  // Impacts during the motion count as contacts of this step unless the pair also touches at
+  // the end (then the end-of-step manifold, listed first, wins).
+  contacts.insert(contacts.end(), ccd_contacts.begin(), ccd_contacts.end());
+  ccd_contacts.clear();
+  std::stable_sort(contacts.begin(), contacts.end(), contact_less);
+  contacts.erase(std::unique(contacts.begin(), contacts.end(),
+                             [](const Contact& x, const Contact& y) { return x.a == y.a && x.b == y.b; }),
+                 contacts.end());
+  events.clear();
+  std::size_t i = 0, j = 0;
+  const auto emit = [&](ContactEventType type, const Contact& c, std::uint8_t persisted) {
+    events.push_back({type, c.a, c.b, c.user_a, c.user_b, c.manifold, c.sensor, persisted});
+  };
+  while (i < contacts.size() || j < previous_contacts.size()) {
+    const int order = i == contacts.size()            ? 1
+                      : j == previous_contacts.size() ? -1
+                                                      : compare_contacts(contacts[i], previous_contacts[j]);
+    if (order < 0) {
+      emit(ContactEventType::begin, contacts[i++], 0);
+      ++stats.begin_events;
+    } else if (order > 0) {
+      emit(ContactEventType::end, previous_contacts[j++], 0);
+      ++stats.end_events;
+    } else {
+      const Manifold& now = contacts[i].manifold;
+      const Manifold& before = previous_contacts[j].manifold;
+      std::uint8_t persisted = 0;
+      for (int p = 0; p < now.count; ++p) {
+        for (int q = 0; q < before.count; ++q) {
+          if (now.points[p].id == before.points[q].id) persisted |= std::uint8_t(1u << p);
+        }
+      }
+      emit(ContactEventType::persist, contacts[i++], persisted);
+      ++j;
+      ++stats.persist_events;
+    }
+  }
+  for (const Contact& c : contacts) {
+    ++stats.contacts;
+    if (c.sensor) ++stats.sensor_contacts;
+  }
+  std::swap(previous_contacts, contacts);  // `contacts()` reads previous_contacts from here on
+}
+
+// ---- World2D --------------------------------------------------------------------------------
+
+World2D::World2D(const WorldOptions& options) {
+  if (options.bounds && !is_valid(*options.bounds)) {
+    throw InvalidInput("world options bounds: not finite or min > max");
+  }
+  impl_ = std::make_unique<Impl>(options);
+}
+
+World2D::~World2D() = default;
+World2D::World2D(World2D&&) noexcept = default;
+World2D& World2D::operator=(World2D&&) noexcept = default;
+
+StaticId World2D::add_static(const StaticDef& def) {
+  const std::string name = "static " + std::to_string(impl_->statics.size());
+  check_shapes(def.shapes, name + " shapes");
+  check_transform(def.transform, name + " transform");
+  const auto owner = static_cast<std::uint32_t>(impl_->statics.size());
+  impl_->statics.push_back(def);
+  for (std::size_t k = 0; k < def.shapes.size(); ++k) {
+    const detail::PieceInfo info = detail::piece_info(def.shapes[k]);
+    impl_->static_pieces.push_back({owner, static_cast<std::uint16_t>(k),
+                                    compute_aabb(def.shapes[k], def.transform),
+                                    transform_point(def.transform, info.circle_center),
+                                    info.circle_radius, info.inner_size});
+  }
+  impl_->static_tree_dirty = true;
+  impl_->check_grid_dirty = true;
+  return StaticId{owner};
+}
+
+BodyId World2D::add_body(const BodyDef& def) {
+  const std::string name = "body " + std::to_string(impl_->bodies.size());
+  check_shapes(def.shapes, name + " shapes");
+  check_transform(def.transform, name + " transform");
+  if (!is_finite(def.velocity)) throw InvalidInput(name + " velocity: not finite");
+  if (!std::isfinite(def.angular_velocity)) throw InvalidInput(name + " angular velocity: not finite");
+  std::uint32_t index;
+  if (!impl_->free_slots.empty()) {
+    index = impl_->free_slots.back();
+    impl_->free_slots.pop_back();
+  } else {
+    index = static_cast<std::uint32_t>(impl_->bodies.size());
+    impl_->bodies.emplace_back();
+  }
+  detail::Body& b = impl_->bodies[index];
+  const std::uint32_t generation = b.generation;
+  b = detail::Body{};
+  b.generation = generation;
+  b.shapes = def.shapes;
+  b.xf = def.transform;
+  b.velocity = def.velocity;
+  b.angular_velocity = def.angular_velocity;
+  b.user_id = def.user_id;
+  b.filter = def.filter;
+  b.sensor = def.sensor;
+  b.bullet = def.bullet;
+  b.alive = true;
+  // Centre of rotation: the area centroid of the pieces (their plain average if all are segments).
+  float area = 0.0f;
+  Vec2 weighted{0.0f, 0.0f}, plain{0.0f, 0.0f};
+  for (const Shape2D& s : b.shapes) {
+    b.pieces.push_back(detail::piece_info(s));
+    const float a = detail::shape_area(s);
+    area += a;
+    weighted += a * b.pieces.back().circle_center;
+    plain += b.pieces.back().circle_center;
+  }
+  b.local_center = area > 0.0f ? weighted / area : plain / static_cast<float>(b.shapes.size());
+  b.inner_size = std::numeric_limits<float>::infinity();
+  for (const detail::PieceInfo& p : b.pieces) {
+    b.inner_size = std::min(b.inner_size, p.inner_size);
+    b.bounding_radius =
+        std::max(b.bounding_radius, distance(p.circle_center, b.local_center) + p.circle_radius);
+  }
+  ++impl_->alive_bodies;
+  impl_->proxies_changed = true;
+  impl_->body_boxes_current = false;
+  return BodyId{index, generation};
+}
+
+void World2D::remove_body(BodyId id) {
+  detail::Body& b = impl_->body(id);
+  b.alive = false;
+  b.shapes.clear();
+  b.pieces.clear();
+  ++b.generation;
+  impl_->free_slots.push_back(id.index);
+  --impl_->alive_bodies;
+  impl_->proxies_changed = true;
+  impl_->body_boxes_current = false;
+}
+
+bool World2D::contains(BodyId id) const noexcept {
+  return id.index < impl_->bodies.size() && impl_->bodies[id.index].alive &&
+         impl_->bodies[id.index].generation == id.generation;
+}
+
+const Transform& World2D::transform(BodyId id) const { return impl_->body(id).xf; }
+Vec2 World2D::velocity(BodyId id) const { return impl_->body(id).velocity; }
+float World2D::angular_velocity(BodyId id) const { return impl_->body(id).angular_velocity; }
+std::span<const Shape2D> World2D::shapes(BodyId id) const { return impl_->body(id).shapes; }
+std::uint64_t World2D::user_id(BodyId id) const { return impl_->body(id).user_id; }
+
+std::uint64_t World2D::user_id(const ColliderRef& collider) const {
+  if (collider.is_static) {
+    if (collider.index >= impl_->statics.size()) throw InvalidInput("collider: unknown static");
+  } else if (collider.index >= impl_->bodies.size() || !impl_->bodies[collider.index].alive) {
+    throw InvalidInput("collider: unknown or removed body");
+  }
+  return impl_->user_id(collider);
+}
+
+void World2D::set_transform(BodyId id, const Transform& xf) {
+  detail::Body& b = impl_->body(id);
+  check_transform(xf, "body " + std::to_string(id.index) + " transform");
+  b.xf = xf;
+  impl_->body_boxes_current = false;
+}
+
+void World2D::set_velocity(BodyId id, Vec2 velocity, float angular_velocity) {
+  detail::Body& b = impl_->body(id);
+  if (!is_finite(velocity) || !std::isfinite(angular_velocity)) {
+    throw InvalidInput("body " + std::to_string(id.index) + " velocity: not finite");
+  }
+  b.velocity = velocity;
+  b.angular_velocity = angular_velocity;
+}
+
+std::vector<BodyId> World2D::body_ids() const {
+  std::vector<BodyId> ids;
+  for (std::uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    if (impl_->bodies[i].alive) ids.push_back({i, impl_->bodies[i].generation});
+  }
+  return ids;
+}
+
+int World2D::body_count() const noexcept { return impl_->alive_bodies; }
+int World2D::static_count() const noexcept { return static_cast<int>(impl_->statics.size()); }
+
+const StaticDef& World2D::static_def(StaticId id) const {
+  if (id.index >= impl_->statics.size()) {
+    throw InvalidInput("static " + std::to_string(id.index) + ": unknown");
+  }
+  return impl_->statics[id.index];
+}
+
+void World2D::step(float dt) {
+  if (!std::isfinite(dt) || dt < 0.0f) throw InvalidInput("dt: negative or not finite");
+  Impl& w = *impl_;
+  w.refresh_static_tree();
+  StepStats s;
+  s.steps = 1;
+  s.bodies = w.alive_bodies;
+  s.static_pieces = static_cast<std::int64_t>(w.static_pieces.size());
+  w.contacts.clear();
+  const auto t0 = Clock::now();
+  w.integrate(dt, s);
+  const auto t1 = Clock::now();
+  w.resolve_statics(s);
+  const auto t2 = Clock::now();
+  w.find_body_contacts(dt, s);
+  const auto t3 = Clock::now();
+  w.make_events(s);
+  const auto t4 = Clock::now();
+  if (w.options.check_each_step) w.check(s);
+  s.time_integrate = seconds(t0, t1);
+  s.time_statics = seconds(t1, t2);
+  s.time_events = seconds(t3, t4);
+  s.time_check = seconds(t4, Clock::now());
+  w.time += dt;
+  w.last = s;
+  w.total.accumulate(s);
+}
+
+std::span<const Contact> World2D::contacts() const noexcept { return impl_->previous_contacts; }
+std::span<const ContactEvent> World2D::events() const noexcept { return impl_->events; }
+const StepStats& World2D::last_step_stats() const noexcept { return impl_->last; }
+const StepStats& World2D::total_stats() const noexcept { return impl_->total; }
+
+std::array<CheckChainReport, 2> World2D::early_out_reports() const {
+  return {impl_->static_chain.report(), impl_->body_chain.report()};
+}
+
+std::array<std::array<int, 3>, 2> World2D::early_out_orders() const {
+  std::array<std::array<int, 3>, 2> orders{};
+  const std::array<const detail::WorldCheckChain*, 2> chains = {&impl_->static_chain, &impl_->body_chain};
+  for (int c = 0; c < 2; ++c) {
+    const auto order = chains[c]->order();
+    for (int k = 0; k < 3; ++k) orders[c][k] = order[k];
+  }
+  return orders;
+}
+
+std::array<bool, 2> World2D::early_out_pretests() const {
+  return {impl_->static_chain.pretest_enabled(detail::kCheckExact),
+          impl_->body_chain.pretest_enabled(detail::kCheckExact)};
+}
+
+std::uint64_t World2D::state_hash() const noexcept {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a offset basis
+  const auto mix = [&](const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) {
+      h ^= bytes[i];
+      h *= 1099511628211ull;  // FNV prime
+    }
+  };
+  for (std::uint32_t i = 0; i < impl_->bodies.size(); ++i) {
+    const detail::Body& b = impl_->bodies[i];
+    if (!b.alive) continue;
+    const float values[] = {b.xf.p.x, b.xf.p.y, b.xf.q.c, b.xf.q.s,
+                            b.velocity.x, b.velocity.y, b.angular_velocity};
+    mix(&i, sizeof i);
+    mix(values, sizeof values);
+  }
+  return h;
+}
+
+Aabb World2D::bounds() const noexcept {
+  bool any = false;
+  Aabb box{};
+  const auto add = [&](const Aabb& b) {
+    box = any ? merge(box, b) : b;
+    any = true;
+  };
+  for (const detail::StaticPiece& sp : impl_->static_pieces) add(sp.box);
+  for (const detail::Body& b : impl_->bodies) {
+    if (b.alive) add(impl_->body_box(b));
+  }
+  return box;
+}
+
+}  // namespace collide

@@ -1,0 +1,61 @@
+// World2D drawn through the DebugDraw interface: statics, bodies, contacts, lasers.
+
+#include "world_impl.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace collide {
+
+void World2D::draw(DebugDraw& draw, const WorldDrawOptions& options) const {
+  const Impl& w = *impl_;
+  if (options.statics) {
+    for (const StaticDef& st : w.statics) {
+      const DrawRole role = st.sensor ? DrawRole::sensor : DrawRole::static_geometry;
+      for (const Shape2D& s : st.shapes) draw_shape(draw, s, st.transform, role);
+    }
+  }
+  std::vector<float> sizes;
+  if (options.bodies) {
+    for (const detail::Body& b : w.bodies) {
+      if (!b.alive) continue;
+      const DrawRole role = b.sensor                  ? DrawRole::sensor
+                            : b.bullet || b.used_ccd ? DrawRole::fast_body
+                                                      : DrawRole::body;
+      for (const Shape2D& s : b.shapes) draw_shape(draw, s, b.xf, role);
+      sizes.push_back(b.bounding_radius);
+    }
+  }
+  if (options.contacts) {
+    float length = options.normal_length;
+    if (length <= 0.0f) {
+      if (!sizes.empty()) {
+        std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+        length = sizes[sizes.size() / 2];
+      } else {
+        length = 1.0f;
+      }
+    }
+    for (const Contact& c : w.previous_contacts) {
+      const Manifold& m = c.manifold;
+      Vec2 mid{0.0f, 0.0f};
+      for (int i = 0; i < m.count; ++i) {
+        draw.draw_point(m.points[i].point, DrawRole::contact_point);
+        mid += m.points[i].point;
+      }
+      if (m.count > 0) {
+        mid /= static_cast<float>(m.count);
+        draw.draw_arrow(mid, mid + length * m.normal, DrawRole::contact_normal);
+      }
+    }
+  }
+}
+
+void World2D::draw_laser(DebugDraw& draw, const LaserPath& path) {
+  for (int i = 0; i < path.segments; ++i) {
+    draw.draw_segment(path.points[i], path.points[i + 1], DrawRole::laser);
+  }
+  for (int i = 0; i < path.hit_count; ++i) draw.draw_point(path.hits[i].hit.point, DrawRole::laser_hit);
+}
+
+}  // namespace collide

@@ -1,0 +1,641 @@
+// World2D: the step pipeline (motion, continuous collision, push-out, body pairs, events) and
+// the queries, each checked against an analytic answer or a brute-force pass over every
+// collider with the library's pairwise functions.
+#include <collide/ccd/raycast.hpp>
+#include <collide/ccd/shape_cast.hpp>
+#include <collide/core/error.hpp>
+#include <collide/narrow/contact.hpp>
+#include <collide/narrow/overlap.hpp>
+#include <collide/world/world2d.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace collide {
+namespace {
+
+constexpr float kDt = 1.0f / 60.0f;
+constexpr float kTol = 1e-4f;  // float noise on unit-size geometry
+
+StaticDef box_static(Vec2 center, Vec2 half, std::uint64_t user = 0) {
+  StaticDef def;
+  def.shapes = {make_box(half)};
+  def.transform = Transform::from(center, 0.0f);
+  def.user_id = user;
+  return def;
+}
+
+BodyDef circle_body(Vec2 at, float radius, Vec2 velocity, std::uint64_t user = 0) {
+  BodyDef def;
+  def.shapes = {make_circle({0.0f, 0.0f}, radius)};
+  def.transform = Transform::from(at, 0.0f);
+  def.velocity = velocity;
+  def.user_id = user;
+  return def;
+}
+
+BodyDef box_body(Vec2 at, Vec2 half, Vec2 velocity, float angle = 0.0f) {
+  BodyDef def;
+  def.shapes = {make_box(half)};
+  def.transform = Transform::from(at, angle);
+  def.velocity = velocity;
+  return def;
+}
+
+// A closed room: four thick walls around [-half, half]^2.
+void add_room(World2D& world, float half, float thickness = 1.0f) {
+  const float t = thickness;
+  world.add_static(box_static({0.0f, -half - t}, {half + 2 * t, t}, 1));
+  world.add_static(box_static({0.0f, half + t}, {half + 2 * t, t}, 2));
+  world.add_static(box_static({-half - t, 0.0f}, {t, half + 2 * t}, 3));
+  world.add_static(box_static({half + t, 0.0f}, {t, half + 2 * t}, 4));
+}
+
+struct Collider {
+  ColliderRef ref;
+  const Shape2D* shape;
+  Transform xf;
+  bool sensor;
+};
+
+// Every piece in the world, for brute-force answers.
+std::vector<Collider> all_colliders(const World2D& world) {
+  std::vector<Collider> out;
+  for (int i = 0; i < world.static_count(); ++i) {
+    const StaticDef& def = world.static_def(StaticId{std::uint32_t(i)});
+    for (std::size_t k = 0; k < def.shapes.size(); ++k) {
+      out.push_back({{true, std::uint32_t(i), std::uint16_t(k)}, &def.shapes[k], def.transform, def.sensor});
+    }
+  }
+  for (const BodyId id : world.body_ids()) {
+    const auto shapes = world.shapes(id);
+    for (std::size_t k = 0; k < shapes.size(); ++k) {
+      out.push_back({{false, id.index, std::uint16_t(k)}, &shapes[k], world.transform(id), false});
+    }
+  }
+  return out;
+}
+
+// A mixed scene: a room with obstacles (one concave, as convex pieces) and `n` bodies of every
+// shape type with random velocities, none overlapping a static at the start.
+World2D random_scene(const WorldOptions& options, int n, std::uint32_t seed) {
+  World2D world(options);
+  add_room(world, 20.0f);
+  const std::vector<Vec2> ell = {{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 4}, {0, 4}};
+  StaticDef concave;
+  concave.shapes = convex_pieces(ell, "L obstacle");
+  concave.transform = Transform::from({-10.0f, -10.0f}, 0.3f);
+  world.add_static(concave);
+  world.add_static(box_static({8.0f, 6.0f}, {2.0f, 0.5f}));
+  StaticDef seg;
+  seg.shapes = {make_segment({-5.0f, 12.0f}, {5.0f, 14.0f})};
+  world.add_static(seg);
+
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> pos(-18.0f, 18.0f), vel(-8.0f, 8.0f), size(0.2f, 0.7f),
+      angle(-3.0f, 3.0f);
+  const auto statics = all_colliders(world);
+  int added = 0;
+  while (added < n) {
+    BodyDef def;
+    const int kind = added % 4;
+    const float s = size(rng);
+    if (kind == 0) def.shapes = {make_circle({0, 0}, s)};
+    if (kind == 1) def.shapes = {make_box({s, 0.6f * s})};
+    if (kind == 2) def.shapes = {make_capsule({-s, 0}, {s, 0}, 0.4f * s)};
+    if (kind == 3) def.shapes = {make_box({s, 0.3f * s}, {0, 0}, 0.0f), make_circle({s, 0}, 0.5f * s)};
+    def.transform = Transform::from({pos(rng), pos(rng)}, angle(rng));
+    def.velocity = {vel(rng), vel(rng)};
+    def.angular_velocity = angle(rng);
+    def.user_id = 100 + added;
+    def.bullet = added % 17 == 0;
+    bool clear = true;
+    for (const Collider& c : statics) {
+      for (const Shape2D& shape : def.shapes) {
+        if (overlap(shape, def.transform, *c.shape, c.xf)) clear = false;
+      }
+    }
+    if (!clear) continue;
+    world.add_body(def);
+    ++added;
+  }
+  return world;
+}
+
+// ---- Bad input --------------------------------------------------------------------------------
+
+TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
+  World2D world;
+  StaticDef empty;
+  EXPECT_THROW(world.add_static(empty), InvalidInput);
+  StaticDef nan_static = box_static({0, 0}, {1, 1});
+  nan_static.transform.p.x = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(world.add_static(nan_static), InvalidInput);
+  BodyDef fast = circle_body({0, 0}, 1.0f, {std::numeric_limits<float>::infinity(), 0.0f});
+  EXPECT_THROW(world.add_body(fast), InvalidInput);
+  BodyDef spin = circle_body({0, 0}, 1.0f, {0, 0});
+  spin.angular_velocity = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(world.add_body(spin), InvalidInput);
+  EXPECT_EQ(world.body_count(), 0);
+  EXPECT_EQ(world.static_count(), 0);
+  EXPECT_THROW(world.step(-kDt), InvalidInput);
+  EXPECT_THROW(world.step(std::numeric_limits<float>::quiet_NaN()), InvalidInput);
+  EXPECT_THROW((void)world.static_def(StaticId{3}), InvalidInput);
+  Aabb bad{{1, 1}, {0, 0}};
+  EXPECT_THROW(World2D(WorldOptions{.bounds = bad}), InvalidInput);
+  try {
+    (void)world_broad_phase_from_string("octree");
+    FAIL() << "accepted an unknown broad phase";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("temporal"), std::string::npos) << e.what();
+  }
+  for (int i = 0; i <= static_cast<int>(WorldBroadPhase::brute_force); ++i) {
+    const auto bp = static_cast<WorldBroadPhase>(i);
+    EXPECT_EQ(world_broad_phase_from_string(to_string(bp)), bp);
+  }
+  const std::vector<Vec2> bowtie = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+  EXPECT_THROW((void)convex_pieces(bowtie, "bowtie"), InvalidInput);
+}
+
+TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {
+  World2D world;
+  const BodyId a = world.add_body(circle_body({0, 0}, 1.0f, {0, 0}));
+  world.remove_body(a);
+  EXPECT_FALSE(world.contains(a));
+  EXPECT_THROW((void)world.transform(a), InvalidInput);
+  EXPECT_THROW(world.remove_body(a), InvalidInput);
+  const BodyId b = world.add_body(circle_body({5, 0}, 1.0f, {0, 0}));
+  EXPECT_EQ(b.index, a.index);  // the slot is reused...
+  EXPECT_NE(b.generation, a.generation);  // ...under a new generation
+  EXPECT_FALSE(world.contains(a));
+  EXPECT_TRUE(world.contains(b));
+  EXPECT_THROW(world.set_velocity(b, {std::numeric_limits<float>::quiet_NaN(), 0}), InvalidInput);
+  EXPECT_EQ(world.velocity(b), (Vec2{0, 0}));
+}
+
+// ---- Motion and response ---------------------------------------------------------------------
+
+TEST(World2DStep, FreeBodiesMoveAndTurnByVelocityTimesDt) {
+  World2D world;
+  BodyDef def = box_body({1, 2}, {0.5f, 0.25f}, {3, -4});
+  def.angular_velocity = 2.0f;
+  const BodyId id = world.add_body(def);
+  for (int i = 0; i < 30; ++i) world.step(kDt);
+  const Transform xf = world.transform(id);
+  EXPECT_NEAR(xf.p.x, 1.0f + 3.0f * 30 * kDt, kTol);
+  EXPECT_NEAR(xf.p.y, 2.0f - 4.0f * 30 * kDt, kTol);
+  EXPECT_NEAR(xf.q.angle(), 2.0f * 30 * kDt, kTol);
+  EXPECT_TRUE(world.contacts().empty());
+  EXPECT_EQ(world.total_stats().steps, 30);
+}
+
+TEST(World2DStep, BallBouncesOffFloorWithBeginAndEndEvents) {
+  World2D world;
+  world.add_static(box_static({0, -1}, {10, 1}, 7));  // top face at y = 0
+  const BodyId ball = world.add_body(circle_body({0, 2}, 0.5f, {0, -10}, 42));
+  int begins = 0, ends = 0;
+  float lowest = 1e9f;
+  for (int i = 0; i < 60; ++i) {
+    world.step(kDt);
+    lowest = std::min(lowest, world.transform(ball).p.y);
+    for (const ContactEvent& e : world.events()) {
+      EXPECT_FALSE(e.a.is_static);
+      EXPECT_TRUE(e.b.is_static);
+      EXPECT_EQ(e.user_a, 42u);
+      EXPECT_EQ(e.user_b, 7u);
+      if (e.type == ContactEventType::begin) {
+        ++begins;
+        EXPECT_NEAR(e.manifold.normal.y, -1.0f, kTol);  // from the ball (A) down to the floor
+      }
+      if (e.type == ContactEventType::end) ++ends;
+    }
+    EXPECT_EQ(world.last_step_stats().tunnelled, 0);
+  }
+  EXPECT_EQ(begins, 1);
+  EXPECT_EQ(ends, 1);
+  EXPECT_GE(lowest, 0.5f - kTol);   // never sank into the floor
+  EXPECT_NEAR(world.velocity(ball).y, 10.0f, kTol);  // kinematic bounce: speed kept, reversed
+  EXPECT_GT(world.transform(ball).p.y, 2.0f);
+}
+
+TEST(World2DStep, SlidingBoxKeepsItsContactPointsByFeatureId) {
+  World2D world;
+  world.add_static(box_static({0, -1}, {50, 1}));
+  const BodyId box = world.add_body(box_body({0, 0.5f}, {0.5f, 0.5f}, {2, 0}));  // resting on y = 0
+  world.step(kDt);
+  ASSERT_EQ(world.events().size(), 1u);
+  EXPECT_EQ(world.events()[0].type, ContactEventType::begin);
+  EXPECT_EQ(world.events()[0].manifold.count, 2);
+  for (int i = 0; i < 20; ++i) {
+    world.step(kDt);
+    ASSERT_EQ(world.events().size(), 1u);
+    const ContactEvent& e = world.events()[0];
+    EXPECT_EQ(e.type, ContactEventType::persist);
+    EXPECT_EQ(e.manifold.count, 2);
+    EXPECT_EQ(e.persisted_points, 0b11);  // same box corners on the same floor face
+  }
+  EXPECT_NEAR(world.transform(box).p.y, 0.5f, kTol);
+  EXPECT_NEAR(world.transform(box).p.x, 2.0f * 21 * kDt, kTol);
+  world.remove_body(box);
+  world.step(kDt);
+  ASSERT_EQ(world.events().size(), 1u);
+  EXPECT_EQ(world.events()[0].type, ContactEventType::end);
+  world.step(kDt);
+  EXPECT_TRUE(world.events().empty());
+}
+
+TEST(World2DStep, LayersAndMasksLetBodiesPassThrough) {
+  World2D world;
+  StaticDef floor = box_static({0, -1}, {10, 1});
+  floor.filter = {.layer = 1u, .mask = 0xffffffffu};
+  world.add_static(floor);
+  BodyDef ghost = circle_body({0, 2}, 0.5f, {0, -10});
+  ghost.filter = {.layer = 2u, .mask = 2u};  // sees only layer 2
+  const BodyId g = world.add_body(ghost);
+  for (int i = 0; i < 60; ++i) {
+    world.step(kDt);
+    EXPECT_TRUE(world.contacts().empty());
+  }
+  EXPECT_NEAR(world.transform(g).p.y, 2.0f - 10.0f * 60 * kDt, 1e-3f);
+  EXPECT_GT(world.total_stats().filtered, 0);
+  EXPECT_FALSE(should_collide({1u, 1u}, {2u, 0xffffffffu}));
+  EXPECT_TRUE(should_collide({1u, 2u}, {2u, 1u}));
+}
+
+TEST(World2DStep, SensorsReportOverlapsWithoutPushing) {
+  World2D world;
+  StaticDef zone = box_static({0, 0}, {2, 2}, 9);
+  zone.sensor = true;
+  world.add_static(zone);
+  const BodyId b = world.add_body(circle_body({-5, 0}, 0.5f, {6, 0}));
+  std::vector<ContactEventType> seen;
+  for (int i = 0; i < 120; ++i) {
+    world.step(kDt);
+    for (const ContactEvent& e : world.events()) {
+      EXPECT_TRUE(e.sensor);
+      EXPECT_EQ(e.user_b, 9u);
+      if (seen.empty() || seen.back() != e.type) seen.push_back(e.type);
+    }
+  }
+  EXPECT_EQ(seen, (std::vector<ContactEventType>{ContactEventType::begin, ContactEventType::persist,
+                                                 ContactEventType::end}));
+  EXPECT_NEAR(world.transform(b).p.x, -5.0f + 6.0f * 120 * kDt, 1e-3f);  // never pushed
+  EXPECT_EQ(world.velocity(b), (Vec2{6, 0}));
+  EXPECT_EQ(world.total_stats().pushes, 0);
+}
+
+TEST(World2DStep, EqualCirclesCollidingHeadOnSwapVelocities) {
+  World2D world;
+  const BodyId a = world.add_body(circle_body({-2, 0}, 0.5f, {3, 0}));
+  const BodyId b = world.add_body(circle_body({2, 0}, 0.5f, {-3, 0}));
+  bool touched = false;
+  for (int i = 0; i < 60; ++i) {
+    world.step(kDt);
+    touched = touched || !world.contacts().empty();
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_NEAR(world.velocity(a).x, -3.0f, kTol);
+  EXPECT_NEAR(world.velocity(b).x, 3.0f, kTol);
+  EXPECT_NEAR(world.velocity(a).y, 0.0f, kTol);
+  // Symmetric motion stays symmetric.
+  EXPECT_NEAR(world.transform(a).p.x, -world.transform(b).p.x, kTol);
+  EXPECT_GE(world.transform(b).p.x - world.transform(a).p.x, 1.0f - kTol);
+}
+
+// The proof of continuous collision inside the world: small fast bodies fired at thin
+// walls at up to 1e4 times their size per step, from many angles, never end up behind them.
+TEST(World2DStep, FastBodiesNeverTunnelThroughThinWalls) {
+  const float size = 0.02f;  // body diameter / width
+  const float speed = 1e4f * size;  // per step (dt = 1)
+  const std::vector<Shape2D> walls = {make_segment({0, -400}, {0, 400}), make_box({0.005f, 400.0f})};
+  const std::vector<Shape2D> bullets = {make_circle({0, 0}, 0.5f * size),
+                                        make_capsule({-0.25f * size, 0}, {0.25f * size, 0}, 0.25f * size),
+                                        make_box({0.5f * size, 0.5f * size})};
+  int fired = 0;
+  for (const Shape2D& wall : walls) {
+    for (const Shape2D& bullet : bullets) {
+      for (int k = -6; k <= 6; ++k) {
+        const float angle = float(k) * 0.2f;  // up to +-69 degrees off the wall's normal
+        World2D world;
+        StaticDef w;
+        w.shapes = {wall};
+        w.transform = Transform::from({5, 0}, 0.0f);
+        world.add_static(w);
+        BodyDef def;
+        def.shapes = {bullet};
+        def.transform = Transform::from({0, 0}, 0.3f * float(k));
+        def.velocity = speed * Vec2{std::cos(angle), std::sin(angle)};
+        def.angular_velocity = 5.0f;
+        const BodyId id = world.add_body(def);
+        for (int s = 0; s < 3; ++s) {
+          world.step(1.0f);
+          const Aabb box = compute_aabb(bullet, world.transform(id));
+          EXPECT_LE(box.max.x, 5.0f + 0.005f + 1e-3f) << "wall " << wall.index() << " bullet "
+                                                       << bullet.index() << " angle " << angle;
+          EXPECT_EQ(world.last_step_stats().tunnelled, 0);
+        }
+        EXPECT_LT(world.velocity(id).x, 0.0f);  // it bounced back
+        ++fired;
+      }
+    }
+  }
+  EXPECT_EQ(fired, 2 * 3 * 13);
+}
+
+TEST(World2DStep, CornersPushBodiesOutOfEveryWall) {
+  World2D world(WorldOptions{.bounds = Aabb{{-5, -5}, {5, 5}}});
+  add_room(world, 5.0f, 0.5f);
+  // Bodies started overlapping walls and corners come out within the step.
+  const BodyId corner = world.add_body(box_body({4.8f, 4.8f}, {0.5f, 0.5f}, {0, 0}, 0.4f));
+  const BodyId side = world.add_body(circle_body({-4.9f, 0}, 0.5f, {0, 0}));
+  world.step(kDt);
+  for (const BodyId id : {corner, side}) {
+    const Aabb box = compute_aabb(world.shapes(id)[0], world.transform(id));
+    EXPECT_GE(box.min.x, -5.0f - 1e-3f);
+    EXPECT_LE(box.max.x, 5.0f + 1e-3f);
+    EXPECT_GE(box.min.y, -5.0f - 1e-3f);
+    EXPECT_LE(box.max.y, 5.0f + 1e-3f);
+  }
+  EXPECT_GT(world.last_step_stats().pushes, 0);
+  EXPECT_EQ(world.last_step_stats().escaped, 0);
+  EXPECT_EQ(world.last_step_stats().tunnelled, 0);
+}
+
+// ---- Determinism -----------------------------------------------------------------------------
+
+TEST(World2DDeterminism, EveryBroadPhaseGivesTheSameStateBitForBit) {
+  std::vector<std::uint64_t> hashes;
+  std::vector<std::int64_t> contacts;
+  for (int i = 0; i <= static_cast<int>(WorldBroadPhase::brute_force); ++i) {
+    WorldOptions options;
+    options.broad_phase = static_cast<WorldBroadPhase>(i);
+    options.bounds = Aabb{{-20, -20}, {20, 20}};
+    World2D world = random_scene(options, 300, 5u);
+    for (int s = 0; s < 120; ++s) world.step(kDt);
+    hashes.push_back(world.state_hash());
+    contacts.push_back(world.total_stats().contacts);
+    const StepStats& total = world.total_stats();
+    EXPECT_EQ(total.tunnelled, 0) << to_string(options.broad_phase);
+    EXPECT_EQ(total.escaped, 0) << to_string(options.broad_phase);
+    EXPECT_GT(total.contacts, 0);
+    EXPECT_GT(total.ccd_bodies, 0);
+  }
+  for (std::size_t i = 1; i < hashes.size(); ++i) {
+    EXPECT_EQ(hashes[i], hashes[0]) << to_string(static_cast<WorldBroadPhase>(i));
+    EXPECT_EQ(contacts[i], contacts[0]) << to_string(static_cast<WorldBroadPhase>(i));
+  }
+  // The same run twice, and with the early-out chains fixed instead of adaptive.
+  World2D again = random_scene({}, 300, 5u);
+  WorldOptions fixed;
+  fixed.adaptive_early_out = false;
+  World2D unlearned = random_scene(fixed, 300, 5u);
+  for (int s = 0; s < 120; ++s) {
+    again.step(kDt);
+    unlearned.step(kDt);
+  }
+  EXPECT_EQ(again.state_hash(), hashes[0]);
+  EXPECT_EQ(unlearned.state_hash(), hashes[0]);
+}
+
+TEST(World2DDeterminism, BodyPairsMatchBruteForceEveryStep) {
+  WorldOptions temporal;
+  WorldOptions brute;
+  brute.broad_phase = WorldBroadPhase::brute_force;
+  World2D a = random_scene(temporal, 200, 11u);
+  World2D b = random_scene(brute, 200, 11u);
+  for (int s = 0; s < 60; ++s) {
+    a.step(kDt);
+    b.step(kDt);
+    ASSERT_EQ(a.contacts().size(), b.contacts().size()) << "step " << s;
+    for (std::size_t i = 0; i < a.contacts().size(); ++i) {
+      EXPECT_EQ(a.contacts()[i].a, b.contacts()[i].a);
+      EXPECT_EQ(a.contacts()[i].b, b.contacts()[i].b);
+    }
+  }
+  EXPECT_GT(a.total_stats().broad_skipped_checks, 0);  // the temporal broad phase skipped work
+}
+
+// No touching body-static pair is missing from the contacts.
+TEST(World2DDeterminism, ContactsIncludeEveryTouchingBodyStaticPair) {
+  World2D world = random_scene({}, 300, 23u);
+  std::size_t touching = 0;
+  for (int s = 0; s < 60; ++s) {
+    world.step(kDt);
+    // Contacts are computed before the deferred body pushes move anyone, so compare against
+    // body-static pairs only (bodies do not move after the static pass).
+    const auto colliders = all_colliders(world);
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> expected;
+    for (const Collider& body : colliders) {
+      if (body.ref.is_static) continue;
+      for (const Collider& st : colliders) {
+        if (!st.ref.is_static) continue;
+        if (contact(*body.shape, body.xf, *st.shape, st.xf).touching()) {
+          expected.emplace_back(body.ref.key(), st.ref.key());
+        }
+      }
+    }
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> got;
+    for (const Contact& c : world.contacts()) {
+      if (c.b.is_static) got.emplace_back(c.a.key(), c.b.key());
+    }
+    std::sort(expected.begin(), expected.end());
+    std::sort(got.begin(), got.end());
+    // Every touching pair is reported; the extra ones are impacts of fast bodies during the
+    // step (reported in the step they happen, though the body bounced away).
+    EXPECT_TRUE(std::includes(got.begin(), got.end(), expected.begin(), expected.end())) << s;
+    EXPECT_LE(got.size() - expected.size(), std::size_t(world.last_step_stats().toi_hits)) << s;
+    touching += expected.size();
+  }
+  EXPECT_GE(touching, 5u);  // pushed-out bodies end a step exactly touching their wall
+}
+
+// ---- Queries ---------------------------------------------------------------------------------
+
+TEST(World2DQueries, RaycastFindsTheSameFirstHitAsBruteForce) {
+  for (const bool stepped : {false, true}) {
+    World2D world = random_scene({}, 120, 3u);
+    if (stepped) world.step(kDt);
+    const auto colliders = all_colliders(world);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> pos(-25.0f, 25.0f);
+    int hits = 0;
+    for (int i = 0; i < 400; ++i) {
+      const Ray ray{{pos(rng), pos(rng)}, {pos(rng), pos(rng)}};
+      float best = 2.0f;
+      for (const Collider& c : colliders) {
+        if (c.sensor) continue;
+        const RayHit h = raycast(*c.shape, c.xf, ray);
+        if (h.hit) best = std::min(best, h.fraction);
+      }
+      const auto got = world.raycast(ray);
+      ASSERT_EQ(got.has_value(), best <= 1.0f) << "ray " << i;
+      if (!got) continue;
+      ++hits;
+      EXPECT_EQ(got->hit.fraction, best);
+      EXPECT_EQ(got->user_id, world.user_id(got->collider));
+      // Statics only: bodies are skipped.
+      const auto statics_only = world.raycast(ray, QueryFilter{.bodies = false});
+      if (statics_only) EXPECT_TRUE(statics_only->collider.is_static);
+    }
+    EXPECT_GT(hits, 100);
+  }
+}
+
+TEST(World2DQueries, PointAndBoxQueriesEqualBruteForce) {
+  World2D world = random_scene({}, 150, 4u);
+  world.step(kDt);
+  const auto colliders = all_colliders(world);
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<float> pos(-22.0f, 22.0f), half(0.0f, 4.0f);
+  for (int i = 0; i < 300; ++i) {
+    const Vec2 p{pos(rng), pos(rng)};
+    std::vector<std::uint64_t> expected, got;
+    for (const Collider& c : colliders) {
+      if (!c.sensor && overlap(Shape2D{make_circle(p, 0.0f)}, Transform{}, *c.shape, c.xf)) {
+        expected.push_back(c.ref.key());
+      }
+    }
+    world.query_point(p, {}, [&](const ColliderRef& c) {
+      got.push_back(c.key());
+      return true;
+    });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << "point " << i;
+
+    const Vec2 h{half(rng), half(rng)};
+    const Aabb box{p - h, p + h};
+    expected.clear();
+    got.clear();
+    const Shape2D box_shape = make_box(h + Vec2{1e-9f, 1e-9f});
+    for (const Collider& c : colliders) {
+      if (!c.sensor && overlap(box_shape, Transform::from(p, 0.0f), *c.shape, c.xf)) {
+        expected.push_back(c.ref.key());
+      }
+    }
+    world.query_aabb(box, {}, [&](const ColliderRef& c) {
+      got.push_back(c.key());
+      return true;
+    });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << "box " << i;
+  }
+  // A callback that returns false stops the query.
+  int calls = 0;
+  world.query_aabb(Aabb{{-30, -30}, {30, 30}}, {}, [&](const ColliderRef&) { return ++calls < 3; });
+  EXPECT_EQ(calls, 3);
+}
+
+TEST(World2DQueries, ShapeCastFindsTheEarliestTouchLikeBruteForce) {
+  World2D world = random_scene({}, 80, 6u);
+  world.step(kDt);
+  const auto colliders = all_colliders(world);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> pos(-19.0f, 19.0f), move(-15.0f, 15.0f);
+  const Shape2D probe = make_capsule({-0.3f, 0}, {0.3f, 0}, 0.2f);
+  int hits = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Transform xf = Transform::from({pos(rng), pos(rng)}, pos(rng));
+    const Vec2 translation{move(rng), move(rng)};
+    float best = 2.0f;
+    for (const Collider& c : colliders) {
+      if (c.sensor) continue;
+      const ShapeCastResult r = shape_cast(probe, xf, translation, *c.shape, c.xf, {0, 0});
+      if (r.hit) best = std::min(best, r.t);
+    }
+    const WorldCastHit got = world.shape_cast(probe, xf, translation);
+    ASSERT_EQ(got.hit, best <= 1.0f) << "cast " << i;
+    if (!got.hit) continue;
+    ++hits;
+    EXPECT_EQ(got.fraction, best);
+    EXPECT_NEAR(length(got.normal), 1.0f, 1e-3f);
+  }
+  EXPECT_GT(hits, 50);
+  Transform nan_xf;
+  nan_xf.p.y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW((void)world.shape_cast(probe, nan_xf, {1, 0}), InvalidInput);
+}
+
+TEST(World2DQueries, GroundCheckSeesTheFloorOnlyWhenStandingOnIt) {
+  World2D world;
+  world.add_static(box_static({0, -1}, {10, 1}, 5));
+  const BodyId standing = world.add_body(box_body({0, 0.52f}, {0.5f, 0.5f}, {0, 0}));
+  const BodyId flying = world.add_body(box_body({3, 2.0f}, {0.5f, 0.5f}, {0, 0}));
+  const WorldCastHit ground = world.ground_check(standing, {0, -0.05f});
+  ASSERT_TRUE(ground.hit);
+  EXPECT_EQ(ground.user_id, 5u);
+  EXPECT_TRUE(ground.collider.is_static);
+  EXPECT_NEAR(ground.fraction, 0.4f, 0.02f);  // 0.02 of 0.05 to go
+  EXPECT_NEAR(ground.normal.y, -1.0f, 1e-3f);
+  EXPECT_NEAR(ground.point.y, 0.0f, 1e-2f);
+  EXPECT_FALSE(world.ground_check(flying, {0, -0.05f}).hit);
+  // It never reports the body itself, even though its own shape overlaps its cast.
+  EXPECT_NE(world.ground_check(flying, {0, -2.0f}).collider.index, flying.index);
+}
+
+// The lesson's laser in a mirrored room: unfold the reflections and the path is a straight line,
+// so the end point is the straight end point folded back into the room.
+TEST(World2DQueries, LaserReflectsLikeTheUnfoldedStraightLine) {
+  World2D world;
+  add_room(world, 5.0f);
+  const auto fold = [](float v) {
+    float u = std::fmod(v + 5.0f, 20.0f);
+    if (u < 0) u += 20.0f;
+    return (u > 10.0f ? 20.0f - u : u) - 5.0f;
+  };
+  const Vec2 dir = normalize(Vec2{1.0f, 0.5f});
+  const Ray ray{{0, 0}, 100.0f * dir};
+  const LaserPath path = world.cast_laser(ray, kMaxLaserBounces);
+  // 9 crossings of x = +-5 (every 10 units of x up to 89.4), 4 of y = +-5 (up to 44.7).
+  EXPECT_EQ(path.segments, 14);
+  EXPECT_EQ(path.hit_count, 13);
+  const Vec2 end = path.points[std::size_t(path.segments)];
+  EXPECT_NEAR(end.x, fold(ray.translation.x), 1e-2f);
+  EXPECT_NEAR(end.y, fold(ray.translation.y), 1e-2f);
+  float total = 0.0f;
+  for (int i = 0; i < path.segments; ++i) total += length(path.points[i + 1] - path.points[i]);
+  EXPECT_NEAR(total, 100.0f, 1e-2f);
+  for (int i = 0; i < path.hit_count; ++i) {
+    const Vec2 p = path.hits[std::size_t(i)].hit.point;
+    EXPECT_NEAR(std::max(std::fabs(p.x), std::fabs(p.y)), 5.0f, 1e-3f);
+    // Angle of incidence equals angle of reflection.
+    const Vec2 in = normalize(path.points[i + 1] - path.points[i]);
+    const Vec2 out = normalize(path.points[i + 2] - path.points[i + 1]);
+    const Vec2 n = path.hits[std::size_t(i)].hit.normal;
+    EXPECT_NEAR(dot(out, n), -dot(in, n), 1e-3f);
+  }
+  const LaserPath short_path = world.cast_laser(ray, 2);
+  EXPECT_EQ(short_path.segments, 3);
+  EXPECT_EQ(short_path.hit_count, 3);  // the last segment ends on a wall, not out of length
+  EXPECT_THROW((void)world.cast_laser(ray, kMaxLaserBounces + 1), InvalidInput);
+}
+
+// ---- Early out -------------------------------------------------------------------------------
+
+TEST(World2DEarlyOut, ChainsLearnAndReportWithoutChangingResults) {
+  World2D world = random_scene({}, 300, 8u);
+  for (int s = 0; s < 100; ++s) world.step(kDt);
+  const auto reports = world.early_out_reports();
+  const auto orders = world.early_out_orders();
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_GT(reports[std::size_t(c)].evaluations, 1000u) << "chain " << c;
+    EXPECT_GT(reports[std::size_t(c)].rejections, 0u);
+    auto order = orders[std::size_t(c)];
+    std::sort(order.begin(), order.end());
+    EXPECT_EQ(order, (std::array<int, 3>{0, 1, 2}));
+  }
+  // Every candidate pair went through its chain exactly once.
+  const StepStats& t = world.total_stats();
+  EXPECT_EQ(reports[0].evaluations, std::uint64_t(t.static_candidates));
+  EXPECT_EQ(reports[1].evaluations, std::uint64_t(t.body_pairs));
+  EXPECT_LE(t.filtered + t.aabb_rejected + t.pretest_rejected,
+            std::int64_t(reports[0].rejections + reports[1].rejections));
+}
+
+}  // namespace
+}  // namespace collide
