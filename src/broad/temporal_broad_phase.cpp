@@ -19,6 +19,11 @@ constexpr double kWakeEarly = 1e-6;
 /// then just makes that object a candidate with everything).
 constexpr double kMaxGrowth = 1e30;
 
+/// An object whose box would grow by more than this many grid cells over the horizon (a bullet
+/// among walkers) is "fast": kept out of the candidate set, its pairs are found every frame by
+/// a grid query instead. Growing it would make it a candidate with everything it could reach.
+constexpr double kFastGrowthCells = 4.0;
+
 }  // namespace
 
 template <int D>
@@ -49,21 +54,20 @@ void TemporalBroadPhaseN<D>::build(std::span<const AabbN<D>> boxes,
   needs_rebuild_ = true;
 
   horizon_ = options_.horizon;
+  // Half the median box size over the median positive speed bound.
+  scratch_.clear();
+  for (const float v : speeds_) {
+    if (v > 0.0f) scratch_.push_back(v);
+  }
+  double speed = 0.0;
+  if (!scratch_.empty()) {
+    auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+    std::nth_element(scratch_.begin(), mid, scratch_.end());
+    speed = *mid;
+  }
+  cell_ = boxes.empty() ? 0.0 : suggest_cell_size(boxes, scratch_);  // twice the median size
   if (horizon_ == 0.0) {
-    // Half the median box size over the median positive speed bound.
-    scratch_.clear();
-    for (const float v : speeds_) {
-      if (v > 0.0f) scratch_.push_back(v);
-    }
-    if (scratch_.empty()) {
-      horizon_ = std::numeric_limits<double>::infinity();
-    } else {
-      auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
-      std::nth_element(scratch_.begin(), mid, scratch_.end());
-      const double speed = *mid;
-      const double cell = suggest_cell_size(boxes, scratch_);  // twice the median size
-      horizon_ = 0.25 * cell / speed;
-    }
+    horizon_ = speed > 0.0 ? 0.25 * cell_ / speed : std::numeric_limits<double>::infinity();
   }
 }
 
@@ -87,6 +91,7 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
                static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
                static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
     }
+    if (!needs_rebuild_ && is_fast_[std::size_t(i)]) continue;  // checked every frame anyway
     if (!within) {
       ++stats_.bound_violations;
       needs_rebuild_ = true;
@@ -132,18 +137,35 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
 template <int D>
 void TemporalBroadPhaseN<D>::rebuild() {
   grown_.resize(boxes_.size());
+  is_fast_.assign(boxes_.size(), 0);
+  fast_.clear();
+  slow_ids_.clear();
+  slow_grown_.clear();
   for (std::size_t i = 0; i < boxes_.size(); ++i) {
     // The horizon is infinite only when every speed bound is 0.
     const double margin = speeds_[i] > 0.0f ? speeds_[i] * horizon_ : 0.0;
+    if (margin > kFastGrowthCells * cell_) {
+      is_fast_[i] = 1;
+      fast_.push_back(static_cast<int>(i));
+      grown_[i] = boxes_[i];
+      continue;
+    }
     grown_[i] = fatten(boxes_[i], static_cast<float>(std::min(margin, kMaxGrowth)));
+    slow_ids_.push_back(static_cast<int>(i));
+    slow_grown_.push_back(grown_[i]);
   }
-  grid_.build(grown_);
+  grid_.build(slow_grown_);
   grid_.find_pairs(candidates_);
+  // Grid ids are positions in slow_ids_, which is ascending: mapping keeps i < j.
+  for (BroadPair& pair : candidates_) {
+    pair = {slow_ids_[std::size_t(pair.first)], slow_ids_[std::size_t(pair.second)]};
+  }
   wake_.assign(candidates_.size(), time_);
   built_at_ = time_;
   needs_rebuild_ = false;
   ++stats_.rebuilds;
   stats_.candidate_pairs = static_cast<std::int64_t>(candidates_.size());
+  stats_.fast_objects = static_cast<std::int64_t>(fast_.size());
 }
 
 template <int D>
@@ -174,6 +196,22 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
     wake_[c] = closing > 0.0 ? time_ + (gap / closing) * (1.0 - kWakeEarly)
                              : std::numeric_limits<double>::infinity();
   }
+  // Fast objects, every frame: against the slow ones through the grid (a slow object's grown
+  // box contains its current box), and against each other directly.
+  for (std::size_t k = 0; k < fast_.size(); ++k) {
+    const int f = fast_[k];
+    const AabbN<D>& box_f = boxes_[std::size_t(f)];
+    grid_.query(box_f, [&](int slot) {
+      const int s = slow_ids_[std::size_t(slot)];
+      ++stats_.checks;
+      if (overlap(box_f, boxes_[std::size_t(s)])) pairs.emplace_back(std::min(f, s), std::max(f, s));
+      return true;
+    });
+    for (std::size_t m = k + 1; m < fast_.size(); ++m) {
+      ++stats_.checks;
+      if (overlap(box_f, boxes_[std::size_t(fast_[m])])) pairs.emplace_back(f, fast_[m]);
+    }
+  }
 }
 
 template <int D>
@@ -184,7 +222,15 @@ void TemporalBroadPhaseN<D>::query(const AabbN<D>& box, QueryCallback callback) 
     }
     return;
   }
-  grid_.query(box, [&](int id) { return !overlap(box, boxes_[id]) || callback(id); });
+  bool go_on = true;
+  grid_.query(box, [&](int slot) {
+    const int id = slow_ids_[std::size_t(slot)];
+    go_on = !overlap(box, boxes_[std::size_t(id)]) || callback(id);
+    return go_on;
+  });
+  for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
+    if (overlap(box, boxes_[std::size_t(fast_[k])])) go_on = callback(fast_[k]);
+  }
 }
 
 template <int D>
@@ -195,7 +241,15 @@ void TemporalBroadPhaseN<D>::query_point(const VecN<D>& point, QueryCallback cal
     }
     return;
   }
-  grid_.query_point(point, [&](int id) { return !contains(boxes_[id], point) || callback(id); });
+  bool go_on = true;
+  grid_.query_point(point, [&](int slot) {
+    const int id = slow_ids_[std::size_t(slot)];
+    go_on = !contains(boxes_[std::size_t(id)], point) || callback(id);
+    return go_on;
+  });
+  for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
+    if (contains(boxes_[std::size_t(fast_[k])], point)) go_on = callback(fast_[k]);
+  }
 }
 
 template <int D>
@@ -211,7 +265,8 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
     for (int i = 0; i < size() && limit > 0.0f; ++i) visit(i);
     return;
   }
-  grid_.ray_cast(ray, [&](int id, float) { return visit(id); });
+  grid_.ray_cast(ray, [&](int slot, float) { return visit(slow_ids_[std::size_t(slot)]); });
+  for (std::size_t k = 0; k < fast_.size() && limit > 0.0f; ++k) visit(fast_[k]);
 }
 
 template <int D>
@@ -219,7 +274,9 @@ std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
   return (boxes_.capacity() + grown_.capacity()) * sizeof(AabbN<D>) +
          (speeds_.capacity() + scratch_.capacity()) * sizeof(float) +
          candidates_.capacity() * sizeof(BroadPair) + wake_.capacity() * sizeof(double) +
-         grid_.memory_bytes();
+         slow_grown_.capacity() * sizeof(AabbN<D>) +
+         (slow_ids_.capacity() + fast_.capacity()) * sizeof(int) + is_fast_.capacity() +
+         raised_.capacity() + grid_.memory_bytes();
 }
 
 template class TemporalBroadPhaseN<2>;

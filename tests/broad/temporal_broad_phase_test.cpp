@@ -125,6 +125,38 @@ TYPED_TEST(TemporalTest, ChangingSpeedsAreSafeWithoutRebuilds) {
   EXPECT_THROW(temporal.set_speed_bounds(bad), InvalidInput);
 }
 
+// A few bullets among slow walkers: the bullets are handled every frame instead of being grown
+// into candidates with everything, and the answer stays brute force's.
+TYPED_TEST(TemporalTest, FastObjectsAmongSlowOnesAreFoundEveryFrame) {
+  constexpr int D = TypeParam::value;
+  std::mt19937 rng(31 + D);
+  auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 600, 30.0f, 0.2f, 1.0f),
+                                     30.0f, 0.02f);
+  for (std::size_t i = 0; i < 8; ++i) world.velocity[i * 50] *= 200.0f;  // 4 units per frame
+  TemporalBroadPhaseN<D> temporal;
+  temporal.build(world.boxes, bounds_of_world(world), 0.0);
+  PairList pairs;
+  std::size_t fast_pairs = 0;
+  for (int frame = 1; frame <= 100; ++frame) {
+    world.step();
+    temporal.update(world.boxes, static_cast<double>(frame));
+    temporal.find_pairs(pairs);
+    sort_pairs(pairs);
+    const PairList expected = brute_pairs<D>(world.boxes);
+    ASSERT_EQ(pairs, expected) << "frame " << frame;
+    for (const auto& [a, b] : expected) fast_pairs += (a % 50 == 0 && a < 400) || (b % 50 == 0 && b < 400);
+    // Queries see the fast objects too.
+    std::vector<int> got;
+    temporal.query(world.boxes[100], [&](int id) { got.push_back(id); return true; });
+    EXPECT_NE(std::find(got.begin(), got.end(), 100), got.end());
+  }
+  EXPECT_GT(fast_pairs, 20u);
+  EXPECT_EQ(temporal.stats().fast_objects, 8);
+  EXPECT_EQ(temporal.stats().bound_violations, 0);
+  EXPECT_GT(temporal.stats().skipped_checks, temporal.stats().checks);
+  EXPECT_LT(temporal.stats().candidate_pairs, 5000);  // grown bullets would pair with most
+}
+
 TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
   constexpr int D = TypeParam::value;
   std::mt19937 rng(4);

@@ -18,11 +18,14 @@
 ///  2. Each frame, a candidate is checked only when its wake time has come; a separated pair
 ///     (gap g, the largest per-axis separation of the boxes) sleeps until t + g / (v_a + v_b).
 ///     Skipped checks are counted (stats().skipped_checks).
-///  3. An object that breaks its bound (a teleport), leaves its grown box, or a change in the
+///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
+///     are not grown, which would make them candidates with everything they could reach; each
+///     frame a grid query finds their pairs directly (stats().fast_objects).
+///  4. An object that breaks its bound (a teleport), leaves its grown box, or a change in the
 ///     number of objects makes the next find_pairs rebuild the candidates from the current boxes:
 ///     nothing is missed, it only costs a rebuild (stats().bound_violations, rebuilds).
 /// The result equals brute force at every frame while the contract holds, and also when it
-/// does not (thanks to 3).
+/// does not (thanks to 4).
 ///
 /// Memory per object: current and previous box, grown box, speed (3 * 8*D + 4 bytes), the
 /// hierarchical grid over the grown boxes, and 16 bytes per candidate pair.
@@ -55,6 +58,7 @@ class TemporalBroadPhaseN {
     std::int64_t rebuilds = 0;          ///< candidate sets built
     std::int64_t bound_violations = 0;  ///< object updates that broke their speed bound
     std::int64_t candidate_pairs = 0;   ///< size of the current candidate set
+    std::int64_t fast_objects = 0;      ///< objects handled every frame at the last rebuild
   };
 
   TemporalBroadPhaseN() = default;
@@ -109,7 +113,12 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
-  std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
+  std::vector<unsigned char> raised_;
+  double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
+  std::vector<unsigned char> is_fast_; // per object, at the last rebuild
+  std::vector<int> fast_;              // ids of the fast objects, ascending
+  std::vector<int> slow_ids_;          // grid slot -> object id, ascending
+  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot  // per object: bound raised since the wake times were set
   Stats stats_{};
 };
 
