@@ -6,6 +6,9 @@
 
 namespace collide::cli {
 
+/// `collide run [MAP|SCENE]`: a collision world stepped frame by frame, checked, summarised (run.hpp).
+void register_run_command(CLI::App& app);
+
 /// `collide query [FILE]`: JSON Lines questions in, answers out (spec/query-jsonl.md).
 void register_query_command(CLI::App& app);
 

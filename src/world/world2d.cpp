@@ -697,13 +697,37 @@ float World2D::angular_velocity(BodyId id) const { return impl_->body(id).angula
 std::span<const Shape2D> World2D::shapes(BodyId id) const { return impl_->body(id).shapes; }
 std::uint64_t World2D::user_id(BodyId id) const { return impl_->body(id).user_id; }
 
-std::uint64_t World2D::user_id(const ColliderRef& collider) const {
-  if (collider.is_static) {
-    if (collider.index >= impl_->statics.size()) throw InvalidInput("collider: unknown static");
-  } else if (collider.index >= impl_->bodies.size() || !impl_->bodies[collider.index].alive) {
-    throw InvalidInput("collider: unknown or removed body");
+namespace {
+void check_collider(const World2D::Impl& w, const ColliderRef& c) {
+  if (c.is_static) {
+    if (c.index >= w.statics.size() || c.piece >= w.statics[c.index].shapes.size()) {
+      throw InvalidInput("collider: unknown static or piece");
+    }
+  } else if (c.index >= w.bodies.size() || !w.bodies[c.index].alive ||
+             c.piece >= w.bodies[c.index].shapes.size()) {
+    throw InvalidInput("collider: unknown or removed body, or unknown piece");
   }
+}
+}  // namespace
+
+std::uint64_t World2D::user_id(const ColliderRef& collider) const {
+  check_collider(*impl_, collider);
   return impl_->user_id(collider);
+}
+
+const Shape2D& World2D::collider_shape(const ColliderRef& collider) const {
+  check_collider(*impl_, collider);
+  return impl_->shape(collider);
+}
+
+Transform World2D::collider_transform(const ColliderRef& collider) const {
+  check_collider(*impl_, collider);
+  return impl_->transform(collider);
+}
+
+bool World2D::is_sensor(const ColliderRef& collider) const {
+  check_collider(*impl_, collider);
+  return impl_->is_sensor(collider);
 }
 
 void World2D::set_transform(BodyId id, const Transform& xf) {

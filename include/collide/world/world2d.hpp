@@ -340,6 +340,12 @@ class World2D {
   [[nodiscard]] const StaticDef& static_def(StaticId id) const;
   /// User id of the static or body that owns `collider`.
   [[nodiscard]] std::uint64_t user_id(const ColliderRef& collider) const;
+  /// The shape (local space) and the transform (local -> world) of a collider a query or a
+  /// contact named. Throw InvalidInput for a collider that is not in the world.
+  [[nodiscard]] const Shape2D& collider_shape(const ColliderRef& collider) const;
+  [[nodiscard]] Transform collider_transform(const ColliderRef& collider) const;
+  /// True for a sensor's collider. Throws InvalidInput as collider_shape.
+  [[nodiscard]] bool is_sensor(const ColliderRef& collider) const;
 
   /// Advances the world by `dt` seconds (see the file comment). Throws InvalidInput if dt is
   /// not finite or negative.

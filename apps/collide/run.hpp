@@ -1,0 +1,71 @@
+#pragma once
+// `collide run`: scenes (the embedded default scene, a Tiled map) built into a World2D, and the
+// frame loop that steps it, casts the laser, writes events and reports. The command in
+// run_command.cpp is a thin CLI11 shell over `run_world`, so tests drive the same code.
+
+#include <collide/world/world2d.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+namespace collide::cli {
+
+/// What `collide run` does; see `collide run --help` for each option.
+struct RunOptions {
+  /// A Tiled map (.tmx, .tmj, .json) or the name of an embedded scene ("default", "bullets");
+  /// empty: "default".
+  std::string input;
+  int bodies = -1;          ///< bodies to spawn; -1: the scene's own count
+  std::uint32_t seed = 1;
+  int frames = 600;
+  float dt = 1.0f / 60.0f;  ///< seconds per frame
+  WorldBroadPhase broad_phase = WorldBroadPhase::temporal;
+  bool adaptive_early_out = true;
+  std::string events;       ///< JSON Lines of contact events; empty: none
+  std::string png;          ///< picture of the last frame; empty: none
+  std::string svg;
+  int picture_width = 1400;
+  bool progress = true;     ///< progress bar on stderr when it is a terminal
+};
+
+/// A scene built into a world, ready to run.
+struct Scene {
+  std::string name;          ///< "default scene", or the map's path
+  World2D world;
+  Aabb bounds;               ///< where bodies belong (inside the boundary walls)
+  bool y_up = true;          ///< false for Tiled maps (y down, as the map's editor shows them)
+  int requested_bodies = 0;  ///< bodies asked for
+  int bullets = 0;           ///< of which fast bullets
+  int concave_statics = 0;   ///< statics made of several convex pieces
+  int static_pieces = 0;
+  Ray laser{};               ///< the laser's first pose (it turns as the frames go by)
+  float laser_turn = 0.0f;   ///< radians per frame
+};
+
+/// Builds the scene `options` name: throws InvalidInput naming the file for a map that cannot
+/// be loaded, or listing the embedded scenes for an unknown name.
+[[nodiscard]] Scene make_scene(const RunOptions& options);
+
+/// What a run measured.
+struct RunReport {
+  std::string scene;
+  int bodies = 0;
+  int statics = 0;
+  int static_pieces = 0;
+  int frames = 0;
+  StepStats total;          ///< summed over the frames
+  double wall_seconds = 0.0;
+  std::int64_t laser_hits = 0;    ///< summed over the frames
+  int laser_last_segments = 0;
+  std::uint64_t state_hash = 0;
+  std::int64_t events_written = 0;
+};
+
+/// Runs `options`: builds the scene, steps it `frames` times with the laser cast each frame,
+/// writes events and pictures when asked, and prints the summary to `out` (none when null).
+/// Throws InvalidInput for bad options or input files (naming them).
+RunReport run_world(const RunOptions& options, std::FILE* out);
+
+}  // namespace collide::cli

@@ -1,0 +1,186 @@
+// `collide run`: the scenes through run_world (the code behind the command), and the command end
+// to end through the real binary. The independent check (no body inside static geometry, none
+// outside the bounds) must hold on every scene and every shared Tiled map; the state hash must
+// not depend on the run, the broad phase or the early-out learning; events must parse.
+
+#include "run.hpp"
+
+#include <collide/core/error.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <string>
+
+namespace collide::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int status = -1;
+  std::string output;
+};
+
+CommandRun run_cli(const std::string& args) {
+  const std::string cmd = std::string(COLLIDE_CLI_PATH) + " " + args + " 2>&1";
+  CommandRun r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
+  r.status = pclose(pipe);
+  return r;
+}
+
+RunOptions small(std::string input, int bodies, int frames) {
+  RunOptions o;
+  o.input = std::move(input);
+  o.bodies = bodies;
+  o.frames = frames;
+  o.progress = false;
+  return o;
+}
+
+TEST(RunWorld, DefaultSceneStaysCheckedAndBusy) {
+  const RunReport r = run_world(small("", 600, 240), nullptr);
+  EXPECT_EQ(r.bodies, 600);
+  EXPECT_EQ(r.total.tunnelled, 0);
+  EXPECT_EQ(r.total.escaped, 0);
+  EXPECT_GT(r.total.contacts, 0);
+  EXPECT_GT(r.total.sensor_contacts, 0);
+  EXPECT_GT(r.total.toi_hits, 0);       // the bullets hit walls
+  EXPECT_GT(r.total.begin_events, 0);
+  EXPECT_GT(r.total.persist_events, 0);
+  EXPECT_GT(r.total.end_events, 0);
+  EXPECT_GT(r.laser_hits, 240);         // at least one reflection per frame
+  EXPECT_GT(r.static_pieces, r.statics);  // concave obstacles went in as several pieces
+}
+
+TEST(RunWorld, StateHashIsTheSameForEveryRunBroadPhaseAndEarlyOutChoice) {
+  const RunReport base = run_world(small("", 400, 120), nullptr);
+  EXPECT_EQ(run_world(small("", 400, 120), nullptr).state_hash, base.state_hash);
+  for (const WorldBroadPhase bp : {WorldBroadPhase::brute_force, WorldBroadPhase::sorted_grid,
+                                   WorldBroadPhase::dynamic_tree, WorldBroadPhase::sweep_and_prune}) {
+    RunOptions o = small("", 400, 120);
+    o.broad_phase = bp;
+    EXPECT_EQ(run_world(o, nullptr).state_hash, base.state_hash) << to_string(bp);
+  }
+  RunOptions fixed = small("", 400, 120);
+  fixed.adaptive_early_out = false;
+  EXPECT_EQ(run_world(fixed, nullptr).state_hash, base.state_hash);
+  RunOptions other_seed = small("", 400, 120);
+  other_seed.seed = 2;
+  EXPECT_NE(run_world(other_seed, nullptr).state_hash, base.state_hash);
+}
+
+TEST(RunWorld, BulletsNeverTunnelThroughThinWalls) {
+  const RunReport r = run_world(small("bullets", 300, 300), nullptr);
+  EXPECT_EQ(r.bodies, 300);
+  EXPECT_EQ(r.total.tunnelled, 0);
+  EXPECT_EQ(r.total.escaped, 0);  // the outer walls are thin, too
+  EXPECT_EQ(r.total.ccd_bodies, 300 * 300);
+  EXPECT_GT(r.total.toi_hits, 300 * 10);
+}
+
+// The issue: every map under the shared Tiled folder loads and runs.
+TEST(RunWorld, EverySharedTiledMapLoadsAndRunsWithoutTunnelling) {
+  int maps = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(COLLIDE_DATA_DIR) / "tiled")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".tmx" && ext != ".tmj" && ext != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const RunReport r = run_world(small(entry.path().string(), 150, 180), nullptr);
+    ++maps;
+    EXPECT_GT(r.statics, 4);  // the map's colliders besides the four boundary walls
+    EXPECT_GT(r.bodies, 0);
+    EXPECT_EQ(r.total.tunnelled, 0);
+    EXPECT_EQ(r.total.escaped, 0);
+    EXPECT_EQ(run_world(small(entry.path().string(), 150, 180), nullptr).state_hash, r.state_hash);
+  }
+  EXPECT_EQ(maps, 7);
+}
+
+TEST(RunWorld, BadInputIsAnErrorThatNamesIt) {
+  try {
+    (void)run_world(small("/nonexistent/level.tmx", 10, 10), nullptr);
+    FAIL() << "a missing map was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/level.tmx"), std::string::npos) << e.what();
+  }
+  try {
+    (void)run_world(small("galaxy", 10, 10), nullptr);
+    FAIL() << "an unknown scene was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("bullets"), std::string::npos) << e.what();
+  }
+  RunOptions bad_dt = small("", 10, 10);
+  bad_dt.dt = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW((void)run_world(bad_dt, nullptr), InvalidInput);
+}
+
+TEST(RunCommand, SummaryAndEventsEndToEnd) {
+  const std::string events = ::testing::TempDir() + "collide_run_events.jsonl";
+  std::remove(events.c_str());
+  const CommandRun r = run_cli("run --bodies 300 --frames 90 --seed 4 --events " + events);
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* line : {"broad phase", "early out", "narrow phase", "ccd", "events", "laser",
+                           "time per frame", "body-static", "body-body"}) {
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+  }
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(tunnelled\s+(\d+) bodies)"))) << r.output;
+  EXPECT_EQ(m[1].str(), "0");
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(state hash\s+([0-9a-f]{16}))"))) << r.output;
+  const std::string hash = m[1].str();
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"((\d+) written to)"))) << r.output;
+  const long written = std::stol(m[1].str());
+  // The events file: one JSON object per line, as many as the summary says, every begin of a
+  // pair before its persist and end.
+  std::ifstream in(events);
+  ASSERT_TRUE(in.good());
+  std::string line;
+  long lines = 0;
+  std::set<std::string> open;
+  while (std::getline(in, line)) {
+    const nlohmann::json e = nlohmann::json::parse(line);
+    ++lines;
+    const std::string key = e["a"].dump() + e["b"].dump();
+    const std::string type = e["type"];
+    ASSERT_TRUE(type == "begin" || type == "persist" || type == "end") << line;
+    if (type == "begin") {
+      EXPECT_TRUE(open.insert(key).second) << line;
+    } else {
+      EXPECT_EQ(open.count(key), 1u) << "without a begin: " << line;
+      if (type == "end") open.erase(key);
+    }
+    EXPECT_TRUE(e["a"].contains("body")) << line;
+    const double nx = e["normal"][0], ny = e["normal"][1];
+    EXPECT_NEAR(nx * nx + ny * ny, 1.0, 1e-3) << line;
+  }
+  EXPECT_EQ(lines, written);
+  EXPECT_GT(lines, 50);
+  // Same arguments, same final state.
+  const CommandRun again = run_cli("run --bodies 300 --frames 90 --seed 4 --broadphase hash_grid");
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find(hash), std::string::npos) << again.output;
+}
+
+TEST(RunCommand, BadArgumentsFailWithAMessage) {
+  const CommandRun missing = run_cli("run /nonexistent/map.tmx");
+  EXPECT_NE(missing.status, 0);
+  EXPECT_NE(missing.output.find("/nonexistent/map.tmx"), std::string::npos) << missing.output;
+  const CommandRun broad = run_cli("run --frames 1 --broadphase octree");
+  EXPECT_NE(broad.status, 0);
+  EXPECT_NE(broad.output.find("temporal"), std::string::npos) << broad.output;
+}
+
+}  // namespace
+}  // namespace collide::cli
