@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   collide::cli::register_query_command(app);
   collide::cli::register_walk_command(app);
+  collide::cli::register_cast_command(app);
   CLI11_PARSE(app, argc, argv);
   return 0;
 }
