@@ -143,22 +143,31 @@ constexpr auto kGlyphs = [] {
 }();
 constexpr GlyphRows kBox = to_rows(kBoxArt);
 
-/// Decodes the UTF-8 sequence at text[i], advancing i past it. A byte that does not start a
-/// well-formed sequence is one code point of its own (shown as the box).
+}  // namespace
+
 char32_t next_code_point(std::string_view text, std::size_t& i) noexcept {
-  const auto lead = static_cast<unsigned char>(text[i++]);
-  if (lead < 0x80) return lead;
-  const int extra = lead >= 0xf0 ? 3 : lead >= 0xe0 ? 2 : lead >= 0xc0 ? 1 : 0;
-  if (extra == 0 || lead > 0xf4) return 0xfffd;
-  char32_t cp = lead & (0x3f >> extra);
-  for (int k = 0; k < extra; ++k) {
-    if (i >= text.size() || (static_cast<unsigned char>(text[i]) & 0xc0) != 0x80) return 0xfffd;
-    cp = (cp << 6) | (static_cast<unsigned char>(text[i++]) & 0x3f);
+  const auto lead = static_cast<unsigned char>(text[i]);
+  if (lead < 0x80) {
+    ++i;
+    return lead;
   }
+  const int extra = lead >= 0xf0 ? 3 : lead >= 0xe0 ? 2 : lead >= 0xc2 ? 1 : 0;
+  bool ok = extra > 0 && lead <= 0xf4 && i + static_cast<std::size_t>(extra) < text.size();
+  char32_t cp = lead & (0x3f >> extra);
+  for (int k = 1; ok && k <= extra; ++k) {
+    const auto c = static_cast<unsigned char>(text[i + static_cast<std::size_t>(k)]);
+    ok = (c & 0xc0) == 0x80;
+    cp = (cp << 6) | (c & 0x3f);
+  }
+  const char32_t shortest = extra == 1 ? 0x80 : extra == 2 ? 0x800 : 0x10000;
+  ok = ok && cp >= shortest && cp <= 0x10ffff && !(cp >= 0xd800 && cp <= 0xdfff);
+  if (!ok) {
+    ++i;
+    return kReplacementCharacter;
+  }
+  i += static_cast<std::size_t>(extra) + 1;
   return cp;
 }
-
-}  // namespace
 
 const std::uint8_t* glyph_rows(char32_t code_point) noexcept {
   if (code_point >= 0x20 && code_point <= 0x7e) return kGlyphs[code_point - 0x20].data();
@@ -168,7 +177,7 @@ const std::uint8_t* glyph_rows(char32_t code_point) noexcept {
 int text_columns(std::string_view text) noexcept {
   int n = 0;
   for (std::size_t i = 0; i < text.size();) {
-    next_code_point(text, i);
+    (void)next_code_point(text, i);
     ++n;
   }
   return n;

@@ -73,44 +73,26 @@ void put_paint(std::string& out, const char* what, Color c) {
   }
 }
 
-/// Text with &, <, >, " escaped; invalid UTF-8, control characters and code points XML 1.0
-/// forbids become U+FFFD, so the document always parses.
+/// Text with &, <, >, " escaped; invalid UTF-8 (one U+FFFD per ill-formed byte, as the bitmap
+/// font counts columns), control characters and code points XML 1.0 forbids become U+FFFD, so
+/// the document always parses.
 void put_escaped(std::string& out, std::string_view text) {
   static constexpr std::string_view kReplacement = "\xef\xbf\xbd";
   for (size_t i = 0; i < text.size();) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x80) {
-      switch (c) {
-        case '&': out += "&amp;"; break;
-        case '<': out += "&lt;"; break;
-        case '>': out += "&gt;"; break;
-        case '"': out += "&quot;"; break;
-        default:
-          if (c < 0x20 || c == 0x7f) out += kReplacement;
-          else out += static_cast<char>(c);
-      }
-      ++i;
-      continue;
-    }
-    // A well-formed multi-byte sequence (shortest form, no surrogates, at most U+10FFFF) is
-    // copied whole; anything else is one replacement character per byte.
-    const int extra = c >= 0xf0 ? 3 : c >= 0xe0 ? 2 : c >= 0xc2 ? 1 : -1;
-    bool ok = extra > 0 && c <= 0xf4 && i + static_cast<size_t>(extra) < text.size();
-    char32_t cp = extra > 0 ? c & (0x3f >> extra) : 0;
-    for (int k = 1; ok && k <= extra; ++k) {
-      const auto cc = static_cast<unsigned char>(text[i + static_cast<size_t>(k)]);
-      ok = (cc & 0xc0) == 0x80;
-      cp = (cp << 6) | (cc & 0x3f);
-    }
-    const char32_t min_cp = extra == 1 ? 0x80 : extra == 2 ? 0x800 : 0x10000;
-    ok = ok && cp >= min_cp && cp <= 0x10ffff && !(cp >= 0xd800 && cp <= 0xdfff) && cp != 0xfffe &&
-         cp != 0xffff && !(cp >= 0x80 && cp < 0xa0);
-    if (ok) {
-      out.append(text.substr(i, static_cast<size_t>(extra) + 1));
-      i += static_cast<size_t>(extra) + 1;
-    } else {
-      out += kReplacement;
-      ++i;
+    const size_t start = i;
+    const char32_t cp = next_code_point(text, i);
+    switch (cp) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default:
+        if (cp < 0x20 || (cp >= 0x7f && cp < 0xa0) || cp == 0xfffe || cp == 0xffff ||
+            cp == kReplacementCharacter) {
+          out += kReplacement;
+        } else {
+          out.append(text.substr(start, i - start));
+        }
     }
   }
 }

@@ -43,7 +43,16 @@ TEST(BitmapFont, WidthsCountCodePoints) {
   EXPECT_EQ(text_columns("h\xc3\xa9llo"), 5);             // é is 2 bytes, 1 column
   EXPECT_EQ(text_columns("\xe2\x9c\x93!"), 2);            // ✓ is 3 bytes
   EXPECT_EQ(text_columns("\xff" "a"), 2);                 // a stray byte is one column
-  EXPECT_EQ(text_columns("\xe2\x9c"), 1);                 // a cut sequence is one column
+  EXPECT_EQ(text_columns("\xe2\x9c"), 2);                 // a cut sequence: one column per byte
+  EXPECT_EQ(text_columns("\xc0\xaf"), 2);                 // overlong '/': ill-formed
+  EXPECT_EQ(text_columns("\xed\xa0\x80"), 3);             // a surrogate: ill-formed
+  EXPECT_EQ(text_columns("\xf0\x9f\x99\x82"), 1);         // U+1F642, 4 bytes
+  std::size_t i = 0;
+  EXPECT_EQ(next_code_point("\xe2\x9c\x93", i), U'\u2713');
+  EXPECT_EQ(i, 3u);
+  i = 0;
+  EXPECT_EQ(next_code_point("\xe2\x9c" "a", i), kReplacementCharacter);
+  EXPECT_EQ(i, 1u);
   EXPECT_EQ(text_width("", 3), 0);
   EXPECT_EQ(text_width("ab", 1), 2 * kGlyphAdvance - 1);
   EXPECT_EQ(text_width("ab", 3), 3 * (2 * kGlyphAdvance - 1));

@@ -223,6 +223,8 @@ TEST(SvgDraw, TextIsEscapedAndAlwaysParses) {
       "a<b & c>\"d\" 'e' \xef\xbf\xbd \xef\xbf\xbd\xef\xbf\xbd é ✓ \xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd \xef\xbf\xbd\xef\xbf\xbd";
   EXPECT_EQ(std::string(find_class(doc, "text", "title").child_value()), expected);
   EXPECT_EQ(std::string(find_class(doc, "text", "role-laser").child_value()), expected);
+  // The bitmap font counts the same columns as the SVG shows characters.
+  EXPECT_EQ(text_columns(nasty), text_columns(expected));
 }
 
 TEST(SvgDraw, NumbersAreCompact) {

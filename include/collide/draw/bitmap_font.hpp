@@ -8,6 +8,7 @@
 
 #include <collide/draw/canvas.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -28,7 +29,18 @@ inline constexpr int kLineAdvance = 11;
 /// ASCII (0x20..0x7e) has its own glyph, everything else the hollow box.
 [[nodiscard]] const std::uint8_t* glyph_rows(char32_t code_point) noexcept;
 
-/// Number of characters (UTF-8 code points; a stray byte counts as one) in `text`.
+/// What an ill-formed UTF-8 byte decodes to (U+FFFD).
+inline constexpr char32_t kReplacementCharacter = 0xfffd;
+
+/// Decodes the UTF-8 sequence at `text[i]` (i < text.size()) and advances `i` past it. A
+/// well-formed sequence (shortest form, no surrogates, at most U+10FFFF) gives its code point;
+/// any other byte gives kReplacementCharacter and advances by that one byte, so a cut or
+/// corrupt sequence shows one box per byte. The SVG renderer decodes with this too, so text
+/// has the same number of columns in both renderers.
+[[nodiscard]] char32_t next_code_point(std::string_view text, std::size_t& i) noexcept;
+
+/// Number of characters (UTF-8 code points; each byte of an ill-formed sequence counts as one)
+/// in `text`.
 [[nodiscard]] int text_columns(std::string_view text) noexcept;
 
 /// Width of `text` drawn at `scale`, pixels: columns * advance minus the trailing blank column

@@ -104,7 +104,7 @@ struct ArrowPixels {
 };
 
 /// A renderer of a laid-out picture: receives everything in image pixels, in drawing order.
-/// SvgDraw and CanvasDraw implement it; a game could too (its own debug overlay). Sizes of
+/// render_svg and render_canvas implement it; a game could too (its own debug overlay). Sizes of
 /// strokes and markers come from `draw_style(role)`.
 class PixelSink {
  public:
