@@ -12,6 +12,9 @@ void register_run_command(CLI::App& app);
 /// `collide query [FILE]`: JSON Lines questions in, answers out (spec/query-jsonl.md).
 void register_query_command(CLI::App& app);
 
+/// `collide cast [FILE]`: one shape cast answered and drawn (the motion, and the ray into A - B).
+void register_cast_command(CLI::App& app);
+
 /// `collide walk MESH.obj`: walk mesh of a level, agents wandering on it (walkmesh/).
 void register_walk_command(CLI::App& app);
 

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   collide::cli::register_run_command(app);
   collide::cli::register_query_command(app);
   collide::cli::register_walk_command(app);
+  collide::cli::register_cast_command(app);
   CLI11_PARSE(app, argc, argv);
   return 0;
 }

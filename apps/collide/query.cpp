@@ -200,6 +200,17 @@ json answer_pairs(const json& q) {
   return json::object({{"pairs", out}});
 }
 
+CastQuestion to_cast_question(const json& q) {
+  CastQuestion c;
+  c.a = to_shape(require(q, "a", ""), "a");
+  c.b = to_shape(require(q, "b", ""), "b");
+  c.xa = to_transform(q, "xa");
+  c.xb = to_transform(q, "xb");
+  c.va = to_vec2(require(q, "va", ""), "va");
+  c.vb = to_vec2(require(q, "vb", ""), "vb");
+  return c;
+}
+
 json answer(const json& q) {
   if (!q.is_object()) fail("", "expected a JSON object");
   const json& op_json = require(q, "op", "");
@@ -258,15 +269,10 @@ json answer(const json& q) {
   } else if (op == "pairs") {
     out = answer_pairs(q);
   } else if (op == "toi") {
-    const Shape2D a = to_shape(require(q, "a", ""), "a");
-    const Shape2D b = to_shape(require(q, "b", ""), "b");
-    const Transform xa = to_transform(q, "xa");
-    const Transform xb = to_transform(q, "xb");
-    const Vec2 va = to_vec2(require(q, "va", ""), "va");
-    const Vec2 vb = to_vec2(require(q, "vb", ""), "vb");
+    const CastQuestion c = to_cast_question(q);
     ShapeCastResult r;
     try {
-      r = shape_cast(a, xa, va, b, xb, vb);
+      r = shape_cast(c.a, c.xa, c.va, c.b, c.xb, c.vb);
     } catch (const InvalidInput& e) {
       fail("", e.what());
     }
@@ -309,6 +315,21 @@ std::string answer_query_line(std::string_view line) {
   json result = json::object({{"id", id}});
   result.update(out);
   return result.dump();
+}
+
+CastQuestion parse_cast_question(std::string_view text) {
+  try {
+    const json q = json::parse(text);
+    if (!q.is_object()) fail("", "expected a JSON object");
+    if (const auto op = q.find("op"); op != q.end() && *op != "toi") {
+      fail("op", "a cast question is a \"toi\" question");
+    }
+    return to_cast_question(q);
+  } catch (const json::exception& e) {
+    throw InvalidInput(std::string("not valid JSON: ") + e.what());
+  } catch (const QueryError& e) {
+    throw InvalidInput(e.message);
+  }
 }
 
 std::size_t answer_query_stream(std::istream& in, std::ostream& out) {

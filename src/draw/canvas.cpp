@@ -1,6 +1,7 @@
 #include <collide/draw/canvas.hpp>
 
 #include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,16 +10,23 @@
 namespace collide {
 namespace {
 
-/// Pixel rows/columns whose centres can lie in [lo, hi], clipped to [0, n).
-void pixel_range(float lo, float hi, int n, int& first, int& last) noexcept {
+/// Pixel rows/columns whose centres can lie in [lo, hi], clipped to [begin, end).
+void pixel_range(float lo, float hi, int begin, int end, int& first, int& last) noexcept {
   if (!(lo <= hi)) {  // empty, or NaN: draw nothing
     first = 0;
     last = -1;
     return;
   }
-  const float limit = static_cast<float>(n) + 1.0f;  // clamp before converting: no int overflow
-  first = std::max(0, static_cast<int>(std::floor(std::clamp(lo, -1.0f, limit) - 0.5f)));
-  last = std::min(n - 1, static_cast<int>(std::ceil(std::clamp(hi, -1.0f, limit) - 0.5f)));
+  // Clamp before converting: no int overflow.
+  const float low = static_cast<float>(begin) - 1.0f, high = static_cast<float>(end) + 1.0f;
+  first = std::max(begin, static_cast<int>(std::floor(std::clamp(lo, low, high) - 0.5f)));
+  last = std::min(end - 1, static_cast<int>(std::ceil(std::clamp(hi, low, high) - 0.5f)));
+}
+
+/// `c` with its alpha scaled by `coverage` in [0, 1].
+Color scaled(Color c, float coverage) noexcept {
+  c.a = static_cast<std::uint8_t>(std::lround(static_cast<float>(c.a) * coverage));
+  return c;
 }
 
 /// Clips segment a-b to the box [lo, hi] (Liang-Barsky 1984). False when nothing is left.
@@ -48,7 +56,8 @@ bool clip_segment(Vec2& a, Vec2& b, Vec2 lo, Vec2 hi) noexcept {
 
 }  // namespace
 
-Canvas::Canvas(int width, int height, Color background) : width_(width), height_(height) {
+Canvas::Canvas(int width, int height, Color background)
+    : width_(width), height_(height), clip_{0, 0, width, height} {
   if (width < 1 || width > kMaxCanvasSide || height < 1 || height > kMaxCanvasSide) {
     throw InvalidInput("canvas size " + std::to_string(width) + " x " + std::to_string(height) +
                        ": each side must be in [1, " + std::to_string(kMaxCanvasSide) + "]");
@@ -87,11 +96,29 @@ void Canvas::blend(int x, int y, Color c) noexcept {
   pixels_[i + 3] = static_cast<std::uint8_t>(a + pixels_[i + 3] * (255u - a) / 255u);
 }
 
+void Canvas::set_clip(PixelBox box) noexcept {
+  // 64-bit ends: x + width cannot overflow.
+  const long long x0 = std::max<long long>(0, box.x), y0 = std::max<long long>(0, box.y);
+  const long long x1 = std::min<long long>(width_, static_cast<long long>(box.x) + std::max(0, box.width));
+  const long long y1 = std::min<long long>(height_, static_cast<long long>(box.y) + std::max(0, box.height));
+  clip_ = {static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(std::max(0LL, x1 - x0)),
+           static_cast<int>(std::max(0LL, y1 - y0))};
+}
+
+void Canvas::fill_rect(int x, int y, int w, int h, Color color) noexcept {
+  const long long x0 = std::max<long long>(clip_.x, x), y0 = std::max<long long>(clip_.y, y);
+  const long long x1 = std::min<long long>(clip_.x + clip_.width, static_cast<long long>(x) + w);
+  const long long y1 = std::min<long long>(clip_.y + clip_.height, static_cast<long long>(y) + h);
+  for (long long j = y0; j < y1; ++j) {
+    for (long long i = x0; i < x1; ++i) blend(static_cast<int>(i), static_cast<int>(j), color);
+  }
+}
+
 void Canvas::fill_triangle(Vec2 a, Vec2 b, Vec2 c, Color color) noexcept {
   if (cross(b - a, c - a) < 0.0f) std::swap(b, c);  // counter-clockwise in x-right, y-down terms
   int x0, x1, y0, y1;
-  pixel_range(std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), width_, x0, x1);
-  pixel_range(std::min({a.y, b.y, c.y}), std::max({a.y, b.y, c.y}), height_, y0, y1);
+  pixel_range(std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), clip_.x, clip_.x + clip_.width, x0, x1);
+  pixel_range(std::min({a.y, b.y, c.y}), std::max({a.y, b.y, c.y}), clip_.y, clip_.y + clip_.height, y0, y1);
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) {
       const Vec2 p{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
@@ -108,8 +135,8 @@ void Canvas::draw_line(Vec2 a, Vec2 b, Color color, float width) noexcept {
   const Vec2 margin(r + 1.0f);
   if (!clip_segment(a, b, -margin, Vec2(static_cast<float>(width_), static_cast<float>(height_)) + margin)) return;
   int x0, x1, y0, y1;
-  pixel_range(std::min(a.x, b.x) - r, std::max(a.x, b.x) + r, width_, x0, x1);
-  pixel_range(std::min(a.y, b.y) - r, std::max(a.y, b.y) + r, height_, y0, y1);
+  pixel_range(std::min(a.x, b.x) - r, std::max(a.x, b.x) + r, clip_.x, clip_.x + clip_.width, x0, x1);
+  pixel_range(std::min(a.y, b.y) - r, std::max(a.y, b.y) + r, clip_.y, clip_.y + clip_.height, y0, y1);
   const Vec2 d = b - a;
   const float dd = dot(d, d);
   for (int y = y0; y <= y1; ++y) {
@@ -123,12 +150,72 @@ void Canvas::draw_line(Vec2 a, Vec2 b, Color color, float width) noexcept {
 
 void Canvas::fill_circle(Vec2 center, float radius, Color color) noexcept {
   int x0, x1, y0, y1;
-  pixel_range(center.x - radius, center.x + radius, width_, x0, x1);
-  pixel_range(center.y - radius, center.y + radius, height_, y0, y1);
+  pixel_range(center.x - radius, center.x + radius, clip_.x, clip_.x + clip_.width, x0, x1);
+  pixel_range(center.y - radius, center.y + radius, clip_.y, clip_.y + clip_.height, y0, y1);
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) {
       const Vec2 p{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
       if (distance_squared(p, center) <= radius * radius) blend(x, y, color);
+    }
+  }
+}
+
+// Signed distance of each pixel centre to the core's convex hull (Ericson 5.1.2 per edge):
+// inside, the largest edge separation (negative); outside, the distance to the nearest edge
+// segment, which is always one the point lies in front of. The shape is the hull grown by
+// `radius`, so the distance to its boundary is that minus the radius.
+void Canvas::fill_convex(std::span<const Vec2> core, float radius, Color fill, Color stroke,
+                         float stroke_width) noexcept {
+  const std::size_t n = core.size();
+  if (n == 0 || !(radius >= 0.0f) || !std::isfinite(radius) || !(stroke_width >= 0.0f) ||
+      !std::isfinite(stroke_width)) {
+    return;
+  }
+  Vec2 lo = core[0], hi = core[0];
+  for (const Vec2 v : core) {
+    if (!is_finite(v)) return;
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const float half_stroke = stroke.a > 0 ? 0.5f * stroke_width : 0.0f;
+  if (fill.a == 0 && half_stroke == 0.0f) return;
+  // Orientation: +1 counter-clockwise in (x right, y down) numbers, -1 clockwise, 0 for a core
+  // with no area (a point, a segment, or collinear points), which has no inside.
+  float twice_area = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) twice_area += cross(core[i], core[(i + 1) % n]);
+  const float extent = std::max(hi.x - lo.x, hi.y - lo.y);
+  const float side = n >= 3 && std::fabs(twice_area) > kDegenerateAreaTolerance * extent * extent
+                         ? (twice_area > 0.0f ? 1.0f : -1.0f)
+                         : 0.0f;
+  auto signed_distance = [&](Vec2 p) {
+    float max_separation = -INFINITY;
+    float min_dist2 = INFINITY;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 a = core[i];
+      const Vec2 e = core[(i + 1) % n] - a;
+      const float ee = dot(e, e);
+      if (side != 0.0f && ee > 0.0f) {
+        // Outward normal: right of the edge for counter-clockwise, left for clockwise.
+        const float separation = side * cross(e, p - a) * (-1.0f / std::sqrt(ee));
+        max_separation = std::max(max_separation, separation);
+        if (separation <= 0.0f) continue;  // the nearest point is on an edge facing p
+      }
+      const float t = ee > 0.0f ? std::clamp(dot(p - a, e) / ee, 0.0f, 1.0f) : 0.0f;
+      min_dist2 = std::min(min_dist2, distance_squared(p, a + t * e));
+    }
+    return side != 0.0f && max_separation <= 0.0f ? max_separation : std::sqrt(min_dist2);
+  };
+  const float reach = radius + half_stroke + 1.0f;
+  int x0, x1, y0, y1;
+  pixel_range(lo.x - reach, hi.x + reach, clip_.x, clip_.x + clip_.width, x0, x1);
+  pixel_range(lo.y - reach, hi.y + reach, clip_.y, clip_.y + clip_.height, y0, y1);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const float d = signed_distance({static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f}) - radius;
+      const float fill_coverage = std::clamp(0.5f - d, 0.0f, 1.0f);
+      if (fill.a > 0 && fill_coverage > 0.0f) blend(x, y, scaled(fill, fill_coverage));
+      const float stroke_coverage = std::clamp(half_stroke + 0.5f - std::fabs(d), 0.0f, 1.0f);
+      if (half_stroke > 0.0f && stroke_coverage > 0.0f) blend(x, y, scaled(stroke, stroke_coverage));
     }
   }
 }

@@ -2,3 +2,6 @@ target_link_libraries(${target} PRIVATE collide_cli_lib)
 target_compile_definitions(${target} PRIVATE COLLIDE_CLI_PATH="$<TARGET_FILE:collide_cli>"
                                              COLLIDE_EXAMPLES_DIR="${PROJECT_SOURCE_DIR}/examples")
 add_dependencies(${target} collide_cli)
+# pugixml parses the SVG pictures of `collide cast`.
+find_package(pugixml REQUIRED)
+target_link_libraries(${target} PRIVATE pugixml::pugixml)

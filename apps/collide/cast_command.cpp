@@ -1,0 +1,106 @@
+// `collide cast [FILE] [--question JSON] [--svg FILE] [--png FILE]`: answers one shape cast (a
+// `toi` question of the query protocol) and draws it: the shapes' motion, and the ray from the
+// origin into the Minkowski difference A - B that the answer comes from.
+
+#include "cast.hpp"
+#include "commands.hpp"
+#include "query.hpp"
+
+#include <collide/core/error.hpp>
+#include <collide/draw/canvas_draw.hpp>
+#include <collide/draw/svg_draw.hpp>
+#include <collide/io/png.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace collide::cli {
+namespace {
+
+struct CastOptions {
+  std::string file;      ///< the question, one JSON object ("-": standard input)
+  std::string question;  ///< the question inline (instead of a file)
+  std::string svg;
+  std::string png;
+  int width = 1000;
+  int text_scale = 2;
+};
+
+std::string read_question(const CastOptions& o) {
+  if (!o.question.empty()) return o.question;
+  if (o.file.empty() || o.file == "-") {
+    return {std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
+  }
+  std::ifstream in(o.file);
+  if (!in) throw InvalidInput(o.file + ": cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+int run_cast(const CastOptions& o) {
+  const CastQuestion q = parse_cast_question(read_question(o));
+  PictureOptions options;
+  options.width = o.width;
+  options.text_scale = o.text_scale;
+  Picture picture(options);
+  const CastPicture cast = draw_cast(picture, q);
+  const ShapeCastResult& r = cast.result;
+  std::printf("%s\n", describe(r).c_str());
+  if (r.hit) {
+    std::printf("  point     %g %g\n", static_cast<double>(r.point.x), static_cast<double>(r.point.y));
+    std::printf("  normal    %g %g  (from A to B)\n", static_cast<double>(r.normal.x), static_cast<double>(r.normal.y));
+  }
+  std::printf("  A - B     %zu vertices, radius %g, signed distance to the origin %g\n",
+              cast.difference.vertices.size(), static_cast<double>(cast.difference.radius),
+              static_cast<double>(cast.difference.signed_distance_to_origin()));
+  std::printf("  ray       vb - va = %g %g\n", static_cast<double>(cast.ray.x), static_cast<double>(cast.ray.y));
+  if (!o.svg.empty()) {
+    save_svg(picture, o.svg);
+    std::printf("wrote %s\n", o.svg.c_str());
+  }
+  if (!o.png.empty()) {
+    const Canvas canvas = render_canvas(picture);
+    io::write_png(o.png, canvas);
+    std::printf("wrote %s (%d x %d)\n", o.png.c_str(), canvas.width(), canvas.height());
+  }
+  return r.status == ImpactStatus::failed ? 3 : 0;
+}
+
+}  // namespace
+
+void register_cast_command(CLI::App& app) {
+  auto options = std::make_shared<CastOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "cast", "Answer one shape cast (a \"toi\" question) and draw it: the motion, and the ray into A - B");
+  cmd->add_option("file", options->file,
+                  "The question: one JSON object with a, xa, va, b, xb, vb as in `collide query` "
+                  "(default: standard input)");
+  cmd->add_option("--question", options->question, "The question inline, instead of a file");
+  cmd->add_option("--svg", options->svg, "Write the picture as SVG");
+  cmd->add_option("--png", options->png, "Write the picture as PNG");
+  cmd->add_option("--width", options->width, "Picture width, pixels")
+      ->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
+  cmd->add_option("--text-scale", options->text_scale, "Text size (font pixels of 5 x 7)")
+      ->capture_default_str()->check(CLI::Range(1, kMaxTextScale));
+  cmd->footer("Example:\n  collide cast --svg cast.svg --png cast.png --question '{\"a\": {\"type\": \"box\", "
+              "\"half\": [1, 0.5]}, \"va\": [6, 1], \"b\": {\"type\": \"circle\", \"radius\": 1}, "
+              "\"xb\": {\"p\": [5, 0]}, \"vb\": [0, 0]}'");
+  cmd->callback([options]() {
+    int code = 0;
+    try {
+      code = run_cast(*options);
+    } catch (const InvalidInput& e) {
+      std::fprintf(stderr, "collide cast: %s\n", e.what());
+      code = 2;
+    }
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}
+
+}  // namespace collide::cli

@@ -1,0 +1,3 @@
+# pugixml parses the SVG documents: they must be well-formed XML.
+find_package(pugixml REQUIRED)
+target_link_libraries(${target} PRIVATE pugixml::pugixml)
