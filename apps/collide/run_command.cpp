@@ -7,14 +7,19 @@
 #include "run.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/draw/canvas_draw.hpp>
+#include <collide/draw/svg_draw.hpp>
+#include <collide/io/png.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -91,7 +96,7 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
                per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));
   std::fprintf(out, "  events         %.1f begin, %.1f persist, %.1f end\n", per_frame(t.begin_events, f),
                per_frame(t.persist_events, f), per_frame(t.end_events, f));
-  std::fprintf(out, "  laser          %.1f hits (reflections and the last surface); last frame %d segments\n",
+  std::fprintf(out, "  laser          %.1f hits on statics (reflections and the last surface); last frame %d segments\n",
                per_frame(r.laser_hits, f), r.laser_last_segments);
   const double step_ms = ms_per_frame(t.time_integrate + t.time_statics + t.time_broad + t.time_bodies +
                                           t.time_events + t.time_check,
@@ -128,6 +133,45 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, "state hash       %016llx\n", static_cast<unsigned long long>(r.state_hash));
 }
 
+/// The close-up panel shows this fraction of the world's width and height.
+constexpr float kCloseUpFraction = 1.0f / 6.0f;
+
+/// The last frame: the whole world, and a close-up around the median contact (where things
+/// happen), both with the laser. Roles are named in the picture's legend.
+void write_pictures(const RunOptions& o, const Scene& scene, const World2D& world, const LaserPath& laser,
+                    const RunReport& r) {
+  PictureOptions po;
+  po.width = o.picture_width;
+  po.y_up = scene.y_up;
+  po.title = "collide run: " + std::filesystem::path(scene.name).filename().string() + ", frame " + std::to_string(r.frames) + ", " +
+             std::to_string(r.bodies) + " bodies, " + std::to_string(world.contacts().size()) +
+             " contacts, tunnelled " + std::to_string(r.total.tunnelled);
+  Picture picture(po);
+  const Vec2 pad = 0.02f * (scene.bounds.max - scene.bounds.min);
+  picture.begin_panel("whole world", Aabb{scene.bounds.min - pad, scene.bounds.max + pad});
+  world.draw(picture);
+  World2D::draw_laser(picture, laser);
+  // Close-up: centred on the median contact (by x, then y), or the laser's first hit.
+  std::vector<Vec2> spots;
+  for (const Contact& c : world.contacts()) {
+    if (c.manifold.count > 0) spots.push_back(c.manifold.points[0].point);
+  }
+  Vec2 center = laser.hit_count > 0 ? laser.hits[0].hit.point : scene.bounds.center();
+  if (!spots.empty()) {
+    auto mid = spots.begin() + static_cast<std::ptrdiff_t>(spots.size() / 2);
+    std::nth_element(spots.begin(), mid, spots.end(),
+                     [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    center = *mid;
+  }
+  const Vec2 size = scene.bounds.max - scene.bounds.min;
+  const Vec2 half = 0.5f * kCloseUpFraction * size;  // the whole world's aspect ratio
+  picture.begin_panel("close-up", Aabb{center - half, center + half});
+  world.draw(picture);
+  World2D::draw_laser(picture, laser);
+  if (!o.svg.empty()) save_svg(picture, o.svg);
+  if (!o.png.empty()) io::write_png(o.png, render_canvas(picture));
+}
+
 }  // namespace
 
 RunReport run_world(const RunOptions& o, std::FILE* out) {
@@ -155,7 +199,7 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
     world.step(o.dt);
     const float angle = scene.laser_turn * static_cast<float>(frame);
     const Ray ray{scene.laser.origin, rotate(Rot2::from_angle(std::sin(angle) * 0.6f), scene.laser.translation)};
-    laser = world.cast_laser(ray, kMaxLaserBounces);
+    laser = world.cast_laser(ray, kMaxLaserBounces, QueryFilter{.bodies = false});  // statics are the mirrors
     r.laser_hits += laser.hit_count;
     if (events.is_open()) {
       for (const ContactEvent& e : world.events()) {
@@ -173,7 +217,12 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   r.total = world.total_stats();
   r.laser_last_segments = laser.segments;
   r.state_hash = world.state_hash();
-  if (out != nullptr) print_summary(out, o, scene, world, r);
+  if (!o.png.empty() || !o.svg.empty()) write_pictures(o, scene, world, laser, r);
+  if (out != nullptr) {
+    print_summary(out, o, scene, world, r);
+    if (!o.svg.empty()) std::fprintf(out, "wrote %s\n", o.svg.c_str());
+    if (!o.png.empty()) std::fprintf(out, "wrote %s\n", o.png.c_str());
+  }
   return r;
 }
 
@@ -199,7 +248,7 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--events", o->events, "Write contact events (begin, persist, end) as JSON Lines");
   cmd->add_option("--png", o->png, "Write a picture of the last frame (PNG)");
   cmd->add_option("--svg", o->svg, "Write a picture of the last frame (SVG)");
-  cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(64, 8192));
+  cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
   cmd->add_flag("--no-progress", *quiet, "No progress bar (it is drawn only when stderr is a terminal)");
   cmd->callback([o, broad, fixed_order, quiet]() {
     int code = 0;

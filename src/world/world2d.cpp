@@ -328,6 +328,7 @@ void World2D::Impl::integrate(float dt, StepStats& stats) {
     const float rot = b.angular_velocity * dt;
     const float motion = length(d) + std::fabs(rot) * b.bounding_radius;
     const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
+    b.very_fast = motion > b.inner_size;
     if (b.sensor || !have_statics || !fast || motion == 0.0f) {
       b.xf = moved(b.xf, b.local_center, d, rot);
     } else {

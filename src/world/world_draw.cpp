@@ -20,7 +20,7 @@ void World2D::draw(DebugDraw& draw, const WorldDrawOptions& options) const {
     for (const detail::Body& b : w.bodies) {
       if (!b.alive) continue;
       const DrawRole role = b.sensor                  ? DrawRole::sensor
-                            : b.bullet || b.used_ccd ? DrawRole::fast_body
+                            : b.bullet || b.very_fast ? DrawRole::fast_body
                                                       : DrawRole::body;
       for (const Shape2D& s : b.shapes) draw_shape(draw, s, b.xf, role);
       sizes.push_back(b.bounding_radius);

@@ -53,6 +53,7 @@ struct Body {
   bool bullet = false;
   bool alive = false;
   bool used_ccd = false;          ///< moved by continuous collision in the last step
+  bool very_fast = false;         ///< last step's motion exceeded its own size (would tunnel)
   std::uint32_t generation = 0;
   Vec2 local_center{0.0f, 0.0f};  ///< centre of rotation: area centroid of the pieces
   float inner_size = 0.0f;        ///< smallest piece's inner size

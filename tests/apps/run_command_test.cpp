@@ -173,6 +173,33 @@ TEST(RunCommand, SummaryAndEventsEndToEnd) {
   EXPECT_NE(again.output.find(hash), std::string::npos) << again.output;
 }
 
+TEST(RunCommand, PicturesOfTheLastFrameShowEveryKindOfThing) {
+  const std::string png = ::testing::TempDir() + "collide_run_test.png";
+  const std::string svg = ::testing::TempDir() + "collide_run_test.svg";
+  std::remove(png.c_str());
+  std::remove(svg.c_str());
+  const CommandRun r = run_cli("run --bodies 400 --frames 60 --png " + png + " --svg " + svg + " --width 900");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote " + png), std::string::npos) << r.output;
+  std::ifstream file(png, std::ios::binary);
+  ASSERT_TRUE(file.good()) << "no picture at " << png;
+  std::array<unsigned char, 8> signature{};
+  file.read(reinterpret_cast<char*>(signature.data()), signature.size());
+  const std::array<unsigned char, 8> expected = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  EXPECT_EQ(signature, expected);
+  std::ifstream in(svg);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_NE(text.find("<svg"), std::string::npos);
+  // Statics, sensors, bodies, contacts with normals and the laser are all drawn, and the legend
+  // names them (the picture reads without a lookup).
+  for (const char* role : {"static-geometry", "sensor", "body", "contact-point", "contact-normal", "laser",
+                           "laser-hit"}) {
+    EXPECT_NE(text.find("role-" + std::string(role)), std::string::npos) << role;
+  }
+  EXPECT_NE(text.find("class=\"legend\""), std::string::npos);
+  EXPECT_NE(text.find("close-up"), std::string::npos);
+}
+
 TEST(RunCommand, BadArgumentsFailWithAMessage) {
   const CommandRun missing = run_cli("run /nonexistent/map.tmx");
   EXPECT_NE(missing.status, 0);

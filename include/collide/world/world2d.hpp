@@ -387,8 +387,8 @@ class World2D {
   /// a y-up world) against everything but itself; the earliest hit, if any, is the ground.
   [[nodiscard]] WorldCastHit ground_check(BodyId id, Vec2 down) const;
 
-  /// Draws statics, bodies (fast ones, those that used continuous collision last step, as
-  /// DrawRole::fast_body) and the last step's contacts.
+  /// Draws statics, bodies (bullets, and bodies whose last step was longer than their own size,
+  /// as DrawRole::fast_body) and the last step's contacts.
   void draw(DebugDraw& draw, const WorldDrawOptions& options = {}) const;
   /// Draws a laser path (segments as DrawRole::laser, hit points as DrawRole::laser_hit).
   static void draw_laser(DebugDraw& draw, const LaserPath& path);
