@@ -24,6 +24,19 @@ constexpr double kMaxGrowth = 1e30;
 /// a grid query instead. Growing it would make it a candidate with everything it could reach.
 constexpr double kFastGrowthCells = 4.0;
 
+/// Throws InvalidInput unless there is one finite, non-negative bound per object.
+void validate_speed_bounds(std::span<const float> speed_bounds, std::size_t objects) {
+  if (speed_bounds.size() != objects) {
+    throw InvalidInput("speed bounds: " + std::to_string(speed_bounds.size()) + " for " +
+                       std::to_string(objects) + " boxes");
+  }
+  for (std::size_t i = 0; i < speed_bounds.size(); ++i) {
+    if (!std::isfinite(speed_bounds[i]) || speed_bounds[i] < 0.0f) {
+      throw InvalidInput("speed bound " + std::to_string(i) + ": negative or not finite");
+    }
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -37,15 +50,7 @@ template <int D>
 void TemporalBroadPhaseN<D>::build(std::span<const AabbN<D>> boxes,
                                    std::span<const float> speed_bounds, double time) {
   validate_boxes(boxes);
-  if (speed_bounds.size() != boxes.size()) {
-    throw InvalidInput("speed bounds: " + std::to_string(speed_bounds.size()) + " for " +
-                       std::to_string(boxes.size()) + " boxes");
-  }
-  for (std::size_t i = 0; i < speed_bounds.size(); ++i) {
-    if (!std::isfinite(speed_bounds[i]) || speed_bounds[i] < 0.0f) {
-      throw InvalidInput("speed bound " + std::to_string(i) + ": negative or not finite");
-    }
-  }
+  validate_speed_bounds(speed_bounds, boxes.size());
   if (!std::isfinite(time)) throw InvalidInput("time: not finite");
   boxes_.assign(boxes.begin(), boxes.end());
   speeds_.assign(speed_bounds.begin(), speed_bounds.end());
@@ -105,15 +110,7 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
 
 template <int D>
 void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bounds) {
-  if (speed_bounds.size() != speeds_.size()) {
-    throw InvalidInput("speed bounds: " + std::to_string(speed_bounds.size()) + " for " +
-                       std::to_string(speeds_.size()) + " objects");
-  }
-  for (std::size_t i = 0; i < speed_bounds.size(); ++i) {
-    if (!std::isfinite(speed_bounds[i]) || speed_bounds[i] < 0.0f) {
-      throw InvalidInput("speed bound " + std::to_string(i) + ": negative or not finite");
-    }
-  }
+  validate_speed_bounds(speed_bounds, speeds_.size());
   bool any_raised = false;
   raised_.assign(speeds_.size(), 0);
   for (std::size_t i = 0; i < speeds_.size(); ++i) {

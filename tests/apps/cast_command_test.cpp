@@ -4,6 +4,7 @@
 // through the real binary (SVG that parses, a PNG of the reported size, errors naming the field).
 
 #include "cast.hpp"
+#include "cli_run.hpp"
 
 #include <collide/draw/canvas_draw.hpp>
 #include <collide/draw/palette.hpp>
@@ -219,21 +220,8 @@ TEST(CastPicture, DifferenceOfEveryShapePairMatchesGjkDistance) {
 
 // ---- the command, end to end ---------------------------------------------------------------
 
-struct CommandRun {
-  int status = -1;
-  std::string output;
-};
-
-CommandRun run(const std::string& args) {
-  const std::string cmd = std::string(COLLIDE_CLI_PATH) + " " + args + " 2>&1";
-  CommandRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
-  r.status = pclose(pipe);
-  return r;
-}
+using test::CommandRun;
+const auto run = test::run_cli;
 
 std::uint32_t big_endian(const unsigned char* p) {
   return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];

@@ -3,6 +3,7 @@
 // outside the bounds) must hold on every scene and every shared Tiled map; the state hash must
 // not depend on the run, the broad phase or the early-out learning; events must parse.
 
+#include "cli_run.hpp"
 #include "run.hpp"
 
 #include <collide/core/error.hpp>
@@ -24,21 +25,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int status = -1;
-  std::string output;
-};
-
-CommandRun run_cli(const std::string& args) {
-  const std::string cmd = std::string(COLLIDE_CLI_PATH) + " " + args + " 2>&1";
-  CommandRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
-  r.status = pclose(pipe);
-  return r;
-}
+using test::CommandRun;
+const auto run_cli = test::run_cli;
 
 RunOptions small(std::string input, int bodies, int frames) {
   RunOptions o;
@@ -181,12 +169,7 @@ TEST(RunCommand, PicturesOfTheLastFrameShowEveryKindOfThing) {
   const CommandRun r = run_cli("run --bodies 400 --frames 60 --png " + png + " --svg " + svg + " --width 900");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("wrote " + png), std::string::npos) << r.output;
-  std::ifstream file(png, std::ios::binary);
-  ASSERT_TRUE(file.good()) << "no picture at " << png;
-  std::array<unsigned char, 8> signature{};
-  file.read(reinterpret_cast<char*>(signature.data()), signature.size());
-  const std::array<unsigned char, 8> expected = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  EXPECT_EQ(signature, expected);
+  EXPECT_TRUE(test::has_png_signature(png)) << png;
   std::ifstream in(svg);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_NE(text.find("<svg"), std::string::npos);

@@ -2,6 +2,8 @@
 // report every sampled position on the walk mesh, and write a real PNG; a missing file must fail
 // with a message that names it.
 
+#include "cli_run.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -12,21 +14,8 @@
 
 namespace {
 
-struct CommandRun {
-  int status = -1;
-  std::string output;
-};
-
-CommandRun run(const std::string& args) {
-  const std::string cmd = std::string(COLLIDE_CLI_PATH) + " " + args + " 2>&1";
-  CommandRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
-  r.status = pclose(pipe);
-  return r;
-}
+using collide::test::CommandRun;
+const auto run = collide::test::run_cli;
 
 TEST(WalkCommand, AgentsOnTheDungeonStayOnTheMeshAndThePictureIsAPng) {
   const std::string png = ::testing::TempDir() + "collide_walk_test.png";
@@ -40,12 +29,7 @@ TEST(WalkCommand, AgentsOnTheDungeonStayOnTheMeshAndThePictureIsAPng) {
       << r.output;
   EXPECT_EQ(m[1].str(), m[2].str()) << r.output;
   EXPECT_EQ(std::stoi(m[2].str()), 8 * 200);
-  std::ifstream file(png, std::ios::binary);
-  ASSERT_TRUE(file.good()) << "no picture at " << png;
-  std::array<unsigned char, 8> signature{};
-  file.read(reinterpret_cast<char*>(signature.data()), signature.size());
-  const std::array<unsigned char, 8> expected = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  EXPECT_EQ(signature, expected);
+  EXPECT_TRUE(collide::test::has_png_signature(png)) << "no PNG at " << png;
 }
 
 TEST(WalkCommand, SameSeedGivesTheSameReport) {
