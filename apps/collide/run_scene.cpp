@@ -172,14 +172,21 @@ std::vector<std::vector<Vec2>> obstacle_outlines() {
   return out;
 }
 
-Scene default_scene(const RunOptions& options) {
+/// An empty scene: a world with the options' broad phase and early out, `arena` as its bounds,
+/// closed by walls of thickness `wall`.
+Scene walled_scene(const RunOptions& options, std::string name, const Aabb& arena, float wall) {
   Scene scene;
-  scene.name = "default scene";
-  const Aabb arena{{-160.0f, -90.0f}, {160.0f, 90.0f}};
+  scene.name = std::move(name);
   scene.bounds = arena;
   scene.world = World2D(WorldOptions{options.broad_phase, arena, options.adaptive_early_out, true});
+  add_boundary(scene.world, arena, wall);
+  return scene;
+}
+
+Scene default_scene(const RunOptions& options) {
+  const Aabb arena{{-160.0f, -90.0f}, {160.0f, 90.0f}};
+  Scene scene = walled_scene(options, "default scene", arena, 2.0f);
   World2D& world = scene.world;
-  add_boundary(world, arena, 2.0f);
   Rng rng(options.seed);
   // Concave obstacles on a 5 x 3 lattice (jittered, rotated), the laser's corridor kept free.
   const auto outlines = obstacle_outlines();
@@ -232,12 +239,8 @@ Scene default_scene(const RunOptions& options) {
 
 /// Thin walls in a closed box and nothing but very fast small bodies: the tunnelling test.
 Scene bullets_scene(const RunOptions& options) {
-  Scene scene;
-  scene.name = "bullets scene";
   const Aabb arena{{-50.0f, -50.0f}, {50.0f, 50.0f}};
-  scene.bounds = arena;
-  scene.world = World2D(WorldOptions{options.broad_phase, arena, options.adaptive_early_out, true});
-  add_boundary(scene.world, arena, 0.05f);  // thin outer walls, too
+  Scene scene = walled_scene(options, "bullets scene", arena, 0.05f);  // thin outer walls, too
   Rng rng(options.seed);
   for (int i = 0; i < 12; ++i) {
     StaticDef def;
@@ -257,9 +260,7 @@ Scene bullets_scene(const RunOptions& options) {
 
 Scene map_scene(const RunOptions& options) {
   const TiledMap map = load_tiled_map(options.input);
-  Scene scene;
-  scene.name = options.input;
-  scene.y_up = false;
+
   // The map's rectangle (finite maps) and everything its colliders cover.
   Aabb box = compute_aabb(map.colliders.empty() ? Shape2D{make_circle({0, 0}, 0.0f)} : map.colliders[0].shape,
                           map.colliders.empty() ? Transform{} : map.colliders[0].transform);
@@ -270,9 +271,8 @@ Scene map_scene(const RunOptions& options) {
   }
   const float tile = std::max(std::min(map.tile_size.x, map.tile_size.y), 1.0f);
   box = Aabb{box.min - Vec2{tile}, box.max + Vec2{tile}};
-  scene.bounds = box;
-  scene.world = World2D(WorldOptions{options.broad_phase, box, options.adaptive_early_out, true});
-  add_boundary(scene.world, box, tile);
+  Scene scene = walled_scene(options, options.input, box, tile);
+  scene.y_up = false;
   for (const TiledCollider& c : map.colliders) {
     StaticDef def;
     def.shapes = {c.shape};
