@@ -92,7 +92,7 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts (%.1f with sensors), %.1f push-outs\n",
                per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.sensor_contacts, f),
                per_frame(t.pushes, f));
-  std::fprintf(out, "  ccd            %.1f fast bodies, %.1f time of impact queries, %.1f hits\n",
+  std::fprintf(out, "  ccd            %.1f bodies moved by continuous collision, %.1f time of impact queries, %.1f hits\n",
                per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));
   std::fprintf(out, "  events         %.1f begin, %.1f persist, %.1f end\n", per_frame(t.begin_events, f),
                per_frame(t.persist_events, f), per_frame(t.end_events, f));
