@@ -18,9 +18,10 @@
 namespace collide {
 namespace {
 
-/// Rounds of the safe-step root bracketing (one tangent and one chord each). Two already land
-/// within a few percent of the bound's root; more cost more than the iterations they save.
-constexpr int kSafeStepRounds = 2;
+/// Rounds of the safe-step root bracketing (one tangent and one chord each). One round lands
+/// close enough to the bound's root that a second saved 0.1% of the iterations (bench_ccd,
+/// rotating pairs) for one more bound evaluation per step (+13% instructions).
+constexpr int kSafeStepRounds = 1;
 
 /// How far a turning body's extent along a fixed direction can grow over a time dt, bounded
 /// point by point. A core point at r from the centre of rotation (current frame) projects
