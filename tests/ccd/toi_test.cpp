@@ -110,6 +110,30 @@ TEST(TimeOfImpact, OverlappedSeparatedAndSpinning) {
   EXPECT_EQ(over.t, 0.0f);
 }
 
+// 3b. Regression: the step ends with the shapes inside the target band. A ball spinning about
+// its own centre (the rotating path, same geometry) slides to `target` from a still box at
+// t = 1 exactly: that is a hit at t = 1 (b2TimeOfImpact also reports it), not "separated"
+// because the last safe step reached the end of the interval.
+TEST(TimeOfImpact, EndsInsideTargetBandAtOne) {
+  const Polygon box = make_box({0.5f, 0.5f});
+  const Circle ball = make_circle({0.0f, 0.0f}, 0.5f);
+  const float target = 0.01f;
+  const Sweep still{{0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f, 0.0f};
+  for (const float end_gap : {0.0f, 0.2f, -0.2f}) {  // in units of the tolerance, 0.25 target
+    const float x1 = 1.0f + target + end_gap * 0.25f * target;
+    const Sweep ball_sweep{{0.0f, 0.0f}, {5.0f, 0.0f}, {x1, 0.0f}, 0.0f, 3.0f};
+    const ToiResult res = time_of_impact(box, still, ball, ball_sweep, target);
+    ASSERT_EQ(res.status, ImpactStatus::hit) << end_gap;
+    // Within the band [0.75, 1.25] target: at t = 1 (end_gap >= 0) or at the time the ball is
+    // that far ((x - 1) = target (1 + 0.25 f) for some f in [-1, 1], x = 5 - (5 - x1) t).
+    EXPECT_NEAR(res.separation, target, 0.25f * target) << end_gap;
+    EXPECT_NEAR(res.t, 1.0f, 0.25f * target / (5.0f - x1) + 1e-6f) << end_gap;
+  }
+  // Ending farther than the band: separated.
+  const Sweep short_of{{0.0f, 0.0f}, {5.0f, 0.0f}, {1.0f + 1.5f * target, 0.0f}, 0.0f, 3.0f};
+  EXPECT_EQ(time_of_impact(box, still, ball, short_of, target).status, ImpactStatus::separated);
+}
+
 /// A random sweep for a shape of about `size`: centre near `at`, moving up to `reach`, turning
 /// up to `max_turn`.
 Sweep random_sweep(std::mt19937& rng, Vec2 at, float reach, float max_turn) {

@@ -7,13 +7,16 @@
 ///
 /// Method: conservative advancement (Mirtich, "Impulse-based Dynamic Simulation of Rigid Body
 /// Systems", 1996, 4.3; discussed in Catto, "Continuous Collision", GDC 2013). At the current
-/// time t, GJK (`gjk_distance`, warm-started from the previous step) gives the distance d
-/// between the cores and the unit normal n between their closest points. Along that fixed n,
-/// no pair of points can close in faster than the centres' relative motion along n plus, for
-/// each body, its turn (radians over the step) times the reach of its core from its centre of
-/// rotation. So nothing touches before d has been used up at that rate: t advances by
-/// (d - goal) / rate, provably never past the first contact, and stops when the shapes are
-/// within the target. Each step is one warm-started GJK call.
+/// time t, GJK (run in A's frame, warm-started from the previous step's simplex) gives the
+/// distance d between the cores and the unit normal n between their closest points. Along that
+/// fixed n the gap between the two support planes (a lower bound of the distance, measured by
+/// a support query on each body) closes over a further dt by at most the centres' relative
+/// motion along n plus, for each body, a per-point bound of how far its turn can push its
+/// extent along n (cos and sin bounded by their Taylor polynomials: a convex function of dt,
+/// so its first root is bracketed in two tangent/chord rounds). t advances to where that bound
+/// could use up the gap: provably never past the first contact; it stops when the shapes are
+/// within the target. A cruder bound, turn times the core's reach from its centre of rotation,
+/// is kept as a floor for the step. Each step is one warm-started GJK call.
 ///
 /// Why not the separating-axis root finder of Box2D's b2TimeOfImpact (Catto 2013)? It checks
 /// its axis only at the ends of the interval, so a body that turns a lot within one step can
