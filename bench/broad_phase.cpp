@@ -24,6 +24,7 @@
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/loose_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/broad/temporal_broad_phase.hpp>
@@ -396,6 +397,7 @@ int main(int argc, char** argv) {
   // Where one frame of a contender takes seconds (over ~2 us per object at 1e5, growing), it is
   // not run at 1e6; sweep and prune also stops at 1e5 (its sweep grows as n^1.5 in these worlds).
   // collide, 2D
+  add<2, Collide<2, LooseGridN<2>>>("collide_loose_grid", k1e6);
   add<2, Collide<2, SortedGridN<2>>>("collide_sorted_grid", k1e6);
   add<2, Collide<2, HierarchicalGridN<2>>>("collide_hierarchical_grid", k1e6);
   add<2, Collide<2, HashGridN<2>>>("collide_hash_grid", k1e6);
@@ -408,6 +410,7 @@ int main(int argc, char** argv) {
   add<2, Chipmunk<false>>("Chipmunk_cpBBTree", k1e5);
   add<2, Box2DBroadPhaseNewPairs>("Box2D_b2BroadPhase_new_pairs", k1e5);
   // collide, 3D
+  add<3, Collide<3, LooseGridN<3>>>("collide_loose_grid", k1e6);
   add<3, Collide<3, SortedGridN<3>>>("collide_sorted_grid", k1e6);
   add<3, Collide<3, HierarchicalGridN<3>>>("collide_hierarchical_grid", k1e6);
   add<3, Collide<3, HashGridN<3>>>("collide_hash_grid", k1e6);
@@ -424,9 +427,11 @@ int main(int argc, char** argv) {
     const auto rebuild = [n](const char* name, auto function) {
       benchmark::RegisterBenchmark(name, function)->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
     };
+    rebuild("full_rebuild/2D/collide_loose_grid", rebuild_benchmark<2, LooseGridN<2>>);
     rebuild("full_rebuild/2D/collide_sorted_grid", rebuild_benchmark<2, SortedGridN<2>>);
     rebuild("full_rebuild/2D/collide_hash_grid", rebuild_benchmark<2, HashGridN<2>>);
     rebuild("full_rebuild/2D/collide_hierarchical_grid", rebuild_benchmark<2, HierarchicalGridN<2>>);
+    rebuild("full_rebuild/3D/collide_loose_grid", rebuild_benchmark<3, LooseGridN<3>>);
     rebuild("full_rebuild/3D/collide_sorted_grid", rebuild_benchmark<3, SortedGridN<3>>);
     rebuild("full_rebuild/3D/collide_hash_grid", rebuild_benchmark<3, HashGridN<3>>);
     rebuild("full_rebuild/3D/collide_hierarchical_grid", rebuild_benchmark<3, HierarchicalGridN<3>>);

@@ -64,7 +64,7 @@ float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& world,
     size = span / std::max(per_axis, 1.0f);
   }
   // A cell must stay well above the float spacing of the coordinates it divides.
-  const float resolution = 1e-5f * std::max(magnitude, 1e-30f);
+  const float resolution = kCellSizeResolution * std::max(magnitude, 1e-30f);
   return std::max({size, resolution, std::numeric_limits<float>::min()});
 }
 

@@ -218,6 +218,10 @@ template <int D>
   return g;
 }
 
+/// Smallest cell size as a fraction of the largest coordinate magnitude of the world: a cell
+/// must stay well above the float spacing of the coordinates it divides (2^-23 relative).
+inline constexpr float kCellSizeResolution = 1e-5f;
+
 /// Boxes whose sizes suggest_cell_size looks at, at most: all of them up to this count, else
 /// this many spread evenly through the span (the median of a sample that size is within a few
 /// percent of the true one, and the cell size is a heuristic: results stay exact).
