@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace collide {
 
 namespace {
@@ -33,6 +37,59 @@ float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
     magnitude = std::max({magnitude, std::abs(bounds.min[k]), std::abs(bounds.max[k])});
   }
   return std::max(quantile, kCellSizeResolution * magnitude);
+}
+
+template <int D>
+using PackedBox = typename LooseGridN<D>::Packed;
+
+/// The box as lanes (min, -max), zero padded (see LooseGridN::Packed).
+template <int D>
+PackedBox<D> pack(const AabbN<D>& box) noexcept {
+  PackedBox<D> p{};
+  constexpr int half = D == 2 ? 2 : 4;
+  for (int k = 0; k < D; ++k) {
+    p.lanes[k] = box.min[k];
+    p.lanes[half + k] = -box.max[k];
+  }
+  return p;
+}
+
+template <int D>
+AabbN<D> unpack(const PackedBox<D>& p) noexcept {
+  constexpr int half = D == 2 ? 2 : 4;
+  AabbN<D> box;
+  for (int k = 0; k < D; ++k) {
+    box.min[k] = p.lanes[k];
+    box.max[k] = -p.lanes[half + k];
+  }
+  return box;
+}
+
+/// The lanes a packed box b is compared with to test it against `box`: (max, -min), so that
+/// overlap(box, b) <=> b.min <= box.max and -b.max <= -box.min on every axis <=> every lane of
+/// b <= the probe's (the zero pads compare 0 <= 0).
+template <int D>
+PackedBox<D> probe_of(const AabbN<D>& box) noexcept {
+  return pack<D>({box.max, box.min});
+}
+
+/// Whether every lane of `b` is <= the matching lane of `probe`: overlap of the two boxes
+/// (touching counts). NaN never occurs (the boxes are validated).
+template <int D>
+inline bool lanes_le(const PackedBox<D>& b, const PackedBox<D>& probe) noexcept {
+#if defined(__SSE2__)
+  const __m128 le = _mm_cmple_ps(_mm_load_ps(b.lanes), _mm_load_ps(probe.lanes));
+  if constexpr (D == 2) {
+    return _mm_movemask_ps(le) == 0xF;
+  } else {
+    const __m128 le2 = _mm_cmple_ps(_mm_load_ps(b.lanes + 4), _mm_load_ps(probe.lanes + 4));
+    return _mm_movemask_ps(_mm_and_ps(le, le2)) == 0xF;
+  }
+#else
+  bool all = true;
+  for (std::size_t i = 0; i < std::size(b.lanes); ++i) all &= b.lanes[i] <= probe.lanes[i];
+  return all;
+#endif
 }
 
 }  // namespace
@@ -109,11 +166,14 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
   for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts_[c] += starts_[c - 1];
   // Pass 2: each small box to its slot, ids ascending; starts_[key + 1] moves to the cell's end,
   // so afterwards starts_[key] is the first slot of cell key and starts_[key + 1] its end.
-  entries_.resize(small);
+  packed_.resize(small);
+  ids_.resize(small);
   for (int i = 0; i < count_; ++i) {
     const std::uint32_t key = keys_[i];
     if (key == kBigKey) continue;
-    entries_[starts_[key + 1]++] = {boxes[i], i};
+    const std::uint32_t slot = starts_[key + 1]++;
+    packed_[slot] = pack<D>(boxes[i]);
+    ids_[slot] = i;
   }
   big_by_x_.assign(big_.begin(), big_.end());
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
@@ -129,8 +189,11 @@ void LooseGridN<D>::find_pairs(PairList& pairs) const {
 
 template <int D>
 void LooseGridN<D>::append_pairs(PairList& pairs) const {
-  const auto emit = [&pairs](const Entry& a, const Entry& b) {
-    if (overlap(a.box, b.box)) pairs.emplace_back(std::min(a.id, b.id), std::max(a.id, b.id));
+  const PackedBox<D>* packed = packed_.data();
+  const int* ids = ids_.data();
+  // overlap(box with this probe and id, box f): the pair (min id, max id).
+  const auto test = [&](const PackedBox<D>& probe, int id, std::uint32_t f) {
+    if (lanes_le<D>(packed[f], probe)) pairs.emplace_back(std::min(id, ids[f]), std::max(id, ids[f]));
   };
   // Small against small. For the box at slot e of cell c, the forward half of its neighbourhood
   // is: the rest of its own cell and the next cell along x (slots e+1 up to the end of c + 1,
@@ -147,28 +210,29 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
     rows[row_count++] = plane - 1;
     rows[row_count++] = plane + nx - 1;
   }
-  const Entry* entries = entries_.data();
   const std::uint32_t* starts = starts_.data();
   for (std::uint32_t c = 0; c < total_cells; ++c) {
     const std::uint32_t begin = starts[c], end = starts[c + 1];
     if (begin == end) continue;  // only cells with the border around them hold boxes
     const std::uint32_t next_end = starts[c + 2];
     for (std::uint32_t e = begin; e < end; ++e) {
-      const Entry a = entries[e];
-      for (std::uint32_t f = e + 1; f < next_end; ++f) emit(a, entries[f]);
+      const PackedBox<D> probe = probe_of<D>(unpack<D>(packed[e]));
+      const int id = ids[e];
+      for (std::uint32_t f = e + 1; f < next_end; ++f) test(probe, id, f);
       for (int r = 0; r < row_count; ++r) {
         const std::uint32_t row = c + rows[r];
         const std::uint32_t row_end = starts[row + 3];
-        for (std::uint32_t f = starts[row]; f < row_end; ++f) emit(a, entries[f]);
+        for (std::uint32_t f = starts[row]; f < row_end; ++f) test(probe, id, f);
       }
     }
   }
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
   for (const Entry& b : big_) {
+    const PackedBox<D> probe = probe_of<D>(b.box);
     for_each_run(grid_.cell_of_inside(b.box.min) - 1, grid_.cell_of_inside(b.box.max),
                  [&](std::uint32_t first, std::uint32_t last) {
-                   for (std::uint32_t f = first; f < last; ++f) emit(b, entries[f]);
+                   for (std::uint32_t f = first; f < last; ++f) test(probe, b.id, f);
                    return true;
                  });
   }
@@ -177,7 +241,8 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
   for (std::size_t i = 0; i < bigs; ++i) {
     const Entry& a = big_by_x_[i];
     for (std::size_t j = i + 1; j < bigs && big_by_x_[j].box.min.x <= a.box.max.x; ++j) {
-      emit(a, big_by_x_[j]);
+      const Entry& b = big_by_x_[j];
+      if (overlap(a.box, b.box)) pairs.emplace_back(std::min(a.id, b.id), std::max(a.id, b.id));
     }
   }
 }
@@ -185,12 +250,12 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
 template <int D>
 template <class Visit>
 bool LooseGridN<D>::for_each_run(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) const {
-  if (entries_.empty()) return true;
+  if (packed_.empty()) return true;
   double cells = 1.0;
   for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
   if (cells >= static_cast<double>(starts_.size())) {
     // Wider than the grid: every small box, each once, is cheaper than walking the rows.
-    return visit(0u, static_cast<std::uint32_t>(entries_.size()));
+    return visit(0u, static_cast<std::uint32_t>(packed_.size()));
   }
   const std::uint32_t* starts = starts_.data();
   if constexpr (D == 2) {
@@ -214,12 +279,13 @@ void LooseGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
   for (const Entry& b : big_) {
     if (overlap(b.box, box) && !callback(b.id)) return;
   }
-  if (entries_.empty() || !overlap(box, grid_.bounds)) return;
+  if (packed_.empty() || !overlap(box, grid_.bounds)) return;
   // cell_of clamps to the grid, and every binned box's cell is inside it.
+  const PackedBox<D> probe = probe_of<D>(box);
   for_each_run(grid_.cell_of(box.min) - 1, grid_.cell_of(box.max),
                [&](std::uint32_t first, std::uint32_t last) {
                  for (std::uint32_t f = first; f < last; ++f) {
-                   if (overlap(entries_[f].box, box) && !callback(entries_[f].id)) return false;
+                   if (lanes_le<D>(packed_[f], probe) && !callback(ids_[f])) return false;
                  }
                  return true;
                });
@@ -239,7 +305,7 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
     const float r = callback(b.id, limit);
     if (r < limit) limit = r;
   }
-  if (limit <= 0.0f || entries_.empty()) return;
+  if (limit <= 0.0f || packed_.empty()) return;
   // A small box with min-corner cell L lies within cells [L, L + 1]. Walking cell c, the boxes
   // that may cover it are those of cells c - {0,1}^D; each is tested at the first walked cell
   // inside its [L, L + 1] (the walk never re-enters a box of cells it left).
@@ -251,10 +317,9 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
       for (int k = 0; k < D; ++k) from[k] -= (corner >> k) & 1;
       const std::uint32_t key = key_of(from);
       for (std::uint32_t f = starts_[key]; f < starts_[key + 1] && max_fraction > 0.0f; ++f) {
-        const Entry& entry = entries_[f];
         if (!first && cell_in_range<D>(previous, from, from + 1)) continue;
-        if (ray_box_fraction(ray, entry.box, max_fraction) < 0.0f) continue;
-        const float r = callback(entry.id, max_fraction);
+        if (ray_box_fraction(ray, unpack<D>(packed_[f]), max_fraction) < 0.0f) continue;
+        const float r = callback(ids_[f], max_fraction);
         if (r < max_fraction) max_fraction = r;
       }
     }
@@ -267,7 +332,7 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 template <int D>
 std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
-         entries_.capacity() * sizeof(Entry) + (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
+         packed_.capacity() * sizeof(Packed) + ids_.capacity() * sizeof(int) + (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }
 

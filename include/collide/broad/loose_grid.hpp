@@ -21,7 +21,7 @@
 /// by SortedGrid, mixed sizes by HierarchicalGrid (here the big boxes are tested per cell range
 /// against the small ones and by a sweep along x against each other).
 ///
-/// Memory per object: a (8*D + 4)-byte entry and a 4-byte key, plus at most kCellsPerBox 4-byte
+/// Memory per object: a 16- (2D) or 32-byte (3D) packed box, its 4-byte id and a 4-byte key, plus at most kCellsPerBox 4-byte
 /// cell starts; a big box adds a (8*D + 4)-byte record.
 
 #include <collide/broad/broad_phase.hpp>
@@ -43,10 +43,18 @@ class LooseGridN {
     float cell_size = 0.0f;
   };
 
-  /// A binned box: a copy of the box (the pair loop reads a cell's boxes contiguously) and its id.
+  /// A big box (kept out of the cells) and its id.
   struct Entry {
     AabbN<D> box;
     int id;
+  };
+
+  /// A binned box in the form the pair test reads: lanes (min, -max), each D wide and padded
+  /// with 0 to a multiple of 4 (two boxes overlap exactly when every lane of one is <= the
+  /// matching lane of the other's probe (max, -min), see probe_of), so one test is a few SIMD
+  /// compares. Negation is exact, so the box is recovered exactly.
+  struct alignas(16) Packed {
+    float lanes[D == 2 ? 4 : 8];
   };
 
   /// Most grid cells per box (border included) before the cells are widened.
@@ -109,7 +117,8 @@ class LooseGridN {
   int count_ = 0;
   std::vector<std::uint32_t> keys_;    // per box: its cell's key, or kBigKey
   std::vector<std::uint32_t> starts_;  // per cell: first entry; starts_[c + 1] ends cell c
-  std::vector<Entry> entries_;         // small boxes in key order, ids ascending in a cell
+  std::vector<Packed> packed_;         // small boxes in key order, ids ascending in a cell
+  std::vector<int> ids_;               // the id of each packed_ box
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
