@@ -99,6 +99,9 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
   if (!(options_.cell_size >= 0.0f) || !std::isfinite(options_.cell_size)) {
     throw InvalidInput("LooseGrid: cell_size must be finite and >= 0 (0 chooses from the data)");
   }
+  if (options_.band_bits < 0 || options_.band_bits > 31) {
+    throw InvalidInput("LooseGrid: band_bits must be in [0, 31]");
+  }
 }
 
 template <int D>
@@ -141,13 +144,11 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     total_cells *= static_cast<std::uint32_t>(padded_[k]);
   }
 
-  // Pass 1: each box's cell, and the count of boxes per cell (kept in starts_[key + 2]).
-  starts_.reserve(budget + 2);
-  starts_.assign(total_cells + 2, 0u);
+  // Each box's cell key, or kBigKey (and into big_) when it spans more than two cells.
   keys_.resize(boxes.size());
   big_.clear();
   std::uint32_t small = 0;
-  for (int i = 0; i < count_; ++i) {
+  const auto classify = [&](int i) {
     const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
     const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
     bool binned = true;
@@ -155,25 +156,68 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     if (!binned) {
       keys_[i] = kBigKey;
       big_.push_back({boxes[i], i});
-      continue;
+      return kBigKey;
     }
-    const std::uint32_t key = key_of(lo);
-    keys_[i] = key;
-    ++starts_[key + 2];
     ++small;
-  }
-  // Prefix sum: starts_[key + 1] = first slot of cell key.
-  for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts_[c] += starts_[c - 1];
-  // Pass 2: each small box to its slot, ids ascending; starts_[key + 1] moves to the cell's end,
-  // so afterwards starts_[key] is the first slot of cell key and starts_[key + 1] its end.
-  packed_.resize(small);
-  ids_.resize(small);
-  for (int i = 0; i < count_; ++i) {
-    const std::uint32_t key = keys_[i];
-    if (key == kBigKey) continue;
-    const std::uint32_t slot = starts_[key + 1]++;
-    packed_[slot] = pack<D>(boxes[i]);
-    ids_[slot] = i;
+    return keys_[i] = key_of(lo);
+  };
+  starts_.reserve(budget + 2);
+  const int band_bits = options_.band_bits;
+  const std::uint32_t bands = ((total_cells - 1) >> band_bits) + 1;
+  if (bands == 1) {
+    // Counting sort. Pass 1 counts the boxes of each cell in starts_[key + 2]; the prefix sum
+    // makes starts_[key + 1] the first slot of cell key; pass 2 puts each box at its cell's
+    // next slot (ids ascending), moving starts_[key + 1] to the cell's end, so that afterwards
+    // starts_[key] is the first slot of cell key and starts_[key + 1] its end.
+    starts_.assign(total_cells + 2, 0u);
+    std::uint32_t* starts = starts_.data();
+    for (int i = 0; i < count_; ++i) {
+      const std::uint32_t key = classify(i);
+      if (key != kBigKey) ++starts[key + 2];
+    }
+    for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts[c] += starts[c - 1];
+    packed_.resize(small);
+    ids_.resize(small);
+    Packed* packed = packed_.data();
+    int* ids = ids_.data();
+    for (int i = 0; i < count_; ++i) {
+      const std::uint32_t key = keys_[i];
+      if (key == kBigKey) continue;
+      const std::uint32_t slot = starts[key + 1]++;
+      packed[slot] = pack<D>(boxes[i]);
+      ids[slot] = i;
+    }
+  } else {
+    // The same counting sort in two steps, so that its random accesses stay in cache on large
+    // grids: the boxes are first distributed (stably) into bands of 2^band_bits consecutive
+    // cells, packed with their key and id; then the per-cell count and placement run band after
+    // band, touching one band's cell starts and slots at a time.
+    band_starts_.assign(bands + 1, 0u);
+    for (int i = 0; i < count_; ++i) {
+      const std::uint32_t key = classify(i);
+      if (key != kBigKey) ++band_starts_[(key >> band_bits) + 1];
+    }
+    for (std::uint32_t b = 1; b <= bands; ++b) band_starts_[b] += band_starts_[b - 1];
+    staged_.resize(small);
+    Staged* staged = staged_.data();
+    for (int i = 0; i < count_; ++i) {
+      const std::uint32_t key = keys_[i];
+      if (key == kBigKey) continue;
+      staged[band_starts_[key >> band_bits]++] = {pack<D>(boxes[i]), key, i};
+    }
+    starts_.assign(total_cells + 2, 0u);
+    std::uint32_t* starts = starts_.data();
+    for (std::uint32_t s = 0; s < small; ++s) ++starts[staged[s].key + 2];
+    for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts[c] += starts[c - 1];
+    packed_.resize(small);
+    ids_.resize(small);
+    Packed* packed = packed_.data();
+    int* ids = ids_.data();
+    for (std::uint32_t s = 0; s < small; ++s) {
+      const std::uint32_t slot = starts[staged[s].key + 1]++;
+      packed[slot] = staged[s].box;
+      ids[slot] = staged[s].id;
+    }
   }
   big_by_x_.assign(big_.begin(), big_.end());
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
@@ -332,7 +376,8 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 template <int D>
 std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
-         packed_.capacity() * sizeof(Packed) + ids_.capacity() * sizeof(int) + (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
+         packed_.capacity() * sizeof(Packed) + ids_.capacity() * sizeof(int) +
+         staged_.capacity() * sizeof(Staged) + band_starts_.capacity() * sizeof(std::uint32_t) + (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }
 

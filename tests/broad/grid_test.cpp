@@ -284,7 +284,38 @@ TEST(LooseGrid, MixedSizesSparseClustersAndFarWorlds) {
   }
 }
 
+// Large grids are counting-sorted band by band; small bands force that path on small worlds and
+// must give the same pairs (and order) as the one-step sort.
+TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
+  std::mt19937 rng(77);
+  const auto check = [&]<int D>(const test::Boxes<D>& boxes, const char* what) {
+    LooseGridN<D> one_step({.band_bits = 31});
+    one_step.build(boxes);
+    PairList want;
+    one_step.find_pairs(want);
+    for (const int bits : {0, 3, 6}) {
+      LooseGridN<D> banded({.band_bits = bits});
+      banded.build(boxes);
+      PairList got;
+      banded.find_pairs(got);
+      EXPECT_EQ(got, want) << what << " D=" << D << " band_bits=" << bits;
+    }
+    sort_pairs(want);
+    EXPECT_EQ(want, brute_pairs<D>(boxes)) << what << " D=" << D;
+  };
+  check(test::uniform_world<2>(rng, 800, 30.0f, 0.1f, 1.5f), "uniform");
+  check(test::uniform_world<3>(rng, 800, 12.0f, 0.1f, 1.5f), "uniform");
+  check(test::clustered_world<2>(rng, 600, 50.0f), "clustered");
+  check(test::clustered_world<3>(rng, 600, 50.0f), "clustered");
+  check(test::mixed_size_world<2>(rng, 600, 200.0f), "mixed");
+  check(test::mixed_size_world<3>(rng, 600, 80.0f), "mixed");
+  check(test::touching_world<2>(rng, 400, 12), "touching");
+  check(test::touching_world<3>(rng, 400, 6), "touching");
+}
+
 TEST(LooseGrid, RejectsBadOptions) {
+  EXPECT_THROW(LooseGrid({.band_bits = -1}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.band_bits = 32}), InvalidInput);
   EXPECT_THROW(LooseGrid({.cell_size = -1.0f}), InvalidInput);
   EXPECT_THROW(LooseGrid({.cell_size = std::nanf("")}), InvalidInput);
 }
