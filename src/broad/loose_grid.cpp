@@ -161,7 +161,11 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     ++small;
     return keys_[i] = key_of(lo);
   };
+  // Capacities for every box at once: a frame with a few more binned boxes than the last must
+  // not double a vector (no allocation in the steady state, memory per object stays flat).
   starts_.reserve(budget + 2);
+  packed_.reserve(boxes.size());
+  ids_.reserve(boxes.size());
   const int band_bits = options_.band_bits;
   const std::uint32_t bands = ((total_cells - 1) >> band_bits) + 1;
   if (bands == 1) {
@@ -198,6 +202,7 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
       if (key != kBigKey) ++band_starts_[(key >> band_bits) + 1];
     }
     for (std::uint32_t b = 1; b <= bands; ++b) band_starts_[b] += band_starts_[b - 1];
+    staged_.reserve(boxes.size());
     staged_.resize(small);
     Staged* staged = staged_.data();
     for (int i = 0; i < count_; ++i) {
