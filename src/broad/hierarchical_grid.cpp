@@ -42,10 +42,10 @@ HierarchicalGridN<D>::HierarchicalGridN(Options options) : options_(options) {
 
 template <int D>
 void HierarchicalGridN<D>::build(std::span<const AabbN<D>> boxes) {
-  validate_boxes(boxes);
+  const AabbN<D> world = checked_bounds_of(boxes);
   base_ = options_.base_cell_size > 0.0f ? options_.base_cell_size
-                                         : suggest_cell_size(boxes, scratch_);
-  update(boxes);
+                                         : suggest_cell_size(boxes, world, scratch_);
+  rebuild(boxes, world);
 }
 
 template <int D>
@@ -54,7 +54,11 @@ void HierarchicalGridN<D>::update(std::span<const AabbN<D>> boxes) {
     build(boxes);
     return;
   }
-  validate_boxes(boxes);
+  rebuild(boxes, checked_bounds_of(boxes));
+}
+
+template <int D>
+void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& world) {
   boxes_.assign(boxes.begin(), boxes.end());
   const float base = base_;
   for (Level& level : levels_) level.ids.clear();
@@ -72,7 +76,6 @@ void HierarchicalGridN<D>::update(std::span<const AabbN<D>> boxes) {
     }
     it->ids.push_back(i);
   }
-  const AabbN<D> world = bounds_of(boxes);
   for (Level& level : levels_) {
     const float cell = base * std::pow(kLevelRatio, static_cast<float>(level.exponent));
     level.grid.build_subset(boxes_, level.ids, make_grid_mapping(world, cell));

@@ -4,6 +4,7 @@
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/loose_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/broad/temporal_broad_phase.hpp>
@@ -17,10 +18,11 @@ namespace collide {
 
 namespace {
 
-constexpr std::array<BroadPhaseInfo, 7> kBroadPhases = {{
+constexpr std::array<BroadPhaseInfo, 8> kBroadPhases = {{
     {"hierarchical_grid",
      "grid levels 4x apart in cell size: any mix of object sizes (default)"},
     {"sorted_grid", "uniform grid, cell keys radix-sorted each frame: large worlds, similar sizes"},
+    {"loose_grid", "uniform grid, one entry per box, counting-sorted: fastest full rebuild"},
     {"hash_grid", "the lesson's hashed uniform grid, done right: each pair once"},
     {"dynamic_tree", "incremental AABB tree with fattened boxes (as Box2D, Bullet)"},
     {"sweep_and_prune", "boxes insertion-sorted along the axis of largest spread"},
@@ -49,6 +51,7 @@ PairList find_pairs_n(std::string_view name, std::span<const AabbN<D>> boxes) {
   if (name.empty()) name = kNames[0];
   if (name == "hierarchical_grid") return run<HierarchicalGridN<D>, D>(boxes);
   if (name == "sorted_grid") return run<SortedGridN<D>, D>(boxes);
+  if (name == "loose_grid") return run<LooseGridN<D>, D>(boxes);
   if (name == "hash_grid") return run<HashGridN<D>, D>(boxes);
   if (name == "dynamic_tree") return run<DynamicTreeN<D>, D>(boxes);
   if (name == "sweep_and_prune") return run<SweepAndPruneN<D>, D>(boxes);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <tuple>
 
 namespace collide {
 
@@ -22,24 +23,114 @@ SortedGridN<D>::SortedGridN(Options options) : options_(options) {
 }
 
 template <int D>
-template <class Emit>
-void SortedGridN<D>::emit_cells(const CellN<D>& lo, const CellN<D>& hi, Emit&& emit) const {
-  // Linear keys of the covered cells, x fastest, without re-deriving each key from scratch.
-  const auto nx = static_cast<std::uint64_t>(grid_.dims[0]);
-  if constexpr (D == 2) {
-    for (int y = lo.y; y <= hi.y; ++y) {
-      const std::uint64_t row = static_cast<std::uint64_t>(y) * nx;
-      for (int x = lo.x; x <= hi.x; ++x) emit(row + static_cast<std::uint64_t>(x));
+void SortedGridN<D>::build(std::span<const AabbN<D>> boxes) {
+  const AabbN<D> bounds = checked_bounds_of(boxes);
+  chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
+                                                : suggest_cell_size(boxes, bounds, scratch_);
+  rebuild(boxes, bounds);
+}
+
+template <int D>
+void SortedGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  if (chosen_cell_size_ == 0.0f) {
+    build(boxes);
+    return;
+  }
+  rebuild(boxes, checked_bounds_of(boxes));
+}
+
+template <int D>
+void SortedGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds) {
+  count_ = static_cast<int>(boxes.size());
+  grid_ = make_grid_mapping(bounds, chosen_cell_size_);
+  oversized_.clear();
+  is_oversized_.assign(boxes.size(), 0);
+  ranges_.resize(boxes.size());
+  entry_total_ = 0;
+  std::size_t binned = 0;
+  const double max_cells = options_.max_cells_per_box;
+  for (int i = 0; i < count_; ++i) {
+    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
+    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
+    double cells = 1.0;
+    for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
+    if (cells > max_cells) {
+      oversized_.push_back(i);
+      is_oversized_[i] = 1;
+      continue;
     }
+    ranges_[binned++] = {lo, hi, i};
+    entry_total_ += static_cast<std::size_t>(cells);
+  }
+  ranges_.resize(binned);
+  if (oversized_.empty()) {
+    boxes_.clear();
   } else {
-    const std::uint64_t ny = static_cast<std::uint64_t>(grid_.dims[1]);
-    for (int z = lo.z; z <= hi.z; ++z) {
-      for (int y = lo.y; y <= hi.y; ++y) {
-        const std::uint64_t row = (static_cast<std::uint64_t>(z) * ny + static_cast<std::uint64_t>(y)) * nx;
-        for (int x = lo.x; x <= hi.x; ++x) emit(row + static_cast<std::uint64_t>(x));
-      }
+    boxes_.assign(boxes.begin(), boxes.end());
+  }
+  fill(boxes);
+}
+
+template <int D>
+void SortedGridN<D>::build_subset(std::span<const AabbN<D>> boxes, std::span<const int> ids,
+                                  const GridMapping<D>& grid) {
+  boxes_.clear();
+  count_ = static_cast<int>(ids.size());
+  oversized_.clear();
+  is_oversized_.clear();
+  grid_ = grid;
+  ranges_.resize(ids.size());
+  entry_total_ = 0;
+  for (std::size_t r = 0; r < ids.size(); ++r) {
+    const int id = ids[r];
+    ranges_[r] = {grid_.cell_of_inside(boxes[id].min), grid_.cell_of_inside(boxes[id].max), id};
+    std::size_t cells = 1;
+    for (int k = 0; k < D; ++k) cells *= static_cast<std::size_t>(ranges_[r].hi[k] - ranges_[r].lo[k] + 1);
+    entry_total_ += cells;
+  }
+  fill(boxes);
+}
+
+template <int D>
+void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes) {
+  std::uint64_t total_cells = 1;  // below 2^62 (make_grid_mapping)
+  for (int k = 0; k < D; ++k) total_cells *= static_cast<std::uint64_t>(grid_.dims[k]);
+  if (total_cells <= kDenseCellsPerBox * (ranges_.size() + 256)) {
+    fill_counting(boxes, total_cells);
+  } else {
+    fill_radix(boxes, total_cells);
+  }
+}
+
+template <int D>
+void SortedGridN<D>::fill_counting(std::span<const AabbN<D>> boxes, std::uint64_t total_cells) {
+  // Count the entries of each cell, turn counts into first positions, then write each entry at
+  // its cell's next position: boxes in ascending id order, so ids ascend within a cell.
+  offsets_.assign(total_cells + 1, 0);
+  for (const CellRange& r : ranges_) {
+    for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t) {
+      ++offsets_[key_of(cell) + 1];
+    });
+  }
+  for (std::size_t c = 1; c <= total_cells; ++c) offsets_[c] += offsets_[c - 1];
+  entries_.resize(entry_total_);
+  for (const CellRange& r : ranges_) {
+    const AabbN<D> box = boxes[r.id];
+    for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t first_axes) {
+      entries_[offsets_[key_of(cell)]++] = {box, r.id, first_axes};
+    });
+  }
+  // offsets_[c] is now the end of cell c, the start of cell c + 1.
+  runs_.clear();
+  std::uint32_t begin = 0;
+  for (std::uint64_t c = 0; c < total_cells; ++c) {
+    const std::uint32_t end = offsets_[c];
+    if (end != begin) {
+      runs_.push_back({c, static_cast<int>(begin)});
+      begin = end;
     }
   }
+  runs_.push_back({~std::uint64_t{0}, static_cast<int>(entry_total_)});
 }
 
 template <int D>
@@ -53,8 +144,8 @@ void SortedGridN<D>::sort_and_gather(std::vector<Record>& keys, std::vector<Reco
   std::uint64_t previous = ~std::uint64_t{0};
   const std::size_t count = keys.size();
   for (std::size_t e = 0; e < count; ++e) {
-    const auto [cell_key, id] = split(keys[e]);
-    entries_[e] = {boxes[id], id};
+    const auto [cell_key, id, first_axes] = split(keys[e]);
+    entries_[e] = {boxes[id], id, first_axes};
     if (cell_key != previous) {
       runs_.push_back({cell_key, static_cast<int>(e)});
       previous = cell_key;
@@ -64,85 +155,38 @@ void SortedGridN<D>::sort_and_gather(std::vector<Record>& keys, std::vector<Reco
 }
 
 template <int D>
-template <class ForEachId>
-void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_id) {
-  std::uint64_t total_cells = 1;  // below 2^62 (make_grid_mapping)
-  for (int k = 0; k < D; ++k) total_cells *= static_cast<std::uint64_t>(grid_.dims[k]);
+void SortedGridN<D>::fill_radix(std::span<const AabbN<D>> boxes, std::uint64_t total_cells) {
   const int key_bits = static_cast<int>(std::bit_width(total_cells - 1));
   const int id_bits = std::max(
       1, static_cast<int>(std::bit_width(static_cast<std::uint32_t>(boxes.size()))));
-  if (key_bits + id_bits <= 64) {
-    packed_.clear();
-    for_each_id([&](int id, const CellN<D>& lo, const CellN<D>& hi) {
-      emit_cells(lo, hi, [&](std::uint64_t key) {
-        packed_.push_back({key << id_bits | static_cast<std::uint64_t>(id)});
+  const int low_bits = D + id_bits;  // first-cell bits and id below the key
+  if (key_bits + low_bits <= 64) {
+    packed_.resize(entry_total_);
+    std::size_t e = 0;
+    for (const CellRange& r : ranges_) {
+      const auto id = static_cast<std::uint64_t>(r.id);
+      for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t first_axes) {
+        packed_[e++] = {key_of(cell) << low_bits | std::uint64_t{first_axes} << id_bits | id};
       });
-    });
+    }
     const std::uint64_t id_mask = (std::uint64_t{1} << id_bits) - 1;
-    sort_and_gather(packed_, packed_scratch_, id_bits, key_bits, boxes, [&](const PackedKey& k) {
-      return std::pair{k.key >> id_bits, static_cast<int>(k.key & id_mask)};
+    sort_and_gather(packed_, packed_scratch_, low_bits, key_bits, boxes, [&](const PackedKey& k) {
+      return std::tuple{k.key >> low_bits, static_cast<int>(k.key & id_mask),
+                        static_cast<std::uint32_t>(k.key >> id_bits) & kAllAxes<D>};
     });
   } else {
-    wide_.clear();
-    for_each_id([&](int id, const CellN<D>& lo, const CellN<D>& hi) {
-      emit_cells(lo, hi, [&](std::uint64_t key) {
-        wide_.push_back({key, static_cast<std::uint32_t>(id), 0u});
+    wide_.resize(entry_total_);
+    std::size_t e = 0;
+    for (const CellRange& r : ranges_) {
+      const auto id = static_cast<std::uint32_t>(r.id);
+      for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t first_axes) {
+        wide_[e++] = {key_of(cell), id, first_axes};
       });
-    });
-    sort_and_gather(wide_, wide_scratch_, 0, key_bits, boxes, [](const WideKey& k) {
-      return std::pair{k.key, static_cast<int>(k.id)};
-    });
-  }
-}
-
-template <int D>
-void SortedGridN<D>::build(std::span<const AabbN<D>> boxes) {
-  validate_boxes(boxes);
-  chosen_cell_size_ =
-      options_.cell_size > 0.0f ? options_.cell_size : suggest_cell_size(boxes, scratch_);
-  update(boxes);
-}
-
-template <int D>
-void SortedGridN<D>::update(std::span<const AabbN<D>> boxes) {
-  if (chosen_cell_size_ == 0.0f) {
-    build(boxes);
-    return;
-  }
-  validate_boxes(boxes);
-  boxes_.assign(boxes.begin(), boxes.end());
-  count_ = static_cast<int>(boxes.size());
-  grid_ = make_grid_mapping(bounds_of(boxes), chosen_cell_size_);
-  oversized_.clear();
-  is_oversized_.assign(boxes.size(), 0);
-  const double max_cells = options_.max_cells_per_box;
-  fill(boxes, [&](auto&& add) {
-    for (int i = 0; i < count_; ++i) {
-      const CellN<D> lo = grid_.cell_of(boxes[i].min);
-      const CellN<D> hi = grid_.cell_of(boxes[i].max);
-      double cells = 1.0;
-      for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
-      if (cells > max_cells) {
-        oversized_.push_back(i);
-        is_oversized_[i] = 1;
-        continue;
-      }
-      add(i, lo, hi);
     }
-  });
-}
-
-template <int D>
-void SortedGridN<D>::build_subset(std::span<const AabbN<D>> boxes, std::span<const int> ids,
-                                  const GridMapping<D>& grid) {
-  boxes_.clear();
-  count_ = static_cast<int>(ids.size());
-  oversized_.clear();
-  is_oversized_.clear();
-  grid_ = grid;
-  fill(boxes, [&](auto&& add) {
-    for (const int id : ids) add(id, grid_.cell_of(boxes[id].min), grid_.cell_of(boxes[id].max));
-  });
+    sort_and_gather(wide_, wide_scratch_, 0, key_bits, boxes, [](const WideKey& k) {
+      return std::tuple{k.key, static_cast<int>(k.id), k.first_axes};
+    });
+  }
 }
 
 template <int D>
@@ -173,17 +217,9 @@ template <int D>
 void SortedGridN<D>::append_pairs(PairList& pairs) const {
   const int cells = cell_count();
   for (int r = 0; r < cells; ++r) {
-    const std::uint64_t key = runs_[r].key;
-    const int end = runs_[r + 1].begin;
-    for (int e = runs_[r].begin; e < end; ++e) {
-      const CellEntry a = entries_[e];
-      for (int f = e + 1; f < end; ++f) {
-        const CellEntry& b = entries_[f];
-        if (overlap(a.box, b.box) && grid_.linear_index(grid_.owner_cell(a.box, b.box)) == key) {
-          pairs.emplace_back(a.id, b.id);
-        }
-      }
-    }
+    const int begin = runs_[r].begin;
+    append_cell_pairs<D>({entries_.data() + begin, static_cast<std::size_t>(runs_[r + 1].begin - begin)},
+                         pairs);
   }
   detail::oversized_pairs<D>(oversized_, is_oversized_, boxes_, pairs);
 }
@@ -259,7 +295,8 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 
 template <int D>
 std::size_t SortedGridN<D>::memory_bytes() const noexcept {
-  return boxes_.capacity() * sizeof(AabbN<D>) +
+  return boxes_.capacity() * sizeof(AabbN<D>) + ranges_.capacity() * sizeof(CellRange) +
+         offsets_.capacity() * sizeof(std::uint32_t) +
          (packed_.capacity() + packed_scratch_.capacity()) * sizeof(PackedKey) +
          (wide_.capacity() + wide_scratch_.capacity()) * sizeof(WideKey) +
          entries_.capacity() * sizeof(CellEntry) + runs_.capacity() * sizeof(Run) +

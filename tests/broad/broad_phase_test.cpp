@@ -5,6 +5,7 @@
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/loose_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/core/error.hpp>
@@ -94,7 +95,7 @@ class BroadPhaseTest : public ::testing::Test {};
 
 using Cases = ::testing::Types<
     Case<BruteForceN<2>, 2>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
-    Case<SortedGridN<2>, 2>, Case<SortedGridN<3>, 3>, Case<HierarchicalGridN<2>, 2>,
+    Case<SortedGridN<2>, 2>, Case<SortedGridN<3>, 3>, Case<LooseGridN<2>, 2>, Case<LooseGridN<3>, 3>, Case<HierarchicalGridN<2>, 2>,
     Case<HierarchicalGridN<3>, 3>, Case<DynamicTreeN<2>, 2>, Case<DynamicTreeN<3>, 3>,
     Case<SweepAndPruneN<2>, 2>, Case<SweepAndPruneN<3>, 3>>;
 TYPED_TEST_SUITE(BroadPhaseTest, Cases);

@@ -7,6 +7,7 @@
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/loose_grid.hpp>
 #include <collide/broad/registry.hpp>
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/core/error.hpp>
@@ -232,6 +233,91 @@ TEST(BroadPhases, PairsInvariantUnderRigidMotionsOfTheLattice) {
       EXPECT_EQ(find_pairs(name, std::span<const Aabb3>(moved)), want) << name << " " << trial;
     }
   }
+}
+
+// LooseGrid: boxes exactly one cell wide sit on cell boundaries, span two cells and pair with
+// neighbours through the half-neighbourhood scan only; wider boxes become big.
+TEST(LooseGrid, TouchingOnCellBoundariesAndBigBoxes) {
+  std::mt19937 rng(8);
+  const auto boxes2 = test::touching_world<2>(rng, 400, 12);
+  const auto boxes3 = test::touching_world<3>(rng, 400, 6);
+  const PairList want2 = brute_pairs<2>(boxes2), want3 = brute_pairs<3>(boxes3);
+  ASSERT_GT(want2.size(), 200u);
+  ASSERT_GT(want3.size(), 100u);
+  int big = 0;
+  for (const float cell : {0.25f, 0.5f, 1.0f, 2.0f, 3.0f}) {
+    LooseGrid g2({.cell_size = cell});
+    LooseGrid3 g3({.cell_size = cell});
+    EXPECT_EQ((pairs_of<LooseGrid, 2>(g2, boxes2)), want2) << cell;
+    EXPECT_EQ((pairs_of<LooseGrid3, 3>(g3, boxes3)), want3) << cell;
+    big += g2.big_count() + g3.big_count();
+  }
+  EXPECT_GT(big, 100);  // the small cells really made big boxes
+}
+
+// Mixed sizes give big boxes (against small ones by cell range, against each other by a sweep);
+// clusters far apart make a sparse grid whose cells are widened to the budget.
+TEST(LooseGrid, MixedSizesSparseClustersAndFarWorlds) {
+  std::mt19937 rng(31);
+  const auto check = [&]<int D>(const test::Boxes<D>& boxes, const char* what) {
+    LooseGridN<D> grid;
+    EXPECT_EQ((pairs_of<LooseGridN<D>, D>(grid, boxes)), brute_pairs<D>(boxes)) << what << D;
+    std::uint64_t cells = 1;
+    for (int k = 0; k < D; ++k) cells *= static_cast<std::uint64_t>(grid.grid().dims[k] + 2);
+    EXPECT_LE(cells, LooseGridN<D>::kCellsPerBox * boxes.size() + LooseGridN<D>::kMinCells) << what;
+    return grid.big_count();
+  };
+  EXPECT_GT(check(test::mixed_size_world<2>(rng, 800, 200.0f), "mixed"), 20);
+  EXPECT_GT(check(test::mixed_size_world<3>(rng, 800, 80.0f), "mixed"), 20);
+  EXPECT_GE(check(test::huge_object_world<2>(rng, 500, 40.0f), "huge"), 4);
+  EXPECT_GE(check(test::huge_object_world<3>(rng, 500, 16.0f), "huge"), 4);
+  for (const float offset : {0.0f, -5.0e5f, 1.0e6f}) {
+    // Two dense clusters 1e5 apart (cells widened) near `offset`.
+    test::Boxes<2> two2 = test::uniform_world<2>(rng, 300, 10.0f, 0.2f, 1.0f, offset);
+    test::Boxes<3> two3 = test::uniform_world<3>(rng, 300, 4.0f, 0.2f, 1.0f, offset);
+    for (const auto& b : test::uniform_world<2>(rng, 300, 10.0f, 0.2f, 1.0f, offset + 1.0e5f)) two2.push_back(b);
+    for (const auto& b : test::uniform_world<3>(rng, 300, 4.0f, 0.2f, 1.0f, offset + 1.0e5f)) two3.push_back(b);
+    check(two2, "clusters");
+    check(two3, "clusters");
+    check(test::uniform_world<2>(rng, 600, 30.0f, 0.1f, 1.5f, offset), "uniform");
+    check(test::uniform_world<3>(rng, 600, 12.0f, 0.1f, 1.5f, offset), "uniform");
+  }
+}
+
+// Large grids are counting-sorted band by band; small bands force that path on small worlds and
+// must give the same pairs (and order) as the one-step sort.
+TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
+  std::mt19937 rng(77);
+  const auto check = [&]<int D>(const test::Boxes<D>& boxes, const char* what) {
+    LooseGridN<D> one_step({.band_bits = 31});
+    one_step.build(boxes);
+    PairList want;
+    one_step.find_pairs(want);
+    for (const int bits : {0, 3, 6}) {
+      LooseGridN<D> banded({.band_bits = bits});
+      banded.build(boxes);
+      PairList got;
+      banded.find_pairs(got);
+      EXPECT_EQ(got, want) << what << " D=" << D << " band_bits=" << bits;
+    }
+    sort_pairs(want);
+    EXPECT_EQ(want, brute_pairs<D>(boxes)) << what << " D=" << D;
+  };
+  check(test::uniform_world<2>(rng, 800, 30.0f, 0.1f, 1.5f), "uniform");
+  check(test::uniform_world<3>(rng, 800, 12.0f, 0.1f, 1.5f), "uniform");
+  check(test::clustered_world<2>(rng, 600, 50.0f), "clustered");
+  check(test::clustered_world<3>(rng, 600, 50.0f), "clustered");
+  check(test::mixed_size_world<2>(rng, 600, 200.0f), "mixed");
+  check(test::mixed_size_world<3>(rng, 600, 80.0f), "mixed");
+  check(test::touching_world<2>(rng, 400, 12), "touching");
+  check(test::touching_world<3>(rng, 400, 6), "touching");
+}
+
+TEST(LooseGrid, RejectsBadOptions) {
+  EXPECT_THROW(LooseGrid({.band_bits = -1}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.band_bits = 32}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.cell_size = -1.0f}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.cell_size = std::nanf("")}), InvalidInput);
 }
 
 TEST(DynamicTree, SmallMotionsReinsertFewLeavesAndTheTreeStaysShallow) {

@@ -55,6 +55,15 @@ struct GridMapping {
     return c;
   }
 
+  /// cell_of for a point inside `bounds` (every corner of the boxes the grid was built from):
+  /// the same float arithmetic, so the same cell, without the clamps. Inside the bounds
+  /// (p - origin) * inv_cell_size is >= 0 and at most the top cell, so truncation is floor.
+  [[nodiscard]] CellN<D> cell_of_inside(const VecN<D>& p) const noexcept {
+    CellN<D> c;
+    for (int k = 0; k < D; ++k) c[k] = static_cast<int>((p[k] - origin[k]) * inv_cell_size);
+    return c;
+  }
+
   /// The single cell that reports the pair (a, b) of overlapping boxes: the one holding the
   /// min corner of their intersection. Both boxes cover it, so each pair is found in exactly
   /// one cell without any set of already-reported pairs.
@@ -109,6 +118,61 @@ bool for_each_cell(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) {
   }
 }
 
+/// Calls `visit(cell, first_axes)` for every cell in [lo, hi], x fastest, where bit k of
+/// `first_axes` is set when cell[k] == lo[k]: whether the cell is the box's first along axis k.
+template <int D, class Visit>
+void for_each_cell_of_range(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) {
+  if constexpr (D == 2) {
+    for (int y = lo.y; y <= hi.y; ++y) {
+      const std::uint32_t fy = y == lo.y ? 2u : 0u;
+      for (int x = lo.x; x <= hi.x; ++x) visit(CellN<2>{x, y}, fy | (x == lo.x ? 1u : 0u));
+    }
+  } else {
+    for (int z = lo.z; z <= hi.z; ++z) {
+      const std::uint32_t fz = z == lo.z ? 4u : 0u;
+      for (int y = lo.y; y <= hi.y; ++y) {
+        const std::uint32_t fyz = fz | (y == lo.y ? 2u : 0u);
+        for (int x = lo.x; x <= hi.x; ++x) visit(CellN<3>{x, y, z}, fyz | (x == lo.x ? 1u : 0u));
+      }
+    }
+  }
+}
+
+/// `first_axes` with every axis set: the cell is the box's min-corner cell.
+template <int D>
+inline constexpr std::uint32_t kAllAxes = (1u << D) - 1u;
+
+/// A box stored in a cell, grids keeping their boxes in cell order: a copy of the box (so the
+/// pair loop reads one cell's boxes contiguously), its id, and on which axes this cell is the
+/// box's first (bit k set when the cell's coordinate k is that of the box's min corner).
+///
+/// The owner rule in two ORs: two boxes covering cell c both have min-corner cells <= c, so
+/// the cell of the min corner of their intersection, max(lo_a, lo_b), equals c on axis k exactly
+/// when lo_a[k] == c[k] or lo_b[k] == c[k]. Hence c owns the pair exactly when
+/// (a.first_axes | b.first_axes) == kAllAxes<D> (GridMapping::owner_cell, without arithmetic).
+template <int D>
+struct GridEntry {
+  AabbN<D> box;
+  int id;
+  std::uint32_t first_axes;
+};
+
+/// Appends the pairs that one cell owns, given the cell's entries with ids ascending: every
+/// overlapping pair (a.id, b.id) whose intersection has its min corner in this cell.
+template <int D>
+void append_cell_pairs(std::span<const GridEntry<D>> cell, PairList& pairs) {
+  const std::size_t count = cell.size();
+  for (std::size_t e = 0; e + 1 < count; ++e) {
+    const GridEntry<D> a = cell[e];
+    for (std::size_t f = e + 1; f < count; ++f) {
+      const GridEntry<D>& b = cell[f];
+      if ((a.first_axes | b.first_axes) == kAllAxes<D> && overlap(a.box, b.box)) {
+        pairs.emplace_back(a.id, b.id);
+      }
+    }
+  }
+}
+
 /// Bounds of all boxes; an empty span gives the zero box.
 template <int D>
 [[nodiscard]] AabbN<D> bounds_of(std::span<const AabbN<D>> boxes) noexcept {
@@ -117,6 +181,11 @@ template <int D>
   for (const AabbN<D>& box : boxes) b = merge(b, box);
   return b;
 }
+
+/// validate_boxes and bounds_of in one pass over the boxes: the bounds of valid boxes, or
+/// InvalidInput naming the first bad box (as validate_boxes).
+template <int D>
+[[nodiscard]] AabbN<D> checked_bounds_of(std::span<const AabbN<D>> boxes);
 
 /// A grid over `bounds` with cells of `cell_size` (> 0), enlarged when needed so that no axis
 /// has more than kMaxGridCellsPerAxis cells and the grid no more than kMaxGridCells: results stay
@@ -149,12 +218,25 @@ template <int D>
   return g;
 }
 
-/// A cell size for boxes of these sizes: twice the median of their largest sides, so a typical
-/// box covers 1 to 2 cells per axis. Points-only input falls back to the spacing of n points
-/// spread over the bounds. Never below the float resolution of the world bounds. `scratch` is
-/// reused to avoid allocation.
+/// Smallest cell size as a fraction of the largest coordinate magnitude of the world: a cell
+/// must stay well above the float spacing of the coordinates it divides (2^-23 relative).
+inline constexpr float kCellSizeResolution = 1e-5f;
+
+/// Boxes whose sizes suggest_cell_size looks at, at most: all of them up to this count, else
+/// this many spread evenly through the span (the median of a sample that size is within a few
+/// percent of the true one, and the cell size is a heuristic: results stay exact).
+inline constexpr int kCellSizeSamples = 4096;
+
+/// A cell size for boxes of these sizes: twice the median of their largest sides (over at most
+/// kCellSizeSamples of them), so a typical box covers 1 to 2 cells per axis. Points-only input
+/// falls back to the spacing of n points spread over the bounds. Never below the float
+/// resolution of the world bounds. `scratch` is reused to avoid allocation.
 template <int D>
 [[nodiscard]] float suggest_cell_size(std::span<const AabbN<D>> boxes, std::vector<float>& scratch);
+/// suggest_cell_size when the bounds of the boxes are known already.
+template <int D>
+[[nodiscard]] float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
+                                      std::vector<float>& scratch);
 
 /// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
 /// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,

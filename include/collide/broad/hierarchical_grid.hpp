@@ -70,6 +70,8 @@ class HierarchicalGridN {
     SortedGridN<D> grid;
   };
 
+  void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& world);
+
   Options options_{};
   float base_ = 0.0f;          // level 0 cell size chosen at build
   std::vector<AabbN<D>> boxes_;

@@ -1,20 +1,24 @@
 #pragma once
 /// @file
 /// A uniform grid for large worlds: no hash table and no per-cell allocation, only arrays
-/// sorted each frame.
+/// rebuilt each frame.
 ///
-/// Every (cell, box) entry gets the cell's linear index as a key; one LSD radix sort over the
-/// key bits actually in use (11 bits per pass) puts the boxes of each cell next to each other,
-/// ids ascending. The boxes are copied into that order, so finding pairs reads memory
-/// sequentially; a cell is found by binary search over the runs of equal keys. Cells are
-/// counted from the world's min corner, and make_grid_mapping widens the cells when the world
-/// would need more than 2^62 of them, so positions 1e6 from the origin (and much further) work.
-/// Pairs are reported by the one cell holding the min corner of their intersection, as in
-/// HashGrid. (Sorting cell keys each frame: Le Grand, "Broad-Phase Collision Detection with
-/// CUDA", GPU Gems 3, 32, 2007.)
+/// Every (cell, box) entry gets the cell's linear index as a key, counted from the world's min
+/// corner over the cells the boxes actually span. The entries are put in key order (ids
+/// ascending within a cell) by a counting sort over all cells when the grid has at most
+/// kDenseCellsPerBox cells per box, else by an LSD radix sort over the key bits in use (11 bits
+/// per pass); either way each entry is written straight to its place with a copy of its box,
+/// so finding pairs reads memory sequentially, and a cell is found by binary search over the
+/// runs of equal keys. make_grid_mapping widens the cells when the world would need more than
+/// 2^62 of them, so positions 1e6 from the origin (and much further) work. Pairs are reported
+/// by the one cell holding the min corner of their intersection, as in HashGrid, read from the
+/// entries' first-cell bits (GridEntry). (Sorting cell keys each frame: Le Grand, "Broad-Phase
+/// Collision Detection with CUDA", GPU Gems 3, 32, 2007.)
 ///
-/// Memory per object: its box (8*D bytes) plus, per covered cell, a 16-byte sort entry, its
-/// scratch copy and an (8*D + 4)-byte sorted box; plus 16 bytes per occupied cell.
+/// Memory per object: per covered cell a (8*D + 8)-byte entry, plus a (8*D + 4)-byte cell range
+/// per box, plus either 4 bytes per grid cell (counting sort) or two 8-byte sort records per
+/// entry (radix sort); plus 16 bytes per occupied cell. The boxes are copied only when some are
+/// oversized.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
@@ -36,11 +40,12 @@ class SortedGridN {
     int max_cells_per_box = 256;
   };
 
-  /// A box in the grid, in cell order.
-  struct CellEntry {
-    AabbN<D> box;
-    int id;
-  };
+  /// A box in the grid, in cell order (see GridEntry).
+  using CellEntry = GridEntry<D>;
+
+  /// Most grid cells per binned box for which the entries are put in order by a counting sort
+  /// over every cell (one pass, an array of 4 bytes per cell); sparser grids use a radix sort.
+  static constexpr std::uint64_t kDenseCellsPerBox = 4;
 
   SortedGridN() = default;
   /// Throws InvalidInput for a negative or non-finite cell size or max_cells_per_box < 1.
@@ -51,8 +56,9 @@ class SortedGridN {
   /// Rebuilds from the moved boxes, keeping the cell size chosen at build. Throws as build.
   void update(std::span<const AabbN<D>> boxes);
 
-  /// Builds over only the boxes listed in `ids` (validated by the caller) on a given grid, with
-  /// no oversized list: a level of HierarchicalGrid. Pairs and queries then cover those ids.
+  /// Builds over only the boxes listed in `ids` (ascending, validated by the caller, inside
+  /// grid.bounds) on a given grid, with no oversized list: a level of HierarchicalGrid. Pairs
+  /// and queries then cover those ids.
   void build_subset(std::span<const AabbN<D>> boxes, std::span<const int> ids,
                     const GridMapping<D>& grid);
 
@@ -81,36 +87,48 @@ class SortedGridN {
   [[nodiscard]] std::span<const CellEntry> cell_entries(const CellN<D>& cell) const noexcept;
 
  private:
-  // Sort records: the cell key and the id packed in one word when they fit in 64 bits (half
-  // the memory traffic of the wide record), else side by side.
+  // Sort records: the cell key, the first-cell bits and the id packed in one word when they fit
+  // in 64 bits (half the memory traffic of the wide record), else side by side.
   struct PackedKey {
-    std::uint64_t key;  // cell key << id_bits_ | id
+    std::uint64_t key;  // cell key << (D + id_bits) | first_axes << id_bits | id
   };
   struct WideKey {
     std::uint64_t key;
     std::uint32_t id;
-    std::uint32_t unused;
+    std::uint32_t first_axes;
   };
   struct Run {
     std::uint64_t key;
     int begin;
   };
+  // The cells a binned box covers.
+  struct CellRange {
+    CellN<D> lo;
+    CellN<D> hi;
+    int id;
+  };
 
-  template <class ForEachId>
-  void fill(std::span<const AabbN<D>> boxes, ForEachId&& for_each_id);
-  template <class Emit>
-  void emit_cells(const CellN<D>& lo, const CellN<D>& hi, Emit&& emit) const;
+  void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds);
+  void fill(std::span<const AabbN<D>> boxes);
+  void fill_counting(std::span<const AabbN<D>> boxes, std::uint64_t total_cells);
+  void fill_radix(std::span<const AabbN<D>> boxes, std::uint64_t total_cells);
   template <class Record, class Split>
   void sort_and_gather(std::vector<Record>& keys, std::vector<Record>& scratch, int first_bit,
                        int key_bits, std::span<const AabbN<D>> boxes, Split&& split);
+  [[nodiscard]] std::uint64_t key_of(const CellN<D>& cell) const noexcept {
+    return grid_.linear_index(cell);
+  }
   [[nodiscard]] int find_run(std::uint64_t key) const noexcept;
 
   Options options_{};
   GridMapping<D> grid_{};
   int count_ = 0;                     // objects in the grid
-  std::vector<AabbN<D>> boxes_;       // copy of the input (oversized tests and ray casts)
+  std::vector<AabbN<D>> boxes_;       // copy of the input when some are oversized, else empty
   float chosen_cell_size_ = 0.0f;     // from the data at build; kept by update
-  std::vector<PackedKey> packed_;     // (cell key, id) entries, radix-sorted
+  std::vector<CellRange> ranges_;     // cells of each binned box, ids ascending
+  std::size_t entry_total_ = 0;       // sum of the cells of the binned boxes
+  std::vector<std::uint32_t> offsets_;  // counting sort: first entry of each grid cell
+  std::vector<PackedKey> packed_;     // radix sort: (cell key, id) entries
   std::vector<PackedKey> packed_scratch_;
   std::vector<WideKey> wide_;
   std::vector<WideKey> wide_scratch_;

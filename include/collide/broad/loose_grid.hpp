@@ -1,0 +1,148 @@
+#pragma once
+/// @file
+/// A uniform grid built for full rebuilds every frame: one entry per box, no hashing, no sort.
+///
+/// Each box is stored once, in the cell of its min corner ("loose" cells: a box may stick out of
+/// its cell by up to one cell on every axis). Cells are at least as large as most boxes, so a
+/// box whose cell range spans at most two cells per axis ("small") is binned; the rest ("big")
+/// are kept in a side list. Two small boxes can overlap only when their min-corner cells are
+/// neighbours (differ by at most one on every axis), so find_pairs tests each cell against
+/// itself and its forward half of the 3^D - 1 neighbours: every candidate pair once, no owner
+/// rule and no set of reported pairs. (Binning by one reference point with a half-neighbourhood
+/// scan: Ericson, "Real-Time Collision Detection", 7.1.6 and 7.1.7; the linked-cell method of
+/// molecular dynamics.)
+///
+/// The rebuild is a counting sort: one pass computes each box's cell and counts boxes per cell,
+/// a prefix sum gives each cell its first slot, a second pass copies each box (and its id) to
+/// its slot, ids ascending in a cell. The grid is dense over the occupied bounds, with a border
+/// of empty cells so that every neighbour of an occupied cell exists; when the cells from the
+/// requested size would exceed kCellsPerBox per box, the cells are widened (results stay exact,
+/// only the neighbour scans grow). Keys are 32-bit. Clustered, sparse worlds are better served
+/// by SortedGrid, mixed sizes by HierarchicalGrid (here the big boxes are tested per cell range
+/// against the small ones and by a sweep along x against each other).
+///
+/// Memory per object: a 16- (2D) or 32-byte (3D) packed box, its 4-byte id and a 4-byte key,
+/// plus at most kCellsPerBox 4-byte cell starts; on grids sorted band by band, a 32- (2D) or
+/// 48-byte (3D) staging record; a big box adds two (8*D + 4)-byte records.
+
+#include <collide/broad/broad_phase.hpp>
+#include <collide/broad/grid_mapping.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace collide {
+
+/// Loose uniform grid over boxes in D dimensions, rebuilt from scratch by a counting sort.
+template <int D>
+class LooseGridN {
+ public:
+  struct Options {
+    /// Side of a cell in world units; 0 (the default) chooses one from the data at build: the
+    /// kLooseCellQuantile quantile of the boxes' largest sides.
+    float cell_size = 0.0f;
+    /// Grids of more than 2^band_bits cells (with the border) are sorted band by band, bands of
+    /// 2^band_bits consecutive cells, so the counting sort's random accesses stay in cache
+    /// (the default, 64 Ki cells, is 256 KiB of cell starts). Must be in [0, 31].
+    int band_bits = 16;
+  };
+
+  /// A big box (kept out of the cells) and its id.
+  struct Entry {
+    AabbN<D> box;
+    int id;
+  };
+
+  /// A binned box in the form the pair test reads: lanes (min, -max), each D wide and padded
+  /// with 0 to a multiple of 4 (two boxes overlap exactly when every lane of one is <= the
+  /// matching lane of the other's probe (max, -min), see probe_of), so one test is a few SIMD
+  /// compares. Negation is exact, so the box is recovered exactly.
+  struct alignas(16) Packed {
+    float lanes[D == 2 ? 4 : 8];
+  };
+
+  /// Most grid cells per box (border included) before the cells are widened.
+  static constexpr std::uint64_t kCellsPerBox = 4;
+  /// Cells every grid may use regardless of the number of boxes (small worlds).
+  static constexpr std::uint64_t kMinCells = 4096;
+
+  LooseGridN() = default;
+  /// Throws InvalidInput for a negative or non-finite cell size or band_bits outside [0, 31].
+  explicit LooseGridN(Options options);
+
+  /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
+  void build(std::span<const AabbN<D>> boxes);
+  /// Rebuilds from the moved boxes, keeping the cell size chosen at build. Throws as build.
+  void update(std::span<const AabbN<D>> boxes);
+
+  /// Every overlapping pair once, i < j. Order: small pairs by the min-corner cell of the
+  /// first box (linear index, x fastest), then big boxes against small ones by big id, then big
+  /// against big.
+  void find_pairs(PairList& pairs) const;
+  /// find_pairs without clearing `pairs` first: appends.
+  void append_pairs(PairList& pairs) const;
+  /// Each id whose box overlaps `box` once: big boxes first, then by cell.
+  void query(const AabbN<D>& box, QueryCallback callback) const;
+  /// Each id whose box contains `point` once.
+  void query_point(const VecN<D>& point, QueryCallback callback) const;
+  /// Each id whose box the ray meets once: big boxes first, then along the ray (3D-DDA).
+  void ray_cast(const RayN<D>& ray, RayCallback callback) const;
+
+  /// Number of objects given to the last build or update.
+  [[nodiscard]] int size() const noexcept { return count_; }
+  /// Heap bytes held (vector capacities), for the memory-per-object figures.
+  [[nodiscard]] std::size_t memory_bytes() const noexcept;
+  /// The grid of the last build: cells (without the border) over the boxes' bounds.
+  [[nodiscard]] const GridMapping<D>& grid() const noexcept { return grid_; }
+  /// Boxes spanning more than two cells on some axis, kept out of the grid.
+  [[nodiscard]] int big_count() const noexcept { return static_cast<int>(big_.size()); }
+
+ private:
+  static constexpr std::uint32_t kBigKey = 0xFFFFFFFFu;
+
+  void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds);
+  // Linear index of a cell with the border: cell + 1 on every axis, x fastest.
+  [[nodiscard]] std::uint32_t key_of(const CellN<D>& cell) const noexcept {
+    std::uint32_t key = 0;
+    for (int k = D - 1; k >= 0; --k) {
+      key = key * static_cast<std::uint32_t>(padded_[k]) + static_cast<std::uint32_t>(cell[k] + 1);
+    }
+    return key;
+  }
+  // Calls visit(first, last) for the entries of the small boxes whose min-corner cell lies in
+  // [lo, hi] (cells without the border, each from -1 to dims): one contiguous run per row.
+  template <class Visit>
+  bool for_each_run(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) const;
+
+  Options options_{};
+  GridMapping<D> grid_{};
+  CellN<D> padded_{1};              // cells per axis with the border: grid_.dims + 2
+  float chosen_cell_size_ = 0.0f;   // from the data at build; kept by update
+  int count_ = 0;
+  std::vector<std::uint32_t> keys_;    // per box: its cell's key, or kBigKey
+  std::vector<std::uint32_t> starts_;  // per cell: first entry; starts_[c + 1] ends cell c
+  std::vector<Packed> packed_;         // small boxes in key order, ids ascending in a cell
+  std::vector<int> ids_;               // the id of each packed_ box
+  // A binned box on its way to its slot when the grid is sorted band by band.
+  struct Staged {
+    Packed box;
+    std::uint32_t key;
+    int id;
+  };
+  std::vector<Staged> staged_;            // binned boxes, band by band, ids ascending in a band
+  std::vector<std::uint32_t> band_starts_;
+  std::vector<Entry> big_;             // big boxes, ids ascending
+  std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
+  std::vector<float> scratch_;
+};
+
+/// Fraction of the boxes (by largest side) that the default LooseGrid cell is at least as large
+/// as: those span at most two cells per axis and are binned; a larger cell would put more
+/// boxes in every neighbour scan.
+inline constexpr float kLooseCellQuantile = 0.9f;
+
+using LooseGrid = LooseGridN<2>;
+using LooseGrid3 = LooseGridN<3>;
+
+}  // namespace collide
