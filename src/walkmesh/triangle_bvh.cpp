@@ -1,46 +1,47 @@
 #include <collide/walkmesh/triangle_bvh.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <numeric>
 
 namespace collide {
 namespace {
 
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
 Aabb3 triangle_box(const std::array<Vec3, 3>& t) noexcept {
   return {glm::min(glm::min(t[0], t[1]), t[2]), glm::max(glm::max(t[0], t[1]), t[2])};
 }
 
-/// Squared distance from `p` to the closed box (0 inside). Ericson 5.1.3.1. Written out per axis:
-/// it runs for every node a query visits.
-inline float distance_squared(const Aabb3& box, Vec3 p) noexcept {
-  const float dx = std::max(std::max(box.min.x - p.x, p.x - box.max.x), 0.0f);
-  const float dy = std::max(std::max(box.min.y - p.y, p.y - box.max.y), 0.0f);
-  const float dz = std::max(std::max(box.min.z - p.z, p.z - box.max.z), 0.0f);
-  return dx * dx + dy * dy + dz * dz;
-}
+/// A node of the binary tree the build makes first.
+struct BinaryNode {
+  Aabb3 bounds;
+  std::uint32_t first = 0;  ///< leaf: first slot of `order`; inner: index of the left child (right is next)
+  std::uint32_t count = 0;  ///< leaf: number of triangles (1..kBvhLeafTriangles); inner: 0
+};
 
-}  // namespace
-
-TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
-  const std::size_t n = triangles.size();
-  if (n == 0) return;
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::array<Vec3, 3>> corners(n);
+/// Top-down binary build. Every node of more than kBvhLeafTriangles triangles is split: at the
+/// best of kBvhBins - 1 planes per axis by the binned surface area heuristic (Wald 2007), cost
+///   area(left) * count(left) + area(right) * count(right),
+/// or at the median of the longest centroid axis when SAH has no valid plane (all centroids in
+/// one bin, equal centroids) or the node is kBvhMaxSahDepth deep (which bounds the depth).
+/// `order` comes out permuted so that each leaf's triangles are a contiguous range.
+std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
+  const std::size_t n = corners.size();
   std::vector<Vec3> centroids(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    corners[i] = {positions[triangles[i].x], positions[triangles[i].y], positions[triangles[i].z]};
-    centroids[i] = (corners[i][0] + corners[i][1] + corners[i][2]) * (1.0f / 3.0f);
-  }
+  for (std::size_t i = 0; i < n; ++i) centroids[i] = (corners[i][0] + corners[i][1] + corners[i][2]) * (1.0f / 3.0f);
+  order.resize(n);
+  std::iota(order.begin(), order.end(), 0u);
 
-  // Top-down build with an explicit work list: node index and its range of `order`.
   struct Work {
     std::uint32_t node, begin, end;
+    int depth;
   };
+  std::vector<BinaryNode> nodes;
   std::vector<Work> work;
-  nodes_.reserve(2 * n / kBvhLeafTriangles + 1);
-  nodes_.push_back({});
-  work.push_back({0, 0, static_cast<std::uint32_t>(n)});
+  nodes.reserve(2 * n);
+  nodes.push_back({});
+  work.push_back({0, 0, static_cast<std::uint32_t>(n), 0});
   while (!work.empty()) {
     const Work w = work.back();
     work.pop_back();
@@ -50,24 +51,24 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
       box = merge(box, triangle_box(corners[order[i]]));
       centroid_box = merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
     }
-    nodes_[w.node].bounds = box;
+    nodes[w.node].bounds = box;
     const std::uint32_t count = w.end - w.begin;
-    const Vec3 spread = centroid_box.size();
-    if (count <= kBvhLeafTriangles || (spread.x <= 0.0f && spread.y <= 0.0f && spread.z <= 0.0f)) {
-      nodes_[w.node].first = w.begin;  // slots are assigned in `order` order below
-      nodes_[w.node].count = count;
+    if (count <= kBvhLeafTriangles) {
+      nodes[w.node].first = w.begin;
+      nodes[w.node].count = count;
       continue;
     }
-    // Binned surface area heuristic (Wald 2007): try kBvhBins - 1 planes on each axis, keep the
-    // one minimising  area(left) * count(left) + area(right) * count(right).
+    const Vec3 spread = centroid_box.size();
     struct Bin {
       Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
       std::uint32_t count = 0;
     };
+    // A leaf's triangles are tested four at a time, so a side costs its count in packets.
+    auto packets = [](std::uint32_t c) { return static_cast<float>((c + kBvhLeafTriangles - 1) / kBvhLeafTriangles); };
     float best_cost = std::numeric_limits<float>::max();
     int best_axis = -1;
     float best_plane = 0.0f;
-    for (int axis = 0; axis < 3; ++axis) {
+    for (int axis = 0; axis < 3 && w.depth < kBvhMaxSahDepth; ++axis) {
       if (!(spread[axis] > 0.0f)) continue;
       std::array<Bin, kBvhBins> bins{};
       const float scale = static_cast<float>(kBvhBins) / spread[axis];
@@ -85,14 +86,14 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
       for (int b = kBvhBins - 1; b > 0; --b) {
         right.box = merge(right.box, bins[b].box);
         right.count += bins[b].count;
-        right_cost[b] = right.count ? surface_metric(right.box) * static_cast<float>(right.count) : 0.0f;
+        right_cost[b] = right.count ? surface_metric(right.box) * packets(right.count) : 0.0f;
       }
       Bin left;
       for (int b = 0; b < kBvhBins - 1; ++b) {
         left.box = merge(left.box, bins[b].box);
         left.count += bins[b].count;
         if (left.count == 0 || left.count == count) continue;
-        const float cost = surface_metric(left.box) * static_cast<float>(left.count) + right_cost[b + 1];
+        const float cost = surface_metric(left.box) * packets(left.count) + right_cost[b + 1];
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = axis;
@@ -100,75 +101,305 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
         }
       }
     }
-    std::uint32_t mid = w.begin + count / 2;
+    std::uint32_t mid = w.begin;
     if (best_axis >= 0) {
       const auto split = std::partition(order.begin() + w.begin, order.begin() + w.end,
                                         [&](std::uint32_t tri) { return centroids[tri][best_axis] < best_plane; });
       mid = static_cast<std::uint32_t>(split - order.begin());
     }
-    if (mid == w.begin || mid == w.end) {  // float edge case: fall back to a median split
+    if (mid == w.begin || mid == w.end) {  // no SAH plane (or a float edge case): median split
       const int axis = spread.x >= spread.y ? (spread.x >= spread.z ? 0 : 2) : (spread.y >= spread.z ? 1 : 2);
       mid = w.begin + count / 2;
       std::nth_element(order.begin() + w.begin, order.begin() + mid, order.begin() + w.end,
                        [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
     }
-    const auto left = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    nodes_[w.node].first = left;
-    nodes_[w.node].count = 0;
-    work.push_back({left + 1, mid, w.end});
-    work.push_back({left, w.begin, mid});
+    const auto left = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[w.node].first = left;
+    nodes[w.node].count = 0;
+    work.push_back({left + 1, mid, w.end, w.depth + 1});
+    work.push_back({left, w.begin, mid, w.depth + 1});
   }
+  return nodes;
+}
 
-  ids_ = order;
-  corners_.resize(n);
-  leaf_bounds_.resize(n);
+// Four lanes of float: one SIMD register with GCC and Clang (generic vector extension: SSE on
+// x86, NEON on ARM), a plain array with lane loops elsewhere. Only what the queries below use.
+#if defined(__GNUC__) || defined(__clang__)
+using Lanes = float __attribute__((vector_size(16)));
+using LaneMask = std::int32_t __attribute__((vector_size(16)));
+inline Lanes load(const std::array<float, 4>& a) noexcept {
+  Lanes v;
+  __builtin_memcpy(&v, a.data(), sizeof(Lanes));
+  return v;
+}
+inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
+inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
+inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
+#else
+struct Lanes {
+  std::array<float, 4> v;
+  float operator[](int k) const noexcept { return v[k]; }
+};
+struct LaneMask {
+  std::array<bool, 4> v;
+};
+template <class F>
+inline Lanes lanewise(F f) noexcept {
+  return {{f(0), f(1), f(2), f(3)}};
+}
+inline Lanes load(const std::array<float, 4>& a) noexcept { return {a}; }
+inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
+inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] + b.v[k]; }); }
+inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
+inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
+inline Lanes operator/(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] / b.v[k]; }); }
+inline LaneMask operator>=(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] >= b.v[0], a.v[1] >= b.v[1], a.v[2] >= b.v[2], a.v[3] >= b.v[3]}};
+}
+inline LaneMask operator>(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] > b.v[0], a.v[1] > b.v[1], a.v[2] > b.v[2], a.v[3] > b.v[3]}};
+}
+inline LaneMask operator&(LaneMask a, LaneMask b) noexcept {
+  return {{a.v[0] && b.v[0], a.v[1] && b.v[1], a.v[2] && b.v[2], a.v[3] && b.v[3]}};
+}
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::min(a.v[k], b.v[k]); }); }
+inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::max(a.v[k], b.v[k]); }); }
+#endif
+
+/// A 3D vector of lanes: four points or directions at once.
+struct Vec3Lanes {
+  Lanes x, y, z;
+};
+inline Vec3Lanes operator-(const Vec3Lanes& a, const Vec3Lanes& b) noexcept { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3Lanes operator*(Lanes s, const Vec3Lanes& a) noexcept { return {s * a.x, s * a.y, s * a.z}; }
+inline Lanes dot(const Vec3Lanes& a, const Vec3Lanes& b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3Lanes cross(const Vec3Lanes& a, const Vec3Lanes& b) noexcept {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+/// Edge lengths squared at or below this count as zero in the segment distance (the parameter
+/// along a zero-length edge is then 0: the distance to its one point). The smallest normal float.
+constexpr float kMinEdgeLengthSquared = std::numeric_limits<float>::min();
+
+/// Squared distance from p to the closed segment u + t e, t in [0, 1], for w = p - u.
+inline Lanes segment_distance_squared(const Vec3Lanes& w, const Vec3Lanes& e) noexcept {
+  const Lanes t = min(max(dot(w, e) / max(dot(e, e), splat(kMinEdgeLengthSquared)), splat(0.0f)), splat(1.0f));
+  const Vec3Lanes d = w - t * e;
+  return dot(d, d);
+}
+
+
+/// Corners of four triangles as lanes: [corner][axis][lane].
+using CornerLanes = std::array<std::array<std::array<float, 4>, 3>, 3>;
+
+/// Exact squared distance from p to each of four closed triangles, without branches. Per lane,
+/// for the triangle (a, b, c) with normal n = (b - a) x (c - a):
+///   if n != 0 and p projects into the triangle (for every edge u -> v:
+///       dot(n, (v - u) x (p - u)) >= 0),   the distance is to the plane:
+///       d^2 = dot(p - a, n)^2 / dot(n, n);
+///   otherwise the nearest point lies on the boundary:
+///       d^2 = min over the three edges of the squared distance to the segment.
+/// (The Voronoi regions of Ericson 5.1.5 in another grouping: the face region is where all three
+/// edge tests pass; every other region's nearest point is on an edge or at a vertex, and the
+/// nearest of the three clamped segment points is it.)
+inline Lanes triangle_distance_squared(const CornerLanes& t, const Vec3Lanes& p) noexcept {
+  const Vec3Lanes a{load(t[0][0]), load(t[0][1]), load(t[0][2])};
+  const Vec3Lanes b{load(t[1][0]), load(t[1][1]), load(t[1][2])};
+  const Vec3Lanes c{load(t[2][0]), load(t[2][1]), load(t[2][2])};
+  const Vec3Lanes ab = b - a, bc = c - b, ca = a - c;
+  const Vec3Lanes ap = p - a, bp = p - b, cp = p - c;
+  const Vec3Lanes n = cross(ab, c - a);
+  const Lanes nn = dot(n, n);
+  const Lanes zero = splat(0.0f);
+  const auto inside = (nn > zero) & (dot(n, cross(ab, ap)) >= zero) & (dot(n, cross(bc, bp)) >= zero) &
+                      (dot(n, cross(ca, cp)) >= zero);
+  const Lanes height = dot(ap, n);
+  const Lanes plane = height * (height / nn);  // (used only where nn > 0)
+  const Lanes edges = min(min(segment_distance_squared(ap, ab), segment_distance_squared(bp, bc)),
+                          segment_distance_squared(cp, ca));
+  return select(inside, plane, edges);
+}
+
+}  // namespace
+
+TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
+  const std::size_t n = triangles.size();
+  triangle_count_ = n;
+  if (n == 0) return;
+  std::vector<std::array<Vec3, 3>> corners(n);
   for (std::size_t i = 0; i < n; ++i) {
-    corners_[i] = corners[order[i]];
-    leaf_bounds_[i] = triangle_box(corners_[i]);
+    corners[i] = {positions[triangles[i].x], positions[triangles[i].y], positions[triangles[i].z]};
+  }
+  std::vector<std::uint32_t> order;
+  const std::vector<BinaryNode> binary = build_binary(corners, order);
+  bounds_ = binary[0].bounds;
+
+  // Collapse to four-wide nodes: a node takes its binary node's two children, then repeatedly
+  // replaces its inner child of largest surface area by that child's two children, up to four.
+  // Nodes and packets are numbered depth first, so a subtree is contiguous in memory.
+  nodes_.reserve(binary.size() / 2 + 1);
+  packets_.reserve(binary.size() / 2 + 1);
+  struct Work {
+    std::uint32_t binary, node;  // binary node to collapse into wide node `node`
+  };
+  std::vector<Work> work{{0, 0}};
+  nodes_.push_back({});
+  while (!work.empty()) {
+    const Work w = work.back();
+    work.pop_back();
+    std::array<std::uint32_t, kBvhWidth> children{};
+    int count = 0;
+    if (binary[w.binary].count > 0) {
+      children[count++] = w.binary;  // a root that is one leaf
+    } else {
+      children[count++] = binary[w.binary].first;
+      children[count++] = binary[w.binary].first + 1;
+    }
+    while (count < kBvhWidth) {
+      int open = -1;
+      float open_area = -1.0f;
+      for (int k = 0; k < count; ++k) {
+        const BinaryNode& c = binary[children[k]];
+        if (c.count == 0 && surface_metric(c.bounds) > open_area) {
+          open = k;
+          open_area = surface_metric(c.bounds);
+        }
+      }
+      if (open < 0) break;
+      const std::uint32_t left = binary[children[open]].first;
+      children[open] = left;
+      children[count++] = left + 1;
+    }
+    Node node;
+    node.min_x.fill(kInfinity);
+    node.min_y.fill(kInfinity);
+    node.min_z.fill(kInfinity);
+    node.max_x.fill(-kInfinity);
+    node.max_y.fill(-kInfinity);
+    node.max_z.fill(-kInfinity);
+    node.child.fill(0);
+    node.count.fill(0);
+    std::array<std::uint32_t, kBvhWidth> pending{};
+    int pending_count = 0;
+    for (int k = 0; k < count; ++k) {
+      const BinaryNode& c = binary[children[k]];
+      node.min_x[k] = c.bounds.min.x;
+      node.min_y[k] = c.bounds.min.y;
+      node.min_z[k] = c.bounds.min.z;
+      node.max_x[k] = c.bounds.max.x;
+      node.max_y[k] = c.bounds.max.y;
+      node.max_z[k] = c.bounds.max.z;
+      if (c.count > 0) {
+        Packet packet;
+        for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
+          const std::uint32_t slot = c.first + std::min(lane, c.count - 1);  // repeat the last one
+          for (int v = 0; v < 3; ++v) {
+            for (int axis = 0; axis < 3; ++axis) packet.corners[v][axis][lane] = corners[order[slot]][v][axis];
+          }
+          packet.id[lane] = order[slot];
+        }
+        node.child[k] = static_cast<std::uint32_t>(packets_.size()) | kLeaf;
+        node.count[k] = c.count;
+        packets_.push_back(packet);
+      } else {
+        node.child[k] = static_cast<std::uint32_t>(nodes_.size() + pending_count);
+        pending[pending_count++] = children[k];
+      }
+    }
+    nodes_[w.node] = node;
+    // Reserve the inner children's nodes now (contiguous siblings); build them depth first.
+    const auto first_child = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.resize(nodes_.size() + pending_count);
+    for (int k = pending_count - 1; k >= 0; --k) work.push_back({pending[k], first_child + k});
   }
 }
 
+// Branch and bound over the four-wide tree. A node's four child boxes get their squared
+// distances to p at once (Ericson 5.1.3.1 per lane:
+//   d = max(min - p, p - max, 0) per axis,  distance^2 = dx^2 + dy^2 + dz^2;
+// unused slots are +inf away), are sorted nearest first, and those nearer than the best so far
+// go on the stack, the nearest on top. A leaf's four triangles get their exact squared distances
+// at once (triangle_distance_squared below); the nearest point and weights of the winner come
+// from closest_point_on_triangle (Ericson 5.1.5) at the end.
 BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
   BvhNearest best;
   if (nodes_.empty()) return best;
+  const Lanes px = splat(p.x), py = splat(p.y), pz = splat(p.z);
+  const Vec3Lanes pl{px, py, pz};
+  float best_d2 = kInfinity;
+  std::uint32_t best_packet = 0;
+  int best_lane = -1;
   struct Entry {
-    std::uint32_t node;
-    float distance_squared;  // from p to the node's box, computed once when pushed
+    std::uint32_t ref;       // node index, or packet index | kLeaf
+    float distance_squared;  // from p to its box, computed when pushed
   };
   std::array<Entry, kBvhStackSize> stack;
   int top = 0;
-  stack[top++] = {0, distance_squared(nodes_[0].bounds, p)};
+  stack[top++] = {0, 0.0f};
   while (top > 0) {
     const Entry entry = stack[--top];
-    if (entry.distance_squared >= best.distance_squared) continue;  // cannot be strictly nearer
-    const Node& node = nodes_[entry.node];
-    if (node.count > 0) {
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-        if (distance_squared(leaf_bounds_[i], p) >= best.distance_squared) continue;
-        const auto& t = corners_[i];
-        const TrianglePoint q = closest_point_on_triangle(p, t[0], t[1], t[2]);
-        const Vec3 d = q.point - p;
-        const float d2 = glm::dot(d, d);
-        if (d2 < best.distance_squared) {
-          best = {ids_[i], q, d2};
-        }
+    if (!(entry.distance_squared < best_d2)) continue;  // cannot be strictly nearer
+    if (entry.ref & kLeaf) {
+      const Packet& packet = packets_[entry.ref & ~kLeaf];
+      const Lanes d2 = triangle_distance_squared(packet.corners, pl);
+      for (int k = 0; k < kBvhLeafTriangles; ++k) {  // the first strictly nearer lane wins
+        const bool nearer = d2[k] < best_d2;
+        best_d2 = nearer ? d2[k] : best_d2;
+        best_lane = nearer ? k : best_lane;
+        best_packet = nearer ? (entry.ref & ~kLeaf) : best_packet;
       }
       continue;
     }
-    if (top + 2 > kBvhStackSize) continue;  // cannot happen for trees of sane depth (see kBvhStackSize)
-    // Push the farther child first so the nearer one is searched first and tightens the bound.
-    const Entry l{node.first, distance_squared(nodes_[node.first].bounds, p)};
-    const Entry r{node.first + 1, distance_squared(nodes_[node.first + 1].bounds, p)};
-    if (l.distance_squared <= r.distance_squared) {
-      if (r.distance_squared < best.distance_squared) stack[top++] = r;
-      stack[top++] = l;
-    } else {
-      if (l.distance_squared < best.distance_squared) stack[top++] = l;
-      stack[top++] = r;
+    const Node& node = nodes_[entry.ref];
+    const Lanes zero = splat(0.0f);
+    const Lanes dx = max(max(load(node.min_x) - px, px - load(node.max_x)), zero);
+    const Lanes dy = max(max(load(node.min_y) - py, py - load(node.max_y)), zero);
+    const Lanes dz = max(max(load(node.min_z) - pz, pz - load(node.max_z)), zero);
+    const Lanes d2 = dx * dx + dy * dy + dz * dz;
+    // Sort the children nearest first, then push them farthest first; an entry no nearer than
+    // the best is overwritten by the next one. Branch free (min/max and selects): the order is
+    // data, not a pattern. A sort key is the distance (capped to the largest float) with its two
+    // lowest mantissa bits replaced by the slot: non-negative floats order like their bits, so
+    // the keys sort like the distances, are distinct and name their child. The order can differ
+    // from the exact one only among distances within 3 ulps; the pruning uses exact distances.
+    std::array<float, kBvhWidth> d;
+    __builtin_memcpy(d.data(), &d2, sizeof d);
+    std::array<float, kBvhWidth> key;
+    for (int k = 0; k < kBvhWidth; ++k) {
+      const auto bits = std::bit_cast<std::uint32_t>(std::min(d[k], std::numeric_limits<float>::max()));
+      key[k] = std::bit_cast<float>((bits & ~3u) | static_cast<std::uint32_t>(k));
     }
+    auto order = [&key](int i, int j) {
+      const float lo = std::min(key[i], key[j]);
+      key[j] = std::max(key[i], key[j]);
+      key[i] = lo;
+    };
+    order(0, 1);
+    order(2, 3);
+    order(0, 2);
+    order(1, 3);
+    order(1, 2);
+    auto push = [&](int k) {
+      const std::uint32_t slot = std::bit_cast<std::uint32_t>(key[k]) & 3u;
+      stack[top] = {node.child[slot], d[slot]};
+      top += d[slot] < best_d2 ? 1 : 0;
+    };
+    push(3);
+    push(2);
+    push(1);
+    push(0);
   }
+  if (best_lane < 0) return best;
+  const Packet& packet = packets_[best_packet];
+  const auto lane = static_cast<std::uint32_t>(best_lane);
+  best.triangle = packet.id[lane];
+  best.closest = closest_point_on_triangle(p, packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
+  const Vec3 d = best.closest.point - p;
+  best.distance_squared = glm::dot(d, d);
   return best;
 }
 
