@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 #include <numeric>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 namespace collide {
 namespace {
@@ -138,6 +142,19 @@ inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
 inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
 inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
+/// Bit k set where lane k of the mask is.
+inline unsigned lane_bits(LaneMask m) noexcept {
+#if defined(__SSE__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+  return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
+#endif
+}
+/// The smallest lane, in every lane.
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
+  return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
+}
 #else
 struct Lanes {
   std::array<float, 4> v;
@@ -168,6 +185,15 @@ inline LaneMask operator&(LaneMask a, LaneMask b) noexcept {
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
 inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::min(a.v[k], b.v[k]); }); }
 inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::max(a.v[k], b.v[k]); }); }
+inline LaneMask operator<(Lanes a, Lanes b) noexcept { return b > a; }
+inline LaneMask operator==(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] == b.v[0], a.v[1] == b.v[1], a.v[2] == b.v[2], a.v[3] == b.v[3]}};
+}
+inline unsigned lane_bits(LaneMask m) noexcept { return m.v[0] | m.v[1] << 1 | m.v[2] << 2 | m.v[3] << 3; }
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const float m = std::min(std::min(a.v[0], a.v[1]), std::min(a.v[2], a.v[3]));
+  return splat(m);
+}
 #endif
 
 /// A 3D vector of lanes: four points or directions at once.
@@ -318,13 +344,14 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
   }
 }
 
-// Branch and bound over the four-wide tree. A node's four child boxes get their squared
-// distances to p at once (Ericson 5.1.3.1 per lane:
+// Branch and bound over the four-wide tree, depth first. A node's four child boxes get their
+// squared distances to p at once (Ericson 5.1.3.1 per lane:
 //   d = max(min - p, p - max, 0) per axis,  distance^2 = dx^2 + dy^2 + dz^2;
-// unused slots are +inf away), are sorted nearest first, and those nearer than the best so far
-// go on the stack, the nearest on top. A leaf's four triangles get their exact squared distances
-// at once (triangle_distance_squared below); the nearest point and weights of the winner come
-// from closest_point_on_triangle (Ericson 5.1.5) at the end.
+// unused slots are +inf away). The search goes on into the nearest child (which most tightens
+// the bound); the other children nearer than the best so far wait on the stack, and are dropped
+// when popped if the bound has passed them meanwhile. A leaf's four triangles get their exact
+// squared distances at once (triangle_distance_squared above); the nearest point and weights of
+// the winner come from closest_point_on_triangle (Ericson 5.1.5) at the end.
 BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
   BvhNearest best;
   if (nodes_.empty()) return best;
@@ -339,59 +366,44 @@ BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
   };
   std::array<Entry, kBvhStackSize> stack;
   int top = 0;
-  stack[top++] = {0, 0.0f};
-  while (top > 0) {
-    const Entry entry = stack[--top];
-    if (!(entry.distance_squared < best_d2)) continue;  // cannot be strictly nearer
-    if (entry.ref & kLeaf) {
-      const Packet& packet = packets_[entry.ref & ~kLeaf];
+  std::uint32_t ref = 0;  // the node or packet being searched: the root first
+  for (;;) {
+    if (ref & kLeaf) {
+      const Packet& packet = packets_[ref & ~kLeaf];
       const Lanes d2 = triangle_distance_squared(packet.corners, pl);
       for (int k = 0; k < kBvhLeafTriangles; ++k) {  // the first strictly nearer lane wins
         const bool nearer = d2[k] < best_d2;
         best_d2 = nearer ? d2[k] : best_d2;
         best_lane = nearer ? k : best_lane;
-        best_packet = nearer ? (entry.ref & ~kLeaf) : best_packet;
+        best_packet = nearer ? (ref & ~kLeaf) : best_packet;
       }
-      continue;
+    } else {
+      const Node& node = nodes_[ref];
+      const Lanes zero = splat(0.0f);
+      const Lanes dx = max(max(load(node.min_x) - px, px - load(node.max_x)), zero);
+      const Lanes dy = max(max(load(node.min_y) - py, py - load(node.max_y)), zero);
+      const Lanes dz = max(max(load(node.min_z) - pz, pz - load(node.max_z)), zero);
+      const Lanes d2 = dx * dx + dy * dy + dz * dz;
+      const unsigned open = lane_bits(d2 < splat(best_d2));  // children that may hold a nearer point
+      if (open != 0) {
+        // The nearest open child (lowest slot among equals) is searched next; the others are
+        // pushed without branches: each slot is written, and kept if its bit is set.
+        const int nearest = std::countr_zero(lane_bits(d2 == horizontal_min(d2)) & open);
+        const unsigned rest = open & ~(1u << nearest);
+        std::array<float, kBvhWidth> d;
+        std::memcpy(d.data(), &d2, sizeof d);
+        for (int k = 0; k < kBvhWidth; ++k) {
+          stack[top] = {node.child[k], d[k]};
+          top += static_cast<int>((rest >> k) & 1u);
+        }
+        ref = node.child[nearest];
+        continue;
+      }
     }
-    const Node& node = nodes_[entry.ref];
-    const Lanes zero = splat(0.0f);
-    const Lanes dx = max(max(load(node.min_x) - px, px - load(node.max_x)), zero);
-    const Lanes dy = max(max(load(node.min_y) - py, py - load(node.max_y)), zero);
-    const Lanes dz = max(max(load(node.min_z) - pz, pz - load(node.max_z)), zero);
-    const Lanes d2 = dx * dx + dy * dy + dz * dz;
-    // Sort the children nearest first, then push them farthest first; an entry no nearer than
-    // the best is overwritten by the next one. Branch free (min/max and selects): the order is
-    // data, not a pattern. A sort key is the distance (capped to the largest float) with its two
-    // lowest mantissa bits replaced by the slot: non-negative floats order like their bits, so
-    // the keys sort like the distances, are distinct and name their child. The order can differ
-    // from the exact one only among distances within 3 ulps; the pruning uses exact distances.
-    std::array<float, kBvhWidth> d;
-    __builtin_memcpy(d.data(), &d2, sizeof d);
-    std::array<float, kBvhWidth> key;
-    for (int k = 0; k < kBvhWidth; ++k) {
-      const auto bits = std::bit_cast<std::uint32_t>(std::min(d[k], std::numeric_limits<float>::max()));
-      key[k] = std::bit_cast<float>((bits & ~3u) | static_cast<std::uint32_t>(k));
-    }
-    auto order = [&key](int i, int j) {
-      const float lo = std::min(key[i], key[j]);
-      key[j] = std::max(key[i], key[j]);
-      key[i] = lo;
-    };
-    order(0, 1);
-    order(2, 3);
-    order(0, 2);
-    order(1, 3);
-    order(1, 2);
-    auto push = [&](int k) {
-      const std::uint32_t slot = std::bit_cast<std::uint32_t>(key[k]) & 3u;
-      stack[top] = {node.child[slot], d[slot]};
-      top += d[slot] < best_d2 ? 1 : 0;
-    };
-    push(3);
-    push(2);
-    push(1);
-    push(0);
+    // Next: the most recently pushed subtree that may still hold a nearer point.
+    while (top > 0 && !(stack[top - 1].distance_squared < best_d2)) --top;
+    if (top == 0) break;
+    ref = stack[--top].ref;
   }
   if (best_lane < 0) return best;
   const Packet& packet = packets_[best_packet];
