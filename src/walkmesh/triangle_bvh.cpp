@@ -371,11 +371,11 @@ BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
     if (ref & kLeaf) {
       const Packet& packet = packets_[ref & ~kLeaf];
       const Lanes d2 = triangle_distance_squared(packet.corners, pl);
-      for (int k = 0; k < kBvhLeafTriangles; ++k) {  // the first strictly nearer lane wins
-        const bool nearer = d2[k] < best_d2;
-        best_d2 = nearer ? d2[k] : best_d2;
-        best_lane = nearer ? k : best_lane;
-        best_packet = nearer ? (ref & ~kLeaf) : best_packet;
+      const Lanes nearest = horizontal_min(d2);
+      if (nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
+        best_d2 = nearest[0];
+        best_lane = std::countr_zero(lane_bits(d2 == nearest));
+        best_packet = ref & ~kLeaf;
       }
     } else {
       const Node& node = nodes_[ref];
