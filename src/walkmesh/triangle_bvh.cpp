@@ -352,12 +352,16 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
 // when popped if the bound has passed them meanwhile. A leaf's four triangles get their exact
 // squared distances at once (triangle_distance_squared above); the nearest point and weights of
 // the winner come from closest_point_on_triangle (Ericson 5.1.5) at the end.
-BvhNearest TriangleBvh::nearest(Vec3 p) const noexcept {
+BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
   BvhNearest best;
   if (nodes_.empty()) return best;
   const Lanes px = splat(p.x), py = splat(p.y), pz = splat(p.z);
   const Vec3Lanes pl{px, py, pz};
-  float best_d2 = kInfinity;
+  // Candidates must be strictly nearer than best_d2: the next float above the bound admits
+  // exactly the distances at or below it (std::nextafter(bound, inf) for bounds >= 0, without
+  // the library call; +inf and NaN stay as they are, -0 counts as 0).
+  const float bound = max_distance_squared + 0.0f;
+  float best_d2 = bound < kInfinity ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(bound) + 1u) : bound;
   std::uint32_t best_packet = 0;
   int best_lane = -1;
   struct Entry {

@@ -95,6 +95,34 @@ TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
   }
 }
 
+TEST(TriangleBvh, BoundedNearestFindsExactlyTheTrianglesWithinTheBound) {
+  std::mt19937 rng(64);
+  const TriangleSoup soup = random_soup(rng, 400, Vec3(0.0f), 30.0f, 2.0f);
+  const TriangleBvh bvh(soup.positions, soup.triangles);
+  int found = 0, none = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 q(uniform(rng, -20, 20), uniform(rng, -20, 20), uniform(rng, -20, 20));
+    const float bound = uniform(rng, 0.0f, 4.0f);
+    const double truth = brute_distance(soup, q);
+    if (std::abs(truth - bound) < 1e-4) continue;  // too close to call in float
+    const BvhNearest hit = bvh.nearest(q, bound * bound);
+    if (truth < bound) {
+      ASSERT_LT(hit.triangle, soup.triangles.size()) << i;
+      EXPECT_NEAR(std::sqrt(double(hit.distance_squared)), truth, 1e-4) << i;
+      EXPECT_EQ(hit.triangle, bvh.nearest(q).triangle) << i;  // the unbounded answer, when in reach
+      ++found;
+    } else {
+      EXPECT_EQ(hit.triangle, std::numeric_limits<std::uint32_t>::max()) << i;
+      ++none;
+    }
+  }
+  EXPECT_GT(found, 300);
+  EXPECT_GT(none, 300);
+  // The bound is inclusive: a query exactly on a triangle is found with a zero bound.
+  const Vec3 corner_point = soup.positions[soup.triangles[5].x];
+  EXPECT_EQ(bvh.nearest(corner_point, 0.0f).distance_squared, 0.0f);
+}
+
 TEST(TriangleBvh, NearestOfAnEmptyTreeIsEmpty) {
   const TriangleBvh bvh;
   EXPECT_EQ(bvh.nearest(Vec3(1.0f)).triangle, std::numeric_limits<std::uint32_t>::max());

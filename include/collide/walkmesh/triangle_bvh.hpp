@@ -56,9 +56,13 @@ class TriangleBvh {
   /// The exact nearest point of all triangles to `p`: branch and bound, nearer child first,
   /// pruning boxes no nearer than the best so far (so among triangles at exactly the same
   /// distance, the first one found wins: deterministic for a given tree). No allocation.
-  /// Empty (triangle == max()) when the tree is, or when squared distances from `p` overflow
-  /// float (|p| beyond about 1e18).
-  [[nodiscard]] BvhNearest nearest(Vec3 p) const noexcept;
+  /// Only triangles within `max_distance_squared` of `p` (inclusive) count: a finite bound
+  /// prunes from the first node on, for callers that know `p` is near the mesh (Detour's
+  /// findNearestPoly takes a search box for the same reason). `distance_squared` of the result
+  /// is recomputed from its closest point, so it may exceed the bound by rounding.
+  /// Empty (triangle == max()) when no triangle is within the bound, when the tree is empty, or
+  /// when squared distances from `p` overflow float (|p| beyond about 1e18).
+  [[nodiscard]] BvhNearest nearest(Vec3 p, float max_distance_squared = std::numeric_limits<float>::infinity()) const noexcept;
 
   /// Calls `visit(triangle index)` for every triangle whose bounding box overlaps `box`.
   template <class Visit>
