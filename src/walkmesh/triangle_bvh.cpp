@@ -250,6 +250,32 @@ inline Lanes triangle_distance_squared(const CornerLanes& t, const Vec3Lanes& p)
   return select(inside, plane, edges);
 }
 
+/// The nearest point of the closed triangle (a, b, c) to p and its weights, by the same region
+/// test as triangle_distance_squared (one lane of it): the plane projection when p projects
+/// into the triangle, else the nearest of the three clamped edge points. Its squared distance is
+/// the one the search compared, so the winner's reported distance is the one that won.
+TrianglePoint closest_point_by_projection_or_edges(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const Vec3 ap = p - a, bp = p - b, cp = p - c;
+  const Vec3 n = glm::cross(ab, c - a);
+  const float nn = glm::dot(n, n);
+  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection.
+  const float wa = glm::dot(n, glm::cross(bc, bp)), wb = glm::dot(n, glm::cross(ca, cp)),
+              wc = glm::dot(n, glm::cross(ab, ap));
+  if (nn > 0.0f && wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) {
+    return {p - n * (glm::dot(ap, n) / nn), Vec3(wa, wb, wc) / (wa + wb + wc)};
+  }
+  auto parameter = [](Vec3 w, Vec3 e) {
+    return std::clamp(glm::dot(w, e) / std::max(glm::dot(e, e), kMinEdgeLengthSquared), 0.0f, 1.0f);
+  };
+  const float t_ab = parameter(ap, ab), t_bc = parameter(bp, bc), t_ca = parameter(cp, ca);
+  const Vec3 on_ab = ap - t_ab * ab, on_bc = bp - t_bc * bc, on_ca = cp - t_ca * ca;  // p minus each edge point
+  const float d_ab = glm::dot(on_ab, on_ab), d_bc = glm::dot(on_bc, on_bc), d_ca = glm::dot(on_ca, on_ca);
+  if (d_ab <= d_bc && d_ab <= d_ca) return {a + t_ab * ab, {1.0f - t_ab, t_ab, 0.0f}};
+  if (d_bc <= d_ca) return {b + t_bc * bc, {0.0f, 1.0f - t_bc, t_bc}};
+  return {c + t_ca * ca, {t_ca, 0.0f, 1.0f - t_ca}};
+}
+
 }  // namespace
 
 TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
@@ -351,7 +377,7 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
 // the bound); the other children nearer than the best so far wait on the stack, and are dropped
 // when popped if the bound has passed them meanwhile. A leaf's four triangles get their exact
 // squared distances at once (triangle_distance_squared above); the nearest point and weights of
-// the winner come from closest_point_on_triangle (Ericson 5.1.5) at the end.
+// the winner come from the same region test on its one lane at the end.
 BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
   BvhNearest best;
   if (nodes_.empty()) return best;
@@ -392,7 +418,10 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
       if (open != 0) {
         // The nearest open child (lowest slot among equals) is searched next; the others are
         // pushed without branches: each slot is written, and kept if its bit is set.
-        const int nearest = std::countr_zero(lane_bits(d2 == horizontal_min(d2)) & open);
+        // (A NaN distance, from non-finite corners, can leave no open lane at the minimum:
+        // then the lowest open slot, never an out-of-range one.)
+        const unsigned at_minimum = lane_bits(d2 == horizontal_min(d2)) & open;
+        const int nearest = std::countr_zero(at_minimum != 0 ? at_minimum : open);
         const unsigned rest = open & ~(1u << nearest);
         std::array<float, kBvhWidth> d;
         std::memcpy(d.data(), &d2, sizeof d);
@@ -413,7 +442,7 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
   const Packet& packet = packets_[best_packet];
   const auto lane = static_cast<std::uint32_t>(best_lane);
   best.triangle = packet.id[lane];
-  best.closest = closest_point_on_triangle(p, packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
+  best.closest = closest_point_by_projection_or_edges(p, packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
   const Vec3 d = best.closest.point - p;
   best.distance_squared = glm::dot(d, d);
   return best;

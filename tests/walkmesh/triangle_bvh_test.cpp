@@ -17,7 +17,8 @@ using test::uniform;
 /// `n` random triangles in a cube of side `extent` at `center`, of sizes up to `size`; every
 /// seventh one degenerate in turn: a repeated corner, three collinear corners (on integer
 /// coordinates, so exactly collinear in float), one point. (Not slivers, nearly collinear
-/// triangles: closest_point_on_triangle is not exact on those, and walk meshes drop them.)
+/// triangles: their plane is ill-conditioned in float, and neither closest_point_on_triangle nor
+/// the BVH's region test is exact on them; walk meshes drop them.)
 TriangleSoup random_soup(std::mt19937& rng, int n, Vec3 center, float extent, float size) {
   TriangleSoup s;
   s.name = "random";

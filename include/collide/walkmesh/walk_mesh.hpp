@@ -157,8 +157,9 @@ class WalkMesh {
   /// Unit normal interpolated from the area-weighted vertex normals (Phong), world space:
   /// continuous across edges, for smooth camera and model orientation.
   [[nodiscard]] Vec3 to_world_smooth_normal(const WalkPoint& p) const noexcept;
-  /// The walk point nearest to a world point: exact (closest point on every triangle, Ericson
-  /// 5.1.5), found through the BVH, however far the point is. Throws InvalidInput when `world`
+  /// The walk point nearest to a world point: exact (closest point on every triangle: the plane
+  /// projection when it falls inside, else the nearest edge point; Ericson 5.1.5's regions),
+  /// found through the BVH, however far the point is. Throws InvalidInput when `world`
   /// is not finite, is so far from the mesh that squared distances overflow float (beyond about
   /// 1e18), or the mesh is empty.
   [[nodiscard]] WalkPoint nearest_walk_point(Vec3 world) const;
