@@ -2,8 +2,13 @@
 // start points, same steering, in one run.
 //  - Walk step: WalkMesh::walk + to_world_point, against dtNavMeshQuery::moveAlongSurface +
 //    getPolyHeight (the per-frame pattern of DetourCrowd and RecastDemo), small steps (0.1 m).
-//  - Nearest point: WalkMesh::nearest_walk_point (exact, unbounded) against
-//    dtNavMeshQuery::findNearestPoly (search box of half extents 2, 4, 2, as RecastDemo uses).
+//  - Nearest point: WalkMesh::nearest_walk_point against dtNavMeshQuery::findNearestPoly
+//    (search box of half extents 2, 4, 2, as RecastDemo uses), for query points within half a
+//    metre (per axis) of the walkable floor. Two collide variants: unbounded (the exact nearest
+//    point however far: more than Detour answers) and bounded by a ball of radius
+//    sqrt(2^2 + 4^2 + 2^2) = 4.9 m, the ball around Detour's search box (every point Detour could
+//    return, and more). Both return the exact nearest point of the walk mesh; Detour returns its
+//    nearest polygon and the closest point on it (on its detail mesh when over the polygon).
 // The navmesh is built with RecastDemo's default parameters (cell 0.3, agent height 2, radius
 // 0.6, climb 0.9, slope 45 degrees); the walk mesh with make_walk_mesh (height 2, slope 45).
 
@@ -234,6 +239,16 @@ void BM_NearestPoint_Collide(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kQueries);
 }
 
+void BM_NearestPointWithin_Collide(benchmark::State& state) {
+  const Scene& s = scene();
+  const float reach = std::sqrt(kHalfExtents[0] * kHalfExtents[0] + kHalfExtents[1] * kHalfExtents[1] +
+                                kHalfExtents[2] * kHalfExtents[2]);
+  for (auto _ : state) {
+    for (const Vec3& p : s.queries) benchmark::DoNotOptimize(s.walk_mesh.nearest_walk_point(p, reach));
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kQueries);
+}
+
 void BM_NearestPoint_Detour(benchmark::State& state) {
   const Scene& s = scene();
   const dtNavMeshQuery& q = *s.detour->query;
@@ -252,6 +267,7 @@ void BM_NearestPoint_Detour(benchmark::State& state) {
 BENCHMARK(BM_WalkStep_Collide);
 BENCHMARK(BM_WalkStep_Detour);
 BENCHMARK(BM_NearestPoint_Collide);
+BENCHMARK(BM_NearestPointWithin_Collide);
 BENCHMARK(BM_NearestPoint_Detour);
 
 }  // namespace

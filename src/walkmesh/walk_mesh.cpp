@@ -64,7 +64,21 @@ WalkPoint WalkMesh::nearest_walk_point(Vec3 world) const {
   if (!is_finite(world)) throw InvalidInput("nearest_walk_point: world point is not finite");
   if (triangles_.empty()) throw InvalidInput("nearest_walk_point: the walk mesh is empty");
   const BvhNearest hit = bvh_.nearest(world - origin_);
+  if (hit.triangle >= triangles_.size()) {
+    throw InvalidInput("nearest_walk_point: world point too far from the mesh (squared distance overflows float)");
+  }
   return {triangles_[hit.triangle], clean_weights(hit.closest.weights), hit.triangle};
+}
+
+std::optional<WalkPoint> WalkMesh::nearest_walk_point(Vec3 world, float max_distance) const {
+  if (!is_finite(world)) throw InvalidInput("nearest_walk_point: world point is not finite");
+  if (!(max_distance >= 0.0f) || !std::isfinite(max_distance)) {
+    throw InvalidInput("nearest_walk_point: max_distance must be finite and non-negative");
+  }
+  if (triangles_.empty()) throw InvalidInput("nearest_walk_point: the walk mesh is empty");
+  const BvhNearest hit = bvh_.nearest(world - origin_, max_distance * max_distance);
+  if (hit.triangle >= triangles_.size()) return std::nullopt;
+  return WalkPoint{triangles_[hit.triangle], clean_weights(hit.closest.weights), hit.triangle};
 }
 
 WalkPoint WalkMesh::walk_point(std::uint32_t triangle, Vec3 weights) const {

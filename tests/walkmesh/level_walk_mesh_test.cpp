@@ -160,6 +160,28 @@ TEST(LevelWalkMesh, NearestWalkPointEqualsBruteForceOnRealLevels) {
   }
 }
 
+TEST(LevelWalkMesh, NearestWalkPointNearTheSurfaceEqualsBruteForceOnRealLevels) {
+  // The queries a game makes (and the bench times): within half a metre of the walkable floor,
+  // where many triangles are at nearly the same distance (close calls for the pruning).
+  std::mt19937 rng(54);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    int on_face = 0;
+    for (int i = 0; i < 1000; ++i) {
+      const Vec3 on = mesh.to_world_point(random_walk_point(mesh, rng));
+      const float r = i % 5 == 0 ? 0.0f : 0.5f;
+      const Vec3 q = on + Vec3(uniform(rng, -r, r), uniform(rng, -r, r), uniform(rng, -r, r));
+      const WalkPoint p = mesh.nearest_walk_point(q);
+      ASSERT_TRUE(mesh.is_valid(p));
+      const double tol = 1e-6 * (100.0 + glm::length(glm::dvec3(q)));
+      EXPECT_NEAR(distance(mesh.to_world_point(p), q), brute_distance(mesh, q), tol) << level->name << " " << i;
+      on_face += std::min({p.weights.x, p.weights.y, p.weights.z}) > 0.0f;
+    }
+    EXPECT_GT(on_face, 300) << level->name;  // face regions and edge/vertex regions both occur
+    EXPECT_LT(on_face, 990) << level->name;
+  }
+}
+
 TEST(LevelWalkMesh, AgentsWalkingOnRealLevelsStayOnTheMesh) {
   std::mt19937 rng(57);
   for (const TriangleSoup* level : {&dungeon(), &undulating()}) {

@@ -76,6 +76,39 @@ TEST(WalkMesh, NearestWalkPointEqualsBruteForce) {
   }
 }
 
+TEST(WalkMesh, BoundedNearestWalkPointIsTheNearestWhenWithinReachAndNulloptOtherwise) {
+  std::mt19937 rng(9);
+  const WalkMesh mesh = build_walk_mesh(test::grid_soup(rng, 16, 1.0f, 0.3f, hills));
+  const Aabb3 box = fatten(mesh.bounds(), 1.5f);
+  int within = 0, beyond = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Vec3 q(uniform(rng, box.min.x, box.max.x), uniform(rng, box.min.y, box.max.y),
+                 uniform(rng, box.min.z, box.max.z));
+    const float reach = uniform(rng, 0.0f, 2.5f);
+    const double truth = brute_distance(mesh, q);
+    if (std::abs(truth - reach) < 1e-4) continue;  // too close to call in float
+    const std::optional<WalkPoint> p = mesh.nearest_walk_point(q, reach);
+    ASSERT_EQ(p.has_value(), truth < reach) << i;
+    if (!p) {
+      ++beyond;
+      continue;
+    }
+    ++within;
+    const WalkPoint unbounded = mesh.nearest_walk_point(q);
+    EXPECT_EQ(p->triangle, unbounded.triangle);
+    EXPECT_EQ(p->weights, unbounded.weights);
+  }
+  EXPECT_GT(within, 100);
+  EXPECT_GT(beyond, 100);
+  EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(1.0f), -1.0f), InvalidInput);
+  EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(1.0f), NAN), InvalidInput);
+  EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(1.0f), INFINITY), InvalidInput);
+  EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(NAN), 1.0f), InvalidInput);
+  // Far enough that squared distances overflow float: an error, not an index out of range.
+  EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(1e30f, 0.0f, 0.0f)), InvalidInput);
+  EXPECT_FALSE(mesh.nearest_walk_point(Vec3(1e30f, 0.0f, 0.0f), 1.0f).has_value());
+}
+
 TEST(WalkMesh, NearestWalkPointOfMeshPointsIsThePointItself) {
   std::mt19937 rng(8);
   const WalkMesh mesh = build_walk_mesh(test::torus_soup(24, 12, 4.0f, 1.0f));

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// The closest point of a 3D triangle to a point, with its barycentric coordinates: the exact
-/// query behind `WalkMesh::nearest_walk_point`.
+/// The closest point of a 3D triangle to a point, with its barycentric coordinates.
+/// (`TriangleBvh::nearest` tests four triangles at once with a branch-free grouping of the same
+/// regions instead.)
 
 #include <collide/core/math.hpp>
 

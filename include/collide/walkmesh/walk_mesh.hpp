@@ -157,10 +157,19 @@ class WalkMesh {
   /// Unit normal interpolated from the area-weighted vertex normals (Phong), world space:
   /// continuous across edges, for smooth camera and model orientation.
   [[nodiscard]] Vec3 to_world_smooth_normal(const WalkPoint& p) const noexcept;
-  /// The walk point nearest to a world point: exact (closest point on every triangle, Ericson
-  /// 5.1.5), found through the BVH. Throws InvalidInput when `world` is not finite or the mesh
-  /// is empty.
+  /// The walk point nearest to a world point: exact (closest point on every triangle: the plane
+  /// projection when it falls inside, else the nearest edge point; Ericson 5.1.5's regions),
+  /// found through the BVH, however far the point is. Throws InvalidInput when `world`
+  /// is not finite, is so far from the mesh that squared distances overflow float (beyond about
+  /// 1e18), or the mesh is empty.
   [[nodiscard]] WalkPoint nearest_walk_point(Vec3 world) const;
+  /// The walk point nearest to a world point among those within `max_distance` of it
+  /// (inclusive, a ball; Detour's findNearestPoly searches a box for the same purpose), or
+  /// nullopt when there is none. The same answer as the unbounded query whenever that one is
+  /// within reach, found faster when the bound is tight: a game snapping a player or a click to
+  /// the floor knows how far the floor can be. Throws InvalidInput when `world` is not finite,
+  /// `max_distance` is negative or not finite, or the mesh is empty.
+  [[nodiscard]] std::optional<WalkPoint> nearest_walk_point(Vec3 world, float max_distance) const;
   /// The walk point in triangle `triangle` with barycentric `weights` of its stored corners.
   /// Throws InvalidInput if the triangle is out of range or the weights are not finite,
   /// non-negative and of positive sum (they are normalised to sum 1).
