@@ -48,25 +48,16 @@
 namespace collide::detail {
 namespace {
 
-/// A polygon's core in the shared local frame, with its rounding radius: vertex i is
-/// (x[i], y[i]), the outward normal of edge i is (nx[i], ny[i]). Views the arrays of a
-/// SoaPolygon (general path) or of a SmallSoa (small-polygon path).
+/// A polygon's core in the shared local frame, with its rounding radius.
 struct LocalPolygon {
-  const float* x = nullptr;
-  const float* y = nullptr;
-  const float* nx = nullptr;
-  const float* ny = nullptr;
+  const SoaPolygon* soa = nullptr;
   int count = 0;
   float radius = 0.0f;
 
   [[nodiscard]] int next(int i) const noexcept { return i + 1 == count ? 0 : i + 1; }
-  [[nodiscard]] Vec2 vertex(int i) const noexcept { return {x[i], y[i]}; }
-  [[nodiscard]] Vec2 normal(int i) const noexcept { return {nx[i], ny[i]}; }
+  [[nodiscard]] Vec2 vertex(int i) const noexcept { return soa->vertex(i); }
+  [[nodiscard]] Vec2 normal(int i) const noexcept { return soa->normal(i); }
 };
-
-LocalPolygon local_polygon(const SoaPolygon& p, float radius) noexcept {
-  return {p.x, p.y, p.nx, p.ny, p.count, radius};
-}
 
 /// Index of the edge of `p` whose normal is most anti-parallel to `normal`.
 int incident_edge(const LocalPolygon& p, Vec2 normal) noexcept {
@@ -277,15 +268,6 @@ Manifold finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const Loca
 }
 
 #if COLLIDE_SMALL_POLYGON_SSE2
-/// Both cores of a small pair (up to kSatLanes vertices each) in A's shifted frame, as x/y
-/// arrays padded by repeating the last vertex, as SoaPolygon pads them.
-struct SmallSoa {
-  alignas(16) float x[kSatLanes];
-  alignas(16) float y[kSatLanes];
-  alignas(16) float nx[kSatLanes];
-  alignas(16) float ny[kSatLanes];
-};
-
 /// Vertices (or normals) 0..3 of an array of `count` (2..4) points as x and y lanes, the last
 /// point repeated past `count`. Reads only the first `count` points.
 inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept {
@@ -367,8 +349,8 @@ Manifold contact_polygons_general(const Polygon& a, const Transform& xa, const P
   pb_soa.finish_normals();
   const EdgeSeparation sep_b = find_max_separation_soa(pb_soa, pa_soa, radius);
   if (sep_b.separation > radius) return {};
-  return finish_contact(local_polygon(pa_soa, a.radius), sep_a, local_polygon(pb_soa, b.radius),
-                        sep_b, xa, origin);
+  return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
+                        origin);
 }
 
 }  // namespace
@@ -426,8 +408,13 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     }
     if (sep_b.separation > radius) return {};
 
-    SmallSoa pa_soa;
-    SmallSoa pb_soa;
+    // Only the first kSatLanes entries of each array are written (no 1 KiB fill).
+    SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond kSatLanes
+    SoaPolygon pb_soa;  // NOLINT
+    pa_soa.count = na;
+    pa_soa.padded = kSatLanes;
+    pb_soa.count = nb;
+    pb_soa.padded = kSatLanes;
     _mm_store_ps(pa_soa.x, ax);
     _mm_store_ps(pa_soa.y, ay);
     _mm_store_ps(pa_soa.nx, anx);
@@ -436,9 +423,8 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     _mm_store_ps(pb_soa.y, by);
     _mm_store_ps(pb_soa.nx, bnx);
     _mm_store_ps(pb_soa.ny, bny);
-    const LocalPolygon pa{pa_soa.x, pa_soa.y, pa_soa.nx, pa_soa.ny, na, a.radius};
-    const LocalPolygon pb{pb_soa.x, pb_soa.y, pb_soa.nx, pb_soa.ny, nb, b.radius};
-    return finish_contact(pa, sep_a, pb, sep_b, xa, origin);
+    return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
+                          origin);
   }
 #endif
   return contact_polygons_general(a, xa, b, xb);
