@@ -25,4 +25,11 @@ namespace collide::detail {
 [[nodiscard]] Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
                                         const Transform& xb) noexcept;
 
+/// `contact_polygons` with every pair on the general front end (polygons copied into 4-wide
+/// arrays), never the small-polygon one: the reference that tests/narrow hold the small-polygon
+/// path to, bit for bit.
+[[nodiscard]] Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa,
+                                                     const Polygon& b,
+                                                     const Transform& xb) noexcept;
+
 }  // namespace collide::detail

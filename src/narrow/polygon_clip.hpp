@@ -5,6 +5,7 @@
 //    planes (Sutherland-Hodgman on a segment; Catto, "Contact Manifolds", GDC 2007;
 //    Ericson, Real-Time Collision Detection, 8.3.2).
 
+#include <algorithm>
 #include <array>
 #include <collide/narrow/manifold.hpp>
 
@@ -35,7 +36,59 @@ struct EdgeRef {
 /// the tangent coordinates of the reference edge's ends and `tangent` its unit direction.
 /// Kept incident vertices get id (reference edge, incident vertex); points cut by a side plane
 /// get id (reference vertex of that plane, incident edge).
-[[nodiscard]] ClippedEdge clip_incident_edge(const EdgeRef& reference, Vec2 tangent,
-                                             const EdgeRef& incident) noexcept;
+///
+/// Parametrise the incident edge as p(l) = start + l (end - start), l in [0, 1]. Its tangent
+/// coordinate d(l) = d0 + l (d1 - d0) is linear, so each side plane cuts it at one l; the kept
+/// part is the l-interval inside both planes. One division per plane, no case analysis on which
+/// end is outside (the classic Sutherland-Hodgman step written as an interval intersection).
+/// Inline: contact_polygons calls it once per touching pair, and a call would store and reload
+/// the clipped edge.
+[[nodiscard]] inline ClippedEdge clip_incident_edge(const EdgeRef& reference, Vec2 tangent,
+                                                    const EdgeRef& incident) noexcept {
+  const float lower = dot(tangent, reference.start);
+  const float upper = dot(tangent, reference.end);
+  const float d0 = dot(tangent, incident.start);
+  const float d1 = dot(tangent, incident.end);
+  const ContactId start_id{static_cast<std::uint8_t>(reference.index),
+                           static_cast<std::uint8_t>(incident.index), FeatureType::edge,
+                           FeatureType::vertex};
+  const ContactId end_id{static_cast<std::uint8_t>(reference.index),
+                         static_cast<std::uint8_t>(incident.next), FeatureType::edge,
+                         FeatureType::vertex};
+  ClippedEdge out;
+  const float span = d1 - d0;
+  if (span == 0.0f) {
+    // The incident edge is perpendicular to the reference edge: all in or all out.
+    if (!(lower <= d0 && d0 <= upper)) return out;
+    out.vertices = {ClipVertex{incident.start, start_id}, ClipVertex{incident.end, end_id}};
+    out.count = 2;
+    return out;
+  }
+  const float inv = 1.0f / span;
+  const float at_lower = (lower - d0) * inv;  // l where the edge crosses the start-side plane
+  const float at_upper = (upper - d0) * inv;  // l where it crosses the end-side plane
+  // Entering and leaving parameters; which plane is entered first depends on the direction.
+  const bool lower_first = at_lower < at_upper;
+  const float enter = lower_first ? at_lower : at_upper;
+  const float leave = lower_first ? at_upper : at_lower;
+  const int enter_vertex = lower_first ? reference.index : reference.next;
+  const int leave_vertex = lower_first ? reference.next : reference.index;
+  const float l0 = std::max(enter, 0.0f);
+  const float l1 = std::min(leave, 1.0f);
+  if (!(l0 <= l1)) return out;  // the incident edge lies entirely beside the reference edge
+  const Vec2 delta = incident.end - incident.start;
+  const ContactId cut_id_enter{static_cast<std::uint8_t>(enter_vertex),
+                               static_cast<std::uint8_t>(incident.index), FeatureType::vertex,
+                               FeatureType::edge};
+  const ContactId cut_id_leave{static_cast<std::uint8_t>(leave_vertex),
+                               static_cast<std::uint8_t>(incident.index), FeatureType::vertex,
+                               FeatureType::edge};
+  out.vertices[0] = l0 > 0.0f ? ClipVertex{incident.start + l0 * delta, cut_id_enter}
+                              : ClipVertex{incident.start, start_id};
+  out.vertices[1] = l1 < 1.0f ? ClipVertex{incident.start + l1 * delta, cut_id_leave}
+                              : ClipVertex{incident.end, end_id};
+  out.count = 2;
+  return out;
+}
 
 }  // namespace collide::detail

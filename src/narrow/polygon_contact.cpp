@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/sat.hpp>
@@ -30,6 +31,19 @@
 #include "polygon_clip.hpp"
 #include "segment_closest.hpp"
 #include "sat_soa.hpp"
+
+// The small-polygon front end uses SSE2 (every x86-64 CPU); elsewhere, or with
+// COLLIDE_SMALL_POLYGON_SSE2=0, every pair takes the general front end.
+#ifndef COLLIDE_SMALL_POLYGON_SSE2
+#if defined(__SSE2__) || defined(_M_X64)
+#define COLLIDE_SMALL_POLYGON_SSE2 1
+#else
+#define COLLIDE_SMALL_POLYGON_SSE2 0
+#endif
+#endif
+#if COLLIDE_SMALL_POLYGON_SSE2
+#include <emmintrin.h>
+#endif
 
 namespace collide::detail {
 namespace {
@@ -206,10 +220,109 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
   return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx);
 }
 
-}  // namespace
+/// Everything after the separating axis test, shared by both front ends: `pa` and `pb` are the
+/// cores in A's frame shifted so that A's vertex 0 is the origin (`origin` in A's local frame),
+/// sep_a and sep_b the axes of greatest separation over A's and B's edges, neither above the
+/// radius sum. `xa` and `origin` map that frame to world space.
+Manifold finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPolygon& pb,
+                        EdgeSeparation sep_b, const Transform& xa, Vec2 origin) noexcept {
+  const float radius = pa.radius + pb.radius;
+  EdgeSeparation ref_a = sep_a;
+  if (pa.count == 2 && pb.count == 2) {
+    // Two segments' Minkowski difference is a parallelogram whose edge normals are the two
+    // segment normals, except when the segments are parallel: then it is a segment and its end
+    // caps add the segments' direction as an axis (collinear segments are apart only along it).
+    const Vec2 t = left_perp(pa.normal(0));  // A's direction, in A's frame
+    const float a0 = dot(t, pa.vertex(0)), a1 = dot(t, pa.vertex(1));
+    const float b0 = dot(t, pb.vertex(0)), b1 = dot(t, pb.vertex(1));
+    const float axial =
+        std::max(std::min(b0, b1) - std::max(a0, a1), std::min(a0, a1) - std::max(b0, b1));
+    if (axial > radius) return {};
+    // Apart along the direction: the closest features decide (from A's edge, see below).
+    if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
+  }
 
-Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
-                          const Transform& xb) noexcept {
+  // The size that the tolerances scale with: the longer of the two competing faces (largest
+  // coordinate extent), found without a loop or a square root.
+  const auto edge_extent = [](const LocalPolygon& p, int e) {
+    return glm::abs(p.vertex(p.next(e)) - p.vertex(e));
+  };
+  const Vec2 ea = edge_extent(pa, sep_a.edge);
+  const Vec2 eb = edge_extent(pb, sep_b.edge);
+  const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
+  const Context ctx{{transform_point(xa, origin), xa.q},
+                    kRelativeTolerance * size,
+                    kContactMergeTolerance * size};
+  const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
+  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
+                           : reference_face_manifold(pa, ref_a, pb, ctx);
+  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return m;
+  // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
+  // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
+  // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
+  m = b_reference ? reference_face_manifold(pa, ref_a, pb, ctx)
+                  : reversed(reference_face_manifold(pb, sep_b, pa, ctx));
+  if (m.count > 0) return m;
+  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, ctx))
+                     : deepest_point_manifold(pa, ref_a.edge, pb, ctx);
+}
+
+#if COLLIDE_SMALL_POLYGON_SSE2
+/// Vertices (or normals) 0..3 of an array of `count` (2..4) points as x and y lanes, the last
+/// point repeated past `count`. Reads only the first `count` points.
+inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept {
+  const __m128 lo = _mm_loadu_ps(&v[0].x);  // x0 y0 x1 y1
+  __m128 hi;                                // x2 y2 x3 y3
+  if (count == 4) {
+    hi = _mm_loadu_ps(&v[2].x);
+  } else if (count == 3) {
+    hi = _mm_castpd_ps(_mm_load1_pd(reinterpret_cast<const double*>(&v[2].x)));
+  } else {
+    hi = _mm_movehl_ps(lo, lo);
+  }
+  x = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+  y = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+}
+
+/// find_max_separation_soa for four edges in registers against four vertices (padded by
+/// repetition, so the minimum over them is the minimum over the real ones):
+///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
+/// the same operations in the same order, so the results are bitwise equal. The winner is
+/// the first lane holding the maximum, found without branches. Returns false (and nothing)
+/// if a lane is NaN: the general path then decides, as it would.
+inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m128 x2,
+                                 __m128 y2, EdgeSeparation& out) noexcept {
+  const auto lane = [](__m128 v, int k) {
+    switch (k) {
+      case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
+      case 1: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
+      case 2: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
+      default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
+    }
+  };
+  __m128 lowest = _mm_add_ps(_mm_mul_ps(nx, lane(x2, 0)), _mm_mul_ps(ny, lane(y2, 0)));
+  for (int j = 1; j < kSatLanes; ++j) {
+    const __m128 d = _mm_add_ps(_mm_mul_ps(nx, lane(x2, j)), _mm_mul_ps(ny, lane(y2, j)));
+    lowest = _mm_min_ps(d, lowest);  // d < lowest ? d : lowest, as the general path
+  }
+  const __m128 s =
+      _mm_sub_ps(lowest, _mm_add_ps(_mm_mul_ps(nx, x1), _mm_mul_ps(ny, y1)));
+  if (_mm_movemask_ps(_mm_cmpord_ps(s, s)) != 0xF) return false;
+  __m128 top = _mm_max_ps(s, _mm_shuffle_ps(s, s, _MM_SHUFFLE(1, 0, 3, 2)));
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
+  // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
+  // before it.
+  const int edge = std::countr_zero(static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s, top))));
+  alignas(16) float lanes[kSatLanes];
+  _mm_store_ps(lanes, s);
+  out = EdgeSeparation{edge, lanes[edge], 0};
+  return true;
+}
+#endif
+
+/// The general front end: both cores copied into 4-wide x/y arrays in A's frame.
+Manifold contact_polygons_general(const Polygon& a, const Transform& xa, const Polygon& b,
+                                  const Transform& xb) noexcept {
   const int na = a.count;
   const int nb = b.count;
   const Transform b_in_a = inv_mul(xa, xb);
@@ -236,49 +349,85 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   pb_soa.finish_normals();
   const EdgeSeparation sep_b = find_max_separation_soa(pb_soa, pa_soa, radius);
   if (sep_b.separation > radius) return {};
-  const SoaPolygon& va = pa_soa;
-  const SoaPolygon& vb = pb_soa;
+  return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
+                        origin);
+}
 
-  EdgeSeparation ref_a = sep_a;
-  if (na == 2 && nb == 2) {
-    // Two segments' Minkowski difference is a parallelogram whose edge normals are the two
-    // segment normals, except when the segments are parallel: then it is a segment and its end
-    // caps add the segments' direction as an axis (collinear segments are apart only along it).
-    const Vec2 t = left_perp(a.normals[0]);  // A's direction, in A's frame
-    const float a0 = dot(t, va.vertex(0)), a1 = dot(t, va.vertex(1));
-    const float b0 = dot(t, vb.vertex(0)), b1 = dot(t, vb.vertex(1));
-    const float axial =
-        std::max(std::min(b0, b1) - std::max(a0, a1), std::min(a0, a1) - std::max(b0, b1));
-    if (axial > radius) return {};
-    // Apart along the direction: the closest features decide (from A's edge, see below).
-    if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
+}  // namespace
+
+Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa, const Polygon& b,
+                                       const Transform& xb) noexcept {
+  return contact_polygons_general(a, xa, b, xb);
+}
+
+// Small pairs (both polygons within one group of kSatLanes vertices: boxes, triangles,
+// capsules and segments) skip the copies: each polygon's arrays are loaded straight into x and
+// y registers, B is rotated into A's frame there, and both separating axis passes run in
+// registers with a branch-free choice of the winning edge. Same operations in the same order
+// as the general front end, so the manifold is bitwise the same (tests/narrow check it).
+Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
+                          const Transform& xb) noexcept {
+#if COLLIDE_SMALL_POLYGON_SSE2
+  const int na = a.count;
+  const int nb = b.count;
+  if (na <= kSatLanes && nb <= kSatLanes) {
+    const Transform b_in_a = inv_mul(xa, xb);
+    const Vec2 origin = a.vertices[0];
+    const Vec2 shift = b_in_a.p - origin;
+    const __m128 c = _mm_set1_ps(b_in_a.q.c);
+    const __m128 s = _mm_set1_ps(b_in_a.q.s);
+
+    // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
+    __m128 ax, ay, anx, any, bx, by;
+    load_lanes(a.vertices.data(), na, ax, ay);
+    ax = _mm_sub_ps(ax, _mm_set1_ps(origin.x));
+    ay = _mm_sub_ps(ay, _mm_set1_ps(origin.y));
+    load_lanes(a.normals.data(), na, anx, any);
+    {
+      __m128 vx, vy;
+      load_lanes(b.vertices.data(), nb, vx, vy);
+      bx = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(shift.x));
+      by = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(shift.y));
+    }
+    const float radius = a.radius + b.radius;
+    EdgeSeparation sep_a;
+    if (!max_separation_lanes(anx, any, ax, ay, bx, by, sep_a)) {
+      return contact_polygons_general(a, xa, b, xb);
+    }
+    if (sep_a.separation > radius) return {};
+    __m128 bnx, bny;
+    {
+      __m128 nx, ny;
+      load_lanes(b.normals.data(), nb, nx, ny);
+      bnx = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
+      bny = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
+    }
+    EdgeSeparation sep_b;
+    if (!max_separation_lanes(bnx, bny, bx, by, ax, ay, sep_b)) {
+      return contact_polygons_general(a, xa, b, xb);
+    }
+    if (sep_b.separation > radius) return {};
+
+    // Only the first kSatLanes entries of each array are written (no 1 KiB fill).
+    SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond kSatLanes
+    SoaPolygon pb_soa;  // NOLINT
+    pa_soa.count = na;
+    pa_soa.padded = kSatLanes;
+    pb_soa.count = nb;
+    pb_soa.padded = kSatLanes;
+    _mm_store_ps(pa_soa.x, ax);
+    _mm_store_ps(pa_soa.y, ay);
+    _mm_store_ps(pa_soa.nx, anx);
+    _mm_store_ps(pa_soa.ny, any);
+    _mm_store_ps(pb_soa.x, bx);
+    _mm_store_ps(pb_soa.y, by);
+    _mm_store_ps(pb_soa.nx, bnx);
+    _mm_store_ps(pb_soa.ny, bny);
+    return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
+                          origin);
   }
-
-  // The size that the tolerances scale with: the longer of the two competing faces (largest
-  // coordinate extent), found without a loop or a square root.
-  const auto edge_extent = [](const SoaPolygon& p, int e) {
-    return glm::abs(p.vertex(p.next(e)) - p.vertex(e));
-  };
-  const Vec2 ea = edge_extent(va, sep_a.edge);
-  const Vec2 eb = edge_extent(vb, sep_b.edge);
-  const float size = std::max(std::max(ea.x, ea.y), std::max(eb.x, eb.y));
-  const Context ctx{{transform_point(xa, origin), xa.q},
-                    kRelativeTolerance * size,
-                    kContactMergeTolerance * size};
-  const LocalPolygon pa{&pa_soa, na, a.radius};
-  const LocalPolygon pb{&pb_soa, nb, b.radius};
-  const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
-  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
-                           : reference_face_manifold(pa, ref_a, pb, ctx);
-  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return m;
-  // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
-  // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
-  // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
-  m = b_reference ? reference_face_manifold(pa, ref_a, pb, ctx)
-                  : reversed(reference_face_manifold(pb, sep_b, pa, ctx));
-  if (m.count > 0) return m;
-  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, ctx))
-                     : deepest_point_manifold(pa, ref_a.edge, pb, ctx);
+#endif
+  return contact_polygons_general(a, xa, b, xb);
 }
 
 }  // namespace collide::detail

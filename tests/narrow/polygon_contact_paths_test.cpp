@@ -1,0 +1,88 @@
+// The small-polygon front end of contact_polygons (pairs of at most four vertices each, in
+// registers) against the general front end (4-wide arrays) that every pair took before: the
+// manifolds must be bitwise equal, for boxes, triangles, quads, capsules and segments (2-vertex
+// polygons), rounded or not, overlapping, touching, apart, and far from the origin.
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "contact_routines.hpp"
+#include "support/test_util.hpp"
+
+namespace collide {
+namespace {
+
+/// A capsule or segment as contact() sees it: edge 0 runs a -> b, normal to its right.
+Polygon two_vertex_polygon(Vec2 a, Vec2 b, float radius) {
+  Polygon p;
+  p.count = 2;
+  p.vertices[0] = a;
+  p.vertices[1] = b;
+  const Vec2 n = normalize_or_zero(right_perp(b - a));
+  p.normals[0] = n;
+  p.normals[1] = -n;
+  p.centroid = 0.5f * (a + b);
+  p.radius = radius;
+  return p;
+}
+
+/// A polygon of 2..4 vertices, size about 1, rounded one time in three.
+Polygon random_small_polygon(std::mt19937& rng) {
+  const float radius = rng() % 3 == 0 ? test::uniform(rng, 0.01f, 0.3f) : 0.0f;
+  switch (rng() % 4) {
+    case 0:
+      return two_vertex_polygon(test::random_point(rng, 0.6f), test::random_point(rng, 0.6f),
+                                radius);
+    case 1:
+      return make_box({test::uniform(rng, 0.1f, 0.6f), test::uniform(rng, 0.1f, 0.6f)}, radius);
+    default:
+      return test::random_polygon(rng, 3 + static_cast<int>(rng() % 2), 0.6f, radius);
+  }
+}
+
+bool bitwise_equal(const Manifold& m, const Manifold& expected) {
+  if (m.count != expected.count) return false;
+  if (std::memcmp(&m.normal, &expected.normal, sizeof(Vec2)) != 0) return false;
+  for (int i = 0; i < m.count; ++i) {
+    const ManifoldPoint& p = m.points[i];
+    const ManifoldPoint& q = expected.points[i];
+    if (std::memcmp(&p.point, &q.point, sizeof(Vec2)) != 0 ||
+        std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || !(p.id == q.id)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(PolygonContactPaths, SmallPolygonPathMatchesGeneralPathBitwise) {
+  std::mt19937 rng(20241122);
+  int touching = 0;
+  int two_points = 0;
+  constexpr int kCases = 40000;
+  for (int i = 0; i < kCases; ++i) {
+    const Polygon a = random_small_polygon(rng);
+    const Polygon b = random_small_polygon(rng);
+    const Vec2 base = i % 5 == 0 ? test::random_point(rng, 1e4f) : Vec2{0.0f, 0.0f};
+    const Transform xa = Transform::from(base + test::random_point(rng, 0.2f),
+                                         test::uniform(rng, -3.0f, 3.0f));
+    Transform xb = Transform::from(base + test::random_point(rng, 1.2f),
+                                   test::uniform(rng, -3.0f, 3.0f));
+    if (i % 7 == 0) xb.q = xa.q;  // aligned frames: parallel edges, tied axes
+    if (i % 11 == 0) xb = xa;     // coincident frames
+    const Manifold fast = detail::contact_polygons(a, xa, b, xb);
+    const Manifold general = detail::contact_polygons_general_path(a, xa, b, xb);
+    ASSERT_TRUE(bitwise_equal(fast, general))
+        << "case " << i << ": counts " << fast.count << " vs " << general.count;
+    touching += fast.count > 0 ? 1 : 0;
+    two_points += fast.count == 2 ? 1 : 0;
+  }
+  // Both outcomes, and two-point manifolds, are exercised.
+  EXPECT_GT(touching, kCases / 4);
+  EXPECT_LT(touching, kCases * 3 / 4);
+  EXPECT_GT(two_points, kCases / 10);
+}
+
+}  // namespace
+}  // namespace collide
