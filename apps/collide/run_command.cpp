@@ -241,7 +241,7 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--frames", o->frames, "Frames to run")->capture_default_str()->check(CLI::Range(0, 100000000));
   cmd->add_option("--dt", o->dt, "Seconds per frame")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--broadphase", *broad,
-                  "Body broad phase: temporal, hierarchical_grid, sorted_grid, hash_grid, dynamic_tree, "
+                  "Body broad phase: temporal, hierarchical_grid, sorted_grid, loose_grid, hash_grid, dynamic_tree, "
                   "sweep_and_prune, brute_force")
       ->capture_default_str();
   cmd->add_flag("--fixed-order", *fixed_order, "Keep the early-out checks in declaration order (no learning)");

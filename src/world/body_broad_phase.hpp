@@ -7,6 +7,7 @@
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/loose_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/broad/temporal_broad_phase.hpp>
@@ -25,6 +26,7 @@ class BodyBroadPhase {
       case WorldBroadPhase::temporal: bp_.emplace<TemporalBroadPhase>(); break;
       case WorldBroadPhase::hierarchical_grid: bp_.emplace<HierarchicalGrid>(); break;
       case WorldBroadPhase::sorted_grid: bp_.emplace<SortedGrid>(); break;
+      case WorldBroadPhase::loose_grid: bp_.emplace<LooseGrid>(); break;
       case WorldBroadPhase::hash_grid: bp_.emplace<HashGrid>(); break;
       case WorldBroadPhase::dynamic_tree: bp_.emplace<DynamicTree>(); break;
       case WorldBroadPhase::sweep_and_prune: bp_.emplace<SweepAndPrune>(); break;
@@ -85,8 +87,8 @@ class BodyBroadPhase {
   }
 
  private:
-  std::variant<TemporalBroadPhase, HierarchicalGrid, SortedGrid, HashGrid, DynamicTree,
-               SweepAndPrune, BruteForce>
+  std::variant<TemporalBroadPhase, HierarchicalGrid, SortedGrid, LooseGrid, HashGrid,
+               DynamicTree, SweepAndPrune, BruteForce>
       bp_;
   bool built_ = false;
 };

@@ -144,8 +144,8 @@ int compare_contacts(const Contact& x, const Contact& y) {
   return 0;
 }
 
-constexpr std::array<const char*, 7> kBroadPhaseNames = {
-    "temporal", "hierarchical_grid", "sorted_grid", "hash_grid",
+constexpr std::array<const char*, 8> kBroadPhaseNames = {
+    "temporal", "hierarchical_grid", "sorted_grid", "loose_grid", "hash_grid",
     "dynamic_tree", "sweep_and_prune", "brute_force"};
 
 }  // namespace

@@ -55,7 +55,7 @@ TEST(RunWorld, DefaultSceneStaysCheckedAndBusy) {
 TEST(RunWorld, StateHashIsTheSameForEveryRunBroadPhaseAndEarlyOutChoice) {
   const RunReport base = run_world(small("", 400, 120), nullptr);
   EXPECT_EQ(run_world(small("", 400, 120), nullptr).state_hash, base.state_hash);
-  for (const WorldBroadPhase bp : {WorldBroadPhase::brute_force, WorldBroadPhase::sorted_grid,
+  for (const WorldBroadPhase bp : {WorldBroadPhase::brute_force, WorldBroadPhase::sorted_grid, WorldBroadPhase::loose_grid,
                                    WorldBroadPhase::dynamic_tree, WorldBroadPhase::sweep_and_prune}) {
     RunOptions o = small("", 400, 120);
     o.broad_phase = bp;

@@ -144,7 +144,8 @@ struct BodyDef {
 enum class WorldBroadPhase : std::uint8_t {
   temporal,           ///< speed bounds: pairs that cannot meet yet are skipped (the default)
   hierarchical_grid,  ///< grid levels for mixed sizes
-  sorted_grid,        ///< radix-sorted uniform grid
+  sorted_grid,        ///< counting-sorted uniform grid
+  loose_grid,         ///< one cell per box (its min corner), the fastest full rebuild
   hash_grid,          ///< the lesson's hashed grid
   dynamic_tree,       ///< incremental AABB tree
   sweep_and_prune,    ///< insertion-sorted intervals
