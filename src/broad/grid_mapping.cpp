@@ -29,6 +29,20 @@ AabbN<D> checked_bounds_of(std::span<const AabbN<D>> boxes) {
 }
 
 template <int D>
+void sample_largest_sides(std::span<const AabbN<D>> boxes, std::vector<float>& out) {
+  out.clear();
+  // Every box up to kCellSizeSamples, else an even stride through the span (deterministic).
+  const std::size_t n = boxes.size();
+  const std::size_t samples = std::min<std::size_t>(n, kCellSizeSamples);
+  for (std::size_t s = 0; s < samples; ++s) {
+    const VecN<D> size = boxes[s * n / samples].size();
+    float largest = size[0];
+    for (int k = 1; k < D; ++k) largest = std::max(largest, size[k]);
+    out.push_back(largest);
+  }
+}
+
+template <int D>
 float suggest_cell_size(std::span<const AabbN<D>> boxes, std::vector<float>& scratch) {
   return suggest_cell_size(boxes, bounds_of(boxes), scratch);
 }
@@ -37,16 +51,7 @@ template <int D>
 float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& world,
                         std::vector<float>& scratch) {
   if (boxes.empty()) return 1.0f;
-  scratch.clear();
-  // Every box up to kCellSizeSamples, else an even stride through the span (deterministic).
-  const std::size_t n = boxes.size();
-  const std::size_t samples = std::min<std::size_t>(n, kCellSizeSamples);
-  for (std::size_t s = 0; s < samples; ++s) {
-    const VecN<D> size = boxes[s * n / samples].size();
-    float largest = size[0];
-    for (int k = 1; k < D; ++k) largest = std::max(largest, size[k]);
-    scratch.push_back(largest);
-  }
+  sample_largest_sides(boxes, scratch);
   auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);
   std::nth_element(scratch.begin(), mid, scratch.end());
   float size = 2.0f * *mid;
@@ -60,7 +65,7 @@ float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& world,
   }
   if (!(size > 0.0f)) {
     // Points only: about one point per cell if they were spread evenly.
-    const float per_axis = std::pow(static_cast<float>(n), 1.0f / static_cast<float>(D));
+    const float per_axis = std::pow(static_cast<float>(boxes.size()), 1.0f / static_cast<float>(D));
     size = span / std::max(per_axis, 1.0f);
   }
   // A cell must stay well above the float spacing of the coordinates it divides.
@@ -70,6 +75,8 @@ float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& world,
 
 template AabbN<2> checked_bounds_of<2>(std::span<const AabbN<2>>);
 template AabbN<3> checked_bounds_of<3>(std::span<const AabbN<3>>);
+template void sample_largest_sides<2>(std::span<const AabbN<2>>, std::vector<float>&);
+template void sample_largest_sides<3>(std::span<const AabbN<3>>, std::vector<float>&);
 template float suggest_cell_size<2>(std::span<const AabbN<2>>, std::vector<float>&);
 template float suggest_cell_size<3>(std::span<const AabbN<3>>, std::vector<float>&);
 template float suggest_cell_size<2>(std::span<const AabbN<2>>, const AabbN<2>&, std::vector<float>&);

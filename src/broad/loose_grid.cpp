@@ -19,16 +19,8 @@ template <int D>
 float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
                       std::vector<float>& scratch) {
   if (boxes.empty()) return 1.0f;
-  scratch.clear();
-  const std::size_t n = boxes.size();
-  const std::size_t samples = std::min<std::size_t>(n, kCellSizeSamples);
-  for (std::size_t s = 0; s < samples; ++s) {
-    const VecN<D> size = boxes[s * n / samples].size();
-    float largest = size[0];
-    for (int k = 1; k < D; ++k) largest = std::max(largest, size[k]);
-    scratch.push_back(largest);
-  }
-  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(samples - 1));
+  sample_largest_sides(boxes, scratch);
+  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(scratch.size() - 1));
   std::nth_element(scratch.begin(), scratch.begin() + at, scratch.end());
   const float quantile = scratch[static_cast<std::size_t>(at)];
   if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, scratch);  // points only

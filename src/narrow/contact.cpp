@@ -43,27 +43,13 @@ constexpr int type_index() noexcept {
   if constexpr (std::is_same_v<S, Segment>) return 3;
 }
 
-// The 2-vertex polygon of a capsule or segment: edge 0 runs a -> b with its normal to the
-// right, edge 1 runs b -> a. Only the first two array slots are written (no 1 KiB fill).
-Polygon two_vertex_polygon(Vec2 a, Vec2 b, float radius) noexcept {
-  Polygon p;  // NOLINT: arrays deliberately left unset beyond count
-  p.count = 2;
-  p.vertices[0] = a;
-  p.vertices[1] = b;
-  const Vec2 n = normalize_or_zero(right_perp(b - a));
-  p.normals[0] = n;
-  p.normals[1] = -n;
-  p.centroid = 0.5f * (a + b);
-  p.radius = radius;
-  return p;
-}
 
 const Polygon& as_polygon(const Polygon& polygon) noexcept { return polygon; }
 Polygon as_polygon(const Capsule& capsule) noexcept {
-  return two_vertex_polygon(capsule.a, capsule.b, capsule.radius);
+  return detail::two_vertex_polygon(capsule.a, capsule.b, capsule.radius);
 }
 Polygon as_polygon(const Segment& segment) noexcept {
-  return two_vertex_polygon(segment.a, segment.b, 0.0f);
+  return detail::two_vertex_polygon(segment.a, segment.b, 0.0f);
 }
 
 }  // namespace

@@ -3,12 +3,28 @@
 // one order of its pair; the table serves the other order through `reversed`. Capsules and
 // segments reach `contact_polygons` and `contact_polygon_circle` as 2-vertex polygons.
 
+#include <collide/core/math.hpp>
 #include <collide/core/transform.hpp>
 #include <collide/narrow/manifold.hpp>
 #include <collide/shape/circle.hpp>
 #include <collide/shape/polygon.hpp>
 
 namespace collide::detail {
+
+/// The 2-vertex polygon of a capsule or segment: edge 0 runs a -> b with its normal to the
+/// right, edge 1 runs b -> a. Only the first two array slots are written (no 1 KiB fill).
+inline Polygon two_vertex_polygon(Vec2 a, Vec2 b, float radius) noexcept {
+  Polygon p;  // NOLINT: arrays deliberately left unset beyond count
+  p.count = 2;
+  p.vertices[0] = a;
+  p.vertices[1] = b;
+  const Vec2 n = normalize_or_zero(right_perp(b - a));
+  p.normals[0] = n;
+  p.normals[1] = -n;
+  p.centroid = 0.5f * (a + b);
+  p.radius = radius;
+  return p;
+}
 
 /// Two circles: analytic (circle_contact.cpp).
 [[nodiscard]] Manifold contact_circles(const Circle& a, const Transform& xa, const Circle& b,

@@ -14,19 +14,7 @@
 namespace collide {
 namespace {
 
-/// A capsule or segment as contact() sees it: edge 0 runs a -> b, normal to its right.
-Polygon two_vertex_polygon(Vec2 a, Vec2 b, float radius) {
-  Polygon p;
-  p.count = 2;
-  p.vertices[0] = a;
-  p.vertices[1] = b;
-  const Vec2 n = normalize_or_zero(right_perp(b - a));
-  p.normals[0] = n;
-  p.normals[1] = -n;
-  p.centroid = 0.5f * (a + b);
-  p.radius = radius;
-  return p;
-}
+using detail::two_vertex_polygon;  // a capsule or segment as contact() sees it
 
 /// A polygon of 2..4 vertices, size about 1, rounded one time in three.
 Polygon random_small_polygon(std::mt19937& rng) {

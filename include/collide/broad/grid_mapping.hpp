@@ -237,6 +237,10 @@ template <int D>
 template <int D>
 [[nodiscard]] float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
                                       std::vector<float>& scratch);
+/// The largest side of each box, or of an even, deterministic stride of kCellSizeSamples boxes
+/// when there are more, into `out` (cleared first): what cell sizes are chosen from.
+template <int D>
+void sample_largest_sides(std::span<const AabbN<D>> boxes, std::vector<float>& out);
 
 /// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
 /// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,
