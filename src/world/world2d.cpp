@@ -416,6 +416,11 @@ void World2D::Impl::record_impact(std::uint32_t index, std::size_t piece, int st
   const StaticDef& st = statics[sp.owner];
   Contact c{ColliderRef{false, index, static_cast<std::uint16_t>(piece)},
             ColliderRef{true, sp.owner, sp.piece}, {}, false, b.user_id, st.user_id};
+  // A pair hit twice in one step keeps its first impact. This body's impacts are the tail of
+  // ccd_contacts (bodies move one after another), so the scan stops at the first other body.
+  for (auto it = ccd_contacts.rbegin(); it != ccd_contacts.rend() && it->a.index == index; ++it) {
+    if (compare_contacts(*it, c) == 0) return;
+  }
   // The exact manifold at the impact pose when the shapes already touch there (it carries
   // feature ids); else the time of impact's own point and normal at depth 0.
   c.manifold = contact(b.shapes[piece], b.xf, st.shapes[sp.piece], st.transform);
@@ -551,13 +556,23 @@ void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
 
 void World2D::Impl::make_events(StepStats& stats) {
   // Impacts during the motion count as contacts of this step unless the pair also touches at
-  // the end (then the end-of-step manifold, listed first, wins).
-  contacts.insert(contacts.end(), ccd_contacts.begin(), ccd_contacts.end());
+  // the end (then the end-of-step manifold wins). Both lists hold each pair at most once, so a
+  // sort of each and one merge does it (std::stable_sort of the union would allocate every step).
+  std::sort(contacts.begin(), contacts.end(), contact_less);
+  std::sort(ccd_contacts.begin(), ccd_contacts.end(), contact_less);
+  merged_contacts.clear();
+  std::size_t k = 0;
+  for (const Contact& c : contacts) {
+    for (; k < ccd_contacts.size() && contact_less(ccd_contacts[k], c); ++k) {
+      merged_contacts.push_back(ccd_contacts[k]);
+    }
+    if (k < ccd_contacts.size() && !contact_less(c, ccd_contacts[k])) ++k;  // same pair: c wins
+    merged_contacts.push_back(c);
+  }
+  merged_contacts.insert(merged_contacts.end(), ccd_contacts.begin() + static_cast<std::ptrdiff_t>(k),
+                         ccd_contacts.end());
   ccd_contacts.clear();
-  std::stable_sort(contacts.begin(), contacts.end(), contact_less);
-  contacts.erase(std::unique(contacts.begin(), contacts.end(),
-                             [](const Contact& x, const Contact& y) { return x.a == y.a && x.b == y.b; }),
-                 contacts.end());
+  std::swap(contacts, merged_contacts);
   events.clear();
   std::size_t i = 0, j = 0;
   const auto emit = [&](ContactEventType type, const Contact& c, std::uint8_t persisted) {

@@ -124,6 +124,7 @@ struct World2D::Impl {
   /// Body-static pairs a fast body hit during this step's continuous motion (manifold at the
   /// time of impact); merged into `contacts` unless the pair touches at the end, too.
   std::vector<Contact> ccd_contacts;
+  std::vector<Contact> merged_contacts;  ///< make_events' buffer, reused every step
   std::vector<Contact> previous_contacts;
   std::vector<ContactEvent> events;
   StepStats last{};
