@@ -24,10 +24,10 @@ Manifold contact_circles(const Circle& a, const Transform& xa, const Circle& b,
   const Vec2 d = (xb.p - xa.p) + rotate(xb.q, b.center) - ca;
   const float radius = a.radius + b.radius;
   const float dist2 = length_squared(d);
-  if (!(dist2 <= radius * radius)) return {};
+  Manifold m;  // the one object returned on every path: built in the caller's slot
+  if (!(dist2 <= radius * radius)) return m;
   const float dist = std::sqrt(dist2);
   const Vec2 n = dist > 0.0f ? d * (1.0f / dist) : Vec2{1.0f, 0.0f};
-  Manifold m;
   m.normal = n;
   // Midway between ca + ra n and ca + dist n - rb n.
   m.points[0] = {xa.p + (ca + (0.5f * (a.radius + dist - b.radius)) * n), radius - dist,
@@ -48,6 +48,7 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
   // small numbers are rotated.
   const Vec2 c = inv_rotate(xa.q, (xb.p - xa.p) + rotate(xb.q, b.center));
   const float radius = a.radius + b.radius;
+  Manifold m;  // the one object returned on every path: built in the caller's slot
   int edge = 0;
   float separation = -std::numeric_limits<float>::infinity();
   for (int i = 0; i < a.count; ++i) {
@@ -55,7 +56,7 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
     if (s > separation) {
       separation = s;
       edge = i;
-      if (s > radius) return {};  // a separating axis
+      if (s > radius) return m;  // a separating axis
     }
   }
   const int next = edge + 1 == a.count ? 0 : edge + 1;
@@ -73,7 +74,7 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
       const Vec2 v = at_v1 ? v1 : v2;
       const Vec2 d = c - v;
       const float dist2 = length_squared(d);
-      if (!(dist2 <= radius * radius)) return {};
+      if (!(dist2 <= radius * radius)) return m;
       const float dist = std::sqrt(dist2);
       if (dist > 0.0f) {  // else c sits on the vertex: the face normal serves
         n = d * (1.0f / dist);
@@ -85,7 +86,6 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
   }
   // A's surface point core_point + ra n, B's c - rb n; c = core_point + distance n.
   const Vec2 mid = core_point + (0.5f * (a.radius + distance - b.radius)) * n;
-  Manifold m;
   m.normal = rotate(xa.q, n);
   m.points[0] = {transform_point(xa, mid), radius - distance, id};
   m.count = 1;

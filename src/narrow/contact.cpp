@@ -59,7 +59,9 @@ Manifold contact(const A& a, const Transform& xa, const B& b, const Transform& x
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "contact: transform not finite or not unit");
   constexpr TableEntry entry = kContactTable[type_index<A>()][type_index<B>()];
   if constexpr (entry.swapped) {
-    return reversed(contact(b, xb, a, xa));
+    Manifold m = contact(b, xb, a, xa);  // built in this function's return slot
+    reverse(m);
+    return m;
   } else if constexpr (entry.routine == Routine::circles) {
     return detail::contact_circles(a, xa, b, xb);
   } else if constexpr (entry.routine == Routine::polygon_circle) {

@@ -83,9 +83,10 @@ struct Context {
 /// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
 /// edge `i11` of p1 and keep the points within the radii sum of the reference face (merged into
 /// one when they coincide, as when segments meet end to end). Normal: the reference edge's
-/// outward normal.
-Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
-                       const Context& ctx) noexcept {
+/// outward normal. Written into `m` (fresh, count 0), as seen from the other side when
+/// `flip` (p1 is the caller's B): the routines below build the caller's manifold in place.
+void clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
+                   const Context& ctx, bool flip, Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normal(i11);
   const EdgeRef ref{p1.vertex(i11), p1.vertex(p1.next(i11)), i11, p1.next(i11)};
@@ -95,30 +96,43 @@ Manifold clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, 
   const float radius = r1 + r2;
   // The tangent left_perp(n1) is the unit direction of the reference edge.
   const ClippedEdge clipped = clip_incident_edge(ref, left_perp(n1), inc);
-  Manifold m;
   Vec2 kept[2];
+  float depth[2];
+  ContactId id[2];
+  int count = 0;
   for (int k = 0; k < clipped.count; ++k) {
     const ClipVertex& cv = clipped.vertices[k];
     const float separation = dot(n1, cv.point - ref.start);  // of the cores
     if (separation <= radius) {
       // B's core point is cv.point; A's surface lies at (r1 - separation) along n1 from it and
       // B's at -r2: the midpoint is half their sum.
-      const Vec2 mid = cv.point + (0.5f * (r1 - separation - r2)) * n1;
-      kept[m.count] = mid;
-      m.points[m.count++] = {transform_point(frame, mid), radius - separation, cv.id};
+      kept[count] = cv.point + (0.5f * (r1 - separation - r2)) * n1;
+      depth[count] = radius - separation;
+      id[count] = cv.id;
+      ++count;
     }
   }
-  if (m.count == 2 && distance_squared(kept[0], kept[1]) <= ctx.merge * ctx.merge) {
-    if (m.points[1].depth > m.points[0].depth) m.points[0] = m.points[1];
-    m.count = 1;
+  if (count == 2 && distance_squared(kept[0], kept[1]) <= ctx.merge * ctx.merge) {
+    if (depth[1] > depth[0]) {
+      kept[0] = kept[1];
+      depth[0] = depth[1];
+      id[0] = id[1];
+    }
+    count = 1;
   }
-  if (m.count > 0) m.normal = rotate(frame.q, n1);
-  return m;
+  if (count == 0) return;
+  const Vec2 n = rotate(frame.q, n1);
+  m.normal = flip ? -n : n;
+  for (int k = 0; k < count; ++k) {
+    m.points[k] = {transform_point(frame, kept[k]), depth[k], flip ? swapped(id[k]) : id[k]};
+  }
+  m.count = count;
 }
 
-/// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth.
-Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
-                                const Context& ctx) noexcept {
+/// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth,
+/// written into `m` as clip_manifold does.
+void deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
+                            const Context& ctx, bool flip, Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normal(i11);
   int deepest = 0;
@@ -127,16 +141,15 @@ Manifold deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPoly
   }
   const float separation = dot(n1, p2.vertex(deepest) - p1.vertex(i11));
   const float radius = p1.radius + p2.radius;
-  Manifold m;
-  if (!(separation <= radius)) return m;
-  m.normal = rotate(frame.q, n1);
+  if (!(separation <= radius)) return;
+  const Vec2 n = rotate(frame.q, n1);
+  const ContactId id{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
+                     FeatureType::edge, FeatureType::vertex};
+  m.normal = flip ? -n : n;
   m.points[0] = {transform_point(frame, p2.vertex(deepest) +
                                             (0.5f * (p1.radius - separation - p2.radius)) * n1),
-                 radius - separation,
-                 ContactId{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
-                           FeatureType::edge, FeatureType::vertex}};
+                 radius - separation, flip ? swapped(id) : id};
   m.count = 1;
-  return m;
 }
 
 /// Closest points of edge e1 of p1 and edge e2 of p2, with the edges.
@@ -168,13 +181,15 @@ int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
 /// the reference and incident edges to neighbouring edges while the distance drops (a closest
 /// feature walk, as in Lin-Canny and V-Clip; one or two steps in practice): corner against
 /// corner gives one point with the normal along the closest points; a corner against the inside
-/// of an edge makes that edge the reference face; otherwise p1's edge is.
-Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
-                                 const LocalPolygon& p2, const Context& ctx) noexcept {
+/// of an edge makes that edge the reference face; otherwise p1's edge is. Written into `m` as
+/// clip_manifold does.
+void reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
+                             const LocalPolygon& p2, const Context& ctx, bool flip,
+                             Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const int i11 = reference.edge;
   const int i21 = incident_edge(p2, p1.normal(i11));
-  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx);
+  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx, flip, m);
 
   ClosestEdges best = closest_edges(p1, i11, p2, i21);
   for (int step = 0; step < p1.count + p2.count; ++step) {
@@ -199,33 +214,35 @@ Manifold reference_face_manifold(const LocalPolygon& p1, EdgeSeparation referenc
   if (end1 && end2) {
     const float r1 = p1.radius;
     const float r2 = p2.radius;
-    if (!(best.distance2 <= (r1 + r2) * (r1 + r2))) return {};
+    if (!(best.distance2 <= (r1 + r2) * (r1 + r2))) return;
     const float dist = std::sqrt(best.distance2);
     const Vec2 n = (best.points.point2 - best.points.point1) * (1.0f / dist);  // dist > apart
     // Midway between A's surface point1 + r1 n and B's point2 - r2 n.
     const Vec2 mid = best.points.point1 + (0.5f * (r1 + dist - r2)) * n;
     const int v1 = f1 == 0.0f ? best.e1 : p1.next(best.e1);
     const int v2 = f2 == 0.0f ? best.e2 : p2.next(best.e2);
-    Manifold m;
-    m.normal = rotate(frame.q, n);
-    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist,
-                   ContactId{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
-                             FeatureType::vertex, FeatureType::vertex}};
+    const Vec2 world_n = rotate(frame.q, n);
+    const ContactId id{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
+                       FeatureType::vertex, FeatureType::vertex};
+    m.normal = flip ? -world_n : world_n;
+    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist, flip ? swapped(id) : id};
     m.count = 1;
-    return m;
+    return;
   }
   if (end1) {
-    return reversed(clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx));
+    return clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx, !flip, m);
   }
-  return clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx);
+  clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx, flip, m);
 }
 
 /// Everything after the separating axis test, shared by both front ends: `pa` and `pb` are the
 /// cores in A's frame shifted so that A's vertex 0 is the origin (`origin` in A's local frame),
 /// sep_a and sep_b the axes of greatest separation over A's and B's edges, neither above the
-/// radius sum. `xa` and `origin` map that frame to world space.
-Manifold finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPolygon& pb,
-                        EdgeSeparation sep_b, const Transform& xa, Vec2 origin) noexcept {
+/// radius sum. `xa` and `origin` map that frame to world space. The manifold is written into
+/// `m` (fresh, count 0: the caller's return slot).
+void finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPolygon& pb,
+                    EdgeSeparation sep_b, const Transform& xa, Vec2 origin,
+                    Manifold& m) noexcept {
   const float radius = pa.radius + pb.radius;
   EdgeSeparation ref_a = sep_a;
   if (pa.count == 2 && pb.count == 2) {
@@ -237,7 +254,7 @@ Manifold finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const Loca
     const float b0 = dot(t, pb.vertex(0)), b1 = dot(t, pb.vertex(1));
     const float axial =
         std::max(std::min(b0, b1) - std::max(a0, a1), std::min(a0, a1) - std::max(b0, b1));
-    if (axial > radius) return {};
+    if (axial > radius) return;
     // Apart along the direction: the closest features decide (from A's edge, see below).
     if (axial > std::max(sep_a.separation, sep_b.separation)) ref_a.separation = axial;
   }
@@ -254,17 +271,26 @@ Manifold finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const Loca
                     kRelativeTolerance * size,
                     kContactMergeTolerance * size};
   const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
-  Manifold m = b_reference ? reversed(reference_face_manifold(pb, sep_b, pa, ctx))
-                           : reference_face_manifold(pa, ref_a, pb, ctx);
-  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return m;
+  if (b_reference) {
+    reference_face_manifold(pb, sep_b, pa, ctx, true, m);
+  } else {
+    reference_face_manifold(pa, ref_a, pb, ctx, false, m);
+  }
+  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return;
   // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
   // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
   // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
-  m = b_reference ? reference_face_manifold(pa, ref_a, pb, ctx)
-                  : reversed(reference_face_manifold(pb, sep_b, pa, ctx));
-  if (m.count > 0) return m;
-  return b_reference ? reversed(deepest_point_manifold(pb, sep_b.edge, pa, ctx))
-                     : deepest_point_manifold(pa, ref_a.edge, pb, ctx);
+  if (b_reference) {
+    reference_face_manifold(pa, ref_a, pb, ctx, false, m);
+  } else {
+    reference_face_manifold(pb, sep_b, pa, ctx, true, m);
+  }
+  if (m.count > 0) return;
+  if (b_reference) {
+    deepest_point_manifold(pb, sep_b.edge, pa, ctx, true, m);
+  } else {
+    deepest_point_manifold(pa, ref_a.edge, pb, ctx, false, m);
+  }
 }
 
 #if COLLIDE_SMALL_POLYGON_SSE2
@@ -320,9 +346,10 @@ inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m
 }
 #endif
 
-/// The general front end: both cores copied into 4-wide x/y arrays in A's frame.
-Manifold contact_polygons_general(const Polygon& a, const Transform& xa, const Polygon& b,
-                                  const Transform& xb) noexcept {
+/// The general front end: both cores copied into 4-wide x/y arrays in A's frame. Writes into
+/// `m` (fresh, count 0).
+void contact_polygons_general(const Polygon& a, const Transform& xa, const Polygon& b,
+                              const Transform& xb, Manifold& m) noexcept {
   const int na = a.count;
   const int nb = b.count;
   const Transform b_in_a = inv_mul(xa, xb);
@@ -344,20 +371,21 @@ Manifold contact_polygons_general(const Polygon& a, const Transform& xa, const P
   const float radius = a.radius + b.radius;
 
   const EdgeSeparation sep_a = find_max_separation_soa(pa_soa, pb_soa, radius);
-  if (sep_a.separation > radius) return {};
+  if (sep_a.separation > radius) return;
   for (int j = 0; j < nb; ++j) pb_soa.set_normal(j, rotate(b_in_a.q, b.normals[j]));
   pb_soa.finish_normals();
   const EdgeSeparation sep_b = find_max_separation_soa(pb_soa, pa_soa, radius);
-  if (sep_b.separation > radius) return {};
-  return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
-                        origin);
+  if (sep_b.separation > radius) return;
+  finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin, m);
 }
 
 }  // namespace
 
 Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa, const Polygon& b,
                                        const Transform& xb) noexcept {
-  return contact_polygons_general(a, xa, b, xb);
+  Manifold m;
+  contact_polygons_general(a, xa, b, xb, m);
+  return m;
 }
 
 // Small pairs (both polygons within one group of kSatLanes vertices: boxes, triangles,
@@ -367,6 +395,7 @@ Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa, co
 // as the general front end, so the manifold is bitwise the same (tests/narrow check it).
 Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
                           const Transform& xb) noexcept {
+  Manifold m;  // the one object returned on every path: built in the caller's slot
 #if COLLIDE_SMALL_POLYGON_SSE2
   const int na = a.count;
   const int nb = b.count;
@@ -392,9 +421,10 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     const float radius = a.radius + b.radius;
     EdgeSeparation sep_a;
     if (!max_separation_lanes(anx, any, ax, ay, bx, by, sep_a)) {
-      return contact_polygons_general(a, xa, b, xb);
+      contact_polygons_general(a, xa, b, xb, m);
+      return m;
     }
-    if (sep_a.separation > radius) return {};
+    if (sep_a.separation > radius) return m;
     __m128 bnx, bny;
     {
       __m128 nx, ny;
@@ -404,9 +434,10 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     }
     EdgeSeparation sep_b;
     if (!max_separation_lanes(bnx, bny, bx, by, ax, ay, sep_b)) {
-      return contact_polygons_general(a, xa, b, xb);
+      contact_polygons_general(a, xa, b, xb, m);
+      return m;
     }
-    if (sep_b.separation > radius) return {};
+    if (sep_b.separation > radius) return m;
 
     // Only the first kSatLanes entries of each array are written (no 1 KiB fill).
     SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond kSatLanes
@@ -423,11 +454,13 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     _mm_store_ps(pb_soa.y, by);
     _mm_store_ps(pb_soa.nx, bnx);
     _mm_store_ps(pb_soa.ny, bny);
-    return finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa,
-                          origin);
+    finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin,
+                   m);
+    return m;
   }
 #endif
-  return contact_polygons_general(a, xa, b, xb);
+  contact_polygons_general(a, xa, b, xb, m);
+  return m;
 }
 
 }  // namespace collide::detail

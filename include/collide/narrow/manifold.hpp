@@ -61,14 +61,23 @@ struct Manifold {
   }
 };
 
-/// The same manifold seen from the other side: normal flipped, A and B swapped in every id.
-/// The one place the library swaps A and B (STYLE.md: never flip by hand at call sites).
-[[nodiscard]] constexpr Manifold reversed(Manifold m) noexcept {
+/// The same features named from the other side: A's and B's fields swapped.
+[[nodiscard]] constexpr ContactId swapped(ContactId id) noexcept {
+  return ContactId{id.index_b, id.index_a, id.type_b, id.type_a};
+}
+
+/// Turns `m` into the same manifold seen from the other side, in place: normal flipped, A and
+/// B swapped in every id. With `reversed`, the one place the library swaps A and B (STYLE.md:
+/// never flip by hand at call sites). In place so that a manifold built in the caller's return
+/// slot is flipped there, not copied.
+constexpr void reverse(Manifold& m) noexcept {
   m.normal = -m.normal;
-  for (int i = 0; i < m.count; ++i) {
-    ContactId& id = m.points[i].id;
-    id = ContactId{id.index_b, id.index_a, id.type_b, id.type_a};
-  }
+  for (int i = 0; i < m.count; ++i) m.points[i].id = swapped(m.points[i].id);
+}
+
+/// The same manifold seen from the other side: normal flipped, A and B swapped in every id.
+[[nodiscard]] constexpr Manifold reversed(Manifold m) noexcept {
+  reverse(m);
   return m;
 }
 
