@@ -313,9 +313,10 @@ inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept 
 /// find_max_separation_soa for four edges in registers against four vertices (padded by
 /// repetition, so the minimum over them is the minimum over the real ones):
 ///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
-/// the same operations in the same order, so the results are bitwise equal. The winner is
-/// the first lane holding the maximum, found without branches. Returns false (and nothing)
-/// if a lane is NaN: the general path then decides, as it would.
+/// the same products and sums, so the results are bitwise equal (a minimum is exact, so the
+/// pairwise order of the minima, shorter in latency than a chain, gives the same value). The
+/// winner is the first lane holding the maximum, found without branches. Returns false (and
+/// nothing) if a lane is NaN: the general path then decides, as it would.
 inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m128 x2,
                                  __m128 y2, EdgeSeparation& out) noexcept {
   const auto lane = [](__m128 v, int k) {
@@ -326,22 +327,20 @@ inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m
       default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
     }
   };
-  __m128 lowest = _mm_add_ps(_mm_mul_ps(nx, lane(x2, 0)), _mm_mul_ps(ny, lane(y2, 0)));
-  for (int j = 1; j < kSatLanes; ++j) {
-    const __m128 d = _mm_add_ps(_mm_mul_ps(nx, lane(x2, j)), _mm_mul_ps(ny, lane(y2, j)));
-    lowest = _mm_min_ps(d, lowest);  // d < lowest ? d : lowest, as the general path
-  }
+  static_assert(kSatLanes == 4, "four lanes: one SSE register");
+  const auto dots = [&](int j) {
+    return _mm_add_ps(_mm_mul_ps(nx, lane(x2, j)), _mm_mul_ps(ny, lane(y2, j)));
+  };
+  const __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0), dots(1)), _mm_min_ps(dots(2), dots(3)));
   const __m128 s =
       _mm_sub_ps(lowest, _mm_add_ps(_mm_mul_ps(nx, x1), _mm_mul_ps(ny, y1)));
   if (_mm_movemask_ps(_mm_cmpord_ps(s, s)) != 0xF) return false;
   __m128 top = _mm_max_ps(s, _mm_shuffle_ps(s, s, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));  // max in every lane
   // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
   // before it.
   const int edge = std::countr_zero(static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s, top))));
-  alignas(16) float lanes[kSatLanes];
-  _mm_store_ps(lanes, s);
-  out = EdgeSeparation{edge, lanes[edge], 0};
+  out = EdgeSeparation{edge, _mm_cvtss_f32(top), 0};
   return true;
 }
 #endif
