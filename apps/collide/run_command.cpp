@@ -108,19 +108,31 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   const auto reports = world.early_out_reports();
   const auto orders = world.early_out_orders();
   const auto pretests = world.early_out_pretests();
+  const auto check_stats = world.early_out_check_stats();
   static const char* const kChains[] = {"body-static", "body-body"};
   std::fprintf(out, "early out (order by t / (1 - p); pretest while t_pre < (1 - p_pre) t_exact)\n");
   for (std::size_t c = 0; c < 2; ++c) {
     const CheckChainReport& rep = reports[c];
-    std::fprintf(out,
-                 "  %-11s    order %s, %s, %s; circle pretest %s; %llu evaluations, %.1f%% rejected, "
-                 "%llu reorders; model cost %.1f vs fixed order %.1f ns (saves %.0f%%)\n",
-                 kChains[c], check_name(orders[c][0]), check_name(orders[c][1]), check_name(orders[c][2]),
-                 pretests[c] ? "on" : "off", static_cast<unsigned long long>(rep.evaluations),
+    std::fprintf(out, "  %-11s    %llu evaluations, %.1f%% rejected, %llu reorders; circle pretest %s\n", kChains[c],
+                 static_cast<unsigned long long>(rep.evaluations),
                  rep.evaluations > 0 ? 100.0 * static_cast<double>(rep.rejections) / static_cast<double>(rep.evaluations)
                                      : 0.0,
-                 static_cast<unsigned long long>(rep.reorders), rep.expected_cost, rep.fixed_order_cost,
-                 100.0 * rep.saved_fraction());
+                 static_cast<unsigned long long>(rep.reorders), pretests[c] ? "on" : "off");
+    std::fprintf(out, "                 order:");
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int check = orders[c][k];
+      const CheckStats& cs = check_stats[c][static_cast<std::size_t>(check)];
+      std::fprintf(out, "%s %s (t %.1f ns, p %.2f)", k == 0 ? "" : ",", check_name(check), cs.cost, cs.pass_rate);
+    }
+    std::fprintf(out, "\n");
+    std::fprintf(out, "                 saved: model %.1f vs fixed order %.1f ns per pair (%.0f%%)", rep.expected_cost,
+                 rep.fixed_order_cost, 100.0 * rep.saved_fraction());
+    if (rep.sampled_pairs > 0) {
+      std::fprintf(out, "; measured on %llu sampled pairs %.1f vs %.1f ns (%.0f%%)",
+                   static_cast<unsigned long long>(rep.sampled_pairs), rep.sampled_cost, rep.sampled_fixed_order_cost,
+                   100.0 * rep.sampled_saved_fraction());
+    }
+    std::fprintf(out, "\n");
   }
   std::fprintf(out, "check (independent, every frame)\n");
   std::fprintf(out, "  tunnelled      %lld bodies ended a frame inside static geometry (deepest overlap %.3g)\n",
