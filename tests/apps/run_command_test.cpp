@@ -12,6 +12,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <pty.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +24,8 @@
 #include <regex>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace collide::cli {
 namespace {
@@ -181,6 +188,73 @@ TEST(RunCommand, PicturesOfTheLastFrameShowEveryKindOfThing) {
   }
   EXPECT_NE(text.find("class=\"legend\""), std::string::npos);
   EXPECT_NE(text.find("close-up"), std::string::npos);
+}
+
+/// Runs `collide run ARGS...` with its stderr on a pseudo-terminal (`stderr_on_tty`) or its
+/// stdout on one (else), the other stream going to a file; returns (terminal text, file text).
+std::pair<std::string, std::string> run_with_a_terminal(bool stderr_on_tty, std::vector<std::string> args) {
+  int master = -1, slave = -1;
+  if (openpty(&master, &slave, nullptr, nullptr, nullptr) != 0) {
+    ADD_FAILURE() << "openpty failed";
+    return {};
+  }
+  const std::string file = ::testing::TempDir() + "collide_run_tty_other_stream.txt";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int other = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(slave, stderr_on_tty ? STDERR_FILENO : STDOUT_FILENO);
+    dup2(other, stderr_on_tty ? STDOUT_FILENO : STDERR_FILENO);
+    close(master);
+    close(slave);
+    close(other);
+    std::vector<char*> argv;
+    args.insert(args.begin(), {"collide", "run"});
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(COLLIDE_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  close(slave);
+  std::string tty;
+  std::array<char, 4096> buf{};
+  for (;;) {
+    const ssize_t n = read(master, buf.data(), buf.size());
+    if (n <= 0) break;  // EIO once the child has closed the terminal
+    tty.append(buf.data(), static_cast<std::size_t>(n));
+  }
+  close(master);
+  int status = -1;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << tty;
+  std::ifstream in(file);
+  const std::string other((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {tty, other};
+}
+
+// The issue: a progress bar on long runs when stderr is a terminal, and only then.
+TEST(RunCommand, ProgressBarOnlyWhenStderrIsATerminal) {
+  const std::vector<std::string> args = {"--bodies", "50", "--frames", "200"};
+  const std::regex bar(R"(\[#+ *\] +\d+% frame \d+/200)");
+  // stderr on a terminal: the bar is drawn there (and cleared at the end); the summary goes to
+  // stdout untouched.
+  const auto [tty, out] = run_with_a_terminal(true, args);
+  EXPECT_TRUE(std::regex_search(tty, bar)) << tty;
+  EXPECT_NE(tty.find("frame 200/200"), std::string::npos) << tty;
+  EXPECT_FALSE(std::regex_search(out, bar)) << out;
+  EXPECT_NE(out.find("state hash"), std::string::npos) << out;
+  // stdout on a terminal, stderr a file: no bar anywhere.
+  const auto [tty2, err2] = run_with_a_terminal(false, args);
+  EXPECT_FALSE(std::regex_search(tty2, bar)) << tty2;
+  EXPECT_FALSE(std::regex_search(err2, bar)) << err2;
+  EXPECT_NE(tty2.find("state hash"), std::string::npos) << tty2;
+  // stderr on a terminal but --no-progress, or a short run (fewer frames than the bar has
+  // steps): no bar.
+  std::vector<std::string> quiet = args;
+  quiet.push_back("--no-progress");
+  EXPECT_FALSE(std::regex_search(run_with_a_terminal(true, quiet).first, bar));
+  EXPECT_EQ(run_with_a_terminal(true, {"--bodies", "50", "--frames", "60"}).first.find("frame"), std::string::npos);
+  // A pipe (how the other tests run the tool): no bar.
+  EXPECT_FALSE(std::regex_search(run_cli("run --bodies 50 --frames 200").output, bar));
 }
 
 TEST(RunCommand, BadArgumentsFailWithAMessage) {
