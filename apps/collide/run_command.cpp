@@ -77,8 +77,8 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   const StepStats& t = r.total;
   const int f = r.frames;
   std::fprintf(out, "collide run: %s\n", r.scene.c_str());
-  std::fprintf(out, "  world          %d statics (%d convex pieces, %d concave), %d bodies (%d bullets",
-               r.statics, r.static_pieces, scene.concave_statics, r.bodies, scene.bullets);
+  std::fprintf(out, "  world          %d statics (%d convex pieces; %d of several: concave outlines, chains), %d bodies (%d bullets",
+               r.statics, r.static_pieces, r.split_statics, r.bodies, scene.bullets);
   if (r.bodies < scene.requested_bodies) std::fprintf(out, "; %d asked, no free space for more", scene.requested_bodies);
   std::fprintf(out, ")\n");
   std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u\n", f,
@@ -201,7 +201,9 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   r.bodies = world.body_count();
   r.statics = world.static_count();
   for (int i = 0; i < r.statics; ++i) {
-    r.static_pieces += static_cast<int>(world.static_def(StaticId{static_cast<std::uint32_t>(i)}).shapes.size());
+    const auto pieces = static_cast<int>(world.static_def(StaticId{static_cast<std::uint32_t>(i)}).shapes.size());
+    r.static_pieces += pieces;
+    r.split_statics += pieces > 1 ? 1 : 0;
   }
   r.frames = o.frames;
   const bool progress = o.progress && isatty(fileno(stderr)) != 0 && o.frames >= kProgressUpdates;

@@ -7,6 +7,7 @@
 #include "run.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/io/tiled.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <string>
@@ -101,6 +103,61 @@ TEST(RunWorld, EverySharedTiledMapLoadsAndRunsWithoutTunnelling) {
     EXPECT_EQ(run_world(small(entry.path().string(), 150, 180), nullptr).state_hash, r.state_hash);
   }
   EXPECT_EQ(maps, 7);
+}
+
+// The same through the real binary, every option of the issue on the command line: each map
+// runs with exit status 0, the summary echoes the options, the independent check reads 0, a
+// picture is written, and a second process with the same arguments ends in the same state.
+TEST(RunCommand, EverySharedTiledMapRunsThroughTheBinary) {
+  int maps = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(COLLIDE_DATA_DIR) / "tiled")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".tmx" && ext != ".tmj" && ext != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const std::string png = ::testing::TempDir() + "collide_run_map_" + std::to_string(maps) + ".png";
+    std::remove(png.c_str());
+    const std::string args = "run " + entry.path().string() + " --bodies 80 --seed 3 --frames 45 --dt 0.02";
+    const CommandRun r = run_cli(args + " --png " + png);
+    ++maps;
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("collide run: " + entry.path().string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("45 frames of 20.00 ms"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("seed 3"), std::string::npos) << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(, (\d+) bodies \()"))) << r.output;
+    EXPECT_GT(std::stoi(m[1].str()), 0);
+    EXPECT_LE(std::stoi(m[1].str()), 80);
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(tunnelled\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0");
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(escaped\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0");
+    EXPECT_TRUE(test::has_png_signature(png)) << png;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(state hash\s+([0-9a-f]{16}))"))) << r.output;
+    const std::string hash = m[1].str();
+    const CommandRun again = run_cli(args);
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("state hash       " + hash), std::string::npos) << again.output;
+  }
+  EXPECT_EQ(maps, 7);
+}
+
+// A map's concave polygon objects and polylines stay one static each, of several pieces.
+TEST(RunWorld, MapObjectsStayOneStaticOfSeveralPieces) {
+  const fs::path path = fs::path(COLLIDE_DATA_DIR) / "tiled/tmxlite/ParseTest/maps/platform.tmx";
+  const TiledMap map = load_tiled_map(path);
+  std::set<int> objects;
+  int several = 0;
+  std::map<int, int> pieces;
+  for (const TiledCollider& c : map.colliders) {
+    ASSERT_NE(c.source.object_id, 0);  // platform.tmx: object layers only
+    objects.insert(c.source.object_id);
+    several += ++pieces[c.source.object_id] == 2 ? 1 : 0;
+  }
+  ASSERT_GT(several, 0);
+  const RunReport r = run_world(small(path.string(), 20, 1), nullptr);
+  EXPECT_EQ(r.static_pieces, static_cast<int>(map.colliders.size()) + 4);  // and the four boundary walls
+  EXPECT_EQ(r.statics, static_cast<int>(objects.size()) + 4);
+  EXPECT_EQ(r.split_statics, several);
 }
 
 TEST(RunWorld, BadInputIsAnErrorThatNamesIt) {
