@@ -161,6 +161,17 @@ TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
   }
   const std::vector<Vec2> bowtie = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
   EXPECT_THROW((void)convex_pieces(bowtie, "bowtie"), InvalidInput);
+  // Queries validate too.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW((void)world.raycast(Ray{{0, 0}, {nan, 1}}), InvalidInput);
+  EXPECT_THROW((void)world.cast_laser(Ray{{nan, 0}, {1, 1}}, 2), InvalidInput);
+  const auto none = [](const ColliderRef&) { return true; };
+  EXPECT_THROW(world.query_aabb(Aabb{{0, 0}, {nan, 1}}, {}, none), InvalidInput);
+  EXPECT_THROW(world.query_point({nan, 0}, {}, none), InvalidInput);
+  const BodyId body = world.add_body(circle_body({0, 0}, 1.0f, {0, 0}));
+  EXPECT_THROW((void)world.ground_check(body, {0, nan}), InvalidInput);
+  world.remove_body(body);
+  EXPECT_THROW((void)world.ground_check(body, {0, -1}), InvalidInput);
 }
 
 TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {
