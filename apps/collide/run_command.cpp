@@ -145,8 +145,18 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, "state hash       %016llx\n", static_cast<unsigned long long>(r.state_hash));
 }
 
-/// The close-up panel shows this fraction of the world's width and height.
-constexpr float kCloseUpFraction = 1.0f / 6.0f;
+/// The close-up panel shows this many median body diameters across, so bodies stay large
+/// enough to read on maps whose bodies are small against the level...
+constexpr float kCloseUpBodies = 30.0f;
+/// ...but at least the first and at most the second fraction of the world's width (bullets are
+/// tiny, and their contacts are spread along walls).
+constexpr float kCloseUpMinFraction = 1.0f / 12.0f;
+constexpr float kCloseUpMaxFraction = 1.0f / 6.0f;
+/// Widest aspect ratio of the close-up: a long, flat level still gets a close-up tall enough to
+/// show a body standing on a platform.
+constexpr float kCloseUpMaxAspect = 2.0f;
+/// Contact normals in the close-up are arrows this fraction of its width long.
+constexpr float kNormalArrowFraction = 0.045f;
 
 /// The last frame: the whole world, and a close-up around the median contact (where things
 /// happen), both with the laser. Roles are named in the picture's legend.
@@ -159,9 +169,10 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
              std::to_string(r.bodies) + " bodies, " + std::to_string(world.contacts().size()) +
              " contacts, tunnelled " + std::to_string(r.total.tunnelled);
   Picture picture(po);
-  const Vec2 pad = 0.02f * (scene.bounds.max - scene.bounds.min);
+  const Vec2 size = scene.bounds.max - scene.bounds.min;
+  const Vec2 pad = 0.02f * size;
   picture.begin_panel("whole world", Aabb{scene.bounds.min - pad, scene.bounds.max + pad});
-  world.draw(picture);
+  world.draw(picture);  // normals a body's size long: dots at this scale, arrows in the close-up
   World2D::draw_laser(picture, laser);
   // Close-up: centred on the median contact (by x, then y), or the laser's first hit.
   std::vector<Vec2> spots;
@@ -175,10 +186,22 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
                      [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     center = *mid;
   }
-  const Vec2 size = scene.bounds.max - scene.bounds.min;
-  const Vec2 half = 0.5f * kCloseUpFraction * size;  // the whole world's aspect ratio
+  std::vector<float> radii;  // half the larger side of each body's box
+  for (const BodyId id : world.body_ids()) {
+    const auto shapes = world.shapes(id);
+    Aabb box = compute_aabb(shapes[0], world.transform(id));
+    for (const Shape2D& s : shapes) box = merge(box, compute_aabb(s, world.transform(id)));
+    radii.push_back(0.5f * std::max(box.max.x - box.min.x, box.max.y - box.min.y));
+  }
+  float width = kCloseUpMaxFraction * size.x;
+  if (!radii.empty()) {
+    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
+    width = std::clamp(kCloseUpBodies * 2.0f * radii[radii.size() / 2], kCloseUpMinFraction * size.x, width);
+  }
+  const float aspect = std::min(size.x / size.y, kCloseUpMaxAspect);
+  const Vec2 half = 0.5f * Vec2{width, width / aspect};
   picture.begin_panel("close-up", Aabb{center - half, center + half});
-  world.draw(picture);
+  world.draw(picture, WorldDrawOptions{.normal_length = kNormalArrowFraction * width});
   World2D::draw_laser(picture, laser);
   if (!o.svg.empty()) save_svg(picture, o.svg);
   if (!o.png.empty()) io::write_png(o.png, render_canvas(picture));
