@@ -38,8 +38,6 @@ struct Scene {
   bool y_up = true;          ///< false for Tiled maps (y down, as the map's editor shows them)
   int requested_bodies = 0;  ///< bodies asked for
   int bullets = 0;           ///< of which fast bullets
-  int concave_statics = 0;   ///< statics made of several convex pieces
-  int static_pieces = 0;
   Ray laser{};               ///< the laser's first pose (it turns as the frames go by)
   float laser_turn = 0.0f;   ///< radians per frame
 };
@@ -54,6 +52,7 @@ struct RunReport {
   int bodies = 0;
   int statics = 0;
   int static_pieces = 0;
+  int split_statics = 0;    ///< statics of several convex pieces (concave outlines, polylines, tiles)
   int frames = 0;
   StepStats total;          ///< summed over the frames
   double wall_seconds = 0.0;

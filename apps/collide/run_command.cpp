@@ -77,8 +77,8 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   const StepStats& t = r.total;
   const int f = r.frames;
   std::fprintf(out, "collide run: %s\n", r.scene.c_str());
-  std::fprintf(out, "  world          %d statics (%d convex pieces, %d concave), %d bodies (%d bullets",
-               r.statics, r.static_pieces, scene.concave_statics, r.bodies, scene.bullets);
+  std::fprintf(out, "  world          %d statics (%d convex pieces; %d of several: concave outlines, chains), %d bodies (%d bullets",
+               r.statics, r.static_pieces, r.split_statics, r.bodies, scene.bullets);
   if (r.bodies < scene.requested_bodies) std::fprintf(out, "; %d asked, no free space for more", scene.requested_bodies);
   std::fprintf(out, ")\n");
   std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u\n", f,
@@ -108,19 +108,31 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   const auto reports = world.early_out_reports();
   const auto orders = world.early_out_orders();
   const auto pretests = world.early_out_pretests();
+  const auto check_stats = world.early_out_check_stats();
   static const char* const kChains[] = {"body-static", "body-body"};
   std::fprintf(out, "early out (order by t / (1 - p); pretest while t_pre < (1 - p_pre) t_exact)\n");
   for (std::size_t c = 0; c < 2; ++c) {
     const CheckChainReport& rep = reports[c];
-    std::fprintf(out,
-                 "  %-11s    order %s, %s, %s; circle pretest %s; %llu evaluations, %.1f%% rejected, "
-                 "%llu reorders; model cost %.1f vs fixed order %.1f ns (saves %.0f%%)\n",
-                 kChains[c], check_name(orders[c][0]), check_name(orders[c][1]), check_name(orders[c][2]),
-                 pretests[c] ? "on" : "off", static_cast<unsigned long long>(rep.evaluations),
+    std::fprintf(out, "  %-11s    %llu evaluations, %.1f%% rejected, %llu reorders; circle pretest %s\n", kChains[c],
+                 static_cast<unsigned long long>(rep.evaluations),
                  rep.evaluations > 0 ? 100.0 * static_cast<double>(rep.rejections) / static_cast<double>(rep.evaluations)
                                      : 0.0,
-                 static_cast<unsigned long long>(rep.reorders), rep.expected_cost, rep.fixed_order_cost,
-                 100.0 * rep.saved_fraction());
+                 static_cast<unsigned long long>(rep.reorders), pretests[c] ? "on" : "off");
+    std::fprintf(out, "                 order:");
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int check = orders[c][k];
+      const CheckStats& cs = check_stats[c][static_cast<std::size_t>(check)];
+      std::fprintf(out, "%s %s (t %.1f ns, p %.2f)", k == 0 ? "" : ",", check_name(check), cs.cost, cs.pass_rate);
+    }
+    std::fprintf(out, "\n");
+    std::fprintf(out, "                 saved: model %.1f vs fixed order %.1f ns per pair (%.0f%%)", rep.expected_cost,
+                 rep.fixed_order_cost, 100.0 * rep.saved_fraction());
+    if (rep.sampled_pairs > 0) {
+      std::fprintf(out, "; measured on %llu sampled pairs %.1f vs %.1f ns (%.0f%%)",
+                   static_cast<unsigned long long>(rep.sampled_pairs), rep.sampled_cost, rep.sampled_fixed_order_cost,
+                   100.0 * rep.sampled_saved_fraction());
+    }
+    std::fprintf(out, "\n");
   }
   std::fprintf(out, "check (independent, every frame)\n");
   std::fprintf(out, "  tunnelled      %lld bodies ended a frame inside static geometry (deepest overlap %.3g)\n",
@@ -133,8 +145,18 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, "state hash       %016llx\n", static_cast<unsigned long long>(r.state_hash));
 }
 
-/// The close-up panel shows this fraction of the world's width and height.
-constexpr float kCloseUpFraction = 1.0f / 6.0f;
+/// The close-up panel shows this many median body diameters across, so bodies stay large
+/// enough to read on maps whose bodies are small against the level...
+constexpr float kCloseUpBodies = 30.0f;
+/// ...but at least the first and at most the second fraction of the world's width (bullets are
+/// tiny, and their contacts are spread along walls).
+constexpr float kCloseUpMinFraction = 1.0f / 12.0f;
+constexpr float kCloseUpMaxFraction = 1.0f / 6.0f;
+/// Widest aspect ratio of the close-up: a long, flat level still gets a close-up tall enough to
+/// show a body standing on a platform.
+constexpr float kCloseUpMaxAspect = 2.0f;
+/// Contact normals in the close-up are arrows this fraction of its width long.
+constexpr float kNormalArrowFraction = 0.045f;
 
 /// The last frame: the whole world, and a close-up around the median contact (where things
 /// happen), both with the laser. Roles are named in the picture's legend.
@@ -147,9 +169,10 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
              std::to_string(r.bodies) + " bodies, " + std::to_string(world.contacts().size()) +
              " contacts, tunnelled " + std::to_string(r.total.tunnelled);
   Picture picture(po);
-  const Vec2 pad = 0.02f * (scene.bounds.max - scene.bounds.min);
+  const Vec2 size = scene.bounds.max - scene.bounds.min;
+  const Vec2 pad = 0.02f * size;
   picture.begin_panel("whole world", Aabb{scene.bounds.min - pad, scene.bounds.max + pad});
-  world.draw(picture);
+  world.draw(picture);  // normals a body's size long: dots at this scale, arrows in the close-up
   World2D::draw_laser(picture, laser);
   // Close-up: centred on the median contact (by x, then y), or the laser's first hit.
   std::vector<Vec2> spots;
@@ -163,10 +186,22 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
                      [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     center = *mid;
   }
-  const Vec2 size = scene.bounds.max - scene.bounds.min;
-  const Vec2 half = 0.5f * kCloseUpFraction * size;  // the whole world's aspect ratio
+  std::vector<float> radii;  // half the larger side of each body's box
+  for (const BodyId id : world.body_ids()) {
+    const auto shapes = world.shapes(id);
+    Aabb box = compute_aabb(shapes[0], world.transform(id));
+    for (const Shape2D& s : shapes) box = merge(box, compute_aabb(s, world.transform(id)));
+    radii.push_back(0.5f * std::max(box.max.x - box.min.x, box.max.y - box.min.y));
+  }
+  float width = kCloseUpMaxFraction * size.x;
+  if (!radii.empty()) {
+    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
+    width = std::clamp(kCloseUpBodies * 2.0f * radii[radii.size() / 2], kCloseUpMinFraction * size.x, width);
+  }
+  const float aspect = std::min(size.x / size.y, kCloseUpMaxAspect);
+  const Vec2 half = 0.5f * Vec2{width, width / aspect};
   picture.begin_panel("close-up", Aabb{center - half, center + half});
-  world.draw(picture);
+  world.draw(picture, WorldDrawOptions{.normal_length = kNormalArrowFraction * width});
   World2D::draw_laser(picture, laser);
   if (!o.svg.empty()) save_svg(picture, o.svg);
   if (!o.png.empty()) io::write_png(o.png, render_canvas(picture));
@@ -189,7 +224,9 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   r.bodies = world.body_count();
   r.statics = world.static_count();
   for (int i = 0; i < r.statics; ++i) {
-    r.static_pieces += static_cast<int>(world.static_def(StaticId{static_cast<std::uint32_t>(i)}).shapes.size());
+    const auto pieces = static_cast<int>(world.static_def(StaticId{static_cast<std::uint32_t>(i)}).shapes.size());
+    r.static_pieces += pieces;
+    r.split_statics += pieces > 1 ? 1 : 0;
   }
   r.frames = o.frames;
   const bool progress = o.progress && isatty(fileno(stderr)) != 0 && o.frames >= kProgressUpdates;

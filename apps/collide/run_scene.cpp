@@ -197,7 +197,6 @@ Scene default_scene(const RunOptions& options) {
                     -55.0f + 55.0f * static_cast<float>(gy) + uniform(rng, -6.0f, 6.0f)};
       const auto& outline = outlines[static_cast<std::size_t>(gx * 3 + gy) % outlines.size()];
       world.add_static(outline_static(outline, at, uniform(rng, -kPi, kPi), user++, "obstacle"));
-      ++scene.concave_statics;
     }
   }
   // Thin walls: segments (mirrors for the laser) and thin boxes, where fast bodies would tunnel
@@ -273,15 +272,29 @@ Scene map_scene(const RunOptions& options) {
   box = Aabb{box.min - Vec2{tile}, box.max + Vec2{tile}};
   Scene scene = walled_scene(options, options.input, box, tile);
   scene.y_up = false;
-  for (const TiledCollider& c : map.colliders) {
+  // One static per Tiled object or tile cell: the convex pieces of a concave polygon, the links
+  // of a polyline and the collision shapes of a tile stay together under the object's id (the
+  // loader lists them one after another, with one transform).
+  const auto same_owner = [](const TiledCollider& a, const TiledCollider& b) {
+    const bool identified = a.source.object_id != 0 || a.source.cell_x >= 0;
+    return identified && a.source.layer == b.source.layer && a.source.object_id == b.source.object_id &&
+           a.source.cell_x == b.source.cell_x && a.source.cell_y == b.source.cell_y &&
+           a.transform.p == b.transform.p && a.transform.q.c == b.transform.q.c && a.transform.q.s == b.transform.q.s;
+  };
+  for (std::size_t i = 0; i < map.colliders.size();) {
+    const TiledCollider& c = map.colliders[i];
     StaticDef def;
-    def.shapes = {c.shape};
     def.transform = c.transform;
     def.user_id = c.source.object_id != 0
                       ? static_cast<std::uint64_t>(c.source.object_id)
                       : (std::uint64_t{1} << 32) + static_cast<std::uint64_t>(c.source.cell_y) * 65536u +
                             static_cast<std::uint64_t>(c.source.cell_x);
     def.filter = {kLayerWorld, 0xffffffffu};
+    std::size_t j = i;
+    for (; j < map.colliders.size() && (j == i || same_owner(c, map.colliders[j])); ++j) {
+      def.shapes.push_back(map.colliders[j].shape);
+    }
+    i = j;
     scene.world.add_static(def);
   }
   Rng rng(options.seed);

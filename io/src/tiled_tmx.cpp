@@ -7,9 +7,14 @@
 
 #include <pugixml.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
+#include <string_view>
+#include <vector>
 
 namespace collide::tiled {
 namespace {
@@ -28,15 +33,114 @@ std::string element_label(const pugi::xml_node& node) {
   return out + ">";
 }
 
+/// The value of attribute `key` in the raw text of a start tag ("<object id=\"12\" x=..."), or
+/// empty. Only for error messages: a tag pugixml could not parse is read leniently.
+std::string raw_attribute(std::string_view tag, std::string_view key) {
+  for (size_t pos = tag.find(key); pos != std::string_view::npos; pos = tag.find(key, pos + 1)) {
+    const bool starts = pos > 0 && (tag[pos - 1] == ' ' || tag[pos - 1] == '\t' || tag[pos - 1] == '\n');
+    size_t at = pos + key.size();
+    while (at < tag.size() && tag[at] == ' ') ++at;
+    if (!starts || at >= tag.size() || tag[at] != '=') continue;
+    ++at;
+    while (at < tag.size() && tag[at] == ' ') ++at;
+    if (at >= tag.size() || (tag[at] != '"' && tag[at] != '\'')) continue;
+    const size_t end = tag.find(tag[at], at + 1);
+    return std::string(tag.substr(at + 1, end == std::string_view::npos ? std::string_view::npos : end - at - 1));
+  }
+  return {};
+}
+
+/// Where a syntax error at byte `offset` of `text` is, for the message: "line L, column C,
+/// inside <map> > <objectgroup name=Walls> > <object id=7>" (the elements open at that point,
+/// outermost first, labelled like element_label; "at the top level" outside every element). A plain scan of the tags before
+/// the offset: comments, CDATA, processing instructions and the DOCTYPE are skipped.
+std::string syntax_error_place(std::string_view text, size_t offset) {
+  offset = std::min(offset, text.size());
+  size_t line = 1, column = 1;
+  for (size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  std::vector<std::string_view> open;  // raw start tags of the elements open at `offset`
+  auto skip_to = [&](size_t from, std::string_view end) {
+    const size_t at = text.find(end, from);
+    return at == std::string_view::npos ? text.size() : at + end.size();
+  };
+  size_t i = 0;
+  while (i < offset) {
+    const size_t lt = text.find('<', i);
+    if (lt == std::string_view::npos || lt >= offset) break;
+    const std::string_view rest = text.substr(lt);
+    if (rest.starts_with("<!--")) {
+      i = skip_to(lt, "-->");
+    } else if (rest.starts_with("<![CDATA[")) {
+      i = skip_to(lt, "]]>");
+    } else if (rest.starts_with("<?")) {
+      i = skip_to(lt, "?>");
+    } else if (rest.starts_with("<!")) {
+      const size_t bracket = text.find('[', lt), close = text.find('>', lt);
+      i = bracket < close ? skip_to(bracket, "]>") : skip_to(lt, ">");
+    } else if (rest.starts_with("</")) {
+      const size_t close = text.find('>', lt);
+      if (close == std::string_view::npos || close >= offset) break;  // the error is in this end tag
+      if (!open.empty()) open.pop_back();
+      i = close + 1;
+    } else {
+      size_t end = lt + 1;  // the tag's '>', outside quoted values
+      char quote = 0;
+      for (; end < text.size(); ++end) {
+        if (quote != 0) {
+          quote = text[end] == quote ? char(0) : quote;
+        } else if (text[end] == '"' || text[end] == '\'') {
+          quote = text[end];
+        } else if (text[end] == '>') {
+          break;
+        }
+      }
+      const bool self_closing = end < text.size() && end > lt + 1 && text[end - 1] == '/' && end < offset;
+      if (!self_closing) open.push_back(text.substr(lt, std::min(end, text.size()) - lt));
+      i = end + 1;
+    }
+  }
+  std::string place = "line " + std::to_string(line) + ", column " + std::to_string(column);
+  if (open.empty()) return place + ", at the top level";
+  place += ", inside ";
+  for (size_t k = 0; k < open.size(); ++k) {
+    const std::string_view tag = open[k];
+    size_t name_end = 1;
+    while (name_end < tag.size() && std::string_view(" \t\r\n/>").find(tag[name_end]) == std::string_view::npos) {
+      ++name_end;
+    }
+    if (k > 0) place += " > ";
+    place += '<';
+    place.append(tag.substr(1, name_end - 1));
+    for (const char* key : {"id", "name", "firstgid"}) {  // as element_label
+      const std::string value = raw_attribute(tag, key);
+      if (!value.empty()) {
+        place += std::string(" ") + key + "=" + value;
+        break;
+      }
+    }
+    place += ">";
+  }
+  return place;
+}
+
 pugi::xml_document load_xml(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, "file", "cannot be read");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail(file, "file", "cannot be read");
   pugi::xml_document doc;
   // parse_default skips the DOCTYPE and never resolves external entities.
-  const pugi::xml_parse_result result = doc.load_file(file.c_str(), pugi::parse_default);
+  const pugi::xml_parse_result result = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
   if (!result) {
-    if (result.status == pugi::status_file_not_found || result.status == pugi::status_io_error) {
-      fail(file, "file", "cannot be read");
-    }
-    fail(file, "XML at byte " + std::to_string(result.offset), result.description());
+    fail(file, "XML syntax error at " + syntax_error_place(text, static_cast<size_t>(std::max<std::ptrdiff_t>(result.offset, 0))),
+         result.description());
   }
   return doc;
 }

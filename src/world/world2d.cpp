@@ -827,6 +827,15 @@ std::array<std::array<int, 3>, 2> World2D::early_out_orders() const {
   return orders;
 }
 
+std::array<std::array<CheckStats, 3>, 2> World2D::early_out_check_stats() const {
+  std::array<std::array<CheckStats, 3>, 2> stats{};
+  const std::array<const detail::WorldCheckChain*, 2> chains = {&impl_->static_chain, &impl_->body_chain};
+  for (int c = 0; c < 2; ++c) {
+    for (int k = 0; k < 3; ++k) stats[c][k] = chains[c]->check_stats(k);
+  }
+  return stats;
+}
+
 std::array<bool, 2> World2D::early_out_pretests() const {
   return {impl_->static_chain.pretest_enabled(detail::kCheckExact),
           impl_->body_chain.pretest_enabled(detail::kCheckExact)};

@@ -99,6 +99,7 @@ std::optional<WorldRayHit> cast_ray(const World2D::Impl& w, const Ray& ray,
 }  // namespace
 
 std::optional<WorldRayHit> World2D::raycast(const Ray& ray, const QueryFilter& filter) const {
+  if (!is_finite(ray.origin) || !is_finite(ray.translation)) throw InvalidInput("ray: not finite");
   impl_->refresh_static_tree();
   return cast_ray(*impl_, ray, filter, std::nullopt);
 }

@@ -7,18 +7,27 @@
 #include "run.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/io/tiled.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <pty.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace collide::cli {
 namespace {
@@ -94,6 +103,61 @@ TEST(RunWorld, EverySharedTiledMapLoadsAndRunsWithoutTunnelling) {
     EXPECT_EQ(run_world(small(entry.path().string(), 150, 180), nullptr).state_hash, r.state_hash);
   }
   EXPECT_EQ(maps, 7);
+}
+
+// The same through the real binary, every option of the issue on the command line: each map
+// runs with exit status 0, the summary echoes the options, the independent check reads 0, a
+// picture is written, and a second process with the same arguments ends in the same state.
+TEST(RunCommand, EverySharedTiledMapRunsThroughTheBinary) {
+  int maps = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(COLLIDE_DATA_DIR) / "tiled")) {
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".tmx" && ext != ".tmj" && ext != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const std::string png = ::testing::TempDir() + "collide_run_map_" + std::to_string(maps) + ".png";
+    std::remove(png.c_str());
+    const std::string args = "run " + entry.path().string() + " --bodies 80 --seed 3 --frames 45 --dt 0.02";
+    const CommandRun r = run_cli(args + " --png " + png);
+    ++maps;
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("collide run: " + entry.path().string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("45 frames of 20.00 ms"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("seed 3"), std::string::npos) << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(, (\d+) bodies \()"))) << r.output;
+    EXPECT_GT(std::stoi(m[1].str()), 0);
+    EXPECT_LE(std::stoi(m[1].str()), 80);
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(tunnelled\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0");
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(escaped\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0");
+    EXPECT_TRUE(test::has_png_signature(png)) << png;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(state hash\s+([0-9a-f]{16}))"))) << r.output;
+    const std::string hash = m[1].str();
+    const CommandRun again = run_cli(args);
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("state hash       " + hash), std::string::npos) << again.output;
+  }
+  EXPECT_EQ(maps, 7);
+}
+
+// A map's concave polygon objects and polylines stay one static each, of several pieces.
+TEST(RunWorld, MapObjectsStayOneStaticOfSeveralPieces) {
+  const fs::path path = fs::path(COLLIDE_DATA_DIR) / "tiled/tmxlite/ParseTest/maps/platform.tmx";
+  const TiledMap map = load_tiled_map(path);
+  std::set<int> objects;
+  int several = 0;
+  std::map<int, int> pieces;
+  for (const TiledCollider& c : map.colliders) {
+    ASSERT_NE(c.source.object_id, 0);  // platform.tmx: object layers only
+    objects.insert(c.source.object_id);
+    several += ++pieces[c.source.object_id] == 2 ? 1 : 0;
+  }
+  ASSERT_GT(several, 0);
+  const RunReport r = run_world(small(path.string(), 20, 1), nullptr);
+  EXPECT_EQ(r.static_pieces, static_cast<int>(map.colliders.size()) + 4);  // and the four boundary walls
+  EXPECT_EQ(r.statics, static_cast<int>(objects.size()) + 4);
+  EXPECT_EQ(r.split_statics, several);
 }
 
 TEST(RunWorld, BadInputIsAnErrorThatNamesIt) {
@@ -181,6 +245,73 @@ TEST(RunCommand, PicturesOfTheLastFrameShowEveryKindOfThing) {
   }
   EXPECT_NE(text.find("class=\"legend\""), std::string::npos);
   EXPECT_NE(text.find("close-up"), std::string::npos);
+}
+
+/// Runs `collide run ARGS...` with its stderr on a pseudo-terminal (`stderr_on_tty`) or its
+/// stdout on one (else), the other stream going to a file; returns (terminal text, file text).
+std::pair<std::string, std::string> run_with_a_terminal(bool stderr_on_tty, std::vector<std::string> args) {
+  int master = -1, slave = -1;
+  if (openpty(&master, &slave, nullptr, nullptr, nullptr) != 0) {
+    ADD_FAILURE() << "openpty failed";
+    return {};
+  }
+  const std::string file = ::testing::TempDir() + "collide_run_tty_other_stream.txt";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int other = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(slave, stderr_on_tty ? STDERR_FILENO : STDOUT_FILENO);
+    dup2(other, stderr_on_tty ? STDOUT_FILENO : STDERR_FILENO);
+    close(master);
+    close(slave);
+    close(other);
+    std::vector<char*> argv;
+    args.insert(args.begin(), {"collide", "run"});
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(COLLIDE_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  close(slave);
+  std::string tty;
+  std::array<char, 4096> buf{};
+  for (;;) {
+    const ssize_t n = read(master, buf.data(), buf.size());
+    if (n <= 0) break;  // EIO once the child has closed the terminal
+    tty.append(buf.data(), static_cast<std::size_t>(n));
+  }
+  close(master);
+  int status = -1;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << tty;
+  std::ifstream in(file);
+  const std::string other((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {tty, other};
+}
+
+// The issue: a progress bar on long runs when stderr is a terminal, and only then.
+TEST(RunCommand, ProgressBarOnlyWhenStderrIsATerminal) {
+  const std::vector<std::string> args = {"--bodies", "50", "--frames", "200"};
+  const std::regex bar(R"(\[#+ *\] +\d+% frame \d+/200)");
+  // stderr on a terminal: the bar is drawn there (and cleared at the end); the summary goes to
+  // stdout untouched.
+  const auto [tty, out] = run_with_a_terminal(true, args);
+  EXPECT_TRUE(std::regex_search(tty, bar)) << tty;
+  EXPECT_NE(tty.find("frame 200/200"), std::string::npos) << tty;
+  EXPECT_FALSE(std::regex_search(out, bar)) << out;
+  EXPECT_NE(out.find("state hash"), std::string::npos) << out;
+  // stdout on a terminal, stderr a file: no bar anywhere.
+  const auto [tty2, err2] = run_with_a_terminal(false, args);
+  EXPECT_FALSE(std::regex_search(tty2, bar)) << tty2;
+  EXPECT_FALSE(std::regex_search(err2, bar)) << err2;
+  EXPECT_NE(tty2.find("state hash"), std::string::npos) << tty2;
+  // stderr on a terminal but --no-progress, or a short run (fewer frames than the bar has
+  // steps): no bar.
+  std::vector<std::string> quiet = args;
+  quiet.push_back("--no-progress");
+  EXPECT_FALSE(std::regex_search(run_with_a_terminal(true, quiet).first, bar));
+  EXPECT_EQ(run_with_a_terminal(true, {"--bodies", "50", "--frames", "60"}).first.find("frame"), std::string::npos);
+  // A pipe (how the other tests run the tool): no bar.
+  EXPECT_FALSE(std::regex_search(run_cli("run --bodies 50 --frames 200").output, bar));
 }
 
 TEST(RunCommand, BadArgumentsFailWithAMessage) {

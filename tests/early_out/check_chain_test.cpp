@@ -215,6 +215,81 @@ TEST(EarlyOut, ChainSwitchesPretestsByTheLessonRule) {
   EXPECT_GT(r.saved_fraction(), 0.0);
 }
 
+// Regression: pass rates were learned from every run of a check, also behind other checks. A
+// box test placed behind the exact test only sees pairs the exact test accepted, which it
+// always accepts too: its pass rate read 1, its cost per rejection infinity, and the chain kept
+// the slow exact test first forever (the world's body-static chain learned "exact, aabb").
+TEST(EarlyOut, DependentChecksAreOrderedByUnconditionalPassRates) {
+  // Check 0: exact, cost 10, passes 20%. Check 1: box, cost 1, passes whenever the exact test
+  // does and 3/8 of the rest: 0.2 + 0.8 * 0.375 = 0.5. Declared order: exact first.
+  // Box first costs 1 + 0.5 * 10 = 6; exact first 10 + 0.2 * 1 = 10.2.
+  std::mt19937 rng(5);
+  double clock = 0.0;
+  bool exact_passes = false, box_passes = false;
+  const auto new_pair = [&] {
+    exact_passes = test::uniform(rng, 0.0f, 1.0f) < 0.2f;
+    box_passes = exact_passes || test::uniform(rng, 0.0f, 1.0f) < 0.375f;
+  };
+  const auto run = [&](int i, CheckStage) {
+    clock += i == 0 ? 10.0 : 1.0;
+    return i == 0 ? exact_passes : box_passes;
+  };
+  const std::array<bool, 2> none{};
+  CheckChainOptions options;
+  options.alpha = 1.0 / 256.0;
+  CheckChain<2> chain(none, options);
+  const int n = 40000;
+  for (int e = 0; e < n; ++e) {
+    new_pair();
+    EXPECT_EQ(chain.evaluate(run, [&] { return clock; }), exact_passes);
+  }
+  EXPECT_EQ(chain.order()[0], 1) << "the box test must go first";
+  const CheckChainReport r = chain.report();
+  EXPECT_NEAR(r.expected_cost, 6.0, 0.5);
+  EXPECT_NEAR(r.fixed_order_cost, 10.2, 0.3);
+  // Measured on the replayed pairs, without the model: every 97th evaluation.
+  EXPECT_EQ(r.sampled_pairs, static_cast<std::uint64_t>(n / 97));
+  EXPECT_NEAR(r.sampled_cost, 6.0, 1.0);               // 1 or 11 per pair: standard error 0.25
+  EXPECT_NEAR(r.sampled_fixed_order_cost, 10.2, 0.2);  // 10 or 11 per pair
+  EXPECT_NEAR(r.sampled_saved_fraction(), 1.0 - 6.0 / 10.2, 0.1);
+}
+
+// The replayed cost of a sampled pair is exactly what each order would have spent on it.
+TEST(EarlyOut, ReplayChargesEachOrderItsOwnStagesOnTheSamePair) {
+  // Check 0 (cost 4, pretest cost 1) and check 1 (cost 2), with a pair on which check 0's
+  // pretest passes, its exact test rejects, and check 1 rejects. Explore on every evaluation,
+  // never reorder: both orders are the declaration order with the pretest on, so both replays
+  // cost 1 + 4 = 5 per pair.
+  double clock = 0.0;
+  const auto run = [&](int i, CheckStage stage) {
+    clock += i == 1 ? 2.0 : stage == CheckStage::pretest ? 1.0 : 4.0;
+    return stage == CheckStage::pretest;
+  };
+  const std::array<bool, 2> pretests{true, false};
+  CheckChainOptions options;
+  options.explore_interval = 1;
+  options.reorder_interval = 1000000;
+  CheckChain<2> fixed(pretests, options);
+  for (int e = 0; e < 50; ++e) EXPECT_FALSE(fixed.evaluate(run, [&] { return clock; }));
+  CheckChainReport r = fixed.report();
+  EXPECT_EQ(r.sampled_pairs, 50u);
+  EXPECT_DOUBLE_EQ(r.sampled_cost, 5.0);
+  EXPECT_DOUBLE_EQ(r.sampled_fixed_order_cost, 5.0);
+  // Let it decide once: check 1 goes first (2 / 1 < 5 / 1) and the pretest is dropped
+  // (1 > (1 - 1) * 4). The replay now charges the chosen order 2 and the fixed order still 5.
+  options.reorder_interval = 10;
+  CheckChain<2> learning(pretests, options);
+  for (int e = 0; e < 10; ++e) (void)learning.evaluate(run, [&] { return clock; });
+  ASSERT_EQ(learning.order()[0], 1);
+  ASSERT_FALSE(learning.pretest_enabled(0));
+  const CheckChainReport before = learning.report();
+  for (int e = 0; e < 40; ++e) (void)learning.evaluate(run, [&] { return clock; });
+  r = learning.report();
+  EXPECT_DOUBLE_EQ(r.sampled_cost * 50.0 - before.sampled_cost * 10.0, 40 * 2.0);
+  EXPECT_DOUBLE_EQ(r.sampled_fixed_order_cost, 5.0);
+  EXPECT_NEAR(r.sampled_saved_fraction(), 1.0 - (10 * 5.0 + 40 * 2.0) / 50.0 / 5.0, 1e-12);
+}
+
 TEST(EarlyOut, ChainFollowsAChangingScene) {
   Synthetic s;
   s.checks = {{1.0, 0.9}, {3.0, 0.1}};
@@ -247,7 +322,9 @@ TEST(EarlyOut, ChainTimingIntervalSkipsClockReads) {
     (void)chain.evaluate([&](int i, CheckStage st) { return s.run(i, st); },
                          [&] { ++clock_reads; return s.clock; });
   }
-  EXPECT_LE(clock_reads, 100 * 6);  // only 1 in 10 evaluations reads the clock
+  // Only 1 in 10 evaluations reads the clock (6 reads at most each), plus the exploring ones
+  // (every 97th: 10 of them) and the calibration of the clock's own cost (16 pairs of reads).
+  EXPECT_LE(clock_reads, (100 + 10) * 6 + 32);
   EXPECT_GT(clock_reads, 0);
   EXPECT_GT(chain.report().measured_cost, 0.0);
 }

@@ -668,6 +668,8 @@ TEST(Tiled, MalformedFilesNameTheFileAndTheElement) {
       EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
     }
   };
+  dir.write("broken.tsx", "<tileset name=\"t\" tilewidth=\"4\" tileheight=\"4\">\n <tile id=\"3\">\n  <objectgroup>\n"
+                          "   <object id=\"1\" x=\"0\" y=\"0\" width=\"4\" height=\"4\">\n </tile>\n</tileset>\n");
   const std::string objects = R"(<objectgroup name="o">%</objectgroup>)";
   auto with_object = [&](const std::string& object) {
     std::string body = objects;
@@ -684,7 +686,17 @@ TEST(Tiled, MalformedFilesNameTheFileAndTheElement) {
                {"<object id=15>", "finite"});
   expect_error("gid.tmx", with_object(R"(<object id="16" gid="99" x="0" y="0"/>)"),
                {"<object id=16>", "gid 99"});
-  expect_error("xml.tmx", "<map orientation=\"orthogonal\"><layer></map>", {"XML"});
+  // Syntax errors name the line, the column and the elements open there.
+  expect_error("xml.tmx", "<map orientation=\"orthogonal\"><layer></map>",
+               {"XML syntax error", "line 1, column", "inside <map> > <layer>"});
+  expect_error("quote.tmx",
+               "<?xml version=\"1.0\"?>\n<!-- a comment <object> -->\n<map orientation=\"orthogonal\">\n"
+               " <objectgroup name=\"Walls\">\n  <object id=\"6\" x=\"0\" y=\"0\"/>\n"
+               "  <object id=\"7\" x=\"1\" y=\"2\">\n   <polygon points \"0,0 1,1\"/>\n  </object>\n"
+               " </objectgroup>\n</map>\n",
+               {"XML syntax error", "line 7", "inside <map> > <objectgroup name=Walls> > <object id=7> > <polygon>"});
+  expect_error("tsx_syntax.tmx", map_xml(R"(<tileset firstgid="1" source="broken.tsx"/>)"),
+               {"<tileset firstgid=1>", "broken.tsx", "XML syntax error", "inside <tileset name=t> > <tile id=3>"});
   expect_error("iso.tmx", R"(<map orientation="isometric" width="1" height="1" tilewidth="4" tileheight="4"/>)",
                {"<map>", "isometric"});
   expect_error("tsx.tmx", map_xml(R"(<tileset firstgid="50" source="missing.tsx"/>)"), {"missing.tsx", "cannot be read"});
@@ -696,7 +708,12 @@ TEST(Tiled, MalformedFilesNameTheFileAndTheElement) {
                {"<layer name=L>", "compressed tile data"});
   expect_error("zstd.tmx", map_xml(R"(<layer name="L" width="4" height="3"><data encoding="base64" compression="zstd">AAAA</data></layer>)"),
                {"<layer name=L>", "zstd"});
-  expect_error("json.tmj", R"({"type": "map", "orientation": "orthogonal", "layers": [)", {"JSON"});
+  expect_error("json.tmj", R"({"type": "map", "orientation": "orthogonal", "layers": [)",
+               {"JSON syntax error in layers[0]", "line 1, column"});
+  expect_error("jsonsyntax.tmj",
+               "{\"type\": \"map\", \"orientation\": \"orthogonal\",\n \"layers\": [\n"
+               "  {\"type\": \"objectgroup\", \"objects\": [{\"id\": 4, \"x\": 0}, {\"id\": 9, \"polygon\": [{\"x\": 1,, \"y\": 2}]}]}]}",
+               {"JSON syntax error in layers[0].objects[1] (id=9).polygon[0]", "line 3"});
   expect_error("jsonx.tmj",
                R"({"type": "map", "orientation": "orthogonal", "width": 1, "height": 1, "tilewidth": 4, "tileheight": 4,
                    "layers": [{"type": "objectgroup", "name": "o", "objects": [{"id": 21, "x": "abc", "y": 0}]}]})",

@@ -161,6 +161,17 @@ TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
   }
   const std::vector<Vec2> bowtie = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
   EXPECT_THROW((void)convex_pieces(bowtie, "bowtie"), InvalidInput);
+  // Queries validate too.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW((void)world.raycast(Ray{{0, 0}, {nan, 1}}), InvalidInput);
+  EXPECT_THROW((void)world.cast_laser(Ray{{nan, 0}, {1, 1}}, 2), InvalidInput);
+  const auto none = [](const ColliderRef&) { return true; };
+  EXPECT_THROW(world.query_aabb(Aabb{{0, 0}, {nan, 1}}, {}, none), InvalidInput);
+  EXPECT_THROW(world.query_point({nan, 0}, {}, none), InvalidInput);
+  const BodyId body = world.add_body(circle_body({0, 0}, 1.0f, {0, 0}));
+  EXPECT_THROW((void)world.ground_check(body, {0, nan}), InvalidInput);
+  world.remove_body(body);
+  EXPECT_THROW((void)world.ground_check(body, {0, -1}), InvalidInput);
 }
 
 TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {
@@ -288,6 +299,67 @@ TEST(World2DStep, SensorsReportOverlapsWithoutPushing) {
   EXPECT_NEAR(world.transform(b).p.x, -5.0f + 6.0f * 120 * kDt, 1e-3f);  // never pushed
   EXPECT_EQ(world.velocity(b), (Vec2{6, 0}));
   EXPECT_EQ(world.total_stats().pushes, 0);
+}
+
+TEST(World2DStep, BodyLayersDecideWhichBodyPairsMeet) {
+  // A sees only layer 2; B is on layer 1: (B.layer & A.mask) == 0, so they pass through. C is
+  // on layer 2 and meets A.
+  World2D world;
+  BodyDef a = circle_body({-2, 0}, 0.5f, {3, 0}, 1);
+  a.filter = {.layer = 2u, .mask = 2u};
+  BodyDef b = circle_body({2, 0}, 0.5f, {-3, 0}, 2);
+  b.filter = {.layer = 1u, .mask = 0xffffffffu};
+  const BodyId ia = world.add_body(a);
+  const BodyId ib = world.add_body(b);
+  for (int i = 0; i < 60; ++i) {
+    world.step(kDt);
+    EXPECT_TRUE(world.contacts().empty()) << "step " << i;
+  }
+  EXPECT_NEAR(world.transform(ia).p.x, -2.0f + 3.0f * 60 * kDt, 1e-3f);  // straight through
+  EXPECT_NEAR(world.transform(ib).p.x, 2.0f - 3.0f * 60 * kDt, 1e-3f);
+  EXPECT_GT(world.total_stats().filtered, 0);
+
+  World2D other;
+  BodyDef c = circle_body({2, 0}, 0.5f, {-3, 0}, 3);
+  c.filter = {.layer = 2u, .mask = 0xffffffffu};
+  const BodyId ja = other.add_body(a);
+  const BodyId jc = other.add_body(c);
+  int begins = 0;
+  for (int i = 0; i < 60; ++i) {
+    other.step(kDt);
+    for (const ContactEvent& e : other.events()) begins += e.type == ContactEventType::begin;
+  }
+  EXPECT_EQ(begins, 1);
+  EXPECT_NEAR(other.velocity(ja).x, -3.0f, kTol);  // they met and bounced
+  EXPECT_NEAR(other.velocity(jc).x, 3.0f, kTol);
+}
+
+TEST(World2DStep, SensorBodiesReportWithoutPushingOrBeingPushed) {
+  // A sensor body sweeps through a resting body and a wall: events for both, nobody moves
+  // anybody, and the sensor keeps its velocity.
+  World2D world;
+  world.add_static(box_static({4, 0}, {0.25f, 3}, 8));
+  const BodyId still = world.add_body(circle_body({0, 0}, 0.5f, {0, 0}, 5));
+  BodyDef probe = circle_body({-3, 0}, 0.4f, {6, 0}, 6);
+  probe.sensor = true;
+  const BodyId sensor = world.add_body(probe);
+  std::vector<std::pair<std::uint64_t, ContactEventType>> seen;  // (other user, type) changes
+  for (int i = 0; i < 120; ++i) {
+    world.step(kDt);
+    for (const ContactEvent& e : world.events()) {
+      EXPECT_TRUE(e.sensor);
+      const std::uint64_t other = e.user_a == 6u ? e.user_b : e.user_a;
+      if (seen.empty() || seen.back() != std::make_pair(other, e.type)) seen.emplace_back(other, e.type);
+    }
+  }
+  using P = std::pair<std::uint64_t, ContactEventType>;
+  EXPECT_EQ(seen, (std::vector<P>{{5, ContactEventType::begin}, {5, ContactEventType::persist}, {5, ContactEventType::end},
+                                  {8, ContactEventType::begin}, {8, ContactEventType::persist}, {8, ContactEventType::end}}));
+  EXPECT_EQ(world.transform(still).p, (Vec2{0, 0}));
+  EXPECT_EQ(world.velocity(still), (Vec2{0, 0}));
+  EXPECT_EQ(world.velocity(sensor), (Vec2{6, 0}));
+  EXPECT_NEAR(world.transform(sensor).p.x, -3.0f + 6.0f * 120 * kDt, 1e-3f);
+  EXPECT_EQ(world.total_stats().tunnelled, 0);  // a sensor inside a wall is not tunnelling
 }
 
 TEST(World2DStep, EqualCirclesCollidingHeadOnSwapVelocities) {
@@ -635,6 +707,23 @@ TEST(World2DEarlyOut, ChainsLearnAndReportWithoutChangingResults) {
   EXPECT_EQ(reports[1].evaluations, std::uint64_t(t.body_pairs));
   EXPECT_LE(t.filtered + t.aabb_rejected + t.pretest_rejected,
             std::int64_t(reports[0].rejections + reports[1].rejections));
+  // What the choices saved is measured on sampled pairs (every 97th evaluation replayed through
+  // both orders), and the decision's inputs are visible: costs >= 0, pass rates in [0, 1].
+  const auto stats = world.early_out_check_stats();
+  for (int c = 0; c < 2; ++c) {
+    const CheckChainReport& r = reports[std::size_t(c)];
+    EXPECT_EQ(r.sampled_pairs, r.evaluations / 97) << "chain " << c;
+    EXPECT_GT(r.sampled_fixed_order_cost, 0.0);
+    EXPECT_GT(r.sampled_cost, 0.0);
+    for (const CheckStats& s : stats[std::size_t(c)]) {
+      EXPECT_GE(s.cost, 0.0);
+      EXPECT_GE(s.pass_rate, 0.0);
+      EXPECT_LE(s.pass_rate, 1.0);
+    }
+  }
+  // The filter never rejects a body-static pair here (every body sees the world's layer), and
+  // the chain knows it: its unconditional pass rate is 1.
+  EXPECT_DOUBLE_EQ(stats[0][0].pass_rate, 1.0);
 }
 
 }  // namespace

@@ -21,6 +21,19 @@
 /// outcomes), reorders its checks by t / (1 - p), switches each pretest on or off by the rule
 /// above, and reports the model's cost against the fixed declaration order.
 ///
+/// The pass rate p that orders the checks must be unconditional: measured on every pair, not
+/// only on the pairs earlier checks let through. Real checks are rarely independent (an AABB
+/// test passes whenever the exact test does), and a pass rate measured behind the exact test
+/// reads 1, which would keep the AABB test last forever. So p comes from the evaluations where
+/// a check's outcome does not depend on the others: the first check of the order, and the
+/// exploring evaluations that run every check on the pair. With unconditional rates the
+/// two-check rule t_a + p_a t_b is exact whatever the dependence.
+///
+/// What the choices saved is also measured, without the model: on each exploring evaluation
+/// (where every stage runs and is timed) the chain replays the pair through its current order
+/// and through the declaration order with every pretest on, from the stage times and outcomes
+/// measured on that very pair, and reports the mean of both.
+///
 /// Units: costs are in whatever unit the clock returns (nanoseconds for `SteadyClockNs`);
 /// pass rates are fractions in [0, 1].
 ///
@@ -131,9 +144,22 @@ struct CheckChainReport {
   double measured_cost = 0.0;
   double expected_cost = 0.0;      ///< model cost of the current order and pretest choices
   double fixed_order_cost = 0.0;   ///< model cost of declaration order, every pretest on
+  /// Exploring evaluations replayed (every stage timed on the same pair); 0 when the chain
+  /// never explores (CheckChainOptions::explore_interval larger than the evaluations).
+  std::uint64_t sampled_pairs = 0;
+  /// Mean measured cost of the sampled pairs through the order and pretests the chain had
+  /// chosen at the time, clock units per pair.
+  double sampled_cost = 0.0;
+  /// Mean measured cost of the same pairs through the declaration order, every pretest on.
+  double sampled_fixed_order_cost = 0.0;
   /// Fraction of the fixed order's cost the chain's choices save (model), in (-inf, 1].
   [[nodiscard]] double saved_fraction() const noexcept {
     return fixed_order_cost > 0.0 ? 1.0 - expected_cost / fixed_order_cost : 0.0;
+  }
+  /// Fraction of the fixed order's cost the chain's choices saved on the sampled pairs
+  /// (measured), in (-inf, 1]; 0 without samples.
+  [[nodiscard]] double sampled_saved_fraction() const noexcept {
+    return sampled_fixed_order_cost > 0.0 ? 1.0 - sampled_cost / sampled_fixed_order_cost : 0.0;
   }
 };
 
@@ -180,12 +206,15 @@ class CheckChain {
 
   /// Runs the checks in the current order until one rejects; true if all pass. `run(i, stage)`
   /// performs stage `stage` of check i; `now()` returns the time as a double (tests pass a fake
-  /// clock). A pretest that rejects a pair its exact check accepts breaks the contract and
-  /// trips COLLIDE_ASSERT on exploring evaluations (where both run).
+  /// clock). Every `timing_interval`-th evaluation is timed, and so is every exploring one
+  /// (every `explore_interval`-th: it runs every stage and is replayed for the report). A
+  /// pretest that rejects a pair its exact check accepts breaks the contract and trips
+  /// COLLIDE_ASSERT on exploring evaluations (where both run).
   template <class Run, class Clock = SteadyClockNs>
   bool evaluate(Run&& run, Clock&& now = Clock{}) {
     ++evaluations_;
-    const bool timed = evaluations_ % options_.timing_interval == 0;
+    const bool explore = evaluations_ % options_.explore_interval == 0;
+    const bool timed = explore || evaluations_ % options_.timing_interval == 0;
     if (timed && !calibrated_) calibrate(now);
     int reads = 0;  // clock reads in this evaluation, to take their cost out of the total
     auto read = [&] {
@@ -197,8 +226,8 @@ class CheckChain {
       const double t = read() - since - clock_overhead_;
       return t > 0.0 ? t : 0.0;
     };
-    const bool explore = evaluations_ % options_.explore_interval == 0;
     const double start = timed ? read() : 0.0;
+    std::array<Sample, MaxChecks> sample{};  // exploring evaluations: each stage's time and outcome
     bool all_pass = true;
     for (int k = 0; k < count_; ++k) {
       const int i = order_[k];
@@ -208,21 +237,28 @@ class CheckChain {
       if (u.has_pretest && (u.pretest_on || explore)) {
         const double t0 = timed ? read() : 0.0;
         const bool pre = run(i, CheckStage::pretest);
-        if (timed) u.pretest.add_cost(elapsed(t0));
+        const double t = timed ? elapsed(t0) : 0.0;
+        if (timed) u.pretest.add_cost(t);
         u.pretest.add_outcome(pre);
+        sample[i].pretest_cost = t;
+        sample[i].pretest_pass = pre;
         rejected_by_pretest = !pre;
         if (!pre && u.pretest_on && !explore) pass = false;
       }
       if (pass) {
         const double t0 = timed ? read() : 0.0;
         pass = run(i, CheckStage::exact);
-        if (timed) u.exact.add_cost(elapsed(t0));
+        const double t = timed ? elapsed(t0) : 0.0;
+        if (timed) u.exact.add_cost(t);
         u.exact.add_outcome(pass);
+        sample[i].exact_cost = t;
+        sample[i].exact_pass = pass;
         COLLIDE_ASSERT(!(rejected_by_pretest && pass),
                        "check chain: a pretest rejected a pair its exact check accepts");
         if (rejected_by_pretest && u.pretest_on) pass = false;
       }
-      u.unit.add_outcome(pass);
+      // Only unconditional outcomes teach the pass rate (see the file comment).
+      if (k == 0 || explore) u.unit.add_outcome(pass);
       if (!pass) {
         all_pass = false;
         if (!explore) break;
@@ -232,6 +268,7 @@ class CheckChain {
       const double total = read() - start - static_cast<double>(reads - 1) * clock_overhead_;
       total_.add_cost(total > 0.0 ? total : 0.0);
     }
+    if (explore) replay(sample);
     if (!all_pass) ++rejections_;
     if (evaluations_ % options_.reorder_interval == 0) decide();
     return all_pass;
@@ -274,6 +311,9 @@ class CheckChain {
   /// Measured statistics of check i's exact stage, pretest stage, and the two together.
   [[nodiscard]] CheckStats exact_stats(int i) const noexcept { return units_[i].exact.stats(); }
   [[nodiscard]] CheckStats pretest_stats(int i) const noexcept { return units_[i].pretest.stats(); }
+  /// What the order decision sees for check i: its cost with its current pretest choice
+  /// (t_pre + p_pre t_exact, or t_exact) and its unconditional pass rate.
+  [[nodiscard]] CheckStats check_stats(int i) const noexcept { return model_stats(i, units_[i].pretest_on); }
 
   /// Counters and the model's costs of the current choices and of the fixed declaration order
   /// (every pretest on), from the current statistics.
@@ -294,14 +334,55 @@ class CheckChain {
     const auto n = static_cast<size_t>(count_);
     r.expected_cost = expected_cost({current.data(), n}, {order_.data(), n});
     r.fixed_order_cost = expected_cost({fixed.data(), n}, {declared.data(), n});
+    r.sampled_pairs = samples_;
+    if (samples_ > 0) {
+      r.sampled_cost = sampled_cost_ / static_cast<double>(samples_);
+      r.sampled_fixed_order_cost = sampled_fixed_cost_ / static_cast<double>(samples_);
+    }
     return r;
   }
 
  private:
+  /// One check's stages on one exploring evaluation.
+  struct Sample {
+    double pretest_cost = 0.0;
+    double exact_cost = 0.0;
+    bool pretest_pass = true;
+    bool exact_pass = true;
+  };
+
+  /// Cost of the sampled pair through `order` with pretests `pretest_on(i)`: stages in order,
+  /// stopping at the first rejection, each charged its measured time.
+  template <class PretestOn>
+  [[nodiscard]] double replay_cost(const std::array<Sample, MaxChecks>& sample, const int* order,
+                                   PretestOn&& pretest_on) const noexcept {
+    double cost = 0.0;
+    for (int k = 0; k < count_; ++k) {
+      const int i = order[k];
+      const Sample& s = sample[i];
+      if (units_[i].has_pretest && pretest_on(i)) {
+        cost += s.pretest_cost;
+        if (!s.pretest_pass) return cost;
+      }
+      cost += s.exact_cost;
+      if (!s.exact_pass) return cost;
+    }
+    return cost;
+  }
+
+  /// Adds an exploring evaluation to the measured comparison of the chosen and the fixed order.
+  void replay(const std::array<Sample, MaxChecks>& sample) noexcept {
+    std::array<int, MaxChecks> declared{};
+    for (int i = 0; i < count_; ++i) declared[i] = i;
+    sampled_cost_ += replay_cost(sample, order_.data(), [&](int i) { return units_[i].pretest_on; });
+    sampled_fixed_cost_ += replay_cost(sample, declared.data(), [](int) { return true; });
+    ++samples_;
+  }
+
   struct Unit {
     bool has_pretest = false;
     bool pretest_on = false;
-    RunningStats unit;     ///< outcome of the check with its pretest, as run
+    RunningStats unit;     ///< outcome of the check with its pretest, unconditional runs only
     RunningStats pretest;  ///< the pretest alone
     RunningStats exact;    ///< the exact check alone (on pairs its pretest let through)
   };
@@ -341,6 +422,9 @@ class CheckChain {
   std::uint64_t rejections_ = 0;
   std::uint64_t reorders_ = 0;
   RunningStats total_{};  ///< time of whole timed evaluations (outliers clipped)
+  std::uint64_t samples_ = 0;        ///< exploring evaluations replayed
+  double sampled_cost_ = 0.0;        ///< their summed cost through the chosen order
+  double sampled_fixed_cost_ = 0.0;  ///< and through the declaration order
 };
 
 }  // namespace collide

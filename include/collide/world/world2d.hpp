@@ -176,8 +176,8 @@ struct WorldOptions {
 /// the body has usually bounced away by the end of the step: a bullet's hit is still reported).
 /// `a` is always a body piece; `b` a static piece or a piece of another body (a.index < b.index).
 struct Contact {
-  ColliderRef a;
-  ColliderRef b;
+  ColliderRef a;          ///< a body piece
+  ColliderRef b;          ///< a static piece, or a piece of another body (then a.index < b.index)
   Manifold manifold;      ///< normal from A to B, world space; 1-2 points with feature ids
   bool sensor = false;    ///< one side is a sensor: reported, no response
   std::uint64_t user_a = 0;  ///< user id of A's owner
@@ -197,12 +197,12 @@ enum class ContactEventType : std::uint8_t {
 /// A contact event. For `end`, `manifold` is last step's.
 struct ContactEvent {
   ContactEventType type = ContactEventType::begin;
-  ColliderRef a;
-  ColliderRef b;
+  ColliderRef a;             ///< as Contact::a
+  ColliderRef b;             ///< as Contact::b
   std::uint64_t user_a = 0;  ///< user id of A's owner
   std::uint64_t user_b = 0;  ///< user id of B's owner
-  Manifold manifold;
-  bool sensor = false;
+  Manifold manifold;         ///< normal from A to B, world space; points with feature ids
+  bool sensor = false;       ///< one side is a sensor
   /// Bit i set: point i has the same feature id as a point of last step's manifold (the same
   /// contact point, so a game can carry its data over). Always 0 for begin and end.
   std::uint8_t persisted_points = 0;
@@ -210,9 +210,9 @@ struct ContactEvent {
 
 /// Counters and timings of a step (or, from `total_stats`, summed over all steps).
 struct StepStats {
-  std::int64_t steps = 0;
+  std::int64_t steps = 0;              ///< 1 for a step; the number of steps in totals
   std::int64_t bodies = 0;             ///< alive bodies (summed per step in totals)
-  std::int64_t static_pieces = 0;      ///< convex static pieces
+  std::int64_t static_pieces = 0;      ///< convex static pieces (summed per step in totals)
   // Broad phase
   std::int64_t body_pairs = 0;         ///< body-body pairs from the broad phase (swept boxes)
   std::int64_t static_candidates = 0;  ///< body-static pairs from the statics' tree
@@ -231,9 +231,9 @@ struct StepStats {
   std::int64_t toi_queries = 0;        ///< time-of-impact queries run
   std::int64_t toi_hits = 0;           ///< of which stopped a body before the end of its motion
   // Events
-  std::int64_t begin_events = 0;
-  std::int64_t persist_events = 0;
-  std::int64_t end_events = 0;
+  std::int64_t begin_events = 0;       ///< pairs that started touching
+  std::int64_t persist_events = 0;     ///< pairs still touching
+  std::int64_t end_events = 0;         ///< pairs that stopped touching (or lost a removed body)
   // Independent check
   std::int64_t tunnelled = 0;          ///< bodies ending a step inside static geometry
   std::int64_t escaped = 0;            ///< bodies ending a step outside WorldOptions::bounds
@@ -261,8 +261,8 @@ struct QueryFilter {
 
 /// A world ray cast hit.
 struct WorldRayHit {
-  ColliderRef collider;
-  std::uint64_t user_id = 0;
+  ColliderRef collider;       ///< the piece hit
+  std::uint64_t user_id = 0;  ///< user id of its owner
   RayHit hit;  ///< fraction along the ray, point, outward normal (world space)
 };
 
@@ -280,13 +280,14 @@ struct LaserPath {
 };
 
 /// A world shape cast hit.
+/// A world shape cast hit. On a miss: hit false and every other field as initialised here.
 struct WorldCastHit {
   bool hit = false;
-  ColliderRef collider;
-  std::uint64_t user_id = 0;
+  ColliderRef collider;      ///< the piece touched first
+  std::uint64_t user_id = 0; ///< user id of its owner
   float fraction = 1.0f;     ///< of the translation at first touch, [0, 1]
   Vec2 point{0.0f, 0.0f};    ///< contact point at first touch, world space
-  Vec2 normal{0.0f, 0.0f};   ///< unit, from the cast shape towards what it hit
+  Vec2 normal{0.0f, 0.0f};   ///< unit, from the cast shape towards what it hit, world space
 };
 
 /// Called with each collider a query finds; return false to stop. Non-owning (no allocation).
@@ -365,19 +366,26 @@ class World2D {
   /// The current order of each chain (indices as above) and whether the pretest is on.
   [[nodiscard]] std::array<std::array<int, 3>, 2> early_out_orders() const;
   [[nodiscard]] std::array<bool, 2> early_out_pretests() const;
+  /// What each chain's order decision sees per check (indices as above): mean cost in
+  /// nanoseconds with the current pretest choice, and the unconditional pass rate.
+  [[nodiscard]] std::array<std::array<CheckStats, 3>, 2> early_out_check_stats() const;
 
-  /// The first collider `ray` (world space, point = origin + fraction * translation) enters.
-  /// Statics through their tree, bodies through the body broad phase (both boxes, then the
-  /// exact `raycast`). A ray starting inside a collider does not hit it (see `raycast`).
+  /// The first collider `ray` (world space, point = origin + fraction * translation) enters;
+  /// nullopt when it enters none. Statics through their tree, bodies through the body broad
+  /// phase (both boxes, then the exact `raycast`); equal fractions go to the smaller collider
+  /// key. A ray starting inside a collider does not hit it (see `raycast`). Throws InvalidInput
+  /// for a non-finite ray.
   [[nodiscard]] std::optional<WorldRayHit> raycast(const Ray& ray, const QueryFilter& filter = {}) const;
   /// The lesson's laser and mirrors: casts `ray`, reflects at each hit about the surface normal
   /// (keeping the remaining length), up to `max_bounces` reflections (<= kMaxLaserBounces).
   /// Throws InvalidInput for a non-finite ray or max_bounces out of range.
   [[nodiscard]] LaserPath cast_laser(const Ray& ray, int max_bounces,
                                      const QueryFilter& filter = {}) const;
-  /// Each collider whose shape overlaps the box (exact, not just the bounding boxes).
+  /// Each collider whose shape overlaps the box (exact, not just the bounding boxes; touching
+  /// counts), world space. Throws InvalidInput for a non-finite box or min > max.
   void query_aabb(const Aabb& box, const QueryFilter& filter, const ColliderCallback& callback) const;
-  /// Each collider whose shape contains `point` (a mouse pick; boundary counts).
+  /// Each collider whose shape contains `point` (a mouse pick; boundary counts), world space.
+  /// Throws InvalidInput for a non-finite point.
   void query_point(Vec2 point, const QueryFilter& filter, const ColliderCallback& callback) const;
   /// Earliest collider that `shape` placed by `xf` touches while translating by `translation`
   /// (GJK shape cast against each candidate). Colliders it overlaps at the start are reported
@@ -385,7 +393,9 @@ class World2D {
   [[nodiscard]] WorldCastHit shape_cast(const Shape2D& shape, const Transform& xf,
                                         Vec2 translation, const QueryFilter& filter = {}) const;
   /// Is body `id` standing on something? Casts each of its shapes by `down` (e.g. (0, -0.05) in
-  /// a y-up world) against everything but itself; the earliest hit, if any, is the ground.
+  /// a y-up world) against everything its mask sees but itself; the earliest hit, if any, is
+  /// the ground (normal from the body towards it). Throws InvalidInput for a stale id or a
+  /// non-finite `down`.
   [[nodiscard]] WorldCastHit ground_check(BodyId id, Vec2 down) const;
 
   /// Draws statics, bodies (bullets, and bodies whose last step was longer than their own size,
