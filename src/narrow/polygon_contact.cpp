@@ -302,7 +302,9 @@ inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept 
   if (count == 4) {
     hi = _mm_loadu_ps(&v[2].x);
   } else if (count == 3) {
-    hi = _mm_castpd_ps(_mm_load1_pd(reinterpret_cast<const double*>(&v[2].x)));
+    // x2 y2 x2 y2: one 8-byte load (float alignment is enough for it), duplicated.
+    const __m128 v2 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&v[2].x)));
+    hi = _mm_movelh_ps(v2, v2);
   } else {
     hi = _mm_movehl_ps(lo, lo);
   }
