@@ -314,3 +314,17 @@ Document read_tmj(const std::filesystem::path& file) {
 }
 
 }  // namespace collide::tiled
+
+namespace collide {
+
+bool looks_like_tiled_json(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const nlohmann::json root = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (root.is_discarded() || !root.is_object()) return false;
+  const auto type = root.find("type");
+  return type != root.end() && type->is_string();
+}
+
+}  // namespace collide
