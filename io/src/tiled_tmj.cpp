@@ -241,6 +241,8 @@ Json load_json(const std::filesystem::path& file) {
   } catch (const Json::parse_error& e) {
     // e.what() gives the line and the column; parsing again names the element
     fail(file, "JSON syntax error in " + io::json_path_at_syntax_error(text), e.what());
+  } catch (const Json::exception& e) {  // out_of_range: a number beyond double range (1e400)
+    fail(file, "JSON number out of range in " + io::json_path_at_syntax_error(text), e.what());
   }
 }
 
