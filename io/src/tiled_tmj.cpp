@@ -2,6 +2,7 @@
 // be XML (.tsx/.tx); they go through the XML reader.
 
 #include "json_syntax.hpp"
+#include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
@@ -9,9 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -232,10 +232,9 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
 }
 
 Json load_json(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "file", "cannot be read");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(file, "file", "cannot be read");
+  const std::optional<std::string> read = io::read_text_file(file);
+  if (!read) fail(file, "file", "cannot be read");
+  const std::string& text = *read;
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {
@@ -320,10 +319,9 @@ Document read_tmj(const std::filesystem::path& file) {
 namespace collide {
 
 bool looks_like_tiled_json(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const nlohmann::json root = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  const std::optional<std::string> text = io::read_text_file(path);
+  if (!text) return false;
+  const nlohmann::json root = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded() || !root.is_object()) return false;
   const auto type = root.find("type");
   return type != root.end() && type->is_string();
