@@ -42,7 +42,7 @@ std::string member(const std::string& path, std::string_view key) {
 
 std::string element(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
-/// A number as the file wrote it (well, as JSON prints it back), for messages.
+/// A value as JSON prints it back (1e39 -> 1e+39), for messages.
 std::string shown(const Json& j) { return j.dump(); }
 
 /// Reads one file; knows its name for every error.
