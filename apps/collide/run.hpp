@@ -1,7 +1,7 @@
 #pragma once
-// `collide run`: scenes (the embedded default scene, a Tiled map) built into a World2D, and the
-// frame loop that steps it, casts the laser, writes events and reports. The command in
-// run_command.cpp is a thin CLI11 shell over `run_world`, so tests drive the same code.
+// `collide run`: scenes (the embedded default scene, a Tiled map, a scene JSON file) built into a
+// World2D, and the frame loop that steps it, casts the laser, writes events and reports. The
+// command in run_command.cpp is a thin CLI11 shell over `run_world`, so tests drive the same code.
 
 #include <collide/world/world2d.hpp>
 
@@ -12,13 +12,18 @@
 
 namespace collide::cli {
 
+/// The laser sweeps this far either side of its first direction (radians).
+inline constexpr float kLaserSweepRadians = 0.6f;
+
 /// What `collide run` does; see `collide run --help` for each option.
 struct RunOptions {
-  /// A Tiled map (.tmx, .tmj, .json) or the name of an embedded scene ("default", "bullets");
-  /// empty: "default".
+  /// A Tiled map (.tmx, .tmj, or .json with a "type"), a scene JSON file (any other .json,
+  /// docs/scene-json.md) or the name of an embedded scene ("default", "bullets"); empty: "default".
   std::string input;
   int bodies = -1;          ///< bodies to spawn; -1: the scene's own count
   std::uint32_t seed = 1;
+  /// The seed was given (--seed): it overrides a scene file's own `spawn.seed`.
+  bool seed_given = false;
   int frames = 600;
   float dt = 1.0f / 60.0f;  ///< seconds per frame
   WorldBroadPhase broad_phase = WorldBroadPhase::temporal;
@@ -32,18 +37,22 @@ struct RunOptions {
 
 /// A scene built into a world, ready to run.
 struct Scene {
-  std::string name;          ///< "default scene", or the map's path
+  std::string name;          ///< "default scene", or the map's or scene file's path
   World2D world;
   Aabb bounds;               ///< where bodies belong (inside the boundary walls)
   bool y_up = true;          ///< false for Tiled maps (y down, as the map's editor shows them)
   int requested_bodies = 0;  ///< bodies asked for
   int bullets = 0;           ///< of which fast bullets
+  std::uint32_t seed = 1;    ///< the seed the scene was built with
+  bool has_laser = true;     ///< false: no laser is cast (a scene file without one)
   Ray laser{};               ///< the laser's first pose (it turns as the frames go by)
-  float laser_turn = 0.0f;   ///< radians per frame
+  /// Radians of phase per frame: at frame f the laser turns by kLaserSweepRadians sin(laser_turn f).
+  float laser_turn = 0.0f;
 };
 
-/// Builds the scene `options` name: throws InvalidInput naming the file for a map that cannot
-/// be loaded, or listing the embedded scenes for an unknown name.
+/// Builds the scene `options` name: throws InvalidInput naming the file (and the element or
+/// JSON path) for a map or scene file that cannot be loaded, or listing the embedded scenes for
+/// an unknown name.
 [[nodiscard]] Scene make_scene(const RunOptions& options);
 
 /// What a run measured.

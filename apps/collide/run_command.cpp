@@ -1,7 +1,7 @@
 // `collide run [MAP|SCENE]`: the main job. Builds a scene (the embedded default scene, the
-// bullets scene, or a Tiled map with bodies spawned in its free space), steps the world frame by
-// frame with a turning laser, checks every frame independently (no body inside static geometry)
-// and prints a per-phase summary and the final state hash.
+// bullets scene, a Tiled map with bodies spawned in its free space, or a scene JSON file), steps
+// the world frame by frame with a turning laser, checks every frame independently (no body inside
+// static geometry) and prints a per-phase summary and the final state hash.
 
 #include "commands.hpp"
 #include "run.hpp"
@@ -83,7 +83,7 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, ")\n");
   std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u\n", f,
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase),
-               o.adaptive_early_out ? "adaptive" : "fixed order", o.seed);
+               o.adaptive_early_out ? "adaptive" : "fixed order", scene.seed);
   std::fprintf(out, "per frame (mean)\n");
   std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
                per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
@@ -96,8 +96,12 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
                per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));
   std::fprintf(out, "  events         %.1f begin, %.1f persist, %.1f end\n", per_frame(t.begin_events, f),
                per_frame(t.persist_events, f), per_frame(t.end_events, f));
-  std::fprintf(out, "  laser          %.1f hits on statics (reflections and the last surface); last frame %d segments\n",
-               per_frame(r.laser_hits, f), r.laser_last_segments);
+  if (scene.has_laser) {
+    std::fprintf(out, "  laser          %.1f hits on statics (reflections and the last surface); last frame %d segments\n",
+                 per_frame(r.laser_hits, f), r.laser_last_segments);
+  } else {
+    std::fprintf(out, "  laser          none in this scene\n");
+  }
   const double step_ms = ms_per_frame(t.time_integrate + t.time_statics + t.time_broad + t.time_bodies +
                                           t.time_events + t.time_check,
                                       f);
@@ -234,10 +238,13 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   const auto start = std::chrono::steady_clock::now();
   for (int frame = 1; frame <= o.frames; ++frame) {
     world.step(o.dt);
-    const float angle = scene.laser_turn * static_cast<float>(frame);
-    const Ray ray{scene.laser.origin, rotate(Rot2::from_angle(std::sin(angle) * 0.6f), scene.laser.translation)};
-    laser = world.cast_laser(ray, kMaxLaserBounces, QueryFilter{.bodies = false});  // statics are the mirrors
-    r.laser_hits += laser.hit_count;
+    if (scene.has_laser) {
+      const float angle = scene.laser_turn * static_cast<float>(frame);
+      const Ray ray{scene.laser.origin,
+                    rotate(Rot2::from_angle(std::sin(angle) * kLaserSweepRadians), scene.laser.translation)};
+      laser = world.cast_laser(ray, kMaxLaserBounces, QueryFilter{.bodies = false});  // statics are the mirrors
+      r.laser_hits += laser.hit_count;
+    }
     if (events.is_open()) {
       for (const ContactEvent& e : world.events()) {
         events << event_json(frame, e).dump() << '\n';
@@ -269,12 +276,15 @@ void register_run_command(CLI::App& app) {
   auto fixed_order = std::make_shared<bool>(false);
   auto quiet = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand(
-      "run", "Run a collision world: the embedded default scene, the bullets scene, or a Tiled map");
+      "run", "Run a collision world: the embedded default scene, the bullets scene, a Tiled map or a scene JSON file");
   cmd->add_option("SCENE", o->input,
-                  "Tiled map (.tmx, .tmj, .json) or embedded scene (default, bullets); default: default");
-  cmd->add_option("--bodies", o->bodies, "Bodies to spawn (default scene 3000, bullets 500, maps 300)")
+                  "Tiled map (.tmx, .tmj, .json), scene JSON file (.json, see docs/scene-json.md) or embedded "
+                  "scene (default, bullets); default: default");
+  cmd->add_option("--bodies", o->bodies,
+                  "Bodies to spawn (default scene 3000, bullets 500, maps 300, scene files their spawn count)")
       ->check(CLI::Range(0, 1000000));
-  cmd->add_option("--seed", o->seed, "Random seed of the scene")->capture_default_str();
+  CLI::Option* seed = cmd->add_option("--seed", o->seed, "Random seed of the scene (overrides a scene file's)")
+                          ->capture_default_str();
   cmd->add_option("--frames", o->frames, "Frames to run")->capture_default_str()->check(CLI::Range(0, 100000000));
   cmd->add_option("--dt", o->dt, "Seconds per frame")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--broadphase", *broad,
@@ -287,9 +297,10 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--svg", o->svg, "Write a picture of the last frame (SVG)");
   cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
   cmd->add_flag("--no-progress", *quiet, "No progress bar (it is drawn only when stderr is a terminal)");
-  cmd->callback([o, broad, fixed_order, quiet]() {
+  cmd->callback([o, broad, fixed_order, quiet, seed]() {
     int code = 0;
     try {
+      o->seed_given = seed->count() > 0;
       o->broad_phase = world_broad_phase_from_string(*broad);
       o->adaptive_early_out = !*fixed_order;
       o->progress = !*quiet;
@@ -301,6 +312,9 @@ void register_run_command(CLI::App& app) {
       }
     } catch (const InvalidInput& e) {
       std::fprintf(stderr, "collide run: %s\n", e.what());
+      code = 2;
+    } catch (const std::exception& e) {  // never a crash: any other failure is an error, too
+      std::fprintf(stderr, "collide run: %s: %s\n", o->input.empty() ? "default" : o->input.c_str(), e.what());
       code = 2;
     }
     if (code != 0) throw CLI::RuntimeError(code);

@@ -1,6 +1,8 @@
 // The JSON side of Tiled: .tmj/.json maps (nlohmann_json). External tilesets and templates may
 // be XML (.tsx/.tx); they go through the XML reader.
 
+#include "json_syntax.hpp"
+#include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
@@ -8,9 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -230,89 +231,17 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
   }
 }
 
-/// A SAX pass that only follows where it is in the document, so a syntax error can name the
-/// element being read, in `Where`'s style: "layers[0].objects[3] (id=12).polygon[2]".
-class PathTracker {
- public:
-  bool null() { return value(); }
-  bool boolean(bool) { return value(); }
-  bool number_integer(Json::number_integer_t v) { return id(static_cast<long long>(v)); }
-  bool number_unsigned(Json::number_unsigned_t v) { return id(static_cast<long long>(v)); }
-  bool number_float(Json::number_float_t, const Json::string_t&) { return value(); }
-  bool string(Json::string_t&) { return value(); }
-  bool binary(Json::binary_t&) { return value(); }
-  bool start_object(std::size_t) { return push(false); }
-  bool start_array(std::size_t) { return push(true); }
-  bool end_object() { return pop(); }
-  bool end_array() { return pop(); }
-  bool key(Json::string_t& k) {
-    frames_.back().key = k;
-    return true;
-  }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) { return false; }
-
-  /// The element the parser was in: "root" at the top.
-  [[nodiscard]] std::string path() const {
-    std::string out;
-    for (std::size_t i = 0; i < frames_.size(); ++i) {
-      const Frame& f = frames_[i];
-      if (i > 0 && f.has_id) out += " (id=" + std::to_string(f.id) + ")";
-      if (f.array) {
-        out += "[" + std::to_string(f.index) + "]";
-      } else if (!f.key.empty()) {
-        out += (out.empty() ? "" : ".") + f.key;
-      }
-    }
-    return out.empty() ? "root" : out;
-  }
-
- private:
-  struct Frame {
-    bool array = false;
-    std::size_t index = 0;  ///< arrays: the element being read
-    std::string key;        ///< objects: the member being read
-    bool has_id = false;    ///< objects: an "id" member was read
-    long long id = 0;
-  };
-  bool value() {  // a value finished in the current container
-    if (frames_.empty()) return true;
-    Frame& f = frames_.back();
-    if (f.array) {
-      ++f.index;
-    } else {
-      f.key.clear();  // between members the error is in the object itself
-    }
-    return true;
-  }
-  bool id(long long v) {
-    if (!frames_.empty() && !frames_.back().array && frames_.back().key == "id") {
-      frames_.back().has_id = true;
-      frames_.back().id = v;
-    }
-    return value();
-  }
-  bool push(bool array) {
-    frames_.push_back({array, 0, {}, false, 0});
-    return true;
-  }
-  bool pop() {
-    frames_.pop_back();
-    return value();
-  }
-  std::vector<Frame> frames_;
-};
-
 Json load_json(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "file", "cannot be read");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(file, "file", "cannot be read");
+  const std::optional<std::string> read = io::read_text_file(file);
+  if (!read) fail(file, "file", "cannot be read");
+  const std::string& text = *read;
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {
-    PathTracker tracker;  // parse again, following the path, to name the element
-    (void)Json::sax_parse(text, &tracker);
-    fail(file, "JSON syntax error in " + tracker.path(), e.what());  // e.what() gives line and column
+    // e.what() gives the line and the column; parsing again names the element
+    fail(file, "JSON syntax error in " + io::json_path_at_syntax_error(text), e.what());
+  } catch (const Json::exception& e) {  // out_of_range: a number beyond double range (1e400)
+    fail(file, "JSON number out of range in " + io::json_path_at_syntax_error(text), e.what());
   }
 }
 
@@ -386,3 +315,16 @@ Document read_tmj(const std::filesystem::path& file) {
 }
 
 }  // namespace collide::tiled
+
+namespace collide {
+
+bool looks_like_tiled_json(const std::filesystem::path& path) {
+  const std::optional<std::string> text = io::read_text_file(path);
+  if (!text) return false;
+  const nlohmann::json root = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
+  if (root.is_discarded() || !root.is_object()) return false;
+  const auto type = root.find("type");
+  return type != root.end() && type->is_string();
+}
+
+}  // namespace collide

@@ -1,6 +1,7 @@
 // The XML side of Tiled: .tmx maps, .tsx tilesets, .tx templates (pugixml; no DTD is fetched,
 // pugixml never loads external entities).
 
+#include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
@@ -10,9 +11,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <numbers>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -131,10 +131,9 @@ std::string syntax_error_place(std::string_view text, size_t offset) {
 }
 
 pugi::xml_document load_xml(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "file", "cannot be read");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(file, "file", "cannot be read");
+  const std::optional<std::string> read = io::read_text_file(file);
+  if (!read) fail(file, "file", "cannot be read");
+  const std::string& text = *read;
   pugi::xml_document doc;
   // parse_default skips the DOCTYPE and never resolves external entities.
   const pugi::xml_parse_result result = doc.load_buffer(text.data(), text.size(), pugi::parse_default);

@@ -722,7 +722,20 @@ TEST(Tiled, MalformedFilesNameTheFileAndTheElement) {
                R"({"type": "map", "orientation": "orthogonal", "width": 1, "height": 1, "tilewidth": 4, "tileheight": 4,
                    "layers": [{"type": "objectgroup", "name": "o", "objects": [{"id": 22, "x": 0, "y": 0, "polygon": [{"x": 0}]}]}]})",
                {"(id=22)", "polygon"});
+  // Regression: a number beyond double range is not a parse_error but an out_of_range exception
+  // of nlohmann_json; it escaped the loader and terminated `collide run`.
+  expect_error("jsonhuge.tmj",
+               R"({"type": "map", "orientation": "orthogonal", "width": 1, "height": 1, "tilewidth": 4, "tileheight": 4,
+                   "layers": [{"type": "objectgroup", "name": "o", "objects": [{"id": 23, "x": 1e400, "y": 0}]}]})",
+               {"layers[0].objects[0] (id=23).x", "1e400"});
   EXPECT_NE(error_of(dir.write("nothing.tmx", "")).find("nothing.tmx"), std::string::npos);
+  // Regression: a folder opens as a file on Linux and its first read threw std::ios_base::failure
+  // out of the loader.
+  for (const char* name : {"folder.tmx", "folder.tmj"}) {
+    const fs::path folder = dir.write("x", "").parent_path() / name;
+    fs::create_directories(folder);
+    EXPECT_NE(error_of(folder).find(std::string(name) + ": file: cannot be read"), std::string::npos) << error_of(folder);
+  }
 }
 
 }  // namespace

@@ -151,6 +151,12 @@ struct TiledLoadOptions {
 [[nodiscard]] TiledMap load_tiled_map(const std::filesystem::path& path,
                                       const TiledLoadOptions& options = {});
 
+/// True when `path` holds a JSON object with a string "type" member, as Tiled's JSON maps
+/// ("map"), tilesets and templates have: how `collide run` tells a Tiled `.json` map from a scene
+/// JSON file (docs/scene-json.md), which has no "type". False for a file that cannot be read or
+/// is not valid JSON (the caller's loader then reports why). Reads and parses the whole file.
+[[nodiscard]] bool looks_like_tiled_json(const std::filesystem::path& path);
+
 /// Mirrors every collider of `map` about y = height_pixels / 2 (map height in pixels for finite
 /// maps), for games whose world is y-up: a point (x, y) moves to (x, height_pixels - y),
 /// rotations change sign, polygons are re-wound counter-clockwise. `objects` are left as the
