@@ -108,6 +108,9 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
   if (options_.band_bits < 0 || options_.band_bits > 31) {
     throw InvalidInput("LooseGrid: band_bits must be in [0, 31]");
   }
+  if (options_.one_step_bits < 0 || options_.one_step_bits > 31) {
+    throw InvalidInput("LooseGrid: one_step_bits must be in [0, 31]");
+  }
 }
 
 template <int D>
@@ -240,7 +243,7 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
   const std::uint32_t* keys = keys_.data();
   const int band_bits = options_.band_bits;
   const std::uint32_t bands = ((total_cells - 1) >> band_bits) + 1;
-  if (bands == 1) {
+  if (total_cells <= (std::uint64_t{1} << options_.one_step_bits) || bands == 1) {
     // Counting sort. Pass 1 counts the boxes of each cell in starts_[key + 2]; the prefix sum
     // makes starts_[key + 1] the first slot of cell key; pass 2 puts each record at its cell's
     // next slot (ids ascending), moving starts_[key + 1] to the cell's end, so that afterwards
