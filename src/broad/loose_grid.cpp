@@ -40,6 +40,17 @@ inline std::uint32_t lane_mask(std::uint32_t n) noexcept {
   return (1u << std::min(n, kLanes)) - 1u;
 }
 
+/// For each 4-bit lane mask, the indices of its set bits, ascending, packed to the front (the
+/// other lanes 0).
+alignas(16) constexpr std::uint32_t kPacked[16][4] = {
+    {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
+    {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
+    {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
+
+/// Set bits of each 4-bit lane mask (std::popcount is a dozen instructions without POPCNT,
+/// which baseline x86-64 lacks).
+constexpr std::uint8_t kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
 /// A box, each coordinate repeated in every lane, to be tested against four stored boxes.
 template <int D>
 struct Probe {
@@ -359,42 +370,44 @@ inline BroadPair ordered_pair(int a, int b) noexcept {
 }  // namespace
 
 template <int D>
-void LooseGridN<D>::append_pairs(PairList& pairs) const {
-  // Pairs are written through a raw pointer into a list grown ahead of the writes (no
-  // capacity test per pair), and the list is cut to the pairs written at the end.
-  std::size_t n = pairs.size();
-  std::size_t room = n;
-  BroadPair* out = pairs.data();
-  const auto reserve = [&](std::size_t extra) {
+struct LooseGridN<D>::PairSink {
+  PairList& pairs;
+  BroadPair* out;
+  std::size_t n;     // pairs written
+  std::size_t room;  // pairs.size(): writes below it need no growth
+
+  void reserve(std::size_t extra) {
     if (n + extra > room) [[unlikely]] {
       out = grow_pairs(pairs, n + extra);
       room = pairs.size();
     }
-  };
+  }
+};
+
+template <int D>
+template <std::uint32_t kRowMask, bool kListed>
+void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t first_index,
+                                       std::uint32_t last_index, PairSink& sink) const {
+  // The runs of the forward half of an entry's neighbourhood (see append_pairs): its own row
+  // from entry e + 1 to the end of the next cell along x, then the rows of three cells
+  // (x - 1 .. x + 1) at these offsets from its cell, those of kRowMask only.
+  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
+  const std::uint32_t plane = D == 3 ? nx * static_cast<std::uint32_t>(padded_[1]) : 0;
+  const std::uint32_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  constexpr int kRows = std::popcount(kRowMask);
+  constexpr int kRuns = 1 + kRows;
+  std::uint32_t rows[kRows > 0 ? kRows : 1];
+  for (int r = 0, k = 0; r < 4; ++r) {
+    if ((kRowMask >> r) & 1u) rows[k++] = all_rows[r];
+  }
   const float* coords = coords_.data();
   const std::size_t stride = stride_;
   const Record* records = records_.data();
   const std::uint32_t* starts = starts_.data();
-
-  // Small against small. For the entry e of cell c, the forward half of its neighbourhood is
-  // kRuns runs of entries: the rest of its own cell and the next cell along x (entries e + 1 up
-  // to the end of c + 1, contiguous), then rows of three cells (x - 1 .. x + 1) above it:
-  // (y + 1, z) in 2D and 3D, and in 3D (y - 1 .. y + 1, z + 1). Each unordered pair of
-  // neighbouring cells is visited once. Each run is tested four entries at a time; runs are
-  // usually shorter, so one masked test covers most.
-  constexpr int kRows = D == 2 ? 1 : 4;
-  constexpr int kRuns = 1 + kRows;
-  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
-  std::uint32_t rows[kRows];
-  rows[0] = nx - 1;
-  if constexpr (D == 3) {
-    const std::uint32_t plane = nx * static_cast<std::uint32_t>(padded_[1]);
-    rows[1] = plane - nx - 1;
-    rows[2] = plane - 1;
-    rows[3] = plane + nx - 1;
-  }
-  const std::uint32_t small = small_;
-  for (std::uint32_t e = 0; e < small; ++e) {
+  BroadPair* out = sink.out;
+  std::size_t n = sink.n;
+  for (std::uint32_t i = first_index; i < last_index; ++i) {
+    const std::uint32_t e = kListed ? list[i] : i;
     const std::uint32_t c = records[e].key;
     const int id = records[e].id;
     const Probe<D> probe = probe_of<D>(entry_box(e));
@@ -415,7 +428,9 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
       mask |= (overlap_mask<D>(coords, stride, first[r], probe) & lane_mask(length)) << (kLanes * r);
       longest = std::max(longest, length);
     }
-    reserve(kLanes * kRuns + 1);
+    sink.n = n;
+    sink.reserve(kLanes * kRuns + 1);
+    out = sink.out;
     // Report each set bit. The first without a branch: with no bit set, the sentinel bit
     // 4 * kRuns picks entry first[kRuns] and the write is not kept.
     std::uint32_t b = static_cast<std::uint32_t>(std::countr_zero(mask | (1u << (kLanes * kRuns))));
@@ -429,7 +444,9 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
       for (int r = 0; r < kRuns; ++r) {
         for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
           std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f);
-          reserve(kLanes);
+          sink.n = n;
+          sink.reserve(kLanes);
+          out = sink.out;
           for (; m != 0; m &= m - 1) {
             out[n++] = ordered_pair(id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
           }
@@ -437,6 +454,81 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
       }
     }
   }
+  sink.n = n;
+}
+
+template <int D>
+void LooseGridN<D>::append_pairs(PairList& pairs) const {
+  // Pairs are written through a raw pointer into a list grown ahead of the writes (no
+  // capacity test per pair), and the list is cut to the pairs written at the end.
+  PairSink sink{pairs, pairs.data(), pairs.size(), pairs.size()};
+
+  // Small against small. For the entry e of cell c, the forward half of its neighbourhood is
+  // runs of entries: the rest of its own cell and the next cell along x (entries e + 1 up to
+  // the end of c + 1, contiguous), then rows of three cells (x - 1 .. x + 1) above it:
+  // (y + 1, z) in 2D and 3D, and in 3D (y - 1 .. y + 1, z + 1). Each unordered pair of
+  // neighbouring cells is visited once. Each run is tested four entries at a time; runs are
+  // usually shorter, so one masked test covers most.
+  if constexpr (D == 2) {
+    append_small_pairs<0b1u, false>(nullptr, 0, small_, sink);
+  } else {
+    // A box b of a row above on axis k can meet the entry's box a only if a's max corner
+    // reaches that row: a.max[k] >= b.min[k] and the cell mapping is monotone, so
+    // cell(a.max)[k] >= cell(b.min)[k] > cell(a.min)[k]. So the entries are grouped, a chunk
+    // at a time, by the axes y, z whose next cell their box reaches (its crossing class), and
+    // each group skips the rows it cannot reach: (y + 1, z) needs y, the rows at z + 1 need z,
+    // and (y + 1, z + 1) both.
+    //
+    // Scalar meaning of the grouping, for each entry e of the chunk:
+    //   class = (cell(max.y) > cell(min.y)) | (cell(max.z) > cell(min.z)) << 1
+    //   list[class] gets e
+    // (cell as cell_of_inside). Four entries at a time: each class's lanes as a mask, its
+    // entries packed to the front of one four-wide store, the list moved on by their number
+    // (each list has four slots of slack).
+    constexpr std::uint32_t kChunk = 256;
+    std::uint32_t lists[4][kChunk + kLanes];
+    const float* coords = coords_.data();
+    const std::size_t stride = stride_;
+    const std::uint32_t small = small_;
+    for (std::uint32_t begin = 0; begin < small; begin += kChunk) {
+      const std::uint32_t end = std::min(small, begin + kChunk);
+      std::uint32_t count[4] = {0, 0, 0, 0};
+      std::uint32_t e = begin;
+#if defined(__SSE2__)
+      const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
+      const auto crosses = [&](int k, std::uint32_t f) {
+        const __m128 o = _mm_set1_ps(grid_.origin[k]);
+        const __m128i lo = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(coords + k * stride + f), o), inv));
+        const __m128i hi = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(coords + (D + k) * stride + f), o), inv));
+        return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(hi, lo))));
+      };
+      for (; e + kLanes <= end; e += kLanes) {
+        const std::uint32_t y = crosses(1, e), z = crosses(2, e);
+        const std::uint32_t in_class[4] = {~(y | z) & 0xFu, y & ~z, z & ~y, y & z};
+        const __m128i base = _mm_set1_epi32(static_cast<int>(e));
+        for (int c = 0; c < 4; ++c) {
+          const __m128i lanes = _mm_load_si128(reinterpret_cast<const __m128i*>(kPacked[in_class[c]]));
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(lists[c] + count[c]), _mm_add_epi32(base, lanes));
+          count[c] += kLaneCount[in_class[c]];
+        }
+      }
+#endif
+      for (; e < end; ++e) {
+        const AabbN<D> box = entry_box(e);
+        const CellN<D> lo = grid_.cell_of_inside(box.min), hi = grid_.cell_of_inside(box.max);
+        const int c = (hi.y > lo.y ? 1 : 0) | (hi.z > lo.z ? 2 : 0);
+        lists[c][count[c]++] = e;
+      }
+      append_small_pairs<0b0000u, true>(lists[0], 0, count[0], sink);
+      append_small_pairs<0b0001u, true>(lists[1], 0, count[1], sink);
+      append_small_pairs<0b0110u, true>(lists[2], 0, count[2], sink);
+      append_small_pairs<0b1111u, true>(lists[3], 0, count[3], sink);
+    }
+  }
+  std::size_t& n = sink.n;
+  const Record* records = records_.data();
+  const auto reserve = [&](std::size_t extra) { sink.reserve(extra); };
+  BroadPair*& out = sink.out;
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
   for (const Entry& b : big_) {

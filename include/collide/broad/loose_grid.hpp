@@ -26,7 +26,10 @@
 /// The binned boxes are stored sorted, one array per coordinate (structure of arrays), so the
 /// pair pass streams memory and tests a box against four candidates with one SIMD compare per
 /// coordinate: the forward neighbourhood of a box is 2 (2D) or 5 (3D) contiguous runs of
-/// entries, each usually shorter than four, so each run is one branch-free test.
+/// entries, each usually shorter than four, so each run is one branch-free test. A box can meet
+/// a box of a row above on an axis only if its own max corner reaches that row, so in 3D the
+/// pair pass groups the entries (a chunk at a time) by which of y and z their boxes cross and
+/// tests each group's runs only (3.6 runs per box instead of 5 on the bench world).
 ///
 /// Memory per object: 2*D 4-byte coordinates, a 4-byte id and two 4-byte keys (per box and per
 /// entry), plus at most kCellsPerBox 4-byte cell starts; on grids sorted band by band, an
@@ -81,8 +84,8 @@ class LooseGridN {
   void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: small pairs by the stored entry of the first
-  /// box (cells by linear index, x fastest; ids ascending in a cell), then big boxes against
-  /// small ones by big id, then big against big.
+  /// box (cells by linear index, x fastest; ids ascending in a cell; in 3D, chunks of entries
+  /// by crossing class), then big boxes against small ones by big id, then big against big.
   void find_pairs(PairList& pairs) const;
   /// find_pairs without clearing `pairs` first: appends.
   void append_pairs(PairList& pairs) const;
@@ -113,6 +116,14 @@ class LooseGridN {
   void compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
   // Copies the boxes into the coordinate arrays in the order of records_.
   void gather(std::span<const AabbN<D>> boxes) noexcept;
+  // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
+  struct PairSink;
+  // The small-small pairs of the entries e in [first, last), or, when kListed, of
+  // e = list[i] for i in [first, last), whose boxes all need the rows above listed in
+  // kRowMask (bit r: row r of the forward neighbourhood, see append_pairs).
+  template <std::uint32_t kRowMask, bool kListed>
+  void append_small_pairs(const std::uint32_t* list, std::uint32_t first, std::uint32_t last,
+                          PairSink& sink) const;
   // The box stored at `slot`.
   [[nodiscard]] AabbN<D> entry_box(std::uint32_t slot) const noexcept {
     AabbN<D> box;
