@@ -344,6 +344,26 @@ TEST(LooseGrid, CrowdedCellsAndEveryCountModFour) {
   }
 }
 
+// Worlds of 1 to 9 boxes in a few unit cells: every entry is in the scalar tails of the
+// four-wide passes (the copy, the 3D crossing classes), and boxes of neighbouring layers meet.
+TEST(LooseGrid, TinyWorldsRunTheScalarTails) {
+  std::mt19937 rng(21);
+  const auto check = [&]<int D>() {
+    std::size_t pairs = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const int n = 1 + trial % 9;
+      const test::Boxes<D> boxes = test::uniform_world<D>(rng, n, 1.0f, 0.1f, 0.5f, 1.5f);
+      LooseGridN<D> grid({.cell_size = 1.0f});
+      const PairList want = brute_pairs<D>(boxes);
+      EXPECT_EQ((pairs_of<LooseGridN<D>, D>(grid, boxes)), want) << D << " trial " << trial;
+      pairs += want.size();
+    }
+    EXPECT_GT(pairs, 300u);
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
 // The bounds pass reads boxes in SIMD lanes, two 2D boxes per step: a bad coordinate must be
 // caught in every lane, at even and odd positions and in the tail, and the bounds must be exact.
 TEST(GridMapping, CheckedBoundsCatchesEveryCoordinateOfEveryBox) {
