@@ -16,9 +16,11 @@
 // The motion (about 1 ns per object) is inside the timing for every contender alike.
 // Slow peers are not run where one frame would take many seconds (listed at registration).
 //
-// "full_rebuild/...": collide's grids alone, build from a fresh span of boxes + find_pairs, the
+// "full_rebuild/...": collide's grids, build from a fresh span of boxes + find_pairs, the
 // per-object figure the broad-phase issue sets a target for; "rebuild_build_only/...": the
-// build alone (see rebuild_benchmark).
+// build alone (see rebuild_benchmark). The one peer that rebuilds from scratch each frame,
+// Chipmunk's cpSpaceHash (2D), runs beside them (chipmunk_rebuild_benchmark); the 3D peers
+// update incrementally and have no rebuild to compare.
 //
 // Run: bench_broad_phase --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
@@ -402,6 +404,49 @@ void add(const std::string& name, int max_n) {
   b->Unit(benchmark::kMillisecond)->MinTime(0.05);
 }
 
+// Chipmunk's own full rebuild, the peer of the above: cpSpaceHash clears its table and rehashes
+// every object each call (cpSpatialIndexReindex: the build; cpSpatialIndexReindexQuery: rehash
+// and query each object, the pairs filtered by the exact test as in the race). Cells of 1 unit
+// and a table of 4n cells, as in the race. The boxes are handed over (copied to Chipmunk's
+// objects) outside the timing.
+template <bool kFindPairs>
+void chipmunk_rebuild_benchmark(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  World<2> world = make_world<2>(n);
+  Chipmunk<true> chipmunk;
+  chipmunk.init(world);
+  const auto hand_over = [&] {
+    for (std::size_t i = 0; i < world.boxes.size(); ++i) {
+      const Aabb& b = world.boxes[i];
+      chipmunk.objects[i].bb = cpBBNew(b.min.x, b.min.y, b.max.x, b.max.y);
+    }
+  };
+  std::size_t first_pairs = 0;
+  cpSpatialIndexReindexQuery(chipmunk.index, chipmunk_pair, &first_pairs);
+  for (auto _ : state) {
+    state.PauseTiming();
+    world.step();
+    hand_over();
+    state.ResumeTiming();
+    if constexpr (kFindPairs) {
+      std::size_t pairs = 0;
+      cpSpatialIndexReindexQuery(chipmunk.index, chipmunk_pair, &pairs);
+      benchmark::DoNotOptimize(pairs);
+    } else {
+      cpSpatialIndexReindex(chipmunk.index);
+      benchmark::ClobberMemory();
+    }
+  }
+  state.counters["pairs"] = static_cast<double>(first_pairs);
+  state.counters["per_object"] = benchmark::Counter(
+      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  if constexpr (kFindPairs) {
+    state.counters["per_pair"] = benchmark::Counter(
+        static_cast<double>(first_pairs),
+        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  }
+}
+
 // "rebuild_build_only/<D>D/name" and "full_rebuild/<D>D/name" at n objects.
 template <int D, class BP>
 void add_rebuild(const std::string& name, int n) {
@@ -450,6 +495,12 @@ int main(int argc, char** argv) {
     add_rebuild<2, SortedGridN<2>>("collide_sorted_grid", n);
     add_rebuild<2, HashGridN<2>>("collide_hash_grid", n);
     add_rebuild<2, HierarchicalGridN<2>>("collide_hierarchical_grid", n);
+    for (const bool with_pairs : {false, true}) {
+      benchmark::RegisterBenchmark(
+          with_pairs ? "full_rebuild/2D/Chipmunk_cpSpaceHash" : "rebuild_build_only/2D/Chipmunk_cpSpaceHash",
+          with_pairs ? chipmunk_rebuild_benchmark<true> : chipmunk_rebuild_benchmark<false>)
+          ->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
+    }
     add_rebuild<3, LooseGridN<3>>("collide_loose_grid", n);
     add_rebuild<3, SortedGridN<3>>("collide_sorted_grid", n);
     add_rebuild<3, HashGridN<3>>("collide_hash_grid", n);
