@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// A uniform grid built for full rebuilds every frame: one entry per box, no hashing, no sort.
+/// A uniform grid built for full rebuilds every frame: one entry per box, no hashing, no
+/// comparison sort.
 ///
 /// Each box is stored once, in the cell of its min corner ("loose" cells: a box may stick out of
 /// its cell by up to one cell on every axis). Cells are at least as large as most boxes, so a
@@ -16,12 +17,13 @@
 /// min- and max-corner cells in one set of SIMD lanes) and counts boxes per cell, a prefix sum
 /// gives each cell its first slot, a second pass writes each box's (key, id) record to its
 /// slot, ids ascending in a cell, and a last pass copies the boxes in that order (sequential
-/// writes; the random accesses are 8-byte records and box reads). The grid is dense over the occupied bounds, with a border of
-/// empty cells so that every neighbour of an occupied cell exists; when the cells from the
-/// requested size would exceed kCellsPerBox per box, the cells are widened (results stay exact,
-/// only the neighbour scans grow). Keys are 32-bit. Clustered, sparse worlds are better served
-/// by SortedGrid, mixed sizes by HierarchicalGrid (here the big boxes are tested per cell range
-/// against the small ones and by a sweep along x against each other).
+/// writes; the random accesses are 8-byte records and box reads). The grid is dense over the
+/// occupied bounds, with a border of empty cells so that every neighbour of an occupied cell
+/// exists; when the cells from the requested size would exceed kCellsPerBox per box, the cells
+/// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. Clustered,
+/// sparse worlds are better served by SortedGrid, mixed sizes by HierarchicalGrid (here the big
+/// boxes are tested per cell range against the small ones and by a sweep along x against each
+/// other).
 ///
 /// The binned boxes are stored sorted, one array per coordinate (structure of arrays), so the
 /// pair pass streams memory and tests a box against four candidates with one SIMD compare per
@@ -31,9 +33,9 @@
 /// pair pass groups the entries (a chunk at a time) by which of y and z their boxes cross and
 /// tests each group's runs only (3.6 runs per box instead of 5 on the bench world).
 ///
-/// Memory per object: 2*D 4-byte coordinates, a 4-byte id and two 4-byte keys (per box and per
-/// entry), plus at most kCellsPerBox 4-byte cell starts; on grids sorted band by band, an
-/// 8-byte staging record; a big box adds two (8*D + 4)-byte records.
+/// Memory per object: 2*D 4-byte coordinates, an 8-byte (key, id) record and a 4-byte key, plus
+/// at most kCellsPerBox 4-byte cell starts (2 in 2D, 2.6 in 3D on the bench world); on grids
+/// sorted band by band, an 8-byte staging record; a big box adds two (8*D + 4)-byte records.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
