@@ -16,8 +16,11 @@
 // The motion (about 1 ns per object) is inside the timing for every contender alike.
 // Slow peers are not run where one frame would take many seconds (listed at registration).
 //
-// "full_rebuild/...": collide's grids alone, build from a fresh span of boxes + find_pairs, the
-// per-object figure the broad-phase issue sets a target for (see rebuild_benchmark).
+// "full_rebuild/...": collide's grids, build from a fresh span of boxes + find_pairs, the
+// per-object figure the broad-phase issue sets a target for; "rebuild_build_only/...": the
+// build alone (see rebuild_benchmark). The one peer that rebuilds from scratch each frame,
+// Chipmunk's cpSpaceHash (2D), runs beside them (chipmunk_rebuild_benchmark); the 3D peers
+// update incrementally and have no rebuild to compare.
 //
 // Run: bench_broad_phase --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
@@ -355,10 +358,12 @@ void frame_benchmark(benchmark::State& state) {
 // A full rebuild, the figure of the broad-phase issue (target: 25 ns per object at 1e5, one
 // thread): `build` from a fresh span of boxes (validation, the cell size chosen from the data,
 // every box binned from scratch; nothing is kept from the previous call but the capacity of the
-// buffers), then `find_pairs`: every overlapping pair once, into a pair list kept across
-// iterations. The world moves between iterations outside the timing, so each build sees boxes
-// it has not seen before.
-template <int D, class BP>
+// buffers), then, for "full_rebuild", `find_pairs`: every overlapping pair once, into a pair
+// list kept across iterations; "rebuild_build_only" times the build alone (the grid structure:
+// cell keys, sort, cell ranges). The world moves between iterations outside the timing, so each
+// build sees boxes it has not seen before. per_object is CPU time per object; per_pair (build
+// + pairs only) is the same time per reported pair.
+template <int D, class BP, bool kFindPairs>
 void rebuild_benchmark(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   World<D> world = make_world<D>(n);
@@ -372,12 +377,21 @@ void rebuild_benchmark(benchmark::State& state) {
     world.step();
     state.ResumeTiming();
     bp.build(world.boxes);
-    bp.find_pairs(pairs);
-    benchmark::DoNotOptimize(pairs.data());
+    if constexpr (kFindPairs) {
+      bp.find_pairs(pairs);
+      benchmark::DoNotOptimize(pairs.data());
+    } else {
+      benchmark::ClobberMemory();
+    }
   }
   state.counters["pairs"] = static_cast<double>(first_pairs);
   state.counters["per_object"] = benchmark::Counter(
       static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  if constexpr (kFindPairs) {
+    state.counters["per_pair"] = benchmark::Counter(
+        static_cast<double>(first_pairs),
+        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  }
   state.counters["bytes_per_object"] =
       static_cast<double>(bp.memory_bytes() + pairs.capacity() * sizeof(BroadPair)) / n;
 }
@@ -388,6 +402,59 @@ void add(const std::string& name, int max_n) {
                                          frame_benchmark<D, C>);
   for (int n = 1000; n <= max_n; n *= 10) b->Arg(n);
   b->Unit(benchmark::kMillisecond)->MinTime(0.05);
+}
+
+// Chipmunk's own full rebuild, the peer of the above: cpSpaceHash clears its table and rehashes
+// every object each call (cpSpatialIndexReindex: the build; cpSpatialIndexReindexQuery: rehash
+// and query each object, the pairs filtered by the exact test as in the race). Cells of 1 unit
+// and a table of 4n cells, as in the race. The boxes are handed over (copied to Chipmunk's
+// objects) outside the timing.
+template <bool kFindPairs>
+void chipmunk_rebuild_benchmark(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  World<2> world = make_world<2>(n);
+  Chipmunk<true> chipmunk;
+  chipmunk.init(world);
+  const auto hand_over = [&] {
+    for (std::size_t i = 0; i < world.boxes.size(); ++i) {
+      const Aabb& b = world.boxes[i];
+      chipmunk.objects[i].bb = cpBBNew(b.min.x, b.min.y, b.max.x, b.max.y);
+    }
+  };
+  std::size_t first_pairs = 0;
+  cpSpatialIndexReindexQuery(chipmunk.index, chipmunk_pair, &first_pairs);
+  for (auto _ : state) {
+    state.PauseTiming();
+    world.step();
+    hand_over();
+    state.ResumeTiming();
+    if constexpr (kFindPairs) {
+      std::size_t pairs = 0;
+      cpSpatialIndexReindexQuery(chipmunk.index, chipmunk_pair, &pairs);
+      benchmark::DoNotOptimize(pairs);
+    } else {
+      cpSpatialIndexReindex(chipmunk.index);
+      benchmark::ClobberMemory();
+    }
+  }
+  state.counters["pairs"] = static_cast<double>(first_pairs);
+  state.counters["per_object"] = benchmark::Counter(
+      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  if constexpr (kFindPairs) {
+    state.counters["per_pair"] = benchmark::Counter(
+        static_cast<double>(first_pairs),
+        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  }
+}
+
+// "rebuild_build_only/<D>D/name" and "full_rebuild/<D>D/name" at n objects.
+template <int D, class BP>
+void add_rebuild(const std::string& name, int n) {
+  const std::string suffix = std::to_string(D) + "D/" + name;
+  benchmark::RegisterBenchmark(("rebuild_build_only/" + suffix).c_str(), rebuild_benchmark<D, BP, false>)
+      ->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
+  benchmark::RegisterBenchmark(("full_rebuild/" + suffix).c_str(), rebuild_benchmark<D, BP, true>)
+      ->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
 }
 
 }  // namespace
@@ -424,17 +491,20 @@ int main(int argc, char** argv) {
   add<3, Fcl<true>>("FCL_SpatialHashing", k1e4);
 
   for (const int n : {k1e4, k1e5, k1e6}) {
-    const auto rebuild = [n](const char* name, auto function) {
-      benchmark::RegisterBenchmark(name, function)->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
-    };
-    rebuild("full_rebuild/2D/collide_loose_grid", rebuild_benchmark<2, LooseGridN<2>>);
-    rebuild("full_rebuild/2D/collide_sorted_grid", rebuild_benchmark<2, SortedGridN<2>>);
-    rebuild("full_rebuild/2D/collide_hash_grid", rebuild_benchmark<2, HashGridN<2>>);
-    rebuild("full_rebuild/2D/collide_hierarchical_grid", rebuild_benchmark<2, HierarchicalGridN<2>>);
-    rebuild("full_rebuild/3D/collide_loose_grid", rebuild_benchmark<3, LooseGridN<3>>);
-    rebuild("full_rebuild/3D/collide_sorted_grid", rebuild_benchmark<3, SortedGridN<3>>);
-    rebuild("full_rebuild/3D/collide_hash_grid", rebuild_benchmark<3, HashGridN<3>>);
-    rebuild("full_rebuild/3D/collide_hierarchical_grid", rebuild_benchmark<3, HierarchicalGridN<3>>);
+    add_rebuild<2, LooseGridN<2>>("collide_loose_grid", n);
+    add_rebuild<2, SortedGridN<2>>("collide_sorted_grid", n);
+    add_rebuild<2, HashGridN<2>>("collide_hash_grid", n);
+    add_rebuild<2, HierarchicalGridN<2>>("collide_hierarchical_grid", n);
+    for (const bool with_pairs : {false, true}) {
+      benchmark::RegisterBenchmark(
+          with_pairs ? "full_rebuild/2D/Chipmunk_cpSpaceHash" : "rebuild_build_only/2D/Chipmunk_cpSpaceHash",
+          with_pairs ? chipmunk_rebuild_benchmark<true> : chipmunk_rebuild_benchmark<false>)
+          ->Arg(n)->Unit(benchmark::kMillisecond)->MinTime(0.05);
+    }
+    add_rebuild<3, LooseGridN<3>>("collide_loose_grid", n);
+    add_rebuild<3, SortedGridN<3>>("collide_sorted_grid", n);
+    add_rebuild<3, HashGridN<3>>("collide_hash_grid", n);
+    add_rebuild<3, HierarchicalGridN<3>>("collide_hierarchical_grid", n);
   }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

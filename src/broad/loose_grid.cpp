@@ -3,6 +3,7 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #if defined(__SSE2__)
@@ -31,56 +32,102 @@ float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
   return std::max(quantile, kCellSizeResolution * magnitude);
 }
 
-template <int D>
-using PackedBox = typename LooseGridN<D>::Packed;
+/// Boxes tested against one probe box at once: a group of SIMD lanes.
+constexpr std::uint32_t kLanes = 4;
 
-/// The box as lanes (min, -max), zero padded (see LooseGridN::Packed).
+/// Bits [0, n) set, n clamped to kLanes: the lanes of a group that lie in a run of n entries.
+inline std::uint32_t lane_mask(std::uint32_t n) noexcept {
+  return (1u << std::min(n, kLanes)) - 1u;
+}
+
+/// For each 4-bit lane mask, the indices of its set bits, ascending, packed to the front (the
+/// other lanes 0).
+alignas(16) constexpr std::uint32_t kPacked[16][4] = {
+    {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
+    {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
+    {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
+
+/// Set bits of each 4-bit lane mask (std::popcount is a dozen instructions without POPCNT,
+/// which baseline x86-64 lacks).
+constexpr std::uint8_t kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+/// values[i] += values[0] + ... + values[i - 1] for i in [1, count): the running sums.
+void inclusive_prefix_sum(std::uint32_t* values, std::uint32_t count) noexcept {
+  std::uint32_t i = 0;
+#if defined(__SSE2__)
+  // Four at a time: the sums within the four lanes by two shifted adds, plus the carry from the
+  // lanes before (the last sum, in every lane).
+  __m128i carry = _mm_setzero_si128();
+  for (; i + 4 <= count; i += 4) {
+    __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i));
+    v = _mm_add_epi32(v, _mm_slli_si128(v, 4));
+    v = _mm_add_epi32(v, _mm_slli_si128(v, 8));
+    v = _mm_add_epi32(v, carry);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(values + i), v);
+    carry = _mm_shuffle_epi32(v, _MM_SHUFFLE(3, 3, 3, 3));
+  }
+  std::uint32_t sum = static_cast<std::uint32_t>(_mm_cvtsi128_si32(carry));
+#else
+  std::uint32_t sum = 0;
+#endif
+  for (; i < count; ++i) values[i] = sum += values[i];
+}
+
+/// A box, each coordinate repeated in every lane, to be tested against four stored boxes.
 template <int D>
-PackedBox<D> pack(const AabbN<D>& box) noexcept {
-  PackedBox<D> p{};
-  constexpr int half = D == 2 ? 2 : 4;
+struct Probe {
+#if defined(__SSE2__)
+  __m128 min[D];
+  __m128 max[D];
+#else
+  float min[D];
+  float max[D];
+#endif
+};
+
+template <int D>
+Probe<D> probe_of(const AabbN<D>& box) noexcept {
+  Probe<D> p;
   for (int k = 0; k < D; ++k) {
-    p.lanes[k] = box.min[k];
-    p.lanes[half + k] = -box.max[k];
+#if defined(__SSE2__)
+    p.min[k] = _mm_set1_ps(box.min[k]);
+    p.max[k] = _mm_set1_ps(box.max[k]);
+#else
+    p.min[k] = box.min[k];
+    p.max[k] = box.max[k];
+#endif
   }
   return p;
 }
 
+/// Overlap of the probe with the four stored boxes at entries f .. f + 3 of the coordinate
+/// arrays (coordinate a of entry e at coords[a * stride + e]: min corner for a < D, max corner
+/// for a >= D): bit j is set when entry f + j overlaps the probe on every axis,
+///   min[k][f + j] <= probe.max[k]  and  probe.min[k] <= max[k][f + j]  for every k
+/// (touching counts; the boxes are validated, so no NaN). Entries past a run are read (the
+/// arrays are padded) and masked off by the caller.
 template <int D>
-AabbN<D> unpack(const PackedBox<D>& p) noexcept {
-  constexpr int half = D == 2 ? 2 : 4;
-  AabbN<D> box;
-  for (int k = 0; k < D; ++k) {
-    box.min[k] = p.lanes[k];
-    box.max[k] = -p.lanes[half + k];
-  }
-  return box;
-}
-
-/// The lanes a packed box b is compared with to test it against `box`: (max, -min), so that
-/// overlap(box, b) <=> b.min <= box.max and -b.max <= -box.min on every axis <=> every lane of
-/// b <= the probe's (the zero pads compare 0 <= 0).
-template <int D>
-PackedBox<D> probe_of(const AabbN<D>& box) noexcept {
-  return pack<D>({box.max, box.min});
-}
-
-/// Whether every lane of `b` is <= the matching lane of `probe`: overlap of the two boxes
-/// (touching counts). NaN never occurs (the boxes are validated).
-template <int D>
-inline bool lanes_le(const PackedBox<D>& b, const PackedBox<D>& probe) noexcept {
+inline std::uint32_t overlap_mask(const float* coords, std::size_t stride, std::uint32_t f,
+                                  const Probe<D>& probe) noexcept {
+  const float* p = coords + f;
 #if defined(__SSE2__)
-  const __m128 le = _mm_cmple_ps(_mm_load_ps(b.lanes), _mm_load_ps(probe.lanes));
-  if constexpr (D == 2) {
-    return _mm_movemask_ps(le) == 0xF;
-  } else {
-    const __m128 le2 = _mm_cmple_ps(_mm_load_ps(b.lanes + 4), _mm_load_ps(probe.lanes + 4));
-    return _mm_movemask_ps(_mm_and_ps(le, le2)) == 0xF;
+  __m128 in = _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(p), probe.max[0]),
+                         _mm_cmpge_ps(_mm_loadu_ps(p + D * stride), probe.min[0]));
+  for (int k = 1; k < D; ++k) {
+    in = _mm_and_ps(in, _mm_and_ps(_mm_cmple_ps(_mm_loadu_ps(p + k * stride), probe.max[k]),
+                                   _mm_cmpge_ps(_mm_loadu_ps(p + (D + k) * stride), probe.min[k])));
   }
+  return static_cast<std::uint32_t>(_mm_movemask_ps(in));
 #else
-  bool all = true;
-  for (std::size_t i = 0; i < std::size(b.lanes); ++i) all &= b.lanes[i] <= probe.lanes[i];
-  return all;
+  std::uint32_t mask = 0;
+  for (std::uint32_t j = 0; j < kLanes; ++j) {
+    bool in = true;
+    for (int k = 0; k < D; ++k) {
+      in &= (p[k * stride + j] <= probe.max[k]) & (probe.min[k] <= p[(D + k) * stride + j]);
+    }
+    mask |= static_cast<std::uint32_t>(in) << j;
+  }
+  return mask;
 #endif
 }
 
@@ -93,6 +140,9 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
   }
   if (options_.band_bits < 0 || options_.band_bits > 31) {
     throw InvalidInput("LooseGrid: band_bits must be in [0, 31]");
+  }
+  if (options_.one_step_bits < 0 || options_.one_step_bits > 31) {
+    throw InvalidInput("LooseGrid: one_step_bits must be in [0, 31]");
   }
 }
 
@@ -111,6 +161,82 @@ void LooseGridN<D>::update(std::span<const AabbN<D>> boxes) {
     return;
   }
   rebuild(boxes, checked_bounds_of(boxes));
+}
+
+template <int D>
+template <class Count>
+void LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
+                                 Count&& count) {
+  // Scalar meaning, for each box i:
+  //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
+  //   binned = hi[k] - lo[k] <= 1 on every axis
+  //   keys_[i] = binned ? key_of(lo) : big_key; count(keys_[i]); if !binned, big_ gets the box
+  // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
+  // (the border) are the constant `base`.
+  std::uint32_t stride[3] = {1, 0, 0};
+  std::uint32_t base = 1;
+  for (int k = 1; k < D; ++k) {
+    stride[k] = stride[k - 1] * static_cast<std::uint32_t>(padded_[k - 1]);
+    base += stride[k];
+  }
+  std::uint32_t* keys = keys_.data();
+  const int n = count_;
+  const auto finish = [&](int i, std::uint32_t key, bool binned) {
+    key = binned ? key : big_key;
+    keys[i] = key;
+    count(key);
+    if (!binned) [[unlikely]] big_.push_back({boxes[i], i});
+  };
+#if defined(__SSE2__)
+  // Both corners' cells in one register: the same float subtraction and multiplication as
+  // cell_of_inside, then truncation, lane by lane.
+  const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
+  const __m128i one = _mm_set1_epi32(1);
+  const VecN<D> o = grid_.origin;
+  if constexpr (D == 2) {
+    static_assert(sizeof(AabbN<2>) == 4 * sizeof(float));
+    const __m128 origin = _mm_setr_ps(o.x, o.y, o.x, o.y);
+    for (int i = 0; i < n; ++i) {
+      // (min.x, min.y, max.x, max.y) -> cells (lo.x, lo.y, hi.x, hi.y)
+      const __m128i cells = _mm_cvttps_epi32(
+          _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(&boxes[i].min.x), origin), inv));
+      const __m128i span = _mm_sub_epi32(_mm_shuffle_epi32(cells, _MM_SHUFFLE(3, 2, 3, 2)), cells);
+      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 3) == 0;
+      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(cells));
+      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(cells, 1)));
+      finish(i, lx + ly * stride[1] + base, binned);
+    }
+  } else {
+    static_assert(sizeof(AabbN<3>) == 6 * sizeof(float));
+    // Two overlapping loads: (min.x, min.y, min.z, max.x) and (min.z, max.x, max.y, max.z).
+    const __m128 origin_a = _mm_setr_ps(o.x, o.y, o.z, o.x);
+    const __m128 origin_b = _mm_setr_ps(o.z, o.x, o.y, o.z);
+    for (int i = 0; i < n; ++i) {
+      const float* f = &boxes[i].min.x;
+      const __m128i a = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f), origin_a), inv));
+      const __m128i b = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f + 2), origin_b), inv));
+      // lanes 0..2: hi - lo on x, y, z
+      const __m128i span = _mm_sub_epi32(_mm_srli_si128(b, 4), a);
+      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 7) == 0;
+      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(a));
+      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 1)));
+      const auto lz = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 2)));
+      finish(i, lx + ly * stride[1] + lz * stride[2] + base, binned);
+    }
+  }
+#else
+  for (int i = 0; i < n; ++i) {
+    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
+    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
+    bool binned = true;
+    std::uint32_t key = base;
+    for (int k = 0; k < D; ++k) {
+      binned &= hi[k] - lo[k] <= 1;
+      key += static_cast<std::uint32_t>(lo[k]) * stride[k];
+    }
+    finish(i, key, binned);
+  }
+#endif
 }
 
 template <int D>
@@ -135,91 +261,110 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     padded_[k] = grid_.dims[k] + 2;
     total_cells *= static_cast<std::uint32_t>(padded_[k]);
   }
+  // Big boxes share one bucket after every cell, so they sort after the binned ones.
+  const std::uint32_t big_key = total_cells;
 
-  // Each box's cell key, or kBigKey (and into big_) when it spans more than two cells.
-  keys_.resize(boxes.size());
-  big_.clear();
-  std::uint32_t small = 0;
-  const auto classify = [&](int i) {
-    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
-    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
-    bool binned = true;
-    for (int k = 0; k < D; ++k) binned &= hi[k] - lo[k] <= 1;
-    if (!binned) {
-      keys_[i] = kBigKey;
-      big_.push_back({boxes[i], i});
-      return kBigKey;
-    }
-    ++small;
-    return keys_[i] = key_of(lo);
-  };
   // Capacities for every box at once: a frame with a few more binned boxes than the last must
   // not double a vector (no allocation in the steady state, memory per object stays flat).
-  starts_.reserve(budget + 2);
-  packed_.reserve(boxes.size());
-  ids_.reserve(boxes.size());
+  keys_.resize(boxes.size());
+  big_.clear();
+  stride_ = boxes.size() + kPad;
+  coords_.resize(2 * D * stride_);
+  records_.resize(stride_);
+  starts_.reserve(budget + 3);
+  Record* records = records_.data();
+  const std::uint32_t* keys = keys_.data();
   const int band_bits = options_.band_bits;
   const std::uint32_t bands = ((total_cells - 1) >> band_bits) + 1;
-  if (bands == 1) {
+  if (total_cells <= (std::uint64_t{1} << options_.one_step_bits) || bands == 1) {
     // Counting sort. Pass 1 counts the boxes of each cell in starts_[key + 2]; the prefix sum
-    // makes starts_[key + 1] the first slot of cell key; pass 2 puts each box at its cell's
+    // makes starts_[key + 1] the first slot of cell key; pass 2 puts each record at its cell's
     // next slot (ids ascending), moving starts_[key + 1] to the cell's end, so that afterwards
     // starts_[key] is the first slot of cell key and starts_[key + 1] its end.
-    starts_.assign(total_cells + 2, 0u);
+    starts_.assign(total_cells + 3, 0u);
     std::uint32_t* starts = starts_.data();
+    compute_keys(boxes, big_key, [starts](std::uint32_t key) { ++starts[key + 2]; });
+    inclusive_prefix_sum(starts + 1, total_cells + 2);
     for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = classify(i);
-      if (key != kBigKey) ++starts[key + 2];
-    }
-    for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts[c] += starts[c - 1];
-    packed_.resize(small);
-    ids_.resize(small);
-    Packed* packed = packed_.data();
-    int* ids = ids_.data();
-    for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = keys_[i];
-      if (key == kBigKey) continue;
-      const std::uint32_t slot = starts[key + 1]++;
-      packed[slot] = pack<D>(boxes[i]);
-      ids[slot] = i;
+      const std::uint32_t key = keys[i];
+      records[starts[key + 1]++] = {key, i};
     }
   } else {
     // The same counting sort in two steps, so that its random accesses stay in cache on large
-    // grids: the boxes are first distributed (stably) into bands of 2^band_bits consecutive
-    // cells, packed with their key and id; then the per-cell count and placement run band after
-    // band, touching one band's cell starts and slots at a time.
-    band_starts_.assign(bands + 1, 0u);
+    // grids: the records are first distributed (stably) into bands of 2^band_bits consecutive
+    // cells (the big bucket last); then the per-cell count and placement run band after band,
+    // touching one band's cell starts and slots at a time.
+    band_starts_.assign(bands + 2, 0u);
+    std::uint32_t* band_starts = band_starts_.data();
+    const auto band_of = [=](std::uint32_t key) { return key == big_key ? bands : key >> band_bits; };
+    compute_keys(boxes, big_key, [=](std::uint32_t key) { ++band_starts[band_of(key) + 1]; });
+    for (std::uint32_t b = 1; b <= bands + 1; ++b) band_starts[b] += band_starts[b - 1];
+    staged_.resize(boxes.size());
+    Record* staged = staged_.data();
     for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = classify(i);
-      if (key != kBigKey) ++band_starts_[(key >> band_bits) + 1];
+      const std::uint32_t key = keys[i];
+      staged[band_starts[band_of(key)]++] = {key, i};
     }
-    for (std::uint32_t b = 1; b <= bands; ++b) band_starts_[b] += band_starts_[b - 1];
-    staged_.reserve(boxes.size());
-    staged_.resize(small);
-    Staged* staged = staged_.data();
-    for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = keys_[i];
-      if (key == kBigKey) continue;
-      staged[band_starts_[key >> band_bits]++] = {pack<D>(boxes[i]), key, i};
-    }
-    starts_.assign(total_cells + 2, 0u);
+    starts_.assign(total_cells + 3, 0u);
     std::uint32_t* starts = starts_.data();
-    for (std::uint32_t s = 0; s < small; ++s) ++starts[staged[s].key + 2];
-    for (std::uint32_t c = 2; c < total_cells + 2; ++c) starts[c] += starts[c - 1];
-    packed_.resize(small);
-    ids_.resize(small);
-    Packed* packed = packed_.data();
-    int* ids = ids_.data();
-    for (std::uint32_t s = 0; s < small; ++s) {
-      const std::uint32_t slot = starts[staged[s].key + 1]++;
-      packed[slot] = staged[s].box;
-      ids[slot] = staged[s].id;
-    }
+    for (int s = 0; s < count_; ++s) ++starts[staged[s].key + 2];
+    inclusive_prefix_sum(starts + 1, total_cells + 2);
+    for (int s = 0; s < count_; ++s) records[starts[staged[s].key + 1]++] = staged[s];
   }
+  small_ = starts_[total_cells];
+  gather(boxes);
   big_by_x_.assign(big_.begin(), big_.end());
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
     return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.id < b.id);
   });
+}
+
+template <int D>
+void LooseGridN<D>::gather(std::span<const AabbN<D>> boxes) noexcept {
+  // Scalar meaning: for each entry e, coordinate k of the min corner of boxes[records_[e].id]
+  // to coords_[k * stride_ + e], of the max corner to coords_[(D + k) * stride_ + e]. The reads
+  // are random, the writes sequential.
+  const Record* records = records_.data();
+  float* coords = coords_.data();
+  const std::size_t stride = stride_;
+  const std::uint32_t n = static_cast<std::uint32_t>(count_);
+  std::uint32_t e = 0;
+#if defined(__SSE2__)
+  // Four boxes at a time, transposed in registers: one four-wide store per coordinate.
+  for (; e + 4 <= n; e += 4) {
+    const float* b0 = &boxes[records[e].id].min.x;
+    const float* b1 = &boxes[records[e + 1].id].min.x;
+    const float* b2 = &boxes[records[e + 2].id].min.x;
+    const float* b3 = &boxes[records[e + 3].id].min.x;
+    // Rows (min.x, min.y, max.x, max.y) in 2D; (min.x, min.y, min.z, max.x) in 3D.
+    __m128 r0 = _mm_loadu_ps(b0), r1 = _mm_loadu_ps(b1), r2 = _mm_loadu_ps(b2), r3 = _mm_loadu_ps(b3);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+    if constexpr (D == 2) {
+      _mm_storeu_ps(coords + e, r0);               // min x
+      _mm_storeu_ps(coords + stride + e, r1);      // min y
+      _mm_storeu_ps(coords + 2 * stride + e, r2);  // max x
+      _mm_storeu_ps(coords + 3 * stride + e, r3);  // max y
+    } else {
+      // (min.z, max.x, max.y, max.z) for the last two coordinates.
+      __m128 s0 = _mm_loadu_ps(b0 + 2), s1 = _mm_loadu_ps(b1 + 2), s2 = _mm_loadu_ps(b2 + 2),
+             s3 = _mm_loadu_ps(b3 + 2);
+      _MM_TRANSPOSE4_PS(s0, s1, s2, s3);
+      _mm_storeu_ps(coords + e, r0);               // min x
+      _mm_storeu_ps(coords + stride + e, r1);      // min y
+      _mm_storeu_ps(coords + 2 * stride + e, r2);  // min z
+      _mm_storeu_ps(coords + 3 * stride + e, r3);  // max x
+      _mm_storeu_ps(coords + 4 * stride + e, s2);  // max y
+      _mm_storeu_ps(coords + 5 * stride + e, s3);  // max z
+    }
+  }
+#endif
+  for (; e < n; ++e) {
+    const AabbN<D>& box = boxes[records[e].id];
+    for (int k = 0; k < D; ++k) {
+      coords[k * stride + e] = box.min[k];
+      coords[(D + k) * stride + e] = box.max[k];
+    }
+  }
 }
 
 template <int D>
@@ -228,53 +373,194 @@ void LooseGridN<D>::find_pairs(PairList& pairs) const {
   append_pairs(pairs);
 }
 
+namespace {
+
+/// (min(a, b), max(a, b)) without a comparison the compiler could turn into a branch: ids are
+/// in [0, 2^31 - 1), so a - b does not overflow.
+inline BroadPair ordered_pair(int a, int b) noexcept {
+  const int d = a - b;
+  const int below = d & (d >> 31);  // d when a < b, else 0
+  return {b + below, a - below};
+}
+
+/// Grows `pairs` (value-initialised) to at least `size` entries, geometrically; returns its data.
+[[gnu::noinline]] BroadPair* grow_pairs(PairList& pairs, std::size_t size) {
+  pairs.resize(std::max(size, 2 * pairs.size() + 4096));
+  return pairs.data();
+}
+
+}  // namespace
+
 template <int D>
-void LooseGridN<D>::append_pairs(PairList& pairs) const {
-  const PackedBox<D>* packed = packed_.data();
-  const int* ids = ids_.data();
-  // overlap(box with this probe and id, box f): the pair (min id, max id).
-  const auto test = [&](const PackedBox<D>& probe, int id, std::uint32_t f) {
-    if (lanes_le<D>(packed[f], probe)) pairs.emplace_back(std::min(id, ids[f]), std::max(id, ids[f]));
-  };
-  // Small against small. For the box at slot e of cell c, the forward half of its neighbourhood
-  // is: the rest of its own cell and the next cell along x (slots e+1 up to the end of c + 1,
-  // contiguous), then rows of three cells (x - 1 .. x + 1) above it: (y + 1, z) in 2D and 3D, and
-  // in 3D (y - 1 .. y + 1, z + 1). Each unordered pair of neighbouring cells is visited once.
-  const std::uint32_t total_cells = static_cast<std::uint32_t>(starts_.size()) - 2;
-  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
-  std::uint32_t rows[4];
-  int row_count = 0;
-  rows[row_count++] = nx - 1;
-  if constexpr (D == 3) {
-    const std::uint32_t plane = nx * static_cast<std::uint32_t>(padded_[1]);
-    rows[row_count++] = plane - nx - 1;
-    rows[row_count++] = plane - 1;
-    rows[row_count++] = plane + nx - 1;
+struct LooseGridN<D>::PairSink {
+  PairList& pairs;
+  BroadPair* out;
+  std::size_t n;     // pairs written
+  std::size_t room;  // pairs.size(): writes below it need no growth
+
+  void reserve(std::size_t extra) {
+    if (n + extra > room) [[unlikely]] {
+      out = grow_pairs(pairs, n + extra);
+      room = pairs.size();
+    }
   }
+};
+
+template <int D>
+template <std::uint32_t kRowMask, bool kListed>
+void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t first_index,
+                                       std::uint32_t last_index, PairSink& sink) const {
+  // The runs of the forward half of an entry's neighbourhood (see append_pairs): its own row
+  // from entry e + 1 to the end of the next cell along x, then the rows of three cells
+  // (x - 1 .. x + 1) at these offsets from its cell, those of kRowMask only.
+  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
+  const std::uint32_t plane = D == 3 ? nx * static_cast<std::uint32_t>(padded_[1]) : 0;
+  const std::uint32_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  constexpr int kRows = std::popcount(kRowMask);
+  constexpr int kRuns = 1 + kRows;
+  std::uint32_t rows[kRows > 0 ? kRows : 1];
+  for (int r = 0, k = 0; r < 4; ++r) {
+    if ((kRowMask >> r) & 1u) rows[k++] = all_rows[r];
+  }
+  const float* coords = coords_.data();
+  const std::size_t stride = stride_;
+  const Record* records = records_.data();
   const std::uint32_t* starts = starts_.data();
-  for (std::uint32_t c = 0; c < total_cells; ++c) {
-    const std::uint32_t begin = starts[c], end = starts[c + 1];
-    if (begin == end) continue;  // only cells with the border around them hold boxes
-    const std::uint32_t next_end = starts[c + 2];
-    for (std::uint32_t e = begin; e < end; ++e) {
-      const PackedBox<D> probe = probe_of<D>(unpack<D>(packed[e]));
-      const int id = ids[e];
-      for (std::uint32_t f = e + 1; f < next_end; ++f) test(probe, id, f);
-      for (int r = 0; r < row_count; ++r) {
-        const std::uint32_t row = c + rows[r];
-        const std::uint32_t row_end = starts[row + 3];
-        for (std::uint32_t f = starts[row]; f < row_end; ++f) test(probe, id, f);
+  BroadPair* out = sink.out;
+  std::size_t n = sink.n;
+  for (std::uint32_t i = first_index; i < last_index; ++i) {
+    const std::uint32_t e = kListed ? list[i] : i;
+    const std::uint32_t c = records[e].key;
+    const int id = records[e].id;
+    const Probe<D> probe = probe_of<D>(entry_box(e));
+    // first[r], last[r]: run r; first[kRuns] = e is the entry read when no bit is set.
+    std::uint32_t first[kRuns + 1], last[kRuns];
+    first[0] = e + 1;
+    last[0] = starts[c + 2];
+    for (int r = 0; r < kRows; ++r) {
+      first[r + 1] = starts[c + rows[r]];
+      last[r + 1] = starts[c + rows[r] + 3];
+    }
+    first[kRuns] = e;
+    // Bit 4r + j: entry first[r] + j overlaps.
+    std::uint32_t mask = 0;
+    std::uint32_t longest = 0;
+    for (int r = 0; r < kRuns; ++r) {
+      const std::uint32_t length = last[r] - first[r];
+      mask |= (overlap_mask<D>(coords, stride, first[r], probe) & lane_mask(length)) << (kLanes * r);
+      longest = std::max(longest, length);
+    }
+    sink.n = n;
+    sink.reserve(kLanes * kRuns + 1);
+    out = sink.out;
+    // Report each set bit. The first without a branch: with no bit set, the sentinel bit
+    // 4 * kRuns picks entry first[kRuns] and the write is not kept.
+    std::uint32_t b = static_cast<std::uint32_t>(std::countr_zero(mask | (1u << (kLanes * kRuns))));
+    out[n] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
+    n += mask != 0 ? 1u : 0u;
+    for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
+      b = static_cast<std::uint32_t>(std::countr_zero(mask));
+      out[n++] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
+    }
+    if (longest > kLanes) [[unlikely]] {
+      for (int r = 0; r < kRuns; ++r) {
+        for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
+          std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f);
+          sink.n = n;
+          sink.reserve(kLanes);
+          out = sink.out;
+          for (; m != 0; m &= m - 1) {
+            out[n++] = ordered_pair(id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
+          }
+        }
       }
     }
   }
+  sink.n = n;
+}
+
+template <int D>
+void LooseGridN<D>::append_pairs(PairList& pairs) const {
+  // Pairs are written through a raw pointer into a list grown ahead of the writes (no
+  // capacity test per pair), and the list is cut to the pairs written at the end.
+  PairSink sink{pairs, pairs.data(), pairs.size(), pairs.size()};
+
+  // Small against small. For the entry e of cell c, the forward half of its neighbourhood is
+  // runs of entries: the rest of its own cell and the next cell along x (entries e + 1 up to
+  // the end of c + 1, contiguous), then rows of three cells (x - 1 .. x + 1) above it:
+  // (y + 1, z) in 2D and 3D, and in 3D (y - 1 .. y + 1, z + 1). Each unordered pair of
+  // neighbouring cells is visited once. Each run is tested four entries at a time; runs are
+  // usually shorter, so one masked test covers most.
+  if constexpr (D == 2) {
+    append_small_pairs<0b1u, false>(nullptr, 0, small_, sink);
+  } else {
+    // A box b of a row above on axis k can meet the entry's box a only if a's max corner
+    // reaches that row: a.max[k] >= b.min[k] and the cell mapping is monotone, so
+    // cell(a.max)[k] >= cell(b.min)[k] > cell(a.min)[k]. So the entries are grouped, a chunk
+    // at a time, by the axes y, z whose next cell their box reaches (its crossing class), and
+    // each group skips the rows it cannot reach: (y + 1, z) needs y, the rows at z + 1 need z,
+    // and (y + 1, z + 1) both.
+    //
+    // Scalar meaning of the grouping, for each entry e of the chunk:
+    //   class = (cell(max.y) > cell(min.y)) | (cell(max.z) > cell(min.z)) << 1
+    //   list[class] gets e
+    // (cell as cell_of_inside). Four entries at a time: each class's lanes as a mask, its
+    // entries packed to the front of one four-wide store, the list moved on by their number
+    // (each list has four slots of slack).
+    constexpr std::uint32_t kChunk = 256;
+    std::uint32_t lists[4][kChunk + kLanes];
+    const float* coords = coords_.data();
+    const std::size_t stride = stride_;
+    const std::uint32_t small = small_;
+    for (std::uint32_t begin = 0; begin < small; begin += kChunk) {
+      const std::uint32_t end = std::min(small, begin + kChunk);
+      std::uint32_t count[4] = {0, 0, 0, 0};
+      std::uint32_t e = begin;
+#if defined(__SSE2__)
+      const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
+      const auto crosses = [&](int k, std::uint32_t f) {
+        const __m128 o = _mm_set1_ps(grid_.origin[k]);
+        const __m128i lo = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(coords + k * stride + f), o), inv));
+        const __m128i hi = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(coords + (D + k) * stride + f), o), inv));
+        return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(hi, lo))));
+      };
+      for (; e + kLanes <= end; e += kLanes) {
+        const std::uint32_t y = crosses(1, e), z = crosses(2, e);
+        const std::uint32_t in_class[4] = {~(y | z) & 0xFu, y & ~z, z & ~y, y & z};
+        const __m128i base = _mm_set1_epi32(static_cast<int>(e));
+        for (int c = 0; c < 4; ++c) {
+          const __m128i lanes = _mm_load_si128(reinterpret_cast<const __m128i*>(kPacked[in_class[c]]));
+          _mm_storeu_si128(reinterpret_cast<__m128i*>(lists[c] + count[c]), _mm_add_epi32(base, lanes));
+          count[c] += kLaneCount[in_class[c]];
+        }
+      }
+#endif
+      for (; e < end; ++e) {
+        const AabbN<D> box = entry_box(e);
+        const CellN<D> lo = grid_.cell_of_inside(box.min), hi = grid_.cell_of_inside(box.max);
+        const int c = (hi.y > lo.y ? 1 : 0) | (hi.z > lo.z ? 2 : 0);
+        lists[c][count[c]++] = e;
+      }
+      append_small_pairs<0b0000u, true>(lists[0], 0, count[0], sink);
+      append_small_pairs<0b0001u, true>(lists[1], 0, count[1], sink);
+      append_small_pairs<0b0110u, true>(lists[2], 0, count[2], sink);
+      append_small_pairs<0b1111u, true>(lists[3], 0, count[3], sink);
+    }
+  }
+  std::size_t& n = sink.n;
+  const Record* records = records_.data();
+  const auto reserve = [&](std::size_t extra) { sink.reserve(extra); };
+  BroadPair*& out = sink.out;
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
   for (const Entry& b : big_) {
-    const PackedBox<D> probe = probe_of<D>(b.box);
     for_each_run(grid_.cell_of_inside(b.box.min) - 1, grid_.cell_of_inside(b.box.max),
                  [&](std::uint32_t first, std::uint32_t last) {
-                   for (std::uint32_t f = first; f < last; ++f) test(probe, b.id, f);
-                   return true;
+                   return for_each_overlap(b.box, first, last, [&](std::uint32_t f) {
+                     reserve(1);
+                     out[n++] = ordered_pair(b.id, records[f].id);
+                     return true;
+                   });
                  });
   }
   // Big against big: sweep along x.
@@ -283,20 +569,39 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
     const Entry& a = big_by_x_[i];
     for (std::size_t j = i + 1; j < bigs && big_by_x_[j].box.min.x <= a.box.max.x; ++j) {
       const Entry& b = big_by_x_[j];
-      if (overlap(a.box, b.box)) pairs.emplace_back(std::min(a.id, b.id), std::max(a.id, b.id));
+      if (overlap(a.box, b.box)) {
+        reserve(1);
+        out[n++] = ordered_pair(a.id, b.id);
+      }
     }
   }
+  pairs.resize(n);
+}
+
+template <int D>
+template <class Report>
+bool LooseGridN<D>::for_each_overlap(const AabbN<D>& box, std::uint32_t first,
+                                     std::uint32_t last, Report&& report) const {
+  const float* coords = coords_.data();
+  const std::size_t stride = stride_;
+  const Probe<D> probe = probe_of<D>(box);
+  for (std::uint32_t f = first; f < last; f += kLanes) {
+    for (std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last - f); m != 0; m &= m - 1) {
+      if (!report(f + static_cast<std::uint32_t>(std::countr_zero(m)))) return false;
+    }
+  }
+  return true;
 }
 
 template <int D>
 template <class Visit>
 bool LooseGridN<D>::for_each_run(const CellN<D>& lo, const CellN<D>& hi, Visit&& visit) const {
-  if (packed_.empty()) return true;
+  if (small_ == 0) return true;
   double cells = 1.0;
   for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
   if (cells >= static_cast<double>(starts_.size())) {
     // Wider than the grid: every small box, each once, is cheaper than walking the rows.
-    return visit(0u, static_cast<std::uint32_t>(packed_.size()));
+    return visit(0u, small_);
   }
   const std::uint32_t* starts = starts_.data();
   if constexpr (D == 2) {
@@ -320,15 +625,12 @@ void LooseGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
   for (const Entry& b : big_) {
     if (overlap(b.box, box) && !callback(b.id)) return;
   }
-  if (packed_.empty() || !overlap(box, grid_.bounds)) return;
+  if (small_ == 0 || !overlap(box, grid_.bounds)) return;
   // cell_of clamps to the grid, and every binned box's cell is inside it.
-  const PackedBox<D> probe = probe_of<D>(box);
   for_each_run(grid_.cell_of(box.min) - 1, grid_.cell_of(box.max),
                [&](std::uint32_t first, std::uint32_t last) {
-                 for (std::uint32_t f = first; f < last; ++f) {
-                   if (lanes_le<D>(packed_[f], probe) && !callback(ids_[f])) return false;
-                 }
-                 return true;
+                 return for_each_overlap(box, first, last,
+                                         [&](std::uint32_t f) { return callback(records_[f].id); });
                });
 }
 
@@ -346,7 +648,7 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
     const float r = callback(b.id, limit);
     if (r < limit) limit = r;
   }
-  if (limit <= 0.0f || packed_.empty()) return;
+  if (limit <= 0.0f || small_ == 0) return;
   // A small box with min-corner cell L lies within cells [L, L + 1]. Walking cell c, the boxes
   // that may cover it are those of cells c - {0,1}^D; each is tested at the first walked cell
   // inside its [L, L + 1] (the walk never re-enters a box of cells it left).
@@ -359,8 +661,8 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
       const std::uint32_t key = key_of(from);
       for (std::uint32_t f = starts_[key]; f < starts_[key + 1] && max_fraction > 0.0f; ++f) {
         if (!first && cell_in_range<D>(previous, from, from + 1)) continue;
-        if (ray_box_fraction(ray, unpack<D>(packed_[f]), max_fraction) < 0.0f) continue;
-        const float r = callback(ids_[f], max_fraction);
+        if (ray_box_fraction(ray, entry_box(f), max_fraction) < 0.0f) continue;
+        const float r = callback(records_[f].id, max_fraction);
         if (r < max_fraction) max_fraction = r;
       }
     }
@@ -373,8 +675,10 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 template <int D>
 std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
-         packed_.capacity() * sizeof(Packed) + ids_.capacity() * sizeof(int) +
-         staged_.capacity() * sizeof(Staged) + band_starts_.capacity() * sizeof(std::uint32_t) + (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
+         coords_.capacity() * sizeof(float) +
+         (records_.capacity() + staged_.capacity()) * sizeof(Record) +
+         band_starts_.capacity() * sizeof(std::uint32_t) +
+         (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }
 

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace collide {
 namespace {
@@ -284,17 +285,17 @@ TEST(LooseGrid, MixedSizesSparseClustersAndFarWorlds) {
   }
 }
 
-// Large grids are counting-sorted band by band; small bands force that path on small worlds and
-// must give the same pairs (and order) as the one-step sort.
+// Large grids are counting-sorted band by band; one_step_bits = 0 and small bands force that
+// path on small worlds and must give the same pairs (and order) as the one-step sort.
 TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
   std::mt19937 rng(77);
   const auto check = [&]<int D>(const test::Boxes<D>& boxes, const char* what) {
-    LooseGridN<D> one_step({.band_bits = 31});
+    LooseGridN<D> one_step({.one_step_bits = 31});
     one_step.build(boxes);
     PairList want;
     one_step.find_pairs(want);
     for (const int bits : {0, 3, 6}) {
-      LooseGridN<D> banded({.band_bits = bits});
+      LooseGridN<D> banded({.one_step_bits = 0, .band_bits = bits});
       banded.build(boxes);
       PairList got;
       banded.find_pairs(got);
@@ -313,9 +314,93 @@ TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
   check(test::touching_world<3>(rng, 400, 6), "touching");
 }
 
+// Cells holding many boxes: the neighbour runs are longer than one four-wide test (the pair
+// pass's overflow loop) and the box counts are not multiples of four (the copy's tail). Pairs
+// and box queries against brute force.
+TEST(LooseGrid, CrowdedCellsAndEveryCountModFour) {
+  std::mt19937 rng(12);
+  const auto check = [&]<int D>(int n) {
+    // Boxes of 0.3 to 1 in [0, 4]^D with unit cells: about n / 4^D boxes per cell.
+    const test::Boxes<D> boxes = test::uniform_world<D>(rng, n, 2.0f, 0.15f, 0.5f, 2.0f);
+    LooseGridN<D> grid({.cell_size = 1.0f});
+    const PairList want = brute_pairs<D>(boxes);
+    ASSERT_GT(want.size(), static_cast<std::size_t>(2 * n));  // crowded: runs of 9 or more
+    EXPECT_EQ((pairs_of<LooseGridN<D>, D>(grid, boxes)), want) << D << " " << n;
+    for (int q = 0; q < 20; ++q) {
+      const AabbN<D> box = test::box_at<D>(test::random_vec<D>(rng, 0.0f, 4.0f),
+                                           test::random_vec<D>(rng, 0.0f, 1.0f));
+      std::vector<int> got, brute;
+      grid.query(box, [&](int id) { got.push_back(id); return true; });
+      for (int i = 0; i < n; ++i) {
+        if (overlap(box, boxes[i])) brute.push_back(i);
+      }
+      std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, brute) << D << " " << n << " query " << q;
+    }
+  };
+  for (const int n : {200, 201, 202, 203}) {
+    check.template operator()<2>(n);
+    check.template operator()<3>(n);
+  }
+}
+
+// Worlds of 1 to 9 boxes in a few unit cells: every entry is in the scalar tails of the
+// four-wide passes (the copy, the 3D crossing classes), and boxes of neighbouring layers meet.
+TEST(LooseGrid, TinyWorldsRunTheScalarTails) {
+  std::mt19937 rng(21);
+  const auto check = [&]<int D>() {
+    std::size_t pairs = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const int n = 1 + trial % 9;
+      const test::Boxes<D> boxes = test::uniform_world<D>(rng, n, 1.0f, 0.1f, 0.5f, 1.5f);
+      LooseGridN<D> grid({.cell_size = 1.0f});
+      const PairList want = brute_pairs<D>(boxes);
+      EXPECT_EQ((pairs_of<LooseGridN<D>, D>(grid, boxes)), want) << D << " trial " << trial;
+      pairs += want.size();
+    }
+    EXPECT_GT(pairs, 300u);
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
+// The bounds pass reads boxes in SIMD lanes, two 2D boxes per step: a bad coordinate must be
+// caught in every lane, at even and odd positions and in the tail, and the bounds must be exact.
+TEST(GridMapping, CheckedBoundsCatchesEveryCoordinateOfEveryBox) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity()};
+  const auto check = [&]<int D>() {
+    std::mt19937 rng(3 + D);
+    for (const int n : {1, 2, 3, 4, 5}) {
+      const test::Boxes<D> good = test::uniform_world<D>(rng, n, 10.0f, 0.0f, 2.0f, -3.0f);
+      const AabbN<D> bounds = checked_bounds_of<D>(good);
+      EXPECT_EQ(bounds.min, bounds_of<D>(good).min);
+      EXPECT_EQ(bounds.max, bounds_of<D>(good).max);
+      for (int i = 0; i < n; ++i) {
+        for (int a = 0; a < 2 * D; ++a) {
+          for (const float value : bad) {
+            test::Boxes<D> boxes = good;
+            (a < D ? boxes[i].min[a] : boxes[i].max[a - D]) = value;
+            EXPECT_THROW((void)checked_bounds_of<D>(boxes), InvalidInput) << D << n << i << a;
+          }
+          // min > max on axis a % D
+          test::Boxes<D> boxes = good;
+          boxes[i].min[a % D] = boxes[i].max[a % D] + 1.0f;
+          EXPECT_THROW((void)checked_bounds_of<D>(boxes), InvalidInput) << D << n << i << a;
+        }
+      }
+    }
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
 TEST(LooseGrid, RejectsBadOptions) {
   EXPECT_THROW(LooseGrid({.band_bits = -1}), InvalidInput);
   EXPECT_THROW(LooseGrid({.band_bits = 32}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.one_step_bits = -1}), InvalidInput);
+  EXPECT_THROW(LooseGrid({.one_step_bits = 32}), InvalidInput);
   EXPECT_THROW(LooseGrid({.cell_size = -1.0f}), InvalidInput);
   EXPECT_THROW(LooseGrid({.cell_size = std::nanf("")}), InvalidInput);
 }
