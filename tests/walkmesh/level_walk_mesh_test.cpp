@@ -196,6 +196,8 @@ TEST(LevelWalkMesh, AgentsWalkingOnRealLevelsStayOnTheMesh) {
         EXPECT_NE(r.status, WalkStatus::iteration_limit);
         EXPECT_EQ(mesh.island(r.end.triangle), mesh.island(p.triangle));
         ASSERT_LT(brute_distance(mesh, mesh.to_world_point(r.end)), tol) << level->name;
+        // No jumps: the straight line from start to end is no longer than the path walked.
+        EXPECT_LE(distance(mesh.to_world_point(r.end), mesh.to_world_point(p)), r.distance + tol) << level->name;
         walls += r.walls_hit > 0;
         crossings += r.edges_crossed;
         p = r.end;
@@ -207,21 +209,76 @@ TEST(LevelWalkMesh, AgentsWalkingOnRealLevelsStayOnTheMesh) {
 }
 
 TEST(LevelWalkMesh, WalkThereAndBackOnRealLevels) {
+  // Away from walls a walk keeps its whole length, however many edges and folds it crosses, and
+  // walking its carried step backwards returns to the start.
   std::mt19937 rng(59);
   for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
     const WalkMesh mesh = make_walk_mesh(*level);
     const double tol = 2e-6 * (100.0 + glm::length(glm::dvec3(mesh.origin())));
-    int returned = 0;
+    int returned = 0, over_edges = 0, over_folds = 0;
     for (int i = 0; i < 400; ++i) {
       const WalkPoint start = random_walk_point(mesh, rng);
-      const WalkResult go = mesh.walk(start, random_tangent(rng, mesh.to_world_triangle_normal(start), 1.5f));
+      const Vec3 step = random_tangent(rng, mesh.to_world_triangle_normal(start), 1.5f);
+      const WalkResult go = mesh.walk(start, step);
       if (go.walls_hit > 0) continue;
+      EXPECT_EQ(go.status, WalkStatus::completed);
+      EXPECT_NEAR(go.distance, 1.5f, 1e-5f) << level->name << " " << i;  // no length lost
+      EXPECT_NEAR(glm::length(go.end_step), 1.5f, 1e-5f) << level->name << " " << i;
       const WalkResult back = mesh.walk(go.end, -go.end_step);
       EXPECT_EQ(back.walls_hit, 0);
+      EXPECT_NEAR(back.distance, go.distance, 1e-5f) << level->name << " " << i;
       EXPECT_LT(distance(mesh.to_world_point(back.end), mesh.to_world_point(start)), tol) << level->name << " " << i;
       ++returned;
+      over_edges += go.edges_crossed > 0;
+      over_folds += glm::dot(mesh.to_world_triangle_normal(start), mesh.to_world_triangle_normal(go.end)) < 0.9999f;
     }
+    // Both outcomes happen, and the returns really cross edges and changes of slope.
     EXPECT_GT(returned, 100) << level->name;
+    EXPECT_LT(returned, 400) << level->name;
+    EXPECT_GT(over_edges, returned / 2) << level->name;
+    EXPECT_GT(over_folds, returned / 4) << level->name;
+  }
+}
+
+TEST(LevelWalkMesh, WalkEqualsWalkInTriangleAndCrossEdgeStepByStepOnRealLevels) {
+  // `walk` inlines the two primitives for speed; composed by hand through the public API (walk in
+  // the triangle, cross the edge reached, turn what is left of the step by the crossing's
+  // rotation) they must give the same walk wherever no wall is met.
+  std::mt19937 rng(60);
+  for (const TriangleSoup* level : {&dungeon(), &undulating()}) {
+    const WalkMesh mesh = make_walk_mesh(*level);
+    const double tol = 2e-6 * (100.0 + glm::length(glm::dvec3(mesh.origin())));
+    int compared = 0, long_walks = 0;
+    for (int i = 0; i < 400; ++i) {
+      const WalkPoint start = random_walk_point(mesh, rng);
+      const Vec3 step = random_tangent(rng, mesh.to_world_triangle_normal(start), uniform(rng, 0.1f, 3.0f));
+      WalkPoint p = start;
+      Vec3 left = step;
+      int crossings = 0;
+      bool wall = false;
+      for (int k = 0; k < kMaxWalkIterations; ++k) {
+        const TriangleWalk w = mesh.walk_in_triangle(p, left);
+        p = w.end;
+        if (!w.hit_edge) break;
+        const std::optional<EdgeCrossing> c = mesh.cross_edge(w.end);
+        if (!c) {
+          wall = true;
+          break;
+        }
+        left = c->rotation * ((1.0f - w.time) * left);
+        p = c->end;
+        ++crossings;
+      }
+      if (wall) continue;
+      const WalkResult r = mesh.walk(start, step);
+      ASSERT_EQ(r.walls_hit, 0) << level->name << " " << i;
+      EXPECT_LT(distance(mesh.to_world_point(r.end), mesh.to_world_point(p)), tol) << level->name << " " << i;
+      EXPECT_EQ(r.edges_crossed, crossings) << level->name << " " << i;
+      ++compared;
+      long_walks += crossings >= 3;
+    }
+    EXPECT_GT(compared, 100) << level->name;
+    EXPECT_GT(long_walks, compared / 4) << level->name;
   }
 }
 
