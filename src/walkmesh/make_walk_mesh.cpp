@@ -89,7 +89,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   TriangleSoup walkable;
   walkable.name = level.name;
   walkable.positions = level.positions;
-  std::size_t too_steep = 0, low_headroom = 0, refined = 0;
+  std::size_t too_steep = 0, degenerate = 0, low_headroom = 0, refined = 0;
   auto blocked = [&](std::uint32_t self, const std::array<Vec3, 3>& base) {
     bool hit = false;
     Aabb3 prism_box{glm::min(glm::min(base[0], base[1]), base[2]), glm::max(glm::max(base[0], base[1]), base[2])};
@@ -116,8 +116,15 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
     const std::array<Vec3, 3> base{local[tri.x], local[tri.y], local[tri.z]};
     const Vec3 n = glm::cross(base[1] - base[0], base[2] - base[0]);
     const float len = glm::length(n);
-    if (!(len > 0.0f) || std::fabs(glm::dot(n, up)) < cos_max_slope * len) {
-      ++too_steep;  // (degenerate triangles have no slope; build_walk_mesh would drop them anyway)
+    const float longest2 = std::max({glm::dot(base[1] - base[0], base[1] - base[0]),
+                                     glm::dot(base[2] - base[1], base[2] - base[1]),
+                                     glm::dot(base[0] - base[2], base[0] - base[2])});
+    if (!(len > kWalkDegenerateTolerance * longest2)) {  // no plane, so no slope: build_walk_mesh's test
+      ++degenerate;
+      continue;
+    }
+    if (std::fabs(glm::dot(n, up)) < cos_max_slope * len) {
+      ++too_steep;
       continue;
     }
     if (agent.height <= 0.0f || !blocked(t, base)) {
@@ -156,11 +163,13 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   }
   if (walkable.triangles.empty()) {
     throw InvalidInput(name + ": no walkable triangles (" + std::to_string(too_steep) + " too steep, " +
-                       std::to_string(low_headroom) + " without headroom for the agent)");
+                       std::to_string(degenerate) + " degenerate, " + std::to_string(low_headroom) +
+                       " without headroom for the agent)");
   }
   WalkMesh mesh = build_walk_mesh(walkable, {up, kWalkWeldTolerance});
   mesh.stats_.input_triangles = level.triangles.size();
   mesh.stats_.too_steep_triangles = too_steep;
+  mesh.stats_.degenerate_triangles += degenerate;
   mesh.stats_.low_headroom_triangles = low_headroom;
   mesh.stats_.headroom_refined_triangles = refined;
   return mesh;

@@ -35,8 +35,10 @@ struct WalkAgent {
 ///    at its edge midpoints, recursively, keeping the pieces that pass, down to pieces of
 ///    kHeadroomRefineFraction of the agent's height (kMaxHeadroomRefineDepth rounds at most):
 ///    the walk mesh follows obstacles to that resolution (no exact clipping).
-/// The stats count the level triangles too steep, with some part dropped for headroom, and split. Throws InvalidInput for
-/// what `validate_triangle_soup` rejects, a bad agent field (named), or no walkable triangle.
+/// Degenerate level triangles (no area: kWalkDegenerateTolerance) have no slope and are dropped
+/// first. The stats count the level triangles degenerate, too steep, with some part dropped for
+/// headroom, and split. Throws InvalidInput for what `validate_triangle_soup` rejects, a bad agent
+/// field (named), or no walkable triangle (saying how many were too steep, degenerate, covered).
 [[nodiscard]] WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent = {});
 
 }  // namespace collide

@@ -89,7 +89,7 @@ struct WalkMeshStats {
   std::size_t triangles = 0;             ///< triangles kept
   std::size_t vertices = 0;              ///< distinct vertices kept (after welding)
   std::size_t welded_vertices = 0;       ///< input vertices merged into an earlier one
-  std::size_t degenerate_triangles = 0;  ///< dropped: repeated corner after welding, or no area
+  std::size_t degenerate_triangles = 0;  ///< dropped: repeated corner after welding, or no area (make_walk_mesh: level triangles too)
   std::size_t duplicate_triangles = 0;   ///< dropped: same three vertices as an earlier triangle
   std::size_t t_junction_splits = 0;     ///< triangles split where a vertex lay inside an unshared edge
   std::size_t non_manifold_edges = 0;    ///< edges shared by more than two triangles
