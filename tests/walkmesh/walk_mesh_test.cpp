@@ -709,6 +709,21 @@ TEST(WalkMeshBuild, BadInputNamesTheProblemAndWhere) {
   EXPECT_THROW((void)mesh.walk_point(1, Vec3(1.0f)), InvalidInput);
   EXPECT_THROW((void)mesh.walk_point(0, Vec3(-1.0f, 1.0f, 1.0f)), InvalidInput);
   EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(NAN)), InvalidInput);
+  // A step that is not finite is refused by the noexcept movement queries: nothing moves.
+  const WalkPoint p = mesh.walk_point(0, {0.2f, 0.3f, 0.5f});
+  for (const Vec3 bad : {Vec3(NAN, 0.0f, 0.0f), Vec3(0.0f, 0.0f, INFINITY), Vec3(-INFINITY, NAN, 1.0f)}) {
+    const WalkResult r = mesh.walk(p, bad);
+    EXPECT_EQ(r.status, WalkStatus::invalid_step);
+    EXPECT_EQ(r.end.triangle, p.triangle);
+    EXPECT_EQ(r.end.indices, p.indices);
+    EXPECT_EQ(r.end.weights, p.weights);
+    EXPECT_EQ(r.distance, 0.0f);
+    EXPECT_EQ(r.end_step, Vec3(0.0f));
+    const TriangleWalk w = mesh.walk_in_triangle(p, bad);
+    EXPECT_FALSE(w.hit_edge);
+    EXPECT_EQ(w.time, 0.0f);
+    EXPECT_EQ(w.end.weights, p.weights);
+  }
 }
 
 }  // namespace

@@ -126,6 +126,7 @@ enum class WalkStatus {
   completed,        ///< walked the whole step (possibly sliding along walls)
   blocked,          ///< a wall (or corner) absorbed what was left of the step
   iteration_limit,  ///< visited kMaxWalkIterations triangles; stopped on the mesh where it was
+  invalid_step,     ///< the step was not finite (NaN or infinite): nothing walked, `end` is the start
 };
 
 /// Result of `walk`.
@@ -179,6 +180,7 @@ class WalkMesh {
 
   /// Moves `start` by `step` (world vector, projected onto the triangle's plane) inside its
   /// triangle, stopping at the first edge reached. `start` must be a walk point of this mesh.
+  /// A step that is not finite moves nothing: `end` is `start`, time 0, no edge.
   [[nodiscard]] TriangleWalk walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept;
   /// Re-expresses a point on edge (indices.x, indices.y) (weights.z == 0) in the triangle across
   /// that edge. Empty when the edge is a boundary, or when `start` is not in edge form.
@@ -186,7 +188,8 @@ class WalkMesh {
   /// The whole move: `step` (world vector) is projected onto the start triangle's plane, then
   /// walked triangle by triangle, rotated over each edge crossed (so it keeps its length), and
   /// at a boundary edge reduced to its component along that edge (sliding along the wall). The
-  /// result never leaves the mesh. `start` must be a walk point of this mesh.
+  /// result never leaves the mesh. `start` must be a walk point of this mesh. A step that is not
+  /// finite is refused: status `invalid_step`, `end` is `start`, nothing walked.
   [[nodiscard]] WalkResult walk(const WalkPoint& start, Vec3 step) const noexcept;
 
   // ---- the mesh --------------------------------------------------------------------------
