@@ -51,6 +51,20 @@ TEST(WalkMesh, SmoothNormalIsContinuousAndTriangleNormalIsNot) {
   }
   EXPECT_GT(crossings, 150);
   EXPECT_GT(jumps, crossings / 2);  // the faceted normal does jump: the test can tell them apart
+  // At a vertex the smooth normal is the area-weighted mean of the normals of the triangles
+  // around it, summed here by scanning every triangle (double precision).
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); t += 5) {
+    const std::uint32_t v = mesh.triangle(t).x;
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t u = 0; u < mesh.triangle_count(); ++u) {
+      const glm::uvec3 tri = mesh.triangle(u);
+      if (tri.x != v && tri.y != v && tri.z != v) continue;
+      const glm::dvec3 a(mesh.world_vertex(tri.x)), b(mesh.world_vertex(tri.y)), c(mesh.world_vertex(tri.z));
+      sum += glm::cross(b - a, c - a);  // length: twice the area
+    }
+    const Vec3 expected(glm::normalize(sum));
+    EXPECT_LT(distance(mesh.to_world_smooth_normal(mesh.walk_point(t, {1.0f, 0.0f, 0.0f})), expected), 1e-5) << t;
+  }
 }
 
 TEST(WalkMesh, NearestWalkPointEqualsBruteForce) {
@@ -166,6 +180,9 @@ TEST(WalkMesh, CrossEdgeKeepsTheWorldPointAndRotatesNormalOntoNormal) {
       const double tol = 1e-6 * (10.0 + glm::length(glm::dvec3(xf.p)));
       EXPECT_LT(distance(mesh.to_world_point(w.end), mesh.to_world_point(c->end)), tol);
       EXPECT_LT(distance(c->rotation * mesh.to_world_triangle_normal(w.end), mesh.to_world_triangle_normal(c->end)), 1e-5);
+      // ... about the shared edge, which it leaves in place.
+      const Vec3 edge = glm::normalize(mesh.world_vertex(w.end.indices.y) - mesh.world_vertex(w.end.indices.x));
+      EXPECT_LT(distance(c->rotation * edge, edge), 1e-5);
       // Crossing back returns to the same triangle and point.
       const auto back = mesh.cross_edge(c->end);
       ASSERT_TRUE(back.has_value());
