@@ -18,6 +18,10 @@ namespace {
 
 constexpr std::uint32_t kUnset = 0xffffffffu;
 
+/// A vertex on another triangle's unshared edge is a T-junction only when its triangle lies on
+/// the far side, its direction from the edge at a cosine below -this with the near side's.
+constexpr float kTJunctionSideCos = 0.1f;
+
 std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
 
 /// Integer cell of a hash grid, hashed for unordered_map.
@@ -187,6 +191,9 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
           bool other_side = false;
           for (std::uint32_t k2 = around_start[q]; k2 < around_start[q + 1] && !other_side; ++k2) {
             const glm::uvec3 o = tris[around[k2]];
+            // `around` is from the start of the pass: a triangle split since may no longer have q
+            // (its other half is found next pass).
+            if (o.x != q && o.y != q && o.z != q) continue;
             for (int c = 0; c < 3 && !other_side; ++c) {
               const std::uint32_t y = o[c];
               if (y == q) continue;
@@ -194,7 +201,10 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
               const Vec3 off_y = local[y] - (a + sy * d);
               if (sy < -1e-6f || sy > 1.0f + 1e-6f || glm::dot(off_y, off_y) > tolerance * tolerance) continue;
               const std::uint32_t third = o[0] + o[1] + o[2] - q - y;  // the corner off the line
-              other_side = glm::dot(glm::cross(d, local[third] - a), x_side) < 0.0f;
+              // Clearly the other side: the two triangles continue each other (a fold of less
+              // than about 84 degrees), not a wall standing on the edge, where the sign is noise.
+              const Vec3 o_side = glm::cross(d, local[third] - a);
+              other_side = glm::dot(o_side, x_side) < -kTJunctionSideCos * glm::length(o_side) * glm::length(x_side);
             }
           }
           if (other_side) {

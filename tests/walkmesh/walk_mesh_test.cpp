@@ -642,6 +642,29 @@ TEST(WalkMeshBuild, TJunctionsAreSplitSoBothSidesLink) {
   }
 }
 
+TEST(WalkMeshBuild, AWallStandingOnAnEdgeIsNotATJunction) {
+  // A floor square whose edge x = 2 carries a wall split at its midpoint: the wall's vertex lies
+  // on the floor's unshared edge, but the wall does not continue the floor (it stands at 90
+  // degrees), so the floor is not split there and does not link up the wall. (The side test was
+  // a dot product of perpendicular vectors, decided by rounding.)
+  std::mt19937 rng(79);
+  for (int trial = 0; trial < 100; ++trial) {  // rigid placements: rounding noise of either sign
+    const test::Rigid3 xf = test::random_rigid(rng, 2000.0f, 0.5f);
+    TriangleSoup s{"wall on edge",
+                   {{0, 0, 0}, {2, 0, 0}, {2, 0, 2}, {0, 0, 2}, {2, 0, 1}, {2, 2, 0}, {2, 2, 2}, {2, 2, 1}},
+                   {{0, 1, 2}, {0, 2, 3}, {1, 4, 7}, {1, 7, 5}, {4, 2, 6}, {4, 6, 7}}};
+    for (Vec3& p : s.positions) p = xf(p);
+    const WalkMesh mesh = build_walk_mesh(s, {xf.q * Vec3(0, 1, 0)});
+    EXPECT_EQ(mesh.stats().t_junction_splits, 0u) << trial;
+    EXPECT_EQ(mesh.stats().islands, 2u) << trial;
+    const WalkPoint start = mesh.nearest_walk_point(xf(Vec3(1.0f, 0.0f, 1.0f)));
+    const WalkResult r = mesh.walk(start, xf.q * Vec3(3.0f, 0.0f, 0.0f));
+    EXPECT_EQ(r.status, WalkStatus::blocked) << trial;
+    EXPECT_EQ(mesh.island(r.end.triangle), mesh.island(start.triangle)) << trial;
+    EXPECT_LT(distance(mesh.to_world_point(r.end), xf(Vec3(2.0f, 0.0f, 1.0f))), 2e-3) << trial;
+  }
+}
+
 TEST(WalkMeshBuild, NonManifoldEdgeLinksTheFlatContinuation) {
   // Two floor triangles share edge (0,1); a third triangle (a fin) stands up on the same edge.
   const TriangleSoup s{"fin",
