@@ -5,7 +5,7 @@
 // fewer than three vertices and quads with a bad index with only a warning, and its polygon
 // triangulation reads vertex arrays without a bounds check. So before handing the text to it we
 // check every `v` and `f` statement ourselves, naming the file and line, and we split polygons
-// into triangles ourselves, so that every triangle keeps the line of the face it came from.
+// into triangles ourselves, so that a polygon we cannot split is named by its line.
 #include <collide/io/obj.hpp>
 
 #include <collide/core/error.hpp>
@@ -176,7 +176,7 @@ TriangleSoup load_obj(const std::string& path) {
   if (outline.faces.empty()) throw InvalidInput(name + ": no faces (no 'f' statement)");
 
   tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // triangulate() below keeps each triangle's source line
+  config.triangulate = false;  // triangulate() below, which names a polygon's line
   config.vertex_color = false;
   tinyobj::ObjReader reader;
   if (!reader.ParseFromString(text, "", config)) {
