@@ -70,10 +70,11 @@ int run_walk(const WalkOptions& o) {
   std::printf("walk mesh of %s (max slope %.1f deg, agent height %.2f):\n", level.name.c_str(),
               static_cast<double>(o.max_slope_degrees), static_cast<double>(o.agent_height));
   std::printf("  level triangles   %zu\n", s.input_triangles);
+  std::printf("  degenerate        %zu\n", s.degenerate_triangles);
   std::printf("  too steep         %zu\n", s.too_steep_triangles);
-  std::printf("  no headroom       %zu\n", s.low_headroom_triangles);
-  std::printf("  triangles kept    %zu (degenerate %zu, duplicate %zu dropped after that)\n", s.triangles,
-              s.degenerate_triangles, s.duplicate_triangles);
+  std::printf("  no headroom       %zu (%zu partly kept)\n", s.low_headroom_triangles, s.headroom_refined_triangles);
+  std::printf("  triangles kept    %zu (%zu duplicates dropped, %zu T-junction splits)\n", s.triangles,
+              s.duplicate_triangles, s.t_junction_splits);
   std::printf("  vertices          %zu (%zu welded)\n", s.vertices, s.welded_vertices);
   std::printf("  islands           %zu\n", s.islands);
   std::printf("  boundary edges    %zu\n", s.boundary_edges);
@@ -100,11 +101,12 @@ int run_walk(const WalkOptions& o) {
     a.heading = any_angle(rng);
     a.path.push_back(mesh.to_world_point(a.at));
   }
-  // The independent check: each position must be a valid point of its triangle and lie on the
-  // mesh as nearest_walk_point (the BVH, not the walking code) sees it.
-  // Float precision of positions: kRelativeTolerance of the coordinates' magnitude.
+  // The independent check, by code other than the walking code: each position must be a valid
+  // point of its triangle (is_valid), lie on the mesh as nearest_walk_point (the BVH) sees it, and
+  // be no further from the last position than the step is long (no jump to another place or
+  // floor). Float precision of positions: kRelativeTolerance of the coordinates' magnitude.
   const float on_mesh_tolerance = kRelativeTolerance * (mesh.size() + glm::length(mesh.origin()));
-  double distance = 0.0, worst = 0.0;
+  double distance = 0.0, worst = 0.0, worst_move = 0.0;
   long crossings = 0, wall_hits = 0, blocked = 0, off_mesh = 0, checks = 0;
   for (int step = 0; step < o.steps; ++step) {
     for (Agent& a : agents) {
@@ -117,13 +119,19 @@ int run_walk(const WalkOptions& o) {
       if (r.status != WalkStatus::completed) {
         ++blocked;
         a.heading = any_angle(rng);  // wander off somewhere else
+      } else if (r.walls_hit > 0) {
+        // Slid along a wall: go on along it rather than pressing into it for the next steps.
+        const Vec2 along{glm::dot(r.end_step, right), glm::dot(r.end_step, forward)};
+        if (glm::dot(along, along) > 0.0f) a.heading = std::atan2(along.y, along.x);
       }
       a.at = r.end;
       const Vec3 p = mesh.to_world_point(a.at);
       const double gap = glm::length(mesh.to_world_point(mesh.nearest_walk_point(p)) - p);
+      const double move = glm::length(p - a.path.back());
       worst = std::max(worst, gap);
+      worst_move = std::max(worst_move, move);
       ++checks;
-      if (!mesh.is_valid(a.at) || gap > on_mesh_tolerance) ++off_mesh;
+      if (!mesh.is_valid(a.at) || gap > on_mesh_tolerance || move > o.speed + on_mesh_tolerance) ++off_mesh;
       a.path.push_back(p);
     }
   }
@@ -132,8 +140,10 @@ int run_walk(const WalkOptions& o) {
   std::printf("  edges crossed     %ld\n", crossings);
   std::printf("  wall hits         %ld (slid along or stopped)\n", wall_hits);
   std::printf("  stopped at walls  %ld\n", blocked);
-  std::printf("  on-mesh check     %ld/%ld positions on the mesh (largest gap %.3g, tolerance %.3g)\n",
-              checks - off_mesh, checks, worst, static_cast<double>(on_mesh_tolerance));
+  std::printf("  on-mesh check     %ld/%ld positions on the mesh (largest gap %.3g, tolerance %.3g; "
+              "largest move %.3g for steps of %.3g)\n",
+              checks - off_mesh, checks, worst, static_cast<double>(on_mesh_tolerance), worst_move,
+              static_cast<double>(o.speed));
 
   if (!o.png.empty()) {
     // Top-down picture: ground coordinates (right, forward) fitted into the square.

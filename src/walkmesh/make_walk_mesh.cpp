@@ -1,6 +1,8 @@
 // From a level mesh to a walk mesh: slope filter, headroom filter, then build_walk_mesh.
 #include <collide/walkmesh/make_walk_mesh.hpp>
 
+#include "local_frame.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -13,10 +15,10 @@ namespace {
 
 /// Interval of the points' projections onto `axis`.
 template <std::size_t N>
-void project(const std::array<Vec3, N>& points, Vec3 axis, float& lo, float& hi) noexcept {
+void project(const std::array<glm::dvec3, N>& points, glm::dvec3 axis, double& lo, double& hi) noexcept {
   lo = hi = glm::dot(points[0], axis);
   for (std::size_t i = 1; i < N; ++i) {
-    const float d = glm::dot(points[i], axis);
+    const double d = glm::dot(points[i], axis);
     lo = std::min(lo, d);
     hi = std::max(hi, d);
   }
@@ -25,26 +27,28 @@ void project(const std::array<Vec3, N>& points, Vec3 axis, float& lo, float& hi)
 /// True when the convex prism (triangle `base` swept by `lift`) and triangle `other` overlap by
 /// more than `tolerance` on every separating axis candidate: the face normals of both, and the
 /// cross products of every prism edge direction (three base edges, the lift) with every edge of
-/// the other triangle (separating axis theorem for convex polyhedra; Ericson 5.2.1).
-bool penetrates(const std::array<Vec3, 3>& base, Vec3 lift, const std::array<Vec3, 3>& other,
-                float tolerance) noexcept {
-  const std::array<Vec3, 6> prism{base[0], base[1], base[2], base[0] + lift, base[1] + lift, base[2] + lift};
-  const std::array<Vec3, 3> e{base[1] - base[0], base[2] - base[1], base[0] - base[2]};
-  const std::array<Vec3, 3> f{other[1] - other[0], other[2] - other[1], other[0] - other[2]};
-  std::array<Vec3, 17> axes;
+/// the other triangle (separating axis theorem for convex polyhedra; Ericson 5.2.1). In double,
+/// on world coordinates: float corners are exact there, so the answer does not depend on the
+/// local origin's rounding (borderline contacts decided one way for every origin).
+bool penetrates(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, const std::array<glm::dvec3, 3>& other,
+                double tolerance) noexcept {
+  const std::array<glm::dvec3, 6> prism{base[0], base[1], base[2], base[0] + lift, base[1] + lift, base[2] + lift};
+  const std::array<glm::dvec3, 3> e{base[1] - base[0], base[2] - base[1], base[0] - base[2]};
+  const std::array<glm::dvec3, 3> f{other[1] - other[0], other[2] - other[1], other[0] - other[2]};
+  std::array<glm::dvec3, 17> axes;
   int n = 0;
   axes[n++] = glm::cross(e[0], e[1]);
   axes[n++] = glm::cross(f[0], f[1]);
-  for (const Vec3& ei : e) axes[n++] = glm::cross(ei, lift);
-  for (const Vec3& fj : f) {
-    for (const Vec3& ei : e) axes[n++] = glm::cross(ei, fj);
+  for (const glm::dvec3& ei : e) axes[n++] = glm::cross(ei, lift);
+  for (const glm::dvec3& fj : f) {
+    for (const glm::dvec3& ei : e) axes[n++] = glm::cross(ei, fj);
     axes[n++] = glm::cross(lift, fj);
   }
-  for (const Vec3& raw : axes) {
-    const float len = glm::length(raw);
-    if (!(len > 0.0f)) continue;  // parallel edges: no axis
-    const Vec3 axis = raw / len;
-    float a_lo, a_hi, b_lo, b_hi;
+  for (const glm::dvec3& raw : axes) {
+    const double len = glm::length(raw);
+    if (!(len > 0.0)) continue;  // parallel edges: no axis
+    const glm::dvec3 axis = raw / len;
+    double a_lo, a_hi, b_lo, b_hi;
     project(prism, axis, a_lo, a_hi);
     project(other, axis, b_lo, b_hi);
     if (a_hi - b_lo <= tolerance || b_hi - a_lo <= tolerance) return false;
@@ -69,12 +73,13 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   validate_triangle_soup(level);
   const Vec3 up = glm::normalize(agent.up);
 
-  // Work near the origin: level coordinates may be large (undulating.obj sits at 5000).
+  // Work near a local origin: level coordinates may be large (undulating.obj sits at 5000). The
+  // vertices' median, so that a piece far from the rest does not drag it away.
   Aabb3 box{level.positions[level.triangles[0].x], level.positions[level.triangles[0].x]};
   for (const glm::uvec3& t : level.triangles) {
     for (int k = 0; k < 3; ++k) box = merge(box, Aabb3{level.positions[t[k]], level.positions[t[k]]});
   }
-  const Vec3 origin = box.center();
+  const Vec3 origin = detail::local_origin(level);
   const Vec3 extent = box.size();
   const float size = std::max({extent.x, extent.y, extent.z});
   std::vector<Vec3> local(level.positions.size(), Vec3(0.0f));
@@ -84,40 +89,59 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   const TriangleBvh bvh(local, level.triangles);
   const float cos_max_slope = std::cos(agent.max_slope);
   const Vec3 lift = agent.height * up;
-  const float tolerance = kHeadroomTolerance * size;
+  const float scale = detail::tolerance_scale(level, size, name);
+  const float tolerance = kHeadroomTolerance * scale;
 
   TriangleSoup walkable;
   walkable.name = level.name;
   walkable.positions = level.positions;
-  std::size_t too_steep = 0, low_headroom = 0, refined = 0;
-  auto blocked = [&](std::uint32_t self, const std::array<Vec3, 3>& base) {
+  std::size_t too_steep = 0, degenerate = 0, low_headroom = 0, refined = 0;
+  const glm::dvec3 world_origin(origin);
+  const glm::dvec3 world_lift = static_cast<double>(agent.height) * glm::dvec3(up);
+  auto world = [&](std::uint32_t v) { return glm::dvec3(level.positions[v]); };
+  auto blocked = [&](std::uint32_t self, const std::array<glm::dvec3, 3>& base) {
     bool hit = false;
-    Aabb3 prism_box{glm::min(glm::min(base[0], base[1]), base[2]), glm::max(glm::max(base[0], base[1]), base[2])};
-    prism_box = merge(prism_box, Aabb3{prism_box.min + lift, prism_box.max + lift});
+    std::array<Vec3, 3> corner;
+    for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(k)] = Vec3(base[static_cast<std::size_t>(k)] - world_origin);
+    Aabb3 prism_box{glm::min(glm::min(corner[0], corner[1]), corner[2]), glm::max(glm::max(corner[0], corner[1]), corner[2])};
+    prism_box = fatten(merge(prism_box, Aabb3{prism_box.min + lift, prism_box.max + lift}), tolerance);
     bvh.query(prism_box, [&](std::uint32_t other) {
       if (hit || other == self) return;
       const glm::uvec3 o = level.triangles[other];
-      hit = penetrates(base, lift, {local[o.x], local[o.y], local[o.z]}, tolerance);
+      hit = penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance));
     });
     return hit;
   };
   // A triangle partly under an obstacle is split into four at its edge midpoints, again and
   // again, keeping the pieces with headroom, until pieces are smaller than
   // kHeadroomRefineFraction of the agent's height. Neighbours that were not split meet the
-  // pieces at T-junctions, which build_walk_mesh splits so they link.
-  const float min_edge = kHeadroomRefineFraction * agent.height;
+  // pieces at T-junctions, which build_walk_mesh splits so they link. Pieces are kept in world
+  // coordinates in double, where midpoints of float corners are exact: a midpoint shared by two
+  // pieces (of one level triangle or of two) becomes the same float vertex, and corners that are
+  // level vertices keep their index, whatever the local origin's rounding.
+  const double min_edge = static_cast<double>(kHeadroomRefineFraction * agent.height);
+  constexpr std::uint32_t kNewVertex = 0xffffffffu;
   struct Piece {
-    std::array<Vec3, 3> corners;  // local coordinates
+    std::array<glm::dvec3, 3> corners;          // world coordinates
+    std::array<std::uint32_t, 3> level_vertex;  // level vertex index of each corner, or kNewVertex
     int depth;
   };
   std::vector<Piece> pieces;
   for (std::uint32_t t = 0; t < level.triangles.size(); ++t) {
     const glm::uvec3 tri = level.triangles[t];
-    const std::array<Vec3, 3> base{local[tri.x], local[tri.y], local[tri.z]};
-    const Vec3 n = glm::cross(base[1] - base[0], base[2] - base[0]);
-    const float len = glm::length(n);
-    if (!(len > 0.0f) || std::fabs(glm::dot(n, up)) < cos_max_slope * len) {
-      ++too_steep;  // (degenerate triangles have no slope; build_walk_mesh would drop them anyway)
+    // In double on world coordinates, like the headroom test: the same answer whatever the origin.
+    const std::array<glm::dvec3, 3> base{world(tri.x), world(tri.y), world(tri.z)};
+    const glm::dvec3 n = glm::cross(base[1] - base[0], base[2] - base[0]);
+    const double len = glm::length(n);
+    const double longest2 = std::max({glm::dot(base[1] - base[0], base[1] - base[0]),
+                                      glm::dot(base[2] - base[1], base[2] - base[1]),
+                                      glm::dot(base[0] - base[2], base[0] - base[2])});
+    if (!(len > static_cast<double>(kWalkDegenerateTolerance) * longest2)) {  // no plane, so no slope: build_walk_mesh's test
+      ++degenerate;
+      continue;
+    }
+    if (std::fabs(glm::dot(n, glm::dvec3(up))) < static_cast<double>(cos_max_slope) * len) {
+      ++too_steep;
       continue;
     }
     if (agent.height <= 0.0f || !blocked(t, base)) {
@@ -125,42 +149,50 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       continue;
     }
     bool dropped = false, split = false;
-    pieces.assign(1, {base, 0});
+    pieces.assign(1, {{world(tri.x), world(tri.y), world(tri.z)}, {tri.x, tri.y, tri.z}, 0});
     while (!pieces.empty()) {
       const Piece piece = pieces.back();
       pieces.pop_back();
       const auto& c = piece.corners;
       if (piece.depth > 0 && !blocked(t, c)) {
-        const auto first = static_cast<unsigned>(walkable.positions.size());
-        for (const Vec3& corner : c) walkable.positions.push_back(origin + corner);
-        walkable.triangles.push_back({first, first + 1, first + 2});
+        glm::uvec3 kept;
+        for (int k = 0; k < 3; ++k) {
+          kept[k] = piece.level_vertex[k];
+          if (kept[k] == kNewVertex) {
+            kept[k] = static_cast<unsigned>(walkable.positions.size());
+            walkable.positions.push_back(Vec3(c[k]));
+          }
+        }
+        walkable.triangles.push_back(kept);
         continue;
       }
-      const float longest = std::sqrt(std::max({glm::dot(c[1] - c[0], c[1] - c[0]), glm::dot(c[2] - c[1], c[2] - c[1]),
-                                                glm::dot(c[0] - c[2], c[0] - c[2])}));
-      if (piece.depth >= kMaxHeadroomRefineDepth || !(longest > min_edge)) {
+      const double piece_longest2 = std::max({glm::dot(c[1] - c[0], c[1] - c[0]), glm::dot(c[2] - c[1], c[2] - c[1]),
+                                              glm::dot(c[0] - c[2], c[0] - c[2])});
+      if (piece.depth >= kMaxHeadroomRefineDepth || !(piece_longest2 > min_edge * min_edge)) {
         dropped = true;
         continue;
       }
       split = true;
-      // Midpoints as (a + b) * 0.5 are the same float for both triangles sharing an edge.
-      const Vec3 m01 = (c[0] + c[1]) * 0.5f, m12 = (c[1] + c[2]) * 0.5f, m20 = (c[2] + c[0]) * 0.5f;
+      const glm::dvec3 m01 = (c[0] + c[1]) * 0.5, m12 = (c[1] + c[2]) * 0.5, m20 = (c[2] + c[0]) * 0.5;
+      const auto& v = piece.level_vertex;
       const int d = piece.depth + 1;
-      pieces.push_back({{c[0], m01, m20}, d});
-      pieces.push_back({{m01, c[1], m12}, d});
-      pieces.push_back({{m20, m12, c[2]}, d});
-      pieces.push_back({{m01, m12, m20}, d});
+      pieces.push_back({{c[0], m01, m20}, {v[0], kNewVertex, kNewVertex}, d});
+      pieces.push_back({{m01, c[1], m12}, {kNewVertex, v[1], kNewVertex}, d});
+      pieces.push_back({{m20, m12, c[2]}, {kNewVertex, kNewVertex, v[2]}, d});
+      pieces.push_back({{m01, m12, m20}, {kNewVertex, kNewVertex, kNewVertex}, d});
     }
     refined += split ? 1 : 0;
     low_headroom += dropped ? 1 : 0;
   }
   if (walkable.triangles.empty()) {
     throw InvalidInput(name + ": no walkable triangles (" + std::to_string(too_steep) + " too steep, " +
-                       std::to_string(low_headroom) + " without headroom for the agent)");
+                       std::to_string(degenerate) + " degenerate, " + std::to_string(low_headroom) +
+                       " without headroom for the agent)");
   }
-  WalkMesh mesh = build_walk_mesh(walkable, {up, kWalkWeldTolerance});
+  WalkMesh mesh = build_walk_mesh(walkable, {up, kWalkWeldTolerance, scale});
   mesh.stats_.input_triangles = level.triangles.size();
   mesh.stats_.too_steep_triangles = too_steep;
+  mesh.stats_.degenerate_triangles += degenerate;
   mesh.stats_.low_headroom_triangles = low_headroom;
   mesh.stats_.headroom_refined_triangles = refined;
   return mesh;

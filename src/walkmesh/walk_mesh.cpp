@@ -159,9 +159,13 @@ int rotation_of(const WalkPoint& p, glm::uvec3 tri) noexcept {
 }  // namespace
 
 TriangleWalk WalkMesh::walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept {
-  Vec3 rate = weight_rates(start, step);
   TriangleWalk out;
   out.end = start;
+  if (!is_finite(step)) {
+    out.time = 0.0f;
+    return out;
+  }
+  Vec3 rate = weight_rates(start, step);
   const Vec3 moved = start.weights + rate;
   if (moved.x >= 0.0f && moved.y >= 0.0f && moved.z >= 0.0f) {  // the whole step stays inside
     out.end.weights = moved * (1.0f / (moved.x + moved.y + moved.z));
@@ -213,6 +217,10 @@ std::optional<EdgeCrossing> WalkMesh::cross_edge(const WalkPoint& start) const n
 WalkResult WalkMesh::walk(const WalkPoint& start, Vec3 step) const noexcept {
   WalkResult out;
   out.end = start;
+  if (!is_finite(step)) {
+    out.status = WalkStatus::invalid_step;
+    return out;
+  }
   const Vec3 n0 = triangle_normals_[start.triangle];
   Vec3 heading = step - glm::dot(step, n0) * n0;  // the whole step, tangent, carried along
   // The same steps as walk_in_triangle + cross_edge, written inline on (triangle, rotation,

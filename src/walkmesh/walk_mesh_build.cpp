@@ -3,6 +3,8 @@
 // (SOURCES.md: dungeon.obj has 138 edges shared by more than two triangles).
 #include <collide/walkmesh/walk_mesh.hpp>
 
+#include "local_frame.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -17,6 +19,10 @@ namespace collide {
 namespace {
 
 constexpr std::uint32_t kUnset = 0xffffffffu;
+
+/// A vertex on another triangle's unshared edge is a T-junction only when its triangle lies on
+/// the far side, its direction from the edge at a cosine below -this with the near side's.
+constexpr float kTJunctionSideCos = 0.1f;
 
 std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
 
@@ -187,6 +193,9 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
           bool other_side = false;
           for (std::uint32_t k2 = around_start[q]; k2 < around_start[q + 1] && !other_side; ++k2) {
             const glm::uvec3 o = tris[around[k2]];
+            // `around` is from the start of the pass: a triangle split since may no longer have q
+            // (its other half is found next pass).
+            if (o.x != q && o.y != q && o.z != q) continue;
             for (int c = 0; c < 3 && !other_side; ++c) {
               const std::uint32_t y = o[c];
               if (y == q) continue;
@@ -194,7 +203,10 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
               const Vec3 off_y = local[y] - (a + sy * d);
               if (sy < -1e-6f || sy > 1.0f + 1e-6f || glm::dot(off_y, off_y) > tolerance * tolerance) continue;
               const std::uint32_t third = o[0] + o[1] + o[2] - q - y;  // the corner off the line
-              other_side = glm::dot(glm::cross(d, local[third] - a), x_side) < 0.0f;
+              // Clearly the other side: the two triangles continue each other (a fold of less
+              // than about 84 degrees), not a wall standing on the edge, where the sign is noise.
+              const Vec3 o_side = glm::cross(d, local[third] - a);
+              other_side = glm::dot(o_side, x_side) < -kTJunctionSideCos * glm::length(o_side) * glm::length(x_side);
             }
           }
           if (other_side) {
@@ -227,6 +239,45 @@ bool has_directed_edge(glm::uvec3 t, std::uint32_t u, std::uint32_t v) {
 
 }  // namespace
 
+Vec3 detail::local_origin(const TriangleSoup& soup) {
+  std::vector<float> axis(3 * soup.triangles.size());
+  Vec3 origin(0.0f);
+  for (int k = 0; k < 3; ++k) {
+    for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
+      for (int c = 0; c < 3; ++c) axis[3 * t + static_cast<std::size_t>(c)] = soup.positions[soup.triangles[t][c]][k];
+    }
+    const auto middle = axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2);
+    std::nth_element(axis.begin(), middle, axis.end());
+    origin[k] = *middle;
+  }
+  return origin;
+}
+
+float detail::tolerance_scale(const TriangleSoup& soup, float size, const std::string& name) {
+  std::vector<float> edges;
+  edges.reserve(3 * soup.triangles.size());
+  for (const glm::uvec3& t : soup.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const float length = glm::length(soup.positions[t[(k + 1) % 3]] - soup.positions[t[k]]);
+      if (length > 0.0f) edges.push_back(length);
+    }
+  }
+  if (edges.empty()) return size;
+  const auto middle = edges.begin() + static_cast<std::ptrdiff_t>(edges.size() / 2);
+  std::nth_element(edges.begin(), middle, edges.end());
+  const float median = *middle;
+  const float rounding = size * 0x1p-24f;
+  if (rounding > kWalkPrecisionFraction * median) {
+    throw InvalidInput(name + ": spans " + std::to_string(size) + " but its median edge is " + std::to_string(median) +
+                       ": float rounding over that span (" + std::to_string(rounding) +
+                       ") is too coarse for its triangles; build pieces this far apart as separate walk meshes");
+  }
+  // Rounded down to a power of two: adding or removing a few triangles moves the median a little,
+  // and decisions right at a tolerance (contacts in headroom tests) must not flip with it.
+  const float scale = std::min(size, kWalkScaleMedianEdges * median);
+  return scale > 0.0f ? std::exp2(std::floor(std::log2(scale))) : scale;
+}
+
 void validate_triangle_soup(const TriangleSoup& soup) {
   const std::string name = where(soup);
   if (soup.triangles.empty()) throw InvalidInput(name + ": no triangles");
@@ -254,6 +305,9 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0f) {
     throw InvalidInput(name + ": WalkMeshOptions.weld_tolerance must be finite and >= 0");
   }
+  if (!std::isfinite(options.tolerance_scale) || options.tolerance_scale < 0.0f) {
+    throw InvalidInput(name + ": WalkMeshOptions.tolerance_scale must be finite and >= 0");
+  }
   validate_triangle_soup(soup);
   const Vec3 up = glm::normalize(options.up);
 
@@ -268,9 +322,10 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
     }
   }
 
-  // 2. Shift to a local origin (float precision far from the world origin), then weld.
+  // 2. Shift to a local origin (float precision far from the world origin: the vertices' median,
+  //    which a piece far from the rest does not drag away), then weld.
   WalkMesh mesh;
-  mesh.origin_ = box.center();
+  mesh.origin_ = detail::local_origin(soup);
   const Vec3 extent = box.size();
   mesh.size_ = std::max({extent.x, extent.y, extent.z});
   std::vector<Vec3> local(nv);
@@ -279,8 +334,9 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   }
   WalkMeshStats stats;
   stats.input_triangles = soup.triangles.size();
-  const std::vector<std::uint32_t> rep = weld(local, used, options.weld_tolerance * mesh.size_,
-                                              stats.welded_vertices);
+  const float scale = options.tolerance_scale > 0.0f ? options.tolerance_scale
+                                                     : detail::tolerance_scale(soup, mesh.size_, name);
+  const std::vector<std::uint32_t> rep = weld(local, used, options.weld_tolerance * scale, stats.welded_vertices);
 
   // 3. Drop degenerate and duplicate triangles.
   std::vector<glm::uvec3> tris;
@@ -330,8 +386,8 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
     throw InvalidInput(name + ": no usable triangles (all " + std::to_string(soup.triangles.size()) +
                        " are degenerate or duplicates)");
   }
-  stats.t_junction_splits = split_t_junctions(tris, local, std::max(options.weld_tolerance * mesh.size_,
-                                                                     kWalkWeldTolerance * mesh.size_));
+  stats.t_junction_splits =
+      split_t_junctions(tris, local, std::max(options.weld_tolerance, kWalkWeldTolerance) * scale);
   const auto nt = static_cast<std::uint32_t>(tris.size());
 
   // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the

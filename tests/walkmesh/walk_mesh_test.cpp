@@ -51,6 +51,20 @@ TEST(WalkMesh, SmoothNormalIsContinuousAndTriangleNormalIsNot) {
   }
   EXPECT_GT(crossings, 150);
   EXPECT_GT(jumps, crossings / 2);  // the faceted normal does jump: the test can tell them apart
+  // At a vertex the smooth normal is the area-weighted mean of the normals of the triangles
+  // around it, summed here by scanning every triangle (double precision).
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); t += 5) {
+    const std::uint32_t v = mesh.triangle(t).x;
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t u = 0; u < mesh.triangle_count(); ++u) {
+      const glm::uvec3 tri = mesh.triangle(u);
+      if (tri.x != v && tri.y != v && tri.z != v) continue;
+      const glm::dvec3 a(mesh.world_vertex(tri.x)), b(mesh.world_vertex(tri.y)), c(mesh.world_vertex(tri.z));
+      sum += glm::cross(b - a, c - a);  // length: twice the area
+    }
+    const Vec3 expected(glm::normalize(sum));
+    EXPECT_LT(distance(mesh.to_world_smooth_normal(mesh.walk_point(t, {1.0f, 0.0f, 0.0f})), expected), 1e-5) << t;
+  }
 }
 
 TEST(WalkMesh, NearestWalkPointEqualsBruteForce) {
@@ -166,6 +180,9 @@ TEST(WalkMesh, CrossEdgeKeepsTheWorldPointAndRotatesNormalOntoNormal) {
       const double tol = 1e-6 * (10.0 + glm::length(glm::dvec3(xf.p)));
       EXPECT_LT(distance(mesh.to_world_point(w.end), mesh.to_world_point(c->end)), tol);
       EXPECT_LT(distance(c->rotation * mesh.to_world_triangle_normal(w.end), mesh.to_world_triangle_normal(c->end)), 1e-5);
+      // ... about the shared edge, which it leaves in place.
+      const Vec3 edge = glm::normalize(mesh.world_vertex(w.end.indices.y) - mesh.world_vertex(w.end.indices.x));
+      EXPECT_LT(distance(c->rotation * edge, edge), 1e-5);
       // Crossing back returns to the same triangle and point.
       const auto back = mesh.cross_edge(c->end);
       ASSERT_TRUE(back.has_value());
@@ -380,6 +397,190 @@ TEST(WalkMesh, Regression263And556PointsExactlyOnEdgesAreValidEverywhere) {
   EXPECT_GT(on_edge, 300);
 }
 
+TEST(WalkMesh, Regression377AnEdgeWithoutALinkIsAWallEvenWhereAnotherIslandTouchesIt) {
+  // recastnavigation #377, the other direction: two polygons touch along an edge with no link
+  // between them; moveAlongSurface ended on that edge and a position lookup put the agent in the
+  // other, unconnected polygon. Here the fin of the fixture above meets the floor along edge
+  // (0,1) without a link: walking down the fin must stop on the fin, at the edge, and go on
+  // sliding along it, never onto the floor.
+  const TriangleSoup s{"fin", {{0, 0, 0}, {0, 0, 2}, {2, 0, 1}, {-2, 0, 1}, {0, 2, 1}}, {{0, 1, 2}, {0, 4, 1}, {1, 0, 3}}};
+  const WalkMesh mesh = build_walk_mesh(s);
+  const WalkPoint on_fin = mesh.nearest_walk_point({0.0f, 1.0f, 1.0f});
+  ASSERT_GT(mesh.to_world_triangle_normal(on_fin).x * mesh.to_world_triangle_normal(on_fin).x, 0.99f);  // the fin
+  const std::uint32_t fin = mesh.island(on_fin.triangle);
+  const WalkResult down = mesh.walk(on_fin, {0.0f, -3.0f, 0.0f});
+  EXPECT_EQ(down.status, WalkStatus::blocked);
+  EXPECT_EQ(down.edges_crossed, 0);
+  EXPECT_EQ(mesh.island(down.end.triangle), fin);
+  EXPECT_LT(distance(mesh.to_world_point(down.end), {0.0f, 0.0f, 1.0f}), 1e-6);
+  // From the edge, a step down and along: slides along the fin's foot, stays on the fin.
+  const WalkResult slide = mesh.walk(down.end, {0.0f, -1.0f, 0.5f});
+  EXPECT_EQ(mesh.island(slide.end.triangle), fin);
+  EXPECT_LT(distance(mesh.to_world_point(slide.end), {0.0f, 0.0f, 1.5f}), 1e-6);
+  // And the floor, walked over the same edge, never climbs the fin.
+  const WalkResult across = mesh.walk(mesh.nearest_walk_point({0.5f, 0.0f, 1.0f}), {-1.0f, 0.0f, 0.0f});
+  EXPECT_NE(mesh.island(across.end.triangle), fin);
+  EXPECT_LT(distance(mesh.to_world_point(across.end), {-0.5f, 0.0f, 1.0f}), 1e-6);
+}
+
+TEST(WalkMesh, Regression377TwoIslandsMeetingFlatAlongOneEdgeStaySeparate) {
+  // Four triangles on one edge (x = 0): a floor on each side and a gentle ramp on each side,
+  // the ramps continuing each other. The builder links floor to floor and ramp to ramp, so two
+  // islands touch along the edge with no link between them; a point exactly on that edge is as
+  // close to both (Detour's findNearestPoly tie). Walks keep their island.
+  const float h = 0.2f;
+  const TriangleSoup s{"two floors",
+                       {{0, 0, 0}, {0, 0, 2}, {2, 0, 1}, {-2, 0, 1}, {2, h, 1}, {-2, -h, 1}},
+                       {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {1, 0, 5}}};
+  const WalkMesh mesh = build_walk_mesh(s);
+  ASSERT_EQ(mesh.stats().non_manifold_edges, 1u);
+  ASSERT_EQ(mesh.stats().islands, 2u);
+  std::mt19937 rng(71);
+  int crossed = 0;
+  for (int i = 0; i < 200; ++i) {
+    const WalkPoint p = random_walk_point(mesh, rng);
+    const Vec3 n = mesh.to_world_triangle_normal(p);
+    const WalkResult r = mesh.walk(p, random_tangent(rng, n, uniform(rng, 0.1f, 4.0f)));
+    ASSERT_TRUE(mesh.is_valid(r.end));
+    EXPECT_EQ(mesh.island(r.end.triangle), mesh.island(p.triangle)) << i;
+    // The ramp rises with x on both sides, the floor is flat: the height tells the island.
+    const Vec3 e = mesh.to_world_point(r.end);
+    const bool on_ramp = std::fabs(n.x) > 1e-3f;
+    EXPECT_NEAR(e.y, on_ramp ? h * e.x / 2.0f : 0.0f, 1e-5f) << i;
+    crossed += r.edges_crossed > 0;
+  }
+  EXPECT_GT(crossed, 50);
+}
+
+TEST(WalkMesh, Regression263AWallClampedPositionIsAValidStartFarFromTheOrigin) {
+  // recastnavigation #263: a character corrected to where a move hit the navmesh border (a point
+  // exactly on a border edge, coordinates around (-1416, 2892)) was rejected as the start of the
+  // next query. Here: walk into the walls again and again, each time from where the last walk
+  // stopped, then walk away; every start is accepted and the moves are exact.
+  std::mt19937 rng(73);
+  const test::Rigid3 xf{glm::angleAxis(0.3f, Vec3(0, 1, 0)), {-1416.0f, 12.0f, 2892.0f}};
+  const WalkMesh mesh = build_walk_mesh(test::grid_soup(rng, 10, 1.0f, 0.3f, flat, xf));
+  const float tol = 4e-3f;  // float spacing at 3000 is 2.4e-4; a few roundings per crossing
+  WalkPoint p = mesh.nearest_walk_point(xf(Vec3(5, 0, 5)));
+  int on_wall = 0;
+  for (int i = 0; i < 200; ++i) {
+    const float angle = uniform(rng, -3.14159f, 3.14159f);
+    const WalkResult hit = mesh.walk(p, xf.q * Vec3(30.0f * std::cos(angle), 0.0f, 30.0f * std::sin(angle)));
+    ASSERT_TRUE(mesh.is_valid(hit.end));
+    ASSERT_GE(hit.walls_hit, 1);
+    const Vec3 local = glm::inverse(xf.q) * (mesh.to_world_point(hit.end) - xf.p);
+    const float border = std::min({local.x, local.z, 10.0f - local.x, 10.0f - local.z});
+    EXPECT_NEAR(border, 0.0f, tol) << i;  // on the border
+    on_wall += std::min({hit.end.weights.x, hit.end.weights.y, hit.end.weights.z}) == 0.0f;
+    // Straight back towards the centre by one unit: a full, unobstructed move from the wall.
+    const Vec3 centre = xf(Vec3(5, 0, 5));
+    const Vec3 inward = glm::normalize(centre - mesh.to_world_point(hit.end));
+    const WalkResult away = mesh.walk(hit.end, inward);
+    EXPECT_EQ(away.status, WalkStatus::completed) << i;
+    EXPECT_EQ(away.walls_hit, 0) << i;
+    EXPECT_NEAR(away.distance, 1.0f, 1e-4f) << i;
+    EXPECT_LT(distance(mesh.to_world_point(away.end), mesh.to_world_point(hit.end) + inward), tol) << i;
+    p = hit.end;  // the next walk starts on the wall
+  }
+  // Most clamped points are exactly on an edge (a zero weight). The others slid past a border
+  // vertex: at 3000 the rounded border is straight only to ~1e-4, and a slide keeps the first
+  // edge's direction, so it may leave the wall by that much (checked above).
+  EXPECT_GT(on_wall, 100);  // the clamped points really are on an edge (a zero weight)
+}
+
+TEST(WalkMesh, Regression556RandomPointsWithZeroWeightsWorkFarFromTheOrigin) {
+  // recastnavigation #556: findRandomPoint produced a point exactly on a polygon edge and its
+  // own height query (getPolyHeight) then failed. Random walk points with weights exactly 0 or 1,
+  // near 5000 like undulating.obj: the world point is on the triangle, the nearest walk point
+  // finds it again, and walking from it works.
+  std::mt19937 rng(75);
+  const test::Rigid3 xf{glm::angleAxis(0.2f, Vec3(0, 1, 0)), {5000.0f, 0.0f, 5000.0f}};
+  const WalkMesh mesh = build_walk_mesh(test::grid_soup(rng, 12, 2.0f, 0.3f, hills, xf));
+  const double tol = 2e-3;
+  int checked = 0;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const float u = test::uniform01(rng);
+    for (const Vec3 w : {Vec3(u, 1.0f - u, 0.0f), Vec3(1.0f - u, 0.0f, u), Vec3(0.0f, 1.0f, 0.0f)}) {
+      const WalkPoint p = mesh.walk_point(t, w);
+      const Vec3 world = mesh.to_world_point(p);
+      const glm::uvec3 tri = mesh.triangle(t);
+      const glm::dvec3 on = test::brute_closest_on_triangle(glm::dvec3(world), glm::dvec3(mesh.world_vertex(tri.x)),
+                                                            glm::dvec3(mesh.world_vertex(tri.y)),
+                                                            glm::dvec3(mesh.world_vertex(tri.z)));
+      EXPECT_LT(glm::length(on - glm::dvec3(world)), tol);  // "its height" is the triangle's
+      EXPECT_LT(distance(mesh.to_world_point(mesh.nearest_walk_point(world)), world), tol);
+      const WalkResult r = mesh.walk(p, random_tangent(rng, mesh.to_world_triangle_normal(p), 1.0f));
+      ASSERT_TRUE(mesh.is_valid(r.end));
+      EXPECT_NE(r.status, WalkStatus::iteration_limit);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 800);
+}
+
+TEST(WalkMesh, WalksOverNeedleTrianglesStayOnTheMeshAndReturn) {
+  // Needles: triangles whose third corner is within 5e-6 of the opposite edge (area 5e-6 of the
+  // longest edge squared, just above kWalkDegenerateTolerance, no two corners close enough to
+  // weld). Their weight gradients are huge: the case where float barycentric stepping drifts.
+  // A strip [0, n] x [0, 1] in xz: along its bottom edge a needle under every cell, the rest
+  // filled with ordinary triangles.
+  std::mt19937 rng(77);
+  const int n = 12;
+  const float eps = 5e-6f;
+  TriangleSoup s;
+  s.name = "needles";
+  for (int i = 0; i <= n; ++i) {
+    const float x = static_cast<float>(i);
+    s.positions.push_back({x, 0.0f, 0.0f});         // bottom A_i = 3i
+    s.positions.push_back({x + 0.5f, 0.0f, eps});   // needle tip M_i = 3i + 1 (unused at i = n)
+    s.positions.push_back({x, 0.0f, 1.0f});         // top T_i = 3i + 2
+  }
+  for (unsigned i = 0; i < static_cast<unsigned>(n); ++i) {
+    const unsigned a = 3 * i, m = 3 * i + 1, t = 3 * i + 2, a1 = 3 * i + 3, t1 = 3 * i + 5;
+    s.triangles.push_back({a, a1, m});   // the needle
+    s.triangles.push_back({a, m, t});
+    s.triangles.push_back({m, t1, t});
+    s.triangles.push_back({m, a1, t1});
+  }
+  const WalkMesh mesh = build_walk_mesh(s);
+  ASSERT_EQ(mesh.triangle_count(), s.triangles.size());  // none dropped as degenerate
+  ASSERT_EQ(mesh.stats().islands, 1u);
+  ASSERT_EQ(mesh.stats().boundary_edges, 2u * n + 2u);
+  int returned = 0, through_needles = 0;
+  for (int i = 0; i < 2000; ++i) {
+    // Half the starts inside a needle, stepping along it (through the next needles, edge to edge
+    // and vertex to vertex); the others anywhere near the bottom, stepping mostly along it.
+    WalkPoint start;
+    Vec3 step;
+    if (i % 2 == 0) {
+      const auto needle = static_cast<std::uint32_t>(rng() % n);
+      // Inside the needle's middle half, off its bottom (a wall) by at least eps / 10.
+      start = mesh.nearest_walk_point({static_cast<float>(needle) + uniform(rng, 0.25f, 0.75f), 0.0f,
+                                       eps * uniform(rng, 0.2f, 0.5f)});
+      step = Vec3((rng() % 2 ? 1.0f : -1.0f) * uniform(rng, 0.5f, 6.0f), 0.0f, uniform(rng, -2e-7f, 2e-7f));
+    } else {
+      start = mesh.nearest_walk_point({uniform(rng, 0.0f, n), 0.0f, uniform(rng, 1e-4f, 0.01f)});
+      step = random_tangent(rng, Vec3(0, 1, 0), uniform(rng, 0.1f, 6.0f)) * Vec3(1.0f, 1.0f, 0.01f);
+    }
+    const WalkResult go = mesh.walk(start, step);
+    ASSERT_TRUE(mesh.is_valid(go.end));
+    ASSERT_NE(go.status, WalkStatus::iteration_limit);
+    const Vec3 e = mesh.to_world_point(go.end);
+    ASSERT_TRUE(e.x >= -1e-5f && e.x <= n + 1e-5f && e.z >= -1e-6f && e.z <= 1.0f + 1e-6f) << i;
+    EXPECT_EQ(e.y, 0.0f);
+    if (go.walls_hit > 0) continue;
+    // Unobstructed: the straight line, and back again.
+    EXPECT_LT(distance(e, mesh.to_world_point(start) + step), 1e-5) << i;
+    const WalkResult back = mesh.walk(go.end, -go.end_step);
+    EXPECT_EQ(back.walls_hit, 0) << i;
+    EXPECT_LT(distance(mesh.to_world_point(back.end), mesh.to_world_point(start)), 1e-5) << i;
+    ++returned;
+    through_needles += i % 2 == 0 && go.edges_crossed >= 3;
+  }
+  EXPECT_GT(returned, 600);
+  EXPECT_GT(through_needles, 300);
+}
+
 // ---- building from messy soups ----------------------------------------------------------------
 
 TEST(WalkMeshBuild, WeldingAnUnsharedSoupRecoversTheMesh) {
@@ -438,6 +639,29 @@ TEST(WalkMeshBuild, TJunctionsAreSplitSoBothSidesLink) {
     const WalkResult r = mesh.walk(mesh.nearest_walk_point({0.5f, 0.0f, z}), {1.0f, 0.0f, 0.0f});
     EXPECT_EQ(r.walls_hit, 0) << z;
     EXPECT_LT(distance(mesh.to_world_point(r.end), {1.5f, 0.0f, z}), 1e-6);
+  }
+}
+
+TEST(WalkMeshBuild, AWallStandingOnAnEdgeIsNotATJunction) {
+  // A floor square whose edge x = 2 carries a wall split at its midpoint: the wall's vertex lies
+  // on the floor's unshared edge, but the wall does not continue the floor (it stands at 90
+  // degrees), so the floor is not split there and does not link up the wall. (The side test was
+  // a dot product of perpendicular vectors, decided by rounding.)
+  std::mt19937 rng(79);
+  for (int trial = 0; trial < 100; ++trial) {  // rigid placements: rounding noise of either sign
+    const test::Rigid3 xf = test::random_rigid(rng, 2000.0f, 0.5f);
+    TriangleSoup s{"wall on edge",
+                   {{0, 0, 0}, {2, 0, 0}, {2, 0, 2}, {0, 0, 2}, {2, 0, 1}, {2, 2, 0}, {2, 2, 2}, {2, 2, 1}},
+                   {{0, 1, 2}, {0, 2, 3}, {1, 4, 7}, {1, 7, 5}, {4, 2, 6}, {4, 6, 7}}};
+    for (Vec3& p : s.positions) p = xf(p);
+    const WalkMesh mesh = build_walk_mesh(s, {xf.q * Vec3(0, 1, 0)});
+    EXPECT_EQ(mesh.stats().t_junction_splits, 0u) << trial;
+    EXPECT_EQ(mesh.stats().islands, 2u) << trial;
+    const WalkPoint start = mesh.nearest_walk_point(xf(Vec3(1.0f, 0.0f, 1.0f)));
+    const WalkResult r = mesh.walk(start, xf.q * Vec3(3.0f, 0.0f, 0.0f));
+    EXPECT_EQ(r.status, WalkStatus::blocked) << trial;
+    EXPECT_EQ(mesh.island(r.end.triangle), mesh.island(start.triangle)) << trial;
+    EXPECT_LT(distance(mesh.to_world_point(r.end), xf(Vec3(2.0f, 0.0f, 1.0f))), 2e-3) << trial;
   }
 }
 
@@ -525,6 +749,21 @@ TEST(WalkMeshBuild, BadInputNamesTheProblemAndWhere) {
   EXPECT_THROW((void)mesh.walk_point(1, Vec3(1.0f)), InvalidInput);
   EXPECT_THROW((void)mesh.walk_point(0, Vec3(-1.0f, 1.0f, 1.0f)), InvalidInput);
   EXPECT_THROW((void)mesh.nearest_walk_point(Vec3(NAN)), InvalidInput);
+  // A step that is not finite is refused by the noexcept movement queries: nothing moves.
+  const WalkPoint p = mesh.walk_point(0, {0.2f, 0.3f, 0.5f});
+  for (const Vec3 bad : {Vec3(NAN, 0.0f, 0.0f), Vec3(0.0f, 0.0f, INFINITY), Vec3(-INFINITY, NAN, 1.0f)}) {
+    const WalkResult r = mesh.walk(p, bad);
+    EXPECT_EQ(r.status, WalkStatus::invalid_step);
+    EXPECT_EQ(r.end.triangle, p.triangle);
+    EXPECT_EQ(r.end.indices, p.indices);
+    EXPECT_EQ(r.end.weights, p.weights);
+    EXPECT_EQ(r.distance, 0.0f);
+    EXPECT_EQ(r.end_step, Vec3(0.0f));
+    const TriangleWalk w = mesh.walk_in_triangle(p, bad);
+    EXPECT_FALSE(w.hit_edge);
+    EXPECT_EQ(w.time, 0.0f);
+    EXPECT_EQ(w.end.weights, p.weights);
+  }
 }
 
 }  // namespace

@@ -8,8 +8,9 @@
 
 namespace collide {
 
-/// Headroom tests treat geometry within this fraction of the level's size of the space above a
-/// triangle as touching, not blocking (walls standing on the triangle's edges, its neighbours).
+/// Headroom tests treat geometry within this fraction of the level's size (at most
+/// kWalkScaleMedianEdges median edge lengths, see WalkMeshOptions::tolerance_scale) of the space
+/// above a triangle as touching, not blocking (walls standing on its edges, its neighbours).
 inline constexpr float kHeadroomTolerance = 1e-5f;
 
 /// A level triangle partly under an obstacle is split until its pieces are smaller than this
@@ -30,13 +31,17 @@ struct WalkAgent {
 ///  - slope: the triangle's plane is within `max_slope` of horizontal. Either winding counts
 ///    (levels wind inconsistently), so the underside of a thin floor is the same floor.
 ///  - headroom: no triangle of the level meets the prism swept by the triangle moved up by
-///    `height` (exact separating-axis test of prism against triangle, Ericson 5.2.1 / 4.4;
-///    touching within kHeadroomTolerance does not count). A triangle that fails is split in four
+///    `height` (exact separating-axis test of prism against triangle, Ericson 5.2.1 / 4.4, in
+///    double on world coordinates; touching within kHeadroomTolerance does not count). A triangle that fails is split in four
 ///    at its edge midpoints, recursively, keeping the pieces that pass, down to pieces of
 ///    kHeadroomRefineFraction of the agent's height (kMaxHeadroomRefineDepth rounds at most):
 ///    the walk mesh follows obstacles to that resolution (no exact clipping).
-/// The stats count the level triangles too steep, with some part dropped for headroom, and split. Throws InvalidInput for
-/// what `validate_triangle_soup` rejects, a bad agent field (named), or no walkable triangle.
+/// Degenerate level triangles (no area: kWalkDegenerateTolerance) have no slope and are dropped
+/// first. A piece of the level far from the rest changes nothing else (the tolerances and the
+/// local origin are robust to it), unless it is so far that float precision cannot hold both
+/// (kWalkPrecisionFraction): then InvalidInput. The stats count the level triangles degenerate, too steep, with some part dropped for
+/// headroom, and split. Throws InvalidInput for what `validate_triangle_soup` rejects, a bad agent
+/// field (named), or no walkable triangle (saying how many were too steep, degenerate, covered).
 [[nodiscard]] WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent = {});
 
 }  // namespace collide

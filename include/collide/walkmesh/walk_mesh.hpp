@@ -30,8 +30,16 @@ struct WalkAgent;  // make_walk_mesh.hpp
 
 /// No neighbour across this edge: a boundary (wall) of the walk mesh.
 inline constexpr std::uint32_t kNoNeighbor = 0xffffffffu;
-/// Vertices closer than this fraction of the mesh's size are welded into one.
+/// Vertices closer than this fraction of the mesh's size are welded into one. Building's length
+/// tolerances (this, T-junctions, headroom) take the size as at most kWalkScaleMedianEdges median
+/// edge lengths.
 inline constexpr float kWalkWeldTolerance = 1e-5f;
+/// The size building tolerances are fractions of is at most this many median edge lengths: a floor
+/// kilometres away from the rest of a level must not weld the level at centimetres.
+inline constexpr float kWalkScaleMedianEdges = 100.0f;
+/// A soup whose float rounding in its local frame (size * 2^-24) exceeds this fraction of its
+/// median edge length is refused: its pieces lie too far apart for one float frame.
+inline constexpr float kWalkPrecisionFraction = 1e-3f;
 /// A triangle whose area is below this fraction of its longest edge squared is degenerate
 /// (collinear corners): it has no usable plane and is dropped.
 inline constexpr float kWalkDegenerateTolerance = 1e-6f;
@@ -80,7 +88,12 @@ struct TriangleSoup {
 /// How `build_walk_mesh` cleans a soup.
 struct WalkMeshOptions {
   Vec3 up{0.0f, 1.0f, 0.0f};               ///< up direction: triangles are wound counter-clockwise seen from it
-  float weld_tolerance = kWalkWeldTolerance;  ///< fraction of the mesh's size; 0 welds only equal positions
+  float weld_tolerance = kWalkWeldTolerance;  ///< fraction of `tolerance_scale`; 0 welds only equal positions
+  /// The length (world units) the weld and T-junction tolerances are fractions of; 0 (the
+  /// default) takes the soup's own: its size, at most kWalkScaleMedianEdges median edge lengths,
+  /// rounded down to a power of two.
+  /// make_walk_mesh passes the level's, so that refined pieces do not shrink it.
+  float tolerance_scale = 0.0f;
 };
 
 /// What `build_walk_mesh` did to its input, and what the mesh looks like.
@@ -89,7 +102,7 @@ struct WalkMeshStats {
   std::size_t triangles = 0;             ///< triangles kept
   std::size_t vertices = 0;              ///< distinct vertices kept (after welding)
   std::size_t welded_vertices = 0;       ///< input vertices merged into an earlier one
-  std::size_t degenerate_triangles = 0;  ///< dropped: repeated corner after welding, or no area
+  std::size_t degenerate_triangles = 0;  ///< dropped: repeated corner after welding, or no area (make_walk_mesh: level triangles too)
   std::size_t duplicate_triangles = 0;   ///< dropped: same three vertices as an earlier triangle
   std::size_t t_junction_splits = 0;     ///< triangles split where a vertex lay inside an unshared edge
   std::size_t non_manifold_edges = 0;    ///< edges shared by more than two triangles
@@ -126,6 +139,7 @@ enum class WalkStatus {
   completed,        ///< walked the whole step (possibly sliding along walls)
   blocked,          ///< a wall (or corner) absorbed what was left of the step
   iteration_limit,  ///< visited kMaxWalkIterations triangles; stopped on the mesh where it was
+  invalid_step,     ///< the step was not finite (NaN or infinite): nothing walked, `end` is the start
 };
 
 /// Result of `walk`.
@@ -179,6 +193,7 @@ class WalkMesh {
 
   /// Moves `start` by `step` (world vector, projected onto the triangle's plane) inside its
   /// triangle, stopping at the first edge reached. `start` must be a walk point of this mesh.
+  /// A step that is not finite moves nothing: `end` is `start`, time 0, no edge.
   [[nodiscard]] TriangleWalk walk_in_triangle(const WalkPoint& start, Vec3 step) const noexcept;
   /// Re-expresses a point on edge (indices.x, indices.y) (weights.z == 0) in the triangle across
   /// that edge. Empty when the edge is a boundary, or when `start` is not in edge form.
@@ -186,7 +201,8 @@ class WalkMesh {
   /// The whole move: `step` (world vector) is projected onto the start triangle's plane, then
   /// walked triangle by triangle, rotated over each edge crossed (so it keeps its length), and
   /// at a boundary edge reduced to its component along that edge (sliding along the wall). The
-  /// result never leaves the mesh. `start` must be a walk point of this mesh.
+  /// result never leaves the mesh. `start` must be a walk point of this mesh. A step that is not
+  /// finite is refused: status `invalid_step`, `end` is `start`, nothing walked.
   [[nodiscard]] WalkResult walk(const WalkPoint& start, Vec3 step) const noexcept;
 
   // ---- the mesh --------------------------------------------------------------------------
@@ -248,7 +264,8 @@ void validate_triangle_soup(const TriangleSoup& soup);
 
 /// Builds a walk mesh from any triangle soup, the robust way real level meshes need
 /// (the failure modes behind recastnavigation issues #263, #377 and #556 in mind):
-///  - welds vertices closer than `weld_tolerance` times the mesh size (hash grid);
+///  - welds vertices closer than `weld_tolerance` times the tolerance scale: the mesh's size, or
+///    kWalkScaleMedianEdges median edge lengths if that is less (hash grid);
 ///  - drops degenerate triangles (repeated corners, no area) and duplicates;
 ///  - splits triangles at T-junctions (a vertex inside another triangle's unshared edge), so the
 ///    two sides link instead of leaving a wall between them;
@@ -260,8 +277,8 @@ void validate_triangle_soup(const TriangleSoup& soup);
 ///    no consistent winding are cut;
 ///  - numbers islands, computes normals and the BVH.
 /// Throws InvalidInput, naming the soup (its `name`) and the triangle, for an index out of range,
-/// a non-finite vertex of a triangle, an invalid `options` field, or a soup with no usable
-/// triangle.
+/// a non-finite vertex of a triangle, an invalid `options` field, a soup with no usable
+/// triangle, or one spread too far for float precision (kWalkPrecisionFraction).
 [[nodiscard]] WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& options = {});
 
 }  // namespace collide
