@@ -114,7 +114,8 @@ TEST(SvgDraw, CirclesLandWhereTheMappingSaysYUpAndYDown) {
     d.draw_circle({10.0f, 5.0f}, 0.25f, DrawRole::body);  // the world's top-right corner
     const Plot plot = single_plot(o, 0.5f);
     const float scale = std::min(plot.w / 10.0f, plot.h / 5.0f);
-    const auto items = children(panels(parse(d.svg()))[0]);
+    const pugi::xml_document doc = parse(d.svg());  // nodes point into it: keep it alive
+    const auto items = children(panels(doc)[0]);
     ASSERT_EQ(items.size(), 2u);
     const float cx = plot.x + 0.5f * plot.w + scale * (2.0f - 5.0f);
     const float cy = plot.y + 0.5f * plot.h + (y_up ? -1.0f : 1.0f) * scale * (1.0f - 2.5f);
@@ -140,7 +141,8 @@ TEST(SvgDraw, AutoFitCentresTheContentWithItsMargin) {
   // Content [90, 110] x [40, 60], margin 0.1 * 20 on every side: a 24-unit square world.
   const Plot plot = single_plot(o, 1.0f);
   const float scale = std::min(plot.w, plot.h) / 24.0f;
-  const auto items = children(panels(parse(d.svg()))[0]);
+  const pugi::xml_document doc = parse(d.svg());  // nodes point into it: keep it alive
+  const auto items = children(panels(doc)[0]);
   ASSERT_EQ(items.size(), 1u);
   EXPECT_NEAR(items[0].attribute("cx").as_float(), plot.x + 0.5f * plot.w, kPrinted);
   EXPECT_NEAR(items[0].attribute("cy").as_float(), plot.y + 0.5f * plot.h, kPrinted);
@@ -250,7 +252,8 @@ TEST(SvgDraw, RoundedOutlinesStayOneRadiusOutsideTheCore) {
   d.draw_capsule({-2, 2}, {2, 3}, 0.5f, DrawRole::fast_body);
   const PictureLayout lay = d.layout();
   const PanelView& view = lay.panels[0];
-  const auto items = children(panels(parse(d.svg()))[0]);
+  const pugi::xml_document doc = parse(d.svg());  // nodes point into it: keep it alive
+  const auto items = children(panels(doc)[0]);
   ASSERT_EQ(items.size(), 2u);
   for (int k = 0; k < 2; ++k) {
     std::vector<Vec2> core;
@@ -348,7 +351,8 @@ TEST(SvgDraw, FarAwayGeometryIsCulledAndRaysAreClipped) {
   d.draw_circle({1e30f, 1e30f}, 1.0f, DrawRole::body);               // off the plot: culled
   d.draw_segment({5, 5}, {3e38f, 5}, DrawRole::laser);               // a ray to "infinity": clipped
   d.draw_arrow({5, 5}, {5, 1e20f}, DrawRole::contact_normal);        // its head is off the plot
-  const auto items = children(panels(parse(d.svg()))[0]);
+  const pugi::xml_document doc = parse(d.svg());  // nodes point into it: keep it alive
+  const auto items = children(panels(doc)[0]);
   ASSERT_EQ(items.size(), 2u);
   EXPECT_STREQ(items[0].name(), "line");
   EXPECT_LT(items[0].attribute("x2").as_float(), 400.0f + 100.0f);
