@@ -3,8 +3,10 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -100,6 +102,22 @@ Probe<D> probe_of(const AabbN<D>& box) noexcept {
   return p;
 }
 
+/// The probe of the box stored at entry e of the coordinate arrays (see overlap_mask).
+template <int D>
+Probe<D> probe_at(const float* coords, std::size_t stride, std::uint32_t e) noexcept {
+  Probe<D> p;
+  for (int k = 0; k < D; ++k) {
+#if defined(__SSE2__)
+    p.min[k] = _mm_set1_ps(coords[k * stride + e]);
+    p.max[k] = _mm_set1_ps(coords[(D + k) * stride + e]);
+#else
+    p.min[k] = coords[k * stride + e];
+    p.max[k] = coords[(D + k) * stride + e];
+#endif
+  }
+  return p;
+}
+
 /// Overlap of the probe with the four stored boxes at entries f .. f + 3 of the coordinate
 /// arrays (coordinate a of entry e at coords[a * stride + e]: min corner for a < D, max corner
 /// for a >= D): bit j is set when entry f + j overlaps the probe on every axis,
@@ -127,6 +145,79 @@ inline std::uint32_t overlap_mask(const float* coords, std::size_t stride, std::
     }
     mask |= static_cast<std::uint32_t>(in) << j;
   }
+  return mask;
+#endif
+}
+
+/// Where a row of cells lies on one axis relative to the probe box's own cell: one below, the
+/// same, one above.
+enum class Side { kBelow, kSame, kAbove };
+
+/// The four lanes of a group: all bits set in a lane that passed (SIMD), or bit j for lane j.
+#if defined(__SSE2__)
+using Lanes = __m128;
+#else
+using Lanes = std::uint32_t;
+#endif
+
+/// The lanes of a run of n entries (n clamped to kLanes): lane j set for j < n.
+alignas(16) constexpr std::uint32_t kRunLanes[kLanes + 1][kLanes] = {
+    {0, 0, 0, 0}, {~0u, 0, 0, 0}, {~0u, ~0u, 0, 0}, {~0u, ~0u, ~0u, 0}, {~0u, ~0u, ~0u, ~0u}};
+
+/// overlap_mask, restricted to the first n of the four entries, for stored boxes whose
+/// min-corner cells lie on the side kY (and kZ in 3D) of the probe box's cell on y (and z),
+/// as lanes. On an axis where that cell is above, the stored box's min is above the probe's
+/// min (the cell mapping is monotone), so probe.min <= max is true already and only
+/// min <= probe.max is tested; below, only probe.min <= max. The tests keep the loaded values
+/// as their first operand (probe.min <= max written as !(max < probe.min): the same without
+/// NaN), so SSE needs no register copies.
+template <int D, Side kY, Side kZ>
+inline Lanes run_lanes(const float* coords, std::size_t stride, std::uint32_t f, std::uint32_t n,
+                       const Probe<D>& probe) noexcept {
+  constexpr Side kSide[3] = {Side::kSame, kY, kZ};
+  const float* p = coords + f;
+#if defined(__SSE2__)
+  __m128 in = _mm_load_ps(reinterpret_cast<const float*>(kRunLanes[std::min(n, kLanes)]));
+  for (int k = 0; k < D; ++k) {
+    if (kSide[k] != Side::kBelow) in = _mm_and_ps(in, _mm_cmple_ps(_mm_loadu_ps(p + k * stride), probe.max[k]));
+    if (kSide[k] != Side::kAbove) in = _mm_and_ps(in, _mm_cmpnlt_ps(_mm_loadu_ps(p + (D + k) * stride), probe.min[k]));
+  }
+  return in;
+#else
+  std::uint32_t mask = 0;
+  for (std::uint32_t j = 0; j < std::min(n, kLanes); ++j) {
+    bool in = true;
+    for (int k = 0; k < D; ++k) {
+      if (kSide[k] != Side::kBelow) in &= p[k * stride + j] <= probe.max[k];
+      if (kSide[k] != Side::kAbove) in &= probe.min[k] <= p[(D + k) * stride + j];
+    }
+    mask |= static_cast<std::uint32_t>(in) << j;
+  }
+  return mask;
+#endif
+}
+
+/// Bit 4r + j set when lane j of lanes[r] is: up to five groups in one mask.
+template <int N>
+inline std::uint32_t lane_bits(const Lanes (&lanes)[N]) noexcept {
+#if defined(__SSE2__)
+  // Four groups at a time narrowed to bytes (0 or -1 stays 0 or -1), one byte mask.
+  const auto pack4 = [&](int r) {
+    const auto at = [&](int i) { return r + i < N ? _mm_castps_si128(lanes[r + i]) : _mm_setzero_si128(); };
+    const __m128i bytes = _mm_packs_epi16(_mm_packs_epi32(at(0), at(1)), _mm_packs_epi32(at(2), at(3)));
+    return static_cast<std::uint32_t>(_mm_movemask_epi8(bytes));
+  };
+  if constexpr (N == 1) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(lanes[0]));
+  } else if constexpr (N <= 4) {
+    return pack4(0);
+  } else {
+    static_assert(N <= 8);
+    return pack4(0) | pack4(4) << 16;
+  }
+#else
+  std::uint32_t mask = 0;
+  for (int r = 0; r < N; ++r) mask |= lanes[r] << (kLanes * r);
   return mask;
 #endif
 }
@@ -413,70 +504,94 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
   // The runs of the forward half of an entry's neighbourhood (see append_pairs): its own row
   // from entry e + 1 to the end of the next cell along x, then the rows of three cells
   // (x - 1 .. x + 1) at these offsets from its cell, those of kRowMask only.
-  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
-  const std::uint32_t plane = D == 3 ? nx * static_cast<std::uint32_t>(padded_[1]) : 0;
-  const std::uint32_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  const std::ptrdiff_t nx = padded_[0];
+  const std::ptrdiff_t plane = D == 3 ? nx * padded_[1] : 0;
+  const std::ptrdiff_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  // The sides of row r of all_rows on y and z (see run_lanes).
+  constexpr Side kRowY[4] = {Side::kAbove, Side::kBelow, Side::kSame, Side::kAbove};
+  constexpr Side kRowZ[4] = {Side::kSame, Side::kAbove, Side::kAbove, Side::kAbove};
   constexpr int kRows = std::popcount(kRowMask);
   constexpr int kRuns = 1 + kRows;
-  std::uint32_t rows[kRows > 0 ? kRows : 1];
-  for (int r = 0, k = 0; r < 4; ++r) {
-    if ((kRowMask >> r) & 1u) rows[k++] = all_rows[r];
-  }
+  // kRowOf[R]: the index in all_rows of the R-th row of kRowMask.
+  constexpr std::array<int, 4> kRowOf = [] {
+    std::array<int, 4> of{};
+    for (int r = 0, k = 0; r < 4; ++r) {
+      if ((kRowMask >> r) & 1u) of[k++] = r;
+    }
+    return of;
+  }();
+  std::ptrdiff_t rows[kRows > 0 ? kRows : 1];
+  for (int r = 0; r < kRows; ++r) rows[r] = all_rows[kRowOf[r]];
   const float* coords = coords_.data();
   const std::size_t stride = stride_;
   const Record* records = records_.data();
   const std::uint32_t* starts = starts_.data();
-  BroadPair* out = sink.out;
-  std::size_t n = sink.n;
-  for (std::uint32_t i = first_index; i < last_index; ++i) {
-    const std::uint32_t e = kListed ? list[i] : i;
-    const std::uint32_t c = records[e].key;
-    const int id = records[e].id;
-    const Probe<D> probe = probe_of<D>(entry_box(e));
-    // first[r], last[r]: run r; first[kRuns] = e is the entry read when no bit is set.
-    std::uint32_t first[kRuns + 1], last[kRuns];
-    first[0] = e + 1;
-    last[0] = starts[c + 2];
-    for (int r = 0; r < kRows; ++r) {
-      first[r + 1] = starts[c + rows[r]];
-      last[r + 1] = starts[c + rows[r] + 3];
+  // The entries are tested a block at a time; an entry with an overlap (or a run longer than
+  // one group, kLonger) is noted as a hit, and the hits' pairs are written after the block, so
+  // the test loop keeps no run bounds for the rare pairs.
+  constexpr std::uint32_t kBlock = 256;
+  constexpr std::uint32_t kLonger = 1u << 31;
+  struct Hit {
+    std::uint32_t entry;
+    std::uint32_t mask;  // bit 4r + j: entry j of run r overlaps; kLonger: more to test
+  };
+  Hit hits[kBlock];
+  for (std::uint32_t block = first_index; block < last_index; block += kBlock) {
+    const std::uint32_t block_end = std::min(last_index, block + kBlock);
+    std::uint32_t hit_count = 0;
+    for (std::uint32_t i = block; i < block_end; ++i) {
+      const std::uint32_t e = kListed ? list[i] : i;
+      // starts of the entry's cell: cell[0] is its first entry, cell[1] its end.
+      const std::uint32_t* cell = starts + records[e].key;
+      const Probe<D> probe = probe_at<D>(coords, stride, e);
+      // Bit 4r + j: entry j of run r overlaps. Run 0 is the own row from e + 1; each run tests
+      // only what its row needs (see run_lanes): the own row is on the same side on every axis,
+      // row r of all_rows on the sides kRowY[r], kRowZ[r]. `longer`: some run is longer than
+      // one group exactly when some length + kLanes - 1 reaches 2 * kLanes (an OR of values
+      // below that stays below it).
+      Lanes lanes[kRuns];
+      std::uint32_t length = cell[2] - (e + 1);
+      std::uint32_t longer = length + (kLanes - 1);
+      lanes[0] = run_lanes<D, Side::kSame, Side::kSame>(coords, stride, e + 1, length, probe);
+      [&]<std::size_t... R>(std::index_sequence<R...>) {
+        ((length = cell[rows[R] + 3] - cell[rows[R]], longer |= length + (kLanes - 1),
+          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, cell[rows[R]],
+                                                                          length, probe)),
+         ...);
+      }(std::make_index_sequence<kRows>{});
+      const std::uint32_t mask = lane_bits(lanes) | (longer >= 2 * kLanes ? kLonger : 0u);
+      hits[hit_count] = {e, mask};
+      hit_count += mask != 0 ? 1u : 0u;
     }
-    first[kRuns] = e;
-    // Bit 4r + j: entry first[r] + j overlaps.
-    std::uint32_t mask = 0;
-    std::uint32_t longest = 0;
-    for (int r = 0; r < kRuns; ++r) {
-      const std::uint32_t length = last[r] - first[r];
-      mask |= (overlap_mask<D>(coords, stride, first[r], probe) & lane_mask(length)) << (kLanes * r);
-      longest = std::max(longest, length);
-    }
-    sink.n = n;
-    sink.reserve(kLanes * kRuns + 1);
-    out = sink.out;
-    // Report each set bit. The first without a branch: with no bit set, the sentinel bit
-    // 4 * kRuns picks entry first[kRuns] and the write is not kept.
-    std::uint32_t b = static_cast<std::uint32_t>(std::countr_zero(mask | (1u << (kLanes * kRuns))));
-    out[n] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
-    n += mask != 0 ? 1u : 0u;
-    for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
-      b = static_cast<std::uint32_t>(std::countr_zero(mask));
-      out[n++] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
-    }
-    if (longest > kLanes) [[unlikely]] {
-      for (int r = 0; r < kRuns; ++r) {
-        for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
-          std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f);
-          sink.n = n;
-          sink.reserve(kLanes);
-          out = sink.out;
-          for (; m != 0; m &= m - 1) {
-            out[n++] = ordered_pair(id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
+    for (std::uint32_t h = 0; h < hit_count; ++h) {
+      const std::uint32_t e = hits[h].entry;
+      const Record record = records[e];
+      const std::uint32_t* cell = starts + record.key;
+      std::uint32_t first[kRuns], last[kRuns];
+      first[0] = e + 1;
+      last[0] = cell[2];
+      for (int r = 0; r < kRows; ++r) {
+        first[r + 1] = cell[rows[r]];
+        last[r + 1] = cell[rows[r] + 3];
+      }
+      sink.reserve(kLanes * kRuns);
+      for (std::uint32_t m = hits[h].mask & ~kLonger; m != 0; m &= m - 1) {
+        const auto b = static_cast<std::uint32_t>(std::countr_zero(m));
+        sink.out[sink.n++] = ordered_pair(record.id, records[first[b / kLanes] + b % kLanes].id);
+      }
+      if (hits[h].mask & kLonger) [[unlikely]] {
+        const Probe<D> probe = probe_at<D>(coords, stride, e);
+        for (int r = 0; r < kRuns; ++r) {
+          for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
+            sink.reserve(kLanes);
+            for (std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f); m != 0; m &= m - 1) {
+              sink.out[sink.n++] = ordered_pair(record.id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
+            }
           }
         }
       }
     }
   }
-  sink.n = n;
 }
 
 template <int D>
