@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -16,17 +17,17 @@ namespace collide {
 
 namespace {
 
-/// The kLooseCellQuantile quantile of the largest sides of (a sample of) the boxes, kept above
-/// the float resolution of the world; points-only input falls back to suggest_cell_size.
+/// The kLooseCellQuantile quantile of `sides` (the largest sides of a sample of the boxes, see
+/// sample_largest_sides), kept above the float resolution of the world; points-only input falls
+/// back to suggest_cell_size.
 template <int D>
 float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
-                      std::vector<float>& scratch) {
-  if (boxes.empty()) return 1.0f;
-  sample_largest_sides(boxes, scratch);
-  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(scratch.size() - 1));
-  std::nth_element(scratch.begin(), scratch.begin() + at, scratch.end());
-  const float quantile = scratch[static_cast<std::size_t>(at)];
-  if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, scratch);  // points only
+                      std::vector<float>& sides) {
+  if (sides.empty()) return 1.0f;
+  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(sides.size() - 1));
+  std::nth_element(sides.begin(), sides.begin() + at, sides.end());
+  const float quantile = sides[static_cast<std::size_t>(at)];
+  if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, sides);  // points only
   float magnitude = 0.0f;
   for (int k = 0; k < D; ++k) {
     magnitude = std::max({magnitude, std::abs(bounds.min[k]), std::abs(bounds.max[k])});
@@ -239,10 +240,22 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
 
 template <int D>
 void LooseGridN<D>::build(std::span<const AabbN<D>> boxes) {
-  const AabbN<D> bounds = checked_bounds_of(boxes);
-  chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
-                                                : loose_cell_size(boxes, bounds, scratch_);
-  rebuild(boxes, bounds);
+  // The cell size and the grid from a sample of the boxes (all of them when few): a box outside
+  // the sample's bounds (grown a little) is kept with the big ones, and when there are more
+  // than outlier_limit such boxes the grid is laid over the exact bounds instead.
+  try {
+    const AabbN<D> sampled = sample_boxes(boxes, scratch_);
+    chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
+                                                  : loose_cell_size(boxes, sampled, scratch_);
+    set_grid(sampled, boxes.size());
+    if (!bin(boxes)) {
+      set_grid(checked_bounds_of(boxes), boxes.size());
+      bin(boxes);
+    }
+  } catch (...) {
+    clear();
+    throw;
+  }
 }
 
 template <int D>
@@ -251,92 +264,66 @@ void LooseGridN<D>::update(std::span<const AabbN<D>> boxes) {
     build(boxes);
     return;
   }
-  rebuild(boxes, checked_bounds_of(boxes));
+  // The grid of the last call while it holds all but outlier_limit of the boxes (and fits the
+  // cell budget); else one over the exact bounds grown by kUpdateMargin and a cell, so that
+  // boxes moving on stay inside it for a while.
+  try {
+    if (cells_ <= cell_budget(boxes.size()) && bin(boxes)) return;
+    const AabbN<D> bounds = checked_bounds_of(boxes);
+    const VecN<D> margin = kUpdateMargin * bounds.size() + VecN<D>(chosen_cell_size_);
+    set_grid({bounds.min - margin, bounds.max + margin}, boxes.size());
+    bin(boxes);
+  } catch (...) {
+    clear();
+    throw;
+  }
 }
 
 template <int D>
-template <class Count>
-void LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
-                                 Count&& count) {
-  // Scalar meaning, for each box i:
-  //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
-  //   binned = hi[k] - lo[k] <= 1 on every axis
-  //   keys_[i] = binned ? key_of(lo) : big_key; count(keys_[i]); if !binned, big_ gets the box
-  // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
-  // (the border) are the constant `base`.
-  std::uint32_t stride[3] = {1, 0, 0};
-  std::uint32_t base = 1;
-  for (int k = 1; k < D; ++k) {
-    stride[k] = stride[k - 1] * static_cast<std::uint32_t>(padded_[k - 1]);
-    base += stride[k];
-  }
-  std::uint32_t* keys = keys_.data();
-  const int n = count_;
-  const auto finish = [&](int i, std::uint32_t key, bool binned) {
-    key = binned ? key : big_key;
-    keys[i] = key;
-    count(key);
-    if (!binned) [[unlikely]] big_.push_back({boxes[i], i});
-  };
-#if defined(__SSE2__)
-  // Both corners' cells in one register: the same float subtraction and multiplication as
-  // cell_of_inside, then truncation, lane by lane.
-  const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
-  const __m128i one = _mm_set1_epi32(1);
-  const VecN<D> o = grid_.origin;
-  if constexpr (D == 2) {
-    static_assert(sizeof(AabbN<2>) == 4 * sizeof(float));
-    const __m128 origin = _mm_setr_ps(o.x, o.y, o.x, o.y);
-    for (int i = 0; i < n; ++i) {
-      // (min.x, min.y, max.x, max.y) -> cells (lo.x, lo.y, hi.x, hi.y)
-      const __m128i cells = _mm_cvttps_epi32(
-          _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(&boxes[i].min.x), origin), inv));
-      const __m128i span = _mm_sub_epi32(_mm_shuffle_epi32(cells, _MM_SHUFFLE(3, 2, 3, 2)), cells);
-      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 3) == 0;
-      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(cells));
-      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(cells, 1)));
-      finish(i, lx + ly * stride[1] + base, binned);
-    }
-  } else {
-    static_assert(sizeof(AabbN<3>) == 6 * sizeof(float));
-    // Two overlapping loads: (min.x, min.y, min.z, max.x) and (min.z, max.x, max.y, max.z).
-    const __m128 origin_a = _mm_setr_ps(o.x, o.y, o.z, o.x);
-    const __m128 origin_b = _mm_setr_ps(o.z, o.x, o.y, o.z);
-    for (int i = 0; i < n; ++i) {
-      const float* f = &boxes[i].min.x;
-      const __m128i a = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f), origin_a), inv));
-      const __m128i b = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f + 2), origin_b), inv));
-      // lanes 0..2: hi - lo on x, y, z
-      const __m128i span = _mm_sub_epi32(_mm_srli_si128(b, 4), a);
-      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 7) == 0;
-      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(a));
-      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 1)));
-      const auto lz = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 2)));
-      finish(i, lx + ly * stride[1] + lz * stride[2] + base, binned);
-    }
-  }
-#else
-  for (int i = 0; i < n; ++i) {
-    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
-    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
-    bool binned = true;
-    std::uint32_t key = base;
+void LooseGridN<D>::clear() noexcept {
+  // What find_pairs and the queries read, emptied; the grid and the capacities are kept.
+  count_ = 0;
+  small_ = 0;
+  big_.clear();
+  big_by_x_.clear();
+  std::fill(starts_.begin(), starts_.end(), 0u);
+}
+
+template <int D>
+AabbN<D> LooseGridN<D>::sample_boxes(std::span<const AabbN<D>> boxes, std::vector<float>& sides) {
+  // Every box up to kCellSizeSamples, else an even stride through the span (deterministic), as
+  // sample_largest_sides: their largest sides to `sides`, and their bounds, grown on each side
+  // by kSampleMargin of their extent when not every box was sampled.
+  if (boxes.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
+  sample_largest_sides(boxes, sides);
+  const std::size_t n = boxes.size();
+  const std::size_t samples = sides.size();
+  if (samples == 0) return {};
+  AabbN<D> bounds = boxes[0];
+  for (std::size_t s = 0; s < samples; ++s) {
+    const AabbN<D>& box = boxes[s * n / samples];
+    bool good = true;
     for (int k = 0; k < D; ++k) {
-      binned &= hi[k] - lo[k] <= 1;
-      key += static_cast<std::uint32_t>(lo[k]) * stride[k];
+      good &= std::isfinite(box.min[k]) && std::isfinite(box.max[k]) && box.min[k] <= box.max[k];
     }
-    finish(i, key, binned);
+    if (!good) validate_boxes(boxes);  // throws, naming the first bad box
+    bounds = merge(bounds, box);
   }
-#endif
+  if (samples == n) return bounds;
+  const VecN<D> margin = kSampleMargin * bounds.size();
+  return {bounds.min - margin, bounds.max + margin};
 }
 
 template <int D>
-void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds) {
-  count_ = static_cast<int>(boxes.size());
-  // The grid: cells of the chosen size, widened until the cells with their border fit the
-  // budget (and 32-bit keys).
-  const std::uint64_t budget =
-      std::min<std::uint64_t>(kCellsPerBox * boxes.size() + kMinCells, std::uint64_t{1} << 31);
+std::uint64_t LooseGridN<D>::cell_budget(std::size_t boxes) noexcept {
+  return std::min<std::uint64_t>(kCellsPerBox * boxes + kMinCells, std::uint64_t{1} << 31);
+}
+
+template <int D>
+void LooseGridN<D>::set_grid(const AabbN<D>& bounds, std::size_t boxes) {
+  // Cells of the chosen size, widened until the cells with their border fit the budget (and
+  // 32-bit keys).
+  const std::uint64_t budget = cell_budget(boxes);
   double size = chosen_cell_size_;
   for (;;) {
     grid_ = make_grid_mapping(bounds, static_cast<float>(size));
@@ -347,13 +334,140 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
                     static_cast<double>(grid_.cell_size) *
                         std::pow(total / static_cast<double>(budget), 1.0 / D));
   }
-  std::uint32_t total_cells = 1;
+  cells_ = 1;
   for (int k = 0; k < D; ++k) {
     padded_[k] = grid_.dims[k] + 2;
-    total_cells *= static_cast<std::uint32_t>(padded_[k]);
+    cells_ *= static_cast<std::uint32_t>(padded_[k]);
   }
+}
+
+template <int D>
+template <class Count>
+std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
+                                        Count&& count) {
+  // Scalar meaning, for each box i:
+  //   inside = grid_.bounds contains the box, and min <= max on every axis (false for NaN)
+  //   if !inside: a bad box (not finite, min > max) throws; else the box is an outlier
+  //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
+  //   binned = inside and hi[k] - lo[k] <= 1 on every axis
+  //   keys_[i] = binned ? key_of(lo) : big_key; count(keys_[i]); if !binned, big_ gets the box
+  // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
+  // (the border) are the constant `base`. Returns the number of outliers.
+  std::uint32_t stride[3] = {1, 0, 0};
+  std::uint32_t base = 1;
+  for (int k = 1; k < D; ++k) {
+    stride[k] = stride[k - 1] * static_cast<std::uint32_t>(padded_[k - 1]);
+    base += stride[k];
+  }
+  std::uint32_t* keys = keys_.data();
+  const int n = count_;
+  std::size_t outliers = 0;
+  // A box outside the grid's bounds, or a bad one: the rare path.
+  const auto outside = [&](int i) {
+    const AabbN<D>& box = boxes[i];
+    for (int k = 0; k < D; ++k) {
+      if (!(std::isfinite(box.min[k]) && std::isfinite(box.max[k]) && box.min[k] <= box.max[k])) {
+        validate_boxes(boxes);  // throws, naming the first bad box
+      }
+    }
+    ++outliers;
+  };
+  const auto finish = [&](int i, std::uint32_t key, bool binned) {
+    key = binned ? key : big_key;
+    keys[i] = key;
+    count(key);
+    if (!binned) [[unlikely]] big_.push_back({boxes[i], i});
+  };
+  const AabbN<D> g = grid_.bounds;
+#if defined(__SSE2__)
+  // Both corners' cells in one register: the same float subtraction and multiplication as
+  // cell_of_inside, then truncation, lane by lane. The inside test compares every coordinate
+  // with a bound (+-FLT_MAX where the lane has none, so that infinities fail) and each min
+  // with its max; every comparison is false for NaN.
+  constexpr float kMax = std::numeric_limits<float>::max();
+  const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
+  const __m128i one = _mm_set1_epi32(1);
+  const VecN<D> o = grid_.origin;
+  if constexpr (D == 2) {
+    static_assert(sizeof(AabbN<2>) == 4 * sizeof(float));
+    const __m128 origin = _mm_setr_ps(o.x, o.y, o.x, o.y);
+    const __m128 lower = _mm_setr_ps(g.min.x, g.min.y, -kMax, -kMax);
+    const __m128 upper = _mm_setr_ps(kMax, kMax, g.max.x, g.max.y);
+    for (int i = 0; i < n; ++i) {
+      // v = (min.x, min.y, max.x, max.y) -> cells (lo.x, lo.y, hi.x, hi.y)
+      const __m128 v = _mm_loadu_ps(&boxes[i].min.x);
+      const __m128 in = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(lower, v), _mm_cmple_ps(v, upper)),
+                                   _mm_cmple_ps(v, _mm_movehl_ps(v, v)));
+      const __m128i cells = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(v, origin), inv));
+      const __m128i span = _mm_sub_epi32(_mm_shuffle_epi32(cells, _MM_SHUFFLE(3, 2, 3, 2)), cells);
+      const int inside = _mm_movemask_ps(in);
+      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 3) == 0 && inside == 0xF;
+      if (inside != 0xF) [[unlikely]] outside(i);
+      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(cells));
+      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(cells, 1)));
+      finish(i, lx + ly * stride[1] + base, binned);
+    }
+  } else {
+    static_assert(sizeof(AabbN<3>) == 6 * sizeof(float));
+    // Two overlapping loads: a = (min.x, min.y, min.z, max.x), b = (min.z, max.x, max.y, max.z).
+    const __m128 origin_a = _mm_setr_ps(o.x, o.y, o.z, o.x);
+    const __m128 origin_b = _mm_setr_ps(o.z, o.x, o.y, o.z);
+    const __m128 lower = _mm_setr_ps(g.min.x, g.min.y, g.min.z, -kMax);
+    const __m128 upper = _mm_setr_ps(kMax, g.max.x, g.max.y, g.max.z);
+    for (int i = 0; i < n; ++i) {
+      const float* f = &boxes[i].min.x;
+      const __m128 va = _mm_loadu_ps(f), vb = _mm_loadu_ps(f + 2);
+      // (max.x, max.y, max.z, max.x), against a for the order of each axis
+      const __m128 maxes = _mm_shuffle_ps(vb, _mm_shuffle_ps(vb, va, _MM_SHUFFLE(3, 3, 3, 3)), _MM_SHUFFLE(2, 0, 2, 1));
+      const __m128 in = _mm_and_ps(_mm_and_ps(_mm_cmple_ps(lower, va), _mm_cmple_ps(vb, upper)),
+                                   _mm_cmple_ps(va, maxes));
+      const __m128i a = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(va, origin_a), inv));
+      const __m128i b = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(vb, origin_b), inv));
+      // lanes 0..2: hi - lo on x, y, z
+      const __m128i span = _mm_sub_epi32(_mm_srli_si128(b, 4), a);
+      const int inside = _mm_movemask_ps(in);
+      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 7) == 0 && inside == 0xF;
+      if (inside != 0xF) [[unlikely]] outside(i);
+      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(a));
+      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 1)));
+      const auto lz = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 2)));
+      finish(i, lx + ly * stride[1] + lz * stride[2] + base, binned);
+    }
+  }
+#else
+  for (int i = 0; i < n; ++i) {
+    const AabbN<D>& box = boxes[i];
+    bool inside = true;
+    for (int k = 0; k < D; ++k) {
+      inside &= g.min[k] <= box.min[k] && box.min[k] <= box.max[k] && box.max[k] <= g.max[k];
+    }
+    if (!inside) [[unlikely]] {
+      outside(i);
+      finish(i, 0, false);
+      continue;
+    }
+    const CellN<D> lo = grid_.cell_of_inside(box.min);
+    const CellN<D> hi = grid_.cell_of_inside(box.max);
+    bool binned = true;
+    std::uint32_t key = base;
+    for (int k = 0; k < D; ++k) {
+      binned &= hi[k] - lo[k] <= 1;
+      key += static_cast<std::uint32_t>(lo[k]) * stride[k];
+    }
+    finish(i, key, binned);
+  }
+#endif
+  return outliers;
+}
+
+template <int D>
+bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
+  if (boxes.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
+  count_ = static_cast<int>(boxes.size());
+  const std::uint32_t total_cells = cells_;
   // Big boxes share one bucket after every cell, so they sort after the binned ones.
   const std::uint32_t big_key = total_cells;
+  const std::size_t max_outliers = outlier_limit(boxes.size());
 
   // Capacities for every box at once: a frame with a few more binned boxes than the last must
   // not double a vector (no allocation in the steady state, memory per object stays flat).
@@ -362,7 +476,7 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
   stride_ = boxes.size() + kPad;
   coords_.resize(2 * D * stride_);
   records_.resize(stride_);
-  starts_.reserve(budget + 3);
+  starts_.reserve(cell_budget(boxes.size()) + 3);
   Record* records = records_.data();
   const std::uint32_t* keys = keys_.data();
   const int band_bits = options_.band_bits;
@@ -374,12 +488,15 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     // starts_[key] is the first slot of cell key and starts_[key + 1] its end.
     starts_.assign(total_cells + 3, 0u);
     std::uint32_t* starts = starts_.data();
-    compute_keys(boxes, big_key, [starts](std::uint32_t key) { ++starts[key + 2]; });
+    if (compute_keys(boxes, big_key, [starts](std::uint32_t key) { ++starts[key + 2]; }) > max_outliers) {
+      return false;
+    }
     inclusive_prefix_sum(starts + 1, total_cells + 2);
     for (int i = 0; i < count_; ++i) {
       const std::uint32_t key = keys[i];
       records[starts[key + 1]++] = {key, i};
     }
+    gather(boxes);
   } else {
     // The same counting sort in two steps, so that its random accesses stay in cache on large
     // grids: the records are first distributed (stably) into bands of 2^band_bits consecutive
@@ -388,7 +505,9 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     band_starts_.assign(bands + 2, 0u);
     std::uint32_t* band_starts = band_starts_.data();
     const auto band_of = [=](std::uint32_t key) { return key == big_key ? bands : key >> band_bits; };
-    compute_keys(boxes, big_key, [=](std::uint32_t key) { ++band_starts[band_of(key) + 1]; });
+    if (compute_keys(boxes, big_key, [=](std::uint32_t key) { ++band_starts[band_of(key) + 1]; }) > max_outliers) {
+      return false;
+    }
     for (std::uint32_t b = 1; b <= bands + 1; ++b) band_starts[b] += band_starts[b - 1];
     staged_.resize(boxes.size());
     Record* staged = staged_.data();
@@ -401,13 +520,14 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     for (int s = 0; s < count_; ++s) ++starts[staged[s].key + 2];
     inclusive_prefix_sum(starts + 1, total_cells + 2);
     for (int s = 0; s < count_; ++s) records[starts[staged[s].key + 1]++] = staged[s];
+    gather(boxes);
   }
   small_ = starts_[total_cells];
-  gather(boxes);
   big_by_x_.assign(big_.begin(), big_.end());
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
     return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.id < b.id);
   });
+  return true;
 }
 
 template <int D>
@@ -668,8 +788,9 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
   BroadPair*& out = sink.out;
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
+  // (cell_of clamps: a big box may be an outlier, outside the grid.)
   for (const Entry& b : big_) {
-    for_each_run(grid_.cell_of_inside(b.box.min) - 1, grid_.cell_of_inside(b.box.max),
+    for_each_run(grid_.cell_of(b.box.min) - 1, grid_.cell_of(b.box.max),
                  [&](std::uint32_t first, std::uint32_t last) {
                    return for_each_overlap(b.box, first, last, [&](std::uint32_t f) {
                      reserve(1);

@@ -18,9 +18,14 @@
 /// gives each cell its first slot, a second pass writes each box's (key, id) record to its
 /// slot, ids ascending in a cell, and a last pass copies the boxes in that order (sequential
 /// writes; the random accesses are 8-byte records and box reads). The grid is dense over the
-/// occupied bounds, with a border of empty cells so that every neighbour of an occupied cell
+/// boxes' bounds, with a border of empty cells so that every neighbour of an occupied cell
 /// exists; when the cells from the requested size would exceed kCellsPerBox per box, the cells
-/// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. Clustered,
+/// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. There is
+/// no separate pass for the bounds: build lays the grid over the bounds of the boxes it samples
+/// for the cell size, grown a little, and update keeps the grid of the last call; the key pass
+/// validates each box and tests it against the grid's bounds, and a box outside (an outlier)
+/// is kept with the big boxes. Only when there are more than outlier_limit of them is the grid
+/// laid over the exact bounds (grown by kUpdateMargin in update). Clustered,
 /// sparse worlds are better served by SortedGrid, mixed sizes by HierarchicalGrid (here the big
 /// boxes are tested per cell range against the small ones and by a sweep along x against each
 /// other).
@@ -70,6 +75,13 @@ class LooseGridN {
     int id;
   };
 
+  /// A sample's bounds are grown by this fraction of their extent on each side to lay the grid
+  /// of build: with kCellSizeSamples boxes sampled from a uniform world, a box lies beyond on a
+  /// side with probability about e^-4.
+  static constexpr float kSampleMargin = 4.0f / static_cast<float>(kCellSizeSamples);
+  /// When update lays a new grid (too many boxes left the last one), the exact bounds are grown
+  /// by this fraction of their extent, plus one cell, on each side.
+  static constexpr float kUpdateMargin = 1.0f / 32.0f;
   /// Most grid cells per box (border included) before the cells are widened.
   static constexpr std::uint64_t kCellsPerBox = 4;
   /// Cells every grid may use regardless of the number of boxes (small worlds).
@@ -80,9 +92,12 @@ class LooseGridN {
   /// outside [0, 31].
   explicit LooseGridN(Options options);
 
-  /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
+  /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max,
+  /// leaving the grid empty (size 0) until the next build or update.
   void build(std::span<const AabbN<D>> boxes);
-  /// Rebuilds from the moved boxes, keeping the cell size chosen at build. Throws as build.
+  /// Rebuilds from the moved boxes, keeping the cell size chosen at build and, while it still
+  /// holds all but a few of the boxes, the grid of the last call (so the order of the pairs,
+  /// never their set, may depend on earlier calls). Throws as build.
   void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: small pairs by the stored entry of the first
@@ -111,11 +126,27 @@ class LooseGridN {
   // Entries past the last that a four-wide load may read: the arrays are padded with this many.
   static constexpr std::size_t kPad = 8;
 
-  void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds);
-  // keys_[i] for every box (kBig bucket for big ones, which also go to big_); count(key) is
-  // called for each.
+  // Empties what find_pairs and the queries read (after a throw).
+  void clear() noexcept;
+  // A box outside the grid (an outlier) is kept with the big ones while there are at most
+  // this many; with more, the grid is laid again over the boxes' exact bounds.
+  static std::size_t outlier_limit(std::size_t boxes) noexcept { return boxes / 1024 + 8; }
+  // Most cells (with the border) for a grid of that many boxes.
+  static std::uint64_t cell_budget(std::size_t boxes) noexcept;
+  // The largest sides of a sample of the boxes into `sides`, and the sample's bounds (grown by
+  // kSampleMargin of their extent when the sample is not every box). Throws as build for a
+  // bad sampled box (naming the first bad box of the span).
+  static AabbN<D> sample_boxes(std::span<const AabbN<D>> boxes, std::vector<float>& sides);
+  // grid_, padded_ and cells_ for these bounds with the chosen cell size, widened to the budget
+  // of that many boxes.
+  void set_grid(const AabbN<D>& bounds, std::size_t boxes);
+  // Sorts the boxes into grid_: keys, counting sort, gather. Returns false (the grid left
+  // unusable) when more than outlier_limit boxes lie outside grid_.bounds. Throws as build.
+  bool bin(std::span<const AabbN<D>> boxes);
+  // keys_[i] for every box (the big bucket for big boxes and outliers, which also go to big_);
+  // count(key) is called for each. Returns the number of outliers; throws for a bad box.
   template <class Count>
-  void compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
+  std::size_t compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
   // Copies the boxes into the coordinate arrays in the order of records_.
   void gather(std::span<const AabbN<D>> boxes) noexcept;
   // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
@@ -156,6 +187,7 @@ class LooseGridN {
   Options options_{};
   GridMapping<D> grid_{};
   CellN<D> padded_{1};              // cells per axis with the border: grid_.dims + 2
+  std::uint32_t cells_ = 1;         // cells with the border: the product of padded_
   float chosen_cell_size_ = 0.0f;   // from the data at build; kept by update
   int count_ = 0;
   std::uint32_t small_ = 0;         // binned boxes: entries [0, small_) of the sorted arrays
