@@ -17,8 +17,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace collide {
 namespace {
@@ -321,6 +323,50 @@ TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
   check(test::mixed_size_world<3>(rng, 600, 80.0f), "mixed");
   check(test::touching_world<2>(rng, 400, 12), "touching");
   check(test::touching_world<3>(rng, 400, 6), "touching");
+}
+
+// A band holding more than kBandCopy boxes is sorted without copying its boxes out: 140000
+// boxes on a grid of two bands, the first with more than half the cells. Pairs (and their
+// order) as the one-step sort, and the set as a plain sweep along x.
+TEST(LooseGrid, CrowdedBandMatchesTheOneStepSort) {
+  std::mt19937 rng(88);
+  constexpr int n = 140000;
+  const test::Boxes<2> boxes = test::uniform_world<2>(rng, n, 180.0f, 0.1f, 0.5f);
+  LooseGrid one_step({.one_step_bits = 31});
+  one_step.build(boxes);
+  PairList want;
+  one_step.find_pairs(want);
+  // Bands of 2^bits cells, bits the largest with two bands; the boxes of the first band.
+  const CellN<2> dims = one_step.grid().dims;
+  const auto cells = static_cast<std::uint32_t>((dims.x + 2) * (dims.y + 2));
+  const int bits = std::bit_width(cells - 1) - 1;
+  int in_first_band = 0;
+  for (const Aabb& b : boxes) {
+    const CellN<2> c = one_step.grid().cell_of(b.min);
+    const auto key = static_cast<std::uint32_t>((c.y + 1) * (dims.x + 2) + c.x + 1);
+    in_first_band += (key >> bits) == 0;
+  }
+  ASSERT_GT(in_first_band, static_cast<int>(LooseGrid::kBandCopy));
+  LooseGrid banded({.one_step_bits = 0, .band_bits = bits});
+  banded.build(boxes);
+  PairList got;
+  banded.find_pairs(got);
+  EXPECT_EQ(got, want);
+  // The sweep: boxes by min.x, each against those starting before its max.x.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[a].min.x < boxes[b].min.x; });
+  PairList swept;
+  for (int i = 0; i < n; ++i) {
+    const Aabb& a = boxes[order[i]];
+    for (int j = i + 1; j < n && boxes[order[j]].min.x <= a.max.x; ++j) {
+      if (overlap(a, boxes[order[j]])) swept.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
+    }
+  }
+  sort_pairs(swept);
+  sort_pairs(got);
+  EXPECT_EQ(got, swept);
+  EXPECT_GT(swept.size(), static_cast<std::size_t>(n / 4));
 }
 
 // Cells holding many boxes: the neighbour runs are longer than one four-wide test (the pair

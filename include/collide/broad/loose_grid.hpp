@@ -82,6 +82,9 @@ class LooseGridN {
   /// When update lays a new grid (too many boxes left the last one), the exact bounds are grown
   /// by this fraction of their extent, plus one cell, on each side.
   static constexpr float kUpdateMargin = 1.0f / 32.0f;
+  /// On grids sorted band by band, the most boxes of one band that are copied out to be read
+  /// in id order: a band with more (a crowded world) reads them straight from the span.
+  static constexpr std::uint32_t kBandCopy = 1u << 16;
   /// Most grid cells per box (border included) before the cells are widened.
   static constexpr std::uint64_t kCellsPerBox = 4;
   /// Cells every grid may use regardless of the number of boxes (small worlds).
@@ -147,8 +150,14 @@ class LooseGridN {
   // count(key) is called for each. Returns the number of outliers; throws for a bad box.
   template <class Count>
   std::size_t compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
-  // Copies the boxes into the coordinate arrays in the order of records_.
-  void gather(std::span<const AabbN<D>> boxes) noexcept;
+  // Sorts by cell the band whose records are records_[first, last) in id order, its cells in
+  // [first_cell, last_cell): records, cell starts and coordinates of its slots.
+  void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t first, std::uint32_t last,
+                 std::uint32_t first_cell, std::uint32_t last_cell);
+  // Copies box_of(e) into the coordinate arrays at entry e, for e in [first, last); with
+  // kStream, by streaming stores.
+  template <bool kStream, class BoxOf>
+  void gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of) noexcept;
   // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
   struct PairSink;
   // The small-small pairs of the entries e in [first, last), or, when kListed, of
@@ -205,8 +214,12 @@ class LooseGridN {
   std::vector<Record> records_;
   std::size_t stride_ = 0;
   std::vector<float> coords_;
-  std::vector<Record> staged_;  // on grids sorted band by band: the entries by band
-  std::vector<std::uint32_t> band_starts_;
+  std::vector<std::uint32_t> band_starts_;  // on grids sorted band by band: where each band ends
+  // On grids sorted band by band, one band at a time: its boxes in id order, its records by
+  // cell and the position of each one's box among band_boxes_.
+  std::vector<AabbN<D>> band_boxes_;
+  std::vector<Record> band_records_;
+  std::vector<std::uint32_t> band_of_;
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
