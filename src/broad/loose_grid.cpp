@@ -622,21 +622,23 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fir
   }
   band_boxes_.resize(m);
   band_of_.resize(m);
-  AabbN<D>* copy = band_boxes_.data();
-  for (std::uint32_t s = 0; s < m; ++s) {
-#if defined(__SSE2__)
-    constexpr std::uint32_t kAhead = 16;
-    if (s + kAhead < m) _mm_prefetch(reinterpret_cast<const char*>(&boxes[from[s + kAhead].id]), _MM_HINT_T0);
-#endif
-    copy[s] = boxes[from[s].id];
-  }
-  // of[slot - first]: the position in the copy of the box of that slot.
+  // of[slot - first]: the position in the copy of the box of that slot. (The records are placed
+  // before the sweep through the span, which pushes much else out of the cache.)
   std::uint32_t* of = band_of_.data();
   for (std::uint32_t s = 0; s < m; ++s) {
     const std::uint32_t at = starts[from[s].key + 1]++ - first;
     placed[at] = from[s];
     of[at] = s;
   }
+  AabbN<D>* copy = band_boxes_.data();
+  for (std::uint32_t s = 0; s < m; ++s) {
+#if defined(__SSE2__)
+    constexpr std::uint32_t kAhead = 48;
+    if (s + kAhead < m) _mm_prefetch(reinterpret_cast<const char*>(&boxes[from[s + kAhead].id]), _MM_HINT_T0);
+#endif
+    copy[s] = boxes[from[s].id];
+  }
+  // (records_[first, last) is read up to here, by id, and overwritten only now.)
   stream_copy(placed, placed + m, records + first);
   gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return copy[of[e - first]]; });
 }
