@@ -210,7 +210,8 @@ inline Lanes run_lanes(const float* coords, std::size_t stride, std::uint32_t f,
   constexpr Side kSide[3] = {Side::kSame, kY, kZ};
   const float* p = coords + f;
 #if defined(__SSE2__)
-  __m128 in = _mm_load_ps(reinterpret_cast<const float*>(kRunLanes[std::min(n, kLanes)]));
+  // lane j is in the run when j < n (n as a signed int: runs are far shorter than 2^31)
+  __m128 in = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_set1_epi32(static_cast<int>(n)), _mm_setr_epi32(0, 1, 2, 3)));
   for (int k = 0; k < D; ++k) {
     if (kSide[k] != Side::kBelow) in = _mm_and_ps(in, _mm_cmple_ps(_mm_loadu_ps(p + k * stride), probe.max[k]));
     if (kSide[k] != Side::kAbove) in = _mm_and_ps(in, _mm_cmpnlt_ps(_mm_loadu_ps(p + (D + k) * stride), probe.min[k]));
@@ -776,7 +777,7 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
   // one group, kLonger) is noted as a hit, and the hits' pairs are written after the block, so
   // the test loop keeps no run bounds for the rare pairs.
   constexpr std::uint32_t kBlock = 256;
-  constexpr std::uint32_t kLonger = 1u << 31;
+  constexpr std::uint32_t kLonger = 1u << 31;  // set below as (longer >= 8) << 31
   struct Hit {
     std::uint32_t entry;
     std::uint32_t mask;  // bit 4r + j: entry j of run r overlaps; kLonger: more to test
@@ -799,13 +800,14 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
       std::uint32_t length = cell[2] - (e + 1);
       std::uint32_t longer = length + (kLanes - 1);
       lanes[0] = run_lanes<D, Side::kSame, Side::kSame>(coords, stride, e + 1, length, probe);
+      const std::uint32_t* row = cell;  // the starts of row R's first cell: row[0] .. row[3]
       [&]<std::size_t... R>(std::index_sequence<R...>) {
-        ((length = cell[rows[R] + 3] - cell[rows[R]], longer |= length + (kLanes - 1),
-          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, cell[rows[R]],
+        ((row = cell + rows[R], length = row[3] - row[0], longer |= length + (kLanes - 1),
+          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, row[0],
                                                                           length, probe)),
          ...);
       }(std::make_index_sequence<kRows>{});
-      const std::uint32_t mask = lane_bits(lanes) | (longer >= 2 * kLanes ? kLonger : 0u);
+      const std::uint32_t mask = lane_bits(lanes) | static_cast<std::uint32_t>(longer >= 2 * kLanes) << 31;
       hits[hit_count] = {e, mask};
       hit_count += mask != 0 ? 1u : 0u;
     }
@@ -813,18 +815,33 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
       const std::uint32_t e = hits[h].entry;
       const Record record = records[e];
       const std::uint32_t* cell = starts + record.key;
-      std::uint32_t first[kRuns], last[kRuns];
+      // first[kRuns] = e: the entry read for the sentinel bit below.
+      std::uint32_t first[kRuns + 1], last[kRuns];
       first[0] = e + 1;
       last[0] = cell[2];
       for (int r = 0; r < kRows; ++r) {
         first[r + 1] = cell[rows[r]];
         last[r + 1] = cell[rows[r] + 3];
       }
-      sink.reserve(kLanes * kRuns);
-      for (std::uint32_t m = hits[h].mask & ~kLonger; m != 0; m &= m - 1) {
-        const auto b = static_cast<std::uint32_t>(std::countr_zero(m));
-        sink.out[sink.n++] = ordered_pair(record.id, records[first[b / kLanes] + b % kLanes].id);
+      first[kRuns] = e;
+      sink.reserve(kLanes * kRuns + 2);
+      // Each set bit b is the pair with entry first[b / 4] + b % 4. The first two without a
+      // branch (most hits have one or two; how many is not predictable): with fewer bits, the
+      // sentinel bit 4 * kRuns picks entry e and the write is not kept.
+      constexpr std::uint32_t kSentinel = 1u << (kLanes * kRuns);
+      const auto entry_of = [&](std::uint32_t b) { return first[b / kLanes] + b % kLanes; };
+      BroadPair* out = sink.out;
+      std::size_t n = sink.n;
+      std::uint32_t m = hits[h].mask & ~kLonger;
+      for (int k = 0; k < 2; ++k) {
+        out[n] = ordered_pair(record.id, records[entry_of(static_cast<std::uint32_t>(std::countr_zero(m | kSentinel)))].id);
+        n += m != 0 ? 1u : 0u;
+        m &= m - 1;
       }
+      for (; m != 0; m &= m - 1) {
+        out[n++] = ordered_pair(record.id, records[entry_of(static_cast<std::uint32_t>(std::countr_zero(m)))].id);
+      }
+      sink.n = n;
       if (hits[h].mask & kLonger) [[unlikely]] {
         const Probe<D> probe = probe_at<D>(coords, stride, e);
         for (int r = 0; r < kRuns; ++r) {
