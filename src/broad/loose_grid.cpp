@@ -193,10 +193,6 @@ using Lanes = __m128;
 using Lanes = std::uint32_t;
 #endif
 
-/// The lanes of a run of n entries (n clamped to kLanes): lane j set for j < n.
-alignas(16) constexpr std::uint32_t kRunLanes[kLanes + 1][kLanes] = {
-    {0, 0, 0, 0}, {~0u, 0, 0, 0}, {~0u, ~0u, 0, 0}, {~0u, ~0u, ~0u, 0}, {~0u, ~0u, ~0u, ~0u}};
-
 /// overlap_mask, restricted to the first n of the four entries, for stored boxes whose
 /// min-corner cells lie on the side kY (and kZ in 3D) of the probe box's cell on y (and z),
 /// as lanes. On an axis where that cell is above, the stored box's min is above the probe's
@@ -847,8 +843,8 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
         for (int r = 0; r < kRuns; ++r) {
           for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
             sink.reserve(kLanes);
-            for (std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f); m != 0; m &= m - 1) {
-              sink.out[sink.n++] = ordered_pair(record.id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
+            for (std::uint32_t more = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f); more != 0; more &= more - 1) {
+              sink.out[sink.n++] = ordered_pair(record.id, records[f + static_cast<std::uint32_t>(std::countr_zero(more))].id);
             }
           }
         }
