@@ -315,6 +315,7 @@ void LooseGridN<D>::clear() noexcept {
   small_ = 0;
   big_.clear();
   big_by_x_.clear();
+  band_counts_.clear();
   std::fill(starts_.begin(), starts_.end(), 0u);
 }
 
@@ -373,6 +374,7 @@ void LooseGridN<D>::set_grid(const AabbN<D>& bounds, std::size_t boxes) {
                     static_cast<double>(grid_.cell_size) *
                         std::pow(total / static_cast<double>(budget), 1.0 / D));
   }
+  band_counts_.clear();  // the bands of an earlier grid say nothing of this one
   cells_ = 1;
   for (int k = 0; k < D; ++k) {
     padded_[k] = grid_.dims[k] + 2;
@@ -383,13 +385,14 @@ void LooseGridN<D>::set_grid(const AabbN<D>& bounds, std::size_t boxes) {
 template <int D>
 template <class Count>
 std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
-                                        Count&& count) {
+                                        bool store_keys, Count&& count) {
   // Scalar meaning, for each box i (the loop at the end, which also does the last boxes):
   //   inside = grid_.bounds contains the box, and min <= max on every axis (false for NaN)
   //   if !inside: a bad box (not finite, min > max) throws; else the box is an outlier
   //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
   //   binned = inside and hi[k] - lo[k] <= 1 on every axis
-  //   keys_[i] = binned ? key_of(lo) : big_key; count(keys_[i]); if !binned, big_ gets the box
+  //   key = binned ? key_of(lo) : big_key; count(key, i); if !binned, big_ gets the box;
+  //   with store_keys, keys_[i] = key
   // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
   // (the border) are the constant `base`. Returns the number of outliers.
   std::uint32_t stride[3] = {1, 0, 0};
@@ -402,6 +405,7 @@ std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::ui
   const int n = count_;
   std::size_t outliers = 0;
   const AabbN<D> g = grid_.bounds;
+  alignas(16) std::uint32_t four[4];  // the keys of four boxes when not stored
   // The boxes that are not binned: outliers (or bad boxes, which throw) and big ones.
   const auto not_binned = [&](int i, bool inside) {
     if (!inside) {
@@ -475,8 +479,9 @@ std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::ui
     }
     const __m128i binned = _mm_andnot_si128(wide, _mm_castps_si128(inside));
     key = _mm_or_si128(_mm_and_si128(binned, key), _mm_andnot_si128(binned, big));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i), key);
-    for (int j = 0; j < 4; ++j) count(keys[i + j]);
+    std::uint32_t* to = store_keys ? keys + i : four;
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(to), key);
+    for (int j = 0; j < 4; ++j) count(to[j], i + j);
     const int binned_lanes = _mm_movemask_ps(_mm_castsi128_ps(binned));
     if (binned_lanes != 0xF) [[unlikely]] {
       const int inside_lanes = _mm_movemask_ps(inside);
@@ -502,8 +507,9 @@ std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::ui
         key += static_cast<std::uint32_t>(lo[k]) * stride[k];
       }
     }
-    keys[i] = binned ? key : big_key;
-    count(keys[i]);
+    key = binned ? key : big_key;
+    if (store_keys) keys[i] = key;
+    count(key, i);
     if (!binned) [[unlikely]] not_binned(i, inside);
   }
   return outliers;
@@ -538,7 +544,7 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
     // starts_[key] is the first slot of cell key and starts_[key + 1] its end.
     starts_.assign(total_cells + 3, 0u);
     std::uint32_t* starts = starts_.data();
-    if (compute_keys(boxes, big_key, [starts](std::uint32_t key) { ++starts[key + 2]; }) > max_outliers) {
+    if (compute_keys(boxes, big_key, true, [starts](std::uint32_t key, int) { ++starts[key + 2]; }) > max_outliers) {
       return false;
     }
     inclusive_prefix_sum(starts + 1, total_cells + 2);
@@ -552,30 +558,77 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
     // grids: the records are first distributed (stably) into bands of 2^band_bits consecutive
     // cells (the big bucket last); then each band is sorted by cell on its own (sort_band),
     // touching one band's cell starts and slots at a time, and its boxes are read in id order.
+    // region[b]: where the records of band b are distributed (band `bands` is the big bucket).
     band_starts_.assign(bands + 2, 0u);
-    std::uint32_t* band_starts = band_starts_.data();
+    std::uint32_t* region = band_starts_.data();
     const auto band_of = [=](std::uint32_t key) { return key == big_key ? bands : key >> band_bits; };
-    if (compute_keys(boxes, big_key, [=](std::uint32_t key) { ++band_starts[band_of(key) + 1]; }) > max_outliers) {
-      return false;
+    bool distributed = false;
+    if (band_counts_.size() == bands + 1) {
+      // Update on the grid of a last call that was sorted by band: each band's region is sized
+      // from its count then, with slack, so the key pass writes each record straight there
+      // (no pass counting the bands first, no stored keys). A band that outgrew its region
+      // falls back to the counting below.
+      std::uint32_t at = 0;
+      for (std::uint32_t b = 0; b <= bands; ++b) {
+        region[b] = at;
+        at += band_counts_[b] + band_counts_[b] / 8 + 16;
+      }
+      region[bands + 1] = at;
+      records_.resize(std::max<std::size_t>(stride_, at));
+      band_next_.assign(region, region + bands + 1);
+      std::uint32_t* next = band_next_.data();
+      Record* to = records_.data();
+      bool overflow = false;
+      if (compute_keys(boxes, big_key, false, [&](std::uint32_t key, int i) {
+            const std::uint32_t b = band_of(key);
+            if (next[b] == region[b + 1]) [[unlikely]] {
+              overflow = true;
+              return;
+            }
+            to[next[b]++] = {key, i};
+          }) > max_outliers) {
+        return false;
+      }
+      distributed = !overflow;
+      if (distributed) {
+        for (std::uint32_t b = 0; b <= bands; ++b) band_counts_[b] = next[b] - region[b];
+      } else {
+        big_.clear();
+      }
     }
-    for (std::uint32_t b = 1; b <= bands + 1; ++b) band_starts[b] += band_starts[b - 1];
-    // The records go by band straight into their final array, sorted within each band after.
-    for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = keys[i];
-      records[band_starts[band_of(key)]++] = {key, i};
+    if (!distributed) {
+      // Count the boxes of each band, then distribute them to consecutive regions.
+      band_counts_.assign(bands + 1, 0u);
+      std::uint32_t* counts = band_counts_.data();
+      if (compute_keys(boxes, big_key, true, [=](std::uint32_t key, int) { ++counts[band_of(key)]; }) > max_outliers) {
+        band_counts_.clear();
+        return false;
+      }
+      region[0] = 0;
+      for (std::uint32_t b = 0; b <= bands; ++b) region[b + 1] = region[b] + counts[b];
+      band_next_.assign(region, region + bands + 1);
+      std::uint32_t* next = band_next_.data();
+      records = records_.data();
+      for (int i = 0; i < count_; ++i) {
+        const std::uint32_t key = keys[i];
+        records[next[band_of(key)]++] = {key, i};
+      }
     }
-    // band_starts[b] is now the end of band b, the first slot of band b + 1.
+    records = records_.data();
+    // Each band sorted to the slots after the band before: at or before its region, so no
+    // band overwrites one not sorted yet.
     starts_.resize(total_cells + 3);
     starts_[0] = 0;
+    std::uint32_t slot = 0;
     for (std::uint32_t b = 0; b < bands; ++b) {
       const std::uint32_t first_cell = b << band_bits;
-      sort_band(boxes, b == 0 ? 0 : band_starts[b - 1], band_starts[b], first_cell,
+      sort_band(boxes, region[b], band_counts_[b], slot, first_cell,
                 std::min(total_cells, first_cell + (std::uint32_t{1} << band_bits)));
+      slot += band_counts_[b];
     }
-    // The big bucket, in place in id order; the one-step sort leaves its end in the two last
-    // cell starts.
-    const std::uint32_t first_big = band_starts[bands - 1];
-    gather<false>(first_big, static_cast<std::uint32_t>(count_), [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
+    // The big bucket, in id order; the one-step sort leaves its end in the two last cell starts.
+    std::copy(records + region[bands], records + region[bands] + band_counts_[bands], records + slot);
+    gather<false>(slot, static_cast<std::uint32_t>(count_), [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
     starts_[total_cells + 1] = starts_[total_cells + 2] = static_cast<std::uint32_t>(count_);
   }
   small_ = starts_[total_cells];
@@ -587,21 +640,22 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
 }
 
 template <int D>
-void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t first,
-                              std::uint32_t last, std::uint32_t first_cell,
+void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot,
+                              std::uint32_t m, std::uint32_t first, std::uint32_t first_cell,
                               std::uint32_t last_cell) {
-  // records_[first, last) holds the band's records in id order, their cells in [first_cell,
-  // last_cell). The counting sort of bin's one-step path on the band's cell starts
-  // (starts_[first_cell] is the end of the band before, set already), into copies that stay
-  // in cache: the records placed there by cell and the boxes read in id order (a forward sweep
-  // through the span, not a random read per box); then both are written out in slot order,
-  // with streaming stores (a million boxes do not stay in cache until the pair pass anyway).
+  // records_[from_slot, from_slot + m) holds the band's records in id order, their cells in
+  // [first_cell, last_cell); they go to slots [first, first + m), first <= from_slot. The
+  // counting sort of bin's one-step path on the band's cell starts (starts_[first_cell] is the
+  // end of the band before, set already), into copies that stay in cache: the records placed
+  // there by cell and the boxes read in id order (a forward sweep through the span, not a
+  // random read per box); then both are written out in slot order, with streaming stores (a
+  // million boxes do not stay in cache until the pair pass anyway).
   std::uint32_t* starts = starts_.data();
   starts[first_cell + 1] = first;
   std::fill(starts + first_cell + 2, starts + last_cell + 2, 0u);
   Record* records = records_.data();
-  const Record* from = records + first;
-  const std::uint32_t m = last - first;
+  const Record* from = records + from_slot;
+  const std::uint32_t last = first + m;
   for (std::uint32_t s = 0; s < m; ++s) {
     prefetch_ahead(from, s, m);
     ++starts[from[s].key + 2];
@@ -635,7 +689,7 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fir
 #endif
     copy[s] = boxes[from[s].id];
   }
-  // (records_[first, last) is read up to here, by id, and overwritten only now.)
+  // (The band's records are read up to here, by id, and overwritten only now.)
   stream_copy(placed, placed + m, records + first);
   gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return copy[of[e - first]]; });
 }
@@ -883,8 +937,8 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
     // (each list has four slots of slack).
     constexpr std::uint32_t kChunk = 256;
     std::uint32_t lists[4][kChunk + kLanes];
-    const float* coords = coords_.data();
-    const std::size_t stride = stride_;
+    [[maybe_unused]] const float* coords = coords_.data();
+    [[maybe_unused]] const std::size_t stride = stride_;
     const std::uint32_t small = small_;
     for (std::uint32_t begin = 0; begin < small; begin += kChunk) {
       const std::uint32_t end = std::min(small, begin + kChunk);
@@ -1052,7 +1106,7 @@ std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
          coords_.capacity() * sizeof(float) +
          records_.capacity() * sizeof(Record) +
-         (band_starts_.capacity() + band_of_.capacity()) * sizeof(std::uint32_t) +
+         (band_starts_.capacity() + band_next_.capacity() + band_counts_.capacity() + band_of_.capacity()) * sizeof(std::uint32_t) +
          band_boxes_.capacity() * sizeof(AabbN<D>) + band_records_.capacity() * sizeof(Record) +
          (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);

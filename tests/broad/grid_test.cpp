@@ -325,6 +325,52 @@ TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
   check(test::touching_world<3>(rng, 400, 6), "touching");
 }
 
+// update on a grid sorted band by band writes each record straight into a region sized from
+// the band's count in the last call: frames of small motions (every band within its slack),
+// then half the boxes crowding into a corner of the grid (their bands outgrow the slack, the
+// count is taken again), then spreading back. Every frame against brute force, and the pairs
+// (with their order) as a fresh build sorted the same way.
+TEST(LooseGrid, UpdateByBandsMatchesBruteForceAsBandsGrowAndShrink) {
+  std::mt19937 rng(61);
+  const auto check = [&]<int D>() {
+    const float extent = D == 2 ? 30.0f : 10.0f;
+    auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 2500, extent, 0.1f, 0.6f), extent, 0.15f);
+    const typename LooseGridN<D>::Options options{.cell_size = 1.5f, .one_step_bits = 0, .band_bits = 6};
+    LooseGridN<D> grid(options);
+    grid.build(world.boxes);
+    const auto frame = [&](const std::string& what) {
+      grid.update(world.boxes);
+      PairList got;
+      grid.find_pairs(got);
+      LooseGridN<D> fresh(options);
+      fresh.build(world.boxes);
+      PairList again;
+      fresh.find_pairs(again);
+      PairList sorted = got;
+      sort_pairs(sorted);
+      EXPECT_EQ(sorted, brute_pairs<D>(world.boxes)) << D << " " << what;
+      if (grid.grid().bounds.min == fresh.grid().bounds.min && grid.grid().bounds.max == fresh.grid().bounds.max) {
+        EXPECT_EQ(got, again) << D << " " << what;
+      }
+    };
+    for (int f = 0; f < 5; ++f) {
+      world.step();
+      frame("small motions " + std::to_string(f));
+    }
+    const test::Boxes<D> before = world.boxes;
+    for (std::size_t i = 0; i < world.boxes.size(); i += 2) {
+      world.boxes[i] = test::box_at<D>(VecN<D>(-extent + 2.0f) + test::random_vec<D>(rng, 0.0f, 3.0f), VecN<D>(0.3f));
+    }
+    frame("crowded corner");
+    world.boxes = before;
+    frame("spread again");
+    world.step();
+    frame("small motion after");
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
 // A band holding more than kBandCopy boxes is sorted without copying its boxes out: 140000
 // boxes on a grid of two bands, the first with more than half the cells. Pairs (and their
 // order) as the one-step sort, and the set as a plain sweep along x.

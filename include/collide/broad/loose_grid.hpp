@@ -146,14 +146,17 @@ class LooseGridN {
   // Sorts the boxes into grid_: keys, counting sort, gather. Returns false (the grid left
   // unusable) when more than outlier_limit boxes lie outside grid_.bounds. Throws as build.
   bool bin(std::span<const AabbN<D>> boxes);
-  // keys_[i] for every box (the big bucket for big boxes and outliers, which also go to big_);
-  // count(key) is called for each. Returns the number of outliers; throws for a bad box.
+  // The key of every box (the big bucket for big boxes and outliers, which also go to big_),
+  // to keys_[i] when store_keys; count(key, i) is called for each. Returns the number of
+  // outliers; throws for a bad box.
   template <class Count>
-  std::size_t compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
-  // Sorts by cell the band whose records are records_[first, last) in id order, its cells in
-  // [first_cell, last_cell): records, cell starts and coordinates of its slots.
-  void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t first, std::uint32_t last,
-                 std::uint32_t first_cell, std::uint32_t last_cell);
+  std::size_t compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, bool store_keys,
+                           Count&& count);
+  // Sorts by cell the m records of a band at records_[from_slot...] in id order, their cells
+  // in [first_cell, last_cell), to slots [first, first + m) (first <= from_slot): records,
+  // cell starts and coordinates.
+  void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot, std::uint32_t m,
+                 std::uint32_t first, std::uint32_t first_cell, std::uint32_t last_cell);
   // Copies box_of(e) into the coordinate arrays at entry e, for e in [first, last); with
   // kStream, by streaming stores.
   template <bool kStream, class BoxOf>
@@ -214,7 +217,12 @@ class LooseGridN {
   std::vector<Record> records_;
   std::size_t stride_ = 0;
   std::vector<float> coords_;
-  std::vector<std::uint32_t> band_starts_;  // on grids sorted band by band: where each band ends
+  // On grids sorted band by band: where each band's records are distributed, the next free
+  // slot of each, and the boxes of each band (the big bucket last) in the last call, kept
+  // while the grid is (update sizes the regions from them).
+  std::vector<std::uint32_t> band_starts_;
+  std::vector<std::uint32_t> band_next_;
+  std::vector<std::uint32_t> band_counts_;
   // On grids sorted band by band, one band at a time: its boxes in id order, its records by
   // cell and the position of each one's box among band_boxes_.
   std::vector<AabbN<D>> band_boxes_;
