@@ -568,12 +568,16 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
       // from its count then, with slack, so the key pass writes each record straight there
       // (no pass counting the bands first, no stored keys). A band that outgrew its region
       // falls back to the counting below.
-      std::uint32_t at = 0;
+      std::uint32_t at = 0, last_count = 0;
       for (std::uint32_t b = 0; b <= bands; ++b) {
         region[b] = at;
         at += band_counts_[b] + band_counts_[b] / 8 + 16;
+        last_count += band_counts_[b];
       }
       region[bands + 1] = at;
+      // At most this many for the counts of the last call: reserved as such, so the capacity
+      // does not double and stays put from frame to frame.
+      records_.reserve(std::max<std::size_t>(stride_, last_count + last_count / 8 + 16 * (bands + 1)));
       records_.resize(std::max<std::size_t>(stride_, at));
       band_next_.assign(region, region + bands + 1);
       std::uint32_t* next = band_next_.data();
