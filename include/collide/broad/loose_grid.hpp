@@ -13,11 +13,19 @@
 /// scan: Ericson, "Real-Time Collision Detection", 7.1.6 and 7.1.7; the linked-cell method of
 /// molecular dynamics.)
 ///
-/// The rebuild is a counting sort over the cells: one pass computes each box's cell key (its
-/// min- and max-corner cells in one set of SIMD lanes) and counts boxes per cell, a prefix sum
-/// gives each cell its first slot, a second pass writes each box's (key, id) record to its
-/// slot, ids ascending in a cell, and a last pass copies the boxes in that order (sequential
-/// writes; the random accesses are 8-byte records and box reads). The grid is dense over the
+/// The rebuild is a counting sort over the cells: one pass computes each box's cell key (the
+/// min- and max-corner cells of four boxes at a time, transposed into SIMD lanes) and counts
+/// boxes per cell, a prefix sum gives each cell its first slot, a second pass writes each
+/// box's (key, id) record to its slot, ids ascending in a cell, and a last pass copies the
+/// boxes in that order (sequential writes; the random accesses are 8-byte records and box
+/// reads). On grids of more than 2^one_step_bits cells (a million boxes) that would be random
+/// accesses to memory: the records are distributed by band (2^band_bits consecutive cells)
+/// straight into their final array, and each band is then sorted on its own in cache, its
+/// boxes read from the span in id order (a forward sweep, not one random read per box), the
+/// results written with streaming stores; an update on the same grid sizes the bands' regions
+/// from the last call's counts, so that the key pass itself distributes the records. The
+/// long passes prefetch ahead (the hardware prefetchers left them waiting on memory at a
+/// million boxes). The grid is dense over the
 /// boxes' bounds, with a border of empty cells so that every neighbour of an occupied cell
 /// exists; when the cells from the requested size would exceed kCellsPerBox per box, the cells
 /// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. There is
@@ -36,11 +44,15 @@
 /// entries, each usually shorter than four, so each run is one branch-free test. A box can meet
 /// a box of a row above on an axis only if its own max corner reaches that row, so in 3D the
 /// pair pass groups the entries (a chunk at a time) by which of y and z their boxes cross and
-/// tests each group's runs only (3.6 runs per box instead of 5 on the bench world).
+/// tests each group's runs only (3.6 runs per box instead of 5 on the bench world). Each run
+/// tests only the comparisons its row needs (a box in a row above cannot fail min <= max on
+/// that axis), and the pairs are written after each block of entries, from the entries that
+/// had an overlap.
 ///
 /// Memory per object: 2*D 4-byte coordinates, an 8-byte (key, id) record and a 4-byte key, plus
 /// at most kCellsPerBox 4-byte cell starts (2 in 2D, 2.6 in 3D on the bench world); on grids
-/// sorted band by band, an 8-byte staging record; a big box adds two (8*D + 4)-byte records.
+/// sorted band by band, 1/8 more records (the regions' slack) and one band's copies (at most
+/// kBandCopy boxes, records and positions); a big box adds two (8*D + 4)-byte records.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
