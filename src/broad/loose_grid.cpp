@@ -3,8 +3,11 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -14,17 +17,17 @@ namespace collide {
 
 namespace {
 
-/// The kLooseCellQuantile quantile of the largest sides of (a sample of) the boxes, kept above
-/// the float resolution of the world; points-only input falls back to suggest_cell_size.
+/// The kLooseCellQuantile quantile of `sides` (the largest sides of a sample of the boxes, see
+/// sample_largest_sides), kept above the float resolution of the world; points-only input falls
+/// back to suggest_cell_size.
 template <int D>
 float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
-                      std::vector<float>& scratch) {
-  if (boxes.empty()) return 1.0f;
-  sample_largest_sides(boxes, scratch);
-  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(scratch.size() - 1));
-  std::nth_element(scratch.begin(), scratch.begin() + at, scratch.end());
-  const float quantile = scratch[static_cast<std::size_t>(at)];
-  if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, scratch);  // points only
+                      std::vector<float>& sides) {
+  if (sides.empty()) return 1.0f;
+  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(sides.size() - 1));
+  std::nth_element(sides.begin(), sides.begin() + at, sides.end());
+  const float quantile = sides[static_cast<std::size_t>(at)];
+  if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, sides);  // points only
   float magnitude = 0.0f;
   for (int k = 0; k < D; ++k) {
     magnitude = std::max({magnitude, std::abs(bounds.min[k]), std::abs(bounds.max[k])});
@@ -50,6 +53,38 @@ alignas(16) constexpr std::uint32_t kPacked[16][4] = {
 /// Set bits of each 4-bit lane mask (std::popcount is a dozen instructions without POPCNT,
 /// which baseline x86-64 lacks).
 constexpr std::uint8_t kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+/// Bytes ahead of a sequential read that prefetch_ahead asks for: on a million boxes the
+/// hardware prefetchers alone left the key pass waiting on memory (3.4 ns per 3D box with this,
+/// 10 without, on the bench machine).
+constexpr std::size_t kPrefetchBytes = 2048;
+
+/// Asks for the cache line kPrefetchBytes after element i of data[0, n) (clamped to the last
+/// element): a hint only.
+template <class T>
+inline void prefetch_ahead([[maybe_unused]] const T* data, [[maybe_unused]] std::size_t i,
+                           [[maybe_unused]] std::size_t n) noexcept {
+#if defined(__SSE2__)
+  constexpr std::size_t kAhead = kPrefetchBytes / sizeof(T);
+  _mm_prefetch(reinterpret_cast<const char*>(data + std::min(i + kAhead, n - 1)), _MM_HINT_T0);
+#endif
+}
+
+/// std::copy of trivially copyable values into `to`, with streaming stores where the SIMD
+/// path has them (from the first 16-byte aligned destination on).
+template <class T>
+void stream_copy(const T* from, const T* end, T* to) noexcept {
+#if defined(__SSE2__)
+  static_assert(16 % sizeof(T) == 0);
+  for (; from != end && reinterpret_cast<std::uintptr_t>(to) % 16 != 0; ++from, ++to) *to = *from;
+  constexpr std::size_t kPer = 16 / sizeof(T);
+  for (; static_cast<std::size_t>(end - from) >= kPer; from += kPer, to += kPer) {
+    _mm_stream_si128(reinterpret_cast<__m128i*>(to), _mm_loadu_si128(reinterpret_cast<const __m128i*>(from)));
+  }
+  _mm_sfence();
+#endif
+  std::copy(from, end, to);
+}
 
 /// values[i] += values[0] + ... + values[i - 1] for i in [1, count): the running sums.
 void inclusive_prefix_sum(std::uint32_t* values, std::uint32_t count) noexcept {
@@ -100,6 +135,22 @@ Probe<D> probe_of(const AabbN<D>& box) noexcept {
   return p;
 }
 
+/// The probe of the box stored at entry e of the coordinate arrays (see overlap_mask).
+template <int D>
+Probe<D> probe_at(const float* coords, std::size_t stride, std::uint32_t e) noexcept {
+  Probe<D> p;
+  for (int k = 0; k < D; ++k) {
+#if defined(__SSE2__)
+    p.min[k] = _mm_set1_ps(coords[k * stride + e]);
+    p.max[k] = _mm_set1_ps(coords[(D + k) * stride + e]);
+#else
+    p.min[k] = coords[k * stride + e];
+    p.max[k] = coords[(D + k) * stride + e];
+#endif
+  }
+  return p;
+}
+
 /// Overlap of the probe with the four stored boxes at entries f .. f + 3 of the coordinate
 /// arrays (coordinate a of entry e at coords[a * stride + e]: min corner for a < D, max corner
 /// for a >= D): bit j is set when entry f + j overlaps the probe on every axis,
@@ -131,6 +182,76 @@ inline std::uint32_t overlap_mask(const float* coords, std::size_t stride, std::
 #endif
 }
 
+/// Where a row of cells lies on one axis relative to the probe box's own cell: one below, the
+/// same, one above.
+enum class Side { kBelow, kSame, kAbove };
+
+/// The four lanes of a group: all bits set in a lane that passed (SIMD), or bit j for lane j.
+#if defined(__SSE2__)
+using Lanes = __m128;
+#else
+using Lanes = std::uint32_t;
+#endif
+
+/// overlap_mask, restricted to the first n of the four entries, for stored boxes whose
+/// min-corner cells lie on the side kY (and kZ in 3D) of the probe box's cell on y (and z),
+/// as lanes. On an axis where that cell is above, the stored box's min is above the probe's
+/// min (the cell mapping is monotone), so probe.min <= max is true already and only
+/// min <= probe.max is tested; below, only probe.min <= max. The tests keep the loaded values
+/// as their first operand (probe.min <= max written as !(max < probe.min): the same without
+/// NaN), so SSE needs no register copies.
+template <int D, Side kY, Side kZ>
+inline Lanes run_lanes(const float* coords, std::size_t stride, std::uint32_t f, std::uint32_t n,
+                       const Probe<D>& probe) noexcept {
+  constexpr Side kSide[3] = {Side::kSame, kY, kZ};
+  const float* p = coords + f;
+#if defined(__SSE2__)
+  // lane j is in the run when j < n (n as a signed int: runs are far shorter than 2^31)
+  __m128 in = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_set1_epi32(static_cast<int>(n)), _mm_setr_epi32(0, 1, 2, 3)));
+  for (int k = 0; k < D; ++k) {
+    if (kSide[k] != Side::kBelow) in = _mm_and_ps(in, _mm_cmple_ps(_mm_loadu_ps(p + k * stride), probe.max[k]));
+    if (kSide[k] != Side::kAbove) in = _mm_and_ps(in, _mm_cmpnlt_ps(_mm_loadu_ps(p + (D + k) * stride), probe.min[k]));
+  }
+  return in;
+#else
+  std::uint32_t mask = 0;
+  for (std::uint32_t j = 0; j < std::min(n, kLanes); ++j) {
+    bool in = true;
+    for (int k = 0; k < D; ++k) {
+      if (kSide[k] != Side::kBelow) in &= p[k * stride + j] <= probe.max[k];
+      if (kSide[k] != Side::kAbove) in &= probe.min[k] <= p[(D + k) * stride + j];
+    }
+    mask |= static_cast<std::uint32_t>(in) << j;
+  }
+  return mask;
+#endif
+}
+
+/// Bit 4r + j set when lane j of lanes[r] is: up to five groups in one mask.
+template <int N>
+inline std::uint32_t lane_bits(const Lanes (&lanes)[N]) noexcept {
+#if defined(__SSE2__)
+  // Four groups at a time narrowed to bytes (0 or -1 stays 0 or -1), one byte mask.
+  const auto pack4 = [&](int r) {
+    const auto at = [&](int i) { return r + i < N ? _mm_castps_si128(lanes[r + i]) : _mm_setzero_si128(); };
+    const __m128i bytes = _mm_packs_epi16(_mm_packs_epi32(at(0), at(1)), _mm_packs_epi32(at(2), at(3)));
+    return static_cast<std::uint32_t>(_mm_movemask_epi8(bytes));
+  };
+  if constexpr (N == 1) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(lanes[0]));
+  } else if constexpr (N <= 4) {
+    return pack4(0);
+  } else {
+    static_assert(N <= 8);
+    return pack4(0) | pack4(4) << 16;
+  }
+#else
+  std::uint32_t mask = 0;
+  for (int r = 0; r < N; ++r) mask |= lanes[r] << (kLanes * r);
+  return mask;
+#endif
+}
+
 }  // namespace
 
 template <int D>
@@ -148,10 +269,22 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
 
 template <int D>
 void LooseGridN<D>::build(std::span<const AabbN<D>> boxes) {
-  const AabbN<D> bounds = checked_bounds_of(boxes);
-  chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
-                                                : loose_cell_size(boxes, bounds, scratch_);
-  rebuild(boxes, bounds);
+  // The cell size and the grid from a sample of the boxes (all of them when few): a box outside
+  // the sample's bounds (grown a little) is kept with the big ones, and when there are more
+  // than outlier_limit such boxes the grid is laid over the exact bounds instead.
+  try {
+    const AabbN<D> sampled = sample_boxes(boxes, scratch_);
+    chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
+                                                  : loose_cell_size(boxes, sampled, scratch_);
+    set_grid(sampled, boxes.size());
+    if (!bin(boxes)) {
+      set_grid(checked_bounds_of(boxes), boxes.size());
+      bin(boxes);
+    }
+  } catch (...) {
+    clear();
+    throw;
+  }
 }
 
 template <int D>
@@ -160,92 +293,77 @@ void LooseGridN<D>::update(std::span<const AabbN<D>> boxes) {
     build(boxes);
     return;
   }
-  rebuild(boxes, checked_bounds_of(boxes));
+  // The grid of the last call while it holds all but outlier_limit of the boxes (and fits the
+  // cell budget); else one over the exact bounds grown by kUpdateMargin and a cell, so that
+  // boxes moving on stay inside it for a while.
+  try {
+    if (cells_ <= cell_budget(boxes.size()) && bin(boxes)) return;
+    const AabbN<D> bounds = checked_bounds_of(boxes);
+    const VecN<D> margin = kUpdateMargin * bounds.size() + VecN<D>(chosen_cell_size_);
+    set_grid({bounds.min - margin, bounds.max + margin}, boxes.size());
+    bin(boxes);
+  } catch (...) {
+    clear();
+    throw;
+  }
 }
 
 template <int D>
-template <class Count>
-void LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
-                                 Count&& count) {
-  // Scalar meaning, for each box i:
-  //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
-  //   binned = hi[k] - lo[k] <= 1 on every axis
-  //   keys_[i] = binned ? key_of(lo) : big_key; count(keys_[i]); if !binned, big_ gets the box
-  // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
-  // (the border) are the constant `base`.
-  std::uint32_t stride[3] = {1, 0, 0};
-  std::uint32_t base = 1;
-  for (int k = 1; k < D; ++k) {
-    stride[k] = stride[k - 1] * static_cast<std::uint32_t>(padded_[k - 1]);
-    base += stride[k];
-  }
-  std::uint32_t* keys = keys_.data();
-  const int n = count_;
-  const auto finish = [&](int i, std::uint32_t key, bool binned) {
-    key = binned ? key : big_key;
-    keys[i] = key;
-    count(key);
-    if (!binned) [[unlikely]] big_.push_back({boxes[i], i});
-  };
-#if defined(__SSE2__)
-  // Both corners' cells in one register: the same float subtraction and multiplication as
-  // cell_of_inside, then truncation, lane by lane.
-  const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
-  const __m128i one = _mm_set1_epi32(1);
-  const VecN<D> o = grid_.origin;
-  if constexpr (D == 2) {
-    static_assert(sizeof(AabbN<2>) == 4 * sizeof(float));
-    const __m128 origin = _mm_setr_ps(o.x, o.y, o.x, o.y);
-    for (int i = 0; i < n; ++i) {
-      // (min.x, min.y, max.x, max.y) -> cells (lo.x, lo.y, hi.x, hi.y)
-      const __m128i cells = _mm_cvttps_epi32(
-          _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(&boxes[i].min.x), origin), inv));
-      const __m128i span = _mm_sub_epi32(_mm_shuffle_epi32(cells, _MM_SHUFFLE(3, 2, 3, 2)), cells);
-      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 3) == 0;
-      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(cells));
-      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(cells, 1)));
-      finish(i, lx + ly * stride[1] + base, binned);
-    }
-  } else {
-    static_assert(sizeof(AabbN<3>) == 6 * sizeof(float));
-    // Two overlapping loads: (min.x, min.y, min.z, max.x) and (min.z, max.x, max.y, max.z).
-    const __m128 origin_a = _mm_setr_ps(o.x, o.y, o.z, o.x);
-    const __m128 origin_b = _mm_setr_ps(o.z, o.x, o.y, o.z);
-    for (int i = 0; i < n; ++i) {
-      const float* f = &boxes[i].min.x;
-      const __m128i a = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f), origin_a), inv));
-      const __m128i b = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(f + 2), origin_b), inv));
-      // lanes 0..2: hi - lo on x, y, z
-      const __m128i span = _mm_sub_epi32(_mm_srli_si128(b, 4), a);
-      const bool binned = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(span, one))) & 7) == 0;
-      const auto lx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(a));
-      const auto ly = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 1)));
-      const auto lz = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(a, 2)));
-      finish(i, lx + ly * stride[1] + lz * stride[2] + base, binned);
-    }
-  }
-#else
-  for (int i = 0; i < n; ++i) {
-    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
-    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
-    bool binned = true;
-    std::uint32_t key = base;
+void LooseGridN<D>::clear() noexcept {
+  // What find_pairs and the queries read, emptied; the grid and the capacities are kept.
+  count_ = 0;
+  small_ = 0;
+  big_.clear();
+  big_by_x_.clear();
+  band_counts_.clear();
+  std::fill(starts_.begin(), starts_.end(), 0u);
+}
+
+template <int D>
+AabbN<D> LooseGridN<D>::sample_boxes(std::span<const AabbN<D>> boxes, std::vector<float>& sides) {
+  // The boxes of sample_largest_sides: every box up to kCellSizeSamples, else box s * n /
+  // kCellSizeSamples for each s (an even, deterministic stride; a shift, the count being a power
+  // of two). Their largest sides to `sides`; their bounds, grown on each side by kSampleMargin
+  // of their extent when not every box was sampled.
+  static_assert(std::has_single_bit(static_cast<unsigned>(kCellSizeSamples)));
+  constexpr int kShift = std::countr_zero(static_cast<unsigned>(kCellSizeSamples));
+  constexpr float kMax = std::numeric_limits<float>::max();
+  const std::size_t n = boxes.size();
+  if (n >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
+  sides.clear();
+  if (n == 0) return {};
+  const std::size_t samples = std::min<std::size_t>(n, kCellSizeSamples);
+  sides.resize(samples);
+  VecN<D> lo = boxes[0].min, hi = boxes[0].max;
+  bool good = true;
+  for (std::size_t s = 0; s < samples; ++s) {
+    const AabbN<D>& box = boxes[samples == n ? s : (s * n) >> kShift];
+    float largest = box.max[0] - box.min[0];
     for (int k = 0; k < D; ++k) {
-      binned &= hi[k] - lo[k] <= 1;
-      key += static_cast<std::uint32_t>(lo[k]) * stride[k];
+      // finite and ordered (false for NaN)
+      good &= (box.min[k] <= box.max[k]) & (box.min[k] >= -kMax) & (box.max[k] <= kMax);
+      largest = std::max(largest, box.max[k] - box.min[k]);
+      lo[k] = std::min(lo[k], box.min[k]);
+      hi[k] = std::max(hi[k], box.max[k]);
     }
-    finish(i, key, binned);
+    sides[s] = largest;
   }
-#endif
+  if (!good) validate_boxes(boxes);  // throws, naming the first bad box
+  if (samples == n) return {lo, hi};
+  const VecN<D> margin = kSampleMargin * (hi - lo);
+  return {lo - margin, hi + margin};
 }
 
 template <int D>
-void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds) {
-  count_ = static_cast<int>(boxes.size());
-  // The grid: cells of the chosen size, widened until the cells with their border fit the
-  // budget (and 32-bit keys).
-  const std::uint64_t budget =
-      std::min<std::uint64_t>(kCellsPerBox * boxes.size() + kMinCells, std::uint64_t{1} << 31);
+std::uint64_t LooseGridN<D>::cell_budget(std::size_t boxes) noexcept {
+  return std::min<std::uint64_t>(kCellsPerBox * boxes + kMinCells, std::uint64_t{1} << 31);
+}
+
+template <int D>
+void LooseGridN<D>::set_grid(const AabbN<D>& bounds, std::size_t boxes) {
+  // Cells of the chosen size, widened until the cells with their border fit the budget (and
+  // 32-bit keys).
+  const std::uint64_t budget = cell_budget(boxes);
   double size = chosen_cell_size_;
   for (;;) {
     grid_ = make_grid_mapping(bounds, static_cast<float>(size));
@@ -256,22 +374,165 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
                     static_cast<double>(grid_.cell_size) *
                         std::pow(total / static_cast<double>(budget), 1.0 / D));
   }
-  std::uint32_t total_cells = 1;
+  band_counts_.clear();  // the bands of an earlier grid say nothing of this one
+  cells_ = 1;
   for (int k = 0; k < D; ++k) {
     padded_[k] = grid_.dims[k] + 2;
-    total_cells *= static_cast<std::uint32_t>(padded_[k]);
+    cells_ *= static_cast<std::uint32_t>(padded_[k]);
   }
+}
+
+template <int D>
+template <class Count>
+std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key,
+                                        bool store_keys, Count&& count) {
+  // Scalar meaning, for each box i (the loop at the end, which also does the last boxes):
+  //   inside = grid_.bounds contains the box, and min <= max on every axis (false for NaN)
+  //   if !inside: a bad box (not finite, min > max) throws; else the box is an outlier
+  //   lo = grid_.cell_of_inside(min), hi = grid_.cell_of_inside(max)
+  //   binned = inside and hi[k] - lo[k] <= 1 on every axis
+  //   key = binned ? key_of(lo) : big_key; count(key, i); if !binned, big_ gets the box;
+  //   with store_keys, keys_[i] = key
+  // key_of(lo) = sum over k of (lo[k] + 1) * stride[k], stride = (1, nx, nx * ny): the +1s
+  // (the border) are the constant `base`. Returns the number of outliers.
+  std::uint32_t stride[3] = {1, 0, 0};
+  std::uint32_t base = 1;
+  for (int k = 1; k < D; ++k) {
+    stride[k] = stride[k - 1] * static_cast<std::uint32_t>(padded_[k - 1]);
+    base += stride[k];
+  }
+  std::uint32_t* keys = keys_.data();
+  const int n = count_;
+  std::size_t outliers = 0;
+  const AabbN<D> g = grid_.bounds;
+  alignas(16) std::uint32_t four[4];  // the keys of four boxes when not stored
+  // The boxes that are not binned: outliers (or bad boxes, which throw) and big ones.
+  const auto not_binned = [&](int i, bool inside) {
+    if (!inside) {
+      const AabbN<D>& box = boxes[i];
+      for (int k = 0; k < D; ++k) {
+        if (!(std::isfinite(box.min[k]) && std::isfinite(box.max[k]) && box.min[k] <= box.max[k])) {
+          validate_boxes(boxes);  // throws, naming the first bad box
+        }
+      }
+      ++outliers;
+    }
+    big_.push_back({boxes[i], i});
+  };
+  int i = 0;
+#if defined(__SSE2__)
+  // Four boxes at a time, transposed so that each register holds one coordinate of the four:
+  // the same float subtraction and multiplication as cell_of_inside, then truncation; the
+  // inside test as above (every comparison is false for NaN).
+  const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
+  const __m128i one = _mm_set1_epi32(1);
+  __m128 origin[D], lower[D], upper[D];
+  __m128i cell_stride[D];
+  for (int k = 0; k < D; ++k) {
+    origin[k] = _mm_set1_ps(grid_.origin[k]);
+    lower[k] = _mm_set1_ps(g.min[k]);
+    upper[k] = _mm_set1_ps(g.max[k]);
+    cell_stride[k] = _mm_set1_epi32(static_cast<int>(stride[k]));
+  }
+  const __m128i big = _mm_set1_epi32(static_cast<int>(big_key));
+  const __m128i key_base = _mm_set1_epi32(static_cast<int>(base));
+  // The low 32 bits of a * b in each lane (SSE2 has no such multiply: even and odd lanes apart).
+  const auto mul_lo = [](__m128i a, __m128i b) {
+    const __m128i even = _mm_mul_epu32(a, b);
+    const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
+    return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                              _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+  };
+  for (; i + 4 <= n; i += 4) {
+    const float* b0 = &boxes[i].min.x;
+    _mm_prefetch(reinterpret_cast<const char*>(b0) + kPrefetchBytes, _MM_HINT_T0);
+    __m128 lo[D], hi[D];
+    // Rows (min.x, min.y, max.x, max.y) in 2D; (min.x, min.y, min.z, max.x) and
+    // (min.z, max.x, max.y, max.z) in 3D.
+    __m128 r0 = _mm_loadu_ps(b0), r1 = _mm_loadu_ps(b0 + 2 * D), r2 = _mm_loadu_ps(b0 + 4 * D),
+           r3 = _mm_loadu_ps(b0 + 6 * D);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+    if constexpr (D == 2) {
+      lo[0] = r0, lo[1] = r1, hi[0] = r2, hi[1] = r3;
+    } else {
+      _mm_prefetch(reinterpret_cast<const char*>(b0) + kPrefetchBytes + 64, _MM_HINT_T0);
+      const __m128 s0 = _mm_loadu_ps(b0 + 2), s1 = _mm_loadu_ps(b0 + 8), s2 = _mm_loadu_ps(b0 + 14),
+                   s3 = _mm_loadu_ps(b0 + 20);
+      const __m128 t01 = _mm_unpackhi_ps(s0, s1), t23 = _mm_unpackhi_ps(s2, s3);
+      lo[0] = r0, lo[1] = r1, lo[2] = r2, hi[0] = r3;
+      hi[1] = _mm_movelh_ps(t01, t23);  // max.y
+      hi[2] = _mm_movehl_ps(t23, t01);  // max.z
+    }
+    __m128 inside = _mm_and_ps(_mm_cmple_ps(lower[0], lo[0]), _mm_cmple_ps(hi[0], upper[0]));
+    inside = _mm_and_ps(inside, _mm_cmple_ps(lo[0], hi[0]));
+    __m128i wide = _mm_setzero_si128();  // lanes spanning more than two cells on some axis
+    __m128i key = key_base;
+    for (int k = 0; k < D; ++k) {
+      if (k > 0) {
+        inside = _mm_and_ps(inside, _mm_and_ps(_mm_cmple_ps(lower[k], lo[k]), _mm_cmple_ps(hi[k], upper[k])));
+        inside = _mm_and_ps(inside, _mm_cmple_ps(lo[k], hi[k]));
+      }
+      const __m128i cell_lo = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(lo[k], origin[k]), inv));
+      const __m128i cell_hi = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(hi[k], origin[k]), inv));
+      wide = _mm_or_si128(wide, _mm_cmpgt_epi32(_mm_sub_epi32(cell_hi, cell_lo), one));
+      key = _mm_add_epi32(key, k == 0 ? cell_lo : mul_lo(cell_lo, cell_stride[k]));
+    }
+    const __m128i binned = _mm_andnot_si128(wide, _mm_castps_si128(inside));
+    key = _mm_or_si128(_mm_and_si128(binned, key), _mm_andnot_si128(binned, big));
+    std::uint32_t* to = store_keys ? keys + i : four;
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(to), key);
+    for (int j = 0; j < 4; ++j) count(to[j], i + j);
+    const int binned_lanes = _mm_movemask_ps(_mm_castsi128_ps(binned));
+    if (binned_lanes != 0xF) [[unlikely]] {
+      const int inside_lanes = _mm_movemask_ps(inside);
+      for (int j = 0; j < 4; ++j) {
+        if (!((binned_lanes >> j) & 1)) not_binned(i + j, (inside_lanes >> j) & 1);
+      }
+    }
+  }
+#endif
+  for (; i < n; ++i) {
+    const AabbN<D>& box = boxes[i];
+    bool inside = true;
+    for (int k = 0; k < D; ++k) {
+      inside &= g.min[k] <= box.min[k] && box.min[k] <= box.max[k] && box.max[k] <= g.max[k];
+    }
+    bool binned = inside;
+    std::uint32_t key = base;
+    if (inside) {
+      const CellN<D> lo = grid_.cell_of_inside(box.min);
+      const CellN<D> hi = grid_.cell_of_inside(box.max);
+      for (int k = 0; k < D; ++k) {
+        binned &= hi[k] - lo[k] <= 1;
+        key += static_cast<std::uint32_t>(lo[k]) * stride[k];
+      }
+    }
+    key = binned ? key : big_key;
+    if (store_keys) keys[i] = key;
+    count(key, i);
+    if (!binned) [[unlikely]] not_binned(i, inside);
+  }
+  return outliers;
+}
+
+template <int D>
+bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
+  if (boxes.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
+  count_ = static_cast<int>(boxes.size());
+  const std::uint32_t total_cells = cells_;
   // Big boxes share one bucket after every cell, so they sort after the binned ones.
   const std::uint32_t big_key = total_cells;
+  const std::size_t max_outliers = outlier_limit(boxes.size());
 
   // Capacities for every box at once: a frame with a few more binned boxes than the last must
   // not double a vector (no allocation in the steady state, memory per object stays flat).
   keys_.resize(boxes.size());
   big_.clear();
-  stride_ = boxes.size() + kPad;
+  // A multiple of four, so that every coordinate array starts 16-byte aligned (streaming stores).
+  stride_ = (boxes.size() + kPad + 3) & ~std::size_t{3};
   coords_.resize(2 * D * stride_);
   records_.resize(stride_);
-  starts_.reserve(budget + 3);
+  starts_.reserve(cell_budget(boxes.size()) + 3);
   Record* records = records_.data();
   const std::uint32_t* keys = keys_.data();
   const int band_bits = options_.band_bits;
@@ -283,88 +544,219 @@ void LooseGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bou
     // starts_[key] is the first slot of cell key and starts_[key + 1] its end.
     starts_.assign(total_cells + 3, 0u);
     std::uint32_t* starts = starts_.data();
-    compute_keys(boxes, big_key, [starts](std::uint32_t key) { ++starts[key + 2]; });
+    if (compute_keys(boxes, big_key, true, [starts](std::uint32_t key, int) { ++starts[key + 2]; }) > max_outliers) {
+      return false;
+    }
     inclusive_prefix_sum(starts + 1, total_cells + 2);
     for (int i = 0; i < count_; ++i) {
       const std::uint32_t key = keys[i];
       records[starts[key + 1]++] = {key, i};
     }
+    gather<false>(0, static_cast<std::uint32_t>(count_), [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
   } else {
     // The same counting sort in two steps, so that its random accesses stay in cache on large
     // grids: the records are first distributed (stably) into bands of 2^band_bits consecutive
-    // cells (the big bucket last); then the per-cell count and placement run band after band,
-    // touching one band's cell starts and slots at a time.
+    // cells (the big bucket last); then each band is sorted by cell on its own (sort_band),
+    // touching one band's cell starts and slots at a time, and its boxes are read in id order.
+    // region[b]: where the records of band b are distributed (band `bands` is the big bucket).
     band_starts_.assign(bands + 2, 0u);
-    std::uint32_t* band_starts = band_starts_.data();
+    std::uint32_t* region = band_starts_.data();
     const auto band_of = [=](std::uint32_t key) { return key == big_key ? bands : key >> band_bits; };
-    compute_keys(boxes, big_key, [=](std::uint32_t key) { ++band_starts[band_of(key) + 1]; });
-    for (std::uint32_t b = 1; b <= bands + 1; ++b) band_starts[b] += band_starts[b - 1];
-    staged_.resize(boxes.size());
-    Record* staged = staged_.data();
-    for (int i = 0; i < count_; ++i) {
-      const std::uint32_t key = keys[i];
-      staged[band_starts[band_of(key)]++] = {key, i};
+    bool distributed = false;
+    if (band_counts_.size() == bands + 1) {
+      // Update on the grid of a last call that was sorted by band: each band's region is sized
+      // from its count then, with slack, so the key pass writes each record straight there
+      // (no pass counting the bands first, no stored keys). A band that outgrew its region
+      // falls back to the counting below.
+      std::uint32_t at = 0, last_count = 0;
+      for (std::uint32_t b = 0; b <= bands; ++b) {
+        region[b] = at;
+        at += band_counts_[b] + band_counts_[b] / 8 + 16;
+        last_count += band_counts_[b];
+      }
+      region[bands + 1] = at;
+      // At most this many for the counts of the last call: reserved as such, so the capacity
+      // does not double and stays put from frame to frame.
+      records_.reserve(std::max<std::size_t>(stride_, last_count + last_count / 8 + 16 * (bands + 1)));
+      records_.resize(std::max<std::size_t>(stride_, at));
+      band_next_.assign(region, region + bands + 1);
+      std::uint32_t* next = band_next_.data();
+      Record* to = records_.data();
+      bool overflow = false;
+      if (compute_keys(boxes, big_key, false, [&](std::uint32_t key, int i) {
+            const std::uint32_t b = band_of(key);
+            if (next[b] == region[b + 1]) [[unlikely]] {
+              overflow = true;
+              return;
+            }
+            to[next[b]++] = {key, i};
+          }) > max_outliers) {
+        return false;
+      }
+      distributed = !overflow;
+      if (distributed) {
+        for (std::uint32_t b = 0; b <= bands; ++b) band_counts_[b] = next[b] - region[b];
+      } else {
+        big_.clear();
+      }
     }
-    starts_.assign(total_cells + 3, 0u);
-    std::uint32_t* starts = starts_.data();
-    for (int s = 0; s < count_; ++s) ++starts[staged[s].key + 2];
-    inclusive_prefix_sum(starts + 1, total_cells + 2);
-    for (int s = 0; s < count_; ++s) records[starts[staged[s].key + 1]++] = staged[s];
+    if (!distributed) {
+      // Count the boxes of each band, then distribute them to consecutive regions.
+      band_counts_.assign(bands + 1, 0u);
+      std::uint32_t* counts = band_counts_.data();
+      if (compute_keys(boxes, big_key, true, [=](std::uint32_t key, int) { ++counts[band_of(key)]; }) > max_outliers) {
+        band_counts_.clear();
+        return false;
+      }
+      region[0] = 0;
+      for (std::uint32_t b = 0; b <= bands; ++b) region[b + 1] = region[b] + counts[b];
+      band_next_.assign(region, region + bands + 1);
+      std::uint32_t* next = band_next_.data();
+      records = records_.data();
+      for (int i = 0; i < count_; ++i) {
+        const std::uint32_t key = keys[i];
+        records[next[band_of(key)]++] = {key, i};
+      }
+    }
+    records = records_.data();
+    // Each band sorted to the slots after the band before: at or before its region, so no
+    // band overwrites one not sorted yet.
+    starts_.resize(total_cells + 3);
+    starts_[0] = 0;
+    std::uint32_t slot = 0;
+    for (std::uint32_t b = 0; b < bands; ++b) {
+      const std::uint32_t first_cell = b << band_bits;
+      sort_band(boxes, region[b], band_counts_[b], slot, first_cell,
+                std::min(total_cells, first_cell + (std::uint32_t{1} << band_bits)));
+      slot += band_counts_[b];
+    }
+    // The big bucket, in id order; the one-step sort leaves its end in the two last cell starts.
+    std::copy(records + region[bands], records + region[bands] + band_counts_[bands], records + slot);
+    gather<false>(slot, static_cast<std::uint32_t>(count_), [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
+    starts_[total_cells + 1] = starts_[total_cells + 2] = static_cast<std::uint32_t>(count_);
   }
   small_ = starts_[total_cells];
-  gather(boxes);
   big_by_x_.assign(big_.begin(), big_.end());
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
     return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.id < b.id);
   });
+  return true;
 }
 
 template <int D>
-void LooseGridN<D>::gather(std::span<const AabbN<D>> boxes) noexcept {
-  // Scalar meaning: for each entry e, coordinate k of the min corner of boxes[records_[e].id]
-  // to coords_[k * stride_ + e], of the max corner to coords_[(D + k) * stride_ + e]. The reads
-  // are random, the writes sequential.
-  const Record* records = records_.data();
+void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot,
+                              std::uint32_t m, std::uint32_t first, std::uint32_t first_cell,
+                              std::uint32_t last_cell) {
+  // records_[from_slot, from_slot + m) holds the band's records in id order, their cells in
+  // [first_cell, last_cell); they go to slots [first, first + m), first <= from_slot. The
+  // counting sort of bin's one-step path on the band's cell starts (starts_[first_cell] is the
+  // end of the band before, set already), into copies that stay in cache: the records placed
+  // there by cell and the boxes read in id order (a forward sweep through the span, not a
+  // random read per box); then both are written out in slot order, with streaming stores (a
+  // million boxes do not stay in cache until the pair pass anyway).
+  std::uint32_t* starts = starts_.data();
+  starts[first_cell + 1] = first;
+  std::fill(starts + first_cell + 2, starts + last_cell + 2, 0u);
+  Record* records = records_.data();
+  const Record* from = records + from_slot;
+  const std::uint32_t last = first + m;
+  for (std::uint32_t s = 0; s < m; ++s) {
+    prefetch_ahead(from, s, m);
+    ++starts[from[s].key + 2];
+  }
+  inclusive_prefix_sum(starts + first_cell + 1, last_cell - first_cell + 1);
+  band_records_.resize(m);
+  // placed[slot - first]: the record of that slot.
+  Record* placed = band_records_.data();
+  if (m > kBandCopy) {
+    // A crowded band: its boxes straight from the span.
+    for (std::uint32_t s = 0; s < m; ++s) placed[starts[from[s].key + 1]++ - first] = from[s];
+    std::copy(placed, placed + m, records + first);
+    gather<false>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
+    return;
+  }
+  band_boxes_.resize(m);
+  band_of_.resize(m);
+  // of[slot - first]: the position in the copy of the box of that slot. (The records are placed
+  // before the sweep through the span, which pushes much else out of the cache.)
+  std::uint32_t* of = band_of_.data();
+  for (std::uint32_t s = 0; s < m; ++s) {
+    const std::uint32_t at = starts[from[s].key + 1]++ - first;
+    placed[at] = from[s];
+    of[at] = s;
+  }
+  AabbN<D>* copy = band_boxes_.data();
+  for (std::uint32_t s = 0; s < m; ++s) {
+#if defined(__SSE2__)
+    constexpr std::uint32_t kAhead = 48;
+    if (s + kAhead < m) _mm_prefetch(reinterpret_cast<const char*>(&boxes[from[s + kAhead].id]), _MM_HINT_T0);
+#endif
+    copy[s] = boxes[from[s].id];
+  }
+  // (The band's records are read up to here, by id, and overwritten only now.)
+  stream_copy(placed, placed + m, records + first);
+  gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return copy[of[e - first]]; });
+}
+
+template <int D>
+template <bool kStream, class BoxOf>
+void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of) noexcept {
+  // Scalar meaning: for each entry e in [first, last), coordinate k of the min corner of
+  // box_of(e) to coords_[k * stride_ + e], of the max corner to coords_[(D + k) * stride_ + e].
+  // The writes are sequential; with kStream, streaming stores (not kept in cache).
   float* coords = coords_.data();
   const std::size_t stride = stride_;
-  const std::uint32_t n = static_cast<std::uint32_t>(count_);
-  std::uint32_t e = 0;
+  std::uint32_t e = first;
+  const auto copy_one = [&](std::uint32_t at) {
+    const AabbN<D>& box = box_of(at);
+    for (int k = 0; k < D; ++k) {
+      coords[k * stride + at] = box.min[k];
+      coords[(D + k) * stride + at] = box.max[k];
+    }
+  };
 #if defined(__SSE2__)
+  // Streaming stores need 16-byte aligned addresses: entries up to a multiple of four first
+  // (every array starts aligned, the stride being a multiple of four).
+  if constexpr (kStream) {
+    for (; e < last && e % 4 != 0; ++e) copy_one(e);
+  }
+  const auto store = [](float* to, __m128 v) {
+    if constexpr (kStream) {
+      _mm_stream_ps(to, v);
+    } else {
+      _mm_storeu_ps(to, v);
+    }
+  };
   // Four boxes at a time, transposed in registers: one four-wide store per coordinate.
-  for (; e + 4 <= n; e += 4) {
-    const float* b0 = &boxes[records[e].id].min.x;
-    const float* b1 = &boxes[records[e + 1].id].min.x;
-    const float* b2 = &boxes[records[e + 2].id].min.x;
-    const float* b3 = &boxes[records[e + 3].id].min.x;
+  for (; e + 4 <= last; e += 4) {
+    const float* b0 = &box_of(e).min.x;
+    const float* b1 = &box_of(e + 1).min.x;
+    const float* b2 = &box_of(e + 2).min.x;
+    const float* b3 = &box_of(e + 3).min.x;
     // Rows (min.x, min.y, max.x, max.y) in 2D; (min.x, min.y, min.z, max.x) in 3D.
     __m128 r0 = _mm_loadu_ps(b0), r1 = _mm_loadu_ps(b1), r2 = _mm_loadu_ps(b2), r3 = _mm_loadu_ps(b3);
     _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
     if constexpr (D == 2) {
-      _mm_storeu_ps(coords + e, r0);               // min x
-      _mm_storeu_ps(coords + stride + e, r1);      // min y
-      _mm_storeu_ps(coords + 2 * stride + e, r2);  // max x
-      _mm_storeu_ps(coords + 3 * stride + e, r3);  // max y
+      store(coords + e, r0);               // min x
+      store(coords + stride + e, r1);      // min y
+      store(coords + 2 * stride + e, r2);  // max x
+      store(coords + 3 * stride + e, r3);  // max y
     } else {
       // (min.z, max.x, max.y, max.z) for the last two coordinates.
       __m128 s0 = _mm_loadu_ps(b0 + 2), s1 = _mm_loadu_ps(b1 + 2), s2 = _mm_loadu_ps(b2 + 2),
              s3 = _mm_loadu_ps(b3 + 2);
       _MM_TRANSPOSE4_PS(s0, s1, s2, s3);
-      _mm_storeu_ps(coords + e, r0);               // min x
-      _mm_storeu_ps(coords + stride + e, r1);      // min y
-      _mm_storeu_ps(coords + 2 * stride + e, r2);  // min z
-      _mm_storeu_ps(coords + 3 * stride + e, r3);  // max x
-      _mm_storeu_ps(coords + 4 * stride + e, s2);  // max y
-      _mm_storeu_ps(coords + 5 * stride + e, s3);  // max z
+      store(coords + e, r0);               // min x
+      store(coords + stride + e, r1);      // min y
+      store(coords + 2 * stride + e, r2);  // min z
+      store(coords + 3 * stride + e, r3);  // max x
+      store(coords + 4 * stride + e, s2);  // max y
+      store(coords + 5 * stride + e, s3);  // max z
     }
   }
+  if constexpr (kStream) _mm_sfence();
 #endif
-  for (; e < n; ++e) {
-    const AabbN<D>& box = boxes[records[e].id];
-    for (int k = 0; k < D; ++k) {
-      coords[k * stride + e] = box.min[k];
-      coords[(D + k) * stride + e] = box.max[k];
-    }
-  }
+  for (; e < last; ++e) copy_one(e);
 }
 
 template <int D>
@@ -413,70 +805,110 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
   // The runs of the forward half of an entry's neighbourhood (see append_pairs): its own row
   // from entry e + 1 to the end of the next cell along x, then the rows of three cells
   // (x - 1 .. x + 1) at these offsets from its cell, those of kRowMask only.
-  const std::uint32_t nx = static_cast<std::uint32_t>(padded_[0]);
-  const std::uint32_t plane = D == 3 ? nx * static_cast<std::uint32_t>(padded_[1]) : 0;
-  const std::uint32_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  const std::ptrdiff_t nx = padded_[0];
+  const std::ptrdiff_t plane = D == 3 ? nx * padded_[1] : 0;
+  const std::ptrdiff_t all_rows[4] = {nx - 1, plane - nx - 1, plane - 1, plane + nx - 1};
+  // The sides of row r of all_rows on y and z (see run_lanes).
+  constexpr Side kRowY[4] = {Side::kAbove, Side::kBelow, Side::kSame, Side::kAbove};
+  constexpr Side kRowZ[4] = {Side::kSame, Side::kAbove, Side::kAbove, Side::kAbove};
   constexpr int kRows = std::popcount(kRowMask);
   constexpr int kRuns = 1 + kRows;
-  std::uint32_t rows[kRows > 0 ? kRows : 1];
-  for (int r = 0, k = 0; r < 4; ++r) {
-    if ((kRowMask >> r) & 1u) rows[k++] = all_rows[r];
-  }
+  // kRowOf[R]: the index in all_rows of the R-th row of kRowMask.
+  constexpr std::array<int, 4> kRowOf = [] {
+    std::array<int, 4> of{};
+    for (int r = 0, k = 0; r < 4; ++r) {
+      if ((kRowMask >> r) & 1u) of[k++] = r;
+    }
+    return of;
+  }();
+  std::ptrdiff_t rows[kRows > 0 ? kRows : 1];
+  for (int r = 0; r < kRows; ++r) rows[r] = all_rows[kRowOf[r]];
   const float* coords = coords_.data();
   const std::size_t stride = stride_;
   const Record* records = records_.data();
   const std::uint32_t* starts = starts_.data();
-  BroadPair* out = sink.out;
-  std::size_t n = sink.n;
-  for (std::uint32_t i = first_index; i < last_index; ++i) {
-    const std::uint32_t e = kListed ? list[i] : i;
-    const std::uint32_t c = records[e].key;
-    const int id = records[e].id;
-    const Probe<D> probe = probe_of<D>(entry_box(e));
-    // first[r], last[r]: run r; first[kRuns] = e is the entry read when no bit is set.
-    std::uint32_t first[kRuns + 1], last[kRuns];
-    first[0] = e + 1;
-    last[0] = starts[c + 2];
-    for (int r = 0; r < kRows; ++r) {
-      first[r + 1] = starts[c + rows[r]];
-      last[r + 1] = starts[c + rows[r] + 3];
+  // The entries are tested a block at a time; an entry with an overlap (or a run longer than
+  // one group, kLonger) is noted as a hit, and the hits' pairs are written after the block, so
+  // the test loop keeps no run bounds for the rare pairs.
+  constexpr std::uint32_t kBlock = 256;
+  constexpr std::uint32_t kLonger = 1u << 31;  // set below as (longer >= 8) << 31
+  struct Hit {
+    std::uint32_t entry;
+    std::uint32_t mask;  // bit 4r + j: entry j of run r overlaps; kLonger: more to test
+  };
+  Hit hits[kBlock];
+  for (std::uint32_t block = first_index; block < last_index; block += kBlock) {
+    const std::uint32_t block_end = std::min(last_index, block + kBlock);
+    std::uint32_t hit_count = 0;
+    for (std::uint32_t i = block; i < block_end; ++i) {
+      const std::uint32_t e = kListed ? list[i] : i;
+      // starts of the entry's cell: cell[0] is its first entry, cell[1] its end.
+      const std::uint32_t* cell = starts + records[e].key;
+      const Probe<D> probe = probe_at<D>(coords, stride, e);
+      // Bit 4r + j: entry j of run r overlaps. Run 0 is the own row from e + 1; each run tests
+      // only what its row needs (see run_lanes): the own row is on the same side on every axis,
+      // row r of all_rows on the sides kRowY[r], kRowZ[r]. `longer`: some run is longer than
+      // one group exactly when some length + kLanes - 1 reaches 2 * kLanes (an OR of values
+      // below that stays below it).
+      Lanes lanes[kRuns];
+      std::uint32_t length = cell[2] - (e + 1);
+      std::uint32_t longer = length + (kLanes - 1);
+      lanes[0] = run_lanes<D, Side::kSame, Side::kSame>(coords, stride, e + 1, length, probe);
+      const std::uint32_t* row = cell;  // the starts of row R's first cell: row[0] .. row[3]
+      [&]<std::size_t... R>(std::index_sequence<R...>) {
+        ((row = cell + rows[R], length = row[3] - row[0], longer |= length + (kLanes - 1),
+          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, row[0],
+                                                                          length, probe)),
+         ...);
+      }(std::make_index_sequence<kRows>{});
+      const std::uint32_t mask = lane_bits(lanes) | static_cast<std::uint32_t>(longer >= 2 * kLanes) << 31;
+      hits[hit_count] = {e, mask};
+      hit_count += mask != 0 ? 1u : 0u;
     }
-    first[kRuns] = e;
-    // Bit 4r + j: entry first[r] + j overlaps.
-    std::uint32_t mask = 0;
-    std::uint32_t longest = 0;
-    for (int r = 0; r < kRuns; ++r) {
-      const std::uint32_t length = last[r] - first[r];
-      mask |= (overlap_mask<D>(coords, stride, first[r], probe) & lane_mask(length)) << (kLanes * r);
-      longest = std::max(longest, length);
-    }
-    sink.n = n;
-    sink.reserve(kLanes * kRuns + 1);
-    out = sink.out;
-    // Report each set bit. The first without a branch: with no bit set, the sentinel bit
-    // 4 * kRuns picks entry first[kRuns] and the write is not kept.
-    std::uint32_t b = static_cast<std::uint32_t>(std::countr_zero(mask | (1u << (kLanes * kRuns))));
-    out[n] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
-    n += mask != 0 ? 1u : 0u;
-    for (mask &= mask - 1; mask != 0; mask &= mask - 1) {
-      b = static_cast<std::uint32_t>(std::countr_zero(mask));
-      out[n++] = ordered_pair(id, records[first[b / kLanes] + b % kLanes].id);
-    }
-    if (longest > kLanes) [[unlikely]] {
-      for (int r = 0; r < kRuns; ++r) {
-        for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
-          std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f);
-          sink.n = n;
-          sink.reserve(kLanes);
-          out = sink.out;
-          for (; m != 0; m &= m - 1) {
-            out[n++] = ordered_pair(id, records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id);
+    for (std::uint32_t h = 0; h < hit_count; ++h) {
+      const std::uint32_t e = hits[h].entry;
+      const Record record = records[e];
+      const std::uint32_t* cell = starts + record.key;
+      // first[kRuns] = e: the entry read for the sentinel bit below.
+      std::uint32_t first[kRuns + 1], last[kRuns];
+      first[0] = e + 1;
+      last[0] = cell[2];
+      for (int r = 0; r < kRows; ++r) {
+        first[r + 1] = cell[rows[r]];
+        last[r + 1] = cell[rows[r] + 3];
+      }
+      first[kRuns] = e;
+      sink.reserve(kLanes * kRuns + 2);
+      // Each set bit b is the pair with entry first[b / 4] + b % 4. The first two without a
+      // branch (most hits have one or two; how many is not predictable): with fewer bits, the
+      // sentinel bit 4 * kRuns picks entry e and the write is not kept.
+      constexpr std::uint32_t kSentinel = 1u << (kLanes * kRuns);
+      const auto entry_of = [&](std::uint32_t b) { return first[b / kLanes] + b % kLanes; };
+      BroadPair* out = sink.out;
+      std::size_t n = sink.n;
+      std::uint32_t m = hits[h].mask & ~kLonger;
+      for (int k = 0; k < 2; ++k) {
+        out[n] = ordered_pair(record.id, records[entry_of(static_cast<std::uint32_t>(std::countr_zero(m | kSentinel)))].id);
+        n += m != 0 ? 1u : 0u;
+        m &= m - 1;
+      }
+      for (; m != 0; m &= m - 1) {
+        out[n++] = ordered_pair(record.id, records[entry_of(static_cast<std::uint32_t>(std::countr_zero(m)))].id);
+      }
+      sink.n = n;
+      if (hits[h].mask & kLonger) [[unlikely]] {
+        const Probe<D> probe = probe_at<D>(coords, stride, e);
+        for (int r = 0; r < kRuns; ++r) {
+          for (std::uint32_t f = first[r] + kLanes; f < last[r]; f += kLanes) {
+            sink.reserve(kLanes);
+            for (std::uint32_t more = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last[r] - f); more != 0; more &= more - 1) {
+              sink.out[sink.n++] = ordered_pair(record.id, records[f + static_cast<std::uint32_t>(std::countr_zero(more))].id);
+            }
           }
         }
       }
     }
   }
-  sink.n = n;
 }
 
 template <int D>
@@ -509,8 +941,8 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
     // (each list has four slots of slack).
     constexpr std::uint32_t kChunk = 256;
     std::uint32_t lists[4][kChunk + kLanes];
-    const float* coords = coords_.data();
-    const std::size_t stride = stride_;
+    [[maybe_unused]] const float* coords = coords_.data();
+    [[maybe_unused]] const std::size_t stride = stride_;
     const std::uint32_t small = small_;
     for (std::uint32_t begin = 0; begin < small; begin += kChunk) {
       const std::uint32_t end = std::min(small, begin + kChunk);
@@ -553,8 +985,9 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
   BroadPair*& out = sink.out;
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
+  // (cell_of clamps: a big box may be an outlier, outside the grid.)
   for (const Entry& b : big_) {
-    for_each_run(grid_.cell_of_inside(b.box.min) - 1, grid_.cell_of_inside(b.box.max),
+    for_each_run(grid_.cell_of(b.box.min) - 1, grid_.cell_of(b.box.max),
                  [&](std::uint32_t first, std::uint32_t last) {
                    return for_each_overlap(b.box, first, last, [&](std::uint32_t f) {
                      reserve(1);
@@ -676,8 +1109,9 @@ template <int D>
 std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
          coords_.capacity() * sizeof(float) +
-         (records_.capacity() + staged_.capacity()) * sizeof(Record) +
-         band_starts_.capacity() * sizeof(std::uint32_t) +
+         records_.capacity() * sizeof(Record) +
+         (band_starts_.capacity() + band_next_.capacity() + band_counts_.capacity() + band_of_.capacity()) * sizeof(std::uint32_t) +
+         band_boxes_.capacity() * sizeof(AabbN<D>) + band_records_.capacity() * sizeof(Record) +
          (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }

@@ -17,8 +17,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace collide {
 namespace {
@@ -35,6 +37,15 @@ PairList brute_pairs(std::span<const AabbN<D>> boxes) {
 template <class BP, int D>
 PairList pairs_of(BP& bp, std::span<const AabbN<D>> boxes) {
   bp.build(boxes);
+  PairList pairs;
+  bp.find_pairs(pairs);
+  sort_pairs(pairs);
+  return pairs;
+}
+
+template <class BP, int D>
+PairList pairs_of_update(BP& bp, std::span<const AabbN<D>> boxes) {
+  bp.update(boxes);
   PairList pairs;
   bp.find_pairs(pairs);
   sort_pairs(pairs);
@@ -314,6 +325,96 @@ TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {
   check(test::touching_world<3>(rng, 400, 6), "touching");
 }
 
+// update on a grid sorted band by band writes each record straight into a region sized from
+// the band's count in the last call: frames of small motions (every band within its slack),
+// then half the boxes crowding into a corner of the grid (their bands outgrow the slack, the
+// count is taken again), then spreading back. Every frame against brute force, and the pairs
+// (with their order) as a fresh build sorted the same way.
+TEST(LooseGrid, UpdateByBandsMatchesBruteForceAsBandsGrowAndShrink) {
+  std::mt19937 rng(61);
+  const auto check = [&]<int D>() {
+    const float extent = D == 2 ? 30.0f : 10.0f;
+    auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 2500, extent, 0.1f, 0.6f), extent, 0.15f);
+    const typename LooseGridN<D>::Options options{.cell_size = 1.5f, .one_step_bits = 0, .band_bits = 6};
+    LooseGridN<D> grid(options);
+    grid.build(world.boxes);
+    const auto frame = [&](const std::string& what) {
+      grid.update(world.boxes);
+      PairList got;
+      grid.find_pairs(got);
+      LooseGridN<D> fresh(options);
+      fresh.build(world.boxes);
+      PairList again;
+      fresh.find_pairs(again);
+      PairList sorted = got;
+      sort_pairs(sorted);
+      EXPECT_EQ(sorted, brute_pairs<D>(world.boxes)) << D << " " << what;
+      if (grid.grid().bounds.min == fresh.grid().bounds.min && grid.grid().bounds.max == fresh.grid().bounds.max) {
+        EXPECT_EQ(got, again) << D << " " << what;
+      }
+    };
+    for (int f = 0; f < 5; ++f) {
+      world.step();
+      frame("small motions " + std::to_string(f));
+    }
+    const test::Boxes<D> before = world.boxes;
+    for (std::size_t i = 0; i < world.boxes.size(); i += 2) {
+      world.boxes[i] = test::box_at<D>(VecN<D>(-extent + 2.0f) + test::random_vec<D>(rng, 0.0f, 3.0f), VecN<D>(0.3f));
+    }
+    frame("crowded corner");
+    world.boxes = before;
+    frame("spread again");
+    world.step();
+    frame("small motion after");
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
+// A band holding more than kBandCopy boxes is sorted without copying its boxes out: 140000
+// boxes on a grid of two bands, the first with more than half the cells. Pairs (and their
+// order) as the one-step sort, and the set as a plain sweep along x.
+TEST(LooseGrid, CrowdedBandMatchesTheOneStepSort) {
+  std::mt19937 rng(88);
+  constexpr int n = 140000;
+  const test::Boxes<2> boxes = test::uniform_world<2>(rng, n, 180.0f, 0.1f, 0.5f);
+  LooseGrid one_step({.one_step_bits = 31});
+  one_step.build(boxes);
+  PairList want;
+  one_step.find_pairs(want);
+  // Bands of 2^bits cells, bits the largest with two bands; the boxes of the first band.
+  const CellN<2> dims = one_step.grid().dims;
+  const auto cells = static_cast<std::uint32_t>((dims.x + 2) * (dims.y + 2));
+  const int bits = std::bit_width(cells - 1) - 1;
+  int in_first_band = 0;
+  for (const Aabb& b : boxes) {
+    const CellN<2> c = one_step.grid().cell_of(b.min);
+    const auto key = static_cast<std::uint32_t>((c.y + 1) * (dims.x + 2) + c.x + 1);
+    in_first_band += (key >> bits) == 0;
+  }
+  ASSERT_GT(in_first_band, static_cast<int>(LooseGrid::kBandCopy));
+  LooseGrid banded({.one_step_bits = 0, .band_bits = bits});
+  banded.build(boxes);
+  PairList got;
+  banded.find_pairs(got);
+  EXPECT_EQ(got, want);
+  // The sweep: boxes by min.x, each against those starting before its max.x.
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[a].min.x < boxes[b].min.x; });
+  PairList swept;
+  for (int i = 0; i < n; ++i) {
+    const Aabb& a = boxes[order[i]];
+    for (int j = i + 1; j < n && boxes[order[j]].min.x <= a.max.x; ++j) {
+      if (overlap(a, boxes[order[j]])) swept.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
+    }
+  }
+  sort_pairs(swept);
+  sort_pairs(got);
+  EXPECT_EQ(got, swept);
+  EXPECT_GT(swept.size(), static_cast<std::size_t>(n / 4));
+}
+
 // Cells holding many boxes: the neighbour runs are longer than one four-wide test (the pair
 // pass's overflow loop) and the box counts are not multiples of four (the copy's tail). Pairs
 // and box queries against brute force.
@@ -388,6 +489,166 @@ TEST(GridMapping, CheckedBoundsCatchesEveryCoordinateOfEveryBox) {
           test::Boxes<D> boxes = good;
           boxes[i].min[a % D] = boxes[i].max[a % D] + 1.0f;
           EXPECT_THROW((void)checked_bounds_of<D>(boxes), InvalidInput) << D << n << i << a;
+        }
+      }
+    }
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
+// build lays the grid over the bounds of the boxes it samples for the cell size: with n = 2 *
+// kCellSizeSamples boxes the sample is every even index (sample_largest_sides' even stride), so
+// boxes moved away at odd indices lie outside that grid. A few are kept with the big boxes; many
+// make the grid be laid again over the exact bounds. Pairs and queries against brute force.
+TEST(LooseGrid, BoxesOutsideTheSampledGridAreKeptWithTheBigOnes) {
+  std::mt19937 rng(41);
+  const auto check = [&]<int D>(int moved, bool kept) {
+    constexpr int n = 2 * kCellSizeSamples;
+    const float extent = D == 2 ? 40.0f : 12.0f;
+    test::Boxes<D> boxes = test::uniform_world<D>(rng, n, extent, 0.1f, 0.5f);
+    // Odd boxes moved beyond the grid, in clumps of three that overlap each other; the first
+    // straddles the edge of the sampled bounds, so it also meets boxes inside.
+    for (int m = 0; m < moved; ++m) {
+      const int i = 2 * (m * 37 % (n / 2)) + 1;
+      const float out = m == 0 ? extent + 0.3f : extent + 3.0f + static_cast<float>(m / 3) * 2.0f;
+      boxes[i] = test::box_at<D>(VecN<D>(out) + test::random_vec<D>(rng, -0.2f, 0.2f), VecN<D>(m == 0 ? 1.5f : 0.5f));
+    }
+    LooseGridN<D> grid({.cell_size = 2.0f});  // no box spans more than two cells: big = outlier
+    const PairList want = brute_pairs<D>(boxes);
+    EXPECT_EQ((pairs_of<LooseGridN<D>, D>(grid, boxes)), want) << D << " moved " << moved;
+    int outside = 0;
+    for (const AabbN<D>& b : boxes) outside += !contains(grid.grid().bounds, b);
+    if (kept) {
+      // The moved boxes and any other unsampled box beyond the sample's grown bounds.
+      EXPECT_EQ(grid.big_count(), outside) << D;
+      EXPECT_GE(outside, moved) << D;
+      EXPECT_LE(outside, n / 1024 + 8) << D;
+    } else {
+      EXPECT_EQ(grid.big_count(), 0) << D;
+      EXPECT_EQ(outside, 0) << D;
+    }
+    // Queries reach the outliers: a box and a ray through the far clumps, a point in one.
+    const AabbN<D> far{VecN<D>(extent + 1.0f), VecN<D>(extent + 1000.0f)};
+    std::vector<int> got, expected;
+    grid.query(far, [&](int id) { got.push_back(id); return true; });
+    for (int i = 0; i < n; ++i) {
+      if (overlap(far, boxes[i])) expected.push_back(i);
+    }
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << D;
+    EXPECT_GE(expected.size(), static_cast<std::size_t>(moved - 1)) << D;
+    got.clear();
+    expected.clear();
+    const RayN<D> ray{VecN<D>(0.0f), VecN<D>(extent + 1000.0f)};
+    grid.ray_cast(ray, [&](int id, float f) { got.push_back(id); return f; });
+    for (int i = 0; i < n; ++i) {
+      if (ray_box_fraction(ray, boxes[i], 1.0f) >= 0.0f) expected.push_back(i);
+    }
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << D;
+    EXPECT_GT(expected.size(), 2u) << D;
+  };
+  for (const bool three_d : {false, true}) {
+    // 10 <= outlier_limit (n / 1024 + 8 = 16); 600 > it.
+    if (three_d) {
+      check.template operator()<3>(10, true);
+      check.template operator()<3>(600, false);
+    } else {
+      check.template operator()<2>(10, true);
+      check.template operator()<2>(600, false);
+    }
+  }
+}
+
+// update keeps its grid while the boxes stay in it: boxes taken out of the grid one per frame
+// are kept with the big ones (the grid stays), then too many leave it and the grid is laid
+// again over the bounds grown by the update margin, which the next frames' small motions stay
+// inside. Every frame against brute force.
+TEST(LooseGrid, UpdateKeepsItsGridUntilTooManyBoxesLeaveIt) {
+  std::mt19937 rng(43);
+  const auto check = [&]<int D>() {
+    const float extent = D == 2 ? 30.0f : 10.0f;
+    test::Boxes<D> boxes = test::uniform_world<D>(rng, 3000, extent, 0.1f, 0.6f);
+    LooseGridN<D> grid({.cell_size = 1.5f});  // no box spans more than two cells: big = outlier
+    grid.build(boxes);
+    ASSERT_EQ(grid.big_count(), 0);
+    const auto frame = [&](const char* what, int outliers, bool same_grid) {
+      const AabbN<D> before = grid.grid().bounds;
+      grid.update(boxes);
+      const AabbN<D> after = grid.grid().bounds;
+      EXPECT_EQ(after.min == before.min && after.max == before.max, same_grid) << D << " " << what;
+      EXPECT_EQ(grid.big_count(), outliers) << D << " " << what;
+      int outside = 0;
+      for (const AabbN<D>& b : boxes) outside += !contains(after, b);
+      EXPECT_EQ(outside, outliers) << D << " " << what;
+      PairList got;
+      grid.find_pairs(got);
+      sort_pairs(got);
+      EXPECT_EQ(got, brute_pairs<D>(boxes)) << D << " " << what;
+    };
+    // One more box per frame next to the last one beyond the grid (3000 / 1024 + 8 = 10 allowed).
+    for (int m = 0; m < 6; ++m) {
+      boxes[100 * m] = test::box_at<D>(VecN<D>(extent + 2.0f + 0.5f * static_cast<float>(m)), VecN<D>(0.4f));
+      frame("a few outside", m + 1, true);
+    }
+    for (int m = 6; m < 60; ++m) {
+      boxes[100 * m % 2999] = test::box_at<D>(VecN<D>(extent + 2.0f + 0.5f * static_cast<float>(m)), VecN<D>(0.4f));
+    }
+    frame("many outside", 0, false);
+    // Every box moves by up to 0.2 (less than a cell, the margin's least part): the grid stays.
+    for (int f = 0; f < 3; ++f) {
+      for (AabbN<D>& b : boxes) {
+        const VecN<D> step = test::random_vec<D>(rng, -0.2f, 0.2f);
+        b.min += step;
+        b.max += step;
+      }
+      frame("small motions", 0, true);
+    }
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
+// update validates each box in the key pass (no bounds pass while it keeps its grid): a bad
+// coordinate inside the grid's bounds, in every lane, throws naming the box and leaves the grid
+// empty; the next good update works.
+TEST(LooseGrid, UpdateRejectsBadBoxesInsideItsGridAndIsLeftEmpty) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity()};
+  const auto check = [&]<int D>() {
+    std::mt19937 rng(3 + D);
+    const test::Boxes<D> good = test::uniform_world<D>(rng, 7, 3.0f, 0.2f, 1.0f);
+    LooseGridN<D> grid;
+    grid.build(good);
+    const PairList want = brute_pairs<D>(good);
+    ASSERT_FALSE(want.empty());
+    for (int i = 0; i < 7; ++i) {
+      for (int a = 0; a < 2 * D; ++a) {
+        for (int v = 0; v < 4; ++v) {
+          test::Boxes<D> boxes = good;
+          if (v < 3) {
+            (a < D ? boxes[i].min[a] : boxes[i].max[a - D]) = bad[v];
+          } else {
+            // min > max on axis a % D, both inside the grid's bounds
+            std::swap(boxes[i].min[a % D], boxes[i].max[a % D]);
+          }
+          try {
+            grid.update(boxes);
+            ADD_FAILURE() << "accepted: D " << D << " box " << i << " coordinate " << a << " case " << v;
+          } catch (const InvalidInput& e) {
+            EXPECT_NE(std::string(e.what()).find("box " + std::to_string(i)), std::string::npos) << e.what();
+          }
+          EXPECT_EQ(grid.size(), 0);
+          PairList none;
+          grid.find_pairs(none);
+          EXPECT_TRUE(none.empty());
+          int hits = 0;
+          grid.query(bounds_of<D>(good), [&](int) { ++hits; return true; });
+          EXPECT_EQ(hits, 0);
+          grid.update(good);
+          EXPECT_EQ((pairs_of_update<LooseGridN<D>, D>(grid, good)), want);
         }
       }
     }

@@ -13,14 +13,27 @@
 /// scan: Ericson, "Real-Time Collision Detection", 7.1.6 and 7.1.7; the linked-cell method of
 /// molecular dynamics.)
 ///
-/// The rebuild is a counting sort over the cells: one pass computes each box's cell key (its
-/// min- and max-corner cells in one set of SIMD lanes) and counts boxes per cell, a prefix sum
-/// gives each cell its first slot, a second pass writes each box's (key, id) record to its
-/// slot, ids ascending in a cell, and a last pass copies the boxes in that order (sequential
-/// writes; the random accesses are 8-byte records and box reads). The grid is dense over the
-/// occupied bounds, with a border of empty cells so that every neighbour of an occupied cell
+/// The rebuild is a counting sort over the cells: one pass computes each box's cell key (the
+/// min- and max-corner cells of four boxes at a time, transposed into SIMD lanes) and counts
+/// boxes per cell, a prefix sum gives each cell its first slot, a second pass writes each
+/// box's (key, id) record to its slot, ids ascending in a cell, and a last pass copies the
+/// boxes in that order (sequential writes; the random accesses are 8-byte records and box
+/// reads). On grids of more than 2^one_step_bits cells (a million boxes) that would be random
+/// accesses to memory: the records are distributed by band (2^band_bits consecutive cells)
+/// straight into their final array, and each band is then sorted on its own in cache, its
+/// boxes read from the span in id order (a forward sweep, not one random read per box), the
+/// results written with streaming stores; an update on the same grid sizes the bands' regions
+/// from the last call's counts, so that the key pass itself distributes the records. The
+/// long passes prefetch ahead (the hardware prefetchers left them waiting on memory at a
+/// million boxes). The grid is dense over the
+/// boxes' bounds, with a border of empty cells so that every neighbour of an occupied cell
 /// exists; when the cells from the requested size would exceed kCellsPerBox per box, the cells
-/// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. Clustered,
+/// are widened (results stay exact, only the neighbour scans grow). Keys are 32-bit. There is
+/// no separate pass for the bounds: build lays the grid over the bounds of the boxes it samples
+/// for the cell size, grown a little, and update keeps the grid of the last call; the key pass
+/// validates each box and tests it against the grid's bounds, and a box outside (an outlier)
+/// is kept with the big boxes. Only when there are more than outlier_limit of them is the grid
+/// laid over the exact bounds (grown by kUpdateMargin in update). Clustered,
 /// sparse worlds are better served by SortedGrid, mixed sizes by HierarchicalGrid (here the big
 /// boxes are tested per cell range against the small ones and by a sweep along x against each
 /// other).
@@ -31,11 +44,15 @@
 /// entries, each usually shorter than four, so each run is one branch-free test. A box can meet
 /// a box of a row above on an axis only if its own max corner reaches that row, so in 3D the
 /// pair pass groups the entries (a chunk at a time) by which of y and z their boxes cross and
-/// tests each group's runs only (3.6 runs per box instead of 5 on the bench world).
+/// tests each group's runs only (3.6 runs per box instead of 5 on the bench world). Each run
+/// tests only the comparisons its row needs (a box in a row above cannot fail min <= max on
+/// that axis), and the pairs are written after each block of entries, from the entries that
+/// had an overlap.
 ///
 /// Memory per object: 2*D 4-byte coordinates, an 8-byte (key, id) record and a 4-byte key, plus
 /// at most kCellsPerBox 4-byte cell starts (2 in 2D, 2.6 in 3D on the bench world); on grids
-/// sorted band by band, an 8-byte staging record; a big box adds two (8*D + 4)-byte records.
+/// sorted band by band, 1/8 more records (the regions' slack) and one band's copies (at most
+/// kBandCopy boxes, records and positions); a big box adds two (8*D + 4)-byte records.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
@@ -70,6 +87,16 @@ class LooseGridN {
     int id;
   };
 
+  /// A sample's bounds are grown by this fraction of their extent on each side to lay the grid
+  /// of build: with kCellSizeSamples boxes sampled from a uniform world, a box lies beyond on a
+  /// side with probability about e^-4.
+  static constexpr float kSampleMargin = 4.0f / static_cast<float>(kCellSizeSamples);
+  /// When update lays a new grid (too many boxes left the last one), the exact bounds are grown
+  /// by this fraction of their extent, plus one cell, on each side.
+  static constexpr float kUpdateMargin = 1.0f / 32.0f;
+  /// On grids sorted band by band, the most boxes of one band that are copied out to be read
+  /// in id order: a band with more (a crowded world) reads them straight from the span.
+  static constexpr std::uint32_t kBandCopy = 1u << 16;
   /// Most grid cells per box (border included) before the cells are widened.
   static constexpr std::uint64_t kCellsPerBox = 4;
   /// Cells every grid may use regardless of the number of boxes (small worlds).
@@ -80,9 +107,12 @@ class LooseGridN {
   /// outside [0, 31].
   explicit LooseGridN(Options options);
 
-  /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
+  /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max,
+  /// leaving the grid empty (size 0) until the next build or update.
   void build(std::span<const AabbN<D>> boxes);
-  /// Rebuilds from the moved boxes, keeping the cell size chosen at build. Throws as build.
+  /// Rebuilds from the moved boxes, keeping the cell size chosen at build and, while it still
+  /// holds all but a few of the boxes, the grid of the last call (so the order of the pairs,
+  /// never their set, may depend on earlier calls). Throws as build.
   void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: small pairs by the stored entry of the first
@@ -111,13 +141,38 @@ class LooseGridN {
   // Entries past the last that a four-wide load may read: the arrays are padded with this many.
   static constexpr std::size_t kPad = 8;
 
-  void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds);
-  // keys_[i] for every box (kBig bucket for big ones, which also go to big_); count(key) is
-  // called for each.
+  // Empties what find_pairs and the queries read (after a throw).
+  void clear() noexcept;
+  // A box outside the grid (an outlier) is kept with the big ones while there are at most
+  // this many; with more, the grid is laid again over the boxes' exact bounds.
+  static std::size_t outlier_limit(std::size_t boxes) noexcept { return boxes / 1024 + 8; }
+  // Most cells (with the border) for a grid of that many boxes.
+  static std::uint64_t cell_budget(std::size_t boxes) noexcept;
+  // The largest sides of a sample of the boxes into `sides`, and the sample's bounds (grown by
+  // kSampleMargin of their extent when the sample is not every box). Throws as build for a
+  // bad sampled box (naming the first bad box of the span).
+  static AabbN<D> sample_boxes(std::span<const AabbN<D>> boxes, std::vector<float>& sides);
+  // grid_, padded_ and cells_ for these bounds with the chosen cell size, widened to the budget
+  // of that many boxes.
+  void set_grid(const AabbN<D>& bounds, std::size_t boxes);
+  // Sorts the boxes into grid_: keys, counting sort, gather. Returns false (the grid left
+  // unusable) when more than outlier_limit boxes lie outside grid_.bounds. Throws as build.
+  bool bin(std::span<const AabbN<D>> boxes);
+  // The key of every box (the big bucket for big boxes and outliers, which also go to big_),
+  // to keys_[i] when store_keys; count(key, i) is called for each. Returns the number of
+  // outliers; throws for a bad box.
   template <class Count>
-  void compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, Count&& count);
-  // Copies the boxes into the coordinate arrays in the order of records_.
-  void gather(std::span<const AabbN<D>> boxes) noexcept;
+  std::size_t compute_keys(std::span<const AabbN<D>> boxes, std::uint32_t big_key, bool store_keys,
+                           Count&& count);
+  // Sorts by cell the m records of a band at records_[from_slot...] in id order, their cells
+  // in [first_cell, last_cell), to slots [first, first + m) (first <= from_slot): records,
+  // cell starts and coordinates.
+  void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot, std::uint32_t m,
+                 std::uint32_t first, std::uint32_t first_cell, std::uint32_t last_cell);
+  // Copies box_of(e) into the coordinate arrays at entry e, for e in [first, last); with
+  // kStream, by streaming stores.
+  template <bool kStream, class BoxOf>
+  void gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of) noexcept;
   // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
   struct PairSink;
   // The small-small pairs of the entries e in [first, last), or, when kListed, of
@@ -156,6 +211,7 @@ class LooseGridN {
   Options options_{};
   GridMapping<D> grid_{};
   CellN<D> padded_{1};              // cells per axis with the border: grid_.dims + 2
+  std::uint32_t cells_ = 1;         // cells with the border: the product of padded_
   float chosen_cell_size_ = 0.0f;   // from the data at build; kept by update
   int count_ = 0;
   std::uint32_t small_ = 0;         // binned boxes: entries [0, small_) of the sorted arrays
@@ -173,8 +229,17 @@ class LooseGridN {
   std::vector<Record> records_;
   std::size_t stride_ = 0;
   std::vector<float> coords_;
-  std::vector<Record> staged_;  // on grids sorted band by band: the entries by band
+  // On grids sorted band by band: where each band's records are distributed, the next free
+  // slot of each, and the boxes of each band (the big bucket last) in the last call, kept
+  // while the grid is (update sizes the regions from them).
   std::vector<std::uint32_t> band_starts_;
+  std::vector<std::uint32_t> band_next_;
+  std::vector<std::uint32_t> band_counts_;
+  // On grids sorted band by band, one band at a time: its boxes in id order, its records by
+  // cell and the position of each one's box among band_boxes_.
+  std::vector<AabbN<D>> band_boxes_;
+  std::vector<Record> band_records_;
+  std::vector<std::uint32_t> band_of_;
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
