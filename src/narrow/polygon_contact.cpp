@@ -80,13 +80,23 @@ struct Context {
   float merge = 0.0f;  ///< contact points closer than this are one point
 };
 
+/// Which side the routines below write their manifold from: as computed, polygon 1 being the
+/// caller's A, or reversed (polygon 1 is the caller's B: normal flipped, A and B swapped in the
+/// ids, the rule of `reverse` in manifold.hpp). Applied as each value is written, so the
+/// caller's manifold is built in place, once, and never copied to be reversed.
+struct Side {
+  bool reversed = false;
+  [[nodiscard]] Vec2 normal(Vec2 n) const noexcept { return reversed ? -n : n; }
+  [[nodiscard]] ContactId id(ContactId i) const noexcept { return reversed ? swapped(i) : i; }
+  [[nodiscard]] Side other() const noexcept { return Side{!reversed}; }
+};
+
 /// Face contact with polygon 1 as "A": clip edge `i21` of p2 to the side planes of reference
 /// edge `i11` of p1 and keep the points within the radii sum of the reference face (merged into
 /// one when they coincide, as when segments meet end to end). Normal: the reference edge's
-/// outward normal. Written into `m` (fresh, count 0), as seen from the other side when
-/// `flip` (p1 is the caller's B): the routines below build the caller's manifold in place.
+/// outward normal. Written into `m` (fresh, count 0) from `side`.
 void clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int i21,
-                   const Context& ctx, bool flip, Manifold& m) noexcept {
+                   const Context& ctx, Side side, Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normal(i11);
   const EdgeRef ref{p1.vertex(i11), p1.vertex(p1.next(i11)), i11, p1.next(i11)};
@@ -121,10 +131,9 @@ void clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int 
     count = 1;
   }
   if (count == 0) return;
-  const Vec2 n = rotate(frame.q, n1);
-  m.normal = flip ? -n : n;
+  m.normal = side.normal(rotate(frame.q, n1));
   for (int k = 0; k < count; ++k) {
-    m.points[k] = {transform_point(frame, kept[k]), depth[k], flip ? swapped(id[k]) : id[k]};
+    m.points[k] = {transform_point(frame, kept[k]), depth[k], side.id(id[k])};
   }
   m.count = count;
 }
@@ -132,7 +141,7 @@ void clip_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2, int 
 /// One point at the vertex of p2 deepest below reference edge `i11` of p1, with that depth,
 /// written into `m` as clip_manifold does.
 void deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon& p2,
-                            const Context& ctx, bool flip, Manifold& m) noexcept {
+                            const Context& ctx, Side side, Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const Vec2 n1 = p1.normal(i11);
   int deepest = 0;
@@ -142,13 +151,13 @@ void deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon&
   const float separation = dot(n1, p2.vertex(deepest) - p1.vertex(i11));
   const float radius = p1.radius + p2.radius;
   if (!(separation <= radius)) return;
-  const Vec2 n = rotate(frame.q, n1);
-  const ContactId id{static_cast<std::uint8_t>(i11), static_cast<std::uint8_t>(deepest),
-                     FeatureType::edge, FeatureType::vertex};
-  m.normal = flip ? -n : n;
+  m.normal = side.normal(rotate(frame.q, n1));
   m.points[0] = {transform_point(frame, p2.vertex(deepest) +
                                             (0.5f * (p1.radius - separation - p2.radius)) * n1),
-                 radius - separation, flip ? swapped(id) : id};
+                 radius - separation,
+                 side.id(ContactId{static_cast<std::uint8_t>(i11),
+                                   static_cast<std::uint8_t>(deepest), FeatureType::edge,
+                                   FeatureType::vertex})};
   m.count = 1;
 }
 
@@ -184,12 +193,12 @@ int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
 /// of an edge makes that edge the reference face; otherwise p1's edge is. Written into `m` as
 /// clip_manifold does.
 void reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
-                             const LocalPolygon& p2, const Context& ctx, bool flip,
+                             const LocalPolygon& p2, const Context& ctx, Side side,
                              Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
   const int i11 = reference.edge;
   const int i21 = incident_edge(p2, p1.normal(i11));
-  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx, flip, m);
+  if (!(reference.separation > ctx.apart)) return clip_manifold(p1, i11, p2, i21, ctx, side, m);
 
   ClosestEdges best = closest_edges(p1, i11, p2, i21);
   for (int step = 0; step < p1.count + p2.count; ++step) {
@@ -221,18 +230,18 @@ void reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
     const Vec2 mid = best.points.point1 + (0.5f * (r1 + dist - r2)) * n;
     const int v1 = f1 == 0.0f ? best.e1 : p1.next(best.e1);
     const int v2 = f2 == 0.0f ? best.e2 : p2.next(best.e2);
-    const Vec2 world_n = rotate(frame.q, n);
-    const ContactId id{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
-                       FeatureType::vertex, FeatureType::vertex};
-    m.normal = flip ? -world_n : world_n;
-    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist, flip ? swapped(id) : id};
+    m.normal = side.normal(rotate(frame.q, n));
+    m.points[0] = {transform_point(frame, mid), r1 + r2 - dist,
+                   side.id(ContactId{static_cast<std::uint8_t>(v1), static_cast<std::uint8_t>(v2),
+                                     FeatureType::vertex, FeatureType::vertex})};
     m.count = 1;
     return;
   }
   if (end1) {
-    return clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx, !flip, m);
+    return clip_manifold(p2, best.e2, p1, incident_edge(p1, p2.normal(best.e2)), ctx,
+                         side.other(), m);
   }
-  clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx, flip, m);
+  clip_manifold(p1, best.e1, p2, incident_edge(p2, p1.normal(best.e1)), ctx, side, m);
 }
 
 /// Everything after the separating axis test, shared by both front ends: `pa` and `pb` are the
@@ -271,25 +280,27 @@ void finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPol
                     kRelativeTolerance * size,
                     kContactMergeTolerance * size};
   const bool b_reference = sep_b.separation > ref_a.separation + kReferenceFaceTolerance * size;
+  constexpr Side as_is{false};
+  constexpr Side reversed_side{true};
   if (b_reference) {
-    reference_face_manifold(pb, sep_b, pa, ctx, true, m);
+    reference_face_manifold(pb, sep_b, pa, ctx, reversed_side, m);
   } else {
-    reference_face_manifold(pa, ref_a, pb, ctx, false, m);
+    reference_face_manifold(pa, ref_a, pb, ctx, as_is, m);
   }
   if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return;
   // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
   // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
   // beside the reference edge. Try the other polygon's best face, then the deepest vertex.
   if (b_reference) {
-    reference_face_manifold(pa, ref_a, pb, ctx, false, m);
+    reference_face_manifold(pa, ref_a, pb, ctx, as_is, m);
   } else {
-    reference_face_manifold(pb, sep_b, pa, ctx, true, m);
+    reference_face_manifold(pb, sep_b, pa, ctx, reversed_side, m);
   }
   if (m.count > 0) return;
   if (b_reference) {
-    deepest_point_manifold(pb, sep_b.edge, pa, ctx, true, m);
+    deepest_point_manifold(pb, sep_b.edge, pa, ctx, reversed_side, m);
   } else {
-    deepest_point_manifold(pa, ref_a.edge, pb, ctx, false, m);
+    deepest_point_manifold(pa, ref_a.edge, pb, ctx, as_is, m);
   }
 }
 
