@@ -86,6 +86,28 @@ void stream_copy(const T* from, const T* end, T* to) noexcept {
   std::copy(from, end, to);
 }
 
+/// Copies the kLineSlots values at `from` (a 64-byte aligned buffer) to `to` (64-byte
+/// aligned, whole cache lines) by streaming stores where the SIMD path has them; sfence()
+/// orders them before later reads of `to`.
+template <std::size_t kCount, class T>
+inline void stream_line_impl(const T* from, T* to) noexcept {
+  constexpr std::size_t kBytes = kCount * sizeof(T);
+  static_assert(kBytes % 64 == 0);
+#if defined(__SSE2__)
+  const auto* f = reinterpret_cast<const __m128i*>(from);
+  auto* t = reinterpret_cast<__m128i*>(to);
+  for (std::size_t k = 0; k < kBytes / 16; ++k) _mm_stream_si128(t + k, _mm_load_si128(f + k));
+#else
+  std::copy(from, from + kCount, to);
+#endif
+}
+
+inline void sfence() noexcept {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
 /// values[i] += values[0] + ... + values[i - 1] for i in [1, count): the running sums.
 void inclusive_prefix_sum(std::uint32_t* values, std::uint32_t count) noexcept {
   std::uint32_t i = 0;
@@ -562,6 +584,45 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
     band_starts_.assign(bands + 2, 0u);
     std::uint32_t* region = band_starts_.data();
     const auto band_of = [=](std::uint32_t key) { return key == big_key ? bands : key >> band_bits; };
+    // Each band's records and boxes go to its region, at the band's next slot. Regions start
+    // and end on multiples of kLineSlots slots, and the record and box arrays on cache lines,
+    // so a band's slots are written kLineSlots at a time from a line buffer in cache
+    // (BandLine), by full-line streaming stores: no read of the lines before writing them
+    // (software write-combining); `finish` writes the partly filled lines left.
+    constexpr std::uint32_t kRound = kLineSlots - 1;
+    band_lines_.resize(bands + 1);
+    std::uint32_t* next = nullptr;
+    Record* to = nullptr;
+    AabbN<D>* staged = nullptr;
+    const auto start_regions = [&] {
+      // (reserved first: resize alone may double the capacity)
+      records_.reserve(std::max<std::size_t>(stride_, region[bands + 1]));
+      records_.resize(std::max<std::size_t>(stride_, region[bands + 1]));
+      stage_like_records();
+      band_next_.assign(region, region + bands + 1);
+      next = band_next_.data();
+      to = records_.data();
+      staged = staged_.data();
+    };
+    const auto place = [&](std::uint32_t b, std::uint32_t key, int i) {
+      const std::uint32_t slot = next[b]++;
+      BandLine& line = band_lines_.data()[b];
+      line.records[slot % kLineSlots] = {key, i};
+      line.boxes[slot % kLineSlots] = boxes[i];
+      if (slot % kLineSlots == kRound) {
+        stream_line_impl<kLineSlots>(line.records, to + (slot - kRound));
+        stream_line_impl<kLineSlots>(line.boxes, staged + (slot - kRound));
+      }
+    };
+    const auto finish = [&] {
+      sfence();
+      for (std::uint32_t b = 0; b <= bands; ++b) {
+        const BandLine& line = band_lines_[b];
+        const std::uint32_t filled = next[b] % kLineSlots, from = next[b] - filled;
+        std::copy(line.records, line.records + filled, to + from);
+        std::copy(line.boxes, line.boxes + filled, staged + from);
+      }
+    };
     bool distributed = false;
     if (band_counts_.size() == bands + 1) {
       // Update on the grid of a last call that was sorted by band: each band's region is sized
@@ -571,17 +632,14 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
       std::uint32_t at = 0, last_count = 0;
       for (std::uint32_t b = 0; b <= bands; ++b) {
         region[b] = at;
-        at += band_counts_[b] + band_counts_[b] / 8 + 16;
+        at += (band_counts_[b] + band_counts_[b] / 8 + 16 + kRound) & ~kRound;
         last_count += band_counts_[b];
       }
       region[bands + 1] = at;
       // At most this many for the counts of the last call: reserved as such, so the capacity
       // does not double and stays put from frame to frame.
-      records_.reserve(std::max<std::size_t>(stride_, last_count + last_count / 8 + 16 * (bands + 1)));
-      records_.resize(std::max<std::size_t>(stride_, at));
-      band_next_.assign(region, region + bands + 1);
-      std::uint32_t* next = band_next_.data();
-      Record* to = records_.data();
+      records_.reserve(std::max<std::size_t>(stride_, last_count + last_count / 8 + (16 + kRound) * (bands + 1)));
+      start_regions();
       bool overflow = false;
       if (compute_keys(boxes, big_key, false, [&](std::uint32_t key, int i) {
             const std::uint32_t b = band_of(key);
@@ -589,10 +647,11 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
               overflow = true;
               return;
             }
-            to[next[b]++] = {key, i};
+            place(b, key, i);
           }) > max_outliers) {
         return false;
       }
+      finish();
       distributed = !overflow;
       if (distributed) {
         for (std::uint32_t b = 0; b <= bands; ++b) band_counts_[b] = next[b] - region[b];
@@ -609,14 +668,13 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
         return false;
       }
       region[0] = 0;
-      for (std::uint32_t b = 0; b <= bands; ++b) region[b + 1] = region[b] + counts[b];
-      band_next_.assign(region, region + bands + 1);
-      std::uint32_t* next = band_next_.data();
-      records = records_.data();
+      for (std::uint32_t b = 0; b <= bands; ++b) region[b + 1] = region[b] + ((counts[b] + kRound) & ~kRound);
+      start_regions();
       for (int i = 0; i < count_; ++i) {
         const std::uint32_t key = keys[i];
-        records[next[band_of(key)]++] = {key, i};
+        place(band_of(key), key, i);
       }
+      finish();
     }
     records = records_.data();
     // Each band sorted to the slots after the band before: at or before its region, so no
@@ -650,52 +708,55 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fro
   // records_[from_slot, from_slot + m) holds the band's records in id order, their cells in
   // [first_cell, last_cell); they go to slots [first, first + m), first <= from_slot. The
   // counting sort of bin's one-step path on the band's cell starts (starts_[first_cell] is the
-  // end of the band before, set already), into copies that stay in cache: the records placed
-  // there by cell and the boxes read in id order (a forward sweep through the span, not a
-  // random read per box); then both are written out in slot order, with streaming stores (a
-  // million boxes do not stay in cache until the pair pass anyway).
-  std::uint32_t* starts = starts_.data();
-  starts[first_cell + 1] = first;
-  std::fill(starts + first_cell + 2, starts + last_cell + 2, 0u);
+  // end of the band before, set already), into copies that stay in cache: the cell starts,
+  // the records placed there by cell and their boxes, read from staged_ at the records' slots
+  // (one sequential sweep); then all are written out, with streaming stores (a million boxes
+  // do not stay in cache until the pair pass anyway).
+  // The band's cell starts are counted in a copy that stays in cache, cell[c - first_cell]
+  // for starts_[c], and written out to starts_[first_cell + 1, last_cell + 2) at the end, by
+  // streaming stores (no read of starts_'s lines before writing them).
+  const std::uint32_t cells = last_cell - first_cell;
+  band_cells_.resize(cells + 2);
+  std::uint32_t* cell = band_cells_.data();
+  cell[1] = first;
+  std::fill(cell + 2, cell + cells + 2, 0u);
   Record* records = records_.data();
   const Record* from = records + from_slot;
   const std::uint32_t last = first + m;
   for (std::uint32_t s = 0; s < m; ++s) {
     prefetch_ahead(from, s, m);
-    ++starts[from[s].key + 2];
+    ++cell[from[s].key - first_cell + 2];
   }
-  inclusive_prefix_sum(starts + first_cell + 1, last_cell - first_cell + 1);
+  inclusive_prefix_sum(cell + 1, cells + 1);
+  // The next slot of the cell of `key` (moving it on: afterwards cell[c + 1] ends cell c).
+  const auto slot_of = [cell, first_cell](std::uint32_t key) { return cell[key - first_cell + 1]++; };
+  std::uint32_t* starts = starts_.data();
   band_records_.resize(m);
   // placed[slot - first]: the record of that slot.
   Record* placed = band_records_.data();
   if (m > kBandCopy) {
     // A crowded band: its boxes straight from the span.
-    for (std::uint32_t s = 0; s < m; ++s) placed[starts[from[s].key + 1]++ - first] = from[s];
+    for (std::uint32_t s = 0; s < m; ++s) placed[slot_of(from[s].key) - first] = from[s];
+    stream_copy(cell + 1, cell + cells + 2, starts + first_cell + 1);
     std::copy(placed, placed + m, records + first);
     gather<false>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
     return;
   }
+  // The band's boxes, staged by the key pass at the same slots as its records (a sequential
+  // read), placed by cell into a copy that stays in cache.
   band_boxes_.resize(m);
-  band_of_.resize(m);
-  // of[slot - first]: the position in the copy of the box of that slot. (The records are placed
-  // before the sweep through the span, which pushes much else out of the cache.)
-  std::uint32_t* of = band_of_.data();
+  AabbN<D>* sorted = band_boxes_.data();
+  const AabbN<D>* staged = staged_.data() + from_slot;
   for (std::uint32_t s = 0; s < m; ++s) {
-    const std::uint32_t at = starts[from[s].key + 1]++ - first;
+    prefetch_ahead(staged, s, m);
+    const std::uint32_t at = slot_of(from[s].key) - first;
     placed[at] = from[s];
-    of[at] = s;
+    sorted[at] = staged[s];
   }
-  AabbN<D>* copy = band_boxes_.data();
-  for (std::uint32_t s = 0; s < m; ++s) {
-#if defined(__SSE2__)
-    constexpr std::uint32_t kAhead = 48;
-    if (s + kAhead < m) _mm_prefetch(reinterpret_cast<const char*>(&boxes[from[s + kAhead].id]), _MM_HINT_T0);
-#endif
-    copy[s] = boxes[from[s].id];
-  }
-  // (The band's records are read up to here, by id, and overwritten only now.)
+  stream_copy(cell + 1, cell + cells + 2, starts + first_cell + 1);
+  // (The band's records are read up to here and overwritten only now.)
   stream_copy(placed, placed + m, records + first);
-  gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return copy[of[e - first]]; });
+  gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return sorted[e - first]; });
 }
 
 template <int D>
@@ -1110,8 +1171,9 @@ std::size_t LooseGridN<D>::memory_bytes() const noexcept {
   return keys_.capacity() * sizeof(std::uint32_t) + starts_.capacity() * sizeof(std::uint32_t) +
          coords_.capacity() * sizeof(float) +
          records_.capacity() * sizeof(Record) +
-         (band_starts_.capacity() + band_next_.capacity() + band_counts_.capacity() + band_of_.capacity()) * sizeof(std::uint32_t) +
-         band_boxes_.capacity() * sizeof(AabbN<D>) + band_records_.capacity() * sizeof(Record) +
+         (band_starts_.capacity() + band_next_.capacity() + band_counts_.capacity() + band_cells_.capacity()) * sizeof(std::uint32_t) +
+         (band_boxes_.capacity() + staged_.capacity()) * sizeof(AabbN<D>) +
+         band_records_.capacity() * sizeof(Record) + band_lines_.capacity() * sizeof(BandLine) +
          (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }

@@ -371,6 +371,44 @@ TEST(LooseGrid, UpdateByBandsMatchesBruteForceAsBandsGrowAndShrink) {
   check.template operator()<3>();
 }
 
+// On grids sorted band by band, each band's records and boxes are written a line of
+// kLineSlots (8) slots at a time, the partly filled line last, and each band's cell starts
+// are counted apart and copied out. Bands of every size modulo 8 (small worlds of 1 to 120
+// boxes, bands of 4 and 32 cells), at build (regions counted) and over updates (regions
+// sized from the last call): pairs against brute force each frame, and at build in the order
+// of the one-step sort.
+TEST(LooseGrid, BandedLinesOfEverySizeMatchBruteForce) {
+  std::mt19937 rng(93);
+  const auto check = [&]<int D>() {
+    for (int n = 1; n <= 120; n += (n < 20 ? 1 : 7)) {
+      const float extent = D == 2 ? 0.6f * std::sqrt(static_cast<float>(n)) + 2.0f
+                                  : 0.8f * std::cbrt(static_cast<float>(n)) + 2.0f;
+      auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, n, extent, 0.1f, 0.8f), extent, 0.2f);
+      LooseGridN<D> one_step({.cell_size = 1.0f, .one_step_bits = 31});
+      one_step.build(world.boxes);
+      PairList want;
+      one_step.find_pairs(want);
+      for (const int bits : {2, 5}) {
+        LooseGridN<D> banded({.cell_size = 1.0f, .one_step_bits = 0, .band_bits = bits});
+        banded.build(world.boxes);
+        PairList got;
+        banded.find_pairs(got);
+        EXPECT_EQ(got, want) << "D=" << D << " n=" << n << " band_bits=" << bits;
+        auto moving = world;
+        for (int f = 0; f < 4; ++f) {
+          moving.step();
+          banded.update(moving.boxes);
+          banded.find_pairs(got);
+          sort_pairs(got);
+          EXPECT_EQ(got, brute_pairs<D>(moving.boxes)) << "D=" << D << " n=" << n << " band_bits=" << bits << " frame " << f;
+        }
+      }
+    }
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
 // A band holding more than kBandCopy boxes is sorted without copying its boxes out: 140000
 // boxes on a grid of two bands, the first with more than half the cells. Pairs (and their
 // order) as the one-step sort, and the set as a plain sweep along x.

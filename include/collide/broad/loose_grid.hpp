@@ -19,10 +19,12 @@
 /// box's (key, id) record to its slot, ids ascending in a cell, and a last pass copies the
 /// boxes in that order (sequential writes; the random accesses are 8-byte records and box
 /// reads). On grids of more than 2^one_step_bits cells (a million boxes) that would be random
-/// accesses to memory: the records are distributed by band (2^band_bits consecutive cells)
-/// straight into their final array, and each band is then sorted on its own in cache, its
-/// boxes read from the span in id order (a forward sweep, not one random read per box), the
-/// results written with streaming stores; an update on the same grid sizes the bands' regions
+/// accesses to memory: the records are distributed by band (2^band_bits consecutive cells),
+/// each with a copy of its box (staged, so that a band's boxes are then read in one sequential
+/// sweep), a cache line of records and boxes at a time from per-band line buffers, by
+/// streaming stores (software write-combining: no read of the lines before writing them); each
+/// band is then sorted on its own in cache, cell starts included, and the results written out
+/// with streaming stores; an update on the same grid sizes the bands' regions
 /// from the last call's counts, so that the key pass itself distributes the records. The
 /// long passes prefetch ahead (the hardware prefetchers left them waiting on memory at a
 /// million boxes). The grid is dense over the
@@ -51,13 +53,16 @@
 ///
 /// Memory per object: 2*D 4-byte coordinates, an 8-byte (key, id) record and a 4-byte key, plus
 /// at most kCellsPerBox 4-byte cell starts (2 in 2D, 2.6 in 3D on the bench world); on grids
-/// sorted band by band, 1/8 more records (the regions' slack) and one band's copies (at most
-/// kBandCopy boxes, records and positions); a big box adds two (8*D + 4)-byte records.
+/// sorted band by band, 1/8 more records (the regions' slack), a staged box per record (8*D
+/// bytes: 18 B per object in 2D, 27 in 3D with the slack) and one band's copies (records,
+/// boxes and cell starts); a big box adds two (8*D + 4)-byte records.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <span>
 #include <vector>
 
@@ -94,8 +99,9 @@ class LooseGridN {
   /// When update lays a new grid (too many boxes left the last one), the exact bounds are grown
   /// by this fraction of their extent, plus one cell, on each side.
   static constexpr float kUpdateMargin = 1.0f / 32.0f;
-  /// On grids sorted band by band, the most boxes of one band that are copied out to be read
-  /// in id order: a band with more (a crowded world) reads them straight from the span.
+  /// On grids sorted band by band, the most boxes of one band that are sorted from their staged
+  /// copies into an in-cache copy: a band with more (a crowded world) reads them straight from
+  /// the span.
   static constexpr std::uint32_t kBandCopy = 1u << 16;
   /// Most grid cells per box (border included) before the cells are widened.
   static constexpr std::uint64_t kCellsPerBox = 4;
@@ -169,6 +175,25 @@ class LooseGridN {
   // cell starts and coordinates.
   void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot, std::uint32_t m,
                  std::uint32_t first, std::uint32_t first_cell, std::uint32_t last_cell);
+  // Allocates on 64-byte boundaries (cache lines), for the full-line streaming stores of the
+  // distribution by band.
+  template <class T>
+  struct LineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlign{64};
+    LineAllocator() = default;
+    template <class U>
+    LineAllocator(const LineAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlign); }
+    template <class U>
+    bool operator==(const LineAllocator<U>&) const noexcept { return true; }
+  };
+  // staged_ as large as records_ (and its capacity at least records_'s).
+  void stage_like_records() {
+    staged_.reserve(records_.capacity());
+    staged_.resize(records_.size());
+  }
   // Copies box_of(e) into the coordinate arrays at entry e, for e in [first, last); with
   // kStream, by streaming stores.
   template <bool kStream, class BoxOf>
@@ -226,7 +251,7 @@ class LooseGridN {
   // then the big boxes. Their boxes are in coords_, one array per coordinate: coordinate k of
   // the min corner of entry e is coords_[k * stride_ + e], of the max corner
   // coords_[(D + k) * stride_ + e].
-  std::vector<Record> records_;
+  std::vector<Record, LineAllocator<Record>> records_;
   std::size_t stride_ = 0;
   std::vector<float> coords_;
   // On grids sorted band by band: where each band's records are distributed, the next free
@@ -235,11 +260,23 @@ class LooseGridN {
   std::vector<std::uint32_t> band_starts_;
   std::vector<std::uint32_t> band_next_;
   std::vector<std::uint32_t> band_counts_;
-  // On grids sorted band by band, one band at a time: its boxes in id order, its records by
-  // cell and the position of each one's box among band_boxes_.
+  // On grids sorted band by band: each box at the slot of its record while the records are
+  // distributed by band, so that sort_band reads a band's boxes in one sequential sweep
+  // (not from the span, where they are scattered among the other bands' boxes).
+  std::vector<AabbN<D>, LineAllocator<AabbN<D>>> staged_;
+  // Slots per line of a distribution by band (see bin): records and boxes of kLineSlots slots
+  // fill whole cache lines.
+  static constexpr std::uint32_t kLineSlots = 8;
+  // One band's next slots while the records are distributed, written out kLineSlots at a time.
+  struct alignas(64) BandLine {
+    Record records[kLineSlots];
+    AabbN<D> boxes[kLineSlots];
+  };
+  std::vector<BandLine, LineAllocator<BandLine>> band_lines_;
+  // On grids sorted band by band, one band at a time: its records and boxes by cell.
   std::vector<AabbN<D>> band_boxes_;
   std::vector<Record> band_records_;
-  std::vector<std::uint32_t> band_of_;
+  std::vector<std::uint32_t> band_cells_;  // one band's cell starts
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
