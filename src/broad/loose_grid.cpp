@@ -291,6 +291,56 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
 
 template <int D>
 void LooseGridN<D>::build(std::span<const AabbN<D>> boxes) {
+  build_with(boxes, nullptr);
+}
+
+template <int D>
+void LooseGridN<D>::update(std::span<const AabbN<D>> boxes) {
+  update_with(boxes, nullptr);
+}
+
+template <int D>
+void LooseGridN<D>::build_and_find_pairs(std::span<const AabbN<D>> boxes, PairList& pairs) {
+  // (the entries of the last call are overwritten, not cleared first: see grow_pairs)
+  PairSink sink{pairs, pairs.data(), 0, pairs.size()};
+  try {
+    build_with(boxes, &sink);
+  } catch (...) {
+    pairs.clear();
+    throw;
+  }
+  finish_pairs(sink, pairs);
+}
+
+template <int D>
+void LooseGridN<D>::update_and_find_pairs(std::span<const AabbN<D>> boxes, PairList& pairs) {
+  // (the entries of the last call are overwritten, not cleared first: see grow_pairs)
+  PairSink sink{pairs, pairs.data(), 0, pairs.size()};
+  try {
+    update_with(boxes, &sink);
+  } catch (...) {
+    pairs.clear();
+    throw;
+  }
+  finish_pairs(sink, pairs);
+}
+
+template <int D>
+void LooseGridN<D>::finish_pairs(PairSink& sink, PairList& pairs) {
+  if (!small_pairs_done_) {
+    append_small_range<false>(grid_view(), 0, small_, sink);
+  } else {
+    // Found band by band (find_big_in_band), each big box's in the order of its entries, as
+    // append_big_pairs finds them: put in the order of the big boxes.
+    std::stable_sort(big_found_.begin(), big_found_.end(),
+                     [](const BigFound& a, const BigFound& b) { return a.big < b.big; });
+  }
+  append_big_pairs(sink);
+  pairs.resize(sink.n);
+}
+
+template <int D>
+void LooseGridN<D>::build_with(std::span<const AabbN<D>> boxes, PairSink* sink) {
   // The cell size and the grid from a sample of the boxes (all of them when few): a box outside
   // the sample's bounds (grown a little) is kept with the big ones, and when there are more
   // than outlier_limit such boxes the grid is laid over the exact bounds instead.
@@ -299,9 +349,9 @@ void LooseGridN<D>::build(std::span<const AabbN<D>> boxes) {
     chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
                                                   : loose_cell_size(boxes, sampled, scratch_);
     set_grid(sampled, boxes.size());
-    if (!bin(boxes)) {
+    if (!bin(boxes, sink)) {
       set_grid(checked_bounds_of(boxes), boxes.size());
-      bin(boxes);
+      bin(boxes, sink);
     }
   } catch (...) {
     clear();
@@ -310,20 +360,20 @@ void LooseGridN<D>::build(std::span<const AabbN<D>> boxes) {
 }
 
 template <int D>
-void LooseGridN<D>::update(std::span<const AabbN<D>> boxes) {
+void LooseGridN<D>::update_with(std::span<const AabbN<D>> boxes, PairSink* sink) {
   if (chosen_cell_size_ == 0.0f) {
-    build(boxes);
+    build_with(boxes, sink);
     return;
   }
   // The grid of the last call while it holds all but outlier_limit of the boxes (and fits the
   // cell budget); else one over the exact bounds grown by kUpdateMargin and a cell, so that
   // boxes moving on stay inside it for a while.
   try {
-    if (cells_ <= cell_budget(boxes.size()) && bin(boxes)) return;
+    if (cells_ <= cell_budget(boxes.size()) && bin(boxes, sink)) return;
     const AabbN<D> bounds = checked_bounds_of(boxes);
     const VecN<D> margin = kUpdateMargin * bounds.size() + VecN<D>(chosen_cell_size_);
     set_grid({bounds.min - margin, bounds.max + margin}, boxes.size());
-    bin(boxes);
+    bin(boxes, sink);
   } catch (...) {
     clear();
     throw;
@@ -335,6 +385,7 @@ void LooseGridN<D>::clear() noexcept {
   // What find_pairs and the queries read, emptied; the grid and the capacities are kept.
   count_ = 0;
   small_ = 0;
+  small_pairs_done_ = false;
   big_.clear();
   big_by_x_.clear();
   band_counts_.clear();
@@ -538,9 +589,12 @@ std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::ui
 }
 
 template <int D>
-bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
+bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink) {
   if (boxes.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
   count_ = static_cast<int>(boxes.size());
+  small_pairs_done_ = false;
+  // (a call that returned false wrote no pair: it stops before sorting)
+  if (sink != nullptr) sink->n = 0;
   const std::uint32_t total_cells = cells_;
   // Big boxes share one bucket after every cell, so they sort after the binned ones.
   const std::uint32_t big_key = total_cells;
@@ -682,12 +736,42 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
     starts_.resize(total_cells + 3);
     starts_[0] = 0;
     std::uint32_t slot = 0;
+    // With a sink, each band's pairs are found right after it is sorted, from its copies in
+    // window_, up to the entries whose forward neighbourhood reaches into the next band: the
+    // entry of cell c needs the cell starts up to c + reach + 2 (its last row above ends at
+    // c + reach + 1), and those of a band are known up to its last cell + 1 (the next band's
+    // first cell's start). `pending`: the first entry whose pairs are not found yet (in 3D a
+    // multiple of kPairChunk, so that the chunks and the order of the pairs are find_pairs').
+    Window* window = sink != nullptr ? &window_ : nullptr;
+    const std::uint32_t reach = static_cast<std::uint32_t>(D == 2 ? padded_[0] : padded_[0] * padded_[1] + padded_[0]);
+    std::uint32_t pending = 0;
+    if (window != nullptr) list_big_by_band(bands);
     for (std::uint32_t b = 0; b < bands; ++b) {
       const std::uint32_t first_cell = b << band_bits;
-      sort_band(boxes, region[b], band_counts_[b], slot, first_cell,
-                std::min(total_cells, first_cell + (std::uint32_t{1} << band_bits)));
+      const std::uint32_t last_cell = std::min(total_cells, first_cell + (std::uint32_t{1} << band_bits));
+      if (window != nullptr) slide_window(pending, slot, band_counts_[b], first_cell, last_cell);
+      sort_band(boxes, region[b], band_counts_[b], slot, first_cell, last_cell, window);
       slot += band_counts_[b];
+      if (window == nullptr) continue;
+      // Entries of cells below `limit` have their whole neighbourhood sorted (the last band:
+      // every entry, the top rows being the empty border).
+      std::uint32_t done = slot;
+      if (b + 1 < bands) {
+        done = pending;
+        if (last_cell >= reach + 1 && last_cell - reach - 1 >= window_.cell0) {
+          const std::uint32_t limit = last_cell - reach - 1;
+          done = window_.starts[limit - window_.cell0];
+          if constexpr (D == 3) done &= ~(kPairChunk - 1);
+          done = std::max(done, pending);
+        }
+      }
+      const PairView view{window_.coords.data(), window_.stride, window_.records.data(),
+                          window_.starts.data(), window_.entry0, window_.cell0};
+      append_small_range<true>(view, pending, done, *sink);
+      find_big_in_band(b, first_cell, last_cell);
+      pending = done;
     }
+    small_pairs_done_ = window != nullptr;
     // The big bucket, in id order; the one-step sort leaves its end in the two last cell starts.
     std::copy(records + region[bands], records + region[bands] + band_counts_[bands], records + slot);
     gather<false>(slot, static_cast<std::uint32_t>(count_), [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
@@ -702,9 +786,47 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes) {
 }
 
 template <int D>
+void LooseGridN<D>::slide_window(std::uint32_t pending, std::uint32_t first, std::uint32_t m,
+                                 std::uint32_t first_cell, std::uint32_t last_cell) {
+  Window& w = window_;
+  // Kept: entries [pending, first) and cells [c0, first_cell), moved to the front.
+  const std::uint32_t keep = first - pending;
+  const std::uint32_t c0 = keep > 0 ? w.records[pending - w.entry0].key : first_cell;
+  const std::size_t entries = std::size_t{keep} + m + kPad;
+  const std::uint32_t from = pending - w.entry0;
+  if (entries > w.stride) {
+    // (grown by a quarter, so that it settles after a few calls)
+    const std::size_t stride = (entries + entries / 4 + 3) & ~std::size_t{3};
+    std::vector<float> coords(2 * D * stride);
+    for (int a = 0; a < 2 * D && keep > 0; ++a) {
+      std::copy_n(w.coords.begin() + static_cast<std::ptrdiff_t>(a * w.stride + from), keep,
+                  coords.begin() + static_cast<std::ptrdiff_t>(a * stride));
+    }
+    w.coords.swap(coords);
+    w.stride = stride;
+  } else if (keep > 0 && from > 0) {
+    for (int a = 0; a < 2 * D; ++a) {
+      float* row = w.coords.data() + a * w.stride;
+      std::copy(row + from, row + from + keep, row);
+    }
+  }
+  if (keep > 0 && from > 0) std::copy(w.records.begin() + from, w.records.begin() + from + keep, w.records.begin());
+  if (w.records.size() < keep + m) w.records.resize(keep + m);
+  const std::uint32_t kept_cells = first_cell - c0;
+  if (kept_cells > 0 && c0 > w.cell0) {
+    const auto at = w.starts.begin() + (c0 - w.cell0);
+    std::copy(at, at + kept_cells, w.starts.begin());
+  }
+  if (w.starts.size() < last_cell - c0 + 2) w.starts.resize(last_cell - c0 + 2);
+  w.starts[kept_cells] = first;  // starts_[first_cell]: the end of the band before
+  w.entry0 = pending;
+  w.cell0 = c0;
+}
+
+template <int D>
 void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot,
                               std::uint32_t m, std::uint32_t first, std::uint32_t first_cell,
-                              std::uint32_t last_cell) {
+                              std::uint32_t last_cell, Window* window) {
   // records_[from_slot, from_slot + m) holds the band's records in id order, their cells in
   // [first_cell, last_cell); they go to slots [first, first + m), first <= from_slot. The
   // counting sort of bin's one-step path on the band's cell starts (starts_[first_cell] is the
@@ -715,9 +837,15 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fro
   // The band's cell starts are counted in a copy that stays in cache, cell[c - first_cell]
   // for starts_[c], and written out to starts_[first_cell + 1, last_cell + 2) at the end, by
   // streaming stores (no read of starts_'s lines before writing them).
+  // With a window, its copies are used (they stay there for the pair pass).
   const std::uint32_t cells = last_cell - first_cell;
-  band_cells_.resize(cells + 2);
-  std::uint32_t* cell = band_cells_.data();
+  std::uint32_t* cell = nullptr;
+  if (window != nullptr) {
+    cell = window->starts.data() + (first_cell - window->cell0);
+  } else {
+    band_cells_.resize(cells + 2);
+    cell = band_cells_.data();
+  }
   cell[1] = first;
   std::fill(cell + 2, cell + cells + 2, 0u);
   Record* records = records_.data();
@@ -731,15 +859,27 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fro
   // The next slot of the cell of `key` (moving it on: afterwards cell[c + 1] ends cell c).
   const auto slot_of = [cell, first_cell](std::uint32_t key) { return cell[key - first_cell + 1]++; };
   std::uint32_t* starts = starts_.data();
-  band_records_.resize(m);
   // placed[slot - first]: the record of that slot.
-  Record* placed = band_records_.data();
+  Record* placed = nullptr;
+  float* window_coords = nullptr;
+  if (window != nullptr) {
+    placed = window->records.data() + (first - window->entry0);
+    window_coords = window->coords.data() + (first - window->entry0);
+  } else {
+    band_records_.resize(m);
+    placed = band_records_.data();
+  }
   if (m > kBandCopy) {
     // A crowded band: its boxes straight from the span.
     for (std::uint32_t s = 0; s < m; ++s) placed[slot_of(from[s].key) - first] = from[s];
     stream_copy(cell + 1, cell + cells + 2, starts + first_cell + 1);
     std::copy(placed, placed + m, records + first);
-    gather<false>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; });
+    const auto box_of = [&](std::uint32_t e) -> const AabbN<D>& { return boxes[records[e].id]; };
+    if (window != nullptr) {
+      gather<false, true>(first, last, box_of, window_coords, window->stride);
+    } else {
+      gather<false>(first, last, box_of);
+    }
     return;
   }
   // The band's boxes, staged by the key pass at the same slots as its records (a sequential
@@ -756,15 +896,23 @@ void LooseGridN<D>::sort_band(std::span<const AabbN<D>> boxes, std::uint32_t fro
   stream_copy(cell + 1, cell + cells + 2, starts + first_cell + 1);
   // (The band's records are read up to here and overwritten only now.)
   stream_copy(placed, placed + m, records + first);
-  gather<true>(first, last, [&](std::uint32_t e) -> const AabbN<D>& { return sorted[e - first]; });
+  const auto box_of = [&](std::uint32_t e) -> const AabbN<D>& { return sorted[e - first]; };
+  if (window != nullptr) {
+    gather<true, true>(first, last, box_of, window_coords, window->stride);
+  } else {
+    gather<true>(first, last, box_of);
+  }
 }
 
 template <int D>
-template <bool kStream, class BoxOf>
-void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of) noexcept {
+template <bool kStream, bool kWindow, class BoxOf>
+void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of,
+                           [[maybe_unused]] float* window,
+                           [[maybe_unused]] std::size_t window_stride) noexcept {
   // Scalar meaning: for each entry e in [first, last), coordinate k of the min corner of
-  // box_of(e) to coords_[k * stride_ + e], of the max corner to coords_[(D + k) * stride_ + e].
-  // The writes are sequential; with kStream, streaming stores (not kept in cache).
+  // box_of(e) to coords_[k * stride_ + e], of the max corner to coords_[(D + k) * stride_ + e]
+  // (and with kWindow, to window[k * window_stride + e - first], window[(D + k) * ...]).
+  // The writes are sequential; with kStream, streaming stores to coords_ (not kept in cache).
   float* coords = coords_.data();
   const std::size_t stride = stride_;
   std::uint32_t e = first;
@@ -773,6 +921,10 @@ void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_
     for (int k = 0; k < D; ++k) {
       coords[k * stride + at] = box.min[k];
       coords[(D + k) * stride + at] = box.max[k];
+      if constexpr (kWindow) {
+        window[k * window_stride + at - first] = box.min[k];
+        window[(D + k) * window_stride + at - first] = box.max[k];
+      }
     }
   };
 #if defined(__SSE2__)
@@ -781,12 +933,14 @@ void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_
   if constexpr (kStream) {
     for (; e < last && e % 4 != 0; ++e) copy_one(e);
   }
-  const auto store = [](float* to, __m128 v) {
+  // Coordinate a of entries e .. e + 3.
+  const auto store = [&](int a, __m128 v) {
     if constexpr (kStream) {
-      _mm_stream_ps(to, v);
+      _mm_stream_ps(coords + a * stride + e, v);
     } else {
-      _mm_storeu_ps(to, v);
+      _mm_storeu_ps(coords + a * stride + e, v);
     }
+    if constexpr (kWindow) _mm_storeu_ps(window + a * window_stride + (e - first), v);
   };
   // Four boxes at a time, transposed in registers: one four-wide store per coordinate.
   for (; e + 4 <= last; e += 4) {
@@ -798,21 +952,21 @@ void LooseGridN<D>::gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_
     __m128 r0 = _mm_loadu_ps(b0), r1 = _mm_loadu_ps(b1), r2 = _mm_loadu_ps(b2), r3 = _mm_loadu_ps(b3);
     _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
     if constexpr (D == 2) {
-      store(coords + e, r0);               // min x
-      store(coords + stride + e, r1);      // min y
-      store(coords + 2 * stride + e, r2);  // max x
-      store(coords + 3 * stride + e, r3);  // max y
+      store(0, r0);  // min x
+      store(1, r1);  // min y
+      store(2, r2);  // max x
+      store(3, r3);  // max y
     } else {
       // (min.z, max.x, max.y, max.z) for the last two coordinates.
       __m128 s0 = _mm_loadu_ps(b0 + 2), s1 = _mm_loadu_ps(b1 + 2), s2 = _mm_loadu_ps(b2 + 2),
              s3 = _mm_loadu_ps(b3 + 2);
       _MM_TRANSPOSE4_PS(s0, s1, s2, s3);
-      store(coords + e, r0);               // min x
-      store(coords + stride + e, r1);      // min y
-      store(coords + 2 * stride + e, r2);  // min z
-      store(coords + 3 * stride + e, r3);  // max x
-      store(coords + 4 * stride + e, s2);  // max y
-      store(coords + 5 * stride + e, s3);  // max z
+      store(0, r0);  // min x
+      store(1, r1);  // min y
+      store(2, r2);  // min z
+      store(3, r3);  // max x
+      store(4, s2);  // max y
+      store(5, s3);  // max z
     }
   }
   if constexpr (kStream) _mm_sfence();
@@ -836,9 +990,12 @@ inline BroadPair ordered_pair(int a, int b) noexcept {
   return {b + below, a - below};
 }
 
-/// Grows `pairs` (value-initialised) to at least `size` entries, geometrically; returns its data.
+/// Grows `pairs` to at least `size` entries, by an eighth and 4096 at least; returns its data.
+/// The new entries are value-initialised (written once more), so a list refilled from the
+/// size of the last call grows by a little; the capacity itself grows geometrically
+/// (std::vector::resize past it).
 [[gnu::noinline]] BroadPair* grow_pairs(PairList& pairs, std::size_t size) {
-  pairs.resize(std::max(size, 2 * pairs.size() + 4096));
+  pairs.resize(std::max(size, pairs.size() + pairs.size() / 8 + 4096));
   return pairs.data();
 }
 
@@ -860,9 +1017,10 @@ struct LooseGridN<D>::PairSink {
 };
 
 template <int D>
-template <std::uint32_t kRowMask, bool kListed>
-void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t first_index,
-                                       std::uint32_t last_index, PairSink& sink) const {
+template <std::uint32_t kRowMask, bool kListed, bool kWindow>
+void LooseGridN<D>::append_small_pairs(const PairView& view, const std::uint32_t* list,
+                                       std::uint32_t first_index, std::uint32_t last_index,
+                                       PairSink& sink) const {
   // The runs of the forward half of an entry's neighbourhood (see append_pairs): its own row
   // from entry e + 1 to the end of the next cell along x, then the rows of three cells
   // (x - 1 .. x + 1) at these offsets from its cell, those of kRowMask only.
@@ -884,10 +1042,14 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
   }();
   std::ptrdiff_t rows[kRows > 0 ? kRows : 1];
   for (int r = 0; r < kRows; ++r) rows[r] = all_rows[kRowOf[r]];
-  const float* coords = coords_.data();
-  const std::size_t stride = stride_;
-  const Record* records = records_.data();
-  const std::uint32_t* starts = starts_.data();
+  // Entries are indices into the view's arrays: the grid's entry e is e - eb there, its cell c
+  // is c - cb (0 and 0 on the grid's own arrays).
+  const float* coords = view.coords;
+  const std::size_t stride = view.stride;
+  const Record* records = view.records;
+  const std::uint32_t* starts = view.starts;
+  const std::uint32_t eb = kWindow ? view.entry_base : 0u;
+  const std::uint32_t cb = kWindow ? view.cell_base : 0u;
   // The entries are tested a block at a time; an entry with an overlap (or a run longer than
   // one group, kLonger) is noted as a hit, and the hits' pairs are written after the block, so
   // the test loop keeps no run bounds for the rare pairs.
@@ -904,7 +1066,7 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
     for (std::uint32_t i = block; i < block_end; ++i) {
       const std::uint32_t e = kListed ? list[i] : i;
       // starts of the entry's cell: cell[0] is its first entry, cell[1] its end.
-      const std::uint32_t* cell = starts + records[e].key;
+      const std::uint32_t* cell = starts + (records[e].key - cb);
       const Probe<D> probe = probe_at<D>(coords, stride, e);
       // Bit 4r + j: entry j of run r overlaps. Run 0 is the own row from e + 1; each run tests
       // only what its row needs (see run_lanes): the own row is on the same side on every axis,
@@ -912,13 +1074,13 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
       // one group exactly when some length + kLanes - 1 reaches 2 * kLanes (an OR of values
       // below that stays below it).
       Lanes lanes[kRuns];
-      std::uint32_t length = cell[2] - (e + 1);
+      std::uint32_t length = cell[2] - (e + eb + 1);
       std::uint32_t longer = length + (kLanes - 1);
       lanes[0] = run_lanes<D, Side::kSame, Side::kSame>(coords, stride, e + 1, length, probe);
       const std::uint32_t* row = cell;  // the starts of row R's first cell: row[0] .. row[3]
       [&]<std::size_t... R>(std::index_sequence<R...>) {
         ((row = cell + rows[R], length = row[3] - row[0], longer |= length + (kLanes - 1),
-          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, row[0],
+          lanes[R + 1] = run_lanes<D, kRowY[kRowOf[R]], kRowZ[kRowOf[R]]>(coords, stride, row[0] - eb,
                                                                           length, probe)),
          ...);
       }(std::make_index_sequence<kRows>{});
@@ -929,14 +1091,14 @@ void LooseGridN<D>::append_small_pairs(const std::uint32_t* list, std::uint32_t 
     for (std::uint32_t h = 0; h < hit_count; ++h) {
       const std::uint32_t e = hits[h].entry;
       const Record record = records[e];
-      const std::uint32_t* cell = starts + record.key;
+      const std::uint32_t* cell = starts + (record.key - cb);
       // first[kRuns] = e: the entry read for the sentinel bit below.
       std::uint32_t first[kRuns + 1], last[kRuns];
       first[0] = e + 1;
-      last[0] = cell[2];
+      last[0] = cell[2] - eb;
       for (int r = 0; r < kRows; ++r) {
-        first[r + 1] = cell[rows[r]];
-        last[r + 1] = cell[rows[r] + 3];
+        first[r + 1] = cell[rows[r]] - eb;
+        last[r + 1] = cell[rows[r] + 3] - eb;
       }
       first[kRuns] = e;
       sink.reserve(kLanes * kRuns + 2);
@@ -977,22 +1139,32 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
   // Pairs are written through a raw pointer into a list grown ahead of the writes (no
   // capacity test per pair), and the list is cut to the pairs written at the end.
   PairSink sink{pairs, pairs.data(), pairs.size(), pairs.size()};
+  append_small_range<false>(grid_view(), 0, small_, sink);
+  append_big_pairs(sink);
+  pairs.resize(sink.n);
+}
 
+template <int D>
+template <bool kWindow>
+void LooseGridN<D>::append_small_range(const PairView& view, std::uint32_t begin,
+                                       std::uint32_t end, PairSink& sink) const {
   // Small against small. For the entry e of cell c, the forward half of its neighbourhood is
   // runs of entries: the rest of its own cell and the next cell along x (entries e + 1 up to
   // the end of c + 1, contiguous), then rows of three cells (x - 1 .. x + 1) above it:
   // (y + 1, z) in 2D and 3D, and in 3D (y - 1 .. y + 1, z + 1). Each unordered pair of
   // neighbouring cells is visited once. Each run is tested four entries at a time; runs are
   // usually shorter, so one masked test covers most.
+  const std::uint32_t eb = kWindow ? view.entry_base : 0u;
   if constexpr (D == 2) {
-    append_small_pairs<0b1u, false>(nullptr, 0, small_, sink);
+    append_small_pairs<0b1u, false, kWindow>(view, nullptr, begin - eb, end - eb, sink);
   } else {
     // A box b of a row above on axis k can meet the entry's box a only if a's max corner
     // reaches that row: a.max[k] >= b.min[k] and the cell mapping is monotone, so
     // cell(a.max)[k] >= cell(b.min)[k] > cell(a.min)[k]. So the entries are grouped, a chunk
     // at a time, by the axes y, z whose next cell their box reaches (its crossing class), and
     // each group skips the rows it cannot reach: (y + 1, z) needs y, the rows at z + 1 need z,
-    // and (y + 1, z + 1) both.
+    // and (y + 1, z + 1) both. Chunks start at multiples of kPairChunk of the grid's entries,
+    // so that the order of the pairs does not depend on how the entries are split in ranges.
     //
     // Scalar meaning of the grouping, for each entry e of the chunk:
     //   class = (cell(max.y) > cell(min.y)) | (cell(max.z) > cell(min.z)) << 1
@@ -1000,15 +1172,14 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
     // (cell as cell_of_inside). Four entries at a time: each class's lanes as a mask, its
     // entries packed to the front of one four-wide store, the list moved on by their number
     // (each list has four slots of slack).
-    constexpr std::uint32_t kChunk = 256;
+    constexpr std::uint32_t kChunk = kPairChunk;
     std::uint32_t lists[4][kChunk + kLanes];
-    [[maybe_unused]] const float* coords = coords_.data();
-    [[maybe_unused]] const std::size_t stride = stride_;
-    const std::uint32_t small = small_;
-    for (std::uint32_t begin = 0; begin < small; begin += kChunk) {
-      const std::uint32_t end = std::min(small, begin + kChunk);
+    [[maybe_unused]] const float* coords = view.coords;
+    [[maybe_unused]] const std::size_t stride = view.stride;
+    for (std::uint32_t chunk = begin; chunk < end; chunk += kChunk) {
+      const std::uint32_t chunk_end = std::min(end, chunk + kChunk) - eb;
       std::uint32_t count[4] = {0, 0, 0, 0};
-      std::uint32_t e = begin;
+      std::uint32_t e = chunk - eb;
 #if defined(__SSE2__)
       const __m128 inv = _mm_set1_ps(grid_.inv_cell_size);
       const auto crosses = [&](int k, std::uint32_t f) {
@@ -1017,7 +1188,7 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
         const __m128i hi = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(coords + (D + k) * stride + f), o), inv));
         return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(hi, lo))));
       };
-      for (; e + kLanes <= end; e += kLanes) {
+      for (; e + kLanes <= chunk_end; e += kLanes) {
         const std::uint32_t y = crosses(1, e), z = crosses(2, e);
         const std::uint32_t in_class[4] = {~(y | z) & 0xFu, y & ~z, z & ~y, y & z};
         const __m128i base = _mm_set1_epi32(static_cast<int>(e));
@@ -1028,26 +1199,39 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
         }
       }
 #endif
-      for (; e < end; ++e) {
-        const AabbN<D> box = entry_box(e);
-        const CellN<D> lo = grid_.cell_of_inside(box.min), hi = grid_.cell_of_inside(box.max);
+      for (; e < chunk_end; ++e) {
+        VecN<D> lo_corner, hi_corner;
+        for (int k = 0; k < D; ++k) {
+          lo_corner[k] = view.coords[k * view.stride + e];
+          hi_corner[k] = view.coords[(D + k) * view.stride + e];
+        }
+        const CellN<D> lo = grid_.cell_of_inside(lo_corner), hi = grid_.cell_of_inside(hi_corner);
         const int c = (hi.y > lo.y ? 1 : 0) | (hi.z > lo.z ? 2 : 0);
         lists[c][count[c]++] = e;
       }
-      append_small_pairs<0b0000u, true>(lists[0], 0, count[0], sink);
-      append_small_pairs<0b0001u, true>(lists[1], 0, count[1], sink);
-      append_small_pairs<0b0110u, true>(lists[2], 0, count[2], sink);
-      append_small_pairs<0b1111u, true>(lists[3], 0, count[3], sink);
+      append_small_pairs<0b0000u, true, kWindow>(view, lists[0], 0, count[0], sink);
+      append_small_pairs<0b0001u, true, kWindow>(view, lists[1], 0, count[1], sink);
+      append_small_pairs<0b0110u, true, kWindow>(view, lists[2], 0, count[2], sink);
+      append_small_pairs<0b1111u, true, kWindow>(view, lists[3], 0, count[3], sink);
     }
   }
+}
+
+template <int D>
+void LooseGridN<D>::append_big_pairs(PairSink& sink) const {
   std::size_t& n = sink.n;
   const Record* records = records_.data();
   const auto reserve = [&](std::size_t extra) { sink.reserve(extra); };
   BroadPair*& out = sink.out;
+  if (small_pairs_done_) {
+    // found by bin, band by band, and sorted by big box (finish_pairs)
+    reserve(big_found_.size());
+    for (const BigFound& f : big_found_) out[n++] = ordered_pair(big_[f.big].id, f.id);
+  }
   // Big against small: a small box meeting a big one has its min-corner cell in
   // [big lo - 1, big hi] (it spans at most two cells per axis).
   // (cell_of clamps: a big box may be an outlier, outside the grid.)
-  for (const Entry& b : big_) {
+  for (const Entry& b : small_pairs_done_ ? std::span<const Entry>{} : std::span<const Entry>{big_}) {
     for_each_run(grid_.cell_of(b.box.min) - 1, grid_.cell_of(b.box.max),
                  [&](std::uint32_t first, std::uint32_t last) {
                    return for_each_overlap(b.box, first, last, [&](std::uint32_t f) {
@@ -1069,7 +1253,70 @@ void LooseGridN<D>::append_pairs(PairList& pairs) const {
       }
     }
   }
-  pairs.resize(n);
+}
+
+template <int D>
+void LooseGridN<D>::list_big_by_band(std::uint32_t bands) {
+  // Each big box's cells as for_each_run visits them (its shortcut to every small box never
+  // applies here: cell_of clamps, so the range has at most (dims + 1)^D cells, fewer than
+  // starts_); from its first to its last key, the bands it meets.
+  big_found_.clear();
+  big_ranges_.resize(big_.size());
+  big_band_starts_.assign(bands + 1, 0u);
+  const int band_bits = options_.band_bits;
+  const auto band_range = [&](const BigRange& r) -> std::pair<std::uint32_t, std::uint32_t> {
+    return {key_of(r.lo) >> band_bits, std::min(bands - 1, key_of(r.hi) >> band_bits)};
+  };
+  for (std::size_t j = 0; j < big_.size(); ++j) {
+    BigRange& r = big_ranges_[j];
+    r.lo = grid_.cell_of(big_[j].box.min) - 1;
+    r.hi = grid_.cell_of(big_[j].box.max);
+    const auto [first, last] = band_range(r);
+    for (std::uint32_t b = first; b <= last; ++b) ++big_band_starts_[b + 1];
+  }
+  for (std::uint32_t b = 0; b < bands; ++b) big_band_starts_[b + 1] += big_band_starts_[b];
+  big_band_list_.resize(big_band_starts_[bands]);
+  // (filled by moving each band's start on, then moved back)
+  for (std::size_t j = 0; j < big_.size(); ++j) {
+    const auto [first, last] = band_range(big_ranges_[j]);
+    for (std::uint32_t b = first; b <= last; ++b) big_band_list_[big_band_starts_[b]++] = static_cast<std::uint32_t>(j);
+  }
+  for (std::uint32_t b = bands; b > 0; --b) big_band_starts_[b] = big_band_starts_[b - 1];
+  big_band_starts_[0] = 0;
+}
+
+template <int D>
+void LooseGridN<D>::find_big_in_band(std::uint32_t b, std::uint32_t first_cell, std::uint32_t last_cell) {
+  const Window& w = window_;
+  const float* coords = w.coords.data();
+  const std::size_t stride = w.stride;
+  const std::uint32_t eb = w.entry0;
+  // The entries of cells [a, z] of the band (within [first_cell, last_cell)) that overlap
+  // big box j, ascending, to big_found_.
+  const auto test = [&](std::uint32_t j, std::uint32_t a, std::uint32_t z) {
+    a = std::max(a, first_cell);
+    z = std::min(z, last_cell - 1);
+    if (a > z) return;
+    const std::uint32_t first = w.starts[a - w.cell0] - eb, last = w.starts[z + 1 - w.cell0] - eb;
+    const Probe<D> probe = probe_of<D>(big_[j].box);
+    for (std::uint32_t f = first; f < last; f += kLanes) {
+      for (std::uint32_t m = overlap_mask<D>(coords, stride, f, probe) & lane_mask(last - f); m != 0; m &= m - 1) {
+        big_found_.push_back({j, w.records[f + static_cast<std::uint32_t>(std::countr_zero(m))].id});
+      }
+    }
+  };
+  for (std::uint32_t i = big_band_starts_[b]; i < big_band_starts_[b + 1]; ++i) {
+    const std::uint32_t j = big_band_list_[i];
+    const BigRange& r = big_ranges_[j];
+    // Its rows, as for_each_run (keys ascending).
+    if constexpr (D == 2) {
+      for (int y = r.lo.y; y <= r.hi.y; ++y) test(j, key_of({r.lo.x, y}), key_of({r.hi.x, y}));
+    } else {
+      for (int z = r.lo.z; z <= r.hi.z; ++z) {
+        for (int y = r.lo.y; y <= r.hi.y; ++y) test(j, key_of({r.lo.x, y, z}), key_of({r.hi.x, y, z}));
+      }
+    }
+  }
 }
 
 template <int D>
@@ -1174,6 +1421,8 @@ std::size_t LooseGridN<D>::memory_bytes() const noexcept {
          (band_starts_.capacity() + band_next_.capacity() + band_counts_.capacity() + band_cells_.capacity()) * sizeof(std::uint32_t) +
          (band_boxes_.capacity() + staged_.capacity()) * sizeof(AabbN<D>) +
          band_records_.capacity() * sizeof(Record) + band_lines_.capacity() * sizeof(BandLine) +
+         window_.coords.capacity() * sizeof(float) + window_.records.capacity() * sizeof(Record) +
+         window_.starts.capacity() * sizeof(std::uint32_t) +
          (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
          scratch_.capacity() * sizeof(float);
 }

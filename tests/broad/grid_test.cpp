@@ -395,10 +395,17 @@ TEST(LooseGrid, BandedLinesOfEverySizeMatchBruteForce) {
         banded.find_pairs(got);
         EXPECT_EQ(got, want) << "D=" << D << " n=" << n << " band_bits=" << bits;
         auto moving = world;
+        // The combined calls on a twin: the same pairs and order, found band by band.
+        LooseGridN<D> fused({.cell_size = 1.0f, .one_step_bits = 0, .band_bits = bits});
+        PairList fused_pairs;
+        fused.build_and_find_pairs(world.boxes, fused_pairs);
+        EXPECT_EQ(fused_pairs, want) << "D=" << D << " n=" << n << " band_bits=" << bits;
         for (int f = 0; f < 4; ++f) {
           moving.step();
           banded.update(moving.boxes);
           banded.find_pairs(got);
+          fused.update_and_find_pairs(moving.boxes, fused_pairs);
+          EXPECT_EQ(fused_pairs, got) << "D=" << D << " n=" << n << " band_bits=" << bits << " frame " << f;
           sort_pairs(got);
           EXPECT_EQ(got, brute_pairs<D>(moving.boxes)) << "D=" << D << " n=" << n << " band_bits=" << bits << " frame " << f;
         }
@@ -407,6 +414,147 @@ TEST(LooseGrid, BandedLinesOfEverySizeMatchBruteForce) {
   };
   check.template operator()<2>();
   check.template operator()<3>();
+}
+
+// build_and_find_pairs / update_and_find_pairs on grids sorted band by band find each band's
+// pairs right after sorting it, from copies in cache; an entry whose neighbourhood reaches into
+// the next band (its row above in 2D, its plane above in 3D, often several small bands away)
+// waits for it, and big boxes and outliers (kept beside the grid) are tested band by band.
+// Against a twin grid with the same options calling build / update then find_pairs: the same
+// pairs in the same order, every frame, and brute force; the grid left queryable (find_pairs
+// and a box query again give the same); the pair list handed in holding stale pairs.
+TEST(LooseGrid, CombinedCallsMatchTheSeparateCallsAcrossBands) {
+  std::mt19937 rng(31);
+  const auto check = [&]<int D>(const test::Boxes<D>& start, float extent, const char* what) {
+    for (const int bits : {0, 2, 3, 5, 7, 19}) {
+      const typename LooseGridN<D>::Options options{.one_step_bits = bits == 19 ? 31 : 0, .band_bits = bits};
+      LooseGridN<D> fused(options), twin(options);
+      auto world = test::moving_world<D>(rng, start, extent, 0.3f);
+      PairList got(std::size_t{5000} * (bits % 3), BroadPair{-7, -7});  // stale pairs, 0 to 10000
+      PairList want;
+      std::size_t crossing = 0;  // pairs of boxes in different bands
+      for (int f = 0; f < 4; ++f) {
+        const std::string at = std::string(what) + " D=" + std::to_string(D) + " band_bits=" +
+                               std::to_string(bits) + " frame " + std::to_string(f);
+        if (f == 0) {
+          fused.build_and_find_pairs(world.boxes, got);
+          twin.build(world.boxes);
+        } else {
+          fused.update_and_find_pairs(world.boxes, got);
+          twin.update(world.boxes);
+        }
+        twin.find_pairs(want);
+        ASSERT_EQ(got, want) << at;
+        PairList again;
+        fused.find_pairs(again);
+        EXPECT_EQ(again, want) << at;
+        PairList sorted = got;
+        sort_pairs(sorted);
+        EXPECT_EQ(sorted, brute_pairs<D>(world.boxes)) << at;
+        EXPECT_EQ(fused.big_count(), twin.big_count()) << at;
+        const AabbN<D> probe = test::box_at<D>(test::random_vec<D>(rng, -extent, extent), VecN<D>(0.2f * extent));
+        std::vector<int> found, expected;
+        fused.query(probe, [&](int id) { found.push_back(id); return true; });
+        twin.query(probe, [&](int id) { expected.push_back(id); return true; });
+        EXPECT_EQ(found, expected) << at;
+        // Bands of the pairs' boxes (by min-corner cell key, with the border).
+        const GridMapping<D>& grid = fused.grid();
+        const auto band = [&](const AabbN<D>& box) {
+          if (!contains(grid.bounds, box)) return -1;
+          const CellN<D> c = grid.cell_of(box.min);
+          std::int64_t key = 0;
+          for (int k = D - 1; k >= 0; --k) key = key * (grid.dims[k] + 2) + c[k] + 1;
+          return static_cast<int>(key >> bits);
+        };
+        for (const BroadPair& p : got) crossing += band(world.boxes[p.first]) != band(world.boxes[p.second]);
+        world.step();
+      }
+      if (bits < 19) EXPECT_GT(crossing, 0u) << what << " D=" << D << " band_bits=" << bits;
+    }
+  };
+  check(test::uniform_world<2>(rng, 900, 30.0f, 0.1f, 1.5f), 30.0f, "uniform");
+  check(test::uniform_world<3>(rng, 900, 12.0f, 0.1f, 1.5f), 12.0f, "uniform");
+  check(test::clustered_world<2>(rng, 700, 50.0f), 50.0f, "clustered");
+  check(test::clustered_world<3>(rng, 700, 50.0f), 50.0f, "clustered");
+  check(test::mixed_size_world<2>(rng, 700, 200.0f), 200.0f, "mixed");
+  check(test::mixed_size_world<3>(rng, 700, 80.0f), 80.0f, "mixed");
+  check(test::huge_object_world<2>(rng, 700, 40.0f), 40.0f, "huge");
+  check(test::huge_object_world<3>(rng, 700, 15.0f), 15.0f, "huge");
+  check(test::touching_world<2>(rng, 500, 12), 12.0f, "touching");
+  check(test::touching_world<3>(rng, 500, 6), 6.0f, "touching");
+}
+
+// Outliers: boxes beyond the grid laid over a sample of the boxes are kept with the big ones
+// (update keeps its grid while few leave it); the combined calls test them band by band. Some
+// straddle the grid's edge, so they meet boxes inside. Same pairs and order as the separate
+// calls, and brute force.
+TEST(LooseGrid, CombinedCallsKeepOutliersBesideTheGrid) {
+  std::mt19937 rng(47);
+  const auto check = [&]<int D>() {
+    constexpr int n = 2 * kCellSizeSamples;  // sampled: the grid does not cover every box
+    const float extent = D == 2 ? 40.0f : 12.0f;
+    test::Boxes<D> boxes = test::uniform_world<D>(rng, n, extent, 0.1f, 0.5f);
+    for (int m = 0; m < 12; ++m) {
+      const int i = 2 * (m * 37 % (n / 2)) + 1;
+      const float out = m % 3 == 0 ? extent + 0.3f : extent + 3.0f + static_cast<float>(m) * 2.0f;
+      boxes[i] = test::box_at<D>(VecN<D>(out) + test::random_vec<D>(rng, -0.2f, 0.2f), VecN<D>(m % 3 == 0 ? 1.5f : 0.5f));
+    }
+    for (const int bits : {1, 4, 6}) {
+      const typename LooseGridN<D>::Options options{.cell_size = 2.0f, .one_step_bits = 0, .band_bits = bits};
+      LooseGridN<D> fused(options), twin(options);
+      auto world = test::moving_world<D>(rng, boxes, extent, 0.05f);
+      PairList got, want;
+      for (int f = 0; f < 3; ++f) {
+        if (f == 0) {
+          fused.build_and_find_pairs(world.boxes, got);
+          twin.build(world.boxes);
+        } else {
+          fused.update_and_find_pairs(world.boxes, got);
+          twin.update(world.boxes);
+        }
+        twin.find_pairs(want);
+        EXPECT_GE(fused.big_count(), 12) << D << " band_bits=" << bits << " frame " << f;
+        ASSERT_EQ(got, want) << D << " band_bits=" << bits << " frame " << f;
+        std::size_t with_outlier = 0;
+        for (const BroadPair& p : got) {
+          with_outlier += !contains(fused.grid().bounds, world.boxes[p.first]) ||
+                          !contains(fused.grid().bounds, world.boxes[p.second]);
+        }
+        EXPECT_GT(with_outlier, 0u) << D;
+        sort_pairs(got);
+        EXPECT_EQ(got, brute_pairs<D>(world.boxes)) << D << " band_bits=" << bits << " frame " << f;
+        world.step();
+      }
+    }
+  };
+  check.template operator()<2>();
+  check.template operator()<3>();
+}
+
+// A bad box makes the combined calls throw, leaving the grid and the pair list empty; the next
+// call works again.
+TEST(LooseGrid, CombinedCallsRejectBadBoxesAndAreLeftEmpty) {
+  std::mt19937 rng(53);
+  test::Boxes<2> boxes = test::uniform_world<2>(rng, 3000, 30.0f, 0.1f, 0.6f);
+  LooseGrid grid({.one_step_bits = 0, .band_bits = 4});
+  PairList pairs;
+  grid.build_and_find_pairs(boxes, pairs);
+  EXPECT_FALSE(pairs.empty());
+  test::Boxes<2> bad = boxes;
+  bad[1234].max.y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(grid.update_and_find_pairs(bad, pairs), InvalidInput);
+  EXPECT_TRUE(pairs.empty());
+  EXPECT_EQ(grid.size(), 0);
+  PairList none;
+  grid.find_pairs(none);
+  EXPECT_TRUE(none.empty());
+  bad[1234] = boxes[1234];
+  bad[77].min.x = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(grid.build_and_find_pairs(bad, pairs), InvalidInput);
+  EXPECT_TRUE(pairs.empty());
+  grid.update_and_find_pairs(boxes, pairs);
+  sort_pairs(pairs);
+  EXPECT_EQ(pairs, brute_pairs<2>(boxes));
 }
 
 // A band holding more than kBandCopy boxes is sorted without copying its boxes out: 140000
@@ -436,6 +584,9 @@ TEST(LooseGrid, CrowdedBandMatchesTheOneStepSort) {
   PairList got;
   banded.find_pairs(got);
   EXPECT_EQ(got, want);
+  PairList fused;
+  LooseGrid({.one_step_bits = 0, .band_bits = bits}).build_and_find_pairs(boxes, fused);
+  EXPECT_EQ(fused, want);
   // The sweep: boxes by min.x, each against those starting before its max.x.
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);

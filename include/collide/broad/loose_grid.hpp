@@ -24,7 +24,9 @@
 /// sweep), a cache line of records and boxes at a time from per-band line buffers, by
 /// streaming stores (software write-combining: no read of the lines before writing them); each
 /// band is then sorted on its own in cache, cell starts included, and the results written out
-/// with streaming stores; an update on the same grid sizes the bands' regions
+/// with streaming stores (build_and_find_pairs and update_and_find_pairs also keep them in a
+/// window in cache, with the tail of the band before, and find the band's pairs there: the
+/// pair pass then reads nothing from memory); an update on the same grid sizes the bands' regions
 /// from the last call's counts, so that the key pass itself distributes the records. The
 /// long passes prefetch ahead (the hardware prefetchers left them waiting on memory at a
 /// million boxes). The grid is dense over the
@@ -55,7 +57,8 @@
 /// at most kCellsPerBox 4-byte cell starts (2 in 2D, 2.6 in 3D on the bench world); on grids
 /// sorted band by band, 1/8 more records (the regions' slack), a staged box per record (8*D
 /// bytes: 18 B per object in 2D, 27 in 3D with the slack) and one band's copies (records,
-/// boxes and cell starts); a big box adds two (8*D + 4)-byte records.
+/// boxes and cell starts; with the combined calls, the window: a band and a tail, under 1 MiB);
+/// a big box adds two (8*D + 4)-byte records.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
@@ -79,11 +82,14 @@ class LooseGridN {
     /// Grids of at most 2^one_step_bits cells (with the border) are counting-sorted in one
     /// step; larger ones band by band, bands of 2^band_bits consecutive cells, so the counting
     /// sort's random accesses stay in cache (measured on the bench worlds: one step is faster
-    /// at 1e5 objects, 2-2.6e5 cells; bands of 64 Ki cells at 1e6 objects, 2e6 cells). Both
-    /// must be in [0, 31].
+    /// at 1e5 objects, 2-2.6e5 cells; bands at 1e6 objects, 2e6 cells). Both must be in
+    /// [0, 31].
     int one_step_bits = 19;
-    /// Cells per band, as a power of two (64 Ki cells: 256 KiB of cell starts).
-    int band_bits = 16;
+    /// Cells per band, as a power of two (32 Ki cells: 128 KiB of cell starts). Measured per
+    /// frame at 1e6 objects with update_and_find_pairs, whose band and pair pass share the
+    /// cache: bands of 32 Ki cells against 64 Ki, 2D 27.3 -> 26.7, 3D 40.3 -> 39.3 ns per
+    /// object (a build alone, 2D, 16.0 -> 17.4; the separate update and find_pairs unchanged).
+    int band_bits = 15;
   };
 
   /// A big box (kept out of the cells) and its id.
@@ -121,6 +127,17 @@ class LooseGridN {
   /// never their set, may depend on earlier calls). Throws as build.
   void update(std::span<const AabbN<D>> boxes);
 
+  /// build, then find_pairs into `pairs`, in one call: the same pairs in the same order, and
+  /// the grid is left as build leaves it (queryable). On grids sorted band by band (more than
+  /// 2^one_step_bits cells) each band's pairs are found right after the band is sorted, from
+  /// copies still in cache, instead of in a second pass over the whole grid from memory; an
+  /// entry whose forward neighbourhood reaches into the next band waits for it. Throws as
+  /// build, leaving the grid and `pairs` empty.
+  void build_and_find_pairs(std::span<const AabbN<D>> boxes, PairList& pairs);
+  /// update, then find_pairs into `pairs`, in one call, as build_and_find_pairs (same pairs,
+  /// same order as the two calls). Throws as update, leaving the grid and `pairs` empty.
+  void update_and_find_pairs(std::span<const AabbN<D>> boxes, PairList& pairs);
+
   /// Every overlapping pair once, i < j. Order: small pairs by the stored entry of the first
   /// box (cells by linear index, x fastest; ids ascending in a cell; in 3D, chunks of entries
   /// by crossing class), then big boxes against small ones by big id, then big against big.
@@ -147,6 +164,44 @@ class LooseGridN {
   // Entries past the last that a four-wide load may read: the arrays are padded with this many.
   static constexpr std::size_t kPad = 8;
 
+  // An entry: a cell key and a box id.
+  struct Record {
+    std::uint32_t key;
+    int id;
+  };
+  // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
+  struct PairSink;
+  // A band and the unprocessed tail of the band before it, as find_pairs reads them, in
+  // copies that stay in cache while their pairs are found (build_and_find_pairs): entry e of
+  // the grid is entry e - entry0 here, cell c is cell c - cell0. Records and cell starts hold
+  // the grid's keys and entries (they are written out as they are).
+  struct Window {
+    std::vector<float> coords;   // coordinate a of entry e at coords[a * stride + e - entry0]
+    std::size_t stride = 0;
+    std::vector<Record> records;
+    std::vector<std::uint32_t> starts;
+    std::uint32_t entry0 = 0;
+    std::uint32_t cell0 = 0;
+  };
+  // The arrays the pair pass reads: the grid's own (bases 0) or a Window's.
+  struct PairView {
+    const float* coords;
+    std::size_t stride;
+    const Record* records;
+    const std::uint32_t* starts;  // starts[c - cell_base] = the grid's starts_[c]
+    std::uint32_t entry_base;     // records[e - entry_base], coords at e - entry_base
+    std::uint32_t cell_base;
+  };
+  [[nodiscard]] PairView grid_view() const noexcept {
+    return {coords_.data(), stride_, records_.data(), starts_.data(), 0, 0};
+  }
+
+  // build and update; with a sink, the small-small pairs of grids sorted by band are found
+  // band by band into it (see bin).
+  void build_with(std::span<const AabbN<D>> boxes, PairSink* sink);
+  void update_with(std::span<const AabbN<D>> boxes, PairSink* sink);
+  // The pairs still missing from the sink after build_with/update_with, and the list cut.
+  void finish_pairs(PairSink& sink, PairList& pairs);
   // Empties what find_pairs and the queries read (after a throw).
   void clear() noexcept;
   // A box outside the grid (an outlier) is kept with the big ones while there are at most
@@ -163,7 +218,9 @@ class LooseGridN {
   void set_grid(const AabbN<D>& bounds, std::size_t boxes);
   // Sorts the boxes into grid_: keys, counting sort, gather. Returns false (the grid left
   // unusable) when more than outlier_limit boxes lie outside grid_.bounds. Throws as build.
-  bool bin(std::span<const AabbN<D>> boxes);
+  // With a sink, on grids sorted band by band, the small-small pairs are found band by band
+  // into it (from window_), and small_pairs_done_ is set.
+  bool bin(std::span<const AabbN<D>> boxes, PairSink* sink = nullptr);
   // The key of every box (the big bucket for big boxes and outliers, which also go to big_),
   // to keys_[i] when store_keys; count(key, i) is called for each. Returns the number of
   // outliers; throws for a bad box.
@@ -173,8 +230,33 @@ class LooseGridN {
   // Sorts by cell the m records of a band at records_[from_slot...] in id order, their cells
   // in [first_cell, last_cell), to slots [first, first + m) (first <= from_slot): records,
   // cell starts and coordinates.
+  // With `window`, the band's records, cell starts and coordinates are also left there (at
+  // entry first - entry0, cell first_cell - cell0; room made by the caller).
   void sort_band(std::span<const AabbN<D>> boxes, std::uint32_t from_slot, std::uint32_t m,
-                 std::uint32_t first, std::uint32_t first_cell, std::uint32_t last_cell);
+                 std::uint32_t first, std::uint32_t first_cell, std::uint32_t last_cell,
+                 Window* window = nullptr);
+  // Before sorting the band of cells from first_cell, entries from `first`: window_ keeps
+  // only the entries from `pending` (not yet paired) and the cells from the first of theirs
+  // (or first_cell), at its front, with room for m more entries and the band's cells to
+  // last_cell + 1.
+  void slide_window(std::uint32_t pending, std::uint32_t first, std::uint32_t m,
+                    std::uint32_t first_cell, std::uint32_t last_cell);
+  // The small-small pairs of the entries [begin, end) of the grid (in 3D, begin a multiple of
+  // kPairChunk and end too unless it is the last entry), read through `view`.
+  template <bool kWindow>
+  void append_small_range(const PairView& view, std::uint32_t begin, std::uint32_t end,
+                          PairSink& sink) const;
+  // Big boxes against small ones (from big_found_ when bin found them by band), then against
+  // each other.
+  void append_big_pairs(PairSink& sink) const;
+  // For the pairs of big boxes with small ones found band by band: each big box's cell range
+  // (that of for_each_run) and the big boxes whose range meets each of the `bands` bands.
+  void list_big_by_band(std::uint32_t bands);
+  // The big boxes listed for band b against its small boxes, cells [first_cell, last_cell),
+  // in window_: their pairs to big_found_.
+  void find_big_in_band(std::uint32_t b, std::uint32_t first_cell, std::uint32_t last_cell);
+  // 3D: entries grouped by crossing class a chunk of this many at a time (see append_pairs).
+  static constexpr std::uint32_t kPairChunk = 256;
   // Allocates on 64-byte boundaries (cache lines), for the full-line streaming stores of the
   // distribution by band.
   template <class T>
@@ -196,16 +278,19 @@ class LooseGridN {
   }
   // Copies box_of(e) into the coordinate arrays at entry e, for e in [first, last); with
   // kStream, by streaming stores.
-  template <bool kStream, class BoxOf>
-  void gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of) noexcept;
-  // Where find_pairs writes: a raw pointer into the list, grown ahead of the writes.
-  struct PairSink;
+  // With a window (kWindow), box_of(e) also goes to window[a * window_stride + e - first] by
+  // plain stores.
+  template <bool kStream, bool kWindow = false, class BoxOf>
+  void gather(std::uint32_t first, std::uint32_t last, BoxOf&& box_of, float* window = nullptr,
+              std::size_t window_stride = 0) noexcept;
   // The small-small pairs of the entries e in [first, last), or, when kListed, of
   // e = list[i] for i in [first, last), whose boxes all need the rows above listed in
-  // kRowMask (bit r: row r of the forward neighbourhood, see append_pairs).
-  template <std::uint32_t kRowMask, bool kListed>
-  void append_small_pairs(const std::uint32_t* list, std::uint32_t first, std::uint32_t last,
-                          PairSink& sink) const;
+  // kRowMask (bit r: row r of the forward neighbourhood, see append_pairs); e is an index
+  // into the view's arrays (the grid's entry e + view.entry_base; with kWindow false, the
+  // bases are 0).
+  template <std::uint32_t kRowMask, bool kListed, bool kWindow>
+  void append_small_pairs(const PairView& view, const std::uint32_t* list, std::uint32_t first,
+                          std::uint32_t last, PairSink& sink) const;
   // The box stored at `slot`.
   [[nodiscard]] AabbN<D> entry_box(std::uint32_t slot) const noexcept {
     AabbN<D> box;
@@ -242,11 +327,6 @@ class LooseGridN {
   std::uint32_t small_ = 0;         // binned boxes: entries [0, small_) of the sorted arrays
   std::vector<std::uint32_t> keys_;    // per box: its cell's key, or the big bucket
   std::vector<std::uint32_t> starts_;  // per cell: first entry; starts_[c + 1] ends cell c
-  // An entry: a cell key and a box id.
-  struct Record {
-    std::uint32_t key;
-    int id;
-  };
   // The entries sorted by key, count_ + kPad of them: binned boxes (ids ascending in a cell),
   // then the big boxes. Their boxes are in coords_, one array per coordinate: coordinate k of
   // the min corner of entry e is coords_[k * stride_ + e], of the max corner
@@ -277,6 +357,20 @@ class LooseGridN {
   std::vector<AabbN<D>> band_boxes_;
   std::vector<Record> band_records_;
   std::vector<std::uint32_t> band_cells_;  // one band's cell starts
+  Window window_;                      // build_and_find_pairs on grids sorted by band
+  bool small_pairs_done_ = false;      // bin found the small-small pairs into its sink
+  // and the big-small ones into big_found_ (see list_big_by_band):
+  struct BigRange {
+    CellN<D> lo, hi;  // the cells of the small boxes that may meet it
+  };
+  std::vector<BigRange> big_ranges_;             // per big box
+  std::vector<std::uint32_t> big_band_starts_;   // per band: its first in big_band_list_
+  std::vector<std::uint32_t> big_band_list_;     // indices into big_, by band, ascending
+  struct BigFound {
+    std::uint32_t big;  // index into big_
+    int id;             // the small box's id
+  };
+  std::vector<BigFound> big_found_;
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
