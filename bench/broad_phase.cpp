@@ -348,6 +348,12 @@ struct Fcl {
   }
 };
 
+// A counter of CPU time per item (object or pair) of one iteration.
+benchmark::Counter per_item(std::size_t items) {
+  return benchmark::Counter(static_cast<double>(items),
+                            benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 // ---- the race --------------------------------------------------------------------------------
 
 template <class C>
@@ -370,8 +376,7 @@ void frame_benchmark(benchmark::State& state) {
     benchmark::DoNotOptimize(pairs);
   }
   state.counters["pairs"] = static_cast<double>(first_pairs);
-  state.counters["per_object"] = benchmark::Counter(
-      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_object"] = per_item(n);
   if constexpr (kHasMemory<C>) {
     state.counters["bytes_per_object"] = static_cast<double>(contender.memory()) / n;
   }
@@ -387,8 +392,7 @@ void move_benchmark(benchmark::State& state) {
     benchmark::DoNotOptimize(world.boxes.data());
     benchmark::ClobberMemory();
   }
-  state.counters["per_object"] = benchmark::Counter(
-      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_object"] = per_item(n);
 }
 
 // A full rebuild, the figure of the broad-phase issue (target: 25 ns per object at 1e5, one
@@ -425,12 +429,9 @@ void rebuild_benchmark(benchmark::State& state) {
     }
   }
   state.counters["pairs"] = static_cast<double>(first_pairs);
-  state.counters["per_object"] = benchmark::Counter(
-      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_object"] = per_item(n);
   if constexpr (kFindPairs) {
-    state.counters["per_pair"] = benchmark::Counter(
-        static_cast<double>(first_pairs),
-        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    state.counters["per_pair"] = per_item(first_pairs);
   }
   state.counters["bytes_per_object"] =
       static_cast<double>(bp.memory_bytes() + pairs.capacity() * sizeof(BroadPair)) / n;
@@ -478,12 +479,9 @@ void chipmunk_rebuild_benchmark(benchmark::State& state) {
     }
   }
   state.counters["pairs"] = static_cast<double>(first_pairs);
-  state.counters["per_object"] = benchmark::Counter(
-      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_object"] = per_item(n);
   if constexpr (kFindPairs) {
-    state.counters["per_pair"] = benchmark::Counter(
-        static_cast<double>(first_pairs),
-        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    state.counters["per_pair"] = per_item(first_pairs);
   }
 }
 
