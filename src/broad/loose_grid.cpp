@@ -331,9 +331,14 @@ void LooseGridN<D>::finish_pairs(PairSink& sink, PairList& pairs) {
     append_small_range<false>(grid_view(), 0, small_, sink);
   } else {
     // Found band by band (find_big_in_band), each big box's in the order of its entries, as
-    // append_big_pairs finds them: put in the order of the big boxes.
-    std::stable_sort(big_found_.begin(), big_found_.end(),
-                     [](const BigFound& a, const BigFound& b) { return a.big < b.big; });
+    // append_big_pairs finds them: put in the order of the big boxes, stably, by a counting
+    // sort into a buffer kept across calls (std::stable_sort allocates a buffer per call).
+    big_found_starts_.assign(big_.size() + 1, 0u);
+    for (const BigFound& f : big_found_) ++big_found_starts_[f.big + 1];
+    for (std::size_t j = 0; j < big_.size(); ++j) big_found_starts_[j + 1] += big_found_starts_[j];
+    big_found_sorted_.resize(big_found_.size());
+    for (const BigFound& f : big_found_) big_found_sorted_[big_found_starts_[f.big]++] = f;
+    big_found_.swap(big_found_sorted_);
   }
   append_big_pairs(sink);
   pairs.resize(sink.n);
@@ -648,9 +653,19 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink) {
     std::uint32_t* next = nullptr;
     Record* to = nullptr;
     AabbN<D>* staged = nullptr;
+    // Room for the regions of either distribution below: a count's regions take at most
+    // room(count) slots (the update's slack, every band rounded up to whole lines). Reserved
+    // for this call's and the last call's counts at once, and only when that exceeds the
+    // capacity, so that calls with slightly different band counts (every build) do not
+    // reallocate the records and staged boxes each time (a fresh 8-24 MB at a million boxes).
+    const auto room = [bands](std::size_t count) {
+      return count + count / 8 + std::size_t{16 + kRound} * (bands + 1);
+    };
+    std::size_t last_count = 0;
+    for (const std::uint32_t c : band_counts_) last_count += c;
     const auto start_regions = [&] {
       // (reserved first: resize alone may double the capacity)
-      records_.reserve(std::max<std::size_t>(stride_, region[bands + 1]));
+      records_.reserve(std::max({stride_, std::size_t{region[bands + 1]}, room(std::max<std::size_t>(last_count, boxes.size()))}));
       records_.resize(std::max<std::size_t>(stride_, region[bands + 1]));
       stage_like_records();
       band_next_.assign(region, region + bands + 1);
@@ -683,16 +698,12 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink) {
       // from its count then, with slack, so the key pass writes each record straight there
       // (no pass counting the bands first, no stored keys). A band that outgrew its region
       // falls back to the counting below.
-      std::uint32_t at = 0, last_count = 0;
+      std::uint32_t at = 0;
       for (std::uint32_t b = 0; b <= bands; ++b) {
         region[b] = at;
         at += (band_counts_[b] + band_counts_[b] / 8 + 16 + kRound) & ~kRound;
-        last_count += band_counts_[b];
       }
-      region[bands + 1] = at;
-      // At most this many for the counts of the last call: reserved as such, so the capacity
-      // does not double and stays put from frame to frame.
-      records_.reserve(std::max<std::size_t>(stride_, last_count + last_count / 8 + (16 + kRound) * (bands + 1)));
+      region[bands + 1] = at;  // at most room(last_count)
       start_regions();
       bool overflow = false;
       if (compute_keys(boxes, big_key, false, [&](std::uint32_t key, int i) {
@@ -1424,6 +1435,9 @@ std::size_t LooseGridN<D>::memory_bytes() const noexcept {
          window_.coords.capacity() * sizeof(float) + window_.records.capacity() * sizeof(Record) +
          window_.starts.capacity() * sizeof(std::uint32_t) +
          (big_.capacity() + big_by_x_.capacity()) * sizeof(Entry) +
+         (big_found_.capacity() + big_found_sorted_.capacity()) * sizeof(BigFound) +
+         (big_ranges_.capacity() * sizeof(BigRange)) +
+         (big_band_starts_.capacity() + big_band_list_.capacity() + big_found_starts_.capacity()) * sizeof(std::uint32_t) +
          scratch_.capacity() * sizeof(float);
 }
 

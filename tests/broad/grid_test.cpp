@@ -12,6 +12,7 @@
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/core/error.hpp>
 
+#include "support/allocation_counter.hpp"
 #include "support/broad_worlds.hpp"
 
 #include <gtest/gtest.h>
@@ -844,6 +845,50 @@ TEST(LooseGrid, UpdateRejectsBadBoxesInsideItsGridAndIsLeftEmpty) {
   };
   check.template operator()<2>();
   check.template operator()<3>();
+}
+
+// Frames allocate nothing once the grid has seen the world: each call of every kind (build,
+// update, the combined calls; one-step and banded sorts) over the same cycle of moving poses
+// of a world with big boxes, counted by the test's operator new. Regressions: the big-small
+// pairs of the banded combined calls were put in order by std::stable_sort, which allocates a
+// buffer per call; and a build reserved its band regions to the exact size, so that a
+// slightly larger count reallocated the records and staged boxes (8-24 MB at a million boxes).
+TEST(LooseGrid, FramesAllocateNothingOnceWarm) {
+  std::mt19937 rng(71);
+  const auto check = [&]<int D>(const test::Boxes<D>& start, float extent, const char* what) {
+    // 12 poses forward, then back: the second time round the cycle meets nothing new.
+    auto world = test::moving_world<D>(rng, start, extent, 0.2f);
+    std::vector<test::Boxes<D>> poses;
+    for (int f = 0; f < 12; ++f, world.step()) poses.push_back(world.boxes);
+    for (int f = 11; f >= 0; --f) poses.push_back(poses[static_cast<std::size_t>(f)]);
+    for (const bool banded : {false, true}) {
+      for (int call = 0; call < 4; ++call) {
+        const typename LooseGridN<D>::Options options{.one_step_bits = banded ? 0 : 31, .band_bits = 4};
+        LooseGridN<D> grid(options);
+        PairList pairs;
+        const auto frame = [&](const test::Boxes<D>& boxes) {
+          switch (call) {
+            case 0: grid.build(boxes); grid.find_pairs(pairs); break;
+            case 1: grid.update(boxes); grid.find_pairs(pairs); break;
+            case 2: grid.build_and_find_pairs(boxes, pairs); break;
+            default: grid.update_and_find_pairs(boxes, pairs); break;
+          }
+        };
+        for (int round = 0; round < 2; ++round) {
+          for (const auto& boxes : poses) frame(boxes);
+        }
+        ASSERT_GT(grid.big_count(), 0) << what;
+        test::AllocationCounter counter;
+        for (const auto& boxes : poses) frame(boxes);
+        EXPECT_EQ(counter.count(), 0u) << what << " D=" << D << " banded=" << banded << " call=" << call;
+        EXPECT_FALSE(pairs.empty()) << what;
+      }
+    }
+  };
+  check(test::mixed_size_world<2>(rng, 2000, 200.0f), 200.0f, "mixed");
+  check(test::mixed_size_world<3>(rng, 2000, 60.0f), 60.0f, "mixed");
+  check(test::huge_object_world<2>(rng, 2000, 40.0f), 40.0f, "huge");
+  check(test::huge_object_world<3>(rng, 2000, 15.0f), 15.0f, "huge");
 }
 
 TEST(LooseGrid, RejectsBadOptions) {

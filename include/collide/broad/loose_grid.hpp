@@ -371,6 +371,8 @@ class LooseGridN {
     int id;             // the small box's id
   };
   std::vector<BigFound> big_found_;
+  std::vector<BigFound> big_found_sorted_;         // finish_pairs' counting sort of big_found_
+  std::vector<std::uint32_t> big_found_starts_;    // and its per-big-box starts
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
   std::vector<float> scratch_;
