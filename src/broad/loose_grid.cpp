@@ -86,7 +86,7 @@ void stream_copy(const T* from, const T* end, T* to) noexcept {
   std::copy(from, end, to);
 }
 
-/// Copies the kLineSlots values at `from` (a 64-byte aligned buffer) to `to` (64-byte
+/// Copies the kCount values at `from` (a 64-byte aligned buffer) to `to` (64-byte
 /// aligned, whole cache lines) by streaming stores where the SIMD path has them; sfence()
 /// orders them before later reads of `to`.
 template <std::size_t kCount, class T>
