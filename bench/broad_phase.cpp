@@ -30,6 +30,9 @@
 // Chipmunk's cpSpaceHash (2D), runs beside them (chipmunk_rebuild_benchmark); the 3D peers
 // update incrementally and have no rebuild to compare.
 //
+// Memory per object: "heap_per_object" for every contender, from glibc's count of the heap in
+// use before the contender is made and after its first frame.
+//
 // Run: bench_broad_phase --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 #include <collide/broad/dynamic_tree.hpp>
@@ -49,6 +52,8 @@
 #include <fcl/broadphase/broadphase_spatialhash.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/narrowphase/collision_object.h>
+
+#include <malloc.h>
 
 #include <cmath>
 #include <cstdint>
@@ -359,15 +364,27 @@ benchmark::Counter per_item(std::size_t items) {
 template <class C>
 constexpr bool kHasMemory = requires(const C& c) { c.memory(); };
 
+// Heap bytes in use (glibc's count: every malloc and operator new, C libraries included, and
+// the blocks it maps for large requests): the same ruler for collide and the peers.
+std::size_t heap_in_use() {
+  const struct mallinfo2 info = mallinfo2();
+  return info.uordblks + info.hblkhd;
+}
+
 template <int D, class C>
 void frame_benchmark(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   World<D> world = make_world<D>(n);
+  const std::size_t heap_before = heap_in_use();
   C contender;
   contender.init(world);
   world.step();
   // Warm-up frame, untimed; its pair count is the same world for every contender: a check.
   const std::size_t first_pairs = contender.frame(world);
+  // Heap held after a frame (structure, pair list, caches, and what a peer needs per object:
+  // FCL's collision objects, Chipmunk's objects): heap_per_object, for peers and collide
+  // alike; bytes_per_object is collide's own count (memory_bytes + pair list capacity).
+  const double heap_per_object = (static_cast<double>(heap_in_use()) - static_cast<double>(heap_before)) / n;
   for (auto _ : state) {
     state.PauseTiming();
     world.step();
@@ -377,6 +394,7 @@ void frame_benchmark(benchmark::State& state) {
   }
   state.counters["pairs"] = static_cast<double>(first_pairs);
   state.counters["per_object"] = per_item(n);
+  state.counters["heap_per_object"] = heap_per_object;
   if constexpr (kHasMemory<C>) {
     state.counters["bytes_per_object"] = static_cast<double>(contender.memory()) / n;
   }
