@@ -24,53 +24,14 @@ namespace collide {
 namespace {
 
 using test::Boxes;
+using test::brute_pairs;
+using test::static_worlds;
 
 template <class BP, int Dim>
 struct Case {
   using Type = BP;
   static constexpr int D = Dim;
 };
-
-/// The named worlds every structure must get exactly right.
-template <int D>
-std::vector<std::pair<std::string, Boxes<D>>> static_worlds() {
-  std::mt19937 rng(1234 + D);
-  std::vector<std::pair<std::string, Boxes<D>>> worlds;
-  // 3D worlds are smaller so that pairs are about as frequent as in 2D.
-  const float scale = D == 2 ? 1.0f : 0.4f;
-  worlds.emplace_back("uniform", test::uniform_world<D>(rng, 600, 30.0f * scale, 0.1f, 1.5f));
-  worlds.emplace_back("clustered", test::clustered_world<D>(rng, 500, 50.0f));
-  worlds.emplace_back("mixed_size", test::mixed_size_world<D>(rng, 600, 200.0f));
-  worlds.emplace_back("huge_object", test::huge_object_world<D>(rng, 500, 40.0f * scale));
-  worlds.emplace_back("touching", test::touching_world<D>(rng, 500, D == 2 ? 20 : 8));
-  worlds.emplace_back("negative",
-                      test::uniform_world<D>(rng, 500, 20.0f * scale, 0.1f, 1.0f, -1000.0f));
-  worlds.emplace_back("far_1e4",
-                      test::uniform_world<D>(rng, 500, 30.0f * scale, 0.1f, 1.5f, 1.0e4f));
-  worlds.emplace_back("far_1e6",
-                      test::uniform_world<D>(rng, 500, 300.0f * scale, 1.0f, 15.0f, 1.0e6f));
-  // Points (zero-size boxes) on a small lattice: many exact duplicates.
-  Boxes<D> points;
-  std::uniform_int_distribution<int> lattice(-3, 3);
-  for (int i = 0; i < 300; ++i) {
-    VecN<D> p;
-    for (int k = 0; k < D; ++k) p[k] = static_cast<float>(lattice(rng));
-    points.push_back({p, p});
-  }
-  worlds.emplace_back("points", points);
-  worlds.emplace_back("one_box", Boxes<D>{test::box_at<D>(VecN<D>(1.0f), VecN<D>(1.0f))});
-  worlds.emplace_back("empty", Boxes<D>{});
-  return worlds;
-}
-
-template <int D>
-PairList brute_pairs(std::span<const AabbN<D>> boxes) {
-  BruteForceN<D> brute;
-  brute.build(boxes);
-  PairList pairs;
-  brute.find_pairs(pairs);
-  return pairs;
-}
 
 /// Checks the structure's pairs against brute force: same set, each once, i < j.
 template <int D, class BP>

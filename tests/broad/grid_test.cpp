@@ -26,14 +26,7 @@
 namespace collide {
 namespace {
 
-template <int D>
-PairList brute_pairs(std::span<const AabbN<D>> boxes) {
-  BruteForceN<D> brute;
-  brute.build(boxes);
-  PairList pairs;
-  brute.find_pairs(pairs);
-  return pairs;
-}
+using test::brute_pairs;
 
 template <class BP, int D>
 PairList pairs_of(BP& bp, std::span<const AabbN<D>> boxes) {

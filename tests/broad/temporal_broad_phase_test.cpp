@@ -12,14 +12,7 @@
 namespace collide {
 namespace {
 
-template <int D>
-PairList brute_pairs(std::span<const AabbN<D>> boxes) {
-  BruteForceN<D> brute;
-  brute.build(boxes);
-  PairList pairs;
-  brute.find_pairs(pairs);
-  return pairs;
-}
+using test::brute_pairs;
 
 /// Speed bound of each object: its largest per-axis step per frame (the box moves by the
 /// velocity each frame of one time unit), with 1% headroom plus the float rounding of a step

@@ -1,13 +1,17 @@
 #pragma once
 // Test worlds for the broad phases: seeded random box sets in 2D and 3D, each aimed at a
 // weakness of some structure (crowded cells, huge boxes, boxes touching exactly on cell
-// boundaries, negative and far-from-origin coordinates), and moving versions of them.
+// boundaries, negative and far-from-origin coordinates), moving versions of them, and the
+// brute-force pairs every structure is checked against.
 
 #include <collide/broad/broad_phase.hpp>
+#include <collide/broad/brute_force.hpp>
 
 #include <cmath>
 #include <random>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace collide::test {
@@ -24,6 +28,16 @@ VecN<D> random_vec(std::mt19937& rng, float lo, float hi) {
   VecN<D> v;
   for (int k = 0; k < D; ++k) v[k] = uniform_f(rng, lo, hi);
   return v;
+}
+
+/// The reference answer: every overlapping pair, i < j, sorted (BruteForceN).
+template <int D>
+PairList brute_pairs(std::span<const AabbN<D>> boxes) {
+  BruteForceN<D> brute;
+  brute.build(boxes);
+  PairList pairs;
+  brute.find_pairs(pairs);
+  return pairs;
 }
 
 template <int D>
@@ -133,6 +147,35 @@ MovingWorld<D> moving_world(std::mt19937& rng, Boxes<D> boxes, float extent, flo
     w.velocity.push_back(random_vec<D>(rng, -speed, speed));
   }
   return w;
+}
+
+/// The named static worlds every structure must get exactly right (fixed seed per dimension).
+template <int D>
+std::vector<std::pair<std::string, Boxes<D>>> static_worlds() {
+  std::mt19937 rng(1234 + D);
+  std::vector<std::pair<std::string, Boxes<D>>> worlds;
+  // 3D worlds are smaller so that pairs are about as frequent as in 2D.
+  const float scale = D == 2 ? 1.0f : 0.4f;
+  worlds.emplace_back("uniform", uniform_world<D>(rng, 600, 30.0f * scale, 0.1f, 1.5f));
+  worlds.emplace_back("clustered", clustered_world<D>(rng, 500, 50.0f));
+  worlds.emplace_back("mixed_size", mixed_size_world<D>(rng, 600, 200.0f));
+  worlds.emplace_back("huge_object", huge_object_world<D>(rng, 500, 40.0f * scale));
+  worlds.emplace_back("touching", touching_world<D>(rng, 500, D == 2 ? 20 : 8));
+  worlds.emplace_back("negative", uniform_world<D>(rng, 500, 20.0f * scale, 0.1f, 1.0f, -1000.0f));
+  worlds.emplace_back("far_1e4", uniform_world<D>(rng, 500, 30.0f * scale, 0.1f, 1.5f, 1.0e4f));
+  worlds.emplace_back("far_1e6", uniform_world<D>(rng, 500, 300.0f * scale, 1.0f, 15.0f, 1.0e6f));
+  // Points (zero-size boxes) on a small lattice: many exact duplicates.
+  Boxes<D> points;
+  std::uniform_int_distribution<int> lattice(-3, 3);
+  for (int i = 0; i < 300; ++i) {
+    VecN<D> p;
+    for (int k = 0; k < D; ++k) p[k] = static_cast<float>(lattice(rng));
+    points.push_back({p, p});
+  }
+  worlds.emplace_back("points", points);
+  worlds.emplace_back("one_box", Boxes<D>{box_at<D>(VecN<D>(1.0f), VecN<D>(1.0f))});
+  worlds.emplace_back("empty", Boxes<D>{});
+  return worlds;
 }
 
 }  // namespace collide::test
