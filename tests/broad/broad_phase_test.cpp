@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <set>
@@ -55,7 +56,7 @@ template <class C>
 class BroadPhaseTest : public ::testing::Test {};
 
 using Cases = ::testing::Types<
-    Case<BruteForceN<2>, 2>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
+    Case<BruteForceN<2>, 2>, Case<BruteForceN<3>, 3>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
     Case<SortedGridN<2>, 2>, Case<SortedGridN<3>, 3>, Case<LooseGridN<2>, 2>, Case<LooseGridN<3>, 3>, Case<HierarchicalGridN<2>, 2>,
     Case<HierarchicalGridN<3>, 3>, Case<DynamicTreeN<2>, 2>, Case<DynamicTreeN<3>, 3>,
     Case<SweepAndPruneN<2>, 2>, Case<SweepAndPruneN<3>, 3>>;
@@ -119,6 +120,66 @@ TYPED_TEST(BroadPhaseTest, MovingWorldMatchesBruteForceEveryFrame) {
       if (::testing::Test::HasFailure()) return;
     }
     EXPECT_GT(total, 25u * 100u);
+  }
+}
+
+/// True when every corner of every box is a whole number.
+template <int D>
+bool on_integer_lattice(std::span<const AabbN<D>> boxes) {
+  for (const AabbN<D>& b : boxes) {
+    for (int k = 0; k < D; ++k) {
+      if (b.min[k] != std::floor(b.min[k]) || b.max[k] != std::floor(b.max[k])) return false;
+    }
+  }
+  return true;
+}
+
+/// Pairs that touch exactly: on some axis the overlap has zero width.
+template <int D>
+std::size_t exact_touches(std::span<const AabbN<D>> boxes, const PairList& pairs) {
+  std::size_t touches = 0;
+  for (const auto& [i, j] : pairs) {
+    for (int k = 0; k < D; ++k) {
+      if (std::max(boxes[i].min[k], boxes[j].min[k]) == std::min(boxes[i].max[k], boxes[j].max[k])) {
+        ++touches;
+        break;
+      }
+    }
+  }
+  return touches;
+}
+
+// The named worlds moving for 100 frames: clusters drifting through the cells, 0.1- and
+// 100-unit boxes, huge boxes, boxes touching exactly on cell boundaries (every other frame all
+// on the integer lattice), negative coordinates and coordinates near 1e6. Each frame's update
+// must give exactly brute force's pairs, however far the boxes moved since the build.
+TYPED_TEST(BroadPhaseTest, MovingNamedWorldsMatchBruteForceEveryFrame) {
+  constexpr int D = TypeParam::D;
+  constexpr std::size_t kFrames = 100;
+  for (auto& [name, world] : test::moving_worlds<D>(300)) {
+    typename TypeParam::Type bp;
+    bp.build(world.boxes);
+    std::size_t total = 0, lattice_frames = 0, touches = 0;
+    for (std::size_t frame = 1; frame <= kFrames; ++frame) {
+      world.step();
+      bp.update(world.boxes);
+      const PairList expected = brute_pairs<D>(world.boxes);
+      total += expected.size();
+      expect_same_pairs<D>(bp, world.boxes, expected, name + " frame " + std::to_string(frame));
+      if (::testing::Test::HasFailure()) return;
+      if (name == "touching" && on_integer_lattice<D>(world.boxes)) {
+        ++lattice_frames;
+        touches += exact_touches<D>(world.boxes, expected);
+      }
+    }
+    // Neither empty of pairs nor all pairs, in every world.
+    const std::size_t n = world.boxes.size();
+    EXPECT_GT(total, kFrames * n / 20) << name;
+    EXPECT_LT(total, kFrames * n * (n - 1) / 4) << name;
+    if (name == "touching") {
+      EXPECT_EQ(lattice_frames, kFrames / 2);
+      EXPECT_GT(touches, lattice_frames * 50) << "boxes touching exactly on the lattice";
+    }
   }
 }
 
