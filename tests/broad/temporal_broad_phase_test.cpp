@@ -150,6 +150,64 @@ TYPED_TEST(TemporalTest, FastObjectsAmongSlowOnesAreFoundEveryFrame) {
   EXPECT_LT(temporal.stats().candidate_pairs, 5000);  // grown bullets would pair with most
 }
 
+// The named static worlds (uniform, clustered, mixed sizes, huge objects, touching on cell
+// boundaries, negative, far from the origin, points, one box, empty) held still for a few
+// frames under small speed bounds: every frame brute force's pairs, and the separated
+// candidates asleep (their checks skipped) in every world with more than a hundred boxes.
+TYPED_TEST(TemporalTest, NamedStaticWorldsMatchBruteForceEveryFrame) {
+  constexpr int D = TypeParam::value;
+  for (const auto& [name, boxes] : test::static_worlds<D>()) {
+    const PairList expected = brute_pairs<D>(boxes);
+    TemporalBroadPhaseN<D> temporal;
+    temporal.build(boxes, std::vector<float>(boxes.size(), 0.01f), 0.0);
+    PairList pairs;
+    for (int frame = 0; frame <= 10; ++frame) {
+      if (frame > 0) temporal.update(boxes, static_cast<double>(frame));
+      temporal.find_pairs(pairs);
+      sort_pairs(pairs);
+      ASSERT_EQ(pairs, expected) << name << " frame " << frame;
+    }
+    EXPECT_EQ(temporal.stats().bound_violations, 0) << name;
+    // (In "points" every candidate is a pair of coincident points: none can sleep.)
+    if (boxes.size() > 100 && name != "points") {
+      EXPECT_GT(temporal.stats().skipped_checks, 0) << name;
+    }
+  }
+}
+
+// The same worlds moving for 100 frames (test::moving_worlds: clusters drifting, 0.1- and
+// 100-unit boxes, huge boxes, touching on the lattice every other frame, negative, near 1e6),
+// each object within its speed bound: every frame brute force's pairs and no bound violation.
+// Where the speeds are small against the boxes (the automatic horizon spans more than a frame
+// and a half: all but the drifting clusters and the mixed sizes' fast 0.1-unit boxes, which
+// rebuild every frame) separated candidates sleep, so checks are skipped.
+TYPED_TEST(TemporalTest, NamedMovingWorldsMatchBruteForceEveryFrame) {
+  constexpr int D = TypeParam::value;
+  int slow_worlds = 0;
+  for (auto& [name, world] : test::moving_worlds<D>(300)) {
+    TemporalBroadPhaseN<D> temporal;
+    temporal.build(world.boxes, bounds_of_world(world), 0.0);
+    PairList pairs;
+    std::size_t total = 0;
+    for (int frame = 1; frame <= 100; ++frame) {
+      world.step();
+      temporal.update(world.boxes, static_cast<double>(frame));
+      temporal.find_pairs(pairs);
+      sort_pairs(pairs);
+      const PairList expected = brute_pairs<D>(world.boxes);
+      total += expected.size();
+      ASSERT_EQ(pairs, expected) << name << " frame " << frame;
+    }
+    EXPECT_GT(total, 100u * 50u) << name;
+    EXPECT_EQ(temporal.stats().bound_violations, 0) << name;
+    if (temporal.horizon() > 1.5) {
+      ++slow_worlds;
+      EXPECT_GT(temporal.stats().skipped_checks, 0) << name;
+    }
+  }
+  EXPECT_GE(slow_worlds, 4);
+}
+
 TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
   constexpr int D = TypeParam::value;
   std::mt19937 rng(4);
