@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 namespace collide {
 namespace {
 
@@ -261,7 +263,21 @@ TYPED_TEST(TemporalTest, RejectsBadSpeedsTimesAndCounts) {
   EXPECT_THROW(temporal.build(boxes, std::vector<float>{1.0f}), InvalidInput);
   temporal.build(boxes, std::vector<float>(4, 1.0f), 5.0);
   EXPECT_THROW(temporal.update(boxes, 4.0), InvalidInput);
-  EXPECT_THROW(temporal.update(test::Boxes<D>(3, boxes[0]), 6.0), InvalidInput);
+  // A different count is a new set of objects (each needs a speed bound): update says so.
+  try {
+    temporal.update(test::Boxes<D>(3, boxes[0]), 6.0);
+    FAIL() << "a different count accepted";
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("3 given, 4 built"), std::string::npos) << what;
+    EXPECT_NE(what.find("call build"), std::string::npos) << what;
+  }
+  // ... and leaves the set as it was.
+  temporal.update(boxes, 6.0);
+  EXPECT_EQ(temporal.size(), 4);
+  PairList pairs;
+  temporal.find_pairs(pairs);
+  EXPECT_EQ(pairs.size(), 6u);
   EXPECT_THROW(TemporalBroadPhaseN<D>({.horizon = -1.0}), InvalidInput);
 }
 

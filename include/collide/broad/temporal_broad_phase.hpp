@@ -21,9 +21,10 @@
 ///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
 ///     are not grown, which would make them candidates with everything they could reach; each
 ///     frame a grid query finds their pairs directly (stats().fast_objects).
-///  4. An object that breaks its bound (a teleport), leaves its grown box, or a change in the
-///     number of objects makes the next find_pairs rebuild the candidates from the current boxes:
-///     nothing is missed, it only costs a rebuild (stats().bound_violations, rebuilds).
+///  4. An object that breaks its bound (a teleport) or leaves its grown box makes the next
+///     find_pairs rebuild the candidates from the current boxes: nothing is missed, it only
+///     costs a rebuild (stats().bound_violations, rebuilds). A different number of objects is
+///     a new set, with a speed bound for each: update throws, build starts over.
 /// The result equals brute force at every frame while the contract holds, and also when it
 /// does not (thanks to 4).
 ///
