@@ -192,8 +192,10 @@ json answer_pairs(const json& q) {
   try {
     pairs = width == 4 ? find_pairs(name, boxes2) : find_pairs(name, boxes3);
   } catch (const InvalidInput& e) {
+    // A bad box is "box 3: ...", said of "boxes"; the other messages ("broadphase: unknown
+    // name ...") name their field already.
     const std::string why = e.what();
-    fail(why.rfind("box ", 0) == 0 ? "boxes" : "broadphase", why);
+    fail(why.rfind("box ", 0) == 0 ? "boxes" : "", why);
   }
   json out = json::array();
   for (const auto& [i, j] : pairs) out.push_back(json::array({i, j}));

@@ -3,6 +3,8 @@
 
 #include "query.hpp"
 
+#include <collide/broad/registry.hpp>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 namespace collide::cli {
 namespace {
@@ -206,16 +209,26 @@ TEST(QueryPairs, EveryBroadPhaseGivesTheBruteForcePairsIn2DAnd3D) {
     }
     ASSERT_GT(expected.size(), 20u);  // dense enough that pairs and non-pairs both occur
     ASSERT_LT(expected.size(), raw.size() * (raw.size() - 1) / 4);
-    for (const char* name : {"", "hash_grid", "dynamic_tree", "sweep_and_prune", "brute_force"}) {
+    // Every name the registry knows (what `collide query --help` lists), and the default.
+    std::vector<std::string> names(1, "");
+    for (const std::string_view name : broadphase_names()) names.emplace_back(name);
+    ASSERT_GE(names.size(), 9u);
+    for (const std::string& name : names) {
       json q = {{"id", name}, {"op", "pairs"}, {"boxes", boxes}};
-      if (*name != '\0') q["broadphase"] = name;
+      if (!name.empty()) q["broadphase"] = name;
       const json a = ask(q.dump());
+      EXPECT_EQ(a["id"], name);
       EXPECT_EQ(a["pairs"], expected) << "broadphase '" << name << "' in " << dim << "D";
     }
   }
-  EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1]], "broadphase": "octree"})")
-                .find("hash_grid"),
-            std::string::npos);
+  // An unknown name: said once of "broadphase", with the valid names to pick from.
+  const std::string unknown =
+      error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1]], "broadphase": "octree"})");
+  EXPECT_EQ(unknown.rfind("broadphase: unknown name \"octree\" (valid: ", 0), 0u) << unknown;
+  EXPECT_EQ(unknown.find("broadphase: broadphase"), std::string::npos) << unknown;
+  for (const std::string_view name : broadphase_names()) {
+    EXPECT_NE(unknown.find(name), std::string::npos) << name << " not listed: " << unknown;
+  }
   EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [0, 0, 1]]})").find("boxes[1]"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [2, 0, 1, 1]]})").find("box 1"),
