@@ -48,7 +48,8 @@ class HashGridN {
   explicit HashGridN(Options options);
 
   /// Grows the storage for `boxes` boxes covering `cell_entries` cells in all, so that later
-  /// builds up to that size allocate nothing (the lesson's `grid.reserve`).
+  /// builds up to that size allocate nothing (the lesson's `grid.reserve`). Throws InvalidInput
+  /// for a negative argument, naming it ("HashGrid reserve boxes: negative (-1)").
   void reserve(int boxes, int cell_entries);
 
   /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.
