@@ -66,6 +66,27 @@ TYPED_TEST(BroadPhaseTest, ModelsTheBroadPhaseConcept) {
   static_assert(BroadPhase<typename TypeParam::Type, TypeParam::D>);
 }
 
+// Before the first build a structure is empty: no pairs, no query hits, and its counters (where
+// it has them) at zero.
+TYPED_TEST(BroadPhaseTest, EmptyBeforeTheFirstBuild) {
+  constexpr int D = TypeParam::D;
+  const typename TypeParam::Type bp;
+  EXPECT_EQ(bp.size(), 0);
+  int hits = 0;
+  const AabbN<D> everything{VecN<D>(-1e30f), VecN<D>(1e30f)};
+  bp.query(everything, [&](int) { return ++hits > 0; });
+  bp.query_point(VecN<D>(0.0f), [&](int) { return ++hits > 0; });
+  bp.ray_cast(RayN<D>{VecN<D>(-1.0f), VecN<D>(2.0f)}, [&](int, float f) { ++hits; return f; });
+  EXPECT_EQ(hits, 0);
+  typename TypeParam::Type fresh;
+  PairList pairs{{0, 1}};
+  fresh.find_pairs(pairs);
+  EXPECT_TRUE(pairs.empty());
+  if constexpr (requires { bp.cell_count(); }) EXPECT_EQ(bp.cell_count(), 0);
+  if constexpr (requires { bp.oversized_count(); }) EXPECT_EQ(bp.oversized_count(), 0);
+  if constexpr (requires { bp.level_count(); }) EXPECT_EQ(bp.level_count(), 0);
+}
+
 TYPED_TEST(BroadPhaseTest, PairsMatchBruteForceOnEveryStaticWorld) {
   constexpr int D = TypeParam::D;
   for (const auto& [name, boxes] : static_worlds<D>()) {
