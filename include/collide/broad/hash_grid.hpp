@@ -35,6 +35,7 @@ namespace collide {
 template <int D>
 class HashGridN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses twice the median box size.
     /// A size too small for the world extent (over 2^30 cells per axis) is enlarged.

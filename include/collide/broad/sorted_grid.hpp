@@ -33,6 +33,7 @@ namespace collide {
 template <int D>
 class SortedGridN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses twice the median box size.
     float cell_size = 0.0f;

@@ -45,6 +45,7 @@ namespace collide {
 template <int D>
 class TemporalBroadPhaseN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// How long a candidate set stays valid, in the caller's time unit. 0 (the default) picks
     /// the time the median object needs at its speed bound to move half the median box size:
@@ -94,6 +95,8 @@ class TemporalBroadPhaseN {
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
   /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
+  /// The counters since the last build (see Stats); candidate_pairs and fast_objects are of
+  /// the last rebuild of the candidate set.
   [[nodiscard]] const Stats& stats() const noexcept { return stats_; }
   /// The horizon in use (after the automatic choice).
   [[nodiscard]] double horizon() const noexcept { return horizon_; }
@@ -114,12 +117,12 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
-  std::vector<unsigned char> raised_;
+  std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   std::vector<unsigned char> is_fast_; // per object, at the last rebuild
   std::vector<int> fast_;              // ids of the fast objects, ascending
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
-  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot  // per object: bound raised since the wake times were set
+  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
 };
 
