@@ -21,6 +21,7 @@
 #include <istream>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace collide::cli {
@@ -57,7 +58,50 @@ std::string path(const std::string& where, const std::string& key) {
   return where.empty() ? key : where + "." + key;
 }
 
+/// A number beyond double range (1e400) fails JSON parsing before any field is known. Such a
+/// line is parsed again with each of those numbers turned into a string starting with this
+/// mark (a control character, so no string a user sends by hand): to_float then names the field.
+constexpr std::string_view kBeyondDouble = "\x01" "beyond double range: ";
+
+/// `line` with every number beyond double range written as a kBeyondDouble string. Strings are
+/// copied as they are: a run of digits inside one is not a number.
+std::string mark_numbers_beyond_double(std::string_view line) {
+  const auto in_number = [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-';
+  };
+  std::string out;
+  bool in_string = false;
+  for (std::size_t i = 0; i < line.size();) {
+    const char c = line[i];
+    if (in_string) {
+      if (c == '\\' && i + 1 < line.size()) out += line[i++];  // the escaped char follows
+      else if (c == '"') in_string = false;
+      out += line[i++];
+    } else if (c == '"') {
+      in_string = true;
+      out += line[i++];
+    } else if (c == '-' || (c >= '0' && c <= '9')) {
+      std::size_t end = i + 1;
+      while (end < line.size() && in_number(line[end])) ++end;
+      const std::string token(line.substr(i, end - i));
+      if (std::isinf(std::strtod(token.c_str(), nullptr))) {
+        out += "\"\\u0001beyond double range: " + token + "\"";
+      } else {
+        out += token;
+      }
+      i = end;
+    } else {
+      out += line[i++];
+    }
+  }
+  return out;
+}
+
 float to_float(const json& j, const std::string& field) {
+  if (j.is_string() && j.get_ref<const std::string&>().starts_with(kBeyondDouble)) {
+    fail(field, "not a finite float (" + j.get<std::string>().substr(kBeyondDouble.size()) +
+                    " is beyond double range)");
+  }
   if (!j.is_number()) fail(field, "expected a number");
   const double d = j.get<double>();
   const auto f = static_cast<float>(d);
@@ -192,8 +236,10 @@ json answer_pairs(const json& q) {
   try {
     pairs = width == 4 ? find_pairs(name, boxes2) : find_pairs(name, boxes3);
   } catch (const InvalidInput& e) {
+    // A bad box is "box 3: ...", said of "boxes"; the other messages ("broadphase: unknown
+    // name ...") name their field already.
     const std::string why = e.what();
-    fail(why.rfind("box ", 0) == 0 ? "boxes" : "broadphase", why);
+    fail(why.rfind("box ", 0) == 0 ? "boxes" : "", why);
   }
   json out = json::array();
   for (const auto& [i, j] : pairs) out.push_back(json::array({i, j}));
@@ -299,13 +345,19 @@ std::string answer_query_line(std::string_view line) {
   json id = nullptr;
   json out;
   try {
-    const json q = json::parse(line);
+    json q;
+    try {
+      q = json::parse(line);
+    } catch (const json::out_of_range& e) {
+      if (e.id != 406) throw;  // 406: a number beyond double range
+      q = json::parse(mark_numbers_beyond_double(line));
+    }
     if (q.is_object()) {
       if (const auto it = q.find("id"); it != q.end()) id = *it;
     }
     out = answer(q);
   } catch (const json::exception& e) {
-    // Syntax errors, and numbers beyond double range (1e999), which JSON parsing rejects.
+    // Syntax errors (numbers beyond double range are marked and named by to_float instead).
     out = json::object({{"error", std::string("line is not valid JSON: ") + e.what()}});
   } catch (const QueryError& e) {
     out = json::object({{"error", e.message}});

@@ -6,6 +6,7 @@
 
 #include <bit>
 #include <cmath>
+#include <string>
 
 namespace collide {
 
@@ -38,16 +39,23 @@ HashGridN<D>::HashGridN(Options options) : options_(options) {
 
 template <int D>
 void HashGridN<D>::reserve(int boxes, int cell_entries) {
-  boxes_.reserve(boxes);
-  is_oversized_.reserve(boxes);
-  scratch_.reserve(boxes);
-  entry_cell_.reserve(cell_entries);
-  entry_id_.reserve(cell_entries);
-  ids_.reserve(cell_entries);
-  cells_.reserve(cell_entries);
-  cursor_.reserve(cell_entries);
-  cell_start_.reserve(static_cast<std::size_t>(cell_entries) + 1);
-  table_.reserve(std::bit_ceil(static_cast<std::size_t>(2 * cell_entries + 2)));
+  // A negative int would become a huge size_t: std::length_error or bad_alloc, naming nothing.
+  if (boxes < 0) throw InvalidInput("HashGrid reserve boxes: negative (" + std::to_string(boxes) + ")");
+  if (cell_entries < 0) {
+    throw InvalidInput("HashGrid reserve cell_entries: negative (" + std::to_string(cell_entries) + ")");
+  }
+  const auto box_count = static_cast<std::size_t>(boxes);
+  const auto entries = static_cast<std::size_t>(cell_entries);
+  boxes_.reserve(box_count);
+  is_oversized_.reserve(box_count);
+  scratch_.reserve(box_count);
+  entry_cell_.reserve(entries);
+  entry_id_.reserve(entries);
+  ids_.reserve(entries);
+  cells_.reserve(entries);
+  cursor_.reserve(entries);
+  cell_start_.reserve(entries + 1);
+  table_.reserve(std::bit_ceil(2 * entries + 2));  // in size_t: 2 * INT_MAX does not overflow
 }
 
 template <int D>

@@ -3,6 +3,8 @@
 
 #include "query.hpp"
 
+#include <collide/broad/registry.hpp>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 namespace collide::cli {
 namespace {
@@ -90,7 +93,7 @@ TEST(Query, NumbersRoundTripAsFloatsWithShortDigits) {
 
 TEST(Query, EveryRejectionInTheSpecNamesItsField) {
   EXPECT_NE(error_of("{not json").find("not valid JSON"), std::string::npos);
-  EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1e999}})").find("not valid JSON"),
+  EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1e999}})").find("a.radius"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "explode"})").find("unknown op"), std::string::npos);
   EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "blob"}, "b": {"type": "circle", "radius": 1}})")
@@ -121,6 +124,25 @@ TEST(Query, EveryRejectionInTheSpecNamesItsField) {
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1}, "xa": {"p": [0, "x"]}, "b": {"type": "circle", "radius": 1}})")
                 .find("xa.p[1]"),
+            std::string::npos);
+}
+
+// A number beyond double range (1e400) is a non-finite number like any other: the answer echoes
+// the id and names the field, though JSON parsing alone rejects the whole line.
+TEST(Query, NumbersBeyondDoubleRangeAreNamedWithTheIdEchoed) {
+  const json a = ask(R"({"id": 5, "op": "overlap", "a": {"type": "circle", "radius": 1e400},
+      "b": {"type": "circle", "radius": 1}})");
+  EXPECT_EQ(a["id"], 5);
+  EXPECT_EQ(a.value("error", ""), "a.radius: not a finite float (1e400 is beyond double range)");
+  // Negative, in an array, and with a string that looks like such a number left alone.
+  const json b = ask(R"({"id": "-1e400 \" 2e999", "op": "pairs",
+      "boxes": [[0, 0, 1, 1], [0, 0, -1E+400, 1]]})");
+  EXPECT_EQ(b["id"], "-1e400 \" 2e999");
+  EXPECT_EQ(b.value("error", ""), "boxes[1][2]: not a finite float (-1E+400 is beyond double range)");
+  // Numbers that underflow to 0 are ordinary; a syntax error is still a syntax error.
+  EXPECT_FALSE(ask(R"({"op": "overlap", "a": {"type": "circle", "radius": 1e-400},
+      "b": {"type": "circle", "radius": 1}})").contains("error"));
+  EXPECT_NE(error_of(R"({"id": 1, "op": "overlap", "a": 1e400,)").find("not valid JSON"),
             std::string::npos);
 }
 
@@ -206,16 +228,26 @@ TEST(QueryPairs, EveryBroadPhaseGivesTheBruteForcePairsIn2DAnd3D) {
     }
     ASSERT_GT(expected.size(), 20u);  // dense enough that pairs and non-pairs both occur
     ASSERT_LT(expected.size(), raw.size() * (raw.size() - 1) / 4);
-    for (const char* name : {"", "hash_grid", "dynamic_tree", "sweep_and_prune", "brute_force"}) {
+    // Every name the registry knows (what `collide query --help` lists), and the default.
+    std::vector<std::string> names(1, "");
+    for (const std::string_view name : broadphase_names()) names.emplace_back(name);
+    ASSERT_GE(names.size(), 9u);
+    for (const std::string& name : names) {
       json q = {{"id", name}, {"op", "pairs"}, {"boxes", boxes}};
-      if (*name != '\0') q["broadphase"] = name;
+      if (!name.empty()) q["broadphase"] = name;
       const json a = ask(q.dump());
+      EXPECT_EQ(a["id"], name);
       EXPECT_EQ(a["pairs"], expected) << "broadphase '" << name << "' in " << dim << "D";
     }
   }
-  EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1]], "broadphase": "octree"})")
-                .find("hash_grid"),
-            std::string::npos);
+  // An unknown name: said once of "broadphase", with the valid names to pick from.
+  const std::string unknown =
+      error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1]], "broadphase": "octree"})");
+  EXPECT_EQ(unknown.rfind("broadphase: unknown name \"octree\" (valid: ", 0), 0u) << unknown;
+  EXPECT_EQ(unknown.find("broadphase: broadphase"), std::string::npos) << unknown;
+  for (const std::string_view name : broadphase_names()) {
+    EXPECT_NE(unknown.find(name), std::string::npos) << name << " not listed: " << unknown;
+  }
   EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [0, 0, 1]]})").find("boxes[1]"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "pairs", "boxes": [[0, 0, 1, 1], [2, 0, 1, 1]]})").find("box 1"),

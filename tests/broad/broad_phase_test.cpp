@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <set>
@@ -24,53 +25,14 @@ namespace collide {
 namespace {
 
 using test::Boxes;
+using test::brute_pairs;
+using test::static_worlds;
 
 template <class BP, int Dim>
 struct Case {
   using Type = BP;
   static constexpr int D = Dim;
 };
-
-/// The named worlds every structure must get exactly right.
-template <int D>
-std::vector<std::pair<std::string, Boxes<D>>> static_worlds() {
-  std::mt19937 rng(1234 + D);
-  std::vector<std::pair<std::string, Boxes<D>>> worlds;
-  // 3D worlds are smaller so that pairs are about as frequent as in 2D.
-  const float scale = D == 2 ? 1.0f : 0.4f;
-  worlds.emplace_back("uniform", test::uniform_world<D>(rng, 600, 30.0f * scale, 0.1f, 1.5f));
-  worlds.emplace_back("clustered", test::clustered_world<D>(rng, 500, 50.0f));
-  worlds.emplace_back("mixed_size", test::mixed_size_world<D>(rng, 600, 200.0f));
-  worlds.emplace_back("huge_object", test::huge_object_world<D>(rng, 500, 40.0f * scale));
-  worlds.emplace_back("touching", test::touching_world<D>(rng, 500, D == 2 ? 20 : 8));
-  worlds.emplace_back("negative",
-                      test::uniform_world<D>(rng, 500, 20.0f * scale, 0.1f, 1.0f, -1000.0f));
-  worlds.emplace_back("far_1e4",
-                      test::uniform_world<D>(rng, 500, 30.0f * scale, 0.1f, 1.5f, 1.0e4f));
-  worlds.emplace_back("far_1e6",
-                      test::uniform_world<D>(rng, 500, 300.0f * scale, 1.0f, 15.0f, 1.0e6f));
-  // Points (zero-size boxes) on a small lattice: many exact duplicates.
-  Boxes<D> points;
-  std::uniform_int_distribution<int> lattice(-3, 3);
-  for (int i = 0; i < 300; ++i) {
-    VecN<D> p;
-    for (int k = 0; k < D; ++k) p[k] = static_cast<float>(lattice(rng));
-    points.push_back({p, p});
-  }
-  worlds.emplace_back("points", points);
-  worlds.emplace_back("one_box", Boxes<D>{test::box_at<D>(VecN<D>(1.0f), VecN<D>(1.0f))});
-  worlds.emplace_back("empty", Boxes<D>{});
-  return worlds;
-}
-
-template <int D>
-PairList brute_pairs(std::span<const AabbN<D>> boxes) {
-  BruteForceN<D> brute;
-  brute.build(boxes);
-  PairList pairs;
-  brute.find_pairs(pairs);
-  return pairs;
-}
 
 /// Checks the structure's pairs against brute force: same set, each once, i < j.
 template <int D, class BP>
@@ -94,7 +56,7 @@ template <class C>
 class BroadPhaseTest : public ::testing::Test {};
 
 using Cases = ::testing::Types<
-    Case<BruteForceN<2>, 2>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
+    Case<BruteForceN<2>, 2>, Case<BruteForceN<3>, 3>, Case<HashGridN<2>, 2>, Case<HashGridN<3>, 3>,
     Case<SortedGridN<2>, 2>, Case<SortedGridN<3>, 3>, Case<LooseGridN<2>, 2>, Case<LooseGridN<3>, 3>, Case<HierarchicalGridN<2>, 2>,
     Case<HierarchicalGridN<3>, 3>, Case<DynamicTreeN<2>, 2>, Case<DynamicTreeN<3>, 3>,
     Case<SweepAndPruneN<2>, 2>, Case<SweepAndPruneN<3>, 3>>;
@@ -102,6 +64,27 @@ TYPED_TEST_SUITE(BroadPhaseTest, Cases);
 
 TYPED_TEST(BroadPhaseTest, ModelsTheBroadPhaseConcept) {
   static_assert(BroadPhase<typename TypeParam::Type, TypeParam::D>);
+}
+
+// Before the first build a structure is empty: no pairs, no query hits, and its counters (where
+// it has them) at zero.
+TYPED_TEST(BroadPhaseTest, EmptyBeforeTheFirstBuild) {
+  constexpr int D = TypeParam::D;
+  const typename TypeParam::Type bp;
+  EXPECT_EQ(bp.size(), 0);
+  int hits = 0;
+  const AabbN<D> everything{VecN<D>(-1e30f), VecN<D>(1e30f)};
+  bp.query(everything, [&](int) { return ++hits > 0; });
+  bp.query_point(VecN<D>(0.0f), [&](int) { return ++hits > 0; });
+  bp.ray_cast(RayN<D>{VecN<D>(-1.0f), VecN<D>(2.0f)}, [&](int, float f) { ++hits; return f; });
+  EXPECT_EQ(hits, 0);
+  typename TypeParam::Type fresh;
+  PairList pairs{{0, 1}};
+  fresh.find_pairs(pairs);
+  EXPECT_TRUE(pairs.empty());
+  if constexpr (requires { bp.cell_count(); }) EXPECT_EQ(bp.cell_count(), 0);
+  if constexpr (requires { bp.oversized_count(); }) EXPECT_EQ(bp.oversized_count(), 0);
+  if constexpr (requires { bp.level_count(); }) EXPECT_EQ(bp.level_count(), 0);
 }
 
 TYPED_TEST(BroadPhaseTest, PairsMatchBruteForceOnEveryStaticWorld) {
@@ -158,6 +141,66 @@ TYPED_TEST(BroadPhaseTest, MovingWorldMatchesBruteForceEveryFrame) {
       if (::testing::Test::HasFailure()) return;
     }
     EXPECT_GT(total, 25u * 100u);
+  }
+}
+
+/// True when every corner of every box is a whole number.
+template <int D>
+bool on_integer_lattice(std::span<const AabbN<D>> boxes) {
+  for (const AabbN<D>& b : boxes) {
+    for (int k = 0; k < D; ++k) {
+      if (b.min[k] != std::floor(b.min[k]) || b.max[k] != std::floor(b.max[k])) return false;
+    }
+  }
+  return true;
+}
+
+/// Pairs that touch exactly: on some axis the overlap has zero width.
+template <int D>
+std::size_t exact_touches(std::span<const AabbN<D>> boxes, const PairList& pairs) {
+  std::size_t touches = 0;
+  for (const auto& [i, j] : pairs) {
+    for (int k = 0; k < D; ++k) {
+      if (std::max(boxes[i].min[k], boxes[j].min[k]) == std::min(boxes[i].max[k], boxes[j].max[k])) {
+        ++touches;
+        break;
+      }
+    }
+  }
+  return touches;
+}
+
+// The named worlds moving for 100 frames: clusters drifting through the cells, 0.1- and
+// 100-unit boxes, huge boxes, boxes touching exactly on cell boundaries (every other frame all
+// on the integer lattice), negative coordinates and coordinates near 1e6. Each frame's update
+// must give exactly brute force's pairs, however far the boxes moved since the build.
+TYPED_TEST(BroadPhaseTest, MovingNamedWorldsMatchBruteForceEveryFrame) {
+  constexpr int D = TypeParam::D;
+  constexpr std::size_t kFrames = 100;
+  for (auto& [name, world] : test::moving_worlds<D>(300)) {
+    typename TypeParam::Type bp;
+    bp.build(world.boxes);
+    std::size_t total = 0, lattice_frames = 0, touches = 0;
+    for (std::size_t frame = 1; frame <= kFrames; ++frame) {
+      world.step();
+      bp.update(world.boxes);
+      const PairList expected = brute_pairs<D>(world.boxes);
+      total += expected.size();
+      expect_same_pairs<D>(bp, world.boxes, expected, name + " frame " + std::to_string(frame));
+      if (::testing::Test::HasFailure()) return;
+      if (name == "touching" && on_integer_lattice<D>(world.boxes)) {
+        ++lattice_frames;
+        touches += exact_touches<D>(world.boxes, expected);
+      }
+    }
+    // Neither empty of pairs nor all pairs, in every world.
+    const std::size_t n = world.boxes.size();
+    EXPECT_GT(total, kFrames * n / 20) << name;
+    EXPECT_LT(total, kFrames * n * (n - 1) / 4) << name;
+    if (name == "touching") {
+      EXPECT_EQ(lattice_frames, kFrames / 2);
+      EXPECT_GT(touches, lattice_frames * 50) << "boxes touching exactly on the lattice";
+    }
   }
 }
 
@@ -297,6 +340,48 @@ TYPED_TEST(BroadPhaseTest, RejectsNonFiniteAndInvertedBoxesNamingTheIndex) {
   }
   boxes[2].min[D - 1] = std::numeric_limits<float>::infinity();
   EXPECT_THROW(bp.build(boxes), InvalidInput);
+}
+
+// update validates as build does: a NaN, an infinity or min > max anywhere (first, middle and
+// last box, min or max corner) is rejected naming the box, and the structure is not left
+// broken: the next update with good boxes gives brute force's pairs.
+TYPED_TEST(BroadPhaseTest, UpdateRejectsNonFiniteAndInvertedBoxesNamingTheIndex) {
+  constexpr int D = TypeParam::D;
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  std::mt19937 rng(41);
+  const Boxes<D> good = test::uniform_world<D>(rng, 200, 8.0f, 0.2f, 1.0f);
+  const PairList expected = brute_pairs<D>(good);
+  ASSERT_GT(expected.size(), 50u);
+  struct Bad {
+    int index;
+    const char* what;
+    void (*spoil)(AabbN<D>& box);
+  };
+  const Bad cases[] = {
+      {0, "NaN min.x", [](AabbN<D>& b) { b.min[0] = kNaN; }},
+      {3, "NaN max, last axis", [](AabbN<D>& b) { b.max[D - 1] = kNaN; }},
+      {17, "+inf max.y", [](AabbN<D>& b) { b.max[1] = kInf; }},
+      {120, "-inf min.x", [](AabbN<D>& b) { b.min[0] = -kInf; }},
+      {199, "+inf min, last axis", [](AabbN<D>& b) { b.min[D - 1] = kInf; }},
+      {77, "min.y > max.y", [](AabbN<D>& b) { b.min[1] = b.max[1] + 0.5f; }},
+      {199, "max.x < min.x", [](AabbN<D>& b) { b.max[0] = b.min[0] - 0.5f; }},
+  };
+  typename TypeParam::Type bp;
+  bp.build(good);
+  for (const Bad& c : cases) {
+    Boxes<D> boxes = good;
+    c.spoil(boxes[std::size_t(c.index)]);
+    try {
+      bp.update(boxes);
+      ADD_FAILURE() << c.what << " accepted by update";
+    } catch (const InvalidInput& e) {
+      const std::string want = "box " + std::to_string(c.index) + ":";
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << c.what << ": " << e.what();
+    }
+    bp.update(good);
+    expect_same_pairs<D>(bp, good, expected, std::string("update after ") + c.what);
+  }
 }
 
 }  // namespace

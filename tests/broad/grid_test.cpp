@@ -26,14 +26,7 @@
 namespace collide {
 namespace {
 
-template <int D>
-PairList brute_pairs(std::span<const AabbN<D>> boxes) {
-  BruteForceN<D> brute;
-  brute.build(boxes);
-  PairList pairs;
-  brute.find_pairs(pairs);
-  return pairs;
-}
+using test::brute_pairs;
 
 template <class BP, int D>
 PairList pairs_of(BP& bp, std::span<const AabbN<D>> boxes) {
@@ -171,6 +164,10 @@ TEST(HierarchicalGrid, MixedSizesGetTheirOwnLevels) {
   HierarchicalGrid3 grid;
   EXPECT_EQ((pairs_of<HierarchicalGrid3, 3>(grid, boxes)), brute_pairs<3>(boxes));
   EXPECT_GE(grid.level_count(), 2);
+  // Each box lives in one level and covers at most 2 cells per axis there: at most 8 cell
+  // entries, a few hundred bytes per object. In level 0's cells (about 0.36 units here) one
+  // 100-unit box alone would fill 2e7 of them.
+  EXPECT_LT(grid.memory_bytes(), 1024 * boxes.size());
   // A uniform grid on the same data sends the 100-unit boxes to its oversized list.
   HashGrid3 hash;
   hash.build(boxes);

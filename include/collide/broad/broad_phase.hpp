@@ -32,6 +32,8 @@ class FunctionRef;
 template <class R, class... Args>
 class FunctionRef<R(Args...)> {
  public:
+  /// Refers to `f` (a lambda, function or other callable as R(Args...)) without copying it:
+  /// `f` must outlive this reference (use it as a parameter, not stored). Never allocates.
   template <class F>
     requires(!std::is_same_v<std::remove_cvref_t<F>, FunctionRef> &&
              std::is_invocable_r_v<R, F&, Args...>)
@@ -42,6 +44,7 @@ class FunctionRef<R(Args...)> {
                              std::forward<Args>(args)...);
         }) {}
 
+  /// Calls the referred callable with `args` and returns its result; what it throws propagates.
   R operator()(Args... args) const { return call_(object_, std::forward<Args>(args)...); }
 
  private:

@@ -26,15 +26,18 @@ namespace collide {
 template <int D>
 class DynamicTreeN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// The fat box is the box grown on every side by margin + margin_fraction * its largest
-    /// side: a larger margin means fewer reinsertions but looser pair tests.
+    /// side: a larger margin means fewer reinsertions but looser pair tests. World units, >= 0.
     float margin = 0.0f;
+    /// Growth on every side as a fraction of the box's largest side (unitless, >= 0): it scales
+    /// with the object. 0.25 by default.
     float margin_fraction = 0.25f;
   };
 
   DynamicTreeN() = default;
-  /// Throws InvalidInput for a negative or non-finite margin.
+  /// Throws InvalidInput for a negative or non-finite margin or margin_fraction, naming it.
   explicit DynamicTreeN(Options options);
 
   /// Builds the tree by inserting the boxes in id order. Throws InvalidInput for a non-finite

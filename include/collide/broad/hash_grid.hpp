@@ -35,6 +35,7 @@ namespace collide {
 template <int D>
 class HashGridN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses twice the median box size.
     /// A size too small for the world extent (over 2^30 cells per axis) is enlarged.
@@ -48,7 +49,8 @@ class HashGridN {
   explicit HashGridN(Options options);
 
   /// Grows the storage for `boxes` boxes covering `cell_entries` cells in all, so that later
-  /// builds up to that size allocate nothing (the lesson's `grid.reserve`).
+  /// builds up to that size allocate nothing (the lesson's `grid.reserve`). Throws InvalidInput
+  /// for a negative argument, naming it ("HashGrid reserve boxes: negative (-1)").
   void reserve(int boxes, int cell_entries);
 
   /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max.

@@ -28,6 +28,7 @@ namespace collide {
 template <int D>
 class HierarchicalGridN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// Cell size of level 0 in world units; 0 (the default) chooses twice the median box size.
     /// Levels above are 4, 16, 64... times larger, levels below 4, 16... times smaller.

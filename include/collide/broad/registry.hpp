@@ -12,7 +12,9 @@ namespace collide {
 
 /// A broad phase the registry knows: its name and a one-line description for `--help`.
 struct BroadPhaseInfo {
+  /// The name find_pairs and `collide query`'s "broadphase" field take, e.g. "hash_grid".
   std::string_view name;
+  /// One line for `--help`: what the structure is and when to pick it.
   std::string_view description;
 };
 

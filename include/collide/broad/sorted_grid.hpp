@@ -33,6 +33,7 @@ namespace collide {
 template <int D>
 class SortedGridN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses twice the median box size.
     float cell_size = 0.0f;
@@ -78,8 +79,15 @@ class SortedGridN {
   [[nodiscard]] int size() const noexcept { return count_; }
   /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
+  /// The grid of the last build or update: the cell size actually used (the chosen one, or
+  /// wider when the world would need more than 2^62 cells) and the bounds cells count from.
   [[nodiscard]] const GridMapping<D>& grid() const noexcept { return grid_; }
-  [[nodiscard]] int cell_count() const noexcept { return static_cast<int>(runs_.size()) - 1; }
+  /// Cells holding at least one box after the last build or update; 0 before the first.
+  [[nodiscard]] int cell_count() const noexcept {
+    return runs_.empty() ? 0 : static_cast<int>(runs_.size()) - 1;  // runs_ ends in a sentinel
+  }
+  /// Boxes kept out of the cells in the last build or update, because they cover more than
+  /// Options::max_cells_per_box cells; each is tested against every box.
   [[nodiscard]] int oversized_count() const noexcept {
     return static_cast<int>(oversized_.size());
   }

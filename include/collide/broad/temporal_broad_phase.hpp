@@ -21,9 +21,10 @@
 ///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
 ///     are not grown, which would make them candidates with everything they could reach; each
 ///     frame a grid query finds their pairs directly (stats().fast_objects).
-///  4. An object that breaks its bound (a teleport), leaves its grown box, or a change in the
-///     number of objects makes the next find_pairs rebuild the candidates from the current boxes:
-///     nothing is missed, it only costs a rebuild (stats().bound_violations, rebuilds).
+///  4. An object that breaks its bound (a teleport) or leaves its grown box makes the next
+///     find_pairs rebuild the candidates from the current boxes: nothing is missed, it only
+///     costs a rebuild (stats().bound_violations, rebuilds). A different number of objects is
+///     a new set, with a speed bound for each: update throws, build starts over.
 /// The result equals brute force at every frame while the contract holds, and also when it
 /// does not (thanks to 4).
 ///
@@ -44,6 +45,7 @@ namespace collide {
 template <int D>
 class TemporalBroadPhaseN {
  public:
+  /// What the constructor takes; it rejects bad values, naming the field.
   struct Options {
     /// How long a candidate set stays valid, in the caller's time unit. 0 (the default) picks
     /// the time the median object needs at its speed bound to move half the median box size:
@@ -93,6 +95,8 @@ class TemporalBroadPhaseN {
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }
   /// Heap bytes held (vector capacities), for the memory-per-object figures.
   [[nodiscard]] std::size_t memory_bytes() const noexcept;
+  /// The counters since the last build (see Stats); candidate_pairs and fast_objects are of
+  /// the last rebuild of the candidate set.
   [[nodiscard]] const Stats& stats() const noexcept { return stats_; }
   /// The horizon in use (after the automatic choice).
   [[nodiscard]] double horizon() const noexcept { return horizon_; }
@@ -113,12 +117,12 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
-  std::vector<unsigned char> raised_;
+  std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   std::vector<unsigned char> is_fast_; // per object, at the last rebuild
   std::vector<int> fast_;              // ids of the fast objects, ascending
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
-  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot  // per object: bound raised since the wake times were set
+  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
 };
 
