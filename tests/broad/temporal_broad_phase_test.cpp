@@ -255,44 +255,21 @@ TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
 // update leaves the set as it was: the next good update gives brute force's pairs.
 TYPED_TEST(TemporalTest, RejectsBadBoxesNamingTheIndex) {
   constexpr int D = TypeParam::value;
-  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-  constexpr float kInf = std::numeric_limits<float>::infinity();
   std::mt19937 rng(43);
   const test::Boxes<D> good = test::uniform_world<D>(rng, 150, 6.0f, 0.2f, 1.0f);
   const std::vector<float> speeds(good.size(), 0.1f);
   const PairList expected = brute_pairs<D>(good);
   ASSERT_GT(expected.size(), 50u);
-  struct Bad {
-    int index;
-    const char* what;
-    void (*spoil)(AabbN<D>& box);
-  };
-  const Bad cases[] = {
-      {0, "NaN min.x", [](AabbN<D>& b) { b.min[0] = kNaN; }},
-      {9, "NaN max, last axis", [](AabbN<D>& b) { b.max[D - 1] = kNaN; }},
-      {64, "+inf max.y", [](AabbN<D>& b) { b.max[1] = kInf; }},
-      {149, "-inf min.x", [](AabbN<D>& b) { b.min[0] = -kInf; }},
-      {31, "min.y > max.y", [](AabbN<D>& b) { b.min[1] = b.max[1] + 0.5f; }},
-  };
-  const auto expect_names_box = [](const Bad& c, auto&& call) {
-    try {
-      call();
-      ADD_FAILURE() << c.what << " accepted";
-    } catch (const InvalidInput& e) {
-      const std::string want = "box " + std::to_string(c.index) + ":";
-      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << c.what << ": " << e.what();
-    }
-  };
   TemporalBroadPhaseN<D> temporal;
   double time = 0.0;
   PairList pairs;
-  for (const Bad& c : cases) {
+  for (const test::BadBox<D>& c : test::bad_boxes<D>(static_cast<int>(good.size()))) {
     test::Boxes<D> boxes = good;
     c.spoil(boxes[std::size_t(c.index)]);
-    expect_names_box(c, [&] { temporal.build(boxes, speeds, time); });
+    test::expect_rejects_naming_the_box(c, [&] { temporal.build(boxes, speeds, time); });
     temporal.build(good, speeds, time);
     time += 1.0;
-    expect_names_box(c, [&] { temporal.update(boxes, time); });
+    test::expect_rejects_naming_the_box(c, [&] { temporal.update(boxes, time); });
     temporal.update(good, time);
     temporal.find_pairs(pairs);
     sort_pairs(pairs);

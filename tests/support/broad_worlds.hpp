@@ -6,8 +6,12 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/brute_force.hpp>
+#include <collide/core/error.hpp>
+
+#include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <span>
 #include <string>
@@ -229,6 +233,43 @@ std::vector<std::pair<std::string, MovingWorld<D>>> moving_worlds(int n) {
                         moving_world<D>(rng, std::move(boxes), 300.0f * scale, 2.0f, 1.0e6f));
   }
   return worlds;
+}
+
+/// A box spoiled in a way every broad phase must reject, naming the box: a NaN, an infinity
+/// or min > max, at the first, a middle or the last box of n, min or max corner.
+template <int D>
+struct BadBox {
+  int index;
+  const char* what;
+  void (*spoil)(AabbN<D>& box);
+};
+
+template <int D>
+std::vector<BadBox<D>> bad_boxes(int n) {
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  return {
+      {0, "NaN min.x", [](AabbN<D>& b) { b.min[0] = kNaN; }},
+      {3, "NaN max, last axis", [](AabbN<D>& b) { b.max[D - 1] = kNaN; }},
+      {n / 8, "+inf max.y", [](AabbN<D>& b) { b.max[1] = kInf; }},
+      {n * 3 / 5, "-inf min.x", [](AabbN<D>& b) { b.min[0] = -kInf; }},
+      {n - 1, "+inf min, last axis", [](AabbN<D>& b) { b.min[D - 1] = kInf; }},
+      {n * 2 / 5, "min.y > max.y", [](AabbN<D>& b) { b.min[1] = b.max[1] + 0.5f; }},
+      {n - 1, "max.x < min.x", [](AabbN<D>& b) { b.max[0] = b.min[0] - 0.5f; }},
+  };
+}
+
+/// Runs `call` (a build or update given the spoiled boxes) and expects an InvalidInput whose
+/// message names box `bad.index` ("box 17: ...").
+template <int D, class Call>
+void expect_rejects_naming_the_box(const BadBox<D>& bad, Call&& call) {
+  try {
+    call();
+    ADD_FAILURE() << bad.what << " accepted";
+  } catch (const InvalidInput& e) {
+    const std::string want = "box " + std::to_string(bad.index) + ":";
+    EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << bad.what << ": " << e.what();
+  }
 }
 
 }  // namespace collide::test
