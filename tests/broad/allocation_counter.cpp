@@ -4,8 +4,13 @@
 
 #include "support/allocation_counter.hpp"
 
+#include <gtest/gtest.h>
+
+#include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <new>
+#include <vector>
 
 namespace {
 
@@ -59,3 +64,28 @@ void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::fre
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
 void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace collide::test {
+namespace {
+
+// The counting operator new is the one linked in (were it not, every "allocates nothing" test
+// would pass with a count of 0 whatever the code did).
+TEST(AllocationCounter, CountsEachAllocationWhileAlive) {
+  AllocationCounter counter;
+  const auto one = std::make_unique<int>(1);
+  std::vector<float> many(100);
+  EXPECT_EQ(counter.count(), 2u);
+  {
+    struct alignas(64) Line {
+      char bytes[64];
+    };
+    AllocationCounter inner;
+    const auto line = std::make_unique<Line>();  // operator new(size, align_val_t)
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(line.get()) % 64, 0u);
+    EXPECT_EQ(inner.count(), 1u);
+  }
+  EXPECT_EQ(counter.count(), 3u);
+}
+
+}  // namespace
+}  // namespace collide::test
