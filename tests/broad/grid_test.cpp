@@ -888,6 +888,48 @@ TEST(LooseGrid, FramesAllocateNothingOnceWarm) {
   check(test::huge_object_world<3>(rng, 2000, 15.0f), 15.0f, "huge");
 }
 
+// A build reserves room for the band regions of any distribution of its boxes over the bands
+// (each band's region is rounded up to whole buffers), not just for the last one's: the same
+// number of boxes spread over more bands must not reallocate the records and staged boxes.
+// Regression: the exact size was reserved, so a build whose bands took a few more slots than
+// any before reallocated both (8-24 MB at a million boxes, every few frames).
+TEST(LooseGrid, BuildReservesRoomForAnyBandCounts) {
+  std::mt19937 rng(73);
+  const auto check = [&]<int D>(float extent) {
+    // The same grid for both worlds: the same box sizes (cell size) and the same corners
+    // (bounds); the boxes of `half` fill half of the bands, those of `all` every band.
+    const auto world = [&](float lo_x) {
+      test::Boxes<D> boxes;
+      for (int i = 0; i < 3000; ++i) {
+        VecN<D> c = test::random_vec<D>(rng, -extent, extent);
+        c.x = test::uniform_f(rng, lo_x, extent);
+        boxes.push_back(test::box_at<D>(c, VecN<D>(0.5f)));
+      }
+      for (int corner = 0; corner < (1 << D); ++corner) {
+        VecN<D> c;
+        for (int k = 0; k < D; ++k) c[k] = (corner >> k) & 1 ? extent : -extent;
+        boxes.push_back(test::box_at<D>(c, VecN<D>(0.5f)));
+      }
+      return boxes;
+    };
+    const test::Boxes<D> half = world(0.0f), all = world(-extent);
+    LooseGridN<D> grid(typename LooseGridN<D>::Options{.one_step_bits = 0, .band_bits = 3});
+    grid.build(half);
+    grid.build(half);
+    const GridMapping<D> mapping = grid.grid();
+    test::AllocationCounter counter;
+    grid.build(all);
+    EXPECT_EQ(counter.count(), 0u) << "D=" << D;
+    EXPECT_EQ(grid.grid().dims, mapping.dims) << "D=" << D;  // the same grid, more bands used
+    PairList pairs;
+    grid.find_pairs(pairs);
+    sort_pairs(pairs);
+    EXPECT_EQ(pairs, brute_pairs<D>(all)) << "D=" << D;
+  };
+  check.operator()<2>(60.0f);
+  check.operator()<3>(15.0f);
+}
+
 TEST(LooseGrid, RejectsBadOptions) {
   EXPECT_THROW(LooseGrid({.band_bits = -1}), InvalidInput);
   EXPECT_THROW(LooseGrid({.band_bits = 32}), InvalidInput);
