@@ -85,7 +85,7 @@ std::string mark_numbers_beyond_double(std::string_view line) {
       while (end < line.size() && in_number(line[end])) ++end;
       const std::string token(line.substr(i, end - i));
       if (std::isinf(std::strtod(token.c_str(), nullptr))) {
-        out += "\"\\u0001beyond double range: " + token + "\"";
+        out += json(std::string(kBeyondDouble) + token).dump();  // a JSON string: \u0001 escaped
       } else {
         out += token;
       }
