@@ -2,6 +2,7 @@
 // Shared test helpers: glm-aware EXPECT macros and seeded random shapes.
 
 #include <collide/core/transform.hpp>
+#include <collide/core/transform3.hpp>
 #include <collide/shape/polygon.hpp>
 
 #include <gtest/gtest.h>
@@ -20,6 +21,15 @@
         << ", " << ev_b.y << ")";                                           \
   } while (false)
 
+#define EXPECT_VEC3_NEAR(a, b, tol)                                                      \
+  do {                                                                                   \
+    const ::collide::Vec3 ev_a = (a);                                                    \
+    const ::collide::Vec3 ev_b = (b);                                                    \
+    EXPECT_LE(::collide::distance(ev_a, ev_b), (tol))                                    \
+        << #a " = (" << ev_a.x << ", " << ev_a.y << ", " << ev_a.z << "), " #b " = ("    \
+        << ev_b.x << ", " << ev_b.y << ", " << ev_b.z << ")";                            \
+  } while (false)
+
 namespace collide::test {
 
 inline constexpr float kPi = std::numbers::pi_v<float>;
@@ -35,6 +45,26 @@ inline Vec2 random_point(std::mt19937& rng, float extent) {
 
 inline Transform random_transform(std::mt19937& rng, float extent) {
   return Transform::from(random_point(rng, extent), uniform(rng, -kPi, kPi));
+}
+
+inline Vec3 random_point3(std::mt19937& rng, float extent) {
+  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent),
+          uniform(rng, -extent, extent)};
+}
+
+/// A uniformly distributed random rotation (Shoemake, "Uniform random rotations", Graphics
+/// Gems III, 1992).
+inline Quat random_rotation(std::mt19937& rng) {
+  const float u1 = uniform(rng, 0.0f, 1.0f);
+  const float u2 = uniform(rng, 0.0f, 2.0f * kPi);
+  const float u3 = uniform(rng, 0.0f, 2.0f * kPi);
+  const float a = std::sqrt(1.0f - u1);
+  const float b = std::sqrt(u1);
+  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
+}
+
+inline Transform3 random_transform3(std::mt19937& rng, float extent) {
+  return Transform3::from(random_point3(rng, extent), random_rotation(rng));
 }
 
 /// A random convex polygon with `n` vertices on a jittered circle of radius ~`size`.

@@ -40,6 +40,34 @@ using Vec3 = glm::vec3;
   return len > 1e-30f ? a * (1.0f / len) : Vec2{0.0f, 0.0f};
 }
 
+// ---- 3D: the same names for Vec3 (glm's functions, under the names 2D code uses) ----------
+
+[[nodiscard]] constexpr float dot(Vec3 a, Vec3 b) noexcept {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+/// Right-handed cross product a x b.
+[[nodiscard]] constexpr Vec3 cross(Vec3 a, Vec3 b) noexcept {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+[[nodiscard]] constexpr float length_squared(Vec3 a) noexcept { return dot(a, a); }
+[[nodiscard]] inline float length(Vec3 a) noexcept { return std::sqrt(length_squared(a)); }
+[[nodiscard]] constexpr float distance_squared(Vec3 a, Vec3 b) noexcept {
+  return length_squared(b - a);
+}
+[[nodiscard]] inline float distance(Vec3 a, Vec3 b) noexcept { return length(b - a); }
+/// `a` scaled to unit length; the zero vector when `a` is too short to have a direction.
+[[nodiscard]] inline Vec3 normalize_or_zero(Vec3 a) noexcept {
+  const float len = length(a);
+  return len > 1e-30f ? a * (1.0f / len) : Vec3{0.0f, 0.0f, 0.0f};
+}
+/// Largest absolute coordinate: the size that float rounding of `a` is relative to.
+[[nodiscard]] inline float max_abs(Vec2 a) noexcept {
+  return std::fmax(std::fabs(a.x), std::fabs(a.y));
+}
+[[nodiscard]] inline float max_abs(Vec3 a) noexcept {
+  return std::fmax(std::fmax(std::fabs(a.x), std::fabs(a.y)), std::fabs(a.z));
+}
+
 /// Both components finite (not NaN, not infinite).
 [[nodiscard]] inline bool is_finite(Vec2 a) noexcept {
   return std::isfinite(a.x) && std::isfinite(a.y);
