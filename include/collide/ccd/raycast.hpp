@@ -6,15 +6,25 @@
 #include <collide/core/ray.hpp>
 #include <collide/shape/shape2d.hpp>
 
+#include <cstdint>
+
 namespace collide {
 
-/// Where a ray first enters a shape. On a miss: hit false, every other field zero.
-struct RayHit {
+/// Where a ray first enters a shape, in D dimensions. On a miss: hit false, every other field
+/// zero.
+template <int D>
+struct RayHitN {
   bool hit = false;
   float fraction = 0.0f;     ///< along the ray's translation, [0, 1]
-  Vec2 point{0.0f, 0.0f};    ///< world space, on the shape's surface
-  Vec2 normal{0.0f, 0.0f};   ///< unit outward surface normal at `point`, world space
+  VecN<D> point{0.0f};       ///< world space, on the shape's surface
+  VecN<D> normal{0.0f};      ///< unit outward surface normal at `point`, world space
+  /// Which part of a shape made of parts was hit: the triangle index of a `TriangleMesh` or
+  /// `HeightField`; 0 for a convex shape.
+  std::uint32_t sub_shape = 0;
 };
+
+using RayHit = RayHitN<2>;   ///< 2D ray hit
+using RayHit3 = RayHitN<3>;  ///< 3D ray hit
 
 /// First entry of `ray` (world space) into the shape placed by `xf`. A ray must enter to hit:
 /// one that starts in the closed shape (inside, or exactly on its surface whichever way it
