@@ -181,7 +181,7 @@ void cast_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
     for (size_t i = 0; i < inputs.size(); ++i) {
       const CastInput& in = inputs[i];
       const ShapeCastResult r = gjk_shape_cast(in.a, in.xa, in.va, in.b, in.xb, in.vb);
-      times[i] = r.status == ImpactStatus::hit ? r.t : -1.0f;
+      times[i] = r.status == QueryStatus::hit ? r.fraction : -1.0f;
       iters += r.iterations;
     }
     iterations = iters;
@@ -199,7 +199,7 @@ void cast_explicit(benchmark::State& state, const std::vector<Pair>* pairs) {
       const ShapeCastResult r =
           shape_cast_minkowski(std::get<Polygon>(p.a.shape), p.xa(), p.va(),
                                std::get<Polygon>(p.b.shape), p.xb(), p.vb());
-      times[i] = r.status == ImpactStatus::hit ? r.t : -1.0f;
+      times[i] = r.status == QueryStatus::hit ? r.fraction : -1.0f;
     }
     benchmark::DoNotOptimize(times.data());
   }
@@ -250,7 +250,7 @@ void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool b
     for (size_t i = 0; i < pairs->size(); ++i) {
       const Pair& p = (*pairs)[i];
       const ToiResult r = time_of_impact(pa[i], p.sa, pb[i], p.sb, target);
-      times[i] = r.status == ImpactStatus::hit ? r.t : -1.0f;
+      times[i] = r.status == QueryStatus::hit ? r.fraction : -1.0f;
       iters += r.iterations;
     }
     iterations = iters;

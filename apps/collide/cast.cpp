@@ -73,10 +73,10 @@ std::string describe(const ShapeCastResult& r) {
   const std::string how = " (GJK ray cast, " + std::to_string(r.iterations) + " iteration" +
                           (r.iterations == 1 ? "" : "s") + ")";
   switch (r.status) {
-    case ImpactStatus::hit: return "shape cast: hit at t = " + number(r.t) + how;
-    case ImpactStatus::separated: return "shape cast: separated over the whole step" + how;
-    case ImpactStatus::overlapped: return "shape cast: overlapped at t = 0" + how;
-    case ImpactStatus::failed: return "shape cast: failed, no contact before t = " + number(r.t) + how;
+    case QueryStatus::hit: return "shape cast: hit at t = " + number(r.fraction) + how;
+    case QueryStatus::separated: return "shape cast: separated over the whole step" + how;
+    case QueryStatus::overlapped: return "shape cast: overlapped at t = 0" + how;
+    case QueryStatus::max_iterations: return "shape cast: failed, no contact before t = " + number(r.fraction) + how;
   }
   return "shape cast";
 }
@@ -92,7 +92,7 @@ CastPicture draw_cast(Picture& picture, const CastQuestion& q) {
   while (v.size() > 1 && v.back() == v.front()) v.pop_back();
   cast.ray = q.vb - q.va;
   const ShapeCastResult& r = cast.result;
-  const bool touched = r.status == ImpactStatus::hit || r.status == ImpactStatus::overlapped;
+  const bool touched = r.status == QueryStatus::hit || r.status == QueryStatus::overlapped;
   picture.set_title(describe(r));
 
   // 1. The motion, world space.
@@ -110,8 +110,8 @@ CastPicture draw_cast(Picture& picture, const CastQuestion& q) {
   picture.draw_label(a0.center(), "A", DrawRole::shape_a);
   picture.draw_label(b0.center(), "B", DrawRole::shape_b);
   if (touched) {
-    if (a_moves) draw_shape(picture, q.a, moved(q.xa, q.va, r.t), DrawRole::highlight);
-    if (b_moves) draw_shape(picture, q.b, moved(q.xb, q.vb, r.t), DrawRole::highlight);
+    if (a_moves) draw_shape(picture, q.a, moved(q.xa, q.va, r.fraction), DrawRole::highlight);
+    if (b_moves) draw_shape(picture, q.b, moved(q.xb, q.vb, r.fraction), DrawRole::highlight);
     const float arrow = kNormalArrowFraction *
                         larger_side(merge_all({a0, b0, compute_aabb(q.a, xa1), compute_aabb(q.b, xb1)}));
     if (r.normal != Vec2{0.0f, 0.0f}) {
@@ -129,14 +129,14 @@ CastPicture draw_cast(Picture& picture, const CastQuestion& q) {
   picture.draw_point(origin, DrawRole::origin);
   picture.draw_label(origin, "0", DrawRole::origin);
   if (touched) {
-    const Vec2 entry = r.t * cast.ray;
+    const Vec2 entry = r.fraction * cast.ray;
     Aabb box{origin, origin};
     box = merge(box, Aabb{cast.ray, cast.ray});
     for (const Vec2 v : md.vertices) box = merge(box, Aabb{v, v});
     const float arrow = kNormalArrowFraction * larger_side(fatten(box, md.radius));
     if (r.normal != Vec2{0.0f, 0.0f}) picture.draw_arrow(entry, entry + arrow * r.normal, DrawRole::contact_normal);
     picture.draw_point(entry, DrawRole::highlight);
-    picture.draw_label(entry, "t = " + number(r.t), DrawRole::highlight);
+    picture.draw_label(entry, "t = " + number(r.fraction), DrawRole::highlight);
   }
   return cast;
 }

@@ -69,7 +69,7 @@ int run_cast(const CastOptions& o) {
     io::write_png(o.png, canvas);
     std::printf("wrote %s (%d x %d)\n", o.png.c_str(), canvas.width(), canvas.height());
   }
-  return r.status == ImpactStatus::failed ? 3 : 0;
+  return r.status == QueryStatus::max_iterations ? 3 : 0;
 }
 
 }  // namespace

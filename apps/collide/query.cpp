@@ -322,13 +322,13 @@ json answer(const json& q) {
     } catch (const InvalidInput& e) {
       fail("", e.what());
     }
-    if (r.status == ImpactStatus::failed) {
+    if (r.status == QueryStatus::max_iterations) {
       fail("", "time of impact did not converge (iteration cap); no contact before t = " +
-                   std::to_string(r.t));
+                   std::to_string(r.fraction));
     }
     out["hit"] = r.hit;
     if (r.hit) {
-      out["t"] = number(r.t);
+      out["t"] = number(r.fraction);
       out["point"] = vec(r.point);
       out["normal"] = vec(r.normal);
     }

@@ -1,6 +1,6 @@
 #include <collide/ccd/shape_cast.hpp>
 
-#include "../narrow/gjk.hpp"
+#include <collide/narrow/gjk.hpp>
 #include "shape_size.hpp"
 
 #include <collide/core/error.hpp>
@@ -12,7 +12,7 @@
 namespace collide {
 namespace {
 
-[[nodiscard]] bool holds(const detail::GjkSimplex& s, int ia, int ib) noexcept {
+[[nodiscard]] bool holds(const GjkSimplexN<2>& s, int ia, int ib) noexcept {
   for (int i = 0; i < s.count; ++i) {
     if (s.v[i].ia == ia && s.v[i].ib == ib) return true;
   }
@@ -25,14 +25,14 @@ struct SimplexIds {
   std::array<int, 3> ib{};
   int count = 0;
 
-  explicit SimplexIds(const detail::GjkSimplex& s) noexcept : count(s.count) {
+  explicit SimplexIds(const GjkSimplexN<2>& s) noexcept : count(s.count) {
     for (int i = 0; i < s.count; ++i) {
       ia[i] = s.v[i].ia;
       ib[i] = s.v[i].ib;
     }
   }
   /// Same vertex pairs as `s`, as a set?
-  [[nodiscard]] bool same_as(const detail::GjkSimplex& s) const noexcept {
+  [[nodiscard]] bool same_as(const GjkSimplexN<2>& s) const noexcept {
     if (s.count != count) return false;
     for (int i = 0; i < count; ++i) {
       if (!holds(s, ia[i], ib[i])) return false;
@@ -43,20 +43,20 @@ struct SimplexIds {
 
 }  // namespace
 
-namespace detail {
 void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb) {
   if (!is_valid(xa)) throw InvalidInput("xa: not finite or rotation not unit length");
   if (!is_valid(xb)) throw InvalidInput("xb: not finite or rotation not unit length");
   if (!is_finite(va)) throw InvalidInput("va: not finite");
   if (!is_finite(vb)) throw InvalidInput("vb: not finite");
 }
-}  // namespace detail
 
 // GJK ray cast (van den Bergen 2004). The GJK machinery (simplex of Minkowski difference
 // points, signed-barycentric reduction, witness points) is the one of gjk_distance
-// (src/narrow/gjk.hpp), so it works on D = B - A in A's frame: the shapes touch at t when the
-// ray point x(t) = t s, s = va - vb, is within the radius sum R of D. The simplex points are
-// stored relative to x, so the reduction finds the simplex point closest to x.
+// (narrow/gjk.hpp), so it works on D = A - B in A's frame: A + t va and B + t vb touch at t
+// when (A - B) + t (va - vb) holds the origin, i.e. when the ray point x(t) = t s,
+// s = vb - va, is within the radius sum R of D (the lesson's ray into the Minkowski
+// difference). The simplex points are stored relative to x, so the reduction finds the simplex
+// point closest to x.
 //
 // Loop invariant: no contact before t. Each step takes the search direction n (unit, from the
 // simplex's closest point towards x) and the support point p of D along n. The plane through p
@@ -71,7 +71,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "shape cast proxies must hold points");
 
   const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 ray = inv_rotate(xa.q, va - vb);  // x(t) = t * ray, A's frame
+  const Vec2 ray = inv_rotate(xa.q, vb - va);  // x(t) = t * ray, A's frame
   const float radius = a.radius() + b.radius();
 
   const float size_a = detail::proxy_size(a);
@@ -80,11 +80,11 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
 
-  detail::GjkSimplex simplex;
+  GjkSimplexN<2> simplex;
   // Start from the first core points (x = 0, so relative is absolute). The seed of
   // gjk_distance (support pair between the origins) saved no time here: casts converge in 2-3
   // iterations either way and the seed costs one support query.
-  simplex.v[0] = detail::make_vertex(a, b, b_in_a, 0, 0);
+  simplex.v[0] = gjk_vertex<2>(a, b, b_in_a, 0, 0);
   simplex.count = 1;
 
   ShapeCastResult result;
@@ -106,9 +106,9 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   int iteration = 0;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
     if (simplex.count == 2) {
-      detail::solve_edge(simplex);
+      gjk_solve_edge(simplex);
     } else if (simplex.count == 3) {
-      detail::solve_triangle(simplex);
+      gjk_solve_triangle(simplex);
       if (simplex.count == 3) {
         converged = true;  // x inside the cores' difference: they touch or overlap at t
         break;
@@ -146,14 +146,15 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
       break;
     }
 
-    // Support points walked from the last ones (polygons; other proxies scan).
-    const int ia = a.support_index_from(-n, last_ia);
-    const int ib = b.support_index_from(inv_rotate(b_in_a.q, n), last_ib);
+    // Support point of D along n (the side facing x): A's farthest along n, B's along -n.
+    // Walked from the last ones (polygons; other proxies scan).
+    const int ia = a.support_index_from(n, last_ia);
+    const int ib = b.support_index_from(inv_rotate(b_in_a.q, -n), last_ib);
     last_ia = ia;
     last_ib = ib;
     const Vec2 wa = a.point(ia);
     const Vec2 wb = transform_point(b_in_a, b.point(ib));
-    Vec2 w = (wb - wa) - t * ray;  // relative to x
+    Vec2 w = (wa - wb) - t * ray;  // relative to x
     const float lower = -dot(n, w);  // lower bound of the cores' distance at x
     if (lower > lower_known) {
       lower_known = lower;
@@ -204,7 +205,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         break;
       }
     } else {
-      detail::GjkVertex& nv = simplex.v[simplex.count++];
+      GjkVertexN<2>& nv = simplex.v[simplex.count++];
       nv.wa = wa;
       nv.wb = wb;
       nv.w = w;
@@ -213,23 +214,24 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
     }
   }
   result.iterations = iteration;
-  result.t = t;
+  result.fraction = t;
 
   if (!converged) {
-    result.status = iteration >= kShapeCastMaxIterations || stalled ? ImpactStatus::failed
-                                                                    : ImpactStatus::separated;
-    if (result.status == ImpactStatus::separated) result.t = 1.0f;
+    result.status = iteration >= kShapeCastMaxIterations || stalled ? QueryStatus::max_iterations
+                                                                    : QueryStatus::separated;
+    if (result.status == QueryStatus::separated) result.fraction = 1.0f;
     return result;
   }
 
   // Contact: the closest features' points from the simplex's barycentric coordinates.
   Vec2 pa{0.0f, 0.0f};
   Vec2 pb{0.0f, 0.0f};
-  detail::witness_points(simplex, pa, pb);
-  // With x inside the triangle, witness_points returns A's point for both (right only at
-  // x = 0); B's point at t = 0 is A's plus x, since x is the difference B - A there.
-  if (simplex.count == 3) pb = pa + t * ray;
-  // The normal, from A to B (D = B - A, so against the direction from D towards x). When the
+  gjk_witness_points(simplex, pa, pb);
+  // With x inside the triangle, gjk_witness_points returns A's point for both (right only at
+  // x = 0); B's point is A's minus x, since x is the difference A - B there.
+  if (simplex.count == 3) pb = pa - t * ray;
+  // The normal, from A to B: D's outward normal at x (the direction from D towards x), which
+  // is A's outward normal at the contact, since D = A - B. When the
   // cores are apart by more than the tolerance (rounded shapes), the direction between their
   // closest points: the simplex is their closest feature pair, so it is exact, and on a curved
   // surface it is the only right one. Otherwise the normal of the last support plane the ray
@@ -238,14 +240,14 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   // (overlapped at t = 0) and with touching cores there is none.
   Vec2 n_local{0.0f, 0.0f};
   if (simplex.count < 3 && dist > tolerance) {
-    n_local = -n;
+    n_local = n;
   } else if (advanced) {
-    n_local = -plane_normal;
+    n_local = plane_normal;
   }
   const Vec2 surface_a = pa + t * inv_rotate(xa.q, va) + a.radius() * n_local;
   const Vec2 surface_b = pb + t * inv_rotate(xa.q, vb) - b.radius() * n_local;
   result.hit = true;
-  result.status = advanced ? ImpactStatus::hit : ImpactStatus::overlapped;
+  result.status = advanced ? QueryStatus::hit : QueryStatus::overlapped;
   result.point = transform_point(xa, 0.5f * (surface_a + surface_b));
   result.normal = rotate(xa.q, n_local);
   return result;
@@ -253,7 +255,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
 
 ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va, const Shape2D& b,
                            const Transform& xb, Vec2 vb) {
-  detail::check_cast_input(xa, va, xb, vb);
+  check_cast_input(xa, va, xb, vb);
   return gjk_shape_cast(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 

@@ -54,7 +54,7 @@ float core_size(const Polygon& p) {
 // placed by xa^-1 xb) so far-away shapes keep their precision.
 ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2 va,
                                      const Polygon& b, const Transform& xb, Vec2 vb) {
-  detail::check_cast_input(xa, va, xb, vb);
+  check_cast_input(xa, va, xb, vb);
   const Transform b_in_a = inv_mul(xa, xb);
   const MinkowskiPolygon difference = minkowski_difference(a, Transform{}, b, b_in_a);
   if (difference.vertices.size() > static_cast<size_t>(kMaxPolygonVertices)) {
@@ -68,8 +68,8 @@ ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2
   ShapeCastResult result;
   if (difference.contains_origin()) {
     result.hit = true;
-    result.t = 0.0f;
-    result.status = ImpactStatus::overlapped;
+    result.fraction = 0.0f;
+    result.status = QueryStatus::overlapped;
     return result;
   }
   const Polygon d = make_polygon(difference.vertices, difference.radius);
@@ -92,8 +92,8 @@ ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2
   const float along = 0.5f * (lo + hi);
   const float across = 0.5f * ((fa.height + a.radius) + (fb.height - b.radius));
   result.hit = true;
-  result.t = t;
-  result.status = t > 0.0f ? ImpactStatus::hit : ImpactStatus::overlapped;
+  result.fraction = t;
+  result.status = t > 0.0f ? QueryStatus::hit : QueryStatus::overlapped;
   result.normal = rotate(xa.q, n);
   result.point = transform_point(xa, along * left_perp(n) + across * n);
   return result;

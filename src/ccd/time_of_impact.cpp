@@ -5,7 +5,7 @@
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/distance.hpp>
 
-#include "../narrow/gjk.hpp"
+#include <collide/narrow/gjk.hpp>
 
 #include <algorithm>
 #include <array>
@@ -222,7 +222,7 @@ float safe_step(const TurnBound& bound_a, const TurnBound& bound_b, float closin
 /// Fill point, normal and separation from a GJK result (with radii) at the reported time.
 void set_contact(ToiResult& r, const DistanceResult& d) noexcept {
   r.separation = d.distance;
-  if (d.status == GjkStatus::overlapped) {
+  if (d.status == QueryStatus::overlapped) {
     r.point = d.point_a;
     return;
   }
@@ -242,10 +242,10 @@ ToiResult translation_toi(const ConvexProxy& a, const Sweep& sweep_a, const Conv
                                               sweep_b.c1 - sweep_b.c0);
   ToiResult r;
   r.status = cast.status;
-  r.t = cast.t;
+  r.fraction = cast.fraction;
   r.iterations = cast.iterations;
   if (!cast.hit) return r;
-  set_contact(r, gjk_distance(a, sweep_a.at(r.t), b, sweep_b.at(r.t)));
+  set_contact(r, gjk_distance(a, sweep_a.at(r.fraction), b, sweep_b.at(r.fraction)));
   return r;
 }
 
@@ -279,7 +279,7 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
   const float relative_w = wb - wa;
 
   ToiResult r;
-  detail::GjkSimplex simplex;
+  GjkSimplexN<2> simplex;
   TurnBound bound_a(a, sweep_a.local_center, wa);
   TurnBound bound_b(b, sweep_b.local_center, wb);
   float t = 0.0f;
@@ -294,31 +294,31 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
     // GJK distance between the cores, warm-started from the last step's simplex (its vertex
     // pairs, re-placed at time t).
     if (r.iterations == 1) {
-      simplex.v[0] = detail::seed_vertex(a, b, b_in_a);
+      simplex.v[0] = gjk_seed_vertex<2>(a, b, b_in_a);
       simplex.count = 1;
     } else {
       for (int i = 0; i < simplex.count; ++i) {
-        simplex.v[i] = detail::make_vertex(a, b, b_in_a, simplex.v[i].ia, simplex.v[i].ib);
+        simplex.v[i] = gjk_vertex<2>(a, b, b_in_a, simplex.v[i].ia, simplex.v[i].ib);
       }
     }
-    const float scale = detail::gjk_scale(simplex.v[0], radius);
+    const float scale = gjk_scale<2>(simplex.v[0], radius);
     int gjk_iterations = 0;
-    const detail::GjkEnd end = detail::run_gjk(a, b, b_in_a, simplex, scale,
-                                               detail::GjkRunToEnd{}, gjk_iterations);
+    const GjkEnd end = run_gjk<2>(a, b, b_in_a, simplex, scale,
+                                               GjkRunToEnd{}, gjk_iterations);
     Vec2 pa;
     Vec2 pb;
-    detail::witness_points(simplex, pa, pb);
+    gjk_witness_points(simplex, pa, pb);
     const Vec2 delta = pb - pa;
     const float cores = length(delta);
-    const bool overlapped = end == detail::GjkEnd::overlapped || !(cores > 0.0f);
+    const bool overlapped = end == GjkEnd::overlapped || !(cores > 0.0f);
     if (overlapped || cores < goal + tolerance) {
       // Within the target (or overlapping): at t = 0 the shapes started there; later, this is
       // the time of impact (the steps never overshoot, up to rounding).
-      r.t = t;
+      r.fraction = t;
       if (t == 0.0f) {
-        r.status = ImpactStatus::overlapped;
+        r.status = QueryStatus::overlapped;
       } else {
-        r.status = cores > goal - tolerance ? ImpactStatus::hit : ImpactStatus::failed;
+        r.status = cores > goal - tolerance ? QueryStatus::hit : QueryStatus::max_iterations;
       }
       const Transform xa{sweep_a.c0 + t * (sweep_a.c1 - sweep_a.c0) -
                              rotate(qa, sweep_a.local_center),
@@ -349,11 +349,7 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
     // barycentric weights, and an error of e radians in n moves a support plane by e times
     // the body's length: a long wall would then look much closer than it is).
     Vec2 n = delta * (1.0f / cores);
-    if (simplex.count == 2) {
-      const Vec2 w0 = simplex.v[0].w;
-      const Vec2 e = simplex.v[1].w - w0;
-      n = normalize(cross(e, -w0) > 0.0f ? right_perp(e) : left_perp(e));
-    }
+    if (simplex.count == 2) n = normalize(gjk_search_direction(simplex));
     const float extent_a = bound_a.reset(n);
     const float extent_b = bound_b.reset(inv_rotate(b_in_a.q, -n));
     const float separation_n = dot(centres, n) - extent_a - extent_b;  // <= core distance
@@ -375,20 +371,20 @@ ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const Conve
     if (!(step > 0.0f)) {
       // The bounds disagree by more than the band (GJK's distance above it, the support
       // planes below it): no step is provably safe. Report the safe time reached.
-      r.status = ImpactStatus::failed;
-      r.t = t;
+      r.status = QueryStatus::max_iterations;
+      r.fraction = t;
       return r;
     }
     t += step;
   }
   if (r.iterations > kToiMaxIterations) {
     r.iterations = kToiMaxIterations;
-    r.status = ImpactStatus::failed;
-    r.t = t;
+    r.status = QueryStatus::max_iterations;
+    r.fraction = t;
     return r;
   }
-  r.status = ImpactStatus::separated;
-  r.t = 1.0f;
+  r.status = QueryStatus::separated;
+  r.fraction = 1.0f;
   return r;
 }
 

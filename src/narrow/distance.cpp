@@ -1,6 +1,6 @@
 #include <collide/narrow/distance.hpp>
 
-#include "gjk.hpp"
+#include <collide/narrow/gjk.hpp>
 
 #include <collide/core/error.hpp>
 
@@ -11,43 +11,58 @@
 namespace collide {
 namespace {
 
+/// Twice the squared area of a 2D triangle edge pair / the squared area of a 3D one (both
+/// |e12 x e13|^2 up to a constant factor of the 3D definition).
+[[nodiscard]] inline float twice_area_squared(Vec2 e12, Vec2 e13) noexcept {
+  const float a = cross(e12, e13);
+  return a * a;
+}
+[[nodiscard]] inline float twice_area_squared(Vec3 e12, Vec3 e13) noexcept {
+  return length_squared(cross(e12, e13));
+}
+
 /// The starting simplex: the cached one if its indices are valid for these proxies and it is
 /// not degenerate now (the shapes may have moved since), else the seed vertex (gjk.hpp), which
 /// costs one support evaluation: `seeded` is then true.
-detail::GjkSimplex start_simplex(const ConvexProxy& a, const ConvexProxy& b,
-                                 const Transform& b_in_a, const SimplexCache* cache,
-                                 bool& seeded) noexcept {
-  detail::GjkSimplex s;
+template <int D>
+GjkSimplexN<D> start_simplex(const ConvexProxyN<D>& a, const ConvexProxyN<D>& b,
+                             const FrameN<D>& b_in_a, const SimplexCacheN<D>* cache,
+                             bool& seeded) noexcept {
+  GjkSimplexN<D> s;
   const int cached = cache != nullptr ? cache->count : 0;
-  bool valid = cached >= 1 && cached <= 3;
+  bool valid = cached >= 1 && cached <= D + 1;
   for (int i = 0; i < cached && valid; ++i) {
     valid = cache->index_a[i] < a.count() && cache->index_b[i] < b.count();
   }
   if (valid) {
     for (int i = 0; i < cached; ++i) {
-      s.v[i] = detail::make_vertex(a, b, b_in_a, cache->index_a[i], cache->index_b[i]);
+      s.v[i] = gjk_vertex<D>(a, b, b_in_a, cache->index_a[i], cache->index_b[i]);
     }
     s.count = cached;
     // Degenerate now (or repeated vertices)? An edge shorter, or a triangle thinner, than
     // rounding at this scale would give meaningless barycentric weights: keep its first vertex.
-    const float tol = kRelativeTolerance * detail::gjk_scale(s.v[0], 0.0f);
+    // (A cached tetrahedron is kept as its first triangle: the loop re-grows it if needed.)
+    const float tol = kRelativeTolerance * gjk_scale<D>(s.v[0], 0.0f);
     const float tol2 = tol * tol;
     if (cached >= 2) {
-      const Vec2 e12 = s.v[1].w - s.v[0].w;
+      const VecN<D> e12 = s.v[1].w - s.v[0].w;
       const float e12_2 = dot(e12, e12);
       if (cached == 2) {
         if (!(e12_2 > tol2)) s.count = 1;
       } else {
-        const Vec2 e13 = s.v[2].w - s.v[0].w;
-        const float twice_area = cross(e12, e13);
+        const VecN<D> e13 = s.v[2].w - s.v[0].w;
         // Height over the longer edge <= tol, squared: area^2 <= tol^2 |e|^2.
-        if (!(twice_area * twice_area > tol2 * std::max(e12_2, dot(e13, e13)))) s.count = 1;
+        if (!(twice_area_squared(e12, e13) > tol2 * std::max(e12_2, dot(e13, e13)))) {
+          s.count = 1;
+        } else if (cached == 4) {
+          s.count = 3;
+        }
       }
     }
     seeded = false;
     return s;
   }
-  s.v[0] = detail::seed_vertex(a, b, b_in_a);
+  s.v[0] = gjk_seed_vertex<D>(a, b, b_in_a);
   s.count = 1;
   seeded = true;
   return s;
@@ -55,21 +70,21 @@ detail::GjkSimplex start_simplex(const ConvexProxy& a, const ConvexProxy& b,
 
 }  // namespace
 
-DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const ConvexProxy& b,
-                            const Transform& xb, SimplexCache* cache) noexcept {
-  COLLIDE_ASSERT(a.count() >= 1 && a.count() <= kMaxPolygonVertices, "proxy A point count");
-  COLLIDE_ASSERT(b.count() >= 1 && b.count() <= kMaxPolygonVertices, "proxy B point count");
+template <int D>
+DistanceResultN<D> gjk_distance(const ConvexProxyN<D>& a, const TransformN<D>& xa,
+                                const ConvexProxyN<D>& b, const TransformN<D>& xb,
+                                SimplexCacheN<D>* cache) noexcept {
+  COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "distance: proxies must hold points");
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
-  const Transform b_in_a = inv_mul(xa, xb);
+  const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
   const float ra = a.radius();
   const float rb = b.radius();
 
   bool seeded = false;
-  detail::GjkSimplex s = start_simplex(a, b, b_in_a, cache, seeded);
-  const float scale = detail::gjk_scale(s.v[0], ra + rb);
-  DistanceResult out;
-  const detail::GjkEnd end =
-      detail::run_gjk(a, b, b_in_a, s, scale, detail::GjkRunToEnd{}, out.iterations);
+  GjkSimplexN<D> s = start_simplex<D>(a, b, b_in_a, cache, seeded);
+  const float scale = gjk_scale<D>(s.v[0], ra + rb);
+  DistanceResultN<D> out;
+  const GjkEnd end = run_gjk<D>(a, b, b_in_a, s, scale, GjkRunToEnd{}, out.iterations);
   if (seeded) ++out.iterations;  // the seed's support evaluation counts as an iteration
 
   if (cache != nullptr) {
@@ -80,24 +95,24 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
     }
   }
 
-  Vec2 pa;
-  Vec2 pb;
-  detail::witness_points(s, pa, pb);
-  const Vec2 delta = pb - pa;
+  VecN<D> pa;
+  VecN<D> pb;
+  gjk_witness_points(s, pa, pb);
+  const VecN<D> delta = pb - pa;
   const float core_distance = length(delta);
-  if (end == detail::GjkEnd::overlapped || !(core_distance > 0.0f)) {
+  if (end == GjkEnd::overlapped || !(core_distance > 0.0f)) {
     // Cores overlap (or touch within rounding, pa ~ pb): one point inside both, no normal.
     out.point_a = transform_point(xa, 0.5f * (pa + pb));
     out.point_b = out.point_a;
-    out.status = GjkStatus::overlapped;
+    out.status = QueryStatus::overlapped;
     return out;
   }
-  out.status = end == detail::GjkEnd::max_iterations ? GjkStatus::max_iterations
-                                                     : GjkStatus::separated;
+  out.status = end == GjkEnd::max_iterations ? QueryStatus::max_iterations
+                                             : QueryStatus::separated;
   // Cores apart: move each witness out along the normal by its radius. If the radii overlap
   // (core distance < ra + rb) the moved points pass each other, dot(pb - pa, n) being minus the
   // penetration depth, and the distance clamps to 0.
-  const Vec2 n = delta * (1.0f / core_distance);
+  const VecN<D> n = delta * (1.0f / core_distance);
   pa += ra * n;
   pb -= rb * n;
   out.distance = std::max(core_distance - (ra + rb), 0.0f);
@@ -106,6 +121,13 @@ DistanceResult gjk_distance(const ConvexProxy& a, const Transform& xa, const Con
   out.normal = rotate(xa.q, n);
   return out;
 }
+
+template DistanceResultN<2> gjk_distance<2>(const ConvexProxyN<2>&, const Transform&,
+                                            const ConvexProxyN<2>&, const Transform&,
+                                            SimplexCacheN<2>*) noexcept;
+template DistanceResultN<3> gjk_distance<3>(const ConvexProxyN<3>&, const Transform3&,
+                                            const ConvexProxyN<3>&, const Transform3&,
+                                            SimplexCacheN<3>*) noexcept;
 
 DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,
                         const Transform& xb, SimplexCache* cache) noexcept {

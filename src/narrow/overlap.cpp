@@ -1,6 +1,6 @@
 #include <collide/narrow/overlap.hpp>
 
-#include "gjk.hpp"
+#include <collide/narrow/gjk.hpp>
 #include "segment_closest.hpp"
 
 #include <collide/core/error.hpp>
@@ -81,31 +81,31 @@ struct GjkOverlapBounds {
                                const Transform& xb) noexcept {
   const Transform b_in_a = inv_mul(xa, xb);
   const float radius_sum = a.radius() + b.radius();
-  detail::GjkSimplex s;
-  s.v[0] = detail::seed_vertex(a, b, b_in_a);
+  GjkSimplexN<2> s;
+  s.v[0] = gjk_seed_vertex<2>(a, b, b_in_a);
   s.count = 1;
-  const float scale = detail::gjk_scale(s.v[0], radius_sum);
+  const float scale = gjk_scale<2>(s.v[0], radius_sum);
   const float reach = radius_sum + kRelativeTolerance * scale;
   const GjkOverlapBounds bounds{reach * reach};
   // The seed is the support pair along c = B's origin in A's frame, so every point of the
   // Minkowski difference has c.x >= c.w0: a separating-axis test for free, which settles most
   // well-separated pairs before any iteration.
   const Vec2 c = b_in_a.p;
-  if (bounds.apart(-dot(c, s.v[0].w), dot(c, c))) return false;
+  if (bounds.apart(dot(c, s.v[0].w), dot(c, c))) return false;
   int iterations = 0;
-  switch (detail::run_gjk(a, b, b_in_a, s, scale, bounds, iterations)) {
-    case detail::GjkEnd::overlapped:
-    case detail::GjkEnd::decided_touch:
+  switch (run_gjk<2>(a, b, b_in_a, s, scale, bounds, iterations)) {
+    case GjkEnd::overlapped:
+    case GjkEnd::decided_touch:
       return true;
-    case detail::GjkEnd::decided_apart:
-    case detail::GjkEnd::converged:  // converged only after touching() said no at this |v|
+    case GjkEnd::decided_apart:
+    case GjkEnd::converged:  // converged only after touching() said no at this |v|
       return false;
-    case detail::GjkEnd::max_iterations:
+    case GjkEnd::max_iterations:
       break;
   }
   Vec2 pa;
   Vec2 pb;
-  detail::witness_points(s, pa, pb);
+  gjk_witness_points(s, pa, pb);
   return distance_squared(pa, pb) <= reach * reach;
 }
 

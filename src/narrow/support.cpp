@@ -4,10 +4,10 @@
 
 namespace collide {
 
-ConvexProxy::ConvexProxy(const Shape2D& shape) noexcept
-    : ConvexProxy(std::visit([](const auto& s) { return ConvexProxy(s); }, shape)) {}
+ConvexProxyN<2>::ConvexProxyN(const Shape2D& shape) noexcept
+    : ConvexProxyN(std::visit([](const auto& s) { return ConvexProxy(s); }, shape)) {}
 
-ConvexProxy::ConvexProxy(const Vec2* points, int count, float radius) noexcept
+ConvexProxyN<2>::ConvexProxyN(const Vec2* points, int count, float radius) noexcept
     : count_(count), radius_(radius) {
   COLLIDE_ASSERT(count >= 1 && count <= kMaxPolygonVertices, "proxy point count out of range");
   if (count <= 2) {

@@ -369,17 +369,17 @@ void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepSt
         ++stats.toi_queries;
         const ToiResult r = time_of_impact(ConvexProxy(b.shapes[k]), sweep,
                                            ConvexProxy(static_shape), still);
-        if (r.status == ImpactStatus::hit || r.status == ImpactStatus::failed) {
-          if (r.t < best_t) {
-            best_t = r.t;
+        if (r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) {
+          if (r.fraction < best_t) {
+            best_t = r.fraction;
             best_n = r.normal;
             best_point = r.point;
             best_id = id;
             best_k = k;
             found = true;
-            stop = r.status == ImpactStatus::failed;
+            stop = r.status == QueryStatus::max_iterations;
           }
-        } else if (r.status == ImpactStatus::overlapped) {
+        } else if (r.status == QueryStatus::overlapped) {
           // Already touching at the start: only a motion into the static is stopped; sliding
           // along it or leaving it goes on (the push-out pass settles the rest).
           Vec2 n = r.normal;

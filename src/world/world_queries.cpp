@@ -169,7 +169,7 @@ WorldCastHit World2D::shape_cast(const Shape2D& shape, const Transform& xf, Vec2
   const auto visit = [&](const ColliderRef& c) {
     const ShapeCastResult r =
         collide::shape_cast(shape, xf, translation, w.shape(c), w.transform(c), Vec2{0.0f, 0.0f});
-    if (!r.hit || !better(r.t, c, best.hit, best.fraction, best.collider)) return true;
+    if (!r.hit || !better(r.fraction, c, best.hit, best.fraction, best.collider)) return true;
     Vec2 normal = r.normal;
     Vec2 point = r.point;
     if (normal == Vec2{0.0f, 0.0f}) {  // overlapping cores at the start: the contact says where
@@ -177,7 +177,7 @@ WorldCastHit World2D::shape_cast(const Shape2D& shape, const Transform& xf, Vec2
       normal = m.normal;
       point = m.count > 0 ? m.points[0].point : xf.p;
     }
-    best = WorldCastHit{true, c, w.user_id(c), r.t, point, normal};
+    best = WorldCastHit{true, c, w.user_id(c), r.fraction, point, normal};
     return true;
   };
   for_candidates(

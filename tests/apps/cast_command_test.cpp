@@ -81,8 +81,8 @@ pugi::xml_node first_of(pugi::xml_node panel, const char* element, const char* c
 TEST(CastPicture, BoxIntoCircleIsAnalyticInBothPanels) {
   SvgDraw svg;
   const CastPicture cast = draw_cast(svg, parse_cast_question(kBoxIntoCircle));
-  ASSERT_EQ(cast.result.status, ImpactStatus::hit);
-  EXPECT_NEAR(cast.result.t, kExpectedT, kWorldTolerance);
+  ASSERT_EQ(cast.result.status, QueryStatus::hit);
+  EXPECT_NEAR(cast.result.fraction, kExpectedT, kWorldTolerance);
   EXPECT_NEAR(cast.result.normal.x, 1.0f, kWorldTolerance);
   EXPECT_NEAR(cast.result.point.x, 4.0f, kWorldTolerance);  // the circle's leftmost point at t
   // The explicit difference: the box's 4 corners shifted by -5, radius 1.
@@ -92,7 +92,7 @@ TEST(CastPicture, BoxIntoCircleIsAnalyticInBothPanels) {
     EXPECT_NEAR(std::fabs(v.x - kDifferenceCenter.x), kDifferenceHalf.x, 1e-5f);
     EXPECT_NEAR(std::fabs(v.y - kDifferenceCenter.y), kDifferenceHalf.y, 1e-5f);
   }
-  EXPECT_NEAR(rounded_box_distance(cast.result.t * cast.ray, kDifferenceCenter, kDifferenceHalf, kDifferenceRadius),
+  EXPECT_NEAR(rounded_box_distance(cast.result.fraction * cast.ray, kDifferenceCenter, kDifferenceHalf, kDifferenceRadius),
               0.0f, kWorldTolerance)
       << "the ray's entry point t (vb - va) lies on the boundary of A - B";
 
@@ -172,7 +172,7 @@ TEST(CastPicture, SeparatedCastDrawsNoHighlight) {
   const CastPicture cast = draw_cast(svg, parse_cast_question(
       R"({"a": {"type": "circle", "radius": 1}, "va": [4, 0],
           "b": {"type": "circle", "radius": 0.5}, "xb": {"p": [3, 3]}, "vb": [0, 0]})"));
-  EXPECT_EQ(cast.result.status, ImpactStatus::separated);
+  EXPECT_EQ(cast.result.status, QueryStatus::separated);
   // Circle - circle: one vertex (B's centre subtracted from A's), the radii summed.
   ASSERT_EQ(cast.difference.vertices.size(), 1u);
   EXPECT_EQ(cast.difference.vertices[0], (Vec2{-3.0f, -3.0f}));

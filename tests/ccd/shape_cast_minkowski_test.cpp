@@ -30,8 +30,8 @@ TEST(ShapeCastMinkowski, BoxFacesAnalytic) {
     const Transform xb = mul(m, Transform{{4.0f, 0.5f}, {}});
     const ShapeCastResult r =
         shape_cast_minkowski(box, xa, rotate(m.q, {10.0f, 0.0f}), box, xb, {0.0f, 0.0f});
-    ASSERT_EQ(r.status, ImpactStatus::hit);
-    EXPECT_NEAR(r.t, 0.3f, k < 25 ? 1e-5f : 2e-4f);
+    ASSERT_EQ(r.status, QueryStatus::hit);
+    EXPECT_NEAR(r.fraction, 0.3f, k < 25 ? 1e-5f : 2e-4f);
     EXPECT_VEC2_NEAR(r.normal, rotate(m.q, {1.0f, 0.0f}), 1e-4f);
     EXPECT_VEC2_NEAR(inv_transform_point(m, r.point), Vec2(3.5f, 0.25f), k < 25 ? 1e-4f : 3e-3f);
   }
@@ -44,18 +44,18 @@ TEST(ShapeCastMinkowski, VertexIntoFaceOverlapAndMiss) {
   // Tip at x = 1.25 (radius included) moving +x toward the face at x = 4: t = 2.75 / 5.
   const ShapeCastResult r =
       shape_cast_minkowski(tri, Transform{}, {5.0f, 0.0f}, box, Transform{{5.0f, 0.0f}, {}}, {});
-  ASSERT_EQ(r.status, ImpactStatus::hit);
-  EXPECT_NEAR(r.t, 2.75f / 5.0f, 1e-5f);
+  ASSERT_EQ(r.status, QueryStatus::hit);
+  EXPECT_NEAR(r.fraction, 2.75f / 5.0f, 1e-5f);
   EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-5f);
   EXPECT_VEC2_NEAR(r.point, Vec2(4.0f, 0.0f), 1e-4f);
   const ShapeCastResult over =
       shape_cast_minkowski(tri, Transform{}, {5.0f, 0.0f}, box, Transform{{1.5f, 0.0f}, {}}, {});
-  EXPECT_EQ(over.status, ImpactStatus::overlapped);
-  EXPECT_EQ(over.t, 0.0f);
+  EXPECT_EQ(over.status, QueryStatus::overlapped);
+  EXPECT_EQ(over.fraction, 0.0f);
   const ShapeCastResult away =
       shape_cast_minkowski(tri, Transform{}, {-5.0f, 0.0f}, box, Transform{{5.0f, 0.0f}, {}}, {});
-  EXPECT_EQ(away.status, ImpactStatus::separated);
-  EXPECT_EQ(away.t, 1.0f);
+  EXPECT_EQ(away.status, QueryStatus::separated);
+  EXPECT_EQ(away.fraction, 1.0f);
 }
 
 // 3. The fast path agrees with the explicit one on random polygon pairs (sharp and rounded,
@@ -87,8 +87,8 @@ TEST(ShapeCastMinkowski, FastPathAgreesWithExplicit) {
     const test::B2Proxy bb(pb);
     const float magnitude = length(vb - va) + distance(xa.p, xb.p) + 4.0f;
     const float tol = 2e-4f + 2e-6f * magnitude;
-    SCOPED_TRACE(testing::Message() << "case " << k << " fast t " << fast.t << " slow t "
-                                    << slow.t << " min d " << truth.min_distance);
+    SCOPED_TRACE(testing::Message() << "case " << k << " fast t " << fast.fraction << " slow t "
+                                    << slow.fraction << " min d " << truth.min_distance);
     if (fast.hit != slow.hit) {
       // Only a graze within tolerance may split them.
       EXPECT_LE(truth.min_distance, tol);
@@ -97,19 +97,19 @@ TEST(ShapeCastMinkowski, FastPathAgreesWithExplicit) {
     if (!fast.hit) continue;
     ++hits;
     EXPECT_EQ(fast.status, slow.status);
-    if (slow.status == ImpactStatus::overlapped) {
+    if (slow.status == QueryStatus::overlapped) {
       ++overlaps;
-      EXPECT_EQ(fast.t, 0.0f);
+      EXPECT_EQ(fast.fraction, 0.0f);
       continue;
     }
-    EXPECT_LE(truth.distance_at(ba, bb, fast.t), tol);
-    EXPECT_LE(truth.distance_at(ba, bb, slow.t), tol);
+    EXPECT_LE(truth.distance_at(ba, bb, fast.fraction), tol);
+    EXPECT_LE(truth.distance_at(ba, bb, slow.fraction), tol);
     const float late = 1e-5f + 1e-6f * magnitude / std::max(length(vb - va), 1e-6f);
-    EXPECT_LE(fast.t, slow.t + late) << "fast path later than the explicit one";
+    EXPECT_LE(fast.fraction, slow.fraction + late) << "fast path later than the explicit one";
     if (distance(fast.normal, slow.normal) <= 1e-3f) ++normals_agree;
     for (const Vec2 n : {fast.normal, slow.normal}) {
-      const float sep = test::separation_along(pa, Transform{truth.xa.p + fast.t * va, xa.q}, pb,
-                                               Transform{truth.xb.p + fast.t * vb, xb.q}, n);
+      const float sep = test::separation_along(pa, Transform{truth.xa.p + fast.fraction * va, xa.q}, pb,
+                                               Transform{truth.xb.p + fast.fraction * vb, xb.q}, n);
       EXPECT_LE(std::fabs(sep), 2.0f * tol);
     }
   }

@@ -73,12 +73,12 @@ TEST(ShapeCast, CirclesHeadOnAnalytic) {
     const Transform m = k == 0 ? Transform{} : test::random_transform(rng, extent);
     const Scene s = base.moved(m);
     const ShapeCastResult r = shape_cast(a, s.xa, s.va, b, s.xb, s.vb);
-    ASSERT_EQ(r.status, ImpactStatus::hit) << k;
+    ASSERT_EQ(r.status, QueryStatus::hit) << k;
     EXPECT_TRUE(r.hit);
     const float tol_t = k < 100 ? 2e-5f : 2e-3f;
     // Never late, up to the rounding of the inputs themselves (ulp 1e-3 at 1e4, over speed 10).
-    EXPECT_LE(r.t, 0.4f + (k < 100 ? 1e-6f : 2e-4f)) << "never late";
-    EXPECT_NEAR(r.t, 0.4f, tol_t) << k;
+    EXPECT_LE(r.fraction, 0.4f + (k < 100 ? 1e-6f : 2e-4f)) << "never late";
+    EXPECT_NEAR(r.fraction, 0.4f, tol_t) << k;
     EXPECT_VEC2_NEAR(r.normal, rotate(m.q, {1.0f, 0.0f}), 1e-3f);
     EXPECT_VEC2_NEAR(r.point, transform_point(m, {4.5f, 0.0f}), k < 100 ? 1e-3f : 2e-2f);
   }
@@ -94,9 +94,9 @@ TEST(ShapeCast, BoxFaceIntoWallAnalytic) {
     const Transform m = k == 0 ? Transform{} : test::random_transform(rng, k < 50 ? 10.0f : 1e4f);
     const Scene s = Scene{Transform{}, {10.0f, 0.0f}, Transform{}, {0.0f, 0.0f}}.moved(m);
     const ShapeCastResult r = shape_cast(box, s.xa, s.va, wall, s.xb, s.vb);
-    ASSERT_EQ(r.status, ImpactStatus::hit);
-    EXPECT_LE(r.t, 0.25f + (k < 50 ? 1e-6f : 2e-4f));
-    EXPECT_NEAR(r.t, 0.25f, k < 50 ? 2e-5f : 2e-3f);
+    ASSERT_EQ(r.status, QueryStatus::hit);
+    EXPECT_LE(r.fraction, 0.25f + (k < 50 ? 1e-6f : 2e-4f));
+    EXPECT_NEAR(r.fraction, 0.25f, k < 50 ? 2e-5f : 2e-3f);
     EXPECT_VEC2_NEAR(r.normal, rotate(m.q, {1.0f, 0.0f}), 1e-3f);
     const Vec2 local = inv_transform_point(m, r.point);
     EXPECT_NEAR(local.x, 3.0f, k < 50 ? 1e-3f : 3e-2f);
@@ -111,15 +111,15 @@ TEST(ShapeCast, CircleIntoCornerAnalytic) {
   const Polygon diamond = make_box({1.0f, 1.0f}, {0.0f, 0.0f}, 0.25f * kPi);
   const ShapeCastResult r =
       shape_cast(c, Transform{{-5.0f, 0.0f}, {}}, {10.0f, 0.0f}, diamond, Transform{}, {0, 0});
-  ASSERT_EQ(r.status, ImpactStatus::hit);
-  EXPECT_NEAR(r.t, (4.0f - std::sqrt(2.0f)) / 10.0f, 1e-5f);
+  ASSERT_EQ(r.status, QueryStatus::hit);
+  EXPECT_NEAR(r.fraction, (4.0f - std::sqrt(2.0f)) / 10.0f, 1e-5f);
   EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-4f);
   EXPECT_VEC2_NEAR(r.point, Vec2(-std::sqrt(2.0f), 0.0f), 1e-4f);
   // The same seen from the other side: both move, B chases A.
   const ShapeCastResult s =
       shape_cast(diamond, Transform{}, {-4.0f, 0.0f}, c, Transform{{-5.0f, 0.0f}, {}}, {6.0f, 0.0f});
-  ASSERT_EQ(s.status, ImpactStatus::hit);
-  EXPECT_NEAR(s.t, r.t, 1e-5f);
+  ASSERT_EQ(s.status, QueryStatus::hit);
+  EXPECT_NEAR(s.fraction, r.fraction, 1e-5f);
   EXPECT_VEC2_NEAR(s.normal, Vec2(-1.0f, 0.0f), 1e-4f);
 }
 
@@ -129,13 +129,13 @@ TEST(ShapeCast, OverlapAtStartReportsOverlapped) {
   const Circle c = make_circle({0.0f, 0.0f}, 0.5f);
   for (const Vec2 v : {Vec2{0.0f, 0.0f}, Vec2{5.0f, 0.0f}, Vec2{-5.0f, 3.0f}}) {
     const ShapeCastResult deep = shape_cast(box, Transform{}, v, c, Transform{{0.5f, 0.2f}, {}}, {});
-    EXPECT_EQ(deep.status, ImpactStatus::overlapped);
+    EXPECT_EQ(deep.status, QueryStatus::overlapped);
     EXPECT_TRUE(deep.hit);
-    EXPECT_EQ(deep.t, 0.0f);
+    EXPECT_EQ(deep.fraction, 0.0f);
     // Touching exactly (circle's left edge on the box's right face), even when moving apart.
     const ShapeCastResult touch = shape_cast(box, Transform{}, v, c, Transform{{1.5f, 0.0f}, {}}, {});
-    EXPECT_EQ(touch.status, ImpactStatus::overlapped);
-    EXPECT_EQ(touch.t, 0.0f);
+    EXPECT_EQ(touch.status, QueryStatus::overlapped);
+    EXPECT_EQ(touch.fraction, 0.0f);
     EXPECT_VEC2_NEAR(touch.normal, Vec2(1.0f, 0.0f), 1e-4f);
   }
 }
@@ -148,18 +148,18 @@ TEST(ShapeCast, ParallelAndReceding) {
   const Transform above{{0.0f, 0.6f}, {}};
   for (const Vec2 v : {Vec2{50.0f, 0.0f}, Vec2{-50.0f, 0.0f}, Vec2{3.0f, 10.0f}, Vec2{0.0f, 0.0f}}) {
     const ShapeCastResult r = shape_cast(box, above, v, floor, Transform{}, {});
-    EXPECT_EQ(r.status, ImpactStatus::separated);
+    EXPECT_EQ(r.status, QueryStatus::separated);
     EXPECT_FALSE(r.hit);
-    EXPECT_EQ(r.t, 1.0f);
+    EXPECT_EQ(r.fraction, 1.0f);
     EXPECT_EQ(r.normal, Vec2(0.0f, 0.0f));
   }
   // Sinking by exactly the gap: touches at t = 1; by a bit less: never.
   const ShapeCastResult at_end = shape_cast(box, above, {7.0f, -0.1f}, floor, Transform{}, {});
-  EXPECT_EQ(at_end.status, ImpactStatus::hit);
-  EXPECT_NEAR(at_end.t, 1.0f, 1e-3f);
+  EXPECT_EQ(at_end.status, QueryStatus::hit);
+  EXPECT_NEAR(at_end.fraction, 1.0f, 1e-3f);
   const ShapeCastResult short_of =
       shape_cast(box, above, {7.0f, -0.09f}, floor, Transform{}, {});
-  EXPECT_EQ(short_of.status, ImpactStatus::separated);
+  EXPECT_EQ(short_of.status, QueryStatus::separated);
 }
 
 // 6. Every pair of shape kinds (circle, capsule, polygon, segment, rounded polygon) at random
@@ -189,30 +189,30 @@ TEST(ShapeCast, RandomPairsAgainstDenseSampling) {
             test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
         const float tol = hit_tolerance(pa, pb, s);
         ++total;
-        ASSERT_NE(r.status, ImpactStatus::failed) << ka << kb << " " << k;
+        ASSERT_NE(r.status, QueryStatus::max_iterations) << ka << kb << " " << k;
         SCOPED_TRACE(testing::Message() << "kinds " << ka << "," << kb << " case " << k
-                                        << " t " << r.t << " truth " << truth.t_first
+                                        << " t " << r.fraction << " truth " << truth.t_first
                                         << " min d " << truth.min_distance);
         if (truth.touches) {
           ASSERT_TRUE(r.hit);
-          EXPECT_LE(r.t, truth.t_first + late_tolerance(pa, pb, s)) << "late";
+          EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
         } else if (truth.min_distance > tol) {
           EXPECT_FALSE(r.hit);
-          EXPECT_EQ(r.t, 1.0f);
+          EXPECT_EQ(r.fraction, 1.0f);
         }
         if (!r.hit) continue;
         ++hits;
         const test::B2Proxy ba(pa);
         const test::B2Proxy bb(pb);
-        EXPECT_LE(truth.distance_at(ba, bb, r.t), tol) << "too early";
-        if (r.status == ImpactStatus::overlapped) {
-          EXPECT_EQ(r.t, 0.0f);
+        EXPECT_LE(truth.distance_at(ba, bb, r.fraction), tol) << "too early";
+        if (r.status == QueryStatus::overlapped) {
+          EXPECT_EQ(r.fraction, 0.0f);
           continue;
         }
         // At the reported time the normal is a separating axis with ~zero gap. Checked in the
         // oracle's frame where A starts at the origin, so far-away cases keep their precision.
-        const Transform xa_t{truth.xa.p + r.t * s.va, s.xa.q};
-        const Transform xb_t{truth.xb.p + r.t * s.vb, s.xb.q};
+        const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
+        const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
         EXPECT_NEAR(length(r.normal), 1.0f, 1e-4f);
         const float sep = test::separation_along(pa, xa_t, pb, xb_t, r.normal);
         EXPECT_GE(sep, -tol);
@@ -229,7 +229,7 @@ TEST(ShapeCast, RandomPairsAgainstDenseSampling) {
         // Swapped: same time, flipped normal.
         const ShapeCastResult w = shape_cast(sb, s.xb, s.vb, sa, s.xa, s.va);
         EXPECT_EQ(w.status, r.status);
-        EXPECT_NEAR(w.t, r.t, 1e-3f);
+        EXPECT_NEAR(w.fraction, r.fraction, 1e-3f);
       }
     }
   }
@@ -273,12 +273,12 @@ TEST(ShapeCast, NoTunnellingThroughThinWalls) {
         ++shots;
         ASSERT_TRUE(truth.touches) << "test setup: the path must cross the wall";
         ASSERT_TRUE(r.hit) << "tunnelled: kind " << kind << " wall " << w << " shot " << k;
-        EXPECT_LE(r.t, truth.t_first + late_tolerance(pa, pb, s)) << "late";
+        EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
         // Early by at most the tolerance, in distance.
         const test::B2Proxy ba(pa);
         const test::B2Proxy bb(pb);
-        EXPECT_LE(truth.distance_at(ba, bb, r.t), hit_tolerance(pa, pb, s))
-            << "kind " << kind << " wall " << w << " shot " << k << " t " << r.t << " truth "
+        EXPECT_LE(truth.distance_at(ba, bb, r.fraction), hit_tolerance(pa, pb, s))
+            << "kind " << kind << " wall " << w << " shot " << k << " t " << r.fraction << " truth "
             << truth.t_first << " it " << r.iterations << " speed " << speed << " status "
             << int(r.status);
       }
@@ -299,20 +299,20 @@ TEST(ShapeCast, LargePolygonsConverge) {
             test::random_transform(rng, 5.0f), test::random_point(rng, 10.0f)};
     if (k % 2 == 0) s.vb = s.va + (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f);  // aimed
     const ShapeCastResult r = shape_cast(a, s.xa, s.va, b, s.xb, s.vb);
-    ASSERT_NE(r.status, ImpactStatus::failed) << k;
+    ASSERT_NE(r.status, QueryStatus::max_iterations) << k;
     EXPECT_LT(r.iterations, kShapeCastMaxIterations / 2);
     const ConvexProxy pa(a);
     const ConvexProxy pb(b);
     const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
     if (truth.touches) {
       ASSERT_TRUE(r.hit) << k;
-      EXPECT_LE(r.t, truth.t_first + late_tolerance(pa, pb, s));
+      EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s));
     }
-    if (r.status != ImpactStatus::hit) continue;
+    if (r.status != QueryStatus::hit) continue;
     ++hits;
     const test::B2Proxy ba(pa);
     const test::B2Proxy bb(pb);
-    EXPECT_LE(truth.distance_at(ba, bb, r.t), hit_tolerance(pa, pb, s));
+    EXPECT_LE(truth.distance_at(ba, bb, r.fraction), hit_tolerance(pa, pb, s));
   }
   EXPECT_GT(hits, 30);
   EXPECT_LT(hits, 80);
@@ -327,9 +327,9 @@ TEST(ShapeCast, VariantMatchesTyped) {
   const ShapeCastResult typed = shape_cast(cap, xa, {12.0f, 0.0f}, tri, xb, {-1.0f, 0.0f});
   const ShapeCastResult variant =
       shape_cast(Shape2D(cap), xa, {12.0f, 0.0f}, Shape2D(tri), xb, {-1.0f, 0.0f});
-  ASSERT_EQ(typed.status, ImpactStatus::hit);
+  ASSERT_EQ(typed.status, QueryStatus::hit);
   EXPECT_EQ(variant.status, typed.status);
-  EXPECT_EQ(variant.t, typed.t);
+  EXPECT_EQ(variant.fraction, typed.fraction);
   EXPECT_EQ(variant.point, typed.point);
   EXPECT_EQ(variant.normal, typed.normal);
 }

@@ -53,12 +53,12 @@ TEST(TimeOfImpact, TurningRodAnalytic) {
     const Transform m = k == 0 ? Transform{} : test::random_transform(rng, far ? 1e4f : 10.0f);
     const ToiResult res =
         time_of_impact(rod, moved(rod_sweep, m), ball, moved(ball_sweep, m), target);
-    ASSERT_EQ(res.status, ImpactStatus::hit) << k;
-    EXPECT_NEAR(res.t, t_target, tol_t) << k;
-    EXPECT_LT(res.t, t_touch) << "never late";
+    ASSERT_EQ(res.status, QueryStatus::hit) << k;
+    EXPECT_NEAR(res.fraction, t_target, tol_t) << k;
+    EXPECT_LT(res.fraction, t_touch) << "never late";
     EXPECT_NEAR(res.separation, target, 0.25f * target + (far ? 5e-3f : 1e-5f));
     // Normal from the rod towards the ball: the rod's left normal at that angle.
-    const float th = res.t * 0.5f * kPi;
+    const float th = res.fraction * 0.5f * kPi;
     EXPECT_VEC2_NEAR(res.normal, rotate(m.q, {-std::sin(th), std::cos(th)}), 2e-3f);
   }
 }
@@ -70,9 +70,9 @@ TEST(TimeOfImpact, TranslationMatchesShapeCast) {
   const Sweep sa = Sweep::from_motion(Transform{}, {0.0f, 0.0f}, {10.0f, 0.0f}, 0.0f);
   const Sweep sb = Sweep::from_motion(Transform{{6.0f, 0.0f}, {}}, {0.0f, 0.0f}, {}, 0.0f);
   const ToiResult res = time_of_impact(box, sa, ball, sb, 0.02f);
-  ASSERT_EQ(res.status, ImpactStatus::hit);
+  ASSERT_EQ(res.status, QueryStatus::hit);
   // Faces meet at 10 t = 5; 0.02 apart at 10 t = 4.98.
-  EXPECT_NEAR(res.t, 0.498f, 1e-4f);
+  EXPECT_NEAR(res.fraction, 0.498f, 1e-4f);
   EXPECT_NEAR(res.separation, 0.02f, 1e-3f);
   EXPECT_VEC2_NEAR(res.normal, Vec2(1.0f, 0.0f), 1e-4f);
   EXPECT_VEC2_NEAR(res.point, Vec2(5.49f, 0.0f), 1e-3f);  // between x = 5.48 and 5.5
@@ -88,13 +88,13 @@ TEST(TimeOfImpact, OverlappedSeparatedAndSpinning) {
   // turn).
   const Sweep far_ball{{0.0f, 0.0f}, {0.0f, 1.5f + 0.3f}, {0.0f, 1.5f + 0.3f}, 0.0f, 0.0f};
   const ToiResult apart = time_of_impact(box, spin, ball, far_ball);
-  EXPECT_EQ(apart.status, ImpactStatus::separated);
-  EXPECT_EQ(apart.t, 1.0f);
+  EXPECT_EQ(apart.status, QueryStatus::separated);
+  EXPECT_EQ(apart.fraction, 1.0f);
   const Sweep near_ball{{0.0f, 0.0f}, {0.0f, 1.0f + 0.3f}, {0.0f, 1.0f + 0.3f}, 0.0f, 0.0f};
   const ToiResult hit = time_of_impact(box, spin, ball, near_ball);
-  EXPECT_EQ(hit.status, ImpactStatus::hit);
-  EXPECT_GT(hit.t, 0.0f);
-  EXPECT_LT(hit.t, 1.0f / 6.0f);
+  EXPECT_EQ(hit.status, QueryStatus::hit);
+  EXPECT_GT(hit.fraction, 0.0f);
+  EXPECT_LT(hit.fraction, 1.0f / 6.0f);
   {
     // The reason time_of_impact does not use the separating-axis root finder: Box2D 2.4's
     // b2TimeOfImpact checks its axis only at the interval's ends and, with the box back at its
@@ -106,8 +106,8 @@ TEST(TimeOfImpact, OverlappedSeparatedAndSpinning) {
   }
   const Sweep inside{{0.0f, 0.0f}, {0.5f, 0.0f}, {5.0f, 0.0f}, 0.0f, 1.0f};
   const ToiResult over = time_of_impact(box, spin, ball, inside);
-  EXPECT_EQ(over.status, ImpactStatus::overlapped);
-  EXPECT_EQ(over.t, 0.0f);
+  EXPECT_EQ(over.status, QueryStatus::overlapped);
+  EXPECT_EQ(over.fraction, 0.0f);
 }
 
 // 3b. Regression: the step ends with the shapes inside the target band. A ball spinning about
@@ -123,15 +123,15 @@ TEST(TimeOfImpact, EndsInsideTargetBandAtOne) {
     const float x1 = 1.0f + target + end_gap * 0.25f * target;
     const Sweep ball_sweep{{0.0f, 0.0f}, {5.0f, 0.0f}, {x1, 0.0f}, 0.0f, 3.0f};
     const ToiResult res = time_of_impact(box, still, ball, ball_sweep, target);
-    ASSERT_EQ(res.status, ImpactStatus::hit) << end_gap;
+    ASSERT_EQ(res.status, QueryStatus::hit) << end_gap;
     // Within the band [0.75, 1.25] target: at t = 1 (end_gap >= 0) or at the time the ball is
     // that far ((x - 1) = target (1 + 0.25 f) for some f in [-1, 1], x = 5 - (5 - x1) t).
     EXPECT_NEAR(res.separation, target, 0.25f * target) << end_gap;
-    EXPECT_NEAR(res.t, 1.0f, 0.25f * target / (5.0f - x1) + 1e-6f) << end_gap;
+    EXPECT_NEAR(res.fraction, 1.0f, 0.25f * target / (5.0f - x1) + 1e-6f) << end_gap;
   }
   // Ending farther than the band: separated.
   const Sweep short_of{{0.0f, 0.0f}, {5.0f, 0.0f}, {1.0f + 1.5f * target, 0.0f}, 0.0f, 3.0f};
-  EXPECT_EQ(time_of_impact(box, still, ball, short_of, target).status, ImpactStatus::separated);
+  EXPECT_EQ(time_of_impact(box, still, ball, short_of, target).status, QueryStatus::separated);
 }
 
 /// A random sweep for a shape of about `size`: centre near `at`, moving up to `reach`, turning
@@ -165,23 +165,23 @@ TEST(TimeOfImpact, RandomRotatingPairsAgainstSubStepping) {
         const test::SweepTruth truth = test::sweep_truth(pa, wa, pb, wb);
         ++total;
         SCOPED_TRACE(testing::Message() << "kinds " << ka << "," << kb << " case " << k
-                                        << " t " << res.t << " status " << int(res.status)
+                                        << " t " << res.fraction << " status " << int(res.status)
                                         << " truth " << truth.t_first << " touches "
                                         << truth.touches << " min " << truth.min_distance);
-        if (res.status == ImpactStatus::failed) {
+        if (res.status == QueryStatus::max_iterations) {
           ++failed;
           continue;
         }
         if (truth.touches) {
-          ASSERT_NE(res.status, ImpactStatus::separated) << "missed a collision";
-          EXPECT_LE(res.t, truth.t_first + 1e-5f) << "late";
+          ASSERT_NE(res.status, QueryStatus::separated) << "missed a collision";
+          EXPECT_LE(res.fraction, truth.t_first + 1e-5f) << "late";
         }
-        if (res.status == ImpactStatus::separated) continue;
+        if (res.status == QueryStatus::separated) continue;
         ++hits;
         const test::B2Proxy ba(pa);
         const test::B2Proxy bb(pb);
-        const float sep = test::b2_distance(ba, wa.at(res.t), bb, wb.at(res.t));
-        if (res.status == ImpactStatus::hit) {
+        const float sep = test::b2_distance(ba, wa.at(res.fraction), bb, wb.at(res.fraction));
+        if (res.status == QueryStatus::hit) {
           // The default target is 1e-3 of the smaller size (0.3 .. 1.5 here).
           EXPECT_GT(sep, 0.0f);
           EXPECT_LE(sep, 1.25e-3f * 1.5f * 2.0f + 1e-5f);
@@ -219,12 +219,12 @@ TEST(TimeOfImpact, AgreesWithBox2D) {
     const test::B2Proxy bb(pb);
     const ToiResult ours = time_of_impact(sa, wa, sb, wb, target);
     const b2TOIOutput theirs = test::b2_time_of_impact(ba, wa, bb, wb);
-    const bool our_hit = ours.status == ImpactStatus::hit;
+    const bool our_hit = ours.status == QueryStatus::hit;
     const bool their_hit = theirs.state == b2TOIOutput::e_touching;
-    SCOPED_TRACE(testing::Message() << "case " << k << " ours " << ours.t << " box2d "
+    SCOPED_TRACE(testing::Message() << "case " << k << " ours " << ours.fraction << " box2d "
                                     << theirs.t << " state " << int(theirs.state));
-    ASSERT_NE(ours.status, ImpactStatus::failed);
-    if (ours.status == ImpactStatus::overlapped) {
+    ASSERT_NE(ours.status, QueryStatus::max_iterations);
+    if (ours.status == QueryStatus::overlapped) {
       // Box2D: overlapped (cores overlap) or touching at t = 0.
       EXPECT_TRUE(theirs.state == b2TOIOutput::e_overlapped ||
                   (theirs.state == b2TOIOutput::e_touching && theirs.t == 0.0f));
@@ -239,7 +239,7 @@ TEST(TimeOfImpact, AgreesWithBox2D) {
     }
     if (!our_hit) continue;
     ++both_hit;
-    const float our_sep = test::b2_distance(ba, wa.at(ours.t), bb, wb.at(ours.t));
+    const float our_sep = test::b2_distance(ba, wa.at(ours.fraction), bb, wb.at(ours.fraction));
     const float their_sep = test::b2_distance(ba, wa.at(theirs.t), bb, wb.at(theirs.t));
     EXPECT_NEAR(our_sep, target, band);
     EXPECT_NEAR(their_sep, target, band);
@@ -280,12 +280,12 @@ TEST(TimeOfImpact, NoTunnellingWithSpin) {
         const float t_cross = before / speed;  // the centre of rotation crosses x = 0
         const ToiResult r = time_of_impact(bullet, shot, wall, still);
         ++shots;
-        ASSERT_EQ(r.status, ImpactStatus::hit)
+        ASSERT_EQ(r.status, QueryStatus::hit)
             << "tunnelled: kind " << kind << " wall " << w << " shot " << k;
-        EXPECT_LE(r.t, t_cross) << "late";
+        EXPECT_LE(r.fraction, t_cross) << "late";
         const test::B2Proxy bb(ConvexProxy{bullet});
         const test::B2Proxy bw(ConvexProxy{wall});
-        const float sep = test::b2_distance(bb, shot.at(r.t), bw, still.at(r.t));
+        const float sep = test::b2_distance(bb, shot.at(r.fraction), bw, still.at(r.fraction));
         // Target: 1e-3 of the smaller size (the bullet, at most 0.11), or the float floors at
         // these coordinates (the shot travels up to 500; the wall is 100 long).
         const float magnitude = std::max(length(shot.c0), length(shot.c1)) + 100.0f + 0.11f;

@@ -36,10 +36,10 @@ int check_against_brute_force(const Scene& s, const DistanceResult& r, const std
   const double core = test::brute_core_distance(ca.points, cb.points);
   const double truth = std::max(core - ca.radius - cb.radius, 0.0);
   EXPECT_NEAR(r.distance, truth, kTol) << what;
-  EXPECT_NE(r.status, GjkStatus::max_iterations) << what;
+  EXPECT_NE(r.status, QueryStatus::max_iterations) << what;
   if (core > kTol) {
     // Cores apart: exact points on each surface, unit normal from A to B along them.
-    EXPECT_EQ(r.status, GjkStatus::separated) << what;
+    EXPECT_EQ(r.status, QueryStatus::separated) << what;
     EXPECT_NEAR(length(r.normal), 1.0f, 1e-5f) << what;
     EXPECT_NEAR(test::brute_point_distance(ca.points, {r.point_a.x, r.point_a.y}), ca.radius, kTol)
         << what << ": point_a not on A's surface";
@@ -58,7 +58,7 @@ int check_against_brute_force(const Scene& s, const DistanceResult& r, const std
     return 0;
   }
   if (core > 0.0) return 3;  // cores touch within kTol: only the distance is judged
-  if (r.status == GjkStatus::overlapped) {
+  if (r.status == QueryStatus::overlapped) {
     // Cores overlap: one witness point, inside both cores.
     EXPECT_LE(distance(r.point_a, r.point_b), kTol) << what;
     EXPECT_LE(test::brute_point_distance(ca.points, {r.point_a.x, r.point_a.y}), kTol) << what;
@@ -82,7 +82,7 @@ TEST(GjkDistance, EveryPairTypeAgreesWithBruteForce) {
                                  test::type_label(tb) + " trial " + std::to_string(i);
         const int kind = check_against_brute_force(s, r, what);
         ++kinds[kind];
-        if (kind == 2 && r.status == GjkStatus::overlapped) ++core_overlap_reported;
+        if (kind == 2 && r.status == QueryStatus::overlapped) ++core_overlap_reported;
       }
       const std::string pair = std::string(test::type_label(ta)) + "-" + test::type_label(tb);
       // Both outcomes exercised: apart, and overlapping (radii or cores).
@@ -226,7 +226,7 @@ TEST(GjkDistance, TinyHugeAndSliverShapesScaleTheirAccuracy) {
       const double truth =
           std::max(test::brute_core_distance(ca.points, cb.points) - ca.radius - cb.radius, 0.0);
       EXPECT_NEAR(r.distance, truth, 1e-4 * 4.0 * size) << "size " << size << " trial " << i;
-      EXPECT_NE(r.status, GjkStatus::max_iterations);
+      EXPECT_NE(r.status, QueryStatus::max_iterations);
       if (truth > 1e-4 * size) ++apart;
     }
   }
@@ -251,7 +251,7 @@ TEST(GjkDistance, ParallelFacesAtKnownGap) {
     const Transform xb = mul(g, Transform::from({2.5f, slide}, 0.0f));
     const DistanceResult r = distance(box, xa, box, xb);
     EXPECT_NEAR(r.distance, 0.5f, kTol);
-    EXPECT_EQ(r.status, GjkStatus::separated);
+    EXPECT_EQ(r.status, QueryStatus::separated);
     EXPECT_VEC2_NEAR(r.normal, rotate(g.q, {1.0f, 0.0f}), 1e-4f);
     const Vec2 la = inv_transform_point(g, r.point_a);
     const Vec2 lb = inv_transform_point(g, r.point_b);
@@ -319,7 +319,7 @@ TEST(GjkDistance, RoundedCoresApartButRadiiOverlap) {
   const Polygon b = make_box({0.5f, 0.5f}, 0.15f);
   const Transform xb = Transform::from({1.7f, 0.0f}, 0.0f);
   const DistanceResult r = distance(a, Transform{}, b, xb);
-  EXPECT_EQ(r.status, GjkStatus::separated);
+  EXPECT_EQ(r.status, QueryStatus::separated);
   EXPECT_EQ(r.distance, 0.0f);
   EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-5f);
   // On the line between the core witnesses, each pushed out by its radius: past each other.
@@ -336,7 +336,7 @@ TEST(GjkDistance, OverlappingCoresReportOverlapped) {
     const Transform xa = test::random_transform(rng, 5.0f);
     const Transform xb = mul(xa, Transform::from(test::random_point(rng, 0.5f), uniform(rng, -3.0f, 3.0f)));
     const DistanceResult r = distance(box, xa, p, xb);
-    EXPECT_EQ(r.status, GjkStatus::overlapped);
+    EXPECT_EQ(r.status, QueryStatus::overlapped);
     EXPECT_EQ(r.distance, 0.0f);
     EXPECT_EQ(r.normal, Vec2(0.0f, 0.0f));
     EXPECT_EQ(r.point_a, r.point_b);
@@ -364,8 +364,8 @@ TEST(GjkDistance, WarmStartSameAnswerAndNoMoreIterations) {
           Transform::from(xa.p + 2.6f * Vec2{std::cos(t), std::sin(t)}, 0.5f * t);
       const DistanceResult cold = distance(a, xa, b, xb);
       const DistanceResult warm = distance(a, xa, b, xb, &cache);
-      ASSERT_EQ(cold.status, GjkStatus::separated);
-      EXPECT_EQ(warm.status, GjkStatus::separated);
+      ASSERT_EQ(cold.status, QueryStatus::separated);
+      EXPECT_EQ(warm.status, QueryStatus::separated);
       EXPECT_NEAR(warm.distance, cold.distance, 1e-5f);
       EXPECT_VEC2_NEAR(warm.point_a, cold.point_a, kTol);
       EXPECT_VEC2_NEAR(warm.point_b, cold.point_b, kTol);

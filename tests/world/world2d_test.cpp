@@ -618,7 +618,7 @@ TEST(World2DQueries, ShapeCastFindsTheEarliestTouchLikeBruteForce) {
     for (const Collider& c : colliders) {
       if (c.sensor) continue;
       const ShapeCastResult r = shape_cast(probe, xf, translation, *c.shape, c.xf, {0, 0});
-      if (r.hit) best = std::min(best, r.t);
+      if (r.hit) best = std::min(best, r.fraction);
     }
     const WorldCastHit got = world.shape_cast(probe, xf, translation);
     ASSERT_EQ(got.hit, best <= 1.0f) << "cast " << i;

@@ -16,6 +16,7 @@
 ///    `minkowski_difference` and cast the ray into it with `raycast`. Slower and allocating;
 ///    kept as the readable reference the fast path is tested against, and for pictures.
 
+#include <collide/core/status.hpp>
 #include <collide/narrow/support.hpp>
 #include <collide/shape/shape2d.hpp>
 
@@ -34,34 +35,35 @@ inline constexpr float kShapeCastTolerance = 1e-4f;
 inline constexpr float kShapeCastRounding = 1e-6f;
 
 /// Iteration cap of the GJK ray cast. Convex pairs of up to kMaxPolygonVertices vertices take
-/// far fewer (typically under 10); reaching it reports `ImpactStatus::failed`.
+/// far fewer (typically under 10); reaching it reports `QueryStatus::max_iterations`.
 inline constexpr int kShapeCastMaxIterations = 64;
 
-/// How a continuous collision query ended (shape casts and time of impact).
-enum class ImpactStatus : std::uint8_t {
-  hit,         ///< the shapes first touch at `t` in (0, 1]
-  separated,   ///< the shapes stay apart over the whole step
-  overlapped,  ///< the shapes already touch or overlap at t = 0 (within the tolerance)
-  failed,      ///< iteration cap reached; `t` is a safe time (no contact before it), not a hit
-};
-
-/// Result of a shape cast. World space throughout.
-struct ShapeCastResult {
+/// Result of a shape cast in D dimensions. World space throughout.
+template <int D>
+struct ShapeCastResultN {
   /// True when the shapes touch during the step: status hit or overlapped.
   bool hit = false;
-  /// Time of first touch in [0, 1] (0 when overlapped). On `separated`: 1, the shapes move the
-  /// whole step freely. On `failed`: the time reached, before which there is no contact.
-  float t = 1.0f;
-  /// Contact point at time t, world space: midway between the two surfaces (which are within
-  /// the cast tolerance of each other). Zero unless `hit`.
-  Vec2 point{0.0f, 0.0f};
-  /// Unit contact normal from A to B at time t, world space. Zero unless `hit`; also zero when
-  /// overlapped with the cores (the shapes without their radii) overlapping, where no single
-  /// normal is meaningful.
-  Vec2 normal{0.0f, 0.0f};
+  /// Fraction of the step at first touch, in [0, 1] (0 when overlapped): each shape is then at
+  /// its start moved by fraction times its translation. On `separated`: 1, the shapes move the
+  /// whole step freely. On `max_iterations`: the fraction reached, before which there is no
+  /// contact.
+  float fraction = 1.0f;
+  /// Contact point at `fraction`, world space: midway between the two surfaces (which are
+  /// within the cast tolerance of each other). Zero unless `hit`.
+  VecN<D> point{0.0f};
+  /// Unit contact normal from A to B at `fraction`, world space. Zero unless `hit`; also zero
+  /// when overlapped with the cores (the shapes without their radii) overlapping, where no
+  /// single normal is meaningful.
+  VecN<D> normal{0.0f};
   int iterations = 0;  ///< GJK iterations used
-  ImpactStatus status = ImpactStatus::separated;
+  /// hit: first touch at `fraction` in (0, 1]; separated: apart over the whole step;
+  /// overlapped: touching or overlapping at the start (within the tolerance); max_iterations:
+  /// the iteration cap was reached, `fraction` is a safe time (no contact before it), not a hit.
+  QueryStatus status = QueryStatus::separated;
 };
+
+using ShapeCastResult = ShapeCastResultN<2>;   ///< 2D shape cast result
+using ShapeCastResult3 = ShapeCastResultN<3>;  ///< 3D shape cast result
 
 /// Time of first touch of proxy A placed by `xa` and translating by `va` (world units over the
 /// step) and proxy B placed by `xb` translating by `vb`, t in [0, 1], by GJK ray casting into
@@ -73,10 +75,10 @@ struct ShapeCastResult {
                                              const ConvexProxy& b, const Transform& xb,
                                              Vec2 vb) noexcept;
 
-namespace detail {
-/// Throws InvalidInput naming the field if a transform or a velocity is not finite.
+/// The validation of the shape-cast entry points: throws InvalidInput naming the field ("xa",
+/// "va", "xb", "vb") if a transform is not finite rigid (unit rotation) or a translation is not
+/// finite.
 void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb);
-}  // namespace detail
 
 /// Time of first touch of shape A (placed by `xa`, translating by `va` over the step) and shape
 /// B (placed by `xb`, translating by `vb`), any pair of 2D shape types; see `gjk_shape_cast`.
@@ -85,7 +87,7 @@ void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb
 template <Shape2DType A, Shape2DType B>
 [[nodiscard]] ShapeCastResult shape_cast(const A& a, const Transform& xa, Vec2 va, const B& b,
                                          const Transform& xb, Vec2 vb) {
-  detail::check_cast_input(xa, va, xb, vb);
+  check_cast_input(xa, va, xb, vb);
   return gjk_shape_cast(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 

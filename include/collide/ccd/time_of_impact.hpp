@@ -54,24 +54,28 @@ inline constexpr float kToiToleranceFraction = 0.25f;
 /// moderate turning take a handful; grazes of fast-spinning long bodies can take dozens.
 inline constexpr int kToiMaxIterations = 100;
 
-/// Result of `time_of_impact`. World space.
-struct ToiResult {
-  /// hit: the shapes come within the target separation at `t` in (0, 1]. separated: they stay
-  /// farther apart over the whole step (t = 1). overlapped: already within the target, or
-  /// overlapping, at t = 0 (t = 0). failed: the iteration cap was reached (or rounding put
-  /// the shapes closer than the target minus the tolerance); `t` is a time before which the
-  /// shapes do not touch.
-  ImpactStatus status = ImpactStatus::separated;
-  float t = 1.0f;           ///< time of impact in [0, 1] (see status)
-  float separation = 0.0f;  ///< distance between the shapes at t (0 when overlapping)
-  /// Unit normal from A to B at t; zero when separated or the cores overlap.
-  Vec2 normal{0.0f, 0.0f};
-  /// Midway between the shapes' closest points at t; zero when separated.
-  Vec2 point{0.0f, 0.0f};
+/// Result of `time_of_impact` in D dimensions. World space.
+template <int D>
+struct ToiResultN {
+  /// hit: the shapes come within the target separation at `fraction` in (0, 1]. separated:
+  /// they stay farther apart over the whole step (fraction = 1). overlapped: already within
+  /// the target, or overlapping, at the start (fraction = 0). max_iterations: the iteration cap
+  /// was reached (or rounding put the shapes closer than the target minus the tolerance);
+  /// `fraction` is a time before which the shapes do not touch.
+  QueryStatus status = QueryStatus::separated;
+  float fraction = 1.0f;    ///< time of impact as a fraction of the step, [0, 1] (see status)
+  float separation = 0.0f;  ///< distance between the shapes at `fraction` (0 when overlapping)
+  /// Unit normal from A to B at `fraction`; zero when separated or the cores overlap.
+  VecN<D> normal{0.0f};
+  /// Midway between the shapes' closest points at `fraction`; zero when separated.
+  VecN<D> point{0.0f};
   /// Advancement steps (GJK distance queries); for pure translation, the ray cast's
   /// iterations.
   int iterations = 0;
 };
+
+using ToiResult = ToiResultN<2>;   ///< 2D time of impact
+using ToiResult3 = ToiResultN<3>;  ///< 3D time of impact
 
 /// First time in [0, 1] at which proxy A moving along `sweep_a` and proxy B moving along
 /// `sweep_b` come within `target` of each other (world units; a negative value means the

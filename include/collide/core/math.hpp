@@ -8,6 +8,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace collide {
@@ -62,10 +63,10 @@ using Vec3 = glm::vec3;
 }
 /// Largest absolute coordinate: the size that float rounding of `a` is relative to.
 [[nodiscard]] inline float max_abs(Vec2 a) noexcept {
-  return std::fmax(std::fabs(a.x), std::fabs(a.y));
+  return std::max(std::abs(a.x), std::abs(a.y));
 }
 [[nodiscard]] inline float max_abs(Vec3 a) noexcept {
-  return std::fmax(std::fmax(std::fabs(a.x), std::fabs(a.y)), std::fabs(a.z));
+  return std::max(std::max(std::abs(a.x), std::abs(a.y)), std::abs(a.z));
 }
 
 /// Both components finite (not NaN, not infinite).

@@ -51,6 +51,15 @@ struct Transform {
   }
 };
 
+/// `v` rotated by the transform's rotation (no translation).
+[[nodiscard]] constexpr Vec2 rotate(const Transform& xf, Vec2 v) noexcept {
+  return rotate(xf.q, v);
+}
+/// `v` rotated by the inverse of the transform's rotation (no translation).
+[[nodiscard]] constexpr Vec2 inv_rotate(const Transform& xf, Vec2 v) noexcept {
+  return inv_rotate(xf.q, v);
+}
+
 /// A local point placed in the world by `xf`.
 [[nodiscard]] constexpr Vec2 transform_point(const Transform& xf, Vec2 local) noexcept {
   return xf.p + rotate(xf.q, local);

@@ -9,11 +9,13 @@
 /// per rotated vector instead of about 18).
 
 #include <collide/core/math.hpp>
+#include <collide/core/transform.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 
 #include <cmath>
+#include <type_traits>
 
 namespace collide {
 
@@ -100,5 +102,19 @@ struct Frame3 {
 [[nodiscard]] inline Vec3 inv_transform_point(const Frame3& f, Vec3 world) noexcept {
   return inv_rotate(f, world - f.p);
 }
+
+/// The rigid transform of D dimensions: `Transform` in 2D, `Transform3` in 3D. For code written
+/// once for both (the GJK loop, generic tests).
+template <int D>
+using TransformN = std::conditional_t<D == 2, Transform, Transform3>;
+
+/// The form of a rigid transform that inner loops use: `Transform` itself in 2D (a rotation is
+/// already 4 numbers), the matrix form `Frame3` in 3D.
+template <int D>
+using FrameN = std::conditional_t<D == 2, Transform, Frame3>;
+
+/// `xf` in the form inner loops use (see FrameN).
+[[nodiscard]] inline Transform to_frame(const Transform& xf) noexcept { return xf; }
+[[nodiscard]] inline Frame3 to_frame(const Transform3& xf) noexcept { return Frame3::from(xf); }
 
 }  // namespace collide

@@ -9,25 +9,22 @@
 
 namespace collide {
 
-/// A feature of a shape's core: which vertex or edge a point is closest to.
-/// Circle: face 0. Capsule and segment: vertex 0 (end a), vertex 1 (end b), edge 0 (the side to
-/// the right of a -> b), edge 1 (the side to the right of b -> a). Polygon: vertex i, or edge i
-/// (from vertex i to i + 1).
-struct Feature {
-  FeatureType type = FeatureType::vertex;
-  int index = 0;
-  friend constexpr bool operator==(Feature, Feature) noexcept = default;
-};
-
-/// Result of a point query. World space.
-struct PointQuery {
+/// Result of a point query in D dimensions. World space.
+template <int D>
+struct PointQueryN {
   bool inside = false;      ///< the point lies strictly inside the solid shape
   float distance = 0.0f;    ///< signed distance to the surface: negative inside, world units
-  Vec2 closest{0.0f, 0.0f}; ///< closest point on the surface
+  VecN<D> closest{0.0f};    ///< closest point on the surface
   /// Voronoi feature of the core the point lies in: the feature whose region holds the point
-  /// outside the core; inside a polygon's core, the edge of least penetration.
+  /// outside the core; inside a polygon's core, the edge of least penetration. Feature indices
+  /// as in manifold.hpp (Circle: face 0. Capsule and segment: vertex 0 (end a), vertex 1
+  /// (end b), edge 0 (the side to the right of a -> b), edge 1 (the side to the right of
+  /// b -> a). Polygon: vertex i, or edge i from vertex i to i + 1).
   Feature feature{};
 };
+
+using PointQuery = PointQueryN<2>;   ///< 2D point query
+using PointQuery3 = PointQueryN<3>;  ///< 3D point query
 
 /// Closest surface point of shape placed by `xf` to world point `point`, with signed distance
 /// and Voronoi feature; radii (circles, capsules, rounded polygons) applied along the direction

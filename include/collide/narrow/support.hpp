@@ -9,7 +9,11 @@
 /// shapes (van den Bergen, Collision Detection in Interactive 3D Environments, 2003, 4.3.6).
 
 #include <collide/core/math.hpp>
+#include <collide/shape/box.hpp>
+#include <collide/shape/capsule3.hpp>
+#include <collide/shape/segment3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/sphere.hpp>
 
 #include <array>
 #include <limits>
@@ -20,29 +24,35 @@
 
 namespace collide {
 
-/// A view of a convex shape's core points and radius, local space. Polygon proxies point into
-/// the polygon (keep it alive); circle, capsule and segment proxies copy their 1-2 points.
-class ConvexProxy {
+/// A view of a convex shape's core points and radius, local space, in D dimensions: the
+/// support map (gjk.hpp, `SupportMap`) of every collide shape.
+template <int D>
+class ConvexProxyN;
+
+/// The 2D support map. Polygon proxies point into the polygon (keep it alive); circle, capsule
+/// and segment proxies copy their 1-2 points.
+template <>
+class ConvexProxyN<2> {
  public:
   /// Polygon: its vertices (not copied) and its rounding radius.
-  explicit ConvexProxy(const Polygon& polygon) noexcept
+  explicit ConvexProxyN(const Polygon& polygon) noexcept
       : points_(polygon.vertices.data()),
         count_(polygon.count),
         radius_(polygon.radius),
         convex_outline_(true) {}
   /// Circle: its centre and radius.
-  explicit ConvexProxy(const Circle& circle) noexcept
+  explicit ConvexProxyN(const Circle& circle) noexcept
       : buffer_{circle.center, circle.center}, count_(1), radius_(circle.radius) {}
   /// Capsule: its two segment ends and radius.
-  explicit ConvexProxy(const Capsule& capsule) noexcept
+  explicit ConvexProxyN(const Capsule& capsule) noexcept
       : buffer_{capsule.a, capsule.b}, count_(2), radius_(capsule.radius) {}
   /// Segment: its two ends, radius 0.
-  explicit ConvexProxy(const Segment& segment) noexcept
+  explicit ConvexProxyN(const Segment& segment) noexcept
       : buffer_{segment.a, segment.b}, count_(2), radius_(0.0f) {}
   /// Any 2D shape.
-  explicit ConvexProxy(const Shape2D& shape) noexcept;
+  explicit ConvexProxyN(const Shape2D& shape) noexcept;
   /// A raw point set (1..kMaxPolygonVertices points, not copied beyond 2) and radius.
-  ConvexProxy(const Vec2* points, int count, float radius) noexcept;
+  ConvexProxyN(const Vec2* points, int count, float radius) noexcept;
 
   [[nodiscard]] const Vec2* points() const noexcept {
     return points_ != nullptr ? points_ : buffer_.data();
@@ -162,5 +172,90 @@ class ConvexProxy {
   float radius_ = 0.0f;
   bool convex_outline_ = false;  ///< points are a strictly convex counter-clockwise outline
 };
+
+using ConvexProxy = ConvexProxyN<2>;  ///< the 2D support map
+
+/// Most points a raw 3D point-set proxy may hold (support indices fit a byte, as hulls' do).
+inline constexpr int kMaxProxyPoints3 = 256;
+
+/// The 3D support map. Sphere, capsule and segment proxies copy their 1-2 points; a box
+/// proxy keeps its half extents and answers by the signs of the direction (its 8 corners are
+/// numbered as box.hpp's vertices); raw point sets are not copied (keep them alive).
+template <>
+class ConvexProxyN<3> {
+ public:
+  /// Sphere: its centre and radius.
+  explicit ConvexProxyN(const Sphere& sphere) noexcept
+      : buffer_{sphere.center, sphere.center}, count_(1), radius_(sphere.radius) {}
+  /// Capsule: its two segment ends and radius.
+  explicit ConvexProxyN(const Capsule3& capsule) noexcept
+      : buffer_{capsule.a, capsule.b}, count_(2), radius_(capsule.radius) {}
+  /// Segment: its two ends, radius 0.
+  explicit ConvexProxyN(const Segment3& segment) noexcept
+      : buffer_{segment.a, segment.b}, count_(2), radius_(0.0f) {}
+  /// Box: 8 corners by the feature numbering of box.hpp, and its rounding radius.
+  explicit ConvexProxyN(const Box& box) noexcept
+      : buffer_{box.half, box.half}, count_(8), radius_(box.radius), kind_(Kind::box) {}
+  /// A raw point set (1..kMaxProxyPoints3 points, not copied) and radius.
+  ConvexProxyN(const Vec3* points, int count, float radius) noexcept
+      : points_(points), count_(count), radius_(radius), kind_(Kind::points) {}
+
+  [[nodiscard]] int count() const noexcept { return count_; }
+  [[nodiscard]] float radius() const noexcept { return radius_; }
+
+  /// Core point i, local space.
+  [[nodiscard]] Vec3 point(int i) const noexcept {
+    switch (kind_) {
+      case Kind::box: {
+        const Vec3 h = buffer_[0];
+        return {(i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z};
+      }
+      case Kind::points: return points_[i];
+      case Kind::inline_points: break;
+    }
+    return buffer_[i];
+  }
+
+  /// Index of a core point farthest along `direction` (local space). Ties go to the lowest
+  /// index (a box: the - side on an axis where the direction is 0).
+  [[nodiscard]] int support_index(Vec3 direction) const noexcept {
+    switch (kind_) {
+      case Kind::box:
+        return int(direction.x > 0.0f) | (int(direction.y > 0.0f) << 1) |
+               (int(direction.z > 0.0f) << 2);
+      case Kind::points: return scan(points_, count_, direction);
+      case Kind::inline_points: break;
+    }
+    return count_ == 2 && dot(buffer_[1], direction) > dot(buffer_[0], direction) ? 1 : 0;
+  }
+  /// The same; no shape here has a faster walk from a previous answer than its direct answer.
+  [[nodiscard]] int support_index_from(Vec3 direction, int /*start*/) const noexcept {
+    return support_index(direction);
+  }
+
+ private:
+  enum class Kind : unsigned char { inline_points, box, points };
+
+  [[nodiscard]] static int scan(const Vec3* p, int n, Vec3 direction) noexcept {
+    int best = 0;
+    float best_dot = dot(p[0], direction);
+    for (int i = 1; i < n; ++i) {
+      const float d = dot(p[i], direction);
+      if (d > best_dot) {
+        best = i;
+        best_dot = d;
+      }
+    }
+    return best;
+  }
+
+  std::array<Vec3, 2> buffer_{};  ///< inline points; a box's half extents in [0]
+  const Vec3* points_ = nullptr;
+  int count_ = 0;
+  float radius_ = 0.0f;
+  Kind kind_ = Kind::inline_points;
+};
+
+using ConvexProxy3 = ConvexProxyN<3>;  ///< the 3D support map
 
 }  // namespace collide

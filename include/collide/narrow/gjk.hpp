@@ -1,0 +1,508 @@
+#pragma once
+/// @file
+/// GJK, once for 2D and 3D: the loop that `distance`, `overlap`, `shape_cast` and
+/// `time_of_impact` all run, templated on the dimension and on any two support maps.
+///
+/// GJK (Gilbert, Johnson & Keerthi 1988) finds the point of the Minkowski difference
+/// A - B = {a - b} closest to the origin without building it (the lesson: A and B overlap iff
+/// A - B contains the origin, and a - b closest to the origin gives the closest points). It
+/// keeps a simplex (1 to D + 1 points of A - B, each the difference of a support point of A and
+/// one of B), reduces it to the sub-simplex whose Voronoi region holds the origin, and adds the
+/// support point of A - B in the direction from that sub-simplex towards the origin, until no
+/// support point gets closer. The simplex's distance to the origin is then the distance between
+/// the cores, and its barycentric coordinates, applied to the A and B halves of its vertices,
+/// give the witness points. If the simplex ever holds the origin, the cores overlap.
+///
+/// The simplex solver decides regions by signs of unnormalised barycentric coordinates, with no
+/// square root and no division: in 2D the signed lengths and areas of Catto ("Computing
+/// Distance", GDC 2010; Ericson, Real-Time Collision Detection, 9.5 and 5.1.5); in 3D the signed
+/// volumes of Montanari, Petrinic & Barbieri ("Improving the GJK algorithm for faster and more
+/// reliable distance queries between convex objects", ACM TOG 2017): a tetrahedron's four
+/// sub-volumes with the origin in place of each vertex, a triangle's sub-areas projected on the
+/// coordinate plane where it is largest, a segment's sub-lengths on its longest axis.
+///
+/// The search direction is computed exactly from the kept feature (the origin itself for a
+/// vertex; the perpendicular from an edge; a triangle's normal), never from the barycentric
+/// weights, which lose digits to cancellation near the origin.
+///
+/// Everything runs in A's local frame: B is placed there once (`b_in_a`), so large world
+/// coordinates cancel before any arithmetic.
+
+#include <collide/core/tolerance.hpp>
+#include <collide/core/transform3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+
+namespace collide {
+
+/// What GJK needs of a convex shape: its core as indexed points (the shape is their convex hull
+/// grown by `radius()`), local space. `support_index(d)`: a point farthest along direction d
+/// (ties: any, but deterministic). `support_index_from(d, start)`: the same, allowed to walk
+/// from a previous answer (a shape without a faster way just scans). `ConvexProxyN` is the
+/// support map of every collide shape.
+template <class P, int D>
+concept SupportMap = requires(const P& p, VecN<D> d, int i) {
+  { p.support_index(d) } -> std::convertible_to<int>;
+  { p.support_index_from(d, i) } -> std::convertible_to<int>;
+  { p.point(i) } -> std::convertible_to<VecN<D>>;
+  { p.count() } -> std::convertible_to<int>;
+  { p.radius() } -> std::convertible_to<float>;
+};
+
+/// One simplex vertex: a core point of A and one of B (both in A's frame), their difference
+/// w = wa - wb (a point of the Minkowski difference A - B) and the core point indices.
+/// Left uninitialised on purpose: simplices are built vertex by vertex in the hot loop.
+template <int D>
+struct GjkVertexN {
+  VecN<D> wa;
+  VecN<D> wb;
+  VecN<D> w;
+  int ia;
+  int ib;
+};
+
+/// 1 to D + 1 vertices of the Minkowski difference (only the first `count` are meaningful).
+template <int D>
+struct GjkSimplexN {
+  std::array<GjkVertexN<D>, D + 1> v;
+  int count = 0;
+};
+
+/// How the loop ended.
+enum class GjkEnd : unsigned char {
+  converged,       ///< no support point gets closer: the simplex holds A - B's closest point
+  overlapped,      ///< the simplex holds the origin (within rounding): the cores overlap
+  decided_apart,   ///< the policy's lower bound proved the shapes apart (boolean queries)
+  decided_touch,   ///< the policy's upper bound proved the shapes touch (boolean queries)
+  max_iterations,  ///< kGjkMaxIterations reached
+};
+
+/// The simplex vertex for core point `ia` of A and `ib` of B, with B placed by `b_in_a`.
+template <int D, class PA, class PB>
+[[nodiscard]] inline GjkVertexN<D> gjk_vertex(const PA& a, const PB& b, const FrameN<D>& b_in_a,
+                                              int ia, int ib) noexcept {
+  GjkVertexN<D> v;  // NOLINT: every field is set below
+  v.ia = ia;
+  v.ib = ib;
+  v.wa = a.point(ia);
+  v.wb = transform_point(b_in_a, b.point(ib));
+  v.w = v.wa - v.wb;
+  return v;
+}
+
+/// The first simplex vertex of a cold start: the support pair along the line between the
+/// shapes' local origins (A's farthest point towards B's origin, B's farthest towards A's).
+/// Shapes are usually modelled around their origin, so this pair is already close to the
+/// closest features and saves iterations over starting from point 0 of each. Coincident origins
+/// fall back to point 0 of each.
+template <int D, class PA, class PB>
+[[nodiscard]] inline GjkVertexN<D> gjk_seed_vertex(const PA& a, const PB& b,
+                                                   const FrameN<D>& b_in_a) noexcept {
+  const VecN<D> c = b_in_a.p;  // B's origin in A's frame
+  if (!(dot(c, c) > 0.0f)) return gjk_vertex<D>(a, b, b_in_a, 0, 0);
+  return gjk_vertex<D>(a, b, b_in_a, a.support_index(c), b.support_index(inv_rotate(b_in_a, -c)));
+}
+
+/// (ia, ib) packed into one int; indices are < 2^15.
+[[nodiscard]] constexpr int gjk_vertex_key(int ia, int ib) noexcept { return ia | (ib << 15); }
+
+// ---- the simplex solver ----------------------------------------------------------------------
+
+/// Reduce an edge simplex to the sub-simplex (edge or one end) whose Voronoi region holds the
+/// origin. Only signs are needed here; the weights are computed once, at the end
+/// (gjk_witness_points), so the loop does no division. Same in any dimension.
+template <int D>
+inline void gjk_solve_edge(GjkSimplexN<D>& s) noexcept {
+  const VecN<D> w1 = s.v[0].w;
+  const VecN<D> w2 = s.v[1].w;
+  const VecN<D> e12 = w2 - w1;
+  // Unnormalised barycentric coordinates of the origin's projection on the line w1 w2:
+  // u1 = (w2 - 0).e12 and u2 = (0 - w1).e12; a non-positive one puts the origin beyond the
+  // other end.
+  if (!(-dot(w1, e12) > 0.0f)) {  // u2 <= 0: region of w1
+    s.count = 1;
+  } else if (!(dot(w2, e12) > 0.0f)) {  // u1 <= 0: region of w2
+    s.v[0] = s.v[1];
+    s.count = 1;
+  }
+}
+
+/// Reduce a 2D triangle simplex to the sub-simplex whose Voronoi region holds the origin: one of
+/// 3 vertices, 3 edges, or the interior (count stays 3: the cores overlap).
+inline void gjk_solve_triangle(GjkSimplexN<2>& s) noexcept {
+  const Vec2 w1 = s.v[0].w;
+  const Vec2 w2 = s.v[1].w;
+  const Vec2 w3 = s.v[2].w;
+  // Edge barycentrics, as in gjk_solve_edge, for the three edges.
+  const Vec2 e12 = w2 - w1;
+  const float u12_1 = dot(w2, e12);
+  const float u12_2 = -dot(w1, e12);
+  const Vec2 e13 = w3 - w1;
+  const float u13_1 = dot(w3, e13);
+  const float u13_3 = -dot(w1, e13);
+  const Vec2 e23 = w3 - w2;
+  const float u23_2 = dot(w3, e23);
+  const float u23_3 = -dot(w2, e23);
+  // Triangle barycentrics: signed areas of the sub-triangles the origin makes with each edge,
+  // times the orientation of the whole triangle (so they are positive inside either winding).
+  const float area = cross(e12, e13);
+  const float t1 = area * cross(w2, w3);
+  const float t2 = area * cross(w3, w1);
+  const float t3 = area * cross(w1, w2);
+
+  if (u12_2 <= 0.0f && u13_3 <= 0.0f) {  // region of w1
+    s.count = 1;
+  } else if (u12_1 > 0.0f && u12_2 > 0.0f && t3 <= 0.0f) {  // region of edge w1 w2
+    s.count = 2;
+  } else if (u13_1 > 0.0f && u13_3 > 0.0f && t2 <= 0.0f) {  // region of edge w1 w3
+    s.v[1] = s.v[2];
+    s.count = 2;
+  } else if (u12_1 <= 0.0f && u23_3 <= 0.0f) {  // region of w2
+    s.v[0] = s.v[1];
+    s.count = 1;
+  } else if (u13_1 <= 0.0f && u23_2 <= 0.0f) {  // region of w3
+    s.v[0] = s.v[2];
+    s.count = 1;
+  } else if (u23_2 > 0.0f && u23_3 > 0.0f && t1 <= 0.0f) {  // region of edge w2 w3
+    s.v[0] = s.v[2];
+    s.count = 2;
+  }
+  // else the interior: the origin is inside the triangle.
+}
+
+/// The barycentric weights of the origin's closest point on a 3D simplex, by signed volumes
+/// (Montanari et al. 2017). `keep` gets a bit per vertex in the closest sub-simplex, `lambda`
+/// the weights (of the kept vertices; the others 0), and the return value is the squared
+/// distance of that closest point to the origin. The sub-algorithms below solve a segment, a
+/// triangle and a tetrahedron given by `idx` (indices into `w`).
+struct GjkSubSimplex3 {
+  unsigned keep = 0;                  ///< bit i: vertex i is in the sub-simplex
+  std::array<float, 4> lambda{};      ///< barycentric weights, 0 for dropped vertices
+  float distance_squared = INFINITY;  ///< |closest point|^2
+};
+
+/// Closest point of segment (w[i], w[j]) to the origin: projection on the line, then weights
+/// from signed lengths along the axis where the segment is longest (Montanari's S1D). Ends
+/// win when the projection falls outside.
+inline GjkSubSimplex3 gjk_closest_segment3(const std::array<Vec3, 4>& w, int i, int j) noexcept {
+  const Vec3 s1 = w[i];
+  const Vec3 s2 = w[j];
+  const Vec3 t = s2 - s1;
+  GjkSubSimplex3 out;
+  const float tt = dot(t, t);
+  const auto take_vertex = [&](int k, Vec3 p) {
+    out.keep = 1u << k;
+    out.lambda[k] = 1.0f;
+    out.distance_squared = dot(p, p);
+  };
+  if (!(tt > 0.0f)) {
+    take_vertex(i, s1);
+    return out;
+  }
+  // Weights of s1 and s2 from the projection parameter along t (the signed lengths over the
+  // longest axis give the same ratio; computed directly with one division).
+  const float u2 = -dot(s1, t);  // weight of s2 times tt
+  const float u1 = dot(s2, t);   // weight of s1 times tt
+  if (!(u2 > 0.0f)) {
+    take_vertex(i, s1);
+  } else if (!(u1 > 0.0f)) {
+    take_vertex(j, s2);
+  } else {
+    const float inv = 1.0f / tt;
+    out.keep = (1u << i) | (1u << j);
+    out.lambda[i] = u1 * inv;
+    out.lambda[j] = u2 * inv;
+    const Vec3 p = out.lambda[i] * s1 + out.lambda[j] * s2;
+    out.distance_squared = dot(p, p);
+  }
+  return out;
+}
+
+/// Same signs: both strictly positive or both strictly negative (Montanari's compareSigns).
+[[nodiscard]] constexpr bool gjk_same_sign(float a, float b) noexcept {
+  return (a > 0.0f && b > 0.0f) || (a < 0.0f && b < 0.0f);
+}
+
+/// Closest point of triangle (w[i], w[j], w[k]) to the origin (Montanari's S2D): project the
+/// origin on the plane; its signed sub-areas, on the coordinate plane where the triangle's
+/// projection is largest, are its barycentric coordinates if all share the sign of the whole;
+/// otherwise the closest point is on an edge whose sub-area has the other sign.
+inline GjkSubSimplex3 gjk_closest_triangle3(const std::array<Vec3, 4>& w, int i, int j,
+                                            int k) noexcept {
+  const Vec3 s1 = w[i];
+  const Vec3 s2 = w[j];
+  const Vec3 s3 = w[k];
+  const Vec3 n = cross(s2 - s1, s3 - s1);
+  const float nn = dot(n, n);
+  // The origin's projection on the plane: p0 = (s1.n / n.n) n.
+  const Vec3 p0 = nn > 0.0f ? (dot(s1, n) / nn) * n : s1;
+  // Drop the axis where |n| is largest; areas on the other two, in cyclic order, equal n's
+  // component on the dropped axis.
+  const Vec3 an = glm::abs(n);
+  const int x = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+  const int u = (x + 1) % 3;
+  const int v = (x + 2) % 3;
+  const float mu = n[x];
+  const auto area = [u, v](Vec3 a, Vec3 b, Vec3 c) {
+    return (b[u] - a[u]) * (c[v] - a[v]) - (b[v] - a[v]) * (c[u] - a[u]);
+  };
+  const float c1 = area(p0, s2, s3);
+  const float c2 = area(s1, p0, s3);
+  const float c3 = area(s1, s2, p0);
+  if (gjk_same_sign(mu, c1) && gjk_same_sign(mu, c2) && gjk_same_sign(mu, c3)) {
+    GjkSubSimplex3 out;
+    const float inv = 1.0f / mu;
+    out.keep = (1u << i) | (1u << j) | (1u << k);
+    out.lambda[i] = c1 * inv;
+    out.lambda[j] = c2 * inv;
+    out.lambda[k] = c3 * inv;
+    const Vec3 p = out.lambda[i] * s1 + out.lambda[j] * s2 + out.lambda[k] * s3;
+    out.distance_squared = dot(p, p);
+    return out;
+  }
+  // Outside an edge (or degenerate, mu = 0: every edge is a candidate): the best edge.
+  GjkSubSimplex3 best;
+  if (!gjk_same_sign(mu, c1)) best = gjk_closest_segment3(w, j, k);
+  if (!gjk_same_sign(mu, c2)) {
+    const GjkSubSimplex3 e = gjk_closest_segment3(w, i, k);
+    if (e.distance_squared < best.distance_squared) best = e;
+  }
+  if (!gjk_same_sign(mu, c3)) {
+    const GjkSubSimplex3 e = gjk_closest_segment3(w, i, j);
+    if (e.distance_squared < best.distance_squared) best = e;
+  }
+  return best;
+}
+
+/// Closest point of tetrahedron (w[0..3]) to the origin (Montanari's S3D): the signed volumes
+/// with the origin in place of each vertex are its barycentric coordinates times the whole
+/// volume; all of the whole's sign means the origin is inside; otherwise the closest point is on
+/// a face whose sub-volume has the other sign (the origin is beyond that face).
+inline GjkSubSimplex3 gjk_closest_tetrahedron3(const std::array<Vec3, 4>& w) noexcept {
+  // Signed volume (times 6) of (a, b, c, d): (b - a) . ((c - a) x (d - a)).
+  const auto volume = [](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+    return dot(b - a, cross(c - a, d - a));
+  };
+  const Vec3 o(0.0f);
+  const float c1 = volume(o, w[1], w[2], w[3]);
+  const float c2 = volume(w[0], o, w[2], w[3]);
+  const float c3 = volume(w[0], w[1], o, w[3]);
+  const float c4 = volume(w[0], w[1], w[2], o);
+  const float det = c1 + c2 + c3 + c4;
+  if (gjk_same_sign(det, c1) && gjk_same_sign(det, c2) && gjk_same_sign(det, c3) &&
+      gjk_same_sign(det, c4)) {
+    GjkSubSimplex3 out;
+    out.keep = 15u;
+    const float inv = 1.0f / det;
+    out.lambda = {c1 * inv, c2 * inv, c3 * inv, c4 * inv};
+    out.distance_squared = 0.0f;
+    return out;
+  }
+  GjkSubSimplex3 best;
+  const float c[4] = {c1, c2, c3, c4};
+  // Face opposite vertex m.
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  for (int m = 0; m < 4; ++m) {
+    if (gjk_same_sign(det, c[m])) continue;
+    const GjkSubSimplex3 f = gjk_closest_triangle3(w, kFace[m][0], kFace[m][1], kFace[m][2]);
+    if (f.distance_squared < best.distance_squared) best = f;
+  }
+  return best;
+}
+
+/// Keep the vertices of `s` whose bits are set in `keep`, in order.
+template <int D>
+inline void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
+  int n = 0;
+  for (int i = 0; i < s.count; ++i) {
+    if (keep & (1u << i)) {
+      if (n != i) s.v[n] = s.v[i];
+      ++n;
+    }
+  }
+  s.count = n;
+}
+
+/// The solver of a 3D simplex of 3 or 4 vertices: reduce it to the sub-simplex whose Voronoi
+/// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
+inline void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
+  std::array<Vec3, 4> w{};
+  for (int i = 0; i < s.count; ++i) w[i] = s.v[i].w;
+  const GjkSubSimplex3 sub =
+      s.count == 4 ? gjk_closest_tetrahedron3(w) : gjk_closest_triangle3(w, 0, 1, 2);
+  gjk_keep(s, sub.keep);
+}
+
+/// Reduce any simplex to the sub-simplex whose Voronoi region holds the origin. Returns true
+/// when the whole simplex of D + 1 vertices holds the origin (the cores overlap).
+template <int D>
+[[nodiscard]] inline bool gjk_reduce(GjkSimplexN<D>& s) noexcept {
+  if (s.count == 2) {
+    gjk_solve_edge(s);
+  } else if (s.count >= 3) {
+    if constexpr (D == 2) {
+      gjk_solve_triangle(s);
+    } else {
+      gjk_solve_3d(s);
+    }
+    return s.count == D + 1;
+  }
+  return false;
+}
+
+/// The search direction from a reduced simplex's closest point towards the origin, not unit,
+/// computed exactly from the kept feature: -w for a vertex, the edge's perpendicular towards
+/// the origin, a triangle's normal towards it (3D). Zero length only when the origin is on
+/// the kept feature's line or plane.
+template <int D>
+[[nodiscard]] inline VecN<D> gjk_search_direction(const GjkSimplexN<D>& s) noexcept {
+  const VecN<D> w1 = s.v[0].w;
+  if (s.count == 1) return -w1;
+  const VecN<D> e12 = s.v[1].w - w1;
+  if constexpr (D == 2) {
+    // The side of the edge the origin is on (right_perp = -left_perp), without a branch.
+    return left_perp(e12) * (cross(e12, -w1) > 0.0f ? 1.0f : -1.0f);
+  } else {
+    if (s.count == 2) return cross(cross(e12, -w1), e12);  // |e|^2 times the perpendicular
+    const Vec3 n = cross(e12, s.v[2].w - w1);
+    return dot(n, w1) < 0.0f ? n : -n;
+  }
+}
+
+/// Witness points on A's and B's cores (A's frame): the barycentric coordinates of the
+/// simplex's closest point to the origin, applied to the A and B halves of its vertices. When
+/// the simplex holds the origin, one point inside both (equal outputs).
+template <int D>
+inline void gjk_witness_points(const GjkSimplexN<D>& s, VecN<D>& pa, VecN<D>& pb) noexcept {
+  if (s.count == 1) {
+    pa = s.v[0].wa;
+    pb = s.v[0].wb;
+  } else if (s.count == 2) {
+    const VecN<D> e12 = s.v[1].w - s.v[0].w;
+    const float u1 = dot(s.v[1].w, e12);
+    const float u2 = -dot(s.v[0].w, e12);
+    const float inv = 1.0f / (u1 + u2);  // > 0: the solver kept the edge only if both are
+    const float a1 = u1 * inv;
+    const float a2 = u2 * inv;
+    pa = a1 * s.v[0].wa + a2 * s.v[1].wa;
+    pb = a1 * s.v[0].wb + a2 * s.v[1].wb;
+  } else if constexpr (D == 2) {
+    // The origin is inside: the weighted A and B points coincide; take A's.
+    const Vec2 w1 = s.v[0].w;
+    const Vec2 w2 = s.v[1].w;
+    const Vec2 w3 = s.v[2].w;
+    const float t1 = cross(w2, w3);
+    const float t2 = cross(w3, w1);
+    const float t3 = cross(w1, w2);
+    const float sum = t1 + t2 + t3;  // twice the signed area; 0 only for a flat triangle
+    if (sum != 0.0f) {
+      const float inv = 1.0f / sum;
+      pa = (t1 * inv) * s.v[0].wa + (t2 * inv) * s.v[1].wa + (t3 * inv) * s.v[2].wa;
+    } else {
+      pa = s.v[0].wa;
+    }
+    pb = pa;
+  } else {
+    std::array<Vec3, 4> w{};
+    for (int i = 0; i < s.count; ++i) w[i] = s.v[i].w;
+    const GjkSubSimplex3 sub =
+        s.count == 4 ? gjk_closest_tetrahedron3(w) : gjk_closest_triangle3(w, 0, 1, 2);
+    pa = Vec3(0.0f);
+    pb = Vec3(0.0f);
+    for (int i = 0; i < s.count; ++i) {
+      pa += sub.lambda[i] * s.v[i].wa;
+      pb += sub.lambda[i] * s.v[i].wb;
+    }
+    if (s.count == 4) pb = pa;
+  }
+}
+
+// ---- the loop --------------------------------------------------------------------------------
+
+/// An early-exit policy that never decides: run GJK to convergence (distance queries).
+///
+/// Policies see the bounds on the core distance without divisions: `d` is the search
+/// direction (towards the origin, not unit), dd = |d|^2, k = d.v for the simplex's closest
+/// point v (k < 0, and |v| = -k / |d| is the upper bound), and dw = d.w for the new support
+/// point w (every point of the Minkowski difference has d.x <= dw, so if dw < 0 the distance
+/// is at least -dw / |d|: the lower bound).
+struct GjkRunToEnd {
+  /// Upper bound -k/|d| known: true stops with decided_touch.
+  [[nodiscard]] constexpr bool touching(float /*k*/, float /*dd*/) const noexcept {
+    return false;
+  }
+  /// Lower bound -dw/|d| known: true stops with decided_apart.
+  [[nodiscard]] constexpr bool apart(float /*dw*/, float /*dd*/) const noexcept { return false; }
+};
+
+/// Run GJK on the simplex `s` (1..D+1 valid vertices on entry; on exit the final simplex) of
+/// support maps A and B, B placed in A's frame by `b_in_a`. `scale` is the size of the problem
+/// in A's frame (coordinate magnitude): the origin counts as on the simplex when within
+/// kRelativeTolerance * scale of it. `policy` may stop early (see GjkRunToEnd). `iterations`
+/// counts support points evaluated.
+template <int D, class PA, class PB, class Policy>
+[[nodiscard]] GjkEnd run_gjk(const PA& a, const PB& b, const FrameN<D>& b_in_a,
+                             GjkSimplexN<D>& s, float scale, const Policy& policy,
+                             int& iterations) noexcept {
+  static_assert(SupportMap<PA, D> && SupportMap<PB, D>);
+  const float on_simplex = kRelativeTolerance * scale;
+  const float on_simplex2 = on_simplex * on_simplex;
+  iterations = 0;
+  for (;;) {
+    // The vertices before reduction, as (ia, ib) keys: a new support point equal to one of
+    // them means GJK is cycling on a flat piece of A - B (converged within rounding). Unused
+    // slots hold -1, so the test below is a few compares and no loop.
+    std::array<int, D + 1> saved;
+    saved.fill(-1);
+    for (int i = 0; i < s.count; ++i) saved[i] = gjk_vertex_key(s.v[i].ia, s.v[i].ib);
+
+    if (gjk_reduce(s)) return GjkEnd::overlapped;
+
+    // Search direction d from the simplex's closest point v towards the origin.
+    const VecN<D> d = gjk_search_direction(s);
+    const float dd = dot(d, d);
+    const float k = dot(d, s.v[0].w);  // = -|v| |d|
+    // Origin on the simplex (|v| <= on_simplex), or NaN: the cores touch or overlap.
+    if (!(k < 0.0f && k * k > on_simplex2 * dd)) return GjkEnd::overlapped;
+    if (policy.touching(k, dd)) return GjkEnd::decided_touch;
+    if (iterations == kGjkMaxIterations) return GjkEnd::max_iterations;
+
+    // Support point of A - B in direction d: A's farthest along d, B's farthest along -d.
+    // Walk from the newest simplex vertex's points: the support moves little per iteration.
+    const GjkVertexN<D>& last = s.v[s.count - 1];
+    const int ia = a.support_index_from(d, last.ia);
+    const int ib = b.support_index_from(inv_rotate(b_in_a, -d), last.ib);
+    const VecN<D> wa = a.point(ia);
+    const VecN<D> wb = transform_point(b_in_a, b.point(ib));
+    const VecN<D> w = wa - wb;
+    ++iterations;
+
+    const float dw = dot(d, w);
+    if (policy.apart(dw, dd)) return GjkEnd::decided_apart;
+    // No progress: the gap between the upper and lower bounds, (dw - k) / |d|, is within
+    // kGjkRelativeTolerance of the upper bound -k / |d| (van den Bergen 2003, 4.3.4).
+    if (dw - k <= kGjkRelativeTolerance * -k) return GjkEnd::converged;
+    const int key = gjk_vertex_key(ia, ib);
+    bool repeated = false;
+    for (int i = 0; i < D + 1; ++i) repeated |= key == saved[i];
+    if (repeated) return GjkEnd::converged;
+    GjkVertexN<D>& nv = s.v[s.count++];
+    nv.wa = wa;
+    nv.wb = wb;
+    nv.w = w;
+    nv.ia = ia;
+    nv.ib = ib;
+  }
+}
+
+/// The size of a support-map pair in A's frame for the relative tolerances of run_gjk: the
+/// largest coordinate magnitude among the first simplex vertex's points, plus the radii.
+template <int D>
+[[nodiscard]] inline float gjk_scale(const GjkVertexN<D>& first, float radius_sum) noexcept {
+  return std::max(max_abs(first.wa), max_abs(first.wb)) + radius_sum;
+}
+
+}  // namespace collide
