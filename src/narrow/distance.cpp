@@ -135,4 +135,10 @@ DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,
       [&](const auto& sa, const auto& sb) { return distance(sa, xa, sb, xb, cache); }, a, b);
 }
 
+DistanceResult3 distance(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+                         const Transform3& xb, SimplexCache3* cache) noexcept {
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return distance(sa, xa, sb, xb, cache); }, a, b);
+}
+
 }  // namespace collide

@@ -11,6 +11,7 @@
 #include <collide/core/status.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/narrow/support.hpp>
+#include <collide/shape/shape3d.hpp>
 
 #include <array>
 #include <cstdint>
@@ -91,5 +92,20 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,
                                       const Transform& xb,
                                       SimplexCache* cache = nullptr) noexcept;
+
+/// Distance and closest points between 3D shape A placed by `xa` and shape B placed by `xb`,
+/// any pair of convex 3D shape types, by GJK on their cores (signed-volume simplex solver).
+/// Swapping A and B swaps the points and flips the normal.
+template <Shape3DType A, Shape3DType B>
+[[nodiscard]] DistanceResult3 distance(const A& a, const Transform3& xa, const B& b,
+                                       const Transform3& xb,
+                                       SimplexCache3* cache = nullptr) noexcept {
+  return gjk_distance<3>(ConvexProxy3(a), xa, ConvexProxy3(b), xb, cache);
+}
+
+/// `distance` for 3D shapes of types known only at run time.
+[[nodiscard]] DistanceResult3 distance(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+                                       const Transform3& xb,
+                                       SimplexCache3* cache = nullptr) noexcept;
 
 }  // namespace collide

@@ -12,6 +12,7 @@
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
 #include <collide/shape/segment3.hpp>
+#include <collide/shape/shape3d.hpp>
 #include <collide/shape/shape2d.hpp>
 #include <collide/shape/sphere.hpp>
 
@@ -199,6 +200,9 @@ class ConvexProxyN<3> {
   /// A raw point set (1..kMaxProxyPoints3 points, not copied) and radius.
   ConvexProxyN(const Vec3* points, int count, float radius) noexcept
       : points_(points), count_(count), radius_(radius), kind_(Kind::points) {}
+  /// Any convex 3D shape.
+  explicit ConvexProxyN(const Shape3D& shape) noexcept
+      : ConvexProxyN(std::visit([](const auto& s) { return ConvexProxyN(s); }, shape)) {}
 
   [[nodiscard]] int count() const noexcept { return count_; }
   [[nodiscard]] float radius() const noexcept { return radius_; }

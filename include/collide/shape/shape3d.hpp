@@ -1,0 +1,35 @@
+#pragma once
+/// @file
+/// Any convex 3D shape, for code that stores shapes of mixed types (worlds, file loaders, the
+/// query tool). Queries on `Shape3D` dispatch once on the pair of types. The non-convex level
+/// shapes (`TriangleMesh`, `HeightField`) are not alternatives: their queries visit one result
+/// per triangle and have overloads of their own.
+
+#include <collide/shape/box.hpp>
+#include <collide/shape/capsule3.hpp>
+#include <collide/shape/segment3.hpp>
+#include <collide/shape/sphere.hpp>
+
+#include <type_traits>
+#include <variant>
+
+namespace collide {
+
+/// One of the convex 3D shapes. The alternative order is the `ShapeType3D` order.
+using Shape3D = std::variant<Sphere, Capsule3, Segment3, Box>;
+
+/// The convex 3D shape types, in `Shape3D` alternative order.
+enum class ShapeType3D : unsigned char { sphere, capsule, segment, box };
+
+/// Any of the convex 3D shape structs.
+template <class T>
+concept Shape3DType = std::is_same_v<T, Sphere> || std::is_same_v<T, Capsule3> ||
+                      std::is_same_v<T, Segment3> || std::is_same_v<T, Box>;
+
+/// Bounding box of any convex 3D shape placed by `xf`, world space.
+[[nodiscard]] Aabb3 compute_aabb(const Shape3D& shape, const Transform3& xf) noexcept;
+
+/// Lower-case name of the shape's type ("sphere", "capsule", "segment", "box").
+[[nodiscard]] const char* type_name(const Shape3D& shape) noexcept;
+
+}  // namespace collide

@@ -1,0 +1,156 @@
+// 3D GJK distance (one loop with 2D; signed-volume simplex solver) against analytic answers and
+// the brute-force reference of support/brute_convex3.hpp, under random rigid transforms.
+
+#include <collide/narrow/distance.hpp>
+#include <collide/narrow/gjk.hpp>
+
+#include "support/brute_convex3.hpp"
+#include "support/test_util.hpp"
+
+#include <random>
+
+namespace collide {
+namespace {
+
+/// A random convex 3D shape of about `size`: sphere, capsule, segment or box (some rounded).
+Shape3D random_shape3(std::mt19937& rng, float size) {
+  switch (std::uniform_int_distribution<int>(0, 4)(rng)) {
+    case 0: return make_sphere(test::random_point3(rng, 0.2f * size), test::uniform(rng, 0.1f, 1.0f) * size);
+    case 1:
+      return make_capsule(test::random_point3(rng, size), test::random_point3(rng, size),
+                          test::uniform(rng, 0.05f, 0.5f) * size);
+    case 2: return make_segment(test::random_point3(rng, size), test::random_point3(rng, size));
+    case 3:
+      return make_box({test::uniform(rng, 0.1f, 1.0f) * size, test::uniform(rng, 0.1f, 1.0f) * size,
+                       test::uniform(rng, 0.1f, 1.0f) * size});
+    default:
+      return make_box({test::uniform(rng, 0.1f, 1.0f) * size, test::uniform(rng, 0.1f, 1.0f) * size,
+                       test::uniform(rng, 0.1f, 1.0f) * size},
+                      test::uniform(rng, 0.0f, 0.3f) * size);
+  }
+}
+
+test::BruteCore brute(const Shape3D& s, const Transform3& xf) {
+  return std::visit([&](const auto& v) { return test::brute_core(v, xf); }, s);
+}
+
+TEST(Gjk3, SphereSphereIsAnalytic) {
+  const Sphere a = make_sphere({0, 0, 0}, 1.0f);
+  const Sphere b = make_sphere({0, 0, 0}, 0.5f);
+  const DistanceResult3 d =
+      distance(a, Transform3{}, b, Transform3::from({3, 4, 0}, Quat{1, 0, 0, 0}));
+  EXPECT_EQ(d.status, QueryStatus::separated);
+  EXPECT_NEAR(d.distance, 3.5f, 1e-6f);
+  EXPECT_VEC3_NEAR(d.point_a, Vec3(0.6f, 0.8f, 0.0f), 1e-6f);
+  EXPECT_VEC3_NEAR(d.point_b, Vec3(2.7f, 3.6f, 0.0f), 1e-6f);
+  EXPECT_VEC3_NEAR(d.normal, Vec3(0.6f, 0.8f, 0.0f), 1e-6f);
+}
+
+TEST(Gjk3, BoxFaceEdgeAndVertexDistancesAreAnalytic) {
+  const Box a = make_box({1, 2, 3});
+  const Box b = make_box({0.5f, 0.5f, 0.5f});
+  // Face: B above A's +y face.
+  DistanceResult3 d = distance(a, Transform3{}, b, Transform3::from({0.2f, 4.0f, -0.3f}, Quat{1, 0, 0, 0}));
+  EXPECT_NEAR(d.distance, 1.5f, 1e-5f);
+  EXPECT_VEC3_NEAR(d.normal, Vec3(0, 1, 0), 1e-5f);
+  // Vertex against vertex along the diagonal.
+  d = distance(a, Transform3{}, b, Transform3::from({3.5f, 4.5f, 5.5f}, Quat{1, 0, 0, 0}));
+  EXPECT_NEAR(d.distance, std::sqrt(3.0f) * 2.0f, 1e-5f);
+  EXPECT_VEC3_NEAR(d.point_a, Vec3(1, 2, 3), 1e-5f);
+  EXPECT_VEC3_NEAR(d.point_b, Vec3(3, 4, 5), 1e-5f);
+  // Edge against edge: B turned 45 degrees about z, beside A's +x face, its edge along z.
+  const Transform3 turned = Transform3::from_axis_angle({3.0f, 0.0f, 0.0f}, {0, 0, 1}, 0.25f * test::kPi);
+  d = distance(a, Transform3{}, b, turned);
+  EXPECT_NEAR(d.distance, 2.0f - 0.5f * std::sqrt(2.0f), 1e-5f);
+  // Overlapping cores.
+  d = distance(a, Transform3{}, b, Transform3::from({0.5f, 0.5f, 0.5f}, Quat{1, 0, 0, 0}));
+  EXPECT_EQ(d.status, QueryStatus::overlapped);
+  EXPECT_EQ(d.distance, 0.0f);
+}
+
+/// Random pairs of every kind against the brute-force reference, under random rigid motions at
+/// the origin and 1e4 away from it; both outcomes exercised.
+void check_random_pairs(float offset, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  int separated = 0;
+  int overlapped = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const float size = 1.0f;
+    const Shape3D sa = random_shape3(rng, size);
+    const Shape3D sb = random_shape3(rng, size);
+    const Vec3 base = Vec3(offset, -0.5f * offset, 0.25f * offset);
+    const Transform3 xa = Transform3::from(base + test::random_point3(rng, 1.0f), test::random_rotation(rng));
+    const Transform3 xb = Transform3::from(base + test::random_point3(rng, 2.0f), test::random_rotation(rng));
+    const DistanceResult3 d = distance(sa, xa, sb, xb);
+    const test::BruteCore ca = brute(sa, xa);
+    const test::BruteCore cb = brute(sb, xb);
+    const double truth = test::brute_distance(ca, cb);
+    const double core_truth = test::brute_core_distance(ca, cb);
+    // Float rounding of the coordinates (|offset| + sizes) bounds the attainable accuracy.
+    const float tol = 4e-6f * offset + 2e-5f;
+    SCOPED_TRACE(testing::Message() << "pair " << k << " " << type_name(sa) << "-" << type_name(sb)
+                                    << " truth " << truth << " core " << core_truth << " got "
+                                    << d.distance << " status " << to_string(d.status));
+    ASSERT_NE(d.status, QueryStatus::max_iterations);
+    EXPECT_NEAR(d.distance, truth, tol);
+    if (core_truth > 10.0 * tol) {
+      ASSERT_EQ(d.status, QueryStatus::separated);
+      // The witnesses: their gap is the distance (apart), each on its own shape's surface.
+      if (truth > 0.0) {
+        EXPECT_NEAR(distance(d.point_a, d.point_b), d.distance, tol);
+        EXPECT_NEAR(length(d.normal), 1.0f, 1e-5f);
+        EXPECT_NEAR(dot(d.point_b - d.point_a, d.normal), d.distance, tol);
+      }
+      const test::DVec3 pa(d.point_a);
+      const test::DVec3 pb(d.point_b);
+      EXPECT_LE(test::brute_point_distance(ca, pa), tol);
+      EXPECT_LE(test::brute_point_distance(cb, pb), tol);
+      ++separated;
+    } else if (core_truth == 0.0) {
+      // Overlapping cores: GJK must find the origin inside A - B.
+      EXPECT_EQ(d.status, QueryStatus::overlapped);
+      ++overlapped;
+    }
+  }
+  EXPECT_GT(separated, 600) << overlapped;
+  EXPECT_GT(overlapped, 100) << separated;
+}
+
+TEST(Gjk3, RandomPairsMatchBruteForce) { check_random_pairs(0.0f, 11); }
+TEST(Gjk3, RandomPairsFarFromTheOriginMatchBruteForce) { check_random_pairs(1e4f, 12); }
+
+TEST(Gjk3, WarmStartGivesTheSameAnswerInFewerIterations) {
+  std::mt19937 rng(5);
+  int cold_total = 0;
+  int warm_total = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Box a = make_box({1.0f, 0.5f, 0.7f});
+    const Box b = make_box({0.3f, 0.8f, 0.4f});
+    Transform3 xb = Transform3::from(test::random_point3(rng, 3.0f) + Vec3(4, 0, 0), test::random_rotation(rng));
+    SimplexCache3 cache;
+    (void)distance(a, Transform3{}, b, xb, &cache);
+    // Move B a little: the cached simplex is near the answer.
+    xb.p += Vec3(0.01f, -0.02f, 0.015f);
+    const DistanceResult3 cold = distance(a, Transform3{}, b, xb);
+    const DistanceResult3 warm = distance(a, Transform3{}, b, xb, &cache);
+    EXPECT_NEAR(warm.distance, cold.distance, 1e-4f);
+    cold_total += cold.iterations;
+    warm_total += warm.iterations;
+  }
+  EXPECT_LT(warm_total, cold_total);
+}
+
+TEST(Gjk3, SizeRatioOf1e4StaysAccurate) {
+  std::mt19937 rng(3);
+  for (int k = 0; k < 500; ++k) {
+    const Box big = make_box({100.0f, 50.0f, 80.0f});
+    const Sphere small = make_sphere({0, 0, 0}, 0.01f);
+    const Transform3 xb = Transform3::from(test::random_point3(rng, 120.0f), Quat{1, 0, 0, 0});
+    const DistanceResult3 d = distance(big, Transform3{}, small, xb);
+    const double truth = test::brute_distance(test::brute_core(big, Transform3{}), test::brute_core(small, xb));
+    EXPECT_NEAR(d.distance, truth, 2e-3f) << k;
+  }
+}
+
+}  // namespace
+}  // namespace collide
