@@ -12,7 +12,8 @@
 namespace collide {
 namespace {
 
-[[nodiscard]] bool holds(const GjkSimplexN<2>& s, int ia, int ib) noexcept {
+template <int D>
+[[nodiscard]] bool holds(const GjkSimplexN<D>& s, int ia, int ib) noexcept {
   for (int i = 0; i < s.count; ++i) {
     if (s.v[i].ia == ia && s.v[i].ib == ib) return true;
   }
@@ -20,19 +21,20 @@ namespace {
 }
 
 /// The vertex pairs of a simplex, to notice an iteration that changed nothing.
+template <int D>
 struct SimplexIds {
-  std::array<int, 3> ia{};
-  std::array<int, 3> ib{};
+  std::array<int, D + 1> ia{};
+  std::array<int, D + 1> ib{};
   int count = 0;
 
-  explicit SimplexIds(const GjkSimplexN<2>& s) noexcept : count(s.count) {
+  explicit SimplexIds(const GjkSimplexN<D>& s) noexcept : count(s.count) {
     for (int i = 0; i < s.count; ++i) {
       ia[i] = s.v[i].ia;
       ib[i] = s.v[i].ib;
     }
   }
   /// Same vertex pairs as `s`, as a set?
-  [[nodiscard]] bool same_as(const GjkSimplexN<2>& s) const noexcept {
+  [[nodiscard]] bool same_as(const GjkSimplexN<D>& s) const noexcept {
     if (s.count != count) return false;
     for (int i = 0; i < count; ++i) {
       if (!holds(s, ia[i], ib[i])) return false;
@@ -40,6 +42,10 @@ struct SimplexIds {
     return true;
   }
 };
+
+/// The sine of the angle between unit vectors n and m (its absolute value): |n x m|.
+[[nodiscard]] inline float sin_between(Vec2 n, Vec2 m) noexcept { return std::fabs(cross(n, m)); }
+[[nodiscard]] inline float sin_between(Vec3 n, Vec3 m) noexcept { return length(cross(n, m)); }
 
 }  // namespace
 
@@ -65,13 +71,15 @@ void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb
 // along or away from the plane instead, it never touches D. Then p joins the simplex. The
 // loop ends when the upper bound of the separation at x (distance to the simplex, minus R) is
 // within tolerance and the simplex is D's closest feature (lower and upper bounds agree).
-ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 va,
-                               const ConvexProxy& b, const Transform& xb, Vec2 vb) noexcept {
+template <int D>
+ShapeCastResultN<D> gjk_shape_cast(const ConvexProxyN<D>& a, const TransformN<D>& xa, VecN<D> va,
+                                   const ConvexProxyN<D>& b, const TransformN<D>& xb,
+                                   VecN<D> vb) noexcept {
   COLLIDE_ASSERT(is_finite(va) && is_finite(vb), "shape cast velocities must be finite");
   COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "shape cast proxies must hold points");
 
-  const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 ray = inv_rotate(xa.q, vb - va);  // x(t) = t * ray, A's frame
+  const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
+  const VecN<D> ray = inv_rotate(xa.q, vb - va);  // x(t) = t * ray, A's frame
   const float radius = a.radius() + b.radius();
 
   const float size_a = detail::proxy_size(a);
@@ -80,39 +88,34 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance = kShapeCastTolerance * smaller + kShapeCastRounding * magnitude;
 
-  GjkSimplexN<2> simplex;
+  GjkSimplexN<D> simplex;
   // Start from the first core points (x = 0, so relative is absolute). The seed of
   // gjk_distance (support pair between the origins) saved no time here: casts converge in 2-3
   // iterations either way and the seed costs one support query.
-  simplex.v[0] = gjk_vertex<2>(a, b, b_in_a, 0, 0);
+  simplex.v[0] = gjk_vertex<D>(a, b, b_in_a, 0, 0);
   simplex.count = 1;
 
-  ShapeCastResult result;
+  ShapeCastResultN<D> result;
   float t = 0.0f;
-  Vec2 plane_normal{0.0f, 0.0f};  // of the last support plane advanced to, from D towards x
-  Vec2 n{0.0f, 0.0f};             // current search direction, unit
+  VecN<D> plane_normal{0.0f};  // of the last support plane advanced to, from D towards x
+  VecN<D> n{0.0f};             // current search direction, unit
   float dist = 0.0f;              // distance from x to the simplex: upper bound of the cores'
   float lower_known = -INFINITY;  // best lower bound of the cores' distance at x (support planes)
-  Vec2 lower_normal{0.0f, 0.0f};  // normal of the plane that gives it
+  VecN<D> lower_normal{0.0f};     // normal of the plane that gives it
   bool advanced = false;
   bool converged = false;
   bool moved = true;
   bool stalled = false;
   // The reduced simplex of the last iteration, recorded only when x did not move in it (the
   // only case the stall test above reads it): copying it every iteration cost 6%.
-  SimplexIds previous(simplex);
+  SimplexIds<D> previous(simplex);
   int last_ia = 0;               // last support points: where the next support walk starts
   int last_ib = 0;
   int iteration = 0;
   for (; iteration < kShapeCastMaxIterations; ++iteration) {
-    if (simplex.count == 2) {
-      gjk_solve_edge(simplex);
-    } else if (simplex.count == 3) {
-      gjk_solve_triangle(simplex);
-      if (simplex.count == 3) {
-        converged = true;  // x inside the cores' difference: they touch or overlap at t
-        break;
-      }
+    if (gjk_reduce(simplex)) {
+      converged = true;  // x inside the cores' difference: they touch or overlap at t
+      break;
     }
     if (!moved && previous.same_as(simplex)) {
       // The new support point was dropped again and x did not move: no progress is possible
@@ -121,14 +124,11 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
       stalled = !converged;
       break;
     }
-    // Direction from the simplex towards x; on an edge the edge's perpendicular (exact even
-    // when the points are far from x, which the support planes built on it need).
-    const Vec2 w0 = simplex.v[0].w;
-    Vec2 d = -w0;
-    if (simplex.count == 2) {
-      const Vec2 e = simplex.v[1].w - w0;
-      d = cross(e, -w0) > 0.0f ? left_perp(e) : right_perp(e);
-    }
+    // Direction from the simplex towards x (the points are stored relative to x): on an edge
+    // the edge's perpendicular, on a triangle its normal (exact even when the points are far
+    // from x, which the support planes built on it need).
+    const VecN<D> w0 = simplex.v[0].w;
+    const VecN<D> d = gjk_search_direction(simplex);
     const float d_len = length(d);
     dist = -dot(d, w0) / d_len;
     if (!(dist > 0.0f)) {
@@ -137,7 +137,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
     }
     n = d * (1.0f / d_len);
     if (dist - radius <= tolerance && dist - lower_known <= tolerance &&
-        dist * std::fabs(cross(n, lower_normal)) <= tolerance && dot(n, lower_normal) > 0.0f) {
+        dist * sin_between(n, lower_normal) <= tolerance && dot(n, lower_normal) > 0.0f) {
       // Converged without another support query (the usual end, right after the ray advanced
       // onto a plane): that plane bounds the distance from below, and the simplex's direction
       // is the plane's (within tolerance at this distance), so the simplex's closest point
@@ -149,12 +149,12 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
     // Support point of D along n (the side facing x): A's farthest along n, B's along -n.
     // Walked from the last ones (polygons; other proxies scan).
     const int ia = a.support_index_from(n, last_ia);
-    const int ib = b.support_index_from(inv_rotate(b_in_a.q, -n), last_ib);
+    const int ib = b.support_index_from(inv_rotate(b_in_a, -n), last_ib);
     last_ia = ia;
     last_ib = ib;
-    const Vec2 wa = a.point(ia);
-    const Vec2 wb = transform_point(b_in_a, b.point(ib));
-    Vec2 w = (wa - wb) - t * ray;  // relative to x
+    const VecN<D> wa = a.point(ia);
+    const VecN<D> wb = transform_point(b_in_a, b.point(ib));
+    VecN<D> w = (wa - wb) - t * ray;  // relative to x
     const float lower = -dot(n, w);  // lower bound of the cores' distance at x
     if (lower > lower_known) {
       lower_known = lower;
@@ -183,7 +183,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
           if (gap + (1.0f - t) * rn > tolerance) break;
           t_new = 1.0f;
         }
-        const Vec2 dx = (t_new - t) * ray;
+        const VecN<D> dx = (t_new - t) * ray;
         for (int i = 0; i < simplex.count; ++i) simplex.v[i].w -= dx;
         w -= dx;
         moved = t_new > t;
@@ -196,7 +196,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         lower_normal = n;
       }
     }
-    if (!moved) previous = SimplexIds(simplex);
+    if (!moved) previous = SimplexIds<D>(simplex);
     if (holds(simplex, ia, ib)) {
       if (!moved) {
         // No new support point and x did not move: converged within rounding, and the
@@ -205,7 +205,7 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
         break;
       }
     } else {
-      GjkVertexN<2>& nv = simplex.v[simplex.count++];
+      GjkVertexN<D>& nv = simplex.v[simplex.count++];
       nv.wa = wa;
       nv.wb = wb;
       nv.w = w;
@@ -224,12 +224,12 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   }
 
   // Contact: the closest features' points from the simplex's barycentric coordinates.
-  Vec2 pa{0.0f, 0.0f};
-  Vec2 pb{0.0f, 0.0f};
+  VecN<D> pa{0.0f};
+  VecN<D> pb{0.0f};
   gjk_witness_points(simplex, pa, pb);
   // With x inside the triangle, gjk_witness_points returns A's point for both (right only at
   // x = 0); B's point is A's minus x, since x is the difference A - B there.
-  if (simplex.count == 3) pb = pa - t * ray;
+  if (simplex.count == D + 1) pb = pa - t * ray;
   // The normal, from A to B: D's outward normal at x (the direction from D towards x), which
   // is A's outward normal at the contact, since D = A - B. When the
   // cores are apart by more than the tolerance (rounded shapes), the direction between their
@@ -238,14 +238,14 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   // advanced to: x lies on it, so the shapes' separation along it is exactly zero at t, which
   // makes it a contact normal (at a vertex, one of the valid ones). Without an advance
   // (overlapped at t = 0) and with touching cores there is none.
-  Vec2 n_local{0.0f, 0.0f};
-  if (simplex.count < 3 && dist > tolerance) {
+  VecN<D> n_local{0.0f};
+  if (simplex.count < D + 1 && dist > tolerance) {
     n_local = n;
   } else if (advanced) {
     n_local = plane_normal;
   }
-  const Vec2 surface_a = pa + t * inv_rotate(xa.q, va) + a.radius() * n_local;
-  const Vec2 surface_b = pb + t * inv_rotate(xa.q, vb) - b.radius() * n_local;
+  const VecN<D> surface_a = pa + t * inv_rotate(xa.q, va) + a.radius() * n_local;
+  const VecN<D> surface_b = pb + t * inv_rotate(xa.q, vb) - b.radius() * n_local;
   result.hit = true;
   result.status = advanced ? QueryStatus::hit : QueryStatus::overlapped;
   result.point = transform_point(xa, 0.5f * (surface_a + surface_b));
@@ -253,10 +253,30 @@ ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 v
   return result;
 }
 
+template ShapeCastResultN<2> gjk_shape_cast<2>(const ConvexProxyN<2>&, const Transform&, Vec2,
+                                               const ConvexProxyN<2>&, const Transform&,
+                                               Vec2) noexcept;
+template ShapeCastResultN<3> gjk_shape_cast<3>(const ConvexProxyN<3>&, const Transform3&, Vec3,
+                                               const ConvexProxyN<3>&, const Transform3&,
+                                               Vec3) noexcept;
+
+void check_cast_input(const Transform3& xa, Vec3 va, const Transform3& xb, Vec3 vb) {
+  if (!is_valid(xa)) throw InvalidInput("xa: not finite or rotation not unit length");
+  if (!is_valid(xb)) throw InvalidInput("xb: not finite or rotation not unit length");
+  if (!is_finite(va)) throw InvalidInput("va: not finite");
+  if (!is_finite(vb)) throw InvalidInput("vb: not finite");
+}
+
+ShapeCastResult3 shape_cast(const Shape3D& a, const Transform3& xa, Vec3 va, const Shape3D& b,
+                            const Transform3& xb, Vec3 vb) {
+  check_cast_input(xa, va, xb, vb);
+  return gjk_shape_cast<3>(ConvexProxy3(a), xa, va, ConvexProxy3(b), xb, vb);
+}
+
 ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va, const Shape2D& b,
                            const Transform& xb, Vec2 vb) {
   check_cast_input(xa, va, xb, vb);
-  return gjk_shape_cast(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
+  return gjk_shape_cast<2>(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 
 }  // namespace collide

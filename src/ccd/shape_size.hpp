@@ -13,8 +13,12 @@ namespace collide::detail {
 /// ends), plus the radius. For convex polygons, about the diameter (at least half of it for
 /// any reasonable vertex spacing); exact for circles, capsules and segments. A full pass over
 /// the vertices cost 8% of a shape cast and bought nothing a tolerance needs.
+/// In 3D the pair is point 0 and the last point (a box's opposite corners).
 [[nodiscard]] inline float proxy_size(const ConvexProxy& p) noexcept {
   return distance(p.point(0), p.point(p.count() / 2)) + p.radius();
+}
+[[nodiscard]] inline float proxy_size(const ConvexProxy3& p) noexcept {
+  return distance(p.point(0), p.point(p.count() - 1)) + p.radius();
 }
 
 /// The smaller of two sizes, unless it is zero (a point), then the larger.

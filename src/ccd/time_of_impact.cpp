@@ -238,7 +238,7 @@ ToiResult translation_toi(const ConvexProxy& a, const Sweep& sweep_a, const Conv
   const ConvexProxy grown_b(b.points(), b.count(), b.radius() + 0.5f * target);
   const Transform xa = sweep_a.at(0.0f);
   const Transform xb = sweep_b.at(0.0f);
-  const ShapeCastResult cast = gjk_shape_cast(grown_a, xa, sweep_a.c1 - sweep_a.c0, grown_b, xb,
+  const ShapeCastResult cast = gjk_shape_cast<2>(grown_a, xa, sweep_a.c1 - sweep_a.c0, grown_b, xb,
                                               sweep_b.c1 - sweep_b.c0);
   ToiResult r;
   r.status = cast.status;

@@ -17,6 +17,7 @@
 ///    kept as the readable reference the fast path is tested against, and for pictures.
 
 #include <collide/core/status.hpp>
+#include <collide/core/transform3.hpp>
 #include <collide/narrow/support.hpp>
 #include <collide/shape/shape2d.hpp>
 
@@ -66,19 +67,32 @@ using ShapeCastResult = ShapeCastResultN<2>;   ///< 2D shape cast result
 using ShapeCastResult3 = ShapeCastResultN<3>;  ///< 3D shape cast result
 
 /// Time of first touch of proxy A placed by `xa` and translating by `va` (world units over the
-/// step) and proxy B placed by `xb` translating by `vb`, t in [0, 1], by GJK ray casting into
-/// A - B (van den Bergen 2004). Radii are handled exactly (the cast stops at the radius sum).
-/// Works in A's frame, so large coordinates cancel first. Never allocates. Proxies must hold
-/// 1..kMaxPolygonVertices finite points; transforms and velocities must be finite (checked by
-/// COLLIDE_ASSERT only: validated entry points are `shape_cast`).
-[[nodiscard]] ShapeCastResult gjk_shape_cast(const ConvexProxy& a, const Transform& xa, Vec2 va,
-                                             const ConvexProxy& b, const Transform& xb,
-                                             Vec2 vb) noexcept;
+/// step) and proxy B placed by `xb` translating by `vb`, as a fraction of the step in [0, 1], by
+/// GJK ray casting into A - B (van den Bergen 2004), in 2D or 3D. Radii are handled exactly
+/// (the cast stops at the radius sum). Works in A's frame, so large coordinates cancel first.
+/// Never allocates. Proxies must hold 1..kMaxPolygonVertices (2D) / kMaxProxyPoints3 (3D) finite
+/// points; transforms and velocities must be finite (checked by COLLIDE_ASSERT only: validated
+/// entry points are `shape_cast`).
+template <int D>
+[[nodiscard]] ShapeCastResultN<D> gjk_shape_cast(const ConvexProxyN<D>& a,
+                                                 const TransformN<D>& xa, VecN<D> va,
+                                                 const ConvexProxyN<D>& b,
+                                                 const TransformN<D>& xb, VecN<D> vb) noexcept;
+
+extern template ShapeCastResultN<2> gjk_shape_cast<2>(const ConvexProxyN<2>&, const Transform&,
+                                                      Vec2, const ConvexProxyN<2>&,
+                                                      const Transform&, Vec2) noexcept;
+extern template ShapeCastResultN<3> gjk_shape_cast<3>(const ConvexProxyN<3>&, const Transform3&,
+                                                      Vec3, const ConvexProxyN<3>&,
+                                                      const Transform3&, Vec3) noexcept;
 
 /// The validation of the shape-cast entry points: throws InvalidInput naming the field ("xa",
 /// "va", "xb", "vb") if a transform is not finite rigid (unit rotation) or a translation is not
 /// finite.
 void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb);
+/// The same for 3D: throws InvalidInput naming "xa", "va", "xb" or "vb" (a quaternion must be
+/// unit length within 1e-3).
+void check_cast_input(const Transform3& xa, Vec3 va, const Transform3& xb, Vec3 vb);
 
 /// Time of first touch of shape A (placed by `xa`, translating by `va` over the step) and shape
 /// B (placed by `xb`, translating by `vb`), any pair of 2D shape types; see `gjk_shape_cast`.
@@ -88,7 +102,7 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] ShapeCastResult shape_cast(const A& a, const Transform& xa, Vec2 va, const B& b,
                                          const Transform& xb, Vec2 vb) {
   check_cast_input(xa, va, xb, vb);
-  return gjk_shape_cast(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
+  return gjk_shape_cast<2>(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 
 /// `shape_cast` for shapes whose types are known only at run time (the query tool's `toi`).
@@ -106,5 +120,21 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2 va,
                                                    const Polygon& b, const Transform& xb,
                                                    Vec2 vb);
+
+/// Time of first touch of 3D shape A (placed by `xa`, translating by `va` over the step) and
+/// shape B (placed by `xb`, translating by `vb`), any pair of convex 3D shape types: the GJK
+/// ray cast into A - B of `gjk_shape_cast`. Swapping A and B gives the same fraction and point
+/// and the flipped normal. Throws InvalidInput if a transform or velocity is not finite or a
+/// rotation is not unit length (shapes must come from the make_* functions).
+template <Shape3DType A, Shape3DType B>
+[[nodiscard]] ShapeCastResult3 shape_cast(const A& a, const Transform3& xa, Vec3 va, const B& b,
+                                          const Transform3& xb, Vec3 vb) {
+  check_cast_input(xa, va, xb, vb);
+  return gjk_shape_cast<3>(ConvexProxy3(a), xa, va, ConvexProxy3(b), xb, vb);
+}
+
+/// `shape_cast` for 3D shapes whose types are known only at run time.
+[[nodiscard]] ShapeCastResult3 shape_cast(const Shape3D& a, const Transform3& xa, Vec3 va,
+                                          const Shape3D& b, const Transform3& xb, Vec3 vb);
 
 }  // namespace collide

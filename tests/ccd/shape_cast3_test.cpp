@@ -1,0 +1,145 @@
+// 3D shape casts (the lesson's ray into the Minkowski difference A - B, by the one GJK loop)
+// against the brute-force reference: the distance between translating convex shapes is convex
+// in time, so the first touch is found by a ternary search for the closest approach and a
+// bisection before it.
+
+#include <collide/ccd/shape_cast.hpp>
+#include <collide/core/error.hpp>
+
+#include "support/brute_convex3.hpp"
+#include "support/test_util.hpp"
+
+#include <random>
+
+namespace collide {
+namespace {
+
+Shape3D random_shape3(std::mt19937& rng, float size) {
+  switch (std::uniform_int_distribution<int>(0, 3)(rng)) {
+    case 0: return make_sphere(test::random_point3(rng, 0.2f * size), test::uniform(rng, 0.1f, 1.0f) * size);
+    case 1:
+      return make_capsule(test::random_point3(rng, size), test::random_point3(rng, size),
+                          test::uniform(rng, 0.05f, 0.5f) * size);
+    case 2: return make_segment(test::random_point3(rng, size), test::random_point3(rng, size));
+    default:
+      return make_box({test::uniform(rng, 0.1f, 1.0f) * size, test::uniform(rng, 0.1f, 1.0f) * size,
+                       test::uniform(rng, 0.1f, 1.0f) * size},
+                      test::uniform(rng, 0.0f, 0.2f) * size);
+  }
+}
+
+/// The brute-force first touch of two translating shapes.
+struct CastTruth {
+  Shape3D a, b;
+  Transform3 xa, xb;
+  Vec3 va, vb;
+
+  [[nodiscard]] double distance_at(double t) const {
+    Transform3 ya = xa;
+    Transform3 yb = xb;
+    ya.p += float(t) * va;
+    yb.p += float(t) * vb;
+    const auto ca = std::visit([&](const auto& s) { return test::brute_core(s, ya); }, a);
+    const auto cb = std::visit([&](const auto& s) { return test::brute_core(s, yb); }, b);
+    return test::brute_distance(ca, cb);
+  }
+  /// First t in [0, 1] with distance 0, or -1 when they never touch (closest approach > 0).
+  [[nodiscard]] double first_touch(double& min_distance) const {
+    double lo = 0.0;
+    double hi = 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double m1 = lo + (hi - lo) / 3.0;
+      const double m2 = hi - (hi - lo) / 3.0;
+      if (distance_at(m1) <= distance_at(m2)) hi = m2; else lo = m1;
+    }
+    const double t_min = 0.5 * (lo + hi);
+    min_distance = std::min({distance_at(t_min), distance_at(0.0), distance_at(1.0)});
+    if (min_distance > 0.0) return -1.0;
+    if (distance_at(0.0) <= 0.0) return 0.0;
+    double a = 0.0;
+    double b = distance_at(t_min) <= 0.0 ? t_min : 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double m = 0.5 * (a + b);
+      if (distance_at(m) > 0.0) a = m; else b = m;
+    }
+    return b;
+  }
+};
+
+TEST(ShapeCast3, SphereIntoBoxFaceIsAnalytic) {
+  const Box box = make_box({1, 1, 1});
+  const Sphere ball = make_sphere({0, 0, 0}, 0.5f);
+  // The ball starts 4 above the box's centre and falls 4: it touches the top face at 2.5 / 4.
+  const ShapeCastResult3 r = shape_cast(box, Transform3{}, Vec3(0.0f), ball,
+                                        Transform3::from({0.3f, 4.0f, -0.2f}, Quat{1, 0, 0, 0}),
+                                        Vec3(0, -4, 0));
+  EXPECT_EQ(r.status, QueryStatus::hit);
+  EXPECT_NEAR(r.fraction, 2.5f / 4.0f, 1e-4f);
+  EXPECT_VEC3_NEAR(r.normal, Vec3(0, 1, 0), 1e-4f);
+  EXPECT_VEC3_NEAR(r.point, Vec3(0.3f, 1.0f, -0.2f), 1e-3f);
+}
+
+TEST(ShapeCast3, OverlappingAtTheStartAndMissingAreReported) {
+  const Box box = make_box({1, 1, 1});
+  const Sphere ball = make_sphere({0, 0, 0}, 0.5f);
+  const ShapeCastResult3 over = shape_cast(box, Transform3{}, Vec3(0.0f), ball,
+                                           Transform3::from({0.5f, 0.5f, 0.5f}, Quat{1, 0, 0, 0}), Vec3(1, 0, 0));
+  EXPECT_EQ(over.status, QueryStatus::overlapped);
+  EXPECT_EQ(over.fraction, 0.0f);
+  const ShapeCastResult3 miss = shape_cast(box, Transform3{}, Vec3(0.0f), ball,
+                                           Transform3::from({0, 4, 0}, Quat{1, 0, 0, 0}), Vec3(5, 0, 0));
+  EXPECT_EQ(miss.status, QueryStatus::separated);
+  EXPECT_FALSE(miss.hit);
+  EXPECT_EQ(miss.fraction, 1.0f);
+  EXPECT_THROW((void)shape_cast(box, Transform3{}, Vec3(NAN, 0, 0), ball, Transform3{}, Vec3(0.0f)),
+               InvalidInput);
+}
+
+void check_random_casts(float offset, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  int hits = 0;
+  int misses = 0;
+  for (int k = 0; k < 1500; ++k) {
+    CastTruth c{random_shape3(rng, 1.0f), random_shape3(rng, 1.0f), {}, {}, {}, {}};
+    const Vec3 base(offset, 0.5f * offset, -offset);
+    c.xa = Transform3::from(base + test::random_point3(rng, 1.0f), test::random_rotation(rng));
+    c.xb = Transform3::from(base + test::random_point3(rng, 5.0f), test::random_rotation(rng));
+    c.va = test::random_point3(rng, 3.0f);
+    c.vb = (c.xa.p - c.xb.p) * test::uniform(rng, 0.0f, 2.0f) + test::random_point3(rng, 2.0f);
+    const ShapeCastResult3 r = shape_cast(c.a, c.xa, c.va, c.b, c.xb, c.vb);
+    double min_distance = 0.0;
+    const double truth = c.first_touch(min_distance);
+    const float tol = 1e-3f + 4e-6f * offset;  // distance at the reported time
+    SCOPED_TRACE(testing::Message() << "case " << k << " " << type_name(c.a) << "-" << type_name(c.b)
+                                    << " truth " << truth << " min d " << min_distance << " got "
+                                    << r.fraction << " " << to_string(r.status));
+    ASSERT_NE(r.status, QueryStatus::max_iterations);
+    if (truth < 0.0) {
+      if (min_distance > tol) {
+        EXPECT_EQ(r.status, QueryStatus::separated);
+        ++misses;
+      }
+      continue;
+    }
+    if (truth == 0.0) {
+      EXPECT_EQ(r.status, QueryStatus::overlapped);
+      continue;
+    }
+    ASSERT_TRUE(r.hit);
+    // Never late; at the reported time the shapes are within the tolerance of touching.
+    const double speed = length(c.vb - c.va);
+    EXPECT_LE(r.fraction, truth + 1e-5 + tol / std::max(speed, 1e-3));
+    EXPECT_LE(c.distance_at(r.fraction), tol);
+    // The normal points from A to B: moving B along it by a little takes the shapes apart.
+    EXPECT_NEAR(length(r.normal), 1.0f, 1e-4f) << "normal";
+    ++hits;
+  }
+  EXPECT_GT(hits, 200) << misses;
+  EXPECT_GT(misses, 200) << hits;
+}
+
+TEST(ShapeCast3, RandomCastsMatchBruteForce) { check_random_casts(0.0f, 21); }
+TEST(ShapeCast3, RandomCastsFarFromTheOriginMatchBruteForce) { check_random_casts(1e4f, 22); }
+
+}  // namespace
+}  // namespace collide
