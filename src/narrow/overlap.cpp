@@ -76,24 +76,26 @@ struct GjkOverlapBounds {
   }
 };
 
-/// Boolean GJK on two proxies (van den Bergen 2003, 4.3.4: the separating-axis lower bound).
-[[nodiscard]] bool overlap_gjk(const ConvexProxy& a, const Transform& xa, const ConvexProxy& b,
-                               const Transform& xb) noexcept {
-  const Transform b_in_a = inv_mul(xa, xb);
+/// Boolean GJK on two proxies (van den Bergen 2003, 4.3.4: the separating-axis lower bound),
+/// in 2D or 3D.
+template <int D>
+[[nodiscard]] bool overlap_gjk(const ConvexProxyN<D>& a, const TransformN<D>& xa,
+                               const ConvexProxyN<D>& b, const TransformN<D>& xb) noexcept {
+  const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
   const float radius_sum = a.radius() + b.radius();
-  GjkSimplexN<2> s;
-  s.v[0] = gjk_seed_vertex<2>(a, b, b_in_a);
+  GjkSimplexN<D> s;
+  s.v[0] = gjk_seed_vertex<D>(a, b, b_in_a);
   s.count = 1;
-  const float scale = gjk_scale<2>(s.v[0], radius_sum);
+  const float scale = gjk_scale<D>(s.v[0], radius_sum);
   const float reach = radius_sum + kRelativeTolerance * scale;
   const GjkOverlapBounds bounds{reach * reach};
   // The seed is the support pair along c = B's origin in A's frame, so every point of the
-  // Minkowski difference has c.x >= c.w0: a separating-axis test for free, which settles most
-  // well-separated pairs before any iteration.
-  const Vec2 c = b_in_a.p;
+  // Minkowski difference A - B has c.x <= c.w0: a separating-axis test for free, which
+  // settles most well-separated pairs before any iteration.
+  const VecN<D> c = b_in_a.p;
   if (bounds.apart(dot(c, s.v[0].w), dot(c, c))) return false;
   int iterations = 0;
-  switch (run_gjk<2>(a, b, b_in_a, s, scale, bounds, iterations)) {
+  switch (run_gjk<D>(a, b, b_in_a, s, scale, bounds, iterations)) {
     case GjkEnd::overlapped:
     case GjkEnd::decided_touch:
       return true;
@@ -103,8 +105,8 @@ struct GjkOverlapBounds {
     case GjkEnd::max_iterations:
       break;
   }
-  Vec2 pa;
-  Vec2 pb;
+  VecN<D> pa;
+  VecN<D> pb;
   gjk_witness_points(s, pa, pb);
   return distance_squared(pa, pb) <= reach * reach;
 }
@@ -115,7 +117,7 @@ template <Shape2DType A, Shape2DType B>
 bool overlap(const A& a, const Transform& xa, const B& b, const Transform& xb) noexcept {
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
   if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
-    return overlap_gjk(ConvexProxy(a), xa, ConvexProxy(b), xb);
+    return overlap_gjk<2>(ConvexProxy(a), xa, ConvexProxy(b), xb);
   } else {
     // Everything in A's frame, so large world coordinates cancel first.
     return overlap_rounded<std::is_same_v<A, Circle>, std::is_same_v<B, Circle>>(
@@ -143,5 +145,40 @@ COLLIDE_OVERLAP_ROW(Polygon)
 COLLIDE_OVERLAP_ROW(Segment)
 #undef COLLIDE_OVERLAP_ROW
 #undef COLLIDE_OVERLAP_PAIR
+
+template <Shape3DType A, Shape3DType B>
+bool overlap(const A& a, const Transform3& xa, const B& b, const Transform3& xb) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
+  if constexpr (std::is_same_v<A, Sphere> && std::is_same_v<B, Sphere>) {
+    // The offset between the centres, world positions subtracted first (as in A's frame).
+    const Vec3 d = (xb.p - xa.p) + (rotate(xb.q, b.center) - rotate(xa.q, a.center));
+    const float radius_sum = a.radius + b.radius;
+    const float reach = radius_sum + kRelativeTolerance * (max_abs(d) + radius_sum);
+    return dot(d, d) <= reach * reach;
+  } else {
+    return overlap_gjk<3>(ConvexProxy3(a), xa, ConvexProxy3(b), xb);
+  }
+}
+
+bool overlap(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+             const Transform3& xb) noexcept {
+  return std::visit([&](const auto& sa, const auto& sb) { return overlap(sa, xa, sb, xb); }, a,
+                    b);
+}
+
+// Every ordered pair of convex 3D shapes.
+#define COLLIDE_OVERLAP3_PAIR(A, B) \
+  template bool overlap<A, B>(const A&, const Transform3&, const B&, const Transform3&) noexcept;
+#define COLLIDE_OVERLAP3_ROW(A)      \
+  COLLIDE_OVERLAP3_PAIR(A, Sphere)   \
+  COLLIDE_OVERLAP3_PAIR(A, Capsule3) \
+  COLLIDE_OVERLAP3_PAIR(A, Segment3) \
+  COLLIDE_OVERLAP3_PAIR(A, Box)
+COLLIDE_OVERLAP3_ROW(Sphere)
+COLLIDE_OVERLAP3_ROW(Capsule3)
+COLLIDE_OVERLAP3_ROW(Segment3)
+COLLIDE_OVERLAP3_ROW(Box)
+#undef COLLIDE_OVERLAP3_ROW
+#undef COLLIDE_OVERLAP3_PAIR
 
 }  // namespace collide

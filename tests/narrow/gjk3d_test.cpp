@@ -3,6 +3,7 @@
 
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/gjk.hpp>
+#include <collide/narrow/overlap.hpp>
 
 #include "support/brute_convex3.hpp"
 #include "support/test_util.hpp"
@@ -93,6 +94,11 @@ void check_random_pairs(float offset, std::uint32_t seed) {
                                     << d.distance << " status " << to_string(d.status));
     ASSERT_NE(d.status, QueryStatus::max_iterations);
     EXPECT_NEAR(d.distance, truth, tol);
+    // The boolean query agrees outside the rounding band.
+    const bool touching = overlap(sa, xa, sb, xb);
+    if (truth > 2.0 * tol) EXPECT_FALSE(touching);
+    if (truth == 0.0) EXPECT_TRUE(touching);
+    EXPECT_EQ(overlap(sb, xb, sa, xa), touching);
     if (core_truth > 10.0 * tol) {
       ASSERT_EQ(d.status, QueryStatus::separated);
       // The witnesses: their gap is the distance (apart), each on its own shape's surface.

@@ -3,7 +3,9 @@
 /// `overlap`: do two 2D shapes share at least one point? The cheapest question; each pair takes
 /// its cheapest exact path (no manifold, no closest points are built).
 
+#include <collide/core/transform3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
 
 namespace collide {
 
@@ -24,5 +26,17 @@ template <Shape2DType A, Shape2DType B>
 /// `overlap` for shapes of types known only at run time.
 [[nodiscard]] bool overlap(const Shape2D& a, const Transform& xa, const Shape2D& b,
                            const Transform& xb) noexcept;
+
+/// True when 3D shape A placed by `xa` and shape B placed by `xb` share at least one point;
+/// touching counts, as in 2D. Sphere pairs are analytic; every other pair runs boolean GJK with
+/// early exit on the cores (the 2D routine above, in 3D). Shapes must be valid; transforms
+/// finite with unit quaternions (COLLIDE_ASSERT).
+template <Shape3DType A, Shape3DType B>
+[[nodiscard]] bool overlap(const A& a, const Transform3& xa, const B& b,
+                           const Transform3& xb) noexcept;
+
+/// `overlap` for 3D shapes of types known only at run time.
+[[nodiscard]] bool overlap(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+                           const Transform3& xb) noexcept;
 
 }  // namespace collide
