@@ -55,11 +55,11 @@ template <bool a_is_point, bool b_is_point>
   if constexpr (a_is_point && b_is_point) {
     d2 = distance_squared(a.p, b.p);  // circle-circle
   } else if constexpr (a_is_point) {
-    d2 = detail::closest_on_segment(a.p, b.p, b.q).distance_squared;
+    d2 = detail::closest_on_segment<2>(a.p, b.p, b.q).distance_squared;
   } else if constexpr (b_is_point) {
-    d2 = detail::closest_on_segment(b.p, a.p, a.q).distance_squared;
+    d2 = detail::closest_on_segment<2>(b.p, a.p, a.q).distance_squared;
   } else {
-    d2 = detail::closest_between_segments(a.p, a.q, b.p, b.q).distance_squared;
+    d2 = detail::closest_between_segments<2>(a.p, a.q, b.p, b.q).distance_squared;
   }
   return within_reach(d2, radius_sum, scale);
 }

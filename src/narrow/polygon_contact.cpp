@@ -165,13 +165,13 @@ void deepest_point_manifold(const LocalPolygon& p1, int i11, const LocalPolygon&
 struct ClosestEdges {
   int e1 = 0;
   int e2 = 0;
-  SegmentSegmentClosest points{};
+  SegmentSegmentClosest<2> points{};
   float distance2 = 0.0f;
 };
 
 ClosestEdges closest_edges(const LocalPolygon& p1, int e1, const LocalPolygon& p2,
                            int e2) noexcept {
-  const SegmentSegmentClosest c = closest_between_segments(
+  const SegmentSegmentClosest<2> c = closest_between_segments<2>(
       p1.vertex(e1), p1.vertex(p1.next(e1)), p2.vertex(e2), p2.vertex(p2.next(e2)));
   return {e1, e2, c, c.distance_squared};
 }

@@ -11,19 +11,22 @@ namespace {
 
 }  // namespace
 
-PointSegmentClosest closest_on_segment(Vec2 x, Vec2 p, Vec2 q) noexcept {
-  const Vec2 d = q - p;
+template <int D>
+PointSegmentClosest<D> closest_on_segment(VecN<D> x, VecN<D> p, VecN<D> q) noexcept {
+  const VecN<D> d = q - p;
   const float dd = dot(d, d);
   // dd > 0 also rejects NaN; a zero-length segment is its point p.
   const float t = dd > 0.0f ? clamp01(dot(x - p, d) / dd) : 0.0f;
-  const Vec2 point = p + t * d;
+  const VecN<D> point = p + t * d;
   return {t, point, distance_squared(x, point)};
 }
 
-SegmentSegmentClosest closest_between_segments(Vec2 p1, Vec2 q1, Vec2 p2, Vec2 q2) noexcept {
-  const Vec2 d1 = q1 - p1;
-  const Vec2 d2 = q2 - p2;
-  const Vec2 r = p1 - p2;
+template <int D>
+SegmentSegmentClosest<D> closest_between_segments(VecN<D> p1, VecN<D> q1, VecN<D> p2,
+                                                  VecN<D> q2) noexcept {
+  const VecN<D> d1 = q1 - p1;
+  const VecN<D> d2 = q2 - p2;
+  const VecN<D> r = p1 - p2;
   const float a = dot(d1, d1);  // squared length of segment 1
   const float e = dot(d2, d2);  // squared length of segment 2
   const float f = dot(d2, r);
@@ -60,9 +63,14 @@ SegmentSegmentClosest closest_between_segments(Vec2 p1, Vec2 q1, Vec2 p2, Vec2 q
       }
     }
   }
-  const Vec2 point1 = p1 + s * d1;
-  const Vec2 point2 = p2 + t * d2;
+  const VecN<D> point1 = p1 + s * d1;
+  const VecN<D> point2 = p2 + t * d2;
   return {s, t, point1, point2, distance_squared(point1, point2)};
 }
+
+template PointSegmentClosest<2> closest_on_segment<2>(Vec2, Vec2, Vec2) noexcept;
+template PointSegmentClosest<3> closest_on_segment<3>(Vec3, Vec3, Vec3) noexcept;
+template SegmentSegmentClosest<2> closest_between_segments<2>(Vec2, Vec2, Vec2, Vec2) noexcept;
+template SegmentSegmentClosest<3> closest_between_segments<3>(Vec3, Vec3, Vec3, Vec3) noexcept;
 
 }  // namespace collide::detail

@@ -5,27 +5,30 @@
 /// the analytic overlap tests of circles, capsules and segments are built on these, and any
 /// other narrow-phase code that needs closest points of segments should use them too.
 
-#include <collide/core/math.hpp>
+#include <collide/core/aabb.hpp>
 
 namespace collide::detail {
 
-/// Closest point of segment [p, q] to a point.
+/// Closest point of segment [p, q] to a point, in D dimensions.
+template <int D>
 struct PointSegmentClosest {
   float t = 0.0f;              ///< fraction along p -> q, [0, 1]
-  Vec2 point{0.0f, 0.0f};      ///< p + t (q - p)
+  VecN<D> point{0.0f};         ///< p + t (q - p)
   float distance_squared = 0;  ///< squared distance from the query point to `point`
 };
 
 /// Closest point of the segment [p, q] to `x`: project, then clamp the fraction to [0, 1].
 /// A segment of zero length is treated as the point p. Ericson 5.1.2.
-[[nodiscard]] PointSegmentClosest closest_on_segment(Vec2 x, Vec2 p, Vec2 q) noexcept;
+template <int D>
+[[nodiscard]] PointSegmentClosest<D> closest_on_segment(VecN<D> x, VecN<D> p, VecN<D> q) noexcept;
 
-/// Closest points of two segments.
+/// Closest points of two segments, in D dimensions.
+template <int D>
 struct SegmentSegmentClosest {
   float s = 0.0f;              ///< fraction along the first segment, [0, 1]
   float t = 0.0f;              ///< fraction along the second segment, [0, 1]
-  Vec2 point1{0.0f, 0.0f};     ///< closest point on the first segment
-  Vec2 point2{0.0f, 0.0f};     ///< closest point on the second segment
+  VecN<D> point1{0.0f};        ///< closest point on the first segment
+  VecN<D> point2{0.0f};        ///< closest point on the second segment
   float distance_squared = 0;  ///< |point2 - point1|^2
 };
 
@@ -34,7 +37,8 @@ struct SegmentSegmentClosest {
 /// clamping again (Ericson 5.1.9). Parallel segments take s = 0 (any pair on the overlap is
 /// equally close); zero-length segments are treated as points. If the segments cross, the
 /// distance is zero up to rounding.
-[[nodiscard]] SegmentSegmentClosest closest_between_segments(Vec2 p1, Vec2 q1, Vec2 p2,
-                                                             Vec2 q2) noexcept;
+template <int D>
+[[nodiscard]] SegmentSegmentClosest<D> closest_between_segments(VecN<D> p1, VecN<D> q1,
+                                                                VecN<D> p2, VecN<D> q2) noexcept;
 
 }  // namespace collide::detail

@@ -33,4 +33,15 @@ inline constexpr float kReferenceFaceTolerance = 1e-3f;
 /// Faces closer to parallel than this sine of angle are treated as parallel.
 inline constexpr float kParallelTolerance = 1e-4f;
 
+/// 3D contact: an edge-edge axis is chosen over the best face axis only when its separation is
+/// larger by this fraction of the smaller shape's size (Gregorius, "The Separating Axis Test
+/// between Convex Polyhedra", GDC 2013, prefers faces the same way): faces give several stable
+/// points, edges one.
+inline constexpr float kEdgeContactTolerance = 1e-3f;
+
+/// 3D contact of cores that are apart (rounded shapes, speculative contact): when the normal
+/// between their closest points is within this sine of angle of a face normal, the face makes
+/// the contact (clipped, up to 4 points); otherwise the closest points make one point.
+inline constexpr float kFaceContactSine = 0.05f;
+
 }  // namespace collide

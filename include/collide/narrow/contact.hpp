@@ -20,7 +20,9 @@
 /// touching features do.
 
 #include <collide/narrow/manifold.hpp>
+#include <collide/core/transform3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
 
 namespace collide {
 
@@ -45,5 +47,33 @@ template <Shape2DType A, Shape2DType B>
 /// `contact` for shapes of types known only at run time.
 [[nodiscard]] Manifold contact(const Shape2D& a, const Transform& xa, const Shape2D& b,
                                const Transform& xb) noexcept;
+
+/// The contact manifold between 3D shape A placed by `xa` and shape B placed by `xb`: normal
+/// unit from A to B (world space), up to 4 world points midway between the surfaces, each with
+/// its depth along the normal and the features that made it (ContactId; box, hull and triangle
+/// numbering in manifold.hpp). Empty when the shapes are apart by more than `margin`.
+///
+/// `margin` (world units, >= 0; negative counts as 0): shapes apart by less than it get
+/// speculative points with negative depth (minus the gap), as a solver wants for stable
+/// stacking and fast approach; 0 reports only touching or overlapping shapes (touching exactly:
+/// depth 0, within float rounding of the coordinates).
+///
+/// Method (src/narrow/contact3.cpp): cores that overlap get the separating axis test over the
+/// face normals of both and the edge pairs pruned by the Gauss map (Gregorius, "The Separating
+/// Axis Test between Convex Polyhedra", GDC 2013): a face axis clips the other shape's most
+/// anti-parallel face against the reference face's side planes (Sutherland & Hodgman 1974), an
+/// edge axis gives the closest points of the two edges. Rounded shapes whose cores are apart
+/// get the normal from GJK's closest points, and a face contact where a face faces along it.
+/// More than 4 points are reduced to the deepest and the three that span the largest area.
+/// Swapping A and B gives the reversed manifold up to the choice of reference face. Works in
+/// A's frame (B moved there once). Allocates nothing; shapes must be valid and transforms
+/// finite with unit quaternions (COLLIDE_ASSERT).
+template <Shape3DType A, Shape3DType B>
+[[nodiscard]] Manifold3 contact(const A& a, const Transform3& xa, const B& b,
+                                const Transform3& xb, float margin = 0.0f) noexcept;
+
+/// `contact` for 3D shapes of types known only at run time.
+[[nodiscard]] Manifold3 contact(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+                                const Transform3& xb, float margin = 0.0f) noexcept;
 
 }  // namespace collide

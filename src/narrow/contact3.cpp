@@ -1,0 +1,702 @@
+// `contact` for every ordered pair of convex 3D shapes.
+//
+// Every core is a polytope (polytope3.hpp): a point (sphere), a segment (capsule, segment), a
+// solid polyhedron (box, hull) or a flat one (triangle). The contact is found in A's frame:
+//  1. Two cores without faces (points and segments): their closest points (Ericson 5.1.9),
+//     one point, or two for parallel segments (capsule on capsule).
+//  2. Otherwise the separating axis test over A's faces, B's faces and the edge pairs
+//     (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013): edge pairs of
+//     two solids are pruned to those that form a face of the Minkowski difference A - B (their
+//     arcs cross on the Gauss map); pairs with a flat or faceless core are all tested, with the
+//     separation taken from support queries on both sides. The axis of largest separation is
+//     the minimum-penetration axis when the cores overlap.
+//  3. Cores that overlap (or touch): a face axis makes a face contact (the reference face's side
+//     planes clip the other shape's most anti-parallel face, Sutherland & Hodgman 1974), an
+//     edge axis one point between the two edges. Cores apart by less than the radii plus the
+//     margin (rounded shapes, speculative contact): GJK gives their closest points; if the
+//     normal is within kFaceContactSine of a face normal, that face clips as above, else the
+//     closest points make one point.
+//  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
+//     span the largest area (the idea of Jolt's PruneContactPoints).
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/contact.hpp>
+#include <collide/narrow/distance.hpp>
+
+#include "polytope3.hpp"
+#include "segment_closest.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <variant>
+
+namespace collide {
+namespace {
+
+using detail::Polytope3;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+/// Most corners the face clipper holds: a clipped polygon has at most the incident face's
+/// corners plus the reference face's. Faces with more corners than half of it are clipped by
+/// their first corners only (never seen on real hulls: the 6755 shared hulls have at most 20).
+constexpr int kMaxClipVertices = 64;
+
+/// B's core placed in A's frame.
+struct PlacedPolytope {
+  const Polytope3& p;
+  Frame3 f;  ///< B's local -> A's frame
+
+  [[nodiscard]] Vec3 vertex(int i) const noexcept { return transform_point(f, p.vertex(i)); }
+  /// Support vertex along `d` given in A's frame.
+  [[nodiscard]] int support(Vec3 d) const noexcept { return p.support(inv_rotate(f, d)); }
+  [[nodiscard]] Vec3 face_normal(int face) const noexcept { return rotate(f, p.faces[face].normal); }
+  [[nodiscard]] float face_offset(int face, Vec3 normal) const noexcept {
+    return p.faces[face].offset + dot(normal, f.p);
+  }
+};
+
+/// A's core in its own frame, and B's placed in A's: vertices and face normals, for helpers
+/// written once for either side.
+struct IdentityPlace {
+  const Polytope3& p;
+  [[nodiscard]] Vec3 vertex(int i) const noexcept { return p.vertex(i); }
+  [[nodiscard]] Vec3 normal(int face) const noexcept { return p.faces[face].normal; }
+};
+struct BPlace {
+  const PlacedPolytope& b;
+  [[nodiscard]] Vec3 vertex(int i) const noexcept { return b.vertex(i); }
+  [[nodiscard]] Vec3 normal(int face) const noexcept { return b.face_normal(face); }
+};
+
+/// The best axis of one kind.
+struct FaceQuery {
+  float separation = -kInf;
+  int face = -1;
+};
+struct EdgeQuery {
+  float separation = -kInf;
+  int edge_a = -1;
+  int edge_b = -1;
+  Vec3 axis{0.0f};  ///< unit, from A towards B
+};
+
+/// Separation of B from each face of A; stops early once a face separates by more than `reach`.
+FaceQuery query_faces_a(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  FaceQuery q;
+  for (int i = 0; i < a.face_count; ++i) {
+    const HullFace& face = a.faces[i];
+    const Vec3 p = b.vertex(b.support(-face.normal));
+    const float s = dot(face.normal, p) - face.offset;
+    if (s > q.separation) {
+      q.separation = s;
+      q.face = i;
+      if (s > reach) break;
+    }
+  }
+  return q;
+}
+
+/// Separation of A from each face of B (B's faces turned into A's frame).
+FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  FaceQuery q;
+  for (int j = 0; j < b.p.face_count; ++j) {
+    const Vec3 n = b.face_normal(j);
+    const Vec3 p = a.vertex(a.support(-n));
+    const float s = dot(n, p) - b.face_offset(j, n);
+    if (s > q.separation) {
+      q.separation = s;
+      q.face = j;
+      if (s > reach) break;
+    }
+  }
+  return q;
+}
+
+/// Gauss-map test (Gregorius 2013): do the arc a-b (normals of an edge of A) and the arc c-d
+/// (negated normals of an edge of B) cross? Then the two edges make a face of A - B. `bxa` and
+/// `dxc` are the edges' directions (b x a and d x c).
+[[nodiscard]] bool is_minkowski_face(Vec3 a, Vec3 b, Vec3 bxa, Vec3 c, Vec3 d, Vec3 dxc) noexcept {
+  const float cba = dot(c, bxa);
+  const float dba = dot(d, bxa);
+  const float adc = dot(a, dxc);
+  const float bdc = dot(b, dxc);
+  return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
+}
+
+/// Largest support value of A along `l` (A's frame).
+[[nodiscard]] float support_value(const Polytope3& a, Vec3 l) noexcept {
+  return dot(a.vertex(a.support(l)), l);
+}
+[[nodiscard]] float support_value(const PlacedPolytope& b, Vec3 l) noexcept {
+  return dot(b.vertex(b.support(l)), l);
+}
+
+/// Separation of A and B along the edge pairs' axes (see the file comment).
+EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  EdgeQuery q;
+  const bool pruned = a.solid && b.p.solid;
+  for (int i = 0; i < a.edge_count; ++i) {
+    const HullEdge& ea = a.edges[i];
+    const Vec3 pa = a.vertex(ea.v0);
+    const Vec3 da = a.vertex(ea.v1) - pa;
+    Vec3 na0{0.0f};
+    Vec3 na1{0.0f};
+    if (pruned) {
+      na0 = a.faces[ea.face0].normal;
+      na1 = a.faces[ea.face1].normal;
+    }
+    for (int j = 0; j < b.p.edge_count; ++j) {
+      const HullEdge& eb = b.p.edges[j];
+      const Vec3 pb = b.vertex(eb.v0);
+      const Vec3 db = b.vertex(eb.v1) - pb;
+      if (pruned) {
+        const Vec3 c = -b.face_normal(eb.face0);
+        const Vec3 d = -b.face_normal(eb.face1);
+        if (!is_minkowski_face(na0, na1, cross(na1, na0), c, d, cross(d, c))) continue;
+      }
+      Vec3 l = cross(da, db);
+      const float ll = dot(l, l);
+      // Parallel edges: their axis is a face normal's or nothing new.
+      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * dot(db, db))) continue;
+      l *= 1.0f / std::sqrt(ll);
+      float s;
+      if (pruned) {
+        // The axis points out of A at its edge (away from A's centre), and A - B's face
+        // through the two edges is at distance dot(l, pb - pa) from the origin.
+        if (dot(l, pa - a.centroid) < 0.0f) l = -l;
+        s = dot(l, pb - pa);
+      } else {
+        // Either side may be the separating one: take the better orientation.
+        const float plus = -support_value(b, -l) - support_value(a, l);
+        const float minus = -support_value(a, -l) - support_value(b, l);
+        if (minus > plus) {
+          l = -l;
+          s = minus;
+        } else {
+          s = plus;
+        }
+      }
+      if (s > q.separation) {
+        q.separation = s;
+        q.edge_a = i;
+        q.edge_b = j;
+        q.axis = l;
+        if (s > reach) return q;
+      }
+    }
+  }
+  return q;
+}
+
+// ---- manifold assembly -------------------------------------------------------------------
+
+/// A point of the clipped polygon (on the incident core, A's frame) with the features that
+/// made it: the incident feature, and the reference side that cut it (if any).
+struct ClipVertex {
+  Vec3 p;
+  Feature incident;   ///< incident vertex, or the incident edge a side plane cut
+  Feature reference;  ///< the reference face, or the reference side edge that cut it
+  std::uint32_t incident_edge;  ///< incident polygon edge leaving this vertex
+};
+
+struct ClipPolygon {
+  std::array<ClipVertex, kMaxClipVertices> v;
+  int count = 0;
+};
+
+/// Clip `in` against the half-space dot(normal, x) <= offset; points created on a crossing get
+/// the features (side edge `side`, the incident edge they lie on). A 2-point polygon is a
+/// segment (no closing edge).
+void clip_half_space(const ClipPolygon& in, ClipPolygon& out, Vec3 normal, float offset,
+                     Feature side) noexcept {
+  out.count = 0;
+  const int n = in.count;
+  if (n == 0) return;
+  const bool closed = n > 2;
+  const int last = closed ? n : n - 1;
+  if (n == 1) {
+    if (dot(normal, in.v[0].p) <= offset) out.v[out.count++] = in.v[0];
+    return;
+  }
+  for (int i = 0; i < last; ++i) {
+    const ClipVertex& p = in.v[i];
+    const ClipVertex& q = in.v[(i + 1) % n];
+    const float dp = dot(normal, p.p) - offset;
+    const float dq = dot(normal, q.p) - offset;
+    if (dp <= 0.0f && out.count < kMaxClipVertices) out.v[out.count++] = p;
+    if ((dp < 0.0f && dq > 0.0f) || (dp > 0.0f && dq < 0.0f)) {
+      if (out.count < kMaxClipVertices) {
+        const float t = dp / (dp - dq);
+        ClipVertex c;
+        c.p = p.p + t * (q.p - p.p);
+        c.incident = Feature{FeatureType::edge, p.incident_edge};
+        c.reference = side;
+        c.incident_edge = p.incident_edge;
+        out.v[out.count++] = c;
+      }
+    }
+  }
+  if (!closed && dot(normal, in.v[n - 1].p) <= offset && out.count < kMaxClipVertices) {
+    out.v[out.count++] = in.v[n - 1];
+  }
+}
+
+/// The incident feature of `inc` (placed by `f`) facing against `normal` (A's frame): its face
+/// most anti-parallel to it, its segment, or its point, as a clip polygon in A's frame.
+template <class Place>
+void incident_polygon(const Polytope3& inc, const Place& place, Vec3 normal, Feature reference,
+                      ClipPolygon& out) noexcept {
+  out.count = 0;
+  if (inc.face_count == 0) {
+    for (int i = 0; i < inc.vertex_count; ++i) {
+      out.v[out.count++] = ClipVertex{place.vertex(i), Feature{FeatureType::vertex, std::uint32_t(i)},
+                                      reference, 0u};
+    }
+    return;
+  }
+  int best = 0;
+  float best_dot = kInf;
+  for (int j = 0; j < inc.face_count; ++j) {
+    const float d = dot(place.normal(j), normal);
+    if (d < best_dot) {
+      best_dot = d;
+      best = j;
+    }
+  }
+  const HullFace& face = inc.faces[best];
+  const int count = std::min<int>(face.count, kMaxClipVertices / 2);
+  for (int k = 0; k < count; ++k) {
+    const int c = inc.face_vertices[face.first + k];
+    out.v[out.count++] =
+        ClipVertex{place.vertex(c), Feature{FeatureType::vertex, std::uint32_t(c)}, reference,
+                   std::uint32_t(inc.face_edges[face.first + k])};
+  }
+}
+
+
+/// Appends `m`'s points, keeping at most 4 (see the file comment).
+struct PointSet {
+  std::array<ManifoldPoint3, kMaxClipVertices> points;
+  int count = 0;
+};
+
+void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
+  if (in.count <= 4) {
+    for (int i = 0; i < in.count; ++i) m.points[i] = in.points[i];
+    m.count = in.count;
+    return;
+  }
+  int i0 = 0;
+  for (int i = 1; i < in.count; ++i) {
+    if (in.points[i].depth > in.points[i0].depth) i0 = i;
+  }
+  const Vec3 p0 = in.points[i0].point;
+  int i1 = -1;
+  float best = -1.0f;
+  for (int i = 0; i < in.count; ++i) {
+    const float d = distance_squared(in.points[i].point, p0);
+    if (i != i0 && d > best) {
+      best = d;
+      i1 = i;
+    }
+  }
+  const Vec3 p1 = in.points[i1].point;
+  // Signed area of (p0, p1, p) about the normal.
+  const auto area = [&](Vec3 a, Vec3 b, Vec3 p) { return dot(cross(b - a, p - a), normal); };
+  int i2 = -1;
+  best = -1.0f;
+  for (int i = 0; i < in.count; ++i) {
+    const float s = std::fabs(area(p0, p1, in.points[i].point));
+    if (i != i0 && i != i1 && s > best) {
+      best = s;
+      i2 = i;
+    }
+  }
+  const Vec3 p2 = in.points[i2].point;
+  const float side = area(p0, p1, p2) >= 0.0f ? 1.0f : -1.0f;
+  // The fourth: the point that adds the most area to the triangle, outside one of its edges.
+  int i3 = -1;
+  best = 0.0f;
+  for (int i = 0; i < in.count; ++i) {
+    if (i == i0 || i == i1 || i == i2) continue;
+    const Vec3 p = in.points[i].point;
+    const float added = std::max({-side * area(p0, p1, p), -side * area(p1, p2, p),
+                                  -side * area(p2, p0, p)});
+    if (added > best) {
+      best = added;
+      i3 = i;
+    }
+  }
+  m.points[0] = in.points[i0];
+  m.points[1] = in.points[i1];
+  m.points[2] = in.points[i2];
+  m.count = 3;
+  if (i3 >= 0) m.points[m.count++] = in.points[i3];
+}
+
+/// Face contact: `ref_is_a` says which core's face `ref_face` is the reference. `n` is the
+/// reference face's outward normal in A's frame; the manifold normal is n (A) or -n (B).
+/// Points are kept while their depth (radii included) is at least -margin.
+void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
+                  float margin, Manifold3& m) noexcept {
+  const float radii = a.radius + b.p.radius;
+  Vec3 n;
+  float offset;
+  Feature ref_feature;
+  ClipPolygon poly;
+  ClipPolygon tmp;
+  int ref_count;
+  if (ref_is_a) {
+    const HullFace& face = a.faces[ref_face];
+    n = face.normal;
+    offset = face.offset;
+    ref_count = face.count;
+    ref_feature = Feature{FeatureType::face, std::uint32_t(a.face_feature(ref_face))};
+    incident_polygon(b.p, BPlace{b}, n, ref_feature, poly);
+  } else {
+    n = b.face_normal(ref_face);
+    offset = b.face_offset(ref_face, n);
+    ref_count = b.p.faces[ref_face].count;
+    ref_feature = Feature{FeatureType::face, std::uint32_t(b.p.face_feature(ref_face))};
+    incident_polygon(a, IdentityPlace{a}, n, ref_feature, poly);
+  }
+  // Side planes of the reference face: outward normal cross(edge, n) for a counter-clockwise
+  // loop (the face's interior is to the left of each edge).
+  const Polytope3& ref = ref_is_a ? a : b.p;
+  const HullFace& rface = ref.faces[ref_face];
+  for (int k = 0; k < ref_count && poly.count > 0; ++k) {
+    const int c0 = ref.face_vertices[rface.first + k];
+    const int c1 = ref.face_vertices[rface.first + (k + 1) % ref_count];
+    const Vec3 v0 = ref_is_a ? a.vertex(c0) : b.vertex(c0);
+    const Vec3 v1 = ref_is_a ? a.vertex(c1) : b.vertex(c1);
+    const Vec3 side = normalize_or_zero(cross(v1 - v0, n));
+    const Feature side_feature{FeatureType::edge, std::uint32_t(ref.face_edges[rface.first + k])};
+    clip_half_space(poly, tmp, side, dot(side, v0), side_feature);
+    poly = tmp;
+  }
+  // Keep the points within reach of the reference plane; place them midway between the
+  // surfaces. Separation s of the incident core point above the plane; depth radii - s.
+  PointSet set;
+  const float ref_radius = ref_is_a ? a.radius : b.p.radius;
+  const float inc_radius = ref_is_a ? b.p.radius : a.radius;
+  for (int i = 0; i < poly.count; ++i) {
+    const ClipVertex& v = poly.v[i];
+    const float s = dot(n, v.p) - offset;
+    const float depth = radii - s;
+    if (!(depth >= -margin)) continue;
+    const Vec3 ref_surface = v.p - s * n + ref_radius * n;
+    const Vec3 inc_surface = v.p - inc_radius * n;
+    ManifoldPoint3 mp;
+    mp.point = 0.5f * (ref_surface + inc_surface);
+    mp.depth = depth;
+    if (ref_is_a) {
+      mp.id = ContactId{v.reference.index, v.incident.index, v.reference.type, v.incident.type};
+    } else {
+      mp.id = ContactId{v.incident.index, v.reference.index, v.incident.type, v.reference.type};
+    }
+    set.points[set.count++] = mp;
+  }
+  m.normal = ref_is_a ? n : -n;
+  reduce_to_four(set, m.normal, m);
+}
+
+/// One point from the closest points `pa` (on A's core) and `pb` (on B's core), normal `n` from
+/// A to B, separation of the cores `s` along it.
+void point_contact(Vec3 pa, Vec3 pb, Vec3 n, float s, float ra, float rb, ContactId id,
+                   Manifold3& m) noexcept {
+  m.normal = n;
+  m.count = 1;
+  m.points[0].point = 0.5f * ((pa + ra * n) + (pb - rb * n));
+  m.points[0].depth = ra + rb - s;
+  m.points[0].id = id;
+}
+
+/// Of the edges of `p` (placed by `place`) parallel to edge `e`, the one farthest along `l`:
+/// the unpruned edge test records the first of several parallel edges that give the same axis,
+/// and the contact is on the one that supports the core along it.
+template <class Place>
+[[nodiscard]] int supporting_parallel_edge(const Polytope3& p, const Place& place, int e,
+                                           Vec3 l) noexcept {
+  const Vec3 d = place.vertex(p.edges[e].v1) - place.vertex(p.edges[e].v0);
+  const float dd = dot(d, d);
+  int best = e;
+  float best_dot = dot(l, place.vertex(p.edges[e].v0));
+  for (int i = 0; i < p.edge_count; ++i) {
+    const Vec3 v0 = place.vertex(p.edges[i].v0);
+    const Vec3 di = place.vertex(p.edges[i].v1) - v0;
+    const Vec3 c = cross(d, di);
+    if (dot(c, c) > kParallelTolerance * kParallelTolerance * dd * dot(di, di)) continue;
+    const float v = dot(l, v0);
+    if (v > best_dot) {
+      best_dot = v;
+      best = i;
+    }
+  }
+  return best;
+}
+
+/// Edge contact of edge `ea` of A and `eb` of B along axis `n` (A to B), separation `s`.
+void edge_contact(const Polytope3& a, const PlacedPolytope& b, int ea, int eb, Vec3 n, float s,
+                  Manifold3& m) noexcept {
+  if (!(a.solid && b.p.solid)) {
+    ea = supporting_parallel_edge(a, IdentityPlace{a}, ea, n);
+    eb = supporting_parallel_edge(b.p, BPlace{b}, eb, -n);
+  }
+  const HullEdge& e1 = a.edges[ea];
+  const HullEdge& e2 = b.p.edges[eb];
+  const detail::SegmentSegmentClosest<3> c = detail::closest_between_segments<3>(
+      a.vertex(e1.v0), a.vertex(e1.v1), b.vertex(e2.v0), b.vertex(e2.v1));
+  point_contact(c.point1, c.point2, n, s, a.radius, b.p.radius,
+                ContactId{std::uint32_t(ea), std::uint32_t(eb), FeatureType::edge, FeatureType::edge},
+                m);
+}
+
+/// Feature of a core near a closest point given by GJK: the simplex's vertex if it used one
+/// point of this core, else (an edge or a face of it) the vertex nearest to the point.
+Feature near_feature(const Polytope3& p, Vec3 local_point) noexcept {
+  if (p.kind == Polytope3::Kind::point) return Feature{FeatureType::face, 0};
+  int best = 0;
+  float best_d = kInf;
+  for (int i = 0; i < p.vertex_count; ++i) {
+    const float d = distance_squared(p.vertex(i), local_point);
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  return Feature{FeatureType::vertex, std::uint32_t(best)};
+}
+
+/// Two cores without faces (points and segments): closest points; parallel overlapping
+/// segments give two points (the overlap of B's segment clipped to A's slab).
+void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
+                      Manifold3& m) noexcept {
+  const Vec3 a0 = a.vertex(0);
+  const Vec3 a1 = a.vertex(a.vertex_count - 1);
+  const Vec3 b0 = b.vertex(0);
+  const Vec3 b1 = b.vertex(b.p.vertex_count - 1);
+  const detail::SegmentSegmentClosest<3> c = detail::closest_between_segments<3>(a0, a1, b0, b1);
+  const float radii = a.radius + b.p.radius;
+  const float reach = radii + margin;
+  if (!(c.distance_squared <= reach * reach)) return;
+  float s = std::sqrt(c.distance_squared);
+  Vec3 n;
+  if (s > kRelativeTolerance * (max_abs(c.point1) + max_abs(c.point2) + radii)) {
+    n = (c.point2 - c.point1) * (1.0f / s);
+  } else {
+    // The cores cross: any direction across both will do; take the one across both segments,
+    // else across A's, else from A's centre to B's, else up.
+    s = 0.0f;
+    const Vec3 da = a1 - a0;
+    const Vec3 db = b1 - b0;
+    const Vec3 centres = b.vertex(0) + 0.5f * db - (a0 + 0.5f * da);
+    n = normalize_or_zero(cross(da, db));             // across both segments
+    if (n == Vec3(0.0f)) n = normalize_or_zero(centres);  // points: centre to centre
+    if (n == Vec3(0.0f) && da != Vec3(0.0f)) {         // across A's segment
+      const Vec3 ad = glm::abs(da);
+      Vec3 e(0.0f);
+      e[ad.x <= ad.y && ad.x <= ad.z ? 0 : (ad.y <= ad.z ? 1 : 2)] = 1.0f;
+      n = normalize_or_zero(cross(da, e));
+    }
+    if (n == Vec3(0.0f)) n = Vec3(0.0f, 1.0f, 0.0f);
+    if (dot(n, centres) < 0.0f) n = -n;
+  }
+  const auto feature_of = [](const Polytope3& p, float t) {
+    if (p.kind == Polytope3::Kind::point) return Feature{FeatureType::face, 0};
+    if (t <= 0.0f) return Feature{FeatureType::vertex, 0};
+    if (t >= 1.0f) return Feature{FeatureType::vertex, 1};
+    return Feature{FeatureType::edge, 0};
+  };
+  // Parallel segments overlapping along their length: clip B's segment to A's slab.
+  if (a.kind == Polytope3::Kind::segment && b.p.kind == Polytope3::Kind::segment) {
+    const Vec3 da = a1 - a0;
+    const Vec3 db = b1 - b0;
+    const float la2 = dot(da, da);
+    const float lb2 = dot(db, db);
+    const Vec3 axb = cross(da, db);
+    if (dot(axb, axb) <= kParallelTolerance * kParallelTolerance * la2 * lb2) {
+      const float inv = 1.0f / la2;
+      float t0 = dot(b0 - a0, da) * inv;
+      float t1 = dot(b1 - a0, da) * inv;
+      const bool reversed_b = t1 < t0;
+      if (reversed_b) std::swap(t0, t1);
+      const float lo = std::max(t0, 0.0f);
+      const float hi = std::min(t1, 1.0f);
+      if (hi - lo > kRelativeTolerance) {
+        m.normal = n;
+        m.count = 0;
+        for (const float t : {lo, hi}) {
+          const Vec3 pa = a0 + t * da;
+          // B's point across from pa: B's core point minus the offset along n.
+          const Vec3 pb = pa + s * n;
+          ManifoldPoint3& mp = m.points[m.count++];
+          mp.point = 0.5f * ((pa + a.radius * n) + (pb - b.p.radius * n));
+          mp.depth = radii - s;
+          const bool at_a_end = t <= 0.0f || t >= 1.0f;
+          const Feature fa = at_a_end ? Feature{FeatureType::vertex, t <= 0.0f ? 0u : 1u}
+                                      : Feature{FeatureType::edge, 0};
+          const bool b_end = (t == lo && lo == t0) || (t == hi && hi == t1);
+          const std::uint32_t b_vertex = (t == lo) != reversed_b ? 0u : 1u;
+          const Feature fb = b_end ? Feature{FeatureType::vertex, b_vertex}
+                                   : Feature{FeatureType::edge, 0};
+          mp.id = ContactId{fa.index, fb.index, fa.type, fb.type};
+        }
+        return;
+      }
+    }
+  }
+  const Feature fa = feature_of(a, c.s);
+  const Feature fb = feature_of(b.p, c.t);
+  point_contact(c.point1, c.point2, n, s, a.radius, b.p.radius,
+                ContactId{fa.index, fb.index, fa.type, fb.type}, m);
+}
+
+/// Tolerances of a pair scale with the smaller core (its diameter about its centre, plus its
+/// radius).
+[[nodiscard]] float core_size(const Polytope3& p) noexcept {
+  float r = 0.0f;
+  for (int i = 0; i < p.vertex_count; ++i) r = std::max(r, distance_squared(p.vertex(i), p.centroid));
+  return 2.0f * std::sqrt(r) + p.radius;
+}
+
+/// Cores apart by less than the reach (rounded shapes, speculative contact), with GJK's result
+/// `d` (A's frame): a face contact if a face faces along the normal, else one point.
+void apart_contact(const Polytope3& a, const PlacedPolytope& b, const DistanceResult3& d,
+                   float margin, Manifold3& m) noexcept {
+  const float radii = a.radius + b.p.radius;
+  const Vec3 n = d.normal;
+  // Separation of the cores along n (the points carry the radii, and pass each other when the
+  // radii overlap).
+  const float s = dot(d.point_b - d.point_a, n) + radii;
+  if (s > radii + margin) return;
+  int face_a = -1;
+  float align_a = -kInf;
+  for (int i = 0; i < a.face_count; ++i) {
+    const float c = dot(a.faces[i].normal, n);
+    if (c > align_a) {
+      align_a = c;
+      face_a = i;
+    }
+  }
+  int face_b = -1;
+  float align_b = -kInf;
+  for (int j = 0; j < b.p.face_count; ++j) {
+    const float c = -dot(b.face_normal(j), n);
+    if (c > align_b) {
+      align_b = c;
+      face_b = j;
+    }
+  }
+  const float min_cos = std::sqrt(1.0f - kFaceContactSine * kFaceContactSine);
+  if (face_a >= 0 && align_a >= min_cos && align_a >= align_b) {
+    face_contact(a, b, true, face_a, margin, m);
+    if (m.count > 0) return;
+  } else if (face_b >= 0 && align_b >= min_cos) {
+    face_contact(a, b, false, face_b, margin, m);
+    if (m.count > 0) return;
+  }
+  // One point from the closest points of the cores (undo the radii).
+  const Vec3 pa = d.point_a - a.radius * n;
+  const Vec3 pb = d.point_b + b.p.radius * n;
+  const Feature ka = near_feature(a, pa);
+  const Feature kb = near_feature(b.p, inv_transform_point(b.f, pb));
+  point_contact(pa, pb, n, s, a.radius, b.p.radius, ContactId{ka.index, kb.index, ka.type, kb.type},
+                m);
+}
+
+/// The contact of two placed cores: `proxy_a` / `proxy_b` are the same shapes' support maps,
+/// for GJK when the cores may be apart.
+void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const PlacedPolytope& b,
+                   const ConvexProxy3& proxy_b, const Transform3& b_in_a, float margin,
+                   Manifold3& m) noexcept {
+  m.count = 0;
+  if (a.face_count == 0 && b.p.face_count == 0) {
+    contact_faceless(a, b, margin, m);
+    return;
+  }
+  const float radii = a.radius + b.p.radius;
+  const float reach = radii + margin;
+  if (reach > 0.0f) {
+    // Rounded or speculative: GJK first; its closest points decide when the cores are apart,
+    // and the separating axis test runs only when they overlap.
+    const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
+    if (d.status != QueryStatus::overlapped) {
+      apart_contact(a, b, d, margin, m);
+      return;
+    }
+  }
+  const FaceQuery fa = query_faces_a(a, b, reach);
+  if (fa.separation > reach) return;
+  const FaceQuery fb = query_faces_b(a, b, reach);
+  if (fb.separation > reach) return;
+  const EdgeQuery ee = query_edges(a, b, reach);
+  if (ee.separation > reach) return;
+
+  const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
+  const float best_face = std::max(fa.separation, fb.separation);
+  // Touching within rounding counts: the clip keeps points that far apart too.
+  const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
+  if (std::max(best_face, ee.separation) > reach + touch) return;
+  const float keep = margin + touch;
+  const float edge_tolerance = kEdgeContactTolerance * size;
+  if (ee.edge_a >= 0 && ee.separation > best_face + edge_tolerance) {
+    edge_contact(a, b, ee.edge_a, ee.edge_b, ee.axis, ee.separation, m);
+    return;
+  }
+  const float face_tolerance = kReferenceFaceTolerance * size;
+  const bool ref_b = fb.face >= 0 && (fa.face < 0 || fb.separation > fa.separation + face_tolerance);
+  face_contact(a, b, !ref_b, ref_b ? fb.face : fa.face, keep, m);
+  if (m.count == 0 && ee.edge_a >= 0) {
+    // The clip kept nothing (a face axis at a corner, within the tolerances): the edges.
+    edge_contact(a, b, ee.edge_a, ee.edge_b, ee.axis, ee.separation, m);
+  }
+}
+
+}  // namespace
+
+template <Shape3DType A, Shape3DType B>
+Manifold3 contact(const A& a, const Transform3& xa, const B& b, const Transform3& xb,
+                  float margin) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "contact: transform not finite or not unit");
+  const Transform3 b_in_a = inv_mul(xa, xb);
+  Polytope3 pa;
+  Polytope3 pb;
+  detail::make_polytope(pa, a);
+  detail::make_polytope(pb, b);
+  const PlacedPolytope placed{pb, Frame3::from(b_in_a)};
+  Manifold3 m;
+  contact_cores(pa, ConvexProxy3(a), placed, ConvexProxy3(b), b_in_a, std::max(margin, 0.0f), m);
+  // Back to the world.
+  m.normal = rotate(xa.q, m.normal);
+  for (int i = 0; i < m.count; ++i) m.points[i].point = transform_point(xa, m.points[i].point);
+  if (m.count == 0) m.normal = Vec3(0.0f);
+  return m;
+}
+
+Manifold3 contact(const Shape3D& a, const Transform3& xa, const Shape3D& b, const Transform3& xb,
+                  float margin) noexcept {
+  return std::visit([&](const auto& sa, const auto& sb) { return contact(sa, xa, sb, xb, margin); },
+                    a, b);
+}
+
+#define COLLIDE_CONTACT3_PAIR(A, B)                                                          \
+  template Manifold3 contact<A, B>(const A&, const Transform3&, const B&, const Transform3&, \
+                                   float) noexcept;
+#define COLLIDE_CONTACT3_ROW(A)      \
+  COLLIDE_CONTACT3_PAIR(A, Sphere)   \
+  COLLIDE_CONTACT3_PAIR(A, Capsule3) \
+  COLLIDE_CONTACT3_PAIR(A, Segment3) \
+  COLLIDE_CONTACT3_PAIR(A, Box)
+COLLIDE_CONTACT3_ROW(Sphere)
+COLLIDE_CONTACT3_ROW(Capsule3)
+COLLIDE_CONTACT3_ROW(Segment3)
+COLLIDE_CONTACT3_ROW(Box)
+#undef COLLIDE_CONTACT3_ROW
+#undef COLLIDE_CONTACT3_PAIR
+
+}  // namespace collide
