@@ -1,0 +1,135 @@
+#pragma once
+/// @file
+/// Convex hulls in 3D, built from point clouds by quickhull, with exact, clean topology for the
+/// narrow phase: polygonal faces (near-coplanar triangles merged, no slivers), an edge list that
+/// names the two faces of each edge (Gauss-map pruning in SAT), and vertex adjacency for
+/// hill-climbing support queries on big hulls.
+
+#include <collide/core/aabb.hpp>
+#include <collide/core/transform3.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace collide {
+
+/// Most vertices a ConvexHull holds, so that a vertex index fits `HullVertexIndex` (one byte).
+inline constexpr int kMaxHullVertices = 256;
+
+/// Index of a hull vertex in `ConvexHull::vertices`.
+using HullVertexIndex = std::uint8_t;
+static_assert(kMaxHullVertices - 1 <= std::numeric_limits<HullVertexIndex>::max());
+
+/// Points closer than this fraction of the point set's extent (the largest side of its
+/// bounding box) to a face are on the face: such points are not added as vertices, and two
+/// neighbouring faces are merged into one polygon unless each face's centroid lies deeper than
+/// this below the other's plane. The floor of every hull's `tolerance`.
+inline constexpr float kHullRelativeTolerance = 1e-5f;
+
+/// Float rounding of the input: a hull's `tolerance` is at least this many float epsilons
+/// times (max |x| + max |y| + max |z|) of the points, measured from the origin of their own
+/// space, since a plane evaluated in float at that distance is no more exact (Gregorius,
+/// "Implementing Quickhull", GDC 2014, uses 3).
+inline constexpr float kHullRoundingFactor = 3.0f;
+
+/// A face of a hull: a convex polygon on the plane dot(normal, x) = offset, local space.
+struct HullFace {
+  Vec3 normal;          ///< unit outward normal, local space
+  float offset;         ///< plane offset; every hull vertex has dot(normal, v) <= offset
+                        ///< (up to float rounding), the face's own within `tolerance` of it
+  std::uint16_t first;  ///< first slot of the face in `face_vertices` and `face_edges`
+  std::uint16_t count;  ///< number of corners (>= 3)
+};
+
+/// An edge of a hull, stored once per undirected edge. v0 < v1. `face0` is the face whose
+/// counter-clockwise boundary runs v0 -> v1 (seen from outside, face0 lies to the left of
+/// v0 -> v1), `face1` the one whose boundary runs v1 -> v0. So
+/// dot(cross(normal(face0), normal(face1)), v1 - v0) >= 0 for a convex edge.
+struct HullEdge {
+  HullVertexIndex v0;   ///< first vertex (the lower index)
+  HullVertexIndex v1;   ///< second vertex
+  std::uint16_t face0;  ///< face on the left of v0 -> v1 (its boundary runs v0 -> v1)
+  std::uint16_t face1;  ///< face on the right of v0 -> v1 (its boundary runs v1 -> v0)
+};
+
+/// A convex polyhedron in local space, optionally rounded: the solid set of points within
+/// `radius` of the convex hull of `vertices`. Build it with `make_convex_hull`, which
+/// establishes the invariants below; treat the fields as read-only afterwards.
+///
+/// Invariants (all within `tolerance`): `vertices` are extreme points only (no duplicates, no
+/// point inside the hull or on a face or edge); every face is a planar, convex polygon,
+/// counter-clockwise seen from outside, no thinner than `tolerance`, and its plane supports the
+/// hull (every vertex lies on or behind it); neighbouring faces are not coplanar (each face's
+/// centroid lies deeper than `tolerance` below the other's plane); every edge has two
+/// different faces; V - E + F = 2.
+///
+/// Face i has corners face_vertices[first, first + count) in counter-clockwise order, and
+/// face_edges[first + k] is the edge from corner k to corner k + 1 (mod count). Vertex i's
+/// neighbours (the other ends of its edges) are neighbours[neighbour_offsets[i],
+/// neighbour_offsets[i + 1]).
+struct ConvexHull {
+  std::vector<Vec3> vertices;                   ///< local space, in the order of the input points
+  std::vector<HullFace> faces;                  ///< polygonal faces
+  std::vector<HullVertexIndex> face_vertices;   ///< corners of all faces, face by face
+  std::vector<std::uint16_t> face_edges;        ///< edge index of each face side, as corners
+  std::vector<HullEdge> edges;                  ///< each undirected edge once
+  std::vector<std::uint16_t> neighbour_offsets; ///< vertex adjacency offsets, size V + 1
+  std::vector<HullVertexIndex> neighbours;      ///< vertex adjacency lists, size 2E
+  float radius = 0.0f;                          ///< rounding radius, >= 0
+  float tolerance = 0.0f;       ///< the build's coplanarity tolerance, local units (see above)
+  float volume = 0.0f;          ///< volume of the core (without the radius)
+  Vec3 centroid{0.0f};          ///< volume centroid of the core, local space
+  Aabb3 bounds;                 ///< local bounds of the core (without the radius)
+
+  /// Index of the vertex farthest along `direction` (any length, local space); on ties the
+  /// lowest index. A NaN direction gives 0. Brute force over all vertices.
+  [[nodiscard]] int support_index(Vec3 direction) const noexcept;
+
+  /// A vertex farthest along `direction` found by hill climbing over the vertex adjacency from
+  /// vertex `start` (e.g. the previous answer: O(1) steps under coherent motion). Its support
+  /// value dot(vertex, direction) equals the maximum within the hull's `tolerance` times
+  /// |direction| (faces are planar only within it); on exact ties it may differ from
+  /// `support_index`. `start` must be a vertex index.
+  [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept;
+
+  /// Number of vertices.
+  [[nodiscard]] int vertex_count() const noexcept { return static_cast<int>(vertices.size()); }
+};
+
+/// Options of `make_convex_hull`.
+struct HullOptions {
+  float radius = 0.0f;                    ///< rounding radius, >= 0, local units
+  int max_vertices = kMaxHullVertices;    ///< cap on hull vertices, in [4, kMaxHullVertices]
+};
+
+/// The convex hull of `points` (local space, any order) with rounding radius `options.radius`.
+///
+/// Quickhull (Barber, Dobkin & Huhdanpaa, "The Quickhull Algorithm for Convex Hulls", ACM TOMS
+/// 1996) with the face merging of Gregorius ("Implementing Quickhull", GDC 2014): after each
+/// point is added, neighbouring faces that are not clearly convex (within the hull's
+/// `tolerance`, see kHullRelativeTolerance and kHullRoundingFactor) are merged into one
+/// polygon, so coplanar and nearly coplanar points give one clean face and no sliver remains.
+/// The build runs in double precision on the points shifted to the centre of their bounding
+/// box; the hull's vertices are the input points themselves (exact copies).
+///
+/// `options.max_vertices` caps the vertex count. Quickhull adds the farthest outside point
+/// first, so stopping at the cap gives a good approximation: the result is the exact convex
+/// hull of its own vertices (all invariants hold), while input points farther out than
+/// `tolerance` may remain outside it. Points within `tolerance` of the hull may also lie
+/// outside it by up to that much (they are dropped as on the hull), and a vertex whose faces
+/// merged flat may be dropped the same way.
+///
+/// Throws InvalidInput naming the field if: a coordinate is not finite (names the point
+/// index); there are fewer than 4 points; all points coincide, are collinear or are coplanar
+/// within the tolerance (zero volume, says which); the radius is negative or not finite;
+/// max_vertices is outside [4, kMaxHullVertices].
+[[nodiscard]] ConvexHull make_convex_hull(std::span<const Vec3> points,
+                                          const HullOptions& options = {});
+
+/// Bounding box of the hull (including its radius) placed by `xf`, world space: exact (every
+/// vertex is transformed), O(V).
+[[nodiscard]] Aabb3 compute_aabb(const ConvexHull& hull, const Transform3& xf) noexcept;
+
+}  // namespace collide
