@@ -34,6 +34,11 @@ inline constexpr float kHullRelativeTolerance = 1e-5f;
 /// "Implementing Quickhull", GDC 2014, uses 3).
 inline constexpr float kHullRoundingFactor = 3.0f;
 
+/// A point set whose thickness (its extent across the plane of its three most spread points)
+/// is at most this many tolerances is rejected as coplanar: a thinner hull would have side
+/// faces no wider than the tolerance.
+inline constexpr float kHullFlatFactor = 4.0f;
+
 /// A face of a hull: a convex polygon on the plane dot(normal, x) = offset, local space.
 struct HullFace {
   Vec3 normal;          ///< unit outward normal, local space
