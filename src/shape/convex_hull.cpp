@@ -71,9 +71,11 @@ class QuickHull {
   /// Builds the initial tetrahedron; returns nullptr or the degeneracy it found.
   const char* build_initial();
   /// Adds outside points, farthest first, until none is left or the hull has max_vertices.
-  void run(int max_vertices);
-  /// Writes the result (vertices as copies of `input`) into `hull`.
-  void extract(std::span<const Vec3> input, ConvexHull& hull) const;
+  /// Returns false when it stopped at the cap with points still outside.
+  bool run(int max_vertices);
+  /// Writes the result (vertices as copies of `input`) into `hull`; `complete`: every input
+  /// point is within the tolerance of the hull (run() returned true).
+  void extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const;
 
  private:
   [[nodiscard]] double distance(int f, const DVec3& p) const {
@@ -94,6 +96,7 @@ class QuickHull {
   [[nodiscard]] double union_spread(int f, int g) const;
   [[nodiscard]] bool should_merge(int f, int h) const;
   [[nodiscard]] SharedRun shared_run(int f, int h) const;
+  [[nodiscard]] bool shares_one_run(int f, int h) const;
   [[nodiscard]] double corner_turn(int a, int b, int c, const DVec3& normal) const;
   [[nodiscard]] bool is_thin(int f) const;
   bool merge_step(int f);
@@ -343,9 +346,9 @@ int QuickHull::vertex_count() {
   return count;
 }
 
-void QuickHull::run(int max_vertices) {
+bool QuickHull::run(int max_vertices) {
   for (int sweep = 0;; ++sweep) {
-    while (vertex_count() < max_vertices) {
+    for (;;) {
       int seed = -1;
       double best = tol_;
       for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
@@ -355,9 +358,10 @@ void QuickHull::run(int max_vertices) {
         }
       }
       if (seed < 0) break;
+      if (vertex_count() >= max_vertices) return false;
       add_point(faces_[seed].furthest, seed);
     }
-    if (vertex_count() >= max_vertices || sweep == kMaxSweeps) return;
+    if (sweep == kMaxSweeps) return true;
     // Merges tilt planes after points were dropped as within the tolerance of a face; one
     // pass over all points puts any that ended up farther outside back into play.
     std::vector<int> alive;
@@ -383,7 +387,7 @@ void QuickHull::run(int max_vertices) {
         assign(i, std::span<const int>(&best_face, 1));
       }
     }
-    if (!any) return;
+    if (!any) return true;
   }
 }
 
@@ -572,6 +576,23 @@ SharedRun QuickHull::shared_run(int f, int h) const {
   return run;
 }
 
+// Whether all edges f shares with the face across h form one run. Two separate runs would
+// enclose other faces, and merging across one would leave edges with f on both sides; such
+// pairs are never merged (not seen on any test cloud).
+bool QuickHull::shares_one_run(int f, int h) const {
+  const int g = edges_[edges_[h].twin].face;
+  const SharedRun run = shared_run(f, h);
+  int in_run = 1;
+  for (int e = run.first; e != run.last; e = edges_[e].next) ++in_run;
+  int shared = 0;
+  int e = faces_[f].edge;
+  do {
+    if (edges_[edges_[e].twin].face == g) ++shared;
+    e = edges_[e].next;
+  } while (e != faces_[f].edge);
+  return shared == in_run;
+}
+
 // How far corner b of the polygon path a -> b -> c lies on the outer side of the chord a -> c,
 // in the plane with the given normal: positive where the corner is convex.
 double QuickHull::corner_turn(int a, int b, int c, const DVec3& normal) const {
@@ -587,6 +608,7 @@ double QuickHull::corner_turn(int a, int b, int c, const DVec3& normal) const {
 // of the larger face: a sliver's own plane is unreliable.
 bool QuickHull::should_merge(int f, int h) const {
   const int g = edges_[edges_[h].twin].face;
+  if (!shares_one_run(f, h)) return false;
   if (union_spread(f, g) <= kCoplanarFraction * tol_) {
     // The union's corners at the ends of the shared run: p -> m at its start, q -> n at its end.
     // A reflex one is fine when only one other face touches that vertex: it then lies on an
@@ -637,14 +659,16 @@ bool QuickHull::merge_step(int f) {
     int h = faces_[f].edge;
     do {
       const double spread = union_spread(f, edges_[edges_[h].twin].face);
-      if (spread < best_spread || best < 0) {
+      if (spread < best_spread && shares_one_run(f, h)) {
         best_spread = spread;
         best = h;
       }
       h = edges_[h].next;
     } while (h != faces_[f].edge);
-    merge(f, best);
-    return true;
+    if (best >= 0) {
+      merge(f, best);
+      return true;
+    }
   }
   int h = faces_[f].edge;
   do {
@@ -697,8 +721,9 @@ void QuickHull::merge(int f, int h) {
 }
 
 // After a merge, a corner of f may touch only f and one other face N (two consecutive edges of
-// f border N): it lies on their common edge and is no vertex. If N is a triangle it is a
-// sliver folded onto f and is absorbed; otherwise the corner is removed from both faces.
+// f border N): it lies on their common edge and is no vertex. If N or f is a triangle, N is
+// absorbed across both shared edges (a triangle would otherwise lose a side); else the corner
+// is removed from both faces.
 void QuickHull::fix_degree_two_vertices(int f) {
   bool changed = true;
   while (changed) {
@@ -708,8 +733,8 @@ void QuickHull::fix_degree_two_vertices(int f) {
       const int n = edges_[h].next;
       const int other = edges_[edges_[h].twin].face;
       if (other == edges_[edges_[n].twin].face) {
-        if (edge_count(other) == 3) {
-          merge(f, h);  // absorbs the triangle and fixes recursively
+        if (edge_count(other) == 3 || edge_count(f) == 3) {
+          merge(f, h);  // a triangle would lose a side: absorb across both shared edges
           return;
         }
         const int th = edges_[h].twin;  // v -> u in other
@@ -736,7 +761,7 @@ void QuickHull::fix_degree_two_vertices(int f) {
   }
 }
 
-void QuickHull::extract(std::span<const Vec3> input, ConvexHull& hull) const {
+void QuickHull::extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const {
   // Vertices in input order.
   std::vector<bool> used(pts_.size(), false);
   for (const HalfEdge& e : edges_) {
@@ -795,12 +820,21 @@ void QuickHull::extract(std::span<const Vec3> input, ConvexHull& hull) const {
     } while (h != faces_[f].edge);
     out.count = static_cast<std::uint16_t>(count);
     // The normal in float; the offset supports every vertex, evaluated in double on the input
-    // coordinates with that float normal.
+    // coordinates with that float normal, and keeps every input point within the tolerance
+    // (the sweep in run() judged them by the double normal: rounding it to float moves far
+    // points by about 1e-7 of their lever arm, a hair past the tolerance at worst).
     out.normal = Vec3(faces_[f].normal);
     const DVec3 n(out.normal);
     double offset = -HUGE_VAL;
     for (int p : point_of) offset = std::max(offset, glm::dot(n, DVec3(input[p])));
+    if (complete) {
+      for (const Vec3& p : input) offset = std::max(offset, glm::dot(n, DVec3(p)) - tol_);
+    }
+    // Rounded up, so the float plane still has every vertex (and point) behind it.
     out.offset = static_cast<float>(offset);
+    if (static_cast<double>(out.offset) < offset) {
+      out.offset = std::nextafter(out.offset, HUGE_VALF);
+    }
     hull.faces.push_back(out);
   }
 
@@ -893,9 +927,9 @@ ConvexHull make_convex_hull(std::span<const Vec3> points, const HullOptions& opt
   if (const char* degenerate = builder.build_initial()) {
     throw InvalidInput(std::string("convex hull points: ") + degenerate + " (zero volume)");
   }
-  builder.run(options.max_vertices);
+  const bool complete = builder.run(options.max_vertices);
   ConvexHull hull;
-  builder.extract(points, hull);
+  builder.extract(points, complete, hull);
   hull.radius = options.radius;
   hull.tolerance = static_cast<float>(tolerance);
   return hull;
