@@ -1,29 +1,9 @@
-#include <collide/draw/debug_draw.hpp>
+#include <collide/shape/draw_shape.hpp>
 
 #include <array>
 #include <type_traits>
 
 namespace collide {
-
-const char* to_string(DrawRole role) noexcept {
-  switch (role) {
-    case DrawRole::static_geometry: return "static geometry";
-    case DrawRole::sensor: return "sensor";
-    case DrawRole::body: return "body";
-    case DrawRole::fast_body: return "fast body";
-    case DrawRole::contact_point: return "contact point";
-    case DrawRole::contact_normal: return "contact normal";
-    case DrawRole::laser: return "laser";
-    case DrawRole::laser_hit: return "laser hit";
-    case DrawRole::path: return "path";
-    case DrawRole::shape_a: return "shape A";
-    case DrawRole::shape_b: return "shape B";
-    case DrawRole::minkowski: return "Minkowski difference";
-    case DrawRole::origin: return "origin";
-    case DrawRole::highlight: return "highlight";
-  }
-  return "unknown";
-}
 
 void draw_shape(DebugDraw& draw, const Shape2D& shape, const Transform& xf, DrawRole role) {
   std::visit(

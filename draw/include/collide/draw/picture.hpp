@@ -13,8 +13,8 @@
 /// scale, y up (mathematics) or y down (screens, Tiled maps).
 
 #include <collide/core/aabb.hpp>
+#include <collide/core/debug_draw.hpp>
 #include <collide/draw/canvas.hpp>
-#include <collide/draw/debug_draw.hpp>
 
 #include <cstdint>
 #include <optional>

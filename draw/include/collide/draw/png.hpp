@@ -6,10 +6,10 @@
 
 #include <string>
 
-namespace collide::io {
+namespace collide {
 
 /// Writes `canvas` as an 8-bit RGBA PNG. Throws InvalidInput naming the path when it cannot be
 /// written.
 void write_png(const std::string& path, const Canvas& canvas);
 
-}  // namespace collide::io
+}  // namespace collide

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Debug pictures rasterised on a Canvas (write them with collide_io's io::write_png): the same
+/// Debug pictures rasterised on a Canvas (write them with write_png, png.hpp): the same
 /// Picture as SvgDraw (panels, palette, legend, title; see picture.hpp), anti-aliased solids
 /// and lines, and text in the built-in 5 x 7 bitmap font (bitmap_font.hpp) at the picture's
 /// text scale. Rounded polygons and capsules are drawn as their true rounded outline.

@@ -10,8 +10,8 @@
 /// shape A blue and shape B green (translucent, so overlaps show), the Minkowski difference
 /// translucent purple, the origin a black cross, highlights magenta.
 
+#include <collide/core/debug_draw.hpp>
 #include <collide/draw/canvas.hpp>
-#include <collide/draw/debug_draw.hpp>
 
 namespace collide {
 

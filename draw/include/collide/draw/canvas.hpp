@@ -1,8 +1,8 @@
 #pragma once
 /// @file
 /// A minimal RGBA raster canvas for pictures of scenes and walk meshes: filled triangles, thick
-/// lines and filled circles, with source-over alpha blending. No file format here (the library
-/// proper stays glm-only); collide_io writes it as PNG.
+/// lines and filled circles, with source-over alpha blending. No file format here: png.hpp
+/// writes it as PNG.
 
 #include <collide/core/math.hpp>
 

@@ -8,9 +8,12 @@
 /// roles to one consistent palette and can draw a legend of exactly the roles that appeared, so a
 /// picture reads without looking anything up. Coordinates are world space; the renderer maps
 /// them to its image.
+///
+/// Only the interface lives here, in core, so every layer can draw itself; `draw_shape` (a shape
+/// through these calls) is in shape/draw_shape.hpp, and the renderers that make pictures (SVG,
+/// PNG) are in the separate target collide_draw.
 
-#include <collide/core/transform.hpp>
-#include <collide/shape/shape2d.hpp>
+#include <collide/core/math.hpp>
 
 #include <span>
 #include <string_view>
@@ -64,8 +67,5 @@ class DebugDraw {
   /// A short caption at world point `at` (renderers that cannot draw text may ignore it).
   virtual void draw_label(Vec2 at, std::string_view text, DrawRole role) = 0;
 };
-
-/// Draws any 2D shape placed by `xf` through the matching DebugDraw call.
-void draw_shape(DebugDraw& draw, const Shape2D& shape, const Transform& xf, DrawRole role);
 
 }  // namespace collide
