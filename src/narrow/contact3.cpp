@@ -147,23 +147,23 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
     const Vec3 pb = b.vertex(eb.v0);
     const Vec3 db = b.vertex(eb.v1) - pb;
     const float db2 = dot(db, db);
+    // The arcs' axes (b x a, d x c) are taken from the edge directions, which point the same
+    // way (v0 - v1: face0 lies left of v0 -> v1, so n0 x n1 runs along v1 - v0): on nearly
+    // coplanar faces the cross product of the float normals can get the sign wrong.
     Vec3 c{0.0f};
     Vec3 d{0.0f};
-    Vec3 dxc{0.0f};
     if (pruned) {
       c = -b.face_normal(eb.face0);
       d = -b.face_normal(eb.face1);
-      dxc = cross(d, c);
     }
     for (int i = 0; i < a.edge_count; ++i) {
       const HullEdge& ea = a.edges[i];
-      if (pruned) {
-        const Vec3 na0 = a.faces[ea.face0].normal;
-        const Vec3 na1 = a.faces[ea.face1].normal;
-        if (!is_minkowski_face(na0, na1, cross(na1, na0), c, d, dxc)) continue;
-      }
       const Vec3 pa = a.vertex(ea.v0);
       const Vec3 da = a.vertex(ea.v1) - pa;
+      if (pruned && !is_minkowski_face(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, c,
+                                       d, -db)) {
+        continue;
+      }
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
