@@ -12,6 +12,8 @@
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
+#include "ray_ball.hpp"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -32,12 +34,7 @@
 namespace collide {
 namespace {
 
-/// A hit in a shape's local frame: fraction along the ray and unit outward normal (local).
-struct LocalHit {
-  bool hit = false;
-  float fraction = 0.0f;
-  Vec2 normal{0.0f, 0.0f};
-};
+using LocalHit = detail::LocalHitN<2>;
 
 /// The local ray: origin and translation in the shape's frame.
 struct LocalRay {
@@ -54,27 +51,9 @@ RayHit to_world(const LocalHit& h, const Transform& xf, const Ray& ray) noexcept
   return {true, h.fraction, ray.at(h.fraction), rotate(xf.q, h.normal)};
 }
 
-/// First entry of the ray m + t d, t in [0, 1], into the disc of `radius` about the origin
-/// (m is the ray's origin relative to the disc's centre). Ericson 5.3.2, with the discriminant
-/// computed from the ray's closest approach to the centre (r^2 - |m_perp|^2) instead of
-/// b^2 - c, which cancels badly for rays that pass far away (Haines et al., "Precision
-/// Improvements for Ray/Sphere Intersection", Ray Tracing Gems 7). One division; the normal is
-/// the hit point over the radius, which is unit by construction.
+/// First entry into the disc of `radius` about the origin: the ball entry of ray_ball.hpp.
 inline LocalHit ray_disc(Vec2 m, Vec2 d, float radius) noexcept {
-  const float c = length_squared(m) - radius * radius;
-  const float b = dot(m, d);
-  // Origin in the closed disc (no entry), or outside and not heading towards the centre.
-  if (!(c > 0.0f) || b >= 0.0f) return {};
-  const float inv_dd = 1.0f / length_squared(d);
-  const float tc = -b * inv_dd;     // parameter of the closest approach
-  const Vec2 closest = m + tc * d;  // centre to closest approach
-  const float disc = radius * radius - length_squared(closest);
-  if (disc < 0.0f) return {};
-  const float t = tc - std::sqrt(disc * inv_dd);
-  if (!(t <= 1.0f)) return {};
-  // A zero-radius disc hit dead on has no surface direction: face the ray.
-  const Vec2 n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
-  return {true, t > 0.0f ? t : 0.0f, n};
+  return detail::ray_ball<2>(m, d, radius);
 }
 
 /// Capsule in its own axis frame: core from (0, 0) to (length, 0), radius r. The capsule is the
