@@ -25,7 +25,7 @@ namespace {
 /// not degenerate now (the shapes may have moved since), else the seed vertex (gjk.hpp), which
 /// costs one support evaluation: `seeded` is then true.
 template <int D>
-GjkSimplexN<D> start_simplex(const ConvexProxyN<D>& a, const ConvexProxyN<D>& b,
+COLLIDE_ALWAYS_INLINE GjkSimplexN<D> start_simplex(const ConvexProxyN<D>& a, const ConvexProxyN<D>& b,
                              const FrameN<D>& b_in_a, const SimplexCacheN<D>* cache,
                              bool& seeded) noexcept {
   GjkSimplexN<D> s;

@@ -67,7 +67,8 @@ struct Polytope3 {
   [[nodiscard]] int support(Vec3 d) const noexcept {
     switch (kind) {
       case Kind::box: return int(d.x > 0.0f) | (int(d.y > 0.0f) << 1) | (int(d.z > 0.0f) << 2);
-      default: break;  // hulls scan their vertices like the small shapes
+      case Kind::hull: return hull->support_index(d);
+      default: break;
     }
     int best = 0;
     float best_dot = dot(vertices[0], d);

@@ -7,7 +7,7 @@ Aabb3 compute_aabb(const Shape3D& shape, const Transform3& xf) noexcept {
 }
 
 const char* type_name(const Shape3D& shape) noexcept {
-  constexpr const char* kNames[] = {"sphere", "capsule", "segment", "box"};
+  constexpr const char* kNames[] = {"sphere", "capsule", "segment", "box", "hull"};
   return kNames[shape.index()];
 }
 

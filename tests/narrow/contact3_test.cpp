@@ -8,6 +8,7 @@
 #include <collide/narrow/overlap.hpp>
 
 #include "support/brute_convex3.hpp"
+#include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
 
 #include <random>
@@ -135,20 +136,29 @@ TEST(Contact3, CrossedBoxEdgesGiveOneEdgeEdgePoint) {
   EXPECT_EQ(m.points[0].id.type_b, FeatureType::edge);
 }
 
-Shape3D random_shape3(std::mt19937& rng) {
-  switch (std::uniform_int_distribution<int>(0, 4)(rng)) {
-    case 0: return make_sphere(test::random_point3(rng, 0.2f), test::uniform(rng, 0.1f, 1.0f));
-    case 1: return make_capsule(test::random_point3(rng, 1.0f), test::random_point3(rng, 1.0f), test::uniform(rng, 0.05f, 0.5f));
-    case 2: return make_segment(test::random_point3(rng, 1.0f), test::random_point3(rng, 1.0f));
-    case 3: return make_box({test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f)});
-    default:
-      return make_box({test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f)},
-                      test::uniform(rng, 0.01f, 0.3f));
-  }
-}
 
-test::BruteCore brute(const Shape3D& s, const Transform3& xf) {
-  return std::visit([&](const auto& v) { return test::brute_core(v, xf); }, s);
+
+TEST(Contact3, ACubeHullMakesTheSameContactsAsABox) {
+  const Box box = make_box({0.5f, 0.7f, 0.9f});
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back(box.vertex(i));
+  const ConvexHull cube = make_convex_hull(corners);
+  ASSERT_EQ(cube.faces.size(), 6u);
+  std::mt19937 rng(41);
+  int touching = 0;
+  for (int k = 0; k < 500; ++k) {
+    const Box other = make_box({test::uniform(rng, 0.2f, 1.0f), test::uniform(rng, 0.2f, 1.0f), test::uniform(rng, 0.2f, 1.0f)});
+    const Transform3 xa = test::random_transform3(rng, 0.3f);
+    const Transform3 xb = Transform3::from(xa.p + test::random_point3(rng, 1.2f), test::random_rotation(rng));
+    const Manifold3 from_box = contact(box, xa, other, xb);
+    const Manifold3 from_hull = contact(cube, xa, other, xb);
+    ASSERT_EQ(from_box.count, from_hull.count) << k;
+    if (from_box.count == 0) continue;
+    ++touching;
+    EXPECT_VEC3_NEAR(from_box.normal, from_hull.normal, 1e-4f);
+    EXPECT_NEAR(from_box.max_depth(), from_hull.max_depth(), 1e-4f);
+  }
+  EXPECT_GT(touching, 100);
 }
 
 /// The property test, plus: every point lies in both shapes (its surface points, half
@@ -160,12 +170,12 @@ void check_random_contacts(float offset, std::uint32_t seed) {
   int multi = 0;
   const Vec3 base(offset, -offset, 0.5f * offset);
   for (int k = 0; k < 2000; ++k) {
-    const Shape3D sa = random_shape3(rng);
-    const Shape3D sb = random_shape3(rng);
+    const Shape3D sa = test::random_shape3(rng);
+    const Shape3D sb = test::random_shape3(rng);
     const Transform3 xa = Transform3::from(base + test::random_point3(rng, 0.5f), test::random_rotation(rng));
     const Transform3 xb = Transform3::from(base + test::random_point3(rng, 1.5f), test::random_rotation(rng));
     const Manifold3 m = contact(sa, xa, sb, xb);
-    const double truth = test::brute_distance(brute(sa, xa), brute(sb, xb));
+    const double truth = test::brute_distance(test::brute_core_of(sa, xa), test::brute_core_of(sb, xb));
     const float tol = 2e-4f + 4e-6f * offset;
     SCOPED_TRACE(testing::Message() << "pair " << k << " " << type_name(sa) << "-" << type_name(sb)
                                     << " truth " << truth << " count " << m.count
@@ -185,18 +195,18 @@ void check_random_contacts(float offset, std::uint32_t seed) {
     const float eps = 2e-3f + 4e-6f * offset;
     Transform3 moved = xb;
     moved.p = xb.p + (depth + eps) * m.normal;
-    EXPECT_GT(test::brute_distance(brute(sa, xa), brute(sb, moved)), 0.0) << "depth + eps still overlaps";
+    EXPECT_GT(test::brute_distance(test::brute_core_of(sa, xa), test::brute_core_of(sb, moved)), 0.0) << "depth + eps still overlaps";
     if (depth > 2.0f * eps) {
       moved.p = xb.p + (depth - eps) * m.normal;
-      EXPECT_EQ(test::brute_distance(brute(sa, xa), brute(sb, moved)), 0.0) << "depth - eps apart";
+      EXPECT_EQ(test::brute_distance(test::brute_core_of(sa, xa), test::brute_core_of(sb, moved)), 0.0) << "depth - eps apart";
     }
     for (int i = 0; i < m.count; ++i) {
       const ManifoldPoint3& p = m.points[i];
       EXPECT_LE(p.depth, depth + 1e-6f);
       const test::DVec3 on_a(p.point + 0.5f * p.depth * m.normal);
       const test::DVec3 on_b(p.point - 0.5f * p.depth * m.normal);
-      EXPECT_LE(test::brute_point_distance(brute(sa, xa), on_a), 4.0 * tol) << "point " << i;
-      EXPECT_LE(test::brute_point_distance(brute(sb, xb), on_b), 4.0 * tol) << "point " << i;
+      EXPECT_LE(test::brute_point_distance(test::brute_core_of(sa, xa), on_a), 4.0 * tol) << "point " << i;
+      EXPECT_LE(test::brute_point_distance(test::brute_core_of(sb, xb), on_b), 4.0 * tol) << "point " << i;
     }
   }
   EXPECT_GT(touching, 400) << apart;

@@ -6,6 +6,7 @@
 #include <collide/narrow/overlap.hpp>
 
 #include "support/brute_convex3.hpp"
+#include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
 
 #include <random>
@@ -13,27 +14,6 @@
 namespace collide {
 namespace {
 
-/// A random convex 3D shape of about `size`: sphere, capsule, segment or box (some rounded).
-Shape3D random_shape3(std::mt19937& rng, float size) {
-  switch (std::uniform_int_distribution<int>(0, 4)(rng)) {
-    case 0: return make_sphere(test::random_point3(rng, 0.2f * size), test::uniform(rng, 0.1f, 1.0f) * size);
-    case 1:
-      return make_capsule(test::random_point3(rng, size), test::random_point3(rng, size),
-                          test::uniform(rng, 0.05f, 0.5f) * size);
-    case 2: return make_segment(test::random_point3(rng, size), test::random_point3(rng, size));
-    case 3:
-      return make_box({test::uniform(rng, 0.1f, 1.0f) * size, test::uniform(rng, 0.1f, 1.0f) * size,
-                       test::uniform(rng, 0.1f, 1.0f) * size});
-    default:
-      return make_box({test::uniform(rng, 0.1f, 1.0f) * size, test::uniform(rng, 0.1f, 1.0f) * size,
-                       test::uniform(rng, 0.1f, 1.0f) * size},
-                      test::uniform(rng, 0.0f, 0.3f) * size);
-  }
-}
-
-test::BruteCore brute(const Shape3D& s, const Transform3& xf) {
-  return std::visit([&](const auto& v) { return test::brute_core(v, xf); }, s);
-}
 
 TEST(Gjk3, SphereSphereIsAnalytic) {
   const Sphere a = make_sphere({0, 0, 0}, 1.0f);
@@ -77,14 +57,14 @@ void check_random_pairs(float offset, std::uint32_t seed) {
   int overlapped = 0;
   for (int k = 0; k < 3000; ++k) {
     const float size = 1.0f;
-    const Shape3D sa = random_shape3(rng, size);
-    const Shape3D sb = random_shape3(rng, size);
+    const Shape3D sa = test::random_shape3(rng, size);
+    const Shape3D sb = test::random_shape3(rng, size);
     const Vec3 base = Vec3(offset, -0.5f * offset, 0.25f * offset);
     const Transform3 xa = Transform3::from(base + test::random_point3(rng, 1.0f), test::random_rotation(rng));
     const Transform3 xb = Transform3::from(base + test::random_point3(rng, 2.0f), test::random_rotation(rng));
     const DistanceResult3 d = distance(sa, xa, sb, xb);
-    const test::BruteCore ca = brute(sa, xa);
-    const test::BruteCore cb = brute(sb, xb);
+    const test::BruteCore ca = test::brute_core_of(sa, xa);
+    const test::BruteCore cb = test::brute_core_of(sb, xb);
     const double truth = test::brute_distance(ca, cb);
     const double core_truth = test::brute_core_distance(ca, cb);
     // Float rounding of the coordinates (|offset| + sizes) bounds the attainable accuracy.

@@ -7,6 +7,7 @@
 #include <collide/core/transform3.hpp>
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
+#include <collide/shape/convex_hull.hpp>
 #include <collide/shape/segment3.hpp>
 #include <collide/shape/sphere.hpp>
 
@@ -57,6 +58,26 @@ inline BruteCore brute_core(const Box& b, const Transform3& xf) {
   }
   c.radius = b.radius;
   return c;
+}
+
+inline BruteCore brute_core(const ConvexHull& h, const Transform3& xf) {
+  BruteCore c;
+  for (const Vec3& v : h.vertices) c.points.push_back(to_world(xf, v));
+  // Each polygonal face as a fan of triangles (wound as the face: outward).
+  for (const HullFace& f : h.faces) {
+    for (int k = 1; k + 1 < f.count; ++k) {
+      c.triangles.push_back({h.face_vertices[f.first], h.face_vertices[f.first + k],
+                             h.face_vertices[f.first + k + 1]});
+    }
+  }
+  c.radius = h.radius;
+  return c;
+}
+
+/// The core of any convex 3D shape.
+template <class Variant>
+inline BruteCore brute_core_of(const Variant& s, const Transform3& xf) {
+  return std::visit([&](const auto& v) { return brute_core(v, xf); }, s);
 }
 
 inline DVec3 closest_on_segment(DVec3 a, DVec3 b, DVec3 p) {

@@ -28,6 +28,7 @@
 /// Everything runs in A's local frame: B is placed there once (`b_in_a`), so large world
 /// coordinates cancel before any arithmetic.
 
+#include <collide/core/config.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/core/transform3.hpp>
 
@@ -82,7 +83,7 @@ enum class GjkEnd : unsigned char {
 
 /// The simplex vertex for core point `ia` of A and `ib` of B, with B placed by `b_in_a`.
 template <int D, class PA, class PB>
-[[nodiscard]] inline GjkVertexN<D> gjk_vertex(const PA& a, const PB& b, const FrameN<D>& b_in_a,
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkVertexN<D> gjk_vertex(const PA& a, const PB& b, const FrameN<D>& b_in_a,
                                               int ia, int ib) noexcept {
   GjkVertexN<D> v;  // NOLINT: every field is set below
   v.ia = ia;
@@ -99,7 +100,7 @@ template <int D, class PA, class PB>
 /// closest features and saves iterations over starting from point 0 of each. Coincident origins
 /// fall back to point 0 of each.
 template <int D, class PA, class PB>
-[[nodiscard]] inline GjkVertexN<D> gjk_seed_vertex(const PA& a, const PB& b,
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkVertexN<D> gjk_seed_vertex(const PA& a, const PB& b,
                                                    const FrameN<D>& b_in_a) noexcept {
   const VecN<D> c = b_in_a.p;  // B's origin in A's frame
   if (!(dot(c, c) > 0.0f)) return gjk_vertex<D>(a, b, b_in_a, 0, 0);
@@ -115,7 +116,7 @@ template <int D, class PA, class PB>
 /// origin. Only signs are needed here; the weights are computed once, at the end
 /// (gjk_witness_points), so the loop does no division. Same in any dimension.
 template <int D>
-inline void gjk_solve_edge(GjkSimplexN<D>& s) noexcept {
+COLLIDE_ALWAYS_INLINE void gjk_solve_edge(GjkSimplexN<D>& s) noexcept {
   const VecN<D> w1 = s.v[0].w;
   const VecN<D> w2 = s.v[1].w;
   const VecN<D> e12 = w2 - w1;
@@ -132,7 +133,7 @@ inline void gjk_solve_edge(GjkSimplexN<D>& s) noexcept {
 
 /// Reduce a 2D triangle simplex to the sub-simplex whose Voronoi region holds the origin: one of
 /// 3 vertices, 3 edges, or the interior (count stays 3: the cores overlap).
-inline void gjk_solve_triangle(GjkSimplexN<2>& s) noexcept {
+COLLIDE_ALWAYS_INLINE void gjk_solve_triangle(GjkSimplexN<2>& s) noexcept {
   const Vec2 w1 = s.v[0].w;
   const Vec2 w2 = s.v[1].w;
   const Vec2 w3 = s.v[2].w;
@@ -339,7 +340,7 @@ inline void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
 /// Reduce any simplex to the sub-simplex whose Voronoi region holds the origin. Returns true
 /// when the whole simplex of D + 1 vertices holds the origin (the cores overlap).
 template <int D>
-[[nodiscard]] inline bool gjk_reduce(GjkSimplexN<D>& s) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE bool gjk_reduce(GjkSimplexN<D>& s) noexcept {
   if (s.count == 2) {
     gjk_solve_edge(s);
   } else if (s.count >= 3) {
@@ -358,7 +359,7 @@ template <int D>
 /// the origin, a triangle's normal towards it (3D). Zero length only when the origin is on
 /// the kept feature's line or plane.
 template <int D>
-[[nodiscard]] inline VecN<D> gjk_search_direction(const GjkSimplexN<D>& s) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE VecN<D> gjk_search_direction(const GjkSimplexN<D>& s) noexcept {
   const VecN<D> w1 = s.v[0].w;
   if (s.count == 1) return -w1;
   const VecN<D> e12 = s.v[1].w - w1;
@@ -376,7 +377,7 @@ template <int D>
 /// simplex's closest point to the origin, applied to the A and B halves of its vertices. When
 /// the simplex holds the origin, one point inside both (equal outputs).
 template <int D>
-inline void gjk_witness_points(const GjkSimplexN<D>& s, VecN<D>& pa, VecN<D>& pb) noexcept {
+COLLIDE_ALWAYS_INLINE void gjk_witness_points(const GjkSimplexN<D>& s, VecN<D>& pa, VecN<D>& pb) noexcept {
   if (s.count == 1) {
     pa = s.v[0].wa;
     pb = s.v[0].wb;
@@ -444,7 +445,7 @@ struct GjkRunToEnd {
 /// kRelativeTolerance * scale of it. `policy` may stop early (see GjkRunToEnd). `iterations`
 /// counts support points evaluated.
 template <int D, class PA, class PB, class Policy>
-[[nodiscard]] GjkEnd run_gjk(const PA& a, const PB& b, const FrameN<D>& b_in_a,
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkEnd run_gjk(const PA& a, const PB& b, const FrameN<D>& b_in_a,
                              GjkSimplexN<D>& s, float scale, const Policy& policy,
                              int& iterations) noexcept {
   static_assert(SupportMap<PA, D> && SupportMap<PB, D>);

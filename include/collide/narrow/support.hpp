@@ -197,6 +197,14 @@ class ConvexProxyN<3> {
   /// Box: 8 corners by the feature numbering of box.hpp, and its rounding radius.
   explicit ConvexProxyN(const Box& box) noexcept
       : buffer_{box.half, box.half}, count_(8), radius_(box.radius), kind_(Kind::box) {}
+  /// Convex hull: its vertices (not copied: keep the hull alive), its SIMD scan and its
+  /// hill-climbing walk, and its rounding radius.
+  explicit ConvexProxyN(const ConvexHull& hull) noexcept
+      : points_(hull.vertices.data()),
+        count_(hull.vertex_count()),
+        radius_(hull.radius),
+        kind_(Kind::hull),
+        hull_(&hull) {}
   /// A raw point set (1..kMaxProxyPoints3 points, not copied) and radius.
   ConvexProxyN(const Vec3* points, int count, float radius) noexcept
       : points_(points), count_(count), radius_(radius), kind_(Kind::points) {}
@@ -214,7 +222,8 @@ class ConvexProxyN<3> {
         const Vec3 h = buffer_[0];
         return {(i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z};
       }
-      case Kind::points: return points_[i];
+      case Kind::points:
+      case Kind::hull: return points_[i];
       case Kind::inline_points: break;
     }
     return buffer_[i];
@@ -228,17 +237,21 @@ class ConvexProxyN<3> {
         return int(direction.x > 0.0f) | (int(direction.y > 0.0f) << 1) |
                (int(direction.z > 0.0f) << 2);
       case Kind::points: return scan(points_, count_, direction);
+      case Kind::hull: return hull_->support_index(direction);
       case Kind::inline_points: break;
     }
     return count_ == 2 && dot(buffer_[1], direction) > dot(buffer_[0], direction) ? 1 : 0;
   }
-  /// The same; no shape here has a faster walk from a previous answer than its direct answer.
-  [[nodiscard]] int support_index_from(Vec3 direction, int /*start*/) const noexcept {
+  /// The same, walked from a previous answer `start` where the shape can (a hull's hill
+  /// climbing over its vertex adjacency: a few steps under coherent motion; its answer is
+  /// farthest within the hull's tolerance); other shapes answer directly.
+  [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept {
+    if (kind_ == Kind::hull) return hull_->support_index_from(direction, start);
     return support_index(direction);
   }
 
  private:
-  enum class Kind : unsigned char { inline_points, box, points };
+  enum class Kind : unsigned char { inline_points, box, points, hull };
 
   [[nodiscard]] static int scan(const Vec3* p, int n, Vec3 direction) noexcept {
     int best = 0;
@@ -258,6 +271,7 @@ class ConvexProxyN<3> {
   int count_ = 0;
   float radius_ = 0.0f;
   Kind kind_ = Kind::inline_points;
+  const ConvexHull* hull_ = nullptr;
 };
 
 using ConvexProxy3 = ConvexProxyN<3>;  ///< the 3D support map

@@ -22,16 +22,16 @@ inline constexpr int kMaxHullVertices = 256;
 using HullVertexIndex = std::uint8_t;
 static_assert(kMaxHullVertices - 1 <= std::numeric_limits<HullVertexIndex>::max());
 
-/// Points closer than this fraction of the point set's extent (the largest side of its
-/// bounding box) to a face are on the face: such points are not added as vertices, and two
-/// neighbouring faces are merged into one polygon unless each face's centroid lies deeper than
-/// this below the other's plane. The floor of every hull's `tolerance`.
+/// A hull's `tolerance` is at least this fraction of the point set's extent (the largest side
+/// of its bounding box). Points within the tolerance of the hull are not added as vertices, and
+/// faces are merged into one polygon when that keeps them planar within half of it; see
+/// `make_convex_hull`. The same fraction as kRelativeTolerance (core/tolerance.hpp).
 inline constexpr float kHullRelativeTolerance = 1e-5f;
 
-/// Float rounding of the input: a hull's `tolerance` is at least this many float epsilons
-/// times (max |x| + max |y| + max |z|) of the points, measured from the origin of their own
-/// space, since a plane evaluated in float at that distance is no more exact (Gregorius,
-/// "Implementing Quickhull", GDC 2014, uses 3).
+/// ... and at least this many float epsilons times (max |x| + max |y| + max |z|) of the points,
+/// measured from the origin of their own space: the hull is stored in float in that space, and
+/// a plane evaluated in float there is no more exact (Gregorius, "Implementing Quickhull",
+/// GDC 2014, who uses 3). It dominates for small clouds far from their origin.
 inline constexpr float kHullRoundingFactor = 3.0f;
 
 /// A point set whose thickness (its extent across the plane of its three most spread points)
@@ -42,16 +42,18 @@ inline constexpr float kHullFlatFactor = 4.0f;
 /// A face of a hull: a convex polygon on the plane dot(normal, x) = offset, local space.
 struct HullFace {
   Vec3 normal;          ///< unit outward normal, local space
-  float offset;         ///< plane offset; every hull vertex has dot(normal, v) <= offset
-                        ///< (up to float rounding), the face's own within `tolerance` of it
+  float offset;         ///< plane offset: dot(normal, v) <= offset for every hull vertex v
+                        ///< (exactly), the face's own corners within `tolerance` of it
   std::uint16_t first;  ///< first slot of the face in `face_vertices` and `face_edges`
   std::uint16_t count;  ///< number of corners (>= 3)
 };
 
 /// An edge of a hull, stored once per undirected edge. v0 < v1. `face0` is the face whose
 /// counter-clockwise boundary runs v0 -> v1 (seen from outside, face0 lies to the left of
-/// v0 -> v1), `face1` the one whose boundary runs v1 -> v0. So
-/// dot(cross(normal(face0), normal(face1)), v1 - v0) >= 0 for a convex edge.
+/// v0 -> v1), `face1` the one whose boundary runs v1 -> v0. For a clearly bent edge
+/// dot(cross(normal(face0), normal(face1)), v1 - v0) > 0; where the faces are within a few
+/// tolerances of coplanar their float normals may not resolve the sign, so Gauss-map tests
+/// should take the arc's axis from the edge direction, not from the normals' cross product.
 struct HullEdge {
   HullVertexIndex v0;   ///< first vertex (the lower index)
   HullVertexIndex v1;   ///< second vertex
@@ -63,12 +65,19 @@ struct HullEdge {
 /// `radius` of the convex hull of `vertices`. Build it with `make_convex_hull`, which
 /// establishes the invariants below; treat the fields as read-only afterwards.
 ///
-/// Invariants (all within `tolerance`): `vertices` are extreme points only (no duplicates, no
-/// point inside the hull or on a face or edge); every face is a planar, convex polygon,
-/// counter-clockwise seen from outside, no thinner than `tolerance`, and its plane supports the
-/// hull (every vertex lies on or behind it); neighbouring faces are not coplanar (each face's
-/// centroid lies deeper than `tolerance` below the other's plane); every edge has two
-/// different faces; V - E + F = 2.
+/// Invariants, with t = `tolerance` (checked on every test hull, exactly in double):
+/// - `vertices` are input points (exact copies), pairwise farther apart than t, each a corner
+///   of at least 3 faces; V - E + F = 2, every edge has two different faces.
+/// - Every face is a polygon, counter-clockwise seen from outside, no thinner than t across
+///   any of its sides, planar (its corners lie on or at most t below its plane) and convex (a
+///   corner lies at most t inside the chord of its two neighbours).
+/// - Every face plane supports the hull: every vertex lies on or behind it, and, unless
+///   max_vertices stopped the build, so does every input point, within t.
+/// - Every edge is convex: each face's corner centroid lies below the other face's plane.
+/// - Neighbouring faces whose union would be planar within t / 2 are merged (unless that would
+///   make a reflex corner), so there are no slivers and no needless splits of a flat side.
+/// A face's normal is exact to about t / (the face's width): for very elongated hulls (the
+/// tolerance is relative to the longest side) the normals of narrow faces are rough.
 ///
 /// Face i has corners face_vertices[first, first + count) in counter-clockwise order, and
 /// face_edges[first + k] is the edge from corner k to corner k + 1 (mod count). Vertex i's
@@ -83,7 +92,7 @@ struct ConvexHull {
   std::vector<std::uint16_t> neighbour_offsets; ///< vertex adjacency offsets, size V + 1
   std::vector<HullVertexIndex> neighbours;      ///< vertex adjacency lists, size 2E
   float radius = 0.0f;                          ///< rounding radius, >= 0
-  float tolerance = 0.0f;       ///< the build's coplanarity tolerance, local units (see above)
+  float tolerance = 0.0f;       ///< the build's tolerance t, local units (see above)
   float volume = 0.0f;          ///< volume of the core (without the radius)
   Vec3 centroid{0.0f};          ///< volume centroid of the core, local space
   Aabb3 bounds;                 ///< local bounds of the core (without the radius)
@@ -112,24 +121,30 @@ struct HullOptions {
 /// The convex hull of `points` (local space, any order) with rounding radius `options.radius`.
 ///
 /// Quickhull (Barber, Dobkin & Huhdanpaa, "The Quickhull Algorithm for Convex Hulls", ACM TOMS
-/// 1996) with the face merging of Gregorius ("Implementing Quickhull", GDC 2014): after each
-/// point is added, neighbouring faces that are not clearly convex (within the hull's
-/// `tolerance`, see kHullRelativeTolerance and kHullRoundingFactor) are merged into one
-/// polygon, so coplanar and nearly coplanar points give one clean face and no sliver remains.
-/// The build runs in double precision on the points shifted to the centre of their bounding
-/// box; the hull's vertices are the input points themselves (exact copies).
+/// 1996): the farthest outside point is added first, the faces it sees are replaced by a cone
+/// from their horizon. After each point, faces are merged as in Gregorius ("Implementing
+/// Quickhull", GDC 2014), but with a planarity test instead of his centroid test (which let
+/// corners stray several tolerances off the merged plane on real data): two neighbours merge
+/// when their union is planar within half the tolerance and stays convex, and always when
+/// their edge is concave; a face thinner than the tolerance merges into its most coplanar
+/// neighbour. A last pass re-adds any point that the merges left more than the tolerance
+/// outside. The tolerance is max(kHullRelativeTolerance x extent, kHullRoundingFactor x
+/// FLT_EPSILON x (max |x| + max |y| + max |z|)). The build runs in double on the points
+/// shifted to the centre of their bounding box (exact differences however far the cloud is
+/// from its origin); it allocates and takes O(n h) time for n points and h hull faces.
 ///
-/// `options.max_vertices` caps the vertex count. Quickhull adds the farthest outside point
-/// first, so stopping at the cap gives a good approximation: the result is the exact convex
-/// hull of its own vertices (all invariants hold), while input points farther out than
-/// `tolerance` may remain outside it. Points within `tolerance` of the hull may also lie
-/// outside it by up to that much (they are dropped as on the hull), and a vertex whose faces
-/// merged flat may be dropped the same way.
+/// `options.max_vertices` caps the vertex count. Since the farthest point goes first, stopping
+/// at the cap gives a good approximation: the result is then the convex hull of its own
+/// vertices (all invariants hold for it), while input points farther out than the tolerance
+/// remain outside it (ever closer as the cap grows). Without the cap, points within the
+/// tolerance of the hull may lie outside it by up to the tolerance (they are dropped as on the
+/// hull, and so is a vertex whose faces merged flat).
 ///
 /// Throws InvalidInput naming the field if: a coordinate is not finite (names the point
-/// index); there are fewer than 4 points; all points coincide, are collinear or are coplanar
-/// within the tolerance (zero volume, says which); the radius is negative or not finite;
-/// max_vertices is outside [4, kMaxHullVertices].
+/// index); there are fewer than 4 points; the points all coincide, are collinear or are
+/// coplanar within the tolerance (zero volume, says which; coplanar: thinner than
+/// kHullFlatFactor tolerances); the radius is negative or not finite; max_vertices is outside
+/// [4, kMaxHullVertices].
 [[nodiscard]] ConvexHull make_convex_hull(std::span<const Vec3> points,
                                           const HullOptions& options = {});
 

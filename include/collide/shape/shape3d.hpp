@@ -7,6 +7,7 @@
 
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
+#include <collide/shape/convex_hull.hpp>
 #include <collide/shape/segment3.hpp>
 #include <collide/shape/sphere.hpp>
 
@@ -16,20 +17,21 @@
 namespace collide {
 
 /// One of the convex 3D shapes. The alternative order is the `ShapeType3D` order.
-using Shape3D = std::variant<Sphere, Capsule3, Segment3, Box>;
+using Shape3D = std::variant<Sphere, Capsule3, Segment3, Box, ConvexHull>;
 
 /// The convex 3D shape types, in `Shape3D` alternative order.
-enum class ShapeType3D : unsigned char { sphere, capsule, segment, box };
+enum class ShapeType3D : unsigned char { sphere, capsule, segment, box, hull };
 
 /// Any of the convex 3D shape structs.
 template <class T>
 concept Shape3DType = std::is_same_v<T, Sphere> || std::is_same_v<T, Capsule3> ||
-                      std::is_same_v<T, Segment3> || std::is_same_v<T, Box>;
+                      std::is_same_v<T, Segment3> || std::is_same_v<T, Box> ||
+                      std::is_same_v<T, ConvexHull>;
 
 /// Bounding box of any convex 3D shape placed by `xf`, world space.
 [[nodiscard]] Aabb3 compute_aabb(const Shape3D& shape, const Transform3& xf) noexcept;
 
-/// Lower-case name of the shape's type ("sphere", "capsule", "segment", "box").
+/// Lower-case name of the shape's type ("sphere", "capsule", "segment", "box", "hull").
 [[nodiscard]] const char* type_name(const Shape3D& shape) noexcept;
 
 }  // namespace collide

@@ -1,0 +1,13 @@
+#pragma once
+/// @file
+/// Compiler hints used by the hot loops.
+
+/// Forces inlining of a small hot function whose call overhead the compiler misjudges (the
+/// GJK loop and its helpers: templates called once per query, measured with callgrind).
+#if defined(__GNUC__) || defined(__clang__)
+#define COLLIDE_ALWAYS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define COLLIDE_ALWAYS_INLINE __forceinline
+#else
+#define COLLIDE_ALWAYS_INLINE inline
+#endif

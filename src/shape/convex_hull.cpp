@@ -1,0 +1,985 @@
+#include <collide/shape/convex_hull.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace collide {
+namespace {
+
+// The build runs once per shape, never inside a query, so it may allocate; it runs in double
+// (the reason for not using float here): the input floats and their differences are exact in
+// double, so orientation tests on nearly coplanar points are decided by the tolerance, not by
+// rounding noise.
+using DVec3 = glm::dvec3;
+
+/// Passes over all points after quickhull ends, each re-adding points that merges left outside
+/// by more than the tolerance (one is enough on all test clouds; see run()).
+constexpr int kMaxSweeps = 4;
+
+/// Two neighbouring faces merge when the corners of their union spread less than this fraction
+/// of the tolerance about its plane. Below 1 so that the merges a concave edge forces (after
+/// another merge tilted a plane) still leave every face planar within the tolerance: with 1,
+/// such merges reached 1.09 tolerances on random flat clouds.
+constexpr double kCoplanarFraction = 0.5;
+
+/// A half-edge of the hull under construction (indices into the builder's arrays).
+struct HalfEdge {
+  int origin = -1;  ///< point index where the half-edge starts
+  int twin = -1;    ///< the opposite half-edge, in the neighbouring face
+  int next = -1;    ///< next half-edge counter-clockwise around `face`
+  int prev = -1;    ///< previous half-edge around `face`
+  int face = -1;    ///< face on the left (seen from outside)
+};
+
+/// A face of the hull under construction: a convex polygon with its plane and outside set.
+struct BuildFace {
+  DVec3 normal{0.0};    ///< unit outward normal (Newell); zero for a degenerate face
+  DVec3 centroid{0.0};  ///< average of the corners
+  DVec3 area_vector{0.0};  ///< Newell's vector: twice the area times the normal
+  double offset = 0.0;  ///< dot(normal, centroid)
+  double area = 0.0;
+  int edge = -1;        ///< one half-edge of the face
+  bool alive = false;
+  bool visible = false;  ///< seen by the current eye point (valid when mark == stamp)
+  bool queued = false;   ///< in the merge work list
+  int mark = 0;          ///< stamp of the last visibility test
+  std::vector<int> outside;  ///< conflict list: points above this face by more than tolerance
+  int furthest = -1;         ///< the outside point farthest above the plane
+  double furthest_distance = 0.0;
+};
+
+/// The run of consecutive edges two faces share, as seen from face f: half-edges first..last
+/// of f (whose twins lie in g), the edge p of f before the run and n after it, and the edges
+/// of g that continue from the run's start (m) and lead into its end (q).
+struct SharedRun {
+  int first, last, p, n, m, q;
+};
+
+class QuickHull {
+ public:
+  QuickHull(std::vector<DVec3> points, DVec3 origin, double tolerance)
+      : pts_(std::move(points)), origin_(origin), tol_(tolerance), vertex_mark_(pts_.size(), 0) {}
+
+  /// Builds the initial tetrahedron; returns nullptr or the degeneracy it found.
+  const char* build_initial();
+  /// Adds outside points, farthest first, until none is left or the hull has max_vertices.
+  /// Returns false when it stopped at the cap with points still outside.
+  bool run(int max_vertices);
+  /// Writes the result (vertices as copies of `input`) into `hull`; `complete`: every input
+  /// point is within the tolerance of the hull (run() returned true).
+  void extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const;
+
+ private:
+  [[nodiscard]] double distance(int f, const DVec3& p) const {
+    return glm::dot(faces_[f].normal, p) - faces_[f].offset;
+  }
+  [[nodiscard]] int end_of(int h) const { return edges_[edges_[h].twin].origin; }
+  int new_edge(int origin, int face);
+  int new_face();
+  void free_edge(int h);
+  void free_face(int f);
+  int make_triangle(int a, int b, int c);
+  void compute_plane(int f);
+  [[nodiscard]] int edge_count(int f) const;
+  void assign(int point, std::span<const int> candidates);
+  void add_point(int eye, int seed);
+  void find_horizon(int eye, int f, int entry);
+  [[nodiscard]] bool horizon_is_loop();
+  [[nodiscard]] double union_spread(int f, int g) const;
+  [[nodiscard]] bool should_merge(int f, int h) const;
+  [[nodiscard]] SharedRun shared_run(int f, int h) const;
+  [[nodiscard]] bool shares_one_run(int f, int h) const;
+  [[nodiscard]] double corner_turn(int a, int b, int c, const DVec3& normal) const;
+  [[nodiscard]] bool is_thin(int f) const;
+  bool merge_step(int f);
+  void merge(int f, int h);
+  void fix_degree_two_vertices(int f);
+  void enqueue(int f);
+  [[nodiscard]] int vertex_count();
+
+  std::vector<DVec3> pts_;  ///< input points minus origin_
+  DVec3 origin_;            ///< the local origin the build works around
+  double tol_;
+  std::vector<HalfEdge> edges_;
+  std::vector<int> free_edges_;
+  std::vector<BuildFace> faces_;
+  std::vector<int> free_faces_;
+  std::vector<int> vertex_mark_;
+  int stamp_ = 0;
+  int vertex_stamp_ = 0;
+  // Scratch of add_point, kept to reuse capacity.
+  std::vector<int> horizon_;
+  std::vector<int> visible_;
+  std::vector<int> orphans_;
+  std::vector<int> work_;
+};
+
+int QuickHull::new_edge(int origin, int face) {
+  int h;
+  if (!free_edges_.empty()) {
+    h = free_edges_.back();
+    free_edges_.pop_back();
+  } else {
+    h = static_cast<int>(edges_.size());
+    edges_.emplace_back();
+  }
+  edges_[h] = HalfEdge{origin, -1, -1, -1, face};
+  return h;
+}
+
+int QuickHull::new_face() {
+  int f;
+  if (!free_faces_.empty()) {
+    f = free_faces_.back();
+    free_faces_.pop_back();
+  } else {
+    f = static_cast<int>(faces_.size());
+    faces_.emplace_back();
+  }
+  BuildFace& face = faces_[f];
+  face.alive = true;
+  face.visible = false;
+  face.queued = false;
+  face.mark = 0;
+  face.outside.clear();
+  face.furthest = -1;
+  face.furthest_distance = 0.0;
+  return f;
+}
+
+void QuickHull::free_edge(int h) {
+  edges_[h].face = -1;
+  free_edges_.push_back(h);
+}
+
+void QuickHull::free_face(int f) {
+  faces_[f].alive = false;
+  faces_[f].edge = -1;
+  free_faces_.push_back(f);
+}
+
+int QuickHull::make_triangle(int a, int b, int c) {
+  const int f = new_face();
+  const int e0 = new_edge(a, f);
+  const int e1 = new_edge(b, f);
+  const int e2 = new_edge(c, f);
+  edges_[e0].next = e1;
+  edges_[e1].next = e2;
+  edges_[e2].next = e0;
+  edges_[e0].prev = e2;
+  edges_[e1].prev = e0;
+  edges_[e2].prev = e1;
+  faces_[f].edge = e0;
+  return f;
+}
+
+int QuickHull::edge_count(int f) const {
+  int n = 0;
+  int h = faces_[f].edge;
+  do {
+    ++n;
+    h = edges_[h].next;
+  } while (h != faces_[f].edge);
+  return n;
+}
+
+// Plane of a polygon by Newell's method (the area vector, exact for planar polygons and a
+// least-squares-like average otherwise), through the average of its corners.
+void QuickHull::compute_plane(int f) {
+  BuildFace& face = faces_[f];
+  const DVec3 ref = pts_[edges_[face.edge].origin];
+  DVec3 n{0.0};
+  DVec3 sum{0.0};
+  int count = 0;
+  int h = face.edge;
+  do {
+    const DVec3 a = pts_[edges_[h].origin] - ref;
+    const DVec3 b = pts_[edges_[edges_[h].next].origin] - ref;
+    n += glm::cross(a, b);
+    sum += a;
+    ++count;
+    h = edges_[h].next;
+  } while (h != face.edge);
+  const double len = glm::length(n);
+  face.area = 0.5 * len;
+  face.area_vector = n;
+  face.normal = len > 0.0 ? n / len : DVec3{0.0};
+  face.centroid = ref + sum / static_cast<double>(count);
+  face.offset = glm::dot(face.normal, face.centroid);
+}
+
+const char* QuickHull::build_initial() {
+  const int n = static_cast<int>(pts_.size());
+  // The extreme points along the axes; the farthest pair of them spans the first edge.
+  int extreme[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 1; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (pts_[i][k] < pts_[extreme[2 * k]][k]) extreme[2 * k] = i;
+      if (pts_[i][k] > pts_[extreme[2 * k + 1]][k]) extreme[2 * k + 1] = i;
+    }
+  }
+  int i0 = extreme[0];
+  int i1 = extreme[1];
+  double best = -1.0;
+  for (int a = 0; a < 6; ++a) {
+    for (int b = a + 1; b < 6; ++b) {
+      const DVec3 d = pts_[extreme[b]] - pts_[extreme[a]];
+      const double len2 = glm::dot(d, d);
+      if (len2 > best) {
+        best = len2;
+        i0 = extreme[a];
+        i1 = extreme[b];
+      }
+    }
+  }
+  if (std::sqrt(best) <= tol_) return "all coincident";
+  // The point farthest from the line i0 i1.
+  const DVec3 axis = glm::normalize(pts_[i1] - pts_[i0]);
+  int i2 = -1;
+  best = -1.0;
+  for (int i = 0; i < n; ++i) {
+    const DVec3 d = pts_[i] - pts_[i0];
+    const DVec3 off = d - axis * glm::dot(d, axis);
+    const double dist2 = glm::dot(off, off);
+    if (dist2 > best) {
+      best = dist2;
+      i2 = i;
+    }
+  }
+  if (std::sqrt(best) <= tol_) return "collinear";
+  // The point farthest from the plane i0 i1 i2, on either side. The cloud's thickness across
+  // that plane must exceed a few tolerances: a thinner hull would have side faces no wider
+  // than the tolerance, which the merging would fold flat.
+  const DVec3 normal =
+      glm::normalize(glm::cross(pts_[i1] - pts_[i0], pts_[i2] - pts_[i0]));
+  int i3 = -1;
+  double lo = 0.0;
+  double hi = 0.0;
+  best = -1.0;
+  for (int i = 0; i < n; ++i) {
+    const double d = glm::dot(normal, pts_[i] - pts_[i0]);
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+    if (std::fabs(d) > best) {
+      best = std::fabs(d);
+      i3 = i;
+    }
+  }
+  if (hi - lo <= static_cast<double>(kHullFlatFactor) * tol_) return "coplanar";
+
+  // Orient so that i3 lies behind the face (i0, i1, i2).
+  if (glm::dot(normal, pts_[i3] - pts_[i0]) > 0.0) std::swap(i1, i2);
+  const int a = i0, b = i1, c = i2, d = i3;
+  const int tri[4][3] = {{a, b, c}, {b, a, d}, {c, b, d}, {a, c, d}};
+  int made[4];
+  for (int k = 0; k < 4; ++k) made[k] = make_triangle(tri[k][0], tri[k][1], tri[k][2]);
+  // Link twins: each directed edge u -> v meets v -> u in another face.
+  for (int f1 : made) {
+    int h1 = faces_[f1].edge;
+    do {
+      if (edges_[h1].twin < 0) {
+        const int u = edges_[h1].origin;
+        const int v = edges_[edges_[h1].next].origin;
+        for (int f2 : made) {
+          if (f2 == f1) continue;
+          int h2 = faces_[f2].edge;
+          do {
+            if (edges_[h2].origin == v && edges_[edges_[h2].next].origin == u) {
+              edges_[h1].twin = h2;
+              edges_[h2].twin = h1;
+            }
+            h2 = edges_[h2].next;
+          } while (h2 != faces_[f2].edge);
+        }
+      }
+      h1 = edges_[h1].next;
+    } while (h1 != faces_[f1].edge);
+  }
+  for (int f : made) compute_plane(f);
+  for (int i = 0; i < n; ++i) {
+    if (i == a || i == b || i == c || i == d) continue;
+    assign(i, made);
+  }
+  return nullptr;
+}
+
+// Puts `point` into the outside set of the candidate face it is farthest above, if it is above
+// one by more than the tolerance; otherwise it is inside (or on) the hull and dropped.
+void QuickHull::assign(int point, std::span<const int> candidates) {
+  int best_face = -1;
+  double best = tol_;
+  for (int f : candidates) {
+    if (!faces_[f].alive) continue;
+    const double d = distance(f, pts_[point]);
+    if (d > best) {
+      best = d;
+      best_face = f;
+    }
+  }
+  if (best_face < 0) return;
+  BuildFace& face = faces_[best_face];
+  face.outside.push_back(point);
+  if (best > face.furthest_distance) {
+    face.furthest_distance = best;
+    face.furthest = point;
+  }
+}
+
+int QuickHull::vertex_count() {
+  ++vertex_stamp_;
+  int count = 0;
+  for (const HalfEdge& e : edges_) {
+    if (e.face < 0) continue;
+    if (vertex_mark_[e.origin] != vertex_stamp_) {
+      vertex_mark_[e.origin] = vertex_stamp_;
+      ++count;
+    }
+  }
+  return count;
+}
+
+bool QuickHull::run(int max_vertices) {
+  for (int sweep = 0;; ++sweep) {
+    for (;;) {
+      int seed = -1;
+      double best = tol_;
+      for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
+        if (faces_[f].alive && faces_[f].furthest >= 0 && faces_[f].furthest_distance > best) {
+          best = faces_[f].furthest_distance;
+          seed = f;
+        }
+      }
+      if (seed < 0) break;
+      if (vertex_count() >= max_vertices) return false;
+      add_point(faces_[seed].furthest, seed);
+    }
+    if (sweep == kMaxSweeps) return true;
+    // Merges tilt planes after points were dropped as within the tolerance of a face; one
+    // pass over all points puts any that ended up farther outside back into play.
+    std::vector<int> alive;
+    for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
+      if (faces_[f].alive) alive.push_back(f);
+    }
+    (void)vertex_count();  // marks the current vertices
+    const int stamp = vertex_stamp_;
+    bool any = false;
+    for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
+      if (vertex_mark_[i] == stamp) continue;
+      int best_face = -1;
+      double best = tol_;
+      for (int f : alive) {
+        const double d = distance(f, pts_[i]);
+        if (d > best) {
+          best = d;
+          best_face = f;
+        }
+      }
+      if (best_face >= 0) {
+        any = true;
+        assign(i, std::span<const int>(&best_face, 1));
+      }
+    }
+    if (!any) return true;
+  }
+}
+
+// Depth-first search over the faces the eye sees, walking each face's edges in order from the
+// one it was entered by: the edges into unseen faces come out as the horizon, in order
+// counter-clockwise around the visible region (Barber et al. 1996; Gregorius 2014).
+void QuickHull::find_horizon(int eye, int f, int entry) {
+  faces_[f].mark = stamp_;
+  faces_[f].visible = true;
+  visible_.push_back(f);
+  const int stop = entry < 0 ? faces_[f].edge : entry;
+  int h = entry < 0 ? faces_[f].edge : edges_[entry].next;
+  do {
+    const int t = edges_[h].twin;
+    const int g = edges_[t].face;
+    if (faces_[g].mark != stamp_) {
+      if (distance(g, pts_[eye]) > 0.0) {
+        find_horizon(eye, g, t);
+      } else {
+        faces_[g].mark = stamp_;
+        faces_[g].visible = false;
+        horizon_.push_back(h);
+      }
+    } else if (!faces_[g].visible) {
+      horizon_.push_back(h);
+    }
+    h = edges_[h].next;
+  } while (h != stop);
+}
+
+// The horizon must be one simple closed loop (the visible faces form a disc); tolerance-level
+// disagreements between neighbouring faces could in principle break that.
+bool QuickHull::horizon_is_loop() {
+  const size_t k = horizon_.size();
+  if (k < 3) return false;
+  ++vertex_stamp_;
+  for (size_t i = 0; i < k; ++i) {
+    const int h = horizon_[i];
+    if (end_of(h) != edges_[horizon_[(i + 1) % k]].origin) return false;
+    if (vertex_mark_[edges_[h].origin] == vertex_stamp_) return false;
+    vertex_mark_[edges_[h].origin] = vertex_stamp_;
+  }
+  return true;
+}
+
+void QuickHull::enqueue(int f) {
+  if (!faces_[f].queued) {
+    faces_[f].queued = true;
+    work_.push_back(f);
+  }
+}
+
+void QuickHull::add_point(int eye, int seed) {
+  ++stamp_;
+  horizon_.clear();
+  visible_.clear();
+  find_horizon(eye, seed, -1);
+  if (!horizon_is_loop()) {
+    // Never seen on the test clouds; dropping the eye keeps the topology valid and leaves the
+    // point outside by at most a few tolerances (it was seen ambiguously by a coplanar face).
+    std::vector<int>& out = faces_[seed].outside;
+    out.erase(std::remove(out.begin(), out.end(), eye), out.end());
+    faces_[seed].furthest = -1;
+    faces_[seed].furthest_distance = 0.0;
+    for (int p : out) {
+      const double d = distance(seed, pts_[p]);
+      if (d > faces_[seed].furthest_distance) {
+        faces_[seed].furthest_distance = d;
+        faces_[seed].furthest = p;
+      }
+    }
+    return;
+  }
+
+  // The cone of new triangles from the horizon to the eye.
+  work_.clear();
+  const size_t k = horizon_.size();
+  int first_new = -1;
+  int prev_new = -1;
+  for (size_t i = 0; i < k; ++i) {
+    const int h = horizon_[i];
+    const int t = edges_[h].twin;
+    const int f = make_triangle(edges_[h].origin, end_of(h), eye);
+    const int e0 = faces_[f].edge;  // origin -> end, twin of the unseen face's edge
+    edges_[e0].twin = t;
+    edges_[t].twin = e0;
+    if (prev_new >= 0) {
+      const int b_to_eye = edges_[faces_[prev_new].edge].next;
+      const int eye_to_a = edges_[e0].prev;
+      edges_[b_to_eye].twin = eye_to_a;
+      edges_[eye_to_a].twin = b_to_eye;
+    } else {
+      first_new = f;
+    }
+    prev_new = f;
+    compute_plane(f);
+    enqueue(f);
+  }
+  {
+    const int b_to_eye = edges_[faces_[prev_new].edge].next;
+    const int eye_to_a = edges_[faces_[first_new].edge].prev;
+    edges_[b_to_eye].twin = eye_to_a;
+    edges_[eye_to_a].twin = b_to_eye;
+  }
+
+  // Remove the visible faces; their outside points are orphans until reassigned.
+  orphans_.clear();
+  for (int f : visible_) {
+    for (int p : faces_[f].outside) {
+      if (p != eye) orphans_.push_back(p);
+    }
+    int h = faces_[f].edge;
+    do {
+      const int next = edges_[h].next;
+      free_edge(h);
+      h = next;
+    } while (h != faces_[f].edge);
+    free_face(f);
+  }
+
+  // Merge faces (Gregorius 2014, with a planarity test instead of his centroid test, which
+  // let corners stray several tolerances off the merged plane). A merge or a removed corner
+  // changes a plane, so repeat until nothing merges.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < work_.size(); ++i) {
+      const int f = work_[i];
+      if (!faces_[f].alive) continue;
+      while (merge_step(f)) merged = true;
+    }
+  }
+
+  // Faces that changed hand their outside points back; all orphans go to the changed faces.
+  // A point above a removed face that lies outside the new hull is above one of the cone faces
+  // (Barber et al. 1996), and every cone face lives on in a changed face.
+  std::vector<int>& changed = visible_;  // reuse as scratch
+  changed.clear();
+  for (int f : work_) {
+    faces_[f].queued = false;
+    if (!faces_[f].alive) continue;
+    changed.push_back(f);
+    for (int p : faces_[f].outside) orphans_.push_back(p);
+    faces_[f].outside.clear();
+    faces_[f].furthest = -1;
+    faces_[f].furthest_distance = 0.0;
+  }
+  for (int p : orphans_) assign(p, changed);
+}
+
+// Corners of faces f and g spread along the normal of their union (Newell's area vector of
+// the union is the sum of theirs: the shared edges cancel).
+double QuickHull::union_spread(int f, int g) const {
+  const DVec3 sum = faces_[f].area_vector + faces_[g].area_vector;
+  const double len = glm::length(sum);
+  if (!(len > 0.0)) return HUGE_VAL;
+  const DVec3 n = sum / len;
+  double lo = HUGE_VAL;
+  double hi = -HUGE_VAL;
+  for (int face : {f, g}) {
+    int h = faces_[face].edge;
+    do {
+      const double d = glm::dot(n, pts_[edges_[h].origin]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+      h = edges_[h].next;
+    } while (h != faces_[face].edge);
+  }
+  return hi - lo;
+}
+
+SharedRun QuickHull::shared_run(int f, int h) const {
+  const int g = edges_[edges_[h].twin].face;
+  SharedRun run{h, h, -1, -1, -1, -1};
+  while (edges_[edges_[edges_[run.first].prev].twin].face == g && edges_[run.first].prev != h) {
+    run.first = edges_[run.first].prev;
+  }
+  while (edges_[edges_[edges_[run.last].next].twin].face == g &&
+         edges_[run.last].next != run.first) {
+    run.last = edges_[run.last].next;
+  }
+  (void)f;
+  run.p = edges_[run.first].prev;
+  run.n = edges_[run.last].next;
+  run.m = edges_[edges_[run.first].twin].next;
+  run.q = edges_[edges_[run.last].twin].prev;
+  return run;
+}
+
+// Whether all edges f shares with the face across h form one run. Two separate runs would
+// enclose other faces, and merging across one would leave edges with f on both sides; such
+// pairs are never merged (not seen on any test cloud).
+bool QuickHull::shares_one_run(int f, int h) const {
+  const int g = edges_[edges_[h].twin].face;
+  const SharedRun run = shared_run(f, h);
+  int in_run = 1;
+  for (int e = run.first; e != run.last; e = edges_[e].next) ++in_run;
+  int shared = 0;
+  int e = faces_[f].edge;
+  do {
+    if (edges_[edges_[e].twin].face == g) ++shared;
+    e = edges_[e].next;
+  } while (e != faces_[f].edge);
+  return shared == in_run;
+}
+
+// How far corner b of the polygon path a -> b -> c lies on the outer side of the chord a -> c,
+// in the plane with the given normal: positive where the corner is convex.
+double QuickHull::corner_turn(int a, int b, int c, const DVec3& normal) const {
+  const DVec3 chord = pts_[c] - pts_[a];
+  const double len = glm::length(chord);
+  if (!(len > 0.0)) return 0.0;
+  return glm::dot(pts_[b] - pts_[a], glm::cross(chord, normal)) / len;
+}
+
+// Faces f and g (across f's half-edge h) become one when their union is planar within
+// kCoplanarFraction of the tolerance (coplanar points, slivers along an edge) and stays a convex
+// polygon, or when their edge is concave (the hull must stay convex), judged first by the plane
+// of the larger face: a sliver's own plane is unreliable.
+bool QuickHull::should_merge(int f, int h) const {
+  const int g = edges_[edges_[h].twin].face;
+  if (!shares_one_run(f, h)) return false;
+  if (union_spread(f, g) <= kCoplanarFraction * tol_) {
+    // The union's corners at the ends of the shared run: p -> m at its start, q -> n at its end.
+    // A reflex one is fine when only one other face touches that vertex: it then lies on an
+    // edge (or inside a face being merged piece by piece) and fix_degree_two_vertices removes it.
+    const SharedRun run = shared_run(f, h);
+    const DVec3 normal = glm::normalize(faces_[f].area_vector + faces_[g].area_vector);
+    const double limit = -kCoplanarFraction * tol_;
+    auto face_across = [&](int e) { return edges_[edges_[e].twin].face; };
+    const bool start_ok =
+        face_across(run.p) == face_across(run.m) ||
+        corner_turn(edges_[run.p].origin, edges_[run.m].origin, end_of(run.m), normal) >= limit;
+    const bool end_ok =
+        face_across(run.q) == face_across(run.n) ||
+        corner_turn(edges_[run.q].origin, edges_[run.n].origin, end_of(run.n), normal) >= limit;
+    if (start_ok && end_ok) return true;
+  }
+  const bool f_larger = faces_[f].area >= faces_[g].area;
+  const int big = f_larger ? f : g;
+  const int small = f_larger ? g : f;
+  return distance(big, faces_[small].centroid) > 0.0 ||
+         distance(small, faces_[big].centroid) > 0.0;
+}
+
+// A face no wider than the tolerance across one of its sides (a sliver).
+bool QuickHull::is_thin(int f) const {
+  int h = faces_[f].edge;
+  do {
+    const DVec3 a = pts_[edges_[h].origin];
+    const DVec3 side = pts_[end_of(h)] - a;
+    const double len = glm::length(side);
+    double width = 0.0;
+    int k = faces_[f].edge;
+    do {
+      width = std::max(width, glm::length(glm::cross(side, pts_[edges_[k].origin] - a)));
+      k = edges_[k].next;
+    } while (k != faces_[f].edge);
+    if (width <= tol_ * len) return true;
+    h = edges_[h].next;
+  } while (h != faces_[f].edge);
+  return false;
+}
+
+bool QuickHull::merge_step(int f) {
+  if (is_thin(f)) {
+    // Into the neighbour it is most nearly coplanar with.
+    int best = -1;
+    double best_spread = HUGE_VAL;
+    int h = faces_[f].edge;
+    do {
+      const double spread = union_spread(f, edges_[edges_[h].twin].face);
+      if (spread < best_spread && shares_one_run(f, h)) {
+        best_spread = spread;
+        best = h;
+      }
+      h = edges_[h].next;
+    } while (h != faces_[f].edge);
+    if (best >= 0) {
+      merge(f, best);
+      return true;
+    }
+  }
+  int h = faces_[f].edge;
+  do {
+    if (should_merge(f, h)) {
+      merge(f, h);
+      return true;
+    }
+    h = edges_[h].next;
+  } while (h != faces_[f].edge);
+  return false;
+}
+
+// Face f absorbs its neighbour across half-edge h. The whole run of edges the two share goes
+// (its inner vertices touch only these two faces), so the union is one simple polygon.
+void QuickHull::merge(int f, int h) {
+  const int g = edges_[edges_[h].twin].face;
+  const SharedRun run = shared_run(f, h);
+  const int first = run.first;
+  const int last = run.last;
+  const int p = run.p;
+  const int n = run.n;
+  const int m = run.m;
+  const int q = run.q;
+  const int t_last = edges_[last].twin;
+
+  // g's remaining edges join f.
+  for (int e = m; e != t_last; e = edges_[e].next) edges_[e].face = f;
+  // Free the shared run on both sides.
+  for (int e = first;;) {
+    const int next = edges_[e].next;
+    free_edge(edges_[e].twin);
+    free_edge(e);
+    if (e == last) break;
+    e = next;
+  }
+  edges_[p].next = m;
+  edges_[m].prev = p;
+  edges_[q].next = n;
+  edges_[n].prev = q;
+  faces_[f].edge = p;
+
+  for (int pt : faces_[g].outside) orphans_.push_back(pt);
+  faces_[g].outside.clear();
+  faces_[g].queued = false;  // stays in work_ but is skipped as dead
+  free_face(g);
+
+  fix_degree_two_vertices(f);
+  compute_plane(f);
+  enqueue(f);
+}
+
+// After a merge, a corner of f may touch only f and one other face N (two consecutive edges of
+// f border N): it lies on their common edge and is no vertex. If N or f is a triangle, N is
+// absorbed across both shared edges (a triangle would otherwise lose a side); else the corner
+// is removed from both faces.
+void QuickHull::fix_degree_two_vertices(int f) {
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    int h = faces_[f].edge;
+    do {
+      const int n = edges_[h].next;
+      const int other = edges_[edges_[h].twin].face;
+      if (other == edges_[edges_[n].twin].face) {
+        if (edge_count(other) == 3 || edge_count(f) == 3) {
+          merge(f, h);  // a triangle would lose a side: absorb across both shared edges
+          return;
+        }
+        const int th = edges_[h].twin;  // v -> u in other
+        const int tn = edges_[n].twin;  // w -> v in other
+        // In f: h becomes u -> w.
+        edges_[h].next = edges_[n].next;
+        edges_[edges_[n].next].prev = h;
+        // In other: tn becomes w -> u.
+        edges_[tn].next = edges_[th].next;
+        edges_[edges_[th].next].prev = tn;
+        edges_[h].twin = tn;
+        edges_[tn].twin = h;
+        if (faces_[f].edge == n) faces_[f].edge = h;
+        if (faces_[other].edge == th) faces_[other].edge = tn;
+        free_edge(n);
+        free_edge(th);
+        compute_plane(other);
+        enqueue(other);
+        changed = true;
+        break;
+      }
+      h = n;
+    } while (h != faces_[f].edge);
+  }
+}
+
+void QuickHull::extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const {
+  // Vertices in input order.
+  std::vector<bool> used(pts_.size(), false);
+  for (const HalfEdge& e : edges_) {
+    if (e.face >= 0) used[e.origin] = true;
+  }
+  std::vector<int> index_of(pts_.size(), -1);
+  std::vector<int> point_of;
+  for (size_t i = 0; i < pts_.size(); ++i) {
+    if (used[i]) {
+      index_of[i] = static_cast<int>(point_of.size());
+      point_of.push_back(static_cast<int>(i));
+    }
+  }
+  hull.vertices.clear();
+  for (int p : point_of) hull.vertices.push_back(input[p]);
+  const int vcount = static_cast<int>(point_of.size());
+
+  // Faces, their corners, and edges (each undirected edge once, v0 < v1).
+  std::vector<int> face_of(faces_.size(), -1);
+  std::vector<int> live;
+  for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
+    if (faces_[f].alive) {
+      face_of[f] = static_cast<int>(live.size());
+      live.push_back(f);
+    }
+  }
+  std::vector<int> edge_of(edges_.size(), -1);
+  hull.faces.clear();
+  hull.face_vertices.clear();
+  hull.face_edges.clear();
+  hull.edges.clear();
+  for (int f : live) {
+    HullFace out{};
+    out.first = static_cast<std::uint16_t>(hull.face_vertices.size());
+    int h = faces_[f].edge;
+    int count = 0;
+    do {
+      hull.face_vertices.push_back(static_cast<HullVertexIndex>(index_of[edges_[h].origin]));
+      if (edge_of[h] < 0) {
+        const int t = edges_[h].twin;
+        const int a = index_of[edges_[h].origin];
+        const int b = index_of[edges_[t].origin];
+        HullEdge e{};
+        e.v0 = static_cast<HullVertexIndex>(std::min(a, b));
+        e.v1 = static_cast<HullVertexIndex>(std::max(a, b));
+        const int left = a < b ? f : edges_[t].face;
+        const int right = a < b ? edges_[t].face : f;
+        e.face0 = static_cast<std::uint16_t>(face_of[left]);
+        e.face1 = static_cast<std::uint16_t>(face_of[right]);
+        edge_of[h] = edge_of[t] = static_cast<int>(hull.edges.size());
+        hull.edges.push_back(e);
+      }
+      hull.face_edges.push_back(static_cast<std::uint16_t>(edge_of[h]));
+      ++count;
+      h = edges_[h].next;
+    } while (h != faces_[f].edge);
+    out.count = static_cast<std::uint16_t>(count);
+    // The normal in float; the offset supports every vertex, evaluated in double on the input
+    // coordinates with that float normal, and keeps every input point within the tolerance
+    // (the sweep in run() judged them by the double normal: rounding it to float moves far
+    // points by about 1e-7 of their lever arm, a hair past the tolerance at worst).
+    out.normal = Vec3(faces_[f].normal);
+    const DVec3 n(out.normal);
+    double offset = -HUGE_VAL;
+    for (int p : point_of) offset = std::max(offset, glm::dot(n, DVec3(input[p])));
+    if (complete) {
+      for (const Vec3& p : input) offset = std::max(offset, glm::dot(n, DVec3(p)) - tol_);
+    }
+    // Rounded up, so the float plane still has every vertex (and point) behind it.
+    out.offset = static_cast<float>(offset);
+    if (static_cast<double>(out.offset) < offset) {
+      out.offset = std::nextafter(out.offset, HUGE_VALF);
+    }
+    hull.faces.push_back(out);
+  }
+
+  // Vertex adjacency (CSR) from the edges.
+  hull.neighbour_offsets.assign(static_cast<size_t>(vcount) + 1, 0);
+  for (const HullEdge& e : hull.edges) {
+    ++hull.neighbour_offsets[e.v0 + 1];
+    ++hull.neighbour_offsets[e.v1 + 1];
+  }
+  for (int i = 0; i < vcount; ++i) hull.neighbour_offsets[i + 1] += hull.neighbour_offsets[i];
+  hull.neighbours.assign(hull.edges.size() * 2, 0);
+  std::vector<int> fill(hull.neighbour_offsets.begin(), hull.neighbour_offsets.end() - 1);
+  for (const HullEdge& e : hull.edges) {
+    hull.neighbours[fill[e.v0]++] = e.v1;
+    hull.neighbours[fill[e.v1]++] = e.v0;
+  }
+
+  // Volume and centroid: tetrahedra from an inner point to each face's fan, in the build's
+  // shifted frame (double), then back.
+  DVec3 inner{0.0};
+  for (int p : point_of) inner += pts_[p];
+  inner /= static_cast<double>(vcount);
+  double volume = 0.0;
+  DVec3 moment{0.0};
+  for (int f : live) {
+    const int h0 = faces_[f].edge;
+    const DVec3 a = pts_[edges_[h0].origin] - inner;
+    for (int h = edges_[h0].next; edges_[h].next != h0; h = edges_[h].next) {
+      const DVec3 b = pts_[edges_[h].origin] - inner;
+      const DVec3 c = pts_[edges_[edges_[h].next].origin] - inner;
+      const double v = glm::dot(a, glm::cross(b, c)) / 6.0;
+      volume += v;
+      moment += v * (a + b + c) * 0.25;
+    }
+  }
+  hull.volume = static_cast<float>(volume);
+  hull.centroid = Vec3(origin_ + inner + moment / volume);
+
+  Vec3 lo = hull.vertices[0];
+  Vec3 hi = lo;
+  for (const Vec3& v : hull.vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  hull.bounds = {lo, hi};
+}
+
+}  // namespace
+
+ConvexHull make_convex_hull(std::span<const Vec3> points, const HullOptions& options) {
+  if (!std::isfinite(options.radius)) throw InvalidInput("convex hull radius: not finite");
+  if (options.radius < 0.0f) {
+    throw InvalidInput("convex hull radius: negative (" + std::to_string(options.radius) + ")");
+  }
+  if (options.max_vertices < 4 || options.max_vertices > kMaxHullVertices) {
+    throw InvalidInput("convex hull max_vertices: " + std::to_string(options.max_vertices) +
+                       " is outside [4, " + std::to_string(kMaxHullVertices) + "]");
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!is_finite(points[i])) {
+      throw InvalidInput("convex hull point " + std::to_string(i) + ": not finite");
+    }
+  }
+  if (points.size() < 4) {
+    throw InvalidInput("convex hull points: needs at least 4, got " +
+                       std::to_string(points.size()));
+  }
+
+  // Shift to the centre of the bounding box: differences of far-away points stay exact.
+  DVec3 lo(points[0]);
+  DVec3 hi(points[0]);
+  DVec3 max_abs_coord{0.0};
+  for (const Vec3& p : points) {
+    lo = glm::min(lo, DVec3(p));
+    hi = glm::max(hi, DVec3(p));
+    max_abs_coord = glm::max(max_abs_coord, glm::abs(DVec3(p)));
+  }
+  const DVec3 center = 0.5 * (lo + hi);
+  const DVec3 size = hi - lo;
+  const double extent = std::max({size.x, size.y, size.z});
+  const double tolerance =
+      std::max(static_cast<double>(kHullRelativeTolerance) * extent,
+               static_cast<double>(kHullRoundingFactor) * static_cast<double>(FLT_EPSILON) *
+                   (max_abs_coord.x + max_abs_coord.y + max_abs_coord.z));
+  std::vector<DVec3> shifted;
+  shifted.reserve(points.size());
+  for (const Vec3& p : points) shifted.push_back(DVec3(p) - center);
+
+  QuickHull builder(std::move(shifted), center, tolerance);
+  if (const char* degenerate = builder.build_initial()) {
+    throw InvalidInput(std::string("convex hull points: ") + degenerate + " (zero volume)");
+  }
+  const bool complete = builder.run(options.max_vertices);
+  ConvexHull hull;
+  builder.extract(points, complete, hull);
+  hull.radius = options.radius;
+  hull.tolerance = static_cast<float>(tolerance);
+  return hull;
+}
+
+int ConvexHull::support_index(Vec3 direction) const noexcept {
+  int best = 0;
+  float best_dot = dot(vertices[0], direction);
+  const int n = vertex_count();
+  for (int i = 1; i < n; ++i) {
+    const float d = dot(vertices[i], direction);
+    if (d > best_dot) {
+      best_dot = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+int ConvexHull::support_index_from(Vec3 direction, int start) const noexcept {
+  int current = start;
+  float current_dot = dot(vertices[current], direction);
+  for (;;) {
+    int best = current;
+    float best_dot = current_dot;
+    for (int k = neighbour_offsets[current]; k < neighbour_offsets[current + 1]; ++k) {
+      const int j = neighbours[k];
+      const float d = dot(vertices[j], direction);
+      if (d > best_dot) {
+        best_dot = d;
+        best = j;
+      }
+    }
+    if (best == current) return current;
+    current = best;
+    current_dot = best_dot;
+  }
+}
+
+Aabb3 compute_aabb(const ConvexHull& hull, const Transform3& xf) noexcept {
+  const Frame3 frame = Frame3::from(xf);
+  Vec3 lo = transform_point(frame, hull.vertices[0]);
+  Vec3 hi = lo;
+  for (const Vec3& v : hull.vertices) {
+    const Vec3 w = transform_point(frame, v);
+    lo = glm::min(lo, w);
+    hi = glm::max(hi, w);
+  }
+  const Vec3 r{hull.radius};
+  return {lo - r, hi + r};
+}
+
+}  // namespace collide
