@@ -6,7 +6,9 @@
 #include <collide/ccd/raycast.hpp>
 
 #include <collide/core/tolerance.hpp>
+#include <collide/narrow/closest_point.hpp>
 
+#include "clip_ray.hpp"
 #include "ray_ball.hpp"
 
 #include <algorithm>
@@ -271,6 +273,82 @@ LocalHit3 raycast_local(const Box& box, Vec3 p, Vec3 d) noexcept {
   return slab_cast(box.half, p, d);
 }
 
+/// Cyrus-Beck clipping of the ray by the hull's face planes pushed out by `offset`.
+detail::ClipResult clip_ray_hull(const ConvexHull& hull, Vec3 p, Vec3 d, float offset) noexcept {
+  return detail::clip_ray(static_cast<int>(hull.faces.size()), [&](int i) {
+    const HullFace& f = hull.faces[i];
+    return detail::PlaneCrossing{f.offset + offset - dot(f.normal, p), dot(f.normal, d)};
+  });
+}
+
+/// True when `x`, on the plane of face `f`, lies within the face's polygon (closed): behind
+/// the outward side of every edge, (w - v) x n for a counter-clockwise face.
+bool within_face(const ConvexHull& hull, const HullFace& f, Vec3 x) noexcept {
+  const HullVertexIndex* corners = hull.face_vertices.data() + f.first;
+  for (int k = 0; k < f.count; ++k) {
+    const Vec3 v = hull.vertices[corners[k]];
+    const Vec3 w = hull.vertices[corners[k + 1 < f.count ? k + 1 : 0]];
+    if (dot(cross(w - v, f.normal), x - v) > 0.0f) return false;
+  }
+  return true;
+}
+
+/// Rounded hull: every point within r of the core hull. It is the union of the core, one prism
+/// over each face (the face swept out along its normal by r: its top is the face pushed out by
+/// r) and one capsule of radius r around each edge (their end spheres are the rounded
+/// corners). A ray from outside enters it first through a prism's top or a capsule (a prism's
+/// sides lie inside the capsules of its edges; the core is inside the prisms). So the entry is
+/// the first over the tops and the capsules, each exact (raycast_local(Capsule3)).
+///
+/// Fast path: the pieces all lie inside the hull with every face pushed out by r (E), so the
+/// ray is first clipped by E's faces (Cyrus-Beck): no entry into E is a miss, and an entry
+/// through a pushed face beside its core face (the entry minus r along the normal lies within
+/// the face's polygon) is the answer, as for a rounded polygon in 2D. Otherwise (the entry is
+/// near an edge or corner, or named a face whose nearly coplanar neighbour it is really beside,
+/// the two being entered at fractions equal within rounding) all pieces are searched: faces
+/// turned towards the ray and edges with such a face (the surface normal at an edge lies
+/// between its two face normals). An origin inside E is first tested against the core (point
+/// query): within r it is in the closed shape, no hit.
+LocalHit3 rounded_hull_cast(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
+  const float r = hull.radius;
+  const detail::ClipResult clip = clip_ray_hull(hull, p, d, r);
+  if (clip.plane >= 0) {
+    const HullFace& f = hull.faces[clip.plane];
+    if (within_face(hull, f, p + clip.fraction * d - r * f.normal)) {
+      return {true, clip.fraction, f.normal};
+    }
+  } else {
+    // A miss, or the origin inside E: then it may be inside the rounded hull (or NaN).
+    if (!clip.inside) return {};
+    if (!(closest_point(hull, Transform3{}, p).distance > 0.0f)) return {};
+  }
+  LocalHit3 best;
+  for (const HullFace& f : hull.faces) {
+    const float den = dot(f.normal, d);
+    const float num = f.offset + r - dot(f.normal, p);  // < 0: the origin is beyond the top
+    if (!(den < 0.0f && num < 0.0f)) continue;
+    const float t = num / den;
+    if (!(t <= 1.0f) || (best.hit && t >= best.fraction)) continue;
+    if (within_face(hull, f, p + t * d - r * f.normal)) best = {true, t, f.normal};
+  }
+  for (const HullEdge& e : hull.edges) {
+    if (dot(hull.faces[e.face0].normal, d) >= 0.0f && dot(hull.faces[e.face1].normal, d) >= 0.0f) {
+      continue;
+    }
+    const LocalHit3 h = raycast_local(Capsule3{hull.vertices[e.v0], hull.vertices[e.v1], r}, p, d);
+    if (h.hit && (!best.hit || h.fraction < best.fraction)) best = h;
+  }
+  return best;
+}
+
+/// Hull (no radius): Cyrus-Beck clipping by its face planes; the entering face's normal.
+LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
+  if (hull.radius > 0.0f) return rounded_hull_cast(hull, p, d);
+  const detail::ClipResult clip = clip_ray_hull(hull, p, d, 0.0f);
+  if (clip.plane < 0) return {};
+  return {true, clip.fraction, hull.faces[clip.plane].normal};
+}
+
 /// Shapes with a frame: cast in the local frame, rotate the normal back.
 template <class S>
 RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
@@ -305,6 +383,7 @@ template RayHit3 raycast(const Sphere&, const Transform3&, const Ray3&) noexcept
 template RayHit3 raycast(const Capsule3&, const Transform3&, const Ray3&) noexcept;
 template RayHit3 raycast(const Segment3&, const Transform3&, const Ray3&) noexcept;
 template RayHit3 raycast(const Box&, const Transform3&, const Ray3&) noexcept;
+template RayHit3 raycast(const ConvexHull&, const Transform3&, const Ray3&) noexcept;
 
 RayHit3 raycast(const Shape3D& shape, const Transform3& xf, const Ray3& ray) noexcept {
   return std::visit([&](const auto& s) { return raycast(s, xf, ray); }, shape);

@@ -126,6 +126,94 @@ CoreQuery3 box_core(Vec3 h, Vec3 p) noexcept {
   return q;
 }
 
+/// The closest point of one face polygon of a hull to p, which lies `sep` > 0 in front of the
+/// face's plane: its projection if that lies within the polygon, else the nearest point of the
+/// polygon's sides (Ericson 5.1.2 per side), named as a hull edge or vertex.
+struct FacePoint {
+  float distance_squared;
+  Vec3 point;
+  Feature feature;
+};
+
+FacePoint face_closest(const ConvexHull& hull, int face, Vec3 p, float sep) noexcept {
+  const HullFace& f = hull.faces[face];
+  const HullVertexIndex* corners = hull.face_vertices.data() + f.first;
+  const Vec3 x = p - sep * f.normal;  // the projection onto the plane
+  FacePoint best{sep * sep, x, {FeatureType::face, std::uint32_t(face)}};
+  float best_side = INFINITY;
+  for (int k = 0; k < f.count; ++k) {
+    const int kn = k + 1 < f.count ? k + 1 : 0;
+    const Vec3 v = hull.vertices[corners[k]];
+    const Vec3 w = hull.vertices[corners[kn]];
+    // Outside this side (its outward direction in the plane is (w - v) x n): the nearest point
+    // of the polygon is on a side that the projection is outside of.
+    if (!(dot(cross(w - v, f.normal), x - v) > 0.0f)) continue;
+    const detail::PointSegmentClosest<3> c = detail::closest_on_segment<3>(p, v, w);
+    if (c.distance_squared < best_side) {
+      best_side = c.distance_squared;
+      if (c.t <= 0.0f || c.t >= 1.0f) {
+        const HullVertexIndex corner = corners[c.t <= 0.0f ? k : kn];
+        best = {c.distance_squared, hull.vertices[corner], {FeatureType::vertex, corner}};
+      } else {
+        best = {c.distance_squared, c.point, {FeatureType::edge, hull.face_edges[f.first + k]}};
+      }
+    }
+  }
+  return best;  // the projection, unless p is outside some side
+}
+
+/// Hull core. The face of greatest separation n . p - offset decides:
+/// - inside (every separation <= 0): the face of least penetration, the point pushed out to it
+///   (its nearest plane; the projection lies on the face, as a nearer boundary point would lie
+///   on a nearer plane).
+/// - outside: the closest point of a convex polyhedron lies on a face whose plane separates it
+///   from p (p - closest is in the normal cone of the closest point, so some face at the
+///   closest point has n . (p - closest) > 0). If p projects within the face of greatest
+///   separation, that is the answer (the face's half-space holds the hull); otherwise every
+///   face with positive separation is searched for its closest point (face_closest) and the
+///   nearest taken. O(vertices of the separating faces); no allocation.
+CoreQuery3 hull_core(const ConvexHull& hull, Vec3 p) noexcept {
+  const int n = static_cast<int>(hull.faces.size());
+  int best = 0;
+  float best_sep = -INFINITY;
+  for (int i = 0; i < n; ++i) {
+    const float sep = dot(hull.faces[i].normal, p) - hull.faces[i].offset;
+    if (sep > best_sep) {
+      best_sep = sep;
+      best = i;
+    }
+  }
+  CoreQuery3 q;
+  if (!(best_sep > 0.0f)) {
+    q.distance = best_sep;
+    q.closest = p - best_sep * hull.faces[best].normal;
+    q.outward = hull.faces[best].normal;
+    q.feature = {FeatureType::face, std::uint32_t(best)};
+    return q;
+  }
+  FacePoint closest = face_closest(hull, best, p, best_sep);
+  if (closest.feature.type != FeatureType::face) {
+    for (int i = 0; i < n; ++i) {
+      const float sep = dot(hull.faces[i].normal, p) - hull.faces[i].offset;
+      if (i == best || !(sep > 0.0f)) continue;
+      const FacePoint c = face_closest(hull, i, p, sep);
+      if (c.distance_squared < closest.distance_squared) closest = c;
+      if (c.feature.type == FeatureType::face) break;  // p projects within it: the answer
+    }
+  }
+  q.closest = closest.point;
+  if (closest.feature.type == FeatureType::face) {
+    q.distance = std::sqrt(closest.distance_squared);
+    q.outward = hull.faces[closest.feature.index].normal;
+  } else {
+    const Vec3 away = p - closest.point;
+    q.distance = length(away);
+    q.outward = away * (1.0f / q.distance);  // > 0: p is in front of a face
+  }
+  q.feature = closest.feature;
+  return q;
+}
+
 CoreQuery3 core_query(const Sphere& sphere, Vec3 p) noexcept {
   const Vec3 away = p - sphere.center;
   CoreQuery3 q;
@@ -144,11 +232,13 @@ CoreQuery3 core_query(const Segment3& segment, Vec3 p) noexcept {
   return segment_core(segment.a, segment.b, p);
 }
 CoreQuery3 core_query(const Box& box, Vec3 p) noexcept { return box_core(box.half, p); }
+CoreQuery3 core_query(const ConvexHull& hull, Vec3 p) noexcept { return hull_core(hull, p); }
 
 float radius_of(const Sphere& s) noexcept { return s.radius; }
 float radius_of(const Capsule3& s) noexcept { return s.radius; }
 float radius_of(const Segment3&) noexcept { return 0.0f; }
 float radius_of(const Box& s) noexcept { return s.radius; }
+float radius_of(const ConvexHull& s) noexcept { return s.radius; }
 
 }  // namespace
 
@@ -162,6 +252,7 @@ template PointQuery3 closest_point(const Sphere&, const Transform3&, Vec3) noexc
 template PointQuery3 closest_point(const Capsule3&, const Transform3&, Vec3) noexcept;
 template PointQuery3 closest_point(const Segment3&, const Transform3&, Vec3) noexcept;
 template PointQuery3 closest_point(const Box&, const Transform3&, Vec3) noexcept;
+template PointQuery3 closest_point(const ConvexHull&, const Transform3&, Vec3) noexcept;
 
 PointQuery3 closest_point(const Shape3D& shape, const Transform3& xf, Vec3 point) noexcept {
   return std::visit([&](const auto& s) { return closest_point(s, xf, point); }, shape);

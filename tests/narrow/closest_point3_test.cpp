@@ -7,6 +7,7 @@
 #include <collide/narrow/closest_point.hpp>
 
 #include "support/brute_query3.hpp"
+#include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
 
 #include <algorithm>
@@ -22,10 +23,6 @@ using test::uniform;
 
 DVec3 dvec(Vec3 v) { return DVec3(v); }
 
-test::BruteCore core_of(const Shape3D& s, const Transform3& xf) {
-  return std::visit([&](const auto& x) { return test::brute_core(x, xf); }, s);
-}
-
 std::vector<Shape3D> random_shapes(std::mt19937& rng, float size) {
   std::vector<Shape3D> v;
   for (int i = 0; i < 10; ++i) {
@@ -36,6 +33,8 @@ std::vector<Shape3D> random_shapes(std::mt19937& rng, float size) {
     const Vec3 half = size * Vec3{uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f)};
     v.push_back(make_box(half));
     v.push_back(make_box(half, size * uniform(rng, 0.05f, 1.0f)));
+    v.push_back(test::random_hull(rng, 4 + 4 * i, 2.0f * size));
+    v.push_back(test::random_hull(rng, 4 + 2 * i, 2.0f * size, size * uniform(rng, 0.05f, 1.0f)));
   }
   return v;
 }
@@ -63,10 +62,13 @@ Counts compare_with_brute_force(std::mt19937& rng, Vec3 far, float size) {
       const PointQuery3 q = closest_point(shape, xf, p);
       // The brute force in double, shifted by -xf.p (exact), is the truth for these inputs.
       const DVec3 shift = dvec(xf.p);
-      const test::BruteCore core = core_of(shape, Transform3{Vec3(0.0f), xf.q});
+      const test::BruteCore core = test::brute_core_of(shape, Transform3{Vec3(0.0f), xf.q});
       const double truth = test::brute_signed_distance(core, dvec(p) - shift);
       const double local = glm::length(dvec(p) - shift) + 4.0 * size;
-      const double tol = kRounding * local;
+      // A hull's faces are planar only within its build tolerance: the planes the query uses
+      // and the corners the brute force triangulates differ by up to that much.
+      const ConvexHull* hull = std::get_if<ConvexHull>(&shape);
+      const double tol = kRounding * local + (hull ? hull->tolerance : 0.0);
       const double world = tol + kWorldRounding * max_abs(far);
       SCOPED_TRACE(testing::Message() << type_name(shape) << " point " << k);
       ++n.total;
@@ -215,6 +217,109 @@ TEST(ClosestPoint3, BoxBoundaryAndCentre) {
   const PointQuery3 rounded = closest_point(make_box({1.0f, 1.0f, 1.0f}, 0.625f), id, {1.375f, 1.5f, 0.25f});
   EXPECT_EQ(rounded.distance, 0.0f);
   EXPECT_EQ(rounded.feature, (Feature{FeatureType::edge, 4 * 2 + 3}));
+}
+
+// Points built in every Voronoi region of a hull's core: in front of a face's interior (face),
+// out from an edge between its two face normals (edge), out from a vertex along a positive mix
+// of its faces' normals (vertex); the closest point is on that feature, the distance the
+// offset's length. Inside, just below a face's centre: that face of least penetration.
+TEST(ClosestPoint3, HullFeatureOfEachVoronoiRegion) {
+  std::mt19937 rng(26);
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const bool far = trial % 2 == 0;
+    const float r = trial % 3 == 0 ? uniform(rng, 0.05f, 0.3f) : 0.0f;
+    const ConvexHull hull = test::random_hull(rng, 6 + trial % 30, 2.0f, r);
+    const Transform3 xf = test::random_transform3(rng, far ? 1.0e4f : 10.0f);
+    const float tol = far ? 4e-3f : 2e-5f;
+    auto query = [&](Vec3 local) { return closest_point(hull, xf, transform_point(xf, local)); };
+    for (std::size_t f = 0; f < hull.faces.size(); ++f) {
+      const HullFace& face = hull.faces[f];
+      Vec3 centre(0.0f);
+      for (int k = 0; k < face.count; ++k) centre += hull.vertices[hull.face_vertices[face.first + k]];
+      centre /= static_cast<float>(face.count);
+      const float h = uniform(rng, 0.01f, 1.0f);
+      const PointQuery3 q = query(centre + h * face.normal);
+      EXPECT_EQ(q.feature, (Feature{FeatureType::face, std::uint32_t(f)}));
+      EXPECT_NEAR(q.distance, h - r, tol);
+      // Just below the centre, less deep than any other face's plane: the same face.
+      float room = INFINITY;
+      for (const HullFace& g : hull.faces) {
+        if (&g != &face) room = std::min(room, g.offset - dot(g.normal, centre));
+      }
+      const float depth = 0.3f * std::min(room, 0.5f);
+      if (depth > 20.0f * tol) {
+        const PointQuery3 qi = query(centre - depth * face.normal);
+        EXPECT_TRUE(qi.inside);
+        EXPECT_EQ(qi.feature, (Feature{FeatureType::face, std::uint32_t(f)}));
+        EXPECT_NEAR(qi.distance, -depth - r, tol);
+      }
+      ++checked;
+    }
+    for (std::size_t e = 0; e < hull.edges.size(); ++e) {
+      const HullEdge& edge = hull.edges[e];
+      const Vec3 a = hull.vertices[edge.v0], b = hull.vertices[edge.v1];
+      const Vec3 out = uniform(rng, 0.1f, 1.0f) * hull.faces[edge.face0].normal +
+                       uniform(rng, 0.1f, 1.0f) * hull.faces[edge.face1].normal;
+      const Vec3 on = a + uniform(rng, 0.2f, 0.8f) * (b - a);
+      // Only well inside the wedge (the normals may be nearly parallel on a flat-ish edge).
+      if (length(cross(hull.faces[edge.face0].normal, hull.faces[edge.face1].normal)) < 0.05f) continue;
+      const Vec3 offset = 0.5f * out;
+      const PointQuery3 q = query(on + offset);
+      EXPECT_EQ(q.feature, (Feature{FeatureType::edge, std::uint32_t(e)}));
+      EXPECT_NEAR(q.distance, length(offset) - r, tol);
+      ++checked;
+    }
+    for (int v = 0; v < hull.vertex_count(); ++v) {
+      Vec3 out(0.0f);
+      int faces = 0;
+      for (const HullFace& g : hull.faces) {
+        for (int k = 0; k < g.count; ++k) {
+          if (hull.face_vertices[g.first + k] == v) {
+            out += uniform(rng, 0.2f, 1.0f) * g.normal;
+            ++faces;
+          }
+        }
+      }
+      ASSERT_GE(faces, 3);
+      const Vec3 offset = 0.5f * normalize_or_zero(out);
+      // The vertex's region is bounded by the planes across its edges at it; skip an offset
+      // within rounding of one (a face normal lies on two of them, so a mix may come close).
+      bool clear = true;
+      for (const HullEdge& e : hull.edges) {
+        if (e.v0 != v && e.v1 != v) continue;
+        const Vec3 along = normalize_or_zero(hull.vertices[e.v0 == v ? e.v1 : e.v0] - hull.vertices[v]);
+        clear = clear && dot(offset, along) < -20.0f * tol;
+      }
+      if (!clear) continue;
+      const PointQuery3 q = query(hull.vertices[v] + offset);
+      EXPECT_EQ(q.feature, (Feature{FeatureType::vertex, std::uint32_t(v)}));
+      EXPECT_NEAR(q.distance, 0.5f - r, tol);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+}
+
+// A box and the hull of its corners are the same solid: the same distances and closest points.
+TEST(ClosestPoint3, CubeHullMatchesBox) {
+  std::mt19937 rng(27);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Box box = make_box({uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f)},
+                             trial % 2 ? uniform(rng, 0.05f, 0.8f) : 0.0f);
+    std::vector<Vec3> corners;
+    for (int i = 0; i < 8; ++i) corners.push_back(box.vertex(i));
+    const ConvexHull hull = make_convex_hull(corners, HullOptions{box.radius});
+    for (int k = 0; k < 100; ++k) {
+      const Transform3 xf = test::random_transform3(rng, 10.0f);
+      const Vec3 p = xf.p + test::random_point3(rng, 3.0f);
+      const PointQuery3 a = closest_point(box, xf, p);
+      const PointQuery3 b = closest_point(hull, xf, p);
+      EXPECT_NEAR(a.distance, b.distance, 1e-5f);
+      EXPECT_VEC3_NEAR(a.closest, b.closest, 2e-5f);
+      EXPECT_EQ(a.feature.type, b.feature.type);
+    }
+  }
 }
 
 TEST(ClosestPoint3, SphereAnalytic) {

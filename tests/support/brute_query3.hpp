@@ -28,6 +28,13 @@ inline double brute_signed_distance(const BruteCore& c, DVec3 p) {
   return -std::sqrt(best) - c.radius;
 }
 
+/// Support function of the shape: the largest n . x over its points, for a unit n.
+inline double brute_support(const BruteCore& c, DVec3 n) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const DVec3& p : c.points) best = std::max(best, glm::dot(n, p));
+  return best + c.radius * glm::length(n);
+}
+
 /// Gap between the segment [p, q] and the shape: core distance minus radius (<= 0 touching).
 inline double brute_segment_gap(const BruteCore& c, DVec3 p, DVec3 q) {
   const BruteCore seg{{p, q}, {}, 0.0};
@@ -74,7 +81,8 @@ inline DVec3 brute_gradient(const BruteCore& c, DVec3 y, double h) {
 }
 
 /// First entry of the ray o + t d, t in [0, 1], into the shape. `scale` is the size of the
-/// problem (for the step of the numerical normal).
+/// shape: the normal is the gradient 1e-7 of it in front of the entry, so that it is the
+/// entered face's normal also within a hair of an edge.
 inline BruteRay brute_raycast(const BruteCore& c, DVec3 o, DVec3 d, double scale) {
   BruteRay r;
   r.start_distance = brute_signed_distance(c, o);

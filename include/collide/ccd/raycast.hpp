@@ -77,6 +77,12 @@ template <Shape2DType S>
 ///   the core (between the fractions where a coordinate crosses a half extent the closest core
 ///   feature is fixed: a face, an edge or a corner) and each region's distance function (to a
 ///   plane, a line, a point) is solved for the first fraction at the radius.
+/// - ConvexHull: Cyrus-Beck clipping by the face planes (Cyrus & Beck 1978; Ericson 5.3.8); the
+///   normal is the entering face's. A rounded hull exactly: the hull with its faces pushed out
+///   by the radius is clipped the same way; an entry beside the core face is the answer,
+///   otherwise the first entry over the capsules around the core's edges (with a face turned
+///   towards the ray) is, the rounded surface away from the faces being made of those.
+///   O(faces + edges) for a rounded hull's edge and corner hits, O(faces) otherwise.
 template <Shape3DType S>
 [[nodiscard]] RayHit3 raycast(const S& shape, const Transform3& xf, const Ray3& ray) noexcept;
 

@@ -55,6 +55,12 @@ template <Shape2DType S>
 /// - Box: outside, clamp each coordinate to the half extents (Ericson 5.1.3); the number of
 ///   clamped coordinates names the feature (1: face, 2: edge, 3: vertex). Inside the core (or on
 ///   its surface), the face of least penetration, the lowest axis on ties.
+/// - ConvexHull: the face of greatest separation; inside (no positive separation), it is the
+///   face of least penetration and the point is pushed out to it. Outside, if the point
+///   projects within that face the projection is the answer; otherwise the closest point of
+///   every face with positive separation (its projection, or the nearest point of its sides) is
+///   compared (Ericson 5.1.7, sides by 5.1.2). Features: face, `edges` index, vertex index. O(faces)
+///   plus the sides of the separating faces.
 template <Shape3DType S>
 [[nodiscard]] PointQuery3 closest_point(const S& shape, const Transform3& xf, Vec3 point) noexcept;
 
