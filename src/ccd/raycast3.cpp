@@ -307,7 +307,8 @@ bool within_face(const ConvexHull& hull, const HullFace& f, Vec3 x) noexcept {
 /// near an edge or corner, or named a face whose nearly coplanar neighbour it is really beside,
 /// the two being entered at fractions equal within rounding) all pieces are searched: faces
 /// turned towards the ray and edges with such a face (the surface normal at an edge lies
-/// between its two face normals). An origin inside E is first tested against the core (point
+/// between its two face normals), each capsule after a test of its bounding ball against the
+/// stretch of the ray still in question. An origin inside E is first tested against the core (point
 /// query): within r it is in the closed shape, no hit.
 LocalHit3 rounded_hull_cast(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
   const float r = hull.radius;
@@ -331,11 +332,22 @@ LocalHit3 rounded_hull_cast(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
     if (!(t <= 1.0f) || (best.hit && t >= best.fraction)) continue;
     if (within_face(hull, f, p + t * d - r * f.normal)) best = {true, t, f.normal};
   }
+  // The ray's stretch that can still hold the entry: from E's entry to the best so far.
+  const float t_from = clip.plane >= 0 ? clip.fraction : 0.0f;
+  const float inv_dd = 1.0f / length_squared(d);
   for (const HullEdge& e : hull.edges) {
     if (dot(hull.faces[e.face0].normal, d) >= 0.0f && dot(hull.faces[e.face1].normal, d) >= 0.0f) {
       continue;
     }
-    const LocalHit3 h = raycast_local(Capsule3{hull.vertices[e.v0], hull.vertices[e.v1], r}, p, d);
+    const Vec3 a = hull.vertices[e.v0];
+    const Vec3 b = hull.vertices[e.v1];
+    // Cheap rejection by the capsule's bounding ball (centre the edge's middle, radius
+    // |b - a| / 2 + r, squared at most 2 (|b - a|^2 / 4 + r^2)) against that stretch.
+    const Vec3 centre = 0.5f * (a + b);
+    const float t_to = best.hit ? best.fraction : 1.0f;
+    const float t = std::clamp(dot(centre - p, d) * inv_dd, t_from, t_to);
+    if (distance_squared(p + t * d, centre) > 0.5f * length_squared(b - a) + 2.0f * r * r) continue;
+    const LocalHit3 h = raycast_local(Capsule3{a, b, r}, p, d);
     if (h.hit && (!best.hit || h.fraction < best.fraction)) best = h;
   }
   return best;
