@@ -5,6 +5,7 @@
 
 #include <collide/core/ray.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
 
 #include <cstdint>
 
@@ -51,6 +52,44 @@ template <Shape2DType S>
 /// `raycast` for a shape whose type is known only at run time.
 [[nodiscard]] RayHit raycast(const Shape2D& shape, const Transform& xf, const Ray& ray) noexcept;
 
+/// First entry of `ray` (world space) into the 3D shape placed by `xf`, under the same rules as
+/// the 2D `raycast`: the ray must enter to hit (an origin in the closed shape, a zero-length ray
+/// and a NaN coordinate report no hit); `fraction` in [0, 1], `point` on the surface (world),
+/// `normal` unit and outward (world); `sub_shape` 0. Shapes must be valid (make_* functions),
+/// `xf` finite. The ray is moved into the shape's local frame first (a sphere's: only its
+/// origin, relative to the centre), so precision does not degrade far from the world origin.
+/// - Sphere: analytic quadratic (Ericson, Real-Time Collision Detection, 5.3.2), discriminant
+///   from the closest approach (Haines et al., Ray Tracing Gems, ch. 7).
+/// - Capsule3: the infinite cylinder about the core first; an entry beyond an end, or an origin
+///   inside the cylinder beyond an end, leaves only that end's sphere to test (Ericson 5.3.7).
+/// - Segment3: it has no area, so a ray in general position never meets it. A ray hits when its
+///   line passes within kRelativeTolerance of sqrt(|segment|^2 + |translation|^2) of the
+///   segment's line (coplanar within rounding) and crosses it between the segment's ends, the
+///   normal then lying in their common plane, perpendicular to the segment and facing the
+///   ray's origin. A ray along the segment's line (parallel within kParallelTolerance, on the
+///   line within the same distance) hits the nearer end with the normal pointing back along the
+///   ray, as in 2D. Far from the world origin a ray can only be aimed that exactly when its
+///   coordinates are, so use a thin Capsule3 for a ray to hit a rope or a laser's path.
+/// - Box: the slab test (Kay & Kajiya 1986; Williams et al., "An Efficient and Robust Ray-Box
+///   Intersection Algorithm", JGT 2005): the last slab entered before the first one left. A
+///   rounded box exactly: the box grown by the radius is clipped by its slabs; an entry beside
+///   the face's core is the answer, otherwise the ray is followed through the Voronoi regions of
+///   the core (between the fractions where a coordinate crosses a half extent the closest core
+///   feature is fixed: a face, an edge or a corner) and each region's distance function (to a
+///   plane, a line, a point) is solved for the first fraction at the radius.
+/// - ConvexHull: Cyrus-Beck clipping by the face planes (Cyrus & Beck 1978; Ericson 5.3.8); the
+///   normal is the entering face's. A rounded hull exactly: the hull with its faces pushed out
+///   by the radius is clipped the same way; an entry beside the core face is the answer,
+///   otherwise the first entry over the capsules around the core's edges (with a face turned
+///   towards the ray) is, the rounded surface away from the faces being made of those.
+///   O(faces + edges) for a rounded hull's edge and corner hits, O(faces) otherwise.
+template <Shape3DType S>
+[[nodiscard]] RayHit3 raycast(const S& shape, const Transform3& xf, const Ray3& ray) noexcept;
+
+/// `raycast` for a 3D shape whose type is known only at run time.
+[[nodiscard]] RayHit3 raycast(const Shape3D& shape, const Transform3& xf,
+                              const Ray3& ray) noexcept;
+
 /// `direction` mirrored about the plane with unit normal `normal`: d - 2 (d . n) n.
 [[nodiscard]] constexpr Vec2 reflect(Vec2 direction, Vec2 normal) noexcept {
   return direction - 2.0f * (direction.x * normal.x + direction.y * normal.y) * normal;
@@ -62,6 +101,18 @@ template <Shape2DType S>
 /// cast the reflected ray at the mirror it just left (a convex mirror cannot be hit again).
 [[nodiscard]] constexpr Ray reflect(const Ray& ray, const RayHit& hit) noexcept {
   return Ray{hit.point, (1.0f - hit.fraction) * reflect(ray.translation, hit.normal)};
+}
+
+/// `direction` mirrored about the plane with unit normal `normal`: d - 2 (d . n) n (3D).
+[[nodiscard]] constexpr Vec3 reflect(Vec3 direction, Vec3 normal) noexcept {
+  return direction -
+         2.0f * (direction.x * normal.x + direction.y * normal.y + direction.z * normal.z) * normal;
+}
+
+/// The 3D ray that continues a laser after it hits a mirror (see the 2D `reflect`): it starts
+/// at the hit point with the length the incoming ray had left, mirrored about the hit normal.
+[[nodiscard]] constexpr Ray3 reflect(const Ray3& ray, const RayHit3& hit) noexcept {
+  return Ray3{hit.point, (1.0f - hit.fraction) * reflect(ray.translation, hit.normal)};
 }
 
 }  // namespace collide
