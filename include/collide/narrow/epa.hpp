@@ -81,8 +81,11 @@ class EpaPolytope {
   /// The live face that `p` lies farthest in front of (largest normal . (p - vertex)).
   [[nodiscard]] int face_facing(Vec3 p) const noexcept;
 
+  /// Face slot i (check `live`).
   [[nodiscard]] const Face& face(int i) const noexcept { return faces_[i]; }
+  /// Vertex i, i < vertex_count().
   [[nodiscard]] const GjkVertexN<3>& vertex(int i) const noexcept { return vertices_[i]; }
+  /// Vertices added so far (removed faces' vertices stay).
   [[nodiscard]] int vertex_count() const noexcept { return vertex_count_; }
 
   /// Among the live faces in the plane of face `f` (normals parallel within the sine
