@@ -1,18 +1,29 @@
 // TriangleBvh against brute force: the nearest triangle of random soups (with degenerate
 // triangles, which the BVH takes as given) and the box query.
-#include "walk_fixtures.hpp"
+#include "support/brute_triangle.hpp"
+#include "support/test_util.hpp"
 
-#include <collide/walkmesh/triangle_bvh.hpp>
+#include <collide/shape/triangle_bvh.hpp>
 
 #include <gtest/gtest.h>
 
+#include <random>
 #include <set>
+#include <vector>
 
 namespace collide {
 namespace {
 
 using test::brute_closest_on_triangle;
 using test::uniform;
+
+float uniform01(std::mt19937& rng) { return uniform(rng, 0.0f, 1.0f); }
+
+/// Triangles as indices into positions.
+struct TriangleSoup {
+  std::vector<Vec3> positions;
+  std::vector<glm::uvec3> triangles;
+};
 
 /// `n` random triangles in a cube of side `extent` at `center`, of sizes up to `size`; every
 /// seventh one degenerate in turn: a repeated corner, three collinear corners (on integer
@@ -21,7 +32,6 @@ using test::uniform;
 /// the BVH's region test is exact on them; walk meshes drop them.)
 TriangleSoup random_soup(std::mt19937& rng, int n, Vec3 center, float extent, float size) {
   TriangleSoup s;
-  s.name = "random";
   for (int i = 0; i < n; ++i) {
     Vec3 a = center + Vec3(uniform(rng, -extent, extent), uniform(rng, -extent, extent), uniform(rng, -extent, extent)) * 0.5f;
     auto near_a = [&] { return a + Vec3(uniform(rng, -size, size), uniform(rng, -size, size), uniform(rng, -size, size)); };
@@ -67,7 +77,7 @@ TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
       Vec3 q;
       if (i % 2) {  // near (or exactly on) a random triangle: many candidates at close distances
         const auto t = static_cast<std::uint32_t>(rng() % soup.triangles.size());
-        float u = test::uniform01(rng), v = test::uniform01(rng);
+        float u = uniform01(rng), v = uniform01(rng);
         if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
         const Vec3 on = glm::vec3(corner(soup, t, 0) * double(1.0f - u - v) + corner(soup, t, 1) * double(u) +
                                   corner(soup, t, 2) * double(v));

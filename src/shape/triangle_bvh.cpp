@@ -1,4 +1,4 @@
-#include <collide/walkmesh/triangle_bvh.hpp>
+#include <collide/shape/triangle_bvh.hpp>
 
 #include <algorithm>
 #include <bit>

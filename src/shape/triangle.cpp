@@ -1,4 +1,4 @@
-#include <collide/walkmesh/closest_point_triangle.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <algorithm>
 

@@ -4,7 +4,7 @@
 /// to a point, and every triangle whose box overlaps a query box, without scanning all of them.
 
 #include <collide/core/aabb.hpp>
-#include <collide/walkmesh/closest_point_triangle.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <glm/vec3.hpp>
 
