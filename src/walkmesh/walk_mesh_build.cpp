@@ -253,6 +253,13 @@ Vec3 detail::local_origin(const TriangleSoup& soup) {
   return origin;
 }
 
+void detail::check_float_span(float size, const std::string& name) {
+  if (!std::isfinite(size)) {
+    throw InvalidInput(name + ": spans more than float range (coordinates near +-3.4e38 on both sides); "
+                              "no float frame holds it");
+  }
+}
+
 float detail::tolerance_scale(const TriangleSoup& soup, float size, const std::string& name) {
   std::vector<float> edges;
   edges.reserve(3 * soup.triangles.size());
@@ -328,6 +335,7 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   mesh.origin_ = detail::local_origin(soup);
   const Vec3 extent = box.size();
   mesh.size_ = std::max({extent.x, extent.y, extent.z});
+  detail::check_float_span(mesh.size_, name);
   std::vector<Vec3> local(nv);
   for (std::size_t i = 0; i < nv; ++i) {
     if (used[i]) local[i] = soup.positions[i] - mesh.origin_;
