@@ -1,12 +1,38 @@
 #pragma once
 /// @file
-/// The closest point of a 3D triangle to a point, with its barycentric coordinates.
-/// (`TriangleBvh::nearest` tests four triangles at once with a branch-free grouping of the same
-/// regions instead.)
+/// A single 3D triangle as a shape, the closest point of a triangle to a point, and the
+/// watertight ray-triangle crossing that every triangle ray cast in collide uses (single
+/// triangles, `TriangleBvh`, `HeightField`).
 
-#include <collide/core/math.hpp>
+#include <collide/core/aabb.hpp>
+#include <collide/core/ray.hpp>
+#include <collide/core/transform3.hpp>
+
+#include <array>
 
 namespace collide {
+
+/// A triangle in local space, zero thickness and two-sided. Corner k is `vertices[k]`; edge k
+/// runs from corner k to corner k + 1 (mod 3), as in meshes. Its geometric normal is
+/// (v1 - v0) x (v2 - v0) (counter-clockwise seen from the side it points to). Feature ids:
+/// vertex k, edge k, face 0.
+struct Triangle {
+  std::array<Vec3, 3> vertices{};  ///< local space
+};
+
+/// A validated triangle. Throws InvalidInput if a coordinate is not finite (naming the corner,
+/// "triangle vertex 2: not finite") or the triangle is degenerate: its area is at most
+/// kDegenerateAreaTolerance of its longest edge squared (repeated or collinear corners, slivers
+/// too thin to have a reliable plane).
+[[nodiscard]] Triangle make_triangle(Vec3 a, Vec3 b, Vec3 c);
+
+/// Bounding box of the triangle placed by `xf`, world space.
+[[nodiscard]] Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept;
+
+/// Unit normal of triangle (a, b, c) by the right-hand rule, (b - a) x (c - a) normalised
+/// (scaled first, so tiny triangles keep their direction); zero when the corners are collinear
+/// in float.
+[[nodiscard]] Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept;
 
 /// Closest point of triangle (a, b, c) to `p`, and its barycentric weights.
 struct TrianglePoint {
@@ -18,6 +44,28 @@ struct TrianglePoint {
 /// region (vertex, edge or face) of the triangle holds `p` (Ericson, Real-Time Collision
 /// Detection, 5.1.5). Any winding; a degenerate triangle yields a nearest point of its edges.
 /// Inputs should be finite and expressed near the origin (shift large coordinates first).
+/// (`TriangleBvh::nearest` tests four triangles at once with a branch-free grouping of the same
+/// regions instead.)
 [[nodiscard]] TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept;
+
+/// Fraction in (0, max_fraction] at which `ray` (point = origin + fraction * translation)
+/// crosses the triangle (a, b, c), from either side; a negative value on a miss. All in one
+/// space (local: shift large coordinates first).
+///
+/// Watertight (Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013):
+/// the corners are moved to the ray's origin and sheared so the ray runs along the z axis, then
+/// the three edge functions are evaluated in 2D, recomputed in double when one is exactly zero.
+/// The edge function of an edge depends only on the edge's two corners and the ray, so
+/// triangles that share an edge (the same corner coordinates) see the same value with opposite
+/// sign: a ray through the edge or a vertex of a closed mesh hits at least one of the triangles
+/// around it, never slips between them.
+/// Edge behaviour: a point exactly on an edge or corner counts as inside (closed triangle), so
+/// such a ray hits every triangle that meets there (each at the same fraction).
+/// A ray starting exactly on the triangle (fraction 0) does not hit it: the ray must leave the
+/// surface to hit, as for every shape (see `raycast`). A ray in the triangle's plane does not
+/// hit it (its projection has no area; within rounding of the plane the answer may go either
+/// way). A ray of zero length or with a non-finite coordinate never hits.
+[[nodiscard]] float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c,
+                                          float max_fraction = 1.0f) noexcept;
 
 }  // namespace collide
