@@ -11,8 +11,8 @@
 
 namespace collide::detail {
 
-/// Per-axis median of the vertices the soup's triangles use (world). The soup must have a
-/// triangle.
+/// Per-axis median of the vertices the soup's triangles use (world): `median_vertex`, the
+/// origin TriangleMesh takes too. The soup must have a triangle.
 [[nodiscard]] Vec3 local_origin(const TriangleSoup& soup);
 
 /// Throws InvalidInput naming `name` when the soup's triangles span `size` (largest extent of
