@@ -611,7 +611,7 @@ void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_
   }
 }
 
-void TriangleBvh::ray_cast(const Ray3& ray, BvhRayCallback visit, float max_fraction) const {
+void TriangleBvh::ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction) const {
   traverse_ray(ray, max_fraction,
                [&](const Packet& packet, unsigned bits, const std::array<float, 4>& fraction, float max_t) {
                  for (; bits != 0; bits &= bits - 1) {
@@ -625,7 +625,7 @@ void TriangleBvh::ray_cast(const Ray3& ray, BvhRayCallback visit, float max_frac
                });
 }
 
-BvhRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const noexcept {
+TriangleRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const noexcept {
   const Packet* best_packet = nullptr;
   int best_lane = 0;
   float best = max_fraction;
@@ -643,7 +643,7 @@ BvhRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const noexc
                  best = max_t;
                  return max_t;
                });
-  BvhRayHit hit;
+  TriangleRayHit hit;
   if (best_packet == nullptr) return hit;
   const auto lane = static_cast<std::uint32_t>(best_lane);
   const Vec3 a = best_packet->corner(0, lane), b = best_packet->corner(1, lane), c = best_packet->corner(2, lane);

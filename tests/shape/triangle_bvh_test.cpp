@@ -229,7 +229,7 @@ TEST(TriangleBvh, RayCastFindsTheSameCrossingsAsEveryTriangleTested) {
       });
       ASSERT_EQ(all, truth) << "trial " << trial << " ray " << i;
       // The closest one: the smallest fraction (any triangle at it), by both overloads.
-      const BvhRayHit hit = bvh.ray_cast(ray);
+      const TriangleRayHit hit = bvh.ray_cast(ray);
       std::uint32_t clipped_triangle = std::numeric_limits<std::uint32_t>::max();
       float clipped = 1.0f;
       bvh.ray_cast(ray, [&](std::uint32_t t, float f) {
@@ -412,7 +412,7 @@ TEST(TriangleBvh, RaysThroughSharedEdgesAndVerticesOfClosedMeshesHit) {
         ++touching;
         continue;
       }
-      const BvhRayHit hit = bvh.ray_cast(ray);
+      const TriangleRayHit hit = bvh.ray_cast(ray);
       ASSERT_LT(hit.triangle, soup.triangles.size()) << "slipped through at (" << target.x << ", " << target.y << ", " << target.z
                                                       << ") from (" << origin.x << ", " << origin.y << ", " << origin.z << ")";
       // The solid is convex and the origin outside: the first crossing is the target itself.

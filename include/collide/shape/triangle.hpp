@@ -5,10 +5,13 @@
 /// triangles, `TriangleBvh`, `HeightField`).
 
 #include <collide/core/aabb.hpp>
+#include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
 #include <collide/core/transform3.hpp>
 
 #include <array>
+#include <cstdint>
+#include <limits>
 
 namespace collide {
 
@@ -67,5 +70,21 @@ struct TrianglePoint {
 /// way). A ray of zero length or with a non-finite coordinate never hits.
 [[nodiscard]] float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c,
                                           float max_fraction = 1.0f) noexcept;
+
+/// The triangle of a set (a TriangleBvh, a HeightField) that a ray crosses first.
+struct TriangleRayHit {
+  std::uint32_t triangle = std::numeric_limits<std::uint32_t>::max();  ///< triangle index; max() on a miss
+  float fraction = 0.0f;  ///< along the ray's translation, (0, max_fraction]; 0 on a miss
+  /// Unit geometric normal of the triangle, (b - a) x (c - a) normalised for its corners
+  /// (a, b, c) as given (the set's space); it may face either way along the ray. Zero on a miss.
+  Vec3 normal{0.0f};
+};
+
+/// Called by `TriangleBvh::ray_cast` and `HeightField::ray_cast` for each triangle the ray
+/// crosses within the current maximum fraction, with the triangle's index and the fraction of
+/// the crossing. Returns the new maximum fraction (Box2D and Jolt convention): the crossing's
+/// `fraction` to keep only nearer ones (closest hit), a value at or above the current maximum
+/// (1 always is) to go on unclipped (every hit), 0 (or less) to stop at once.
+using TriangleRayCallback = FunctionRef<float(std::uint32_t triangle, float fraction)>;
 
 }  // namespace collide

@@ -49,22 +49,6 @@ struct BvhNearest {
   float distance_squared = std::numeric_limits<float>::infinity();  ///< squared distance to it
 };
 
-/// The triangle a ray crosses first.
-struct BvhRayHit {
-  std::uint32_t triangle = std::numeric_limits<std::uint32_t>::max();  ///< input index; max() on a miss
-  float fraction = 0.0f;  ///< along the ray's translation, (0, max_fraction]; 0 on a miss
-  /// Unit geometric normal of the triangle, (b - a) x (c - a) normalised for its corners
-  /// (a, b, c) as given (BVH space); it may face either way along the ray. Zero on a miss.
-  Vec3 normal{0.0f};
-};
-
-/// Called by `TriangleBvh::ray_cast` for each triangle the ray crosses within the current
-/// maximum fraction, with the triangle's input index and the fraction of the crossing. Returns
-/// the new maximum fraction (Box2D and Jolt convention): the crossing's `fraction` to keep only
-/// nearer ones (closest hit), a value at or above the current maximum (1 always is) to go on
-/// unclipped (every hit), 0 (or less) to stop at once.
-using BvhRayCallback = FunctionRef<float(std::uint32_t triangle, float fraction)>;
-
 /// Static AABB tree over triangles: built top-down by the binned surface area heuristic (Wald,
 /// "On fast construction of SAH-based bounding volume hierarchies", 2007; Ericson, Real-Time
 /// Collision Detection, 6.2) as a binary tree with leaves of at most four triangles, then
@@ -120,7 +104,7 @@ class TriangleBvh {
   }
 
   /// Every triangle `ray` crosses (either side; BVH space) within `max_fraction`, reported to
-  /// `visit` with the fraction of the crossing, which may clip the ray (see BvhRayCallback).
+  /// `visit` with the fraction of the crossing, which may clip the ray (see TriangleRayCallback).
   /// Nearer boxes are opened first, so a closest-hit callback clips early; hits come in no
   /// particular order otherwise, and a triangle is reported once. The crossing test is
   /// `ray_triangle_fraction`'s (watertight; fraction 0 and rays in a triangle's plane do not
@@ -130,13 +114,13 @@ class TriangleBvh {
   /// move along is ignored by the min/max, so a ray in a box's face plane still enters it),
   /// widened by kBvhSlabSlack. No allocation; nothing is reported for a ray of zero length or
   /// with a non-finite coordinate. What `visit` throws propagates.
-  void ray_cast(const Ray3& ray, BvhRayCallback visit, float max_fraction = 1.0f) const;
+  void ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction = 1.0f) const;
 
   /// The nearest triangle `ray` crosses within `max_fraction` (the callback version with a
   /// callback that clips at each hit, without the indirect call). Among crossings at exactly the
   /// same fraction (a ray through a shared edge) the first found wins: deterministic for a given
   /// tree. A miss has triangle == max().
-  [[nodiscard]] BvhRayHit ray_cast(const Ray3& ray, float max_fraction = 1.0f) const noexcept;
+  [[nodiscard]] TriangleRayHit ray_cast(const Ray3& ray, float max_fraction = 1.0f) const noexcept;
 
   [[nodiscard]] std::size_t triangle_count() const noexcept { return triangle_count_; }
   /// Nodes of the four-wide tree.
