@@ -169,14 +169,8 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
 }
 
 Aabb3 compute_aabb(const TriangleMesh& mesh, const Transform3& xf) noexcept {
-  // The local box's centre and half extents, placed: |R| times the extents bounds the rotation.
   const Aabb3 local = mesh.bvh.bounds();
-  const Frame3 f = Frame3::from(xf);
-  const Vec3 center = transform_point(f, mesh.origin + local.center());
-  const Vec3 half = local.extents();
-  Vec3 reach(0.0f);
-  for (int c = 0; c < 3; ++c) reach += glm::abs(f.r[c]) * half[c];
-  return {center - reach, center + reach};
+  return transform_aabb({mesh.origin + local.min, mesh.origin + local.max}, xf);
 }
 
 }  // namespace collide
