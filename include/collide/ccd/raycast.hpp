@@ -2,10 +2,17 @@
 /// @file
 /// Ray casts against single shapes (lasers, mouse picks, line of sight), and reflection for
 /// lasers and mirrors. One fraction convention: point = origin + fraction * translation.
+/// 2D shapes, and in 3D the triangle shapes of levels: Triangle, TriangleMesh, HeightField.
 
+#include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
+#include <collide/core/transform3.hpp>
+#include <collide/shape/height_field.hpp>
 #include <collide/shape/shape2d.hpp>
 #include <collide/shape/shape3d.hpp>
+
+#include <collide/shape/triangle.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include <cstdint>
 
@@ -89,6 +96,45 @@ template <Shape3DType S>
 /// `raycast` for a 3D shape whose type is known only at run time.
 [[nodiscard]] RayHit3 raycast(const Shape3D& shape, const Transform3& xf,
                               const Ray3& ray) noexcept;
+
+// ---- 3D: triangles, meshes, height fields ------------------------------------------------
+
+/// First crossing of `ray` (world space) with the triangle shape placed by `xf` (valid transform,
+/// shape built by its make_* function). The ray is moved into the shape's local frame first (and
+/// for meshes and height fields to their stored origin), so precision does not degrade far from
+/// the world origin. Results are world space: `point` = ray.at(fraction), `normal` the unit
+/// normal of the triangle hit turned to face the ray's origin (against the ray), `sub_shape` the
+/// triangle's index (its face feature id; 0 for a Triangle).
+///
+/// Triangles are two-sided surfaces with no inside, so the 2D rule "a ray must enter" reads: a
+/// ray that starts exactly on a triangle (fraction 0) does not hit that triangle, whichever way
+/// it heads (a ray cast again from a hit point does not find the surface it left), and a ray
+/// starting inside a closed mesh hits its inner side. A ray in a triangle's plane does not hit
+/// it. A ray of zero length or with a NaN or infinite coordinate hits nothing.
+/// The crossing test is watertight (`ray_triangle_fraction`: Woop, Benthin & Wald 2013): a ray
+/// through a shared edge or vertex of a closed mesh hits at least one triangle there; which one
+/// is reported then is deterministic for a given mesh. Which side was hit: compare `normal` with
+/// the triangle's own normal (counter-clockwise winding, `triangle_normal`), rotated by xf.
+/// - Triangle: the crossing test directly.
+/// - TriangleMesh: the nearest crossing through its BVH (`TriangleBvh::ray_cast`).
+/// - HeightField: the cells under the ray's path in order (`HeightField::ray_cast`); holes have
+///   no triangles.
+[[nodiscard]] RayHit3 raycast(const Triangle& triangle, const Transform3& xf, const Ray3& ray) noexcept;
+[[nodiscard]] RayHit3 raycast(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray) noexcept;
+[[nodiscard]] RayHit3 raycast(const HeightField& field, const Transform3& xf, const Ray3& ray) noexcept;
+
+/// Called by the callback ray casts below with each crossing (a full world-space RayHit3 as
+/// `raycast` returns it: hit true, fraction, point, normal facing the ray's origin, sub_shape =
+/// triangle). Returns the new maximum fraction (TriangleRayCallback's convention): `hit.fraction`
+/// to keep only nearer crossings, 1 (or the current maximum) for every crossing, 0 to stop.
+using RayHitCallback = FunctionRef<float(const RayHit3& hit)>;
+
+/// Every crossing of `ray` (world space) with the mesh or height field placed by `xf`, reported
+/// to `visit` (which may clip or stop the ray), with the same rules as `raycast`. A mesh reports
+/// nearer boxes first but its crossings in no set order; a height field in the order of the
+/// cells under the ray. Each triangle at most once. No allocation; what `visit` throws propagates.
+void raycast(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray, RayHitCallback visit);
+void raycast(const HeightField& field, const Transform3& xf, const Ray3& ray, RayHitCallback visit);
 
 /// `direction` mirrored about the plane with unit normal `normal`: d - 2 (d . n) n.
 [[nodiscard]] constexpr Vec2 reflect(Vec2 direction, Vec2 normal) noexcept {

@@ -1,8 +1,51 @@
-#include <collide/walkmesh/closest_point_triangle.hpp>
+#include <collide/shape/triangle.hpp>
+
+#include "watertight_ray.hpp"
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 namespace collide {
+
+Triangle make_triangle(Vec3 a, Vec3 b, Vec3 c) {
+  const std::array<Vec3, 3> v{a, b, c};
+  for (int k = 0; k < 3; ++k) {
+    if (!is_finite(v[k])) throw InvalidInput("triangle vertex " + std::to_string(k) + ": not finite");
+  }
+  // Twice the area against the longest edge squared, in double so that neither overflows.
+  const glm::dvec3 da(a), db(b), dc(c);
+  const double area2 = glm::length(glm::cross(db - da, dc - da));
+  const double longest2 = std::max({glm::dot(db - da, db - da), glm::dot(dc - db, dc - db), glm::dot(da - dc, da - dc)});
+  if (!(area2 > 2.0 * static_cast<double>(kDegenerateAreaTolerance) * longest2)) {
+    throw InvalidInput("triangle: degenerate (repeated or collinear vertices, no area)");
+  }
+  return Triangle{v};
+}
+
+Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept {
+  const Frame3 f = Frame3::from(xf);
+  const Vec3 a = transform_point(f, triangle.vertices[0]);
+  const Vec3 b = transform_point(f, triangle.vertices[1]);
+  const Vec3 c = transform_point(f, triangle.vertices[2]);
+  return {glm::min(glm::min(a, b), c), glm::max(glm::max(a, b), c)};
+}
+
+Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const Vec3 n = cross(b - a, c - a);
+  const float largest = max_abs(n);
+  if (!(largest > 0.0f) || !std::isfinite(largest)) return Vec3(0.0f);
+  const Vec3 m = n / largest;  // largest coordinate +-1: the length neither underflows nor overflows
+  return m / length(m);
+}
+
+float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c, float max_fraction) noexcept {
+  const detail::WatertightRay r(ray);
+  return r.valid ? r.fraction(a, b, c, max_fraction) : -1.0f;
+}
 
 // Ericson 5.1.5: test the Voronoi regions of a, b, c, then of the three edges, and otherwise
 // project onto the face. Each region test reuses the dot products of the previous ones.

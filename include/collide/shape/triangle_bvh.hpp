@@ -1,10 +1,13 @@
 #pragma once
 /// @file
 /// A static bounding volume hierarchy over the triangles of a mesh: the exact nearest triangle
-/// to a point, and every triangle whose box overlaps a query box, without scanning all of them.
+/// to a point, every triangle whose box overlaps a query box, and the triangles a ray crosses,
+/// without scanning all of them. The spatial index of `TriangleMesh` and of the walk mesh.
 
 #include <collide/core/aabb.hpp>
-#include <collide/walkmesh/closest_point_triangle.hpp>
+#include <collide/core/function_ref.hpp>
+#include <collide/core/ray.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -25,11 +28,19 @@ inline constexpr int kBvhLeafTriangles = 4;
 inline constexpr int kBvhBins = 16;
 /// Depth of the binary build below which nodes are split by the surface area heuristic; deeper
 /// nodes are split at the median (halving their count), so the tree is at most
-/// kBvhMaxSahDepth + 32 levels deep for any input of fewer than 2^32 triangles.
+/// kBvhMaxSahDepth + 32 levels deep for any input of fewer than 2^32 triangles, whatever the
+/// coordinates (also non-finite ones: the split never depends on a comparison with a NaN).
 inline constexpr int kBvhMaxSahDepth = 32;
 /// Entries of the fixed traversal stack: a visit leaves at most kBvhWidth - 1 siblings pending
 /// per level of the (at most kBvhMaxSahDepth + 32 deep) tree, plus room for one node's children.
+/// Unused child slots are never entered (they are marked, not only given an empty box: an
+/// infinite query box overlaps the empty box [+inf, -inf] too), so no query can exceed it.
 inline constexpr int kBvhStackSize = (kBvhWidth - 1) * (kBvhMaxSahDepth + 32) + 2 * kBvhWidth;
+/// A ray's fraction interval over a box is widened by this factor at its far end, so float
+/// rounding in the slab test cannot drop a box the ray only grazes (a triangle hit exactly on
+/// its box's boundary, a ray ending exactly on a triangle): 1 + 2 gamma_3 with gamma_n =
+/// n u / (1 - n u), u = 2^-24 (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013).
+inline constexpr float kBvhSlabSlack = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
 
 /// The triangle nearest to a point.
 struct BvhNearest {
@@ -74,9 +85,9 @@ class TriangleBvh {
     while (top > 0) {
       const Node& node = nodes_[stack[--top]];
       for (int k = 0; k < kBvhWidth; ++k) {
-        // Empty slots have min = +inf, max = -inf: they overlap nothing.
-        if (!(node.min_x[k] <= box.max.x && box.min.x <= node.max_x[k] && node.min_y[k] <= box.max.y &&
-              box.min.y <= node.max_y[k] && node.min_z[k] <= box.max.z && box.min.z <= node.max_z[k])) {
+        if (node.child[k] == kEmpty) break;  // slots are filled from the first: the rest are empty too
+        if (!(node.box[kMinX][k] <= box.max.x && box.min.x <= node.box[kMaxX][k] && node.box[kMinY][k] <= box.max.y &&
+              box.min.y <= node.box[kMaxY][k] && node.box[kMinZ][k] <= box.max.z && box.min.z <= node.box[kMaxZ][k])) {
           continue;
         }
         if (node.count[k] == 0) {
@@ -92,6 +103,25 @@ class TriangleBvh {
     }
   }
 
+  /// Every triangle `ray` crosses (either side; BVH space) within `max_fraction`, reported to
+  /// `visit` with the fraction of the crossing, which may clip the ray (see TriangleRayCallback).
+  /// Nearer boxes are opened first, so a closest-hit callback clips early; hits come in no
+  /// particular order otherwise, and a triangle is reported once. The crossing test is
+  /// `ray_triangle_fraction`'s (watertight; fraction 0 and rays in a triangle's plane do not
+  /// count), four triangles at a time. Boxes: the slab test four at a time (Williams, Barrus,
+  /// Morley & Shirley, "An Efficient and Robust Ray-Box Intersection Algorithm", JGT 2005:
+  /// the inverse direction picks each slab's near side, and a NaN from an axis the ray does not
+  /// move along is ignored by the min/max, so a ray in a box's face plane still enters it),
+  /// widened by kBvhSlabSlack. No allocation; nothing is reported for a ray of zero length or
+  /// with a non-finite coordinate. What `visit` throws propagates.
+  void ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction = 1.0f) const;
+
+  /// The nearest triangle `ray` crosses within `max_fraction` (the callback version with a
+  /// callback that clips at each hit, without the indirect call). Among crossings at exactly the
+  /// same fraction (a ray through a shared edge) the first found wins: deterministic for a given
+  /// tree. A miss has triangle == max().
+  [[nodiscard]] TriangleRayHit ray_cast(const Ray3& ray, float max_fraction = 1.0f) const noexcept;
+
   [[nodiscard]] std::size_t triangle_count() const noexcept { return triangle_count_; }
   /// Nodes of the four-wide tree.
   [[nodiscard]] std::size_t node_count() const noexcept { return nodes_.size(); }
@@ -101,12 +131,17 @@ class TriangleBvh {
  private:
   /// Set in a child reference that names a leaf packet rather than a node.
   static constexpr std::uint32_t kLeaf = 0x80000000u;
+  /// The child reference of an unused slot (packets number fewer than 2^31 - 1).
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
+  /// Rows of Node::box: the near side of a slab for a ray moving up the axis is row axis, for a
+  /// ray moving down it row axis + 3.
+  static constexpr int kMinX = 0, kMinY = 1, kMinZ = 2, kMaxX = 3, kMaxY = 4, kMaxZ = 5;
 
-  /// Four child boxes as lanes per coordinate (one cache line pair). An unused slot has
-  /// min = +inf and max = -inf: infinitely far, overlapping nothing.
+  /// Four child boxes as lanes per coordinate (two cache lines). Used slots come first; an
+  /// unused slot has child kEmpty (and the box min = +inf, max = -inf).
   struct alignas(64) Node {
-    std::array<float, kBvhWidth> min_x, min_y, min_z, max_x, max_y, max_z;
-    std::array<std::uint32_t, kBvhWidth> child;  ///< inner: node index; leaf: packet index | kLeaf
+    std::array<std::array<float, kBvhWidth>, 6> box;  ///< [kMinX..kMaxZ][slot]
+    std::array<std::uint32_t, kBvhWidth> child;  ///< inner: node index; leaf: packet index | kLeaf; kEmpty
     std::array<std::uint32_t, kBvhWidth> count;  ///< leaf: triangles in its packet (1..4); else 0
   };
   /// Up to four triangles of one leaf, corners as lanes per coordinate. Unused lanes repeat the
@@ -118,6 +153,18 @@ class TriangleBvh {
       return {corners[c][0][lane], corners[c][1][lane], corners[c][2][lane]};
     }
   };
+
+  /// Bit k set where slot k of the node is used.
+  [[nodiscard]] static unsigned used_slots(const Node& node) noexcept {
+    unsigned bits = 0;
+    for (int k = 0; k < kBvhWidth; ++k) bits |= static_cast<unsigned>(node.child[k] != kEmpty) << k;
+    return bits;
+  }
+
+  /// The ray traversal behind both ray_cast overloads: `on_leaf(packet, lane bits, fractions,
+  /// max)` handles the crossings of one packet and returns the new max (<= 0 stops).
+  template <class OnLeaf>
+  void traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const;
 
   std::vector<Node> nodes_;      ///< root first
   std::vector<Packet> packets_;  ///< in traversal order of the build

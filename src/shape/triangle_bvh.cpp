@@ -1,7 +1,12 @@
-#include <collide/walkmesh/triangle_bvh.hpp>
+#include <collide/shape/triangle_bvh.hpp>
+
+#include "watertight_ray.hpp"
+
+#include <collide/core/error.hpp>
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #if defined(__SSE__)
@@ -30,10 +35,20 @@ struct BinaryNode {
 /// or at the median of the longest centroid axis when SAH has no valid plane (all centroids in
 /// one bin, equal centroids) or the node is kBvhMaxSahDepth deep (which bounds the depth).
 /// `order` comes out permuted so that each leaf's triangles are a contiguous range.
+/// Centroids are box centres (halves added: finite for any finite corners, where the mean of
+/// three corners near 3.4e38 overflows), a NaN coordinate (from non-finite input) counts as
+/// +inf, and bins are chosen without converting a NaN or infinity to int: so the sort order is a
+/// strict weak one and the median split always halves, whatever the input.
 std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
   const std::size_t n = corners.size();
   std::vector<Vec3> centroids(n);
-  for (std::size_t i = 0; i < n; ++i) centroids[i] = (corners[i][0] + corners[i][1] + corners[i][2]) * (1.0f / 3.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Aabb3 box = triangle_box(corners[i]);
+    centroids[i] = 0.5f * box.min + 0.5f * box.max;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::isnan(centroids[i][axis])) centroids[i][axis] = kInfinity;
+    }
+  }
   order.resize(n);
   std::iota(order.begin(), order.end(), 0u);
 
@@ -77,8 +92,8 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
       std::array<Bin, kBvhBins> bins{};
       const float scale = static_cast<float>(kBvhBins) / spread[axis];
       auto bin_of = [&](std::uint32_t tri) {
-        const int b = static_cast<int>((centroids[tri][axis] - centroid_box.min[axis]) * scale);
-        return std::clamp(b, 0, kBvhBins - 1);
+        const float b = (centroids[tri][axis] - centroid_box.min[axis]) * scale;  // NaN goes to bin 0
+        return b >= 1.0f ? (b < static_cast<float>(kBvhBins) ? static_cast<int>(b) : kBvhBins - 1) : 0;
       };
       for (std::uint32_t i = w.begin; i < w.end; ++i) {
         Bin& bin = bins[bin_of(order[i])];
@@ -130,6 +145,8 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
 
 // Four lanes of float: one SIMD register with GCC and Clang (generic vector extension: SSE on
 // x86, NEON on ARM), a plain array with lane loops elsewhere. Only what the queries below use.
+// min(a, b) and max(a, b) return b when a is NaN (as SSE minps / maxps do): the ray slab test
+// relies on it to ignore the NaN of an axis the ray does not move along.
 #if defined(__GNUC__) || defined(__clang__)
 using Lanes = float __attribute__((vector_size(16)));
 using LaneMask = std::int32_t __attribute__((vector_size(16)));
@@ -183,9 +200,13 @@ inline LaneMask operator&(LaneMask a, LaneMask b) noexcept {
   return {{a.v[0] && b.v[0], a.v[1] && b.v[1], a.v[2] && b.v[2], a.v[3] && b.v[3]}};
 }
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
-inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::min(a.v[k], b.v[k]); }); }
-inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return std::max(a.v[k], b.v[k]); }); }
+inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] < b.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] > b.v[k] ? a.v[k] : b.v[k]; }); }
 inline LaneMask operator<(Lanes a, Lanes b) noexcept { return b > a; }
+inline LaneMask operator<=(Lanes a, Lanes b) noexcept { return b >= a; }
+inline LaneMask operator|(LaneMask a, LaneMask b) noexcept {
+  return {{a.v[0] || b.v[0], a.v[1] || b.v[1], a.v[2] || b.v[2], a.v[3] || b.v[3]}};
+}
 inline LaneMask operator==(Lanes a, Lanes b) noexcept {
   return {{a.v[0] == b.v[0], a.v[1] == b.v[1], a.v[2] == b.v[2], a.v[3] == b.v[3]}};
 }
@@ -327,24 +348,17 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
       children[count++] = left + 1;
     }
     Node node;
-    node.min_x.fill(kInfinity);
-    node.min_y.fill(kInfinity);
-    node.min_z.fill(kInfinity);
-    node.max_x.fill(-kInfinity);
-    node.max_y.fill(-kInfinity);
-    node.max_z.fill(-kInfinity);
-    node.child.fill(0);
+    for (int row = 0; row < 6; ++row) node.box[row].fill(row < 3 ? kInfinity : -kInfinity);
+    node.child.fill(kEmpty);
     node.count.fill(0);
     std::array<std::uint32_t, kBvhWidth> pending{};
     int pending_count = 0;
     for (int k = 0; k < count; ++k) {
       const BinaryNode& c = binary[children[k]];
-      node.min_x[k] = c.bounds.min.x;
-      node.min_y[k] = c.bounds.min.y;
-      node.min_z[k] = c.bounds.min.z;
-      node.max_x[k] = c.bounds.max.x;
-      node.max_y[k] = c.bounds.max.y;
-      node.max_z[k] = c.bounds.max.z;
+      for (int axis = 0; axis < 3; ++axis) {
+        node.box[kMinX + axis][k] = c.bounds.min[axis];
+        node.box[kMaxX + axis][k] = c.bounds.max[axis];
+      }
       if (c.count > 0) {
         Packet packet;
         for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
@@ -410,11 +424,12 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
     } else {
       const Node& node = nodes_[ref];
       const Lanes zero = splat(0.0f);
-      const Lanes dx = max(max(load(node.min_x) - px, px - load(node.max_x)), zero);
-      const Lanes dy = max(max(load(node.min_y) - py, py - load(node.max_y)), zero);
-      const Lanes dz = max(max(load(node.min_z) - pz, pz - load(node.max_z)), zero);
+      const Lanes dx = max(max(load(node.box[kMinX]) - px, px - load(node.box[kMaxX])), zero);
+      const Lanes dy = max(max(load(node.box[kMinY]) - py, py - load(node.box[kMaxY])), zero);
+      const Lanes dz = max(max(load(node.box[kMinZ]) - pz, pz - load(node.box[kMaxZ])), zero);
       const Lanes d2 = dx * dx + dy * dy + dz * dz;
-      const unsigned open = lane_bits(d2 < splat(best_d2));  // children that may hold a nearer point
+      // Children that may hold a nearer point (never an unused slot, whatever p is).
+      const unsigned open = lane_bits(d2 < splat(best_d2)) & used_slots(node);
       if (open != 0) {
         // The nearest open child (lowest slot among equals) is searched next; the others are
         // pushed without branches: each slot is written, and kept if its bit is set.
@@ -446,6 +461,196 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
   const Vec3 d = best.closest.point - p;
   best.distance_squared = glm::dot(d, d);
   return best;
+}
+
+// ---- ray casts ---------------------------------------------------------------------------
+
+namespace {
+
+/// The edge functions of four triangles for one watertight ray (the scalar steps of
+/// detail::WatertightRay::fraction, lane by lane): the crossings as lane bits and their
+/// fractions. Lanes whose float edge function is exactly zero are redone in double, as there.
+struct PacketCrossings {
+  unsigned bits = 0;                 ///< lanes the ray crosses within the maximum fraction
+  std::array<float, 4> fraction{};   ///< where (valid in the lanes of `bits`)
+};
+
+inline PacketCrossings cross_packet(const CornerLanes& t, const detail::WatertightRay& r, float max_fraction) noexcept {
+  const Lanes ox = splat(r.origin[r.kx]), oy = splat(r.origin[r.ky]), oz = splat(r.origin[r.kz]);
+  const Lanes sx = splat(r.sx), sy = splat(r.sy), sz = splat(r.sz);
+  // Corners relative to the origin, in the ray's axes, sheared so the ray runs along z.
+  const Lanes az = load(t[0][r.kz]) - oz, bz = load(t[1][r.kz]) - oz, cz = load(t[2][r.kz]) - oz;
+  const Lanes ax = (load(t[0][r.kx]) - ox) - sx * az, ay = (load(t[0][r.ky]) - oy) - sy * az;
+  const Lanes bx = (load(t[1][r.kx]) - ox) - sx * bz, by = (load(t[1][r.ky]) - oy) - sy * bz;
+  const Lanes cx = (load(t[2][r.kx]) - ox) - sx * cz, cy = (load(t[2][r.ky]) - oy) - sy * cz;
+  Lanes u = cx * by - cy * bx;
+  Lanes v = ax * cy - ay * cx;
+  Lanes w = bx * ay - by * ax;
+  const Lanes zero = splat(0.0f);
+  if (const unsigned on_edge = lane_bits((u == zero) | (v == zero) | (w == zero))) {
+    std::array<float, 4> uu, vv, ww, axs, ays, bxs, bys, cxs, cys;
+    std::memcpy(uu.data(), &u, sizeof uu);
+    std::memcpy(vv.data(), &v, sizeof vv);
+    std::memcpy(ww.data(), &w, sizeof ww);
+    std::memcpy(axs.data(), &ax, sizeof axs);
+    std::memcpy(ays.data(), &ay, sizeof ays);
+    std::memcpy(bxs.data(), &bx, sizeof bxs);
+    std::memcpy(bys.data(), &by, sizeof bys);
+    std::memcpy(cxs.data(), &cx, sizeof cxs);
+    std::memcpy(cys.data(), &cy, sizeof cys);
+    for (int k = 0; k < 4; ++k) {
+      if (!((on_edge >> k) & 1u)) continue;
+      uu[k] = static_cast<float>(double(cxs[k]) * double(bys[k]) - double(cys[k]) * double(bxs[k]));
+      vv[k] = static_cast<float>(double(axs[k]) * double(cys[k]) - double(ays[k]) * double(cxs[k]));
+      ww[k] = static_cast<float>(double(bxs[k]) * double(ays[k]) - double(bys[k]) * double(axs[k]));
+    }
+    u = load(uu);
+    v = load(vv);
+    w = load(ww);
+  }
+  const auto inside = ((u >= zero) & (v >= zero) & (w >= zero)) | ((u <= zero) & (v <= zero) & (w <= zero));
+  const Lanes det = u + v + w;
+  const Lanes time = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
+  // Two-sided: the back side has a negative determinant; flip both.
+  const auto back = det < zero;
+  const Lanes abs_det = select(back, zero - det, det);
+  const Lanes abs_time = select(back, zero - time, time);
+  PacketCrossings out;
+  out.bits = lane_bits(inside & (abs_det > zero) & (abs_time > zero) & (abs_time <= splat(max_fraction) * abs_det));
+  if (out.bits != 0) {
+    const Lanes f = min(abs_time / abs_det, splat(max_fraction));
+    std::memcpy(out.fraction.data(), &f, sizeof f);
+  }
+  return out;
+}
+
+/// Lanes of a packet that hold distinct triangles: unused lanes repeat the last one.
+inline unsigned distinct_lanes(const std::array<std::uint32_t, kBvhLeafTriangles>& id) noexcept {
+  return 1u | static_cast<unsigned>(id[1] != id[0]) << 1 | static_cast<unsigned>(id[2] != id[1]) << 2 |
+         static_cast<unsigned>(id[3] != id[2]) << 3;
+}
+
+}  // namespace
+
+// Depth first, nearer child first. A node's four child boxes get their entry and exit
+// fractions at once by the slab test (Williams et al. 2005): per axis the near side is chosen
+// by the sign of the direction (row axis or axis + 3 of the node's boxes), so
+//   t_near = (near - o) / d,  t_far = (far - o) / d  need no min/max between them;
+// an axis the ray does not move along (d = +-0, 1 / d = +-inf) gives +-inf, or NaN when the
+// origin lies exactly in that face plane, which the max / min below ignore (the origin is
+// then inside that slab: boxes are closed). A child is entered when
+//   max(t_near_x, t_near_y, t_near_z, 0) <= min(t_far_x, t_far_y, t_far_z, max_fraction) * slack.
+// The entered children are visited nearest first; the others wait on the stack with their entry
+// fraction and are dropped when popped if the ray has been clipped before them meanwhile.
+template <class OnLeaf>
+void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const {
+  if (nodes_.empty()) return;
+  const detail::WatertightRay watertight(ray);
+  if (!watertight.valid || !(max_fraction > 0.0f)) return;
+  std::array<int, 3> near_row, far_row;
+  std::array<Lanes, 3> origin, inverse;
+  for (int axis = 0; axis < 3; ++axis) {
+    const bool down = std::signbit(ray.translation[axis]);
+    near_row[axis] = down ? kMaxX + axis : kMinX + axis;
+    far_row[axis] = down ? kMinX + axis : kMaxX + axis;
+    origin[axis] = splat(ray.origin[axis]);
+    inverse[axis] = splat(1.0f / ray.translation[axis]);
+  }
+  struct Entry {
+    std::uint32_t ref;  // node index, or packet index | kLeaf
+    float fraction;     // where the ray enters its box
+  };
+  std::array<Entry, kBvhStackSize> stack;
+  int top = 0;
+  std::uint32_t ref = 0;  // the root first
+  float max_t = max_fraction;
+  for (;;) {
+    if (ref & kLeaf) {
+      const Packet& packet = packets_[ref & ~kLeaf];
+      PacketCrossings hits = cross_packet(packet.corners, watertight, max_t);
+      hits.bits &= distinct_lanes(packet.id);
+      if (hits.bits != 0) {
+        max_t = on_leaf(packet, hits.bits, hits.fraction, max_t);
+        if (!(max_t > 0.0f)) return;
+      }
+    } else {
+      const Node& node = nodes_[ref];
+      const Lanes t_near_x = (load(node.box[near_row[0]]) - origin[0]) * inverse[0];
+      const Lanes t_near_y = (load(node.box[near_row[1]]) - origin[1]) * inverse[1];
+      const Lanes t_near_z = (load(node.box[near_row[2]]) - origin[2]) * inverse[2];
+      const Lanes t_far_x = (load(node.box[far_row[0]]) - origin[0]) * inverse[0];
+      const Lanes t_far_y = (load(node.box[far_row[1]]) - origin[1]) * inverse[1];
+      const Lanes t_far_z = (load(node.box[far_row[2]]) - origin[2]) * inverse[2];
+      const Lanes enter = max(t_near_x, max(t_near_y, max(t_near_z, splat(0.0f))));
+      const Lanes exit = min(t_far_x, min(t_far_y, min(t_far_z, splat(max_t)))) * splat(kBvhSlabSlack);
+      unsigned open = lane_bits(enter <= exit) & used_slots(node);
+      if (open != 0) {
+        std::array<float, kBvhWidth> t;
+        std::memcpy(t.data(), &enter, sizeof t);
+        // The open children by entry fraction, farthest first (insertion sort of at most four).
+        std::array<Entry, kBvhWidth> order;
+        int count = 0;
+        while (open != 0) {
+          const int k = std::countr_zero(open);
+          open &= open - 1;
+          Entry e{node.child[k], t[k]};
+          int i = count++;
+          for (; i > 0 && order[i - 1].fraction < e.fraction; --i) order[i] = order[i - 1];
+          order[i] = e;
+        }
+        COLLIDE_ASSERT(top + count - 1 <= kBvhStackSize, "BVH traversal stack overflow");
+        for (int i = 0; i < count - 1; ++i) stack[top++] = order[i];
+        ref = order[count - 1].ref;
+        continue;
+      }
+    }
+    // Next: the most recently pushed subtree the ray (as clipped now) still enters.
+    while (top > 0 && !(stack[top - 1].fraction <= max_t * kBvhSlabSlack)) --top;
+    if (top == 0) return;
+    ref = stack[--top].ref;
+  }
+}
+
+void TriangleBvh::ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction) const {
+  traverse_ray(ray, max_fraction,
+               [&](const Packet& packet, unsigned bits, const std::array<float, 4>& fraction, float max_t) {
+                 for (; bits != 0; bits &= bits - 1) {
+                   const int k = std::countr_zero(bits);
+                   if (!(fraction[k] <= max_t)) continue;  // clipped by an earlier lane of this packet
+                   const float next = visit(packet.id[k], fraction[k]);
+                   if (!(next > 0.0f)) return 0.0f;
+                   if (next < max_t) max_t = next;
+                 }
+                 return max_t;
+               });
+}
+
+TriangleRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const noexcept {
+  const Packet* best_packet = nullptr;
+  int best_lane = 0;
+  float best = max_fraction;
+  traverse_ray(ray, max_fraction,
+               [&](const Packet& packet, unsigned bits, const std::array<float, 4>& fraction, float max_t) {
+                 for (; bits != 0; bits &= bits - 1) {
+                   const int k = std::countr_zero(bits);
+                   // Strictly nearer, or the first crossing at all (which may sit at max_fraction).
+                   if (fraction[k] < max_t || (best_packet == nullptr && fraction[k] <= max_t)) {
+                     max_t = fraction[k];
+                     best_packet = &packet;
+                     best_lane = k;
+                   }
+                 }
+                 best = max_t;
+                 return max_t;
+               });
+  TriangleRayHit hit;
+  if (best_packet == nullptr) return hit;
+  const auto lane = static_cast<std::uint32_t>(best_lane);
+  const Vec3 a = best_packet->corner(0, lane), b = best_packet->corner(1, lane), c = best_packet->corner(2, lane);
+  hit.triangle = best_packet->id[lane];
+  hit.fraction = best;
+  hit.normal = triangle_normal(a, b, c);
+  return hit;
 }
 
 }  // namespace collide
