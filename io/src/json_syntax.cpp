@@ -39,6 +39,10 @@ class PathTracker {
     std::string out;
     for (std::size_t i = 0; i < frames_.size(); ++i) {
       const Frame& f = frames_[i];
+      if (i == kMaxShownPathSteps) {
+        out.append("...");
+        break;
+      }
       if (i > 0 && f.has_id) out.append(" (id=").append(std::to_string(f.id)).append(")");
       if (f.array) {
         out.append("[").append(std::to_string(f.index)).append("]");
@@ -87,9 +91,9 @@ class PathTracker {
 
 }  // namespace
 
-std::string json_path_at_syntax_error(const std::string& text) {
+std::string json_path_at_syntax_error(std::string_view text) {
   PathTracker tracker;
-  (void)Json::sax_parse(text, &tracker);
+  (void)Json::sax_parse(text.begin(), text.end(), &tracker);
   return tracker.path();
 }
 
