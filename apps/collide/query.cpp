@@ -206,7 +206,7 @@ json answer(const json& q) {
       out["normal"] = vec(r.normal);
     }
   } else {
-    fail_json(root.member("op"), "unknown op \"" + op + "\"");
+    fail_json(root.member("op"), "unknown op " + json(op).dump());  // quoted and escaped
   }
   return out;
 }

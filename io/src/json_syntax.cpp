@@ -47,7 +47,8 @@ class PathTracker {
       if (f.array) {
         out.append("[").append(std::to_string(f.index)).append("]");
       } else if (!f.key.empty()) {
-        out.append(out.empty() ? "" : ".").append(f.key);
+        if (!out.empty()) out += '.';
+        append_path_key(out, f.key);
       }
     }
     return out.empty() ? "root" : out;
@@ -90,6 +91,18 @@ class PathTracker {
 };
 
 }  // namespace
+
+void append_path_key(std::string& path, std::string_view key) {
+  for (const char c : key) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      path.append("\\u00").append(1, kHex[u >> 4]).append(1, kHex[u & 15]);
+    } else {
+      path += c;
+    }
+  }
+}
 
 std::string json_path_at_syntax_error(std::string_view text) {
   PathTracker tracker;

@@ -7,6 +7,11 @@
 
 namespace collide::io {
 
+/// Appends the member name `key` to a path being written: as it is, but with control
+/// characters written \u00XX (as JSON escapes them), so a path is printable text with no NUL
+/// that would cut a C string short.
+void append_path_key(std::string& path, std::string_view key);
+
 /// Steps of a path `json_path_at_syntax_error` writes out; deeper ones are cut to "...".
 inline constexpr std::size_t kMaxShownPathSteps = 16;
 

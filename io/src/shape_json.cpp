@@ -60,11 +60,36 @@ struct MarkedText {
   }
 };
 
-/// Strings are copied as they are: a run of digits inside one is not a number.
-MarkedText mark_numbers_beyond_double(std::string_view source) {
-  const auto in_number = [](char c) {
-    return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-';
+/// Length of the number JSON's grammar reads at the start of `text` (RFC 8259, section 6:
+/// -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?), as nlohmann's lexer takes it: the longest
+/// prefix that is a number ("1e400" of "1e400.5"); 0 when there is none ("-x").
+std::size_t json_number_length(std::string_view text) {
+  std::size_t i = 0;
+  const auto digits = [&](std::size_t from) {
+    while (from < text.size() && text[from] >= '0' && text[from] <= '9') ++from;
+    return from;
   };
+  if (i < text.size() && text[i] == '-') ++i;
+  if (i < text.size() && text[i] == '0') {
+    ++i;
+  } else if (i < text.size() && text[i] >= '1' && text[i] <= '9') {
+    i = digits(i);
+  } else {
+    return 0;
+  }
+  if (i + 1 < text.size() && text[i] == '.' && text[i + 1] >= '0' && text[i + 1] <= '9') i = digits(i + 1);
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    std::size_t k = i + 1;
+    if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+    if (k < text.size() && text[k] >= '0' && text[k] <= '9') i = digits(k);
+  }
+  return i;
+}
+
+/// Strings are copied as they are: a run of digits inside one is not a number. Numbers are cut
+/// where nlohmann's lexer cuts them, so what follows a marked number ("1e400.5") is still read
+/// (and rejected) as it was.
+MarkedText mark_numbers_beyond_double(std::string_view source) {
   MarkedText out;
   out.text.reserve(source.size() + 64);
   bool in_string = false;
@@ -77,18 +102,17 @@ MarkedText mark_numbers_beyond_double(std::string_view source) {
     } else if (c == '"') {
       in_string = true;
       out.text += source[i++];
-    } else if (c == '-' || (c >= '0' && c <= '9')) {
-      std::size_t end = i + 1;
-      while (end < source.size() && in_number(source[end])) ++end;
-      const std::string token(source.substr(i, end - i));
+    } else if (const std::size_t length = c == '-' || (c >= '0' && c <= '9') ? json_number_length(source.substr(i)) : 0;
+               length > 0) {
+      const std::string token(source.substr(i, length));
       if (std::isinf(std::strtod(token.c_str(), nullptr))) {
         const std::size_t begin = out.text.size();
         out.text += Json(std::string(kBeyondDouble) + token).dump();  // a JSON string: \u0001 escaped
-        out.shifts.push_back({begin, out.text.size(), i, end});
+        out.shifts.push_back({begin, out.text.size(), i, i + length});
       } else {
         out.text += token;
       }
-      i = end;
+      i += length;
     } else {
       out.text += source[i++];
     }
@@ -261,7 +285,7 @@ ShapeHead read_head(const Json& j, const JsonPath& path, ShapeMode mode, JsonDim
   }
   if (known == nullptr) {
     fail_json(path.member("type"),
-              "unknown shape type \"" + type + "\" (expected " +
+              "unknown shape type " + Json(type).dump() + " (expected " +
                   (mode == ShapeMode::pieces ? "circle, capsule, box, polygon, segment or polyline"
                                              : "circle, sphere, capsule, box, polygon, segment, hull or triangle") +
                   ")");
@@ -352,7 +376,7 @@ std::string JsonPath::str() const {
     out.append("[").append(std::to_string(index_)).append("]");
   } else {
     if (!out.empty()) out += '.';
-    out.append(key_);
+    io::append_path_key(out, key_);
   }
   return out;
 }
@@ -385,6 +409,10 @@ Json parse_json(std::string_view text) {
     return Json::parse(marked.text);
   } catch (const Json::parse_error& e) {
     syntax_error(marked.text, text, e, &marked);
+  } catch (const Json::exception& e) {  // a number the marking missed: still an error naming the place
+    const std::string where = io::json_path_at_syntax_error(marked.text);
+    throw JsonFieldError(where == "root" ? "" : valid_utf8(where),
+                         valid_utf8(std::string("JSON number out of range: ") + parse_error_detail(e.what())));
   }
 }
 

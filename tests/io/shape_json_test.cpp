@@ -305,6 +305,12 @@ TEST(ParseJson, NumbersBeyondDoubleRangeAreNamedByTheirField) {
   EXPECT_EQ(j["n"], 0.0);      // underflow is an ordinary 0
   EXPECT_EQ(error_of([&] { (void)string_from_json(j["a"]["radius"], root.member("t")); }),
             "t|expected a string, got a number beyond double range (-1e400)");
+  // Only well-formed numbers are marked: a malformed one stays a syntax error.
+  for (const char* bad : {"[1e400.5]", "[01e400]", "[1e400e1]", "[-1e400-]", "[1e+400x]"}) {
+    EXPECT_NE(error_of([&] { (void)parse_json(bad); }).find("|JSON syntax error at line 1, column "), std::string::npos)
+        << bad;
+  }
+  EXPECT_EQ(parse_json("[1e400, -2E+999]").dump(), "[\"\\u0001beyond double range: 1e400\",\"\\u0001beyond double range: -2E+999\"]");
 }
 
 TEST(ParseJson, NestingIsLimitedBeforeParsing) {
@@ -354,6 +360,25 @@ TEST(ParseJson, SyntaxErrorsGiveNlohmannsPositionAndThePathBeingRead) {
   }
   EXPECT_EQ(error_of([&] { (void)parse_json("{\"bounds\": [0, 0],\n \"x\": [1,\n  2 3]}"); }).substr(0, 5), "x[2]|");
   EXPECT_EQ(error_of([&] { (void)parse_json(""); }).substr(0, 1), "|");  // the root
+}
+
+// Found by fuzz_query_line: a member name holding NUL ("\u0000") went into the path raw, and
+// what() (a C string) ended there: the query answered {"error": ""}. Control characters in
+// member names are written as JSON escapes them, and so are quoted names in reasons.
+TEST(ParseJson, ControlCharactersInNamesAreEscapedInPathsAndMessages) {
+  const std::string syntax = error_of([&] { (void)parse_json("{\"\\u0000e\"ansba}"); });
+  EXPECT_EQ(syntax.rfind("\\u0000e|JSON syntax error at line 1, column ", 0), 0u) << syntax;
+  const JsonPath root;
+  const json shape = parse_json(R"({"type": "circle", "radius": 1, "\u0001\u001f\u007f": 1})");
+  EXPECT_EQ(error_of([&] { (void)shape_from_json(shape, root.member("a")); }),
+            "a.\\u0001\\u001f\\u007f|unknown field (expected one of: type, center, radius, comment)");
+  const std::string type = error_of([&] { (void)shape_from_json(parse_json(R"({"type": "x\u0000y"})"), root); });
+  EXPECT_EQ(type.rfind("type|unknown shape type \"x\\u0000y\" (expected ", 0), 0u) << type;
+  try {
+    (void)shape_from_json(shape, root.member("a"));
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "a.\\u0001\\u001f\\u007f: unknown field (expected one of: type, center, radius, comment)");
+  }
 }
 
 TEST(ParseJson, SyntaxErrorMessagesAreValidUtf8) {
