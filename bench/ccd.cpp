@@ -16,6 +16,8 @@
 #include <collide/ccd/time_of_impact.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/b2_time_of_impact.h>
 #include <box2d/box2d.h>
@@ -28,13 +30,9 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-constexpr float kPi = 3.14159265f;
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
 
 /// A shape in both libraries: ours, and Box2D's proxy on the same exact core points.
 struct Shape {

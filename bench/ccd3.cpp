@@ -15,6 +15,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "support/random.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -24,42 +26,16 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-constexpr float kPi = std::numbers::pi_v<float>;
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-
-Vec3 random_point(std::mt19937& rng, float extent) {
-  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent),
-          uniform(rng, -extent, extent)};
-}
-
-Vec3 random_unit(std::mt19937& rng) {
-  for (;;) {
-    const Vec3 v = random_point(rng, 1.0f);
-    const float l = length(v);
-    if (l > 0.1f && l <= 1.0f) return v / l;
-  }
-}
-
-Quat random_rotation(std::mt19937& rng) {
-  const float u1 = uniform(rng, 0.0f, 1.0f);
-  const float u2 = uniform(rng, 0.0f, 2.0f * kPi);
-  const float u3 = uniform(rng, 0.0f, 2.0f * kPi);
-  const float a = std::sqrt(1.0f - u1);
-  const float b = std::sqrt(u1);
-  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
-}
 
 /// kind 0: a box of half extents 0.2..0.8; kind 1: a capsule 0.4..1.6 long, radius 0.1..0.4.
 Shape3D make_shape(std::mt19937& rng, int kind) {
   if (kind == 0) {
     return make_box({uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f)});
   }
-  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit(rng);
+  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit3(rng);
   return make_capsule(-h, h, uniform(rng, 0.1f, 0.4f));
 }
 
@@ -80,16 +56,16 @@ std::vector<MovingPair> make_moving(int ka, float max_turn, unsigned seed) {
   for (MovingPair& p : pairs) {
     p.a = make_shape(rng, ka);
     p.b = make_shape(rng, 0);
-    const Vec3 ca = random_point(rng, 50.0f);
-    const Vec3 dir = random_unit(rng);
+    const Vec3 ca = random_point3(rng, 50.0f);
+    const Vec3 dir = random_unit3(rng);
     const Vec3 cb = ca + uniform(rng, 2.0f, 5.0f) * dir;
-    const Vec3 aim = normalize(dir + uniform(rng, 0.0f, 0.6f) * random_unit(rng));
+    const Vec3 aim = normalize(dir + uniform(rng, 0.0f, 0.6f) * random_unit3(rng));
     const Vec3 va = uniform(rng, 2.0f, 10.0f) * aim;
-    const Vec3 vb = random_point(rng, 1.0f);
+    const Vec3 vb = random_point3(rng, 1.0f);
     p.sa = Sweep3{Vec3(0.0f), ca, ca + va, random_rotation(rng),
-                  uniform(rng, 0.0f, max_turn) * random_unit(rng)};
+                  uniform(rng, 0.0f, max_turn) * random_unit3(rng)};
     p.sb = Sweep3{Vec3(0.0f), cb, cb + vb, random_rotation(rng),
-                  uniform(rng, 0.0f, max_turn) * random_unit(rng)};
+                  uniform(rng, 0.0f, max_turn) * random_unit3(rng)};
   }
   return pairs;
 }

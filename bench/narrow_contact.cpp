@@ -5,6 +5,8 @@
 // Pairs read side by side: BM_Contact_Poly4/collide, BM_Contact_Poly4/box2d.
 
 #include <benchmark/benchmark.h>
+
+#include "support/random.hpp"
 #include <box2d/box2d.h>
 
 #include <cmath>
@@ -16,18 +18,9 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-constexpr float kPi = std::numbers::pi_v<float>;
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-
-Transform random_transform(std::mt19937& rng, float extent) {
-  return Transform::from({uniform(rng, -extent, extent), uniform(rng, -extent, extent)},
-                         uniform(rng, -kPi, kPi));
-}
 
 /// A convex polygon with exactly n vertices on an ellipse of size about 0.5.
 std::vector<Vec2> random_convex(std::mt19937& rng, int n) {

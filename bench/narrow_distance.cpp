@@ -12,6 +12,8 @@
 #include <collide/narrow/overlap.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/box2d.h>
 
@@ -26,14 +28,11 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
 /// Frames of slow motion for the warm-started runs: each iteration advances one frame.
 constexpr int kFrames = 64;
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
 
 Polygon random_polygon(std::mt19937& rng, int n, float size) {
   std::vector<Vec2> pts;

@@ -14,6 +14,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "support/random.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -23,42 +25,16 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-constexpr float kPi = std::numbers::pi_v<float>;
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-
-Vec3 random_point(std::mt19937& rng, float extent) {
-  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent),
-          uniform(rng, -extent, extent)};
-}
-
-Vec3 random_unit(std::mt19937& rng) {
-  for (;;) {
-    const Vec3 v = random_point(rng, 1.0f);
-    const float l = length(v);
-    if (l > 0.1f && l <= 1.0f) return v / l;
-  }
-}
-
-Quat random_rotation(std::mt19937& rng) {
-  const float u1 = uniform(rng, 0.0f, 1.0f);
-  const float u2 = uniform(rng, 0.0f, 2.0f * kPi);
-  const float u3 = uniform(rng, 0.0f, 2.0f * kPi);
-  const float a = std::sqrt(1.0f - u1);
-  const float b = std::sqrt(u1);
-  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
-}
 
 /// kind 0: a box of half extents 0.2..0.8; kind 1: a capsule 0.4..1.6 long, radius 0.1..0.4.
 Shape3D make_shape(std::mt19937& rng, int kind) {
   if (kind == 0) {
     return make_box({uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f)});
   }
-  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit(rng);
+  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit3(rng);
   return make_capsule(-h, h, uniform(rng, 0.1f, 0.4f));
 }
 
@@ -76,10 +52,10 @@ std::vector<OverlapPair> make_overlapping(int ka, unsigned seed) {
   std::mt19937 rng(seed);
   std::vector<OverlapPair> pairs;
   while (pairs.size() < kPairs) {
-    const Vec3 base = random_point(rng, 50.0f);
+    const Vec3 base = random_point3(rng, 50.0f);
     OverlapPair p{make_shape(rng, ka), make_shape(rng, 0),
                   Transform3{base, random_rotation(rng)},
-                  Transform3{base + random_point(rng, 0.8f), random_rotation(rng)}};
+                  Transform3{base + random_point3(rng, 0.8f), random_rotation(rng)}};
     if (distance(p.a, p.xa, p.b, p.xb).status != QueryStatus::overlapped) continue;
     pairs.push_back(p);
   }

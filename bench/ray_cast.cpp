@@ -8,6 +8,8 @@
 #include <collide/ccd/raycast.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "support/random.hpp"
 #include <box2d/box2d.h>
 
 #include <algorithm>
@@ -19,15 +21,9 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kCases = 4096;  // power of two: index with a mask
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-Vec2 random_point(std::mt19937& rng, float extent) {
-  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent)};
-}
 
 b2Vec2 b2(Vec2 v) { return {v.x, v.y}; }
 b2Transform b2(const Transform& xf) {

@@ -8,6 +8,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "support/random.hpp"
+
 #include <cmath>
 #include <random>
 #include <vector>
@@ -15,23 +17,10 @@
 namespace {
 
 using namespace collide;
+using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kCases = 4096;  // power of two: index with a mask
 constexpr int kShapes = 64;   // shapes cycled through (a few KiB: in cache, the arithmetic alone)
-
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-Vec3 random_point(std::mt19937& rng, float extent) {
-  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent), uniform(rng, -extent, extent)};
-}
-Quat random_rotation(std::mt19937& rng) {
-  const float u1 = uniform(rng, 0.0f, 1.0f);
-  const float u2 = uniform(rng, 0.0f, 6.2831853f);
-  const float u3 = uniform(rng, 0.0f, 6.2831853f);
-  const float a = std::sqrt(1.0f - u1), b = std::sqrt(u1);
-  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
-}
 
 /// One ray-cast input: a placement and a ray that starts within `reach` of the shape and aims
 /// at a point near it, stopping short or overshooting.
@@ -43,9 +32,9 @@ struct Case {
 std::vector<Case> make_cases(std::mt19937& rng, float reach) {
   std::vector<Case> cases(kCases);
   for (Case& c : cases) {
-    c.xf = Transform3{random_point(rng, 100.0f), random_rotation(rng)};
-    const Vec3 origin = c.xf.p + random_point(rng, reach);
-    const Vec3 target = c.xf.p + random_point(rng, 0.5f * reach);
+    c.xf = Transform3{random_point3(rng, 100.0f), random_rotation(rng)};
+    const Vec3 origin = c.xf.p + random_point3(rng, reach);
+    const Vec3 target = c.xf.p + random_point3(rng, 0.5f * reach);
     c.ray = Ray3{origin, (target - origin) * uniform(rng, 0.5f, 2.0f)};
   }
   return cases;
@@ -69,7 +58,7 @@ auto make_set(unsigned seed, float reach, Make make) {
 ConvexHull random_hull(std::mt19937& rng, int n, float radius) {
   std::vector<Vec3> points;
   while (static_cast<int>(points.size()) < n) {
-    const Vec3 p = random_point(rng, 1.0f);
+    const Vec3 p = random_point3(rng, 1.0f);
     if (dot(p, p) <= 1.0f) points.push_back(1.5f * p);
   }
   return make_convex_hull(points, HullOptions{radius});
@@ -92,14 +81,14 @@ void run(benchmark::State& state, const Set<S>& set) {
 
 void BM_SphereRaycast3_collide(benchmark::State& state) {
   static const auto set = make_set(1, 3.0f, [](std::mt19937& rng) {
-    return make_sphere(random_point(rng, 0.3f), uniform(rng, 0.5f, 1.5f));
+    return make_sphere(random_point3(rng, 0.3f), uniform(rng, 0.5f, 1.5f));
   });
   run(state, set);
 }
 
 void BM_CapsuleRaycast3_collide(benchmark::State& state) {
   static const auto set = make_set(2, 3.0f, [](std::mt19937& rng) {
-    return make_capsule(random_point(rng, 1.0f), random_point(rng, 1.0f), uniform(rng, 0.3f, 1.0f));
+    return make_capsule(random_point3(rng, 1.0f), random_point3(rng, 1.0f), uniform(rng, 0.3f, 1.0f));
   });
   run(state, set);
 }

@@ -4,7 +4,7 @@
 #include <collide/shape/convex_hull.hpp>
 #include <collide/shape/shape3d.hpp>
 
-#include "support/test_util.hpp"
+#include "support/random.hpp"
 
 #include <random>
 #include <vector>

@@ -1,0 +1,74 @@
+#pragma once
+// Seeded random inputs shared by the tests and the benchmarks (no GoogleTest here, so bench/
+// can include it): points, rotations, transforms and convex polygons. Every function draws from
+// the caller's std::mt19937, so a fixed seed gives a fixed workload.
+
+#include <collide/core/transform.hpp>
+#include <collide/core/transform3.hpp>
+#include <collide/shape/polygon.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace collide::test {
+
+inline constexpr float kPi = std::numbers::pi_v<float>;
+
+/// Uniform float in [lo, hi).
+inline float uniform(std::mt19937& rng, float lo, float hi) {
+  return std::uniform_real_distribution<float>(lo, hi)(rng);
+}
+
+inline Vec2 random_point(std::mt19937& rng, float extent) {
+  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent)};
+}
+
+inline Transform random_transform(std::mt19937& rng, float extent) {
+  return Transform::from(random_point(rng, extent), uniform(rng, -kPi, kPi));
+}
+
+inline Vec3 random_point3(std::mt19937& rng, float extent) {
+  return {uniform(rng, -extent, extent), uniform(rng, -extent, extent),
+          uniform(rng, -extent, extent)};
+}
+
+/// A uniformly distributed random rotation (Shoemake, "Uniform random rotations", Graphics
+/// Gems III, 1992).
+inline Quat random_rotation(std::mt19937& rng) {
+  const float u1 = uniform(rng, 0.0f, 1.0f);
+  const float u2 = uniform(rng, 0.0f, 2.0f * kPi);
+  const float u3 = uniform(rng, 0.0f, 2.0f * kPi);
+  const float a = std::sqrt(1.0f - u1);
+  const float b = std::sqrt(u1);
+  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
+}
+
+/// A uniformly distributed random unit vector (rejection from the unit ball).
+inline Vec3 random_unit3(std::mt19937& rng) {
+  for (;;) {
+    const Vec3 v = random_point3(rng, 1.0f);
+    const float l = length(v);
+    if (l > 0.1f && l <= 1.0f) return v / l;
+  }
+}
+
+inline Transform3 random_transform3(std::mt19937& rng, float extent) {
+  return Transform3::from(random_point3(rng, extent), random_rotation(rng));
+}
+
+/// A random convex polygon with `n` vertices on a jittered circle of radius ~`size`.
+inline Polygon random_polygon(std::mt19937& rng, int n, float size, float radius = 0.0f) {
+  std::vector<Vec2> pts;
+  const float start = uniform(rng, 0.0f, 2.0f * kPi);
+  for (int i = 0; i < n; ++i) {
+    const float angle = start + 2.0f * kPi * (static_cast<float>(i) + uniform(rng, -0.3f, 0.3f)) /
+                                    static_cast<float>(n);
+    const float r = size * uniform(rng, 0.6f, 1.0f);
+    pts.push_back({r * std::cos(angle), r * std::sin(angle)});
+  }
+  return make_polygon(pts, radius);
+}
+
+}  // namespace collide::test
