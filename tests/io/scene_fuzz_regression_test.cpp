@@ -3,11 +3,11 @@
 
 #include "scene_json_check.hpp"
 
+#include "support/replay_files.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 namespace collide {
@@ -15,17 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Runs the check on every file of `folder` (names starting with '.' are not inputs).
 int replay(const fs::path& folder) {
-  int files = 0;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    if (!entry.is_regular_file() || entry.path().filename().string().starts_with(".")) continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    const std::string input{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    EXPECT_EQ(fuzz::check_scene_json(input), "") << entry.path();
-    ++files;
-  }
-  return files;
+  return test::replay_files(folder,
+                            [](const std::string& input) { return fuzz::check_scene_json(input); });
 }
 
 TEST(SceneFuzzRegressions, EveryFoundInputAndSeedPassesTheFuzzCheck) {
