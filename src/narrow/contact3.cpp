@@ -421,6 +421,31 @@ void point_contact(Vec3 pa, Vec3 pb, Vec3 n, float s, float ra, float rb, Contac
   m.points[0].id = id;
 }
 
+/// One point for a face axis whose clip kept nothing: the other core's vertex deepest below the
+/// reference face `ref_face` (of A when `ref_is_a`, else of B), against its plane.
+void deepest_vertex_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a,
+                            int ref_face, Manifold3& m) noexcept {
+  if (ref_is_a) {
+    const HullFace& face = a.faces[ref_face];
+    const int k = b.support(-face.normal);
+    const Vec3 v = b.vertex(k);
+    const float s = dot(face.normal, v) - face.offset;
+    point_contact(v - s * face.normal, v, face.normal, s, a.radius, b.p.radius,
+                  ContactId{std::uint32_t(a.face_feature(ref_face)), std::uint32_t(k),
+                            FeatureType::face, FeatureType::vertex},
+                  m);
+  } else {
+    const Vec3 n = b.face_normal(ref_face);
+    const int k = a.support(-n);
+    const Vec3 v = a.vertex(k);
+    const float s = dot(n, v) - b.face_offset(ref_face, n);
+    point_contact(v, v - s * n, -n, s, a.radius, b.p.radius,
+                  ContactId{std::uint32_t(k), std::uint32_t(b.p.face_feature(ref_face)),
+                            FeatureType::vertex, FeatureType::face},
+                  m);
+  }
+}
+
 /// Of the edges of `p` (placed by `place`) parallel to edge `e`, the one farthest along `l`:
 /// the unpruned edge test records the first of several parallel edges that give the same axis,
 /// and the contact is on the one that supports the core along it.
@@ -656,9 +681,15 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const float face_tolerance = kReferenceFaceTolerance * size;
   const bool ref_b = fb.face >= 0 && (fa.face < 0 || fb.separation > fa.separation + face_tolerance);
   face_contact(a, b, !ref_b, ref_b ? fb.face : fa.face, keep, m);
-  if (m.count == 0 && ee.edge_a >= 0) {
-    // The clip kept nothing (a face axis at a corner, within the tolerances): the edges.
+  if (m.count > 0) return;
+  // The clip kept nothing (a face axis at a corner, within the tolerances). The edges when
+  // their axis is as good within the tolerance; else the face axis stays the answer, with the
+  // incident core's deepest vertex as the one point (an edge axis would report a deeper,
+  // wrong depth).
+  if (ee.edge_a >= 0 && ee.separation >= best_face - edge_tolerance) {
     edge_contact(a, b, ee.edge_a, ee.edge_b, ee.axis, ee.separation, m);
+  } else {
+    deepest_vertex_contact(a, b, !ref_b, ref_b ? fb.face : fa.face, m);
   }
 }
 
