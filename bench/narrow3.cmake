@@ -1,15 +1,11 @@
-# Peers of bench_narrow3: Jolt (cmake/peers.cmake) behind narrow3/jolt_queries.cpp, the only
-# source compiled with Jolt's instruction set; libccd, FCL 0.7 and Bullet 3 from Debian. The
-# workload and its exact reference come from tests/support (hull_pairs.hpp).
+# Peers of bench_narrow3: Jolt behind collide_jolt_queries (cmake/peers.cmake), the only code
+# compiled with Jolt's instruction set; libccd, FCL 0.7 and Bullet 3 from Debian. The workload
+# and its exact reference come from tests/support (hull_pairs.hpp).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(COLLIDE_BULLET REQUIRED IMPORTED_TARGET bullet)
 find_package(fcl REQUIRED)
 
-add_library(bench_narrow3_jolt STATIC EXCLUDE_FROM_ALL
-            ${CMAKE_CURRENT_SOURCE_DIR}/narrow3/jolt_queries.cpp)
-target_link_libraries(bench_narrow3_jolt PRIVATE Jolt::Jolt)
-
-set(narrow3_peers bench_narrow3_jolt PkgConfig::COLLIDE_BULLET fcl ccd)
+set(narrow3_peers collide_jolt_queries PkgConfig::COLLIDE_BULLET fcl ccd)
 target_link_libraries(${target} PRIVATE ${narrow3_peers})
 target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
 

@@ -41,7 +41,7 @@
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/overlap.hpp>
 
-#include "narrow3/jolt_queries.hpp"
+#include "support/jolt/jolt_queries.hpp"
 #include "support/hull_pairs.hpp"
 
 #include <benchmark/benchmark.h>

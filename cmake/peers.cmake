@@ -4,13 +4,14 @@
 # compiled only when a target that links it is.
 #
 # Link targets:
-#  - `Jolt::Jolt`  Jolt Physics (3D). Jolt's own SIMD defaults are kept (COLLIDE_JOLT_SSE2=OFF):
+#  - `Jolt::Jolt`  Jolt Physics (3D), and `collide_jolt_queries`, its queries behind plain types
+#                  (tests/support/jolt). Jolt's own SIMD defaults are kept (COLLIDE_JOLT_SSE2=OFF):
 #                  -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (USE_SSE4_1..USE_AVX2, USE_FMADD,
 #                  USE_F16C, USE_LZCNT, USE_TZCNT) and -ffp-contract=fast in its own sources,
 #                  -O3. These -m options are PUBLIC in Jolt's target, so every source file of a
 #                  target that links Jolt is compiled with them: keep collide's code out of such
-#                  files where the instruction set matters (link a helper library that holds the
-#                  Jolt calls, as tests/narrow does), and state both sides' instruction sets
+#                  files where the instruction set matters (link collide_jolt_queries, which
+#                  holds the Jolt calls, instead), and state both sides' instruction sets
 #                  beside every ratio. collide's default build is the x86-64 baseline (SSE2).
 #                  Turned off: tests, samples, viewer, warnings-as-errors, profiler, debug
 #                  renderer, object streams, GPU compute back ends, install rules, debug symbols,
@@ -50,6 +51,13 @@ foreach(opt IN LISTS _collide_jolt_simd)
 endforeach()
 set(USE_AVX512 OFF CACHE BOOL "" FORCE)
 add_subdirectory(${COLLIDE_PEERS_DIR}/jolt/Build ${CMAKE_BINARY_DIR}/peers/jolt EXCLUDE_FROM_ALL)
+
+# Jolt's queries behind plain types (tests/support/jolt/jolt_queries.hpp), for benchmarks and
+# tests: the one source compiled with Jolt's headers and instruction set.
+add_library(collide_jolt_queries STATIC EXCLUDE_FROM_ALL
+            ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_queries.cpp)
+target_link_libraries(collide_jolt_queries PRIVATE Jolt::Jolt)
+target_include_directories(collide_jolt_queries PUBLIC ${PROJECT_SOURCE_DIR}/tests)
 
 # ---- Box2D v3 -----------------------------------------------------------------------------------
 enable_language(C)

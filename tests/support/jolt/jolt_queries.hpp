@@ -1,9 +1,10 @@
 #pragma once
-// Jolt's side of bench_narrow3, behind plain types: this file's .cpp is the only source compiled
-// with Jolt's headers and instruction set (Jolt's own -mavx2 -mfma ... options, see
-// cmake/peers.cmake), so the benchmark's other source (collide, libccd, FCL, Bullet) stays on
-// the baseline x86-64 build. Each function is one query as a Jolt user makes it, called once per
-// pair (a plain function call costs a few ns against queries of a microsecond).
+// Jolt Physics (../shared/peers/jolt) as a benchmark rival and test oracle, behind plain types:
+// the target `collide_jolt_queries` (cmake/peers.cmake) is the only code compiled with Jolt's
+// headers and instruction set (Jolt's own -mavx2 -mfma ... options), so the benchmarks and
+// tests that link it (bench_narrow3, test_narrow) keep collide's. Each function is one query as
+// a Jolt user makes it, called once per pair (a plain function call costs a few ns against
+// queries of a microsecond).
 
 #include <array>
 #include <memory>

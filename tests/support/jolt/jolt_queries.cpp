@@ -1,4 +1,4 @@
-// Jolt's side of bench_narrow3 (see jolt_queries.hpp): compiled with Jolt's own flags.
+// Jolt's queries (see jolt_queries.hpp): compiled with Jolt's own flags.
 
 #include "jolt_queries.hpp"
 
