@@ -5,6 +5,7 @@
 #include "cast.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/shape/draw_shape.hpp>
 
 #include <algorithm>
 #include <array>

@@ -8,8 +8,8 @@
 
 #include <collide/core/error.hpp>
 #include <collide/draw/canvas_draw.hpp>
+#include <collide/draw/png.hpp>
 #include <collide/draw/svg_draw.hpp>
-#include <collide/io/png.hpp>
 
 #include <cstdio>
 #include <fstream>
@@ -66,7 +66,7 @@ int run_cast(const CastOptions& o) {
   }
   if (!o.png.empty()) {
     const Canvas canvas = render_canvas(picture);
-    io::write_png(o.png, canvas);
+    write_png(o.png, canvas);
     std::printf("wrote %s (%d x %d)\n", o.png.c_str(), canvas.width(), canvas.height());
   }
   return r.status == QueryStatus::max_iterations ? 3 : 0;

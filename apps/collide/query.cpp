@@ -1,6 +1,7 @@
-// The JSON Lines query protocol. Parsing turns JSON into validated shapes (every rejection names
-// its field), then the library answers; formatting writes floats with the fewest digits that
-// round-trip.
+// The JSON Lines query protocol. Parsing turns JSON into validated shapes through the shared
+// JSON vocabulary (collide/io/shape_json.hpp: every rejection names its field), then the library
+// answers; formatting writes floats with the fewest digits that round-trip. Reading is bounded
+// (kMaxQueryLineBytes per line, kMaxJsonDepth) and no exception leaves a line's handling.
 
 #include "query.hpp"
 
@@ -8,6 +9,7 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/core/error.hpp>
+#include <collide/io/shape_json.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
@@ -15,13 +17,20 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <istream>
+#include <new>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <variant>
 #include <vector>
 
 namespace collide::cli {
@@ -29,14 +38,10 @@ namespace {
 
 using nlohmann::json;
 
-/// A rejected question; the message names the field.
+/// A rejected question whose reason is not about one field (the message says it all).
 struct QueryError {
   std::string message;
 };
-
-[[noreturn]] void fail(const std::string& field, const std::string& why) {
-  throw QueryError{field.empty() ? why : field + ": " + why};
-}
 
 /// A float written with the fewest digits that read back as the same float.
 json number(float v) {
@@ -48,153 +53,24 @@ json number(float v) {
 
 json vec(Vec2 v) { return json::array({number(v.x), number(v.y)}); }
 
-const json& require(const json& obj, const char* key, const std::string& where) {
-  const auto it = obj.find(key);
-  if (it == obj.end()) fail(where.empty() ? std::string(key) : where + "." + key, "missing");
-  return *it;
+/// The shape in member `key` of question `q` (required). Its dimension tells the question's:
+/// 3D shapes are rejected by shape_from_json ("3D shapes: not yet"), so every shape here is 2D,
+/// and so is a circle without center. When the library has Shape3D, the ops below gain a 3D
+/// branch on dimension_of(shape), and a shape without coordinates takes the other's dimension.
+Shape2D shape_field(const json& q, const JsonPath& root, std::string_view key) {
+  const AnyShape shape = shape_from_json(require_member(q, root, key), root.member(key), JsonDimension::two);
+  return std::get<Shape2D>(shape);
 }
 
-std::string path(const std::string& where, const std::string& key) {
-  return where.empty() ? key : where + "." + key;
+/// The 2D transform in member `key` of `q`; omitted: the identity.
+Transform transform_field(const json& q, const JsonPath& root, std::string_view key) {
+  const json* x = find_member(q, key);
+  return x == nullptr ? Transform{} : transform_from_json(*x, root.member(key));
 }
 
-/// A number beyond double range (1e400) fails JSON parsing before any field is known. Such a
-/// line is parsed again with each of those numbers turned into a string starting with this
-/// mark (a control character, so no string a user sends by hand): to_float then names the field.
-constexpr std::string_view kBeyondDouble = "\x01" "beyond double range: ";
-
-/// `line` with every number beyond double range written as a kBeyondDouble string. Strings are
-/// copied as they are: a run of digits inside one is not a number.
-std::string mark_numbers_beyond_double(std::string_view line) {
-  const auto in_number = [](char c) {
-    return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-';
-  };
-  std::string out;
-  bool in_string = false;
-  for (std::size_t i = 0; i < line.size();) {
-    const char c = line[i];
-    if (in_string) {
-      if (c == '\\' && i + 1 < line.size()) out += line[i++];  // the escaped char follows
-      else if (c == '"') in_string = false;
-      out += line[i++];
-    } else if (c == '"') {
-      in_string = true;
-      out += line[i++];
-    } else if (c == '-' || (c >= '0' && c <= '9')) {
-      std::size_t end = i + 1;
-      while (end < line.size() && in_number(line[end])) ++end;
-      const std::string token(line.substr(i, end - i));
-      if (std::isinf(std::strtod(token.c_str(), nullptr))) {
-        out += json(std::string(kBeyondDouble) + token).dump();  // a JSON string: \u0001 escaped
-      } else {
-        out += token;
-      }
-      i = end;
-    } else {
-      out += line[i++];
-    }
-  }
-  return out;
-}
-
-float to_float(const json& j, const std::string& field) {
-  if (j.is_string() && j.get_ref<const std::string&>().starts_with(kBeyondDouble)) {
-    fail(field, "not a finite float (" + j.get<std::string>().substr(kBeyondDouble.size()) +
-                    " is beyond double range)");
-  }
-  if (!j.is_number()) fail(field, "expected a number");
-  const double d = j.get<double>();
-  const auto f = static_cast<float>(d);
-  if (!std::isfinite(d) || !std::isfinite(f)) fail(field, "not a finite float");
-  return f;
-}
-
-/// A 2D point. 3D coordinates are recognised and rejected with a clear message: this build
-/// answers 2D questions only.
-Vec2 to_vec2(const json& j, const std::string& field) {
-  if (!j.is_array()) fail(field, "expected an array of 2 numbers");
-  if (j.size() == 3) fail(field, "3D coordinates: this version answers 2D questions only");
-  if (j.size() != 2) fail(field, "expected 2 numbers, got " + std::to_string(j.size()));
-  return {to_float(j[0], field + "[0]"), to_float(j[1], field + "[1]")};
-}
-
-float radius_field(const json& shape, const std::string& where, bool required) {
-  const auto it = shape.find("radius");
-  if (it == shape.end()) {
-    if (required) fail(path(where, "radius"), "missing");
-    return 0.0f;
-  }
-  const float r = to_float(*it, path(where, "radius"));
-  if (r < 0.0f) fail(path(where, "radius"), "negative");
-  return r;
-}
-
-/// Runs a library constructor, turning its InvalidInput into an error naming the field.
-template <class F>
-auto build(const std::string& where, F&& make) {
-  try {
-    return make();
-  } catch (const InvalidInput& e) {
-    fail(where, e.what());
-  }
-}
-
-Shape2D to_shape(const json& j, const std::string& where) {
-  if (!j.is_object()) fail(where, "expected a shape object");
-  const json& type_json = require(j, "type", where);
-  if (!type_json.is_string()) fail(path(where, "type"), "expected a string");
-  const std::string type = type_json.get<std::string>();
-  if (type == "circle" || type == "sphere") {
-    const auto c = j.find("center");
-    const Vec2 center = c == j.end() ? Vec2{0.0f, 0.0f} : to_vec2(*c, path(where, "center"));
-    const float r = radius_field(j, where, true);
-    return build(where, [&] { return make_circle(center, r); });
-  }
-  if (type == "capsule") {
-    const Vec2 a = to_vec2(require(j, "a", where), path(where, "a"));
-    const Vec2 b = to_vec2(require(j, "b", where), path(where, "b"));
-    const float r = radius_field(j, where, true);
-    return build(where, [&] { return make_capsule(a, b, r); });
-  }
-  if (type == "segment") {
-    const Vec2 a = to_vec2(require(j, "a", where), path(where, "a"));
-    const Vec2 b = to_vec2(require(j, "b", where), path(where, "b"));
-    return build(where, [&] { return make_segment(a, b); });
-  }
-  if (type == "box") {
-    const Vec2 half = to_vec2(require(j, "half", where), path(where, "half"));
-    const float r = radius_field(j, where, false);
-    return build(where, [&] { return make_box(half, r); });
-  }
-  if (type == "polygon") {
-    const json& vs = require(j, "vertices", where);
-    const std::string field = path(where, "vertices");
-    if (!vs.is_array()) fail(field, "expected an array of points");
-    std::vector<Vec2> points;
-    for (size_t i = 0; i < vs.size(); ++i) {
-      points.push_back(to_vec2(vs[i], field + "[" + std::to_string(i) + "]"));
-    }
-    const float r = radius_field(j, where, false);
-    return build(where, [&] { return make_convex_polygon(points, r); });
-  }
-  if (type == "hull" || type == "triangle") {
-    fail(path(where, "type"), "\"" + type + "\" is a 3D shape: this version answers 2D questions only");
-  }
-  fail(path(where, "type"), "unknown shape type \"" + type + "\"");
-}
-
-Transform to_transform(const json& q, const char* key) {
-  const auto it = q.find(key);
-  if (it == q.end()) return Transform{};
-  const std::string where = key;
-  if (!it->is_object()) fail(where, "expected {\"p\": [x, y], \"angle\": radians}");
-  Transform xf;
-  if (const auto p = it->find("p"); p != it->end()) xf.p = to_vec2(*p, where + ".p");
-  if (it->contains("q")) fail(where + ".q", "quaternions are 3D: this version answers 2D questions only");
-  if (const auto a = it->find("angle"); a != it->end()) {
-    xf.q = Rot2::from_angle(to_float(*a, where + ".angle"));
-  }
-  return xf;
+/// The 2D point or vector in member `key` of `q` (required).
+Vec2 vec2_field(const json& q, const JsonPath& root, std::string_view key) {
+  return vec2_from_json(require_member(q, root, key), root.member(key));
 }
 
 std::string feature_name(Feature f) {
@@ -206,26 +82,24 @@ std::string feature_name(Feature f) {
 
 /// The `boxes` of a `pairs` question: each [minx, miny, maxx, maxy] (2D) or
 /// [minx, miny, minz, maxx, maxy, maxz] (3D), one dimension for all.
-json answer_pairs(const json& q) {
-  const json& boxes = require(q, "boxes", "");
-  if (!boxes.is_array()) fail("boxes", "expected an array of boxes");
+json answer_pairs(const json& q, const JsonPath& root) {
+  const JsonPath boxes_path = root.member("boxes");
+  const json& boxes = require_member(q, root, "boxes");
+  if (!boxes.is_array()) fail_json(boxes_path, "expected an array of boxes, got " + json_kind(boxes));
   std::string name;
-  if (const auto it = q.find("broadphase"); it != q.end()) {
-    if (!it->is_string()) fail("broadphase", "expected a name");
-    name = it->get<std::string>();
-  }
+  if (const json* b = find_member(q, "broadphase")) name = string_from_json(*b, root.member("broadphase"));
   const size_t width = boxes.empty() || !boxes[0].is_array() ? 4 : boxes[0].size();
-  if (width != 4 && width != 6) fail("boxes[0]", "expected 4 (2D) or 6 (3D) numbers");
+  if (width != 4 && width != 6) fail_json(boxes_path.element(0), "expected 4 (2D) or 6 (3D) numbers");
   std::vector<Aabb> boxes2;
   std::vector<Aabb3> boxes3;
   for (size_t i = 0; i < boxes.size(); ++i) {
-    const std::string field = "boxes[" + std::to_string(i) + "]";
+    const JsonPath field = boxes_path.element(i);
     const json& b = boxes[i];
     if (!b.is_array() || b.size() != width) {
-      fail(field, "expected " + std::to_string(width) + " numbers like boxes[0]");
+      fail_json(field, "expected " + std::to_string(width) + " numbers like boxes[0]");
     }
     float v[6];
-    for (size_t k = 0; k < width; ++k) v[k] = to_float(b[k], field + "[" + std::to_string(k) + "]");
+    for (size_t k = 0; k < width; ++k) v[k] = float_from_json(b[k], field.element(k));
     if (width == 4) {
       boxes2.push_back({{v[0], v[1]}, {v[2], v[3]}});
     } else {
@@ -239,35 +113,35 @@ json answer_pairs(const json& q) {
     // A bad box is "box 3: ...", said of "boxes"; the other messages ("broadphase: unknown
     // name ...") name their field already.
     const std::string why = e.what();
-    fail(why.rfind("box ", 0) == 0 ? "boxes" : "", why);
+    if (why.rfind("box ", 0) == 0) throw JsonFieldError("boxes", why);
+    throw QueryError{why};
   }
   json out = json::array();
   for (const auto& [i, j] : pairs) out.push_back(json::array({i, j}));
   return json::object({{"pairs", out}});
 }
 
-CastQuestion to_cast_question(const json& q) {
+CastQuestion to_cast_question(const json& q, const JsonPath& root) {
   CastQuestion c;
-  c.a = to_shape(require(q, "a", ""), "a");
-  c.b = to_shape(require(q, "b", ""), "b");
-  c.xa = to_transform(q, "xa");
-  c.xb = to_transform(q, "xb");
-  c.va = to_vec2(require(q, "va", ""), "va");
-  c.vb = to_vec2(require(q, "vb", ""), "vb");
+  c.a = shape_field(q, root, "a");
+  c.b = shape_field(q, root, "b");
+  c.xa = transform_field(q, root, "xa");
+  c.xb = transform_field(q, root, "xb");
+  c.va = vec2_field(q, root, "va");
+  c.vb = vec2_field(q, root, "vb");
   return c;
 }
 
 json answer(const json& q) {
-  if (!q.is_object()) fail("", "expected a JSON object");
-  const json& op_json = require(q, "op", "");
-  if (!op_json.is_string()) fail("op", "expected a string");
-  const std::string op = op_json.get<std::string>();
+  const JsonPath root;
+  check_object(q, root, "a question");
+  const std::string& op = string_from_json(require_member(q, root, "op"), root.member("op"));
   json out;
   if (op == "overlap" || op == "contact" || op == "distance") {
-    const Shape2D a = to_shape(require(q, "a", ""), "a");
-    const Shape2D b = to_shape(require(q, "b", ""), "b");
-    const Transform xa = to_transform(q, "xa");
-    const Transform xb = to_transform(q, "xb");
+    const Shape2D a = shape_field(q, root, "a");
+    const Shape2D b = shape_field(q, root, "b");
+    const Transform xa = transform_field(q, root, "xa");
+    const Transform xb = transform_field(q, root, "xb");
     if (op == "overlap") {
       out["overlap"] = overlap(a, xa, b, xb);
     } else if (op == "contact") {
@@ -292,10 +166,9 @@ json answer(const json& q) {
       out["pb"] = vec(d.point_b);
     }
   } else if (op == "raycast") {
-    const Shape2D shape = to_shape(require(q, "shape", ""), "shape");
-    const Transform x = to_transform(q, "x");
-    const Ray ray{to_vec2(require(q, "origin", ""), "origin"),
-                  to_vec2(require(q, "translation", ""), "translation")};
+    const Shape2D shape = shape_field(q, root, "shape");
+    const Transform x = transform_field(q, root, "x");
+    const Ray ray{vec2_field(q, root, "origin"), vec2_field(q, root, "translation")};
     const RayHit hit = raycast(shape, x, ray);
     out["hit"] = hit.hit;
     if (hit.hit) {
@@ -304,27 +177,27 @@ json answer(const json& q) {
       out["normal"] = vec(hit.normal);
     }
   } else if (op == "closest_point") {
-    const Shape2D shape = to_shape(require(q, "shape", ""), "shape");
-    const Transform x = to_transform(q, "x");
-    const Vec2 point = to_vec2(require(q, "point", ""), "point");
+    const Shape2D shape = shape_field(q, root, "shape");
+    const Transform x = transform_field(q, root, "x");
+    const Vec2 point = vec2_field(q, root, "point");
     const PointQuery r = closest_point(shape, x, point);
     out["inside"] = r.inside;
     out["distance"] = number(r.distance);
     out["closest"] = vec(r.closest);
     out["feature"] = feature_name(r.feature);
   } else if (op == "pairs") {
-    out = answer_pairs(q);
+    out = answer_pairs(q, root);
   } else if (op == "toi") {
-    const CastQuestion c = to_cast_question(q);
+    const CastQuestion c = to_cast_question(q, root);
     ShapeCastResult r;
     try {
       r = shape_cast(c.a, c.xa, c.va, c.b, c.xb, c.vb);
     } catch (const InvalidInput& e) {
-      fail("", e.what());
+      throw QueryError{e.what()};
     }
     if (r.status == QueryStatus::max_iterations) {
-      fail("", "time of impact did not converge (iteration cap); no contact before t = " +
-                   std::to_string(r.fraction));
+      throw QueryError{"time of impact did not converge (iteration cap); no contact before t = " +
+                       std::to_string(r.fraction)};
     }
     out["hit"] = r.hit;
     if (r.hit) {
@@ -333,7 +206,7 @@ json answer(const json& q) {
       out["normal"] = vec(r.normal);
     }
   } else {
-    fail("op", "unknown op \"" + op + "\"");
+    fail_json(root.member("op"), "unknown op " + json(op).dump());  // quoted and escaped
   }
   return out;
 }
@@ -342,59 +215,147 @@ json answer(const json& q) {
 
 std::string answer_query_line(std::string_view line) {
   if (line.find_first_not_of(" \t\r\n") == std::string_view::npos) return {};
-  json id = nullptr;
-  json out;
   try {
-    json q;
+    json id = nullptr;
+    json out;
     try {
-      q = json::parse(line);
-    } catch (const json::out_of_range& e) {
-      if (e.id != 406) throw;  // 406: a number beyond double range
-      q = json::parse(mark_numbers_beyond_double(line));
+      const json q = parse_json(line);  // depth-limited; 1e400 kept for its field to be named
+      if (const json* i = find_member(q, "id")) id = *i;
+      out = answer(q);
+    } catch (const InvalidInput& e) {  // a field named by the JSON vocabulary or the library
+      out = json::object({{"error", e.what()}});
+    } catch (const QueryError& e) {
+      out = json::object({{"error", e.message}});
+    } catch (const std::bad_alloc&) {
+      out = json::object({{"error", "out of memory while answering this line"}});
+    } catch (const std::exception& e) {
+      out = json::object({{"error", std::string("internal error: ") + e.what()}});
     }
-    if (q.is_object()) {
-      if (const auto it = q.find("id"); it != q.end()) id = *it;
-    }
-    out = answer(q);
-  } catch (const json::exception& e) {
-    // Syntax errors (numbers beyond double range are marked and named by to_float instead).
-    out = json::object({{"error", std::string("line is not valid JSON: ") + e.what()}});
-  } catch (const QueryError& e) {
-    out = json::object({{"error", e.message}});
-  } catch (const std::exception& e) {
-    out = json::object({{"error", std::string("internal error: ") + e.what()}});
+    json result = json::object({{"id", id}});
+    result.update(out);
+    // Every string came from parsed (so valid) UTF-8 or from messages made valid; replacing
+    // any bad byte anyway keeps the answer valid JSON whatever a message might hold.
+    return result.dump(-1, ' ', false, json::error_handler_t::replace);
+  } catch (...) {  // not even the error answer could be made (out of memory)
+    return R"({"id":null,"error":"internal error: no answer could be written for this line"})";
   }
-  json result = json::object({{"id", id}});
-  result.update(out);
-  return result.dump();
 }
 
 CastQuestion parse_cast_question(std::string_view text) {
   try {
-    const json q = json::parse(text);
-    if (!q.is_object()) fail("", "expected a JSON object");
-    if (const auto op = q.find("op"); op != q.end() && *op != "toi") {
-      fail("op", "a cast question is a \"toi\" question");
+    const JsonPath root;
+    const json q = parse_json(text);
+    check_object(q, root, "a question");
+    if (const json* op = find_member(q, "op"); op != nullptr && *op != "toi") {
+      fail_json(root.member("op"), "a cast question is a \"toi\" question");
     }
-    return to_cast_question(q);
-  } catch (const json::exception& e) {
-    throw InvalidInput(std::string("not valid JSON: ") + e.what());
+    return to_cast_question(q, root);
   } catch (const QueryError& e) {
     throw InvalidInput(e.message);
   }
 }
 
+namespace {
+
+enum class LineRead : unsigned char { line, too_long, end };
+
+/// Reads the next line of `in` (without its '\n') into `line`, keeping at most
+/// kMaxQueryLineBytes bytes: a longer line is read to its end but not kept (too_long), so no
+/// line makes the buffer grow beyond the limit. A read error sets badbit and ends the input.
+LineRead read_line(std::istream& in, std::string& line) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  if (!in.good() || buf == nullptr) return LineRead::end;
+  const auto next = [&]() -> int {
+    try {
+      return buf->sbumpc();
+    } catch (...) {  // libstdc++'s filebuf throws on a read error (EISDIR on a folder)
+      if (in.exceptions() & std::ios::badbit) throw;  // as the stream's own reads do
+      in.setstate(std::ios::badbit);
+      return std::char_traits<char>::eof();
+    }
+  };
+  bool any = false;
+  bool too_long = false;
+  for (;;) {
+    const int c = next();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      if (!any || in.bad()) return LineRead::end;
+      break;
+    }
+    any = true;
+    if (c == '\n') break;
+    if (too_long) continue;
+    if (line.size() == kMaxQueryLineBytes) {
+      too_long = true;
+      continue;
+    }
+    if (line.size() == line.capacity()) line.reserve(std::min(kMaxQueryLineBytes, std::max<std::size_t>(256, 2 * line.size())));
+    line.push_back(static_cast<char>(c));
+  }
+  return too_long ? LineRead::too_long : LineRead::line;
+}
+
+}  // namespace
+
 std::size_t answer_query_stream(std::istream& in, std::ostream& out) {
   std::size_t answered = 0;
+  std::size_t number = 0;
   std::string line;
-  while (std::getline(in, line)) {
-    const std::string reply = answer_query_line(line);
+  for (LineRead r; (r = read_line(in, line)) != LineRead::end;) {
+    ++number;
+    std::string reply;
+    if (r == LineRead::too_long) {
+      reply = json::object({{"id", nullptr},
+                            {"error", "line " + std::to_string(number) + ": longer than " +
+                                          std::to_string(kMaxQueryLineBytes) +
+                                          " bytes (the limit, 16 MiB); not read"}})
+                  .dump();
+    } else {
+      reply = answer_query_line(line);
+    }
     if (reply.empty()) continue;
     out << reply << '\n';
     ++answered;
   }
   out.flush();
+  if (in.bad()) throw std::runtime_error("read error after line " + std::to_string(number));
   return answered;
+}
+
+int run_query(const std::string& file, std::istream& standard_input, std::ostream& out, std::ostream& err) {
+  const bool from_stdin = file.empty() || file == "-";
+  const std::string name = from_stdin ? std::string("standard input") : file;
+  try {
+    if (from_stdin) {
+      answer_query_stream(standard_input, out);
+    } else {
+      std::error_code ec;
+      if (std::filesystem::is_directory(file, ec)) {
+        err << "collide query: " << name << ": cannot be read (a directory)\n";
+        return 2;
+      }
+      std::ifstream in(file, std::ios::binary);
+      if (!in) {
+        err << "collide query: " << name << ": cannot be read\n";
+        return 2;
+      }
+      answer_query_stream(in, out);
+    }
+    if (!out) {
+      err << "collide query: the answers could not be written\n";
+      return 2;
+    }
+    return 0;
+  } catch (const std::bad_alloc&) {
+    err << "collide query: " << name << ": out of memory\n";
+  } catch (const std::exception& e) {
+    err << "collide query: " << name << ": " << e.what() << "\n";
+  } catch (...) {
+    err << "collide query: " << name << ": unknown error\n";
+  }
+  return 2;
 }
 
 std::string query_ops_help() {
@@ -410,6 +371,8 @@ std::string query_ops_help() {
       "Shapes: circle {center, radius}, capsule {a, b, radius}, box {half, radius?},\n"
       "        polygon {vertices (convex, counter-clockwise), radius?}, segment {a, b}\n"
       "Transforms: {\"p\": [x, y], \"angle\": radians}; omitted means identity.\n"
+      "Shapes and transforms take only these fields (and \"comment\"); 3D shapes: not yet.\n"
+      "Limits: 16 MiB per line, JSON nested at most 256 deep (docs/shape-json.md).\n"
       "Boxes: [minx, miny, maxx, maxy] (2D) or [minx, miny, minz, maxx, maxy, maxz] (3D).\n"
       "Broad phases (\"broadphase\"; the first is the default):\n";
   for (const BroadPhaseInfo& info : broadphases()) {

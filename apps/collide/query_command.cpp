@@ -3,7 +3,6 @@
 #include "commands.hpp"
 #include "query.hpp"
 
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -17,16 +16,8 @@ void register_query_command(CLI::App& app) {
   cmd->add_option("file", *file, "Questions, one JSON object per line (default: standard input)");
   cmd->footer(query_ops_help());
   cmd->callback([file] {
-    if (file->empty() || *file == "-") {
-      answer_query_stream(std::cin, std::cout);
-      return;
-    }
-    std::ifstream in(*file);
-    if (!in) {
-      std::cerr << "collide query: cannot read " << *file << "\n";
-      throw CLI::RuntimeError(1);
-    }
-    answer_query_stream(in, std::cout);
+    const int code = run_query(*file, std::cin, std::cout, std::cerr);
+    if (code != 0) throw CLI::RuntimeError(code);
   });
 }
 

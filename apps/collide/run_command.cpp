@@ -8,8 +8,8 @@
 
 #include <collide/core/error.hpp>
 #include <collide/draw/canvas_draw.hpp>
+#include <collide/draw/png.hpp>
 #include <collide/draw/svg_draw.hpp>
-#include <collide/io/png.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -208,7 +208,7 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
   world.draw(picture, WorldDrawOptions{.normal_length = kNormalArrowFraction * width});
   World2D::draw_laser(picture, laser);
   if (!o.svg.empty()) save_svg(picture, o.svg);
-  if (!o.png.empty()) io::write_png(o.png, render_canvas(picture));
+  if (!o.png.empty()) write_png(o.png, render_canvas(picture));
 }
 
 }  // namespace

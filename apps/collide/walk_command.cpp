@@ -6,8 +6,8 @@
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/draw/canvas.hpp>
+#include <collide/draw/png.hpp>
 #include <collide/io/obj.hpp>
-#include <collide/io/png.hpp>
 #include <collide/walkmesh/make_walk_mesh.hpp>
 
 #include <algorithm>
@@ -186,7 +186,7 @@ int run_walk(const WalkOptions& o) {
       canvas.fill_circle(to_pixel(path.front()), 4.0f, {255, 255, 255, 255});
       canvas.fill_circle(to_pixel(path.back()), 4.0f, ink);
     }
-    io::write_png(o.png, canvas);
+    write_png(o.png, canvas);
     std::printf("wrote %s (%d x %d, top-down: walk mesh by island, walls dark, paths from white dots)\n",
                 o.png.c_str(), o.png_size, o.png_size);
   }

@@ -39,11 +39,16 @@ class PathTracker {
     std::string out;
     for (std::size_t i = 0; i < frames_.size(); ++i) {
       const Frame& f = frames_[i];
+      if (i == kMaxShownPathSteps) {
+        out.append("...");
+        break;
+      }
       if (i > 0 && f.has_id) out.append(" (id=").append(std::to_string(f.id)).append(")");
       if (f.array) {
         out.append("[").append(std::to_string(f.index)).append("]");
       } else if (!f.key.empty()) {
-        out.append(out.empty() ? "" : ".").append(f.key);
+        if (!out.empty()) out += '.';
+        append_path_key(out, f.key);
       }
     }
     return out.empty() ? "root" : out;
@@ -87,9 +92,21 @@ class PathTracker {
 
 }  // namespace
 
-std::string json_path_at_syntax_error(const std::string& text) {
+void append_path_key(std::string& path, std::string_view key) {
+  for (const char c : key) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      path.append("\\u00").append(1, kHex[u >> 4]).append(1, kHex[u & 15]);
+    } else {
+      path += c;
+    }
+  }
+}
+
+std::string json_path_at_syntax_error(std::string_view text) {
   PathTracker tracker;
-  (void)Json::sax_parse(text, &tracker);
+  (void)Json::sax_parse(text.begin(), text.end(), &tracker);
   return tracker.path();
 }
 

@@ -222,4 +222,13 @@ TriangleSoup load_obj(const std::string& path) {
   return soup;
 }
 
+TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options) {
+  const TriangleSoup soup = load_obj(path);
+  try {
+    return make_triangle_mesh(soup.positions, soup.triangles, options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(soup.name + ": " + e.what());
+  }
+}
+
 }  // namespace collide::io

@@ -12,6 +12,9 @@
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
+#include "clip_ray.hpp"
+#include "ray_ball.hpp"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -32,12 +35,7 @@
 namespace collide {
 namespace {
 
-/// A hit in a shape's local frame: fraction along the ray and unit outward normal (local).
-struct LocalHit {
-  bool hit = false;
-  float fraction = 0.0f;
-  Vec2 normal{0.0f, 0.0f};
-};
+using LocalHit = detail::LocalHitN<2>;
 
 /// The local ray: origin and translation in the shape's frame.
 struct LocalRay {
@@ -54,27 +52,9 @@ RayHit to_world(const LocalHit& h, const Transform& xf, const Ray& ray) noexcept
   return {true, h.fraction, ray.at(h.fraction), rotate(xf.q, h.normal)};
 }
 
-/// First entry of the ray m + t d, t in [0, 1], into the disc of `radius` about the origin
-/// (m is the ray's origin relative to the disc's centre). Ericson 5.3.2, with the discriminant
-/// computed from the ray's closest approach to the centre (r^2 - |m_perp|^2) instead of
-/// b^2 - c, which cancels badly for rays that pass far away (Haines et al., "Precision
-/// Improvements for Ray/Sphere Intersection", Ray Tracing Gems 7). One division; the normal is
-/// the hit point over the radius, which is unit by construction.
+/// First entry into the disc of `radius` about the origin: the ball entry of ray_ball.hpp.
 inline LocalHit ray_disc(Vec2 m, Vec2 d, float radius) noexcept {
-  const float c = length_squared(m) - radius * radius;
-  const float b = dot(m, d);
-  // Origin in the closed disc (no entry), or outside and not heading towards the centre.
-  if (!(c > 0.0f) || b >= 0.0f) return {};
-  const float inv_dd = 1.0f / length_squared(d);
-  const float tc = -b * inv_dd;     // parameter of the closest approach
-  const Vec2 closest = m + tc * d;  // centre to closest approach
-  const float disc = radius * radius - length_squared(closest);
-  if (disc < 0.0f) return {};
-  const float t = tc - std::sqrt(disc * inv_dd);
-  if (!(t <= 1.0f)) return {};
-  // A zero-radius disc hit dead on has no surface direction: face the ray.
-  const Vec2 n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
-  return {true, t > 0.0f ? t : 0.0f, n};
+  return detail::ray_ball<2>(m, d, radius);
 }
 
 /// Capsule in its own axis frame: core from (0, 0) to (length, 0), radius r. The capsule is the
@@ -98,54 +78,17 @@ LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
   return ray_disc(p - Vec2{x_at_side < 0.0f ? 0.0f : length, 0.0f}, d, r);
 }
 
-/// Where a ray enters a convex polygon, in its local frame.
-struct Clip {
-  int edge = -1;          ///< entering edge, -1 if none
-  float fraction = 0.0f;  ///< entry fraction when edge >= 0
-  bool inside = false;    ///< no entry because the origin lies in the closed polygon
-};
+/// Where a ray enters a convex polygon, in its local frame (`plane` is the entering edge).
+using Clip = detail::ClipResult;
 
 /// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
-/// n_i . (x - v_i) <= offset of a convex polygon (Cyrus & Beck 1978; Ericson 5.3.8).
-/// offset r is the polygon with every edge pushed out by r (used for rounded polygons).
-/// Returns the entering edge, or -1 when the ray misses or starts inside (never enters); then
-/// `inside` tells which.
-///
-/// Each edge gives num = offset - n . (p - v) (>= 0 when p is inside the half-plane) and
-/// den = n . d; the ray is inside the half-plane for t with t * den <= num. Entering edges
-/// (den < 0) raise the lower bound num / den, leaving edges (den > 0) lower the upper bound.
-/// Bounds are kept as fractions with positive denominators so the loop never divides.
-
+/// n_i . (x - v_i) <= offset of a convex polygon (clip_ray.hpp). offset r is the polygon with
+/// every edge pushed out by r (used for rounded polygons).
 Clip clip_ray_polygon(const Polygon& poly, Vec2 p, Vec2 d, float offset) noexcept {
-  // lower = lo_num / lo_den, upper = up_num / up_den, denominators > 0.
-  float lo_num = 0.0f, lo_den = 1.0f;
-  float up_num = 1.0f, up_den = 1.0f;
-  int edge = -1;
-  const int n = poly.count;
-  for (int i = 0; i < n; ++i) {
+  return detail::clip_ray(poly.count, [&](int i) {
     const Vec2 normal = poly.normals[i];
-    const float num = offset - dot(normal, p - poly.vertices[i]);
-    const float den = dot(normal, d);
-    if (den < 0.0f) {
-      // Entering: t >= num / den = (-num) / (-den). Take it if above the lower bound.
-      if (-num * lo_den > lo_num * -den) {
-        lo_num = -num;
-        lo_den = -den;
-        edge = i;
-      }
-    } else if (den > 0.0f) {
-      if (num * up_den < up_num * den) {  // leaving: t <= num / den
-        up_num = num;
-        up_den = den;
-      }
-    } else if (num < 0.0f) {
-      return {};  // parallel and outside this edge: never inside
-    }
-    if (up_num * lo_den < lo_num * up_den) return {};  // upper < lower: empty
-  }
-  // No entering edge raised the lower bound above 0: the origin is inside every half-plane.
-  if (edge < 0) return {-1, 0.0f, true};
-  return {edge, lo_num / lo_den, false};
+    return detail::PlaneCrossing{offset - dot(normal, p - poly.vertices[i]), dot(normal, d)};
+  });
 }
 
 LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
@@ -231,8 +174,8 @@ LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   // vertex's disc. So: the entry into the pushed-out polygon is the answer when it lands
   // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
   int vertex = -1;
-  if (clip.edge >= 0) {
-    const int i = clip.edge;
+  if (clip.plane >= 0) {
+    const int i = clip.plane;
     const Vec2 v0 = poly.vertices[i];
     const Vec2 v1 = poly.vertices[i + 1 < poly.count ? i + 1 : 0];
     const Vec2 e = v1 - v0;
@@ -292,12 +235,12 @@ RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) 
     return to_world(raycast_rounded(poly, local.origin, local.translation), xf, ray);
   }
   const Clip clip = cast_sides(poly, local.origin, local.translation);
-  if (clip.edge < 0) return {};
+  if (clip.plane < 0) return {};
   // The edge's unit normal, from the edge itself: poly.normals lives 512 bytes past the
   // vertices, and reading it only once the edge is known stalls on a cache miss when the
   // polygon is cold (as it is when a broad phase hands over scattered candidates).
-  const Vec2 v = poly.vertices[clip.edge];
-  const Vec2 e = poly.vertices[clip.edge + 1 < poly.count ? clip.edge + 1 : 0] - v;
+  const Vec2 v = poly.vertices[clip.plane];
+  const Vec2 e = poly.vertices[clip.plane + 1 < poly.count ? clip.plane + 1 : 0] - v;
   const Vec2 normal = right_perp(e) * (1.0f / length(e));
   return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, normal)};
 }

@@ -20,11 +20,9 @@ AssertHandler set_assert_handler(AssertHandler handler) noexcept {
   return g_handler.exchange(handler != nullptr ? handler : &default_handler);
 }
 
-namespace detail {
-bool report_assert(const char* condition, const char* message, const char* file,
-                   int line) noexcept {
+bool report_assert_failure(const char* condition, const char* message, const char* file,
+                           int line) noexcept {
   return g_handler.load()(condition, message, file, line);
 }
-}  // namespace detail
 
 }  // namespace collide

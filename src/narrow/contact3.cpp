@@ -136,33 +136,38 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return dot(b.vertex(b.support(l)), l);
 }
 
-/// Separation of A and B along the edge pairs' axes (see the file comment).
+/// Separation of A and B along the edge pairs' axes (see the file comment). B's edge (its
+/// ends, direction and face normals turned into A's frame) is prepared once in the outer loop;
+/// the inner loop over A's edges reads A's local data as it is.
 EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
   EdgeQuery q;
   const bool pruned = a.solid && b.p.solid;
-  for (int i = 0; i < a.edge_count; ++i) {
-    const HullEdge& ea = a.edges[i];
-    const Vec3 pa = a.vertex(ea.v0);
-    const Vec3 da = a.vertex(ea.v1) - pa;
-    Vec3 na0{0.0f};
-    Vec3 na1{0.0f};
+  for (int j = 0; j < b.p.edge_count; ++j) {
+    const HullEdge& eb = b.p.edges[j];
+    const Vec3 pb = b.vertex(eb.v0);
+    const Vec3 db = b.vertex(eb.v1) - pb;
+    const float db2 = dot(db, db);
+    // The arcs' axes (b x a, d x c) are taken from the edge directions, which point the same
+    // way (v0 - v1: face0 lies left of v0 -> v1, so n0 x n1 runs along v1 - v0): on nearly
+    // coplanar faces the cross product of the float normals can get the sign wrong.
+    Vec3 c{0.0f};
+    Vec3 d{0.0f};
     if (pruned) {
-      na0 = a.faces[ea.face0].normal;
-      na1 = a.faces[ea.face1].normal;
+      c = -b.face_normal(eb.face0);
+      d = -b.face_normal(eb.face1);
     }
-    for (int j = 0; j < b.p.edge_count; ++j) {
-      const HullEdge& eb = b.p.edges[j];
-      const Vec3 pb = b.vertex(eb.v0);
-      const Vec3 db = b.vertex(eb.v1) - pb;
-      if (pruned) {
-        const Vec3 c = -b.face_normal(eb.face0);
-        const Vec3 d = -b.face_normal(eb.face1);
-        if (!is_minkowski_face(na0, na1, cross(na1, na0), c, d, cross(d, c))) continue;
+    for (int i = 0; i < a.edge_count; ++i) {
+      const HullEdge& ea = a.edges[i];
+      const Vec3 pa = a.vertex(ea.v0);
+      const Vec3 da = a.vertex(ea.v1) - pa;
+      if (pruned && !is_minkowski_face(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, c,
+                                       d, -db)) {
+        continue;
       }
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
-      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * dot(db, db))) continue;
+      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
       l *= 1.0f / std::sqrt(ll);
       float s;
       if (pruned) {

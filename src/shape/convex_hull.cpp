@@ -5,9 +5,14 @@
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -21,7 +26,7 @@ namespace {
 using DVec3 = glm::dvec3;
 
 /// Passes over all points after quickhull ends, each re-adding points that merges left outside
-/// by more than the tolerance (one is enough on all test clouds; see run()).
+/// by more than the tolerance (at most two were needed on all test clouds; see run()).
 constexpr int kMaxSweeps = 4;
 
 /// Two neighbouring faces merge when the corners of their union spread less than this fraction
@@ -42,6 +47,10 @@ struct HalfEdge {
 /// A face of the hull under construction: a convex polygon with its plane and outside set.
 struct BuildFace {
   DVec3 normal{0.0};    ///< unit outward normal (Newell); zero for a degenerate face
+  /// `normal` rounded to float once, as the hull stores it. Kept rather than rounded where
+  /// used: GCC 12.2's SLP vectorizer at -O2 folds DVec3(Vec3(normal)) back to `normal` for x
+  /// and y (wrong code), which made the sweep and the stored planes disagree by an ulp.
+  Vec3 stored_normal{0.0f};
   DVec3 centroid{0.0};  ///< average of the corners
   DVec3 area_vector{0.0};  ///< Newell's vector: twice the area times the normal
   double offset = 0.0;  ///< dot(normal, centroid)
@@ -52,8 +61,7 @@ struct BuildFace {
   bool queued = false;   ///< in the merge work list
   int mark = 0;          ///< stamp of the last visibility test
   std::vector<int> outside;  ///< conflict list: points above this face by more than tolerance
-  int furthest = -1;         ///< the outside point farthest above the plane
-  double furthest_distance = 0.0;
+  int furthest = -1;         ///< the outside point farthest above the plane (see furthest_)
 };
 
 /// The run of consecutive edges two faces share, as seen from face f: half-edges first..last
@@ -65,17 +73,34 @@ struct SharedRun {
 
 class QuickHull {
  public:
-  QuickHull(std::vector<DVec3> points, DVec3 origin, double tolerance)
-      : pts_(std::move(points)), origin_(origin), tol_(tolerance), vertex_mark_(pts_.size(), 0) {}
+  QuickHull(std::span<const Vec3> input, std::vector<DVec3> points, DVec3 origin,
+            double tolerance, int max_vertices)
+      : input_(input),
+        pts_(std::move(points)),
+        origin_(origin),
+        tol_(tolerance),
+        vertex_mark_(pts_.size(), 0) {
+    // A hull of V vertices has at most 2V - 4 faces and 6V - 12 half-edges; a few spare for
+    // the cone being built while the visible faces still exist.
+    const size_t v = std::min(pts_.size(), static_cast<size_t>(max_vertices));
+    faces_.reserve(3 * v);
+    furthest_.reserve(3 * v);
+    edges_.reserve(9 * v);
+  }
 
   /// Builds the initial tetrahedron; returns nullptr or the degeneracy it found.
   const char* build_initial();
+  /// How run() ended.
+  enum class Outcome {
+    verified,    ///< no point is left outside: a sweep over all of them found none
+    unverified,  ///< kMaxSweeps sweeps each put points back (never seen on test clouds)
+    capped,      ///< stopped at max_vertices with points outside
+  };
   /// Adds outside points, farthest first, until none is left or the hull has max_vertices.
-  /// Returns false when it stopped at the cap with points still outside.
-  bool run(int max_vertices);
-  /// Writes the result (vertices as copies of `input`) into `hull`; `complete`: every input
-  /// point is within the tolerance of the hull (run() returned true).
-  void extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const;
+  Outcome run(int max_vertices);
+  /// Writes the result into `hull`. `contain_inputs`: raise each face's offset so that every
+  /// input point lies within the tolerance below it.
+  void extract(bool contain_inputs, ConvexHull& hull) const;
 
  private:
   [[nodiscard]] double distance(int f, const DVec3& p) const {
@@ -93,7 +118,7 @@ class QuickHull {
   void add_point(int eye, int seed);
   void find_horizon(int eye, int f, int entry);
   [[nodiscard]] bool horizon_is_loop();
-  [[nodiscard]] double union_spread(int f, int g) const;
+  [[nodiscard]] double union_spread(int f, int g, double limit = HUGE_VAL) const;
   [[nodiscard]] bool should_merge(int f, int h) const;
   [[nodiscard]] SharedRun shared_run(int f, int h) const;
   [[nodiscard]] bool shares_one_run(int f, int h) const;
@@ -104,17 +129,26 @@ class QuickHull {
   void fix_degree_two_vertices(int f);
   void enqueue(int f);
   [[nodiscard]] int vertex_count();
+  bool sweep_outside_points();
 
+  std::span<const Vec3> input_;  ///< the points as given
   std::vector<DVec3> pts_;  ///< input points minus origin_
   DVec3 origin_;            ///< the local origin the build works around
   double tol_;
   std::vector<HalfEdge> edges_;
   std::vector<int> free_edges_;
   std::vector<BuildFace> faces_;
+  std::vector<double> furthest_;  ///< per face slot: distance of its farthest outside point, 0
+                                  ///< when it has none or is dead (dense: scanned per point)
   std::vector<int> free_faces_;
   std::vector<int> vertex_mark_;
   int stamp_ = 0;
   int vertex_stamp_ = 0;
+  int added_ = 0;  ///< points added after the initial tetrahedron
+  /// Per face slot: the stored plane's offset (through the farthest vertex, input coordinates)
+  /// as the last sweep computed it; valid for extract() when that sweep found nothing.
+  std::vector<double> swept_offset_;
+  bool swept_ = false;
   // Scratch of add_point, kept to reuse capacity.
   std::vector<int> horizon_;
   std::vector<int> visible_;
@@ -143,6 +177,7 @@ int QuickHull::new_face() {
   } else {
     f = static_cast<int>(faces_.size());
     faces_.emplace_back();
+    furthest_.push_back(0.0);
   }
   BuildFace& face = faces_[f];
   face.alive = true;
@@ -151,7 +186,7 @@ int QuickHull::new_face() {
   face.mark = 0;
   face.outside.clear();
   face.furthest = -1;
-  face.furthest_distance = 0.0;
+  furthest_[f] = 0.0;
   return f;
 }
 
@@ -162,6 +197,7 @@ void QuickHull::free_edge(int h) {
 
 void QuickHull::free_face(int f) {
   faces_[f].alive = false;
+  furthest_[f] = 0.0;
   faces_[f].edge = -1;
   free_faces_.push_back(f);
 }
@@ -212,6 +248,7 @@ void QuickHull::compute_plane(int f) {
   face.area = 0.5 * len;
   face.area_vector = n;
   face.normal = len > 0.0 ? n / len : DVec3{0.0};
+  face.stored_normal = Vec3(face.normal);
   face.centroid = ref + sum / static_cast<double>(count);
   face.offset = glm::dot(face.normal, face.centroid);
 }
@@ -327,8 +364,8 @@ void QuickHull::assign(int point, std::span<const int> candidates) {
   if (best_face < 0) return;
   BuildFace& face = faces_[best_face];
   face.outside.push_back(point);
-  if (best > face.furthest_distance) {
-    face.furthest_distance = best;
+  if (best > furthest_[best_face]) {
+    furthest_[best_face] = best;
     face.furthest = point;
   }
 }
@@ -346,49 +383,81 @@ int QuickHull::vertex_count() {
   return count;
 }
 
-bool QuickHull::run(int max_vertices) {
+QuickHull::Outcome QuickHull::run(int max_vertices) {
   for (int sweep = 0;; ++sweep) {
     for (;;) {
       int seed = -1;
       double best = tol_;
-      for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
-        if (faces_[f].alive && faces_[f].furthest >= 0 && faces_[f].furthest_distance > best) {
-          best = faces_[f].furthest_distance;
+      for (int f = 0; f < static_cast<int>(furthest_.size()); ++f) {
+        if (furthest_[f] > best) {
+          best = furthest_[f];
           seed = f;
         }
       }
       if (seed < 0) break;
-      if (vertex_count() >= max_vertices) return false;
+      // Counting vertices walks all edges: only once the cap is within reach.
+      if (added_ + 4 >= max_vertices && vertex_count() >= max_vertices) return Outcome::capped;
       add_point(faces_[seed].furthest, seed);
+      ++added_;
     }
-    if (sweep == kMaxSweeps) return true;
-    // Merges tilt planes after points were dropped as within the tolerance of a face; one
-    // pass over all points puts any that ended up farther outside back into play.
-    std::vector<int> alive;
-    for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
-      if (faces_[f].alive) alive.push_back(f);
+    if (sweep == kMaxSweeps) return Outcome::unverified;
+    if (!sweep_outside_points()) {
+      swept_ = true;
+      return Outcome::verified;
     }
-    (void)vertex_count();  // marks the current vertices
-    const int stamp = vertex_stamp_;
-    bool any = false;
-    for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
-      if (vertex_mark_[i] == stamp) continue;
-      int best_face = -1;
-      double best = tol_;
-      for (int f : alive) {
-        const double d = distance(f, pts_[i]);
-        if (d > best) {
-          best = d;
-          best_face = f;
-        }
-      }
-      if (best_face >= 0) {
-        any = true;
-        assign(i, std::span<const int>(&best_face, 1));
-      }
-    }
-    if (!any) return true;
   }
+}
+
+// Merges tilt planes after points were dropped as within the tolerance of a face, so one pass
+// checks every point against the planes the hull will be stored with (the float normal, the
+// offset through the farthest vertex, evaluated on the input coordinates as extract() does)
+// and puts any point more than the tolerance above one back into play. Returns whether it
+// found any.
+bool QuickHull::sweep_outside_points() {
+  std::vector<int> vertices;
+  ++vertex_stamp_;
+  for (const HalfEdge& e : edges_) {
+    if (e.face >= 0 && vertex_mark_[e.origin] != vertex_stamp_) {
+      vertex_mark_[e.origin] = vertex_stamp_;
+      vertices.push_back(e.origin);
+    }
+  }
+  std::vector<int> alive;
+  std::vector<DVec3> normal;
+  swept_offset_.assign(faces_.size(), 0.0);
+  for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
+    if (!faces_[f].alive) continue;
+    alive.push_back(f);
+    const DVec3 n(faces_[f].stored_normal);
+    double top = -HUGE_VAL;
+    for (int v : vertices) top = std::max(top, glm::dot(n, DVec3(input_[v])));
+    normal.push_back(n);
+    swept_offset_[f] = top;
+  }
+  bool any = false;
+  for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
+    if (vertex_mark_[i] == vertex_stamp_) continue;
+    const DVec3 p(input_[i]);
+    int best_face = -1;
+    double best = tol_;
+    for (size_t k = 0; k < alive.size(); ++k) {
+      const double d = glm::dot(normal[k], p) - swept_offset_[alive[k]];
+      if (d > best) {
+        best = d;
+        best_face = alive[k];
+      }
+    }
+    if (best_face >= 0) {
+      any = true;
+      BuildFace& face = faces_[best_face];
+      face.outside.push_back(i);
+      if (best > furthest_[best_face]) {
+        furthest_[best_face] = best;
+        face.furthest = i;
+      }
+    }
+  }
+  return any;
 }
 
 // Depth-first search over the faces the eye sees, walking each face's edges in order from the
@@ -451,11 +520,11 @@ void QuickHull::add_point(int eye, int seed) {
     std::vector<int>& out = faces_[seed].outside;
     out.erase(std::remove(out.begin(), out.end(), eye), out.end());
     faces_[seed].furthest = -1;
-    faces_[seed].furthest_distance = 0.0;
+    furthest_[seed] = 0.0;
     for (int p : out) {
       const double d = distance(seed, pts_[p]);
-      if (d > faces_[seed].furthest_distance) {
-        faces_[seed].furthest_distance = d;
+      if (d > furthest_[seed]) {
+        furthest_[seed] = d;
         faces_[seed].furthest = p;
       }
     }
@@ -532,14 +601,14 @@ void QuickHull::add_point(int eye, int seed) {
     for (int p : faces_[f].outside) orphans_.push_back(p);
     faces_[f].outside.clear();
     faces_[f].furthest = -1;
-    faces_[f].furthest_distance = 0.0;
+    furthest_[f] = 0.0;
   }
   for (int p : orphans_) assign(p, changed);
 }
 
 // Corners of faces f and g spread along the normal of their union (Newell's area vector of
-// the union is the sum of theirs: the shared edges cancel).
-double QuickHull::union_spread(int f, int g) const {
+// the union is the sum of theirs: the shared edges cancel). Stops early once past `limit`.
+double QuickHull::union_spread(int f, int g, double limit) const {
   const DVec3 sum = faces_[f].area_vector + faces_[g].area_vector;
   const double len = glm::length(sum);
   if (!(len > 0.0)) return HUGE_VAL;
@@ -552,6 +621,7 @@ double QuickHull::union_spread(int f, int g) const {
       const double d = glm::dot(n, pts_[edges_[h].origin]);
       lo = std::min(lo, d);
       hi = std::max(hi, d);
+      if (hi - lo > limit) return hi - lo;
       h = edges_[h].next;
     } while (h != faces_[face].edge);
   }
@@ -608,28 +678,29 @@ double QuickHull::corner_turn(int a, int b, int c, const DVec3& normal) const {
 // of the larger face: a sliver's own plane is unreliable.
 bool QuickHull::should_merge(int f, int h) const {
   const int g = edges_[edges_[h].twin].face;
-  if (!shares_one_run(f, h)) return false;
-  if (union_spread(f, g) <= kCoplanarFraction * tol_) {
+  const double limit = kCoplanarFraction * tol_;
+  if (union_spread(f, g, limit) <= limit) {
+    if (!shares_one_run(f, h)) return false;
     // The union's corners at the ends of the shared run: p -> m at its start, q -> n at its end.
     // A reflex one is fine when only one other face touches that vertex: it then lies on an
     // edge (or inside a face being merged piece by piece) and fix_degree_two_vertices removes it.
     const SharedRun run = shared_run(f, h);
     const DVec3 normal = glm::normalize(faces_[f].area_vector + faces_[g].area_vector);
-    const double limit = -kCoplanarFraction * tol_;
     auto face_across = [&](int e) { return edges_[edges_[e].twin].face; };
     const bool start_ok =
         face_across(run.p) == face_across(run.m) ||
-        corner_turn(edges_[run.p].origin, edges_[run.m].origin, end_of(run.m), normal) >= limit;
+        corner_turn(edges_[run.p].origin, edges_[run.m].origin, end_of(run.m), normal) >= -limit;
     const bool end_ok =
         face_across(run.q) == face_across(run.n) ||
-        corner_turn(edges_[run.q].origin, edges_[run.n].origin, end_of(run.n), normal) >= limit;
+        corner_turn(edges_[run.q].origin, edges_[run.n].origin, end_of(run.n), normal) >= -limit;
     if (start_ok && end_ok) return true;
   }
   const bool f_larger = faces_[f].area >= faces_[g].area;
   const int big = f_larger ? f : g;
   const int small = f_larger ? g : f;
-  return distance(big, faces_[small].centroid) > 0.0 ||
-         distance(small, faces_[big].centroid) > 0.0;
+  const bool concave = distance(big, faces_[small].centroid) > 0.0 ||
+                       distance(small, faces_[big].centroid) > 0.0;
+  return concave && shares_one_run(f, h);
 }
 
 // A face no wider than the tolerance across one of its sides (a sliver).
@@ -761,7 +832,8 @@ void QuickHull::fix_degree_two_vertices(int f) {
   }
 }
 
-void QuickHull::extract(std::span<const Vec3> input, bool complete, ConvexHull& hull) const {
+void QuickHull::extract(bool contain_inputs, ConvexHull& hull) const {
+  const std::span<const Vec3> input = input_;
   // Vertices in input order.
   std::vector<bool> used(pts_.size(), false);
   for (const HalfEdge& e : edges_) {
@@ -778,6 +850,15 @@ void QuickHull::extract(std::span<const Vec3> input, bool complete, ConvexHull& 
   hull.vertices.clear();
   for (int p : point_of) hull.vertices.push_back(input[p]);
   const int vcount = static_cast<int>(point_of.size());
+  const int blocks = (vcount + 3) / 4;
+  hull.vertex_blocks.assign(static_cast<size_t>(blocks) * 12, 0.0f);
+  for (int b = 0; b < blocks; ++b) {
+    for (int lane = 0; lane < 4; ++lane) {
+      const int i = 4 * b + lane;
+      const Vec3 v = hull.vertices[i < vcount ? i : 0];  // padding: ties go to vertex 0
+      for (int k = 0; k < 3; ++k) hull.vertex_blocks[12 * b + 4 * k + lane] = v[k];
+    }
+  }
 
   // Faces, their corners, and edges (each undirected edge once, v0 < v1).
   std::vector<int> face_of(faces_.size(), -1);
@@ -820,14 +901,17 @@ void QuickHull::extract(std::span<const Vec3> input, bool complete, ConvexHull& 
     } while (h != faces_[f].edge);
     out.count = static_cast<std::uint16_t>(count);
     // The normal in float; the offset supports every vertex, evaluated in double on the input
-    // coordinates with that float normal, and keeps every input point within the tolerance
-    // (the sweep in run() judged them by the double normal: rounding it to float moves far
-    // points by about 1e-7 of their lever arm, a hair past the tolerance at worst).
-    out.normal = Vec3(faces_[f].normal);
+    // coordinates with that float normal (the planes the last sweep checked every point
+    // against).
+    out.normal = faces_[f].stored_normal;
     const DVec3 n(out.normal);
     double offset = -HUGE_VAL;
-    for (int p : point_of) offset = std::max(offset, glm::dot(n, DVec3(input[p])));
-    if (complete) {
+    if (swept_) {
+      offset = swept_offset_[f];
+    } else {
+      for (int p : point_of) offset = std::max(offset, glm::dot(n, DVec3(input[p])));
+    }
+    if (contain_inputs) {
       for (const Vec3& p : input) offset = std::max(offset, glm::dot(n, DVec3(p)) - tol_);
     }
     // Rounded up, so the float plane still has every vertex (and point) behind it.
@@ -923,19 +1007,57 @@ ConvexHull make_convex_hull(std::span<const Vec3> points, const HullOptions& opt
   shifted.reserve(points.size());
   for (const Vec3& p : points) shifted.push_back(DVec3(p) - center);
 
-  QuickHull builder(std::move(shifted), center, tolerance);
+  QuickHull builder(points, std::move(shifted), center, tolerance, options.max_vertices);
   if (const char* degenerate = builder.build_initial()) {
     throw InvalidInput(std::string("convex hull points: ") + degenerate + " (zero volume)");
   }
-  const bool complete = builder.run(options.max_vertices);
+  const auto outcome = builder.run(options.max_vertices);
   ConvexHull hull;
-  builder.extract(points, complete, hull);
+  builder.extract(outcome == QuickHull::Outcome::unverified, hull);
   hull.radius = options.radius;
   hull.tolerance = static_cast<float>(tolerance);
   return hull;
 }
 
 int ConvexHull::support_index(Vec3 direction) const noexcept {
+  // Plain meaning: the first i maximising dot(vertices[i], direction), scanned in order with
+  // a strict '>'. Each SIMD lane does that over its quarter of the vertices (so it keeps its
+  // lowest index on ties); the lanes are then reduced the same way.
+#if defined(__SSE2__) || defined(_M_X64)
+  const __m128 dx = _mm_set1_ps(direction.x);
+  const __m128 dy = _mm_set1_ps(direction.y);
+  const __m128 dz = _mm_set1_ps(direction.z);
+  __m128 best = _mm_set1_ps(-HUGE_VALF);
+  __m128i best_block = _mm_setzero_si128();
+  __m128i block = _mm_setzero_si128();
+  const __m128i one = _mm_set1_epi32(1);
+  const float* p = vertex_blocks.data();
+  const float* end = p + vertex_blocks.size();
+  for (; p != end; p += 12) {
+    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(p), dx),
+                                           _mm_mul_ps(_mm_loadu_ps(p + 4), dy)),
+                                _mm_mul_ps(_mm_loadu_ps(p + 8), dz));
+    const __m128 greater = _mm_cmpgt_ps(d, best);  // false for NaN
+    best = _mm_or_ps(_mm_and_ps(greater, d), _mm_andnot_ps(greater, best));
+    const __m128i g = _mm_castps_si128(greater);
+    best_block = _mm_or_si128(_mm_and_si128(g, block), _mm_andnot_si128(g, best_block));
+    block = _mm_add_epi32(block, one);
+  }
+  alignas(16) float lane_best[4];
+  alignas(16) std::int32_t lane_block[4];
+  _mm_store_ps(lane_best, best);
+  _mm_store_si128(reinterpret_cast<__m128i*>(lane_block), best_block);
+  int index = 4 * lane_block[0];
+  float value = lane_best[0];
+  for (int lane = 1; lane < 4; ++lane) {
+    const int i = 4 * lane_block[lane] + lane;
+    if (lane_best[lane] > value || (lane_best[lane] == value && i < index)) {
+      value = lane_best[lane];
+      index = i;
+    }
+  }
+  return index;
+#else
   int best = 0;
   float best_dot = dot(vertices[0], direction);
   const int n = vertex_count();
@@ -947,6 +1069,7 @@ int ConvexHull::support_index(Vec3 direction) const noexcept {
     }
   }
   return best;
+#endif
 }
 
 int ConvexHull::support_index_from(Vec3 direction, int start) const noexcept {

@@ -11,9 +11,15 @@
 
 namespace collide::detail {
 
-/// Per-axis median of the vertices the soup's triangles use (world). The soup must have a
-/// triangle.
+/// Per-axis median of the vertices the soup's triangles use (world): `median_vertex`, the
+/// origin TriangleMesh takes too. The soup must have a triangle.
 [[nodiscard]] Vec3 local_origin(const TriangleSoup& soup);
+
+/// Throws InvalidInput naming `name` when the soup's triangles span `size` (largest extent of
+/// their bounds) beyond float range (size is infinite: coordinates near +-3.4e38 on both sides),
+/// where no float frame holds them: local coordinates would overflow to infinity (issue 15: the
+/// infinite boxes then broke the BVH query's stack bound).
+void check_float_span(float size, const std::string& name);
 
 /// The tolerance scale of a soup whose triangles span `size` (largest extent of their bounds):
 /// min(size, kWalkScaleMedianEdges * median edge length), the median over the non-zero edges of

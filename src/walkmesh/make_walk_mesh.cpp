@@ -82,6 +82,8 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   const Vec3 origin = detail::local_origin(level);
   const Vec3 extent = box.size();
   const float size = std::max({extent.x, extent.y, extent.z});
+  detail::check_float_span(size, name);
+  const float scale = detail::tolerance_scale(level, size, name);
   std::vector<Vec3> local(level.positions.size(), Vec3(0.0f));
   for (const glm::uvec3& t : level.triangles) {
     for (int k = 0; k < 3; ++k) local[t[k]] = level.positions[t[k]] - origin;
@@ -89,7 +91,6 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   const TriangleBvh bvh(local, level.triangles);
   const float cos_max_slope = std::cos(agent.max_slope);
   const Vec3 lift = agent.height * up;
-  const float scale = detail::tolerance_scale(level, size, name);
   const float tolerance = kHeadroomTolerance * scale;
 
   TriangleSoup walkable;

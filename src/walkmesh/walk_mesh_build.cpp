@@ -6,6 +6,7 @@
 #include "local_frame.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include <algorithm>
 #include <array>
@@ -239,18 +240,13 @@ bool has_directed_edge(glm::uvec3 t, std::uint32_t u, std::uint32_t v) {
 
 }  // namespace
 
-Vec3 detail::local_origin(const TriangleSoup& soup) {
-  std::vector<float> axis(3 * soup.triangles.size());
-  Vec3 origin(0.0f);
-  for (int k = 0; k < 3; ++k) {
-    for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
-      for (int c = 0; c < 3; ++c) axis[3 * t + static_cast<std::size_t>(c)] = soup.positions[soup.triangles[t][c]][k];
-    }
-    const auto middle = axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2);
-    std::nth_element(axis.begin(), middle, axis.end());
-    origin[k] = *middle;
+Vec3 detail::local_origin(const TriangleSoup& soup) { return median_vertex(soup.positions, soup.triangles); }
+
+void detail::check_float_span(float size, const std::string& name) {
+  if (!std::isfinite(size)) {
+    throw InvalidInput(name + ": spans more than float range (coordinates near +-3.4e38 on both sides); "
+                              "no float frame holds it");
   }
-  return origin;
 }
 
 float detail::tolerance_scale(const TriangleSoup& soup, float size, const std::string& name) {
@@ -328,6 +324,7 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   mesh.origin_ = detail::local_origin(soup);
   const Vec3 extent = box.size();
   mesh.size_ = std::max({extent.x, extent.y, extent.z});
+  detail::check_float_span(mesh.size_, name);
   std::vector<Vec3> local(nv);
   for (std::size_t i = 0; i < nv; ++i) {
     if (used[i]) local[i] = soup.positions[i] - mesh.origin_;

@@ -2,6 +2,8 @@
 
 #include "world_impl.hpp"
 
+#include <collide/shape/draw_shape.hpp>
+
 #include <algorithm>
 #include <vector>
 

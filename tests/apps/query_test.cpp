@@ -3,7 +3,10 @@
 
 #include "query.hpp"
 
+#include "cli_run.hpp"
+
 #include <collide/broad/registry.hpp>
+#include <collide/io/shape_json.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -12,6 +15,11 @@
 #include <random>
 #include <vector>
 #include <cstdio>
+#include <filesystem>
+#include <new>
+#include <stdexcept>
+#include <streambuf>
+#include <sys/wait.h>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -92,7 +100,7 @@ TEST(Query, NumbersRoundTripAsFloatsWithShortDigits) {
 }
 
 TEST(Query, EveryRejectionInTheSpecNamesItsField) {
-  EXPECT_NE(error_of("{not json").find("not valid JSON"), std::string::npos);
+  EXPECT_EQ(error_of("{not json").rfind("root: JSON syntax error at line 1, column 3: ", 0), 0u);
   EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1e999}})").find("a.radius"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "explode"})").find("unknown op"), std::string::npos);
@@ -114,7 +122,7 @@ TEST(Query, EveryRejectionInTheSpecNamesItsField) {
                 .find("clockwise"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "polygon", "vertices": [[0,0],[1,0],[1,0]]}, "b": {"type": "circle", "radius": 1}})")
-                .find("a:"),
+                .find("a.vertices: polygon"),
             std::string::npos);
   EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "polygon", "vertices": [[0,0],[2,0],[1,0.2],[2,1],[0,1]]}, "b": {"type": "circle", "radius": 1}})")
                 .find("vertex 2"),
@@ -142,7 +150,7 @@ TEST(Query, NumbersBeyondDoubleRangeAreNamedWithTheIdEchoed) {
   // Numbers that underflow to 0 are ordinary; a syntax error is still a syntax error.
   EXPECT_FALSE(ask(R"({"op": "overlap", "a": {"type": "circle", "radius": 1e-400},
       "b": {"type": "circle", "radius": 1}})").contains("error"));
-  EXPECT_NE(error_of(R"({"id": 1, "op": "overlap", "a": 1e400,)").find("not valid JSON"),
+  EXPECT_NE(error_of(R"({"id": 1, "op": "overlap", "a": 1e400,)").find("JSON syntax error"),
             std::string::npos);
 }
 
@@ -285,6 +293,192 @@ TEST(QueryToi, FirstTouchOfTwoApproachingShapesIsAnalytic) {
   EXPECT_NE(error_of(R"({"op": "toi", "a": {"type": "circle", "radius": 1},
       "b": {"type": "circle", "radius": 1}, "vb": [0, 0]})").find("va: missing"),
             std::string::npos);
+}
+
+}  // namespace
+}  // namespace collide::cli
+
+// Issue 15: `collide query` never dies on a line, whatever it holds, and says when its input
+// cannot be read. Each case below crashed, hung on to the input or exited 0 before the fix.
+namespace collide::cli {
+namespace {
+
+/// Runs `sh -c SCRIPT` (stdout and stderr together); COLLIDE is the built tool.
+test::CommandRun run_shell(const std::string& script) {
+  const std::string cmd = "COLLIDE='" + std::string(COLLIDE_CLI_PATH) + "'; " + script + " 2>&1";
+  test::CommandRun r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
+  r.status = pclose(pipe);
+  return r;
+}
+
+int exit_code(const test::CommandRun& r) { return WIFEXITED(r.status) ? WEXITSTATUS(r.status) : -1; }
+
+const std::string kGoodQuestion = R"({"id": 2, "op": "overlap", "a": {"type": "circle", "radius": 1}, "b": {"type": "circle", "radius": 1}})";
+
+// A byte that is not UTF-8 made nlohmann's syntax error quote it raw; writing the answer then
+// threw outside any handler (std::terminate).
+TEST(QueryRobustness, BytesThatAreNotUtf8GiveAValidUtf8ErrorAnswer) {
+  for (const std::string bad : {"\xff", "\xc3", "\xe2\x82", "\xed\xa0\x80", "\xc0\xaf", "\xf4\x90\x80\x80"}) {
+    const std::string line = "{\"id\": \"" + bad + "\", \"op\": \"overlap\"}";
+    std::string reply;
+    ASSERT_NO_THROW(reply = answer_query_line(line));
+    json a;
+    ASSERT_NO_THROW(a = json::parse(reply)) << reply;  // strict: throws on bytes that are not UTF-8
+    EXPECT_TRUE(a["id"].is_null());
+    EXPECT_EQ(a.value("error", "").rfind("id: JSON syntax error at line 1, column ", 0), 0u) << reply;
+    EXPECT_NE(a.value("error", "").find("\\x"), std::string::npos) << reply;  // the byte, as text
+  }
+  // Through the tool: the line is answered and so is the next one.
+  const test::CommandRun r = run_shell("printf '{\"id\": \"\\377\"}\\n%s\\n' '" + kGoodQuestion + "' | \"$COLLIDE\" query");
+  EXPECT_EQ(exit_code(r), 0) << r.output;
+  EXPECT_NE(r.output.find("JSON syntax error"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(R"({"id":2,"overlap":true})"), std::string::npos) << r.output;
+}
+
+// 100,000 nested arrays overflowed the stack (copying the id, printing it).
+TEST(QueryRobustness, NestingDeeperThanTheLimitIsAnErrorNamingIt) {
+  const auto nested = [](std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); };
+  for (const std::size_t depth : {kMaxJsonDepth, kMaxJsonDepth + 1, std::size_t{100000}}) {
+    // The root object is level 1, so an id of `depth` arrays reaches level depth + 1.
+    const std::string line = R"({"id": )" + nested(depth - 1) + R"(, "op": "overlap", "a": {"type": "circle", "radius": 1},
+        "b": {"type": "circle", "radius": 1}})";
+    const json a = ask(line);
+    if (depth <= kMaxJsonDepth) {
+      EXPECT_TRUE(a.value("overlap", false)) << a.dump().substr(0, 200);
+      continue;
+    }
+    const std::string error = a.value("error", "");
+    EXPECT_EQ(error.rfind("id[0][0]", 0), 0u) << error;  // where: in the id
+    EXPECT_NE(error.find("JSON nested deeper than 256 levels (the limit) at line 1, column "), std::string::npos) << error;
+    EXPECT_LT(error.size(), 200u) << "the path is cut short, not 256 steps long";
+  }
+  // Brackets inside strings are not nesting.
+  EXPECT_FALSE(ask(R"({"id": ")" + std::string(1000, '[') + R"(", "op": "overlap", "a": {"type": "circle", "radius": 1},
+      "b": {"type": "circle", "radius": 1}})").contains("error"));
+  const test::CommandRun r = run_shell("python3 -c \"print('{\\\"id\\\": ' + '[' * 100000 + ']' * 100000 + '}')\" | \"$COLLIDE\" query");
+  EXPECT_EQ(exit_code(r), 0) << r.output.substr(0, 300);
+  EXPECT_NE(r.output.find("nested deeper than 256 levels"), std::string::npos) << r.output.substr(0, 300);
+}
+
+// A folder opened as a file read nothing, and the tool said nothing and exited 0; a missing file
+// exited 1 (every other command says 2 for input it cannot read).
+TEST(QueryRobustness, InputThatCannotBeReadExitsWithStatus2) {
+  const std::string folder = ::testing::TempDir() + "query_folder";
+  std::filesystem::create_directories(folder);
+  test::CommandRun r = run_shell("\"$COLLIDE\" query '" + folder + "'");
+  EXPECT_EQ(exit_code(r), 2) << r.output;
+  EXPECT_NE(r.output.find("collide query: " + folder + ": cannot be read (a directory)"), std::string::npos) << r.output;
+  r = run_shell("\"$COLLIDE\" query /nonexistent/questions.jsonl");
+  EXPECT_EQ(exit_code(r), 2) << r.output;
+  EXPECT_NE(r.output.find("collide query: /nonexistent/questions.jsonl: cannot be read"), std::string::npos) << r.output;
+  // Answers that cannot be written are an error too (a full disk).
+  r = run_shell("{ \"$COLLIDE\" query '" + std::string(COLLIDE_EXAMPLES_DIR) + "/queries.jsonl' > /dev/full; }");
+  EXPECT_EQ(exit_code(r), 2) << r.output;
+  EXPECT_NE(r.output.find("could not be written"), std::string::npos) << r.output;
+}
+
+// A line longer than kMaxQueryLineBytes is answered with an error and not kept in memory.
+TEST(QueryRobustness, LinesLongerThanTheLimitAreSkippedWithAnError) {
+  const std::string pad_head = R"({"id": 1, "pad": ")";
+  const std::string pad_tail = R"(", "op": "overlap", "a": {"type": "circle", "radius": 1}, "b": {"type": "circle", "radius": 1}})";
+  std::string at_limit = pad_head + std::string(kMaxQueryLineBytes - pad_head.size() - pad_tail.size(), 'x') + pad_tail;
+  ASSERT_EQ(at_limit.size(), kMaxQueryLineBytes);
+  std::string over = at_limit;
+  over.insert(pad_head.size(), "x");
+  std::istringstream in(at_limit + "\n" + over + "\n" + kGoodQuestion + "\n" + over);  // the last has no newline
+  std::ostringstream out;
+  EXPECT_EQ(answer_query_stream(in, out), 4u);
+  std::istringstream lines(out.str());
+  std::string a1, a2, a3, a4;
+  std::getline(lines, a1);
+  std::getline(lines, a2);
+  std::getline(lines, a3);
+  std::getline(lines, a4);
+  EXPECT_EQ(a1, R"({"id":1,"overlap":true})");
+  EXPECT_EQ(a2, R"({"error":"line 2: longer than 16777216 bytes (the limit, 16 MiB); not read","id":null})");
+  EXPECT_EQ(a3, R"({"id":2,"overlap":true})");
+  EXPECT_EQ(a4, R"({"error":"line 4: longer than 16777216 bytes (the limit, 16 MiB); not read","id":null})");
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+#define COLLIDE_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define COLLIDE_TEST_UNDER_ASAN 1
+#endif
+#endif
+
+// A 100 MB line under a 100 MB address-space limit: std::getline's std::bad_alloc was swallowed
+// by the stream, which then ended: exit 0 with no answer at all, not even for the good line after.
+TEST(QueryRobustness, AHugeLineUnderAMemoryLimitIsAnsweredAndTheNextLineToo) {
+#ifdef COLLIDE_TEST_UNDER_ASAN
+  GTEST_SKIP() << "ulimit -v and AddressSanitizer's shadow memory do not mix";
+#else
+  const test::CommandRun r = run_shell(
+      "(printf '{\"id\": 1, \"pad\": \"'; head -c 100000000 /dev/zero | tr '\\0' a; printf '\"}\\n%s\\n' '" + kGoodQuestion +
+      "') | (ulimit -v 100000; \"$COLLIDE\" query)");
+  EXPECT_EQ(exit_code(r), 0) << r.output;
+  EXPECT_EQ(r.output, R"({"error":"line 1: longer than 16777216 bytes (the limit, 16 MiB); not read","id":null})"
+                      "\n"
+                      R"({"id":2,"overlap":true})"
+                      "\n");
+#endif
+}
+
+/// A stream buffer that throws `E` on its first read, as a failing device or allocator would.
+template <class E>
+struct ThrowingBuffer : std::streambuf {
+  int_type underflow() override { throw E(); }
+};
+struct DeviceError : std::runtime_error {
+  DeviceError() : std::runtime_error("device error") {}
+};
+
+// Whatever goes wrong around the lines is a message and exit status 2, never an abort.
+TEST(QueryRobustness, AnyExceptionOnTheCommandPathIsStatus2WithAMessage) {
+  {
+    ThrowingBuffer<std::bad_alloc> buf;
+    std::istream in(&buf);
+    in.exceptions(std::ios::badbit);  // let the stream pass the exception on
+    std::ostringstream out, err;
+    EXPECT_EQ(run_query("-", in, out, err), 2);
+    EXPECT_EQ(err.str(), "collide query: standard input: out of memory\n");
+  }
+  {
+    ThrowingBuffer<DeviceError> buf;  // a read error the stream keeps to itself (badbit)
+    std::istream in(&buf);
+    std::ostringstream out, err;
+    EXPECT_EQ(run_query("", in, out, err), 2);
+    EXPECT_EQ(err.str(), "collide query: standard input: read error after line 0\n");
+  }
+  std::istringstream in(kGoodQuestion + "\n");
+  std::ostringstream out, err;
+  EXPECT_EQ(run_query("-", in, out, err), 0);
+  EXPECT_EQ(out.str(), "{\"id\":2,\"overlap\":true}\n");
+  EXPECT_EQ(err.str(), "");
+}
+
+// Shapes and transforms take exactly their fields (and "comment"), as in scene files; the
+// question object itself may carry more (the shipped examples carry "expect_error").
+TEST(QueryRobustness, UnknownFieldsOfShapesAndTransformsAreNamed) {
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1, "centre": [0, 0]},
+      "b": {"type": "circle", "radius": 1}})"),
+            "a.centre: unknown field (expected one of: type, center, radius, comment)");
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "circle", "radius": 1},
+      "b": {"type": "circle", "radius": 1}, "xb": {"p": [1, 0], "rot": 1}})"),
+            "xb.rot: unknown field (expected one of: p, angle, comment)");
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "polygon", "concave": true, "vertices": [[0, 0], [1, 0], [0, 1]]},
+      "b": {"type": "circle", "radius": 1}})"),
+            "a.concave: a concave polygon is several convex pieces; one convex shape is expected here");
+  EXPECT_EQ(error_of(R"({"op": "closest_point", "shape": {"type": "polyline", "points": [[0, 0], [1, 0]]}, "point": [0, 0]})"),
+            "shape.type: a polyline is several convex pieces; one convex shape is expected here");
+  const json ok = ask(R"({"id": 3, "note": "ignored", "op": "overlap", "a": {"type": "circle", "radius": 1, "comment": "x"},
+      "b": {"type": "circle", "radius": 1}, "xb": {"p": [3, 0], "comment": {"any": [1]}}})");
+  EXPECT_EQ(ok.dump(), R"({"id":3,"overlap":false})");
 }
 
 }  // namespace

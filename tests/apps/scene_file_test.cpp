@@ -261,7 +261,7 @@ TEST(RunCommand, BadSceneFilesExitWithStatus2NamingTheFileAndThePath) {
       {R"({"bounds": [0, 0, 10, 10], "statics": [{"shape": {"type": "circle", "radius": -1}}]})",
        "bad_scene.json: statics[0].shape.radius: negative (-1)"},
       {R"({"bounds": [0, 0, 10, 10], "statics": [{"shape": {"type": "circle", "radius": 1e400}}]})",
-       "bad_scene.json: statics[0].shape.radius: not a finite number"},
+       "bad_scene.json: statics[0].shape.radius: not a finite float (1e400 is beyond double range)"},
       {"{\"bounds\": [0, 0, 10, 10],\n \"bodies\": [{\"shape\": {\"type\": \"circle\" \"radius\": 1}}]}",
        "bad_scene.json: bodies[0].shape: JSON syntax error at line 2, column"},
       {R"({"bounds": [0, 0, 10, 10], "statics": [{"shape": {"type": "polygon", "vertices": [[0, 0], [2, 0], [1, 0.5], [2, 2], [0, 2]]}}]})",

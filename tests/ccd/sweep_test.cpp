@@ -10,6 +10,7 @@
 
 #include <limits>
 #include <random>
+#include <string>
 
 namespace collide {
 namespace {
@@ -124,6 +125,147 @@ TEST(Sweep, CheckRejectsNonFinite) {
   } catch (const InvalidInput& e) {
     EXPECT_STREQ(e.what(), "sweep_a a1: not finite");
   }
+}
+
+
+// ---- 3D ---------------------------------------------------------------------------------------
+
+/// Union of the 3D shape's boxes at `samples` + 1 evenly spaced times of the sweep.
+Aabb3 sampled_union3(const Shape3D& shape, const Sweep3& sweep, int samples) {
+  Aabb3 box = compute_aabb(shape, sweep.at(0.0f));
+  for (int k = 1; k <= samples; ++k) {
+    box = merge(box, compute_aabb(shape, sweep.at(float(k) / float(samples))));
+  }
+  return box;
+}
+
+Shape3D random_shape3(std::mt19937& rng, int kind) {
+  switch (kind) {
+    case 0: return make_sphere(test::random_point3(rng, 0.3f), uniform(rng, 0.1f, 0.8f));
+    case 1: return make_capsule(test::random_point3(rng, 1.0f), test::random_point3(rng, 1.0f), uniform(rng, 0.05f, 0.4f));
+    case 2: return make_segment(test::random_point3(rng, 1.0f), test::random_point3(rng, 1.0f));
+    default:
+      return make_box({uniform(rng, 0.1f, 1.0f), uniform(rng, 0.1f, 1.0f), uniform(rng, 0.1f, 1.0f)},
+                      uniform(rng, 0.0f, 0.2f));
+  }
+}
+
+/// The rotation of `v` by `angle` about the unit `axis` (Rodrigues), in double.
+Vec3 rodrigues(Vec3 v, Vec3 axis, double angle) {
+  const glm::dvec3 k(axis);
+  const glm::dvec3 x(v);
+  const glm::dvec3 r = x * std::cos(angle) + glm::cross(k, x) * std::sin(angle) +
+                       k * glm::dot(k, x) * (1.0 - std::cos(angle));
+  return Vec3(r);
+}
+
+// 5. A 3D sweep moves its centre on a line and turns at a constant rate about a fixed world
+// axis, any number of turns: a point of the body at time t is the centre plus the start
+// offset turned by t times the rotation vector (Rodrigues), in double as the reference.
+TEST(Sweep3, InterpolatesCentreAndTurnsAboutAFixedAxis) {
+  std::mt19937 rng(7);
+  for (int k = 0; k < 200; ++k) {
+    const Transform3 start = test::random_transform3(rng, 10.0f);
+    const Vec3 centre = test::random_point3(rng, 1.0f);
+    const Vec3 axis = normalize(test::random_point3(rng, 1.0f) + Vec3(0.0f, 0.0f, 0.01f));
+    const float turn = uniform(rng, -4.0f * kPi, 4.0f * kPi);  // beyond pi: several turns
+    const Vec3 move = test::random_point3(rng, 5.0f);
+    const Sweep3 s = Sweep3::from_motion(start, centre, move, turn * axis);
+    const Vec3 body_point = test::random_point3(rng, 2.0f);
+    const Vec3 offset0 = rotate(start.q, body_point - centre);  // from the centre, world
+    for (float t : {0.0f, 0.3f, 0.5f, 1.0f}) {
+      const Transform3 x = s.at(t);
+      EXPECT_NEAR(length(x.q), 1.0f, 1e-5f);
+      EXPECT_VEC3_NEAR(transform_point(x, centre), s.c0 + t * move, 2e-5f);
+      const Vec3 expected = s.c0 + t * move + rodrigues(offset0, axis, double(t) * turn);
+      EXPECT_VEC3_NEAR(transform_point(x, body_point), expected, 1e-4f);
+    }
+    EXPECT_VEC3_NEAR(s.at(0.0f).p, start.p, 2e-5f);
+  }
+}
+
+// 6. from_transforms: the shorter arc between two poses (at most a half turn), ending at the
+// second pose.
+TEST(Sweep3, FromTransformsTakesTheShorterArc) {
+  std::mt19937 rng(8);
+  for (int k = 0; k < 200; ++k) {
+    const Transform3 a = test::random_transform3(rng, 10.0f);
+    const Transform3 b = test::random_transform3(rng, 10.0f);
+    const Vec3 centre = test::random_point3(rng, 1.0f);
+    const Sweep3 s = Sweep3::from_transforms(a, b, centre);
+    EXPECT_LE(length(s.rotation), kPi + 1e-5f);
+    const Transform3 end = s.at(1.0f);
+    const Vec3 p = test::random_point3(rng, 2.0f);
+    EXPECT_VEC3_NEAR(transform_point(end, p), transform_point(b, p), 1e-4f);
+    EXPECT_VEC3_NEAR(transform_point(s.at(0.0f), p), transform_point(a, p), 1e-4f);
+  }
+}
+
+// 7. Swept boxes in 3D: exact under translation; conservative with rotation (turns from tiny to
+// two full spins about random axes, centres off the shape) and close for small turns.
+TEST(Sweep3, SweptBoxesAreExactOrConservative) {
+  std::mt19937 rng(9);
+  int small_turns = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Shape3D shape = random_shape3(rng, k % 4);
+    const Transform3 xf = test::random_transform3(rng, k % 2 ? 1e3f : 10.0f);
+    const Vec3 move = test::random_point3(rng, 20.0f);
+    const Aabb3 moved_box = swept_aabb(shape, xf, move);
+    const Sweep3 straight = Sweep3::from_motion(xf, Vec3(0.0f), move, Vec3(0.0f));
+    const Aabb3 straight_truth = sampled_union3(shape, straight, 64);
+    const float tol = 4e-6f * (1.0f + length(xf.p) + length(move));
+    EXPECT_VEC3_NEAR(moved_box.min, straight_truth.min, tol);
+    EXPECT_VEC3_NEAR(moved_box.max, straight_truth.max, tol);
+    EXPECT_VEC3_NEAR(swept_aabb(shape, straight).min, straight_truth.min, tol);
+    EXPECT_VEC3_NEAR(swept_aabb(shape, straight).max, straight_truth.max, tol);
+
+    const float turn = k % 3 == 0 ? uniform(rng, 0.0f, 0.2f) : uniform(rng, 0.0f, 4.0f * kPi);
+    const Vec3 axis = normalize(test::random_point3(rng, 1.0f) + Vec3(0.0f, 0.01f, 0.0f));
+    const Sweep3 s = Sweep3::from_motion(xf, test::random_point3(rng, 1.5f), move, turn * axis);
+    const Aabb3 swept = swept_aabb(shape, s);
+    const Aabb3 truth = sampled_union3(shape, s, 4000);
+    const float rtol = 3e-4f + 4e-6f * length(xf.p);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_LE(swept.min[i], truth.min[i] + rtol) << k;
+      EXPECT_GE(swept.max[i], truth.max[i] - rtol) << k;
+    }
+    if (turn < 0.2f) {
+      ++small_turns;
+      // Looser than the truth by at most reach * turn^2 / 8 per side (reach < 4.5 here).
+      const float slack = 4.5f * turn * turn * 0.125f + rtol;
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_GE(swept.min[i], truth.min[i] - slack) << k;
+        EXPECT_LE(swept.max[i], truth.max[i] + slack) << k;
+      }
+    }
+  }
+  EXPECT_GT(small_turns, 50);
+}
+
+// 8. Non-finite or non-unit 3D sweeps are rejected naming the field.
+TEST(Sweep3, CheckRejectsBadNumbers) {
+  Sweep3 s;
+  EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
+  const auto message = [](const Sweep3& bad) {
+    try {
+      check_sweep(bad, "sweep_a");
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no throw");
+  };
+  Sweep3 bad = s;
+  bad.c1.z = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(message(bad), "sweep_a c1: not finite");
+  bad = s;
+  bad.q0 = Quat{0.5f, 0.0f, 0.0f, 0.0f};
+  EXPECT_EQ(message(bad), "sweep_a q0: not finite or not unit length");
+  bad = s;
+  bad.rotation.x = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(message(bad), "sweep_a rotation: not finite");
+  bad = s;
+  bad.local_center.y = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ bool counting_handler(const char*, const char*, const char*, int) {
 
 TEST(Assert, HandlerCanBeReplaced) {
   const AssertHandler old = set_assert_handler(&counting_handler);
-  EXPECT_TRUE(detail::report_assert("x", "y", __FILE__, __LINE__));
+  EXPECT_TRUE(report_assert_failure("x", "y", __FILE__, __LINE__));
   EXPECT_TRUE(g_called);
   EXPECT_EQ(set_assert_handler(old), &counting_handler);
 }

@@ -284,7 +284,8 @@ TEST(SceneJson, EveryErrorNamesTheFileAndTheJsonPath) {
       {"{\"bounds\": [0, 0, 10, 10],\n \"statics\": [\n  " + good_static + ",\n  {\"shape\": {\"type\": \"circle\", \"radius\": 1,}}]}",
        "statics[1].shape", "JSON syntax error at line 4, column"},
       {"[1, 2]", "root", "expected a scene (a JSON object), got array"},
-      {static_shape(R"({"type": "circle", "radius": 1e400})"), "statics[0].shape.radius", "not a finite number"},
+      {static_shape(R"({"type": "circle", "radius": 1e400})"), "statics[0].shape.radius",
+       "not a finite float (1e400 is beyond double range)"},
       {R"({"bounds": [0, 0, 10, 10], "statix": []})", "statix", "unknown field"},
       // Bounds and walls.
       {R"({"statics": []})", "bounds", "missing"},
@@ -322,7 +323,10 @@ TEST(SceneJson, EveryErrorNamesTheFileAndTheJsonPath) {
        "expected true or false"},
       // Shapes.
       {static_shape(R"({"type": "blob"})"), "statics[0].shape.type", "unknown shape type \"blob\""},
-      {static_shape(R"({"type": "sphere", "radius": 1})"), "statics[0].shape.type", "3D shape"},
+      {static_shape(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]})"),
+       "statics[0].shape.type", "3D shape"},
+      {static_shape(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1})"), "statics[0].shape.center",
+       "3D coordinates"},
       {static_shape(R"({"radius": 1})"), "statics[0].shape.type", "missing"},
       {static_shape(R"("circle")"), "statics[0].shape", "expected a shape"},
       {static_shape(R"({"type": "circle", "radius": 1, "centre": [0, 0]})"), "statics[0].shape.centre", "unknown field"},
@@ -458,8 +462,8 @@ TEST(SceneJson, MangledFilesAreErrorsNeverCrashes) {
   }
   EXPECT_GT(rejected, 1000);  // most edits break something...
   EXPECT_GT(loaded, 20);      // ...but edits inside comments do not: both outcomes were exercised
-  // Deep nesting does not overflow the stack.
-  EXPECT_NE(error_of(std::string(200000, '[')).find("JSON syntax error"), std::string::npos);
+  // Deep nesting does not overflow the stack: it is refused at kMaxJsonDepth, before parsing.
+  EXPECT_NE(error_of(std::string(200000, '[')).find("JSON nested deeper than 256 levels"), std::string::npos);
   EXPECT_NE(error_of(R"({"bounds": [0, 0, 1, 1], "statics": [{"shape": )" + std::string(200000, '[') + "}]}")
                 .find("statics[0].shape"),
             std::string::npos);

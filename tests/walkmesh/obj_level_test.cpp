@@ -9,6 +9,8 @@
 
 #include <cstdio>
 #include <fstream>
+#include <random>
+#include <sstream>
 #include <string>
 
 namespace collide {
@@ -175,6 +177,33 @@ TEST(ObjLevel, DegenerateLevelTrianglesAreCountedAsSuchNotAsTooSteep) {
     ADD_FAILURE() << "no error";
   } catch (const InvalidInput& e) {
     EXPECT_EQ(std::string(e.what()), "line.obj: no walkable triangles (0 too steep, 1 degenerate, 0 without headroom for the agent)");
+  }
+}
+
+// Issue 15: a level with coordinates near +-3.4e38 on both sides overflowed the BVH query's stack
+// in make_walk_mesh (its local coordinates overflowed to infinity). No float frame holds such a
+// level: both builders now refuse it by name, before any local coordinate is computed. (Run
+// under the sanitize preset; the BVH's own regression test is in tests/shape.)
+TEST(ObjLevel, CoordinatesNearTheFloatLimitOnBothSidesAreRefusedNotOverflowed) {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::ostringstream text;
+  text.precision(9);
+  const int n = 300;
+  for (int i = 0; i < 3 * n; ++i) text << "v " << 3.3e38f * unit(rng) << ' ' << 3.3e38f * unit(rng) << ' ' << 3.3e38f * unit(rng) << '\n';
+  for (int i = 0; i < n; ++i) text << "f " << 3 * i + 1 << ' ' << 3 * i + 2 << ' ' << 3 * i + 3 << '\n';
+  const std::string path = write_obj("huge.obj", text.str());
+  const TriangleSoup soup = io::load_obj(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(soup.triangles.size(), static_cast<std::size_t>(n));
+  const std::string expected = "huge.obj: spans more than float range (coordinates near +-3.4e38 on both sides); no float frame holds it";
+  for (int builder = 0; builder < 2; ++builder) {
+    try {
+      (void)(builder == 0 ? make_walk_mesh(soup) : build_walk_mesh(soup));
+      ADD_FAILURE() << "no error";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
   }
 }
 

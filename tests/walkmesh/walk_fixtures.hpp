@@ -4,6 +4,8 @@
 
 #include <collide/walkmesh/walk_mesh.hpp>
 
+#include "support/brute_triangle.hpp"
+
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -109,32 +111,6 @@ inline TriangleSoup unshared(const TriangleSoup& in) {
     s.triangles.push_back({base, base + 1, base + 2});
   }
   return s;
-}
-
-/// Closest point of a triangle in double precision by a different method than the library's
-/// Voronoi-region walk: project onto the plane; inside -> done; else the best of the three
-/// segment projections.
-inline glm::dvec3 brute_closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-  const glm::dvec3 n = glm::cross(b - a, c - a);
-  const double nn = glm::dot(n, n);
-  if (nn > 0.0) {
-    const glm::dvec3 q = p - n * (glm::dot(p - a, n) / nn);
-    const double wa = glm::dot(n, glm::cross(c - b, q - b));
-    const double wb = glm::dot(n, glm::cross(a - c, q - c));
-    const double wc = glm::dot(n, glm::cross(b - a, q - a));
-    if (wa >= 0.0 && wb >= 0.0 && wc >= 0.0) return q;
-  }
-  auto seg = [&](glm::dvec3 s0, glm::dvec3 s1) {
-    const glm::dvec3 d = s1 - s0;
-    const double dd = glm::dot(d, d);
-    const double t = dd > 0.0 ? std::clamp(glm::dot(p - s0, d) / dd, 0.0, 1.0) : 0.0;
-    return s0 + t * d;
-  };
-  glm::dvec3 best = seg(a, b);
-  for (const glm::dvec3 q : {seg(b, c), seg(c, a)}) {
-    if (glm::length(q - p) < glm::length(best - p)) best = q;
-  }
-  return best;
 }
 
 /// Distance from a world point to the walk mesh by scanning every triangle, in double precision.

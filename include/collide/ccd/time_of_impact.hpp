@@ -3,7 +3,9 @@
 /// `time_of_impact`: when do two shapes that translate AND rotate over a step first come
 /// within a small target separation of each other? With rotation the Minkowski difference
 /// changes shape during the step, so the single ray of `shape_cast` no longer applies (the
-/// lesson's closing remark on continuous collision).
+/// lesson's closing remark on continuous collision). 2D shapes move along a `Sweep`, 3D shapes
+/// along a `Sweep3` (a constant angular velocity about a fixed axis, any number of turns); one
+/// loop serves both dimensions, with a motion bound per dimension.
 ///
 /// Method: conservative advancement (Mirtich, "Impulse-based Dynamic Simulation of Rigid Body
 /// Systems", 1996, 4.3; discussed in Catto, "Continuous Collision", GDC 2013). At the current
@@ -13,17 +15,19 @@
 /// a support query on each body) closes over a further dt by at most the centres' relative
 /// motion along n plus, for each body, a per-point bound of how far its turn can push its
 /// extent along n (cos and sin bounded by their Taylor polynomials: a convex function of dt,
-/// so its first root is bracketed in two tangent/chord rounds). t advances to where that bound
-/// could use up the gap: provably never past the first contact; it stops when the shapes are
-/// within the target. A cruder bound, turn times the core's reach from its centre of rotation,
-/// is kept as a floor for the step. Each step is one warm-started GJK call.
+/// so its first root is bracketed by a tangent/chord round; in 3D the same polynomial, with
+/// each point's turn about the body's fixed rotation axis, src/ccd/turn_bound.hpp). t advances
+/// to where that bound could use up the gap: provably never past the first contact; it stops
+/// when the shapes are within the target. A cruder bound, turn times the core's reach from its centre of rotation,
+/// is kept as a floor for the step (in 3D: turn times the farthest core point's distance from
+/// the axis). Each step is one warm-started GJK call.
 ///
 /// Why not the separating-axis root finder of Box2D's b2TimeOfImpact (Catto 2013)? It checks
 /// its axis only at the ends of the interval, so a body that turns a lot within one step can
 /// sweep through another unseen (Box2D limits rotation per step for that reason); the test
 /// `TimeOfImpact.OverlappedSeparatedAndSpinning` has such a case. Conservative advancement
 /// cannot miss; its cost is more iterations when turning dominates near a graze (capped by
-/// kToiMaxIterations, reported as failed with a safe t).
+/// kToiMaxIterations, reported as max_iterations with a safe fraction).
 ///
 /// Pure translations (both sweeps without rotation) take the faster GJK ray cast of
 /// `shape_cast` instead, on the shapes grown by half the target each.
@@ -103,5 +107,33 @@ template <Shape2DType A, Shape2DType B>
 /// `time_of_impact` for shapes whose types are known only at run time.
 [[nodiscard]] ToiResult time_of_impact(const Shape2D& a, const Sweep& sweep_a, const Shape2D& b,
                                        const Sweep& sweep_b, float target = -1.0f);
+
+/// First time in [0, 1] at which 3D proxy A moving along `sweep_a` and proxy B moving along
+/// `sweep_b` come within `target` of each other: the contract of the 2D `time_of_impact`
+/// (target default and floors, reported within kToiToleranceFraction * target of it, never
+/// late, statuses, a safe fraction on max_iterations), by the same conservative advancement
+/// with the 3D turn bound (Mirtich 1996); pure translations (both rotation vectors zero) use
+/// the GJK ray cast `gjk_shape_cast<3>` (van den Bergen 2004). Never allocates. Proxies hold
+/// 1..kMaxProxyPoints3 points; sweeps must be finite with unit q0 (COLLIDE_ASSERT only; the
+/// validated entry points are `time_of_impact` on shapes).
+[[nodiscard]] ToiResult3 time_of_impact(const ConvexProxy3& a, const Sweep3& sweep_a,
+                                        const ConvexProxy3& b, const Sweep3& sweep_b,
+                                        float target = -1.0f) noexcept;
+
+/// `time_of_impact` for any pair of convex 3D shapes. Throws InvalidInput naming the field if a
+/// sweep value or the target is not finite, or a sweep's q0 is not a unit quaternion.
+template <Shape3DType A, Shape3DType B>
+[[nodiscard]] ToiResult3 time_of_impact(const A& a, const Sweep3& sweep_a, const B& b,
+                                        const Sweep3& sweep_b, float target = -1.0f) {
+  check_sweep(sweep_a, "sweep_a");
+  check_sweep(sweep_b, "sweep_b");
+  if (!std::isfinite(target)) throw InvalidInput("target: not finite");
+  return time_of_impact(ConvexProxy3(a), sweep_a, ConvexProxy3(b), sweep_b, target);
+}
+
+/// `time_of_impact` for 3D shapes whose types are known only at run time.
+[[nodiscard]] ToiResult3 time_of_impact(const Shape3D& a, const Sweep3& sweep_a,
+                                        const Shape3D& b, const Sweep3& sweep_b,
+                                        float target = -1.0f);
 
 }  // namespace collide

@@ -29,18 +29,19 @@ using AssertHandler = bool (*)(const char* condition, const char* message, const
 /// Replace the handler; returns the previous one. Passing nullptr restores the default.
 AssertHandler set_assert_handler(AssertHandler handler) noexcept;
 
-namespace detail {
-[[nodiscard]] bool report_assert(const char* condition, const char* message, const char* file,
-                                 int line) noexcept;
-}  // namespace detail
+/// Reports a failed internal assertion to the installed handler (what `COLLIDE_ASSERT` calls):
+/// `condition` as written, `message`, and the source `file` and `line`. Returns the handler's
+/// answer: true to continue, false to stop (the macro then traps). Never throws.
+[[nodiscard]] bool report_assert_failure(const char* condition, const char* message,
+                                         const char* file, int line) noexcept;
 
 }  // namespace collide
 
 #if defined(COLLIDE_ENABLE_ASSERTS)
-#define COLLIDE_ASSERT(cond, message)                                                   \
-  do {                                                                                  \
-    if (!(cond) && !::collide::detail::report_assert(#cond, message, __FILE__, __LINE__)) \
-      __builtin_trap();                                                                 \
+#define COLLIDE_ASSERT(cond, message)                                                     \
+  do {                                                                                    \
+    if (!(cond) && !::collide::report_assert_failure(#cond, message, __FILE__, __LINE__)) \
+      __builtin_trap();                                                                   \
   } while (false)
 #else
 #define COLLIDE_ASSERT(cond, message) \

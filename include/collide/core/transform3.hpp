@@ -8,6 +8,7 @@
 /// the matrix form `Frame3` once per query (a 3x3 rotation matrix and a position: 9 multiplies
 /// per rotated vector instead of about 18).
 
+#include <collide/core/aabb.hpp>
 #include <collide/core/math.hpp>
 #include <collide/core/transform.hpp>
 
@@ -116,5 +117,16 @@ using FrameN = std::conditional_t<D == 2, Transform, Frame3>;
 /// `xf` in the form inner loops use (see FrameN).
 [[nodiscard]] inline Transform to_frame(const Transform& xf) noexcept { return xf; }
 [[nodiscard]] inline Frame3 to_frame(const Transform3& xf) noexcept { return Frame3::from(xf); }
+
+/// The world box of a local box placed by `xf`: the box around the rotated box, from its centre
+/// and |R| times its half extents (Arvo, "Transforming Axis-Aligned Bounding Boxes", Graphics
+/// Gems, 1990; Ericson 4.2.6). Tight for rotations by multiples of 90 degrees about the axes.
+[[nodiscard]] inline Aabb3 transform_aabb(const Aabb3& local, const Transform3& xf) noexcept {
+  const Frame3 f = Frame3::from(xf);
+  const Vec3 center = transform_point(f, local.center());
+  const Vec3 half = local.extents();
+  const Vec3 reach = glm::abs(f.r[0]) * half.x + glm::abs(f.r[1]) * half.y + glm::abs(f.r[2]) * half.z;
+  return {center - reach, center + reach};
+}
 
 }  // namespace collide

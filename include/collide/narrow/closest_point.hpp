@@ -6,6 +6,7 @@
 
 #include <collide/narrow/manifold.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
 
 namespace collide {
 
@@ -38,5 +39,33 @@ template <Shape2DType S>
 /// `closest_point` for a shape whose type is known only at run time.
 [[nodiscard]] PointQuery closest_point(const Shape2D& shape, const Transform& xf,
                                        Vec2 point) noexcept;
+
+/// Closest surface point of the 3D shape placed by `xf` to world point `point`, with signed
+/// distance (negative inside) and the Voronoi feature of the core the point lies in, as the 2D
+/// `closest_point` does; radii (spheres, capsules, rounded boxes) applied along the direction
+/// from the core's closest point to `point`. The point is moved into the shape's local frame
+/// first. Ties and degenerate directions: the centre of a sphere gets the closest point in
+/// local +x; a point on a capsule's core line gets a direction across the axis (the axis'
+/// cross product with the local coordinate axis it is least aligned with); a point on a core
+/// end, the axis outward. A segment has no inside (distance >= 0). Shapes must be valid;
+/// `point` and `xf` finite.
+/// - Sphere: the centre. Capsule3 and Segment3: the core segment's projection clamped to the
+///   ends (Ericson, Real-Time Collision Detection, 5.1.2): vertex 0 or 1 when clamped, edge 0
+///   otherwise.
+/// - Box: outside, clamp each coordinate to the half extents (Ericson 5.1.3); the number of
+///   clamped coordinates names the feature (1: face, 2: edge, 3: vertex). Inside the core (or on
+///   its surface), the face of least penetration, the lowest axis on ties.
+/// - ConvexHull: the face of greatest separation; inside (no positive separation), it is the
+///   face of least penetration and the point is pushed out to it. Outside, if the point
+///   projects within that face the projection is the answer; otherwise the closest point of
+///   every face with positive separation (its projection, or the nearest point of its sides) is
+///   compared (Ericson 5.1.7, sides by 5.1.2). Features: face, `edges` index, vertex index. O(faces)
+///   plus the sides of the separating faces.
+template <Shape3DType S>
+[[nodiscard]] PointQuery3 closest_point(const S& shape, const Transform3& xf, Vec3 point) noexcept;
+
+/// `closest_point` for a 3D shape whose type is known only at run time.
+[[nodiscard]] PointQuery3 closest_point(const Shape3D& shape, const Transform3& xf,
+                                        Vec3 point) noexcept;
 
 }  // namespace collide

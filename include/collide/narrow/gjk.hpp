@@ -28,6 +28,7 @@
 /// Everything runs in A's local frame: B is placed there once (`b_in_a`), so large world
 /// coordinates cancel before any arithmetic.
 
+#include <collide/core/aabb.hpp>  // VecN
 #include <collide/core/config.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/core/transform3.hpp>

@@ -214,6 +214,13 @@ class ConvexProxyN<3> {
 
   [[nodiscard]] int count() const noexcept { return count_; }
   [[nodiscard]] float radius() const noexcept { return radius_; }
+  /// The same core with another radius (a margin added: the shape grown by it, as the time of
+  /// impact's target separation needs). Raw point sets still point at the caller's points.
+  [[nodiscard]] ConvexProxyN with_radius(float radius) const noexcept {
+    ConvexProxyN p = *this;
+    p.radius_ = radius;
+    return p;
+  }
 
   /// Core point i, local space.
   [[nodiscard]] Vec3 point(int i) const noexcept {

@@ -12,7 +12,7 @@
 /// its bounds) so that meshes far from the origin keep float precision.
 
 #include <collide/core/aabb.hpp>
-#include <collide/walkmesh/triangle_bvh.hpp>
+#include <collide/shape/triangle_bvh.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>

@@ -42,8 +42,8 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/core/aabb.hpp>
+#include <collide/core/debug_draw.hpp>
 #include <collide/core/ray.hpp>
-#include <collide/draw/debug_draw.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/narrow/manifold.hpp>
 #include <collide/shape/shape2d.hpp>

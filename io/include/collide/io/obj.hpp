@@ -1,7 +1,9 @@
 #pragma once
 /// @file
-/// Wavefront OBJ level meshes (through tinyobjloader) as triangle soups for the walk mesh.
+/// Wavefront OBJ level meshes (through tinyobjloader): as triangle soups for the walk mesh, and
+/// as collision meshes (TriangleMesh) through the same reader.
 
+#include <collide/shape/triangle_mesh.hpp>
 #include <collide/walkmesh/walk_mesh.hpp>
 
 #include <string>
@@ -19,5 +21,11 @@ namespace collide::io {
 /// out of range (as written in the file: OBJ counts from 1, negative counts back); a polygon that
 /// no fan of triangles covers (not convex); no face at all.
 [[nodiscard]] TriangleSoup load_obj(const std::string& path);
+
+/// The OBJ file's faces as a collision mesh: `load_obj`, then `make_triangle_mesh` on its
+/// positions and triangles (vertex i and triangle t are the file's i-th vertex and the t-th
+/// triangle of its faces' fans, before degenerate ones are dropped). Throws InvalidInput for
+/// what either rejects, the message starting with the file name.
+[[nodiscard]] TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options = {});
 
 }  // namespace collide::io

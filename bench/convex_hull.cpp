@@ -1,0 +1,300 @@
+// Convex hulls: building (collide's make_convex_hull vs Jolt's ConvexHullBuilder) and support
+// queries (ConvexHull::support_index with SSE2 over vertex blocks, the plain scalar loop it
+// replaced, hill climbing with support_index_from, and Jolt's ConvexHullShape support function).
+// Both libraries run on SSE2 (Jolt's SIMD options are off, cmake/jolt_peer.cmake).
+//
+// Builds: every cloud of Jolt's convex_hulls.bin (the 6729 that are not flat) per iteration, and
+// balls of 100..10000 points; both libraries get the same tolerance (collide's, per cloud) and
+// the same cap of 256 vertices. Counters give the faces and vertices each library made.
+// Supports: 1024 random directions per iteration over hulls of 8..256 vertices (points on a
+// sphere, capped) and over all Jolt-cloud hulls; the climb follows a slowly turning direction
+// from its previous answer, as GJK does between iterations.
+//
+// Run: ./build/release/bench/bench_convex_hull --benchmark_repetitions=5 \
+//        --benchmark_report_aggregates_only=true
+
+#include <collide/core/error.hpp>
+#include <collide/shape/convex_hull.hpp>
+
+#include <Jolt/Jolt.h>
+
+#include <Jolt/Core/Factory.h>
+#include <Jolt/Core/Memory.h>
+#include <Jolt/Geometry/ConvexHullBuilder.h>
+#include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
+#include <Jolt/RegisterTypes.h>
+#include <benchmark/benchmark.h>
+
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace collide;
+using Cloud = std::vector<Vec3>;
+
+constexpr int kDirections = 1024;
+
+/// Jolt's convex_hulls.bin without the clouds make_convex_hull rejects as flat.
+const std::vector<Cloud>& jolt_clouds() {
+  static const std::vector<Cloud> clouds = [] {
+    std::ifstream in(std::string(COLLIDE_DATA_DIR) + "/meshes/jolt/convex_hulls.bin",
+                     std::ios::binary);
+    std::vector<Cloud> out;
+    std::uint32_t n = 0;
+    while (in.read(reinterpret_cast<char*>(&n), sizeof n)) {
+      Cloud cloud(n);
+      in.read(reinterpret_cast<char*>(cloud.data()), static_cast<std::streamsize>(n * 12));
+      try {
+        (void)make_convex_hull(cloud);
+        out.push_back(std::move(cloud));
+      } catch (const InvalidInput&) {
+      }
+    }
+    return out;
+  }();
+  return clouds;
+}
+
+Vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> g(0.0f, 1.0f);
+  for (;;) {
+    const Vec3 v{g(rng), g(rng), g(rng)};
+    const float len = length(v);
+    if (len > 1e-3f) return v / len;
+  }
+}
+
+Cloud ball(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  Cloud c;
+  for (int i = 0; i < n; ++i) {
+    c.push_back(random_unit(rng) * std::cbrt(std::uniform_real_distribution<float>(0, 1)(rng)));
+  }
+  return c;
+}
+
+/// A hull of about `vertices` vertices: points on a unit sphere, capped.
+ConvexHull sphere_hull(int vertices) {
+  std::mt19937 rng(static_cast<unsigned>(vertices));
+  Cloud c;
+  for (int i = 0; i < 4 * vertices; ++i) c.push_back(random_unit(rng));
+  HullOptions o;
+  o.max_vertices = vertices;
+  return make_convex_hull(c, o);
+}
+
+std::vector<Vec3> directions() {
+  std::mt19937 rng(42);
+  std::vector<Vec3> d(kDirections);
+  for (Vec3& v : d) v = random_unit(rng);
+  return d;
+}
+
+JPH::Array<JPH::Vec3> to_jolt(const Cloud& c) {
+  JPH::Array<JPH::Vec3> out;
+  out.reserve(c.size());
+  for (Vec3 p : c) out.push_back(JPH::Vec3(p.x, p.y, p.z));
+  return out;
+}
+
+void init_jolt() {
+  static const bool done = [] {
+    JPH::RegisterDefaultAllocator();
+    JPH::Factory::sInstance = new JPH::Factory();
+    JPH::RegisterTypes();
+    return true;
+  }();
+  (void)done;
+}
+
+// ---- building ----------------------------------------------------------------------------------
+
+void BM_BuildJoltClouds_collide(benchmark::State& state) {
+  const std::vector<Cloud>& clouds = jolt_clouds();
+  std::int64_t faces = 0;
+  std::int64_t vertices = 0;
+  for (auto _ : state) {
+    faces = vertices = 0;
+    for (const Cloud& c : clouds) {
+      const ConvexHull h = make_convex_hull(c);
+      faces += static_cast<std::int64_t>(h.faces.size());
+      vertices += h.vertex_count();
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["vertices"] = static_cast<double>(vertices);
+}
+BENCHMARK(BM_BuildJoltClouds_collide)->Name("BM_BuildJoltClouds/collide")->Unit(benchmark::kMillisecond);
+
+void BM_BuildJoltClouds_jolt(benchmark::State& state) {
+  init_jolt();
+  const std::vector<Cloud>& clouds = jolt_clouds();
+  std::vector<JPH::Array<JPH::Vec3>> points;
+  std::vector<float> tolerance;
+  for (const Cloud& c : clouds) {
+    points.push_back(to_jolt(c));
+    tolerance.push_back(make_convex_hull(c).tolerance);
+  }
+  std::int64_t faces = 0;
+  std::int64_t failed = 0;
+  for (auto _ : state) {
+    faces = failed = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      JPH::ConvexHullBuilder builder(points[i]);
+      const char* error = nullptr;
+      if (builder.Initialize(kMaxHullVertices, tolerance[i], error) !=
+          JPH::ConvexHullBuilder::EResult::Success) {
+        ++failed;
+      }
+      faces += static_cast<std::int64_t>(builder.GetFaces().size());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["failed"] = static_cast<double>(failed);
+}
+BENCHMARK(BM_BuildJoltClouds_jolt)->Name("BM_BuildJoltClouds/jolt")->Unit(benchmark::kMillisecond);
+
+void BM_BuildBall_collide(benchmark::State& state) {
+  const Cloud c = ball(static_cast<int>(state.range(0)), 7);
+  int vertices = 0;
+  for (auto _ : state) {
+    const ConvexHull h = make_convex_hull(c);
+    vertices = h.vertex_count();
+    benchmark::DoNotOptimize(h.faces.data());
+  }
+  state.counters["vertices"] = vertices;
+}
+BENCHMARK(BM_BuildBall_collide)->Name("BM_BuildBall/collide")->Arg(100)->Arg(1000)->Arg(10000)
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_BuildBall_jolt(benchmark::State& state) {
+  init_jolt();
+  const Cloud c = ball(static_cast<int>(state.range(0)), 7);
+  const JPH::Array<JPH::Vec3> points = to_jolt(c);
+  const float tolerance = make_convex_hull(c).tolerance;
+  int vertices = 0;
+  for (auto _ : state) {
+    JPH::ConvexHullBuilder builder(points);
+    const char* error = nullptr;
+    (void)builder.Initialize(kMaxHullVertices, tolerance, error);
+    vertices = builder.GetNumVerticesUsed();
+    benchmark::DoNotOptimize(builder.GetFaces().data());
+  }
+  state.counters["vertices"] = vertices;
+}
+BENCHMARK(BM_BuildBall_jolt)->Name("BM_BuildBall/jolt")->Arg(100)->Arg(1000)->Arg(10000)
+    ->Unit(benchmark::kMicrosecond);
+
+// ---- support queries ---------------------------------------------------------------------------
+
+/// The plain loop support_index replaced: first vertex with the largest dot product.
+int scalar_support(const ConvexHull& h, Vec3 d) {
+  int best = 0;
+  float best_dot = dot(h.vertices[0], d);
+  for (int i = 1; i < h.vertex_count(); ++i) {
+    const float v = dot(h.vertices[i], d);
+    if (v > best_dot) {
+      best_dot = v;
+      best = i;
+    }
+  }
+  return best;
+}
+
+template <class Query>
+void run_support(benchmark::State& state, const std::vector<ConvexHull>& hulls, Query query) {
+  const std::vector<Vec3> dirs = directions();
+  std::int64_t sum = 0;
+  for (auto _ : state) {
+    for (const ConvexHull& h : hulls) {
+      for (const Vec3& d : dirs) sum += query(h, d);
+    }
+  }
+  benchmark::DoNotOptimize(sum);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(hulls.size()) *
+                          kDirections);
+}
+
+std::vector<ConvexHull> hulls_for(int vertices) {
+  if (vertices > 0) return {sphere_hull(vertices)};
+  std::vector<ConvexHull> hulls;
+  const std::vector<Cloud>& clouds = jolt_clouds();
+  for (size_t i = 0; i < clouds.size(); i += 16) hulls.push_back(make_convex_hull(clouds[i]));
+  return hulls;  // 421 hulls, 17 vertices on average
+}
+
+void BM_Support_simd(benchmark::State& state) {
+  run_support(state, hulls_for(static_cast<int>(state.range(0))),
+              [](const ConvexHull& h, Vec3 d) { return h.support_index(d); });
+}
+void BM_Support_scalar(benchmark::State& state) {
+  run_support(state, hulls_for(static_cast<int>(state.range(0))), scalar_support);
+}
+
+/// Hill climbing along a slowly turning direction (1 degree per query), from the last answer.
+void BM_Support_climb(benchmark::State& state) {
+  const std::vector<ConvexHull> hulls = hulls_for(static_cast<int>(state.range(0)));
+  std::int64_t sum = 0;
+  const Quat turn = glm::angleAxis(0.01745f, glm::normalize(Vec3(0.3f, 1.0f, 0.2f)));
+  for (auto _ : state) {
+    for (const ConvexHull& h : hulls) {
+      Vec3 d{1.0f, 0.0f, 0.0f};
+      int i = 0;
+      for (int k = 0; k < kDirections; ++k) {
+        i = h.support_index_from(d, i);
+        sum += i;
+        d = turn * d;
+      }
+    }
+  }
+  benchmark::DoNotOptimize(sum);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(hulls.size()) *
+                          kDirections);
+}
+
+/// Jolt: ConvexHullShape (convex radius 0) support function, fetched once per hull as GJK does.
+void BM_Support_jolt(benchmark::State& state) {
+  init_jolt();
+  const std::vector<ConvexHull> hulls = hulls_for(static_cast<int>(state.range(0)));
+  std::vector<JPH::RefConst<JPH::Shape>> shapes;
+  for (const ConvexHull& h : hulls) {
+    JPH::ConvexHullShapeSettings settings(to_jolt(h.vertices), 0.0f);
+    settings.mHullTolerance = h.tolerance;
+    shapes.push_back(settings.Create().Get());
+  }
+  std::vector<JPH::Vec3> dirs;
+  for (Vec3 d : directions()) dirs.push_back(JPH::Vec3(d.x, d.y, d.z));
+  float sum = 0.0f;
+  for (auto _ : state) {
+    for (const auto& shape : shapes) {
+      JPH::ConvexShape::SupportBuffer buffer;
+      const JPH::ConvexShape::Support* support =
+          static_cast<const JPH::ConvexShape*>(shape.GetPtr())
+              ->GetSupportFunction(JPH::ConvexShape::ESupportMode::ExcludeConvexRadius, buffer,
+                                   JPH::Vec3::sOne());
+      for (const JPH::Vec3& d : dirs) sum += support->GetSupport(d).GetX();
+    }
+  }
+  benchmark::DoNotOptimize(sum);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(shapes.size()) *
+                          kDirections);
+}
+
+// Arg 0: all Jolt-cloud hulls (every 16th cloud); otherwise one hull of that many vertices.
+#define SUPPORT_ARGS ->Arg(0)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Arg(256)
+BENCHMARK(BM_Support_simd)->Name("BM_Support/collide_simd") SUPPORT_ARGS;
+BENCHMARK(BM_Support_scalar)->Name("BM_Support/collide_scalar_loop") SUPPORT_ARGS;
+BENCHMARK(BM_Support_climb)->Name("BM_Support/collide_climb_coherent") SUPPORT_ARGS;
+BENCHMARK(BM_Support_jolt)->Name("BM_Support/jolt") SUPPORT_ARGS;
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,79 @@
+#pragma once
+// What must hold for any bytes given to `collide query` as a line (fuzz_query_line, and the
+// regression test that replays the inputs the fuzzer found): shared so both check the same.
+
+#include "query.hpp"
+
+#include <collide/core/error.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <exception>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+namespace collide::fuzz {
+
+/// "" when `input` is handled as the query spec says, else what went wrong:
+///  - answer_query_line throws nothing and gives "" for a blank line, otherwise one line of valid
+///    UTF-8 JSON (nlohmann's strict parser is the judge): an object with "id" and either a
+///    non-empty "error" string or answer fields;
+///  - answer_query_stream, given `input` as a whole stream, answers each non-blank line once;
+///  - parse_cast_question (`collide cast --question`) throws nothing but InvalidInput.
+/// Crashes and undefined behaviour are the sanitizers' to catch.
+inline std::string check_query_line(std::string_view input) {
+  std::string reply;
+  try {
+    reply = cli::answer_query_line(input);
+  } catch (const std::exception& e) {
+    return std::string("answer_query_line threw: ") + e.what();
+  }
+  const bool blank = input.find_first_not_of(" \t\r\n") == std::string_view::npos;
+  if (blank != reply.empty()) return "blank line answered, or a line not answered: '" + reply + "'";
+  if (!blank) {
+    if (reply.find('\n') != std::string::npos) return "answer spans lines: " + reply;
+    nlohmann::json a;
+    try {
+      a = nlohmann::json::parse(reply);
+    } catch (const std::exception& e) {
+      return std::string("answer is not valid JSON (") + e.what() + "): " + reply;
+    }
+    if (!a.is_object() || !a.contains("id")) return "answer without id: " + reply;
+    if (a.contains("error")) {
+      if (!a["error"].is_string() || a["error"].get<std::string>().empty() || a.size() != 2) {
+        return "malformed error answer: " + reply;
+      }
+    } else if (a.size() < 2) {
+      return "answer with neither error nor result: " + reply;
+    }
+  }
+
+  std::size_t lines = 0;
+  for (std::size_t start = 0; start <= input.size();) {
+    const std::size_t end = std::min(input.find('\n', start), input.size());
+    const std::string_view line = input.substr(start, end - start);
+    if (line.find_first_not_of(" \t\r\n") != std::string_view::npos) ++lines;
+    start = end + 1;
+  }
+  try {
+    std::istringstream in{std::string(input)};
+    std::ostringstream out;
+    const std::size_t answered = cli::answer_query_stream(in, out);
+    if (answered != lines) {
+      return "stream: " + std::to_string(answered) + " answers for " + std::to_string(lines) + " lines";
+    }
+  } catch (const std::exception& e) {
+    return std::string("answer_query_stream threw: ") + e.what();
+  }
+
+  try {
+    (void)cli::parse_cast_question(input);
+  } catch (const InvalidInput&) {
+  } catch (const std::exception& e) {
+    return std::string("parse_cast_question threw other than InvalidInput: ") + e.what();
+  }
+  return {};
+}
+
+}  // namespace collide::fuzz

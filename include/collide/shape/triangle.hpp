@@ -1,0 +1,90 @@
+#pragma once
+/// @file
+/// A single 3D triangle as a shape, the closest point of a triangle to a point, and the
+/// watertight ray-triangle crossing that every triangle ray cast in collide uses (single
+/// triangles, `TriangleBvh`, `HeightField`).
+
+#include <collide/core/aabb.hpp>
+#include <collide/core/function_ref.hpp>
+#include <collide/core/ray.hpp>
+#include <collide/core/transform3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+
+namespace collide {
+
+/// A triangle in local space, zero thickness and two-sided. Corner k is `vertices[k]`; edge k
+/// runs from corner k to corner k + 1 (mod 3), as in meshes. Its geometric normal is
+/// (v1 - v0) x (v2 - v0) (counter-clockwise seen from the side it points to). Feature ids:
+/// vertex k, edge k, face 0.
+struct Triangle {
+  std::array<Vec3, 3> vertices{};  ///< local space
+};
+
+/// A validated triangle. Throws InvalidInput if a coordinate is not finite (naming the corner,
+/// "triangle vertex 2: not finite") or the triangle is degenerate: its area is at most
+/// kDegenerateAreaTolerance of its longest edge squared (repeated or collinear corners, slivers
+/// too thin to have a reliable plane).
+[[nodiscard]] Triangle make_triangle(Vec3 a, Vec3 b, Vec3 c);
+
+/// Bounding box of the triangle placed by `xf`, world space.
+[[nodiscard]] Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept;
+
+/// Unit normal of triangle (a, b, c) by the right-hand rule, (b - a) x (c - a) normalised
+/// (scaled first, so tiny triangles keep their direction); zero when the corners are collinear
+/// in float.
+[[nodiscard]] Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept;
+
+/// Closest point of triangle (a, b, c) to `p`, and its barycentric weights.
+struct TrianglePoint {
+  Vec3 point{0.0f};                  ///< closest point on the closed triangle, same space as input
+  Vec3 weights{1.0f, 0.0f, 0.0f};    ///< barycentric weights of a, b, c: >= 0, sum 1
+};
+
+/// The point of the closed triangle (a, b, c) nearest to `p`, found by testing which Voronoi
+/// region (vertex, edge or face) of the triangle holds `p` (Ericson, Real-Time Collision
+/// Detection, 5.1.5). Any winding; a degenerate triangle yields a nearest point of its edges.
+/// Inputs should be finite and expressed near the origin (shift large coordinates first).
+/// (`TriangleBvh::nearest` tests four triangles at once with a branch-free grouping of the same
+/// regions instead.)
+[[nodiscard]] TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept;
+
+/// Fraction in (0, max_fraction] at which `ray` (point = origin + fraction * translation)
+/// crosses the triangle (a, b, c), from either side; a negative value on a miss. All in one
+/// space (local: shift large coordinates first).
+///
+/// Watertight (Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2(1), 2013):
+/// the corners are moved to the ray's origin and sheared so the ray runs along the z axis, then
+/// the three edge functions are evaluated in 2D, recomputed in double when one is exactly zero.
+/// The edge function of an edge depends only on the edge's two corners and the ray, so
+/// triangles that share an edge (the same corner coordinates) see the same value with opposite
+/// sign: a ray through the edge or a vertex of a closed mesh hits at least one of the triangles
+/// around it, never slips between them.
+/// Edge behaviour: a point exactly on an edge or corner counts as inside (closed triangle), so
+/// such a ray hits every triangle that meets there (each at the same fraction).
+/// A ray starting exactly on the triangle (fraction 0) does not hit it: the ray must leave the
+/// surface to hit, as for every shape (see `raycast`). A ray in the triangle's plane does not
+/// hit it (its projection has no area; within rounding of the plane the answer may go either
+/// way). A ray of zero length or with a non-finite coordinate never hits.
+[[nodiscard]] float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c,
+                                          float max_fraction = 1.0f) noexcept;
+
+/// The triangle of a set (a TriangleBvh, a HeightField) that a ray crosses first.
+struct TriangleRayHit {
+  std::uint32_t triangle = std::numeric_limits<std::uint32_t>::max();  ///< triangle index; max() on a miss
+  float fraction = 0.0f;  ///< along the ray's translation, (0, max_fraction]; 0 on a miss
+  /// Unit geometric normal of the triangle, (b - a) x (c - a) normalised for its corners
+  /// (a, b, c) as given (the set's space); it may face either way along the ray. Zero on a miss.
+  Vec3 normal{0.0f};
+};
+
+/// Called by `TriangleBvh::ray_cast` and `HeightField::ray_cast` for each triangle the ray
+/// crosses within the current maximum fraction, with the triangle's index and the fraction of
+/// the crossing. Returns the new maximum fraction (Box2D and Jolt convention): the crossing's
+/// `fraction` to keep only nearer ones (closest hit), a value at or above the current maximum
+/// (1 always is) to go on unclipped (every hit), 0 (or less) to stop at once.
+using TriangleRayCallback = FunctionRef<float(std::uint32_t triangle, float fraction)>;
+
+}  // namespace collide

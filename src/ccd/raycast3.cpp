@@ -1,0 +1,404 @@
+// Ray casts against single 3D shapes, under the rules of the 2D ones (raycast.cpp): the ray is
+// moved into the shape's local frame first (subtract the position, then undo the rotation), all
+// work is local, the normal is rotated back once; the ray must *enter* the shape, so an origin
+// in the closed shape reports no hit, and so does a ray of zero length or with a NaN coordinate.
+
+#include <collide/ccd/raycast.hpp>
+
+#include <collide/core/tolerance.hpp>
+#include <collide/narrow/closest_point.hpp>
+
+#include "clip_ray.hpp"
+#include "ray_ball.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace collide {
+namespace {
+
+using LocalHit3 = detail::LocalHitN<3>;
+
+/// The local ray: origin and translation in the shape's frame.
+struct LocalRay3 {
+  Vec3 origin;
+  Vec3 translation;
+};
+
+LocalRay3 to_local(const Transform3& xf, const Ray3& ray) noexcept {
+  return {inv_transform_point(xf, ray.origin), inv_rotate(xf.q, ray.translation)};
+}
+
+RayHit3 to_world(const LocalHit3& h, const Transform3& xf, const Ray3& ray) noexcept {
+  if (!h.hit) return {};
+  RayHit3 out;
+  out.hit = true;
+  out.fraction = h.fraction;
+  out.point = ray.at(h.fraction);
+  out.normal = rotate(xf.q, h.normal);
+  return out;
+}
+
+/// A ball hit with its normal made unit: ray_ball divides the offset by the radius, and a ray
+/// from far away (relative to the radius) rounds that offset by more than the radius' float
+/// precision, so the quotient can be off unit length by eps * distance / radius.
+LocalHit3 unit_normal(LocalHit3 h) noexcept {
+  if (h.hit) h.normal = normalize_or_zero(h.normal);
+  return h;
+}
+
+/// Capsule: every point within r of the core a-b. The capsule lies inside the infinite cylinder
+/// of radius r about the core's line, so its entry is never before the cylinder's. Along the
+/// axis (x from a towards b) the capsule is the cylinder's stretch 0 <= x <= L plus the two end
+/// spheres. If the ray enters the cylinder beside the core, that is the answer. If it enters
+/// beyond end a (x < 0), it is inside the cylinder from then on until it leaves, and to reach
+/// any capsule point with x >= 0 it must cross the disc x = 0, which lies in a's sphere: so
+/// only a's sphere can be entered first (likewise past b, and for an origin inside the cylinder
+/// beyond an end). Ericson, Real-Time Collision Detection, 5.3.7.
+LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+  const Vec3 axis = capsule.b - capsule.a;
+  const float ll = length_squared(axis);  // x coordinates below are scaled by L^2
+  const float inv_ll = 1.0f / ll;
+  const float r = capsule.radius;
+  const Vec3 m = p - capsule.a;
+  const float m_axis = dot(m, axis);
+  const float d_axis = dot(d, axis);
+  const Vec3 m_perp = m - (m_axis * inv_ll) * axis;  // across the axis: the cylinder's view
+  const Vec3 d_perp = d - (d_axis * inv_ll) * axis;
+  float x_entry = m_axis;  // where the ray meets the cylinder, or the origin if inside it
+  if (length_squared(m_perp) > r * r) {
+    // Outside the cylinder: the 2D disc entry in the plane across the axis (the same
+    // closest-approach discriminant as ray_ball).
+    const float b = dot(m_perp, d_perp);
+    if (!(b < 0.0f)) return {};  // moving away from the axis, along it, or NaN
+    const float inv_aa = 1.0f / length_squared(d_perp);
+    const float tc = -b * inv_aa;
+    const Vec3 closest = m_perp + tc * d_perp;
+    const float disc = r * r - length_squared(closest);
+    if (disc < 0.0f) return {};  // misses the cylinder, hence the capsule
+    const float t = tc - std::sqrt(disc * inv_aa);
+    if (!(t <= 1.0f)) return {};
+    x_entry = m_axis + t * d_axis;
+    if (x_entry >= 0.0f && x_entry <= ll) {
+      // Normalised rather than divided by r: a ray from far away (relative to r) rounds the
+      // offset by more than r's float precision. A zero radius is a segment, grazed dead on:
+      // face the ray across the axis.
+      const Vec3 n = r > 0.0f ? normalize_or_zero(m_perp + t * d_perp) : -d_perp * std::sqrt(inv_aa);
+      return {true, t > 0.0f ? t : 0.0f, n};
+    }
+  } else if (m_axis >= 0.0f && m_axis <= ll) {
+    return {};  // starts in the closed capsule
+  }
+  const Vec3 end = x_entry < 0.0f ? capsule.a : capsule.b;
+  return unit_normal(detail::ray_ball<3>(p - end, d, r));
+}
+
+/// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general
+/// position their lines are skew, at distance |r . (d x e)| / |d x e| (r = p - a); the ray hits
+/// when that is within the tolerance and the closest points of the two lines fall within
+/// t in (0, 1] and s in [0, 1].
+LocalHit3 raycast_local(const Segment3& seg, Vec3 p, Vec3 d) noexcept {
+  const Vec3 e = seg.b - seg.a;
+  const Vec3 r = p - seg.a;
+  const float ee = length_squared(e);
+  const float dd = length_squared(d);
+  if (!(dd > 0.0f)) return {};
+  const float tol2 = kRelativeTolerance * kRelativeTolerance * (ee + dd);
+  const Vec3 n = cross(d, e);
+  const float nn = length_squared(n);
+  if (nn <= kParallelTolerance * kParallelTolerance * ee * dd) {
+    // Parallel: the distance of the origin from the segment's line decides.
+    if (!(length_squared(cross(r, e)) <= tol2 * ee)) return {};
+    const float s0 = dot(r, e) / ee;  // origin and rate along the segment, in segment lengths
+    const float ds = dot(d, e) / ee;
+    const Vec3 u = e * (1.0f / std::sqrt(ee));
+    if (s0 < 0.0f && ds > 0.0f && -s0 <= ds) return {true, -s0 / ds, -u};
+    if (s0 > 1.0f && ds < 0.0f && s0 - 1.0f <= -ds) return {true, (s0 - 1.0f) / -ds, u};
+    return {};  // heading away, too short, or starting on the segment
+  }
+  const float gap = dot(r, n);  // |d x e| times the distance between the lines
+  if (!(gap * gap <= tol2 * nn)) return {};
+  // Closest points of the two lines (the minimum of |r + t d - s e|^2, by Cramer's rule written
+  // with cross products): t = ((e x r) . n) / |n|^2, s = ((d x r) . n) / |n|^2.
+  const float t = dot(cross(e, r), n) / nn;
+  const float s = dot(cross(d, r), n) / nn;
+  // An origin within the tolerance of the crossing is on the segment: no entry.
+  if (!(t > 0.0f && t * t * dd > tol2 && t <= 1.0f && s >= 0.0f && s <= 1.0f)) return {};
+  // Across the segment in the common plane, facing the origin: -(d without its e component).
+  const Vec3 across = d - (dot(d, e) / ee) * e;
+  return {true, t, -across * (1.0f / length(across))};
+}
+
+/// Box (no radius): the slab test (Kay & Kajiya 1986; Williams et al., JGT 2005). On axis k
+/// the ray is between the box's faces for t between (-h - p) / d and (h - p) / d; the entry is
+/// the largest lower bound (its axis names the face), the box is missed if it exceeds the
+/// smallest upper bound. The lower bound starts at 0 and is raised only by an entry strictly
+/// after the origin, so an origin in the closed box (entries <= 0) reports no hit.
+LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
+  float t_in = 0.0f;
+  float t_out = 1.0f;
+  int axis = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0f) {
+      if (!(std::fabs(p[k]) <= half[k])) return {};  // parallel and outside the slab (or NaN)
+      continue;
+    }
+    const float inv = 1.0f / d[k];
+    const float t_near = (-std::copysign(half[k], d[k]) - p[k]) * inv;
+    const float t_far = (std::copysign(half[k], d[k]) - p[k]) * inv;
+    if (!(t_near <= t_far)) return {};  // NaN
+    if (t_near > t_in) {
+      t_in = t_near;
+      axis = k;
+    }
+    t_out = std::min(t_out, t_far);
+  }
+  if (axis < 0 || t_in > t_out) return {};
+  Vec3 n(0.0f);
+  n[axis] = d[axis] > 0.0f ? -1.0f : 1.0f;
+  return {true, t_in, n};
+}
+
+/// The first fraction in [t0, t1] at which the ray is within r of the core feature that is
+/// closest to it throughout that stretch, given by the axes the ray is outside of (side[k] =
+/// -1, +1, or 0 when within the half extent: a face for one outside axis, an edge for two, a
+/// corner for three). The offset from the feature is v(t) = m + t d on the outside axes (m =
+/// p - side * half there, 0 on the others), so the first fraction with |v| <= r is the smaller
+/// root of |m + t d|^2 = r^2, taken from the closest approach as in ray_ball (Haines et al.).
+/// Returns a negative fraction when the stretch stays farther than r.
+struct RegionEntry {
+  float fraction = -1.0f;
+  Vec3 normal{0.0f};
+};
+
+RegionEntry region_entry(Vec3 half, float r, Vec3 p, Vec3 d, float t0, float t1,
+                         const std::array<int, 3>& side) noexcept {
+  Vec3 m(0.0f), dm(0.0f);
+  for (int k = 0; k < 3; ++k) {
+    if (side[k] != 0) {
+      m[k] = p[k] - static_cast<float>(side[k]) * half[k];
+      dm[k] = d[k];
+    }
+  }
+  const Vec3 v0 = m + t0 * dm;
+  if (length_squared(v0) <= r * r) {
+    // Already within r at the start of the stretch (the core itself when no axis is outside).
+    const Vec3 n = normalize_or_zero(v0);
+    return {t0, n};
+  }
+  const float b = dot(v0, dm);  // rate of change of |v|^2 / 2 at t0
+  if (!(b < 0.0f)) return {};   // moving away from the feature: |v| only grows (convex)
+  const float inv_aa = 1.0f / length_squared(dm);
+  const float tc = -b * inv_aa;  // closest approach, relative to t0
+  const Vec3 closest = v0 + tc * dm;
+  const float disc = r * r - length_squared(closest);
+  if (disc < 0.0f) return {};
+  const float t = t0 + std::max(tc - std::sqrt(disc * inv_aa), 0.0f);
+  if (!(t <= t1)) return {};
+  return {t, normalize_or_zero(m + t * dm)};
+}
+
+/// Rounded box: every point within r of the core box [-h, h]. It lies inside the box grown by
+/// r (E), and differs from E only near E's edges and corners. Clip the ray by E's slabs: if it
+/// enters E at a point whose other two coordinates are within the core's half extents, that
+/// point is on the rounded box's flat face. Otherwise (or when the origin is inside E) follow
+/// the ray from there until it leaves E: a coordinate crosses a half extent at most twice, so
+/// at most 6 fractions cut the ray into stretches over each of which one core feature (face,
+/// edge or corner) is closest; region_entry solves each in order. The distance to the core
+/// is convex along the ray, so the first stretch that reaches r holds the entry. Exact up to
+/// rounding, with no approximation of the rounded edges and corners.
+LocalHit3 rounded_box_cast(Vec3 half, float r, Vec3 p, Vec3 d) noexcept {
+  const Vec3 grown = half + Vec3(r);
+  float t_in = 0.0f;
+  float t_out = 1.0f;
+  int axis = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0f) {
+      if (!(std::fabs(p[k]) <= grown[k])) return {};
+      continue;
+    }
+    const float inv = 1.0f / d[k];
+    const float t_near = (-std::copysign(grown[k], d[k]) - p[k]) * inv;
+    const float t_far = (std::copysign(grown[k], d[k]) - p[k]) * inv;
+    if (!(t_near <= t_far)) return {};
+    if (t_near > t_in) {
+      t_in = t_near;
+      axis = k;
+    }
+    t_out = std::min(t_out, t_far);
+  }
+  if (t_in > t_out) return {};
+  if (axis >= 0) {
+    const Vec3 q = p + t_in * d;
+    const int j = (axis + 1) % 3;
+    const int k = (axis + 2) % 3;
+    if (std::fabs(q[j]) <= half[j] && std::fabs(q[k]) <= half[k]) {
+      Vec3 n(0.0f);
+      n[axis] = d[axis] > 0.0f ? -1.0f : 1.0f;
+      return {true, t_in, n};
+    }
+  }
+  // The fractions in (t_in, t_out) where a coordinate crosses a half extent, in order.
+  std::array<float, 8> cuts{};
+  int count = 0;
+  cuts[count++] = t_in;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0f) continue;
+    for (const float h : {-half[k], half[k]}) {
+      const float t = (h - p[k]) / d[k];
+      if (!(t > t_in && t < t_out)) continue;
+      int i = count++;  // insertion: at most 6 cuts
+      for (; cuts[i - 1] > t; --i) cuts[i] = cuts[i - 1];
+      cuts[i] = t;
+    }
+  }
+  cuts[count++] = t_out;
+  for (int i = 0; i + 1 < count; ++i) {
+    const float t0 = cuts[i];
+    const float t1 = cuts[i + 1];
+    const Vec3 mid = p + (0.5f * (t0 + t1)) * d;  // the stretch's region, away from its ends
+    std::array<int, 3> side{};
+    for (int k = 0; k < 3; ++k) side[k] = mid[k] > half[k] ? 1 : (mid[k] < -half[k] ? -1 : 0);
+    const RegionEntry e = region_entry(half, r, p, d, t0, t1, side);
+    if (e.fraction < 0.0f) continue;
+    if (!(e.fraction > 0.0f)) return {};  // the origin is in the closed rounded box
+    return {true, e.fraction, e.normal};
+  }
+  return {};
+}
+
+LocalHit3 raycast_local(const Box& box, Vec3 p, Vec3 d) noexcept {
+  if (box.radius > 0.0f) return rounded_box_cast(box.half, box.radius, p, d);
+  return slab_cast(box.half, p, d);
+}
+
+/// Cyrus-Beck clipping of the ray by the hull's face planes pushed out by `offset`.
+detail::ClipResult clip_ray_hull(const ConvexHull& hull, Vec3 p, Vec3 d, float offset) noexcept {
+  return detail::clip_ray(static_cast<int>(hull.faces.size()), [&](int i) {
+    const HullFace& f = hull.faces[i];
+    return detail::PlaneCrossing{f.offset + offset - dot(f.normal, p), dot(f.normal, d)};
+  });
+}
+
+/// True when `x`, on the plane of face `f`, lies within the face's polygon (closed): behind
+/// the outward side of every edge, (w - v) x n for a counter-clockwise face.
+bool within_face(const ConvexHull& hull, const HullFace& f, Vec3 x) noexcept {
+  const HullVertexIndex* corners = hull.face_vertices.data() + f.first;
+  for (int k = 0; k < f.count; ++k) {
+    const Vec3 v = hull.vertices[corners[k]];
+    const Vec3 w = hull.vertices[corners[k + 1 < f.count ? k + 1 : 0]];
+    if (dot(cross(w - v, f.normal), x - v) > 0.0f) return false;
+  }
+  return true;
+}
+
+/// Rounded hull: every point within r of the core hull. It is the union of the core, one prism
+/// over each face (the face swept out along its normal by r: its top is the face pushed out by
+/// r) and one capsule of radius r around each edge (their end spheres are the rounded
+/// corners). A ray from outside enters it first through a prism's top or a capsule (a prism's
+/// sides lie inside the capsules of its edges; the core is inside the prisms). So the entry is
+/// the first over the tops and the capsules, each exact (raycast_local(Capsule3)).
+///
+/// Fast path: the pieces all lie inside the hull with every face pushed out by r (E), so the
+/// ray is first clipped by E's faces (Cyrus-Beck): no entry into E is a miss, and an entry
+/// through a pushed face beside its core face (the entry minus r along the normal lies within
+/// the face's polygon) is the answer, as for a rounded polygon in 2D. Otherwise (the entry is
+/// near an edge or corner, or named a face whose nearly coplanar neighbour it is really beside,
+/// the two being entered at fractions equal within rounding) all pieces are searched: faces
+/// turned towards the ray and edges with such a face (the surface normal at an edge lies
+/// between its two face normals), each capsule after a test of its bounding ball against the
+/// stretch of the ray still in question. An origin inside E is first tested against the core (point
+/// query): within r it is in the closed shape, no hit.
+LocalHit3 rounded_hull_cast(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
+  const float r = hull.radius;
+  const detail::ClipResult clip = clip_ray_hull(hull, p, d, r);
+  if (clip.plane >= 0) {
+    const HullFace& f = hull.faces[clip.plane];
+    if (within_face(hull, f, p + clip.fraction * d - r * f.normal)) {
+      return {true, clip.fraction, f.normal};
+    }
+  } else {
+    // A miss, or the origin inside E: then it may be inside the rounded hull (or NaN).
+    if (!clip.inside) return {};
+    if (!(closest_point(hull, Transform3{}, p).distance > 0.0f)) return {};
+  }
+  LocalHit3 best;
+  for (const HullFace& f : hull.faces) {
+    const float den = dot(f.normal, d);
+    const float num = f.offset + r - dot(f.normal, p);  // < 0: the origin is beyond the top
+    if (!(den < 0.0f && num < 0.0f)) continue;
+    const float t = num / den;
+    if (!(t <= 1.0f) || (best.hit && t >= best.fraction)) continue;
+    if (within_face(hull, f, p + t * d - r * f.normal)) best = {true, t, f.normal};
+  }
+  // The ray's stretch that can still hold the entry: from E's entry to the best so far.
+  const float t_from = clip.plane >= 0 ? clip.fraction : 0.0f;
+  const float inv_dd = 1.0f / length_squared(d);
+  for (const HullEdge& e : hull.edges) {
+    if (dot(hull.faces[e.face0].normal, d) >= 0.0f && dot(hull.faces[e.face1].normal, d) >= 0.0f) {
+      continue;
+    }
+    const Vec3 a = hull.vertices[e.v0];
+    const Vec3 b = hull.vertices[e.v1];
+    // Cheap rejection by the capsule's bounding ball (centre the edge's middle, radius
+    // |b - a| / 2 + r, squared at most 2 (|b - a|^2 / 4 + r^2)) against that stretch.
+    const Vec3 centre = 0.5f * (a + b);
+    const float t_to = best.hit ? best.fraction : 1.0f;
+    const float t = std::clamp(dot(centre - p, d) * inv_dd, t_from, t_to);
+    if (distance_squared(p + t * d, centre) > 0.5f * length_squared(b - a) + 2.0f * r * r) continue;
+    const LocalHit3 h = raycast_local(Capsule3{a, b, r}, p, d);
+    if (h.hit && (!best.hit || h.fraction < best.fraction)) best = h;
+  }
+  return best;
+}
+
+/// Hull (no radius): Cyrus-Beck clipping by its face planes; the entering face's normal.
+LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
+  if (hull.radius > 0.0f) return rounded_hull_cast(hull, p, d);
+  const detail::ClipResult clip = clip_ray_hull(hull, p, d, 0.0f);
+  if (clip.plane < 0) return {};
+  return {true, clip.fraction, hull.faces[clip.plane].normal};
+}
+
+/// Shapes with a frame: cast in the local frame, rotate the normal back.
+template <class S>
+RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
+  const LocalRay3 local = to_local(xf, ray);
+  if (!(length_squared(local.translation) > 0.0f)) return {};
+  return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
+}
+
+/// A ball looks the same in every frame: only the origin is made relative to the centre, as
+/// (origin - p) - R c so that large coordinates cancel first. No rotation of the ray or the
+/// normal.
+RayHit3 raycast_placed(const Sphere& sphere, const Transform3& xf, const Ray3& ray) noexcept {
+  const Vec3 m = (ray.origin - xf.p) - rotate(xf.q, sphere.center);
+  const LocalHit3 h = unit_normal(detail::ray_ball<3>(m, ray.translation, sphere.radius));
+  if (!h.hit) return {};
+  RayHit3 out;
+  out.hit = true;
+  out.fraction = h.fraction;
+  out.point = ray.at(h.fraction);
+  out.normal = h.normal;
+  return out;
+}
+
+}  // namespace
+
+template <Shape3DType S>
+RayHit3 raycast(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
+  return raycast_placed(shape, xf, ray);
+}
+
+template RayHit3 raycast(const Sphere&, const Transform3&, const Ray3&) noexcept;
+template RayHit3 raycast(const Capsule3&, const Transform3&, const Ray3&) noexcept;
+template RayHit3 raycast(const Segment3&, const Transform3&, const Ray3&) noexcept;
+template RayHit3 raycast(const Box&, const Transform3&, const Ray3&) noexcept;
+template RayHit3 raycast(const ConvexHull&, const Transform3&, const Ray3&) noexcept;
+
+RayHit3 raycast(const Shape3D& shape, const Transform3& xf, const Ray3& ray) noexcept {
+  return std::visit([&](const auto& s) { return raycast(s, xf, ray); }, shape);
+}
+
+}  // namespace collide

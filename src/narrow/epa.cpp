@@ -1,0 +1,343 @@
+#include <collide/narrow/epa.hpp>
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+namespace collide {
+
+void EpaPolytope::set_face(int f, int a, int b, int c) noexcept {
+  Face& face = faces_[f];
+  face.v = {a, b, c};
+  face.live = true;
+  const Vec3 pa = vertices_[a].w;
+  const Vec3 n = cross(vertices_[b].w - pa, vertices_[c].w - pa);
+  const float len = length(n);
+  if (len > 0.0f) {
+    face.normal = n * (1.0f / len);
+    // The plane through the three vertices: their mean distance, so no vertex is favoured.
+    face.distance = (dot(face.normal, pa) + dot(face.normal, vertices_[b].w) +
+                     dot(face.normal, vertices_[c].w)) *
+                    (1.0f / 3.0f);
+  } else {
+    // No area: no direction of its own. It is never the nearest face, and the next vertex
+    // whose patch reaches it removes it (add); its neighbours carry the polytope's shape.
+    face.normal = Vec3(0.0f);
+    face.distance = INFINITY;
+  }
+}
+
+int EpaPolytope::new_face() noexcept {
+  if (free_count_ > 0) return free_[--free_count_];
+  if (face_slots_ == kEpaMaxFaces) return -1;
+  return face_slots_++;
+}
+
+bool EpaPolytope::init_triangle(const GjkVertexN<3>& a, const GjkVertexN<3>& b,
+                                const GjkVertexN<3>& c) noexcept {
+  if (!(length_squared(cross(b.w - a.w, c.w - a.w)) > 0.0f)) return false;
+  vertices_[0] = a;
+  vertices_[1] = b;
+  vertices_[2] = c;
+  vertex_count_ = 3;
+  face_slots_ = 2;
+  free_count_ = 0;
+  // Face 0 is (0, 1, 2), face 1 the same triangle seen from the other side, (0, 2, 1). Edge k
+  // of face 0 runs from v[k] to v[k + 1]; its twin on face 1: 0->1 is edge 2 (1->0), 1->2 is
+  // edge 1 (2->1), 2->0 is edge 0 (0->2). Each face is the other's neighbour across every edge.
+  set_face(0, 0, 1, 2);
+  set_face(1, 0, 2, 1);
+  faces_[0].adj = {1, 1, 1};
+  faces_[1].adj = {0, 0, 0};
+  return true;
+}
+
+int EpaPolytope::closest_face() const noexcept {
+  int best = -1;
+  float best_distance = INFINITY;
+  for (int i = 0; i < face_slots_; ++i) {
+    if (faces_[i].live && faces_[i].distance < best_distance) {
+      best = i;
+      best_distance = faces_[i].distance;
+    }
+  }
+  // Every face degenerate cannot happen on a polytope with volume; fall back to any live one.
+  if (best < 0) {
+    for (int i = 0; i < face_slots_ && best < 0; ++i) {
+      if (faces_[i].live) best = i;
+    }
+  }
+  return best;
+}
+
+int EpaPolytope::face_facing(Vec3 p) const noexcept {
+  int best = -1;
+  float best_height = -INFINITY;
+  for (int i = 0; i < face_slots_; ++i) {
+    const Face& f = faces_[i];
+    if (!f.live) continue;
+    const float height = dot(f.normal, p - vertices_[f.v[0]].w);
+    if (height > best_height) {
+      best = i;
+      best_height = height;
+    }
+  }
+  return best;
+}
+
+// Adding a vertex (van den Bergen 2003, 4.3.5): the faces w sees form a connected patch around
+// `face` (found by a flood fill over the face adjacency, which keeps it connected even when
+// rounding blurs which nearly coplanar faces w sees); their edges whose other face is not seen
+// form the horizon, one loop; each horizon edge (a, b) becomes the triangle (a, b, w). Every
+// check comes before the first change, so a refusal leaves the polytope as it was.
+bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
+  if (face < 0 || vertex_count_ == kEpaMaxVertices) return false;
+  // 1. The visible patch.
+  std::array<unsigned char, kEpaMaxFaces> seen{};  // 0 unknown, 1 visible, 2 hidden
+  std::array<int, kEpaMaxFaces> stack;              // NOLINT: filled before read
+  std::array<int, kEpaMaxFaces> patch;              // NOLINT: filled before read
+  int stack_size = 0;
+  int patch_size = 0;
+  seen[face] = 1;
+  stack[stack_size++] = face;
+  while (stack_size > 0) {
+    const int f = stack[--stack_size];
+    patch[patch_size++] = f;
+    for (int k = 0; k < 3; ++k) {
+      const int g = faces_[f].adj[k];
+      if (seen[g] != 0) continue;
+      const Face& fg = faces_[g];
+      // A face without area (three collinear vertices) goes with the patch that reaches it:
+      // it covers nothing, and keeping it would leave the fan to fold around it.
+      const bool visible = fg.normal == Vec3(0.0f) ||
+                           dot(fg.normal, w.w - vertices_[fg.v[0]].w) > 0.0f;
+      seen[g] = visible ? 1 : 2;
+      if (visible) stack[stack_size++] = g;
+    }
+  }
+  // 2. The horizon: edges of the patch whose other face is hidden, with that face. Indexed by
+  // the edge's first vertex, so that each new triangle finds its neighbours in O(1), and a
+  // vertex met twice (a border that is not one loop) is noticed.
+  std::array<int, kEpaMaxVertices> edge_from;  // horizon edge index starting at a vertex
+  edge_from.fill(-1);
+  std::array<int, kEpaMaxFaces> edge_a;   // NOLINT: filled before read
+  std::array<int, kEpaMaxFaces> edge_b;   // NOLINT
+  std::array<int, kEpaMaxFaces> outside;  // NOLINT
+  int edges = 0;
+  for (int i = 0; i < patch_size; ++i) {
+    const Face& f = faces_[patch[i]];
+    for (int k = 0; k < 3; ++k) {
+      const int g = f.adj[k];
+      if (seen[g] == 1) continue;
+      const int a = f.v[k];
+      if (edge_from[a] >= 0) return false;  // the border touches itself
+      edge_from[a] = edges;
+      edge_a[edges] = a;
+      edge_b[edges] = f.v[(k + 1) % 3];
+      outside[edges] = g;
+      ++edges;
+    }
+  }
+  if (edges < 3) return false;
+  // One closed loop: from edge 0, following each edge's end to the edge that starts there
+  // comes back to edge 0 after visiting every edge (starts are unique, so this is a
+  // permutation; a single cycle means the border is one loop).
+  {
+    int e = 0;
+    int steps = 0;
+    do {
+      e = edge_from[edge_b[e]];
+      if (e < 0) return false;
+      ++steps;
+    } while (e != 0 && steps <= edges);
+    if (e != 0 || steps != edges) return false;
+  }
+  // Capacity: the patch's slots are freed, one face per horizon edge is needed.
+  const int available = (kEpaMaxFaces - face_slots_) + free_count_ + patch_size;
+  if (edges > available) return false;
+
+  // 3. Commit: remove the patch, add w, fan from it.
+  for (int i = 0; i < patch_size; ++i) {
+    faces_[patch[i]].live = false;
+    free_[free_count_++] = patch[i];
+  }
+  const int wi = vertex_count_++;
+  vertices_[wi] = w;
+  std::array<int, kEpaMaxFaces> made;  // NOLINT: new face of each horizon edge
+  for (int e = 0; e < edges; ++e) {
+    made[e] = new_face();
+    set_face(made[e], edge_a[e], edge_b[e], wi);
+  }
+  for (int e = 0; e < edges; ++e) {
+    Face& nf = faces_[made[e]];
+    const int a = edge_a[e];
+    const int b = edge_b[e];
+    // Edge 0 (a -> b): the hidden face beyond the horizon, whose edge b -> a now borders nf.
+    const int g = outside[e];
+    nf.adj[0] = g;
+    Face& fg = faces_[g];
+    for (int k = 0; k < 3; ++k) {
+      if (fg.v[k] == b && fg.v[(k + 1) % 3] == a) fg.adj[k] = made[e];
+    }
+    // Edge 1 (b -> w): the new face of the horizon edge starting at b (its edge 2, w -> b).
+    nf.adj[1] = made[edge_from[b]];
+    // Edge 2 (w -> a): the new face of the horizon edge ending at a (its edge 1, a -> w).
+    nf.adj[2] = -1;
+  }
+  for (int e = 0; e < edges; ++e) {
+    faces_[faces_[made[e]].adj[1]].adj[2] = made[e];
+  }
+  return true;
+}
+
+namespace {
+
+/// Barycentric coordinates of the point of triangle (a, b, c) closest to the origin, by its
+/// Voronoi regions (Ericson, Real-Time Collision Detection, 5.1.5), and that point's squared
+/// distance.
+float closest_on_triangle(Vec3 a, Vec3 b, Vec3 c, Vec3& lambda) noexcept {
+  const Vec3 ab = b - a;
+  const Vec3 ac = c - a;
+  const float d1 = -dot(ab, a);
+  const float d2 = -dot(ac, a);
+  if (d1 <= 0.0f && d2 <= 0.0f) {
+    lambda = {1.0f, 0.0f, 0.0f};
+  } else {
+    const float d3 = -dot(ab, b);
+    const float d4 = -dot(ac, b);
+    const float d5 = -dot(ab, c);
+    const float d6 = -dot(ac, c);
+    const float vc = d1 * d4 - d3 * d2;
+    const float vb = d5 * d2 - d1 * d6;
+    const float va = d3 * d6 - d5 * d4;
+    if (d3 >= 0.0f && d4 <= d3) {
+      lambda = {0.0f, 1.0f, 0.0f};
+    } else if (d6 >= 0.0f && d5 <= d6) {
+      lambda = {0.0f, 0.0f, 1.0f};
+    } else if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+      const float v = d1 / (d1 - d3);
+      lambda = {1.0f - v, v, 0.0f};
+    } else if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+      const float w = d2 / (d2 - d6);
+      lambda = {1.0f - w, 0.0f, w};
+    } else if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+      const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      lambda = {0.0f, 1.0f - w, w};
+    } else {
+      const float sum = va + vb + vc;
+      if (!(sum > 0.0f)) {
+        lambda = {1.0f, 0.0f, 0.0f};
+      } else {
+        const float inv = 1.0f / sum;
+        lambda = {va * inv, vb * inv, vc * inv};
+      }
+    }
+  }
+  const Vec3 p = lambda.x * a + lambda.y * b + lambda.z * c;
+  return dot(p, p);
+}
+
+}  // namespace
+
+int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
+  const Face& ref = faces_[f];
+  int best = f;
+  Vec3 lambda;
+  float best_d2 = closest_on_triangle(vertices_[ref.v[0]].w, vertices_[ref.v[1]].w,
+                                      vertices_[ref.v[2]].w, lambda);
+  for (int i = 0; i < face_slots_; ++i) {
+    const Face& g = faces_[i];
+    if (i == f || !g.live || !(std::fabs(g.distance - ref.distance) <= tol) ||
+        !(dot(g.normal, ref.normal) > 0.0f) ||
+        !(length(cross(g.normal, ref.normal)) <= kParallelTolerance)) {
+      continue;
+    }
+    const float d2 = closest_on_triangle(vertices_[g.v[0]].w, vertices_[g.v[1]].w,
+                                         vertices_[g.v[2]].w, lambda);
+    if (d2 < best_d2) {
+      best = i;
+      best_d2 = d2;
+    }
+  }
+  return best;
+}
+
+void EpaPolytope::witness_points(int i, Vec3& pa, Vec3& pb) const noexcept {
+  const Face& f = faces_[i];
+  const GjkVertexN<3>& v0 = vertices_[f.v[0]];
+  const GjkVertexN<3>& v1 = vertices_[f.v[1]];
+  const GjkVertexN<3>& v2 = vertices_[f.v[2]];
+  // The origin's projection on the plane, and its barycentric coordinates from the signed
+  // areas of the sub-triangles it makes (Ericson 3.4).
+  const Vec3 p = f.distance * f.normal;
+  const float l0 = dot(cross(v1.w - p, v2.w - p), f.normal);
+  const float l1 = dot(cross(v2.w - p, v0.w - p), f.normal);
+  const float l2 = dot(cross(v0.w - p, v1.w - p), f.normal);
+  const float sum = l0 + l1 + l2;  // twice the area: > 0 for a face with a normal
+  if (!(sum > 0.0f)) {
+    pa = v0.wa;
+    pb = v0.wb;
+    return;
+  }
+  const float inv = 1.0f / sum;
+  pa = (l0 * inv) * v0.wa + (l1 * inv) * v1.wa + (l2 * inv) * v2.wa;
+  pb = (l0 * inv) * v0.wb + (l1 * inv) * v1.wb + (l2 * inv) * v2.wb;
+}
+
+PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
+                                   const ConvexProxy3& b, const Transform3& xb) noexcept {
+  COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "penetration: proxies must hold points");
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "penetration: transforms must be finite rigid");
+  const Frame3 b_in_a = to_frame(inv_mul(xa, xb));
+  const float ra = a.radius();
+  const float rb = b.radius();
+
+  GjkSimplexN<3> s;
+  s.v[0] = gjk_seed_vertex<3>(a, b, b_in_a);
+  s.count = 1;
+  const float scale = gjk_scale<3>(s.v[0], ra + rb);
+  PenetrationResult3 out;
+  int gjk_iterations = 0;
+  const GjkEnd end = run_gjk<3>(a, b, b_in_a, s, scale, GjkRunToEnd{}, gjk_iterations);
+  out.iterations = gjk_iterations + 1;  // the seed's support evaluation counts too
+
+  Vec3 pa;
+  Vec3 pb;
+  Vec3 n;
+  float depth = 0.0f;
+  gjk_witness_points(s, pa, pb);
+  const Vec3 delta = pb - pa;
+  const float core_distance = length(delta);
+  if (end != GjkEnd::overlapped && core_distance > 0.0f) {
+    // Cores apart: the radii decide, and GJK and EPA cannot disagree on the sign.
+    n = delta * (1.0f / core_distance);
+    depth = ra + rb - core_distance;
+    out.status = end == GjkEnd::max_iterations ? QueryStatus::max_iterations
+                 : depth >= 0.0f               ? QueryStatus::overlapped
+                                               : QueryStatus::separated;
+  } else {
+    const EpaResult e = run_epa(a, b, b_in_a, s, scale);
+    out.iterations += e.iterations;
+    out.status = e.status;
+    n = e.normal;
+    depth = e.depth + ra + rb;
+    pa = e.point_a;
+    pb = e.point_b;
+  }
+  out.depth = depth;
+  out.normal = rotate(xa.q, n);
+  out.point_a = transform_point(xa, pa + ra * n);
+  out.point_b = transform_point(xa, pb - rb * n);
+  return out;
+}
+
+PenetrationResult3 penetration(const Shape3D& a, const Transform3& xa, const Shape3D& b,
+                               const Transform3& xb) noexcept {
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return penetration(sa, xa, sb, xb); }, a, b);
+}
+
+}  // namespace collide

@@ -1,0 +1,656 @@
+#include <collide/shape/triangle_bvh.hpp>
+
+#include "watertight_ray.hpp"
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
+
+namespace collide {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+Aabb3 triangle_box(const std::array<Vec3, 3>& t) noexcept {
+  return {glm::min(glm::min(t[0], t[1]), t[2]), glm::max(glm::max(t[0], t[1]), t[2])};
+}
+
+/// A node of the binary tree the build makes first.
+struct BinaryNode {
+  Aabb3 bounds;
+  std::uint32_t first = 0;  ///< leaf: first slot of `order`; inner: index of the left child (right is next)
+  std::uint32_t count = 0;  ///< leaf: number of triangles (1..kBvhLeafTriangles); inner: 0
+};
+
+/// Top-down binary build. Every node of more than kBvhLeafTriangles triangles is split: at the
+/// best of kBvhBins - 1 planes per axis by the binned surface area heuristic (Wald 2007), cost
+///   area(left) * count(left) + area(right) * count(right),
+/// or at the median of the longest centroid axis when SAH has no valid plane (all centroids in
+/// one bin, equal centroids) or the node is kBvhMaxSahDepth deep (which bounds the depth).
+/// `order` comes out permuted so that each leaf's triangles are a contiguous range.
+/// Centroids are box centres (halves added: finite for any finite corners, where the mean of
+/// three corners near 3.4e38 overflows), a NaN coordinate (from non-finite input) counts as
+/// +inf, and bins are chosen without converting a NaN or infinity to int: so the sort order is a
+/// strict weak one and the median split always halves, whatever the input.
+std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
+  const std::size_t n = corners.size();
+  std::vector<Vec3> centroids(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Aabb3 box = triangle_box(corners[i]);
+    centroids[i] = 0.5f * box.min + 0.5f * box.max;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::isnan(centroids[i][axis])) centroids[i][axis] = kInfinity;
+    }
+  }
+  order.resize(n);
+  std::iota(order.begin(), order.end(), 0u);
+
+  struct Work {
+    std::uint32_t node, begin, end;
+    int depth;
+  };
+  std::vector<BinaryNode> nodes;
+  std::vector<Work> work;
+  nodes.reserve(2 * n);
+  nodes.push_back({});
+  work.push_back({0, 0, static_cast<std::uint32_t>(n), 0});
+  while (!work.empty()) {
+    const Work w = work.back();
+    work.pop_back();
+    Aabb3 box = triangle_box(corners[order[w.begin]]);
+    Aabb3 centroid_box{centroids[order[w.begin]], centroids[order[w.begin]]};
+    for (std::uint32_t i = w.begin + 1; i < w.end; ++i) {
+      box = merge(box, triangle_box(corners[order[i]]));
+      centroid_box = merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
+    }
+    nodes[w.node].bounds = box;
+    const std::uint32_t count = w.end - w.begin;
+    if (count <= kBvhLeafTriangles) {
+      nodes[w.node].first = w.begin;
+      nodes[w.node].count = count;
+      continue;
+    }
+    const Vec3 spread = centroid_box.size();
+    struct Bin {
+      Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
+      std::uint32_t count = 0;
+    };
+    // A leaf's triangles are tested four at a time, so a side costs its count in packets.
+    auto packets = [](std::uint32_t c) { return static_cast<float>((c + kBvhLeafTriangles - 1) / kBvhLeafTriangles); };
+    float best_cost = std::numeric_limits<float>::max();
+    int best_axis = -1;
+    float best_plane = 0.0f;
+    for (int axis = 0; axis < 3 && w.depth < kBvhMaxSahDepth; ++axis) {
+      if (!(spread[axis] > 0.0f)) continue;
+      std::array<Bin, kBvhBins> bins{};
+      const float scale = static_cast<float>(kBvhBins) / spread[axis];
+      auto bin_of = [&](std::uint32_t tri) {
+        const float b = (centroids[tri][axis] - centroid_box.min[axis]) * scale;  // NaN goes to bin 0
+        return b >= 1.0f ? (b < static_cast<float>(kBvhBins) ? static_cast<int>(b) : kBvhBins - 1) : 0;
+      };
+      for (std::uint32_t i = w.begin; i < w.end; ++i) {
+        Bin& bin = bins[bin_of(order[i])];
+        bin.box = merge(bin.box, triangle_box(corners[order[i]]));
+        ++bin.count;
+      }
+      std::array<float, kBvhBins> right_cost{};
+      Bin right;
+      for (int b = kBvhBins - 1; b > 0; --b) {
+        right.box = merge(right.box, bins[b].box);
+        right.count += bins[b].count;
+        right_cost[b] = right.count ? surface_metric(right.box) * packets(right.count) : 0.0f;
+      }
+      Bin left;
+      for (int b = 0; b < kBvhBins - 1; ++b) {
+        left.box = merge(left.box, bins[b].box);
+        left.count += bins[b].count;
+        if (left.count == 0 || left.count == count) continue;
+        const float cost = surface_metric(left.box) * packets(left.count) + right_cost[b + 1];
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_axis = axis;
+          best_plane = centroid_box.min[axis] + static_cast<float>(b + 1) / scale;
+        }
+      }
+    }
+    std::uint32_t mid = w.begin;
+    if (best_axis >= 0) {
+      const auto split = std::partition(order.begin() + w.begin, order.begin() + w.end,
+                                        [&](std::uint32_t tri) { return centroids[tri][best_axis] < best_plane; });
+      mid = static_cast<std::uint32_t>(split - order.begin());
+    }
+    if (mid == w.begin || mid == w.end) {  // no SAH plane (or a float edge case): median split
+      const int axis = spread.x >= spread.y ? (spread.x >= spread.z ? 0 : 2) : (spread.y >= spread.z ? 1 : 2);
+      mid = w.begin + count / 2;
+      std::nth_element(order.begin() + w.begin, order.begin() + mid, order.begin() + w.end,
+                       [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    }
+    const auto left = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[w.node].first = left;
+    nodes[w.node].count = 0;
+    work.push_back({left + 1, mid, w.end, w.depth + 1});
+    work.push_back({left, w.begin, mid, w.depth + 1});
+  }
+  return nodes;
+}
+
+// Four lanes of float: one SIMD register with GCC and Clang (generic vector extension: SSE on
+// x86, NEON on ARM), a plain array with lane loops elsewhere. Only what the queries below use.
+// min(a, b) and max(a, b) return b when a is NaN (as SSE minps / maxps do): the ray slab test
+// relies on it to ignore the NaN of an axis the ray does not move along.
+#if defined(__GNUC__) || defined(__clang__)
+using Lanes = float __attribute__((vector_size(16)));
+using LaneMask = std::int32_t __attribute__((vector_size(16)));
+inline Lanes load(const std::array<float, 4>& a) noexcept {
+  Lanes v;
+  __builtin_memcpy(&v, a.data(), sizeof(Lanes));
+  return v;
+}
+inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
+inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
+inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
+/// Bit k set where lane k of the mask is.
+inline unsigned lane_bits(LaneMask m) noexcept {
+#if defined(__SSE__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+  return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
+#endif
+}
+/// The smallest lane, in every lane.
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
+  return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
+}
+#else
+struct Lanes {
+  std::array<float, 4> v;
+  float operator[](int k) const noexcept { return v[k]; }
+};
+struct LaneMask {
+  std::array<bool, 4> v;
+};
+template <class F>
+inline Lanes lanewise(F f) noexcept {
+  return {{f(0), f(1), f(2), f(3)}};
+}
+inline Lanes load(const std::array<float, 4>& a) noexcept { return {a}; }
+inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
+inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] + b.v[k]; }); }
+inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
+inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
+inline Lanes operator/(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] / b.v[k]; }); }
+inline LaneMask operator>=(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] >= b.v[0], a.v[1] >= b.v[1], a.v[2] >= b.v[2], a.v[3] >= b.v[3]}};
+}
+inline LaneMask operator>(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] > b.v[0], a.v[1] > b.v[1], a.v[2] > b.v[2], a.v[3] > b.v[3]}};
+}
+inline LaneMask operator&(LaneMask a, LaneMask b) noexcept {
+  return {{a.v[0] && b.v[0], a.v[1] && b.v[1], a.v[2] && b.v[2], a.v[3] && b.v[3]}};
+}
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] < b.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] > b.v[k] ? a.v[k] : b.v[k]; }); }
+inline LaneMask operator<(Lanes a, Lanes b) noexcept { return b > a; }
+inline LaneMask operator<=(Lanes a, Lanes b) noexcept { return b >= a; }
+inline LaneMask operator|(LaneMask a, LaneMask b) noexcept {
+  return {{a.v[0] || b.v[0], a.v[1] || b.v[1], a.v[2] || b.v[2], a.v[3] || b.v[3]}};
+}
+inline LaneMask operator==(Lanes a, Lanes b) noexcept {
+  return {{a.v[0] == b.v[0], a.v[1] == b.v[1], a.v[2] == b.v[2], a.v[3] == b.v[3]}};
+}
+inline unsigned lane_bits(LaneMask m) noexcept { return m.v[0] | m.v[1] << 1 | m.v[2] << 2 | m.v[3] << 3; }
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const float m = std::min(std::min(a.v[0], a.v[1]), std::min(a.v[2], a.v[3]));
+  return splat(m);
+}
+#endif
+
+/// A 3D vector of lanes: four points or directions at once.
+struct Vec3Lanes {
+  Lanes x, y, z;
+};
+inline Vec3Lanes operator-(const Vec3Lanes& a, const Vec3Lanes& b) noexcept { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3Lanes operator*(Lanes s, const Vec3Lanes& a) noexcept { return {s * a.x, s * a.y, s * a.z}; }
+inline Lanes dot(const Vec3Lanes& a, const Vec3Lanes& b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3Lanes cross(const Vec3Lanes& a, const Vec3Lanes& b) noexcept {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+/// Edge lengths squared at or below this count as zero in the segment distance (the parameter
+/// along a zero-length edge is then 0: the distance to its one point). The smallest normal float.
+constexpr float kMinEdgeLengthSquared = std::numeric_limits<float>::min();
+
+/// Squared distance from p to the closed segment u + t e, t in [0, 1], for w = p - u.
+inline Lanes segment_distance_squared(const Vec3Lanes& w, const Vec3Lanes& e) noexcept {
+  const Lanes t = min(max(dot(w, e) / max(dot(e, e), splat(kMinEdgeLengthSquared)), splat(0.0f)), splat(1.0f));
+  const Vec3Lanes d = w - t * e;
+  return dot(d, d);
+}
+
+
+/// Corners of four triangles as lanes: [corner][axis][lane].
+using CornerLanes = std::array<std::array<std::array<float, 4>, 3>, 3>;
+
+/// Exact squared distance from p to each of four closed triangles, without branches. Per lane,
+/// for the triangle (a, b, c) with normal n = (b - a) x (c - a):
+///   if n != 0 and p projects into the triangle (for every edge u -> v:
+///       dot(n, (v - u) x (p - u)) >= 0),   the distance is to the plane:
+///       d^2 = dot(p - a, n)^2 / dot(n, n);
+///   otherwise the nearest point lies on the boundary:
+///       d^2 = min over the three edges of the squared distance to the segment.
+/// (The Voronoi regions of Ericson 5.1.5 in another grouping: the face region is where all three
+/// edge tests pass; every other region's nearest point is on an edge or at a vertex, and the
+/// nearest of the three clamped segment points is it.)
+inline Lanes triangle_distance_squared(const CornerLanes& t, const Vec3Lanes& p) noexcept {
+  const Vec3Lanes a{load(t[0][0]), load(t[0][1]), load(t[0][2])};
+  const Vec3Lanes b{load(t[1][0]), load(t[1][1]), load(t[1][2])};
+  const Vec3Lanes c{load(t[2][0]), load(t[2][1]), load(t[2][2])};
+  const Vec3Lanes ab = b - a, bc = c - b, ca = a - c;
+  const Vec3Lanes ap = p - a, bp = p - b, cp = p - c;
+  const Vec3Lanes n = cross(ab, c - a);
+  const Lanes nn = dot(n, n);
+  const Lanes zero = splat(0.0f);
+  const auto inside = (nn > zero) & (dot(n, cross(ab, ap)) >= zero) & (dot(n, cross(bc, bp)) >= zero) &
+                      (dot(n, cross(ca, cp)) >= zero);
+  const Lanes height = dot(ap, n);
+  const Lanes plane = height * (height / nn);  // (used only where nn > 0)
+  const Lanes edges = min(min(segment_distance_squared(ap, ab), segment_distance_squared(bp, bc)),
+                          segment_distance_squared(cp, ca));
+  return select(inside, plane, edges);
+}
+
+/// The nearest point of the closed triangle (a, b, c) to p and its weights, by the same region
+/// test as triangle_distance_squared (one lane of it): the plane projection when p projects
+/// into the triangle, else the nearest of the three clamped edge points. Its squared distance is
+/// the one the search compared, so the winner's reported distance is the one that won.
+TrianglePoint closest_point_by_projection_or_edges(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const Vec3 ap = p - a, bp = p - b, cp = p - c;
+  const Vec3 n = glm::cross(ab, c - a);
+  const float nn = glm::dot(n, n);
+  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection.
+  const float wa = glm::dot(n, glm::cross(bc, bp)), wb = glm::dot(n, glm::cross(ca, cp)),
+              wc = glm::dot(n, glm::cross(ab, ap));
+  if (nn > 0.0f && wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) {
+    return {p - n * (glm::dot(ap, n) / nn), Vec3(wa, wb, wc) / (wa + wb + wc)};
+  }
+  auto parameter = [](Vec3 w, Vec3 e) {
+    return std::clamp(glm::dot(w, e) / std::max(glm::dot(e, e), kMinEdgeLengthSquared), 0.0f, 1.0f);
+  };
+  const float t_ab = parameter(ap, ab), t_bc = parameter(bp, bc), t_ca = parameter(cp, ca);
+  const Vec3 on_ab = ap - t_ab * ab, on_bc = bp - t_bc * bc, on_ca = cp - t_ca * ca;  // p minus each edge point
+  const float d_ab = glm::dot(on_ab, on_ab), d_bc = glm::dot(on_bc, on_bc), d_ca = glm::dot(on_ca, on_ca);
+  if (d_ab <= d_bc && d_ab <= d_ca) return {a + t_ab * ab, {1.0f - t_ab, t_ab, 0.0f}};
+  if (d_bc <= d_ca) return {b + t_bc * bc, {0.0f, 1.0f - t_bc, t_bc}};
+  return {c + t_ca * ca, {t_ca, 0.0f, 1.0f - t_ca}};
+}
+
+}  // namespace
+
+TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
+  const std::size_t n = triangles.size();
+  triangle_count_ = n;
+  if (n == 0) return;
+  std::vector<std::array<Vec3, 3>> corners(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    corners[i] = {positions[triangles[i].x], positions[triangles[i].y], positions[triangles[i].z]};
+  }
+  std::vector<std::uint32_t> order;
+  const std::vector<BinaryNode> binary = build_binary(corners, order);
+  bounds_ = binary[0].bounds;
+
+  // Collapse to four-wide nodes: a node takes its binary node's two children, then repeatedly
+  // replaces its inner child of largest surface area by that child's two children, up to four.
+  // Nodes and packets are numbered depth first, so a subtree is contiguous in memory.
+  nodes_.reserve(binary.size() / 2 + 1);
+  packets_.reserve(binary.size() / 2 + 1);
+  struct Work {
+    std::uint32_t binary, node;  // binary node to collapse into wide node `node`
+  };
+  std::vector<Work> work{{0, 0}};
+  nodes_.push_back({});
+  while (!work.empty()) {
+    const Work w = work.back();
+    work.pop_back();
+    std::array<std::uint32_t, kBvhWidth> children{};
+    int count = 0;
+    if (binary[w.binary].count > 0) {
+      children[count++] = w.binary;  // a root that is one leaf
+    } else {
+      children[count++] = binary[w.binary].first;
+      children[count++] = binary[w.binary].first + 1;
+    }
+    while (count < kBvhWidth) {
+      int open = -1;
+      float open_area = -1.0f;
+      for (int k = 0; k < count; ++k) {
+        const BinaryNode& c = binary[children[k]];
+        if (c.count == 0 && surface_metric(c.bounds) > open_area) {
+          open = k;
+          open_area = surface_metric(c.bounds);
+        }
+      }
+      if (open < 0) break;
+      const std::uint32_t left = binary[children[open]].first;
+      children[open] = left;
+      children[count++] = left + 1;
+    }
+    Node node;
+    for (int row = 0; row < 6; ++row) node.box[row].fill(row < 3 ? kInfinity : -kInfinity);
+    node.child.fill(kEmpty);
+    node.count.fill(0);
+    std::array<std::uint32_t, kBvhWidth> pending{};
+    int pending_count = 0;
+    for (int k = 0; k < count; ++k) {
+      const BinaryNode& c = binary[children[k]];
+      for (int axis = 0; axis < 3; ++axis) {
+        node.box[kMinX + axis][k] = c.bounds.min[axis];
+        node.box[kMaxX + axis][k] = c.bounds.max[axis];
+      }
+      if (c.count > 0) {
+        Packet packet;
+        for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
+          const std::uint32_t slot = c.first + std::min(lane, c.count - 1);  // repeat the last one
+          for (int v = 0; v < 3; ++v) {
+            for (int axis = 0; axis < 3; ++axis) packet.corners[v][axis][lane] = corners[order[slot]][v][axis];
+          }
+          packet.id[lane] = order[slot];
+        }
+        node.child[k] = static_cast<std::uint32_t>(packets_.size()) | kLeaf;
+        node.count[k] = c.count;
+        packets_.push_back(packet);
+      } else {
+        node.child[k] = static_cast<std::uint32_t>(nodes_.size() + pending_count);
+        pending[pending_count++] = children[k];
+      }
+    }
+    nodes_[w.node] = node;
+    // Reserve the inner children's nodes now (contiguous siblings); build them depth first.
+    const auto first_child = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.resize(nodes_.size() + pending_count);
+    for (int k = pending_count - 1; k >= 0; --k) work.push_back({pending[k], first_child + k});
+  }
+}
+
+// Branch and bound over the four-wide tree, depth first. A node's four child boxes get their
+// squared distances to p at once (Ericson 5.1.3.1 per lane:
+//   d = max(min - p, p - max, 0) per axis,  distance^2 = dx^2 + dy^2 + dz^2;
+// unused slots are +inf away). The search goes on into the nearest child (which most tightens
+// the bound); the other children nearer than the best so far wait on the stack, and are dropped
+// when popped if the bound has passed them meanwhile. A leaf's four triangles get their exact
+// squared distances at once (triangle_distance_squared above); the nearest point and weights of
+// the winner come from the same region test on its one lane at the end.
+BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
+  BvhNearest best;
+  if (nodes_.empty()) return best;
+  const Lanes px = splat(p.x), py = splat(p.y), pz = splat(p.z);
+  const Vec3Lanes pl{px, py, pz};
+  // Candidates must be strictly nearer than best_d2: the next float above the bound admits
+  // exactly the distances at or below it (std::nextafter(bound, inf) for bounds >= 0, without
+  // the library call; +inf and NaN stay as they are, -0 counts as 0).
+  const float bound = max_distance_squared + 0.0f;
+  float best_d2 = bound < kInfinity ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(bound) + 1u) : bound;
+  std::uint32_t best_packet = 0;
+  int best_lane = -1;
+  struct Entry {
+    std::uint32_t ref;       // node index, or packet index | kLeaf
+    float distance_squared;  // from p to its box, computed when pushed
+  };
+  std::array<Entry, kBvhStackSize> stack;
+  int top = 0;
+  std::uint32_t ref = 0;  // the node or packet being searched: the root first
+  for (;;) {
+    if (ref & kLeaf) {
+      const Packet& packet = packets_[ref & ~kLeaf];
+      const Lanes d2 = triangle_distance_squared(packet.corners, pl);
+      const Lanes nearest = horizontal_min(d2);
+      if (nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
+        best_d2 = nearest[0];
+        best_lane = std::countr_zero(lane_bits(d2 == nearest));
+        best_packet = ref & ~kLeaf;
+      }
+    } else {
+      const Node& node = nodes_[ref];
+      const Lanes zero = splat(0.0f);
+      const Lanes dx = max(max(load(node.box[kMinX]) - px, px - load(node.box[kMaxX])), zero);
+      const Lanes dy = max(max(load(node.box[kMinY]) - py, py - load(node.box[kMaxY])), zero);
+      const Lanes dz = max(max(load(node.box[kMinZ]) - pz, pz - load(node.box[kMaxZ])), zero);
+      const Lanes d2 = dx * dx + dy * dy + dz * dz;
+      // Children that may hold a nearer point (never an unused slot, whatever p is).
+      const unsigned open = lane_bits(d2 < splat(best_d2)) & used_slots(node);
+      if (open != 0) {
+        // The nearest open child (lowest slot among equals) is searched next; the others are
+        // pushed without branches: each slot is written, and kept if its bit is set.
+        // (A NaN distance, from non-finite corners, can leave no open lane at the minimum:
+        // then the lowest open slot, never an out-of-range one.)
+        const unsigned at_minimum = lane_bits(d2 == horizontal_min(d2)) & open;
+        const int nearest = std::countr_zero(at_minimum != 0 ? at_minimum : open);
+        const unsigned rest = open & ~(1u << nearest);
+        std::array<float, kBvhWidth> d;
+        std::memcpy(d.data(), &d2, sizeof d);
+        for (int k = 0; k < kBvhWidth; ++k) {
+          stack[top] = {node.child[k], d[k]};
+          top += static_cast<int>((rest >> k) & 1u);
+        }
+        ref = node.child[nearest];
+        continue;
+      }
+    }
+    // Next: the most recently pushed subtree that may still hold a nearer point.
+    while (top > 0 && !(stack[top - 1].distance_squared < best_d2)) --top;
+    if (top == 0) break;
+    ref = stack[--top].ref;
+  }
+  if (best_lane < 0) return best;
+  const Packet& packet = packets_[best_packet];
+  const auto lane = static_cast<std::uint32_t>(best_lane);
+  best.triangle = packet.id[lane];
+  best.closest = closest_point_by_projection_or_edges(p, packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
+  const Vec3 d = best.closest.point - p;
+  best.distance_squared = glm::dot(d, d);
+  return best;
+}
+
+// ---- ray casts ---------------------------------------------------------------------------
+
+namespace {
+
+/// The edge functions of four triangles for one watertight ray (the scalar steps of
+/// detail::WatertightRay::fraction, lane by lane): the crossings as lane bits and their
+/// fractions. Lanes whose float edge function is exactly zero are redone in double, as there.
+struct PacketCrossings {
+  unsigned bits = 0;                 ///< lanes the ray crosses within the maximum fraction
+  std::array<float, 4> fraction{};   ///< where (valid in the lanes of `bits`)
+};
+
+inline PacketCrossings cross_packet(const CornerLanes& t, const detail::WatertightRay& r, float max_fraction) noexcept {
+  const Lanes ox = splat(r.origin[r.kx]), oy = splat(r.origin[r.ky]), oz = splat(r.origin[r.kz]);
+  const Lanes sx = splat(r.sx), sy = splat(r.sy), sz = splat(r.sz);
+  // Corners relative to the origin, in the ray's axes, sheared so the ray runs along z.
+  const Lanes az = load(t[0][r.kz]) - oz, bz = load(t[1][r.kz]) - oz, cz = load(t[2][r.kz]) - oz;
+  const Lanes ax = (load(t[0][r.kx]) - ox) - sx * az, ay = (load(t[0][r.ky]) - oy) - sy * az;
+  const Lanes bx = (load(t[1][r.kx]) - ox) - sx * bz, by = (load(t[1][r.ky]) - oy) - sy * bz;
+  const Lanes cx = (load(t[2][r.kx]) - ox) - sx * cz, cy = (load(t[2][r.ky]) - oy) - sy * cz;
+  Lanes u = cx * by - cy * bx;
+  Lanes v = ax * cy - ay * cx;
+  Lanes w = bx * ay - by * ax;
+  const Lanes zero = splat(0.0f);
+  if (const unsigned on_edge = lane_bits((u == zero) | (v == zero) | (w == zero))) {
+    std::array<float, 4> uu, vv, ww, axs, ays, bxs, bys, cxs, cys;
+    std::memcpy(uu.data(), &u, sizeof uu);
+    std::memcpy(vv.data(), &v, sizeof vv);
+    std::memcpy(ww.data(), &w, sizeof ww);
+    std::memcpy(axs.data(), &ax, sizeof axs);
+    std::memcpy(ays.data(), &ay, sizeof ays);
+    std::memcpy(bxs.data(), &bx, sizeof bxs);
+    std::memcpy(bys.data(), &by, sizeof bys);
+    std::memcpy(cxs.data(), &cx, sizeof cxs);
+    std::memcpy(cys.data(), &cy, sizeof cys);
+    for (int k = 0; k < 4; ++k) {
+      if (!((on_edge >> k) & 1u)) continue;
+      uu[k] = static_cast<float>(double(cxs[k]) * double(bys[k]) - double(cys[k]) * double(bxs[k]));
+      vv[k] = static_cast<float>(double(axs[k]) * double(cys[k]) - double(ays[k]) * double(cxs[k]));
+      ww[k] = static_cast<float>(double(bxs[k]) * double(ays[k]) - double(bys[k]) * double(axs[k]));
+    }
+    u = load(uu);
+    v = load(vv);
+    w = load(ww);
+  }
+  const auto inside = ((u >= zero) & (v >= zero) & (w >= zero)) | ((u <= zero) & (v <= zero) & (w <= zero));
+  const Lanes det = u + v + w;
+  const Lanes time = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
+  // Two-sided: the back side has a negative determinant; flip both.
+  const auto back = det < zero;
+  const Lanes abs_det = select(back, zero - det, det);
+  const Lanes abs_time = select(back, zero - time, time);
+  PacketCrossings out;
+  out.bits = lane_bits(inside & (abs_det > zero) & (abs_time > zero) & (abs_time <= splat(max_fraction) * abs_det));
+  if (out.bits != 0) {
+    const Lanes f = min(abs_time / abs_det, splat(max_fraction));
+    std::memcpy(out.fraction.data(), &f, sizeof f);
+  }
+  return out;
+}
+
+/// Lanes of a packet that hold distinct triangles: unused lanes repeat the last one.
+inline unsigned distinct_lanes(const std::array<std::uint32_t, kBvhLeafTriangles>& id) noexcept {
+  return 1u | static_cast<unsigned>(id[1] != id[0]) << 1 | static_cast<unsigned>(id[2] != id[1]) << 2 |
+         static_cast<unsigned>(id[3] != id[2]) << 3;
+}
+
+}  // namespace
+
+// Depth first, nearer child first. A node's four child boxes get their entry and exit
+// fractions at once by the slab test (Williams et al. 2005): per axis the near side is chosen
+// by the sign of the direction (row axis or axis + 3 of the node's boxes), so
+//   t_near = (near - o) / d,  t_far = (far - o) / d  need no min/max between them;
+// an axis the ray does not move along (d = +-0, 1 / d = +-inf) gives +-inf, or NaN when the
+// origin lies exactly in that face plane, which the max / min below ignore (the origin is
+// then inside that slab: boxes are closed). A child is entered when
+//   max(t_near_x, t_near_y, t_near_z, 0) <= min(t_far_x, t_far_y, t_far_z, max_fraction) * slack.
+// The entered children are visited nearest first; the others wait on the stack with their entry
+// fraction and are dropped when popped if the ray has been clipped before them meanwhile.
+template <class OnLeaf>
+void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const {
+  if (nodes_.empty()) return;
+  const detail::WatertightRay watertight(ray);
+  if (!watertight.valid || !(max_fraction > 0.0f)) return;
+  std::array<int, 3> near_row, far_row;
+  std::array<Lanes, 3> origin, inverse;
+  for (int axis = 0; axis < 3; ++axis) {
+    const bool down = std::signbit(ray.translation[axis]);
+    near_row[axis] = down ? kMaxX + axis : kMinX + axis;
+    far_row[axis] = down ? kMinX + axis : kMaxX + axis;
+    origin[axis] = splat(ray.origin[axis]);
+    inverse[axis] = splat(1.0f / ray.translation[axis]);
+  }
+  struct Entry {
+    std::uint32_t ref;  // node index, or packet index | kLeaf
+    float fraction;     // where the ray enters its box
+  };
+  std::array<Entry, kBvhStackSize> stack;
+  int top = 0;
+  std::uint32_t ref = 0;  // the root first
+  float max_t = max_fraction;
+  for (;;) {
+    if (ref & kLeaf) {
+      const Packet& packet = packets_[ref & ~kLeaf];
+      PacketCrossings hits = cross_packet(packet.corners, watertight, max_t);
+      hits.bits &= distinct_lanes(packet.id);
+      if (hits.bits != 0) {
+        max_t = on_leaf(packet, hits.bits, hits.fraction, max_t);
+        if (!(max_t > 0.0f)) return;
+      }
+    } else {
+      const Node& node = nodes_[ref];
+      const Lanes t_near_x = (load(node.box[near_row[0]]) - origin[0]) * inverse[0];
+      const Lanes t_near_y = (load(node.box[near_row[1]]) - origin[1]) * inverse[1];
+      const Lanes t_near_z = (load(node.box[near_row[2]]) - origin[2]) * inverse[2];
+      const Lanes t_far_x = (load(node.box[far_row[0]]) - origin[0]) * inverse[0];
+      const Lanes t_far_y = (load(node.box[far_row[1]]) - origin[1]) * inverse[1];
+      const Lanes t_far_z = (load(node.box[far_row[2]]) - origin[2]) * inverse[2];
+      const Lanes enter = max(t_near_x, max(t_near_y, max(t_near_z, splat(0.0f))));
+      const Lanes exit = min(t_far_x, min(t_far_y, min(t_far_z, splat(max_t)))) * splat(kBvhSlabSlack);
+      unsigned open = lane_bits(enter <= exit) & used_slots(node);
+      if (open != 0) {
+        std::array<float, kBvhWidth> t;
+        std::memcpy(t.data(), &enter, sizeof t);
+        // The open children by entry fraction, farthest first (insertion sort of at most four).
+        std::array<Entry, kBvhWidth> order;
+        int count = 0;
+        while (open != 0) {
+          const int k = std::countr_zero(open);
+          open &= open - 1;
+          Entry e{node.child[k], t[k]};
+          int i = count++;
+          for (; i > 0 && order[i - 1].fraction < e.fraction; --i) order[i] = order[i - 1];
+          order[i] = e;
+        }
+        COLLIDE_ASSERT(top + count - 1 <= kBvhStackSize, "BVH traversal stack overflow");
+        for (int i = 0; i < count - 1; ++i) stack[top++] = order[i];
+        ref = order[count - 1].ref;
+        continue;
+      }
+    }
+    // Next: the most recently pushed subtree the ray (as clipped now) still enters.
+    while (top > 0 && !(stack[top - 1].fraction <= max_t * kBvhSlabSlack)) --top;
+    if (top == 0) return;
+    ref = stack[--top].ref;
+  }
+}
+
+void TriangleBvh::ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction) const {
+  traverse_ray(ray, max_fraction,
+               [&](const Packet& packet, unsigned bits, const std::array<float, 4>& fraction, float max_t) {
+                 for (; bits != 0; bits &= bits - 1) {
+                   const int k = std::countr_zero(bits);
+                   if (!(fraction[k] <= max_t)) continue;  // clipped by an earlier lane of this packet
+                   const float next = visit(packet.id[k], fraction[k]);
+                   if (!(next > 0.0f)) return 0.0f;
+                   if (next < max_t) max_t = next;
+                 }
+                 return max_t;
+               });
+}
+
+TriangleRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const noexcept {
+  const Packet* best_packet = nullptr;
+  int best_lane = 0;
+  float best = max_fraction;
+  traverse_ray(ray, max_fraction,
+               [&](const Packet& packet, unsigned bits, const std::array<float, 4>& fraction, float max_t) {
+                 for (; bits != 0; bits &= bits - 1) {
+                   const int k = std::countr_zero(bits);
+                   // Strictly nearer, or the first crossing at all (which may sit at max_fraction).
+                   if (fraction[k] < max_t || (best_packet == nullptr && fraction[k] <= max_t)) {
+                     max_t = fraction[k];
+                     best_packet = &packet;
+                     best_lane = k;
+                   }
+                 }
+                 best = max_t;
+                 return max_t;
+               });
+  TriangleRayHit hit;
+  if (best_packet == nullptr) return hit;
+  const auto lane = static_cast<std::uint32_t>(best_lane);
+  const Vec3 a = best_packet->corner(0, lane), b = best_packet->corner(1, lane), c = best_packet->corner(2, lane);
+  hit.triangle = best_packet->id[lane];
+  hit.fraction = best;
+  hit.normal = triangle_normal(a, b, c);
+  return hit;
+}
+
+}  // namespace collide

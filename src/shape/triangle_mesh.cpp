@@ -1,0 +1,176 @@
+#include <collide/shape/triangle_mesh.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace collide {
+namespace {
+
+/// Lexicographic order of positions (x, then y, then z); -0 equals +0.
+bool position_less(Vec3 a, Vec3 b) noexcept {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+/// For each vertex, the smallest index of a vertex at exactly the same position.
+std::vector<std::uint32_t> weld_equal_positions(const std::vector<Vec3>& positions) {
+  std::vector<std::uint32_t> order(positions.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return position_less(positions[a], positions[b]); });
+  std::vector<std::uint32_t> canonical(positions.size());
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i;
+    while (j < order.size() && positions[order[j]] == positions[order[i]]) ++j;
+    for (std::size_t k = i; k < j; ++k) canonical[order[k]] = order[i];  // stable: order[i] is the smallest index
+    i = j;
+  }
+  return canonical;
+}
+
+/// One side of an edge: triangle t's edge k, between welded vertices lo < hi.
+struct EdgeSide {
+  std::uint32_t lo, hi;
+  std::uint32_t triangle;
+  std::uint8_t k;
+  bool forward;  ///< the triangle runs lo -> hi along it
+};
+
+/// Whether the edge shared by triangles with unit normals n1, n2 is active. `e` is the edge's
+/// direction as triangle 1 runs it; `n2` is already turned to agree with triangle 1's winding.
+/// Convex when n2 turns away from n1 about e: (n1 x n2) . e > 0. When the two windings disagree
+/// over the edge (`consistent` false) neither side is the outside, and an edge convex from one
+/// side is concave from the other: active unless flat within the threshold.
+bool is_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
+  const float cos_angle = dot(n1, n2);
+  if (cos_angle < kFoldBackCosAngle) return true;
+  if (consistent && !(dot(cross(n1, n2), e) > 0.0f)) return false;  // concave (or flat: the threshold would say no)
+  return cos_angle < cos_threshold;
+}
+
+}  // namespace
+
+Vec3 median_vertex(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
+  std::vector<float> axis(3 * triangles.size());
+  Vec3 origin(0.0f);
+  for (int k = 0; k < 3; ++k) {
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      for (int c = 0; c < 3; ++c) axis[3 * t + static_cast<std::size_t>(c)] = positions[triangles[t][c]][k];
+    }
+    const auto middle = axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2);
+    std::nth_element(axis.begin(), middle, axis.end());
+    origin[k] = *middle;
+  }
+  return origin;
+}
+
+TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles,
+                                const TriangleMeshOptions& options) {
+  if (!(options.active_edge_cos_angle >= -1.0f && options.active_edge_cos_angle <= 1.0f)) {
+    throw InvalidInput("triangle mesh options: active_edge_cos_angle must be in [-1, 1]");
+  }
+  if (triangles.size() > kMaxMeshTriangles) {
+    throw InvalidInput("triangle mesh: " + std::to_string(triangles.size()) + " triangles, more than the " +
+                       std::to_string(kMaxMeshTriangles) + " a mesh can name (kMaxMeshTriangles)");
+  }
+  if (triangles.empty()) throw InvalidInput("triangle mesh: no triangles");
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (!is_finite(vertices[i])) throw InvalidInput("triangle mesh vertex " + std::to_string(i) + ": not finite");
+  }
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (triangles[t][k] >= vertices.size()) {
+        throw InvalidInput("triangle mesh triangle " + std::to_string(t) + ": vertex index " + std::to_string(triangles[t][k]) +
+                           " out of range (" + std::to_string(vertices.size()) + " vertices)");
+      }
+    }
+  }
+
+  TriangleMesh mesh;
+  mesh.stats.input_triangles = triangles.size();
+  mesh.origin = median_vertex(vertices, triangles);
+  // The span of the used vertices must fit float: beyond it local coordinates overflow.
+  Aabb3 box{vertices[triangles[0].x], vertices[triangles[0].x]};
+  for (const glm::uvec3& t : triangles) {
+    for (int k = 0; k < 3; ++k) box = merge(box, Aabb3{vertices[t[k]], vertices[t[k]]});
+  }
+  if (!is_finite(box.size())) {
+    throw InvalidInput("triangle mesh: spans more than float range (coordinates near +-3.4e38 on both sides); "
+                       "no float frame holds it");
+  }
+  mesh.vertices.resize(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertices[i] = vertices[i] - mesh.origin;
+
+  // Drop triangles without a normal in the stored coordinates (what every query computes with).
+  std::vector<Vec3> normals;
+  mesh.triangles.reserve(triangles.size());
+  normals.reserve(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const glm::uvec3 v = triangles[t];
+    const Vec3 n = triangle_normal(mesh.vertices[v.x], mesh.vertices[v.y], mesh.vertices[v.z]);
+    if (n == Vec3(0.0f)) {
+      mesh.dropped_triangles.push_back(static_cast<std::uint32_t>(t));
+      continue;
+    }
+    mesh.triangles.push_back(v);
+    normals.push_back(n);
+  }
+  mesh.stats.degenerate_triangles = mesh.dropped_triangles.size();
+  if (mesh.triangles.empty()) {
+    throw InvalidInput("triangle mesh: all " + std::to_string(triangles.size()) + " triangles are degenerate (no area)");
+  }
+
+  // Active edges: group the triangles' edges by their welded end points.
+  const std::vector<std::uint32_t> canonical = weld_equal_positions(mesh.vertices);
+  std::vector<EdgeSide> sides;
+  sides.reserve(3 * mesh.triangles.size());
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = canonical[mesh.triangles[t][k]], v = canonical[mesh.triangles[t][(k + 1) % 3]];
+      sides.push_back({std::min(u, v), std::max(u, v), t, static_cast<std::uint8_t>(k), u < v});
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const EdgeSide& a, const EdgeSide& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.triangle != b.triangle ? a.triangle < b.triangle : a.k < b.k;
+  });
+  mesh.active_edges.assign(mesh.triangles.size(), 0);
+  for (std::size_t i = 0; i < sides.size();) {
+    std::size_t j = i;
+    while (j < sides.size() && sides[j].lo == sides[i].lo && sides[j].hi == sides[i].hi) ++j;
+    bool active = true;
+    if (j - i == 1) {
+      ++mesh.stats.boundary_edges;
+    } else if (j - i > 2) {
+      ++mesh.stats.non_manifold_edges;
+    } else {
+      const EdgeSide& a = sides[i];
+      const EdgeSide& b = sides[i + 1];
+      const Vec3 e = mesh.vertices[a.forward ? a.hi : a.lo] - mesh.vertices[a.forward ? a.lo : a.hi];
+      // Consistent windings run a shared edge in opposite directions; otherwise turn b's normal.
+      const bool consistent = a.forward != b.forward;
+      const Vec3 nb = consistent ? normals[b.triangle] : -normals[b.triangle];
+      active = is_active(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
+    }
+    if (active) {
+      ++mesh.stats.active_edges;
+      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k);
+    }
+    i = j;
+  }
+
+  mesh.bvh = TriangleBvh(mesh.vertices, mesh.triangles);
+  return mesh;
+}
+
+Aabb3 compute_aabb(const TriangleMesh& mesh, const Transform3& xf) noexcept {
+  const Aabb3 local = mesh.bvh.bounds();
+  return transform_aabb({mesh.origin + local.min, mesh.origin + local.max}, xf);
+}
+
+}  // namespace collide

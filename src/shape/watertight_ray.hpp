@@ -1,0 +1,65 @@
+#pragma once
+// The per-ray setup of the watertight ray-triangle test (Woop, Benthin & Wald, JCGT 2013) and
+// its scalar test, shared by single triangles, the BVH (which runs the same steps four
+// triangles at a time) and height fields. One ray, one setup: the shear constants must be the
+// same for every triangle the ray meets, or two triangles sharing an edge could both miss.
+
+#include <collide/core/ray.hpp>
+
+#include <cmath>
+#include <utility>
+
+namespace collide::detail {
+
+/// A ray prepared for the watertight test: the axis it moves most along becomes z (kz), the
+/// other two x and y (kx, ky, swapped when the ray runs down kz so the winding is kept), and
+/// the shear that takes the ray to the z axis.
+struct WatertightRay {
+  Vec3 origin{0.0f};
+  int kx = 0, ky = 1, kz = 2;
+  float sx = 0.0f, sy = 0.0f, sz = 0.0f;  ///< shear: x' = x - sx z, y' = y - sy z, z' = sz z
+  bool valid = false;  ///< finite, non-zero translation
+
+  explicit WatertightRay(const Ray3& ray) noexcept : origin(ray.origin) {
+    const Vec3 d = ray.translation;
+    if (!is_finite(ray.origin) || !is_finite(d)) return;
+    const Vec3 a = glm::abs(d);
+    kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+    if (!(a[kz] > 0.0f)) return;  // zero translation
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    if (d[kz] < 0.0f) std::swap(kx, ky);
+    sx = d[kx] / d[kz];
+    sy = d[ky] / d[kz];
+    sz = 1.0f / d[kz];
+    valid = true;
+  }
+
+  /// Fraction in (0, max_fraction] at which the ray crosses triangle (a, b, c), either side;
+  /// -1 on a miss. `valid` must be true.
+  [[nodiscard]] float fraction(Vec3 a, Vec3 b, Vec3 c, float max_fraction) const noexcept {
+    const Vec3 pa = a - origin, pb = b - origin, pc = c - origin;
+    const float ax = pa[kx] - sx * pa[kz], ay = pa[ky] - sy * pa[kz];
+    const float bx = pb[kx] - sx * pb[kz], by = pb[ky] - sy * pb[kz];
+    const float cx = pc[kx] - sx * pc[kz], cy = pc[ky] - sy * pc[kz];
+    float u = cx * by - cy * bx;
+    float v = ax * cy - ay * cx;
+    float w = bx * ay - by * ax;
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+      // On an edge in float: decide in double, where products of floats are exact and the one
+      // rounding of their difference keeps its sign.
+      u = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+      v = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+      w = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return -1.0f;
+    float det = u + v + w;
+    float t = u * (sz * pa[kz]) + v * (sz * pb[kz]) + w * (sz * pc[kz]);
+    if (det < 0.0f) det = -det, t = -t;  // two-sided: the back side has a negative determinant
+    if (!(det > 0.0f) || !(t > 0.0f) || !(t <= max_fraction * det)) return -1.0f;
+    const float f = t / det;
+    return f < max_fraction ? f : max_fraction;
+  }
+};
+
+}  // namespace collide::detail

@@ -1,0 +1,152 @@
+# The layering rules of DESIGN.md ("Layers"), as functions that check_layers.cmake runs on the
+# project and check_layers_catches.cmake runs on a made-up tree with known faults.
+#
+# A violation is one string "PATH: RULE: WHAT" (PATH relative to the root). The rules:
+#   unknown-folder  a folder under include/collide or src/ that is not a layer of the library
+#   higher-layer    a library file includes <collide/L/...> of a layer L above its own
+#   other-target    a file includes a header of another target (collide_draw, collide_io): the
+#                   library proper includes neither, and draw and io do not include each other
+#   private-header  a quoted include that is not a file beside the includer ("../narrow/gjk.hpp"):
+#                   folders share only their public headers (<collide/narrow/...>)
+#   detail-name     a public header (include/collide, and the targets' include/) names detail::
+
+# Layer names of DESIGN.md's diagram (the fenced block under "## Layers", one " name/ ..." line
+# per layer, top to bottom), returned bottom to top.
+function(collide_layers_from_design design_file out_var)
+  file(STRINGS ${design_file} lines)
+  set(in_layers OFF)
+  set(in_block OFF)
+  set(names)
+  foreach(line IN LISTS lines)
+    if(line MATCHES "^## ")
+      if(line MATCHES "^## Layers")
+        set(in_layers ON)
+      else()
+        set(in_layers OFF)
+      endif()
+    elseif(in_layers AND line MATCHES "^```")
+      if(in_block)
+        break()
+      endif()
+      set(in_block ON)
+    elseif(in_block AND line MATCHES "^ ([a-z_]+)/ ")
+      list(PREPEND names ${CMAKE_MATCH_1})
+    endif()
+  endforeach()
+  set(${out_var} ${names} PARENT_SCOPE)
+endfunction()
+
+# collide_check_layers(ROOT dir LAYERS core shape ... TARGETS draw io
+#                      [EXCEPTIONS "PATH: RULE" ...] VIOLATIONS out STALE out)
+# LAYERS: the library's folders, bottom to top (a folder may include its own layer and those
+# below). TARGETS: the other targets beside the library (folder T holds T/include/collide/T and
+# T/src). VIOLATIONS: every violation not listed in EXCEPTIONS. STALE: exceptions that matched
+# nothing (the fault was fixed: the exception must go, or it would hide the fault coming back).
+function(collide_check_layers)
+  cmake_parse_arguments(arg "" "ROOT;VIOLATIONS;STALE" "LAYERS;TARGETS;EXCEPTIONS" ${ARGN})
+  set(found)
+
+  # Which folder (layer or target) each file belongs to, and whether it is a public header.
+  set(files)
+  file(GLOB_RECURSE lib_files RELATIVE ${arg_ROOT}
+       ${arg_ROOT}/include/collide/* ${arg_ROOT}/src/*)
+  list(APPEND files ${lib_files})
+  foreach(target IN LISTS arg_TARGETS)
+    file(GLOB_RECURSE target_files RELATIVE ${arg_ROOT}
+         ${arg_ROOT}/${target}/include/* ${arg_ROOT}/${target}/src/*)
+    list(APPEND files ${target_files})
+  endforeach()
+  list(FILTER files INCLUDE REGEX "\\.(hpp|h|cpp|inl)$")
+  list(SORT files)
+
+  foreach(path IN LISTS files)
+    set(layer "")
+    set(target "")
+    set(public OFF)
+    if(path MATCHES "^include/collide/([^/]+)/")
+      set(layer ${CMAKE_MATCH_1})
+      set(public ON)
+    elseif(path MATCHES "^src/([^/]+)/")
+      set(layer ${CMAKE_MATCH_1})
+    elseif(path MATCHES "^(include/collide|src)/[^/]+$")
+      list(APPEND found "${path}: unknown-folder: a file outside every layer folder")
+      continue()
+    elseif(path MATCHES "^([^/]+)/include/")
+      set(target ${CMAKE_MATCH_1})
+      set(public ON)
+    elseif(path MATCHES "^([^/]+)/src/")
+      set(target ${CMAKE_MATCH_1})
+    endif()
+    if(layer)
+      list(FIND arg_LAYERS ${layer} rank)
+      if(rank LESS 0)
+        list(APPEND found "${path}: unknown-folder: '${layer}' is not a layer of the library (DESIGN.md)")
+        continue()
+      endif()
+    endif()
+    get_filename_component(dir ${arg_ROOT}/${path} DIRECTORY)
+
+    file(STRINGS ${arg_ROOT}/${path} includes REGEX "^[ \t]*#[ \t]*include")
+    foreach(line IN LISTS includes)
+      if(line MATCHES "#[ \t]*include[ \t]*<(collide/([^/>]+)/[^>]*)>")
+        set(header ${CMAKE_MATCH_1})
+        set(other ${CMAKE_MATCH_2})
+        list(FIND arg_TARGETS ${other} other_target)
+        if(other_target GREATER_EQUAL 0 AND NOT other STREQUAL target)
+          if(layer)
+            set(who "the library")
+          else()
+            set(who "${target}")
+          endif()
+          list(APPEND found "${path}: other-target: ${who} includes <${header}> of collide_${other}")
+        elseif(layer)
+          list(FIND arg_LAYERS ${other} other_rank)
+          if(other_rank GREATER rank)
+            list(APPEND found "${path}: higher-layer: ${layer} includes <${header}> of ${other}, a layer above it")
+          endif()
+        endif()
+      elseif(line MATCHES "#[ \t]*include[ \t]*\"([^\"]*)\"")
+        set(header ${CMAKE_MATCH_1})
+        if(header MATCHES "/" OR NOT EXISTS ${dir}/${header})
+          list(APPEND found "${path}: private-header: includes \"${header}\", not a file beside it")
+        endif()
+      endif()
+    endforeach()
+
+    if(public)
+      file(STRINGS ${arg_ROOT}/${path} lines REGEX "detail")
+      foreach(line IN LISTS lines)
+        string(REGEX REPLACE "//.*$" "" code "${line}")
+        if(code MATCHES "(^|[^A-Za-z0-9_])detail::" OR
+           code MATCHES "namespace[ \t]+([A-Za-z0-9_]+::)*detail([^A-Za-z0-9_]|$)")
+          list(APPEND found "${path}: detail-name: a public header names detail::")
+          break()
+        endif()
+      endforeach()
+    endif()
+  endforeach()
+
+  # Set the known exceptions aside (by "PATH: RULE"), and find the ones nothing matched.
+  set(violations)
+  set(used)
+  foreach(v IN LISTS found)
+    string(REGEX MATCH "^[^:]+: [a-z-]+" key "${v}")
+    list(FIND arg_EXCEPTIONS "${key}" known)
+    if(known GREATER_EQUAL 0)
+      list(APPEND used "${key}")
+    else()
+      list(APPEND violations "${v}")
+    endif()
+  endforeach()
+  set(stale)
+  foreach(e IN LISTS arg_EXCEPTIONS)
+    list(FIND used "${e}" hit)
+    if(hit LESS 0)
+      list(APPEND stale "${e}")
+    endif()
+  endforeach()
+  list(LENGTH files count)
+  set(${arg_VIOLATIONS} ${violations} PARENT_SCOPE)
+  set(${arg_STALE} ${stale} PARENT_SCOPE)
+  set(COLLIDE_LAYERS_FILES_CHECKED ${count} PARENT_SCOPE)
+endfunction()

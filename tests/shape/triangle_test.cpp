@@ -1,0 +1,167 @@
+// The single 3D triangle: validation, bounds, the closest point and the watertight ray crossing
+// against double-precision answers by other methods (tests/support/brute_triangle.hpp).
+#include "support/brute_triangle.hpp"
+#include "support/test_util.hpp"
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+#include <collide/shape/triangle.hpp>
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+#include <string>
+
+namespace collide {
+namespace {
+
+using test::uniform;
+
+std::string error_of(Vec3 a, Vec3 b, Vec3 c) {
+  try {
+    (void)make_triangle(a, b, c);
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Triangle, MakeTriangleNamesTheBadVertexAndRefusesNoArea) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(error_of({nan, 0, 0}, {1, 0, 0}, {0, 1, 0}), "triangle vertex 0: not finite");
+  EXPECT_EQ(error_of({0, 0, 0}, {1, inf, 0}, {0, 1, 0}), "triangle vertex 1: not finite");
+  EXPECT_EQ(error_of({0, 0, 0}, {1, 0, 0}, {0, 1, -inf}), "triangle vertex 2: not finite");
+  const std::string degenerate = "triangle: degenerate (repeated or collinear vertices, no area)";
+  EXPECT_EQ(error_of({0, 0, 0}, {0, 0, 0}, {0, 1, 0}), degenerate);
+  EXPECT_EQ(error_of({0, 0, 0}, {1, 1, 1}, {3, 3, 3}), degenerate);
+  // A sliver: area 2.5e-7 of its longest edge squared, below kDegenerateAreaTolerance.
+  EXPECT_EQ(error_of({0, 0, 0}, {1000, 0, 0}, {500, 0.0005f, 0}), degenerate);
+  // Just above the tolerance, far from the origin and huge: accepted as given.
+  const Triangle t = make_triangle({0, 0, 0}, {1000, 0, 0}, {500, 0.01f, 0});
+  EXPECT_EQ(t.vertices[2], Vec3(500, 0.01f, 0));
+  EXPECT_NO_THROW((void)make_triangle({1e30f, 0, 0}, {-1e30f, 0, 0}, {0, 1e30f, 1e30f}));
+}
+
+TEST(Triangle, BoundsHoldTheCornersPlaced) {
+  std::mt19937 rng(70);
+  for (int i = 0; i < 100; ++i) {
+    const Triangle t = make_triangle(test::random_point3(rng, 5), test::random_point3(rng, 5), test::random_point3(rng, 5));
+    const Transform3 xf{test::random_point3(rng, 100), test::random_rotation(rng)};
+    const Aabb3 box = compute_aabb(t, xf);
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vec3& v : t.vertices) {
+      const Vec3 w = transform_point(xf, v);
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+    EXPECT_VEC3_NEAR(box.min, lo, 1e-4f);
+    EXPECT_VEC3_NEAR(box.max, hi, 1e-4f);
+  }
+}
+
+TEST(Triangle, ClosestPointEqualsBruteForce) {
+  std::mt19937 rng(71);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 a = test::random_point3(rng, 3), b = test::random_point3(rng, 3), c = test::random_point3(rng, 3);
+    const Vec3 p = test::random_point3(rng, 6);
+    const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
+    const glm::dvec3 truth = test::brute_closest_on_triangle(glm::dvec3(p), glm::dvec3(a), glm::dvec3(b), glm::dvec3(c));
+    EXPECT_NEAR(glm::length(glm::dvec3(q.point) - glm::dvec3(p)), glm::length(truth - glm::dvec3(p)), 1e-4);
+    EXPECT_VEC3_NEAR(q.weights.x * a + q.weights.y * b + q.weights.z * c, q.point, 1e-4f);
+  }
+}
+
+TEST(Triangle, NormalIsUnitRightHandedAndSurvivesTinyTriangles) {
+  EXPECT_EQ(triangle_normal({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), Vec3(0, 0, 1));
+  EXPECT_EQ(triangle_normal({0, 0, 0}, {0, 1, 0}, {1, 0, 0}), Vec3(0, 0, -1));
+  // Edges of 1e-20: the cross product (1e-40) is below what a plain normalisation accepts.
+  EXPECT_VEC3_NEAR(triangle_normal({0, 0, 0}, {1e-20f, 0, 0}, {0, 0, 1e-20f}), Vec3(0, -1, 0), 1e-6f);
+  EXPECT_EQ(triangle_normal({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), Vec3(0.0f));
+}
+
+TEST(Triangle, RayCrossingEqualsBruteForceFromBothSides) {
+  std::mt19937 rng(72);
+  int hits = 0, misses = 0, back = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 a = test::random_point3(rng, 3), b = test::random_point3(rng, 3), c = test::random_point3(rng, 3);
+    Ray3 ray{test::random_point3(rng, 6), test::random_point3(rng, 8)};
+    if (i % 2) {  // aimed at a point of the triangle (or near it), from either side
+      const float u = uniform(rng, -0.1f, 1.0f), v = uniform(rng, -0.1f, 1.0f - u);
+      ray.translation = (a + u * (b - a) + v * (c - a) - ray.origin) * uniform(rng, 0.8f, 3.0f);
+    }
+    const float f = ray_triangle_fraction(ray, a, b, c);
+    const auto truth = test::brute_ray_triangle(glm::dvec3(ray.origin), glm::dvec3(ray.translation), glm::dvec3(a),
+                                                glm::dvec3(b), glm::dvec3(c));
+    // Near an edge, or ending near the plane, either answer is right within rounding: skip those.
+    const glm::dvec3 n = glm::cross(glm::dvec3(b - a), glm::dvec3(c - a));
+    const double len = glm::length(n);
+    if (truth) {
+      const glm::dvec3 q = glm::dvec3(ray.origin) + *truth * glm::dvec3(ray.translation);
+      const double margin = std::min({glm::dot(n, glm::cross(glm::dvec3(c - b), q - glm::dvec3(b))),
+                                      glm::dot(n, glm::cross(glm::dvec3(a - c), q - glm::dvec3(c))),
+                                      glm::dot(n, glm::cross(glm::dvec3(b - a), q - glm::dvec3(a)))}) / len;
+      if (margin < 1e-4 || *truth > 1.0 - 1e-5 || *truth < 1e-5) continue;
+      ASSERT_GE(f, 0.0f) << i;
+      EXPECT_NEAR(f, *truth, 1e-5 * (1.0 + 1.0 / std::abs(glm::dot(n / len, glm::normalize(glm::dvec3(ray.translation))))));
+      ++hits;
+      back += glm::dot(n, glm::dvec3(ray.translation)) > 0.0;
+    } else {
+      // A miss by a clear margin: the segment's distance to the triangle is not tiny.
+      bool close = false;
+      for (int k = 0; k <= 100 && !close; ++k) {
+        const glm::dvec3 p = glm::dvec3(ray.origin) + (k / 100.0) * glm::dvec3(ray.translation);
+        const glm::dvec3 q = test::brute_closest_on_triangle(p, glm::dvec3(a), glm::dvec3(b), glm::dvec3(c));
+        close = glm::length(q - p) < 0.02 * glm::length(glm::dvec3(ray.translation));
+      }
+      if (close) continue;
+      EXPECT_LT(f, 0.0f) << i;
+      ++misses;
+    }
+  }
+  EXPECT_GT(hits, 2000);
+  EXPECT_GT(back, 800);  // two-sided: back faces hit too
+  EXPECT_GT(misses, 5000);
+}
+
+TEST(Triangle, RayCrossingEdgeCases) {
+  const Vec3 a(-1, 0, -1), b(1, 0, -1), c(0, 0, 1);  // in y = 0, normal -y
+  const auto cast = [&](Vec3 o, Vec3 d, float max = 1.0f) { return ray_triangle_fraction(Ray3{o, d}, a, b, c, max); };
+  // 1. Straight down onto the middle, from above and from below (two-sided).
+  EXPECT_EQ(cast({0, 1, 0}, {0, -2, 0}), 0.5f);
+  EXPECT_EQ(cast({0, -1, 0}, {0, 2, 0}), 0.5f);
+  // 2. Ends exactly on the triangle: counts (fraction 1).
+  EXPECT_EQ(cast({0, 1, 0}, {0, -1, 0}), 1.0f);
+  // 3. Starts exactly on it, either way: no hit (the ray must leave the surface to hit).
+  EXPECT_LT(cast({0, 0, 0}, {0, -1, 0}), 0.0f);
+  EXPECT_LT(cast({0, 0, 0}, {0, 1, 0}), 0.0f);
+  // 4. In the plane (through the triangle): no hit.
+  EXPECT_LT(cast({-5, 0, 0}, {10, 0, 0}), 0.0f);
+  // 5. Exactly through a corner and through an edge: hits (closed triangle).
+  EXPECT_EQ(cast({1, 1, -1}, {0, -2, 0}), 0.5f);
+  EXPECT_EQ(cast({0, 1, -1}, {0, -2, 0}), 0.5f);
+  EXPECT_EQ(cast({0.5f, 1, 0}, {0, -2, 0}), 0.5f);  // on edge b -> c
+  // 6. Just outside an edge: miss.
+  EXPECT_LT(cast({0, 1, -1.0001f}, {0, -2, 0}), 0.0f);
+  // 7. Beyond max_fraction: miss; max_fraction is inclusive.
+  EXPECT_LT(cast({0, 1, 0}, {0, -2, 0}, 0.4f), 0.0f);
+  EXPECT_EQ(cast({0, 1, 0}, {0, -2, 0}, 0.5f), 0.5f);
+  // 8. Zero length, NaN, infinite: no hit.
+  EXPECT_LT(cast({0, 1, 0}, {0, 0, 0}), 0.0f);
+  EXPECT_LT(cast({0, std::numeric_limits<float>::quiet_NaN(), 0}, {0, -2, 0}), 0.0f);
+  EXPECT_LT(cast({0, 1, 0}, {0, -std::numeric_limits<float>::infinity(), 0}), 0.0f);
+  // 9. A ray running down every axis direction sign (the watertight axis permutation).
+  for (int axis = 0; axis < 3; ++axis) {
+    for (float s : {-1.0f, 1.0f}) {
+      Vec3 d(0.0f);
+      d[axis] = s;
+      const Vec3 p0(0.1f, 0.2f, 0.3f);
+      Vec3 o = p0 - 2.0f * d;
+      const Vec3 e1 = axis == 0 ? Vec3(0, 1, 0) : Vec3(1, 0, 0), e2 = cross(d, e1);
+      EXPECT_NEAR(ray_triangle_fraction(Ray3{o, 4.0f * d}, p0 - e1 - e2, p0 + e1 - e2, p0 + e2), 0.5f, 1e-6f) << axis << s;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace collide
