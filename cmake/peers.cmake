@@ -1,18 +1,23 @@
 # The peer libraries kept as pinned sources in ../shared/peers (see its README.md): benchmark
-# rivals and test oracles, never part of the library. Included once from the top-level
-# CMakeLists when the benchmarks are built; both libraries are EXCLUDE_FROM_ALL, so each is
-# compiled only when a target that links it is.
+# rivals and test oracles, never part of the library. The one home of their builds: included
+# once from the top-level CMakeLists when the tests or the benchmarks are built. Every target
+# here is EXCLUDE_FROM_ALL, so it is compiled only when a target that links it is (Jolt takes a
+# few minutes on 2 cores: one configuration of it per build tree, linked by the benchmarks and
+# by tests/oracles only).
 #
 # Link targets:
-#  - `Jolt::Jolt`  Jolt Physics (3D), and `collide_jolt_queries`, its queries behind plain types
-#                  (tests/support/jolt). Jolt's own SIMD defaults are kept (COLLIDE_JOLT_SSE2=OFF):
-#                  -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (USE_SSE4_1..USE_AVX2, USE_FMADD,
-#                  USE_F16C, USE_LZCNT, USE_TZCNT) and -ffp-contract=fast in its own sources,
-#                  -O3. These -m options are PUBLIC in Jolt's target, so every source file of a
-#                  target that links Jolt is compiled with them: keep collide's code out of such
-#                  files where the instruction set matters (link collide_jolt_queries, which
-#                  holds the Jolt calls, instead), and state both sides' instruction sets
-#                  beside every ratio. collide's default build is the x86-64 baseline (SSE2).
+#  - `collide_jolt_queries`  Jolt's queries behind plain types (tests/support/jolt/
+#                  jolt_queries.hpp): the only code compiled with Jolt's headers and instruction
+#                  set. Benchmarks and tests link this, not Jolt: Jolt's -m options are PUBLIC in
+#                  its target, so every source of a target linking `Jolt::Jolt` would be
+#                  compiled with them, collide's inline code included. Its INTERFACE defines
+#                  COLLIDE_JOLT_AVX2=1 when Jolt uses AVX2 (a test checks the CPU before calling).
+#  - `Jolt::Jolt`  Jolt Physics (3D) with its own default options: -mavx2 -mbmi -mpopcnt -mlzcnt
+#                  -mf16c -mfma (USE_SSE4_1..USE_AVX2, USE_FMADD, USE_F16C, USE_LZCNT,
+#                  USE_TZCNT), -ffp-contract=fast and -O3 in its own sources (its
+#                  OVERRIDE_CXX_FLAGS). -DCOLLIDE_JOLT_SSE2=ON builds it for the x86-64 baseline
+#                  (SSE2, collide's default build) instead. Benchmarks state both sides'
+#                  instruction sets beside every ratio (jolt_queries::instruction_set()).
 #                  Turned off: tests, samples, viewer, warnings-as-errors, profiler, debug
 #                  renderer, object streams, GPU compute back ends, install rules, debug symbols,
 #                  and link-time optimisation (an LTO static library would be re-optimised at
@@ -30,6 +35,12 @@ set(COLLIDE_PEERS_DIR "${PROJECT_SOURCE_DIR}/../shared/peers" CACHE PATH
     "Pinned sources of the peer libraries (Jolt, Box2D v3) for benchmarks and test oracles")
 option(COLLIDE_JOLT_SSE2 "Build Jolt on the x86-64 baseline (SSE2) instead of its AVX2/FMA default"
        OFF)
+if(NOT EXISTS "${COLLIDE_PEERS_DIR}/jolt/Build/CMakeLists.txt" OR
+   NOT EXISTS "${COLLIDE_PEERS_DIR}/box2d/src")
+  message(WARNING "collide: no peer sources in ${COLLIDE_PEERS_DIR}: Jolt and Box2D v3 are not "
+                  "built; the benchmarks that race them and tests/oracles are left out")
+  return()
+endif()
 
 # ---- Jolt ---------------------------------------------------------------------------------------
 foreach(opt TARGET_UNIT_TESTS TARGET_HELLO_WORLD TARGET_PERFORMANCE_TEST TARGET_SAMPLES
@@ -53,11 +64,14 @@ set(USE_AVX512 OFF CACHE BOOL "" FORCE)
 add_subdirectory(${COLLIDE_PEERS_DIR}/jolt/Build ${CMAKE_BINARY_DIR}/peers/jolt EXCLUDE_FROM_ALL)
 
 # Jolt's queries behind plain types (tests/support/jolt/jolt_queries.hpp), for benchmarks and
-# tests: the one source compiled with Jolt's headers and instruction set.
+# tests: the one library compiled with Jolt's headers and instruction set.
 add_library(collide_jolt_queries STATIC EXCLUDE_FROM_ALL
             ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_queries.cpp)
 target_link_libraries(collide_jolt_queries PRIVATE Jolt::Jolt)
 target_include_directories(collide_jolt_queries PUBLIC ${PROJECT_SOURCE_DIR}/tests)
+if(NOT COLLIDE_JOLT_SSE2)
+  target_compile_definitions(collide_jolt_queries INTERFACE COLLIDE_JOLT_AVX2=1)
+endif()
 
 # ---- Box2D v3 -----------------------------------------------------------------------------------
 enable_language(C)

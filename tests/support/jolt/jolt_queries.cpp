@@ -7,6 +7,7 @@
 #include <Jolt/ConfigurationString.h>
 #include <Jolt/Core/Factory.h>
 #include <Jolt/Core/Memory.h>
+#include <Jolt/Geometry/ConvexHullBuilder.h>
 #include <Jolt/Geometry/ConvexSupport.h>
 #include <Jolt/Geometry/EPAPenetrationDepth.h>
 #include <Jolt/Geometry/GJKClosestPoint.h>
@@ -14,8 +15,11 @@
 #include <Jolt/Physics/Collision/CollisionCollectorImpl.h>
 #include <Jolt/Physics/Collision/CollisionDispatch.h>
 #include <Jolt/Physics/Collision/ManifoldBetweenTwoFaces.h>
+#include <Jolt/Physics/Collision/RayCast.h>
+#include <Jolt/Physics/Collision/CastResult.h>
 #include <Jolt/Physics/Collision/ShapeCast.h>
 #include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
+#include <Jolt/Physics/Collision/Shape/MeshShape.h>
 #include <Jolt/Physics/PhysicsSettings.h>
 #include <Jolt/RegisterTypes.h>
 
@@ -33,6 +37,20 @@ class Hull {
 };
 
 void HullDeleter::operator()(Hull* h) const { delete h; }
+
+class Cloud {
+ public:
+  JPH::Array<Vec3> points;
+};
+
+void CloudDeleter::operator()(Cloud* c) const { delete c; }
+
+class Mesh {
+ public:
+  JPH::RefConst<JPH::Shape> shape;
+};
+
+void MeshDeleter::operator()(Mesh* m) const { delete m; }
 
 namespace {
 
@@ -208,6 +226,55 @@ CastOut cast(const Body& a, Vec translation_a, const Body& b) {
                                                       JPH::SubShapeIDCreator(), collector);
   if (!collector.HadHit()) return {};
   return {true, collector.mHit.mFraction};
+}
+
+CloudPtr make_cloud(std::span<const Vec> points) {
+  CloudPtr cloud(new Cloud);
+  cloud->points.reserve(points.size());
+  for (Vec p : points) cloud->points.push_back(to_jolt(p));
+  return cloud;
+}
+
+HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance) {
+  JPH::ConvexHullBuilder builder(cloud.points);
+  const char* error = nullptr;
+  HullBuild out;
+  out.ok = builder.Initialize(max_vertices, tolerance, error) ==
+           JPH::ConvexHullBuilder::EResult::Success;
+  out.faces = static_cast<int>(builder.GetFaces().size());
+  out.vertices = builder.GetNumVerticesUsed();
+  return out;
+}
+
+float support_sum(const Hull& hull, std::span<const Vec> directions) {
+  JPH::ConvexShape::SupportBuffer buffer;
+  const JPH::ConvexShape::Support* s = hull.shape->GetSupportFunction(
+      JPH::ConvexShape::ESupportMode::ExcludeConvexRadius, buffer, Vec3::sOne());
+  float sum = 0.0f;
+  for (Vec d : directions) sum += s->GetSupport(to_jolt(d)).GetX();
+  return sum;
+}
+
+MeshPtr make_mesh(std::span<const Vec> positions,
+                  std::span<const std::array<std::uint32_t, 3>> triangles) {
+  JPH::VertexList vertices;
+  vertices.reserve(positions.size());
+  for (Vec p : positions) vertices.push_back(JPH::Float3(p.x, p.y, p.z));
+  JPH::IndexedTriangleList indexed;
+  indexed.reserve(triangles.size());
+  for (const auto& t : triangles) indexed.push_back(JPH::IndexedTriangle(t[0], t[1], t[2]));
+  JPH::MeshShapeSettings settings(std::move(vertices), std::move(indexed));
+  const JPH::ShapeSettings::ShapeResult result = settings.Create();
+  if (result.HasError()) return nullptr;
+  MeshPtr mesh(new Mesh);
+  mesh->shape = result.Get();
+  return mesh;
+}
+
+float cast_ray(const Mesh& mesh, Vec origin, Vec translation) {
+  const JPH::RayCast ray{to_jolt(origin), to_jolt(translation)};
+  JPH::RayCastResult hit;
+  return mesh.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
 }
 
 const char* instruction_set() { return JPH::GetConfigurationString(); }

@@ -2,11 +2,13 @@
 // Jolt Physics (../shared/peers/jolt) as a benchmark rival and test oracle, behind plain types:
 // the target `collide_jolt_queries` (cmake/peers.cmake) is the only code compiled with Jolt's
 // headers and instruction set (Jolt's own -mavx2 -mfma ... options), so the benchmarks and
-// tests that link it (bench_narrow3, test_narrow) keep collide's. Each function is one query as
-// a Jolt user makes it, called once per pair (a plain function call costs a few ns against
-// queries of a microsecond).
+// tests that link it (bench_narrow3, bench_convex_hull, bench_mesh_raycast, test_oracles) keep
+// collide's. Each function is one query as a Jolt user makes it, called once per pair or ray (a
+// plain function call costs a few ns against queries of 0.1 to 10 us); where a query is a few
+// ns itself (support points) the loop runs here.
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <span>
 
@@ -86,7 +88,49 @@ struct CastOut {
 /// B, default ShapeCastSettings, closest hit.
 CastOut cast(const Body& a, Vec translation_a, const Body& b);
 
-/// Jolt's compile-time instruction set, e.g. "AVX2 FMA F16C LZCNT TZCNT SSE4.2".
+// ---- hulls: building and support points (bench_convex_hull) -----------------------------------
+
+/// A point cloud in Jolt's form (JPH::Array<JPH::Vec3>), converted once outside a timed loop.
+class Cloud;
+struct CloudDeleter {
+  void operator()(Cloud* c) const;
+};
+using CloudPtr = std::unique_ptr<Cloud, CloudDeleter>;
+CloudPtr make_cloud(std::span<const Vec> points);
+
+struct HullBuild {
+  bool ok = false;   ///< ConvexHullBuilder::Initialize returned Success
+  int faces = 0;     ///< faces of the builder's hull (triangles merged into polygons)
+  int vertices = 0;  ///< GetNumVerticesUsed
+};
+/// JPH::ConvexHullBuilder on the cloud: Initialize(max_vertices, tolerance).
+HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance);
+
+/// Sum of the x coordinates of the hull's support points (ConvexShape::GetSupportFunction,
+/// convex radius excluded, fetched once as GJK does) over `directions`: the timed loop of a
+/// support benchmark, run here so that each support point costs no call.
+float support_sum(const Hull& hull, std::span<const Vec> directions);
+
+// ---- meshes: ray casts (bench_mesh_raycast) ---------------------------------------------------
+
+/// A JPH::MeshShape (default MeshShapeSettings: 8 triangles per leaf; degenerate and duplicate
+/// triangles removed by its Sanitize).
+class Mesh;
+struct MeshDeleter {
+  void operator()(Mesh* m) const;
+};
+using MeshPtr = std::unique_ptr<Mesh, MeshDeleter>;
+/// nullptr if Jolt rejects the mesh.
+MeshPtr make_mesh(std::span<const Vec> positions,
+                  std::span<const std::array<std::uint32_t, 3>> triangles);
+
+/// Shape::CastRay (closest hit, the mesh at the origin): the fraction of `translation` at the
+/// first hit, or -1 for none. Back faces are hit too (CastRay's default).
+float cast_ray(const Mesh& mesh, Vec origin, Vec translation);
+
+/// Jolt's build as JPH::GetConfigurationString() gives it: precision, CPU and instruction set,
+/// e.g. "Single precision x86 64-bit with instructions: SSE2 SSE4.1 SSE4.2 AVX AVX2 F16C LZCNT
+/// TZCNT FMADD ...".
 const char* instruction_set();
 
 }  // namespace jolt_queries
