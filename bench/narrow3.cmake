@@ -21,4 +21,4 @@ add_executable(bench_narrow3_avx2 EXCLUDE_FROM_ALL ${CMAKE_CURRENT_SOURCE_DIR}/n
 target_link_libraries(bench_narrow3_avx2 PRIVATE collide_avx2 benchmark::benchmark ${narrow3_peers})
 target_include_directories(bench_narrow3_avx2 PRIVATE ${PROJECT_SOURCE_DIR}/tests)
 target_compile_definitions(bench_narrow3_avx2 PRIVATE COLLIDE_DATA_DIR="${COLLIDE_DATA_DIR}"
-                           COLLIDE_BENCH_AVX2=1)
+  "COLLIDE_BENCH_ISA=\"library compiled -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (Jolt's set)\"")

@@ -16,33 +16,54 @@
 //  - Overlap (separated, overlapping): collide `overlap` (boolean GJK); Jolt GJKClosestPoint::
 //    Intersects; libccd ccdGJKIntersect; FCL collide (no contact); Bullet has no boolean GJK:
 //    btGjkEpaSolver2::Distance (full GJK).
-//  - Distance (separated): collide `distance`; Jolt GetClosestPoints; FCL distance (libccd and
-//    its own "indep" GJK); Bullet btGjkEpaSolver2::Distance.
-//  - Depth (overlapping): collide `contact` (SAT, depth of the manifold; `penetration` by EPA is
-//    not on main yet); Jolt EPAPenetrationDepth (GJK step, then EPA); libccd ccdGJKPenetration
-//    (EPA) and ccdMPRPenetration; FCL collide with contact (libccd); Bullet btGjkEpaSolver2::
-//    Penetration.
+//  - Distance with closest points (separated): collide `distance`; Jolt GetClosestPoints; FCL
+//    distance with nearest points (libccd and its own "indep" GJK); Bullet btGjkEpaSolver2::
+//    Distance. libccd has no distance query of its own.
+//  - Depth (overlapping): collide `penetration` (GJK then EPA, narrow/epa.hpp) and, beside it,
+//    `contact`'s SAT depth; Jolt EPAPenetrationDepth (GJK step, then EPA); libccd
+//    ccdGJKPenetration (EPA) and ccdMPRPenetration; FCL collide with contact (libccd); Bullet
+//    btGjkEpaSolver2::Penetration.
 //  - Contact (overlapping): the full manifold. collide `contact` (margin 0.02) vs Jolt
 //    CollisionDispatch::sCollideShapeVsShape with faces and max separation 0.02, then
 //    ManifoldBetweenTwoFaces and PruneContactPoints as its PhysicsSystem does (0.02 is Jolt's
 //    PhysicsSettings::mSpeculativeContactDistance); Bullet's SAT path
 //    (btPolyhedralContactClipping::findSeparatingAxis + clipHullAgainstHull, no reduction).
 //  - ShapeCast (approaching): collide `shape_cast` vs Jolt CollisionDispatch::
-//    sCastShapeVsShapeWorldSpace and Bullet btGjkConvexCast.
-// Accuracy is checked once before the timings against the exact reference of hull_pairs.hpp
-// (double) and printed as a table; the instruction set of each side is in the context block.
+//    sCastShapeVsShapeWorldSpace and Bullet btGjkConvexCast (and btContinuousConvexCollision,
+//    what btCollisionWorld::convexSweepTest runs). libccd and FCL have no linear shape cast on
+//    convex shapes.
+// Accuracy: every benchmark checks its library's answers on its 1024 pairs once against the
+// exact reference of hull_pairs.hpp (double) and reports them as counters beside the time
+// (errors in units of the hull size; Google Benchmark prints them with SI prefixes: m = 1e-3,
+// u = 1e-6, n = 1e-9):
+//  - wrong:      wrong yes/no answers (overlap; distance reporting contact; depth and contact
+//                finding none); for casts `misses` (a real contact not found) and `false_hits`
+//                (a hit where the shapes pass more than 1e-4 apart; closer passes are grazes and
+//                count as right either way);
+//  - max_err, mean_err: |distance, depth or first-touch distance along the motion - exact|;
+//  - points_err: closest points: the larger of their distances from their shapes' surfaces
+//                and of | |pa - pb| - exact distance | (the worst pair);
+//  - normal_err: depth and contact: how much further than the true depth B must move along the
+//                reported normal to separate (exact for any normal; 0 for the best axis);
+//  - points:     contact: mean manifold points.
+// Pairs answered wrongly are listed on stderr. The instruction set of each side is in the
+// context block.
 //
 // Run: ./build/release/bench/bench_narrow3 --benchmark_enable_random_interleaving=true \
 //        --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-// bench_narrow3_avx2 (built on request) is the same with collide compiled -mavx2 -mfma ...
+// bench_narrow3_avx2 (built on request) is the same with collide's library compiled -mavx2 -mfma
+// ... (Jolt's set).
 
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
+#include <collide/narrow/epa.hpp>
 #include <collide/narrow/overlap.hpp>
 
-#include "support/jolt/jolt_queries.hpp"
+#include "instruction_set.hpp"
+#include "support/brute_query3.hpp"
 #include "support/hull_pairs.hpp"
+#include "support/jolt/jolt_queries.hpp"
 
 #include <benchmark/benchmark.h>
 #include <btBulletCollisionCommon.h>
@@ -60,17 +81,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
-
-#ifdef COLLIDE_BENCH_AVX2
-#define COLLIDE_BENCH_ISA "library compiled -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (Jolt's set)"
-#else
-#define COLLIDE_BENCH_ISA "x86-64 baseline (SSE2), the default build"
-#endif
 
 namespace {
 
@@ -157,6 +173,7 @@ struct Pair {
   fcl::Transform3d fa, fb;
   CcdBody ca, cb;
   // The exact reference (double).
+  collide::test::BruteCore core_a, core_b;  ///< separated pairs: for the closest points
   bool overlapping = false;
   double distance = 0.0;  ///< separated pairs
   double depth = 0.0;     ///< overlapping pairs
@@ -254,9 +271,9 @@ std::vector<Pair> place(const Workload& w, collide::test::Placement placement, u
     p.k = collide::test::minkowski_reference(p.a->collide, p.xa, p.b->collide, p.xb);
     p.overlapping = p.k.overlapping();
     if (placement == collide::test::Placement::separated) {
-      p.distance =
-          collide::test::brute_core_distance(collide::test::brute_core(p.a->collide, p.xa),
-                                             collide::test::brute_core(p.b->collide, p.xb));
+      p.core_a = collide::test::brute_core(p.a->collide, p.xa);
+      p.core_b = collide::test::brute_core(p.b->collide, p.xb);
+      p.distance = collide::test::brute_core_distance(p.core_a, p.core_b);
     }
     if (placement == collide::test::Placement::overlapping) p.depth = p.k.depth();
     if (placement == collide::test::Placement::approaching) p.touch = p.k.first_touch(DVec3(p.va));
@@ -328,28 +345,46 @@ bool overlap_bullet(const Pair& p) {
                                     p.tb.getOrigin() - p.ta.getOrigin(), r);
 }
 
-double distance_collide(const Pair& p) {
-  return distance(p.a->collide, p.xa, p.b->collide, p.xb).distance;
+/// A distance and the closest points on A and B (world space).
+struct Closest {
+  double distance = 0.0;
+  DVec3 point_a{0.0}, point_b{0.0};
+};
+
+Closest distance_collide(const Pair& p) {
+  const DistanceResult3 r = distance(p.a->collide, p.xa, p.b->collide, p.xb);
+  return {r.distance, dvec(r.point_a), dvec(r.point_b)};
 }
-double distance_jolt(const Pair& p) { return jolt_queries::distance(p.ja, p.jb).distance; }
-double distance_fcl(const Pair& p, fcl::GJKSolverType solver) {
+Closest distance_jolt(const Pair& p) {
+  const jolt_queries::DistanceOut r = jolt_queries::distance(p.ja, p.jb);
+  return {r.distance, dvec(r.point_a), dvec(r.point_b)};
+}
+Closest distance_fcl(const Pair& p, fcl::GJKSolverType solver) {
   fcl::DistanceRequestd request(true);
   request.gjk_solver_type = solver;
   fcl::DistanceResultd result;
-  return fcl::distance(p.a->fcl.get(), p.fa, p.b->fcl.get(), p.fb, request, result);
+  const double d = fcl::distance(p.a->fcl.get(), p.fa, p.b->fcl.get(), p.fb, request, result);
+  const fcl::Vector3d& a = result.nearest_points[0];
+  const fcl::Vector3d& b = result.nearest_points[1];
+  return {d, DVec3(a.x(), a.y(), a.z()), DVec3(b.x(), b.y(), b.z())};
 }
-double distance_fcl_ccd(const Pair& p) { return distance_fcl(p, fcl::GST_LIBCCD); }
-double distance_fcl_indep(const Pair& p) { return distance_fcl(p, fcl::GST_INDEP); }
-double distance_bullet(const Pair& p) {
+Closest distance_fcl_ccd(const Pair& p) { return distance_fcl(p, fcl::GST_LIBCCD); }
+Closest distance_fcl_indep(const Pair& p) { return distance_fcl(p, fcl::GST_INDEP); }
+Closest distance_bullet(const Pair& p) {
   btGjkEpaSolver2::sResults r;
   if (!btGjkEpaSolver2::Distance(p.a->bullet.get(), p.ta, p.b->bullet.get(), p.tb,
                                  p.tb.getOrigin() - p.ta.getOrigin(), r)) {
-    return 0.0;
+    return {};
   }
-  return r.distance;
+  return {r.distance, dvec(r.witnesses[0]), dvec(r.witnesses[1])};
 }
 
-Depth depth_collide(const Pair& p) {
+Depth depth_collide_epa(const Pair& p) {
+  const PenetrationResult3 r = penetration(p.a->collide, p.xa, p.b->collide, p.xb);
+  const bool hit = r.status == QueryStatus::overlapped;
+  return {hit, r.depth, dvec(r.normal), hit ? 1 : 0};
+}
+Depth depth_collide_contact(const Pair& p) {
   const Manifold3 m = contact(p.a->collide, p.xa, p.b->collide, p.xb);
   return {m.count > 0, m.max_depth(), dvec(m.normal), m.count};
 }
@@ -439,63 +474,72 @@ double cast_bullet_gjk(const Pair& p) { return cast_bullet<btGjkConvexCast>(p); 
 
 // ---- accuracy, against the exact reference ------------------------------------------------------
 
-/// Summary of one library's errors on one query.
+/// One library's accuracy on one benchmark's pairs: counters, in the order they are reported.
+using Accuracy = std::vector<std::pair<std::string, double>>;
+
+/// Errors of one library on one query, summed over the pairs.
 struct Errors {
-  int wrong = 0;  ///< wrong yes/no answers (missed contact, false contact)
-  int n = 0;
+  int wrong = 0;  ///< wrong yes/no answers
+  int n = 0;      ///< answers with a value to compare
   double sum = 0.0, max = 0.0;
-  int above_1e4 = 0, above_1e2 = 0;  ///< errors above 1e-4 and 1e-2 of the hull size
-  double normal_sum = 0.0, normal_max = 0.0;  ///< excess depth along the reported normal
-  double points = 0.0;                        ///< mean contact points
   void add(double e) {
     e = std::fabs(e);
     ++n;
     sum += e;
     max = std::max(max, e);
-    above_1e4 += e > 1e-4;
-    above_1e2 += e > 1e-2;
   }
+  [[nodiscard]] double mean() const { return n ? sum / n : 0.0; }
 };
 
-void print_row(const char* query, const char* library, const Errors& e, bool normals = false) {
-  std::printf("%-10s %-18s wrong %4d  |err| mean %.2e max %.2e  >1e-4 %4d  >1e-2 %4d", query,
-              library, e.wrong, e.n ? e.sum / e.n : 0.0, e.max, e.above_1e4, e.above_1e2);
-  if (normals) {
-    std::printf("  normal excess mean %.2e max %.2e  points %.2f", e.n ? e.normal_sum / e.n : 0.0,
-                e.normal_max, e.points);
-  }
-  std::printf("\n");
+/// Lists the pairs a library answered wrongly (stderr), once per benchmark.
+void list_wrong(const std::string& benchmark, const std::string& cases) {
+  if (!cases.empty()) std::fprintf(stderr, "%s wrong:%s\n", benchmark.c_str(), cases.c_str());
 }
 
-void check_overlap(const char* set, const std::vector<Pair>& pairs, const char* library,
-                   bool (*query)(const Pair&)) {
+std::string pair_case(size_t i, double truth) {
+  return " #" + std::to_string(i) + " (exact " + std::to_string(truth) + ")";
+}
+
+Accuracy overlap_accuracy(const std::string& name, const std::vector<Pair>& pairs,
+                          bool (*query)(const Pair&)) {
   Errors e;
   std::string cases;
   for (size_t i = 0; i < pairs.size(); ++i) {
     const Pair& p = pairs[i];
     if (query(p) == p.overlapping) continue;
     ++e.wrong;
-    cases += " #" + std::to_string(i) + " (true depth " + std::to_string(p.k.depth()) + ")";
+    cases += pair_case(i, p.k.depth());
   }
-  e.n = static_cast<int>(pairs.size());
-  print_row((std::string("overlap/") + set).c_str(), library, e);
-  if (!cases.empty()) std::printf("%29s wrong:%s\n", "", cases.c_str());
+  list_wrong(name, cases);
+  return {{"wrong", e.wrong}};
 }
 
-void check_distance(const std::vector<Pair>& pairs, const char* library,
-                    double (*query)(const Pair&)) {
+Accuracy distance_accuracy(const std::string& name, const std::vector<Pair>& pairs,
+                           Closest (*query)(const Pair&)) {
   Errors e;
-  for (const Pair& p : pairs) {
-    const double d = query(p);
-    e.wrong += d <= 0.0;
-    e.add(d - p.distance);
+  double points = 0.0;
+  std::string cases;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const Pair& p = pairs[i];
+    const Closest d = query(p);
+    if (d.distance <= 0.0) {
+      ++e.wrong;
+      cases += pair_case(i, p.distance);
+      continue;
+    }
+    e.add(d.distance - p.distance);
+    points = std::max({points, std::fabs(collide::test::brute_signed_distance(p.core_a, d.point_a)),
+                       std::fabs(collide::test::brute_signed_distance(p.core_b, d.point_b)),
+                       std::fabs(glm::length(d.point_a - d.point_b) - p.distance)});
   }
-  print_row("distance", library, e);
+  list_wrong(name, cases);
+  return {{"wrong", e.wrong}, {"max_err", e.max}, {"mean_err", e.mean()}, {"points_err", points}};
 }
 
-void check_depth(const char* what, const std::vector<Pair>& pairs, const char* library,
-                 Depth (*query)(const Pair&)) {
+Accuracy depth_accuracy(const std::string& name, const std::vector<Pair>& pairs,
+                        Depth (*query)(const Pair&), bool manifold) {
   Errors e;
+  double normal_err = 0.0;
   int total_points = 0;
   std::string cases;
   for (size_t i = 0; i < pairs.size(); ++i) {
@@ -503,25 +547,27 @@ void check_depth(const char* what, const std::vector<Pair>& pairs, const char* l
     const Depth d = query(p);
     if (!d.hit) {
       ++e.wrong;
-      cases += " #" + std::to_string(i) + " (true depth " + std::to_string(p.depth) + ")";
+      cases += pair_case(i, p.depth);
       continue;
     }
     e.add(d.depth - p.depth);
     total_points += d.points;
     const double len = glm::length(d.normal);
-    const double excess = len > 0.0 ? p.k.depth_along(d.normal / len) - p.depth : 1.0;
-    e.normal_sum += std::fabs(excess);
-    e.normal_max = std::max(e.normal_max, std::fabs(excess));
+    normal_err = std::max(normal_err, len > 0.0 ? p.k.depth_along(d.normal / len) - p.depth : 1.0);
   }
-  e.points = e.n ? double(total_points) / e.n : 0.0;
-  print_row(what, library, e, true);
-  if (!cases.empty()) std::printf("%29s no contact:%s\n", "", cases.c_str());
+  list_wrong(name, cases);
+  Accuracy a{{"wrong", e.wrong}, {"max_err", e.max}, {"mean_err", e.mean()}, {"normal_err", normal_err}};
+  if (manifold) a.emplace_back("points", e.n ? double(total_points) / e.n : 0.0);
+  return a;
 }
 
-void check_cast(const std::vector<Pair>& pairs, const char* library, double (*query)(const Pair&)) {
+Accuracy cast_accuracy(const std::string& name, const std::vector<Pair>& pairs,
+                       double (*query)(const Pair&)) {
   Errors e;
-  int misses = 0, false_hits = 0, grazes = 0;
-  for (const Pair& p : pairs) {
+  int misses = 0, false_hits = 0;
+  std::string cases;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const Pair& p = pairs[i];
     const double t = query(p);
     if (t >= 0.0 && p.touch < 0.0) {
       // A hit the reference does not have: wrong unless the shapes pass within 1e-4 there.
@@ -530,72 +576,48 @@ void check_cast(const std::vector<Pair>& pairs, const char* library, double (*qu
       const double gap =
           collide::test::brute_core_distance(collide::test::brute_core(p.a->collide, xa),
                                              collide::test::brute_core(p.b->collide, p.xb));
-      (gap <= 1e-4 ? grazes : false_hits) += 1;
-      e.wrong += gap > 1e-4;
+      if (gap > 1e-4) {
+        ++false_hits;
+        cases += " #" + std::to_string(i) + " (false hit at " + std::to_string(t) + ")";
+      }
       continue;
     }
     if (t < 0.0 && p.touch >= 0.0) {
       ++misses;
-      ++e.wrong;
+      cases += " #" + std::to_string(i) + " (missed " + std::to_string(p.touch) + ")";
       continue;
     }
     if (t >= 0.0) e.add((t - p.touch) * glm::length(p.va));  // as a distance along the motion
   }
-  print_row("cast", library, e);
-  std::printf("%29s misses %d, false hits %d, hits within 1e-4 of a graze %d\n", "", misses,
-              false_hits, grazes);
+  list_wrong(name, cases);
+  return {{"misses", misses}, {"false_hits", false_hits}, {"max_err", e.max}, {"mean_err", e.mean()}};
 }
 
-void report_accuracy() {
+void report_workload() {
   const Workload& w = workload();
   int sep_wrong = 0, ovl_wrong = 0, hits = 0;
   for (const Pair& p : w.separated) sep_wrong += p.overlapping;
   for (const Pair& p : w.overlapping) ovl_wrong += !p.overlapping;
   for (const Pair& p : w.approaching) hits += p.touch >= 0.0;
-  std::printf("workload: %zu hulls (Jolt kept another vertex count on %d), %d pairs per set; "
-              "reference: separated sets overlapping %d, overlapping sets apart %d, approaching "
-              "pairs that meet %d\n",
-              w.hulls.size(), w.jolt_vertex_mismatch, kPairs, sep_wrong, ovl_wrong, hits);
-  std::printf("accuracy against the exact reference (hull size 1; distance, depth and fraction "
-              "errors in those units; 'normal excess': exact depth along the reported normal "
-              "minus the true depth):\n");
-  check_overlap("separated", w.separated, "collide", overlap_collide);
-  check_overlap("separated", w.separated, "jolt", overlap_jolt);
-  check_overlap("separated", w.separated, "libccd", overlap_ccd);
-  check_overlap("separated", w.separated, "fcl", overlap_fcl);
-  check_overlap("separated", w.separated, "bullet", overlap_bullet);
-  check_overlap("overlapping", w.overlapping, "collide", overlap_collide);
-  check_overlap("overlapping", w.overlapping, "jolt", overlap_jolt);
-  check_overlap("overlapping", w.overlapping, "libccd", overlap_ccd);
-  check_overlap("overlapping", w.overlapping, "fcl", overlap_fcl);
-  check_overlap("overlapping", w.overlapping, "bullet", overlap_bullet);
-  check_distance(w.separated, "collide", distance_collide);
-  check_distance(w.separated, "jolt", distance_jolt);
-  check_distance(w.separated, "fcl_libccd", distance_fcl_ccd);
-  check_distance(w.separated, "fcl_indep", distance_fcl_indep);
-  check_distance(w.separated, "bullet", distance_bullet);
-  check_depth("depth", w.overlapping, "collide_contact", depth_collide);
-  check_depth("depth", w.overlapping, "jolt_epa", depth_jolt);
-  check_depth("depth", w.overlapping, "libccd_gjk_epa", depth_ccd_gjk);
-  check_depth("depth", w.overlapping, "libccd_mpr", depth_ccd_mpr);
-  check_depth("depth", w.overlapping, "fcl", depth_fcl);
-  check_depth("depth", w.overlapping, "bullet_epa", depth_bullet);
-  check_depth("contact", w.overlapping, "collide", contact_collide);
-  check_depth("contact", w.overlapping, "jolt", contact_jolt);
-  check_depth("contact", w.overlapping, "bullet_sat", contact_bullet);
-  check_cast(w.approaching, "collide", cast_collide);
-  check_cast(w.approaching, "jolt", cast_jolt);
-  check_cast(w.approaching, "bullet_continuous", cast_bullet_continuous);
-  check_cast(w.approaching, "bullet_gjk", cast_bullet_gjk);
-  std::fflush(stdout);
+  const std::string text = std::to_string(w.hulls.size()) + " hulls (Jolt kept another vertex count on " +
+                           std::to_string(w.jolt_vertex_mismatch) + "), " + std::to_string(kPairs) +
+                           " pairs per set; exact reference: separated pairs overlapping " +
+                           std::to_string(sep_wrong) + ", overlapping pairs apart " +
+                           std::to_string(ovl_wrong) + ", approaching pairs that meet " +
+                           std::to_string(hits);
+  benchmark::AddCustomContext("workload", text);
 }
 
 // ---- timing -------------------------------------------------------------------------------------
 
-template <class Result>
+/// Registers one benchmark: each iteration answers the query on every pair of the set; the
+/// accuracy counters are computed on the first run and reported with every run.
+template <class Result, class Check>
 void register_batch(const std::string& name, const std::vector<Pair>* pairs,
-                    Result (*query)(const Pair&)) {
-  benchmark::RegisterBenchmark(name.c_str(), [pairs, query](benchmark::State& state) {
+                    Result (*query)(const Pair&), Check check) {
+  auto accuracy = std::make_shared<std::optional<Accuracy>>();
+  benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+    if (!*accuracy) *accuracy = check(name, *pairs, query);
     for (auto _ : state) {
       for (const Pair& p : *pairs) {
         Result r = query(p);
@@ -606,7 +628,35 @@ void register_batch(const std::string& name, const std::vector<Pair>* pairs,
     state.counters["per_query"] = benchmark::Counter(
         static_cast<double>(pairs->size()),
         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    for (const auto& [counter, value] : **accuracy) state.counters[counter] = value;
   })->Unit(benchmark::kMicrosecond);
+}
+
+void overlap_batch(const std::string& name, const std::vector<Pair>* pairs,
+                   bool (*query)(const Pair&)) {
+  register_batch(name, pairs, query, overlap_accuracy);
+}
+void distance_batch(const std::string& name, const std::vector<Pair>* pairs,
+                    Closest (*query)(const Pair&)) {
+  register_batch(name, pairs, query, distance_accuracy);
+}
+void depth_batch(const std::string& name, const std::vector<Pair>* pairs,
+                 Depth (*query)(const Pair&)) {
+  register_batch(name, pairs, query, [](const std::string& n, const std::vector<Pair>& ps,
+                                        Depth (*q)(const Pair&)) {
+    return depth_accuracy(n, ps, q, false);
+  });
+}
+void contact_batch(const std::string& name, const std::vector<Pair>* pairs,
+                   Depth (*query)(const Pair&)) {
+  register_batch(name, pairs, query, [](const std::string& n, const std::vector<Pair>& ps,
+                                        Depth (*q)(const Pair&)) {
+    return depth_accuracy(n, ps, q, true);
+  });
+}
+void cast_batch(const std::string& name, const std::vector<Pair>* pairs,
+                double (*query)(const Pair&)) {
+  register_batch(name, pairs, query, cast_accuracy);
 }
 
 void register_all() {
@@ -614,31 +664,31 @@ void register_all() {
   for (const auto& [set, pairs] : {std::pair{"separated", &w.separated},
                                    std::pair{"overlapping", &w.overlapping}}) {
     const std::string base = std::string("BM_Overlap/") + set + "/";
-    register_batch(base + "collide", pairs, overlap_collide);
-    register_batch(base + "jolt", pairs, overlap_jolt);
-    register_batch(base + "libccd", pairs, overlap_ccd);
-    register_batch(base + "fcl", pairs, overlap_fcl);
-    register_batch(base + "bullet", pairs, overlap_bullet);
+    overlap_batch(base + "collide", pairs, overlap_collide);
+    overlap_batch(base + "jolt", pairs, overlap_jolt);
+    overlap_batch(base + "libccd", pairs, overlap_ccd);
+    overlap_batch(base + "fcl", pairs, overlap_fcl);
+    overlap_batch(base + "bullet", pairs, overlap_bullet);
   }
-  register_batch("BM_Distance/separated/collide", &w.separated, distance_collide);
-  register_batch("BM_Distance/separated/jolt", &w.separated, distance_jolt);
-  register_batch("BM_Distance/separated/fcl_libccd", &w.separated, distance_fcl_ccd);
-  register_batch("BM_Distance/separated/fcl_indep", &w.separated, distance_fcl_indep);
-  register_batch("BM_Distance/separated/bullet", &w.separated, distance_bullet);
-  register_batch("BM_Depth/overlapping/collide_contact", &w.overlapping, depth_collide);
-  register_batch("BM_Depth/overlapping/jolt_epa", &w.overlapping, depth_jolt);
-  register_batch("BM_Depth/overlapping/libccd_gjk_epa", &w.overlapping, depth_ccd_gjk);
-  register_batch("BM_Depth/overlapping/libccd_mpr", &w.overlapping, depth_ccd_mpr);
-  register_batch("BM_Depth/overlapping/fcl", &w.overlapping, depth_fcl);
-  register_batch("BM_Depth/overlapping/bullet_epa", &w.overlapping, depth_bullet);
-  register_batch("BM_Contact/overlapping/collide", &w.overlapping, contact_collide);
-  register_batch("BM_Contact/overlapping/jolt", &w.overlapping, contact_jolt);
-  register_batch("BM_Contact/overlapping/bullet_sat", &w.overlapping, contact_bullet);
-  register_batch("BM_ShapeCast/approaching/collide", &w.approaching, cast_collide);
-  register_batch("BM_ShapeCast/approaching/jolt", &w.approaching, cast_jolt);
-  register_batch("BM_ShapeCast/approaching/bullet_continuous", &w.approaching,
-                 cast_bullet_continuous);
-  register_batch("BM_ShapeCast/approaching/bullet_gjk", &w.approaching, cast_bullet_gjk);
+  distance_batch("BM_Distance/separated/collide", &w.separated, distance_collide);
+  distance_batch("BM_Distance/separated/jolt", &w.separated, distance_jolt);
+  distance_batch("BM_Distance/separated/fcl_libccd", &w.separated, distance_fcl_ccd);
+  distance_batch("BM_Distance/separated/fcl_indep", &w.separated, distance_fcl_indep);
+  distance_batch("BM_Distance/separated/bullet", &w.separated, distance_bullet);
+  depth_batch("BM_Depth/overlapping/collide_epa", &w.overlapping, depth_collide_epa);
+  depth_batch("BM_Depth/overlapping/collide_contact", &w.overlapping, depth_collide_contact);
+  depth_batch("BM_Depth/overlapping/jolt_epa", &w.overlapping, depth_jolt);
+  depth_batch("BM_Depth/overlapping/libccd_gjk_epa", &w.overlapping, depth_ccd_gjk);
+  depth_batch("BM_Depth/overlapping/libccd_mpr", &w.overlapping, depth_ccd_mpr);
+  depth_batch("BM_Depth/overlapping/fcl", &w.overlapping, depth_fcl);
+  depth_batch("BM_Depth/overlapping/bullet_epa", &w.overlapping, depth_bullet);
+  contact_batch("BM_Contact/overlapping/collide", &w.overlapping, contact_collide);
+  contact_batch("BM_Contact/overlapping/jolt", &w.overlapping, contact_jolt);
+  contact_batch("BM_Contact/overlapping/bullet_sat", &w.overlapping, contact_bullet);
+  cast_batch("BM_ShapeCast/approaching/collide", &w.approaching, cast_collide);
+  cast_batch("BM_ShapeCast/approaching/jolt", &w.approaching, cast_jolt);
+  cast_batch("BM_ShapeCast/approaching/bullet_continuous", &w.approaching, cast_bullet_continuous);
+  cast_batch("BM_ShapeCast/approaching/bullet_gjk", &w.approaching, cast_bullet_gjk);
 }
 
 }  // namespace
@@ -646,11 +696,10 @@ void register_all() {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::AddCustomContext("collide", COLLIDE_BENCH_ISA);
-  benchmark::AddCustomContext("jolt", jolt_queries::instruction_set());
+  collide::bench::add_instruction_sets("jolt", jolt_queries::instruction_set());
   benchmark::AddCustomContext("libccd, fcl, bullet",
                               "Debian packages, x86-64 baseline; libccd, FCL double; Bullet float");
-  report_accuracy();
+  report_workload();
   register_all();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
