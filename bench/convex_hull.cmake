@@ -1,4 +1,3 @@
-# Peer: Jolt's ConvexHullBuilder and ConvexHullShape support function (SSE2 build, see
-# cmake/jolt_peer.cmake).
-include(${PROJECT_SOURCE_DIR}/cmake/jolt_peer.cmake)
-target_link_libraries(${target} PRIVATE Jolt)
+# Peer: Jolt's ConvexHullBuilder and ConvexHullShape support function, behind
+# collide_jolt_queries (cmake/peers.cmake: Jolt's own instruction set, AVX2 by default).
+target_link_libraries(${target} PRIVATE collide_jolt_queries)

@@ -1,7 +1,9 @@
 // Convex hulls: building (collide's make_convex_hull vs Jolt's ConvexHullBuilder) and support
 // queries (ConvexHull::support_index with SSE2 over vertex blocks, the plain scalar loop it
 // replaced, hill climbing with support_index_from, and Jolt's ConvexHullShape support function).
-// Both libraries run on SSE2 (Jolt's SIMD options are off, cmake/jolt_peer.cmake).
+// Jolt runs on its default instruction set (AVX2, FMA; SSE2 with -DCOLLIDE_JOLT_SSE2=ON,
+// cmake/peers.cmake) behind tests/support/jolt/jolt_queries.hpp, collide on the x86-64 baseline
+// (SSE2): both are in the context block.
 //
 // Builds: every cloud of Jolt's convex_hulls.bin (the 6729 that are not flat) per iteration, and
 // balls of 100..10000 points; both libraries get the same tolerance (collide's, per cloud) and
@@ -16,13 +18,9 @@
 #include <collide/core/error.hpp>
 #include <collide/shape/convex_hull.hpp>
 
-#include <Jolt/Jolt.h>
+#include "instruction_set.hpp"
+#include "support/jolt/jolt_queries.hpp"
 
-#include <Jolt/Core/Factory.h>
-#include <Jolt/Core/Memory.h>
-#include <Jolt/Geometry/ConvexHullBuilder.h>
-#include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
-#include <Jolt/RegisterTypes.h>
 #include <benchmark/benchmark.h>
 
 #include <climits>
@@ -96,22 +94,14 @@ std::vector<Vec3> directions() {
   return d;
 }
 
-JPH::Array<JPH::Vec3> to_jolt(const Cloud& c) {
-  JPH::Array<JPH::Vec3> out;
+std::vector<jolt_queries::Vec> to_jolt(const Cloud& c) {
+  std::vector<jolt_queries::Vec> out;
   out.reserve(c.size());
-  for (Vec3 p : c) out.push_back(JPH::Vec3(p.x, p.y, p.z));
+  for (Vec3 p : c) out.push_back({p.x, p.y, p.z});
   return out;
 }
 
-void init_jolt() {
-  static const bool done = [] {
-    JPH::RegisterDefaultAllocator();
-    JPH::Factory::sInstance = new JPH::Factory();
-    JPH::RegisterTypes();
-    return true;
-  }();
-  (void)done;
-}
+jolt_queries::CloudPtr jolt_cloud(const Cloud& c) { return jolt_queries::make_cloud(to_jolt(c)); }
 
 // ---- building ----------------------------------------------------------------------------------
 
@@ -134,12 +124,12 @@ void BM_BuildJoltClouds_collide(benchmark::State& state) {
 BENCHMARK(BM_BuildJoltClouds_collide)->Name("BM_BuildJoltClouds/collide")->Unit(benchmark::kMillisecond);
 
 void BM_BuildJoltClouds_jolt(benchmark::State& state) {
-  init_jolt();
+  jolt_queries::init();
   const std::vector<Cloud>& clouds = jolt_clouds();
-  std::vector<JPH::Array<JPH::Vec3>> points;
+  std::vector<jolt_queries::CloudPtr> points;
   std::vector<float> tolerance;
   for (const Cloud& c : clouds) {
-    points.push_back(to_jolt(c));
+    points.push_back(jolt_cloud(c));
     tolerance.push_back(make_convex_hull(c).tolerance);
   }
   std::int64_t faces = 0;
@@ -147,13 +137,10 @@ void BM_BuildJoltClouds_jolt(benchmark::State& state) {
   for (auto _ : state) {
     faces = failed = 0;
     for (size_t i = 0; i < points.size(); ++i) {
-      JPH::ConvexHullBuilder builder(points[i]);
-      const char* error = nullptr;
-      if (builder.Initialize(kMaxHullVertices, tolerance[i], error) !=
-          JPH::ConvexHullBuilder::EResult::Success) {
-        ++failed;
-      }
-      faces += static_cast<std::int64_t>(builder.GetFaces().size());
+      const jolt_queries::HullBuild b =
+          jolt_queries::build_hull(*points[i], kMaxHullVertices, tolerance[i]);
+      failed += !b.ok;
+      faces += b.faces;
     }
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
@@ -176,17 +163,15 @@ BENCHMARK(BM_BuildBall_collide)->Name("BM_BuildBall/collide")->Arg(100)->Arg(100
     ->Unit(benchmark::kMicrosecond);
 
 void BM_BuildBall_jolt(benchmark::State& state) {
-  init_jolt();
+  jolt_queries::init();
   const Cloud c = ball(static_cast<int>(state.range(0)), 7);
-  const JPH::Array<JPH::Vec3> points = to_jolt(c);
+  const jolt_queries::CloudPtr points = jolt_cloud(c);
   const float tolerance = make_convex_hull(c).tolerance;
   int vertices = 0;
   for (auto _ : state) {
-    JPH::ConvexHullBuilder builder(points);
-    const char* error = nullptr;
-    (void)builder.Initialize(kMaxHullVertices, tolerance, error);
-    vertices = builder.GetNumVerticesUsed();
-    benchmark::DoNotOptimize(builder.GetFaces().data());
+    const jolt_queries::HullBuild b = jolt_queries::build_hull(*points, kMaxHullVertices, tolerance);
+    vertices = b.vertices;
+    benchmark::DoNotOptimize(b);
   }
   state.counters["vertices"] = vertices;
 }
@@ -262,26 +247,14 @@ void BM_Support_climb(benchmark::State& state) {
 
 /// Jolt: ConvexHullShape (convex radius 0) support function, fetched once per hull as GJK does.
 void BM_Support_jolt(benchmark::State& state) {
-  init_jolt();
+  jolt_queries::init();
   const std::vector<ConvexHull> hulls = hulls_for(static_cast<int>(state.range(0)));
-  std::vector<JPH::RefConst<JPH::Shape>> shapes;
-  for (const ConvexHull& h : hulls) {
-    JPH::ConvexHullShapeSettings settings(to_jolt(h.vertices), 0.0f);
-    settings.mHullTolerance = h.tolerance;
-    shapes.push_back(settings.Create().Get());
-  }
-  std::vector<JPH::Vec3> dirs;
-  for (Vec3 d : directions()) dirs.push_back(JPH::Vec3(d.x, d.y, d.z));
+  std::vector<jolt_queries::HullPtr> shapes;
+  for (const ConvexHull& h : hulls) shapes.push_back(jolt_queries::make_hull(to_jolt(h.vertices), h.tolerance));
+  const std::vector<jolt_queries::Vec> dirs = to_jolt(directions());
   float sum = 0.0f;
   for (auto _ : state) {
-    for (const auto& shape : shapes) {
-      JPH::ConvexShape::SupportBuffer buffer;
-      const JPH::ConvexShape::Support* support =
-          static_cast<const JPH::ConvexShape*>(shape.GetPtr())
-              ->GetSupportFunction(JPH::ConvexShape::ESupportMode::ExcludeConvexRadius, buffer,
-                                   JPH::Vec3::sOne());
-      for (const JPH::Vec3& d : dirs) sum += support->GetSupport(d).GetX();
-    }
+    for (const auto& shape : shapes) sum += jolt_queries::support_sum(*shape, dirs);
   }
   benchmark::DoNotOptimize(sum);
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(shapes.size()) *
@@ -297,4 +270,11 @@ BENCHMARK(BM_Support_jolt)->Name("BM_Support/jolt") SUPPORT_ARGS;
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("jolt", jolt_queries::instruction_set());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

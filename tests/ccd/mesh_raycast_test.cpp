@@ -7,6 +7,7 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/io/obj.hpp>
 
+#include "support/brute_ray_mesh.hpp"
 #include "support/brute_triangle.hpp"
 #include "support/test_util.hpp"
 
@@ -29,23 +30,10 @@ using test::uniform;
 
 const std::string kMeshes = std::string(COLLIDE_DATA_DIR) + "/meshes/";
 
-/// A triangle placed in the world, in double.
-using WorldTriangle = std::array<glm::dvec3, 3>;
-
-glm::dvec3 place(const Transform3& xf, glm::dvec3 local) {
-  return glm::dvec3(xf.p) + glm::dquat(xf.q) * local;  // the float quaternion, rotating in double
-}
-
-/// Every triangle of a mesh in the world (mesh space = origin + stored vertex).
-std::vector<WorldTriangle> world_triangles(const TriangleMesh& mesh, const Transform3& xf) {
-  std::vector<WorldTriangle> out;
-  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-    WorldTriangle w;
-    for (int k = 0; k < 3; ++k) w[k] = place(xf, glm::dvec3(mesh.origin) + glm::dvec3(mesh.corner(t, k)));
-    out.push_back(w);
-  }
-  return out;
-}
+using test::place;
+using test::world_triangles;
+using test::WorldTriangle;
+using Truth = test::RayTruth;
 
 std::vector<WorldTriangle> world_triangles(const HeightField& f, const Transform3& xf) {
   std::vector<WorldTriangle> out(f.triangle_count());
@@ -54,62 +42,6 @@ std::vector<WorldTriangle> world_triangles(const HeightField& f, const Transform
     for (int k = 0; k < 3; ++k) out[t][k] = place(xf, glm::dvec3(f.origin) + glm::dvec3(g[k]));
   }
   return out;
-}
-
-/// Where the segment crosses a triangle's plane, how far inside the triangle that point is
-/// (distance to the nearest edge line, negative outside), and how much the fraction moves per
-/// unit of distance moved off the plane (1 / |n . d|: grazing rays are ill-conditioned).
-struct Crossing {
-  double fraction;
-  double margin;
-  double fraction_per_distance;
-};
-std::optional<Crossing> crossing(glm::dvec3 o, glm::dvec3 d, const WorldTriangle& t) {
-  const glm::dvec3 n = glm::cross(t[1] - t[0], t[2] - t[0]);
-  const double len = glm::length(n), denom = glm::dot(n, d);
-  if (len == 0.0 || denom == 0.0) return std::nullopt;
-  const double f = glm::dot(n, t[0] - o) / denom;
-  if (!(f >= 0.0 && f <= 1.0)) return std::nullopt;
-  const glm::dvec3 q = o + f * d;
-  double margin = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec3 e = t[(k + 1) % 3] - t[k];
-    margin = std::min(margin, glm::dot(n, glm::cross(e, q - t[k])) / (len * glm::length(e)));
-  }
-  return Crossing{f, margin, len / std::abs(denom)};
-}
-
-/// The truth for one ray by scanning every triangle: the nearest crossing clearly inside a
-/// triangle (by more than `eps`), and the nearest one that may count within rounding (inside or
-/// within `eps` of an edge), each widened by its rounding (`eps` off the plane, in fraction).
-/// A ray cast must return a fraction between the two, and may miss only when there is no clear
-/// crossing. Crossings within rounding of the ray's ends are ambiguous too (the start excludes
-/// a surface, the end includes one).
-struct Truth {
-  double clear = std::numeric_limits<double>::infinity();     ///< upper bound of the hit fraction
-  double possible = std::numeric_limits<double>::infinity();  ///< lower bound
-  std::size_t clear_count = 0, possible_count = 0;
-};
-Truth brute(const std::vector<WorldTriangle>& tris, const Ray3& ray, double eps, double eps_fraction,
-            const std::vector<bool>* holes = nullptr) {
-  Truth truth;
-  const glm::dvec3 o(ray.origin), d(ray.translation);
-  for (std::size_t t = 0; t < tris.size(); ++t) {
-    if (holes && (*holes)[t]) continue;
-    const auto c = crossing(o, d, tris[t]);
-    if (!c) continue;
-    const double tol = eps_fraction + 2.0 * eps * c->fraction_per_distance;
-    // A position error off the plane moves a grazing ray's crossing along it by more.
-    const double margin_eps = eps * (1.0 + glm::length(d) * c->fraction_per_distance);
-    if (c->margin < -margin_eps || c->fraction < -tol || c->fraction > 1.0 + tol) continue;
-    truth.possible = std::min(truth.possible, c->fraction - tol);
-    ++truth.possible_count;
-    if (c->margin > margin_eps && c->fraction > tol && c->fraction < 1.0 - tol) {
-      truth.clear = std::min(truth.clear, c->fraction + tol);
-      ++truth.clear_count;
-    }
-  }
-  return truth;
 }
 
 /// Distance from a point to a world triangle (double).
@@ -173,7 +105,7 @@ TEST(MeshRaycast, SharedMeshesAgreeWithBruteForceUnderRandomTransforms) {
       const int rays = mesh.triangle_count() > 5000 ? 300 : 600;
       for (int i = 0; i < rays; ++i) {
         const Ray3 ray = random_ray(rng, box, tris);
-        const Truth truth = brute(tris, ray, eps, eps_fraction);
+        const Truth truth = test::brute_ray_truth(tris, ray, eps, eps_fraction);
         (check(raycast(mesh, xf, ray), truth, tris, ray, eps, file, i) ? hits : misses)++;
         // Every crossing by the callback: at least the clear ones, at most the possible ones.
         std::size_t count = 0;
@@ -215,7 +147,7 @@ TEST(MeshRaycast, HeightFieldsAgreeWithBruteForceUnderRandomTransforms) {
     int hits = 0, misses = 0;
     for (int i = 0; i < 1000; ++i) {
       const Ray3 ray = random_ray(rng, box, tris);
-      const Truth truth = brute(tris, ray, eps, eps_fraction, &hole);
+      const Truth truth = test::brute_ray_truth(tris, ray, eps, eps_fraction, &hole);
       (check(raycast(field, xf, ray), truth, tris, ray, eps, "height field", i) ? hits : misses)++;
       std::size_t count = 0;
       raycast(field, xf, ray, [&](const RayHit3& hit) {
@@ -242,7 +174,7 @@ TEST(MeshRaycast, TriangleAgreesWithBruteForce) {
     const Aabb3 box = compute_aabb(tri, xf);
     const Ray3 ray = random_ray(rng, fatten(box, 1.0f), tris);
     const double eps = 1e-5 * 25.0, eps_fraction = 1e-5;
-    (check(raycast(tri, xf, ray), brute(tris, ray, eps, eps_fraction), tris, ray, eps, "triangle", i) ? hits : misses)++;
+    (check(raycast(tri, xf, ray), test::brute_ray_truth(tris, ray, eps, eps_fraction), tris, ray, eps, "triangle", i) ? hits : misses)++;
   }
   EXPECT_GT(hits, 600);
   EXPECT_GT(misses, 500);

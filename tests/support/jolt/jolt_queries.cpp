@@ -1,0 +1,282 @@
+// Jolt's queries (see jolt_queries.hpp): compiled with Jolt's own flags.
+
+#include "jolt_queries.hpp"
+
+#include <Jolt/Jolt.h>
+
+#include <Jolt/ConfigurationString.h>
+#include <Jolt/Core/Factory.h>
+#include <Jolt/Core/Memory.h>
+#include <Jolt/Geometry/ConvexHullBuilder.h>
+#include <Jolt/Geometry/ConvexSupport.h>
+#include <Jolt/Geometry/EPAPenetrationDepth.h>
+#include <Jolt/Geometry/GJKClosestPoint.h>
+#include <Jolt/Physics/Collision/CollideShape.h>
+#include <Jolt/Physics/Collision/CollisionCollectorImpl.h>
+#include <Jolt/Physics/Collision/CollisionDispatch.h>
+#include <Jolt/Physics/Collision/ManifoldBetweenTwoFaces.h>
+#include <Jolt/Physics/Collision/RayCast.h>
+#include <Jolt/Physics/Collision/CastResult.h>
+#include <Jolt/Physics/Collision/ShapeCast.h>
+#include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
+#include <Jolt/Physics/Collision/Shape/MeshShape.h>
+#include <Jolt/Physics/PhysicsSettings.h>
+#include <Jolt/RegisterTypes.h>
+
+#include <cfloat>
+#include <mutex>
+
+namespace jolt_queries {
+
+using JPH::Mat44;
+using JPH::Vec3;
+
+class Hull {
+ public:
+  JPH::RefConst<JPH::ConvexHullShape> shape;
+};
+
+void HullDeleter::operator()(Hull* h) const { delete h; }
+
+class Cloud {
+ public:
+  JPH::Array<Vec3> points;
+};
+
+void CloudDeleter::operator()(Cloud* c) const { delete c; }
+
+class Mesh {
+ public:
+  JPH::RefConst<JPH::Shape> shape;
+};
+
+void MeshDeleter::operator()(Mesh* m) const { delete m; }
+
+namespace {
+
+Vec3 to_jolt(Vec v) { return Vec3(v.x, v.y, v.z); }
+Vec from_jolt(JPH::Vec3Arg v) { return {v.GetX(), v.GetY(), v.GetZ()}; }
+JPH::Quat to_jolt(const std::array<float, 4>& q) { return JPH::Quat(q[0], q[1], q[2], q[3]); }
+
+/// The centre-of-mass transform, as JPH::Body::GetCenterOfMassTransform computes it.
+Mat44 com_transform(const Body& b) {
+  return Mat44::sRotationTranslation(to_jolt(b.com.q), to_jolt(b.com.p));
+}
+
+const JPH::ConvexShape::Support* support(const Body& b, JPH::ConvexShape::SupportBuffer& buffer,
+                                         JPH::ConvexShape::ESupportMode mode) {
+  return b.hull->shape->GetSupportFunction(mode, buffer, Vec3::sOne());
+}
+
+/// B's transform in A's centre-of-mass frame, as ConvexShape::sCollideConvexVsConvex makes it.
+Mat44 b_in_a(const Body& a, const Body& b) {
+  return com_transform(a).InversedRotationTranslation() * com_transform(b);
+}
+
+/// First search direction: from A's centre of mass to B's (Jolt's choice in
+/// sCollideConvexVsConvex).
+Vec3 first_axis(const Mat44& b_to_a) {
+  Vec3 v = b_to_a.GetTranslation();
+  return v.IsNearZero() ? Vec3::sAxisX() : v;
+}
+
+/// Collects the collision result and builds the manifold as PhysicsSystem's
+/// NonReductionCollideShapeCollector does.
+class ManifoldCollector : public JPH::CollideShapeCollector {
+ public:
+  explicit ManifoldCollector(float max_contact_distance)
+      : max_contact_distance_(max_contact_distance) {}
+  void AddHit(const JPH::CollideShapeResult& r) override {
+    JPH::ContactPoints on1, on2;
+    JPH::ManifoldBetweenTwoFaces(r.mContactPointOn1, r.mContactPointOn2, r.mPenetrationAxis,
+                                 max_contact_distance_, r.mShape1Face, r.mShape2Face, on1, on2);
+    const Vec3 normal = r.mPenetrationAxis.Normalized();
+    if (on1.size() > 4) JPH::PruneContactPoints(normal, on1, on2);
+    out.count = static_cast<int>(on1.size());
+    out.depth = r.mPenetrationDepth;
+    out.normal = from_jolt(normal);
+    for (int i = 0; i < out.count && i < 4; ++i) {
+      out.points_a[i] = from_jolt(on1[i]);
+      out.points_b[i] = from_jolt(on2[i]);
+    }
+  }
+  ContactOut out;
+
+ private:
+  float max_contact_distance_;
+};
+
+}  // namespace
+
+void init() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    JPH::RegisterDefaultAllocator();
+    JPH::Factory::sInstance = new JPH::Factory();
+    JPH::RegisterTypes();
+  });
+}
+
+HullPtr make_hull(std::span<const Vec> points, float hull_tolerance) {
+  JPH::Array<Vec3> pts;
+  pts.reserve(points.size());
+  for (Vec p : points) pts.push_back(to_jolt(p));
+  JPH::ConvexHullShapeSettings settings(pts, 0.0f);
+  settings.mHullTolerance = hull_tolerance;
+  const JPH::ShapeSettings::ShapeResult result = settings.Create();
+  if (result.HasError()) return nullptr;
+  HullPtr hull(new Hull);
+  hull->shape = static_cast<const JPH::ConvexHullShape*>(result.Get().GetPtr());
+  return hull;
+}
+
+int vertex_count(const Hull& hull) { return static_cast<int>(hull.shape->GetNumPoints()); }
+
+Body place(const Hull& hull, const Pose& pose) {
+  const JPH::Quat q = to_jolt(pose.q);
+  const Vec3 com = to_jolt(pose.p) + q * hull.shape->GetCenterOfMass();
+  return {&hull, {from_jolt(com), pose.q}};
+}
+
+bool overlap(const Body& a, const Body& b) {
+  const Mat44 rel = b_in_a(a, b);
+  JPH::ConvexShape::SupportBuffer buffer_a, buffer_b;
+  const auto* sa = support(a, buffer_a, JPH::ConvexShape::ESupportMode::ExcludeConvexRadius);
+  const auto* sb = support(b, buffer_b, JPH::ConvexShape::ESupportMode::ExcludeConvexRadius);
+  const JPH::TransformedConvexObject tb(rel, *sb);
+  Vec3 v = first_axis(rel);
+  JPH::GJKClosestPoint gjk;
+  return gjk.Intersects(*sa, tb, JPH::cDefaultCollisionTolerance, v);
+}
+
+DistanceOut distance(const Body& a, const Body& b) {
+  const Mat44 xa = com_transform(a);
+  const Mat44 rel = xa.InversedRotationTranslation() * com_transform(b);
+  JPH::ConvexShape::SupportBuffer buffer_a, buffer_b;
+  const auto* sa = support(a, buffer_a, JPH::ConvexShape::ESupportMode::ExcludeConvexRadius);
+  const auto* sb = support(b, buffer_b, JPH::ConvexShape::ESupportMode::ExcludeConvexRadius);
+  const JPH::TransformedConvexObject tb(rel, *sb);
+  Vec3 v = first_axis(rel);
+  Vec3 pa, pb;
+  JPH::GJKClosestPoint gjk;
+  const float d2 =
+      gjk.GetClosestPoints(*sa, tb, JPH::cDefaultCollisionTolerance, FLT_MAX, v, pa, pb);
+  DistanceOut out;
+  if (d2 > 0.0f) {
+    out.distance = std::sqrt(d2);
+    out.point_a = from_jolt(xa * pa);
+    out.point_b = from_jolt(xa * pb);
+  }
+  return out;
+}
+
+DepthOut penetration(const Body& a, const Body& b) {
+  using Mode = JPH::ConvexShape::ESupportMode;
+  const Mat44 xa = com_transform(a);
+  const Mat44 rel = xa.InversedRotationTranslation() * com_transform(b);
+  Vec3 axis = first_axis(rel);
+  Vec3 p1, p2;
+  JPH::EPAPenetrationDepth epa;
+  JPH::EPAPenetrationDepth::EStatus status;
+  {
+    JPH::ConvexShape::SupportBuffer buffer_a, buffer_b;
+    const auto* sa = support(a, buffer_a, Mode::ExcludeConvexRadius);
+    const auto* sb = support(b, buffer_b, Mode::ExcludeConvexRadius);
+    const JPH::TransformedConvexObject tb(rel, *sb);
+    status = epa.GetPenetrationDepthStepGJK(*sa, sa->GetConvexRadius(), tb, sb->GetConvexRadius(),
+                                            JPH::cDefaultCollisionTolerance, axis, p1, p2);
+  }
+  if (status == JPH::EPAPenetrationDepth::EStatus::NotColliding) return {};
+  if (status == JPH::EPAPenetrationDepth::EStatus::Indeterminate) {
+    JPH::ConvexShape::SupportBuffer buffer_a, buffer_b;
+    const auto* sa = support(a, buffer_a, Mode::IncludeConvexRadius);
+    const auto* sb = support(b, buffer_b, Mode::IncludeConvexRadius);
+    const JPH::TransformedConvexObject tb(rel, *sb);
+    if (!epa.GetPenetrationDepthStepEPA(*sa, tb, JPH::cDefaultPenetrationTolerance, axis, p1, p2)) {
+      return {};
+    }
+  }
+  DepthOut out;
+  out.hit = true;
+  out.depth = (p2 - p1).Length();
+  out.normal = from_jolt(xa.Multiply3x3(axis.NormalizedOr(Vec3::sAxisX())));
+  return out;
+}
+
+ContactOut contact(const Body& a, const Body& b, float margin) {
+  JPH::CollideShapeSettings settings;
+  settings.mCollectFacesMode = JPH::ECollectFacesMode::CollectFaces;
+  settings.mMaxSeparationDistance = margin;
+  ManifoldCollector collector(margin + JPH::PhysicsSettings().mManifoldTolerance);
+  JPH::CollisionDispatch::sCollideShapeVsShape(a.hull->shape, b.hull->shape, Vec3::sOne(),
+                                               Vec3::sOne(), com_transform(a), com_transform(b),
+                                               JPH::SubShapeIDCreator(), JPH::SubShapeIDCreator(),
+                                               settings, collector);
+  return collector.out;
+}
+
+CastOut cast(const Body& a, Vec translation_a, const Body& b) {
+  const JPH::ShapeCast shape_cast(a.hull->shape, Vec3::sOne(), com_transform(a),
+                                  to_jolt(translation_a));
+  JPH::ShapeCastSettings settings;
+  JPH::ClosestHitCollisionCollector<JPH::CastShapeCollector> collector;
+  JPH::CollisionDispatch::sCastShapeVsShapeWorldSpace(shape_cast, settings, b.hull->shape,
+                                                      Vec3::sOne(), JPH::ShapeFilter(),
+                                                      com_transform(b), JPH::SubShapeIDCreator(),
+                                                      JPH::SubShapeIDCreator(), collector);
+  if (!collector.HadHit()) return {};
+  return {true, collector.mHit.mFraction};
+}
+
+CloudPtr make_cloud(std::span<const Vec> points) {
+  CloudPtr cloud(new Cloud);
+  cloud->points.reserve(points.size());
+  for (Vec p : points) cloud->points.push_back(to_jolt(p));
+  return cloud;
+}
+
+HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance) {
+  JPH::ConvexHullBuilder builder(cloud.points);
+  const char* error = nullptr;
+  HullBuild out;
+  out.ok = builder.Initialize(max_vertices, tolerance, error) ==
+           JPH::ConvexHullBuilder::EResult::Success;
+  out.faces = static_cast<int>(builder.GetFaces().size());
+  out.vertices = builder.GetNumVerticesUsed();
+  return out;
+}
+
+float support_sum(const Hull& hull, std::span<const Vec> directions) {
+  JPH::ConvexShape::SupportBuffer buffer;
+  const JPH::ConvexShape::Support* s = hull.shape->GetSupportFunction(
+      JPH::ConvexShape::ESupportMode::ExcludeConvexRadius, buffer, Vec3::sOne());
+  float sum = 0.0f;
+  for (Vec d : directions) sum += s->GetSupport(to_jolt(d)).GetX();
+  return sum;
+}
+
+MeshPtr make_mesh(std::span<const Vec> positions,
+                  std::span<const std::array<std::uint32_t, 3>> triangles) {
+  JPH::VertexList vertices;
+  vertices.reserve(positions.size());
+  for (Vec p : positions) vertices.push_back(JPH::Float3(p.x, p.y, p.z));
+  JPH::IndexedTriangleList indexed;
+  indexed.reserve(triangles.size());
+  for (const auto& t : triangles) indexed.push_back(JPH::IndexedTriangle(t[0], t[1], t[2]));
+  JPH::MeshShapeSettings settings(std::move(vertices), std::move(indexed));
+  const JPH::ShapeSettings::ShapeResult result = settings.Create();
+  if (result.HasError()) return nullptr;
+  MeshPtr mesh(new Mesh);
+  mesh->shape = result.Get();
+  return mesh;
+}
+
+float cast_ray(const Mesh& mesh, Vec origin, Vec translation) {
+  const JPH::RayCast ray{to_jolt(origin), to_jolt(translation)};
+  JPH::RayCastResult hit;
+  return mesh.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
+}
+
+const char* instruction_set() { return JPH::GetConfigurationString(); }
+
+}  // namespace jolt_queries
