@@ -23,6 +23,7 @@
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
+#include <collide/narrow/epa.hpp>
 
 #include "polytope3.hpp"
 #include "segment_closest.hpp"
@@ -45,6 +46,13 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 /// corners plus the reference face's. Faces with more corners than half of it are clipped by
 /// their first corners only (never seen on real hulls: the 6755 shared hulls have at most 20).
 constexpr int kMaxClipVertices = 64;
+
+/// Pairs of cores with more edge pairs than this take their axis from EPA (epa.hpp) instead
+/// of the separating axis test: the Gauss-map test of every edge pair grows as the product of
+/// the edge counts (two 30-point hulls: about 7000 pairs), EPA's cost with the support search.
+/// Box-box (144 pairs) and small hulls keep the exact SAT. Chosen by bench_narrow3 on the
+/// shared real hulls (see the commit that set it).
+constexpr int kSatEdgePairLimit = 256;
 
 /// B's core placed in A's frame.
 struct PlacedPolytope {
@@ -594,15 +602,89 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
   return 2.0f * std::sqrt(r) + p.radius;
 }
 
-/// Cores apart by less than the reach (rounded shapes, speculative contact), with GJK's result
-/// `d` (A's frame): a face contact if a face faces along the normal, else one point.
-void apart_contact(const Polytope3& a, const PlacedPolytope& b, const DistanceResult3& d,
-                   float margin, Manifold3& m) noexcept {
+/// How `contact_along` was asked: from EPA's result when the cores overlap (its depth, and the
+/// tolerance within which a face's depth counts as the same axis).
+struct EpaAxis {
+  float depth;
+  float tolerance;
+};
+
+/// A face contact `m` made for EPA's normal `n` with reference face `ref_face`. If the face's
+/// axis is worse than EPA's (the shapes' depth along it beyond EPA's by more than the
+/// tolerance), the contact is an edge's or a corner's: EPA's deepest points make one point
+/// along `n` (as the separating axis test gives for an edge pair). Otherwise the face's points
+/// stay, and the other core's deepest vertex below the face joins them when the clip left it
+/// out (over the shallowest point when the manifold is full).
+void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
+                    Vec3 n, Vec3 point_a, Vec3 point_b, const EpaAxis& epa,
+                    Manifold3& m) noexcept {
+  // The other core's support vertex below the reference face, and its height above the plane.
+  Vec3 fn;
+  Vec3 deepest;
+  int vertex;
+  float separation;
+  if (ref_is_a) {
+    const HullFace& face = a.faces[ref_face];
+    fn = face.normal;
+    vertex = b.support(-fn);
+    deepest = b.vertex(vertex);
+    separation = dot(fn, deepest) - face.offset;
+  } else {
+    fn = b.face_normal(ref_face);
+    vertex = a.support(-fn);
+    deepest = a.vertex(vertex);
+    separation = dot(fn, deepest) - b.face_offset(ref_face, fn);
+  }
+  const float face_depth = a.radius + b.p.radius - separation;
+  if (face_depth > epa.depth + epa.tolerance) {
+    const Feature ka = near_feature(a, point_a - a.radius * n);
+    const Feature kb = near_feature(b.p, inv_transform_point(b.f, point_b + b.p.radius * n));
+    m.normal = n;
+    m.count = 1;
+    m.points[0].point = 0.5f * (point_a + point_b);
+    m.points[0].depth = epa.depth;
+    m.points[0].id = ContactId{ka.index, kb.index, ka.type, kb.type};
+    return;
+  }
+  if (m.max_depth() >= face_depth - epa.tolerance) return;
+  int slot = m.count;
+  if (slot == kMaxManifoldPoints<3>) {
+    slot = 0;
+    for (int i = 1; i < m.count; ++i) {
+      if (m.points[i].depth < m.points[slot].depth) slot = i;
+    }
+  } else {
+    ++m.count;
+  }
+  Manifold3 one;
+  const Vec3 on_plane = deepest - separation * fn;
+  const std::uint32_t face_id = std::uint32_t((ref_is_a ? a : b.p).face_feature(ref_face));
+  if (ref_is_a) {
+    point_contact(on_plane, deepest, fn, separation, a.radius, b.p.radius,
+                  ContactId{face_id, std::uint32_t(vertex), FeatureType::face, FeatureType::vertex},
+                  one);
+  } else {
+    point_contact(deepest, on_plane, -fn, separation, a.radius, b.p.radius,
+                  ContactId{std::uint32_t(vertex), face_id, FeatureType::vertex, FeatureType::face},
+                  one);
+  }
+  m.points[slot] = one.points[0];
+}
+
+/// The contact along a known normal `n` (A's frame, from A to B) with the surfaces' closest
+/// (apart: GJK) or deepest (overlapping: EPA, `epa` given) points `point_a` and `point_b`: a
+/// face contact if a face faces along the normal (points kept down to depth -keep), else one
+/// point; nothing beyond the margin. With EPA, a face whose axis is worse than EPA's by more
+/// than the tolerance still makes the points, but along EPA's normal (as Jolt's manifold between
+/// two faces keeps the penetration axis), and EPA's deepest point joins the manifold when the
+/// clip left it out.
+void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 point_a,
+                   Vec3 point_b, float margin, float keep, const EpaAxis* epa,
+                   Manifold3& m) noexcept {
   const float radii = a.radius + b.p.radius;
-  const Vec3 n = d.normal;
   // Separation of the cores along n (the points carry the radii, and pass each other when the
   // radii overlap).
-  const float s = dot(d.point_b - d.point_a, n) + radii;
+  const float s = dot(point_b - point_a, n) + radii;
   if (s > radii + margin) return;
   int face_a = -1;
   float align_a = -kInf;
@@ -623,16 +705,19 @@ void apart_contact(const Polytope3& a, const PlacedPolytope& b, const DistanceRe
     }
   }
   const float min_cos = std::sqrt(1.0f - kFaceContactSine * kFaceContactSine);
-  if (face_a >= 0 && align_a >= min_cos && align_a >= align_b) {
-    face_contact(a, b, true, face_a, margin, m);
-    if (m.count > 0) return;
-  } else if (face_b >= 0 && align_b >= min_cos) {
-    face_contact(a, b, false, face_b, margin, m);
-    if (m.count > 0) return;
+  const bool ref_is_a = face_a >= 0 && align_a >= min_cos && align_a >= align_b;
+  if (ref_is_a || (face_b >= 0 && align_b >= min_cos)) {
+    face_contact(a, b, ref_is_a, ref_is_a ? face_a : face_b, keep, m);
+    if (m.count > 0) {
+      if (epa != nullptr) {
+        along_epa_axis(a, b, ref_is_a, ref_is_a ? face_a : face_b, n, point_a, point_b, *epa, m);
+      }
+      return;
+    }
   }
   // One point from the closest points of the cores (undo the radii).
-  const Vec3 pa = d.point_a - a.radius * n;
-  const Vec3 pb = d.point_b + b.p.radius * n;
+  const Vec3 pa = point_a - a.radius * n;
+  const Vec3 pb = point_b + b.p.radius * n;
   const Feature ka = near_feature(a, pa);
   const Feature kb = near_feature(b.p, inv_transform_point(b.f, pb));
   point_contact(pa, pb, n, s, a.radius, b.p.radius, ContactId{ka.index, kb.index, ka.type, kb.type},
@@ -656,7 +741,18 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
     // and the separating axis test runs only when they overlap.
     const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
     if (d.status != QueryStatus::overlapped) {
-      apart_contact(a, b, d, margin, m);
+      contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+      return;
+    }
+  }
+  if (a.edge_count * b.p.edge_count > kSatEdgePairLimit) {
+    // Many edge pairs: the axis from EPA, then the same face clipping (or one point).
+    const PenetrationResult3 r = epa_penetration(proxy_a, Transform3{}, proxy_b, b_in_a);
+    if (r.status != QueryStatus::max_iterations) {
+      const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
+      const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
+      const EpaAxis axis{r.depth, kEdgeContactTolerance * size};
+      contact_along(a, b, r.normal, r.point_a, r.point_b, margin, margin + touch, &axis, m);
       return;
     }
   }
