@@ -234,11 +234,42 @@ CoreQuery3 core_query(const Segment3& segment, Vec3 p) noexcept {
 CoreQuery3 core_query(const Box& box, Vec3 p) noexcept { return box_core(box.half, p); }
 CoreQuery3 core_query(const ConvexHull& hull, Vec3 p) noexcept { return hull_core(hull, p); }
 
+/// Triangle: the closest point by its Voronoi regions (Ericson 5.1.5, closest_point_on_triangle);
+/// the corners with nonzero barycentric weight name the feature: one a vertex, two an edge
+/// (edge k joins corners k and k + 1), three the face. No inside.
+CoreQuery3 core_query(const Triangle& triangle, Vec3 p) noexcept {
+  const auto& v = triangle.vertices;
+  const TrianglePoint c = closest_point_on_triangle(p, v[0], v[1], v[2]);
+  CoreQuery3 q;
+  q.closest = c.point;
+  const Vec3 away = p - c.point;
+  q.distance = length(away);
+  const unsigned used = unsigned(c.weights[0] > 0.0f) | (unsigned(c.weights[1] > 0.0f) << 1) |
+                        (unsigned(c.weights[2] > 0.0f) << 2);
+  switch (used) {
+    case 1u: q.feature = {FeatureType::vertex, 0u}; break;
+    case 2u: q.feature = {FeatureType::vertex, 1u}; break;
+    case 4u: q.feature = {FeatureType::vertex, 2u}; break;
+    case 3u: q.feature = {FeatureType::edge, 0u}; break;
+    case 6u: q.feature = {FeatureType::edge, 1u}; break;
+    case 5u: q.feature = {FeatureType::edge, 2u}; break;
+    default: q.feature = {FeatureType::face, 0u}; break;
+  }
+  const Vec3 n = triangle_normal(v[0], v[1], v[2]);
+  if (q.distance > 0.0f) {
+    q.outward = away * (1.0f / q.distance);
+  } else {
+    q.outward = n;  // on the triangle: its front side
+  }
+  return q;
+}
+
 float radius_of(const Sphere& s) noexcept { return s.radius; }
 float radius_of(const Capsule3& s) noexcept { return s.radius; }
 float radius_of(const Segment3&) noexcept { return 0.0f; }
 float radius_of(const Box& s) noexcept { return s.radius; }
 float radius_of(const ConvexHull& s) noexcept { return s.radius; }
+float radius_of(const Triangle&) noexcept { return 0.0f; }
 
 }  // namespace
 
@@ -253,6 +284,7 @@ template PointQuery3 closest_point(const Capsule3&, const Transform3&, Vec3) noe
 template PointQuery3 closest_point(const Segment3&, const Transform3&, Vec3) noexcept;
 template PointQuery3 closest_point(const Box&, const Transform3&, Vec3) noexcept;
 template PointQuery3 closest_point(const ConvexHull&, const Transform3&, Vec3) noexcept;
+template PointQuery3 closest_point(const Triangle&, const Transform3&, Vec3) noexcept;
 
 PointQuery3 closest_point(const Shape3D& shape, const Transform3& xf, Vec3 point) noexcept {
   return std::visit([&](const auto& s) { return closest_point(s, xf, point); }, shape);

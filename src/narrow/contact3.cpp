@@ -25,6 +25,7 @@
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/epa.hpp>
 
+#include "contact3_triangle.hpp"
 #include "polytope3.hpp"
 #include "segment_closest.hpp"
 
@@ -299,6 +300,18 @@ struct PointSet {
 };
 
 void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
+  detail::reduce_contact_points(in.points.data(), in.count, normal, m);
+}
+
+}  // namespace
+
+void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3 normal,
+                                   Manifold3& m, float depth_tie) noexcept {
+  struct View {
+    const ManifoldPoint3* points;
+    int count;
+  };
+  const View in{points, count};
   if (in.count <= 4) {
     for (int i = 0; i < in.count; ++i) m.points[i] = in.points[i];
     m.count = in.count;
@@ -307,6 +320,22 @@ void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
   int i0 = 0;
   for (int i = 1; i < in.count; ++i) {
     if (in.points[i].depth > in.points[i0].depth) i0 = i;
+  }
+  if (depth_tie > 0.0f) {
+    // Among the points as deep as the deepest within depth_tie, the one farthest from the
+    // points' centre: a corner of the patch rather than a point inside it.
+    Vec3 centre(0.0f);
+    for (int i = 0; i < in.count; ++i) centre += in.points[i].point;
+    centre *= 1.0f / float(in.count);
+    const float deepest = in.points[i0].depth;
+    float far = -1.0f;
+    for (int i = 0; i < in.count; ++i) {
+      const float d = distance_squared(in.points[i].point, centre);
+      if (in.points[i].depth >= deepest - depth_tie && d > far) {
+        far = d;
+        i0 = i;
+      }
+    }
   }
   const Vec3 p0 = in.points[i0].point;
   int i1 = -1;
@@ -351,6 +380,8 @@ void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
   m.count = 3;
   if (i3 >= 0) m.points[m.count++] = in.points[i3];
 }
+
+namespace {
 
 /// Face contact: `ref_is_a` says which core's face `ref_face` is the reference. `n` is the
 /// reference face's outward normal in A's frame; the manifold normal is n (A) or -n (B).
@@ -736,13 +767,22 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   }
   const float radii = a.radius + b.p.radius;
   const float reach = radii + margin;
-  if (reach > 0.0f) {
+  // Two cores without volume (a triangle against a segment or a triangle): A - B may be flat,
+  // and then the axes below miss the directions within its plane that separate it from the
+  // origin. GJK decides apart or touching for them too.
+  const bool flat_pair = !a.solid && !b.p.solid;
+  if (reach > 0.0f || flat_pair) {
     // Rounded or speculative: GJK first; its closest points decide when the cores are apart,
     // and the separating axis test runs only when they overlap.
     const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
     if (d.status != QueryStatus::overlapped) {
-      contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
-      return;
+      if (reach > 0.0f) {
+        contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+        return;
+      }
+      // Bare flat cores: apart unless within rounding of touching.
+      const float size = std::min(core_size(a), core_size(b.p));
+      if (d.distance > kRelativeTolerance * (size + max_abs(b_in_a.p))) return;
     }
   }
   if (a.edge_count * b.p.edge_count > kSatEdgePairLimit) {
@@ -791,6 +831,56 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
 
 }  // namespace
 
+void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                              const std::array<Vec3, 3>& corners, std::uint8_t active_edges,
+                              float margin, Manifold3& m) noexcept {
+  Polytope3 tri;
+  detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
+  const PlacedPolytope placed{tri, Frame3::from(Transform3{})};
+  const ConvexProxy3 proxy_b(Triangle{corners});
+  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
+  if (m.count == 0 || (active_edges & 7u) == 7u) return;
+  const Vec3 n = tri.faces[0].normal;
+  if (n == Vec3(0.0f)) return;
+  const float c = dot(m.normal, n);
+  // Already the face's normal (within rounding): the face axis made it. (A normal only near it,
+  // from the closest points of a rounded A beside the triangle, is an edge's or a vertex's.)
+  if (std::fabs(c) >= 1.0f - kRelativeTolerance) return;
+  // The triangle's feature nearest to A along the normal: the corners tied within
+  // kParallelTolerance (the normal perpendicular to the edge between them, to that sine).
+  float h[3];
+  int top = 0;
+  for (int k = 0; k < 3; ++k) {
+    h[k] = -dot(corners[k], m.normal);
+    if (h[k] > h[top]) top = k;
+  }
+  unsigned on = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (k == top || h[top] - h[k] <= kParallelTolerance * length(corners[top] - corners[k])) {
+      on |= 1u << k;
+    }
+  }
+  bool active = false;
+  switch (on) {
+    case 1u: active = (active_edges & 0b101u) != 0; break;  // vertex 0: edges 0 and 2
+    case 2u: active = (active_edges & 0b011u) != 0; break;  // vertex 1: edges 0 and 1
+    case 4u: active = (active_edges & 0b110u) != 0; break;  // vertex 2: edges 1 and 2
+    case 3u: active = (active_edges & 0b001u) != 0; break;  // edge 0
+    case 6u: active = (active_edges & 0b010u) != 0; break;  // edge 1
+    case 5u: active = (active_edges & 0b100u) != 0; break;  // edge 2
+    default: break;                                         // the whole face (a tiny triangle)
+  }
+  if (active) return;
+  // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
+  // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
+  const float side = dot(n, a.centroid - corners[0]);
+  const int face = side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
+  Manifold3 fixed;
+  const float touch = kRelativeTolerance * (core_size(a) + max_abs(corners[0]));
+  face_contact(a, placed, false, face, margin + touch, fixed);
+  m = fixed;
+}
+
 template <Shape3DType A, Shape3DType B>
 Manifold3 contact(const A& a, const Transform3& xa, const B& b, const Transform3& xb,
                   float margin) noexcept {
@@ -819,17 +909,19 @@ Manifold3 contact(const Shape3D& a, const Transform3& xa, const Shape3D& b, cons
 #define COLLIDE_CONTACT3_PAIR(A, B)                                                          \
   template Manifold3 contact<A, B>(const A&, const Transform3&, const B&, const Transform3&, \
                                    float) noexcept;
-#define COLLIDE_CONTACT3_ROW(A)      \
-  COLLIDE_CONTACT3_PAIR(A, Sphere)   \
-  COLLIDE_CONTACT3_PAIR(A, Capsule3) \
-  COLLIDE_CONTACT3_PAIR(A, Segment3) \
-  COLLIDE_CONTACT3_PAIR(A, Box)      \
-  COLLIDE_CONTACT3_PAIR(A, ConvexHull)
+#define COLLIDE_CONTACT3_ROW(A)        \
+  COLLIDE_CONTACT3_PAIR(A, Sphere)     \
+  COLLIDE_CONTACT3_PAIR(A, Capsule3)   \
+  COLLIDE_CONTACT3_PAIR(A, Segment3)   \
+  COLLIDE_CONTACT3_PAIR(A, Box)        \
+  COLLIDE_CONTACT3_PAIR(A, ConvexHull) \
+  COLLIDE_CONTACT3_PAIR(A, Triangle)
 COLLIDE_CONTACT3_ROW(Sphere)
 COLLIDE_CONTACT3_ROW(Capsule3)
 COLLIDE_CONTACT3_ROW(Segment3)
 COLLIDE_CONTACT3_ROW(Box)
 COLLIDE_CONTACT3_ROW(ConvexHull)
+COLLIDE_CONTACT3_ROW(Triangle)
 #undef COLLIDE_CONTACT3_ROW
 #undef COLLIDE_CONTACT3_PAIR
 

@@ -169,17 +169,19 @@ bool overlap(const Shape3D& a, const Transform3& xa, const Shape3D& b,
 // Every ordered pair of convex 3D shapes.
 #define COLLIDE_OVERLAP3_PAIR(A, B) \
   template bool overlap<A, B>(const A&, const Transform3&, const B&, const Transform3&) noexcept;
-#define COLLIDE_OVERLAP3_ROW(A)      \
-  COLLIDE_OVERLAP3_PAIR(A, Sphere)   \
-  COLLIDE_OVERLAP3_PAIR(A, Capsule3) \
-  COLLIDE_OVERLAP3_PAIR(A, Segment3) \
-  COLLIDE_OVERLAP3_PAIR(A, Box)      \
-  COLLIDE_OVERLAP3_PAIR(A, ConvexHull)
+#define COLLIDE_OVERLAP3_ROW(A)        \
+  COLLIDE_OVERLAP3_PAIR(A, Sphere)     \
+  COLLIDE_OVERLAP3_PAIR(A, Capsule3)   \
+  COLLIDE_OVERLAP3_PAIR(A, Segment3)   \
+  COLLIDE_OVERLAP3_PAIR(A, Box)        \
+  COLLIDE_OVERLAP3_PAIR(A, ConvexHull) \
+  COLLIDE_OVERLAP3_PAIR(A, Triangle)
 COLLIDE_OVERLAP3_ROW(Sphere)
 COLLIDE_OVERLAP3_ROW(Capsule3)
 COLLIDE_OVERLAP3_ROW(Segment3)
 COLLIDE_OVERLAP3_ROW(Box)
 COLLIDE_OVERLAP3_ROW(ConvexHull)
+COLLIDE_OVERLAP3_ROW(Triangle)
 #undef COLLIDE_OVERLAP3_ROW
 #undef COLLIDE_OVERLAP3_PAIR
 

@@ -16,6 +16,7 @@
 #include <collide/shape/convex_hull.hpp>
 #include <collide/shape/segment3.hpp>
 #include <collide/shape/sphere.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <array>
 #include <cstdint>
@@ -174,6 +175,10 @@ inline void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float r
   p.edge_count = 3;
   p.centroid = (a + b + c) * (1.0f / 3.0f);
   p.radius = radius;
+}
+
+inline void make_polytope(Polytope3& p, const Triangle& t) noexcept {
+  make_triangle_polytope(p, t.vertices[0], t.vertices[1], t.vertices[2], 0.0f);
 }
 
 inline void make_polytope(Polytope3& p, const ConvexHull& hull) noexcept {

@@ -187,6 +187,57 @@ std::array<Vec3, 3> HeightField::grid_corners(std::uint32_t t) const noexcept {
   return {p00, p11, grid_point(i + 1, j)};
 }
 
+std::uint32_t HeightField::corner_sample(std::uint32_t t, int k) const noexcept {
+  const std::uint32_t c = t / 2;
+  const auto cx = static_cast<std::uint32_t>(cells_x());
+  const std::uint32_t i = c % cx, j = c / cx;
+  // Even: (p00, p01, p11); odd: (p00, p11, p10), as (column offset, row offset).
+  static constexpr std::array<std::array<std::array<std::uint32_t, 2>, 3>, 2> kOffsets = {
+      {{{{0, 0}, {0, 1}, {1, 1}}}, {{{0, 0}, {1, 1}, {1, 0}}}}};
+  const auto& o = kOffsets[t % 2][static_cast<std::size_t>(k)];
+  return (j + o[1]) * static_cast<std::uint32_t>(samples_x) + i + o[0];
+}
+
+std::uint8_t HeightField::active_edges(std::uint32_t t, float cos_threshold) const noexcept {
+  const std::uint32_t c = t / 2;
+  const int cx = cells_x(), cz = cells_z();
+  const int i = static_cast<int>(c % static_cast<std::uint32_t>(cx));
+  const int j = static_cast<int>(c / static_cast<std::uint32_t>(cx));
+  const bool even = t % 2 == 0;
+  // The triangle across each edge k (see the mapping): even (p00, p01, p11) meets the odd
+  // triangle of cell (i - 1, j) over edge 0, of cell (i, j + 1) over edge 1, and its own cell's
+  // odd one over the diagonal; odd (p00, p11, p10) meets its own cell's even one over the
+  // diagonal, the even triangle of cell (i + 1, j) over edge 1 and of cell (i, j - 1) over edge 2.
+  const auto cell_index = [&](int ci, int cj) { return static_cast<std::uint32_t>(cj * cx + ci); };
+  std::array<std::int64_t, 3> across{};
+  const auto neighbour = [&](int ci, int cj, bool want_even) -> std::int64_t {
+    if (ci < 0 || cj < 0 || ci >= cx || cj >= cz) return -1;
+    const std::uint32_t cell = cell_index(ci, cj);
+    if (is_hole(cell)) return -1;
+    return static_cast<std::int64_t>(2 * cell + (want_even ? 0u : 1u));
+  };
+  if (even) {
+    across = {neighbour(i - 1, j, false), neighbour(i, j + 1, false), static_cast<std::int64_t>(t + 1)};
+  } else {
+    across = {static_cast<std::int64_t>(t - 1), neighbour(i + 1, j, true), neighbour(i, j - 1, true)};
+  }
+  const std::array<Vec3, 3> p = grid_corners(t);
+  const Vec3 n1 = triangle_normal(p[0], p[1], p[2]);
+  std::uint8_t bits = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::int64_t other = across[static_cast<std::size_t>(k)];
+    bool active = true;  // the field's border or a hole: a boundary edge
+    if (other >= 0) {
+      const std::array<Vec3, 3> q = grid_corners(static_cast<std::uint32_t>(other));
+      const Vec3 e = p[static_cast<std::size_t>((k + 1) % 3)] - p[static_cast<std::size_t>(k)];
+      // Every triangle faces up: the windings agree over every edge.
+      active = is_edge_active(n1, triangle_normal(q[0], q[1], q[2]), e, true, cos_threshold);
+    }
+    if (active) bits |= active_edge_bit(k);
+  }
+  return bits;
+}
+
 Triangle HeightField::triangle(std::uint32_t t) const noexcept {
   const std::array<Vec3, 3> p = grid_corners(t);
   return Triangle{{origin + p[0], origin + p[1], origin + p[2]}};

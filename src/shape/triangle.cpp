@@ -103,4 +103,11 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
   return {q, {1.0f - v - w, v, w}};
 }
 
+bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
+  const float cos_angle = dot(n1, n2);
+  if (cos_angle < kFoldBackCosAngle) return true;
+  if (consistent && !(dot(cross(n1, n2), e) > 0.0f)) return false;  // concave (or flat: the threshold would say no)
+  return cos_angle < cos_threshold;
+}
+
 }  // namespace collide

@@ -42,18 +42,6 @@ struct EdgeSide {
   bool forward;  ///< the triangle runs lo -> hi along it
 };
 
-/// Whether the edge shared by triangles with unit normals n1, n2 is active. `e` is the edge's
-/// direction as triangle 1 runs it; `n2` is already turned to agree with triangle 1's winding.
-/// Convex when n2 turns away from n1 about e: (n1 x n2) . e > 0. When the two windings disagree
-/// over the edge (`consistent` false) neither side is the outside, and an edge convex from one
-/// side is concave from the other: active unless flat within the threshold.
-bool is_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
-  const float cos_angle = dot(n1, n2);
-  if (cos_angle < kFoldBackCosAngle) return true;
-  if (consistent && !(dot(cross(n1, n2), e) > 0.0f)) return false;  // concave (or flat: the threshold would say no)
-  return cos_angle < cos_threshold;
-}
-
 }  // namespace
 
 Vec3 median_vertex(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
@@ -155,7 +143,7 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
       // Consistent windings run a shared edge in opposite directions; otherwise turn b's normal.
       const bool consistent = a.forward != b.forward;
       const Vec3 nb = consistent ? normals[b.triangle] : -normals[b.triangle];
-      active = is_active(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
+      active = is_edge_active(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
     }
     if (active) {
       ++mesh.stats.active_edges;

@@ -19,7 +19,10 @@
 #include <collide/core/status.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/narrow/support.hpp>
+#include <collide/shape/height_field.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include <cstdint>
 
@@ -136,5 +139,49 @@ template <Shape3DType A, Shape3DType B>
 /// `shape_cast` for 3D shapes whose types are known only at run time.
 [[nodiscard]] ShapeCastResult3 shape_cast(const Shape3D& a, const Transform3& xa, Vec3 va,
                                           const Shape3D& b, const Transform3& xb, Vec3 vb);
+
+/// Time of first touch of convex shape A (placed by `xa`, translating by `va` over the step)
+/// and the mesh (placed by `xm`, translating by `vm`), the earliest over its triangles, with
+/// the `shape_cast` result fields (normal from A to the mesh); `triangle` (optional) receives
+/// the triangle hit (UINT32_MAX when none). Convex first; the overloads below take the mesh
+/// first.
+///
+/// Method (src/ccd/mesh_shape_cast.cpp): A's bounding box in the mesh's stored frame is swept
+/// along the relative translation through the BVH (`TriangleBvh::box_cast`), nearer boxes first;
+/// each triangle whose box it meets takes the GJK ray cast of `gjk_shape_cast` (van den Bergen
+/// 2004), and the earliest hit so far clips the sweep, so boxes entered later are never opened.
+/// A shape touching the mesh at the start reports overlapped at fraction 0. Allocates nothing.
+/// Throws InvalidInput as `shape_cast` (naming "xa", "va", "xb" for the mesh's transform, "vb").
+template <ConvexShape3DType A>
+[[nodiscard]] ShapeCastResult3 shape_cast(const A& a, const Transform3& xa, Vec3 va,
+                                          const TriangleMesh& mesh, const Transform3& xm, Vec3 vm,
+                                          std::uint32_t* triangle = nullptr);
+
+/// The same against a height field placed by `xf` moving by `vf`: the cells under A's box
+/// swept over the step are the candidates (holes have none); a candidate whose box A's box,
+/// swept only up to the best fraction so far, does not meet is skipped.
+template <ConvexShape3DType A>
+[[nodiscard]] ShapeCastResult3 shape_cast(const A& a, const Transform3& xa, Vec3 va,
+                                          const HeightField& field, const Transform3& xf, Vec3 vf,
+                                          std::uint32_t* triangle = nullptr);
+
+/// `shape_cast` with the mesh first: the same fraction and point, the normal flipped.
+template <ConvexShape3DType B>
+[[nodiscard]] ShapeCastResult3 shape_cast(const TriangleMesh& mesh, const Transform3& xm, Vec3 vm,
+                                          const B& b, const Transform3& xb, Vec3 vb,
+                                          std::uint32_t* triangle = nullptr) {
+  ShapeCastResult3 r = shape_cast(b, xb, vb, mesh, xm, vm, triangle);
+  r.normal = -r.normal;
+  return r;
+}
+/// `shape_cast` with the height field first: the same fraction and point, the normal flipped.
+template <ConvexShape3DType B>
+[[nodiscard]] ShapeCastResult3 shape_cast(const HeightField& field, const Transform3& xf, Vec3 vf,
+                                          const B& b, const Transform3& xb, Vec3 vb,
+                                          std::uint32_t* triangle = nullptr) {
+  ShapeCastResult3 r = shape_cast(b, xb, vb, field, xf, vf, triangle);
+  r.normal = -r.normal;
+  return r;
+}
 
 }  // namespace collide

@@ -61,6 +61,9 @@ template <Shape2DType S>
 ///   every face with positive separation (its projection, or the nearest point of its sides) is
 ///   compared (Ericson 5.1.7, sides by 5.1.2). Features: face, `edges` index, vertex index. O(faces)
 ///   plus the sides of the separating faces.
+/// - Triangle: its Voronoi regions (Ericson 5.1.5, `closest_point_on_triangle`): vertex k, edge
+///   k (corner k to k + 1) or face 0. Two-sided with no inside: distance >= 0; a point on the
+///   triangle reports the face (or the edge or vertex it lies on) at distance 0.
 template <Shape3DType S>
 [[nodiscard]] PointQuery3 closest_point(const S& shape, const Transform3& xf, Vec3 point) noexcept;
 

@@ -22,7 +22,12 @@
 #include <collide/narrow/manifold.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/core/function_ref.hpp>
+#include <collide/shape/height_field.hpp>
 #include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle_mesh.hpp>
+
+#include <cstdint>
 
 namespace collide {
 
@@ -75,5 +80,73 @@ template <Shape3DType A, Shape3DType B>
 /// `contact` for 3D shapes of types known only at run time.
 [[nodiscard]] Manifold3 contact(const Shape3D& a, const Transform3& xa, const Shape3D& b,
                                 const Transform3& xb, float margin = 0.0f) noexcept;
+
+/// Points of triangles whose normals are within this cosine (30 degrees) of the deepest
+/// triangle's normal join its manifold in `contact` against a mesh or height field; the others
+/// are left out (a body in a corner gets the deepest surface; visit every triangle's manifold
+/// with the callback overload to see them all).
+inline constexpr float kLevelContactMergeCos = 0.866025404f;
+
+/// Most candidate points `contact` against a level holds before it reduces them: a shape over
+/// many small triangles has its points reduced to 4 whenever this many have gathered.
+inline constexpr int kMaxLevelContactPoints = 64;
+
+/// Called by the per-triangle `contact` with each triangle that touches A (within the margin)
+/// and its manifold (world space, as the merged `contact` reports it). Return true to go on,
+/// false to stop.
+using TriangleContactCallback = FunctionRef<bool(std::uint32_t triangle, const Manifold3& m)>;
+
+/// The contact between convex shape A placed by `xa` and the mesh placed by `xm`: one manifold
+/// of up to 4 world points, normal unit from A to the mesh, depths along it, empty when apart
+/// by more than `margin` (as convex-convex `contact`). Convex first; the overloads below take the
+/// mesh first and report the reversed manifold.
+///
+/// Method (src/narrow/mesh_query.cpp): A's bounding box grown by the margin, in the mesh's
+/// stored frame, queries the BVH; each triangle it meets gets the convex-triangle contact of
+/// contact3.cpp, corrected for active edges (TriangleMesh::active_edges): a normal that comes
+/// from an inactive edge, or from a vertex whose edges are all inactive, is replaced by the
+/// triangle's face contact (the face looking at A), so a body sliding over the seams of a flat
+/// or concave surface never meets a tilted "ghost" normal (the idea of Jolt's ActiveEdges and
+/// Bullet's btAdjustInternalEdgeContacts). Then the normal of the deepest point is the
+/// manifold's; points of triangles whose normal is within kLevelContactMergeCos of it join
+/// with their depth along it (depth / cos), points closer than kContactMergeTolerance of A's
+/// size to a deeper one are merged, and the rest are reduced to 4 as convex contact does.
+///
+/// Feature ids: B's (the mesh's) features are named globally (DESIGN.md): vertex = mesh vertex
+/// index, edge 3 * triangle + k, face = triangle index, so ids stay stable across frames while
+/// the same triangles touch. Triangles are two-sided. Allocates nothing.
+template <ConvexShape3DType A>
+[[nodiscard]] Manifold3 contact(const A& a, const Transform3& xa, const TriangleMesh& mesh,
+                                const Transform3& xm, float margin = 0.0f) noexcept;
+
+/// The same against a height field placed by `xf` (its cell query; active edges from the
+/// neighbouring cells, HeightField::active_edges; vertex ids are sample indices).
+template <ConvexShape3DType A>
+[[nodiscard]] Manifold3 contact(const A& a, const Transform3& xa, const HeightField& field,
+                                const Transform3& xf, float margin = 0.0f) noexcept;
+
+/// Every triangle's own manifold (active edges applied), unmerged, to `visit`: a body touching
+/// several surfaces at once (a floor and a wall) sees each.
+template <ConvexShape3DType A>
+void contact(const A& a, const Transform3& xa, const TriangleMesh& mesh, const Transform3& xm,
+             float margin, TriangleContactCallback visit) noexcept;
+
+/// Every triangle's own manifold against a height field.
+template <ConvexShape3DType A>
+void contact(const A& a, const Transform3& xa, const HeightField& field, const Transform3& xf,
+             float margin, TriangleContactCallback visit) noexcept;
+
+/// `contact` with the mesh first: the reversed manifold (normal from the mesh to B).
+template <ConvexShape3DType B>
+[[nodiscard]] Manifold3 contact(const TriangleMesh& mesh, const Transform3& xm, const B& b,
+                                const Transform3& xb, float margin = 0.0f) noexcept {
+  return reversed(contact(b, xb, mesh, xm, margin));
+}
+/// `contact` with the height field first: the reversed manifold.
+template <ConvexShape3DType B>
+[[nodiscard]] Manifold3 contact(const HeightField& field, const Transform3& xf, const B& b,
+                                const Transform3& xb, float margin = 0.0f) noexcept {
+  return reversed(contact(b, xb, field, xf, margin));
+}
 
 }  // namespace collide

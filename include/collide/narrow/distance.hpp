@@ -11,10 +11,13 @@
 #include <collide/core/status.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/narrow/support.hpp>
+#include <collide/shape/height_field.hpp>
 #include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include <array>
 #include <cstdint>
+#include <limits>
 
 namespace collide {
 
@@ -107,5 +110,58 @@ template <Shape3DType A, Shape3DType B>
 [[nodiscard]] DistanceResult3 distance(const Shape3D& a, const Transform3& xa, const Shape3D& b,
                                        const Transform3& xb,
                                        SimplexCache3* cache = nullptr) noexcept;
+
+/// Distance and closest points between convex shape A placed by `xa` and the nearest triangle
+/// of the mesh placed by `xm`, world space, normal from A to the mesh; `triangle` (optional)
+/// receives that triangle's index. Only triangles within `max_distance` (world units) count: a
+/// game usually asks "is anything within d", and a bound keeps the search local. When none is
+/// within it the result has distance +infinity, zero points and normal, status separated, and
+/// `triangle` gets UINT32_MAX. When A overlaps a triangle: distance 0 (status overlapped when
+/// the cores overlap), found early.
+///
+/// Exact for any bound, by branch and bound: the BVH's nearest triangle to the centre of A's box
+/// (in the mesh's stored frame) gives a first distance by GJK; A's box grown by the best
+/// distance so far (or the bound, if smaller) then queries the BVH, and each candidate whose
+/// box is farther from A's box than the best distance is skipped without GJK. Allocates
+/// nothing (src/narrow/mesh_query.cpp).
+template <ConvexShape3DType A>
+[[nodiscard]] DistanceResult3 distance(
+    const A& a, const Transform3& xa, const TriangleMesh& mesh, const Transform3& xm,
+    float max_distance = std::numeric_limits<float>::infinity(),
+    std::uint32_t* triangle = nullptr) noexcept;
+
+/// The same against a height field placed by `xf` (the first distance from the cell under A's
+/// centre, clamped to the grid; holes have no triangles).
+template <ConvexShape3DType A>
+[[nodiscard]] DistanceResult3 distance(
+    const A& a, const Transform3& xa, const HeightField& field, const Transform3& xf,
+    float max_distance = std::numeric_limits<float>::infinity(),
+    std::uint32_t* triangle = nullptr) noexcept;
+
+/// The same result seen from the other side: points swapped, normal flipped.
+[[nodiscard]] constexpr DistanceResult3 swapped(DistanceResult3 d) noexcept {
+  const Vec3 p = d.point_a;
+  d.point_a = d.point_b;
+  d.point_b = p;
+  d.normal = -d.normal;
+  return d;
+}
+
+/// `distance` with the mesh first: points swapped and normal flipped (from the mesh to B).
+template <ConvexShape3DType B>
+[[nodiscard]] DistanceResult3 distance(
+    const TriangleMesh& mesh, const Transform3& xm, const B& b, const Transform3& xb,
+    float max_distance = std::numeric_limits<float>::infinity(),
+    std::uint32_t* triangle = nullptr) noexcept {
+  return swapped(distance(b, xb, mesh, xm, max_distance, triangle));
+}
+/// `distance` with the height field first: points swapped and normal flipped.
+template <ConvexShape3DType B>
+[[nodiscard]] DistanceResult3 distance(
+    const HeightField& field, const Transform3& xf, const B& b, const Transform3& xb,
+    float max_distance = std::numeric_limits<float>::infinity(),
+    std::uint32_t* triangle = nullptr) noexcept {
+  return swapped(distance(b, xb, field, xf, max_distance, triangle));
+}
 
 }  // namespace collide

@@ -5,7 +5,9 @@
 
 #include <collide/core/transform3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/height_field.hpp>
 #include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 namespace collide {
 
@@ -38,5 +40,34 @@ template <Shape3DType A, Shape3DType B>
 /// `overlap` for 3D shapes of types known only at run time.
 [[nodiscard]] bool overlap(const Shape3D& a, const Transform3& xa, const Shape3D& b,
                            const Transform3& xb) noexcept;
+
+/// True when convex shape A placed by `xa` touches or overlaps a triangle of the mesh placed by
+/// `xm` (touching within rounding counts, as above). A's bounding box, taken in the mesh's
+/// stored frame, queries the BVH; each triangle whose box it meets takes the convex-triangle
+/// `overlap`, and the first that overlaps ends the query. Triangles are two-sided surfaces: a
+/// shape wholly inside a closed mesh does not overlap it. Allocates nothing (src/narrow/
+/// mesh_query.cpp). The order is convex first; the overloads below take the level first.
+template <ConvexShape3DType A>
+[[nodiscard]] bool overlap(const A& a, const Transform3& xa, const TriangleMesh& mesh,
+                           const Transform3& xm) noexcept;
+
+/// The same against a height field placed by `xf`, through its cell query (holes have no
+/// triangles).
+template <ConvexShape3DType A>
+[[nodiscard]] bool overlap(const A& a, const Transform3& xa, const HeightField& field,
+                           const Transform3& xf) noexcept;
+
+/// `overlap` with the level shape first: the same answer.
+template <ConvexShape3DType B>
+[[nodiscard]] bool overlap(const TriangleMesh& mesh, const Transform3& xm, const B& b,
+                           const Transform3& xb) noexcept {
+  return overlap(b, xb, mesh, xm);
+}
+/// `overlap` with the height field first: the same answer.
+template <ConvexShape3DType B>
+[[nodiscard]] bool overlap(const HeightField& field, const Transform3& xf, const B& b,
+                           const Transform3& xb) noexcept {
+  return overlap(b, xb, field, xf);
+}
 
 }  // namespace collide

@@ -15,6 +15,7 @@
 #include <collide/shape/shape3d.hpp>
 #include <collide/shape/shape2d.hpp>
 #include <collide/shape/sphere.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <array>
 #include <limits>
@@ -179,7 +180,7 @@ using ConvexProxy = ConvexProxyN<2>;  ///< the 2D support map
 /// Most points a raw 3D point-set proxy may hold (support indices fit a byte, as hulls' do).
 inline constexpr int kMaxProxyPoints3 = 256;
 
-/// The 3D support map. Sphere, capsule and segment proxies copy their 1-2 points; a box
+/// The 3D support map. Sphere, capsule, segment and triangle proxies copy their 1-3 points; a box
 /// proxy keeps its half extents and answers by the signs of the direction (its 8 corners are
 /// numbered as box.hpp's vertices); raw point sets are not copied (keep them alive).
 template <>
@@ -194,6 +195,13 @@ class ConvexProxyN<3> {
   /// Segment: its two ends, radius 0.
   explicit ConvexProxyN(const Segment3& segment) noexcept
       : buffer_{segment.a, segment.b}, count_(2), radius_(0.0f) {}
+  /// Triangle: its 3 corners (copied; core point k is corner k, as its vertex features), radius
+  /// 0. Flat: GJK, EPA and the casts treat it as the convex hull of the 3 points.
+  explicit ConvexProxyN(const Triangle& triangle) noexcept
+      : buffer_{triangle.vertices[0], triangle.vertices[1], triangle.vertices[2]},
+        count_(3),
+        radius_(0.0f),
+        kind_(Kind::triangle) {}
   /// Box: 8 corners by the feature numbering of box.hpp, and its rounding radius.
   explicit ConvexProxyN(const Box& box) noexcept
       : buffer_{box.half, box.half}, count_(8), radius_(box.radius), kind_(Kind::box) {}
@@ -231,7 +239,8 @@ class ConvexProxyN<3> {
       }
       case Kind::points:
       case Kind::hull: return points_[i];
-      case Kind::inline_points: break;
+      case Kind::inline_points:
+      case Kind::triangle: break;
     }
     return buffer_[i];
   }
@@ -245,6 +254,7 @@ class ConvexProxyN<3> {
                (int(direction.z > 0.0f) << 2);
       case Kind::points: return scan(points_, count_, direction);
       case Kind::hull: return hull_->support_index(direction);
+      case Kind::triangle: return scan(buffer_.data(), 3, direction);
       case Kind::inline_points: break;
     }
     return count_ == 2 && dot(buffer_[1], direction) > dot(buffer_[0], direction) ? 1 : 0;
@@ -258,7 +268,7 @@ class ConvexProxyN<3> {
   }
 
  private:
-  enum class Kind : unsigned char { inline_points, box, points, hull };
+  enum class Kind : unsigned char { inline_points, box, points, hull, triangle };
 
   [[nodiscard]] static int scan(const Vec3* p, int n, Vec3 direction) noexcept {
     int best = 0;
@@ -273,7 +283,7 @@ class ConvexProxyN<3> {
     return best;
   }
 
-  std::array<Vec3, 2> buffer_{};  ///< inline points; a box's half extents in [0]
+  std::array<Vec3, 3> buffer_{};  ///< inline points; a box's half extents in [0]
   const Vec3* points_ = nullptr;
   int count_ = 0;
   float radius_ = 0.0f;

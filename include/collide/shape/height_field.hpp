@@ -75,6 +75,14 @@ struct HeightField {
   [[nodiscard]] std::array<Vec3, 3> grid_corners(std::uint32_t t) const noexcept;
   /// Triangle t in local space (origin added).
   [[nodiscard]] Triangle triangle(std::uint32_t t) const noexcept;
+  /// Sample index (j * samples_x + i, its vertex feature id) of corner k of triangle t.
+  [[nodiscard]] std::uint32_t corner_sample(std::uint32_t t, int k) const noexcept;
+  /// Active edges of triangle t, bit active_edge_bit(k) for edge k, by the rule of
+  /// TriangleMesh::active_edges computed on the fly from the neighbouring cells (every triangle
+  /// faces up, so the windings agree): an edge on the field's border or next to a hole is
+  /// active; an internal edge is active when convex with normals turning by more than the angle
+  /// whose cosine is `cos_threshold` (kActiveEdgeCosAngle by default).
+  [[nodiscard]] std::uint8_t active_edges(std::uint32_t t, float cos_threshold = kActiveEdgeCosAngle) const noexcept;
 
   /// Calls `visit(triangle)` for each triangle of a non-hole cell whose bounding box overlaps
   /// `local_box` (local space), row by row; stops when `visit` returns false. Blocks whose height

@@ -71,6 +71,30 @@ struct TrianglePoint {
 [[nodiscard]] float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c,
                                           float max_fraction = 1.0f) noexcept;
 
+/// An internal edge between two triangles that meet at a convex dihedral angle is active when
+/// their normals turn by more than the angle whose cosine this is: 5 degrees (Jolt's default,
+/// MeshShapeSettings::mActiveEdgeCosThresholdAngle). Flatter convex edges and every concave
+/// edge are inactive.
+inline constexpr float kActiveEdgeCosAngle = 0.996194698f;  // cos(5 degrees)
+
+/// Two triangles over an edge whose normals are closer to opposite than this cosine (folded
+/// back onto each other within about 1 degree: a fin, a zero-thickness wall) have an active
+/// edge: the convex / concave test has no reliable sign there.
+inline constexpr float kFoldBackCosAngle = -0.999847695f;  // cos(179 degrees)
+
+/// Bit k of `TriangleMesh::active_edges[t]`: edge k (corner k to corner k + 1) of triangle t.
+[[nodiscard]] constexpr std::uint8_t active_edge_bit(int k) noexcept { return static_cast<std::uint8_t>(1u << k); }
+
+/// Whether the edge shared by two triangles with unit normals `n1` and `n2` is active (see
+/// kActiveEdgeCosAngle). `e` is the edge's direction as triangle 1 runs it; `n2` is already
+/// turned to agree with triangle 1's winding. Convex when n2 turns away from n1 about e,
+/// (n1 x n2) . e > 0 (the idea of Jolt's ActiveEdges.h and Bullet's btInternalEdgeUtility,
+/// written here from the definition). When the two windings disagree over the edge
+/// (`consistent` false) neither side is the outside, and an edge convex from one side is concave
+/// from the other: active unless flat within the threshold. Folded-back pairs
+/// (kFoldBackCosAngle) are active.
+[[nodiscard]] bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept;
+
 /// The triangle of a set (a TriangleBvh, a HeightField) that a ray crosses first.
 struct TriangleRayHit {
   std::uint32_t triangle = std::numeric_limits<std::uint32_t>::max();  ///< triangle index; max() on a miss

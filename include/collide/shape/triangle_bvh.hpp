@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace collide {
@@ -49,6 +50,11 @@ struct BvhNearest {
   float distance_squared = std::numeric_limits<float>::infinity();  ///< squared distance to it
 };
 
+/// Called by `TriangleBvh::box_cast` with each triangle whose box the moving box meets and the
+/// fraction at which it first does. Returns the new maximum fraction (TriangleRayCallback's
+/// convention): the best fraction found so far clips the cast, 0 stops it.
+using TriangleCastCallback = FunctionRef<float(std::uint32_t triangle, float fraction)>;
+
 /// Static AABB tree over triangles: built top-down by the binned surface area heuristic (Wald,
 /// "On fast construction of SAH-based bounding volume hierarchies", 2007; Ericson, Real-Time
 /// Collision Detection, 6.2) as a binary tree with leaves of at most four triangles, then
@@ -75,7 +81,8 @@ class TriangleBvh {
   /// when squared distances from `p` overflow float (|p| beyond about 1e18).
   [[nodiscard]] BvhNearest nearest(Vec3 p, float max_distance_squared = std::numeric_limits<float>::infinity()) const noexcept;
 
-  /// Calls `visit(triangle index)` for every triangle whose bounding box overlaps `box`.
+  /// Calls `visit(triangle index)` for every triangle whose bounding box overlaps `box`. A
+  /// `visit` that returns bool stops the query by returning false.
   template <class Visit>
   void query(const Aabb3& box, Visit&& visit) const {
     if (nodes_.empty()) return;
@@ -97,7 +104,12 @@ class TriangleBvh {
         const Packet& packet = packets_[node.child[k] & ~kLeaf];
         for (std::uint32_t i = 0; i < node.count[k]; ++i) {
           const Vec3 a = packet.corner(0, i), b = packet.corner(1, i), c = packet.corner(2, i);
-          if (overlap(Aabb3{glm::min(glm::min(a, b), c), glm::max(glm::max(a, b), c)}, box)) visit(packet.id[i]);
+          if (!overlap(Aabb3{glm::min(glm::min(a, b), c), glm::max(glm::max(a, b), c)}, box)) continue;
+          if constexpr (std::is_same_v<std::invoke_result_t<Visit&, std::uint32_t>, bool>) {
+            if (!visit(packet.id[i])) return;
+          } else {
+            visit(packet.id[i]);
+          }
         }
       }
     }
@@ -115,6 +127,16 @@ class TriangleBvh {
   /// widened by kBvhSlabSlack. No allocation; nothing is reported for a ray of zero length or
   /// with a non-finite coordinate. What `visit` throws propagates.
   void ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction = 1.0f) const;
+
+  /// Every triangle whose bounding box the axis-aligned box `box` (BVH space) meets while it
+  /// moves by `translation` within `max_fraction` of it, reported to `visit` with the fraction
+  /// at which the moving box first touches the triangle's box (0 when they overlap at the
+  /// start); the callback returns the new maximum fraction (TriangleCastCallback). Nearer
+  /// boxes are opened first, so a caller that clips at its best hit so far prunes the rest.
+  /// Exactly the ray traversal of `ray_cast` from the box's centre through boxes grown by its
+  /// half extents (their Minkowski sum), with the same slack. No allocation; nothing for a
+  /// non-finite input.
+  void box_cast(const Aabb3& box, Vec3 translation, TriangleCastCallback visit, float max_fraction = 1.0f) const;
 
   /// The nearest triangle `ray` crosses within `max_fraction` (the callback version with a
   /// callback that clips at each hit, without the indirect call). Among crossings at exactly the

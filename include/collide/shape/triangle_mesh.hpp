@@ -20,20 +20,6 @@ namespace collide {
 /// edge 3 * triangle + k included, stays below 2^30 (DESIGN.md "Feature ids").
 inline constexpr std::size_t kMaxMeshTriangles = (std::size_t{1} << 30) / 3;
 
-/// An internal edge between two triangles that meet at a convex dihedral angle is active when
-/// their normals turn by more than the angle whose cosine this is: 5 degrees (Jolt's default,
-/// MeshShapeSettings::mActiveEdgeCosThresholdAngle). Flatter convex edges and every concave
-/// edge are inactive.
-inline constexpr float kActiveEdgeCosAngle = 0.996194698f;  // cos(5 degrees)
-
-/// Two triangles over an edge whose normals are closer to opposite than this cosine (folded
-/// back onto each other within about 1 degree: a fin, a zero-thickness wall) have an active
-/// edge: the convex / concave test has no reliable sign there.
-inline constexpr float kFoldBackCosAngle = -0.999847695f;  // cos(179 degrees)
-
-/// Bit k of `TriangleMesh::active_edges[t]`: edge k (corner k to corner k + 1) of triangle t.
-[[nodiscard]] constexpr std::uint8_t active_edge_bit(int k) noexcept { return static_cast<std::uint8_t>(1u << k); }
-
 /// How `make_triangle_mesh` builds.
 struct TriangleMeshOptions {
   /// Cosine of the normals' turning angle above which a convex internal edge is inactive

@@ -1,0 +1,167 @@
+// Shape casts of convex shapes against the level shapes (TriangleMesh, HeightField): the GJK
+// ray cast of gjk_shape_cast against each candidate triangle, the earliest kept, candidates
+// from the level's spatial index along A's swept box. Work happens in A's local frame at the
+// start of the step (the triangles moved there, one rotation per corner), as in
+// narrow/mesh_query.cpp, so large world coordinates cancel first.
+
+#include <collide/ccd/shape_cast.hpp>
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <variant>
+
+namespace collide {
+namespace {
+
+constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
+
+/// The state of one cast: A's proxy and motion relative to the level, both in A's frame.
+struct LevelCast {
+  ConvexProxy3 proxy;
+  Frame3 stored_to_a;   ///< the level's stored frame placed in A's frame
+  Vec3 va_local;        ///< A's translation, A's frame
+  Vec3 vl_local;        ///< the level's translation, A's frame
+  ShapeCastResult3 best{};
+  std::uint32_t best_t = kNoTriangle;
+  ShapeCastResult3 stalled{};  ///< the earliest safe fraction of a cast that hit the iteration cap
+  bool any_stalled = false;
+
+  /// Cast against triangle `t` (stored corners); returns the new clip fraction (0: stop).
+  float test(std::uint32_t t, const std::array<Vec3, 3>& c) noexcept {
+    const Triangle tri{{transform_point(stored_to_a, c[0]), transform_point(stored_to_a, c[1]),
+                        transform_point(stored_to_a, c[2])}};
+    const ShapeCastResult3 r =
+        gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local);
+    if (r.hit) {
+      if (best_t == kNoTriangle || r.fraction < best.fraction) {
+        best = r;
+        best_t = t;
+      }
+      return best.fraction > 0.0f ? best.fraction : 0.0f;
+    }
+    if (r.status == QueryStatus::max_iterations && (!any_stalled || r.fraction < stalled.fraction)) {
+      stalled = r;
+      any_stalled = true;
+    }
+    return best_t == kNoTriangle ? 1.0f : best.fraction;
+  }
+
+  /// The result in the world.
+  ShapeCastResult3 finish(const Transform3& xa, std::uint32_t* triangle) const noexcept {
+    if (triangle != nullptr) *triangle = best_t;
+    ShapeCastResult3 r;
+    if (best_t != kNoTriangle && !(any_stalled && stalled.fraction < best.fraction)) {
+      r = best;
+    } else if (any_stalled) {
+      r = stalled;
+      if (triangle != nullptr) *triangle = kNoTriangle;
+    } else {
+      return r;  // separated over the whole step
+    }
+    if (r.hit) {
+      r.point = transform_point(xa, r.point);
+      r.normal = rotate(xa.q, r.normal);
+    }
+    return r;
+  }
+};
+
+/// The placement of a cast: A's box in the level's stored frame, the relative translation there.
+struct CastSetup {
+  LevelCast cast;
+  Aabb3 box;          ///< A's box at the start, stored frame
+  Vec3 translation;   ///< A's translation relative to the level, stored frame
+};
+
+template <Shape3DType A>
+CastSetup setup(const A& a, const Transform3& xa, Vec3 va, const Transform3& xl, Vec3 vl,
+                Vec3 offset) noexcept {
+  Transform3 level_in_a = inv_mul(xa, xl);
+  level_in_a.p += rotate(level_in_a.q, offset);
+  const Transform3 a_in_stored = inv_mul(level_in_a, Transform3{});
+  CastSetup s{LevelCast{ConvexProxy3(a), Frame3::from(level_in_a), inv_rotate(xa.q, va),
+                        inv_rotate(xa.q, vl)},
+              compute_aabb(a, a_in_stored), inv_rotate(xl.q, va - vl)};
+  return s;
+}
+
+template <Shape3DType A>
+ShapeCastResult3 cast_mesh(const A& a, const Transform3& xa, Vec3 va, const TriangleMesh& mesh,
+                           const Transform3& xm, Vec3 vm, std::uint32_t* triangle) noexcept {
+  CastSetup s = setup(a, xa, va, xm, vm, mesh.origin);
+  // Boxes that touch within rounding count (the cast's own tolerance decides the rest).
+  const float slop = kShapeCastRounding * (max_abs(s.box.min) + max_abs(s.box.max) +
+                                           max_abs(s.translation)) +
+                     kShapeCastTolerance * max_abs(s.box.max - s.box.min);
+  mesh.bvh.box_cast(fatten(s.box, slop), s.translation, [&](std::uint32_t t, float) -> float {
+    return s.cast.test(t, {mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)});
+  });
+  return s.cast.finish(xa, triangle);
+}
+
+template <Shape3DType A>
+ShapeCastResult3 cast_field(const A& a, const Transform3& xa, Vec3 va, const HeightField& field,
+                            const Transform3& xf, Vec3 vf, std::uint32_t* triangle) noexcept {
+  CastSetup s = setup(a, xa, va, xf, vf, field.origin);
+  const float slop = kShapeCastRounding * (max_abs(s.box.min) + max_abs(s.box.max) +
+                                           max_abs(s.translation)) +
+                     kShapeCastTolerance * max_abs(s.box.max - s.box.min);
+  const Aabb3 box = fatten(s.box, slop);
+  const Aabb3 swept = merge(box, Aabb3{box.min + s.translation, box.max + s.translation});
+  float clip = 1.0f;
+  field.query(Aabb3{swept.min + field.origin, swept.max + field.origin}, [&](std::uint32_t t) -> bool {
+    const std::array<Vec3, 3> c = field.grid_corners(t);
+    if (clip < 1.0f) {
+      // A's box swept only up to the best fraction so far.
+      const Vec3 d = clip * s.translation;
+      const Aabb3 part = merge(box, Aabb3{box.min + d, box.max + d});
+      const Aabb3 tb{glm::min(glm::min(c[0], c[1]), c[2]), glm::max(glm::max(c[0], c[1]), c[2])};
+      if (!overlap(part, tb)) return true;
+    }
+    clip = s.cast.test(t, c);
+    return clip > 0.0f;
+  });
+  return s.cast.finish(xa, triangle);
+}
+
+}  // namespace
+
+template <ConvexShape3DType A>
+ShapeCastResult3 shape_cast(const A& a, const Transform3& xa, Vec3 va, const TriangleMesh& mesh,
+                            const Transform3& xm, Vec3 vm, std::uint32_t* triangle) {
+  check_cast_input(xa, va, xm, vm);
+  if constexpr (std::is_same_v<A, Shape3D>) {
+    return std::visit([&](const auto& s) { return cast_mesh(s, xa, va, mesh, xm, vm, triangle); }, a);
+  } else {
+    return cast_mesh(a, xa, va, mesh, xm, vm, triangle);
+  }
+}
+
+template <ConvexShape3DType A>
+ShapeCastResult3 shape_cast(const A& a, const Transform3& xa, Vec3 va, const HeightField& field,
+                            const Transform3& xf, Vec3 vf, std::uint32_t* triangle) {
+  check_cast_input(xa, va, xf, vf);
+  if constexpr (std::is_same_v<A, Shape3D>) {
+    return std::visit([&](const auto& s) { return cast_field(s, xa, va, field, xf, vf, triangle); },
+                      a);
+  } else {
+    return cast_field(a, xa, va, field, xf, vf, triangle);
+  }
+}
+
+#define COLLIDE_LEVEL_CAST(A)                                                                    \
+  template ShapeCastResult3 shape_cast<A>(const A&, const Transform3&, Vec3, const TriangleMesh&, \
+                                          const Transform3&, Vec3, std::uint32_t*);              \
+  template ShapeCastResult3 shape_cast<A>(const A&, const Transform3&, Vec3, const HeightField&,  \
+                                          const Transform3&, Vec3, std::uint32_t*);
+COLLIDE_LEVEL_CAST(Sphere)
+COLLIDE_LEVEL_CAST(Capsule3)
+COLLIDE_LEVEL_CAST(Segment3)
+COLLIDE_LEVEL_CAST(Box)
+COLLIDE_LEVEL_CAST(ConvexHull)
+COLLIDE_LEVEL_CAST(Triangle)
+COLLIDE_LEVEL_CAST(Shape3D)
+#undef COLLIDE_LEVEL_CAST
+
+}  // namespace collide

@@ -1,0 +1,363 @@
+// Convex shapes against TriangleMesh and HeightField: overlap, distance and contact. Checked
+// analytically (a box resting on a flat grid, a sphere sliding over internal edges: the ghost
+// contact test), by brute force (every triangle by the convex-triangle query), on a real level
+// (recast's dungeon.obj), a height field against the equivalent mesh, far from the origin, and
+// by the depth property.
+
+#include <collide/narrow/contact.hpp>
+#include <collide/narrow/distance.hpp>
+#include <collide/narrow/overlap.hpp>
+#include <collide/io/obj.hpp>
+
+#include "support/random_shapes3.hpp"
+#include "support/test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace collide {
+namespace {
+
+const std::string kMeshes = std::string(COLLIDE_DATA_DIR) + "/meshes/";
+
+bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// A grid of n x n samples at `spacing`, heights from `h(x, z)`: the height field and the
+/// equivalent mesh (vertex i = sample index, triangle t = the field's triangle t).
+struct Terrain {
+  HeightField field;
+  TriangleMesh mesh;
+};
+
+template <class H>
+Terrain make_terrain(int n, float spacing, H h) {
+  std::vector<float> heights;
+  std::vector<Vec3> vertices;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const float x = float(i) * spacing, z = float(j) * spacing;
+      heights.push_back(h(x, z));
+      vertices.push_back({x, heights.back(), z});
+    }
+  }
+  std::vector<glm::uvec3> triangles;
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 1 < n; ++i) {
+      const unsigned p00 = unsigned(j * n + i), p10 = p00 + 1, p01 = p00 + unsigned(n), p11 = p01 + 1;
+      triangles.push_back({p00, p01, p11});
+      triangles.push_back({p00, p11, p10});
+    }
+  }
+  return {make_height_field(n, n, heights, {spacing, spacing}), make_triangle_mesh(vertices, triangles)};
+}
+
+Triangle world_triangle(const TriangleMesh& mesh, std::uint32_t t) {
+  return Triangle{{mesh.origin + mesh.corner(t, 0), mesh.origin + mesh.corner(t, 1), mesh.origin + mesh.corner(t, 2)}};
+}
+
+TEST(MeshQuery, BoxRestsOnFlatGridWithFourPoints) {
+  const Terrain flat = make_terrain(21, 0.5f, [](float, float) { return 0.0f; });
+  const Box box = make_box({0.6f, 0.4f, 0.7f});
+  const Transform3 xb = Transform3::from_axis_angle({4.1f, 0.39f, 5.3f}, {0, 1, 0}, 0.3f);
+  for (const bool use_field : {false, true}) {
+    const Manifold3 m = use_field ? contact(box, xb, flat.field, Transform3{}) : contact(box, xb, flat.mesh, Transform3{});
+    ASSERT_EQ(m.count, 4) << use_field;
+    EXPECT_NEAR(m.normal.y, -1.0f, 1e-6f);
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_NEAR(m.points[i].depth, 0.01f, 1e-5f);
+      EXPECT_NEAR(m.points[i].point.y, -0.005f, 1e-5f);
+      // The box's four bottom corners.
+      const Vec3 local = inv_transform_point(xb, m.points[i].point + 0.005f * Vec3(0, 1, 0));
+      EXPECT_NEAR(std::fabs(local.x), 0.6f, 1e-4f);
+      EXPECT_NEAR(std::fabs(local.z), 0.7f, 1e-4f);
+      EXPECT_LT(m.points[i].id.index_b, 3u * flat.mesh.triangle_count());
+    }
+    EXPECT_TRUE(use_field ? overlap(box, xb, flat.field, Transform3{}) : overlap(box, xb, flat.mesh, Transform3{}));
+    // Reverse order: the reversed manifold.
+    const Manifold3 r = contact(flat.mesh, Transform3{}, box, xb);
+    EXPECT_NEAR(r.normal.y, 1.0f, 1e-6f);
+    EXPECT_EQ(r.count, 4);
+  }
+}
+
+/// Slides a sphere (radius 0.5, sunk 0.01) across a flat quad grid over many internal edges and
+/// vertices; returns the largest tilt (1 - |n.y|) of any per-triangle manifold's normal, and
+/// checks the merged manifold.
+float slide_sphere(const TriangleMesh& mesh, int& contacts) {
+  const Sphere s = make_sphere(Vec3(0.0f), 0.5f);
+  float worst = 0.0f;
+  contacts = 0;
+  for (int step = 0; step <= 800; ++step) {
+    for (const float z : {3.3f, 3.5f, 3.0f + 0.3f * float(step % 7) / 7.0f}) {
+      const Transform3 xs{{1.0f + 0.01f * float(step), 0.49f, z}, Quat{1, 0, 0, 0}};
+      contact(s, xs, mesh, Transform3{}, 0.0f, [&](std::uint32_t, const Manifold3& m) {
+        ++contacts;
+        worst = std::max(worst, 1.0f - std::fabs(m.normal.y));
+        return true;
+      });
+      const Manifold3 merged = contact(s, xs, mesh, Transform3{});
+      EXPECT_GE(merged.count, 1);
+      EXPECT_NEAR(merged.normal.y, -1.0f, 1e-5f);
+      EXPECT_NEAR(merged.max_depth(), 0.01f, 1e-4f);
+    }
+  }
+  return worst;
+}
+
+TEST(MeshQuery, SphereSlidingOverInternalEdgesGetsFaceNormal) {
+  const Terrain flat = make_terrain(21, 0.5f, [](float, float) { return 0.0f; });
+  int contacts = 0;
+  EXPECT_LT(slide_sphere(flat.mesh, contacts), 2e-5f);  // never a tilted (ghost) normal
+  EXPECT_GT(contacts, 2000);
+  // The same grid with every edge active: the seams give tilted normals (the ghost contacts the
+  // active edges remove), so the check above can fail.
+  TriangleMesh all_active = flat.mesh;
+  std::fill(all_active.active_edges.begin(), all_active.active_edges.end(), std::uint8_t{7});
+  EXPECT_GT(slide_sphere(all_active, contacts), 1e-2f);
+}
+
+TEST(MeshQuery, BoxSlidingOverSeamsOfAHeightFieldGetsFaceNormal) {
+  const Terrain flat = make_terrain(21, 0.5f, [](float, float) { return 1.0f; });
+  const Box box = make_box({0.3f, 0.3f, 0.3f});
+  int tilted = 0, contacts = 0;
+  for (int step = 0; step <= 600; ++step) {
+    const Transform3 xb{{0.5f + 0.013f * float(step), 1.29f, 4.1f}, Quat{1, 0, 0, 0}};
+    contact(box, xb, flat.field, Transform3{}, 0.0f, [&](std::uint32_t, const Manifold3& m) {
+      ++contacts;
+      if (1.0f - std::fabs(m.normal.y) > 1e-6f) ++tilted;
+      return true;
+    });
+  }
+  EXPECT_EQ(tilted, 0);
+  EXPECT_GT(contacts, 600);
+}
+
+// Brute force on random triangle soups: the BVH answers equal the loop over every triangle.
+TEST(MeshQuery, RandomSoupAgainstBruteForce) {
+  std::mt19937 rng(21);
+  int overlaps = 0, apart = 0, within = 0, beyond = 0;
+  for (int mesh_iter = 0; mesh_iter < 6; ++mesh_iter) {
+    std::vector<Vec3> vertices;
+    std::vector<glm::uvec3> triangles;
+    for (unsigned t = 0; t < 300; ++t) {
+      const Vec3 c = test::random_point3(rng, 6.0f);
+      for (int k = 0; k < 3; ++k) vertices.push_back(c + test::random_point3(rng, 0.8f));
+      triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    const TriangleMesh mesh = make_triangle_mesh(vertices, triangles);
+    const Transform3 xm = test::random_transform3(rng, 3.0f);
+    for (int iter = 0; iter < 150; ++iter) {
+      const Shape3D shape = test::random_shape3(rng, 0.7f);
+      const Transform3 xa{transform_point(xm, test::random_point3(rng, 6.0f)), test::random_rotation(rng)};
+      bool any = false;
+      bool any_contact = false;
+      float best = std::numeric_limits<float>::infinity();
+      for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+        const Triangle tri = world_triangle(mesh, t);
+        std::visit(
+            [&](const auto& a) {
+              any = any || overlap(a, xa, tri, xm);
+              any_contact = any_contact || contact(a, xa, tri, xm).touching();
+              best = std::min(best, distance(a, xa, tri, xm).distance);
+            },
+            shape);
+      }
+      EXPECT_EQ(overlap(shape, xa, mesh, xm), any) << mesh_iter << " " << iter;
+      EXPECT_EQ(contact(shape, xa, mesh, xm).touching(), any_contact) << mesh_iter << " " << iter;
+      std::uint32_t tri = 0;
+      const DistanceResult3 d = distance(shape, xa, mesh, xm, std::numeric_limits<float>::infinity(), &tri);
+      EXPECT_NEAR(d.distance, best, 1e-4f) << mesh_iter << " " << iter;
+      EXPECT_LT(tri, mesh.triangle_count());
+      (any ? overlaps : apart)++;
+      // Bounded: "anything within 0.5?"
+      const DistanceResult3 b = distance(shape, xa, mesh, xm, 0.5f, &tri);
+      if (best <= 0.5f - 1e-4f) {
+        EXPECT_NEAR(b.distance, best, 1e-4f);
+        ++within;
+      } else if (best > 0.5f + 1e-4f) {
+        EXPECT_EQ(b.distance, std::numeric_limits<float>::infinity());
+        EXPECT_EQ(tri, std::numeric_limits<std::uint32_t>::max());
+        ++beyond;
+      }
+    }
+  }
+  EXPECT_GT(overlaps, 150);
+  EXPECT_GT(apart, 150);
+  EXPECT_GT(within, 100);
+  EXPECT_GT(beyond, 100);
+}
+
+// A real level: random shapes near dungeon.obj's surface against the loop over all triangles.
+TEST(MeshQuery, DungeonAgainstBruteForce) {
+  const TriangleMesh mesh = io::load_triangle_mesh(kMeshes + "recast/dungeon.obj");
+  std::mt19937 rng(22);
+  const Transform3 xm{{3.0f, -1.0f, 2.0f}, glm::angleAxis(0.4f, Vec3(0, 1, 0))};
+  int overlaps = 0, apart = 0;
+  for (int iter = 0; iter < 120; ++iter) {
+    const std::uint32_t near = std::uniform_int_distribution<std::uint32_t>(0, mesh.triangle_count() - 1)(rng);
+    const Triangle nt = world_triangle(mesh, near);
+    const Vec3 centre = (nt.vertices[0] + nt.vertices[1] + nt.vertices[2]) / 3.0f;
+    const Shape3D shape = test::random_shape3(rng, 0.5f);
+    const Transform3 xa{transform_point(xm, centre + test::random_point3(rng, 1.0f)), test::random_rotation(rng)};
+    bool any = false;
+    float best = std::numeric_limits<float>::infinity();
+    for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+      std::visit(
+          [&](const auto& a) {
+            const Triangle tri = world_triangle(mesh, t);
+            any = any || overlap(a, xa, tri, xm);
+            best = std::min(best, distance(a, xa, tri, xm).distance);
+          },
+          shape);
+    }
+    EXPECT_EQ(overlap(shape, xa, mesh, xm), any) << iter;
+    EXPECT_NEAR(distance(shape, xa, mesh, xm).distance, best, 1e-4f) << iter;
+    const Manifold3 m = contact(shape, xa, mesh, xm);
+    if (any && best == 0.0f) EXPECT_TRUE(m.touching()) << iter;
+    if (!any) EXPECT_FALSE(m.touching()) << iter;
+    for (int i = 0; i < m.count; ++i) EXPECT_TRUE(finite(m.points[i].point) && std::isfinite(m.points[i].depth));
+    (any ? overlaps : apart)++;
+  }
+  EXPECT_GT(overlaps, 20);
+  EXPECT_GT(apart, 20);
+}
+
+// The height field and the mesh built from the same samples give the same answers.
+TEST(MeshQuery, HeightFieldMatchesEquivalentMesh) {
+  const Terrain hills = make_terrain(17, 0.7f, [](float x, float z) { return 0.8f * std::sin(0.6f * x) * std::cos(0.5f * z); });
+  for (std::uint32_t t = 0; t < hills.mesh.triangle_count(); ++t) {
+    ASSERT_EQ(hills.mesh.active_edges[t], hills.field.active_edges(t)) << t;
+  }
+  std::mt19937 rng(23);
+  const Transform3 xl = test::random_transform3(rng, 5.0f);
+  int touching = 0, apart = 0;
+  for (int iter = 0; iter < 600; ++iter) {
+    const Shape3D shape = test::random_shape3(rng, 0.6f);
+    const Vec3 local{test::uniform(rng, -0.5f, 11.5f), test::uniform(rng, -1.5f, 1.5f), test::uniform(rng, -0.5f, 11.5f)};
+    const Transform3 xa{transform_point(xl, local), test::random_rotation(rng)};
+    EXPECT_EQ(overlap(shape, xa, hills.mesh, xl), overlap(shape, xa, hills.field, xl)) << iter;
+    std::uint32_t tm = 0, tf = 1;
+    const DistanceResult3 dm = distance(shape, xa, hills.mesh, xl, 2.0f, &tm);
+    const DistanceResult3 df = distance(shape, xa, hills.field, xl, 2.0f, &tf);
+    if (std::isinf(dm.distance) || std::isinf(df.distance)) {
+      EXPECT_EQ(dm.distance, df.distance) << iter;
+    } else {
+      EXPECT_NEAR(dm.distance, df.distance, 1e-4f) << iter;
+    }
+    const Manifold3 mm = contact(shape, xa, hills.mesh, xl, 0.05f);
+    const Manifold3 mf = contact(shape, xa, hills.field, xl, 0.05f);
+    ASSERT_EQ(mm.count, mf.count) << iter;
+    if (mm.count == 0) {
+      ++apart;
+      continue;
+    }
+    ++touching;
+    EXPECT_GT(dot(mm.normal, mf.normal), 1.0f - 1e-5f) << iter;
+    EXPECT_NEAR(mm.max_depth(), mf.max_depth(), 1e-4f) << iter;
+    // Ids name the same features (vertex = sample = mesh vertex, edge 3t + k, face t); which
+    // of two coincident points on a shared edge is kept may differ with the visiting order.
+    for (int i = 0; i < mf.count; ++i) {
+      const ContactId id = mf.points[i].id;
+      const std::uint32_t bound = id.type_b == FeatureType::vertex ? 17u * 17u
+                                  : id.type_b == FeatureType::edge ? 3u * hills.mesh.triangle_count()
+                                                                   : hills.mesh.triangle_count();
+      EXPECT_LT(id.index_b, bound) << iter;
+    }
+  }
+  EXPECT_GT(touching, 100);
+  EXPECT_GT(apart, 100);
+}
+
+TEST(MeshQuery, HeightFieldHolesHaveNoTriangles) {
+  std::vector<float> heights(16, 0.0f);
+  std::vector<std::uint8_t> holes(9, 0);
+  holes[4] = 1;  // the middle cell
+  const HeightField field = make_height_field(4, 4, heights, {1.0f, 1.0f}, Vec3(0.0f), holes);
+  const Sphere s = make_sphere(Vec3(0.0f), 0.3f);
+  EXPECT_FALSE(overlap(s, Transform3{{1.5f, 0.0f, 1.5f}, Quat{1, 0, 0, 0}}, field, Transform3{}));
+  EXPECT_FALSE(contact(s, Transform3{{1.5f, 0.1f, 1.5f}, Quat{1, 0, 0, 0}}, field, Transform3{}).touching());
+  EXPECT_TRUE(overlap(s, Transform3{{0.5f, 0.1f, 1.5f}, Quat{1, 0, 0, 0}}, field, Transform3{}));
+  // The hole's rim is a boundary: its edges are active.
+  EXPECT_EQ(field.active_edges(2 * 3 + 1) & active_edge_bit(1), active_edge_bit(1));
+}
+
+// 1e4 from the origin: the same answers as near it (within float spacing there), never NaN.
+TEST(MeshQuery, FarFromOrigin) {
+  const Terrain hills = make_terrain(17, 0.7f, [](float x, float z) { return 0.5f * std::sin(0.6f * x) * std::cos(0.5f * z); });
+  std::mt19937 rng(24);
+  const Vec3 far{1.0e4f, -2.0e3f, -1.0e4f};
+  int touching = 0;
+  for (int iter = 0; iter < 300; ++iter) {
+    const Shape3D shape = test::random_shape3(rng, 0.6f);
+    const Vec3 local{test::uniform(rng, 0.5f, 10.5f), test::uniform(rng, -1.0f, 1.0f), test::uniform(rng, 0.5f, 10.5f)};
+    const Quat q = test::random_rotation(rng);
+    const Transform3 xa{local, q}, xa_far{local + far, q};
+    const Transform3 xl{}, xl_far{far, Quat{1, 0, 0, 0}};
+    for (const bool field : {false, true}) {
+      const Manifold3 m = field ? contact(shape, xa, hills.field, xl, 0.02f) : contact(shape, xa, hills.mesh, xl, 0.02f);
+      const Manifold3 f = field ? contact(shape, xa_far, hills.field, xl_far, 0.02f) : contact(shape, xa_far, hills.mesh, xl_far, 0.02f);
+      ASSERT_TRUE(finite(f.normal));
+      for (int i = 0; i < f.count; ++i) ASSERT_TRUE(finite(f.points[i].point) && std::isfinite(f.points[i].depth));
+      if (m.touching() && m.max_depth() > 5e-3f) {
+        ASSERT_TRUE(f.touching()) << iter;
+        EXPECT_NEAR(m.max_depth(), f.max_depth(), 2e-3f) << iter;
+        EXPECT_GT(dot(m.normal, f.normal), 0.999f) << iter;
+        ++touching;
+      }
+      const DistanceResult3 d = field ? distance(shape, xa, hills.field, xl) : distance(shape, xa, hills.mesh, xl);
+      const DistanceResult3 e = field ? distance(shape, xa_far, hills.field, xl_far) : distance(shape, xa_far, hills.mesh, xl_far);
+      ASSERT_TRUE(std::isfinite(e.distance) && finite(e.point_a) && finite(e.point_b));
+      EXPECT_NEAR(d.distance, e.distance, 2e-3f) << iter;
+    }
+  }
+  EXPECT_GT(touching, 100);
+}
+
+// Property: moving A back along the reported normal by the depth plus eps separates it from the
+// terrain; by the depth minus eps it still overlaps. Gentle hills (slopes under 20 degrees, so
+// every touching triangle joins the merged manifold).
+TEST(MeshQuery, DepthPropertyOnTerrain) {
+  const auto hill = [](float x, float z) { return 0.4f * std::sin(0.6f * x) * std::cos(0.5f * z); };
+  const Terrain hills = make_terrain(17, 0.7f, hill);
+  std::mt19937 rng(25);
+  int checked = 0, short_depth = 0, long_depth = 0;
+  for (int iter = 0; iter < 1500; ++iter) {
+    const Shape3D shape = test::random_shape3(rng, 0.4f);
+    // A landing on or resting in the terrain from above (a shape sunk through a two-sided
+    // surface may be pushed out of either side, triangle by triangle).
+    const float x = test::uniform(rng, 1.0f, 10.0f), z = test::uniform(rng, 1.0f, 10.0f);
+    const Vec3 local{x, hill(x, z) + test::uniform(rng, 0.1f, 0.4f), z};
+    const Transform3 xa{local, test::random_rotation(rng)};
+    const bool field = iter % 2 == 1;
+    const Manifold3 m = field ? contact(shape, xa, hills.field, Transform3{}) : contact(shape, xa, hills.mesh, Transform3{});
+    if (!m.touching() || m.max_depth() < 2e-3f) continue;
+    const float depth = m.max_depth();
+    const float eps = 1e-3f;
+    Transform3 out = xa, in = xa;
+    out.p -= (depth + eps) * m.normal;
+    in.p -= (depth - eps) * m.normal;
+    const bool o_out = field ? overlap(shape, out, hills.field, Transform3{}) : overlap(shape, out, hills.mesh, Transform3{});
+    const bool o_in = field ? overlap(shape, in, hills.field, Transform3{}) : overlap(shape, in, hills.mesh, Transform3{});
+    // Short depths (the clip keeps the part of an incident face over the reference face, see
+    // triangle_query_test) are counted and held to a small share.
+    // On a mesh the merged manifold also re-projects neighbouring triangles' depths onto the
+    // deepest one's normal (depth / cos), which can overstate: both counted, held to small
+    // shares (measured: 27 short and 2 long of 726 at the time of writing).
+    if (o_out) ++short_depth;
+    if (!o_in) ++long_depth;
+    ++checked;
+  }
+  EXPECT_GT(checked, 300);
+  EXPECT_LE(short_depth * 20, checked) << short_depth << " of " << checked;
+  EXPECT_LE(long_depth * 100, checked) << long_depth << " of " << checked;
+}
+
+}  // namespace
+}  // namespace collide
