@@ -1,8 +1,9 @@
 // The JSON Lines query protocol, 2D and 3D. Parsing turns JSON into validated shapes through the
 // shared JSON vocabulary (collide/io/shape_json.hpp: every rejection names its field), in the
 // dimension the question's first telling member gives; then the library answers (3D pairs by
-// its overloads, found at compile time, see "3D dispatch"); formatting writes floats with the fewest digits that round-trip. Reading is bounded
-// (kMaxQueryLineBytes per line, kMaxJsonDepth) and no exception leaves a line's handling.
+// its overloads, found at compile time, see "3D dispatch"); formatting writes floats with the
+// fewest digits that round-trip. Reading is bounded (kMaxQueryLineBytes per line,
+// kMaxJsonDepth, kMaxJsonHullPoints) and no exception leaves a line's handling.
 
 #include "query.hpp"
 

@@ -44,9 +44,10 @@ inline constexpr std::size_t kMaxJsonDepth = 256;
 inline constexpr double kJsonUnitQuaternionTolerance = 1e-3;
 
 /// Most points a `hull` object may list. Building a hull takes O(n h) time for n points and h
-/// faces (make_convex_hull), so the cap bounds the time one shape can take to about 10 ms
-/// (100,000 points on a sphere, capped at kMaxHullVertices); real convex pieces have far fewer.
-/// More points are rejected, naming the field and the count.
+/// faces (make_convex_hull), so the cap bounds the time one shape can take: a `collide query`
+/// line with 100,000 points, on a sphere or in a cube, is answered in 0.4 to 0.6 s (release
+/// build, mostly reading the 3.5 MB of JSON). Real convex pieces have far fewer points. More
+/// are rejected, naming the field and the count.
 inline constexpr std::size_t kMaxJsonHullPoints = 100000;
 
 /// Where a value sits in a JSON document: the root, a member of an object, or an element of an
