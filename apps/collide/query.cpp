@@ -51,8 +51,13 @@ struct QueryError {
   std::string message;
 };
 
-/// A float written with the fewest digits that read back as the same float.
+/// A float written with the fewest digits that read back as the same float. A result that is
+/// not finite (JSON would print null) makes the whole answer an error: coordinates near the
+/// float range (1e38) overflow the arithmetic of a query, in 2D and 3D alike.
 json number(float v) {
+  if (!std::isfinite(v)) {
+    throw QueryError{"no finite answer: the result overflowed float arithmetic (coordinates or sizes too large)"};
+  }
   if (v == 0.0f) v = 0.0f;  // print -0 as 0
   char buf[32];
   const auto res = std::to_chars(buf, buf + sizeof buf, v);
@@ -129,7 +134,7 @@ void check_dimension(const json& value, FieldKind kind, const JsonPath& path, co
   if (field == "type") {
     const std::string& type = value["type"].get_ref<const std::string&>();
     if (type == "circle") {
-      fail_json(where, "a \"circle\" without center is 2D" + in + "; give it 3-number center or call it \"sphere\"");
+      fail_json(where, "a \"circle\" without center is 2D" + in + "; give it a 3-number center or call it \"sphere\"");
     }
     fail_json(where, json(type).dump() + " is a " + dimension_name(cue->dimension) + " shape" + in);
   }

@@ -655,7 +655,7 @@ TEST(Query3D, LinesMixingDimensionsAreRejectedNamingTheField) {
             "b.type: \"polygon\" is a 2D shape, in a 3D question (told by a.type)");
   EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [1, 1, 1]},
       "b": {"type": "circle", "radius": 1}})"),
-            "b.type: a \"circle\" without center is 2D, in a 3D question (told by a.half); give it 3-number "
+            "b.type: a \"circle\" without center is 2D, in a 3D question (told by a.half); give it a 3-number "
             "center or call it \"sphere\"");
   EXPECT_EQ(error_of(R"({"op": "raycast", "shape": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
       "origin": [0, 0], "translation": [0, 0, 1]})"),
@@ -791,6 +791,32 @@ template <class A, class B>
 concept HasContact = requires(const A& a, const B& b, const Transform3& x) { contact(a, x, b, x); };
 template <class S>
 concept HasClosestPoint = requires(const S& s, const Transform3& x, Vec3 p) { closest_point(s, x, p); };
+
+// Coordinates near the float range overflow a query's arithmetic: the answer is an error, never a
+// NaN written as null (as it was, in 2D too: `"depth": null`).
+TEST(Query3D, ResultsThatOverflowFloatAreAnErrorNotNull) {
+  const std::string overflow = "no finite answer: the result overflowed float arithmetic (coordinates or sizes too large)";
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [3e38, 3e38, 3e38]},
+      "b": {"type": "box", "half": [1, 1, 1]}, "xb": {"p": [0, 3e38, 0]}})"),
+            overflow);
+  EXPECT_EQ(error_of(R"({"op": "closest_point", "shape": {"type": "hull", "points": [[0, 0, 0], [3e38, 0, 0], [0, 3e38, 0],
+      [0, 0, 3e38]]}, "point": [-3e38, -3e38, -3e38]})"),
+            overflow);
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [3e38, 3e38]}, "b": {"type": "box", "half": [1, 1]},
+      "xb": {"p": [0, 3e38]}})"),
+            overflow);
+  for (const char* file : {"extreme_coordinates2d.jsonl", "extreme_coordinates3d.jsonl"}) {
+    std::ifstream in(std::string(COLLIDE_FUZZ_DIR) + "/seeds/query_line/" + file);
+    int lines = 0;
+    for (std::string line; std::getline(in, line); ++lines) {
+      const json a = ask(line);
+      for (const auto& [key, value] : a.items()) {
+        if (key != "id") EXPECT_FALSE(value.is_null() || value.dump().find("null") != std::string::npos) << a.dump();
+      }
+    }
+    EXPECT_GE(lines, 2) << file;
+  }
+}
 
 // Pairs the library has no routine for yet are answered "unsupported", naming both shapes; once
 // the library declares the overload (in either order) the tool answers it, and this test then
