@@ -15,10 +15,22 @@
 
 namespace collide::fuzz {
 
+/// True when `j` is or holds null: nlohmann writes a NaN or infinite number as null, and no
+/// answer field may be either (the spec's answers are numbers, booleans, strings and arrays).
+inline bool holds_null(const nlohmann::json& j) {
+  if (j.is_null()) return true;
+  if (j.is_structured()) {
+    for (const nlohmann::json& e : j) {
+      if (holds_null(e)) return true;
+    }
+  }
+  return false;
+}
+
 /// "" when `input` is handled as the query spec says, else what went wrong:
 ///  - answer_query_line throws nothing and gives "" for a blank line, otherwise one line of valid
 ///    UTF-8 JSON (nlohmann's strict parser is the judge): an object with "id" and either a
-///    non-empty "error" string or answer fields;
+///    non-empty "error" string or answer fields, none of them null (a NaN or infinity);
 ///  - answer_query_stream, given `input` as a whole stream, answers each non-blank line once;
 ///  - parse_cast_question (`collide cast --question`) throws nothing but InvalidInput.
 /// Crashes and undefined behaviour are the sanitizers' to catch.
@@ -46,6 +58,10 @@ inline std::string check_query_line(std::string_view input) {
       }
     } else if (a.size() < 2) {
       return "answer with neither error nor result: " + reply;
+    } else {
+      for (const auto& [key, value] : a.items()) {
+        if (key != "id" && holds_null(value)) return "answer holds null (a number that is not finite): " + reply;
+      }
     }
   }
 

@@ -16,8 +16,9 @@ namespace collide::cli {
 /// input makes the tool hold more than this per line.
 inline constexpr std::size_t kMaxQueryLineBytes = std::size_t{16} << 20;
 
-/// The shapes and motions of a `toi` question (spec/query-jsonl.md): A placed by `xa` moving
-/// by `va` over the step, B placed by `xb` moving by `vb`. World space.
+/// The shapes and motions of a 2D `toi` question (spec/query-jsonl.md), as `collide cast` draws
+/// them: A placed by `xa` moving by `va` over the step, B placed by `xb` moving by `vb`. World
+/// space.
 struct CastQuestion {
   Shape2D a;
   Transform xa;
@@ -28,8 +29,10 @@ struct CastQuestion {
 };
 
 /// Parses one JSON object with the fields of a `toi` question (a, xa, va, b, xb, vb; "op", if
-/// present, must be "toi"). Throws InvalidInput whose message names the field, as the query
-/// protocol's errors do (a JsonFieldError for a bad field, collide/io/shape_json.hpp).
+/// present, must be "toi"), in 2D: a field telling 3D is rejected ("a.center: 3D coordinates, in
+/// a 2D question (collide cast draws 2D questions only)"). Throws InvalidInput whose message
+/// names the field, as the query protocol's errors do (a JsonFieldError for a bad field,
+/// collide/io/shape_json.hpp).
 [[nodiscard]] CastQuestion parse_cast_question(std::string_view text);
 
 /// The answer to one question line, as one line of valid UTF-8 JSON (no trailing newline). A

@@ -6,6 +6,7 @@
 
 #include "json_syntax.hpp"
 
+#include <collide/shape/convex_hull.hpp>
 #include <collide/world/world2d.hpp>  // convex_pieces
 
 #include <algorithm>
@@ -253,36 +254,52 @@ std::vector<Vec2> points_from_json(const Json& j, const JsonPath& path) {
   return out;
 }
 
+/// The points of a `hull` (at most kMaxJsonHullPoints) or a `triangle`: an array of [x, y, z].
+std::vector<Vec3> points3_from_json(const Json& j, const JsonPath& path) {
+  if (!j.is_array()) fail_json(path, "expected an array of [x, y, z] points, got " + json_kind(j));
+  std::vector<Vec3> out;
+  out.reserve(j.size());
+  for (std::size_t i = 0; i < j.size(); ++i) out.push_back(vec3_from_json(j[i], path.element(i)));
+  return out;
+}
+
 /// Which reader is asking: one convex shape of either dimension (the query protocol), or the
 /// convex pieces of a 2D shape (scene files: concave polygons and polylines too).
 enum class ShapeMode : unsigned char { convex, pieces };
 
-/// The shape types and what each may hold; `dims` is 2, 3 or 0 (told by the coordinates).
+/// The shape types and what each may hold.
 struct ShapeType {
   std::string_view name;
-  int dims;
+  int dims;                      ///< 2 or 3 when the type tells; 0 when the coordinates do
   std::string_view coordinates;  ///< the member whose count tells the dimension ("" if fixed)
+  int dims_without;              ///< dims when `coordinates` is absent: 2, or 0 (the caller's)
 };
 constexpr ShapeType kShapeTypes[] = {
-    {"circle", 0, "center"}, {"sphere", 0, "center"}, {"capsule", 0, "a"},        {"segment", 0, "a"},
-    {"box", 0, "half"},      {"polygon", 2, ""},      {"polyline", 2, ""},         {"hull", 3, ""},
-    {"triangle", 3, ""},
+    {"circle", 0, "center", 2}, {"sphere", 0, "center", 0}, {"capsule", 0, "a", 0},
+    {"segment", 0, "a", 0},     {"box", 0, "half", 0},      {"polygon", 2, "", 0},
+    {"polyline", 2, "", 0},     {"hull", 3, "", 0},         {"triangle", 3, "", 0},
 };
+
+const ShapeType* find_shape_type(std::string_view name) noexcept {
+  for (const ShapeType& t : kShapeTypes) {
+    if (t.name == name) return &t;
+  }
+  return nullptr;
+}
+
+JsonDimension dimension_from(int dims) noexcept { return dims == 3 ? JsonDimension::three : JsonDimension::two; }
 
 /// The head of a shape object: its type (validated) and its dimension.
 struct ShapeHead {
   std::string_view type;
   JsonDimension dimension = JsonDimension::two;
-  std::string_view told_by;  ///< the member whose coordinates told the dimension, or "type"
+  std::string_view told_by;  ///< the member that told the dimension ("type", "center"...), or ""
 };
 
 ShapeHead read_head(const Json& j, const JsonPath& path, ShapeMode mode, JsonDimension untold) {
   check_object(j, path, "a shape");
   const std::string& type = string_from_json(require_member(j, path, "type"), path.member("type"));
-  const ShapeType* known = nullptr;
-  for (const ShapeType& t : kShapeTypes) {
-    if (t.name == type) known = &t;
-  }
+  const ShapeType* known = find_shape_type(type);
   if (known == nullptr) {
     fail_json(path.member("type"),
               "unknown shape type " + Json(type).dump() + " (expected " +
@@ -290,16 +307,12 @@ ShapeHead read_head(const Json& j, const JsonPath& path, ShapeMode mode, JsonDim
                                              : "circle, sphere, capsule, box, polygon, segment, hull or triangle") +
                   ")");
   }
-  ShapeHead head{known->name, known->dims == 3 ? JsonDimension::three : JsonDimension::two, "type"};
-  if (known->dims == 0) {
-    // 2 numbers: 2D, 3 numbers: 3D; anything else is read (and rejected) as 2D. Without
-    // coordinates (a circle or sphere without center), the dimension the caller is in.
-    if (const Json* c = find_member(j, known->coordinates)) {
-      head.told_by = known->coordinates;
-      head.dimension = c->is_array() && c->size() == 3 ? JsonDimension::three : JsonDimension::two;
-    } else {
-      head.dimension = untold;
-    }
+  ShapeHead head{known->name, untold, ""};
+  // Coordinates that tell nothing (absent, or not 2 or 3 numbers): the caller's dimension, in
+  // which they are then read (and rejected).
+  if (const std::optional<JsonDimensionCue> cue = shape_dimension_cue(j)) {
+    head.dimension = cue->dimension;
+    head.told_by = cue->field;
   }
   return head;
 }
@@ -356,15 +369,76 @@ Shape2D read_convex_2d(const Json& j, const JsonPath& path, const ShapeHead& hea
   }
 }
 
-/// A convex 3D shape: the one place 3D shapes join the vocabulary (sphere {center, radius},
-/// capsule {a, b, radius}, segment {a, b}, box {half}, hull {points}, triangle {vertices}) when
-/// the library has them. Not yet.
-[[noreturn]] void read_convex_3d(const Json& j, const JsonPath& path, const ShapeHead& head) {
-  (void)j;
-  fail_json(path, "3D shapes: not yet (a \"" + std::string(head.type) +
-                      "\" in 3D; this version builds 2D shapes only)");
+/// Rejects, at `path`, a hull that `make_convex_hull` had to stop at kMaxHullVertices: some
+/// input point is then farther than the hull's tolerance outside a face plane (without the cap
+/// every point lies within it: convex_hull.hpp, "Every face plane supports the hull").
+void check_hull_complete(const ConvexHull& hull, const std::vector<Vec3>& points, const JsonPath& path) {
+  if (hull.vertex_count() < kMaxHullVertices) return;
+  for (const Vec3& p : points) {
+    for (const HullFace& f : hull.faces) {
+      if (glm::dot(f.normal, p) - f.offset > hull.tolerance) {
+        fail_json(path, "the convex hull of these " + std::to_string(points.size()) + " points has more than " +
+                            std::to_string(kMaxHullVertices) + " vertices (the library's limit, kMaxHullVertices)");
+      }
+    }
+  }
 }
 
+/// A convex 3D shape or a triangle of `head.type`: sphere {center, radius}, capsule {a, b,
+/// radius}, segment {a, b}, box {half, radius?}, hull {points, radius?}, triangle {vertices}.
+AnyShape read_3d(const Json& j, const JsonPath& path, const ShapeHead& head) {
+  const std::string_view type = head.type;
+  if (type == "circle" || type == "sphere") {
+    check_fields(j, path, {"type", "center", "radius"});
+    const Json* c = find_member(j, "center");
+    const Vec3 center = c == nullptr ? Vec3{0.0f} : vec3_from_json(*c, path.member("center"));
+    const float r = radius_from_json(j, path, true);
+    return Shape3D{build(path, [&] { return make_sphere(center, r); })};
+  }
+  if (type == "capsule") {
+    check_fields(j, path, {"type", "a", "b", "radius"});
+    const Vec3 a = vec3_from_json(require_member(j, path, "a"), path.member("a"));
+    const Vec3 b = vec3_from_json(require_member(j, path, "b"), path.member("b"));
+    const float r = radius_from_json(j, path, true);
+    return Shape3D{build(path, [&] { return make_capsule(a, b, r); })};
+  }
+  if (type == "segment") {
+    check_fields(j, path, {"type", "a", "b"});
+    const Vec3 a = vec3_from_json(require_member(j, path, "a"), path.member("a"));
+    const Vec3 b = vec3_from_json(require_member(j, path, "b"), path.member("b"));
+    return Shape3D{build(path, [&] { return make_segment(a, b); })};
+  }
+  if (type == "box") {
+    check_fields(j, path, {"type", "half", "radius"});
+    const Vec3 half = vec3_from_json(require_member(j, path, "half"), path.member("half"));
+    if (!(half.x > 0.0f && half.y > 0.0f && half.z > 0.0f)) fail_json(path.member("half"), "half extents must be > 0");
+    const float r = radius_from_json(j, path, false);
+    return Shape3D{build(path, [&] { return make_box(half, r); })};
+  }
+  if (type == "hull") {
+    check_fields(j, path, {"type", "points", "radius"});
+    const JsonPath points_path = path.member("points");
+    const Json& points_json = require_member(j, path, "points");
+    if (points_json.is_array() && points_json.size() > kMaxJsonHullPoints) {
+      fail_json(points_path, std::to_string(points_json.size()) + " points; at most " +
+                                 std::to_string(kMaxJsonHullPoints) + " (the limit, kMaxJsonHullPoints)");
+    }
+    const std::vector<Vec3> points = points3_from_json(points_json, points_path);
+    const float r = radius_from_json(j, path, false);
+    ConvexHull hull = build(points_path, [&] { return make_convex_hull(points, HullOptions{.radius = r}); });
+    check_hull_complete(hull, points, points_path);
+    return Shape3D{std::move(hull)};
+  }
+  // triangle
+  check_fields(j, path, {"type", "vertices"});
+  const JsonPath vertices_path = path.member("vertices");
+  const Json& vertices_json = require_member(j, path, "vertices");
+  if (vertices_json.is_array() && vertices_json.size() != 3) {
+    fail_json(vertices_path, "a triangle has exactly 3 vertices, got " + std::to_string(vertices_json.size()));
+  }
+  const std::vector<Vec3> v = points3_from_json(vertices_json, vertices_path);
+  return build(vertices_path, [&] { return make_triangle(v[0], v[1], v[2]); });
+}
 }  // namespace
 
 // ---- paths and errors --------------------------------------------------------------------------
@@ -493,12 +567,45 @@ JsonDimension dimension_of(const AnyShape& shape) noexcept {
   return std::holds_alternative<Shape2D>(shape) ? JsonDimension::two : JsonDimension::three;
 }
 
+const char* type_name(const AnyShape& shape) noexcept {
+  if (const auto* s2 = std::get_if<Shape2D>(&shape)) return type_name(*s2);
+  if (const auto* s3 = std::get_if<Shape3D>(&shape)) return type_name(*s3);
+  return "triangle";
+}
+
+std::optional<JsonDimensionCue> shape_dimension_cue(const Json& shape) {
+  const Json* type = find_member(shape, "type");
+  if (type == nullptr || !type->is_string() || beyond_double(*type)) return std::nullopt;
+  const ShapeType* known = find_shape_type(type->get_ref<const std::string&>());
+  if (known == nullptr) return std::nullopt;
+  if (known->dims != 0) return JsonDimensionCue{dimension_from(known->dims), "type"};
+  const Json* c = find_member(shape, known->coordinates);
+  if (c == nullptr) {
+    if (known->dims_without != 0) return JsonDimensionCue{dimension_from(known->dims_without), "type"};
+    return std::nullopt;
+  }
+  if (c->is_array() && (c->size() == 2 || c->size() == 3)) {
+    return JsonDimensionCue{c->size() == 3 ? JsonDimension::three : JsonDimension::two, known->coordinates};
+  }
+  return std::nullopt;
+}
+
+std::optional<JsonDimensionCue> transform_dimension_cue(const Json& transform) {
+  if (find_member(transform, "q") != nullptr) return JsonDimensionCue{JsonDimension::three, "q"};
+  if (find_member(transform, "angle") != nullptr) return JsonDimensionCue{JsonDimension::two, "angle"};
+  const Json* p = find_member(transform, "p");
+  if (p != nullptr && p->is_array() && (p->size() == 2 || p->size() == 3)) {
+    return JsonDimensionCue{p->size() == 3 ? JsonDimension::three : JsonDimension::two, "p"};
+  }
+  return std::nullopt;
+}
+
 AnyShape shape_from_json(const Json& j, const JsonPath& path, JsonDimension untold) {
   const ShapeHead head = read_head(j, path, ShapeMode::convex, untold);
   if (head.type == "polyline") {
     fail_json(path.member("type"), "a polyline is several convex pieces; one convex shape is expected here");
   }
-  if (head.dimension == JsonDimension::three) read_convex_3d(j, path, head);
+  if (head.dimension == JsonDimension::three) return read_3d(j, path, head);
   return read_convex_2d(j, path, head, ShapeMode::convex);
 }
 

@@ -44,7 +44,7 @@ CoreQuery segment_core(Vec2 a, Vec2 b, Vec2 p) noexcept {
   if (s <= 0.0f || s >= ee) {
     const bool at_a = s <= 0.0f;
     q.closest = at_a ? a : b;
-    q.feature = {FeatureType::vertex, at_a ? 0 : 1};
+    q.feature = {FeatureType::vertex, at_a ? 0u : 1u};
     const Vec2 away = p - q.closest;
     q.distance = length(away);
     // On the vertex itself: point out along the axis, away from the other end.
@@ -56,7 +56,7 @@ CoreQuery segment_core(Vec2 a, Vec2 b, Vec2 p) noexcept {
   q.closest = a + (s / ee) * e;
   q.distance = std::fabs(side);
   const bool on_right = side >= 0.0f;
-  q.feature = {FeatureType::edge, on_right ? 0 : 1};
+  q.feature = {FeatureType::edge, on_right ? 0u : 1u};
   q.outward = on_right ? right : -right;
   return q;
 }
@@ -86,7 +86,7 @@ CoreQuery polygon_core(const Polygon& poly, Vec2 p) noexcept {
     q.distance = sep;
     q.closest = p - sep * poly.normals[i];
     q.outward = poly.normals[i];
-    q.feature = {FeatureType::edge, i};
+    q.feature = {FeatureType::edge, static_cast<std::uint32_t>(i)};
     return q;
   };
   if (best_sep <= 0.0f) return edge_answer(best, best_sep);
@@ -109,7 +109,7 @@ CoreQuery polygon_core(const Polygon& poly, Vec2 p) noexcept {
     const Vec2 away = p - q.closest;
     q.distance = length(away);
     q.outward = q.distance > 0.0f ? away * (1.0f / q.distance) : poly.normals[i];
-    q.feature = {FeatureType::vertex, i};
+    q.feature = {FeatureType::vertex, static_cast<std::uint32_t>(i)};
     return q;
   };
   const Vec2 v0 = poly.vertices[best];

@@ -6,12 +6,19 @@
 #include "cli_run.hpp"
 
 #include <collide/broad/registry.hpp>
+#include <collide/ccd/raycast.hpp>
 #include <collide/io/shape_json.hpp>
+#include <collide/narrow/closest_point.hpp>
+#include <collide/narrow/contact.hpp>
+#include <collide/narrow/distance.hpp>
+#include <collide/narrow/overlap.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <random>
 #include <vector>
 #include <cstdio>
@@ -479,6 +486,378 @@ TEST(QueryRobustness, UnknownFieldsOfShapesAndTransformsAreNamed) {
   const json ok = ask(R"({"id": 3, "note": "ignored", "op": "overlap", "a": {"type": "circle", "radius": 1, "comment": "x"},
       "b": {"type": "circle", "radius": 1}, "xb": {"p": [3, 0], "comment": {"any": [1]}}})");
   EXPECT_EQ(ok.dump(), R"({"id":3,"overlap":false})");
+}
+
+}  // namespace
+}  // namespace collide::cli
+
+// 3D: every op of the spec with 3-number coordinates, checked against analytic answers; lines
+// that mix dimensions or hold bad 3D values answered with an error naming the field.
+namespace collide::cli {
+namespace {
+
+double num(const json& j) { return j.get<double>(); }
+
+/// |a - b| for JSON arrays of numbers.
+double gap(const json& a, const std::vector<double>& b) {
+  double s = 0.0;
+  EXPECT_EQ(a.size(), b.size()) << a.dump();
+  for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k) s += (num(a[k]) - b[k]) * (num(a[k]) - b[k]);
+  return std::sqrt(s);
+}
+
+TEST(Query3D, OverlapAndDistanceOfTwoSpheresAreAnalytic) {
+  // Centres 3 apart along (2, 2, 1) / 3: the gap is 1, the closest points on the line of centres.
+  const json d = ask(R"({"id": "d3", "op": "distance", "a": {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+      "b": {"type": "sphere", "radius": 1}, "xb": {"p": [2, 2, 1], "q": [0.6, 0.8, 0, 0]}})");
+  EXPECT_EQ(d["id"], "d3");
+  EXPECT_NEAR(num(d["distance"]), 1.0, 1e-5) << d.dump();
+  EXPECT_LT(gap(d["pa"], {2.0 / 3, 2.0 / 3, 1.0 / 3}), 1e-5) << d.dump();
+  EXPECT_LT(gap(d["pb"], {4.0 / 3, 4.0 / 3, 2.0 / 3}), 1e-5) << d.dump();
+  // A sphere without center is 3D when the rest of the question is (here the transform says so).
+  for (const double x : {1.9, 2.0, 2.1}) {
+    const json o = ask(R"({"op": "overlap", "a": {"type": "sphere", "radius": 1}, "b": {"type": "sphere", "radius": 1},
+        "xb": {"p": [0, 0, )" + std::to_string(x) + "]}}");
+    EXPECT_EQ(o["overlap"].get<bool>(), x <= 2.0) << x << " " << o.dump();
+  }
+  // Box and capsule: the capsule's core ends 0.5 above the box's top face, radius 0.25.
+  const json bc = ask(R"({"op": "distance", "a": {"type": "box", "half": [1, 1, 1]},
+      "b": {"type": "capsule", "a": [0, 0, 0], "b": [0, 2, 0], "radius": 0.25}, "xb": {"p": [0.2, 1.5, -0.3]}})");
+  EXPECT_NEAR(num(bc["distance"]), 0.25, 1e-5) << bc.dump();
+  EXPECT_NEAR(num(bc["pa"][1]), 1.0, 1e-5);
+  EXPECT_NEAR(num(bc["pb"][1]), 1.25, 1e-5);
+}
+
+TEST(Query3D, ContactOfStackedBoxesHasFourPointsWithFeatures) {
+  // A unit cube turned a quarter about y (the same cube) resting 0.1 deep on a wide box.
+  const double c = std::sqrt(0.5);
+  const json m = ask(R"({"op": "contact", "a": {"type": "box", "half": [2, 1, 2]},
+      "b": {"type": "box", "half": [1, 1, 1]}, "xb": {"p": [0, 1.9, 0], "q": [)" + std::to_string(c) + ", 0, " +
+                     std::to_string(c) + ", 0]}}");
+  ASSERT_TRUE(m["touching"].get<bool>()) << m.dump();
+  EXPECT_LT(gap(m["normal"], {0, 1, 0}), 1e-5) << m.dump();
+  EXPECT_NEAR(num(m["depth"]), 0.1, 1e-4);
+  ASSERT_EQ(m["points"].size(), 4u) << m.dump();
+  ASSERT_EQ(m["features"].size(), 4u);
+  ASSERT_EQ(m["depths"].size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(num(m["points"][i][1]), 0.95, 1e-4);  // midway between the surfaces y = 1 and 0.9
+    EXPECT_NEAR(std::abs(num(m["points"][i][0])), 1.0, 1e-4);
+    EXPECT_NEAR(std::abs(num(m["points"][i][2])), 1.0, 1e-4);
+    EXPECT_NEAR(num(m["depths"][i]), 0.1, 1e-4);
+    ASSERT_EQ(m["features"][i].size(), 2u);
+    for (const json& f : m["features"][i]) {
+      const std::string s = f.get<std::string>();
+      EXPECT_TRUE(s.starts_with("vertex ") || s.starts_with("edge ") || s.starts_with("face ")) << s;
+    }
+  }
+  // A's top face is face 3 (+y: 2 * 1 + 1): the reference face of every point.
+  EXPECT_EQ(m["features"][0][0], "face 3") << m.dump();
+  const json apart = ask(R"({"op": "contact", "a": {"type": "sphere", "radius": 1}, "b": {"type": "sphere", "radius": 1},
+      "xb": {"p": [0, 0, 3]}})");
+  EXPECT_FALSE(apart["touching"].get<bool>());
+  EXPECT_FALSE(apart.contains("normal"));
+  // Sphere on a hull's face: normal from A (the hull) to B.
+  const json s = ask(R"({"op": "contact", "a": {"type": "hull", "points": [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+      [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]]}, "b": {"type": "sphere", "radius": 0.5}, "xb": {"p": [0, 0, 1.4]}})");
+  ASSERT_TRUE(s["touching"].get<bool>()) << s.dump();
+  EXPECT_LT(gap(s["normal"], {0, 0, 1}), 1e-5) << s.dump();
+  EXPECT_NEAR(num(s["depth"]), 0.1, 1e-5);
+  EXPECT_EQ(s["points"].size(), 1u);
+}
+
+TEST(Query3D, RaycastAgainstBoxesHullsAndATriangle) {
+  const json r = ask(R"({"op": "raycast", "shape": {"type": "box", "half": [1, 1, 1]}, "x": {"p": [10, 0, 0]},
+      "origin": [0, 0, 0], "translation": [20, 0, 0]})");
+  ASSERT_TRUE(r["hit"].get<bool>()) << r.dump();
+  EXPECT_NEAR(num(r["fraction"]), 9.0 / 20.0, 1e-6);
+  EXPECT_LT(gap(r["normal"], {-1, 0, 0}), 1e-6);
+  EXPECT_LT(gap(r["point"], {9, 0, 0}), 1e-5);
+  // Turned 45 degrees about z, the ray meets the box's edge at x = 10 - sqrt(2).
+  const json e = ask(R"({"op": "raycast", "shape": {"type": "box", "half": [1, 1, 1]},
+      "x": {"p": [10, 0, 0], "q": [0.9238795325, 0, 0, 0.3826834324]}, "origin": [0, 0, 0], "translation": [20, 0, 0]})");
+  ASSERT_TRUE(e["hit"].get<bool>()) << e.dump();
+  EXPECT_NEAR(num(e["fraction"]), (10.0 - std::sqrt(2.0)) / 20.0, 1e-5);
+  // A ray starting inside reports no hit.
+  EXPECT_FALSE(ask(R"({"op": "raycast", "shape": {"type": "sphere", "radius": 1}, "origin": [0, 0, 0.5],
+      "translation": [0, 0, 5]})")["hit"].get<bool>());
+  // A tetrahedron hull: the ray down the z axis enters the face x + y + z = 1 at z = 1.
+  const json h = ask(R"({"op": "raycast", "shape": {"type": "hull", "points": [[0, 0, 0], [3, 0, 0], [0, 3, 0], [0, 0, 3]]},
+      "origin": [0.5, 0.5, 10], "translation": [0, 0, -20]})");
+  ASSERT_TRUE(h["hit"].get<bool>()) << h.dump();
+  EXPECT_NEAR(num(h["fraction"]), (10.0 - 2.0) / 20.0, 1e-5);
+  const double n = 1.0 / std::sqrt(3.0);
+  EXPECT_LT(gap(h["normal"], {n, n, n}), 1e-5) << h.dump();
+  // A triangle is two-sided: hit from below at z = 5, the normal facing the ray.
+  const json t = ask(R"({"op": "raycast", "shape": {"type": "triangle", "vertices": [[-1, -1, 0], [1, -1, 0], [0, 1, 0]]},
+      "x": {"p": [0, 0, 5]}, "origin": [0, 0, 0], "translation": [0, 0, 10]})");
+  ASSERT_TRUE(t["hit"].get<bool>()) << t.dump();
+  EXPECT_NEAR(num(t["fraction"]), 0.5, 1e-6);
+  EXPECT_NEAR(std::abs(num(t["normal"][2])), 1.0, 1e-6);
+}
+
+TEST(Query3D, ClosestPointNamesTheVoronoiFeature) {
+  const json out = ask(R"({"op": "closest_point", "shape": {"type": "box", "half": [1, 2, 3]}, "point": [5, 0, 0]})");
+  EXPECT_FALSE(out["inside"].get<bool>());
+  EXPECT_NEAR(num(out["distance"]), 4.0, 1e-6);
+  EXPECT_LT(gap(out["closest"], {1, 0, 0}), 1e-6);
+  EXPECT_EQ(out["feature"], "face 1");  // +x
+  const json in = ask(R"({"op": "closest_point", "shape": {"type": "box", "half": [1, 2, 3]}, "point": [0.5, 0, 0]})");
+  EXPECT_TRUE(in["inside"].get<bool>());
+  EXPECT_NEAR(num(in["distance"]), -0.5, 1e-6);
+  EXPECT_EQ(in["feature"], "face 1");
+  // Beyond the corner (+x, +y, +z) of the box placed at (10, 0, 0): vertex 7, sqrt(3) away.
+  const json v = ask(R"({"op": "closest_point", "shape": {"type": "box", "half": [1, 1, 1]}, "x": {"p": [10, 0, 0]},
+      "point": [12, 2, 2]})");
+  EXPECT_EQ(v["feature"], "vertex 7");
+  EXPECT_NEAR(num(v["distance"]), std::sqrt(3.0), 1e-5);
+  EXPECT_LT(gap(v["closest"], {11, 1, 1}), 1e-5);
+  const json s = ask(R"({"op": "closest_point", "shape": {"type": "sphere", "center": [1, 0, 0], "radius": 2},
+      "point": [1, 0, 5]})");
+  EXPECT_NEAR(num(s["distance"]), 3.0, 1e-6);
+  EXPECT_LT(gap(s["closest"], {1, 0, 2}), 1e-6);
+}
+
+TEST(Query3D, TimeOfImpactOfApproachingShapesIsAnalytic) {
+  // Spheres of radius 1, 10 apart along z, closing at 16 per step: the gap of 8 closes at 0.5.
+  const json r = ask(R"({"op": "toi", "a": {"type": "sphere", "radius": 1}, "va": [0, 0, 8],
+      "b": {"type": "sphere", "radius": 1}, "xb": {"p": [0, 0, 10]}, "vb": [0, 0, -8]})");
+  ASSERT_TRUE(r["hit"].get<bool>()) << r.dump();
+  EXPECT_NEAR(num(r["t"]), 0.5, 1e-3);
+  EXPECT_LT(gap(r["normal"], {0, 0, 1}), 1e-4);
+  EXPECT_LT(gap(r["point"], {0, 0, 5}), 1e-2);
+  // A small box fired at a thin wall (a hull slab) far faster than its size per step.
+  const json wall = ask(R"({"op": "toi", "a": {"type": "box", "half": [0.1, 0.1, 0.1]}, "va": [1000, 0, 0],
+      "b": {"type": "box", "half": [0.01, 2, 2]}, "xb": {"p": [500, 0, 0]}, "vb": [0, 0, 0]})");
+  ASSERT_TRUE(wall["hit"].get<bool>()) << wall.dump();
+  EXPECT_NEAR(num(wall["t"]), (500.0 - 0.11) / 1000.0, 1e-4);
+  EXPECT_LT(gap(wall["normal"], {1, 0, 0}), 1e-4);
+  EXPECT_FALSE(ask(R"({"op": "toi", "a": {"type": "sphere", "radius": 1}, "va": [0, 5, 0],
+      "b": {"type": "sphere", "radius": 1}, "xb": {"p": [10, 0, 0]}, "vb": [0, 0, 0]})")["hit"].get<bool>());
+  const json already = ask(R"({"op": "toi", "a": {"type": "capsule", "a": [0, 0, 0], "b": [0, 1, 0], "radius": 0.5},
+      "va": [1, 0, 0], "b": {"type": "sphere", "radius": 1}, "xb": {"p": [1, 0, 0]}, "vb": [0, 0, 0]})");
+  ASSERT_TRUE(already["hit"].get<bool>());
+  EXPECT_EQ(num(already["t"]), 0.0);
+}
+
+TEST(Query3D, LinesMixingDimensionsAreRejectedNamingTheField) {
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "circle", "center": [0, 0], "radius": 1},
+      "xa": {"p": [0, 0, 0]}, "b": {"type": "circle", "radius": 1}})"),
+            "xa.p: 3D coordinates, in a 2D question (told by a.center)");
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "box", "half": [1, 1]}, "xa": {"q": [1, 0, 0, 0]},
+      "b": {"type": "circle", "radius": 1}})"),
+            "xa.q: a quaternion is a 3D rotation, in a 2D question (told by a.half)");
+  EXPECT_EQ(error_of(R"({"op": "distance", "a": {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+      "b": {"type": "sphere", "radius": 1}, "xb": {"p": [3, 0, 0], "angle": 1}})"),
+            "xb.angle: an angle is a 2D rotation, in a 3D question (told by a.center)");
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]},
+      "b": {"type": "polygon", "vertices": [[0, 0], [1, 0], [0, 1]]}})"),
+            "b.type: \"polygon\" is a 2D shape, in a 3D question (told by a.type)");
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [1, 1, 1]},
+      "b": {"type": "circle", "radius": 1}})"),
+            "b.type: a \"circle\" without center is 2D, in a 3D question (told by a.half); give it a 3-number "
+            "center or call it \"sphere\"");
+  EXPECT_EQ(error_of(R"({"op": "raycast", "shape": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+      "origin": [0, 0], "translation": [0, 0, 1]})"),
+            "origin: 2D coordinates, in a 3D question (told by shape.type)");
+  EXPECT_EQ(error_of(R"({"op": "closest_point", "shape": {"type": "sphere", "radius": 1}, "point": [0, 0, 3],
+      "x": {"p": [1, 2]}})"),
+            "point: 3D coordinates, in a 2D question (told by x.p)");
+  EXPECT_EQ(error_of(R"({"op": "toi", "a": {"type": "sphere", "radius": 1}, "b": {"type": "sphere", "radius": 1},
+      "va": [1, 0, 0], "vb": [0, 0]})"),
+            "vb: 2D coordinates, in a 3D question (told by va)");
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "capsule", "a": [0, 0, 0], "b": [0, 1], "radius": 1},
+      "b": {"type": "sphere", "radius": 1}})"),
+            "a.b: expected 3 numbers, got 2 (2D coordinates where 3D is expected)");
+  // `collide cast` draws 2D questions: a 3D one is refused by name.
+  try {
+    (void)parse_cast_question(R"({"a": {"type": "sphere", "center": [0, 0, 0], "radius": 1}, "b": {"type": "circle", "radius": 1},
+        "va": [1, 0], "vb": [0, 0]})");
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "a.center: 3D coordinates, in a 2D question (collide cast draws 2D questions only)");
+  }
+}
+
+TEST(Query3D, BadQuaternionsAndNonFiniteNumbersAreNamed) {
+  const std::string spheres = R"("op": "overlap", "a": {"type": "sphere", "radius": 1}, "b": {"type": "sphere", "radius": 1}, )";
+  EXPECT_EQ(error_of("{" + spheres + R"("xb": {"p": [1, 0, 0], "q": [1, 0, 0, 0.1]}})"),
+            "xb.q: not a unit quaternion (length 1.00499; must be within 0.001 of 1)");
+  EXPECT_EQ(error_of("{" + spheres + R"("xb": {"p": [1, 0, 0], "q": [0, 0, 0, 0]}})"),
+            "xb.q: not a unit quaternion (length 0; must be within 0.001 of 1)");
+  EXPECT_EQ(error_of("{" + spheres + R"("xb": {"q": [1, 0, 0]}})"), "xb.q: expected 4 numbers [w, x, y, z], got 3");
+  EXPECT_EQ(error_of("{" + spheres + R"("xb": {"q": [1, 0, 0, 1e39]}})"), "xb.q[3]: not a finite float (1e+39)");
+  EXPECT_EQ(error_of("{" + spheres + R"("xa": {"p": [0, 1e400, 0]}})"),
+            "xa.p[1]: not a finite float (1e400 is beyond double range)");
+  // Within 1e-3 of unit length: normalised, and answered as the unit rotation.
+  const json near = ask("{" + spheres + R"("xb": {"p": [0, 0, 2.5], "q": [1.0009, 0, 0, 0]}})");
+  EXPECT_FALSE(near.contains("error")) << near.dump();
+  EXPECT_FALSE(near["overlap"].get<bool>());
+  // JSON has no NaN: the word is a syntax error, the line still answered.
+  EXPECT_NE(error_of(R"({"op": "overlap", "a": {"type": "sphere", "radius": NaN}, "b": {"type": "sphere", "radius": 1}})")
+                .find("JSON syntax error"),
+            std::string::npos);
+  EXPECT_EQ(error_of(R"({"op": "overlap", "a": {"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, "x"]]},
+      "b": {"type": "sphere", "radius": 1}})"),
+            "a.points[3][2]: expected a number, got string");
+}
+
+TEST(Query3D, BadShapesAreNamed) {
+  const auto err = [](const std::string& shape) {
+    return error_of(R"({"op": "overlap", "a": )" + shape + R"(, "b": {"type": "sphere", "center": [0, 0, 0], "radius": 1}})");
+  };
+  EXPECT_EQ(err(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})"),
+            "a.points: convex hull points: needs at least 4, got 3");
+  EXPECT_EQ(err(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [2, 3, 0]]})").rfind("a.points: convex hull points: ", 0),
+            0u);
+  EXPECT_NE(err(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [2, 3, 0]]})").find("coplanar"),
+            std::string::npos);
+  EXPECT_EQ(err(R"({"type": "hull", "points": {}})"), "a.points: expected an array of [x, y, z] points, got object");
+  EXPECT_EQ(err(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], "radius": -1})"),
+            "a.radius: negative (-1)");
+  EXPECT_EQ(err(R"({"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]})"),
+            "a.vertices: a triangle has exactly 3 vertices, got 4");
+  EXPECT_EQ(err(R"({"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]})"),
+            "a.vertices: triangle: degenerate (repeated or collinear vertices, no area)");
+  EXPECT_EQ(err(R"({"type": "box", "half": [1, 0, 1]})"), "a.half: half extents must be > 0");
+  EXPECT_EQ(err(R"({"type": "capsule", "a": [0, 0, 0], "b": [0, 0, 0], "radius": 1})"),
+            "a: capsule: a and b coincide (use a sphere)");
+  EXPECT_EQ(err(R"({"type": "segment", "a": [0, 0, 0], "b": [0, 0, 0]})"), "a: segment: a and b coincide");
+  EXPECT_EQ(err(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, "half": [1, 1, 1]})"),
+            "a.half: unknown field (expected one of: type, center, radius, comment)");
+  EXPECT_EQ(err(R"({"type": "sphere", "center": [0, 0, 0], "radius": -2})"), "a.radius: negative (-2)");
+}
+
+// A hull's cost grows with its points: the count is capped (kMaxJsonHullPoints), and a hull
+// needing more vertices than the library holds is refused rather than silently approximated.
+TEST(Query3D, HugeHullsAreBoundedAndNamed) {
+  const auto hull_line = [](std::size_t n, bool on_sphere) {
+    std::mt19937 rng(5);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::string line = R"({"id": "big", "op": "distance", "a": {"type": "hull", "points": [)";
+    for (std::size_t i = 0; i < n; ++i) {
+      double p[3] = {g(rng), g(rng), g(rng)};
+      const double len = on_sphere ? std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) : 4.0;
+      line += (i ? ",[" : "[") + std::to_string(p[0] / len) + "," + std::to_string(p[1] / len) + "," +
+              std::to_string(p[2] / len) + "]";
+    }
+    return line + R"(]}, "b": {"type": "sphere", "center": [5, 0, 0], "radius": 1}})";
+  };
+  EXPECT_EQ(error_of(hull_line(kMaxJsonHullPoints + 1, false)),
+            "a.points: 100001 points; at most 100000 (the limit, kMaxJsonHullPoints)");
+  EXPECT_EQ(error_of(hull_line(kMaxJsonHullPoints, true)),
+            "a.points: the convex hull of these 100000 points has more than 256 vertices (the library's limit, "
+            "kMaxHullVertices)");
+  // Many points, few hull vertices (a Gaussian cloud): answered; the hull spans about +-1.
+  const json ok = ask(hull_line(5000, false));
+  ASSERT_FALSE(ok.contains("error")) << ok.dump().substr(0, 300);
+  EXPECT_GT(num(ok["distance"]), 2.5);
+  EXPECT_LT(num(ok["distance"]), 4.0);
+  // Every stored point of the answer is finite.
+  EXPECT_EQ(ok["pa"].size(), 3u);
+}
+
+TEST(Query3D, EachBadLineIsAnsweredAndTheStreamGoesOn) {
+  const std::string good = R"({"id": 1, "op": "overlap", "a": {"type": "sphere", "radius": 1}, "b": {"type": "box", "half": [1, 1, 1]}, "xb": {"p": [0, 0, 1.5]}})";
+  const std::string deep = R"({"id": 2, "op": "overlap", "a": {"type": "hull", "points": )" + std::string(300, '[') +
+                           std::string(300, ']') + R"(}, "b": {"type": "sphere", "radius": 1}})";
+  const std::string quat = R"({"id": 3, "op": "distance", "a": {"type": "sphere", "radius": 1}, "b": {"type": "sphere", "radius": 1}, "xb": {"q": [2, 0, 0, 0]}})";
+  const std::string mixed = R"({"id": 4, "op": "contact", "a": {"type": "box", "half": [1, 1, 1]}, "b": {"type": "box", "half": [1, 1]}})";
+  const std::string hull = R"({"id": 5, "op": "raycast", "shape": {"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]}, "origin": [0.1, 0.1, -1], "translation": [0, 0, 2]})";
+  std::istringstream in(good + "\n" + deep + "\n" + quat + "\n\n" + mixed + "\n" + hull + "\n");
+  std::ostringstream out;
+  EXPECT_EQ(answer_query_stream(in, out), 5u);
+  std::istringstream lines(out.str());
+  std::vector<json> a;
+  for (std::string l; std::getline(lines, l);) a.push_back(json::parse(l));
+  ASSERT_EQ(a.size(), 5u);
+  EXPECT_EQ(a[0].dump(), R"({"id":1,"overlap":true})");
+  EXPECT_EQ(a[1]["id"], nullptr);  // too deep to be read at all
+  EXPECT_NE(a[1].value("error", "").find("JSON nested deeper than 256 levels"), std::string::npos) << a[1].dump();
+  EXPECT_EQ(a[2]["id"], 3);
+  EXPECT_EQ(a[2].value("error", ""), "xb.q: not a unit quaternion (length 2; must be within 0.001 of 1)");
+  EXPECT_EQ(a[3]["id"], 4);
+  EXPECT_EQ(a[3].value("error", ""), "b.half: 2D coordinates, in a 3D question (told by a.half)");
+  EXPECT_EQ(a[4]["id"], 5);
+  ASSERT_TRUE(a[4]["hit"].get<bool>()) << a[4].dump();
+  EXPECT_NEAR(num(a[4]["fraction"]), 0.5, 1e-6);
+}
+
+template <class A, class B>
+concept HasOverlap = requires(const A& a, const B& b, const Transform3& x) { overlap(a, x, b, x); };
+template <class A, class B>
+concept HasDistance = requires(const A& a, const B& b, const Transform3& x) { distance(a, x, b, x); };
+template <class A, class B>
+concept HasContact = requires(const A& a, const B& b, const Transform3& x) { contact(a, x, b, x); };
+template <class S>
+concept HasClosestPoint = requires(const S& s, const Transform3& x, Vec3 p) { closest_point(s, x, p); };
+
+// Coordinates near the float range overflow a query's arithmetic: the answer is an error, never a
+// NaN written as null (as it was, in 2D too: `"depth": null`).
+TEST(Query3D, ResultsThatOverflowFloatAreAnErrorNotNull) {
+  const std::string overflow = "no finite answer: the result overflowed float arithmetic (coordinates or sizes too large)";
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [3e38, 3e38, 3e38]},
+      "b": {"type": "box", "half": [1, 1, 1]}, "xb": {"p": [0, 3e38, 0]}})"),
+            overflow);
+  EXPECT_EQ(error_of(R"({"op": "closest_point", "shape": {"type": "hull", "points": [[0, 0, 0], [3e38, 0, 0], [0, 3e38, 0],
+      [0, 0, 3e38]]}, "point": [-3e38, -3e38, -3e38]})"),
+            overflow);
+  EXPECT_EQ(error_of(R"({"op": "contact", "a": {"type": "box", "half": [3e38, 3e38]}, "b": {"type": "box", "half": [1, 1]},
+      "xb": {"p": [0, 3e38]}})"),
+            overflow);
+  for (const char* file : {"extreme_coordinates2d.jsonl", "extreme_coordinates3d.jsonl"}) {
+    std::ifstream in(std::string(COLLIDE_FUZZ_DIR) + "/seeds/query_line/" + file);
+    int lines = 0;
+    for (std::string line; std::getline(in, line); ++lines) {
+      const json a = ask(line);
+      for (const auto& [key, value] : a.items()) {
+        if (key != "id") EXPECT_FALSE(value.is_null() || value.dump().find("null") != std::string::npos) << a.dump();
+      }
+    }
+    EXPECT_GE(lines, 2) << file;
+  }
+}
+
+// Pairs the library has no routine for yet are answered "unsupported", naming both shapes; once
+// the library declares the overload (in either order) the tool answers it, and this test then
+// checks the answer instead.
+TEST(Query3D, PairsTheLibraryLacksAreNamedUntilItHasThem) {
+  const std::string sphere_over_triangle =
+      R"("a": {"type": "sphere", "center": [0.2, 0.2, 0.5], "radius": 1},
+         "b": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})";
+  constexpr bool has_overlap = HasOverlap<Sphere, Triangle> || HasOverlap<Triangle, Sphere>;
+  const json o = ask(R"({"op": "overlap", )" + sphere_over_triangle + "}");
+  if constexpr (has_overlap) {
+    EXPECT_TRUE(o.value("overlap", false)) << o.dump();
+  } else {
+    EXPECT_EQ(o.value("error", ""), "unsupported pair: the library has no overlap for a sphere (a) and a triangle (b) yet");
+  }
+  constexpr bool has_distance = HasDistance<Sphere, Triangle> || HasDistance<Triangle, Sphere>;
+  const json d = ask(R"({"op": "distance", "a": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+      "b": {"type": "sphere", "center": [0.2, 0.2, 3], "radius": 1}})");
+  if constexpr (has_distance) {
+    EXPECT_NEAR(d.value("distance", -1.0), 2.0, 1e-5) << d.dump();
+    EXPECT_LT(gap(d["pa"], {0.2, 0.2, 0}), 1e-5) << d.dump();  // on the triangle (a)
+  } else {
+    EXPECT_EQ(d.value("error", ""), "unsupported pair: the library has no distance for a triangle (a) and a sphere (b) yet");
+  }
+  constexpr bool has_contact = HasContact<Sphere, Triangle> || HasContact<Triangle, Sphere>;
+  const json c = ask(R"({"op": "contact", )" + sphere_over_triangle + "}");
+  if constexpr (has_contact) {
+    EXPECT_LT(gap(c["normal"], {0, 0, -1}), 1e-5) << c.dump();  // from the sphere (a) down to the triangle
+    EXPECT_NEAR(c.value("depth", -1.0), 0.5, 1e-5) << c.dump();
+  } else {
+    EXPECT_EQ(c.value("error", ""), "unsupported pair: the library has no contact for a sphere (a) and a triangle (b) yet");
+  }
+  constexpr bool has_closest = HasClosestPoint<Triangle>;
+  const json p = ask(R"({"op": "closest_point", "shape": {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+      "point": [0.2, 0.2, 3]})");
+  if constexpr (has_closest) {
+    EXPECT_NEAR(p.value("distance", -1.0), 3.0, 1e-5) << p.dump();
+    EXPECT_EQ(p.value("feature", ""), "face 0");
+  } else {
+    EXPECT_EQ(p.value("error", ""), "unsupported shape: the library has no closest_point for a triangle (shape) yet");
+  }
 }
 
 }  // namespace

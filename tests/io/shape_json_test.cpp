@@ -187,23 +187,79 @@ TEST(ShapeJson, RejectionsNameTheFieldTheSameWayInBothEntryPoints) {
             0u);
 }
 
-// 3D: the dimension is told by the coordinates; 3D shapes are not built yet, and the pieces of a
-// scene are 2D.
-TEST(ShapeJson, ThreeDimensionalShapesAreToldByTheirCoordinatesAndNotBuiltYet) {
-  for (const char* text : {R"({"type": "sphere", "center": [0, 0, 0], "radius": 1})",
-                           R"({"type": "circle", "center": [0, 0, 0], "radius": 1})",
-                           R"({"type": "capsule", "a": [0, 0, 0], "b": [1, 0, 0], "radius": 1})",
-                           R"({"type": "box", "half": [1, 1, 1]})",
-                           R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]})",
-                           R"({"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})"}) {
-    EXPECT_EQ(shape_error(text).rfind("a|3D shapes: not yet", 0), 0u) << text;
-  }
-  // Without coordinates, the caller's dimension.
+// 3D: the dimension is told by the coordinates (or the type); 3D shapes are the library's own
+// make_* results, and the pieces of a scene are 2D.
+TEST(ShapeJson, ThreeDimensionalShapesAreToldByTheirCoordinatesAndBuiltByTheLibrary) {
   const JsonPath root;
-  EXPECT_EQ(error_of([&] {
-              (void)shape_from_json(json::parse(R"({"type": "sphere", "radius": 1})"), root.member("b"), JsonDimension::three);
-            }).rfind("b|3D shapes: not yet", 0),
-            0u);
+  const auto shape3 = [&](const std::string& text, JsonDimension untold = JsonDimension::two) {
+    const AnyShape s = shape_from_json(json::parse(text), root.member("a"), untold);
+    EXPECT_EQ(dimension_of(s), JsonDimension::three) << text;
+    return s;
+  };
+  for (const char* name : {"sphere", "circle"}) {  // one type, two names; 3 numbers: a sphere
+    const AnyShape s = shape3(std::string(R"({"type": ")") + name + R"(", "center": [1, 2, 3], "radius": 0.5})");
+    const Sphere& sphere = std::get<Sphere>(std::get<Shape3D>(s));
+    EXPECT_EQ(sphere.center, Vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(sphere.radius, 0.5f);
+    EXPECT_STREQ(type_name(s), "sphere");
+  }
+  {
+    const AnyShape s = shape3(R"({"type": "capsule", "a": [0, 0, 0], "b": [1, 0, 0], "radius": 1})");
+    EXPECT_EQ(std::get<Capsule3>(std::get<Shape3D>(s)).b, Vec3(1.0f, 0.0f, 0.0f));
+  }
+  {
+    const AnyShape s = shape3(R"({"type": "segment", "a": [0, 0, 0], "b": [0, 0, 2]})");
+    EXPECT_EQ(std::get<Segment3>(std::get<Shape3D>(s)).b, Vec3(0.0f, 0.0f, 2.0f));
+  }
+  {
+    const AnyShape s = shape3(R"({"type": "box", "half": [1, 2, 3], "radius": 0.25})");
+    EXPECT_EQ(std::get<Box>(std::get<Shape3D>(s)).half, Vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(std::get<Box>(std::get<Shape3D>(s)).radius, 0.25f);
+  }
+  {
+    // A cube's corners and its centre: the hull is the cube (8 vertices, 6 faces).
+    const AnyShape s = shape3(R"({"type": "hull", "points": [[0, 0, 0], [-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+        [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], "radius": 0.1})");
+    const ConvexHull& hull = std::get<ConvexHull>(std::get<Shape3D>(s));
+    EXPECT_EQ(hull.vertex_count(), 8);
+    EXPECT_EQ(hull.faces.size(), 6u);
+    EXPECT_EQ(hull.radius, 0.1f);
+    EXPECT_STREQ(type_name(s), "hull");
+  }
+  {
+    const AnyShape s = shape3(R"({"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})");
+    EXPECT_EQ(std::get<Triangle>(s).vertices[2], Vec3(0.0f, 1.0f, 0.0f));
+    EXPECT_STREQ(type_name(s), "triangle");
+  }
+  // Without coordinates: a sphere takes the caller's dimension, a circle is 2D.
+  const AnyShape untold = shape3(R"({"type": "sphere", "radius": 1})", JsonDimension::three);
+  EXPECT_EQ(std::get<Sphere>(std::get<Shape3D>(untold)).center, Vec3(0.0f));
+  EXPECT_EQ(dimension_of(shape_from_json(json::parse(R"({"type": "circle", "radius": 1})"), root.member("a"),
+                                         JsonDimension::three)),
+            JsonDimension::two);
+  // The cues: what a shape or transform tells of its dimension before it is read.
+  const auto cue = [](const char* text) {
+    const auto c = shape_dimension_cue(json::parse(text));
+    return c ? std::to_string(static_cast<int>(c->dimension)) + std::string(c->field) : std::string("none");
+  };
+  EXPECT_EQ(cue(R"({"type": "sphere", "radius": 1})"), "none");
+  EXPECT_EQ(cue(R"({"type": "circle", "radius": 1})"), "2type");
+  EXPECT_EQ(cue(R"({"type": "circle", "center": [0, 0, 0], "radius": 1})"), "3center");
+  EXPECT_EQ(cue(R"({"type": "capsule", "a": [0, 0], "b": [1, 0, 0]})"), "2a");
+  EXPECT_EQ(cue(R"({"type": "box", "half": [1, 1, 1, 1]})"), "none");
+  EXPECT_EQ(cue(R"({"type": "hull"})"), "3type");
+  EXPECT_EQ(cue(R"({"type": "polygon"})"), "2type");
+  EXPECT_EQ(cue(R"({"type": "blob", "center": [0, 0]})"), "none");
+  EXPECT_EQ(cue(R"([1, 2, 3])"), "none");
+  const auto tcue = [](const char* text) {
+    const auto c = transform_dimension_cue(json::parse(text));
+    return c ? std::to_string(static_cast<int>(c->dimension)) + std::string(c->field) : std::string("none");
+  };
+  EXPECT_EQ(tcue(R"({"p": [0, 0], "q": [1, 0, 0, 0]})"), "3q");
+  EXPECT_EQ(tcue(R"({"p": [0, 0, 0], "angle": 1})"), "2angle");
+  EXPECT_EQ(tcue(R"({"p": [0, 0, 0]})"), "3p");
+  EXPECT_EQ(tcue(R"({})"), "none");
+  EXPECT_EQ(tcue(R"(7)"), "none");
   EXPECT_EQ(pieces_error(R"({"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]})"),
             "statics[2].shape.type|\"hull\" is a 3D shape; only 2D shapes are accepted here");
   EXPECT_EQ(pieces_error(R"({"type": "box", "half": [1, 1, 1]})"),

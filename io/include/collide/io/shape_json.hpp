@@ -19,11 +19,14 @@
 #include <collide/core/transform.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -39,6 +42,13 @@ inline constexpr std::size_t kMaxJsonDepth = 256;
 /// A quaternion `[w, x, y, z]` is accepted when its length is within this of 1, and then
 /// normalised (query-jsonl.md, "Errors"); farther from unit length it is rejected.
 inline constexpr double kJsonUnitQuaternionTolerance = 1e-3;
+
+/// Most points a `hull` object may list. Building a hull takes O(n h) time for n points and h
+/// faces (make_convex_hull), so the cap bounds the time one shape can take: a `collide query`
+/// line with 100,000 points, on a sphere or in a cube, is answered in 0.4 to 0.6 s (release
+/// build, mostly reading the 3.5 MB of JSON). Real convex pieces have far fewer points. More
+/// are rejected, naming the field and the count.
+inline constexpr std::size_t kMaxJsonHullPoints = 100000;
 
 /// Where a value sits in a JSON document: the root, a member of an object, or an element of an
 /// array, written "statics[2].shapes[0].radius" (the root alone is the empty string).
@@ -129,24 +139,46 @@ void check_object(const nlohmann::json& j, const JsonPath& path, std::string_vie
 /// Dimension of a shape, a transform or a question.
 enum class JsonDimension : unsigned char { two = 2, three = 3 };
 
-/// A shape of either dimension, as `shape_from_json` returns it. The library has no 3D shapes
-/// yet: this is a variant of one alternative, and `Shape3D` joins it as the second when it
-/// exists (callers that `std::visit` it then fail to compile until they handle 3D). Until then
-/// 3D shapes are rejected as "3D shapes: not yet".
-using AnyShape = std::variant<Shape2D>;
+/// A shape of either dimension, as `shape_from_json` returns it: a 2D shape, a convex 3D shape,
+/// or a 3D triangle (a surface, not a solid: the library keeps it out of `Shape3D` and gives it
+/// overloads of its own). Callers that `std::visit` it handle all three.
+using AnyShape = std::variant<Shape2D, Shape3D, Triangle>;
 
 /// The dimension of a shape from `shape_from_json`.
 [[nodiscard]] JsonDimension dimension_of(const AnyShape& shape) noexcept;
 
+/// Lower-case name of the shape's type as the vocabulary writes it ("circle", "polygon",
+/// "sphere", "hull", "triangle"...; a 2D box is a "polygon"), for messages.
+[[nodiscard]] const char* type_name(const AnyShape& shape) noexcept;
+
+/// What a JSON object says of its dimension before it is read: the dimension and the member
+/// that tells it.
+struct JsonDimensionCue {
+  JsonDimension dimension = JsonDimension::two;
+  std::string_view field;  ///< the member that tells: "type" (polygon, hull...), "center", "p", "q"...
+};
+
+/// The dimension a shape object tells, by the rules of `shape_from_json`: its type (`polygon`
+/// and `polyline` are 2D, `hull` and `triangle` 3D, a `circle` without `center` 2D) or the count
+/// of its coordinates (`center`, `a` or `half`: 2 numbers 2D, 3 numbers 3D). Nothing
+/// (std::nullopt) for a `sphere` without `center`, or an object too malformed to tell (reading
+/// it then says what is wrong). Reads no more than the type and the one member.
+[[nodiscard]] std::optional<JsonDimensionCue> shape_dimension_cue(const nlohmann::json& shape);
+
+/// The dimension a transform object tells: `q` 3D, `angle` 2D, else `p` by its count; nothing
+/// for an empty (identity) or malformed object.
+[[nodiscard]] std::optional<JsonDimensionCue> transform_dimension_cue(const nlohmann::json& transform);
+
 /// One convex shape object in local space, 2D or 3D by its coordinates (the `collide query`
 /// vocabulary, query-jsonl.md "Shapes"): `circle` or `sphere` (one type, two names) {center,
 /// radius}, `capsule` {a, b, radius}, `segment` {a, b}, `box` {half, radius?}, `polygon`
-/// {vertices, radius?} (2D, convex, counter-clockwise), `hull` {points} and `triangle`
-/// {vertices} (3D). A shape whose coordinates do not tell its dimension (a circle or sphere
-/// without `center`) has the dimension `untold`: the caller's, e.g. the rest of the question's.
-/// Validated and built by the library's make_* functions; their messages are kept, after the
-/// path of the field they concern. Polylines and concave polygons are several pieces, rejected
-/// here. Throws JsonFieldError.
+/// {vertices, radius?} (2D, convex, counter-clockwise), `hull` {points, radius?} (3D: the convex
+/// hull of 4 to kMaxJsonHullPoints points, at most kMaxHullVertices of them its vertices) and
+/// `triangle` {vertices (3)} (3D). A shape whose coordinates do not tell its dimension (a
+/// `sphere` without `center`) has the dimension `untold`: the caller's, e.g. the rest of the
+/// question's; a `circle` without `center` is 2D. Validated and built by the library's make_*
+/// functions; their messages are kept, after the path of the field they concern. Polylines and
+/// concave polygons are several pieces, rejected here. Throws JsonFieldError.
 [[nodiscard]] AnyShape shape_from_json(const nlohmann::json& j, const JsonPath& path,
                                        JsonDimension untold = JsonDimension::two);
 
