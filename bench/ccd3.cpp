@@ -15,7 +15,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "support/random.hpp"
+#include "support/random_shapes3.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -29,15 +29,6 @@ using namespace collide;
 using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-
-/// kind 0: a box of half extents 0.2..0.8; kind 1: a capsule 0.4..1.6 long, radius 0.1..0.4.
-Shape3D make_shape(std::mt19937& rng, int kind) {
-  if (kind == 0) {
-    return make_box({uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f)});
-  }
-  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit3(rng);
-  return make_capsule(-h, h, uniform(rng, 0.1f, 0.4f));
-}
 
 // ---- time of impact -------------------------------------------------------------------------
 
@@ -54,8 +45,8 @@ std::vector<MovingPair> make_moving(int ka, float max_turn, unsigned seed) {
   std::mt19937 rng(seed);
   std::vector<MovingPair> pairs(kPairs);
   for (MovingPair& p : pairs) {
-    p.a = make_shape(rng, ka);
-    p.b = make_shape(rng, 0);
+    p.a = random_box_or_capsule(rng, ka);
+    p.b = random_box_or_capsule(rng, 0);
     const Vec3 ca = random_point3(rng, 50.0f);
     const Vec3 dir = random_unit3(rng);
     const Vec3 cb = ca + uniform(rng, 2.0f, 5.0f) * dir;

@@ -14,7 +14,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "support/random.hpp"
+#include "support/random_shapes3.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -28,15 +28,6 @@ using namespace collide;
 using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
-
-/// kind 0: a box of half extents 0.2..0.8; kind 1: a capsule 0.4..1.6 long, radius 0.1..0.4.
-Shape3D make_shape(std::mt19937& rng, int kind) {
-  if (kind == 0) {
-    return make_box({uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f)});
-  }
-  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit3(rng);
-  return make_capsule(-h, h, uniform(rng, 0.1f, 0.4f));
-}
 
 // ---- penetration ----------------------------------------------------------------------------
 
@@ -53,7 +44,7 @@ std::vector<OverlapPair> make_overlapping(int ka, unsigned seed) {
   std::vector<OverlapPair> pairs;
   while (pairs.size() < kPairs) {
     const Vec3 base = random_point3(rng, 50.0f);
-    OverlapPair p{make_shape(rng, ka), make_shape(rng, 0),
+    OverlapPair p{random_box_or_capsule(rng, ka), random_box_or_capsule(rng, 0),
                   Transform3{base, random_rotation(rng)},
                   Transform3{base + random_point3(rng, 0.8f), random_rotation(rng)}};
     if (distance(p.a, p.xa, p.b, p.xb).status != QueryStatus::overlapped) continue;

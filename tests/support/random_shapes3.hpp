@@ -24,6 +24,16 @@ inline ConvexHull random_hull(std::mt19937& rng, int n, float size, float radius
   return make_convex_hull(points, HullOptions{radius});
 }
 
+/// The benchmarks' box-or-capsule: kind 0 a box of half extents 0.2..0.8; kind 1 a capsule
+/// 0.4..1.6 long in a random direction, radius 0.1..0.4.
+inline Shape3D random_box_or_capsule(std::mt19937& rng, int kind) {
+  if (kind == 0) {
+    return make_box({uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f), uniform(rng, 0.2f, 0.8f)});
+  }
+  const Vec3 h = uniform(rng, 0.2f, 0.8f) * random_unit3(rng);
+  return make_capsule(-h, h, uniform(rng, 0.1f, 0.4f));
+}
+
 /// A random convex 3D shape of about `size` (centred near the local origin): sphere, capsule,
 /// segment, box, rounded box, hull or rounded hull.
 inline Shape3D random_shape3(std::mt19937& rng, float size = 1.0f) {
