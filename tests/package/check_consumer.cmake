@@ -1,6 +1,7 @@
 # cmake -DSOURCE_DIR=... -DBUILD_DIR=... -DWORK_DIR=... -DMODE=find_package|add_subdirectory -P
 # Installs collide into a scratch prefix (find_package mode) or vendors it (add_subdirectory
-# mode), then configures, builds and runs the consumer project.
+# mode), then configures, builds and runs the consumer project, with the build's own
+# CMAKE_CXX_FLAGS (CXX_FLAGS): a sanitizer build's library links only into a sanitized consumer.
 file(REMOVE_RECURSE ${WORK_DIR})
 if(MODE STREQUAL "find_package")
   execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix
@@ -14,6 +15,7 @@ else()
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer
                         -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release ${configure_args}
+                        "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
                 RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "consumer configure failed (${MODE})")
