@@ -267,9 +267,12 @@ void incident_polygon(const Polytope3& inc, const Place& place, Vec3 normal, Fea
                       ClipPolygon& out) noexcept {
   out.count = 0;
   if (inc.face_count == 0) {
+    // A sphere's one feature is its face 0 (sphere.hpp); a segment's ends are vertices.
+    const FeatureType type =
+        inc.kind == Polytope3::Kind::point ? FeatureType::face : FeatureType::vertex;
     for (int i = 0; i < inc.vertex_count; ++i) {
-      out.v[out.count++] = ClipVertex{place.vertex(i), Feature{FeatureType::vertex, std::uint32_t(i)},
-                                      reference, 0u};
+      out.v[out.count++] =
+          ClipVertex{place.vertex(i), Feature{type, std::uint32_t(i)}, reference, 0u};
     }
     return;
   }

@@ -68,6 +68,16 @@ TEST(Contact3, SphereOnABoxFaceEdgeAndCorner) {
   EXPECT_VEC3_NEAR(m.normal, Vec3(0, 1, 0), 1e-6f);
   EXPECT_NEAR(m.points[0].depth, 0.1f, 1e-6f);
   EXPECT_VEC3_NEAR(m.points[0].point, Vec3(0.2f, 0.95f, 0.3f), 1e-6f);
+  // Feature ids: the box's +y face (2 * 1 + 1, box.hpp) and the sphere's one feature, face 0.
+  EXPECT_EQ(m.points[0].id.feature_a().type, FeatureType::face);
+  EXPECT_EQ(m.points[0].id.feature_a().index, 3u);
+  EXPECT_EQ(m.points[0].id.feature_b().type, FeatureType::face);
+  EXPECT_EQ(m.points[0].id.feature_b().index, 0u);
+  // The same with the sphere as A (the box's face clips the sphere as the incident core).
+  const Manifold3 swapped = contact(ball, at({0.2f, 1.4f, 0.3f}), box, Transform3{});
+  ASSERT_EQ(swapped.count, 1);
+  EXPECT_EQ(swapped.points[0].id.feature_a().type, FeatureType::face);
+  EXPECT_EQ(swapped.points[0].id.feature_a().index, 0u);
   // Edge (the x-aligned edge at y = z = 1): normal along the diagonal of y and z.
   m = contact(box, Transform3{}, ball, at({0.2f, 1.3f, 1.3f}));
   ASSERT_EQ(m.count, 1);
