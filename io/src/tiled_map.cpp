@@ -1,5 +1,6 @@
 // Tiled map -> colliders: object shapes, tile collision shapes with flips, offsets.
 
+#include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
@@ -8,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <numbers>
 #include <unordered_map>
 
@@ -44,11 +47,22 @@ float finite_or_fail(double value, const std::filesystem::path& file, std::strin
                      std::string_view field) {
   const auto f = static_cast<float>(value);
   if (!std::isfinite(f)) fail(file, element, std::string(field) + ": not a finite number");
+  if (std::fabs(value) > kMaxTiledCoordinate) {
+    std::ostringstream shown;
+    shown << std::setprecision(9) << value;
+    fail(file, element, std::string(field) + ": " + shown.str() + " is beyond +-1e7 (the limit, kMaxTiledCoordinate)");
+  }
   return f;
 }
 
-std::uint32_t map_template_gid(TiledMap& map, const Template& t) {
+std::uint32_t map_template_gid(Document& doc, const Template& t) {
+  TiledMap& map = doc.map;
   const std::uint32_t flips = t.object.gid & ~kTiledGidMask;
+  if ((t.object.gid & kTiledGidMask) < t.tileset_first_gid) {
+    fail(t.object.template_file, "<object>", "gid " + std::to_string(t.object.gid & kTiledGidMask) +
+                                                 " is below its tileset's firstgid " +
+                                                 std::to_string(t.tileset_first_gid));
+  }
   const std::uint32_t local = (t.object.gid & kTiledGidMask) - t.tileset_first_gid;
   const std::filesystem::path want = std::filesystem::weakly_canonical(t.tileset_source);
   for (const TiledTileset& ts : map.tilesets) {
@@ -56,18 +70,23 @@ std::uint32_t map_template_gid(TiledMap& map, const Template& t) {
       return (ts.first_gid + local) | flips;
     }
   }
-  // The map does not list the template's tileset: give it gids after the last tileset's.
-  std::uint32_t next = 1;
+  // The map does not list the template's tileset: give it gids after the last tileset's. First
+  // gids are at most kTiledGidMask and tile ids and counts at most INT_MAX, so 64 bits hold it.
+  std::uint64_t next = 1;
   for (const TiledTileset& ts : map.tilesets) {
-    next = std::max(next, ts.first_gid + static_cast<std::uint32_t>(std::max(ts.tile_count, 1)));
+    next = std::max<std::uint64_t>(next, std::uint64_t{ts.first_gid} + static_cast<std::uint64_t>(std::max(ts.tile_count, 1)));
     for (const TiledTile& tile : ts.tiles) {
-      next = std::max(next, ts.first_gid + static_cast<std::uint32_t>(tile.id) + 1);
+      next = std::max<std::uint64_t>(next, std::uint64_t{ts.first_gid} + static_cast<std::uint64_t>(tile.id) + 1);
     }
   }
-  TiledTileset ts = read_tileset_file(t.tileset_source);
-  ts.first_gid = next;
+  if (next + local > kTiledGidMask) {
+    fail(t.object.template_file, "<object>", "no gid left for its tileset in the map (gids end at " +
+                                                 std::to_string(kTiledGidMask) + ")");
+  }
+  TiledTileset ts = external_tileset(doc, t.tileset_source);
+  ts.first_gid = static_cast<std::uint32_t>(next);
   map.tilesets.push_back(std::move(ts));
-  return (next + local) | flips;
+  return (static_cast<std::uint32_t>(next) + local) | flips;
 }
 
 }  // namespace tiled
@@ -115,6 +134,14 @@ Affine tile_flips(std::uint32_t gid, Vec2 size) {
   return a;
 }
 
+/// Fails when a map that has `count` colliders would get one more than kMaxTiledColliders.
+void check_collider_count(const TiledMap& map, std::size_t count) {
+  if (count >= kMaxTiledColliders) {
+    tiled::fail(map.path, "map", "more than " + std::to_string(kMaxTiledColliders) +
+                                     " colliders (the limit, kMaxTiledColliders)");
+  }
+}
+
 /// Appends the colliders of one object's own shape, mapped by `local` (object frame -> collider
 /// frame), placed by `xf`.
 class Builder {
@@ -125,7 +152,10 @@ class Builder {
              const TiledSource& source, const std::string& label) {
     const float w = obj.size.x;
     const float h = obj.size.y;
-    auto add = [&](Shape2D s) { out_.push_back({std::move(s), xf, source}); };
+    auto add = [&](Shape2D s) {
+      check_collider_count(map_, out_.size());
+      out_.push_back({std::move(s), xf, source});
+    };
     auto outline = [&](const std::vector<Vec2>& pts, bool convex) {
       std::vector<Vec2> mapped;
       for (Vec2 p : pts) mapped.push_back(local.apply(p));
@@ -292,6 +322,7 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
         placed.transform = Transform{top_left, Rot2{}};
         placed.source.cell_x = cell.x;
         placed.source.cell_y = cell.y;
+        check_collider_count(map, map.colliders.size());
         map.colliders.push_back(std::move(placed));
       }
     }
@@ -301,11 +332,16 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
 }  // namespace
 
 TiledMap load_tiled_map(const std::filesystem::path& path, const TiledLoadOptions& options) {
-  const std::string ext = path.extension().string();
-  tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
-                                                         : tiled::read_tmx(path);
-  build_colliders(doc.map, doc.tile_layers, options);
-  return std::move(doc.map);
+  try {
+    const std::string ext = path.extension().string();
+    tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
+                                                           : tiled::read_tmx(path);
+    build_colliders(doc.map, doc.tile_layers, options);
+    return std::move(doc.map);
+  } catch (const InvalidInput& e) {
+    // Messages quote names and values from the files: bytes that are not UTF-8 become \xNN.
+    throw InvalidInput(io::valid_utf8(e.what()));
+  }
 }
 
 void flip_y(TiledMap& map, float height_pixels) {

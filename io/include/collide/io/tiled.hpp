@@ -35,6 +35,7 @@
 #include <collide/core/transform.hpp>
 #include <collide/shape/shape2d.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -52,6 +53,27 @@ inline constexpr std::uint32_t kTiledFlipDiagonal = 0x20000000u;
 inline constexpr std::uint32_t kTiledRotateHexagonal120 = 0x10000000u;
 /// The gid without its flip bits.
 inline constexpr std::uint32_t kTiledGidMask = 0x0fffffffu;
+
+// Limits of `load_tiled_map` (docs/limits.md). Each refuses a file that goes past it with
+// InvalidInput naming the file, the element, the limit and the value found.
+
+/// Deepest nesting of group layers (`<group>`, JSON "group"); the map's top level is depth 0.
+/// Deeper maps are refused before the recursion could overflow the stack.
+inline constexpr int kMaxTiledGroupDepth = 64;
+/// Most tiles a map may declare: width x height summed over every tile layer and chunk, checked
+/// before any tile data is decoded or memory reserved (a 4096 x 4096 map has 16,777,216).
+inline constexpr std::uint64_t kMaxTiledMapTiles = std::uint64_t{1} << 24;
+/// Most colliders one map may produce (each is about 1.3 KB).
+inline constexpr std::size_t kMaxTiledColliders = std::size_t{1} << 20;
+/// Most points of one polygon object (convex decomposition is O(n^2) typical, O(n^3) worst).
+inline constexpr std::size_t kMaxTiledPolygonPoints = 1024;
+/// Largest magnitude of a number in a map, tileset or template (coordinates, sizes, offsets,
+/// points, rotation), pixels or degrees: far beyond any map, and small enough that every
+/// collider built from it is finite.
+inline constexpr double kMaxTiledCoordinate = 1.0e7;
+/// Most bytes one load reads: the map plus every use of an external tileset or template (a file
+/// used twice counts twice, as a copy of it is kept each time).
+inline constexpr std::size_t kMaxTiledLoadBytes = std::size_t{256} << 20;
 
 /// What a Tiled object is.
 enum class TiledShapeKind : unsigned char { rectangle, ellipse, polygon, polyline, point, text, tile };
