@@ -19,7 +19,15 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
     // Read in blocks up to one byte past the limit: the size a file reports is not trusted (a
     // device or a FIFO reports none, a file may grow while it is read).
     std::string text;
-    constexpr std::size_t kBlock = std::size_t{1} << 16;
+    if (std::filesystem::is_regular_file(path, ec)) {  // refuse a big file without reading it
+      const auto size = std::filesystem::file_size(path, ec);
+      if (!ec && size > kMaxInputFileBytes) {
+        why = "larger than " + std::to_string(kMaxInputFileBytes) + " bytes (the limit, kMaxInputFileBytes)";
+        return std::nullopt;
+      }
+      if (!ec) text.reserve(static_cast<std::size_t>(size));
+    }
+    constexpr std::size_t kBlock = std::size_t{1} << 20;
     while (text.size() <= kMaxInputFileBytes) {
       const std::size_t old = text.size();
       const std::size_t want = std::min(kBlock, kMaxInputFileBytes + 1 - old);

@@ -6,12 +6,24 @@
 
 #include <collide/core/error.hpp>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <unordered_map>
 
 namespace collide::tiled {
+
+void sort_tiles(TiledTileset& ts) {
+  std::stable_sort(ts.tiles.begin(), ts.tiles.end(),
+                   [](const TiledTile& a, const TiledTile& b) { return a.id < b.id; });
+}
+
+void sort_tilesets(TiledMap& map) {
+  std::stable_sort(map.tilesets.begin(), map.tilesets.end(),
+                   [](const TiledTileset& a, const TiledTileset& b) { return a.first_gid < b.first_gid; });
+}
 
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file) {
   doc.bytes += bytes;
@@ -62,6 +74,36 @@ std::string read_input(const std::filesystem::path& file) {
   std::optional<std::string> text = io::read_text_file(file, why);
   if (!text) fail(file, "file", why);
   return std::move(*text);
+}
+
+void check_tile_colliders(Document& doc) {
+  std::unordered_map<std::uint32_t, std::size_t> shapes_of;  // by gid without flips
+  std::size_t total = 0;
+  for (const TileLayer& layer : doc.tile_layers) {
+    for (const Cell& cell : layer.cells) {
+      const std::uint32_t id = cell.gid & kTiledGidMask;
+      auto it = shapes_of.find(id);
+      if (it == shapes_of.end()) {
+        std::size_t n = 0;  // the tileset with the largest first gid <= id (they are sorted)
+        const auto& sets = doc.map.tilesets;
+        const auto ts = std::upper_bound(sets.begin(), sets.end(), id,
+                                         [](std::uint32_t key, const TiledTileset& t) { return key < t.first_gid; });
+        if (ts != sets.begin()) {
+          const auto first = std::prev(ts)->first_gid;
+          const TiledTileset& set = *std::lower_bound(sets.begin(), ts, first,
+                                                      [](const TiledTileset& t, std::uint32_t key) { return t.first_gid < key; });
+          if (const TiledTile* tile = set.find(static_cast<int>(id - set.first_gid))) n = tile->collision.size();
+        }
+        it = shapes_of.emplace(id, n).first;
+      }
+      total += it->second;
+      if (total > kMaxTiledColliders) {
+        fail(doc.map.path, "<layer name=" + layer.name + ">",
+             "the tile layers' cells make more than " + std::to_string(kMaxTiledColliders) +
+                 " colliders (the limit, kMaxTiledColliders)");
+      }
+    }
+  }
 }
 
 void check_group_depth(int depth, const std::filesystem::path& file, std::string_view element) {

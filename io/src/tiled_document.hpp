@@ -48,6 +48,12 @@ struct Document {
   std::map<std::string, std::pair<Template, std::size_t>> templates;     ///< by path: file, size
 };
 
+/// Sorts a tileset's tiles by id (stable: of equal ids the first in the file is found), as
+/// TiledTileset::find needs.
+void sort_tiles(TiledTileset& ts);
+/// Sorts the map's tilesets by first gid (stable), as the collider builder's lookup needs.
+void sort_tilesets(TiledMap& map);
+
 /// Adds `bytes` to what the load has read; fails naming `file` past kMaxTiledLoadBytes.
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file);
 
@@ -64,6 +70,11 @@ void charge_tiles(Document& doc, std::uint64_t width, std::uint64_t height,
 /// The text of an input file (kMaxInputFileBytes at most); fails "<file>: file: <why>" when it
 /// cannot be read.
 [[nodiscard]] std::string read_input(const std::filesystem::path& file);
+
+/// Fails, before any collider is built, when the cells of the tile layers would make more than
+/// kMaxTiledColliders colliders: the sum over cells of their tiles' collision shapes (a lower
+/// bound: a concave shape makes several; the builder checks the exact count too).
+void check_tile_colliders(Document& doc);
 
 /// Fails naming `file` and `element` when a group nests deeper than kMaxTiledGroupDepth.
 void check_group_depth(int depth, const std::filesystem::path& file, std::string_view element);

@@ -30,10 +30,10 @@ const char* to_string(TiledShapeKind kind) noexcept {
 }
 
 const TiledTile* TiledTileset::find(int id) const noexcept {
-  for (const TiledTile& t : tiles) {
-    if (t.id == id) return &t;
-  }
-  return nullptr;
+  // Binary search: the readers sort `tiles` by id (a map's cells may name many distinct tiles).
+  const auto it = std::lower_bound(tiles.begin(), tiles.end(), id,
+                                   [](const TiledTile& t, int key) { return t.id < key; });
+  return it != tiles.end() && it->id == id ? &*it : nullptr;
 }
 
 namespace tiled {
@@ -216,11 +216,15 @@ class Builder {
   /// local id must be below `tilecount` (when known) or name a tile the tileset lists.
   const TiledTileset* tileset_of(std::uint32_t gid, int& local) const {
     const std::uint32_t id = gid & kTiledGidMask;
-    const TiledTileset* best = nullptr;
-    for (const TiledTileset& ts : map_.tilesets) {
-      if (ts.first_gid <= id && (best == nullptr || ts.first_gid > best->first_gid)) best = &ts;
-    }
-    if (best == nullptr) return nullptr;
+    // The readers sort tilesets by first gid: the last whose first gid is <= id (the first of
+    // several with that first gid).
+    const auto& sets = map_.tilesets;
+    auto it = std::upper_bound(sets.begin(), sets.end(), id,
+                               [](std::uint32_t key, const TiledTileset& ts) { return key < ts.first_gid; });
+    if (it == sets.begin()) return nullptr;
+    const std::uint32_t first = std::prev(it)->first_gid;
+    const TiledTileset* best = &*std::lower_bound(
+        sets.begin(), it, first, [](const TiledTileset& ts, std::uint32_t key) { return ts.first_gid < key; });
     local = static_cast<int>(id - best->first_gid);
     const bool listed = best->tile_count <= 0 || local < best->tile_count || best->find(local);
     return listed ? best : nullptr;

@@ -239,6 +239,7 @@ TiledTileset read_tileset(const Json& j, const Where& w) {
   } else {
     w.fail("tiles: neither an array (Tiled 1.2+) nor an object keyed by tile id (earlier)");
   }
+  sort_tiles(ts);
   return ts;
 }
 
@@ -253,8 +254,6 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
     if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
       hw.fail("x + width or y + height is beyond " + std::to_string(INT_MAX));
     }
-    charge_tiles(doc, static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height), hw.file,
-                 hw.element.empty() ? "root" : hw.element);
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<std::uint32_t> gids;
     const Json* found = find_member(holder, "data");
@@ -279,6 +278,13 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   };
   if (j.contains("chunks")) {
     const Json& chunks = array_member(j, "chunks", w);
+    // Every chunk's size is charged before any is decoded.
+    for (size_t i = 0; i < chunks.size(); ++i) {
+      const Where cw = w.item("chunks", i, chunks[i]);
+      if (!chunks[i].is_object()) cw.fail("not an object");
+      charge_tiles(doc, static_cast<std::uint64_t>(integer(chunks[i], "width", 0, cw, 0)),
+                   static_cast<std::uint64_t>(integer(chunks[i], "height", 0, cw, 0)), cw.file, cw.element);
+    }
     for (size_t i = 0; i < chunks.size(); ++i) {
       const Json& c = chunks[i];
       const Where cw = w.item("chunks", i, c);
@@ -287,7 +293,10 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
           integer(c, "height", 0, cw, 0));
     }
   } else {
-    add(j, w, 0, 0, integer(j, "width", 0, w, 0), integer(j, "height", 0, w, 0));
+    const int width = integer(j, "width", 0, w, 0), height = integer(j, "height", 0, w, 0);
+    charge_tiles(doc, static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height), w.file,
+                 w.element.empty() ? "root" : w.element);
+    add(j, w, 0, 0, width, height);
   }
   doc.map.tile_cells += static_cast<int>(layer.cells.size());
   doc.tile_layers.push_back(std::move(layer));
@@ -419,7 +428,9 @@ Document read_tmj(const std::filesystem::path& file) {
     ts.first_gid = first;
     map.tilesets.push_back(std::move(ts));
   }
+  sort_tilesets(map);
   read_layers(root, "", Vec2{0.0f, 0.0f}, 0, w, doc);
+  check_tile_colliders(doc);
   return doc;
 }
 

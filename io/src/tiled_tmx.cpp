@@ -320,6 +320,7 @@ TiledTileset read_tileset_node(const pugi::xml_node& node, const std::filesystem
     }
     if (keep) ts.tiles.push_back(std::move(t));
   }
+  sort_tiles(ts);
   return ts;
 }
 
@@ -337,7 +338,6 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
     if (static_cast<long long>(x0) + w > INT_MAX || static_cast<long long>(y0) + h > INT_MAX) {
       fail(file, where, "x + width or y + height is beyond " + std::to_string(INT_MAX));
     }
-    charge_tiles(doc, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), file, where);
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
     std::vector<std::uint32_t> gids;
     if (encoding.empty()) {  // legacy: one <tile gid=".."/> per cell
@@ -362,12 +362,20 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
     }
   };
   if (data.child("chunk")) {
+    // Every chunk's size is charged before any is decoded.
+    for (const pugi::xml_node chunk : data.children("chunk")) {
+      charge_tiles(doc, static_cast<std::uint64_t>(integer(chunk, "width", 0, file, 0)),
+                   static_cast<std::uint64_t>(integer(chunk, "height", 0, file, 0)), file,
+                   element_label(node) + ": " + element_label(chunk));
+    }
     for (const pugi::xml_node chunk : data.children("chunk")) {
       add(chunk, integer(chunk, "x", 0, file), integer(chunk, "y", 0, file),
           integer(chunk, "width", 0, file, 0), integer(chunk, "height", 0, file, 0));
     }
   } else {
-    add(data, 0, 0, integer(node, "width", 0, file, 0), integer(node, "height", 0, file, 0));
+    const int w = integer(node, "width", 0, file, 0), h = integer(node, "height", 0, file, 0);
+    charge_tiles(doc, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), file, element_label(node));
+    add(data, 0, 0, w, h);
   }
   doc.map.tile_cells += static_cast<int>(layer.cells.size());
   doc.tile_layers.push_back(std::move(layer));
@@ -469,7 +477,9 @@ Document read_tmx(const std::filesystem::path& file) {
     ts.first_gid = first;
     map.tilesets.push_back(std::move(ts));
   }
+  sort_tilesets(map);
   read_layers(root, "", Vec2{0.0f, 0.0f}, 0, file, doc);
+  check_tile_colliders(doc);
   return doc;
 }
 

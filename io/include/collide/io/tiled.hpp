@@ -112,9 +112,10 @@ struct TiledTileset {
   Vec2 tile_size{0.0f, 0.0f};     ///< `tilewidth`, `tileheight`
   Vec2 tile_offset{0.0f, 0.0f};   ///< `<tileoffset>`: drawing offset of every tile
   std::filesystem::path source;   ///< the `.tsx`/`.tsj` file, empty when embedded
-  std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image
+  std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image, by id
 
-  /// The tile with local id `id`, or nullptr.
+  /// The tile with local id `id`, or nullptr. Binary search: `tiles` must be sorted by id (as
+  /// load_tiled_map leaves it).
   [[nodiscard]] const TiledTile* find(int id) const noexcept;
 };
 
@@ -148,7 +149,7 @@ struct TiledMap {
   int height = 0;                    ///< in tiles (finite maps)
   Vec2 tile_size{0.0f, 0.0f};        ///< map tile size, pixels
   bool infinite = false;             ///< chunked tile layers
-  std::vector<TiledTileset> tilesets;
+  std::vector<TiledTileset> tilesets;  ///< by first gid (as Tiled writes them)
   std::vector<TiledObject> objects;  ///< every object of every object layer, in file order
   int tile_cells = 0;                ///< non-empty tile-layer cells
   std::vector<TiledCollider> colliders;
