@@ -29,8 +29,11 @@
 /// external DTD that old maps name in their DOCTYPE.
 ///
 /// Supported: orthogonal maps, finite or infinite (chunked) tile layers, tile data as csv,
-/// base64, base64 + zlib and base64 + gzip, and legacy `<tile gid>` elements.
-/// Rejected with InvalidInput: isometric, staggered and hexagonal maps, zstd-compressed data.
+/// base64, base64 + zlib, gzip or zstd, and legacy `<tile gid>` elements; every version of the
+/// formats Tiled has written, from 0.x maps without object ids to JSON before 1.2 (tilesets whose
+/// `tiles` is an object keyed by tile id) and 1.9's `class` (docs/tiled-formats.md).
+/// Rejected with InvalidInput: isometric, staggered, hexagonal and oblique maps, and input past
+/// the limits below (docs/limits.md).
 
 #include <collide/core/transform.hpp>
 #include <collide/shape/shape2d.hpp>
@@ -170,7 +173,12 @@ struct TiledLoadOptions {
 /// in: the XML elements open there ("inside <map> > <objectgroup name=Walls> > <object id=7>")
 /// or the JSON path ("in layers[0].objects[1] (id=9).polygon[0]"). An error in an external
 /// tileset or template names that file, after the map and the element that refers to it.
-/// Allocates; load time only.
+/// Input past a limit is refused naming the limit and the value: files over kMaxInputFileBytes
+/// (64 MiB; /dev/zero too), groups nested deeper than kMaxTiledGroupDepth, JSON nested deeper
+/// than kMaxJsonDepth, more than kMaxTiledMapTiles declared tiles, cells beyond int range,
+/// firstgid outside [1, kTiledGidMask], numbers beyond kMaxTiledCoordinate, polygons over
+/// kMaxTiledPolygonPoints, more than kMaxTiledColliders colliders or kMaxTiledLoadBytes read.
+/// Messages are valid UTF-8 (other bytes quoted as \xNN). Allocates; load time only.
 [[nodiscard]] TiledMap load_tiled_map(const std::filesystem::path& path,
                                       const TiledLoadOptions& options = {});
 
