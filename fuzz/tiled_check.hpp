@@ -47,11 +47,14 @@ inline std::string check_tiled(TiledInput kind, std::string_view input, const st
   // The fixed files: a tileset with a collision tile, a template, and a map using both.
   const std::string tileset_name = kind == TiledInput::tileset && json ? "t.tsj" : "t.tsx";
   const std::string template_name = kind == TiledInput::templ && json ? "a.tj" : "a.tx";
-  write_file(dir / "t.tsx", R"(<tileset name="t" tilewidth="16" tileheight="16" tilecount="4" columns="2">
+  static const std::string kTileset = R"(<tileset name="t" tilewidth="16" tileheight="16" tilecount="4" columns="2">
  <tile id="1"><objectgroup><object id="1" x="2" y="2" width="8" height="4"/><object id="2" x="0" y="8"><polygon points="0,0 16,0 8,8"/></object></objectgroup></tile>
  <tile id="2"><objectgroup><object id="1" x="4" y="4" width="8" height="8"><ellipse/></object></objectgroup></tile>
-</tileset>)");
-  write_file(dir / "a.tx", R"(<template><tileset firstgid="1" source="t.tsx"/><object name="door" gid="2" width="32" height="32"/></template>)");
+</tileset>)";
+  static const std::string kTemplate =
+      R"(<template><tileset firstgid="1" source="t.tsx"/><object name="door" gid="2" width="32" height="32"/></template>)";
+  if (kind != TiledInput::tileset || json) write_file(dir / "t.tsx", kTileset);
+  if (kind != TiledInput::templ || json) write_file(dir / "a.tx", kTemplate);
   const std::string host = R"(<map version="1.10" orientation="orthogonal" width="4" height="2" tilewidth="16" tileheight="16">
  <tileset firstgid="1" source=")" + tileset_name + R"("/>
  <layer name="cells" width="4" height="2"><data encoding="csv">1,2,3,4,4,3,2,1</data></layer>

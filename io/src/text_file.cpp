@@ -19,18 +19,20 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
     // Read in blocks up to one byte past the limit: the size a file reports is not trusted (a
     // device or a FIFO reports none, a file may grow while it is read).
     std::string text;
+    // The first block: the whole of a regular file (and one byte more, to see its end), else 64 KiB.
+    std::size_t block = std::size_t{1} << 16;
     if (std::filesystem::is_regular_file(path, ec)) {  // refuse a big file without reading it
       const auto size = std::filesystem::file_size(path, ec);
       if (!ec && size > kMaxInputFileBytes) {
         why = "larger than " + std::to_string(kMaxInputFileBytes) + " bytes (the limit, kMaxInputFileBytes)";
         return std::nullopt;
       }
-      if (!ec) text.reserve(static_cast<std::size_t>(size));
+      if (!ec) block = static_cast<std::size_t>(size) + 1;
     }
-    constexpr std::size_t kBlock = std::size_t{1} << 20;
     while (text.size() <= kMaxInputFileBytes) {
       const std::size_t old = text.size();
-      const std::size_t want = std::min(kBlock, kMaxInputFileBytes + 1 - old);
+      const std::size_t want = std::min(block, kMaxInputFileBytes + 1 - old);
+      block = std::max(block, std::size_t{1} << 20);  // later blocks: 1 MiB
       text.resize(old + want);
       in.read(text.data() + old, static_cast<std::streamsize>(want));
       const auto got = static_cast<std::size_t>(in.gcount());

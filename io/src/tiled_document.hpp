@@ -46,6 +46,7 @@ struct Document {
   std::size_t bytes = 0;             ///< the map plus every use of an external file
   std::map<std::string, std::pair<TiledTileset, std::size_t>> tilesets;  ///< by path: file, size
   std::map<std::string, std::pair<Template, std::size_t>> templates;     ///< by path: file, size
+  std::map<std::string, std::uint32_t> template_tilesets;  ///< tileset path -> its first gid in the map
 };
 
 /// Sorts a tileset's tiles by id (stable: of equal ids the first in the file is found), as

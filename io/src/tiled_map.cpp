@@ -45,14 +45,13 @@ void fail(const std::filesystem::path& file, std::string_view element, std::stri
 
 float finite_or_fail(double value, const std::filesystem::path& file, std::string_view element,
                      std::string_view field) {
-  const auto f = static_cast<float>(value);
-  if (!std::isfinite(f)) fail(file, element, std::string(field) + ": not a finite number");
+  if (!std::isfinite(value)) fail(file, element, std::string(field) + ": not a finite number");
   if (std::fabs(value) > kMaxTiledCoordinate) {
     std::ostringstream shown;
     shown << std::setprecision(9) << value;
     fail(file, element, std::string(field) + ": " + shown.str() + " is beyond +-1e7 (the limit, kMaxTiledCoordinate)");
   }
-  return f;
+  return static_cast<float>(value);
 }
 
 std::uint32_t map_template_gid(Document& doc, const Template& t) {
@@ -64,9 +63,16 @@ std::uint32_t map_template_gid(Document& doc, const Template& t) {
                                                  std::to_string(t.tileset_first_gid));
   }
   const std::uint32_t local = (t.object.gid & kTiledGidMask) - t.tileset_first_gid;
+  // Where the map put the template's tileset, found once per tileset file and load (resolving
+  // paths for every object and tileset would be slow for maps of many of both).
+  const std::string key = t.tileset_source.lexically_normal().generic_string();
+  if (const auto known = doc.template_tilesets.find(key); known != doc.template_tilesets.end()) {
+    return (known->second + local) | flips;
+  }
   const std::filesystem::path want = std::filesystem::weakly_canonical(t.tileset_source);
   for (const TiledTileset& ts : map.tilesets) {
     if (!ts.source.empty() && std::filesystem::weakly_canonical(ts.source) == want) {
+      doc.template_tilesets.emplace(key, ts.first_gid);
       return (ts.first_gid + local) | flips;
     }
   }
@@ -85,6 +91,7 @@ std::uint32_t map_template_gid(Document& doc, const Template& t) {
   }
   TiledTileset ts = external_tileset(doc, t.tileset_source);
   ts.first_gid = static_cast<std::uint32_t>(next);
+  doc.template_tilesets.emplace(key, ts.first_gid);
   map.tilesets.push_back(std::move(ts));
   return (static_cast<std::uint32_t>(next) + local) | flips;
 }
