@@ -12,6 +12,12 @@ namespace collide::io {
 /// that would cut a C string short.
 void append_path_key(std::string& path, std::string_view key);
 
+/// Offset in `text` of the bracket that opens nesting level `max_depth` + 1 (the root object
+/// or array is level 1), or npos: a scan of [ and { outside strings, so deep nesting is refused
+/// before a recursive parser or destructor could overflow the stack. Unbalanced or malformed
+/// text is left for the parser to reject.
+[[nodiscard]] std::size_t json_too_deep_at(std::string_view text, std::size_t max_depth);
+
 /// Steps of a path `json_path_at_syntax_error` writes out; deeper ones are cut to "...".
 inline constexpr std::size_t kMaxShownPathSteps = 16;
 

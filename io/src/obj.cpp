@@ -8,6 +8,8 @@
 // into triangles ourselves, so that a polygon we cannot split is named by its line.
 #include <collide/io/obj.hpp>
 
+#include "text_file.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <tiny_obj_loader.h>
@@ -15,9 +17,8 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -167,11 +168,10 @@ void triangulate(const std::vector<Vec3>& positions, const std::vector<std::uint
 TriangleSoup load_obj(const std::string& path) {
   const std::string name = std::filesystem::path(path).filename().string();
   if (!std::filesystem::exists(path)) throw InvalidInput(path + ": file not found");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InvalidInput(path + ": cannot open");
-  std::ostringstream buffer;
-  buffer << file.rdbuf();  // (an empty file sets failbit here: it has no faces, said below)
-  const std::string text = buffer.str();
+  std::string why;
+  const std::optional<std::string> read = io::read_text_file(path, why);
+  if (!read) throw InvalidInput(path + ": " + why);
+  const std::string& text = *read;
   const ObjOutline outline = check_statements(text, name);
   if (outline.faces.empty()) throw InvalidInput(name + ": no faces (no 'f' statement)");
 

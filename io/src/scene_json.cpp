@@ -264,8 +264,9 @@ SceneDescription parse_scene_json(std::string_view text, const std::filesystem::
 }
 
 SceneDescription load_scene_json(const std::filesystem::path& path) {
-  const std::optional<std::string> text = io::read_text_file(path);
-  if (!text) throw InvalidInput(path.generic_string() + ": cannot be read");
+  std::string why;
+  const std::optional<std::string> text = io::read_text_file(path, why);
+  if (!text) throw InvalidInput(path.generic_string() + ": " + why);
   return parse_scene_json(*text, path);
 }
 

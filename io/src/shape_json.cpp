@@ -5,6 +5,7 @@
 #include <collide/io/shape_json.hpp>
 
 #include "json_syntax.hpp"
+#include "text_file.hpp"
 
 #include <collide/shape/convex_hull.hpp>
 #include <collide/world/world2d.hpp>  // convex_pieces
@@ -121,45 +122,6 @@ MarkedText mark_numbers_beyond_double(std::string_view source) {
   return out;
 }
 
-/// `text` with every byte that is not part of well-formed UTF-8 written as "\xNN", so a message
-/// quoting raw input is valid UTF-8 (Unicode 15, table 3-7: no overlong forms, no surrogates,
-/// nothing above U+10FFFF).
-std::string valid_utf8(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
-  for (std::size_t i = 0; i < text.size();) {
-    const unsigned char b = byte(i);
-    std::size_t n = 0;          // continuation bytes
-    unsigned char lo = 0x80, hi = 0xBF;  // range of the first continuation byte
-    if (b < 0x80) n = 0;
-    else if (b >= 0xC2 && b <= 0xDF) n = 1;
-    else if (b == 0xE0) { n = 2; lo = 0xA0; }
-    else if (b >= 0xE1 && b <= 0xEC) n = 2;
-    else if (b == 0xED) { n = 2; hi = 0x9F; }
-    else if (b >= 0xEE && b <= 0xEF) n = 2;
-    else if (b == 0xF0) { n = 3; lo = 0x90; }
-    else if (b >= 0xF1 && b <= 0xF3) n = 3;
-    else if (b == 0xF4) { n = 3; hi = 0x8F; }
-    else n = 4;  // never a first byte
-    bool ok = n < 4 && i + n < text.size();  // i + n: the sequence's last byte
-    if (ok && n > 0) {
-      ok = byte(i + 1) >= lo && byte(i + 1) <= hi;
-      for (std::size_t k = 2; ok && k <= n; ++k) ok = byte(i + k) >= 0x80 && byte(i + k) <= 0xBF;
-    }
-    if (ok) {
-      out.append(text.substr(i, n + 1));
-      i += n + 1;
-    } else {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 15];
-      ++i;
-    }
-  }
-  return out;
-}
 
 /// "line L, column C" of the position after reading `read` bytes of `text`, counted as
 /// nlohmann's lexer counts them (a newline ends a line; the column is the bytes read since).
@@ -187,26 +149,6 @@ std::string parse_error_detail(const std::string& what) {
   return bracket == std::string::npos ? what : what.substr(bracket + 2);
 }
 
-/// Offset of the bracket that opens level kMaxJsonDepth + 1, or npos. Counts [ and { outside
-/// strings; unbalanced or malformed text is left for the parser to reject.
-std::size_t too_deep_at(std::string_view text) {
-  std::size_t depth = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) return i;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return std::string_view::npos;
-}
 
 /// The JSON syntax error `e` that parsing `parsed` threw. `parsed` is the user's text itself
 /// (`marks` null) or that text with its numbers beyond double range marked (`marks`), whose
@@ -215,8 +157,8 @@ std::size_t too_deep_at(std::string_view text) {
                                const MarkedText* marks) {
   const std::size_t read = marks != nullptr ? marks->source_offset(e.byte) : e.byte;
   const std::string where = io::json_path_at_syntax_error(parsed);
-  throw JsonFieldError(where == "root" ? "" : valid_utf8(where),
-                       valid_utf8("JSON syntax error at " + line_and_column(source, read) + ": " +
+  throw JsonFieldError(where == "root" ? "" : io::valid_utf8(where),
+                       io::valid_utf8("JSON syntax error at " + line_and_column(source, read) + ": " +
                                   parse_error_detail(e.what())));
 }
 
@@ -465,7 +407,7 @@ void fail_json(const JsonPath& path, std::string reason) { throw JsonFieldError(
 // ---- JSON text ---------------------------------------------------------------------------------
 
 Json parse_json(std::string_view text) {
-  if (const std::size_t at = too_deep_at(text); at != std::string_view::npos) {
+  if (const std::size_t at = io::json_too_deep_at(text, kMaxJsonDepth); at != std::string_view::npos) {
     const std::string where = io::json_path_at_syntax_error(text.substr(0, at));
     throw JsonFieldError(where == "root" ? "" : where,
                          "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels (the limit) at " +
@@ -485,8 +427,8 @@ Json parse_json(std::string_view text) {
     syntax_error(marked.text, text, e, &marked);
   } catch (const Json::exception& e) {  // a number the marking missed: still an error naming the place
     const std::string where = io::json_path_at_syntax_error(marked.text);
-    throw JsonFieldError(where == "root" ? "" : valid_utf8(where),
-                         valid_utf8(std::string("JSON number out of range: ") + parse_error_detail(e.what())));
+    throw JsonFieldError(where == "root" ? "" : io::valid_utf8(where),
+                         io::valid_utf8(std::string("JSON number out of range: ") + parse_error_detail(e.what())));
   }
 }
 

@@ -4,8 +4,10 @@
 
 #include <collide/io/tiled.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,11 +28,62 @@ struct TileLayer {
   std::vector<Cell> cells;
 };
 
-/// A parsed map before colliders are built: `map` holds header, tilesets and objects.
+/// A template file (.tx XML or .tj JSON): its object, and the tileset its gid refers to (if any).
+struct Template {
+  TiledObject object;
+  bool has_gid = false;
+  std::filesystem::path tileset_source;  ///< resolved .tsx of the template's gid
+  std::uint32_t tileset_first_gid = 1;   ///< first gid of that tileset in the template
+  bool has_shape = false;                 ///< the template names its kind (ellipse, polygon...)
+};
+
+/// A parsed map before colliders are built: `map` holds header, tilesets and objects. Also what
+/// one load has spent of its limits, and the external files it has read (each is read once).
 struct Document {
   TiledMap map;
   std::vector<TileLayer> tile_layers;
+  std::uint64_t declared_tiles = 0;  ///< width x height over the layers and chunks read so far
+  std::size_t bytes = 0;             ///< the map plus every use of an external file
+  std::map<std::string, std::pair<TiledTileset, std::size_t>> tilesets;  ///< by path: file, size
+  std::map<std::string, std::pair<Template, std::size_t>> templates;     ///< by path: file, size
+  std::map<std::string, std::uint32_t> template_tilesets;  ///< tileset path -> its first gid in the map
 };
+
+/// Sorts a tileset's tiles by id (stable: of equal ids the first in the file is found), as
+/// TiledTileset::find needs.
+void sort_tiles(TiledTileset& ts);
+/// Sorts the map's tilesets by first gid (stable), as the collider builder's lookup needs.
+void sort_tilesets(TiledMap& map);
+
+/// Adds `bytes` to what the load has read; fails naming `file` past kMaxTiledLoadBytes.
+void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file);
+
+/// Adds a layer's or chunk's width x height to the map's declared tiles; fails naming the file
+/// and element past kMaxTiledMapTiles (before anything is decoded or reserved).
+void charge_tiles(Document& doc, std::uint64_t width, std::uint64_t height,
+                  const std::filesystem::path& file, std::string_view element);
+
+/// An external tileset, read once per load (cached by path) and charged on every use.
+[[nodiscard]] TiledTileset external_tileset(Document& doc, const std::filesystem::path& file);
+/// An external template, read once per load (cached by path) and charged on every use.
+[[nodiscard]] const Template& external_template(Document& doc, const std::filesystem::path& file);
+
+/// The text of an input file (kMaxInputFileBytes at most); fails "<file>: file: <why>" when it
+/// cannot be read.
+[[nodiscard]] std::string read_input(const std::filesystem::path& file);
+
+/// Fails, before any collider is built, when the cells of the tile layers would make more than
+/// kMaxTiledColliders colliders: the sum over cells of their tiles' collision shapes (a lower
+/// bound: a concave shape makes several; the builder checks the exact count too).
+void check_tile_colliders(Document& doc);
+
+/// Fails naming `file` and `element` when a group nests deeper than kMaxTiledGroupDepth.
+void check_group_depth(int depth, const std::filesystem::path& file, std::string_view element);
+
+/// A whole number read as a double: fails naming the field unless it is an integer within
+/// [lo, hi].
+long long whole_or_fail(double value, long long lo, long long hi, const std::filesystem::path& file,
+                        std::string_view element, std::string_view field);
 
 /// Throws InvalidInput "<file>: <element>: <message>".
 [[noreturn]] void fail(const std::filesystem::path& file, std::string_view element,
@@ -51,29 +104,25 @@ struct Document {
 /// Reads a .tmj/.json map.
 [[nodiscard]] Document read_tmj(const std::filesystem::path& file);
 
-/// An external tileset file (.tsx XML, or .tsj/.json), with `first_gid` set by the caller.
-[[nodiscard]] TiledTileset read_tileset_file(const std::filesystem::path& file);
+/// An external tileset file (.tsx XML, or .tsj/.json), with `first_gid` set by the caller; its
+/// size is returned in `bytes`. Use external_tileset (cached, charged) rather than this.
+[[nodiscard]] TiledTileset read_tileset_file(const std::filesystem::path& file, std::size_t& bytes);
 /// A .tsj/.json tileset file (read_tileset_file dispatches here).
-[[nodiscard]] TiledTileset read_tileset_json(const std::filesystem::path& file);
+[[nodiscard]] TiledTileset read_tileset_json(const std::filesystem::path& file, std::size_t& bytes);
 
-/// A template file (.tx XML): its object, and the tileset its gid refers to (if any).
-struct Template {
-  TiledObject object;
-  bool has_gid = false;
-  std::filesystem::path tileset_source;  ///< resolved .tsx of the template's gid
-  std::uint32_t tileset_first_gid = 1;   ///< first gid of that tileset in the template
-  bool has_shape = false;                 ///< the template names its kind (ellipse, polygon...)
-};
-/// A template file: .tx (XML) or .tj (JSON).
-[[nodiscard]] Template read_template(const std::filesystem::path& file);
+/// A template file: .tx (XML) or .tj (JSON); its size is returned in `bytes`. Use
+/// external_template (cached, charged) rather than this.
+[[nodiscard]] Template read_template(const std::filesystem::path& file, std::size_t& bytes);
 /// A .tj template (read_template dispatches here).
-[[nodiscard]] Template read_template_json(const std::filesystem::path& file);
+[[nodiscard]] Template read_template_json(const std::filesystem::path& file, std::size_t& bytes);
 
-/// The gid of a template object rewritten for `map`: the template's tileset is looked up among
-/// the map's tilesets by file (and appended to them when the map does not use it yet).
-[[nodiscard]] std::uint32_t map_template_gid(TiledMap& map, const Template& t);
+/// The gid of a template object rewritten for the map: the template's tileset is looked up among
+/// the map's tilesets by file (and appended to them when the map does not use it yet). Fails
+/// naming the template when its gid is below its tileset's first gid.
+[[nodiscard]] std::uint32_t map_template_gid(Document& doc, const Template& t);
 
-/// Both readers check numbers the same way: finite, else fail naming the field.
+/// Both readers check numbers the same way: finite and at most kMaxTiledCoordinate in
+/// magnitude, else fail naming the field.
 float finite_or_fail(double value, const std::filesystem::path& file, std::string_view element,
                      std::string_view field);
 

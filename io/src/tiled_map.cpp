@@ -1,5 +1,6 @@
 // Tiled map -> colliders: object shapes, tile collision shapes with flips, offsets.
 
+#include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
@@ -8,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <numbers>
 #include <unordered_map>
 
@@ -27,10 +30,10 @@ const char* to_string(TiledShapeKind kind) noexcept {
 }
 
 const TiledTile* TiledTileset::find(int id) const noexcept {
-  for (const TiledTile& t : tiles) {
-    if (t.id == id) return &t;
-  }
-  return nullptr;
+  // Binary search: the readers sort `tiles` by id (a map's cells may name many distinct tiles).
+  const auto it = std::lower_bound(tiles.begin(), tiles.end(), id,
+                                   [](const TiledTile& t, int key) { return t.id < key; });
+  return it != tiles.end() && it->id == id ? &*it : nullptr;
 }
 
 namespace tiled {
@@ -42,32 +45,55 @@ void fail(const std::filesystem::path& file, std::string_view element, std::stri
 
 float finite_or_fail(double value, const std::filesystem::path& file, std::string_view element,
                      std::string_view field) {
-  const auto f = static_cast<float>(value);
-  if (!std::isfinite(f)) fail(file, element, std::string(field) + ": not a finite number");
-  return f;
+  if (!std::isfinite(value)) fail(file, element, std::string(field) + ": not a finite number");
+  if (std::fabs(value) > kMaxTiledCoordinate) {
+    std::ostringstream shown;
+    shown << std::setprecision(9) << value;
+    fail(file, element, std::string(field) + ": " + shown.str() + " is beyond +-1e7 (the limit, kMaxTiledCoordinate)");
+  }
+  return static_cast<float>(value);
 }
 
-std::uint32_t map_template_gid(TiledMap& map, const Template& t) {
+std::uint32_t map_template_gid(Document& doc, const Template& t) {
+  TiledMap& map = doc.map;
   const std::uint32_t flips = t.object.gid & ~kTiledGidMask;
+  if ((t.object.gid & kTiledGidMask) < t.tileset_first_gid) {
+    fail(t.object.template_file, "<object>", "gid " + std::to_string(t.object.gid & kTiledGidMask) +
+                                                 " is below its tileset's firstgid " +
+                                                 std::to_string(t.tileset_first_gid));
+  }
   const std::uint32_t local = (t.object.gid & kTiledGidMask) - t.tileset_first_gid;
+  // Where the map put the template's tileset, found once per tileset file and load (resolving
+  // paths for every object and tileset would be slow for maps of many of both).
+  const std::string key = t.tileset_source.lexically_normal().generic_string();
+  if (const auto known = doc.template_tilesets.find(key); known != doc.template_tilesets.end()) {
+    return (known->second + local) | flips;
+  }
   const std::filesystem::path want = std::filesystem::weakly_canonical(t.tileset_source);
   for (const TiledTileset& ts : map.tilesets) {
     if (!ts.source.empty() && std::filesystem::weakly_canonical(ts.source) == want) {
+      doc.template_tilesets.emplace(key, ts.first_gid);
       return (ts.first_gid + local) | flips;
     }
   }
-  // The map does not list the template's tileset: give it gids after the last tileset's.
-  std::uint32_t next = 1;
+  // The map does not list the template's tileset: give it gids after the last tileset's. First
+  // gids are at most kTiledGidMask and tile ids and counts at most INT_MAX, so 64 bits hold it.
+  std::uint64_t next = 1;
   for (const TiledTileset& ts : map.tilesets) {
-    next = std::max(next, ts.first_gid + static_cast<std::uint32_t>(std::max(ts.tile_count, 1)));
+    next = std::max<std::uint64_t>(next, std::uint64_t{ts.first_gid} + static_cast<std::uint64_t>(std::max(ts.tile_count, 1)));
     for (const TiledTile& tile : ts.tiles) {
-      next = std::max(next, ts.first_gid + static_cast<std::uint32_t>(tile.id) + 1);
+      next = std::max<std::uint64_t>(next, std::uint64_t{ts.first_gid} + static_cast<std::uint64_t>(tile.id) + 1);
     }
   }
-  TiledTileset ts = read_tileset_file(t.tileset_source);
-  ts.first_gid = next;
+  if (next + local > kTiledGidMask) {
+    fail(t.object.template_file, "<object>", "no gid left for its tileset in the map (gids end at " +
+                                                 std::to_string(kTiledGidMask) + ")");
+  }
+  TiledTileset ts = external_tileset(doc, t.tileset_source);
+  ts.first_gid = static_cast<std::uint32_t>(next);
+  doc.template_tilesets.emplace(key, ts.first_gid);
   map.tilesets.push_back(std::move(ts));
-  return (next + local) | flips;
+  return (static_cast<std::uint32_t>(next) + local) | flips;
 }
 
 }  // namespace tiled
@@ -115,6 +141,14 @@ Affine tile_flips(std::uint32_t gid, Vec2 size) {
   return a;
 }
 
+/// Fails when a map that has `count` colliders would get one more than kMaxTiledColliders.
+void check_collider_count(const TiledMap& map, std::size_t count) {
+  if (count >= kMaxTiledColliders) {
+    tiled::fail(map.path, "map", "more than " + std::to_string(kMaxTiledColliders) +
+                                     " colliders (the limit, kMaxTiledColliders)");
+  }
+}
+
 /// Appends the colliders of one object's own shape, mapped by `local` (object frame -> collider
 /// frame), placed by `xf`.
 class Builder {
@@ -125,7 +159,10 @@ class Builder {
              const TiledSource& source, const std::string& label) {
     const float w = obj.size.x;
     const float h = obj.size.y;
-    auto add = [&](Shape2D s) { out_.push_back({std::move(s), xf, source}); };
+    auto add = [&](Shape2D s) {
+      check_collider_count(map_, out_.size());
+      out_.push_back({std::move(s), xf, source});
+    };
     auto outline = [&](const std::vector<Vec2>& pts, bool convex) {
       std::vector<Vec2> mapped;
       for (Vec2 p : pts) mapped.push_back(local.apply(p));
@@ -186,11 +223,15 @@ class Builder {
   /// local id must be below `tilecount` (when known) or name a tile the tileset lists.
   const TiledTileset* tileset_of(std::uint32_t gid, int& local) const {
     const std::uint32_t id = gid & kTiledGidMask;
-    const TiledTileset* best = nullptr;
-    for (const TiledTileset& ts : map_.tilesets) {
-      if (ts.first_gid <= id && (best == nullptr || ts.first_gid > best->first_gid)) best = &ts;
-    }
-    if (best == nullptr) return nullptr;
+    // The readers sort tilesets by first gid: the last whose first gid is <= id (the first of
+    // several with that first gid).
+    const auto& sets = map_.tilesets;
+    auto it = std::upper_bound(sets.begin(), sets.end(), id,
+                               [](std::uint32_t key, const TiledTileset& ts) { return key < ts.first_gid; });
+    if (it == sets.begin()) return nullptr;
+    const std::uint32_t first = std::prev(it)->first_gid;
+    const TiledTileset* best = &*std::lower_bound(
+        sets.begin(), it, first, [](const TiledTileset& ts, std::uint32_t key) { return ts.first_gid < key; });
     local = static_cast<int>(id - best->first_gid);
     const bool listed = best->tile_count <= 0 || local < best->tile_count || best->find(local);
     return listed ? best : nullptr;
@@ -292,6 +333,7 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
         placed.transform = Transform{top_left, Rot2{}};
         placed.source.cell_x = cell.x;
         placed.source.cell_y = cell.y;
+        check_collider_count(map, map.colliders.size());
         map.colliders.push_back(std::move(placed));
       }
     }
@@ -301,11 +343,16 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
 }  // namespace
 
 TiledMap load_tiled_map(const std::filesystem::path& path, const TiledLoadOptions& options) {
-  const std::string ext = path.extension().string();
-  tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
-                                                         : tiled::read_tmx(path);
-  build_colliders(doc.map, doc.tile_layers, options);
-  return std::move(doc.map);
+  try {
+    const std::string ext = path.extension().string();
+    tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
+                                                           : tiled::read_tmx(path);
+    build_colliders(doc.map, doc.tile_layers, options);
+    return std::move(doc.map);
+  } catch (const InvalidInput& e) {
+    // Messages quote names and values from the files: bytes that are not UTF-8 become \xNN.
+    throw InvalidInput(io::valid_utf8(e.what()));
+  }
 }
 
 void flip_y(TiledMap& map, float height_pixels) {

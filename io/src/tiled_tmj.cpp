@@ -1,14 +1,22 @@
 // The JSON side of Tiled: .tmj/.json maps (nlohmann_json). External tilesets and templates may
-// be XML (.tsx/.tx); they go through the XML reader.
+// be XML (.tsx/.tx); they go through the XML reader. Every format Tiled has written reads
+// (docs/tiled-formats.md): before 1.2 a tileset's "tiles" is an object keyed by tile id, and
+// before 1.0 a map has no "type".
+//
+// Members are read through references (find_member, array_member), never copied: a copy of a
+// group layer would copy everything under it, at every level (quadratic time in the nesting).
 
 #include "json_syntax.hpp"
 #include "text_file.hpp"
 #include "tiled_document.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/io/shape_json.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -28,8 +36,9 @@ struct Where {
   [[nodiscard]] Where item(const std::string& key, size_t i, const Json& j) const {
     std::string e = element.empty() ? key : element + "." + key;
     e.append("[").append(std::to_string(i)).append("]");
-    if (j.is_object() && j.contains("id") && j["id"].is_number()) {
-      e.append(" (id=").append(std::to_string(j["id"].get<long long>())).append(")");
+    if (j.is_object()) {
+      const auto id = j.find("id");
+      if (id != j.end() && id->is_number_integer()) e.append(" (id=").append(id->dump()).append(")");
     }
     return {file, e};
   }
@@ -38,33 +47,73 @@ struct Where {
   }
 };
 
-float number(const Json& j, const char* key, float fallback, const Where& w) {
-  if (!j.contains(key)) return fallback;
-  const Json& v = j[key];
-  if (!v.is_number()) w.fail(std::string(key) + ": not a number");
-  return finite_or_fail(v.get<double>(), w.file, w.element, key);
+/// The member `key` of `j`, or null when `j` is not an object or has no such member.
+const Json* find_member(const Json& j, const char* key) {
+  if (!j.is_object()) return nullptr;
+  const auto it = j.find(key);
+  return it == j.end() ? nullptr : &*it;
 }
 
-int integer(const Json& j, const char* key, int fallback, const Where& w) {
-  if (!j.contains(key)) return fallback;
-  if (!j[key].is_number_integer()) w.fail(std::string(key) + ": not an integer");
-  return j[key].get<int>();
+/// The array member `key` of `j`: an empty array when absent; fails when it is not an array.
+const Json& array_member(const Json& j, const char* key, const Where& w) {
+  static const Json kEmpty = Json::array();
+  const Json* v = find_member(j, key);
+  if (v == nullptr) return kEmpty;
+  if (!v->is_array()) w.fail(std::string(key) + ": not an array");
+  return *v;
+}
+
+float number(const Json& j, const char* key, float fallback, const Where& w) {
+  const Json* v = find_member(j, key);
+  if (v == nullptr) return fallback;
+  if (!v->is_number()) w.fail(std::string(key) + ": not a number");
+  return finite_or_fail(v->get<double>(), w.file, w.element, key);
+}
+
+/// An integer member within [lo, hi]; `fallback` when absent.
+int integer(const Json& j, const char* key, int fallback, const Where& w, long long lo = INT_MIN,
+            long long hi = INT_MAX) {
+  const Json* v = find_member(j, key);
+  if (v == nullptr) return fallback;
+  if (!v->is_number()) w.fail(std::string(key) + ": not an integer");
+  return static_cast<int>(whole_or_fail(v->get<double>(), lo, hi, w.file, w.element, key));
+}
+
+/// A boolean member; Tiled writes true/false, and 0/1 is taken as well. `fallback` when absent.
+bool flag(const Json& j, const char* key, bool fallback, const Where& w) {
+  const Json* v = find_member(j, key);
+  if (v == nullptr) return fallback;
+  if (v->is_boolean()) return v->get<bool>();
+  if (v->is_number()) return v->get<double>() != 0.0;
+  w.fail(std::string(key) + ": not a boolean");
 }
 
 std::string text(const Json& j, const char* key) {
-  return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+  const Json* v = find_member(j, key);
+  return v != nullptr && v->is_string() ? v->get<std::string>() : std::string();
+}
+
+/// A tile gid (flip bits included): a whole number in [0, 2^32).
+std::uint32_t gid_value(const Json& v, const Where& w, const char* what) {
+  if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<long long>() >= 0)) {
+    w.fail(std::string(what) + ": not a tile gid");
+  }
+  const std::uint64_t g = v.get<std::uint64_t>();
+  if (g > 0xffffffffu) w.fail(std::string(what) + ": " + std::to_string(g) + " is beyond 32 bits");
+  return static_cast<std::uint32_t>(g);
 }
 
 std::uint32_t gid(const Json& j, const Where& w) {
-  if (!j.contains("gid")) return 0;
-  if (!j["gid"].is_number_unsigned() && !(j["gid"].is_number_integer() && j["gid"].get<long long>() >= 0)) {
-    w.fail("gid: not a tile gid");
-  }
-  return static_cast<std::uint32_t>(j["gid"].get<std::uint64_t>());
+  const Json* v = find_member(j, "gid");
+  return v == nullptr ? 0 : gid_value(*v, w, "gid");
 }
 
 std::vector<Vec2> points(const Json& list, const char* key, const Where& w) {
   if (!list.is_array()) w.fail(std::string(key) + ": not an array");
+  if (std::string_view(key) == "polygon" && list.size() > kMaxTiledPolygonPoints) {
+    w.fail(std::string(key) + ": " + std::to_string(list.size()) + " points, more than " +
+           std::to_string(kMaxTiledPolygonPoints) + " (the limit, kMaxTiledPolygonPoints)");
+  }
   std::vector<Vec2> out;
   for (const Json& p : list) {
     if (!p.is_object() || !p.contains("x") || !p.contains("y") || !p["x"].is_number() ||
@@ -78,18 +127,26 @@ std::vector<Vec2> points(const Json& list, const char* key, const Where& w) {
   return out;
 }
 
-TiledObject read_object(const Json& j, const Where& w, TiledMap* map) {
+/// True when object `j` names its own shape (ellipse, point, text, polygon, polyline).
+bool names_shape(const Json& j, const Where& w) {
+  return flag(j, "ellipse", false, w) || flag(j, "point", false, w) || j.contains("text") ||
+         j.contains("polygon") || j.contains("polyline");
+}
+
+/// Reads an object, merging its template. `doc`'s map receives template tilesets (null inside
+/// tilesets and templates, where templates are not allowed).
+TiledObject read_object(const Json& j, const Where& w, Document* doc) {
   if (!j.is_object()) w.fail("not an object");
   TiledObject obj;
   bool has_shape = false;
   if (j.contains("template")) {
-    if (map == nullptr) w.fail("templates are not allowed here");
+    if (doc == nullptr) w.fail("templates are not allowed here");
     const std::filesystem::path tx = w.file.parent_path() / text(j, "template");
     try {
-      const Template tmpl = read_template(tx);
+      const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
       has_shape = tmpl.has_shape;
-      if (tmpl.has_gid) obj.gid = map_template_gid(*map, tmpl);
+      if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       w.fail(e.what());  // say which object asked for it
     }
@@ -106,18 +163,18 @@ TiledObject read_object(const Json& j, const Where& w, TiledMap* map) {
                  std::numbers::pi_v<float> / 180.0f;
   if (j.contains("gid")) obj.gid = gid(j, w);
   bool own_shape = true;
-  if (j.value("ellipse", false)) {
+  if (flag(j, "ellipse", false, w)) {
     obj.kind = TiledShapeKind::ellipse;
-  } else if (j.value("point", false)) {
+  } else if (flag(j, "point", false, w)) {
     obj.kind = TiledShapeKind::point;
   } else if (j.contains("text")) {
     obj.kind = TiledShapeKind::text;
-  } else if (j.contains("polygon")) {
+  } else if (const Json* polygon = find_member(j, "polygon")) {
     obj.kind = TiledShapeKind::polygon;
-    obj.points = points(j["polygon"], "polygon", w);
-  } else if (j.contains("polyline")) {
+    obj.points = points(*polygon, "polygon", w);
+  } else if (const Json* polyline = find_member(j, "polyline")) {
     obj.kind = TiledShapeKind::polyline;
-    obj.points = points(j["polyline"], "polyline", w);
+    obj.points = points(*polyline, "polyline", w);
   } else {
     own_shape = false;
   }
@@ -125,39 +182,64 @@ TiledObject read_object(const Json& j, const Where& w, TiledMap* map) {
   return obj;
 }
 
+/// One tile of a tileset's "tiles"; `id` from its "id" (Tiled 1.2+) or its key (before 1.2).
+void read_tile(const Json& tj, int id, const Where& tw, TiledTileset& ts) {
+  if (!tj.is_object()) tw.fail("not an object");
+  TiledTile t;
+  t.id = id;
+  t.image_size = ts.tile_size;
+  bool keep = false;
+  if (tj.contains("imagewidth") || tj.contains("image")) {
+    t.image_size = {number(tj, "imagewidth", ts.tile_size.x, tw), number(tj, "imageheight", ts.tile_size.y, tw)};
+    keep = true;
+  }
+  // Tiled 1.9: a tile of an image collection may use a sub-rectangle of its image.
+  if (tj.contains("width") || tj.contains("height")) {
+    t.image_size = {number(tj, "width", t.image_size.x, tw), number(tj, "height", t.image_size.y, tw)};
+    keep = true;
+  }
+  if (const Json* group = find_member(tj, "objectgroup")) {
+    const Where gw{tw.file, tw.element + ".objectgroup"};
+    const Json& objects = array_member(*group, "objects", gw);
+    for (size_t k = 0; k < objects.size(); ++k) {
+      t.collision.push_back(read_object(objects[k], tw.item("objectgroup.objects", k, objects[k]), nullptr));
+    }
+    keep = keep || !t.collision.empty();
+  }
+  if (keep) ts.tiles.push_back(std::move(t));
+}
+
 TiledTileset read_tileset(const Json& j, const Where& w) {
   TiledTileset ts;
   ts.name = text(j, "name");
   ts.tile_size = {number(j, "tilewidth", 0.0f, w), number(j, "tileheight", 0.0f, w)};
-  ts.tile_count = integer(j, "tilecount", 0, w);
-  if (j.contains("tileoffset")) {
-    ts.tile_offset = {number(j["tileoffset"], "x", 0.0f, w), number(j["tileoffset"], "y", 0.0f, w)};
+  ts.tile_count = integer(j, "tilecount", 0, w, 0);
+  if (const Json* offset = find_member(j, "tileoffset")) {
+    ts.tile_offset = {number(*offset, "x", 0.0f, w), number(*offset, "y", 0.0f, w)};
   }
-  if (j.contains("tiles")) {
-    if (!j["tiles"].is_array()) w.fail("tiles: not an array");
-    for (size_t i = 0; i < j["tiles"].size(); ++i) {
-      const Json& tj = j["tiles"][i];
+  const Json* tiles = find_member(j, "tiles");
+  if (tiles == nullptr) return ts;
+  if (tiles->is_array()) {  // Tiled 1.2+: [{"id": 3, ...}, ...]
+    for (size_t i = 0; i < tiles->size(); ++i) {
+      const Json& tj = (*tiles)[i];
       const Where tw = w.item("tiles", i, tj);
-      TiledTile t;
-      if (!tj.contains("id")) tw.fail("id: missing");
-      t.id = integer(tj, "id", 0, tw);
-      t.image_size = ts.tile_size;
-      bool keep = false;
-      if (tj.contains("imagewidth") || tj.contains("image")) {
-        t.image_size = {number(tj, "imagewidth", ts.tile_size.x, tw),
-                        number(tj, "imageheight", ts.tile_size.y, tw)};
-        keep = true;
-      }
-      if (tj.contains("objectgroup")) {
-        const Json& objects = tj["objectgroup"].value("objects", Json::array());
-        for (size_t k = 0; k < objects.size(); ++k) {
-          t.collision.push_back(read_object(objects[k], tw.item("objectgroup.objects", k, objects[k]), nullptr));
-        }
-        keep = keep || !t.collision.empty();
-      }
-      if (keep) ts.tiles.push_back(std::move(t));
+      if (find_member(tj, "id") == nullptr) tw.fail("id: missing");
+      read_tile(tj, integer(tj, "id", 0, tw, 0), tw, ts);
     }
+  } else if (tiles->is_object()) {  // before Tiled 1.2: {"3": {...}, ...}, keyed by tile id
+    for (const auto& [key, tj] : tiles->items()) {
+      const Where tw{w.file, (w.element.empty() ? std::string() : w.element + ".") + "tiles." + key};
+      int id = -1;
+      const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), id);
+      if (ec != std::errc() || end != key.data() + key.size() || id < 0) {
+        tw.fail("tile id '" + key + "' is not a whole number >= 0");
+      }
+      read_tile(tj, id, tw, ts);
+    }
+  } else {
+    w.fail("tiles: neither an array (Tiled 1.2+) nor an object keyed by tile id (earlier)");
   }
+  sort_tiles(ts);
   return ts;
 }
 
@@ -166,20 +248,23 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   TileLayer layer{name, offset, {}};
   const std::string encoding = j.contains("encoding") ? text(j, "encoding") : "csv";
   const std::string compression = text(j, "compression");
+  // Cells (x0 + i % w, y0 + i / w): x0 + w and y0 + h must fit in an int (so must the row
+  // below the last, which places a tile).
   auto add = [&](const Json& holder, const Where& hw, int x0, int y0, int width, int height) {
-    if (width < 0 || height < 0) hw.fail("negative width or height");
+    if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
+      hw.fail("x + width or y + height is beyond " + std::to_string(INT_MAX));
+    }
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<std::uint32_t> gids;
-    if (!holder.contains("data")) hw.fail("data: missing");
-    const Json& data = holder["data"];
+    const Json* found = find_member(holder, "data");
+    if (found == nullptr) hw.fail("data: missing");
+    const Json& data = *found;
     if (data.is_array()) {
-      for (const Json& g : data) {
-        if (!g.is_number_integer() || g.get<long long>() < 0) hw.fail("data: not a list of tile gids");
-        gids.push_back(static_cast<std::uint32_t>(g.get<std::uint64_t>()));
+      if (data.size() != count) {
+        hw.fail("data: " + std::to_string(data.size()) + " tiles, expected " + std::to_string(count));
       }
-      if (gids.size() != count) {
-        hw.fail("data: " + std::to_string(gids.size()) + " tiles, expected " + std::to_string(count));
-      }
+      gids.reserve(count);
+      for (const Json& g : data) gids.push_back(gid_value(g, hw, "data"));
     } else if (data.is_string()) {
       gids = decode_tile_data(data.get<std::string>(), encoding, compression, count, hw.file, hw.element);
     } else {
@@ -192,22 +277,35 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
     }
   };
   if (j.contains("chunks")) {
-    for (size_t i = 0; i < j["chunks"].size(); ++i) {
-      const Json& c = j["chunks"][i];
+    const Json& chunks = array_member(j, "chunks", w);
+    // Every chunk's size is charged before any is decoded.
+    for (size_t i = 0; i < chunks.size(); ++i) {
+      const Where cw = w.item("chunks", i, chunks[i]);
+      if (!chunks[i].is_object()) cw.fail("not an object");
+      charge_tiles(doc, static_cast<std::uint64_t>(integer(chunks[i], "width", 0, cw, 0)),
+                   static_cast<std::uint64_t>(integer(chunks[i], "height", 0, cw, 0)), cw.file, cw.element);
+    }
+    for (size_t i = 0; i < chunks.size(); ++i) {
+      const Json& c = chunks[i];
       const Where cw = w.item("chunks", i, c);
-      add(c, cw, integer(c, "x", 0, cw), integer(c, "y", 0, cw), integer(c, "width", 0, cw),
-          integer(c, "height", 0, cw));
+      if (!c.is_object()) cw.fail("not an object");
+      add(c, cw, integer(c, "x", 0, cw), integer(c, "y", 0, cw), integer(c, "width", 0, cw, 0),
+          integer(c, "height", 0, cw, 0));
     }
   } else {
-    add(j, w, 0, 0, integer(j, "width", 0, w), integer(j, "height", 0, w));
+    const int width = integer(j, "width", 0, w, 0), height = integer(j, "height", 0, w, 0);
+    charge_tiles(doc, static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height), w.file,
+                 w.element.empty() ? "root" : w.element);
+    add(j, w, 0, 0, width, height);
   }
   doc.map.tile_cells += static_cast<int>(layer.cells.size());
   doc.tile_layers.push_back(std::move(layer));
 }
 
-void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const Where& w,
+/// The "layers" of `parent` (the map, or a group `depth` levels deep).
+void read_layers(const Json& parent, const std::string& prefix, Vec2 offset, int depth, const Where& w,
                  Document& doc) {
-  if (!list.is_array()) w.fail("layers: not an array");
+  const Json& list = array_member(parent, "layers", w);
   for (size_t i = 0; i < list.size(); ++i) {
     const Json& j = list[i];
     const Where lw = w.item("layers", i, j);
@@ -216,13 +314,14 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
     const std::string name = prefix + text(j, "name");
     const Vec2 here = offset + Vec2{number(j, "offsetx", 0.0f, lw), number(j, "offsety", 0.0f, lw)};
     if (type == "group") {
-      read_layers(j.value("layers", Json::array()), name + "/", here, lw, doc);
+      check_group_depth(depth + 1, lw.file, lw.element);
+      read_layers(j, name + "/", here, depth + 1, lw, doc);
     } else if (type == "tilelayer") {
       read_tile_layer(j, name, here, lw, doc);
     } else if (type == "objectgroup") {
-      const Json& objects = j.value("objects", Json::array());
+      const Json& objects = array_member(j, "objects", lw);
       for (size_t k = 0; k < objects.size(); ++k) {
-        TiledObject obj = read_object(objects[k], lw.item("objects", k, objects[k]), &doc.map);
+        TiledObject obj = read_object(objects[k], lw.item("objects", k, objects[k]), &doc);
         obj.layer = name;
         obj.layer_offset = here;
         doc.map.objects.push_back(std::move(obj));
@@ -231,10 +330,16 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
   }
 }
 
-Json load_json(const std::filesystem::path& file) {
-  const std::optional<std::string> read = io::read_text_file(file);
-  if (!read) fail(file, "file", "cannot be read");
-  const std::string& text = *read;
+/// Parses `file`; its size goes to `bytes`. Nesting deeper than kMaxJsonDepth is refused before
+/// parsing (the parser and the destructor of a parsed value recurse).
+Json load_json(const std::filesystem::path& file, std::size_t& bytes) {
+  const std::string text = read_input(file);
+  bytes = text.size();
+  if (const std::size_t at = io::json_too_deep_at(text, kMaxJsonDepth); at != std::string::npos) {
+    fail(file, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels (the limit, kMaxJsonDepth) in " +
+                   io::json_path_at_syntax_error(std::string_view(text).substr(0, at)),
+         "at byte " + std::to_string(at));
+  }
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {
@@ -247,8 +352,8 @@ Json load_json(const std::filesystem::path& file) {
 
 }  // namespace
 
-TiledTileset read_tileset_json(const std::filesystem::path& file) {
-  const Json root = load_json(file);
+TiledTileset read_tileset_json(const std::filesystem::path& file, std::size_t& bytes) {
+  const Json root = load_json(file, bytes);
   const Where w{file, ""};
   if (!root.is_object()) w.fail("not a Tiled tileset (not a JSON object)");
   TiledTileset ts = read_tileset(root, w);
@@ -256,20 +361,21 @@ TiledTileset read_tileset_json(const std::filesystem::path& file) {
   return ts;
 }
 
-Template read_template_json(const std::filesystem::path& file) {
-  const Json root = load_json(file);
+Template read_template_json(const std::filesystem::path& file, std::size_t& bytes) {
+  const Json root = load_json(file, bytes);
   const Where w{file, ""};
-  if (!root.is_object() || !root.contains("object")) w.fail("not a Tiled template (no \"object\")");
+  const Json* object = find_member(root, "object");
+  if (object == nullptr) w.fail("not a Tiled template (no \"object\")");
   Template t;
-  const Json& object = root["object"];
-  t.object = read_object(object, Where{file, "object"}, nullptr);
-  t.has_shape = object.value("ellipse", false) || object.value("point", false) ||
-                object.contains("text") || object.contains("polygon") || object.contains("polyline");
-  t.has_gid = object.contains("gid");
-  if (root.contains("tileset")) {
-    const Json& ts = root["tileset"];
-    t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, w));
-    if (ts.contains("source")) t.tileset_source = file.parent_path() / text(ts, "source");
+  const Where ow{file, "object"};
+  t.object = read_object(*object, ow, nullptr);
+  t.object.template_file = file.generic_string();
+  t.has_shape = names_shape(*object, ow);
+  t.has_gid = object->contains("gid");
+  if (const Json* ts = find_member(root, "tileset")) {
+    const Where tw{file, "tileset"};
+    t.tileset_first_gid = static_cast<std::uint32_t>(integer(*ts, "firstgid", 1, tw, 1, kTiledGidMask));
+    if (ts->contains("source")) t.tileset_source = file.parent_path() / text(*ts, "source");
   }
   if (t.has_gid && t.tileset_source.empty()) {
     w.fail("tile object template without an external tileset source");
@@ -277,40 +383,54 @@ Template read_template_json(const std::filesystem::path& file) {
   return t;
 }
 
+/// True for a map before Tiled 1.0, which wrote no "type": an object with "orientation" and
+/// "layers" (a scene JSON file has neither, docs/scene-json.md).
+bool untyped_tiled_map(const Json& root) {
+  return root.is_object() && !root.contains("type") && root.contains("orientation") && root.contains("layers");
+}
+
 Document read_tmj(const std::filesystem::path& file) {
-  const Json root = load_json(file);
-  const Where w{file, ""};
-  if (!root.is_object() || text(root, "type") != "map") w.fail("not a Tiled map (type is not \"map\")");
   Document doc;
+  std::size_t bytes = 0;
+  const Json root = load_json(file, bytes);
+  charge_bytes(doc, bytes, file);
+  const Where w{file, ""};
+  if (!(root.is_object() && text(root, "type") == "map") && !untyped_tiled_map(root)) {
+    w.fail("not a Tiled map (type is not \"map\")");
+  }
   TiledMap& map = doc.map;
   map.path = file;
   map.orientation = text(root, "orientation");
-  map.width = integer(root, "width", 0, w);
-  map.height = integer(root, "height", 0, w);
+  map.width = integer(root, "width", 0, w, 0);
+  map.height = integer(root, "height", 0, w, 0);
   map.tile_size = {number(root, "tilewidth", 0.0f, w), number(root, "tileheight", 0.0f, w)};
-  map.infinite = root.value("infinite", false);
+  map.infinite = flag(root, "infinite", false, w);
   if (map.orientation != "orthogonal") {
     w.fail("orientation '" + map.orientation + "' is not supported (orthogonal only)");
   }
-  const Json& tilesets = root.value("tilesets", Json::array());
+  const Json& tilesets = array_member(root, "tilesets", w);
   for (size_t i = 0; i < tilesets.size(); ++i) {
     const Json& tj = tilesets[i];
     const Where tw = w.item("tilesets", i, tj);
+    if (!tj.is_object()) tw.fail("not an object");
     if (!tj.contains("firstgid")) tw.fail("firstgid: missing");
+    const auto first = static_cast<std::uint32_t>(integer(tj, "firstgid", 1, tw, 1, kTiledGidMask));
     TiledTileset ts;
     if (tj.contains("source")) {
       try {
-        ts = read_tileset_file(file.parent_path() / text(tj, "source"));
+        ts = external_tileset(doc, file.parent_path() / text(tj, "source"));
       } catch (const InvalidInput& e) {
         tw.fail(e.what());  // say which map asked for it
       }
     } else {
       ts = read_tileset(tj, tw);
     }
-    ts.first_gid = static_cast<std::uint32_t>(integer(tj, "firstgid", 1, tw));
+    ts.first_gid = first;
     map.tilesets.push_back(std::move(ts));
   }
-  read_layers(root.value("layers", Json::array()), "", Vec2{0.0f, 0.0f}, w, doc);
+  sort_tilesets(map);
+  read_layers(root, "", Vec2{0.0f, 0.0f}, 0, w, doc);
+  check_tile_colliders(doc);
   return doc;
 }
 
@@ -319,12 +439,13 @@ Document read_tmj(const std::filesystem::path& file) {
 namespace collide {
 
 bool looks_like_tiled_json(const std::filesystem::path& path) {
-  const std::optional<std::string> text = io::read_text_file(path);
-  if (!text) return false;
+  std::string why;
+  const std::optional<std::string> text = io::read_text_file(path, why);
+  if (!text || io::json_too_deep_at(*text, kMaxJsonDepth) != std::string::npos) return false;
   const nlohmann::json root = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded() || !root.is_object()) return false;
   const auto type = root.find("type");
-  return type != root.end() && type->is_string();
+  return (type != root.end() && type->is_string()) || tiled::untyped_tiled_map(root);
 }
 
 }  // namespace collide

@@ -9,6 +9,7 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <charconv>
 #include <cmath>
 #include <numbers>
@@ -130,10 +131,10 @@ std::string syntax_error_place(std::string_view text, size_t offset) {
   return place;
 }
 
-pugi::xml_document load_xml(const std::filesystem::path& file) {
-  const std::optional<std::string> read = io::read_text_file(file);
-  if (!read) fail(file, "file", "cannot be read");
-  const std::string& text = *read;
+/// Parses `file`; its size goes to `bytes`.
+pugi::xml_document load_xml(const std::filesystem::path& file, std::size_t& bytes) {
+  const std::string text = read_input(file);
+  bytes = text.size();
   pugi::xml_document doc;
   // parse_default skips the DOCTYPE and never resolves external entities.
   const pugi::xml_parse_result result = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
@@ -166,13 +167,19 @@ float number(const pugi::xml_node& node, const char* key, float fallback,
   return finite_or_fail(v, file, element_label(node), std::string("attribute ") + key);
 }
 
+/// An integer attribute within [lo, hi]; `fallback` when absent. Fails naming the element and
+/// attribute when it is not a whole number in that range.
 int integer(const pugi::xml_node& node, const char* key, int fallback,
-            const std::filesystem::path& file) {
-  const float v = number(node, key, static_cast<float>(fallback), file);
-  if (v != std::floor(v)) {
-    fail(file, element_label(node), std::string("attribute ") + key + ": not an integer");
+            const std::filesystem::path& file, long long lo = INT_MIN, long long hi = INT_MAX) {
+  const pugi::xml_attribute a = node.attribute(key);
+  if (!a) return fallback;
+  bool ok = false;
+  const double v = parse_number(a.value(), ok);
+  if (!ok) {
+    fail(file, element_label(node),
+         std::string("attribute ") + key + ": '" + a.value() + "' is not a number");
   }
-  return static_cast<int>(v);
+  return static_cast<int>(whole_or_fail(v, lo, hi, file, element_label(node), std::string("attribute ") + key));
 }
 
 std::uint32_t gid_attribute(const pugi::xml_node& node, const std::filesystem::path& file) {
@@ -192,8 +199,13 @@ std::vector<Vec2> parse_points(const pugi::xml_node& shape, const pugi::xml_node
   std::vector<Vec2> points;
   const std::string_view text = shape.attribute("points").value();
   const std::string what = std::string(shape.name()) + " points";
+  const bool polygon = std::string_view(shape.name()) == "polygon";
   size_t pos = 0;
   while (pos < text.size()) {
+    if (polygon && points.size() == kMaxTiledPolygonPoints) {
+      fail(file, element_label(object), what + ": more than " + std::to_string(kMaxTiledPolygonPoints) +
+                                            " points (the limit, kMaxTiledPolygonPoints)");
+    }
     while (pos < text.size() && text[pos] == ' ') ++pos;
     if (pos >= text.size()) break;
     size_t end = text.find(' ', pos);
@@ -238,20 +250,20 @@ bool read_shape(const pugi::xml_node& node, TiledObject& obj, const std::filesys
   return false;
 }
 
-/// Reads an <object>, merging its template. `map` receives template tilesets (may be null
-/// inside tilesets, where templates are not allowed).
+/// Reads an <object>, merging its template. `doc`'s map receives template tilesets (null inside
+/// tilesets and templates, where templates are not allowed).
 TiledObject read_object(const pugi::xml_node& node, const std::filesystem::path& file,
-                        TiledMap* map) {
+                        Document* doc) {
   TiledObject obj;
   bool has_shape = false;
   if (const pugi::xml_attribute t = node.attribute("template")) {
-    if (map == nullptr) fail(file, element_label(node), "templates are not allowed here");
+    if (doc == nullptr) fail(file, element_label(node), "templates are not allowed here");
     const std::filesystem::path tx = file.parent_path() / t.value();
     try {
-      const Template tmpl = read_template(tx);
+      const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
       has_shape = tmpl.has_shape;
-      if (tmpl.has_gid) obj.gid = map_template_gid(*map, tmpl);
+      if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       fail(file, element_label(node), e.what());  // say which object asked for it
     }
@@ -280,19 +292,24 @@ TiledTileset read_tileset_node(const pugi::xml_node& node, const std::filesystem
   TiledTileset ts;
   ts.name = node.attribute("name").value();
   ts.tile_size = {number(node, "tilewidth", 0.0f, file), number(node, "tileheight", 0.0f, file)};
-  ts.tile_count = integer(node, "tilecount", 0, file);
+  ts.tile_count = integer(node, "tilecount", 0, file, 0);
   if (const pugi::xml_node off = node.child("tileoffset")) {
     ts.tile_offset = {number(off, "x", 0.0f, file), number(off, "y", 0.0f, file)};
   }
   for (const pugi::xml_node tile : node.children("tile")) {
     TiledTile t;
     if (!tile.attribute("id")) fail(file, element_label(tile), "attribute id: missing");
-    t.id = integer(tile, "id", 0, file);
+    t.id = integer(tile, "id", 0, file, 0);
     t.image_size = ts.tile_size;
     bool keep = false;
     if (const pugi::xml_node image = tile.child("image")) {
       t.image_size = {number(image, "width", ts.tile_size.x, file),
                       number(image, "height", ts.tile_size.y, file)};
+      keep = true;
+    }
+    // Tiled 1.9: a tile of an image collection may use a sub-rectangle of its image.
+    if (tile.attribute("width") || tile.attribute("height")) {
+      t.image_size = {number(tile, "width", t.image_size.x, file), number(tile, "height", t.image_size.y, file)};
       keep = true;
     }
     if (const pugi::xml_node group = tile.child("objectgroup")) {
@@ -303,6 +320,7 @@ TiledTileset read_tileset_node(const pugi::xml_node& node, const std::filesystem
     }
     if (keep) ts.tiles.push_back(std::move(t));
   }
+  sort_tiles(ts);
   return ts;
 }
 
@@ -313,37 +331,58 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
   if (!data) fail(file, element_label(node), "has no <data>");
   const std::string encoding = data.attribute("encoding").value();
   const std::string compression = data.attribute("compression").value();
+  // Cells (x0 + i % w, y0 + i / w): x0 + w and y0 + h must fit in an int (so must the row
+  // below the last, which places a tile).
   auto add = [&](const pugi::xml_node& holder, int x0, int y0, int w, int h) {
-    if (w < 0 || h < 0) fail(file, element_label(holder), "negative width or height");
+    const std::string where = holder == data ? element_label(node) : element_label(node) + ": " + element_label(holder);
+    if (static_cast<long long>(x0) + w > INT_MAX || static_cast<long long>(y0) + h > INT_MAX) {
+      fail(file, where, "x + width or y + height is beyond " + std::to_string(INT_MAX));
+    }
+    const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
     std::vector<std::uint32_t> gids;
     if (encoding.empty()) {  // legacy: one <tile gid=".."/> per cell
-      for (const pugi::xml_node t : holder.children("tile")) gids.push_back(gid_attribute(t, file));
-      if (gids.size() != static_cast<size_t>(w) * static_cast<size_t>(h)) {
-        fail(file, element_label(holder), "<tile> count " + std::to_string(gids.size()) +
-                                              " is not width x height");
+      for (const pugi::xml_node t : holder.children("tile")) {
+        if (gids.size() == count) {
+          fail(file, where, "more <tile> elements than width x height (" + std::to_string(count) + ")");
+        }
+        gids.push_back(gid_attribute(t, file));
+      }
+      if (gids.size() != count) {
+        fail(file, where, "<tile> count " + std::to_string(gids.size()) + " is not width x height (" +
+                              std::to_string(count) + ")");
       }
     } else {
-      gids = decode_tile_data(holder.text().get(), encoding, compression,
-                              static_cast<size_t>(w) * static_cast<size_t>(h), file,
-                              element_label(node) + ": " + element_label(holder));
+      gids = decode_tile_data(holder.text().get(), encoding, compression, count, file, where);
     }
-    for (int i = 0; i < w * h; ++i) {
-      if (gids[i] != 0) layer.cells.push_back({x0 + i % w, y0 + i / w, gids[i]});
+    for (size_t i = 0; i < count; ++i) {
+      if (gids[i] != 0) {
+        layer.cells.push_back({x0 + static_cast<int>(i % static_cast<size_t>(w)),
+                               y0 + static_cast<int>(i / static_cast<size_t>(w)), gids[i]});
+      }
     }
   };
   if (data.child("chunk")) {
+    // Every chunk's size is charged before any is decoded.
+    for (const pugi::xml_node chunk : data.children("chunk")) {
+      charge_tiles(doc, static_cast<std::uint64_t>(integer(chunk, "width", 0, file, 0)),
+                   static_cast<std::uint64_t>(integer(chunk, "height", 0, file, 0)), file,
+                   element_label(node) + ": " + element_label(chunk));
+    }
     for (const pugi::xml_node chunk : data.children("chunk")) {
       add(chunk, integer(chunk, "x", 0, file), integer(chunk, "y", 0, file),
-          integer(chunk, "width", 0, file), integer(chunk, "height", 0, file));
+          integer(chunk, "width", 0, file, 0), integer(chunk, "height", 0, file, 0));
     }
   } else {
-    add(data, 0, 0, integer(node, "width", 0, file), integer(node, "height", 0, file));
+    const int w = integer(node, "width", 0, file, 0), h = integer(node, "height", 0, file, 0);
+    charge_tiles(doc, static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h), file, element_label(node));
+    add(data, 0, 0, w, h);
   }
   doc.map.tile_cells += static_cast<int>(layer.cells.size());
   doc.tile_layers.push_back(std::move(layer));
 }
 
-void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 offset,
+/// The layers under `parent`, a group `depth` levels deep (0: the map).
+void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 offset, int depth,
                  const std::filesystem::path& file, Document& doc) {
   for (const pugi::xml_node node : parent.children()) {
     const std::string_view kind = node.name();
@@ -352,12 +391,13 @@ void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 o
     const Vec2 here = offset + Vec2{number(node, "offsetx", 0.0f, file),
                                     number(node, "offsety", 0.0f, file)};
     if (kind == "group") {
-      read_layers(node, name + "/", here, file, doc);
+      check_group_depth(depth + 1, file, element_label(node));
+      read_layers(node, name + "/", here, depth + 1, file, doc);
     } else if (kind == "layer") {
       read_tile_layer(node, name, here, file, doc);
     } else {
       for (const pugi::xml_node o : node.children("object")) {
-        TiledObject obj = read_object(o, file, &doc.map);
+        TiledObject obj = read_object(o, file, &doc);
         obj.layer = name;
         obj.layer_offset = here;
         doc.map.objects.push_back(std::move(obj));
@@ -368,10 +408,10 @@ void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 o
 
 }  // namespace
 
-TiledTileset read_tileset_file(const std::filesystem::path& file) {
+TiledTileset read_tileset_file(const std::filesystem::path& file, std::size_t& bytes) {
   const std::string ext = file.extension().string();
-  if (ext == ".tsj" || ext == ".json") return read_tileset_json(file);
-  const pugi::xml_document doc = load_xml(file);
+  if (ext == ".tsj" || ext == ".json") return read_tileset_json(file, bytes);
+  const pugi::xml_document doc = load_xml(file, bytes);
   const pugi::xml_node root = doc.child("tileset");
   if (!root) fail(file, "root", "not a Tiled tileset (no <tileset> element)");
   TiledTileset ts = read_tileset_node(root, file);
@@ -379,22 +419,23 @@ TiledTileset read_tileset_file(const std::filesystem::path& file) {
   return ts;
 }
 
-Template read_template(const std::filesystem::path& file) {
-  // Read on every use: templates are a few hundred bytes, and a cache would go stale while a
-  // game reloads edited maps.
-  if (file.extension() == ".tj") return read_template_json(file);
-  const pugi::xml_document doc = load_xml(file);
+Template read_template(const std::filesystem::path& file, std::size_t& bytes) {
+  // Read once per load (external_template); a cache across loads would go stale while a game
+  // reloads edited maps.
+  if (file.extension() == ".tj") return read_template_json(file, bytes);
+  const pugi::xml_document doc = load_xml(file, bytes);
   const pugi::xml_node root = doc.child("template");
   if (!root) fail(file, "root", "not a Tiled template (no <template> element)");
   const pugi::xml_node object = root.child("object");
   if (!object) fail(file, "<template>", "has no <object>");
   Template t;
   t.object = read_object(object, file, nullptr);
+  t.object.template_file = file.generic_string();
   TiledObject probe;
   t.has_shape = read_shape(object, probe, file);
   t.has_gid = object.attribute("gid");
   if (const pugi::xml_node ts = root.child("tileset")) {
-    t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, file));
+    t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, file, 1, kTiledGidMask));
     if (ts.attribute("source")) t.tileset_source = file.parent_path() / ts.attribute("source").value();
   }
   if (t.has_gid && t.tileset_source.empty()) {
@@ -404,15 +445,17 @@ Template read_template(const std::filesystem::path& file) {
 }
 
 Document read_tmx(const std::filesystem::path& file) {
-  const pugi::xml_document xml = load_xml(file);
+  Document doc;
+  std::size_t bytes = 0;
+  const pugi::xml_document xml = load_xml(file, bytes);
+  charge_bytes(doc, bytes, file);
   const pugi::xml_node root = xml.child("map");
   if (!root) fail(file, "root", "not a Tiled map (no <map> element)");
-  Document doc;
   TiledMap& map = doc.map;
   map.path = file;
   map.orientation = root.attribute("orientation").value();
-  map.width = integer(root, "width", 0, file);
-  map.height = integer(root, "height", 0, file);
+  map.width = integer(root, "width", 0, file, 0);
+  map.height = integer(root, "height", 0, file, 0);
   map.tile_size = {number(root, "tilewidth", 0.0f, file), number(root, "tileheight", 0.0f, file)};
   map.infinite = integer(root, "infinite", 0, file) != 0;
   if (map.orientation != "orthogonal") {
@@ -420,11 +463,11 @@ Document read_tmx(const std::filesystem::path& file) {
   }
   for (const pugi::xml_node node : root.children("tileset")) {
     if (!node.attribute("firstgid")) fail(file, element_label(node), "attribute firstgid: missing");
-    const auto first = static_cast<std::uint32_t>(integer(node, "firstgid", 1, file));
+    const auto first = static_cast<std::uint32_t>(integer(node, "firstgid", 1, file, 1, kTiledGidMask));
     TiledTileset ts;
     if (node.attribute("source")) {
       try {
-        ts = read_tileset_file(file.parent_path() / node.attribute("source").value());
+        ts = external_tileset(doc, file.parent_path() / node.attribute("source").value());
       } catch (const InvalidInput& e) {
         fail(file, element_label(node), e.what());  // say which map asked for it
       }
@@ -434,7 +477,9 @@ Document read_tmx(const std::filesystem::path& file) {
     ts.first_gid = first;
     map.tilesets.push_back(std::move(ts));
   }
-  read_layers(root, "", Vec2{0.0f, 0.0f}, file, doc);
+  sort_tilesets(map);
+  read_layers(root, "", Vec2{0.0f, 0.0f}, 0, file, doc);
+  check_tile_colliders(doc);
   return doc;
 }
 

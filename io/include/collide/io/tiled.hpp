@@ -29,12 +29,16 @@
 /// external DTD that old maps name in their DOCTYPE.
 ///
 /// Supported: orthogonal maps, finite or infinite (chunked) tile layers, tile data as csv,
-/// base64, base64 + zlib and base64 + gzip, and legacy `<tile gid>` elements.
-/// Rejected with InvalidInput: isometric, staggered and hexagonal maps, zstd-compressed data.
+/// base64, base64 + zlib, gzip or zstd, and legacy `<tile gid>` elements; every version of the
+/// formats Tiled has written, from 0.x maps without object ids to JSON before 1.2 (tilesets whose
+/// `tiles` is an object keyed by tile id) and 1.9's `class` (docs/tiled-formats.md).
+/// Rejected with InvalidInput: isometric, staggered, hexagonal and oblique maps, and input past
+/// the limits below (docs/limits.md).
 
 #include <collide/core/transform.hpp>
 #include <collide/shape/shape2d.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -52,6 +56,27 @@ inline constexpr std::uint32_t kTiledFlipDiagonal = 0x20000000u;
 inline constexpr std::uint32_t kTiledRotateHexagonal120 = 0x10000000u;
 /// The gid without its flip bits.
 inline constexpr std::uint32_t kTiledGidMask = 0x0fffffffu;
+
+// Limits of `load_tiled_map` (docs/limits.md). Each refuses a file that goes past it with
+// InvalidInput naming the file, the element, the limit and the value found.
+
+/// Deepest nesting of group layers (`<group>`, JSON "group"); the map's top level is depth 0.
+/// Deeper maps are refused before the recursion could overflow the stack.
+inline constexpr int kMaxTiledGroupDepth = 64;
+/// Most tiles a map may declare: width x height summed over every tile layer and chunk, checked
+/// before any tile data is decoded or memory reserved (a 4096 x 4096 map has 16,777,216).
+inline constexpr std::uint64_t kMaxTiledMapTiles = std::uint64_t{1} << 24;
+/// Most colliders one map may produce (each is about 1.3 KB).
+inline constexpr std::size_t kMaxTiledColliders = std::size_t{1} << 20;
+/// Most points of one polygon object (convex decomposition is O(n^2) typical, O(n^3) worst).
+inline constexpr std::size_t kMaxTiledPolygonPoints = 1024;
+/// Largest magnitude of a number in a map, tileset or template (coordinates, sizes, offsets,
+/// points, rotation), pixels or degrees: far beyond any map, and small enough that every
+/// collider built from it is finite.
+inline constexpr double kMaxTiledCoordinate = 1.0e7;
+/// Most bytes one load reads: the map plus every use of an external tileset or template (a file
+/// used twice counts twice, as a copy of it is kept each time).
+inline constexpr std::size_t kMaxTiledLoadBytes = std::size_t{256} << 20;
 
 /// What a Tiled object is.
 enum class TiledShapeKind : unsigned char { rectangle, ellipse, polygon, polyline, point, text, tile };
@@ -90,9 +115,10 @@ struct TiledTileset {
   Vec2 tile_size{0.0f, 0.0f};     ///< `tilewidth`, `tileheight`
   Vec2 tile_offset{0.0f, 0.0f};   ///< `<tileoffset>`: drawing offset of every tile
   std::filesystem::path source;   ///< the `.tsx`/`.tsj` file, empty when embedded
-  std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image
+  std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image, by id
 
-  /// The tile with local id `id`, or nullptr.
+  /// The tile with local id `id`, or nullptr. Binary search: `tiles` must be sorted by id (as
+  /// load_tiled_map leaves it).
   [[nodiscard]] const TiledTile* find(int id) const noexcept;
 };
 
@@ -126,7 +152,7 @@ struct TiledMap {
   int height = 0;                    ///< in tiles (finite maps)
   Vec2 tile_size{0.0f, 0.0f};        ///< map tile size, pixels
   bool infinite = false;             ///< chunked tile layers
-  std::vector<TiledTileset> tilesets;
+  std::vector<TiledTileset> tilesets;  ///< by first gid (as Tiled writes them)
   std::vector<TiledObject> objects;  ///< every object of every object layer, in file order
   int tile_cells = 0;                ///< non-empty tile-layer cells
   std::vector<TiledCollider> colliders;
@@ -147,7 +173,12 @@ struct TiledLoadOptions {
 /// in: the XML elements open there ("inside <map> > <objectgroup name=Walls> > <object id=7>")
 /// or the JSON path ("in layers[0].objects[1] (id=9).polygon[0]"). An error in an external
 /// tileset or template names that file, after the map and the element that refers to it.
-/// Allocates; load time only.
+/// Input past a limit is refused naming the limit and the value: files over kMaxInputFileBytes
+/// (64 MiB; /dev/zero too), groups nested deeper than kMaxTiledGroupDepth, JSON nested deeper
+/// than kMaxJsonDepth, more than kMaxTiledMapTiles declared tiles, cells beyond int range,
+/// firstgid outside [1, kTiledGidMask], numbers beyond kMaxTiledCoordinate, polygons over
+/// kMaxTiledPolygonPoints, more than kMaxTiledColliders colliders or kMaxTiledLoadBytes read.
+/// Messages are valid UTF-8 (other bytes quoted as \xNN). Allocates; load time only.
 [[nodiscard]] TiledMap load_tiled_map(const std::filesystem::path& path,
                                       const TiledLoadOptions& options = {});
 

@@ -1,0 +1,96 @@
+#pragma once
+// What must hold for any bytes given to the Tiled loader as a map, an external tileset or a
+// template (fuzz_tiled_*, and the regression test that replays what the fuzzers found): shared
+// so both check the same. load_tiled_map reads files, so the input is written into a scratch
+// folder next to small fixed files it may refer to (t.tsx, a.tx), or that refer to it.
+
+#include <collide/core/error.hpp>
+#include <collide/io/tiled.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+namespace collide::fuzz {
+
+/// Which file the fuzzed bytes are.
+enum class TiledInput {
+  tmx,      ///< the map, map.tmx
+  tmj,      ///< the map, map.tmj
+  tileset,  ///< the external tileset of a fixed map.tmx: t.tsj if it starts with '{', else t.tsx
+  templ,    ///< an object template of a fixed map.tmx: a.tj if it starts with '{', else a.tx
+};
+
+inline void write_file(const std::filesystem::path& path, std::string_view bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// "" when `input`, as the file `kind` says, is handled as docs/limits.md promises, else what
+/// went wrong:
+///  - load_tiled_map throws nothing but InvalidInput, whose message names the map file first and
+///    is valid UTF-8;
+///  - a map it accepts has colliders whose transforms and bounding boxes are finite.
+/// Crashes, hangs and undefined behaviour are the sanitizers' and libFuzzer's to catch.
+/// `dir` is a scratch folder (created if missing; its files are overwritten). `accepted`, if
+/// given, is set to whether the map loaded.
+inline std::string check_tiled(TiledInput kind, std::string_view input, const std::filesystem::path& dir,
+                               bool* accepted = nullptr) {
+  if (accepted != nullptr) *accepted = false;
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const bool json = !input.empty() && input.front() == '{';
+  // The fixed files: a tileset with a collision tile, a template, and a map using both.
+  const std::string tileset_name = kind == TiledInput::tileset && json ? "t.tsj" : "t.tsx";
+  const std::string template_name = kind == TiledInput::templ && json ? "a.tj" : "a.tx";
+  static const std::string kTileset = R"(<tileset name="t" tilewidth="16" tileheight="16" tilecount="4" columns="2">
+ <tile id="1"><objectgroup><object id="1" x="2" y="2" width="8" height="4"/><object id="2" x="0" y="8"><polygon points="0,0 16,0 8,8"/></object></objectgroup></tile>
+ <tile id="2"><objectgroup><object id="1" x="4" y="4" width="8" height="8"><ellipse/></object></objectgroup></tile>
+</tileset>)";
+  static const std::string kTemplate =
+      R"(<template><tileset firstgid="1" source="t.tsx"/><object name="door" gid="2" width="32" height="32"/></template>)";
+  if (kind != TiledInput::tileset || json) write_file(dir / "t.tsx", kTileset);
+  if (kind != TiledInput::templ || json) write_file(dir / "a.tx", kTemplate);
+  const std::string host = R"(<map version="1.10" orientation="orthogonal" width="4" height="2" tilewidth="16" tileheight="16">
+ <tileset firstgid="1" source=")" + tileset_name + R"("/>
+ <layer name="cells" width="4" height="2"><data encoding="csv">1,2,3,4,4,3,2,1</data></layer>
+ <objectgroup name="things"><object id="1" gid="2" x="10" y="40" width="16" height="16" rotation="30"/>
+  <object id="2" template=")" + template_name + R"(" x="50" y="60"/></objectgroup>
+</map>)";
+  fs::path map;
+  switch (kind) {
+    case TiledInput::tmx: map = dir / "map.tmx"; write_file(map, input); break;
+    case TiledInput::tmj: map = dir / "map.tmj"; write_file(map, input); break;
+    case TiledInput::tileset: map = dir / "host.tmx"; write_file(map, host); write_file(dir / tileset_name, input); break;
+    case TiledInput::templ: map = dir / "host.tmx"; write_file(map, host); write_file(dir / template_name, input); break;
+  }
+  TiledMap loaded;
+  try {
+    loaded = load_tiled_map(map);
+  } catch (const InvalidInput& e) {
+    const std::string message = e.what();
+    if (message.rfind(map.generic_string() + ": ", 0) != 0) return "message does not name the file: " + message;
+    try {
+      (void)nlohmann::json(message).dump();  // throws on bytes that are not UTF-8
+    } catch (const std::exception&) {
+      return "message is not valid UTF-8: " + message;
+    }
+    return {};
+  } catch (const std::exception& e) {
+    return std::string("load_tiled_map threw other than InvalidInput: ") + e.what();
+  }
+  if (accepted != nullptr) *accepted = true;
+  for (const TiledCollider& c : loaded.colliders) {
+    if (!is_valid(c.transform) || !is_valid(compute_aabb(c.shape, c.transform))) {
+      return "an accepted map has a collider that is not finite (layer '" + c.source.layer + "', object " +
+             std::to_string(c.source.object_id) + ")";
+    }
+  }
+  return {};
+}
+
+}  // namespace collide::fuzz
