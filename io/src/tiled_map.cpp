@@ -7,9 +7,15 @@
 #include <collide/decompose/convex_decomposition.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string_view>
 #include <unordered_map>
+#include <unordered_set>
+#include <utility>
 
 namespace collide {
 
@@ -22,6 +28,16 @@ const char* to_string(TiledShapeKind kind) noexcept {
     case TiledShapeKind::point: return "point";
     case TiledShapeKind::text: return "text";
     case TiledShapeKind::tile: return "tile";
+  }
+  return "unknown";
+}
+
+const char* to_string(TiledLayerKind kind) noexcept {
+  switch (kind) {
+    case TiledLayerKind::tile: return "tile layer";
+    case TiledLayerKind::object: return "object layer";
+    case TiledLayerKind::image: return "image layer";
+    case TiledLayerKind::group: return "group";
   }
   return "unknown";
 }
@@ -206,10 +222,136 @@ std::string object_label(const TiledMap& map, const TiledObject& obj) {
          obj.layer + "'";
 }
 
+// Which layers collide: the rule of the file comment in tiled.hpp.
+
+/// Custom properties that say whether a layer collides (boolean), and the one that says it
+/// does not whatever its value (HaxeFlixel's `nocollide`).
+constexpr std::array<std::string_view, 3> kCollidesProperties = {"collides", "collision", "collidable"};
+constexpr std::string_view kNoCollideProperty = "nocollide";
+/// Classes that declare a collision layer, and the word a collision layer's name contains.
+constexpr std::array<std::string_view, 3> kCollisionClasses = {"collision", "collisions", "solid"};
+constexpr std::string_view kCollisionNameWord = "collision";
+
+std::string lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// The group that holds `layer`, or nullptr at the top level.
+const TiledLayer* parent_of(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
+  return layer.parent >= 0 ? &layers[static_cast<std::size_t>(layer.parent)] : nullptr;
+}
+
+/// " on group 'g'" when a declaration was found on a group of `layer`, else empty: for the reason.
+std::string where(const TiledLayer& at, const TiledLayer& layer) {
+  return &at == &layer ? std::string() : " on group '" + at.name + "'";
+}
+
+/// The layer's own explicit say (property 1 of the rule), looked for on the layer and then its
+/// groups: true/false and the reason, or nothing.
+std::optional<std::pair<bool, std::string>> explicit_say(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
+  for (const TiledLayer* at = &layer; at != nullptr; at = parent_of(layers, *at)) {
+    for (const TiledProperty& p : at->properties) {
+      const std::string name = lower(p.name);
+      if (name == kNoCollideProperty) return std::pair{false, "property " + p.name + where(*at, layer)};
+      const std::string value = lower(p.value);
+      if (std::find(kCollidesProperties.begin(), kCollidesProperties.end(), name) != kCollidesProperties.end() &&
+          (value == "true" || value == "false")) {
+        return std::pair{value == "true", "property " + p.name + "=" + value + where(*at, layer)};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+/// A declaration by class or name (2 of the rule) on the layer or its groups, or nothing.
+std::optional<std::string> declared_by_class_or_name(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
+  for (const TiledLayer* at = &layer; at != nullptr; at = parent_of(layers, *at)) {
+    const std::string type = lower(at->type);
+    if (std::find(kCollisionClasses.begin(), kCollisionClasses.end(), type) != kCollisionClasses.end()) {
+      return "class '" + at->type + "'" + where(*at, layer);
+    }
+    // The name's own part: a layer's path holds its groups' names, which are looked at in turn.
+    const std::string own = at->parent >= 0 ? at->name.substr(layers[static_cast<std::size_t>(at->parent)].name.size() + 1)
+                                            : at->name;
+    if (lower(own).find(kCollisionNameWord) != std::string::npos) {
+      return std::string("name contains '") + std::string(kCollisionNameWord) + "'" + where(*at, layer);
+    }
+  }
+  return std::nullopt;
+}
+
+/// Sets `collides` and `reason` of every layer of `map`.
+void select_layers(TiledMap& map, const TiledLoadOptions& options) {
+  std::vector<TiledLayer>& layers = map.layers;
+  if (!options.layers.empty()) {
+    const std::unordered_set<std::string> wanted(options.layers.begin(), options.layers.end());
+    std::unordered_set<std::string> present;
+    for (const TiledLayer& l : layers) present.insert(l.name);
+    for (const std::string& want : options.layers) {
+      if (present.count(want) != 0) continue;
+      std::string list;
+      for (const TiledLayer& l : layers) list += (list.empty() ? "'" : ", '") + l.name + "'";
+      tiled::fail(map.path, "layers", "'" + want + "' is no layer of the map (its layers: " +
+                                          (list.empty() ? std::string("none") : list) + ")");
+    }
+    std::vector<bool> named(layers.size(), false);
+    for (std::size_t i = 0; i < layers.size(); ++i) {  // named itself, or inside a named group
+      for (const TiledLayer* at = &layers[i]; at != nullptr && !named[i]; at = parent_of(layers, *at)) {
+        named[i] = wanted.count(at->name) != 0;
+      }
+    }
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      layers[i].collides = named[i];
+      layers[i].reason = named[i] ? "named in layers" : "not named in layers";
+    }
+  } else {
+    std::vector<std::optional<std::pair<bool, std::string>>> say(layers.size());
+    std::vector<std::optional<std::string>> declared(layers.size());
+    std::string declared_names;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      if (layers[i].kind == TiledLayerKind::group || layers[i].kind == TiledLayerKind::image) continue;
+      say[i] = explicit_say(layers, layers[i]);
+      if (!say[i]) declared[i] = declared_by_class_or_name(layers, layers[i]);
+      if ((say[i] && say[i]->first) || declared[i]) declared_names += (declared_names.empty() ? "'" : ", '") + layers[i].name + "'";
+    }
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      TiledLayer& l = layers[i];
+      if (say[i]) {
+        l.collides = say[i]->first;
+        l.reason = say[i]->second;
+      } else if (declared[i]) {
+        l.collides = true;
+        l.reason = *declared[i];
+      } else if (declared_names.empty()) {
+        l.collides = true;
+        l.reason = "the map declares no collision layer, so every layer collides";
+      } else {
+        l.collides = false;
+        l.reason = "not declared a collision layer (the map declares " + declared_names + ")";
+      }
+    }
+  }
+  for (TiledLayer& l : layers) {
+    if (l.kind == TiledLayerKind::image) {
+      l.collides = false;
+      l.reason = "an image layer has no shapes";
+    } else if (l.kind == TiledLayerKind::group) {
+      l.collides = false;
+      l.reason = "a group: its layers are listed on their own";
+    }
+  }
+}
+
 void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
                      const TiledLoadOptions& options) {
+  select_layers(map, options);
+  std::unordered_map<std::string, bool> collides;  // by layer path: any layer of that path
+  for (const TiledLayer& l : map.layers) collides[l.name] = collides[l.name] || (l.collides && l.kind != TiledLayerKind::group);
   Builder builder(map, map.colliders);
   for (const TiledObject& obj : map.objects) {
+    if (!collides[obj.layer]) continue;
     const Transform xf = Transform::from(obj.layer_offset + obj.position, obj.rotation);
     const std::string label = object_label(map, obj);
     TiledSource source{obj.layer, obj.id, obj.name, obj.type, obj.kind, false, 0, 0, -1, -1};
@@ -256,6 +398,7 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
   // Tile layers: the shapes of a gid (flips included) are built once and placed per cell.
   std::unordered_map<std::uint32_t, std::vector<TiledCollider>> by_gid;
   for (const tiled::TileLayer& layer : layers) {
+    if (!collides[layer.name]) continue;
     for (const tiled::Cell& cell : layer.cells) {
       int local = 0;
       const TiledTileset* ts = builder.tileset_of(cell.gid, local);
@@ -305,6 +448,16 @@ TiledMap load_tiled_map(const std::filesystem::path& path, const TiledLoadOption
   tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
                                                          : tiled::read_tmx(path);
   build_colliders(doc.map, doc.tile_layers, options);
+  // What each layer held and gave, for the caller's summary (layers are told apart by path).
+  std::unordered_map<std::string, int> objects, cells, colliders;
+  for (const TiledObject& o : doc.map.objects) ++objects[o.layer];
+  for (const tiled::TileLayer& t : doc.tile_layers) cells[t.name] += static_cast<int>(t.cells.size());
+  for (const TiledCollider& c : doc.map.colliders) ++colliders[c.source.layer];
+  for (TiledLayer& l : doc.map.layers) {
+    if (l.kind == TiledLayerKind::object) l.objects = objects[l.name];
+    if (l.kind == TiledLayerKind::tile) l.cells = cells[l.name];
+    if (l.collides) l.colliders = colliders[l.name];
+  }
   return std::move(doc.map);
 }
 

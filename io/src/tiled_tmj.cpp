@@ -205,8 +205,31 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   doc.tile_layers.push_back(std::move(layer));
 }
 
+/// A layer's entry in TiledMap::layers: its class and custom properties (Tiled >= 1.2 writes
+/// them as a list of {name, type, value}; older maps as an object of name: value).
+TiledLayer layer_entry(const Json& j, std::string name, TiledLayerKind kind, int group) {
+  TiledLayer layer;
+  layer.name = std::move(name);
+  layer.kind = kind;
+  layer.type = text(j, "class");
+  layer.parent = group;
+  const auto as_text = [](const Json& v) { return v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump(); };
+  const auto type_of = [](const Json& v) { return v.is_boolean() ? "bool" : v.is_number_integer() ? "int" : v.is_number() ? "float" : "string"; };
+  const Json& properties = j.contains("properties") ? j["properties"] : Json::array();
+  if (properties.is_array()) {
+    for (const Json& p : properties) {
+      if (!p.is_object()) continue;
+      const Json& value = p.contains("value") ? p["value"] : Json();
+      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(value), as_text(value)});
+    }
+  } else if (properties.is_object()) {
+    for (const auto& [key, value] : properties.items()) layer.properties.push_back({key, type_of(value), as_text(value)});
+  }
+  return layer;
+}
+
 void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const Where& w,
-                 Document& doc) {
+                 Document& doc, int group = -1) {
   if (!list.is_array()) w.fail("layers: not an array");
   for (size_t i = 0; i < list.size(); ++i) {
     const Json& j = list[i];
@@ -215,8 +238,15 @@ void read_layers(const Json& list, const std::string& prefix, Vec2 offset, const
     const std::string type = text(j, "type");
     const std::string name = prefix + text(j, "name");
     const Vec2 here = offset + Vec2{number(j, "offsetx", 0.0f, lw), number(j, "offsety", 0.0f, lw)};
+    if (type == "group" || type == "tilelayer" || type == "objectgroup" || type == "imagelayer") {
+      const TiledLayerKind what = type == "group"       ? TiledLayerKind::group
+                                  : type == "tilelayer" ? TiledLayerKind::tile
+                                  : type == "imagelayer" ? TiledLayerKind::image : TiledLayerKind::object;
+      doc.map.layers.push_back(layer_entry(j, name, what, group));
+    }
     if (type == "group") {
-      read_layers(j.value("layers", Json::array()), name + "/", here, lw, doc);
+      read_layers(j.value("layers", Json::array()), name + "/", here, lw, doc,
+                  static_cast<int>(doc.map.layers.size()) - 1);
     } else if (type == "tilelayer") {
       read_tile_layer(j, name, here, lw, doc);
     } else if (type == "objectgroup") {
