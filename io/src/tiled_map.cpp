@@ -238,53 +238,50 @@ std::string lower(std::string_view text) {
   return out;
 }
 
-/// The group that holds `layer`, or nullptr at the top level.
-const TiledLayer* parent_of(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
-  return layer.parent >= 0 ? &layers[static_cast<std::size_t>(layer.parent)] : nullptr;
+/// A say about whether a layer collides, found on the layer (`at` is itself) or inherited from
+/// the group `at`.
+struct Say {
+  bool collides = false;
+  std::string why;  ///< "property collides=false", "class 'solid'", ...
+  std::size_t at = 0;
+};
+
+/// The reason for layer `i`: the say, and the group it was found on when that is not `i`.
+std::string reason(const std::vector<TiledLayer>& layers, const Say& say, std::size_t i) {
+  return say.at == i ? say.why : say.why + " on group '" + layers[say.at].name + "'";
 }
 
-/// " on group 'g'" when a declaration was found on a group of `layer`, else empty: for the reason.
-std::string where(const TiledLayer& at, const TiledLayer& layer) {
-  return &at == &layer ? std::string() : " on group '" + at.name + "'";
-}
-
-/// The layer's own explicit say (property 1 of the rule), looked for on the layer and then its
-/// groups: true/false and the reason, or nothing.
-std::optional<std::pair<bool, std::string>> explicit_say(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
-  for (const TiledLayer* at = &layer; at != nullptr; at = parent_of(layers, *at)) {
-    for (const TiledProperty& p : at->properties) {
-      const std::string name = lower(p.name);
-      if (name == kNoCollideProperty) return std::pair{false, "property " + p.name + where(*at, layer)};
-      const std::string value = lower(p.value);
-      if (std::find(kCollidesProperties.begin(), kCollidesProperties.end(), name) != kCollidesProperties.end() &&
-          (value == "true" || value == "false")) {
-        return std::pair{value == "true", "property " + p.name + "=" + value + where(*at, layer)};
-      }
+/// Part 1 of the rule on one layer's own properties, or nothing.
+std::optional<Say> own_property_say(const TiledLayer& layer, std::size_t i) {
+  for (const TiledProperty& p : layer.properties) {
+    const std::string name = lower(p.name);
+    if (name == kNoCollideProperty) return Say{false, "property " + p.name, i};
+    const std::string value = lower(p.value);
+    if (std::find(kCollidesProperties.begin(), kCollidesProperties.end(), name) != kCollidesProperties.end() &&
+        (value == "true" || value == "false")) {
+      return Say{value == "true", "property " + p.name + "=" + value, i};
     }
   }
   return std::nullopt;
 }
 
-/// A declaration by class or name (2 of the rule) on the layer or its groups, or nothing.
-std::optional<std::string> declared_by_class_or_name(const std::vector<TiledLayer>& layers, const TiledLayer& layer) {
-  for (const TiledLayer* at = &layer; at != nullptr; at = parent_of(layers, *at)) {
-    const std::string type = lower(at->type);
-    if (std::find(kCollisionClasses.begin(), kCollisionClasses.end(), type) != kCollisionClasses.end()) {
-      return "class '" + at->type + "'" + where(*at, layer);
-    }
-    // The name's own part: a layer's path holds its groups' names, which are looked at in turn.
-    const std::string own = at->parent >= 0 ? at->name.substr(layers[static_cast<std::size_t>(at->parent)].name.size() + 1)
-                                            : at->name;
-    if (lower(own).find(kCollisionNameWord) != std::string::npos) {
-      return std::string("name contains '") + std::string(kCollisionNameWord) + "'" + where(*at, layer);
-    }
+/// Part 2 of the rule on one layer's own class and name (its own part of the path), or nothing.
+std::optional<Say> own_declaration(const std::vector<TiledLayer>& layers, const TiledLayer& layer, std::size_t i) {
+  if (std::find(kCollisionClasses.begin(), kCollisionClasses.end(), lower(layer.type)) != kCollisionClasses.end()) {
+    return Say{true, "class '" + layer.type + "'", i};
+  }
+  const std::size_t group_path = layer.parent >= 0 ? layers[static_cast<std::size_t>(layer.parent)].name.size() + 1 : 0;
+  if (lower(layer.name.substr(std::min(group_path, layer.name.size()))).find(kCollisionNameWord) != std::string::npos) {
+    return Say{true, "name contains '" + std::string(kCollisionNameWord) + "'", i};
   }
   return std::nullopt;
 }
 
-/// Sets `collides` and `reason` of every layer of `map`.
+/// Sets `collides` and `reason` of every layer of `map`. Groups come before their layers, so
+/// one pass in file order inherits what a group says: linear in the number of layers.
 void select_layers(TiledMap& map, const TiledLoadOptions& options) {
   std::vector<TiledLayer>& layers = map.layers;
+  const auto parent = [&](std::size_t i) { return static_cast<std::size_t>(layers[i].parent); };
   if (!options.layers.empty()) {
     const std::unordered_set<std::string> wanted(options.layers.begin(), options.layers.end());
     std::unordered_set<std::string> present;
@@ -296,34 +293,35 @@ void select_layers(TiledMap& map, const TiledLoadOptions& options) {
       tiled::fail(map.path, "layers", "'" + want + "' is no layer of the map (its layers: " +
                                           (list.empty() ? std::string("none") : list) + ")");
     }
-    std::vector<bool> named(layers.size(), false);
     for (std::size_t i = 0; i < layers.size(); ++i) {  // named itself, or inside a named group
-      for (const TiledLayer* at = &layers[i]; at != nullptr && !named[i]; at = parent_of(layers, *at)) {
-        named[i] = wanted.count(at->name) != 0;
-      }
-    }
-    for (std::size_t i = 0; i < layers.size(); ++i) {
-      layers[i].collides = named[i];
-      layers[i].reason = named[i] ? "named in layers" : "not named in layers";
+      layers[i].collides = wanted.count(layers[i].name) != 0 || (layers[i].parent >= 0 && layers[parent(i)].collides);
+      layers[i].reason = layers[i].collides ? "named in layers" : "not named in layers";
     }
   } else {
-    std::vector<std::optional<std::pair<bool, std::string>>> say(layers.size());
-    std::vector<std::optional<std::string>> declared(layers.size());
-    std::string declared_names;
+    std::vector<std::optional<Say>> say(layers.size());       // part 1, the nearest wins
+    std::vector<std::optional<Say>> declared(layers.size());  // part 2, the nearest wins
     for (std::size_t i = 0; i < layers.size(); ++i) {
-      if (layers[i].kind == TiledLayerKind::group || layers[i].kind == TiledLayerKind::image) continue;
-      say[i] = explicit_say(layers, layers[i]);
-      if (!say[i]) declared[i] = declared_by_class_or_name(layers, layers[i]);
-      if ((say[i] && say[i]->first) || declared[i]) declared_names += (declared_names.empty() ? "'" : ", '") + layers[i].name + "'";
+      say[i] = own_property_say(layers[i], i);
+      if (!say[i] && layers[i].parent >= 0) say[i] = say[parent(i)];
+      declared[i] = own_declaration(layers, layers[i], i);
+      if (!declared[i] && layers[i].parent >= 0) declared[i] = declared[parent(i)];
+    }
+    std::string declared_names;
+    const auto collision_layer = [&](std::size_t i) {
+      return (layers[i].kind == TiledLayerKind::tile || layers[i].kind == TiledLayerKind::object) &&
+             (say[i] ? say[i]->collides : declared[i].has_value());
+    };
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      if (collision_layer(i)) declared_names += (declared_names.empty() ? "'" : ", '") + layers[i].name + "'";
     }
     for (std::size_t i = 0; i < layers.size(); ++i) {
       TiledLayer& l = layers[i];
       if (say[i]) {
-        l.collides = say[i]->first;
-        l.reason = say[i]->second;
+        l.collides = say[i]->collides;
+        l.reason = reason(layers, *say[i], i);
       } else if (declared[i]) {
         l.collides = true;
-        l.reason = *declared[i];
+        l.reason = reason(layers, *declared[i], i);
       } else if (declared_names.empty()) {
         l.collides = true;
         l.reason = "the map declares no collision layer, so every layer collides";
