@@ -3,6 +3,7 @@
 // origin into the Minkowski difference A - B that the answer comes from.
 
 #include "cast.hpp"
+#include "command_errors.hpp"
 #include "commands.hpp"
 #include "query.hpp"
 
@@ -11,12 +12,11 @@
 #include <collide/draw/png.hpp>
 #include <collide/draw/svg_draw.hpp>
 
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <memory>
-#include <sstream>
 #include <string>
 
 namespace collide::cli {
@@ -31,19 +31,35 @@ struct CastOptions {
   int text_scale = 2;
 };
 
+/// All of `in`, at most kMaxQueryLineBytes (a question is one line of `collide query`): a longer
+/// input (`cat /dev/zero |`) is an error naming the limit, not a read without end.
+std::string read_bounded(std::istream& in, const std::string& name) {
+  std::string text;
+  std::array<char, 1 << 16> buffer{};
+  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (text.size() + got > kMaxQueryLineBytes) {
+      throw InvalidInput(name + ": longer than " + std::to_string(kMaxQueryLineBytes) +
+                         " bytes (the limit of a question, 16 MiB)");
+    }
+    text.append(buffer.data(), got);
+  }
+  if (in.bad()) throw InvalidInput(name + ": read error");
+  return text;
+}
+
 std::string read_question(const CastOptions& o) {
   if (!o.question.empty()) return o.question;
-  if (o.file.empty() || o.file == "-") {
-    return {std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
-  }
-  std::ifstream in(o.file);
-  if (!in) throw InvalidInput(o.file + ": cannot read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  if (o.file.empty() || o.file == "-") return read_bounded(std::cin, "standard input");
+  require_input_file(o.file);
+  std::ifstream in(o.file, std::ios::binary);
+  if (!in) throw InvalidInput(o.file + ": cannot be read");
+  return read_bounded(in, o.file);
 }
 
 int run_cast(const CastOptions& o) {
+  if (!o.png.empty()) require_output_folder("--png", o.png);
+  if (!o.svg.empty()) require_output_folder("--svg", o.svg);
   const CastQuestion q = parse_cast_question(read_question(o));
   PictureOptions options;
   options.width = o.width;
@@ -92,13 +108,10 @@ void register_cast_command(CLI::App& app) {
               "\"half\": [1, 0.5]}, \"va\": [6, 1], \"b\": {\"type\": \"circle\", \"radius\": 1}, "
               "\"xb\": {\"p\": [5, 0]}, \"vb\": [0, 0]}'");
   cmd->callback([options]() {
-    int code = 0;
-    try {
-      code = run_cast(*options);
-    } catch (const InvalidInput& e) {
-      std::fprintf(stderr, "collide cast: %s\n", e.what());
-      code = 2;
-    }
+    const std::string input = !options->question.empty()                    ? std::string("--question")
+                              : options->file.empty() || options->file == "-" ? std::string("standard input")
+                                                                              : options->file;
+    const int code = run_guarded("cast", input, [&] { return run_cast(*options); });
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

@@ -3,12 +3,14 @@
 // World2D, and the frame loop that steps it, casts the laser, writes events and reports. The
 // command in run_command.cpp is a thin CLI11 shell over `run_world`, so tests drive the same code.
 
+#include <collide/io/tiled.hpp>
 #include <collide/world/world2d.hpp>
 
 #include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace collide::cli {
 
@@ -33,6 +35,9 @@ struct RunOptions {
   std::string svg;
   int picture_width = 1400;
   bool progress = true;     ///< progress bar on stderr when it is a terminal
+  /// Tiled maps: the tile and object layers that collide (TiledLoadOptions::layers); empty: the
+  /// map's own declarations decide. Refused for other scenes.
+  std::vector<std::string> layers;
 };
 
 /// A scene built into a world, ready to run.
@@ -48,11 +53,14 @@ struct Scene {
   Ray laser{};               ///< the laser's first pose (it turns as the frames go by)
   /// Radians of phase per frame: at frame f the laser turns by kLaserSweepRadians sin(laser_turn f).
   float laser_turn = 0.0f;
+  /// Tiled maps: every layer, whether it collides and why (empty for other scenes).
+  std::vector<TiledLayer> map_layers;
 };
 
 /// Builds the scene `options` name: throws InvalidInput naming the file (and the element or
-/// JSON path) for a map or scene file that cannot be loaded, or listing the embedded scenes for
-/// an unknown name.
+/// JSON path) for a map or scene file that cannot be loaded (a directory, a FIFO, a device or an
+/// empty file is named before it is opened), listing the embedded scenes for an unknown name,
+/// or listing the map's layers for a name in `options.layers` that it does not have.
 [[nodiscard]] Scene make_scene(const RunOptions& options);
 
 /// What a run measured.

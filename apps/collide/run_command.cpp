@@ -3,6 +3,7 @@
 // the world frame by frame with a turning laser, checks every frame independently (no body inside
 // static geometry) and prints a per-phase summary and the final state hash.
 
+#include "command_errors.hpp"
 #include "commands.hpp"
 #include "run.hpp"
 
@@ -72,6 +73,29 @@ const char* check_name(int check) {
   return kNames[check];
 }
 
+/// Tiled maps: the layers used and skipped, each with what it held and why.
+void print_layers(std::FILE* out, const RunOptions& o, const Scene& scene) {
+  int used = 0, skipped = 0;
+  for (const TiledLayer& l : scene.map_layers) {
+    if (l.kind == TiledLayerKind::group) continue;
+    (l.collides ? used : skipped) += 1;
+  }
+  if (used + skipped == 0) return;
+  std::fprintf(out, "layers (%d used, %d skipped; %s)\n", used, skipped,
+               o.layers.empty() ? "the map's declarations decide, or --layers NAME,..." : "chosen by --layers");
+  for (const bool collides : {true, false}) {
+    for (const TiledLayer& l : scene.map_layers) {
+      if (l.kind == TiledLayerKind::group || l.collides != collides) continue;
+      std::string held = to_string(l.kind);
+      if (l.kind == TiledLayerKind::object) held += ", " + std::to_string(l.objects) + (l.objects == 1 ? " object" : " objects");
+      if (l.kind == TiledLayerKind::tile) held += ", " + std::to_string(l.cells) + (l.cells == 1 ? " cell" : " cells");
+      if (collides) held += ", " + std::to_string(l.colliders) + (l.colliders == 1 ? " collider" : " colliders");
+      std::fprintf(out, "  %-8s '%s' (%s): %s\n", collides ? "used" : "skipped", l.name.c_str(), held.c_str(),
+                   l.reason.c_str());
+    }
+  }
+}
+
 void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, const World2D& world,
                    const RunReport& r) {
   const StepStats& t = r.total;
@@ -84,6 +108,7 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
   std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u\n", f,
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase),
                o.adaptive_early_out ? "adaptive" : "fixed order", scene.seed);
+  print_layers(out, o, scene);
   std::fprintf(out, "per frame (mean)\n");
   std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
                per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
@@ -216,6 +241,8 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
 RunReport run_world(const RunOptions& o, std::FILE* out) {
   if (o.frames < 0) throw InvalidInput("--frames: negative");
   if (!std::isfinite(o.dt) || o.dt <= 0.0f) throw InvalidInput("--dt: must be positive and finite");
+  if (!o.png.empty()) require_output_folder("--png", o.png);  // before the run, not after it
+  if (!o.svg.empty()) require_output_folder("--svg", o.svg);
   Scene scene = make_scene(o);
   World2D& world = scene.world;
   std::ofstream events;
@@ -296,10 +323,15 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--png", o->png, "Write a picture of the last frame (PNG)");
   cmd->add_option("--svg", o->svg, "Write a picture of the last frame (SVG)");
   cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
+  cmd->add_option("--layers", o->layers,
+                  "Tiled maps: the tile and object layers that collide, by name (a group's name takes its layers), "
+                  "comma-separated; default: the layers the map declares (a layer class collision/solid, a property "
+                  "collides=true, a name containing \"collision\"), else every layer")
+      ->delimiter(',')
+      ->allow_extra_args(false);  // --layers a,b MAP: MAP is the scene, not a third layer
   cmd->add_flag("--no-progress", *quiet, "No progress bar (it is drawn only when stderr is a terminal)");
   cmd->callback([o, broad, fixed_order, quiet, seed]() {
-    int code = 0;
-    try {
+    const int code = run_guarded("run", o->input.empty() ? "default" : o->input, [&] {
       o->seed_given = seed->count() > 0;
       o->broad_phase = world_broad_phase_from_string(*broad);
       o->adaptive_early_out = !*fixed_order;
@@ -308,15 +340,10 @@ void register_run_command(CLI::App& app) {
       if (r.total.tunnelled != 0 || r.total.escaped != 0) {
         std::fprintf(stderr, "collide run: the independent check failed (%lld tunnelled, %lld escaped)\n",
                      static_cast<long long>(r.total.tunnelled), static_cast<long long>(r.total.escaped));
-        code = 3;
+        return 3;
       }
-    } catch (const InvalidInput& e) {
-      std::fprintf(stderr, "collide run: %s\n", e.what());
-      code = 2;
-    } catch (const std::exception& e) {  // never a crash: any other failure is an error, too
-      std::fprintf(stderr, "collide run: %s: %s\n", o->input.empty() ? "default" : o->input.c_str(), e.what());
-      code = 2;
-    }
+      return 0;
+    });
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

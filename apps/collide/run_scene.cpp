@@ -2,6 +2,7 @@
 // "bullets" scene (thin walls and very fast bodies), Tiled maps with bodies spawned in their
 // free space, and scene JSON files (docs/scene-json.md).
 
+#include "command_errors.hpp"
 #include "run.hpp"
 
 #include <collide/core/error.hpp>
@@ -260,7 +261,9 @@ Scene bullets_scene(const RunOptions& options) {
 }
 
 Scene map_scene(const RunOptions& options) {
-  const TiledMap map = load_tiled_map(options.input);
+  TiledLoadOptions load;
+  load.layers = options.layers;
+  const TiledMap map = load_tiled_map(options.input, load);
 
   // The map's rectangle (finite maps) and everything its colliders cover.
   Aabb box = compute_aabb(map.colliders.empty() ? Shape2D{make_circle({0, 0}, 0.0f)} : map.colliders[0].shape,
@@ -307,6 +310,7 @@ Scene map_scene(const RunOptions& options) {
   const Vec2 size = box.max - box.min;
   scene.laser = Ray{box.min + Vec2{tile, tile} * 1.5f, 4.0f * Vec2{size.x, 0.37f * size.y}};
   scene.laser_turn = 0.003f;
+  scene.map_layers = map.layers;
   return scene;
 }
 
@@ -341,11 +345,16 @@ Scene file_scene(const RunOptions& options) {
 
 Scene make_scene(const RunOptions& options) {
   const std::string& in = options.input;
+  const std::string ext = std::filesystem::path(in).extension().string();
+  if (ext == ".tmx" || ext == ".tmj" || ext == ".json") require_input_file(in);  // before any read
+  const bool map = ext == ".tmx" || ext == ".tmj" || (ext == ".json" && looks_like_tiled_json(in));
+  if (!options.layers.empty() && !map) {
+    throw InvalidInput("--layers: only Tiled maps have layers, not scene '" + (in.empty() ? std::string("default") : in) + "'");
+  }
   if (in.empty() || in == "default") return default_scene(options);
   if (in == "bullets") return bullets_scene(options);
-  const std::string ext = std::filesystem::path(in).extension().string();
-  if (ext == ".tmx" || ext == ".tmj") return map_scene(options);
-  if (ext == ".json") return looks_like_tiled_json(in) ? map_scene(options) : file_scene(options);
+  if (map) return map_scene(options);
+  if (ext == ".json") return file_scene(options);
   throw InvalidInput("scene '" + in + "': not a Tiled map (.tmx, .tmj, .json), a scene JSON file (.json) nor "
                      "an embedded scene (default, bullets)");
 }

@@ -1,6 +1,7 @@
 // `collide walk MESH.obj`: builds the walk mesh of a level for an agent, wanders agents over it,
 // checks every position independently, and optionally draws the mesh and the paths from above.
 
+#include "command_errors.hpp"
 #include "commands.hpp"
 
 #include <collide/core/error.hpp>
@@ -63,6 +64,8 @@ Color island_color(std::uint32_t island) {
 
 int run_walk(const WalkOptions& o) {
   const Vec3 up{0.0f, 1.0f, 0.0f};
+  if (!o.png.empty()) require_output_folder("--png", o.png);  // before the walk, not after it
+  require_input_file(o.mesh);
   const TriangleSoup level = io::load_obj(o.mesh);
   const WalkAgent agent{o.max_slope_degrees * std::numbers::pi_v<float> / 180.0f, o.agent_height, up};
   const WalkMesh mesh = make_walk_mesh(level, agent);
@@ -198,7 +201,7 @@ int run_walk(const WalkOptions& o) {
 void register_walk_command(CLI::App& app) {
   auto options = std::make_shared<WalkOptions>();
   CLI::App* cmd = app.add_subcommand("walk", "Build the walk mesh of an OBJ level and wander agents over it");
-  cmd->add_option("MESH", options->mesh, "Level mesh (.obj), y up")->required()->check(CLI::ExistingFile);
+  cmd->add_option("MESH", options->mesh, "Level mesh (.obj), y up")->required();
   cmd->add_option("--max-slope", options->max_slope_degrees, "Steepest walkable slope, degrees")
       ->capture_default_str()->check(CLI::Range(0.0f, 89.9f));
   cmd->add_option("--agent-height", options->agent_height, "Free height the agent needs above the ground")
@@ -211,13 +214,7 @@ void register_walk_command(CLI::App& app) {
   cmd->add_option("--png", options->png, "Write a top-down picture of the walk mesh and the paths");
   cmd->add_option("--png-size", options->png_size, "Picture side, pixels")->capture_default_str()->check(CLI::Range(16, kMaxCanvasSide));
   cmd->callback([options]() {
-    int code = 0;
-    try {
-      code = run_walk(*options);
-    } catch (const InvalidInput& e) {
-      std::fprintf(stderr, "collide walk: %s\n", e.what());
-      code = 2;
-    }
+    const int code = run_guarded("walk", options->mesh, [&] { return run_walk(*options); });
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

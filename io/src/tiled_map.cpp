@@ -8,11 +8,17 @@
 #include <collide/decompose/convex_decomposition.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <numbers>
+#include <optional>
+#include <string_view>
 #include <unordered_map>
+#include <unordered_set>
+#include <utility>
 
 namespace collide {
 
@@ -25,6 +31,16 @@ const char* to_string(TiledShapeKind kind) noexcept {
     case TiledShapeKind::point: return "point";
     case TiledShapeKind::text: return "text";
     case TiledShapeKind::tile: return "tile";
+  }
+  return "unknown";
+}
+
+const char* to_string(TiledLayerKind kind) noexcept {
+  switch (kind) {
+    case TiledLayerKind::tile: return "tile layer";
+    case TiledLayerKind::object: return "object layer";
+    case TiledLayerKind::image: return "image layer";
+    case TiledLayerKind::group: return "group";
   }
   return "unknown";
 }
@@ -247,10 +263,134 @@ std::string object_label(const TiledMap& map, const TiledObject& obj) {
          obj.layer + "'";
 }
 
+// Which layers collide: the rule of the file comment in tiled.hpp.
+
+/// Custom properties that say whether a layer collides (boolean), and the one that says it
+/// does not whatever its value (HaxeFlixel's `nocollide`).
+constexpr std::array<std::string_view, 3> kCollidesProperties = {"collides", "collision", "collidable"};
+constexpr std::string_view kNoCollideProperty = "nocollide";
+/// Classes that declare a collision layer, and the word a collision layer's name contains.
+constexpr std::array<std::string_view, 3> kCollisionClasses = {"collision", "collisions", "solid"};
+constexpr std::string_view kCollisionNameWord = "collision";
+
+std::string lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// A say about whether a layer collides, found on the layer (`at` is itself) or inherited from
+/// the group `at`.
+struct Say {
+  bool collides = false;
+  std::string why;  ///< "property collides=false", "class 'solid'", ...
+  std::size_t at = 0;
+};
+
+/// The reason for layer `i`: the say, and the group it was found on when that is not `i`.
+std::string reason(const std::vector<TiledLayer>& layers, const Say& say, std::size_t i) {
+  return say.at == i ? say.why : say.why + " on group '" + layers[say.at].name + "'";
+}
+
+/// Part 1 of the rule on one layer's own properties, or nothing.
+std::optional<Say> own_property_say(const TiledLayer& layer, std::size_t i) {
+  for (const TiledProperty& p : layer.properties) {
+    const std::string name = lower(p.name);
+    if (name == kNoCollideProperty) return Say{false, "property " + p.name, i};
+    const std::string value = lower(p.value);
+    if (std::find(kCollidesProperties.begin(), kCollidesProperties.end(), name) != kCollidesProperties.end() &&
+        (value == "true" || value == "false")) {
+      return Say{value == "true", "property " + p.name + "=" + value, i};
+    }
+  }
+  return std::nullopt;
+}
+
+/// Part 2 of the rule on one layer's own class and name (its own part of the path), or nothing.
+std::optional<Say> own_declaration(const std::vector<TiledLayer>& layers, const TiledLayer& layer, std::size_t i) {
+  if (std::find(kCollisionClasses.begin(), kCollisionClasses.end(), lower(layer.type)) != kCollisionClasses.end()) {
+    return Say{true, "class '" + layer.type + "'", i};
+  }
+  const std::size_t group_path = layer.parent >= 0 ? layers[static_cast<std::size_t>(layer.parent)].name.size() + 1 : 0;
+  if (lower(layer.name.substr(std::min(group_path, layer.name.size()))).find(kCollisionNameWord) != std::string::npos) {
+    return Say{true, "name contains '" + std::string(kCollisionNameWord) + "'", i};
+  }
+  return std::nullopt;
+}
+
+/// Sets `collides` and `reason` of every layer of `map`. Groups come before their layers, so
+/// one pass in file order inherits what a group says: linear in the number of layers.
+void select_layers(TiledMap& map, const TiledLoadOptions& options) {
+  std::vector<TiledLayer>& layers = map.layers;
+  const auto parent = [&](std::size_t i) { return static_cast<std::size_t>(layers[i].parent); };
+  if (!options.layers.empty()) {
+    const std::unordered_set<std::string> wanted(options.layers.begin(), options.layers.end());
+    std::unordered_set<std::string> present;
+    for (const TiledLayer& l : layers) present.insert(l.name);
+    for (const std::string& want : options.layers) {
+      if (present.count(want) != 0) continue;
+      std::string list;
+      for (const TiledLayer& l : layers) list += (list.empty() ? "'" : ", '") + l.name + "'";
+      tiled::fail(map.path, "layers", "'" + want + "' is no layer of the map (its layers: " +
+                                          (list.empty() ? std::string("none") : list) + ")");
+    }
+    for (std::size_t i = 0; i < layers.size(); ++i) {  // named itself, or inside a named group
+      layers[i].collides = wanted.count(layers[i].name) != 0 || (layers[i].parent >= 0 && layers[parent(i)].collides);
+      layers[i].reason = layers[i].collides ? "named in layers" : "not named in layers";
+    }
+  } else {
+    std::vector<std::optional<Say>> say(layers.size());       // part 1, the nearest wins
+    std::vector<std::optional<Say>> declared(layers.size());  // part 2, the nearest wins
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      say[i] = own_property_say(layers[i], i);
+      if (!say[i] && layers[i].parent >= 0) say[i] = say[parent(i)];
+      declared[i] = own_declaration(layers, layers[i], i);
+      if (!declared[i] && layers[i].parent >= 0) declared[i] = declared[parent(i)];
+    }
+    std::string declared_names;
+    const auto collision_layer = [&](std::size_t i) {
+      return (layers[i].kind == TiledLayerKind::tile || layers[i].kind == TiledLayerKind::object) &&
+             (say[i] ? say[i]->collides : declared[i].has_value());
+    };
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      if (collision_layer(i)) declared_names += (declared_names.empty() ? "'" : ", '") + layers[i].name + "'";
+    }
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      TiledLayer& l = layers[i];
+      if (say[i]) {
+        l.collides = say[i]->collides;
+        l.reason = reason(layers, *say[i], i);
+      } else if (declared[i]) {
+        l.collides = true;
+        l.reason = reason(layers, *declared[i], i);
+      } else if (declared_names.empty()) {
+        l.collides = true;
+        l.reason = "the map declares no collision layer, so every layer collides";
+      } else {
+        l.collides = false;
+        l.reason = "not declared a collision layer (the map declares " + declared_names + ")";
+      }
+    }
+  }
+  for (TiledLayer& l : layers) {
+    if (l.kind == TiledLayerKind::image) {
+      l.collides = false;
+      l.reason = "an image layer has no shapes";
+    } else if (l.kind == TiledLayerKind::group) {
+      l.collides = false;
+      l.reason = "a group: its layers are listed on their own";
+    }
+  }
+}
+
 void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
                      const TiledLoadOptions& options) {
+  select_layers(map, options);
+  std::unordered_map<std::string, bool> collides;  // by layer path: any layer of that path
+  for (const TiledLayer& l : map.layers) collides[l.name] = collides[l.name] || (l.collides && l.kind != TiledLayerKind::group);
   Builder builder(map, map.colliders);
   for (const TiledObject& obj : map.objects) {
+    if (!collides[obj.layer]) continue;
     const Transform xf = Transform::from(obj.layer_offset + obj.position, obj.rotation);
     const std::string label = object_label(map, obj);
     TiledSource source{obj.layer, obj.id, obj.name, obj.type, obj.kind, false, 0, 0, -1, -1};
@@ -297,6 +437,7 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
   // Tile layers: the shapes of a gid (flips included) are built once and placed per cell.
   std::unordered_map<std::uint32_t, std::vector<TiledCollider>> by_gid;
   for (const tiled::TileLayer& layer : layers) {
+    if (!collides[layer.name]) continue;
     for (const tiled::Cell& cell : layer.cells) {
       int local = 0;
       const TiledTileset* ts = builder.tileset_of(cell.gid, local);
@@ -348,6 +489,16 @@ TiledMap load_tiled_map(const std::filesystem::path& path, const TiledLoadOption
     tiled::Document doc = (ext == ".tmj" || ext == ".json") ? tiled::read_tmj(path)
                                                            : tiled::read_tmx(path);
     build_colliders(doc.map, doc.tile_layers, options);
+    // What each layer held and gave, for the caller's summary (layers are told apart by path).
+    std::unordered_map<std::string, int> objects, cells, colliders;
+    for (const TiledObject& o : doc.map.objects) ++objects[o.layer];
+    for (const tiled::TileLayer& t : doc.tile_layers) cells[t.name] += static_cast<int>(t.cells.size());
+    for (const TiledCollider& c : doc.map.colliders) ++colliders[c.source.layer];
+    for (TiledLayer& l : doc.map.layers) {
+      if (l.kind == TiledLayerKind::object) l.objects = objects[l.name];
+      if (l.kind == TiledLayerKind::tile) l.cells = cells[l.name];
+      if (l.collides) l.colliders = colliders[l.name];
+    }
     return std::move(doc.map);
   } catch (const InvalidInput& e) {
     // Messages quote names and values from the files: bytes that are not UTF-8 become \xNN.

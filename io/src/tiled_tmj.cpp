@@ -302,9 +302,33 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   doc.tile_layers.push_back(std::move(layer));
 }
 
-/// The "layers" of `parent` (the map, or a group `depth` levels deep).
+/// A layer's entry in TiledMap::layers: its class and custom properties (Tiled >= 1.2 writes
+/// them as a list of {name, type, value}; older maps as an object of name: value).
+TiledLayer layer_entry(const Json& j, std::string name, TiledLayerKind kind, int group) {
+  TiledLayer layer;
+  layer.name = std::move(name);
+  layer.kind = kind;
+  layer.type = text(j, "class");
+  layer.parent = group;
+  const auto as_text = [](const Json& v) { return v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump(); };
+  const auto type_of = [](const Json& v) { return v.is_boolean() ? "bool" : v.is_number_integer() ? "int" : v.is_number() ? "float" : "string"; };
+  const Json& properties = j.contains("properties") ? j["properties"] : Json::array();
+  if (properties.is_array()) {
+    for (const Json& p : properties) {
+      if (!p.is_object()) continue;
+      const Json& value = p.contains("value") ? p["value"] : Json();
+      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(value), as_text(value)});
+    }
+  } else if (properties.is_object()) {
+    for (const auto& [key, value] : properties.items()) layer.properties.push_back({key, type_of(value), as_text(value)});
+  }
+  return layer;
+}
+
+/// The "layers" of `parent` (the map, or a group `depth` levels deep); `group` is the index in
+/// TiledMap::layers of the group they are in (-1: the map).
 void read_layers(const Json& parent, const std::string& prefix, Vec2 offset, int depth, const Where& w,
-                 Document& doc) {
+                 Document& doc, int group = -1) {
   const Json& list = array_member(parent, "layers", w);
   for (size_t i = 0; i < list.size(); ++i) {
     const Json& j = list[i];
@@ -313,9 +337,15 @@ void read_layers(const Json& parent, const std::string& prefix, Vec2 offset, int
     const std::string type = text(j, "type");
     const std::string name = prefix + text(j, "name");
     const Vec2 here = offset + Vec2{number(j, "offsetx", 0.0f, lw), number(j, "offsety", 0.0f, lw)};
+    if (type == "group" || type == "tilelayer" || type == "objectgroup" || type == "imagelayer") {
+      const TiledLayerKind what = type == "group"       ? TiledLayerKind::group
+                                  : type == "tilelayer" ? TiledLayerKind::tile
+                                  : type == "imagelayer" ? TiledLayerKind::image : TiledLayerKind::object;
+      doc.map.layers.push_back(layer_entry(j, name, what, group));
+    }
     if (type == "group") {
       check_group_depth(depth + 1, lw.file, lw.element);
-      read_layers(j, name + "/", here, depth + 1, lw, doc);
+      read_layers(j, name + "/", here, depth + 1, lw, doc, static_cast<int>(doc.map.layers.size()) - 1);
     } else if (type == "tilelayer") {
       read_tile_layer(j, name, here, lw, doc);
     } else if (type == "objectgroup") {

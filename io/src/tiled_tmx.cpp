@@ -381,18 +381,40 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
   doc.tile_layers.push_back(std::move(layer));
 }
 
-/// The layers under `parent`, a group `depth` levels deep (0: the map).
+/// A layer's entry in TiledMap::layers: its class and custom properties.
+TiledLayer layer_entry(const pugi::xml_node& node, std::string name, TiledLayerKind kind, int group) {
+  TiledLayer layer;
+  layer.name = std::move(name);
+  layer.kind = kind;
+  layer.type = node.attribute("class").value();
+  layer.parent = group;
+  for (const pugi::xml_node p : node.child("properties").children("property")) {
+    const pugi::xml_attribute value = p.attribute("value");  // multi-line strings are the text
+    layer.properties.push_back({p.attribute("name").value(), p.attribute("type") ? p.attribute("type").value() : "string",
+                                value ? value.value() : p.text().get()});
+  }
+  return layer;
+}
+
+/// The layers under `parent`, a group `depth` levels deep (0: the map); `group` is the index in
+/// TiledMap::layers of that group (-1: the map).
 void read_layers(const pugi::xml_node& parent, const std::string& prefix, Vec2 offset, int depth,
-                 const std::filesystem::path& file, Document& doc) {
+                 const std::filesystem::path& file, Document& doc, int group = -1) {
   for (const pugi::xml_node node : parent.children()) {
     const std::string_view kind = node.name();
+    if (kind == "imagelayer") {
+      doc.map.layers.push_back(layer_entry(node, prefix + node.attribute("name").value(), TiledLayerKind::image, group));
+    }
     if (kind != "layer" && kind != "objectgroup" && kind != "group") continue;
     const std::string name = prefix + node.attribute("name").value();
     const Vec2 here = offset + Vec2{number(node, "offsetx", 0.0f, file),
                                     number(node, "offsety", 0.0f, file)};
+    const TiledLayerKind what = kind == "group" ? TiledLayerKind::group
+                                : kind == "layer" ? TiledLayerKind::tile : TiledLayerKind::object;
+    doc.map.layers.push_back(layer_entry(node, name, what, group));
     if (kind == "group") {
       check_group_depth(depth + 1, file, element_label(node));
-      read_layers(node, name + "/", here, depth + 1, file, doc);
+      read_layers(node, name + "/", here, depth + 1, file, doc, static_cast<int>(doc.map.layers.size()) - 1);
     } else if (kind == "layer") {
       read_tile_layer(node, name, here, file, doc);
     } else {

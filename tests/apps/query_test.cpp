@@ -310,19 +310,8 @@ TEST(QueryToi, FirstTouchOfTwoApproachingShapesIsAnalytic) {
 namespace collide::cli {
 namespace {
 
-/// Runs `sh -c SCRIPT` (stdout and stderr together); COLLIDE is the built tool.
-test::CommandRun run_shell(const std::string& script) {
-  const std::string cmd = "COLLIDE='" + std::string(COLLIDE_CLI_PATH) + "'; " + script + " 2>&1";
-  test::CommandRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), static_cast<int>(buf.size()), pipe) != nullptr) r.output += buf.data();
-  r.status = pclose(pipe);
-  return r;
-}
-
-int exit_code(const test::CommandRun& r) { return WIFEXITED(r.status) ? WEXITSTATUS(r.status) : -1; }
+using test::exit_code;
+using test::run_shell;
 
 const std::string kGoodQuestion = R"({"id": 2, "op": "overlap", "a": {"type": "circle", "radius": 1}, "b": {"type": "circle", "radius": 1}})";
 
@@ -410,14 +399,6 @@ TEST(QueryRobustness, LinesLongerThanTheLimitAreSkippedWithAnError) {
   EXPECT_EQ(a3, R"({"id":2,"overlap":true})");
   EXPECT_EQ(a4, R"({"error":"line 4: longer than 16777216 bytes (the limit, 16 MiB); not read","id":null})");
 }
-
-#if defined(__SANITIZE_ADDRESS__)
-#define COLLIDE_TEST_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define COLLIDE_TEST_UNDER_ASAN 1
-#endif
-#endif
 
 // A 100 MB line under a 100 MB address-space limit: std::getline's std::bad_alloc was swallowed
 // by the stream, which then ended: exit 0 with no answer at all, not even for the good line after.

@@ -25,6 +25,22 @@
 ///  - point and text objects -> no collider (they are listed in `TiledMap::objects`).
 /// Layer offsets and the offsets of nested groups are applied; parallax factors are not (they
 /// change drawing only). Hidden layers are loaded too (collision layers are often hidden).
+///
+/// Which layers collide (`TiledLoadOptions::layers`, `TiledMap::layers` says what was chosen
+/// and why). Given layer names (paths, "group/layer"; a group stands for every layer in it),
+/// exactly those tile and object layers collide. Otherwise the map's own declarations decide,
+/// as game engines read them; each is looked for on the layer, then on its enclosing groups
+/// (the nearest wins; names of properties and classes are compared ignoring case):
+///  1. a boolean custom property `collides`, `collision` or `collidable` (true: collides, false:
+///     skipped; the property Phaser's setCollisionByProperty reads on tiles), or a property
+///     `nocollide` of any value (skipped; HaxeFlixel's Tiled demos skip such tile layers);
+///  2. else a class (Tiled >= 1.9) of "collision", "collisions" or "solid", or a layer or group
+///     name that contains "collision" (melonJS's rule: an object group whose name contains
+///     "collision" is the world's static geometry; tutorials name it "Collision(s)").
+/// If some layer is declared a collision layer by 1 or 2, only the declared layers collide (the
+/// others hold art, spawn points and entities). If none is, every tile and object layer
+/// collides except those that property 1 turns off: a map that declares nothing loads as it
+/// always did. Image layers never collide. Layers are told apart by their paths.
 /// Images are never opened, so missing images are fine. The XML parser never fetches the
 /// external DTD that old maps name in their DOCTYPE.
 ///
@@ -100,6 +116,34 @@ struct TiledObject {
   std::string template_file;  ///< the `.tx` it was instantiated from, empty if none
 };
 
+/// What a Tiled layer is.
+enum class TiledLayerKind : unsigned char { tile, object, image, group };
+
+/// "tile layer", "object layer", "image layer" or "group".
+[[nodiscard]] const char* to_string(TiledLayerKind kind) noexcept;
+
+/// A custom property as the file writes it.
+struct TiledProperty {
+  std::string name;
+  std::string type;   ///< "string" (also when the file names no type), "bool", "int", "float", ...
+  std::string value;  ///< as text: "true"/"false" for bools, numbers as written; empty for classes
+};
+
+/// A layer of the map (groups included), as the file describes it, and whether it collides.
+struct TiledLayer {
+  std::string name;                      ///< path, groups joined by '/' (as TiledObject::layer)
+  TiledLayerKind kind = TiledLayerKind::object;
+  std::string type;                      ///< `class` (Tiled >= 1.9); empty when none
+  std::vector<TiledProperty> properties; ///< the layer's custom properties, in file order
+  int parent = -1;                       ///< index in TiledMap::layers of its group, -1 at the top
+  // Filled by load_tiled_map (the file comment gives the rule):
+  bool collides = false;  ///< its objects and cells became colliders (never for groups)
+  std::string reason;     ///< why it collides or not ("class 'solid'", "not named in layers", ...)
+  int objects = 0;        ///< objects of an object layer
+  int cells = 0;          ///< non-empty cells of a tile layer
+  int colliders = 0;      ///< colliders built from it (0 when skipped)
+};
+
 /// One tile of a tileset that carries collision shapes or its own image size.
 struct TiledTile {
   int id = 0;                       ///< local tile id within the tileset
@@ -153,6 +197,7 @@ struct TiledMap {
   Vec2 tile_size{0.0f, 0.0f};        ///< map tile size, pixels
   bool infinite = false;             ///< chunked tile layers
   std::vector<TiledTileset> tilesets;  ///< by first gid (as Tiled writes them)
+  std::vector<TiledLayer> layers;    ///< every layer in file order, a group before its layers
   std::vector<TiledObject> objects;  ///< every object of every object layer, in file order
   int tile_cells = 0;                ///< non-empty tile-layer cells
   std::vector<TiledCollider> colliders;
@@ -162,6 +207,10 @@ struct TiledMap {
 struct TiledLoadOptions {
   /// A tile object whose tile has no collision shapes becomes a box of its image rectangle.
   bool tile_object_image_boxes = true;
+  /// The tile and object layers that collide, by path ("ground", "group/walls"; a group's path
+  /// names every layer in it). Empty: the map's declarations decide (see the file comment).
+  /// A name that is no layer of the map is an InvalidInput that lists the map's layers.
+  std::vector<std::string> layers;
 };
 
 /// Loads a `.tmx` or `.tmj`/`.json` map and builds its static colliders (see the file comment
@@ -178,7 +227,8 @@ struct TiledLoadOptions {
 /// than kMaxJsonDepth, more than kMaxTiledMapTiles declared tiles, cells beyond int range,
 /// firstgid outside [1, kTiledGidMask], numbers beyond kMaxTiledCoordinate, polygons over
 /// kMaxTiledPolygonPoints, more than kMaxTiledColliders colliders or kMaxTiledLoadBytes read.
-/// Messages are valid UTF-8 (other bytes quoted as \xNN). Allocates; load time only.
+/// Throws InvalidInput "<file>: layers: 'NAME' is no layer of the map (its layers: ...)" for a
+/// name in `options.layers` that no layer has. Messages are valid UTF-8 (other bytes quoted as \xNN). Allocates; load time only.
 [[nodiscard]] TiledMap load_tiled_map(const std::filesystem::path& path,
                                       const TiledLoadOptions& options = {});
 
