@@ -1,5 +1,7 @@
 #include <collide/broad/hierarchical_grid.hpp>
 
+#include "oversized_boxes.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -13,8 +15,8 @@ namespace {
 constexpr int kFinestLevel = -8;
 constexpr int kCoarsestLevel = 24;
 
-/// The first level whose cells are at least `largest_side` wide.
-int level_for(float largest_side, float base) noexcept {
+/// The first level whose cells are at least `largest_side` wide, at least `finest`.
+int level_for(float largest_side, float base, int finest) noexcept {
   int level = 0;
   float cell = base;
   if (largest_side > cell) {
@@ -23,7 +25,7 @@ int level_for(float largest_side, float base) noexcept {
       ++level;
     }
   } else {
-    while (level > kFinestLevel && largest_side <= cell / HierarchicalGridN<2>::kLevelRatio) {
+    while (level > finest && largest_side <= cell / HierarchicalGridN<2>::kLevelRatio) {
       cell /= HierarchicalGridN<2>::kLevelRatio;
       --level;
     }
@@ -62,12 +64,33 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   boxes_.assign(boxes.begin(), boxes.end());
   const float base = base_;
   for (Level& level : levels_) level.ids.clear();
+  big_.clear();
+  is_big_.assign(boxes.size(), 0);
+  // Boxes larger than the cells of the coarsest level (or wider than float: an infinite side),
+  // and boxes reaching beyond kGridCoordinateLimit, where no level lays cells, are tested
+  // against all instead: in the coarsest level such a box could cover 2^60 cells.
+  bool partial = false;
+  const AabbN<D> region = grid_region(world, partial);
+  const double coarsest = static_cast<double>(base) * std::pow(static_cast<double>(kLevelRatio), kCoarsestLevel);
+  // The finest level whose cells stay above the float resolution of the world's coordinates
+  // (kCellSizeResolution, as suggest_cell_size keeps the base): cells of a few float spacings
+  // put a ray's walk (double arithmetic) and the boxes' cells (float) a cell apart.
+  float magnitude = 0.0f;
+  for (int k = 0; k < D; ++k) magnitude = std::max({magnitude, std::abs(region.min[k]), std::abs(region.max[k])});
+  const double resolution = static_cast<double>(kCellSizeResolution) * magnitude;
+  int finest = kFinestLevel;
+  while (finest < 0 && static_cast<double>(base) * std::pow(static_cast<double>(kLevelRatio), finest) < resolution) ++finest;
   const int n = size();
   for (int i = 0; i < n; ++i) {
     const VecN<D> s = boxes[i].size();
     float largest = s[0];
     for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
-    const int exponent = level_for(largest, base);
+    if (static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]))) [[unlikely]] {
+      big_.push_back(i);
+      is_big_[static_cast<std::size_t>(i)] = 1;
+      continue;
+    }
+    const int exponent = level_for(largest, base, finest);
     auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
                                [](const Level& l, int e) { return l.exponent < e; });
     if (it == levels_.end() || it->exponent != exponent) {
@@ -106,10 +129,12 @@ void HierarchicalGridN<D>::find_pairs(PairList& pairs) const {
       }
     }
   }
+  detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
 }
 
 template <int D>
 void HierarchicalGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
+  if (!detail::oversized_query<D>(big_, boxes_, box, callback)) return;
   bool go_on = true;
   for (const Level& level : levels_) {
     if (!go_on) return;
@@ -119,6 +144,9 @@ void HierarchicalGridN<D>::query(const AabbN<D>& box, QueryCallback callback) co
 
 template <int D>
 void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) const {
+  for (const int b : big_) {
+    if (contains(boxes_[static_cast<std::size_t>(b)], point) && !callback(b)) return;
+  }
   bool go_on = true;
   for (const Level& level : levels_) {
     if (!go_on) return;
@@ -128,7 +156,7 @@ void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callb
 
 template <int D>
 void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  float limit = 1.0f;
+  float limit = detail::oversized_ray_cast<D>(big_, boxes_, ray, 1.0f, callback);
   for (const Level& level : levels_) {
     if (limit <= 0.0f) return;
     // A level's walk starts at fraction 1; boxes beyond the clip of earlier levels are skipped
@@ -151,7 +179,8 @@ int HierarchicalGridN<D>::level_count() const noexcept {
 template <int D>
 std::size_t HierarchicalGridN<D>::memory_bytes() const noexcept {
   std::size_t bytes = boxes_.capacity() * sizeof(AabbN<D>) + scratch_.capacity() * sizeof(float) +
-                      levels_.capacity() * sizeof(Level);
+                      levels_.capacity() * sizeof(Level) + big_.capacity() * sizeof(int) +
+                      is_big_.capacity();
   for (const Level& level : levels_) {
     bytes += level.ids.capacity() * sizeof(int) + level.grid.memory_bytes();
   }

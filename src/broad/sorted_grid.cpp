@@ -49,7 +49,14 @@ void SortedGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bo
   entry_total_ = 0;
   std::size_t binned = 0;
   const double max_cells = options_.max_cells_per_box;
+  const bool partial = grid_.partial;
   for (int i = 0; i < count_; ++i) {
+    if (partial && !contains(grid_.bounds, boxes[i])) [[unlikely]] {
+      // Beyond kGridCoordinateLimit: no cell (cell_of_inside is only for points inside).
+      oversized_.push_back(i);
+      is_oversized_[i] = 1;
+      continue;
+    }
     const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
     const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
     double cells = 1.0;
@@ -271,8 +278,19 @@ void SortedGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) c
 
 template <int D>
 void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  const float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
+  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
+  if (walk_length(grid_, ray, limit) > static_cast<double>(cell_count())) {
+    // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
+    // box once, at the entry of its min-corner cell, in cell order, instead.
+    for (const CellEntry& entry : entries_) {
+      if (limit <= 0.0f) return;
+      if (entry.first_axes != kAllAxes<D> || ray_box_fraction(ray, entry.box, limit) < 0.0f) continue;
+      const float r = callback(entry.id, limit);
+      if (r < limit) limit = r;
+    }
+    return;
+  }
   // As in HashGrid: a box is tested in the first cell of the walk inside its cell range.
   bool first = true;
   CellN<D> previous{0};
