@@ -123,22 +123,30 @@ void HashGridN<D>::update(std::span<const AabbN<D>> boxes) {
   table_.assign(std::bit_ceil(std::max<std::size_t>(64, 2 * boxes.size())), -1);
 
   const int n = size();
-  const bool partial = grid_.partial;
-  for (int i = 0; i < n; ++i) {
-    const AabbN<D>& b = boxes_[i];
-    // A box reaching beyond kGridCoordinateLimit is kept out of the cells too: queries and ray
-    // walks stop at the grid's bounds.
-    if (grid_.cell_count(b) > static_cast<double>(options_.max_cells_per_box) ||
-        (partial && !contains(grid_.bounds, b))) {
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
+  // Two copies of the loop, so that an ordinary world's (the whole world inside the grid) has
+  // no test for boxes beyond kGridCoordinateLimit, which are kept out of the cells too: queries
+  // and ray walks stop at the grid's bounds.
+  const auto bin = [&]<bool kPartial>() {
+    for (int i = 0; i < n; ++i) {
+      const AabbN<D>& b = boxes_[i];
+      bool out = grid_.cell_count(b) > static_cast<double>(options_.max_cells_per_box);
+      if constexpr (kPartial) out = out || !contains(grid_.bounds, b);
+      if (out) {
+        oversized_.push_back(i);
+        is_oversized_[i] = 1;
+        continue;
+      }
+      for_each_cell<D>(grid_.cell_of(b.min), grid_.cell_of(b.max), [&](const CellN<D>& c) {
+        entry_cell_.push_back(find_or_add_cell(c));
+        entry_id_.push_back(i);
+        return true;
+      });
     }
-    for_each_cell<D>(grid_.cell_of(b.min), grid_.cell_of(b.max), [&](const CellN<D>& c) {
-      entry_cell_.push_back(find_or_add_cell(c));
-      entry_id_.push_back(i);
-      return true;
-    });
+  };
+  if (grid_.partial) {
+    bin.template operator()<true>();
+  } else {
+    bin.template operator()<false>();
   }
 
   // Counting sort of the entries by cell: each cell's ids contiguous, ascending.

@@ -15,8 +15,8 @@ namespace {
 constexpr int kFinestLevel = -8;
 constexpr int kCoarsestLevel = 24;
 
-/// The first level whose cells are at least `largest_side` wide, at least `finest`.
-int level_for(float largest_side, float base, int finest) noexcept {
+/// The first level whose cells are at least `largest_side` wide.
+int level_for(float largest_side, float base) noexcept {
   int level = 0;
   float cell = base;
   if (largest_side > cell) {
@@ -25,7 +25,7 @@ int level_for(float largest_side, float base, int finest) noexcept {
       ++level;
     }
   } else {
-    while (level > finest && largest_side <= cell / HierarchicalGridN<2>::kLevelRatio) {
+    while (level > kFinestLevel && largest_side <= cell / HierarchicalGridN<2>::kLevelRatio) {
       cell /= HierarchicalGridN<2>::kLevelRatio;
       --level;
     }
@@ -80,17 +80,17 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   const double resolution = static_cast<double>(kCellSizeResolution) * magnitude;
   int finest = kFinestLevel;
   while (finest < 0 && static_cast<double>(base) * std::pow(static_cast<double>(kLevelRatio), finest) < resolution) ++finest;
+  // (no box can be big when the world fits in the region and in one coarsest cell: the test
+  // is skipped, as it is for every ordinary world)
+  double world_side = 0.0;
+  for (int k = 0; k < D; ++k) world_side = std::max(world_side, static_cast<double>(world.max[k]) - world.min[k]);
+  const bool may_be_big = partial || world_side > coarsest;
   const int n = size();
   for (int i = 0; i < n; ++i) {
     const VecN<D> s = boxes[i].size();
     float largest = s[0];
     for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
-    if (static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]))) [[unlikely]] {
-      big_.push_back(i);
-      is_big_[static_cast<std::size_t>(i)] = 1;
-      continue;
-    }
-    const int exponent = level_for(largest, base, finest);
+    const int exponent = level_for(largest, base);
     auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
                                [](const Level& l, int e) { return l.exponent < e; });
     if (it == levels_.end() || it->exponent != exponent) {
@@ -98,6 +98,39 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
       it->exponent = exponent;
     }
     it->ids.push_back(i);
+  }
+  // The rare cases after the loop, so that the loop of an ordinary world is what it was: levels
+  // finer than `finest` merged into it; big boxes taken out of their level.
+  if (finest > kFinestLevel && !levels_.empty() && levels_.front().exponent < finest) {
+    auto it = std::lower_bound(levels_.begin(), levels_.end(), finest,
+                               [](const Level& l, int e) { return l.exponent < e; });
+    if (it == levels_.end() || it->exponent != finest) {
+      it = levels_.insert(it, Level{});
+      it->exponent = finest;
+    }
+    Level& into = *it;
+    for (auto fine = levels_.begin(); fine->exponent < finest; ++fine) {
+      into.ids.insert(into.ids.end(), fine->ids.begin(), fine->ids.end());
+      fine->ids.clear();
+    }
+    std::sort(into.ids.begin(), into.ids.end());
+  }
+  if (may_be_big) {
+    const auto is_big = [&](int i) {
+      const VecN<D> s = boxes[i].size();
+      float largest = s[0];
+      for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
+      return static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]));
+    };
+    for (Level& level : levels_) {
+      std::erase_if(level.ids, [&](int i) {
+        if (!is_big(i)) return false;
+        big_.push_back(i);
+        is_big_[static_cast<std::size_t>(i)] = 1;
+        return true;
+      });
+    }
+    std::sort(big_.begin(), big_.end());
   }
   for (Level& level : levels_) {
     const float cell = base * std::pow(kLevelRatio, static_cast<float>(level.exponent));

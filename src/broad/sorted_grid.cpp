@@ -49,25 +49,42 @@ void SortedGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bo
   entry_total_ = 0;
   std::size_t binned = 0;
   const double max_cells = options_.max_cells_per_box;
-  const bool partial = grid_.partial;
-  for (int i = 0; i < count_; ++i) {
-    if (partial && !contains(grid_.bounds, boxes[i])) [[unlikely]] {
-      // Beyond kGridCoordinateLimit: no cell (cell_of_inside is only for points inside).
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
+  // Two copies of the loop, so that an ordinary world's (the whole world inside the grid) has
+  // no test for boxes beyond kGridCoordinateLimit.
+  const auto bin = [&]<bool kPartial>() {
+    // (locals, not members, in the loop: the stores through them cannot alias the grid)
+    const GridMapping<D> grid = grid_;
+    CellRange* ranges = ranges_.data();
+    std::size_t entries = 0, filled = 0;
+    const int n = count_;
+    for (int i = 0; i < n; ++i) {
+      if constexpr (kPartial) {
+        if (!contains(grid.bounds, boxes[i])) {
+          // Beyond kGridCoordinateLimit: no cell (cell_of_inside is only for points inside).
+          oversized_.push_back(i);
+          is_oversized_[i] = 1;
+          continue;
+        }
+      }
+      const CellN<D> lo = grid.cell_of_inside(boxes[i].min);
+      const CellN<D> hi = grid.cell_of_inside(boxes[i].max);
+      double cells = 1.0;
+      for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
+      if (cells > max_cells) {
+        oversized_.push_back(i);
+        is_oversized_[i] = 1;
+        continue;
+      }
+      ranges[filled++] = {lo, hi, i};
+      entries += static_cast<std::size_t>(cells);
     }
-    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
-    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
-    double cells = 1.0;
-    for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
-    if (cells > max_cells) {
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
-    }
-    ranges_[binned++] = {lo, hi, i};
-    entry_total_ += static_cast<std::size_t>(cells);
+    entry_total_ = entries;
+    binned = filled;
+  };
+  if (grid_.partial) {
+    bin.template operator()<true>();
+  } else {
+    bin.template operator()<false>();
   }
   ranges_.resize(binned);
   if (oversized_.empty()) {
