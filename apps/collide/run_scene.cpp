@@ -17,6 +17,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace collide::cli {
@@ -343,6 +344,18 @@ Scene file_scene(const RunOptions& options) {
 
 }  // namespace
 
+/// `build()`, with the input file named in front of an error that does not name it already (the
+/// loaders do; World2D names the static or body, e.g. one beyond kMaxWorldCoordinate).
+template <class Build>
+Scene naming_the_file(const std::string& in, Build&& build) {
+  try {
+    return build();
+  } catch (const InvalidInput& e) {
+    if (std::string_view(e.what()).starts_with(in)) throw;
+    throw InvalidInput(in + ": " + e.what());
+  }
+}
+
 Scene make_scene(const RunOptions& options) {
   const std::string& in = options.input;
   const std::string ext = std::filesystem::path(in).extension().string();
@@ -353,8 +366,8 @@ Scene make_scene(const RunOptions& options) {
   }
   if (in.empty() || in == "default") return default_scene(options);
   if (in == "bullets") return bullets_scene(options);
-  if (map) return map_scene(options);
-  if (ext == ".json") return file_scene(options);
+  if (map) return naming_the_file(in, [&] { return map_scene(options); });
+  if (ext == ".json") return naming_the_file(in, [&] { return file_scene(options); });
   throw InvalidInput("scene '" + in + "': not a Tiled map (.tmx, .tmj, .json), a scene JSON file (.json) nor "
                      "an embedded scene (default, bullets)");
 }

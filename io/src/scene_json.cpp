@@ -230,15 +230,26 @@ class SceneReader {
     if (const Json* w = find_member(root, "walls")) {
       out.wall_thickness = real_at_least(*w, top.member("walls"), 0.0f, "must be >= 0");
     }
+    // The world's coordinate range (kMaxWorldCoordinate), here so a scene that loads can run:
+    // the bounds with the walls around them, then every static and body.
+    const Vec2 walls{out.wall_thickness, out.wall_thickness};
+    check_world_range(Aabb{out.bounds.min - walls, out.bounds.max + walls},
+                      out.wall_thickness > 0.0f ? "bounds (with the walls)" : "bounds");
     if (const Json* list = find_member(root, "statics")) {
       const JsonPath path = top.member("statics");
       if (!list->is_array()) fail_json(path, "expected an array, got " + json_kind(*list));
-      for (std::size_t i = 0; i < list->size(); ++i) out.statics.push_back(static_def((*list)[i], path.element(i)));
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        out.statics.push_back(static_def((*list)[i], path.element(i)));
+        check_world_range(out.statics.back().shapes, out.statics.back().transform, path.element(i).str());
+      }
     }
     if (const Json* list = find_member(root, "bodies")) {
       const JsonPath path = top.member("bodies");
       if (!list->is_array()) fail_json(path, "expected an array, got " + json_kind(*list));
-      for (std::size_t i = 0; i < list->size(); ++i) out.bodies.push_back(body_def((*list)[i], path.element(i)));
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        out.bodies.push_back(body_def((*list)[i], path.element(i)));
+        check_world_range(out.bodies.back().shapes, out.bodies.back().transform, path.element(i).str());
+      }
     }
     out.spawn = spawn(find_member(root, "spawn"), top.member("spawn"), out.bounds);
     if (const Json* l = find_member(root, "laser")) out.laser = laser(*l, top.member("laser"));

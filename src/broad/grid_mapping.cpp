@@ -139,9 +139,10 @@ float suggest_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& world,
     const float per_axis = std::pow(static_cast<float>(boxes.size()), 1.0f / static_cast<float>(D));
     size = span / std::max(per_axis, 1.0f);
   }
-  // A cell must stay well above the float spacing of the coordinates it divides.
+  // A cell must stay well above the float spacing of the coordinates it divides, and finite
+  // (boxes whose sides overflow float, wider than FLT_MAX, make the median infinite).
   const float resolution = kCellSizeResolution * std::max(magnitude, 1e-30f);
-  return std::max({size, resolution, std::numeric_limits<float>::min()});
+  return std::min(std::max({size, resolution, std::numeric_limits<float>::min()}), kMaxCellSize);
 }
 
 template AabbN<2> checked_bounds_of<2>(std::span<const AabbN<2>>);

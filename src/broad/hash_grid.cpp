@@ -123,18 +123,30 @@ void HashGridN<D>::update(std::span<const AabbN<D>> boxes) {
   table_.assign(std::bit_ceil(std::max<std::size_t>(64, 2 * boxes.size())), -1);
 
   const int n = size();
-  for (int i = 0; i < n; ++i) {
-    const AabbN<D>& b = boxes_[i];
-    if (grid_.cell_count(b) > static_cast<double>(options_.max_cells_per_box)) {
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
+  // Two copies of the loop, so that an ordinary world's (the whole world inside the grid) has
+  // no test for boxes beyond kGridCoordinateLimit, which are kept out of the cells too: queries
+  // and ray walks stop at the grid's bounds.
+  const auto bin = [&]<bool kPartial>() {
+    for (int i = 0; i < n; ++i) {
+      const AabbN<D>& b = boxes_[i];
+      bool out = grid_.cell_count(b) > static_cast<double>(options_.max_cells_per_box);
+      if constexpr (kPartial) out = out || !contains(grid_.bounds, b);
+      if (out) {
+        oversized_.push_back(i);
+        is_oversized_[i] = 1;
+        continue;
+      }
+      for_each_cell<D>(grid_.cell_of(b.min), grid_.cell_of(b.max), [&](const CellN<D>& c) {
+        entry_cell_.push_back(find_or_add_cell(c));
+        entry_id_.push_back(i);
+        return true;
+      });
     }
-    for_each_cell<D>(grid_.cell_of(b.min), grid_.cell_of(b.max), [&](const CellN<D>& c) {
-      entry_cell_.push_back(find_or_add_cell(c));
-      entry_id_.push_back(i);
-      return true;
-    });
+  };
+  if (grid_.partial) {
+    bin.template operator()<true>();
+  } else {
+    bin.template operator()<false>();
   }
 
   // Counting sort of the entries by cell: each cell's ids contiguous, ascending.
@@ -217,8 +229,19 @@ void HashGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) con
 
 template <int D>
 void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  const float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
+  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
   if (limit <= 0.0f || cells_.empty()) return;
+  if (walk_length(grid_, ray, limit) > static_cast<double>(cells_.size())) {
+    // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
+    // box once, in id order, instead.
+    const int n = size();
+    for (int id = 0; id < n && limit > 0.0f; ++id) {
+      if (is_oversized_[static_cast<std::size_t>(id)] || ray_box_fraction(ray, boxes_[id], limit) < 0.0f) continue;
+      const float r = callback(id, limit);
+      if (r < limit) limit = r;
+    }
+    return;
+  }
   // The cells along the ray change monotonically on each axis, so the cells of the walk that
   // lie in a box's cell range are consecutive: a box is met first where the previous cell of the
   // walk was outside its range, and tested only there.

@@ -1,5 +1,7 @@
 #include <collide/broad/hierarchical_grid.hpp>
 
+#include "oversized_boxes.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -62,6 +64,27 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   boxes_.assign(boxes.begin(), boxes.end());
   const float base = base_;
   for (Level& level : levels_) level.ids.clear();
+  big_.clear();
+  is_big_.assign(boxes.size(), 0);
+  // Boxes larger than the cells of the coarsest level (or wider than float: an infinite side),
+  // and boxes reaching beyond kGridCoordinateLimit, where no level lays cells, are tested
+  // against all instead: in the coarsest level such a box could cover 2^60 cells.
+  bool partial = false;
+  const AabbN<D> region = grid_region(world, partial);
+  const double coarsest = static_cast<double>(base) * std::pow(static_cast<double>(kLevelRatio), kCoarsestLevel);
+  // The finest level whose cells stay above the float resolution of the world's coordinates
+  // (kCellSizeResolution, as suggest_cell_size keeps the base): cells of a few float spacings
+  // put a ray's walk (double arithmetic) and the boxes' cells (float) a cell apart.
+  float magnitude = 0.0f;
+  for (int k = 0; k < D; ++k) magnitude = std::max({magnitude, std::abs(region.min[k]), std::abs(region.max[k])});
+  const double resolution = static_cast<double>(kCellSizeResolution) * magnitude;
+  int finest = kFinestLevel;
+  while (finest < 0 && static_cast<double>(base) * std::pow(static_cast<double>(kLevelRatio), finest) < resolution) ++finest;
+  // (no box can be big when the world fits in the region and in one coarsest cell: the test
+  // is skipped, as it is for every ordinary world)
+  double world_side = 0.0;
+  for (int k = 0; k < D; ++k) world_side = std::max(world_side, static_cast<double>(world.max[k]) - world.min[k]);
+  const bool may_be_big = partial || world_side > coarsest;
   const int n = size();
   for (int i = 0; i < n; ++i) {
     const VecN<D> s = boxes[i].size();
@@ -75,6 +98,39 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
       it->exponent = exponent;
     }
     it->ids.push_back(i);
+  }
+  // The rare cases after the loop, so that the loop of an ordinary world is what it was: levels
+  // finer than `finest` merged into it; big boxes taken out of their level.
+  if (finest > kFinestLevel && !levels_.empty() && levels_.front().exponent < finest) {
+    auto it = std::lower_bound(levels_.begin(), levels_.end(), finest,
+                               [](const Level& l, int e) { return l.exponent < e; });
+    if (it == levels_.end() || it->exponent != finest) {
+      it = levels_.insert(it, Level{});
+      it->exponent = finest;
+    }
+    Level& into = *it;
+    for (auto fine = levels_.begin(); fine->exponent < finest; ++fine) {
+      into.ids.insert(into.ids.end(), fine->ids.begin(), fine->ids.end());
+      fine->ids.clear();
+    }
+    std::sort(into.ids.begin(), into.ids.end());
+  }
+  if (may_be_big) {
+    const auto is_big = [&](int i) {
+      const VecN<D> s = boxes[i].size();
+      float largest = s[0];
+      for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
+      return static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]));
+    };
+    for (Level& level : levels_) {
+      std::erase_if(level.ids, [&](int i) {
+        if (!is_big(i)) return false;
+        big_.push_back(i);
+        is_big_[static_cast<std::size_t>(i)] = 1;
+        return true;
+      });
+    }
+    std::sort(big_.begin(), big_.end());
   }
   for (Level& level : levels_) {
     const float cell = base * std::pow(kLevelRatio, static_cast<float>(level.exponent));
@@ -106,10 +162,12 @@ void HierarchicalGridN<D>::find_pairs(PairList& pairs) const {
       }
     }
   }
+  detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
 }
 
 template <int D>
 void HierarchicalGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
+  if (!detail::oversized_query<D>(big_, boxes_, box, callback)) return;
   bool go_on = true;
   for (const Level& level : levels_) {
     if (!go_on) return;
@@ -119,6 +177,9 @@ void HierarchicalGridN<D>::query(const AabbN<D>& box, QueryCallback callback) co
 
 template <int D>
 void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) const {
+  for (const int b : big_) {
+    if (contains(boxes_[static_cast<std::size_t>(b)], point) && !callback(b)) return;
+  }
   bool go_on = true;
   for (const Level& level : levels_) {
     if (!go_on) return;
@@ -128,7 +189,7 @@ void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callb
 
 template <int D>
 void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  float limit = 1.0f;
+  float limit = detail::oversized_ray_cast<D>(big_, boxes_, ray, 1.0f, callback);
   for (const Level& level : levels_) {
     if (limit <= 0.0f) return;
     // A level's walk starts at fraction 1; boxes beyond the clip of earlier levels are skipped
@@ -151,7 +212,8 @@ int HierarchicalGridN<D>::level_count() const noexcept {
 template <int D>
 std::size_t HierarchicalGridN<D>::memory_bytes() const noexcept {
   std::size_t bytes = boxes_.capacity() * sizeof(AabbN<D>) + scratch_.capacity() * sizeof(float) +
-                      levels_.capacity() * sizeof(Level);
+                      levels_.capacity() * sizeof(Level) + big_.capacity() * sizeof(int) +
+                      is_big_.capacity();
   for (const Level& level : levels_) {
     bytes += level.ids.capacity() * sizeof(int) + level.grid.memory_bytes();
   }

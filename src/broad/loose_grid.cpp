@@ -32,7 +32,7 @@ float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
   for (int k = 0; k < D; ++k) {
     magnitude = std::max({magnitude, std::abs(bounds.min[k]), std::abs(bounds.max[k])});
   }
-  return std::max(quantile, kCellSizeResolution * magnitude);
+  return std::min(std::max(quantile, kCellSizeResolution * magnitude), kMaxCellSize);
 }
 
 /// Boxes tested against one probe box at once: a group of SIMD lanes.
@@ -355,8 +355,9 @@ void LooseGridN<D>::build_with(std::span<const AabbN<D>> boxes, PairSink* sink) 
                                                   : loose_cell_size(boxes, sampled, scratch_);
     set_grid(sampled, boxes.size());
     if (!bin(boxes, sink)) {
+      // Over the exact bounds, a box is outside only beyond kGridCoordinateLimit: keep them all.
       set_grid(checked_bounds_of(boxes), boxes.size());
-      bin(boxes, sink);
+      bin(boxes, sink, true);
     }
   } catch (...) {
     clear();
@@ -378,7 +379,7 @@ void LooseGridN<D>::update_with(std::span<const AabbN<D>> boxes, PairSink* sink)
     const AabbN<D> bounds = checked_bounds_of(boxes);
     const VecN<D> margin = kUpdateMargin * bounds.size() + VecN<D>(chosen_cell_size_);
     set_grid({bounds.min - margin, bounds.max + margin}, boxes.size());
-    bin(boxes, sink);
+    bin(boxes, sink, true);  // (outside only beyond kGridCoordinateLimit)
   } catch (...) {
     clear();
     throw;
@@ -447,7 +448,8 @@ void LooseGridN<D>::set_grid(const AabbN<D>& bounds, std::size_t boxes) {
     grid_ = make_grid_mapping(bounds, static_cast<float>(size));
     double total = 1.0;
     for (int k = 0; k < D; ++k) total *= static_cast<double>(grid_.dims[k]) + 2.0;
-    if (total <= static_cast<double>(budget)) break;
+    // (at kMaxCellSize a grid has at most 8^D cells with the border, within every budget)
+    if (total <= static_cast<double>(budget) || grid_.cell_size >= kMaxCellSize) break;
     size = std::max(static_cast<double>(grid_.cell_size) * 1.01,
                     static_cast<double>(grid_.cell_size) *
                         std::pow(total / static_cast<double>(budget), 1.0 / D));
@@ -594,7 +596,7 @@ std::size_t LooseGridN<D>::compute_keys(std::span<const AabbN<D>> boxes, std::ui
 }
 
 template <int D>
-bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink) {
+bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink, bool every_outlier) {
   if (boxes.size() >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
   count_ = static_cast<int>(boxes.size());
   small_pairs_done_ = false;
@@ -603,7 +605,7 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink) {
   const std::uint32_t total_cells = cells_;
   // Big boxes share one bucket after every cell, so they sort after the binned ones.
   const std::uint32_t big_key = total_cells;
-  const std::size_t max_outliers = outlier_limit(boxes.size());
+  const std::size_t max_outliers = every_outlier ? boxes.size() : outlier_limit(boxes.size());
 
   // Capacities for every box at once: a frame with a few more binned boxes than the last must
   // not double a vector (no allocation in the steady state, memory per object stays flat).

@@ -49,18 +49,42 @@ void SortedGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& bo
   entry_total_ = 0;
   std::size_t binned = 0;
   const double max_cells = options_.max_cells_per_box;
-  for (int i = 0; i < count_; ++i) {
-    const CellN<D> lo = grid_.cell_of_inside(boxes[i].min);
-    const CellN<D> hi = grid_.cell_of_inside(boxes[i].max);
-    double cells = 1.0;
-    for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
-    if (cells > max_cells) {
-      oversized_.push_back(i);
-      is_oversized_[i] = 1;
-      continue;
+  // Two copies of the loop, so that an ordinary world's (the whole world inside the grid) has
+  // no test for boxes beyond kGridCoordinateLimit.
+  const auto bin = [&]<bool kPartial>() {
+    // (locals, not members, in the loop: the stores through them cannot alias the grid)
+    const GridMapping<D> grid = grid_;
+    CellRange* ranges = ranges_.data();
+    std::size_t entries = 0, filled = 0;
+    const int n = count_;
+    for (int i = 0; i < n; ++i) {
+      if constexpr (kPartial) {
+        if (!contains(grid.bounds, boxes[i])) {
+          // Beyond kGridCoordinateLimit: no cell (cell_of_inside is only for points inside).
+          oversized_.push_back(i);
+          is_oversized_[i] = 1;
+          continue;
+        }
+      }
+      const CellN<D> lo = grid.cell_of_inside(boxes[i].min);
+      const CellN<D> hi = grid.cell_of_inside(boxes[i].max);
+      double cells = 1.0;
+      for (int k = 0; k < D; ++k) cells *= static_cast<double>(hi[k] - lo[k] + 1);
+      if (cells > max_cells) {
+        oversized_.push_back(i);
+        is_oversized_[i] = 1;
+        continue;
+      }
+      ranges[filled++] = {lo, hi, i};
+      entries += static_cast<std::size_t>(cells);
     }
-    ranges_[binned++] = {lo, hi, i};
-    entry_total_ += static_cast<std::size_t>(cells);
+    entry_total_ = entries;
+    binned = filled;
+  };
+  if (grid_.partial) {
+    bin.template operator()<true>();
+  } else {
+    bin.template operator()<false>();
   }
   ranges_.resize(binned);
   if (oversized_.empty()) {
@@ -271,8 +295,19 @@ void SortedGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) c
 
 template <int D>
 void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  const float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
+  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
+  if (walk_length(grid_, ray, limit) > static_cast<double>(cell_count())) {
+    // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
+    // box once, at the entry of its min-corner cell, in cell order, instead.
+    for (const CellEntry& entry : entries_) {
+      if (limit <= 0.0f) return;
+      if (entry.first_axes != kAllAxes<D> || ray_box_fraction(ray, entry.box, limit) < 0.0f) continue;
+      const float r = callback(entry.id, limit);
+      if (r < limit) limit = r;
+    }
+    return;
+  }
   // As in HashGrid: a box is tested in the first cell of the walk inside its cell range.
   bool first = true;
   CellN<D> previous{0};

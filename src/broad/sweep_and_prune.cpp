@@ -110,7 +110,12 @@ void SweepAndPruneN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const
   float limit = 1.0f;
   const float a = ray.origin[axis_];
   const float b = ray.origin[axis_] + ray.translation[axis_];
-  scan(std::min(a, b), std::max(a, b), [&](const Item& item) {
+  // The end b is rounded, and so is the fraction at which ray_box_fraction meets a box: a box
+  // starting a few float spacings past b may count as met at fraction 1 (at 1e38 a spacing is
+  // 1e31). Look ahead by the same relative slack as the look-back (an infinite slack when the
+  // sum overflows: then every box is a candidate, still exact).
+  const float ahead = kSweepLookBackSlack * (std::abs(a) + std::abs(ray.translation[axis_]));
+  scan(std::min(a, b), std::max(a, b) + ahead, [&](const Item& item) {
     if (ray_box_fraction(ray, item.box, limit) < 0.0f) return true;
     const float r = callback(item.id, limit);
     if (r < limit) limit = r;

@@ -13,7 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iomanip>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <type_traits>
 
@@ -92,6 +94,15 @@ double seconds(Clock::time_point from, Clock::time_point to) {
 
 void check_transform(const Transform& xf, const std::string& field) {
   if (!is_valid(xf)) throw InvalidInput(field + ": not finite or rotation not unit length");
+}
+
+/// The coordinate of `box` farthest from the origin (an infinity or NaN if it has one).
+float farthest_coordinate(const Aabb& box) noexcept {
+  float far = 0.0f;
+  for (const float c : {box.min.x, box.min.y, box.max.x, box.max.y}) {
+    if (!(std::fabs(c) <= std::fabs(far))) far = c;  // (a NaN is kept: it fails the range test)
+  }
+  return far;
 }
 
 void check_shapes(const std::vector<Shape2D>& shapes, const std::string& field) {
@@ -609,12 +620,33 @@ void World2D::Impl::make_events(StepStats& stats) {
   std::swap(previous_contacts, contacts);  // `contacts()` reads previous_contacts from here on
 }
 
+// ---- coordinate range ------------------------------------------------------------------------
+
+void check_world_range(const Aabb& box, std::string_view what) {
+  const float far = farthest_coordinate(box);
+  if (std::fabs(far) <= kMaxWorldCoordinate) return;
+  std::ostringstream os;
+  os << what << ": the box [" << box.min.x << ", " << box.min.y << ", " << box.max.x << ", " << box.max.y
+     << "] reaches " << far << ", beyond the coordinate range [-" << std::fixed << std::setprecision(0)
+     << kMaxWorldCoordinate << ", " << kMaxWorldCoordinate << "] (kMaxWorldCoordinate)";
+  throw InvalidInput(os.str());
+}
+
+void check_world_range(std::span<const Shape2D> shapes, const Transform& transform, std::string_view what) {
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    const Aabb box = compute_aabb(shapes[k], transform);
+    if (std::fabs(farthest_coordinate(box)) <= kMaxWorldCoordinate) continue;
+    check_world_range(box, std::string(what) + " shapes[" + std::to_string(k) + "]");
+  }
+}
+
 // ---- World2D --------------------------------------------------------------------------------
 
 World2D::World2D(const WorldOptions& options) {
   if (options.bounds && !is_valid(*options.bounds)) {
     throw InvalidInput("world options bounds: not finite or min > max");
   }
+  if (options.bounds) check_world_range(*options.bounds, "world options bounds");
   impl_ = std::make_unique<Impl>(options);
 }
 
@@ -626,6 +658,7 @@ StaticId World2D::add_static(const StaticDef& def) {
   const std::string name = "static " + std::to_string(impl_->statics.size());
   check_shapes(def.shapes, name + " shapes");
   check_transform(def.transform, name + " transform");
+  check_world_range(def.shapes, def.transform, name);
   const auto owner = static_cast<std::uint32_t>(impl_->statics.size());
   impl_->statics.push_back(def);
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
@@ -644,6 +677,7 @@ BodyId World2D::add_body(const BodyDef& def) {
   const std::string name = "body " + std::to_string(impl_->bodies.size());
   check_shapes(def.shapes, name + " shapes");
   check_transform(def.transform, name + " transform");
+  check_world_range(def.shapes, def.transform, name);
   if (!is_finite(def.velocity)) throw InvalidInput(name + " velocity: not finite");
   if (!std::isfinite(def.angular_velocity)) throw InvalidInput(name + " angular velocity: not finite");
   std::uint32_t index;

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -281,6 +282,67 @@ TEST(RunCommand, BadSceneFilesExitWithStatus2NamingTheFileAndThePath) {
   const CommandRun r = run_cli("run " + folder);
   EXPECT_EQ(exit_status(r), 2) << r.output;
   EXPECT_NE(r.output.find(folder + ": cannot be read"), std::string::npos) << r.output;
+}
+
+/// A small walled level with a static box, a segment, a body and spawned bodies and bullets,
+/// every length (positions, sizes, speeds, walls) times `scale`.
+std::string scaled_scene(double scale) {
+  const auto n = [&](double v) {
+    std::ostringstream os;
+    os.precision(9);
+    os << v * scale;
+    return os.str();
+  };
+  return R"({"bounds": [)" + n(-20) + ", " + n(-10) + ", " + n(20) + ", " + n(10) + R"(], "walls": )" + n(0.5) +
+         R"(, "statics": [{"transform": {"p": [0, )" + n(-3) + R"(]}, "shape": {"type": "box", "half": [)" + n(6) + ", " +
+         n(0.5) + R"(]}}, {"shape": {"type": "segment", "a": [)" + n(-10) + ", " + n(4) + R"(], "b": [)" + n(-4) + ", " +
+         n(6) + R"(]}}], "bodies": [{"transform": {"p": [0, )" + n(3) + R"(]}, "shape": {"type": "circle", "radius": )" +
+         n(0.5) + R"(}, "velocity": [)" + n(3) + ", " + n(-7) + R"(]}], "spawn": {"count": 40, "radius": [)" + n(0.2) +
+         ", " + n(0.4) + R"(], "speed": [)" + n(1) + ", " + n(5) + R"(], "bullets": 6, "bullet_speed": )" + n(400) + "}}";
+}
+
+// Issue 15: a level scaled by 1e10 and one with 1e38 bounds were accepted and then failed the
+// independent check. Through the real binary: the level at its own scale and scaled by 1e6 runs
+// with zero tunnelling and escapes; scaled by 1e10, with 1e38 bounds, with one static at 1e38,
+// and a Tiled map with an object at 1e38 are refused before the first frame (exit 2), the file,
+// the field and the range named.
+TEST(RunCommand, ExtremeCoordinatesRunWithinTheRangeAndAreRefusedBeyondIt) {
+  const std::string range = "beyond the coordinate range [-1073741824, 1073741824] (kMaxWorldCoordinate)";
+  for (const double scale : {1.0, 1e6}) {
+    const std::string path = write_scene("scaled_level.json", scaled_scene(scale));
+    const CommandRun r = run_cli("run " + path + " --frames 200");
+    ASSERT_EQ(exit_status(r), 0) << scale << ": " << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(tunnelled\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0") << scale;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(escaped\s+(\d+) bodies)"))) << r.output;
+    EXPECT_EQ(m[1].str(), "0") << scale;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(, (\d+) bodies \()"))) << r.output;
+    EXPECT_GT(std::stoi(m[1].str()), 30) << r.output;  // the spawned bodies fitted
+  }
+  const std::string tmx = ::testing::TempDir() + "far_object.tmx";
+  std::ofstream(tmx) << R"(<?xml version="1.0" encoding="UTF-8"?>
+<map version="1.10" orientation="orthogonal" width="4" height="4" tilewidth="16" tileheight="16">
+ <objectgroup id="1" name="walls">
+  <object id="1" x="0" y="0" width="64" height="8"/>
+  <object id="2" x="1e38" y="0" width="16" height="16"/>
+ </objectgroup>
+</map>)";
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {write_scene("scaled_1e10.json", scaled_scene(1e10)), "scaled_1e10.json: bounds (with the walls): the box"},
+      {write_scene("bounds_1e38.json", R"({"bounds": [-1e38, -1e38, 1e38, 1e38], "walls": 0})"),
+       "bounds_1e38.json: bounds: the box [-1e+38, -1e+38, 1e+38, 1e+38] reaches -1e+38, "},
+      {write_scene("static_1e38.json", R"({"bounds": [0, 0, 10, 10],
+         "statics": [{"shape": {"type": "circle", "radius": 1}}, {"transform": {"p": [1e38, 5]}, "shape": {"type": "circle", "radius": 1}}]})"),
+       "static_1e38.json: statics[1] shapes[0]: the box"},
+      {tmx, "far_object.tmx: world options bounds: the box"},
+  };
+  for (const auto& [path, message] : refused) {
+    const CommandRun r = run_cli("run " + path + " --frames 5");
+    EXPECT_EQ(exit_status(r), 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << "'" << message << "' not in: " << r.output;
+    EXPECT_NE(r.output.find(range), std::string::npos) << r.output;
+  }
 }
 
 }  // namespace

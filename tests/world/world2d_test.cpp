@@ -130,6 +130,56 @@ World2D random_scene(const WorldOptions& options, int n, std::uint32_t seed) {
 
 // ---- Bad input --------------------------------------------------------------------------------
 
+/// The message of the InvalidInput `call` throws ("" and a failure when it throws none).
+template <class Call>
+std::string error_of(Call&& call) {
+  try {
+    call();
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted";
+  return "";
+}
+
+// Issue 15: finite but extreme coordinates (1e38 bounds, a level scaled by 1e10) were accepted
+// and then failed the independent check (bodies escaping through walls from coordinates of
+// 1e12 on, infinite boxes from 1e14). The world refuses anything beyond kMaxWorldCoordinate,
+// naming the static or body, the shape and the range; up to the limit is accepted.
+TEST(World2DInput, RefusesCoordinatesBeyondTheRangeNamingItAndTheLimit) {
+  const std::string range = "beyond the coordinate range [-1073741824, 1073741824] (kMaxWorldCoordinate)";
+  World2D world;
+  world.add_static(box_static({0, 0}, {1, 1}));
+  // A static's second shape far away; a body at 1e38; one whose radius reaches beyond.
+  StaticDef far_static = box_static({0, 0}, {1, 1});
+  far_static.shapes.push_back(make_circle({2e9f, 0.0f}, 1.0f));
+  std::string e = error_of([&] { world.add_static(far_static); });
+  EXPECT_NE(e.find("static 1 shapes[1]"), std::string::npos) << e;
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  e = error_of([&] { world.add_body(circle_body({1e38f, 0.0f}, 1.0f, {0, 0})); });
+  EXPECT_NE(e.find("body 0 shapes[0]"), std::string::npos) << e;
+  EXPECT_NE(e.find("reaches 1e+38"), std::string::npos) << e;
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  e = error_of([&] { world.add_body(circle_body({0.0f, -1e9f}, 2e8f, {0, 0})); });
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  e = error_of([] { World2D w(WorldOptions{.bounds = Aabb{{-1e38f, -1e38f}, {1e38f, 1e38f}}}); });
+  EXPECT_NE(e.find("world options bounds"), std::string::npos) << e;
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  EXPECT_EQ(world.static_count(), 1);
+  EXPECT_EQ(world.body_count(), 0);
+  // Up to the limit itself is accepted, and a world 1e8 across steps with finite state.
+  const float edge = kMaxWorldCoordinate;
+  World2D big(WorldOptions{.bounds = Aabb{{-edge, -edge}, {edge, edge}}});
+  big.add_static(box_static({0.0f, -edge + 1e6f}, {edge - 1e6f, 1e6f}));
+  const BodyId body = big.add_body(circle_body({0.0f, 0.0f}, 1e6f, {0.0f, -1e9f}));
+  for (int i = 0; i < 120; ++i) big.step(kDt);
+  const Transform& xf = big.transform(body);
+  EXPECT_TRUE(std::isfinite(xf.p.x) && std::isfinite(xf.p.y));
+  EXPECT_GT(xf.p.y, -edge + 2e6f);  // bounced on the floor (it reached it within a second), not through it
+  EXPECT_EQ(big.total_stats().tunnelled, 0);
+  EXPECT_EQ(big.total_stats().escaped, 0);
+}
+
 TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
   World2D world;
   StaticDef empty;

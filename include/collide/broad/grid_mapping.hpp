@@ -34,14 +34,30 @@ inline constexpr double kMaxGridCellsPerAxis = 1073741824.0;  // 2^30
 /// Most cells in the whole grid: a linear cell index fits in 62 bits.
 inline constexpr double kMaxGridCells = 4.6e18;  // just under 2^62
 
-/// A uniform grid laid over the world bounds of a set of boxes.
+/// Largest coordinate magnitude a grid lays cells over: FLT_MAX / 2 (about 1.7e38), so that the
+/// difference of two coordinates within it (an extent, p - origin) stays finite in float. Every
+/// finite box is still accepted and answered exactly: the grids keep a box that reaches beyond
+/// (a box spanning [-2e38, 2e38], a point at 3e38) out of their cells, in the list of boxes
+/// tested against all ("oversized", "big" or "outliers").
+inline constexpr float kGridCoordinateLimit = std::numeric_limits<float>::max() / 2.0f;
+/// Largest cell side of any grid (2^126): its inverse, 2^-126, is still a normal float, and a
+/// grid over the widest extent (2 * kGridCoordinateLimit) has at most 6 of these cells per axis.
+inline constexpr float kMaxCellSize = 0x1p126f;
+
+/// A uniform grid laid over the world bounds of a set of boxes (clamped to kGridCoordinateLimit).
 template <int D>
 struct GridMapping {
-  AabbN<D> bounds{};            ///< world bounds of the boxes the grid was built from
+  /// The region the cells cover: the world bounds of the boxes the grid was built from,
+  /// clamped to [-kGridCoordinateLimit, kGridCoordinateLimit] on every axis.
+  AabbN<D> bounds{};
   VecN<D> origin{0.0f};         ///< corner of cell 0 (= bounds.min)
   float cell_size = 1.0f;       ///< side of a square/cubic cell, world units
   float inv_cell_size = 1.0f;   ///< 1 / cell_size
   CellN<D> dims{1};             ///< cells per axis; cells run from 0 to dims - 1
+  /// The world bounds reached beyond kGridCoordinateLimit, so `bounds` is only part of them:
+  /// boxes not inside `bounds` must be kept out of the cells (cell_of_inside is only for points
+  /// inside `bounds`; cell_of clamps, but queries and ray walks stop at `bounds`).
+  bool partial = false;
 
   /// The cell holding `p`, clamped to the grid (points outside map to the nearest border cell).
   [[nodiscard]] CellN<D> cell_of(const VecN<D>& p) const noexcept {
@@ -187,16 +203,39 @@ template <int D>
 template <int D>
 [[nodiscard]] AabbN<D> checked_bounds_of(std::span<const AabbN<D>> boxes);
 
-/// A grid over `bounds` with cells of `cell_size` (> 0), enlarged when needed so that no axis
-/// has more than kMaxGridCellsPerAxis cells and the grid no more than kMaxGridCells: results stay
-/// exact, only the cells get coarser. This is what lets positions 1e6 from the origin work.
+/// The part of `bounds` (min <= max) a grid lays cells over: clamped to
+/// [-kGridCoordinateLimit, kGridCoordinateLimit] on every axis (a world wholly beyond the limit
+/// gets the point of the limit nearest to it). `partial` is set when anything was cut off.
+template <int D>
+[[nodiscard]] AabbN<D> grid_region(const AabbN<D>& bounds, bool& partial) noexcept {
+  AabbN<D> region;
+  partial = false;
+  for (int k = 0; k < D; ++k) {
+    // (written so that a NaN would land on the limit rather than pass through)
+    const float lo = bounds.min[k] >= -kGridCoordinateLimit ? bounds.min[k] : -kGridCoordinateLimit;
+    const float hi = bounds.max[k] <= kGridCoordinateLimit ? bounds.max[k] : kGridCoordinateLimit;
+    partial = partial || lo != bounds.min[k] || hi != bounds.max[k];
+    region.min[k] = std::min(lo, kGridCoordinateLimit);
+    region.max[k] = std::max(hi, -kGridCoordinateLimit);
+  }
+  return region;
+}
+
+/// A grid over `bounds` (min <= max; infinite or beyond kGridCoordinateLimit is clamped to it,
+/// setting `partial`) with cells of `cell_size` (kept in [FLT_MIN, kMaxCellSize]; NaN gives
+/// kMaxCellSize), enlarged when needed so that no axis has more than kMaxGridCellsPerAxis cells
+/// and the grid no more than kMaxGridCells: results stay exact, only the cells get coarser. This
+/// is what lets positions 1e6 from the origin work. Every value it computes is finite, so the
+/// doubling of the cell size ends (at kMaxCellSize at the latest, where every grid fits).
 template <int D>
 [[nodiscard]] GridMapping<D> make_grid_mapping(const AabbN<D>& bounds, float cell_size) noexcept {
   GridMapping<D> g;
-  g.bounds = bounds;
-  g.origin = bounds.min;
-  const VecN<D> extent = bounds.max - bounds.min;
-  double size = cell_size;
+  g.bounds = grid_region(bounds, g.partial);
+  g.origin = g.bounds.min;
+  const VecN<D> extent = g.bounds.max - g.bounds.min;  // at most FLT_MAX: finite
+  double size = cell_size >= std::numeric_limits<float>::min()
+                    ? std::min(cell_size, kMaxCellSize)
+                    : (cell_size > 0.0f ? std::numeric_limits<float>::min() : kMaxCellSize);
   for (;;) {
     double total = 1.0;
     bool fits = true;
@@ -207,12 +246,16 @@ template <int D>
     }
     if (fits && total <= kMaxGridCells) break;
     size *= 2.0;
+    if (size >= static_cast<double>(kMaxCellSize)) {
+      size = kMaxCellSize;  // at most 6 cells per axis: fits
+      break;
+    }
   }
   g.cell_size = static_cast<float>(size);
   g.inv_cell_size = 1.0f / g.cell_size;
   for (int k = 0; k < D; ++k) {
     // The same float arithmetic as cell_of, so the max corner's cell is always inside the grid.
-    const float top = std::floor((bounds.max[k] - g.origin[k]) * g.inv_cell_size);
+    const float top = std::floor((g.bounds.max[k] - g.origin[k]) * g.inv_cell_size);
     g.dims[k] = static_cast<int>(top) + 1;
   }
   return g;
@@ -230,7 +273,8 @@ inline constexpr int kCellSizeSamples = 4096;
 /// A cell size for boxes of these sizes: twice the median of their largest sides (over at most
 /// kCellSizeSamples of them), so a typical box covers 1 to 2 cells per axis. Points-only input
 /// falls back to the spacing of n points spread over the bounds. Never below the float
-/// resolution of the world bounds. `scratch` is reused to avoid allocation.
+/// resolution of the world bounds, never above kMaxCellSize. `scratch` is reused to avoid
+/// allocation.
 template <int D>
 [[nodiscard]] float suggest_cell_size(std::span<const AabbN<D>> boxes, std::vector<float>& scratch);
 /// suggest_cell_size when the bounds of the boxes are known already.
@@ -241,6 +285,23 @@ template <int D>
 /// when there are more, into `out` (cleared first): what cell sizes are chosen from.
 template <int D>
 void sample_largest_sides(std::span<const AabbN<D>> boxes, std::vector<float>& out);
+
+/// At most how many cells walk_cells visits for this ray within [0, max_fraction]: one plus the
+/// cells stepped over on each axis between the cell where it enters the grid's bounds and the
+/// cell of its end (clamped to the grid); 0 when it misses the bounds. A grid widened to 2^30
+/// cells per axis (boxes 1e38 apart) can make this a billion: the grids then test their boxes
+/// one by one instead of walking (as their AABB queries do for a range wider than the occupied
+/// cells).
+template <int D>
+[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction) noexcept {
+  const float t_start = ray_box_fraction(ray, g.bounds, max_fraction);
+  if (t_start < 0.0f) return 0.0;
+  // The cell along each axis never goes back as the fraction grows (cell_of is monotone).
+  const CellN<D> from = g.cell_of(ray.at(t_start)), to = g.cell_of(ray.at(max_fraction));
+  double steps = 1.0;
+  for (int k = 0; k < D; ++k) steps += std::abs(static_cast<double>(to[k]) - static_cast<double>(from[k]));
+  return steps;
+}
 
 /// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
 /// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,

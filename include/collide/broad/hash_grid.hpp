@@ -13,7 +13,8 @@
 ///    cells), and negative coordinates work because cells are counted from the world's min
 ///    corner;
 ///  - boxes covering very many cells are not spread over thousands of cells: above
-///    Options::max_cells_per_box they go to an "oversized" list tested against every box;
+///    Options::max_cells_per_box they go to an "oversized" list tested against every box (so do
+///    boxes reaching beyond kGridCoordinateLimit, about 1.7e38, where no cell is laid);
 ///  - the cell size is chosen from the data (twice the median box size) when not given.
 ///
 /// Storage: an open-addressed hash table (cell -> dense cell index, linear probing; hash of
@@ -67,7 +68,8 @@ class HashGridN {
   /// Each id whose box contains `point` once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Each id whose box the ray meets once, oversized boxes first, then cell by cell along the
-  /// ray (3D-DDA); clipping by the callback ends the walk early.
+  /// ray (3D-DDA); clipping by the callback ends the walk early. A ray crossing more cells than
+  /// are occupied (walk_length) tests the binned boxes in id order instead.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
   /// Number of objects given to the last build or update.

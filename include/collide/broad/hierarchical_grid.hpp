@@ -12,13 +12,18 @@
 /// covers there, and the pair is reported only from the cell (of the coarser level) holding the
 /// min corner of the intersection, so each pair comes out once.
 ///
+/// A box larger than the cells of the coarsest level (base * 4^24), or reaching beyond
+/// kGridCoordinateLimit (about 1.7e38) where no level lays cells, is in no level: it is tested
+/// against every box (as SortedGrid's oversized boxes), so any finite box is answered exactly.
+///
 /// Memory per object: about that of a SortedGrid entry (2^D cells at most, usually 1 to 2 per
-/// axis), plus an int for its level.
+/// axis), plus an int for its level and a byte.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
 #include <collide/broad/sorted_grid.hpp>
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -48,7 +53,7 @@ class HierarchicalGridN {
   void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
-  /// its own pairs then its boxes against the coarser levels.
+  /// its own pairs then its boxes against the coarser levels; the boxes in no level last.
   void find_pairs(PairList& pairs) const;
   /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
@@ -77,6 +82,10 @@ class HierarchicalGridN {
   float base_ = 0.0f;          // level 0 cell size chosen at build
   std::vector<AabbN<D>> boxes_;
   std::vector<Level> levels_;  // sorted by exponent; empty ones kept for reuse
+  // Boxes in no level (larger than the coarsest cells, or reaching beyond kGridCoordinateLimit),
+  // ascending, tested against every box; and a flag per box.
+  std::vector<int> big_;
+  std::vector<std::uint8_t> is_big_;
   std::vector<float> scratch_;
 };
 

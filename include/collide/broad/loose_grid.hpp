@@ -37,7 +37,8 @@
 /// for the cell size, grown a little, and update keeps the grid of the last call; the key pass
 /// validates each box and tests it against the grid's bounds, and a box outside (an outlier)
 /// is kept with the big boxes. Only when there are more than outlier_limit of them is the grid
-/// laid over the exact bounds (grown by kUpdateMargin in update). Clustered,
+/// laid over the exact bounds (grown by kUpdateMargin in update); no grid reaches beyond
+/// kGridCoordinateLimit (about 1.7e38), so boxes there stay outliers, however many. Clustered,
 /// sparse worlds are better served by SortedGrid, mixed sizes by HierarchicalGrid (here the big
 /// boxes are tested per cell range against the small ones and by a sweep along x against each
 /// other).
@@ -218,10 +219,12 @@ class LooseGridN {
   // of that many boxes.
   void set_grid(const AabbN<D>& bounds, std::size_t boxes);
   // Sorts the boxes into grid_: keys, counting sort, gather. Returns false (the grid left
-  // unusable) when more than outlier_limit boxes lie outside grid_.bounds. Throws as build.
+  // unusable) when more than outlier_limit boxes lie outside grid_.bounds, unless
+  // `every_outlier` (a grid over the exact bounds, where a box is outside only beyond
+  // kGridCoordinateLimit: every such box is kept with the big ones). Throws as build.
   // With a sink, on grids sorted band by band, the small-small pairs are found band by band
   // into it (from window_), and small_pairs_done_ is set.
-  bool bin(std::span<const AabbN<D>> boxes, PairSink* sink = nullptr);
+  bool bin(std::span<const AabbN<D>> boxes, PairSink* sink = nullptr, bool every_outlier = false);
   // The key of every box (the big bucket for big boxes and outliers, which also go to big_),
   // to keys_[i] when store_keys; count(key, i) is called for each. Returns the number of
   // outliers; throws for a bad box.

@@ -37,7 +37,8 @@ class SortedGridN {
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses twice the median box size.
     float cell_size = 0.0f;
-    /// A box covering more cells than this is kept out of the grid and tested against all.
+    /// A box covering more cells than this is kept out of the grid and tested against all (as
+    /// is a box reaching beyond kGridCoordinateLimit, about 1.7e38, where no cell is laid).
     int max_cells_per_box = 256;
   };
 
@@ -72,7 +73,9 @@ class SortedGridN {
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose box contains `point` once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
-  /// Each id whose box the ray meets once: oversized boxes first, then along the ray (3D-DDA).
+  /// Each id whose box the ray meets once: oversized boxes first, then along the ray (3D-DDA);
+  /// a ray crossing more cells than are occupied (walk_length) tests the binned boxes in cell
+  /// order instead.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
 
   /// Number of objects given to the last build or update.

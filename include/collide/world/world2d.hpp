@@ -72,6 +72,25 @@ inline constexpr float kMaxPushFraction = 0.5f;
 /// this fraction of its size at the end of a step (the independent check).
 inline constexpr float kTunnelDepthFraction = 0.05f;
 
+/// Largest coordinate magnitude World2D accepts (2^30 = 1073741824 world units): every static,
+/// body and the bounds must lie within [-kMaxWorldCoordinate, kMaxWorldCoordinate] on both axes.
+/// Why: the 2D narrow phase multiplies up to four coordinate differences (GJK's triangle region
+/// test: a triangle's area times a cross product); with coordinates within +-2^30 every such
+/// product stays below 2^128, finite in float. Beyond, results hold only while overflows keep
+/// their sign: examples/scenes scaled up ran clean to coordinates of 6e11, then bodies escaped
+/// through walls (1e12) and boxes became infinite (1e14). A level in metres or pixels is far
+/// inside (1e9 m is 150 Earth radii). Enforced by the World2D constructor (bounds), add_static
+/// and add_body (check_world_range), and by the scene loader at load.
+inline constexpr float kMaxWorldCoordinate = 0x1p30f;
+
+/// Throws InvalidInput "WHAT: ... beyond the coordinate range [-1073741824, 1073741824]
+/// (kMaxWorldCoordinate)", with the box and the coordinate that is out, unless `box` is finite
+/// and within the range.
+void check_world_range(const Aabb& box, std::string_view what);
+/// check_world_range for the world box of each of `shapes` placed by `transform`, naming the
+/// shape: "WHAT shapes[K]: ...".
+void check_world_range(std::span<const Shape2D> shapes, const Transform& transform, std::string_view what);
+
 /// Which pairs interact: A and B do iff (A.layer & B.mask) != 0 and (B.layer & A.mask) != 0.
 struct CollisionFilter {
   std::uint32_t layer = 1u;            ///< the layers this collider is on (usually one bit)
@@ -304,7 +323,7 @@ struct WorldDrawOptions {
 /// The collision world. See the file comment for what a step does.
 class World2D {
  public:
-  /// Throws InvalidInput for non-finite or empty bounds.
+  /// Throws InvalidInput for non-finite or empty bounds, or bounds beyond kMaxWorldCoordinate.
   explicit World2D(const WorldOptions& options = {});
   ~World2D();
   World2D(World2D&&) noexcept;
@@ -313,8 +332,9 @@ class World2D {
   World2D& operator=(const World2D&) = delete;
 
   /// Adds a static collider. Throws InvalidInput, naming the field, for no shapes, more than
-  /// 65535 shapes, or a non-finite or non-unit transform. Shapes must come from the make_*
-  /// functions (they are trusted as valid).
+  /// 65535 shapes, a non-finite or non-unit transform, or a shape reaching beyond
+  /// kMaxWorldCoordinate ("static 7 shapes[0]: ... beyond the coordinate range ..."). Shapes
+  /// must come from the make_* functions (they are trusted as valid).
   StaticId add_static(const StaticDef& def);
   /// Adds a body. Throws InvalidInput as add_static, and for a non-finite velocity.
   BodyId add_body(const BodyDef& def);
