@@ -95,7 +95,7 @@ std::vector<TriangleIndices> triangulate_planar_polygon(std::span<const Vec3> po
     flat[i] = Vec2(static_cast<float>(glm::dot(local[i], u)), static_cast<float>(glm::dot(local[i], v)));
   }
   const SimpleOutline outline = make_simple_outline(flat, name, StraightCorners::keep);
-  std::vector<TriangleIndices> triangles = triangulate_ear_clipping(outline.vertices, name);
+  std::vector<TriangleIndices> triangles = triangulate_ear_clipping(outline.vertices, name, 0, TurnScale::triangle);
   for (TriangleIndices& t : triangles) {
     for (int& corner : t) corner = outline.source[static_cast<size_t>(corner)];
     // A clockwise outline was reversed to clip it: wind its triangles back as the polygon.

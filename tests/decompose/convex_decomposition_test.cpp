@@ -566,6 +566,24 @@ TEST(PlanarPolygon, RandomStarShapedPolygonsInRandomPlanes) {
   EXPECT_GE(triangulated, 140);
 }
 
+// A round face of 1000 vertices turns by less at each corner than the outline rule calls
+// straight (kDegenerateAreaTolerance of the size squared): TurnScale::triangle still finds ears.
+TEST(PlanarPolygon, FineRoundFacesOfAThousandVerticesHaveEars) {
+  std::mt19937 rng(1000);
+  std::vector<Vec2> round, spiky = star(512, 10.0f, 6.0f);
+  for (int i = 0; i < 1000; ++i) {
+    const float a = 2.0f * test::kPi * static_cast<float>(i) / 1000.0f;
+    round.push_back({10.0f * std::cos(a), 10.0f * std::sin(a)});
+  }
+  const Embedding tilted{{3, 4, 5}, {0.6f, 0.8f, 0}, {0, 0, 1}};
+  for (const auto& poly : {round, spiky}) {
+    check_planar_triangulation(placed(poly, tilted), tilted, triangulate_planar_polygon(placed(poly, tilted)),
+                               poly.size() - 2, rng);
+  }
+  // The outline rule (decompose_convex's) finds none on the round outline's first corners.
+  EXPECT_THROW((void)triangulate_ear_clipping(round), InvalidInput);
+}
+
 TEST(PlanarPolygon, VerticesOnStraightEdgesAreKeptAsCorners) {
   // Dropping one would leave a T-junction against the neighbouring face that uses it.
   std::mt19937 rng(3);

@@ -43,6 +43,19 @@ enum class StraightCorners {
            ///< neighbours may use the vertex: dropping it would leave a T-junction)
 };
 
+/// What the ear clipper compares a corner's turn (twice its triangle's signed area) with to call
+/// it straight (not an ear's tip) and a vertex near a cut with to let it block the cut.
+enum class TurnScale {
+  /// kDegenerateAreaTolerance of the outline's size squared: every ear is a valid `Polygon`
+  /// (make_convex_polygon applies the same rule), as decompose_convex needs.
+  outline,
+  /// kDegenerateAreaTolerance of the ear's longest edge squared, but never below the rounding
+  /// of a turn computed from the outline's float coordinates (kTurnRoundingUlps): a fine outline
+  /// (a round face of a thousand vertices, whose corners turn by less than the outline rule
+  /// allows) still has ears, each a valid mesh triangle. triangulate_planar_polygon uses it.
+  triangle,
+};
+
 /// The outline of a simple polygon, counter-clockwise, as `make_simple_outline` returns it.
 struct SimpleOutline {
   std::vector<Vec2> vertices;  ///< counter-clockwise, no duplicates, no straight corners (unless kept)
@@ -71,16 +84,17 @@ struct SimpleOutline {
 /// triangles, fewer only when a clipped remainder is degenerate. O(n^2) per ear search in the worst case. Throws InvalidInput naming `name` if no
 /// ear can be found (only possible for outlines that are nearly self-touching in float).
 /// The search for ears starts at corner `first_corner`; other starts give other
-/// triangulations of the same outline.
+/// triangulations of the same outline. `scale` sets what counts as straight (TurnScale).
 [[nodiscard]] std::vector<TriangleIndices> triangulate_ear_clipping(
-    std::span<const Vec2> outline, std::string_view name = "polygon", int first_corner = 0);
+    std::span<const Vec2> outline, std::string_view name = "polygon", int first_corner = 0,
+    TurnScale scale = TurnScale::outline);
 
 /// Triangulates a planar (or nearly planar) simple polygon in 3D, such as an n-gon face of a
 /// level mesh: its plane by Newell's method (the normal is the polygon's vector area, so it
 /// follows the winding; Sutherland, Sproull & Schumacker 1974; Ericson, Real-Time Collision
 /// Detection, 12.4.2) through the average of its corners, the corners projected into that plane
 /// (scaled to unit size, so any float coordinates work) and then `make_simple_outline` with
-/// straight corners kept and `triangulate_ear_clipping`. Returns indices into `points`, each
+/// straight corners kept and `triangulate_ear_clipping` with TurnScale::triangle. Returns indices into `points`, each
 /// triangle wound as the polygon (counter-clockwise seen from the side its vector area points
 /// to): n - 2 triangles, fewer only when consecutive duplicate corners were merged. Allocates;
 /// O(n^2). Throws InvalidInput naming `name` (e.g. "level.obj:12: face 3") when: a coordinate is
