@@ -4,6 +4,7 @@
 
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/finite_range.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/distance.hpp>
 #include <collide/shape/sphere.hpp>
@@ -41,7 +42,8 @@ inline std::string check_obj_message(const std::string& message, const std::stri
 ///    triangles, finite positions and every index in range;
 ///  - io::load_triangle_mesh on the same file throws nothing but InvalidInput naming the file; a
 ///    mesh it accepts has finite vertices, and fixed probes (a ray from (0, 1000, 0) to
-///    (0, -1000, 0), a unit sphere at the origin within 1000) get finite answers;
+///    (0, -1000, 0), a unit sphere at the origin within 1000) get finite answers when its bounds
+///    lie within kFiniteQueryRange (collide/core/finite_range.hpp);
 ///  - make_walk_mesh on the soup (what `collide walk` does) throws nothing but InvalidInput
 ///    naming the file.
 /// Crashes, hangs and undefined behaviour are the sanitizers' and the fuzzer's to catch.
@@ -79,11 +81,16 @@ inline std::string check_obj_mesh(std::string_view input) {
       if (!is_finite(v)) return "an accepted mesh holds a vertex that is not finite";
     }
     const RayHit3 hit = raycast(mesh, Transform3{}, Ray3{{0.0f, 1000.0f, 0.0f}, {0.0f, -2000.0f, 0.0f}});
-    if (hit.hit && (!std::isfinite(hit.fraction) || !is_finite(hit.point) || !is_finite(hit.normal))) {
+    const DistanceResult3 d = distance(make_sphere({0.0f, 0.0f, 0.0f}, 1.0f), Transform3{}, mesh, Transform3{}, 1000.0f);
+    // Finite answers are promised within kFiniteQueryRange; beyond, the queries ran for the
+    // sanitizers alone.
+    const Aabb3 bounds = compute_aabb(mesh, Transform3{});
+    const bool in_range = is_finite(bounds.min) && is_finite(bounds.max) && max_abs(bounds.min) <= kFiniteQueryRange &&
+                          max_abs(bounds.max) <= kFiniteQueryRange;
+    if (in_range && hit.hit && (!std::isfinite(hit.fraction) || !is_finite(hit.point) || !is_finite(hit.normal))) {
       return "a ray cast on an accepted mesh is not finite";
     }
-    const DistanceResult3 d = distance(make_sphere({0.0f, 0.0f, 0.0f}, 1.0f), Transform3{}, mesh, Transform3{}, 1000.0f);
-    if (d.distance <= 1000.0f && (!std::isfinite(d.distance) || !is_finite(d.point_a) || !is_finite(d.point_b))) {
+    if (in_range && d.distance <= 1000.0f && (!std::isfinite(d.distance) || !is_finite(d.point_a) || !is_finite(d.point_b))) {
       return "a distance to an accepted mesh is not finite";
     }
   } catch (const InvalidInput& e) {
