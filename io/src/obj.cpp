@@ -1,229 +1,236 @@
-// OBJ level meshes through tinyobjloader, with the checks it does not make.
+// OBJ level meshes: the `v` and `f` statements, read and checked in one pass, naming the file
+// and line of anything wrong, and faces with more than three corners triangulated in their plane.
 //
-// tinyobjloader (2.0rc10, Debian) is lenient where a level pipeline must not be: it reads "nan",
-// "abc" or a missing coordinate as 0 (a vertex silently moved to the origin), drops faces with
-// fewer than three vertices and quads with a bad index with only a warning, and its polygon
-// triangulation reads vertex arrays without a bounds check. So before handing the text to it we
-// check every `v` and `f` statement ourselves, naming the file and line, and we split polygons
-// into triangles ourselves, so that a polygon we cannot split is named by its line.
+// The reader is our own: a level needs two statements of the format, and each must be checked
+// where general readers are lenient. tinyobjloader (used before issue 15) read "nan", "abc" or a
+// missing coordinate as 0 and dropped bad faces with a warning, so every statement was checked
+// here first anyway; and it allocated what the file asked for (a `t` tag line of a dozen bytes
+// reserves 8192 integers, reals and strings, kept to the end), which a hostile file turns into
+// gigabytes.
 #include <collide/io/obj.hpp>
 
 #include "text_file.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/decompose/convex_decomposition.hpp>
 
-#include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <optional>
 #include <string_view>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 namespace collide::io {
 namespace {
 
-/// What the strict pass learnt about one `f` statement.
-struct FaceLine {
-  std::size_t line = 0;      ///< 1-based line of the file
-  std::size_t vertices = 0;  ///< how many vertex references it has
-};
-
-/// What the strict pass learnt about the whole file.
-struct ObjOutline {
-  std::size_t vertices = 0;     ///< `v` statements
-  std::vector<FaceLine> faces;  ///< `f` statements, in file order
-};
+/// Longest piece of a statement an error message quotes; longer ones are cut with "...".
+constexpr std::size_t kMaxQuotedBytes = 40;
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
-/// The blank-separated words of a statement, after its keyword.
-std::vector<std::string_view> words(std::string_view rest) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < rest.size()) {
-    while (i < rest.size() && is_blank(rest[i])) ++i;
-    const std::size_t start = i;
-    while (i < rest.size() && !is_blank(rest[i])) ++i;
-    if (i > start) out.push_back(rest.substr(start, i - start));
+/// `word` quoted for a message: printable ASCII as it is, other bytes as \xNN (so the message is
+/// valid UTF-8 and holds no NUL), at most kMaxQuotedBytes of it.
+std::string quoted(std::string_view word) {
+  std::string out = "'";
+  for (std::size_t i = 0; i < word.size() && i < kMaxQuotedBytes; ++i) {
+    const auto c = static_cast<unsigned char>(word[i]);
+    if (c >= 0x20 && c < 0x7F) {
+      out += static_cast<char>(c);
+    } else {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
   }
-  return out;
+  if (word.size() > kMaxQuotedBytes) out += "...";
+  return out + "'";
 }
 
-/// Checks every `v` and `f` statement (the only ones a walk mesh uses), throwing InvalidInput
-/// "FILE:LINE: ..." for: a vertex with fewer than three coordinates, or one of x, y, z that is not
-/// a finite float; a face with fewer than three vertices, or a vertex reference that is not a
-/// non-zero integer or points outside the vertices (a negative, relative, one before the first;
-/// a positive one beyond the last in the file). Lines end at "\n", "\r\n" or "\r", as
-/// tinyobjloader reads them; other statements are left to it.
-ObjOutline check_statements(const std::string& text, const std::string& name) {
-  ObjOutline out;
-  struct Reference {
-    std::size_t line, face;
-    long long index;  // 1-based
-  };
-  std::vector<Reference> forward;  // positive vertex indices, checked once all vertices are known
-  std::size_t line = 0, pos = 0;
-  while (pos < text.size()) {
-    std::size_t end = pos;
-    while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
-    std::string_view s(text.data() + pos, end - pos);
-    pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
-    ++line;
-    while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
-    if (s.size() < 2 || !is_blank(s[1]) || (s[0] != 'v' && s[0] != 'f')) continue;
-    const std::vector<std::string_view> w = words(s.substr(2));
-    const std::string at = name + ":" + std::to_string(line) + ": ";
-    if (s[0] == 'v') {
-      ++out.vertices;
-      const std::string vertex = "vertex " + std::to_string(out.vertices) + ": ";
-      if (w.size() < 3) {
-        throw InvalidInput(at + vertex + std::to_string(w.size()) + " coordinates, need 3 (x y z)");
-      }
-      for (int k = 0; k < 3; ++k) {
-        std::string_view word = w[static_cast<std::size_t>(k)];
-        const std::string quoted = "coordinate " + std::string(1, "xyz"[k]) + " '" + std::string(word) + "'";
-        if (word.size() > 1 && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
-        // Parsed as double: what underflows float is a valid 0, what overflows it is not.
-        double value = 0.0;
-        const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
-        const bool whole = ptr == word.data() + word.size();
-        if (ec == std::errc() && whole && !std::isfinite(value)) throw InvalidInput(at + vertex + quoted + " is not finite");
-        if (ec == std::errc::result_out_of_range || std::fabs(value) > std::numeric_limits<float>::max()) {
-          throw InvalidInput(at + vertex + quoted + " is out of float range");
-        }
-        if (ec != std::errc() || !whole) throw InvalidInput(at + vertex + quoted + " is not a number");
-      }
-      continue;
+/// Splits off the next blank-separated word of `rest` (empty when none is left).
+std::string_view next_word(std::string_view& rest) {
+  std::size_t i = 0;
+  while (i < rest.size() && is_blank(rest[i])) ++i;
+  std::size_t end = i;
+  while (end < rest.size() && !is_blank(rest[end])) ++end;
+  const std::string_view word = rest.substr(i, end - i);
+  rest.remove_prefix(end);
+  return word;
+}
+
+/// One `f` statement: where it is and which of the face corners (ObjReader::corners) it owns.
+struct Face {
+  std::size_t line;   ///< 1-based line of the file
+  std::size_t first;  ///< its first corner in ObjReader::corners
+  std::size_t count;  ///< how many corners
+};
+
+/// The one pass over the text: positions as read, faces as 0-based vertex indices.
+class ObjReader {
+ public:
+  ObjReader(std::string name, const ObjLimits& limits) : name_(std::move(name)), limits_(limits) {
+    limits_.max_vertices = std::min(limits_.max_vertices, kMaxObjVertices);  // limits only tighten
+    limits_.max_triangles = std::min(limits_.max_triangles, kMaxObjTriangles);
+    limits_.max_face_vertices = std::min(limits_.max_face_vertices, kMaxObjFaceVertices);
+  }
+
+  void read(std::string_view text) {
+    std::size_t pos = 0;
+    while (pos < text.size()) {  // lines end at "\n", "\r\n" or "\r"
+      std::size_t end = pos;
+      while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
+      std::string_view s = text.substr(pos, end - pos);
+      pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+      ++line_;
+      while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
+      if (s.size() < 2 || !is_blank(s[1])) continue;  // only `v` and `f` are used; others are skipped
+      if (s[0] == 'v') vertex(s.substr(2));
+      if (s[0] == 'f') face(s.substr(2));
     }
-    const std::size_t face = out.faces.size() + 1;
-    const std::string what = "face " + std::to_string(face) + ": ";
-    if (w.size() < 3) throw InvalidInput(at + what + std::to_string(w.size()) + " vertices, need at least 3");
-    for (const std::string_view word : w) {
-      const std::string_view v = word.substr(0, word.find('/'));  // "v", "v/vt", "v//vn", "v/vt/vn"
+    // OBJ lets faces refer to later vertices: the positive references are checked now.
+    for (const Face& f : faces_) {
+      for (std::size_t k = f.first; k < f.first + f.count; ++k) {
+        if (corners_[k] >= positions_.size()) {
+          throw InvalidInput(at(f.line) + "face " + std::to_string(&f - faces_.data() + 1) + ": vertex index " +
+                             std::to_string(corners_[k] + 1) + " out of range (" + std::to_string(positions_.size()) +
+                             " vertices)");
+        }
+      }
+    }
+  }
+
+  TriangleSoup triangulate() const {
+    TriangleSoup soup;
+    soup.name = name_;
+    soup.positions = positions_;
+    soup.triangles.reserve(triangles_);
+    std::vector<Vec3> corners;
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      const Face& f = faces_[i];
+      const std::uint32_t* index = corners_.data() + f.first;
+      if (f.count == 3) {  // as it is: a degenerate one is build_walk_mesh's to drop and count
+        soup.triangles.push_back({index[0], index[1], index[2]});
+        continue;
+      }
+      corners.clear();
+      for (std::size_t k = 0; k < f.count; ++k) corners.push_back(positions_[index[k]]);
+      const std::string where = name_ + ":" + std::to_string(f.line) + ": face " + std::to_string(i + 1);
+      for (const TriangleIndices& t : triangulate_planar_polygon(corners, where)) {
+        soup.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+      }
+    }
+    return soup;
+  }
+
+  [[nodiscard]] bool has_faces() const { return !faces_.empty(); }
+
+ private:
+  std::string at(std::size_t line) const { return name_ + ":" + std::to_string(line) + ": "; }
+
+  /// "x y z [w]" (or the "x y z r g b" colour extension): x, y, z finite floats; the rest unread.
+  void vertex(std::string_view rest) {
+    const std::string what = at(line_) + "vertex " + std::to_string(positions_.size() + 1) + ": ";
+    if (positions_.size() >= limits_.max_vertices) {
+      throw InvalidInput(what + "more vertices than the limit of " + std::to_string(limits_.max_vertices) +
+                         " (ObjLimits::max_vertices)");
+    }
+    double xyz[3];
+    for (int k = 0; k < 3; ++k) {
+      std::string_view word = next_word(rest);
+      if (word.empty()) throw InvalidInput(what + std::to_string(k) + " coordinates, need 3 (x y z)");
+      const std::string coordinate = "coordinate " + std::string(1, "xyz"[k]) + " " + quoted(word);
+      if (word.size() > 1 && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
+      // Parsed as double: what underflows float is a valid 0, what overflows it is not.
+      double value = 0.0;
+      const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+      const bool whole = ptr == word.data() + word.size();
+      if (ec == std::errc() && whole && !std::isfinite(value)) throw InvalidInput(what + coordinate + " is not finite");
+      if (ec == std::errc::result_out_of_range || std::fabs(value) > std::numeric_limits<float>::max()) {
+        throw InvalidInput(what + coordinate + " is out of float range");
+      }
+      if (ec != std::errc() || !whole) throw InvalidInput(what + coordinate + " is not a number");
+      xyz[k] = value;
+    }
+    positions_.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2]));
+  }
+
+  /// "v", "v/vt", "v//vn" or "v/vt/vn" per corner: v a non-zero integer, counting from 1, or back
+  /// from the latest vertex when negative; vt and vn are not used.
+  void face(std::string_view rest) {
+    const std::size_t number = faces_.size() + 1;
+    const std::string what = at(line_) + "face " + std::to_string(number) + ": ";
+    const std::size_t first = corners_.size();
+    for (std::string_view word = next_word(rest); !word.empty(); word = next_word(rest)) {
+      if (corners_.size() - first == limits_.max_face_vertices) {
+        throw InvalidInput(what + "more vertices than the limit of " + std::to_string(limits_.max_face_vertices) +
+                           " per face (ObjLimits::max_face_vertices; triangulating is quadratic in them)");
+      }
+      const std::string_view v = word.substr(0, word.find('/'));
       long long index = 0;
       const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), index);
+      if (ec == std::errc::result_out_of_range && ptr == v.data() + v.size()) {
+        throw InvalidInput(what + "vertex index " + quoted(v) + " out of range (" + std::to_string(positions_.size()) +
+                           " vertices so far)");
+      }
       if (ec != std::errc() || ptr != v.data() + v.size() || index == 0) {
-        throw InvalidInput(at + what + "vertex reference '" + std::string(word) +
-                           "' is not a vertex index (a non-zero integer; OBJ counts from 1)");
+        throw InvalidInput(what + "vertex reference " + quoted(word) +
+                           " is not a vertex index (a non-zero integer; OBJ counts from 1)");
       }
-      if (index < 0 && -index > static_cast<long long>(out.vertices)) {
-        throw InvalidInput(at + what + "vertex index " + std::to_string(index) + " points before the first vertex (" +
-                           std::to_string(out.vertices) + " vertices so far)");
+      const auto so_far = static_cast<long long>(positions_.size());
+      if (index < -so_far) {  // (never -index: that overflows for the most negative one)
+        throw InvalidInput(what + "vertex index " + std::to_string(index) + " points before the first vertex (" +
+                           std::to_string(so_far) + " vertices so far)");
       }
-      if (index > 0) forward.push_back({line, face, index});
+      // A positive one may name a later vertex (checked at the end), but never one past the limit.
+      if (index > static_cast<long long>(limits_.max_vertices)) {
+        throw InvalidInput(what + "vertex index " + std::to_string(index) + " out of range (more than the limit of " +
+                           std::to_string(limits_.max_vertices) + " vertices, ObjLimits::max_vertices)");
+      }
+      corners_.push_back(static_cast<std::uint32_t>(index > 0 ? index - 1 : so_far + index));
     }
-    out.faces.push_back({line, w.size()});
-  }
-  for (const Reference& r : forward) {  // OBJ lets faces refer to later vertices
-    if (r.index > static_cast<long long>(out.vertices)) {
-      throw InvalidInput(name + ":" + std::to_string(r.line) + ": face " + std::to_string(r.face) + ": vertex index " +
-                         std::to_string(r.index) + " out of range (" + std::to_string(out.vertices) + " vertices)");
+    const std::size_t count = corners_.size() - first;
+    if (count < 3) throw InvalidInput(what + std::to_string(count) + " vertices, need at least 3");
+    if (count - 2 > limits_.max_triangles - triangles_) {
+      throw InvalidInput(what + "the faces make more triangles than the limit of " +
+                         std::to_string(limits_.max_triangles) + " (ObjLimits::max_triangles)");
     }
+    triangles_ += count - 2;
+    faces_.push_back({line_, first, count});
   }
-  return out;
-}
 
-/// Splits one polygon into triangles: a fan from its first corner, wound as the polygon. A quad
-/// takes whichever diagonal keeps both triangles wound like the polygon (its Newell normal); a
-/// polygon that no fan covers (non-convex beyond one reflex corner of a quad, or
-/// self-intersecting) is rejected: triangulate it in the exporter. Degenerate pieces (no area)
-/// pass: build_walk_mesh drops and counts them.
-void triangulate(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& face,
-                 std::vector<glm::uvec3>& out, const std::string& at) {
-  const std::size_t n = face.size();
-  if (n == 3) {
-    out.push_back({face[0], face[1], face[2]});
-    return;
-  }
-  glm::dvec3 newell(0.0);
-  const glm::dvec3 origin(positions[face[0]]);
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3 a = glm::dvec3(positions[face[i]]) - origin;
-    const glm::dvec3 b = glm::dvec3(positions[face[(i + 1) % n]]) - origin;
-    newell += glm::cross(a, b);
-  }
-  auto folds = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {  // wound against the polygon
-    const glm::dvec3 pa(positions[a]);
-    const glm::dvec3 t = glm::cross(glm::dvec3(positions[b]) - pa, glm::dvec3(positions[c]) - pa);
-    return glm::dot(t, newell) < -1e-9 * glm::length(t) * glm::length(newell);
-  };
-  for (std::size_t first = 0; first < (n == 4 ? 2u : 1u); ++first) {  // a quad may use either diagonal
-    bool ok = true;
-    for (std::size_t i = 1; i + 1 < n && ok; ++i) {
-      ok = !folds(face[first], face[(first + i) % n], face[(first + i + 1) % n]);
-    }
-    if (!ok) continue;
-    for (std::size_t i = 1; i + 1 < n; ++i) out.push_back({face[first], face[(first + i) % n], face[(first + i + 1) % n]});
-    return;
-  }
-  throw InvalidInput(at + "face with " + std::to_string(n) +
-                     " vertices is not convex (no fan of triangles covers it); triangulate it when exporting");
-}
+  std::string name_;
+  ObjLimits limits_;
+  std::size_t line_ = 0;
+  std::vector<Vec3> positions_;
+  std::vector<std::uint32_t> corners_;  ///< every face's vertex indices, 0-based, in file order
+  std::vector<Face> faces_;
+  std::size_t triangles_ = 0;  ///< the faces' triangles so far: n - 2 per face of n corners
+};
 
 }  // namespace
 
-TriangleSoup load_obj(const std::string& path) {
+TriangleSoup load_obj(const std::string& path, const ObjLimits& limits) {
   const std::string name = std::filesystem::path(path).filename().string();
-  if (!std::filesystem::exists(path)) throw InvalidInput(path + ": file not found");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InvalidInput(path + ": file not found");
+  if (std::filesystem::is_directory(path, ec)) throw InvalidInput(path + ": is a folder, not an OBJ file");
   std::string why;
-  const std::optional<std::string> read = io::read_text_file(path, why);
-  if (!read) throw InvalidInput(path + ": " + why);
-  const std::string& text = *read;
-  const ObjOutline outline = check_statements(text, name);
-  if (outline.faces.empty()) throw InvalidInput(name + ": no faces (no 'f' statement)");
-
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // triangulate() below, which names a polygon's line
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromString(text, "", config)) {
-    throw InvalidInput(name + ": cannot parse OBJ: " + reader.Error());
-  }
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  const std::size_t nv = attrib.vertices.size() / 3;
-  TriangleSoup soup;
-  soup.name = name;
-  soup.positions.reserve(nv);
-  for (std::size_t i = 0; i < nv; ++i) {
-    soup.positions.push_back({attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]});
-  }
-  // tinyobjloader keeps the faces in file order (across groups, objects and materials): the k-th
-  // face it returns is the k-th `f` statement. Should a future version disagree, say so rather
-  // than name wrong lines.
-  std::size_t face_count = 0;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) face_count += shape.mesh.num_face_vertices.size();
-  if (nv != outline.vertices || face_count != outline.faces.size()) {
-    throw InvalidInput(name + ": tinyobjloader read " + std::to_string(nv) + " vertices and " +
-                       std::to_string(face_count) + " faces where the file has " + std::to_string(outline.vertices) +
-                       " and " + std::to_string(outline.faces.size()));
-  }
-  std::size_t k = 0;
-  std::vector<std::uint32_t> face;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-    std::size_t next = 0;
-    for (const unsigned int count : shape.mesh.num_face_vertices) {
-      const FaceLine& source = outline.faces[k++];
-      const std::string at = name + ":" + std::to_string(source.line) + ": ";
-      if (count != source.vertices) throw InvalidInput(at + "tinyobjloader read this face differently");
-      face.clear();
-      for (std::size_t j = 0; j < count; ++j) {
-        const int v = shape.mesh.indices[next++].vertex_index;
-        if (v < 0 || static_cast<std::size_t>(v) >= nv) {  // checked above; kept as a guard
-          throw InvalidInput(at + "vertex index out of range (" + std::to_string(nv) + " vertices)");
-        }
-        face.push_back(static_cast<std::uint32_t>(v));
-      }
-      triangulate(soup.positions, face, soup.triangles, at);
-    }
-  }
-  return soup;
+  const std::optional<std::string> text = io::read_text_file(path, why);
+  if (!text) throw InvalidInput(path + ": " + why);
+  ObjReader reader(name, limits);
+  reader.read(*text);
+  if (!reader.has_faces()) throw InvalidInput(name + ": no faces (no 'f' statement)");
+  return reader.triangulate();
 }
 
-TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options) {
-  const TriangleSoup soup = load_obj(path);
+TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options, const ObjLimits& limits) {
+  const TriangleSoup soup = load_obj(path, limits);
   try {
     return make_triangle_mesh(soup.positions, soup.triangles, options);
   } catch (const InvalidInput& e) {

@@ -30,7 +30,8 @@ struct FlatPieces {
 /// partner of every half-edge (3 t + j runs from corner j of triangle t to corner j + 1; -1 on
 /// the outline), which merge_triangles can use instead of searching.
 void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_corner,
-              DecompositionScratch& scratch, std::vector<TriangleIndices>& out);
+              DecompositionScratch& scratch, std::vector<TriangleIndices>& out,
+              TurnScale scale = TurnScale::outline);
 
 /// merge_hertel_mehlhorn into `out` (cleared first). `twins_known`: scratch.twin already holds
 /// the half-edge partners (from ear_clip on the same triangles).

@@ -7,10 +7,19 @@
 #include "corner_turn.hpp"
 #include "decomposition_steps.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 
 namespace collide {
 namespace {
+
+/// A turn computed in float from coordinates of magnitude up to x, over edges up to L long, is
+/// off by up to about this many float epsilons of x L (the two differences are off by an
+/// epsilon of x each; the cross product adds one of L^2 <= x L). TurnScale::triangle never
+/// calls a corner convex below it.
+constexpr float kTurnRoundingUlps = 4.0f;
 
 /// p inside the counter-clockwise triangle a, b, c, on its boundary, or outside by no more than
 /// `tol` (a turn, twice an area): a vertex on or near the cut a-c blocks the cut, whichever way
@@ -24,12 +33,24 @@ bool in_closed_triangle(Vec2 p, Vec2 a, Vec2 b, Vec2 c, float tol) noexcept {
 namespace detail {
 
 void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_corner,
-              DecompositionScratch& scratch, std::vector<TriangleIndices>& triangles) {
+              DecompositionScratch& scratch, std::vector<TriangleIndices>& triangles, TurnScale scale) {
   const int n = static_cast<int>(outline.size());
   triangles.clear();
   if (n < 3) return;
   triangles.reserve(static_cast<size_t>(n - 2));
-  const float straight = detail::straight_turn_tolerance(detail::outline_size(outline));
+  const float size = detail::outline_size(outline);
+  const float outline_straight = detail::straight_turn_tolerance(size);
+  // TurnScale::triangle: float rounding of a turn from coordinates of magnitude up to `extent`,
+  // per unit of edge length.
+  float extent = 0.0f;
+  for (Vec2 p : outline) extent = std::max({extent, std::fabs(p.x), std::fabs(p.y)});
+  const float rounding = kTurnRoundingUlps * std::numeric_limits<float>::epsilon() * extent;
+  // The turn at most which the corner b of the triangle a, b, c is straight.
+  auto straight_at = [&](Vec2 a, Vec2 b, Vec2 c) {
+    if (scale == TurnScale::outline) return outline_straight;
+    const float longest = std::max({distance_squared(a, b), distance_squared(b, c), distance_squared(c, a)});
+    return std::max(kDegenerateAreaTolerance * longest, rounding * std::sqrt(longest));
+  };
 
   // The remaining polygon as a doubly linked ring of outline indices.
   // Half-edge partners, filled as triangles are cut: ring_twin[v] is the half-edge of an
@@ -62,7 +83,8 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
   std::vector<unsigned char>& convex = scratch.convex;
   convex.resize(static_cast<size_t>(n));
   auto update = [&](int i) {
-    convex[i] = detail::corner_turn(outline[prev[i]], outline[i], outline[next[i]]) > straight;
+    const Vec2 a = outline[prev[i]], b = outline[i], c = outline[next[i]];
+    convex[i] = detail::corner_turn(a, b, c) > straight_at(a, b, c);
   };
   for (int i = 0; i < n; ++i) update(i);
   // An ear: all three corners of its triangle strictly convex (so the triangle is a valid
@@ -72,6 +94,7 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
     const Vec2 a = outline[prev[i]];
     const Vec2 b = outline[i];
     const Vec2 c = outline[next[i]];
+    const float straight = straight_at(a, b, c);
     if (detail::corner_turn(b, c, a) <= straight || detail::corner_turn(c, a, b) <= straight) {
       return false;
     }
@@ -104,24 +127,28 @@ void ear_clip(std::span<const Vec2> outline, std::string_view name, int first_co
       // or float rounding hid every ear of a nearly self-touching outline.
       std::vector<Vec2> rest;
       for (int k = 0, j = cursor; k < remaining; ++k, j = next[j]) rest.push_back(outline[j]);
-      if (std::fabs(signed_area(rest)) <= straight) return;
+      const float rest_size = detail::outline_size(rest);
+      const float flat = scale == TurnScale::outline
+                             ? outline_straight
+                             : std::max(kDegenerateAreaTolerance * rest_size * rest_size, rounding * rest_size);
+      if (std::fabs(signed_area(rest)) <= flat) return;
       throw InvalidInput(std::string(name) +
                          ": polygon could not be triangulated (outline nearly touches itself)");
     }
   }
   const TriangleIndices last{prev[cursor], cursor, next[cursor]};
-  if (detail::corner_turn(outline[last[0]], outline[last[1]], outline[last[2]]) > straight) {
-    emit(last[0], last[1], last[2]);
-  }
+  const Vec2 a = outline[last[0]], b = outline[last[1]], c = outline[last[2]];
+  if (detail::corner_turn(a, b, c) > straight_at(a, b, c)) emit(last[0], last[1], last[2]);
 }
 
 }  // namespace detail
 
 std::vector<TriangleIndices> triangulate_ear_clipping(std::span<const Vec2> outline,
-                                                      std::string_view name, int first_corner) {
+                                                      std::string_view name, int first_corner,
+                                                      TurnScale scale) {
   detail::DecompositionScratch scratch;
   std::vector<TriangleIndices> triangles;
-  detail::ear_clip(outline, name, first_corner, scratch, triangles);
+  detail::ear_clip(outline, name, first_corner, scratch, triangles, scale);
   return triangles;
 }
 

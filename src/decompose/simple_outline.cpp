@@ -40,7 +40,8 @@ bool segments_touch(Vec2 p1, Vec2 p2, Vec2 q1, Vec2 q2) noexcept {
 
 }  // namespace
 
-SimpleOutline make_simple_outline(std::span<const Vec2> points, std::string_view name) {
+SimpleOutline make_simple_outline(std::span<const Vec2> points, std::string_view name,
+                                  StraightCorners straight_corners) {
   for (size_t i = 0; i < points.size(); ++i) {
     if (!is_finite(points[i])) {
       throw InvalidInput(label(name) + "polygon vertex " + std::to_string(i) + ": not finite");
@@ -87,8 +88,8 @@ SimpleOutline make_simple_outline(std::span<const Vec2> points, std::string_view
       throw InvalidInput(label(name) + "polygon has zero area (all vertices collinear)");
     }
   }
-  // Drop straight corners until none is left; a corner that turns back on itself is a spike of
-  // zero width, which makes the outline touch itself.
+  // Drop straight corners until none is left (or keep them); a corner that turns back on itself
+  // is a spike of zero width, which makes the outline touch itself.
   for (bool changed = true; changed && out.vertices.size() >= 3;) {
     changed = false;
     const size_t n = out.vertices.size();
@@ -101,6 +102,7 @@ SimpleOutline make_simple_outline(std::span<const Vec2> points, std::string_view
         throw InvalidInput(label(name) + "polygon is self-intersecting: the outline doubles back "
                            "at vertex " + std::to_string(out.source[i]));
       }
+      if (straight_corners == StraightCorners::keep) continue;
       out.vertices.erase(out.vertices.begin() + static_cast<std::ptrdiff_t>(i));
       out.source.erase(out.source.begin() + static_cast<std::ptrdiff_t>(i));
       changed = true;

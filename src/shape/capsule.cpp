@@ -1,5 +1,7 @@
 #include <collide/shape/capsule.hpp>
 
+#include "axis_length.hpp"
+
 #include <collide/core/error.hpp>
 
 #include <cmath>
@@ -14,7 +16,7 @@ Capsule make_capsule(Vec2 a, Vec2 b, float radius) {
   if (radius < 0.0f) {
     throw InvalidInput("capsule radius: negative (" + std::to_string(radius) + ")");
   }
-  if (a == b) throw InvalidInput("capsule: a and b coincide (use a circle)");
+  detail::check_axis(a, b, "capsule", " (use a circle)");
   return {a, b, radius};
 }
 

@@ -1,5 +1,7 @@
 #include <collide/shape/segment.hpp>
 
+#include "axis_length.hpp"
+
 #include <collide/core/error.hpp>
 
 namespace collide {
@@ -7,7 +9,7 @@ namespace collide {
 Segment make_segment(Vec2 a, Vec2 b) {
   if (!is_finite(a)) throw InvalidInput("segment a: not finite");
   if (!is_finite(b)) throw InvalidInput("segment b: not finite");
-  if (a == b) throw InvalidInput("segment: a and b coincide");
+  detail::check_axis(a, b, "segment");
   return {a, b};
 }
 

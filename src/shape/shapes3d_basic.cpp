@@ -6,6 +6,8 @@
 #include <collide/shape/segment3.hpp>
 #include <collide/shape/sphere.hpp>
 
+#include "axis_length.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -41,7 +43,7 @@ Capsule3 make_capsule(Vec3 a, Vec3 b, float radius) {
   check_point(a, "capsule a");
   check_point(b, "capsule b");
   check_radius(radius, "capsule");
-  if (a == b) throw InvalidInput("capsule: a and b coincide (use a sphere)");
+  detail::check_axis(a, b, "capsule", " (use a sphere)");
   return {a, b, radius};
 }
 
@@ -55,7 +57,7 @@ Aabb3 compute_aabb(const Capsule3& capsule, const Transform3& xf) noexcept {
 Segment3 make_segment(Vec3 a, Vec3 b) {
   check_point(a, "segment a");
   check_point(b, "segment b");
-  if (a == b) throw InvalidInput("segment: a and b coincide");
+  detail::check_axis(a, b, "segment");
   return {a, b};
 }
 

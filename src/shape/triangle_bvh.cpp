@@ -416,10 +416,24 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
       const Packet& packet = packets_[ref & ~kLeaf];
       const Lanes d2 = triangle_distance_squared(packet.corners, pl);
       const Lanes nearest = horizontal_min(d2);
-      if (nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
+      const unsigned at_minimum = lane_bits(d2 == nearest);
+      if (at_minimum != 0 && nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
         best_d2 = nearest[0];
-        best_lane = std::countr_zero(lane_bits(d2 == nearest));
+        best_lane = std::countr_zero(at_minimum);
         best_packet = ref & ~kLeaf;
+      } else if (at_minimum == 0) {
+        // A NaN distance (corners beyond kFiniteQueryRange overflow) makes the minimum disagree
+        // with every lane, and countr_zero(0) = 32 read past the packet (found by fuzz_shapes):
+        // scan the lanes instead, NaN never winning.
+        std::array<float, kBvhWidth> d;
+        std::memcpy(d.data(), &d2, sizeof d);
+        for (int k = 0; k < kBvhWidth; ++k) {
+          if (d[k] < best_d2) {  // (unused lanes repeat the last triangle)
+            best_d2 = d[k];
+            best_lane = k;
+            best_packet = ref & ~kLeaf;
+          }
+        }
       }
     } else {
       const Node& node = nodes_[ref];

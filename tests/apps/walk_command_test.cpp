@@ -80,6 +80,28 @@ TEST(WalkCommand, ReportsWhatMakeWalkMeshBuildsForTheOptionsGiven) {
   }
 }
 
+// Issue 15: a level of concave n-gon faces (8 to 12 sides, with ramps; tests/data/ngon_level.obj)
+// was refused ("not convex (no fan of triangles covers it)"). Now every agent stays on the mesh
+// by the tool's own check, the five floors are one island joined without T-junctions (the
+// vertices where the ramps meet the floors' straight edges are triangle corners), and the
+// crenellated wall is too steep to walk.
+TEST(WalkCommand, AgentsOnALevelOfConcaveNgonsStayOnTheMesh) {
+  const CommandRun r = run("walk " + std::string(COLLIDE_TEST_DATA_DIR) + "/ngon_level.obj --agents 16 --steps 400 --speed 0.25 --seed 15");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(on-mesh check\s+(\d+)/(\d+) positions)"))) << r.output;
+  EXPECT_EQ(m[1].str(), m[2].str()) << r.output;
+  EXPECT_EQ(std::stoi(m[2].str()), 16 * 400);
+  EXPECT_EQ(report_number(r.output, "level triangles"), 34) << r.output;  // 10 + 2 + 8 + 2 + 6 + 6
+  EXPECT_EQ(report_number(r.output, "too steep"), 6) << r.output;         // the wall
+  EXPECT_EQ(report_number(r.output, "degenerate"), 0) << r.output;
+  EXPECT_EQ(report_number(r.output, "islands"), 1) << r.output;
+  std::smatch splits;
+  ASSERT_TRUE(std::regex_search(r.output, splits, std::regex(R"((\d+) T-junction splits)"))) << r.output;
+  EXPECT_EQ(splits[1].str(), "0") << r.output;
+  EXPECT_GT(report_number(r.output, "edges crossed"), 100) << r.output;
+}
+
 TEST(WalkCommand, MalformedLevelFailsNamingTheFileAndLine) {
   const std::string path = ::testing::TempDir() + "walk_bad_level.obj";
   std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 0 nan\nf 1 2 3\n";

@@ -1,9 +1,11 @@
 #include <collide/core/error.hpp>
 #include <collide/decompose/convex_decomposition.hpp>
 
+#include "support/random.hpp"
 #include "support/test_util.hpp"
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <limits>
 #include <map>
@@ -418,6 +420,258 @@ TEST(ConvexDecomposition, RejectsBadInputNamingThePolygon) {
     pentagram.push_back({std::cos(a), std::sin(a)});
   }
   expect_has(message(pentagram), "edge");
+}
+
+// ---- planar polygons in 3D (a level mesh's n-gon faces) ---------------------------------------
+
+/// A 2D outline placed in a plane of 3D: corner (x, y) at origin + x e1 + y e2.
+struct Embedding {
+  Vec3 origin{0.0f};
+  Vec3 e1{1, 0, 0};
+  Vec3 e2{0, 0, -1};  // with e1: the xz floor, counter-clockwise seen from +y
+  float scale = 1.0f;
+  [[nodiscard]] Vec3 place(Vec2 p) const { return origin + scale * (p.x * e1 + p.y * e2); }
+};
+
+std::vector<Vec3> placed(std::span<const Vec2> poly, const Embedding& at) {
+  std::vector<Vec3> out;
+  for (Vec2 p : poly) out.push_back(at.place(p));
+  return out;
+}
+
+/// Twice the signed area of a 2D outline by the shoelace formula, in double.
+double shoelace(std::span<const Vec2> poly) {
+  double a = 0.0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 u = poly[i], v = poly[(i + 1) % poly.size()];
+    a += static_cast<double>(u.x) * v.y - static_cast<double>(u.y) * v.x;
+  }
+  return a;
+}
+
+/// Checks a triangulation of the 3D polygon `pts`, which lies in the plane of `at` (up to float
+/// rounding), against truths independent of the code under test: `expected` triangles, each of
+/// three distinct corners of the polygon, wound as the polygon (the 3D normal on the side of
+/// e1 x e2 when the polygon is counter-clockwise in (e1, e2)); their areas in the plane (3D cross
+/// products, double) add up to the polygon's (shoelace on its corners in (e1, e2)); each lies
+/// inside the polygon (its centroid, by the crossing number); and sampled points inside the
+/// polygon are in exactly one triangle, those outside in none.
+void check_planar_triangulation(std::span<const Vec3> pts, const Embedding& at, const std::vector<TriangleIndices>& tris,
+                                size_t expected, std::mt19937& rng) {
+  const int n = static_cast<int>(pts.size());
+  ASSERT_EQ(tris.size(), expected);
+  std::vector<Vec2> poly;  // the corners in the plane's own coordinates, in units of `scale`
+  for (const Vec3& p : pts) {
+    const glm::dvec3 d = (glm::dvec3(p) - glm::dvec3(at.origin)) / static_cast<double>(at.scale);
+    poly.emplace_back(static_cast<float>(glm::dot(d, glm::dvec3(at.e1))), static_cast<float>(glm::dot(d, glm::dvec3(at.e2))));
+  }
+  const glm::dvec3 up = glm::cross(glm::dvec3(at.e1), glm::dvec3(at.e2));
+  const double whole = shoelace(poly);  // its sign is the polygon's winding
+  const double unit = static_cast<double>(at.scale) * at.scale;
+  double sum = 0.0;
+  for (const TriangleIndices& t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_GE(t[k], 0);
+      ASSERT_LT(t[k], n);
+    }
+    ASSERT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+    const glm::dvec3 a(pts[t[0]]), b(pts[t[1]]), c(pts[t[2]]);
+    const glm::dvec3 normal = glm::cross(b - a, c - a);
+    EXPECT_GT(glm::dot(normal, up) * whole, 0.0) << "triangle not wound as the polygon";
+    sum += std::fabs(glm::dot(normal, up));  // its area in the plane (the corners are off it by rounding)
+    const Vec2 centroid = (poly[t[0]] + poly[t[1]] + poly[t[2]]) / 3.0f;
+    EXPECT_TRUE(inside_polygon(poly, centroid)) << "triangle outside the polygon";
+  }
+  EXPECT_NEAR(sum / unit, std::fabs(whole), 1e-4 * std::fabs(whole));
+  Vec2 lo = poly[0], hi = poly[0];
+  for (Vec2 v : poly) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const float size = std::max(hi.x - lo.x, hi.y - lo.y);
+  int inside = 0, outside = 0;
+  for (int s = 0; s < 200; ++s) {
+    const Vec2 p{test::uniform(rng, lo.x, hi.x), test::uniform(rng, lo.y, hi.y)};
+    if (distance_to_outline(poly, p) < 1e-3 * size) continue;  // boundary: either answer
+    int covering = 0;
+    for (const TriangleIndices& t : tris) {
+      const std::array<Vec2, 3> tri{poly[t[0]], poly[t[1]], poly[t[2]]};
+      if (inside_polygon(tri, p)) ++covering;
+    }
+    const bool in = inside_polygon(poly, p);
+    (in ? inside : outside) += 1;
+    EXPECT_EQ(covering, in ? 1 : 0) << "point (" << p.x << ", " << p.y << ")";
+  }
+  EXPECT_GT(inside, 0);
+}
+
+/// The concave faces of RecastDemo's nav_test.obj kind: an 8-sided floor with a notch, and a
+/// 12-sided cross-shaped floor.
+const std::vector<Vec2> kNotched8{{0, 0}, {6, 0}, {6, 4}, {4, 4}, {4, 2}, {2, 2}, {2, 4}, {0, 4}};
+const std::vector<Vec2> kCross12{{2, 0}, {4, 0}, {4, 2}, {6, 2}, {6, 4}, {4, 4},
+                                 {4, 6}, {2, 6}, {2, 4}, {0, 4}, {0, 2}, {2, 2}};
+/// A U of 12 vertices, 4 of them on straight stretches of its edges (T-junction candidates).
+const std::vector<Vec2> kStraightU12{{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3, 1}, {3, 2},
+                                     {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 1}};
+
+TEST(PlanarPolygon, ConcaveNgonsInAnyPlaneBecomeNMinus2TrianglesThatTileThem) {
+  std::mt19937 rng(15);
+  const std::vector<std::vector<Vec2>> shapes{kLShape, kUShape, star(5, 3.0f, 1.0f), kNotched8, kCross12,
+                                              kStraightU12, comb(4)};
+  std::vector<Embedding> planes{Embedding{}};  // the xz floor
+  planes.push_back({{0, 5, 0}, {0, 1, 0}, {0, 0, 1}});  // a wall (yz)
+  for (int k = 0; k < 6; ++k) {  // random planes, some far from the origin, huge or tiny
+    const Quat q = test::random_rotation(rng);
+    Embedding at{test::random_point3(rng, 10.0f), q * Vec3(1, 0, 0), q * Vec3(0, 1, 0)};
+    if (k == 1) at.origin += Vec3(1e4f, -2e4f, 3e4f);
+    if (k == 2) at.scale = 1e37f, at.origin *= 1e36f;
+    if (k == 3) at.scale = 1e-30f, at.origin *= 1e-30f;
+    planes.push_back(at);
+  }
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const std::vector<Vec2>& shape = shapes[i];
+    for (size_t k = 0; k < planes.size(); ++k) {
+      const Embedding& at = planes[k];
+      for (const bool reverse : {false, true}) {
+        SCOPED_TRACE("shape " + std::to_string(i) + ", plane " + std::to_string(k) + (reverse ? ", reversed" : ""));
+        const std::vector<Vec2> poly = reverse ? reversed(shape) : shape;
+        const std::vector<TriangleIndices> tris = triangulate_planar_polygon(placed(poly, at), "face");
+        check_planar_triangulation(placed(poly, at), at, tris, poly.size() - 2, rng);
+      }
+    }
+  }
+}
+
+TEST(PlanarPolygon, RandomStarShapedPolygonsInRandomPlanes) {
+  std::mt19937 rng(1515);
+  int triangulated = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    const int n = 3 + static_cast<int>(rng() % 60);
+    std::vector<Vec2> poly = random_star_shaped(rng, n, 10.0f);
+    if (trial % 2 == 1) poly = reversed(poly);
+    const Quat q = test::random_rotation(rng);
+    const Embedding at{test::random_point3(rng, 100.0f), q * Vec3(1, 0, 0), q * Vec3(0, 1, 0)};
+    const std::vector<Vec3> pts = placed(poly, at);
+    std::vector<TriangleIndices> tris;
+    try {
+      tris = triangulate_planar_polygon(pts, "random");
+    } catch (const InvalidInput& e) {
+      // Only near-duplicate angles can make a degenerate draw; they must say so.
+      EXPECT_EQ(std::string(e.what()).rfind("random: polygon ", 0), 0u) << e.what();
+      continue;
+    }
+    ++triangulated;
+    check_planar_triangulation(pts, at, tris, static_cast<size_t>(n) - 2, rng);
+  }
+  EXPECT_GE(triangulated, 140);
+}
+
+// A round face of 1000 vertices turns by less at each corner than the outline rule calls
+// straight (kDegenerateAreaTolerance of the size squared): TurnScale::triangle still finds ears.
+TEST(PlanarPolygon, FineRoundFacesOfAThousandVerticesHaveEars) {
+  std::mt19937 rng(1000);
+  std::vector<Vec2> round, spiky = star(512, 10.0f, 6.0f);
+  for (int i = 0; i < 1000; ++i) {
+    const float a = 2.0f * test::kPi * static_cast<float>(i) / 1000.0f;
+    round.push_back({10.0f * std::cos(a), 10.0f * std::sin(a)});
+  }
+  const Embedding tilted{{3, 4, 5}, {0.6f, 0.8f, 0}, {0, 0, 1}};
+  for (const auto& poly : {round, spiky}) {
+    check_planar_triangulation(placed(poly, tilted), tilted, triangulate_planar_polygon(placed(poly, tilted)),
+                               poly.size() - 2, rng);
+  }
+  // The outline rule (decompose_convex's) finds none on the round outline's first corners.
+  EXPECT_THROW((void)triangulate_ear_clipping(round), InvalidInput);
+}
+
+TEST(PlanarPolygon, VerticesOnStraightEdgesAreKeptAsCorners) {
+  // Dropping one would leave a T-junction against the neighbouring face that uses it.
+  std::mt19937 rng(3);
+  const std::vector<TriangleIndices> tris = triangulate_planar_polygon(placed(kStraightU12, {}));
+  check_planar_triangulation(placed(kStraightU12, {}), {}, tris, 10, rng);
+  std::vector<int> used(kStraightU12.size(), 0);
+  for (const TriangleIndices& t : tris)
+    for (int c : t) used[static_cast<size_t>(c)] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 1), 12);
+  // A 12-gon: a square with two extra vertices on each side (n - 2 triangles, every one used).
+  std::vector<Vec2> square12;
+  for (int side = 0; side < 4; ++side) {
+    const Vec2 corners[4] = {{0, 0}, {3, 0}, {3, 3}, {0, 3}};
+    const Vec2 a = corners[side], b = corners[(side + 1) % 4];
+    for (int k = 0; k < 3; ++k) square12.push_back(a + (static_cast<float>(k) / 3.0f) * (b - a));
+  }
+  check_planar_triangulation(placed(square12, {}), {}, triangulate_planar_polygon(placed(square12, {})), 10, rng);
+}
+
+TEST(PlanarPolygon, RepeatedVerticesAreMergedWhileThreeRemain) {
+  std::mt19937 rng(4);
+  // The L with its third corner written twice, and with its first repeated at the end.
+  std::vector<Vec2> twice = kLShape;
+  twice.insert(twice.begin() + 2, kLShape[2]);
+  const std::vector<TriangleIndices> tris = triangulate_planar_polygon(placed(twice, {}));
+  check_planar_triangulation(placed(twice, {}), {}, tris, kLShape.size() - 2, rng);
+  std::vector<Vec2> closed = kUShape;
+  closed.push_back(kUShape[0]);
+  check_planar_triangulation(placed(closed, {}), {}, triangulate_planar_polygon(placed(closed, {})), kUShape.size() - 2, rng);
+}
+
+TEST(PlanarPolygon, SlightlyBentFacesPassAndFoldedOnesAreRefused) {
+  std::mt19937 rng(6);
+  // A unit quad with one corner lifted by 1 % of its size: near-planar, two triangles.
+  const std::vector<Vec3> bent{{0, 0, 0}, {1, 0, 0}, {1, 0.01f, 1}, {0, 0, 1}};
+  const std::vector<TriangleIndices> tris = triangulate_planar_polygon(bent, "quad");
+  ASSERT_EQ(tris.size(), 2u);
+  double area = 0.0;
+  for (const TriangleIndices& t : tris) {
+    const Vec3 normal = cross(bent[t[1]] - bent[t[0]], bent[t[2]] - bent[t[0]]);
+    EXPECT_LT(normal.y, 0.0f);  // wound as the quad: clockwise seen from +y
+    area += 0.5 * static_cast<double>(length(normal));
+  }
+  EXPECT_NEAR(area, 1.0, 1e-3);
+  // Lifted by 40 %: a corner 0.1 from the best-fit plane (two corners each side, 0.1 each).
+  const std::vector<Vec3> twisted{{0, 0, 0}, {1, 0, 0}, {1, 0.4f, 1}, {0, 0, 1}};
+  try {
+    (void)triangulate_planar_polygon(twisted, "level.obj:7: face 2");
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "level.obj:7: face 2: polygon is not planar: vertex 2 lies 0.09623 from its best-fit plane, more than "
+              "5% of its size 1 (kPlanarityTolerance)");
+  }
+  (void)rng;
+}
+
+TEST(PlanarPolygon, DegenerateAndSelfIntersectingFacesAreRefusedByName) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  auto message = [](const std::vector<Vec3>& pts) {
+    try {
+      (void)triangulate_planar_polygon(pts, "level.obj:9: face 4");
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto expect_has = [](const std::string& text, const char* part) {
+    EXPECT_NE(text.find(part), std::string::npos) << text;
+    EXPECT_EQ(text.rfind("level.obj:9: face 4: ", 0), 0u) << text;
+  };
+  expect_has(message({{0, 0, 0}, {1, nan, 0}, {1, 0, 1}, {0, 0, 1}}), "vertex 1: not finite");
+  expect_has(message({{0, 0, 0}, {1, 0, 0}}), "at least 3");
+  // Repeated vertices that leave fewer than 3: no area.
+  expect_has(message({{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {1, 0, 0}}), "zero area");
+  expect_has(message({{2, 1, 2}, {2, 1, 2}, {2, 1, 2}, {2, 1, 2}}), "zero area");
+  expect_has(message({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {1, 1, 1}}), "zero area");
+  // Bow-ties: symmetric (the two lobes' areas cancel: no Newell normal) and lopsided.
+  EXPECT_EQ(message(placed(std::vector<Vec2>{{0, 0}, {2, 2}, {2, 0}, {0, 2}}, {})),
+            "level.obj:9: face 4: polygon is self-intersecting: edge 0-1 meets edge 2-3");
+  expect_has(message(placed(std::vector<Vec2>{{0, 0}, {4, 3}, {4, 0}, {0, 1}}, {})), "self-intersecting");
+  // A 12-gon whose outline crosses itself, in a tilted plane.
+  std::vector<Vec2> crossed = kCross12;
+  std::swap(crossed[3], crossed[9]);
+  expect_has(message(placed(crossed, {{1, 2, 3}, {0.6f, 0.8f, 0}, {0, 0, 1}})), "self-intersecting");
+  // Touching itself at a vertex: a face through one vertex twice (two squares joined at a corner).
+  expect_has(message(placed(std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 1}}, {})),
+             "self-intersecting");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -67,9 +68,10 @@ TEST(ObjLevel, MalformedFilesNameTheFileLineAndProblem) {
   EXPECT_EQ(load_error(""), "malformed.obj: no faces (no 'f' statement)");
   EXPECT_EQ(load_error(kTriangle), "malformed.obj: no faces (no 'f' statement)");
   EXPECT_EQ(load_error("\x01\x02 binary \xff\n"), "malformed.obj: no faces (no 'f' statement)");
-  // A polygon no fan of triangles covers: named, not folded over itself.
-  EXPECT_EQ(load_error("v 0 0 0\nv 4 0 0\nv 4 0 4\nv 2 0 1\nv 0 0 4\nf 1 2 3 4 5\n"),
-            "malformed.obj:6: face with 5 vertices is not convex (no fan of triangles covers it); triangulate it when exporting");
+  // A polygon that crosses itself (a bow-tie): named, not folded over itself. (A concave one is
+  // triangulated: tests/io/obj_reader_test.cpp.)
+  EXPECT_EQ(load_error("v 0 0 0\nv 2 0 2\nv 2 0 0\nv 0 0 2\nf 1 2 3 4\n"),
+            "malformed.obj:5: face 1: polygon is self-intersecting: edge 0-1 meets edge 2-3");
   // The file itself.
   try {
     (void)io::load_obj(::testing::TempDir() + "no_such_level.obj");
@@ -146,6 +148,39 @@ TEST(ObjLevel, PolygonsBecomeTrianglesThatCoverThem) {
     EXPECT_NEAR(sum, whole, 1e-9 * std::fabs(whole));
   }
   EXPECT_EQ(next, soup.triangles.size());
+}
+
+// Issue 15: tests/data/ngon_level.obj, floors of concave 8- to 12-gons joined by ramps (which a
+// fan could not cover), as a walk mesh: one island of exactly the floors' and ramps' area
+// (shoelace, by hand), no T-junction to split, and a walk from the ground floor up the ramp ends
+// on the platform at the height the geometry gives.
+TEST(ObjLevel, ConcaveNgonFloorsBecomeOneWalkableIsland) {
+  const TriangleSoup soup = io::load_obj(std::string(COLLIDE_TEST_DATA_DIR) + "/ngon_level.obj");
+  ASSERT_EQ(soup.positions.size(), 36u);
+  ASSERT_EQ(soup.triangles.size(), 34u);  // n - 2 for each face: 10 + 2 + 8 + 2 + 6 + 6
+  const WalkMesh mesh = make_walk_mesh(soup);
+  const WalkMeshStats& s = mesh.stats();
+  EXPECT_EQ(s.too_steep_triangles, 6u);  // the wall
+  EXPECT_EQ(s.degenerate_triangles, 0u);
+  EXPECT_EQ(s.t_junction_splits, 0u);
+  EXPECT_EQ(s.islands, 1u);
+  EXPECT_EQ(mesh.triangle_count(), 28u);
+  double area = 0.0;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) area += mesh.triangle_area(t);
+  const double ramps = (10.0 + 6.0) * std::sqrt(40.0);  // width x slanted length (6 across, 2 up)
+  EXPECT_NEAR(area, 500.0 + 272.0 + 188.0 + ramps, 1e-3);
+  // From the middle of the cross, 25 east (a walk keeps its length over edges): 15 over the
+  // floor, sqrt(40) up the ramp (6 across, 2 up), the rest on the platform.
+  const WalkResult r = mesh.walk(mesh.nearest_walk_point({15.0f, 0.0f, 15.0f}), {25.0f, 0.0f, 0.0f});
+  EXPECT_EQ(r.status, WalkStatus::completed);
+  const Vec3 end = mesh.to_world_point(r.end);
+  EXPECT_NEAR(end.x, 36.0 + (25.0 - 15.0 - std::sqrt(40.0)), 1e-3);
+  EXPECT_NEAR(end.y, 2.0f, 1e-3f);
+  EXPECT_NEAR(end.z, 15.0f, 1e-3f);
+  // On into the platform's notch (x > 44 between z 10 and 20 is open): the walk meets its wall.
+  const WalkResult on = mesh.walk(r.end, {10.0f, 0.0f, 0.0f});
+  EXPECT_GT(on.walls_hit, 0);
+  EXPECT_LE(mesh.to_world_point(on.end).x, 44.0f + 1e-3f);
 }
 
 TEST(ObjLevel, RealLevelsLoadWithTheirMeasuredCounts) {

@@ -15,7 +15,8 @@ struct Capsule {
 };
 
 /// A validated capsule. Throws InvalidInput if a coordinate or the radius is not finite, the
-/// radius is negative, or a and b coincide (use a Circle).
+/// radius is negative, or a and b coincide (use a Circle; ends about 1e-19 apart count as
+/// coinciding: their squared distance underflows float).
 [[nodiscard]] Capsule make_capsule(Vec2 a, Vec2 b, float radius);
 
 /// Bounding box of the capsule placed by `xf`, world space.

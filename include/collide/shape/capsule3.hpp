@@ -16,7 +16,8 @@ struct Capsule3 {
 };
 
 /// A validated capsule. Throws InvalidInput if a coordinate or the radius is not finite, the
-/// radius is negative, or a and b coincide (use a Sphere).
+/// radius is negative, or a and b coincide (use a Sphere; ends about 1e-19 apart count as
+/// coinciding: their squared distance underflows float).
 [[nodiscard]] Capsule3 make_capsule(Vec3 a, Vec3 b, float radius);
 
 /// Bounding box of the capsule placed by `xf`, world space.

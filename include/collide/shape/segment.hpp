@@ -14,7 +14,8 @@ struct Segment {
   Vec2 b{0.0f, 0.0f};  ///< local space
 };
 
-/// A validated segment. Throws InvalidInput if a coordinate is not finite or a and b coincide.
+/// A validated segment. Throws InvalidInput if a coordinate is not finite or a and b coincide
+/// (or lie so close, about 1e-19, that their squared distance underflows float).
 [[nodiscard]] Segment make_segment(Vec2 a, Vec2 b);
 
 /// Bounding box of the segment placed by `xf`, world space.

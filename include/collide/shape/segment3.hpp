@@ -14,7 +14,8 @@ struct Segment3 {
   Vec3 b{0.0f, 0.0f, 0.0f};  ///< local space
 };
 
-/// A validated segment. Throws InvalidInput if a coordinate is not finite or a and b coincide.
+/// A validated segment. Throws InvalidInput if a coordinate is not finite or a and b coincide
+/// (or lie so close, about 1e-19, that their squared distance underflows float).
 [[nodiscard]] Segment3 make_segment(Vec3 a, Vec3 b);
 
 /// Bounding box of the segment placed by `xf`, world space.

@@ -1,31 +1,58 @@
 #pragma once
 /// @file
-/// Wavefront OBJ level meshes (through tinyobjloader): as triangle soups for the walk mesh, and
-/// as collision meshes (TriangleMesh) through the same reader.
+/// Wavefront OBJ level meshes: as triangle soups for the walk mesh, and as collision meshes
+/// (TriangleMesh) through the same reader.
 
 #include <collide/shape/triangle_mesh.hpp>
 #include <collide/walkmesh/walk_mesh.hpp>
 
+#include <cstddef>
 #include <string>
 
 namespace collide::io {
 
+/// Most vertices (`v` statements) an OBJ file may have: 2^24, 200 MB of positions and several
+/// times that in a walk mesh or TriangleMesh built from them. Far beyond a game level.
+inline constexpr std::size_t kMaxObjVertices = std::size_t{1} << 24;
+
+/// Most triangles an OBJ file's faces may make (a face of n vertices makes n - 2): 2^25.
+inline constexpr std::size_t kMaxObjTriangles = std::size_t{1} << 25;
+
+/// Most vertices one face may have: 1024. Triangulating a face is O(n^2) in its vertices
+/// (`triangulate_planar_polygon`), so a file of faces each 10^5 vertices long would take hours;
+/// exporters write n-gons of tens of vertices (a round floor of a few hundred at most).
+inline constexpr std::size_t kMaxObjFaceVertices = 1024;
+
+/// The limits `load_obj` enforces; a caller may tighten them (larger values count as the
+/// default). docs/limits.md lists them.
+struct ObjLimits {
+  std::size_t max_vertices = kMaxObjVertices;            ///< `v` statements
+  std::size_t max_triangles = kMaxObjTriangles;          ///< triangles of all faces together
+  std::size_t max_face_vertices = kMaxObjFaceVertices;   ///< vertices of one `f` statement
+};
+
 /// Loads every face of an OBJ file as triangles, positions in the file's units and axes (only
-/// `v` and `f` statements are used; the others are ignored). Polygons are split into a fan of
-/// triangles wound as the polygon (a quad takes whichever diagonal keeps it unfolded). The soup's
+/// `v` and `f` statements are used; the others are skipped unread). A triangle is kept as it is
+/// (a degenerate one too: `build_walk_mesh` drops and counts it); a face of more vertices is
+/// triangulated in its plane by ear clipping (`triangulate_planar_polygon`: concave n-gons too,
+/// every vertex of the face a corner of its triangles, each wound as the face). The soup's
 /// `name` is the file name, so errors from `build_walk_mesh` / `make_walk_mesh` name the file.
 /// Throws InvalidInput naming the file, and the line and vertex or face where there is one, e.g.
-/// "level.obj:12: vertex 9: coordinate x 'nan' is not finite", for: a file that is missing or
-/// unreadable; a vertex with fewer than three coordinates or one that is not a finite float; a
-/// face with fewer than three vertices, a vertex reference that is not a non-zero integer or is
-/// out of range (as written in the file: OBJ counts from 1, negative counts back); a polygon that
-/// no fan of triangles covers (not convex); no face at all.
-[[nodiscard]] TriangleSoup load_obj(const std::string& path);
+/// "level.obj:12: vertex 9: coordinate x 'nan' is not finite", for: a file that is missing, a
+/// folder or unreadable; a vertex with fewer than three coordinates or one that is not a finite
+/// float; a face with fewer than three vertices, a vertex reference that is not a non-zero
+/// integer or is out of range (as written in the file: OBJ counts from 1, negative counts back);
+/// a face of 4 or more vertices that is not a simple polygon (no area, self-intersecting) or not
+/// planar within kPlanarityTolerance of its size (the message says which vertex and by how
+/// much); more vertices, triangles or vertices in one face than `limits` allow (the message names
+/// the limit and its value); no face at all.
+[[nodiscard]] TriangleSoup load_obj(const std::string& path, const ObjLimits& limits = {});
 
 /// The OBJ file's faces as a collision mesh: `load_obj`, then `make_triangle_mesh` on its
 /// positions and triangles (vertex i and triangle t are the file's i-th vertex and the t-th
-/// triangle of its faces' fans, before degenerate ones are dropped). Throws InvalidInput for
-/// what either rejects, the message starting with the file name.
-[[nodiscard]] TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options = {});
+/// triangle of its faces' triangulations, before degenerate ones are dropped). Throws
+/// InvalidInput for what either rejects, the message starting with the file name.
+[[nodiscard]] TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options = {},
+                                              const ObjLimits& limits = {});
 
 }  // namespace collide::io

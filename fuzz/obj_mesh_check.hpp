@@ -1,0 +1,112 @@
+#pragma once
+// What must hold for any bytes given to the OBJ reader as a file (fuzz_obj_mesh, and the
+// regression test that replays the inputs the fuzzer found): shared so both check the same.
+
+#include <collide/ccd/raycast.hpp>
+#include <collide/core/error.hpp>
+#include <collide/core/finite_range.hpp>
+#include <collide/io/obj.hpp>
+#include <collide/narrow/distance.hpp>
+#include <collide/shape/sphere.hpp>
+#include <collide/walkmesh/make_walk_mesh.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+#include <unistd.h>
+
+namespace collide::fuzz {
+
+/// "" when `message`, an InvalidInput from reading the file `name`, starts with "name:" and is
+/// valid UTF-8; else what is wrong with it.
+inline std::string check_obj_message(const std::string& message, const std::string& name) {
+  if (message.rfind(name + ":", 0) != 0) return "message does not name the file: " + message;
+  try {
+    (void)nlohmann::json(message).dump();  // throws on bytes that are not UTF-8
+  } catch (const std::exception&) {
+    return "message is not valid UTF-8: " + message;
+  }
+  return {};
+}
+
+/// "" when `input`, written to a file, is handled as collide/io/obj.hpp says, else what went
+/// wrong:
+///  - io::load_obj throws nothing but InvalidInput naming the file; a soup it accepts has
+///    triangles, finite positions and every index in range;
+///  - io::load_triangle_mesh on the same file throws nothing but InvalidInput naming the file; a
+///    mesh it accepts has finite vertices, and fixed probes (a ray from (0, 1000, 0) to
+///    (0, -1000, 0), a unit sphere at the origin within 1000) get finite answers when its bounds
+///    lie within kFiniteQueryRange (collide/core/finite_range.hpp);
+///  - make_walk_mesh on the soup (what `collide walk` does) throws nothing but InvalidInput
+///    naming the file.
+/// Crashes, hangs and undefined behaviour are the sanitizers' and the fuzzer's to catch.
+inline std::string check_obj_mesh(std::string_view input) {
+  // The reader takes a path: one scratch file per process.
+  static const std::string path =
+      (std::filesystem::temp_directory_path() / ("collide_fuzz_obj." + std::to_string(::getpid()) + ".obj")).string();
+  const std::string name = std::filesystem::path(path).filename().string();
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(input.data(), static_cast<std::streamsize>(input.size()));
+    if (!out) return "cannot write the scratch file " + path;
+  }
+  TriangleSoup soup;
+  try {
+    soup = io::load_obj(path);
+  } catch (const InvalidInput& e) {
+    return check_obj_message(e.what(), name);
+  } catch (const std::exception& e) {
+    return std::string("load_obj threw other than InvalidInput: ") + e.what();
+  }
+  if (soup.triangles.empty()) return "an accepted soup has no triangles";
+  for (const Vec3& p : soup.positions) {
+    if (!is_finite(p)) return "an accepted soup holds a position that is not finite";
+  }
+  for (const glm::uvec3& t : soup.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      if (t[k] >= soup.positions.size()) return "an accepted soup has a vertex index out of range";
+    }
+  }
+
+  try {
+    const TriangleMesh mesh = io::load_triangle_mesh(path);
+    for (const Vec3& v : mesh.vertices) {
+      if (!is_finite(v)) return "an accepted mesh holds a vertex that is not finite";
+    }
+    const RayHit3 hit = raycast(mesh, Transform3{}, Ray3{{0.0f, 1000.0f, 0.0f}, {0.0f, -2000.0f, 0.0f}});
+    const DistanceResult3 d = distance(make_sphere({0.0f, 0.0f, 0.0f}, 1.0f), Transform3{}, mesh, Transform3{}, 1000.0f);
+    // Finite answers are promised within kFiniteQueryRange; beyond, the queries ran for the
+    // sanitizers alone.
+    const Aabb3 bounds = compute_aabb(mesh, Transform3{});
+    const bool in_range = is_finite(bounds.min) && is_finite(bounds.max) && max_abs(bounds.min) <= kFiniteQueryRange &&
+                          max_abs(bounds.max) <= kFiniteQueryRange;
+    if (in_range && hit.hit && (!std::isfinite(hit.fraction) || !is_finite(hit.point) || !is_finite(hit.normal))) {
+      return "a ray cast on an accepted mesh is not finite";
+    }
+    if (in_range && d.distance <= 1000.0f && (!std::isfinite(d.distance) || !is_finite(d.point_a) || !is_finite(d.point_b))) {
+      return "a distance to an accepted mesh is not finite";
+    }
+  } catch (const InvalidInput& e) {
+    if (std::string problem = check_obj_message(e.what(), name); !problem.empty()) return problem;
+  } catch (const std::exception& e) {
+    return std::string("load_triangle_mesh threw other than InvalidInput: ") + e.what();
+  }
+
+  try {
+    (void)make_walk_mesh(soup);
+  } catch (const InvalidInput& e) {
+    if (std::string problem = check_obj_message(e.what(), name); !problem.empty()) return problem;
+  } catch (const std::exception& e) {
+    return std::string("make_walk_mesh threw other than InvalidInput: ") + e.what();
+  }
+  return {};
+}
+
+}  // namespace collide::fuzz

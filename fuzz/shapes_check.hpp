@@ -1,0 +1,205 @@
+#pragma once
+// What must hold for any numbers given to the shape constructors (fuzz_shapes, and the
+// regression test that replays the inputs the fuzzer found): shared so both check the same.
+//
+// The bytes are read as a recipe: one byte picks the constructor, then its arguments follow as
+// floats (FuzzFloats: small values, special ones such as NaN, infinities, the float limits and
+// denormals, or any 4 raw bytes) and small counts.
+
+#include <collide/ccd/raycast.hpp>
+#include <collide/core/error.hpp>
+#include <collide/core/finite_range.hpp>
+#include <collide/narrow/distance.hpp>
+#include <collide/narrow/overlap.hpp>
+#include <collide/shape/box.hpp>
+#include <collide/shape/capsule.hpp>
+#include <collide/shape/capsule3.hpp>
+#include <collide/shape/circle.hpp>
+#include <collide/shape/convex_hull.hpp>
+#include <collide/shape/height_field.hpp>
+#include <collide/shape/polygon.hpp>
+#include <collide/shape/segment.hpp>
+#include <collide/shape/segment3.hpp>
+#include <collide/shape/sphere.hpp>
+#include <collide/shape/triangle.hpp>
+#include <collide/shape/triangle_mesh.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace collide::fuzz {
+
+/// Reads a fuzz input as numbers; past the end every read gives 0.
+class FuzzFloats {
+ public:
+  explicit FuzzFloats(std::string_view bytes) : bytes_(bytes) {}
+
+  std::uint8_t byte() { return pos_ < bytes_.size() ? static_cast<std::uint8_t>(bytes_[pos_++]) : 0; }
+
+  /// A count in [lo, hi].
+  int count(int lo, int hi) { return lo + byte() % (hi - lo + 1); }
+
+  /// One float: a tag byte below 64 gives (tag - 32) / 4, below 96 a special value, else the
+  /// next 4 bytes as they are (any float, NaN payloads and denormals included).
+  float number() {
+    const std::uint8_t tag = byte();
+    if (tag < 64) return static_cast<float>(tag - 32) / 4.0f;
+    if (tag < 96) {
+      constexpr float kInf = std::numeric_limits<float>::infinity();
+      constexpr float kSpecial[] = {0.0f, -0.0f, std::numeric_limits<float>::quiet_NaN(), kInf, -kInf,
+                                    std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+                                    std::numeric_limits<float>::min(), std::numeric_limits<float>::denorm_min(),
+                                    -std::numeric_limits<float>::denorm_min(), 1e-30f, 1e-20f, 1e-7f, 1e7f, 1e10f,
+                                    1e19f, -1e19f, 1e30f, 1e38f, -1e38f, 3e38f, 1.0f + 0x1p-23f, 0.5f, 1e-3f};
+      return kSpecial[(tag - 64) % (sizeof kSpecial / sizeof kSpecial[0])];
+    }
+    std::uint32_t bits = 0;
+    for (int k = 0; k < 4; ++k) bits = bits << 8 | byte();
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+  }
+  Vec2 vec2() { return {number(), number()}; }
+  Vec3 vec3() { return {number(), number(), number()}; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t pos_ = 0;
+};
+
+inline bool finite(float x) { return std::isfinite(x); }
+
+/// The bounds lie within kFiniteQueryRange of the origin, where queries promise finite results.
+template <class Box>
+bool within_finite_range(const Box& box) {
+  return is_finite(box.min) && is_finite(box.max) && max_abs(box.min) <= kFiniteQueryRange &&
+         max_abs(box.max) <= kFiniteQueryRange;
+}
+inline bool finite(Vec2 v) { return is_finite(v); }
+inline bool finite(Vec3 v) { return is_finite(v); }
+
+/// "" when the queries of a built 2D shape against the fixed probes give finite answers (asked
+/// of shapes within kFiniteQueryRange; beyond it the queries run for the sanitizers alone).
+template <class S>
+std::string probe2(const S& shape) {
+  const Circle probe = make_circle({0.5f, 0.25f}, 1.0f);
+  const Transform xf{};
+  (void)overlap(shape, xf, probe, xf);
+  const DistanceResult d = distance(shape, xf, probe, xf);
+  const RayHit hit = raycast(shape, xf, Ray{{-100.0f, 0.1f}, {200.0f, 0.0f}});
+  if (!within_finite_range(compute_aabb(shape, xf))) return {};
+  if (!finite(d.distance) || !finite(d.point_a) || !finite(d.point_b) || !finite(d.normal)) {
+    return "distance to the probe circle is not finite";
+  }
+  if (hit.hit && (!finite(hit.fraction) || !finite(hit.point) || !finite(hit.normal))) return "ray cast is not finite";
+  return {};
+}
+
+/// "" when the queries of a built convex 3D shape against the fixed probes give finite answers
+/// (within kFiniteQueryRange, as probe2).
+template <class S>
+std::string probe3(const S& shape) {
+  const Sphere probe = make_sphere({0.5f, 0.25f, -0.125f}, 1.0f);
+  const Transform3 xf{};
+  (void)overlap(shape, xf, probe, xf);
+  const DistanceResult3 d = distance(shape, xf, probe, xf);
+  const RayHit3 hit = raycast(shape, xf, Ray3{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}});
+  if (!within_finite_range(compute_aabb(shape, xf))) return {};
+  if (!finite(d.distance) || !finite(d.point_a) || !finite(d.point_b) || !finite(d.normal)) {
+    return "distance to the probe sphere is not finite";
+  }
+  if (hit.hit && (!finite(hit.fraction) || !finite(hit.point) || !finite(hit.normal))) return "ray cast is not finite";
+  return {};
+}
+
+/// The same for a mesh or height field (the probe first, as the overloads take them); a
+/// distance beyond the 1000 bound is "none within it" (+infinity by contract).
+template <class S>
+std::string probe_level(const S& level) {
+  const Sphere probe = make_sphere({0.5f, 0.25f, -0.125f}, 1.0f);
+  const Transform3 xf{};
+  (void)overlap(probe, xf, level, xf);
+  const DistanceResult3 d = distance(probe, xf, level, xf, 1000.0f);
+  const RayHit3 hit = raycast(level, xf, Ray3{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}});
+  if (!within_finite_range(compute_aabb(level, xf))) return {};
+  if (d.distance <= 1000.0f && (!finite(d.distance) || !finite(d.point_a) || !finite(d.point_b))) {
+    return "distance to the probe sphere is not finite";
+  }
+  if (hit.hit && (!finite(hit.fraction) || !finite(hit.point) || !finite(hit.normal))) return "ray cast is not finite";
+  return {};
+}
+
+/// "" when the constructor the recipe `input` names either throws InvalidInput with a non-empty
+/// message or builds a shape whose queries against fixed probes (overlap, distance, ray cast)
+/// give finite answers when its bounds lie within kFiniteQueryRange; else what went wrong. Shapes: 2D circle, capsule, segment, polygon
+/// (hull of points and convex), box; 3D sphere, capsule, segment, box, triangle, convex hull of a
+/// point cloud, triangle mesh, height field. Crashes and undefined behaviour are the sanitizers'.
+inline std::string check_shapes(std::string_view input) {
+  FuzzFloats in(input);
+  const int kind = in.byte() % 14;
+  try {
+    switch (kind) {
+      case 0: return probe2(make_circle(in.vec2(), in.number()));
+      case 1: return probe2(make_capsule(in.vec2(), in.vec2(), in.number()));
+      case 2: return probe2(make_segment(in.vec2(), in.vec2()));
+      case 3:
+      case 4: {
+        std::vector<Vec2> points(static_cast<std::size_t>(in.count(0, kind == 3 ? 80 : kMaxPolygonVertices + 2)));
+        for (Vec2& p : points) p = in.vec2();
+        const float radius = in.number();
+        return probe2(kind == 3 ? make_polygon(points, radius) : make_convex_polygon(points, radius));
+      }
+      case 5: {
+        const Vec2 half = in.vec2(), centre = in.vec2();
+        const float angle = in.number();
+        return probe2(make_box(half, centre, angle, in.number()));
+      }
+      case 6: return probe3(make_sphere(in.vec3(), in.number()));
+      case 7: return probe3(make_capsule(in.vec3(), in.vec3(), in.number()));
+      case 8: return probe3(make_segment(in.vec3(), in.vec3()));
+      case 9: return probe3(make_box(in.vec3(), in.number()));
+      case 10: return probe3(make_triangle(in.vec3(), in.vec3(), in.vec3()));
+      case 11: {
+        std::vector<Vec3> points(static_cast<std::size_t>(in.count(0, 300)));
+        for (Vec3& p : points) p = in.vec3();
+        HullOptions options;
+        options.radius = in.number();
+        options.max_vertices = in.count(2, kMaxHullVertices + 2);
+        return probe3(make_convex_hull(points, options));
+      }
+      case 12: {
+        std::vector<Vec3> vertices(static_cast<std::size_t>(in.count(0, 40)));
+        for (Vec3& v : vertices) v = in.vec3();
+        std::vector<glm::uvec3> triangles(static_cast<std::size_t>(in.count(0, 60)));
+        for (glm::uvec3& t : triangles) t = {in.byte() % 48u, in.byte() % 48u, in.byte() % 48u};
+        return probe_level(make_triangle_mesh(vertices, triangles));
+      }
+      default: {
+        const int sx = in.count(0, 10), sz = in.count(0, 10);
+        std::vector<float> heights(static_cast<std::size_t>(in.count(0, 1) == 0 ? sx * sz : in.count(0, 120)));
+        for (float& h : heights) h = in.number();
+        const Vec2 spacing = in.vec2();
+        const Vec3 origin = in.vec3();
+        std::vector<std::uint8_t> holes;
+        if (in.count(0, 1) == 1 && sx > 1 && sz > 1) {
+          holes.resize(static_cast<std::size_t>((sx - 1) * (sz - 1)));
+          for (std::uint8_t& h : holes) h = in.byte() % 2;
+        }
+        return probe_level(make_height_field(sx, sz, heights, spacing, origin, holes));
+      }
+    }
+  } catch (const InvalidInput& e) {
+    if (std::string(e.what()).empty()) return "InvalidInput with an empty message (constructor " + std::to_string(kind) + ")";
+    return {};
+  } catch (const std::exception& e) {
+    return "constructor " + std::to_string(kind) + " threw other than InvalidInput: " + e.what();
+  }
+}
+
+}  // namespace collide::fuzz

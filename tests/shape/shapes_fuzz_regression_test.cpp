@@ -1,0 +1,66 @@
+// Every input the shape fuzzer found a defect with (fuzz/regressions/shapes/) and its seeds,
+// replayed through the fuzz target's own check (fuzz/shapes_check.hpp).
+
+#include "shapes_check.hpp"
+
+#include <collide/core/error.hpp>
+
+#include "support/replay_files.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace collide {
+namespace {
+
+namespace fs = std::filesystem;
+
+int replay(const fs::path& folder) {
+  return test::replay_files(folder, [](const std::string& input) { return fuzz::check_shapes(input); });
+}
+
+TEST(ShapesFuzzRegressions, EveryFoundInputAndSeedPassesTheFuzzCheck) {
+  replay(fs::path(COLLIDE_FUZZ_DIR) / "regressions" / "shapes");
+  EXPECT_GE(replay(fs::path(COLLIDE_FUZZ_DIR) / "seeds" / "shapes"), 14);
+}
+
+// The recipe decoder the check reads inputs with: small values, special ones, raw bytes, and
+// zeros past the end.
+TEST(ShapesFuzzRegressions, RecipesDecodeAsDocumented) {
+  const char bytes[] = {36, 0, 66, static_cast<char>(200), 0x3f, static_cast<char>(0x80), 0, 0};
+  fuzz::FuzzFloats in({bytes, sizeof bytes});
+  EXPECT_EQ(in.number(), 1.0f);    // (36 - 32) / 4
+  EXPECT_EQ(in.number(), -8.0f);   // (0 - 32) / 4
+  EXPECT_TRUE(std::isnan(in.number()));  // special value 2
+  EXPECT_EQ(in.number(), 1.0f);    // raw 0x3f800000
+  EXPECT_EQ(in.number(), -8.0f);   // past the end: byte 0
+}
+
+// Found by fuzz_shapes: ends 5e-32 apart passed "a and b coincide" (a == b), but their squared
+// distance underflows to 0, and a ray cast divided by it (a hit with a NaN fraction). Such ends
+// now coincide, in 2D and 3D, for segments and capsules; 1e-18 apart still builds.
+TEST(ShapesFuzzRegressions, EndsWhoseSquaredDistanceUnderflowsCoincide) {
+  const float t = -5.375e-32f;
+  auto message = [](auto make) {
+    try {
+      make();
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string closer = " (closer than about 1e-19: their squared distance underflows float)";
+  EXPECT_EQ(message([&] { (void)make_segment(Vec3(0.0f), Vec3(t)); }), "segment: a and b coincide" + closer);
+  EXPECT_EQ(message([&] { (void)make_segment(Vec2(0.0f), Vec2(t)); }), "segment: a and b coincide" + closer);
+  EXPECT_EQ(message([&] { (void)make_capsule(Vec3(0.0f), Vec3(t), 1.0f); }), "capsule: a and b coincide (use a sphere)" + closer);
+  EXPECT_EQ(message([&] { (void)make_capsule(Vec2(0.0f), Vec2(t), 1.0f); }), "capsule: a and b coincide (use a circle)" + closer);
+  EXPECT_EQ(message([&] { (void)make_segment(Vec3(1.0f), Vec3(1.0f)); }), "segment: a and b coincide");
+  const Segment3 short_one = make_segment(Vec3(0.0f), Vec3(1e-18f));
+  const RayHit3 hit = raycast(short_one, Transform3{}, Ray3{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}});
+  EXPECT_FALSE(hit.hit);
+}
+
+}  // namespace
+}  // namespace collide
