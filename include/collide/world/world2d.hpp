@@ -43,6 +43,7 @@
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/core/aabb.hpp>
 #include <collide/core/debug_draw.hpp>
+#include <collide/core/finite_range.hpp>
 #include <collide/core/ray.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/narrow/manifold.hpp>
@@ -72,16 +73,15 @@ inline constexpr float kMaxPushFraction = 0.5f;
 /// this fraction of its size at the end of a step (the independent check).
 inline constexpr float kTunnelDepthFraction = 0.05f;
 
-/// Largest coordinate magnitude World2D accepts (2^30 = 1073741824 world units): every static,
-/// body and the bounds must lie within [-kMaxWorldCoordinate, kMaxWorldCoordinate] on both axes.
-/// Why: the 2D narrow phase multiplies up to four coordinate differences (GJK's triangle region
-/// test: a triangle's area times a cross product); with coordinates within +-2^30 every such
-/// product stays below 2^128, finite in float. Beyond, results hold only while overflows keep
-/// their sign: examples/scenes scaled up ran clean to coordinates of 6e11, then bodies escaped
-/// through walls (1e12) and boxes became infinite (1e14). A level in metres or pixels is far
-/// inside (1e9 m is 150 Earth radii). Enforced by the World2D constructor (bounds), add_static
-/// and add_body (check_world_range), and by the scene loader at load.
-inline constexpr float kMaxWorldCoordinate = 0x1p30f;
+/// Largest coordinate magnitude World2D accepts: kFiniteQueryRange (2^30 = 1073741824 world
+/// units), the range where the queries promise finite results (collide/core/finite_range.hpp
+/// says why). Every static, body and the bounds must lie within [-kMaxWorldCoordinate,
+/// kMaxWorldCoordinate] on both axes. Beyond, results hold only while overflows keep their sign:
+/// examples/scenes scaled up ran clean to coordinates of 6e11, then bodies escaped through walls
+/// (1e12) and boxes became infinite (1e14). A level in metres or pixels is far inside. Enforced
+/// by the World2D constructor (bounds), add_static and add_body (check_world_range), and by the
+/// scene loader at load.
+inline constexpr float kMaxWorldCoordinate = kFiniteQueryRange;
 
 /// Throws InvalidInput "WHAT: ... beyond the coordinate range [-1073741824, 1073741824]
 /// (kMaxWorldCoordinate)", with the box and the coordinate that is out, unless `box` is finite
