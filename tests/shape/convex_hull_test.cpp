@@ -1,7 +1,7 @@
 #include <collide/core/error.hpp>
 #include <collide/shape/convex_hull.hpp>
 
-#include "qhull_oracle.hpp"
+#include "support/qhull/qhull_oracle.hpp"
 #include "support/test_util.hpp"
 
 #include <algorithm>
