@@ -25,6 +25,16 @@ void sort_tilesets(TiledMap& map) {
                    [](const TiledTileset& a, const TiledTileset& b) { return a.first_gid < b.first_gid; });
 }
 
+const TiledTileset* tileset_with_gid(const TiledMap& map, std::uint32_t id) {
+  const auto& sets = map.tilesets;
+  const auto it = std::upper_bound(sets.begin(), sets.end(), id,
+                                   [](std::uint32_t key, const TiledTileset& t) { return key < t.first_gid; });
+  if (it == sets.begin()) return nullptr;
+  const std::uint32_t first = std::prev(it)->first_gid;
+  return &*std::lower_bound(sets.begin(), it, first,
+                            [](const TiledTileset& t, std::uint32_t key) { return t.first_gid < key; });
+}
+
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file) {
   doc.bytes += bytes;
   if (doc.bytes > kMaxTiledLoadBytes) {
@@ -84,15 +94,9 @@ void check_tile_colliders(Document& doc) {
       const std::uint32_t id = cell.gid & kTiledGidMask;
       auto it = shapes_of.find(id);
       if (it == shapes_of.end()) {
-        std::size_t n = 0;  // the tileset with the largest first gid <= id (they are sorted)
-        const auto& sets = doc.map.tilesets;
-        const auto ts = std::upper_bound(sets.begin(), sets.end(), id,
-                                         [](std::uint32_t key, const TiledTileset& t) { return key < t.first_gid; });
-        if (ts != sets.begin()) {
-          const auto first = std::prev(ts)->first_gid;
-          const TiledTileset& set = *std::lower_bound(sets.begin(), ts, first,
-                                                      [](const TiledTileset& t, std::uint32_t key) { return t.first_gid < key; });
-          if (const TiledTile* tile = set.find(static_cast<int>(id - set.first_gid))) n = tile->collision.size();
+        std::size_t n = 0;
+        if (const TiledTileset* set = tileset_with_gid(doc.map, id)) {
+          if (const TiledTile* tile = set->find(static_cast<int>(id - set->first_gid))) n = tile->collision.size();
         }
         it = shapes_of.emplace(id, n).first;
       }

@@ -55,6 +55,11 @@ void sort_tiles(TiledTileset& ts);
 /// Sorts the map's tilesets by first gid (stable), as the collider builder's lookup needs.
 void sort_tilesets(TiledMap& map);
 
+/// The tileset of `map` whose gid range holds `id` (a gid without flip bits): the last whose
+/// first gid is <= id, the first of several with that first gid; nullptr when `id` is below
+/// every first gid. Binary search: the readers sort the tilesets by first gid (sort_tilesets).
+[[nodiscard]] const TiledTileset* tileset_with_gid(const TiledMap& map, std::uint32_t id);
+
 /// Adds `bytes` to what the load has read; fails naming `file` past kMaxTiledLoadBytes.
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file);
 
