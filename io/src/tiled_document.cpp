@@ -86,6 +86,22 @@ std::string read_input(const std::filesystem::path& file) {
   return std::move(*text);
 }
 
+void check_tile_block(int x0, int y0, int width, int height, const std::filesystem::path& file,
+                      std::string_view element) {
+  if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
+    fail(file, element, "x + width or y + height is beyond " + std::to_string(INT_MAX));
+  }
+}
+
+void add_tile_block(TileLayer& layer, int x0, int y0, int width, const std::vector<std::uint32_t>& gids) {
+  for (std::size_t i = 0; i < gids.size(); ++i) {
+    if (gids[i] != 0) {
+      layer.cells.push_back({x0 + static_cast<int>(i % static_cast<std::size_t>(width)),
+                             y0 + static_cast<int>(i / static_cast<std::size_t>(width)), gids[i]});
+    }
+  }
+}
+
 void check_tile_colliders(Document& doc) {
   std::unordered_map<std::uint32_t, std::size_t> shapes_of;  // by gid without flips
   std::size_t total = 0;

@@ -77,6 +77,15 @@ void charge_tiles(Document& doc, std::uint64_t width, std::uint64_t height,
 /// cannot be read.
 [[nodiscard]] std::string read_input(const std::filesystem::path& file);
 
+/// Fails naming `file` and `element` unless the cells of a width x height block of tile data at
+/// (x0, y0) have int coordinates: x0 + width and y0 + height must fit (so must the row below the
+/// last, which places a tile).
+void check_tile_block(int x0, int y0, int width, int height, const std::filesystem::path& file,
+                      std::string_view element);
+/// Appends to `layer` the non-empty cells of a block of tile data `width` wide at (x0, y0):
+/// gids[i] is cell (x0 + i % width, y0 + i / width). check_tile_block first.
+void add_tile_block(TileLayer& layer, int x0, int y0, int width, const std::vector<std::uint32_t>& gids);
+
 /// Fails, before any collider is built, when the cells of the tile layers would make more than
 /// kMaxTiledColliders colliders: the sum over cells of their tiles' collision shapes (a lower
 /// bound: a concave shape makes several; the builder checks the exact count too).

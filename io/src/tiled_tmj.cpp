@@ -248,12 +248,8 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   TileLayer layer{name, offset, {}};
   const std::string encoding = j.contains("encoding") ? text(j, "encoding") : "csv";
   const std::string compression = text(j, "compression");
-  // Cells (x0 + i % w, y0 + i / w): x0 + w and y0 + h must fit in an int (so must the row
-  // below the last, which places a tile).
   auto add = [&](const Json& holder, const Where& hw, int x0, int y0, int width, int height) {
-    if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
-      hw.fail("x + width or y + height is beyond " + std::to_string(INT_MAX));
-    }
+    check_tile_block(x0, y0, width, height, hw.file, hw.element.empty() ? "root" : hw.element);
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<std::uint32_t> gids;
     const Json* found = find_member(holder, "data");
@@ -270,11 +266,7 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
     } else {
       hw.fail("data: neither an array nor a string");
     }
-    for (size_t i = 0; i < count; ++i) {
-      if (gids[i] != 0) {
-        layer.cells.push_back({x0 + static_cast<int>(i) % width, y0 + static_cast<int>(i) / width, gids[i]});
-      }
-    }
+    add_tile_block(layer, x0, y0, width, gids);
   };
   if (j.contains("chunks")) {
     const Json& chunks = array_member(j, "chunks", w);
