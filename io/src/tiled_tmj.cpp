@@ -304,15 +304,18 @@ TiledLayer layer_entry(const Json& j, std::string name, TiledLayerKind kind, int
   layer.parent = group;
   const auto as_text = [](const Json& v) { return v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump(); };
   const auto type_of = [](const Json& v) { return v.is_boolean() ? "bool" : v.is_number_integer() ? "int" : v.is_number() ? "float" : "string"; };
-  const Json& properties = j.contains("properties") ? j["properties"] : Json::array();
-  if (properties.is_array()) {
-    for (const Json& p : properties) {
+  // By reference (find_member): `cond ? j[key] : Json()` would copy the member.
+  static const Json kNull;
+  const Json* properties = find_member(j, "properties");
+  if (properties != nullptr && properties->is_array()) {
+    for (const Json& p : *properties) {
       if (!p.is_object()) continue;
-      const Json& value = p.contains("value") ? p["value"] : Json();
-      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(value), as_text(value)});
+      const Json* value = find_member(p, "value");
+      const Json& v = value != nullptr ? *value : kNull;
+      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(v), as_text(v)});
     }
-  } else if (properties.is_object()) {
-    for (const auto& [key, value] : properties.items()) layer.properties.push_back({key, type_of(value), as_text(value)});
+  } else if (properties != nullptr && properties->is_object()) {
+    for (const auto& [key, value] : properties->items()) layer.properties.push_back({key, type_of(value), as_text(value)});
   }
   return layer;
 }
