@@ -51,6 +51,13 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
   }
 }
 
+void append_hex_byte(std::string& out, unsigned char b) {
+  constexpr char kHex[] = "0123456789ABCDEF";
+  out += "\\x";
+  out += kHex[b >> 4];
+  out += kHex[b & 15];
+}
+
 /// `text` with every byte that is not part of well-formed UTF-8 written as "\xNN", so a message
 /// quoting raw input is valid UTF-8 (Unicode 15, table 3-7: no overlong forms, no surrogates,
 /// nothing above U+10FFFF).
@@ -81,10 +88,7 @@ std::string valid_utf8(std::string_view text) {
       out.append(text.substr(i, n + 1));
       i += n + 1;
     } else {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 15];
+      append_hex_byte(out, b);
       ++i;
     }
   }
