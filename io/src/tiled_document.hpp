@@ -34,8 +34,14 @@ struct Template {
   bool has_gid = false;
   std::filesystem::path tileset_source;  ///< resolved .tsx of the template's gid
   std::uint32_t tileset_first_gid = 1;   ///< first gid of that tileset in the template
-  bool has_shape = false;                 ///< the template names its kind (ellipse, polygon...)
 };
+
+/// True when an object as read names a shape of its own (ellipse, point, text, polygon,
+/// polyline); false for the tile or rectangle an object without one falls back to. For a
+/// template's object (templates do not nest) this is whether the template names the kind.
+[[nodiscard]] inline bool has_own_shape(const TiledObject& obj) {
+  return obj.kind != TiledShapeKind::tile && obj.kind != TiledShapeKind::rectangle;
+}
 
 /// A parsed map before colliders are built: `map` holds header, tilesets and objects. Also what
 /// one load has spent of its limits, and the external files it has read (each is read once).

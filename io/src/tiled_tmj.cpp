@@ -127,12 +127,6 @@ std::vector<Vec2> points(const Json& list, const char* key, const Where& w) {
   return out;
 }
 
-/// True when object `j` names its own shape (ellipse, point, text, polygon, polyline).
-bool names_shape(const Json& j, const Where& w) {
-  return flag(j, "ellipse", false, w) || flag(j, "point", false, w) || j.contains("text") ||
-         j.contains("polygon") || j.contains("polyline");
-}
-
 /// Reads an object, merging its template. `doc`'s map receives template tilesets (null inside
 /// tilesets and templates, where templates are not allowed).
 TiledObject read_object(const Json& j, const Where& w, Document* doc) {
@@ -145,7 +139,7 @@ TiledObject read_object(const Json& j, const Where& w, Document* doc) {
     try {
       const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
-      has_shape = tmpl.has_shape;
+      has_shape = has_own_shape(tmpl.object);
       if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       w.fail(e.what());  // say which object asked for it
@@ -395,7 +389,6 @@ Template read_template_json(const std::filesystem::path& file, std::size_t& byte
   const Where ow{file, "object"};
   t.object = read_object(*object, ow, nullptr);
   t.object.template_file = file.generic_string();
-  t.has_shape = names_shape(*object, ow);
   t.has_gid = object->contains("gid");
   if (const Json* ts = find_member(root, "tileset")) {
     const Where tw{file, "tileset"};

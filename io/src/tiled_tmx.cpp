@@ -262,7 +262,7 @@ TiledObject read_object(const pugi::xml_node& node, const std::filesystem::path&
     try {
       const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
-      has_shape = tmpl.has_shape;
+      has_shape = has_own_shape(tmpl.object);
       if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       fail(file, element_label(node), e.what());  // say which object asked for it
@@ -444,8 +444,6 @@ Template read_template(const std::filesystem::path& file, std::size_t& bytes) {
   Template t;
   t.object = read_object(object, file, nullptr);
   t.object.template_file = file.generic_string();
-  TiledObject probe;
-  t.has_shape = read_shape(object, probe, file);
   t.has_gid = object.attribute("gid");
   if (const pugi::xml_node ts = root.child("tileset")) {
     t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, file, 1, kTiledGidMask));
