@@ -43,10 +43,7 @@ std::string quoted(std::string_view word) {
     if (c >= 0x20 && c < 0x7F) {
       out += static_cast<char>(c);
     } else {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
+      append_hex_byte(out, c);
     }
   }
   if (word.size() > kMaxQuotedBytes) out += "...";

@@ -11,6 +11,9 @@ namespace collide::io {
 
 std::optional<std::string> read_text_file(const std::filesystem::path& path, std::string& why) {
   why = "cannot be read";
+  // Whether the size a file reports or the bytes it gives go past the limit, the same words.
+  static const std::string too_large =
+      "larger than " + std::to_string(kMaxInputFileBytes) + " bytes (the limit, kMaxInputFileBytes)";
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return std::nullopt;
   try {
@@ -24,7 +27,7 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
     if (std::filesystem::is_regular_file(path, ec)) {  // refuse a big file without reading it
       const auto size = std::filesystem::file_size(path, ec);
       if (!ec && size > kMaxInputFileBytes) {
-        why = "larger than " + std::to_string(kMaxInputFileBytes) + " bytes (the limit, kMaxInputFileBytes)";
+        why = too_large;
         return std::nullopt;
       }
       if (!ec) block = static_cast<std::size_t>(size) + 1;
@@ -41,7 +44,7 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
       if (got < want) break;  // end of file
     }
     if (text.size() > kMaxInputFileBytes) {
-      why = "larger than " + std::to_string(kMaxInputFileBytes) + " bytes (the limit, kMaxInputFileBytes)";
+      why = too_large;
       return std::nullopt;
     }
     why.clear();
@@ -49,6 +52,13 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
   } catch (const std::exception&) {  // std::ios_base::failure from the stream buffer
     return std::nullopt;
   }
+}
+
+void append_hex_byte(std::string& out, unsigned char b) {
+  constexpr char kHex[] = "0123456789ABCDEF";
+  out += "\\x";
+  out += kHex[b >> 4];
+  out += kHex[b & 15];
 }
 
 /// `text` with every byte that is not part of well-formed UTF-8 written as "\xNN", so a message
@@ -81,10 +91,7 @@ std::string valid_utf8(std::string_view text) {
       out.append(text.substr(i, n + 1));
       i += n + 1;
     } else {
-      constexpr char kHex[] = "0123456789ABCDEF";
-      out += "\\x";
-      out += kHex[b >> 4];
-      out += kHex[b & 15];
+      append_hex_byte(out, b);
       ++i;
     }
   }

@@ -22,6 +22,10 @@ inline constexpr std::size_t kMaxInputFileBytes = std::size_t{64} << 20;
 [[nodiscard]] std::optional<std::string> read_text_file(const std::filesystem::path& path,
                                                         std::string& why);
 
+/// Appends byte `b` as "\xNN" (upper-case hex): how messages quoting raw input show a byte that
+/// cannot stand as it is.
+void append_hex_byte(std::string& out, unsigned char b);
+
 /// `text` with every byte that is not part of well-formed UTF-8 written as "\xNN", so a message
 /// quoting raw input is valid UTF-8 (Unicode 15, table 3-7: no overlong forms, no surrogates,
 /// nothing above U+10FFFF).

@@ -25,6 +25,16 @@ void sort_tilesets(TiledMap& map) {
                    [](const TiledTileset& a, const TiledTileset& b) { return a.first_gid < b.first_gid; });
 }
 
+const TiledTileset* tileset_with_gid(const TiledMap& map, std::uint32_t id) {
+  const auto& sets = map.tilesets;
+  const auto it = std::upper_bound(sets.begin(), sets.end(), id,
+                                   [](std::uint32_t key, const TiledTileset& t) { return key < t.first_gid; });
+  if (it == sets.begin()) return nullptr;
+  const std::uint32_t first = std::prev(it)->first_gid;
+  return &*std::lower_bound(sets.begin(), it, first,
+                            [](const TiledTileset& t, std::uint32_t key) { return t.first_gid < key; });
+}
+
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file) {
   doc.bytes += bytes;
   if (doc.bytes > kMaxTiledLoadBytes) {
@@ -76,6 +86,22 @@ std::string read_input(const std::filesystem::path& file) {
   return std::move(*text);
 }
 
+void check_tile_block(int x0, int y0, int width, int height, const std::filesystem::path& file,
+                      std::string_view element) {
+  if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
+    fail(file, element, "x + width or y + height is beyond " + std::to_string(INT_MAX));
+  }
+}
+
+void add_tile_block(TileLayer& layer, int x0, int y0, int width, const std::vector<std::uint32_t>& gids) {
+  for (std::size_t i = 0; i < gids.size(); ++i) {
+    if (gids[i] != 0) {
+      layer.cells.push_back({x0 + static_cast<int>(i % static_cast<std::size_t>(width)),
+                             y0 + static_cast<int>(i / static_cast<std::size_t>(width)), gids[i]});
+    }
+  }
+}
+
 void check_tile_colliders(Document& doc) {
   std::unordered_map<std::uint32_t, std::size_t> shapes_of;  // by gid without flips
   std::size_t total = 0;
@@ -84,15 +110,9 @@ void check_tile_colliders(Document& doc) {
       const std::uint32_t id = cell.gid & kTiledGidMask;
       auto it = shapes_of.find(id);
       if (it == shapes_of.end()) {
-        std::size_t n = 0;  // the tileset with the largest first gid <= id (they are sorted)
-        const auto& sets = doc.map.tilesets;
-        const auto ts = std::upper_bound(sets.begin(), sets.end(), id,
-                                         [](std::uint32_t key, const TiledTileset& t) { return key < t.first_gid; });
-        if (ts != sets.begin()) {
-          const auto first = std::prev(ts)->first_gid;
-          const TiledTileset& set = *std::lower_bound(sets.begin(), ts, first,
-                                                      [](const TiledTileset& t, std::uint32_t key) { return t.first_gid < key; });
-          if (const TiledTile* tile = set.find(static_cast<int>(id - set.first_gid))) n = tile->collision.size();
+        std::size_t n = 0;
+        if (const TiledTileset* set = tileset_with_gid(doc.map, id)) {
+          if (const TiledTile* tile = set->find(static_cast<int>(id - set->first_gid))) n = tile->collision.size();
         }
         it = shapes_of.emplace(id, n).first;
       }

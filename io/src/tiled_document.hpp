@@ -34,8 +34,14 @@ struct Template {
   bool has_gid = false;
   std::filesystem::path tileset_source;  ///< resolved .tsx of the template's gid
   std::uint32_t tileset_first_gid = 1;   ///< first gid of that tileset in the template
-  bool has_shape = false;                 ///< the template names its kind (ellipse, polygon...)
 };
+
+/// True when an object as read names a shape of its own (ellipse, point, text, polygon,
+/// polyline); false for the tile or rectangle an object without one falls back to. For a
+/// template's object (templates do not nest) this is whether the template names the kind.
+[[nodiscard]] inline bool has_own_shape(const TiledObject& obj) {
+  return obj.kind != TiledShapeKind::tile && obj.kind != TiledShapeKind::rectangle;
+}
 
 /// A parsed map before colliders are built: `map` holds header, tilesets and objects. Also what
 /// one load has spent of its limits, and the external files it has read (each is read once).
@@ -55,6 +61,11 @@ void sort_tiles(TiledTileset& ts);
 /// Sorts the map's tilesets by first gid (stable), as the collider builder's lookup needs.
 void sort_tilesets(TiledMap& map);
 
+/// The tileset of `map` whose gid range holds `id` (a gid without flip bits): the last whose
+/// first gid is <= id, the first of several with that first gid; nullptr when `id` is below
+/// every first gid. Binary search: the readers sort the tilesets by first gid (sort_tilesets).
+[[nodiscard]] const TiledTileset* tileset_with_gid(const TiledMap& map, std::uint32_t id);
+
 /// Adds `bytes` to what the load has read; fails naming `file` past kMaxTiledLoadBytes.
 void charge_bytes(Document& doc, std::size_t bytes, const std::filesystem::path& file);
 
@@ -71,6 +82,15 @@ void charge_tiles(Document& doc, std::uint64_t width, std::uint64_t height,
 /// The text of an input file (kMaxInputFileBytes at most); fails "<file>: file: <why>" when it
 /// cannot be read.
 [[nodiscard]] std::string read_input(const std::filesystem::path& file);
+
+/// Fails naming `file` and `element` unless the cells of a width x height block of tile data at
+/// (x0, y0) have int coordinates: x0 + width and y0 + height must fit (so must the row below the
+/// last, which places a tile).
+void check_tile_block(int x0, int y0, int width, int height, const std::filesystem::path& file,
+                      std::string_view element);
+/// Appends to `layer` the non-empty cells of a block of tile data `width` wide at (x0, y0):
+/// gids[i] is cell (x0 + i % width, y0 + i / width). check_tile_block first.
+void add_tile_block(TileLayer& layer, int x0, int y0, int width, const std::vector<std::uint32_t>& gids);
 
 /// Fails, before any collider is built, when the cells of the tile layers would make more than
 /// kMaxTiledColliders colliders: the sum over cells of their tiles' collision shapes (a lower

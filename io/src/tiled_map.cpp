@@ -239,15 +239,8 @@ class Builder {
   /// local id must be below `tilecount` (when known) or name a tile the tileset lists.
   const TiledTileset* tileset_of(std::uint32_t gid, int& local) const {
     const std::uint32_t id = gid & kTiledGidMask;
-    // The readers sort tilesets by first gid: the last whose first gid is <= id (the first of
-    // several with that first gid).
-    const auto& sets = map_.tilesets;
-    auto it = std::upper_bound(sets.begin(), sets.end(), id,
-                               [](std::uint32_t key, const TiledTileset& ts) { return key < ts.first_gid; });
-    if (it == sets.begin()) return nullptr;
-    const std::uint32_t first = std::prev(it)->first_gid;
-    const TiledTileset* best = &*std::lower_bound(
-        sets.begin(), it, first, [](const TiledTileset& ts, std::uint32_t key) { return ts.first_gid < key; });
+    const TiledTileset* best = tiled::tileset_with_gid(map_, id);
+    if (best == nullptr) return nullptr;
     local = static_cast<int>(id - best->first_gid);
     const bool listed = best->tile_count <= 0 || local < best->tile_count || best->find(local);
     return listed ? best : nullptr;

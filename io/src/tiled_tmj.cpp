@@ -127,12 +127,6 @@ std::vector<Vec2> points(const Json& list, const char* key, const Where& w) {
   return out;
 }
 
-/// True when object `j` names its own shape (ellipse, point, text, polygon, polyline).
-bool names_shape(const Json& j, const Where& w) {
-  return flag(j, "ellipse", false, w) || flag(j, "point", false, w) || j.contains("text") ||
-         j.contains("polygon") || j.contains("polyline");
-}
-
 /// Reads an object, merging its template. `doc`'s map receives template tilesets (null inside
 /// tilesets and templates, where templates are not allowed).
 TiledObject read_object(const Json& j, const Where& w, Document* doc) {
@@ -145,7 +139,7 @@ TiledObject read_object(const Json& j, const Where& w, Document* doc) {
     try {
       const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
-      has_shape = tmpl.has_shape;
+      has_shape = has_own_shape(tmpl.object);
       if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       w.fail(e.what());  // say which object asked for it
@@ -248,12 +242,8 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
   TileLayer layer{name, offset, {}};
   const std::string encoding = j.contains("encoding") ? text(j, "encoding") : "csv";
   const std::string compression = text(j, "compression");
-  // Cells (x0 + i % w, y0 + i / w): x0 + w and y0 + h must fit in an int (so must the row
-  // below the last, which places a tile).
   auto add = [&](const Json& holder, const Where& hw, int x0, int y0, int width, int height) {
-    if (static_cast<long long>(x0) + width > INT_MAX || static_cast<long long>(y0) + height > INT_MAX) {
-      hw.fail("x + width or y + height is beyond " + std::to_string(INT_MAX));
-    }
+    check_tile_block(x0, y0, width, height, hw.file, hw.element.empty() ? "root" : hw.element);
     const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<std::uint32_t> gids;
     const Json* found = find_member(holder, "data");
@@ -270,11 +260,7 @@ void read_tile_layer(const Json& j, const std::string& name, Vec2 offset, const 
     } else {
       hw.fail("data: neither an array nor a string");
     }
-    for (size_t i = 0; i < count; ++i) {
-      if (gids[i] != 0) {
-        layer.cells.push_back({x0 + static_cast<int>(i) % width, y0 + static_cast<int>(i) / width, gids[i]});
-      }
-    }
+    add_tile_block(layer, x0, y0, width, gids);
   };
   if (j.contains("chunks")) {
     const Json& chunks = array_member(j, "chunks", w);
@@ -312,15 +298,18 @@ TiledLayer layer_entry(const Json& j, std::string name, TiledLayerKind kind, int
   layer.parent = group;
   const auto as_text = [](const Json& v) { return v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump(); };
   const auto type_of = [](const Json& v) { return v.is_boolean() ? "bool" : v.is_number_integer() ? "int" : v.is_number() ? "float" : "string"; };
-  const Json& properties = j.contains("properties") ? j["properties"] : Json::array();
-  if (properties.is_array()) {
-    for (const Json& p : properties) {
+  // By reference (find_member): `cond ? j[key] : Json()` would copy the member.
+  static const Json kNull;
+  const Json* properties = find_member(j, "properties");
+  if (properties != nullptr && properties->is_array()) {
+    for (const Json& p : *properties) {
       if (!p.is_object()) continue;
-      const Json& value = p.contains("value") ? p["value"] : Json();
-      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(value), as_text(value)});
+      const Json* value = find_member(p, "value");
+      const Json& v = value != nullptr ? *value : kNull;
+      layer.properties.push_back({text(p, "name"), p.contains("type") ? text(p, "type") : type_of(v), as_text(v)});
     }
-  } else if (properties.is_object()) {
-    for (const auto& [key, value] : properties.items()) layer.properties.push_back({key, type_of(value), as_text(value)});
+  } else if (properties != nullptr && properties->is_object()) {
+    for (const auto& [key, value] : properties->items()) layer.properties.push_back({key, type_of(value), as_text(value)});
   }
   return layer;
 }
@@ -400,7 +389,6 @@ Template read_template_json(const std::filesystem::path& file, std::size_t& byte
   const Where ow{file, "object"};
   t.object = read_object(*object, ow, nullptr);
   t.object.template_file = file.generic_string();
-  t.has_shape = names_shape(*object, ow);
   t.has_gid = object->contains("gid");
   if (const Json* ts = find_member(root, "tileset")) {
     const Where tw{file, "tileset"};

@@ -262,7 +262,7 @@ TiledObject read_object(const pugi::xml_node& node, const std::filesystem::path&
     try {
       const Template& tmpl = external_template(*doc, tx);
       obj = tmpl.object;
-      has_shape = tmpl.has_shape;
+      has_shape = has_own_shape(tmpl.object);
       if (tmpl.has_gid) obj.gid = map_template_gid(*doc, tmpl);
     } catch (const InvalidInput& e) {
       fail(file, element_label(node), e.what());  // say which object asked for it
@@ -331,13 +331,9 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
   if (!data) fail(file, element_label(node), "has no <data>");
   const std::string encoding = data.attribute("encoding").value();
   const std::string compression = data.attribute("compression").value();
-  // Cells (x0 + i % w, y0 + i / w): x0 + w and y0 + h must fit in an int (so must the row
-  // below the last, which places a tile).
   auto add = [&](const pugi::xml_node& holder, int x0, int y0, int w, int h) {
     const std::string where = holder == data ? element_label(node) : element_label(node) + ": " + element_label(holder);
-    if (static_cast<long long>(x0) + w > INT_MAX || static_cast<long long>(y0) + h > INT_MAX) {
-      fail(file, where, "x + width or y + height is beyond " + std::to_string(INT_MAX));
-    }
+    check_tile_block(x0, y0, w, h, file, where);
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
     std::vector<std::uint32_t> gids;
     if (encoding.empty()) {  // legacy: one <tile gid=".."/> per cell
@@ -354,12 +350,7 @@ void read_tile_layer(const pugi::xml_node& node, const std::string& name, Vec2 o
     } else {
       gids = decode_tile_data(holder.text().get(), encoding, compression, count, file, where);
     }
-    for (size_t i = 0; i < count; ++i) {
-      if (gids[i] != 0) {
-        layer.cells.push_back({x0 + static_cast<int>(i % static_cast<size_t>(w)),
-                               y0 + static_cast<int>(i / static_cast<size_t>(w)), gids[i]});
-      }
-    }
+    add_tile_block(layer, x0, y0, w, gids);
   };
   if (data.child("chunk")) {
     // Every chunk's size is charged before any is decoded.
@@ -453,8 +444,6 @@ Template read_template(const std::filesystem::path& file, std::size_t& bytes) {
   Template t;
   t.object = read_object(object, file, nullptr);
   t.object.template_file = file.generic_string();
-  TiledObject probe;
-  t.has_shape = read_shape(object, probe, file);
   t.has_gid = object.attribute("gid");
   if (const pugi::xml_node ts = root.child("tileset")) {
     t.tileset_first_gid = static_cast<std::uint32_t>(integer(ts, "firstgid", 1, file, 1, kTiledGidMask));
