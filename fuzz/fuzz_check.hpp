@@ -1,7 +1,11 @@
 #pragma once
 // What the fuzz targets' contracts (fuzz/*_check.hpp) share: the rule for an error message (it
-// names the file and is valid UTF-8), the scratch files the file readers are given, and the
+// names the file and is valid UTF-8), where queries owe finite answers, the scratch files the
+// file readers are given, and the
 // libFuzzer entry point's turning of a broken contract into an abort.
+
+#include <collide/core/finite_range.hpp>
+#include <collide/core/math.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +33,14 @@ inline std::string check_message(const std::string& message, const std::string& 
     return "message is not valid UTF-8: " + message;
   }
   return {};
+}
+
+/// The bounds `box` (an Aabb or Aabb3) lie within kFiniteQueryRange of the origin, where queries
+/// promise finite results.
+template <class Box>
+bool within_finite_range(const Box& box) {
+  return is_finite(box.min) && is_finite(box.max) && max_abs(box.min) <= kFiniteQueryRange &&
+         max_abs(box.max) <= kFiniteQueryRange;
 }
 
 /// A scratch path of this process in the temporary folder: STEM.PID followed by `extension`, so

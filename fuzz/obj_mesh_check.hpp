@@ -6,7 +6,6 @@
 
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
-#include <collide/core/finite_range.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/distance.hpp>
 #include <collide/shape/sphere.hpp>
@@ -63,9 +62,7 @@ inline std::string check_obj_mesh(std::string_view input) {
     const DistanceResult3 d = distance(make_sphere({0.0f, 0.0f, 0.0f}, 1.0f), Transform3{}, mesh, Transform3{}, 1000.0f);
     // Finite answers are promised within kFiniteQueryRange; beyond, the queries ran for the
     // sanitizers alone.
-    const Aabb3 bounds = compute_aabb(mesh, Transform3{});
-    const bool in_range = is_finite(bounds.min) && is_finite(bounds.max) && max_abs(bounds.min) <= kFiniteQueryRange &&
-                          max_abs(bounds.max) <= kFiniteQueryRange;
+    const bool in_range = within_finite_range(compute_aabb(mesh, Transform3{}));
     if (in_range && hit.hit && (!std::isfinite(hit.fraction) || !is_finite(hit.point) || !is_finite(hit.normal))) {
       return "a ray cast on an accepted mesh is not finite";
     }
