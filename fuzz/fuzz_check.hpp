@@ -1,8 +1,8 @@
 #pragma once
 // What the fuzz targets' contracts (fuzz/*_check.hpp) share: the rule for an error message (it
 // names the file and is valid UTF-8), where queries owe finite answers, the scratch files the
-// file readers are given, and the
-// libFuzzer entry point's turning of a broken contract into an abort.
+// file readers are given, and the libFuzzer entry point's turning of a broken contract into an
+// abort.
 
 #include <collide/core/finite_range.hpp>
 #include <collide/core/math.hpp>
