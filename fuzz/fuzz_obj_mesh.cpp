@@ -2,17 +2,13 @@
 // into a walk mesh; the contract is fuzz/obj_mesh_check.hpp. Build and run: fuzz/run-fuzz
 // (docs/fuzzing.md).
 
+#include "fuzz_check.hpp"
 #include "obj_mesh_check.hpp"
 
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string problem = collide::fuzz::check_obj_mesh({reinterpret_cast<const char*>(data), size});
-  if (!problem.empty()) {
-    std::fprintf(stderr, "fuzz_obj_mesh: %s\n", problem.c_str());
-    std::abort();
-  }
-  return 0;
+  namespace fuzz = collide::fuzz;
+  return fuzz::report("fuzz_obj_mesh", fuzz::check_obj_mesh(fuzz::as_text(data, size)));
 }

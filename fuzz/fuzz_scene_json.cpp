@@ -1,17 +1,13 @@
 // libFuzzer target: any bytes as a scene JSON file, and an accepted scene run for two steps.
 // Build and run: fuzz/run-fuzz (docs/fuzzing.md).
 
+#include "fuzz_check.hpp"
 #include "scene_json_check.hpp"
 
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string problem = collide::fuzz::check_scene_json({reinterpret_cast<const char*>(data), size});
-  if (!problem.empty()) {
-    std::fprintf(stderr, "fuzz_scene_json: %s\n", problem.c_str());
-    std::abort();
-  }
-  return 0;
+  namespace fuzz = collide::fuzz;
+  return fuzz::report("fuzz_scene_json", fuzz::check_scene_json(fuzz::as_text(data, size)));
 }

@@ -3,17 +3,13 @@
 // fixed probes; the contract is fuzz/shapes_check.hpp. Build and run: fuzz/run-fuzz
 // (docs/fuzzing.md).
 
+#include "fuzz_check.hpp"
 #include "shapes_check.hpp"
 
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string problem = collide::fuzz::check_shapes({reinterpret_cast<const char*>(data), size});
-  if (!problem.empty()) {
-    std::fprintf(stderr, "fuzz_shapes: %s\n", problem.c_str());
-    std::abort();
-  }
-  return 0;
+  namespace fuzz = collide::fuzz;
+  return fuzz::report("fuzz_shapes", fuzz::check_shapes(fuzz::as_text(data, size)));
 }

@@ -2,24 +2,15 @@
 // through load_tiled_map and the checks of fuzz/tiled_check.hpp. Build and run: fuzz/run-fuzz
 // (docs/fuzzing.md).
 
+#include "fuzz_check.hpp"
 #include "tiled_check.hpp"
 
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <string>
-
-#include <unistd.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  namespace fuzz = collide::fuzz;
   // load_tiled_map reads files: one scratch folder per fuzzing process.
-  static const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("fuzz_tiled_tmx." + std::to_string(::getpid()));
-  const std::string problem =
-      collide::fuzz::check_tiled(collide::fuzz::TiledInput::tmx, {reinterpret_cast<const char*>(data), size}, dir);
-  if (!problem.empty()) {
-    std::fprintf(stderr, "fuzz_tiled_tmx: %s\n", problem.c_str());
-    std::abort();
-  }
-  return 0;
+  static const std::filesystem::path dir = fuzz::scratch_path("fuzz_tiled_tmx");
+  return fuzz::report("fuzz_tiled_tmx", fuzz::check_tiled(fuzz::TiledInput::tmx, fuzz::as_text(data, size), dir));
 }

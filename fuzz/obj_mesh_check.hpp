@@ -2,39 +2,22 @@
 // What must hold for any bytes given to the OBJ reader as a file (fuzz_obj_mesh, and the
 // regression test that replays the inputs the fuzzer found): shared so both check the same.
 
+#include "fuzz_check.hpp"
+
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
-#include <collide/core/finite_range.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/distance.hpp>
 #include <collide/shape/sphere.hpp>
 #include <collide/walkmesh/make_walk_mesh.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
 
-#include <unistd.h>
-
 namespace collide::fuzz {
-
-/// "" when `message`, an InvalidInput from reading the file `name`, starts with "name:" and is
-/// valid UTF-8; else what is wrong with it.
-inline std::string check_obj_message(const std::string& message, const std::string& name) {
-  if (message.rfind(name + ":", 0) != 0) return "message does not name the file: " + message;
-  try {
-    (void)nlohmann::json(message).dump();  // throws on bytes that are not UTF-8
-  } catch (const std::exception&) {
-    return "message is not valid UTF-8: " + message;
-  }
-  return {};
-}
 
 /// "" when `input`, written to a file, is handled as collide/io/obj.hpp says, else what went
 /// wrong:
@@ -49,19 +32,14 @@ inline std::string check_obj_message(const std::string& message, const std::stri
 /// Crashes, hangs and undefined behaviour are the sanitizers' and the fuzzer's to catch.
 inline std::string check_obj_mesh(std::string_view input) {
   // The reader takes a path: one scratch file per process.
-  static const std::string path =
-      (std::filesystem::temp_directory_path() / ("collide_fuzz_obj." + std::to_string(::getpid()) + ".obj")).string();
-  const std::string name = std::filesystem::path(path).filename().string();
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(input.data(), static_cast<std::streamsize>(input.size()));
-    if (!out) return "cannot write the scratch file " + path;
-  }
+  static const std::string path = scratch_path("collide_fuzz_obj", ".obj").string();
+  const std::string prefix = std::filesystem::path(path).filename().string() + ":";  // messages start so
+  if (!write_file(path, input)) return "cannot write the scratch file " + path;
   TriangleSoup soup;
   try {
     soup = io::load_obj(path);
   } catch (const InvalidInput& e) {
-    return check_obj_message(e.what(), name);
+    return check_message(e.what(), prefix);
   } catch (const std::exception& e) {
     return std::string("load_obj threw other than InvalidInput: ") + e.what();
   }
@@ -84,9 +62,7 @@ inline std::string check_obj_mesh(std::string_view input) {
     const DistanceResult3 d = distance(make_sphere({0.0f, 0.0f, 0.0f}, 1.0f), Transform3{}, mesh, Transform3{}, 1000.0f);
     // Finite answers are promised within kFiniteQueryRange; beyond, the queries ran for the
     // sanitizers alone.
-    const Aabb3 bounds = compute_aabb(mesh, Transform3{});
-    const bool in_range = is_finite(bounds.min) && is_finite(bounds.max) && max_abs(bounds.min) <= kFiniteQueryRange &&
-                          max_abs(bounds.max) <= kFiniteQueryRange;
+    const bool in_range = within_finite_range(compute_aabb(mesh, Transform3{}));
     if (in_range && hit.hit && (!std::isfinite(hit.fraction) || !is_finite(hit.point) || !is_finite(hit.normal))) {
       return "a ray cast on an accepted mesh is not finite";
     }
@@ -94,7 +70,7 @@ inline std::string check_obj_mesh(std::string_view input) {
       return "a distance to an accepted mesh is not finite";
     }
   } catch (const InvalidInput& e) {
-    if (std::string problem = check_obj_message(e.what(), name); !problem.empty()) return problem;
+    if (std::string problem = check_message(e.what(), prefix); !problem.empty()) return problem;
   } catch (const std::exception& e) {
     return std::string("load_triangle_mesh threw other than InvalidInput: ") + e.what();
   }
@@ -102,7 +78,7 @@ inline std::string check_obj_mesh(std::string_view input) {
   try {
     (void)make_walk_mesh(soup);
   } catch (const InvalidInput& e) {
-    if (std::string problem = check_obj_message(e.what(), name); !problem.empty()) return problem;
+    if (std::string problem = check_message(e.what(), prefix); !problem.empty()) return problem;
   } catch (const std::exception& e) {
     return std::string("make_walk_mesh threw other than InvalidInput: ") + e.what();
   }

@@ -6,6 +6,8 @@
 // floats (FuzzFloats: small values, special ones such as NaN, infinities, the float limits and
 // denormals, or any 4 raw bytes) and small counts.
 
+#include "fuzz_check.hpp"
+
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
 #include <collide/core/finite_range.hpp>
@@ -75,12 +77,6 @@ class FuzzFloats {
 
 inline bool finite(float x) { return std::isfinite(x); }
 
-/// The bounds lie within kFiniteQueryRange of the origin, where queries promise finite results.
-template <class Box>
-bool within_finite_range(const Box& box) {
-  return is_finite(box.min) && is_finite(box.max) && max_abs(box.min) <= kFiniteQueryRange &&
-         max_abs(box.max) <= kFiniteQueryRange;
-}
 inline bool finite(Vec2 v) { return is_finite(v); }
 inline bool finite(Vec3 v) { return is_finite(v); }
 

@@ -4,14 +4,13 @@
 // so both check the same. load_tiled_map reads files, so the input is written into a scratch
 // folder next to small fixed files it may refer to (t.tsx, a.tx), or that refer to it.
 
+#include "fuzz_check.hpp"
+
 #include <collide/core/error.hpp>
 #include <collide/io/tiled.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -24,11 +23,6 @@ enum class TiledInput {
   tileset,  ///< the external tileset of a fixed map.tmx: t.tsj if it starts with '{', else t.tsx
   templ,    ///< an object template of a fixed map.tmx: a.tj if it starts with '{', else a.tx
 };
-
-inline void write_file(const std::filesystem::path& path, std::string_view bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
 
 /// "" when `input`, as the file `kind` says, is handled as docs/limits.md promises, else what
 /// went wrong:
@@ -72,14 +66,7 @@ inline std::string check_tiled(TiledInput kind, std::string_view input, const st
   try {
     loaded = load_tiled_map(map);
   } catch (const InvalidInput& e) {
-    const std::string message = e.what();
-    if (message.rfind(map.generic_string() + ": ", 0) != 0) return "message does not name the file: " + message;
-    try {
-      (void)nlohmann::json(message).dump();  // throws on bytes that are not UTF-8
-    } catch (const std::exception&) {
-      return "message is not valid UTF-8: " + message;
-    }
-    return {};
+    return check_message(e.what(), map.generic_string() + ": ");
   } catch (const std::exception& e) {
     return std::string("load_tiled_map threw other than InvalidInput: ") + e.what();
   }

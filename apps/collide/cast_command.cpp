@@ -48,6 +48,13 @@ std::string read_bounded(std::istream& in, const std::string& name) {
   return text;
 }
 
+/// Where the question comes from, for messages: "--question", "standard input" or the file.
+std::string question_source(const CastOptions& o) {
+  if (!o.question.empty()) return "--question";
+  if (o.file.empty() || o.file == "-") return "standard input";
+  return o.file;
+}
+
 std::string read_question(const CastOptions& o) {
   if (!o.question.empty()) return o.question;
   if (o.file.empty() || o.file == "-") return read_bounded(std::cin, "standard input");
@@ -108,10 +115,7 @@ void register_cast_command(CLI::App& app) {
               "\"half\": [1, 0.5]}, \"va\": [6, 1], \"b\": {\"type\": \"circle\", \"radius\": 1}, "
               "\"xb\": {\"p\": [5, 0]}, \"vb\": [0, 0]}'");
   cmd->callback([options]() {
-    const std::string input = !options->question.empty()                    ? std::string("--question")
-                              : options->file.empty() || options->file == "-" ? std::string("standard input")
-                                                                              : options->file;
-    const int code = run_guarded("cast", input, [&] { return run_cast(*options); });
+    const int code = run_guarded("cast", question_source(*options), [&] { return run_cast(*options); });
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

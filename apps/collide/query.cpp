@@ -25,14 +25,14 @@
 #include <charconv>
 #include <cmath>
 #include <concepts>
-#include <optional>
-#include <span>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <istream>
 #include <new>
+#include <optional>
 #include <ostream>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -383,7 +383,7 @@ void write_contact(const ManifoldN<D>& m, json& out) {
   for (int i = 0; i < m.count; ++i) {
     points.push_back(vec(m.points[i].point));
     depths.push_back(number(m.points[i].depth));
-    ids.push_back(features(m.points[i].id));
+    if constexpr (D == 3) ids.push_back(features(m.points[i].id));
   }
   out["points"] = points;
   out["depths"] = depths;

@@ -342,8 +342,6 @@ Scene file_scene(const RunOptions& options) {
   return scene;
 }
 
-}  // namespace
-
 /// `build()`, with the input file named in front of an error that does not name it already (the
 /// loaders do; World2D names the static or body, e.g. one beyond kMaxWorldCoordinate).
 template <class Build>
@@ -355,6 +353,8 @@ Scene naming_the_file(const std::string& in, Build&& build) {
     throw InvalidInput(in + ": " + e.what());
   }
 }
+
+}  // namespace
 
 Scene make_scene(const RunOptions& options) {
   const std::string& in = options.input;

@@ -96,13 +96,16 @@ int run_walk(const WalkOptions& o) {
   struct Agent {
     WalkPoint at;
     float heading;
-    std::vector<Vec3> path;
+    Vec3 last;               ///< the position before this step (for the check)
+    std::vector<Vec3> path;  ///< every position, kept only for the picture
   };
+  const bool keep_paths = !o.png.empty();  // else memory would grow with agents x steps
   std::vector<Agent> agents(static_cast<std::size_t>(o.agents));
   for (Agent& a : agents) {
     a.at = random_walk_point(mesh, cumulative, rng);
     a.heading = any_angle(rng);
-    a.path.push_back(mesh.to_world_point(a.at));
+    a.last = mesh.to_world_point(a.at);
+    if (keep_paths) a.path.push_back(a.last);
   }
   // The independent check, by code other than the walking code: each position must be a valid
   // point of its triangle (is_valid), lie on the mesh as nearest_walk_point (the BVH) sees it, and
@@ -130,12 +133,13 @@ int run_walk(const WalkOptions& o) {
       a.at = r.end;
       const Vec3 p = mesh.to_world_point(a.at);
       const double gap = glm::length(mesh.to_world_point(mesh.nearest_walk_point(p)) - p);
-      const double move = glm::length(p - a.path.back());
+      const double move = glm::length(p - a.last);
       worst = std::max(worst, gap);
       worst_move = std::max(worst_move, move);
       ++checks;
       if (!mesh.is_valid(a.at) || gap > on_mesh_tolerance || move > o.speed + on_mesh_tolerance) ++off_mesh;
-      a.path.push_back(p);
+      a.last = p;
+      if (keep_paths) a.path.push_back(p);
     }
   }
   std::printf("walked %d agents x %d steps of %.3f (seed %u):\n", o.agents, o.steps, static_cast<double>(o.speed), o.seed);
