@@ -833,14 +833,15 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
 }  // namespace
 
 void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                              const std::array<Vec3, 3>& corners, std::uint8_t active_edges,
-                              float margin, Manifold3& m) noexcept {
+                              const std::array<Vec3, 3>& corners,
+                              FunctionRef<std::uint8_t()> edges, float margin,
+                              Manifold3& m) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
   const PlacedPolytope placed{tri, Frame3::from(Transform3{})};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
-  if (m.count == 0 || (active_edges & 7u) == 7u) return;
+  if (m.count == 0) return;
   const Vec3 n = tri.faces[0].normal;
   if (n == Vec3(0.0f)) return;
   const float c = dot(m.normal, n);
@@ -861,6 +862,9 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
       on |= 1u << k;
     }
   }
+  // Asked only now (a height field computes them from its neighbours), after the early outs.
+  const std::uint8_t active_edges = edges();
+  if ((active_edges & 7u) == 7u) return;
   bool active = false;
   switch (on) {
     case 1u: active = (active_edges & 0b101u) != 0; break;  // vertex 0: edges 0 and 2

@@ -193,8 +193,8 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
   const Aabb3 box = compute_aabb(a, pl.a_in_stored);
   level.query(fatten(box, margin + slop(box)), [&](std::uint32_t t) -> bool {
     Manifold3 m;
-    detail::contact_triangle(pa, proxy, pl.to_a(level.corners(t)), level.active_edges(t), margin,
-                             m);
+    detail::contact_triangle(pa, proxy, pl.to_a(level.corners(t)),
+                             [&]() -> std::uint8_t { return level.active_edges(t); }, margin, m);
     if (m.count == 0) return true;
     for (int i = 0; i < m.count; ++i) {
       ContactId& id = m.points[i].id;
