@@ -163,7 +163,8 @@ DistanceResult3 distance_level(const A& a, const Transform3& xa, const Level& le
   if (seed != kNoTriangle) test(seed);
   if (best.distance > 0.0f) {
     const float grow = std::min(best.distance, bound);
-    level.query(fatten(box, grow + slop(box)), test);
+    // (the seed is tested already: the same answer again)
+    level.query(fatten(box, grow + slop(box)), [&](std::uint32_t t) -> bool { return t == seed || test(t); });
   }
   if (triangle != nullptr) *triangle = best_t;
   if (best_t == kNoTriangle) {
