@@ -310,66 +310,61 @@ void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
 
 void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3 normal,
                                    Manifold3& m, float depth_tie) noexcept {
-  struct View {
-    const ManifoldPoint3* points;
-    int count;
-  };
-  const View in{points, count};
-  if (in.count <= 4) {
-    for (int i = 0; i < in.count; ++i) m.points[i] = in.points[i];
-    m.count = in.count;
+  if (count <= 4) {
+    for (int i = 0; i < count; ++i) m.points[i] = points[i];
+    m.count = count;
     return;
   }
   int i0 = 0;
-  for (int i = 1; i < in.count; ++i) {
-    if (in.points[i].depth > in.points[i0].depth) i0 = i;
+  for (int i = 1; i < count; ++i) {
+    if (points[i].depth > points[i0].depth) i0 = i;
   }
   if (depth_tie > 0.0f) {
     // Among the points as deep as the deepest within depth_tie, the one farthest from the
     // points' centre: a corner of the patch rather than a point inside it.
     Vec3 centre(0.0f);
-    for (int i = 0; i < in.count; ++i) centre += in.points[i].point;
-    centre *= 1.0f / float(in.count);
-    const float deepest = in.points[i0].depth;
+    for (int i = 0; i < count; ++i) centre += points[i].point;
+    centre *= 1.0f / float(count);
+    const float deepest = points[i0].depth;
     float far = -1.0f;
-    for (int i = 0; i < in.count; ++i) {
-      const float d = distance_squared(in.points[i].point, centre);
-      if (in.points[i].depth >= deepest - depth_tie && d > far) {
+    for (int i = 0; i < count; ++i) {
+      const float d = distance_squared(points[i].point, centre);
+      if (points[i].depth >= deepest - depth_tie && d > far) {
         far = d;
         i0 = i;
       }
     }
   }
-  const Vec3 p0 = in.points[i0].point;
+  const Vec3 p0 = points[i0].point;
   int i1 = -1;
   float best = -1.0f;
-  for (int i = 0; i < in.count; ++i) {
-    const float d = distance_squared(in.points[i].point, p0);
+  for (int i = 0; i < count; ++i) {
+    const float d = distance_squared(points[i].point, p0);
     if (i != i0 && d > best) {
       best = d;
       i1 = i;
     }
   }
-  const Vec3 p1 = in.points[i1].point;
+  const Vec3 p1 = points[i1].point;
   // Signed area of (p0, p1, p) about the normal.
   const auto area = [&](Vec3 a, Vec3 b, Vec3 p) { return dot(cross(b - a, p - a), normal); };
   int i2 = -1;
   best = -1.0f;
-  for (int i = 0; i < in.count; ++i) {
-    const float s = std::fabs(area(p0, p1, in.points[i].point));
+  for (int i = 0; i < count; ++i) {
+    const float s = std::fabs(area(p0, p1, points[i].point));
     if (i != i0 && i != i1 && s > best) {
       best = s;
       i2 = i;
     }
   }
-  const Vec3 p2 = in.points[i2].point;
+  const Vec3 p2 = points[i2].point;
   const float side = area(p0, p1, p2) >= 0.0f ? 1.0f : -1.0f;
   // The fourth: the point that adds the most area to the triangle, outside one of its edges.
   int i3 = -1;
   best = 0.0f;
-  for (int i = 0; i < in.count; ++i) {
+  for (int i = 0; i < count; ++i) {
     if (i == i0 || i == i1 || i == i2) continue;
-    const Vec3 p = in.points[i].point;
+    const Vec3 p = points[i].point;
     const float added = std::max({-side * area(p0, p1, p), -side * area(p1, p2, p),
                                   -side * area(p2, p0, p)});
     if (added > best) {
@@ -377,11 +372,11 @@ void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3
       i3 = i;
     }
   }
-  m.points[0] = in.points[i0];
-  m.points[1] = in.points[i1];
-  m.points[2] = in.points[i2];
+  m.points[0] = points[i0];
+  m.points[1] = points[i1];
+  m.points[2] = points[i2];
   m.count = 3;
-  if (i3 >= 0) m.points[m.count++] = in.points[i3];
+  if (i3 >= 0) m.points[m.count++] = points[i3];
 }
 
 namespace {
