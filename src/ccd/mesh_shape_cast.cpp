@@ -70,7 +70,7 @@ struct LevelCast {
 /// The placement of a cast: A's box in the level's stored frame, the relative translation there.
 struct CastSetup {
   LevelCast cast;
-  Aabb3 box;          ///< A's box at the start, stored frame
+  Aabb3 box;          ///< A's box at the start, stored frame, fattened by the rounding slop
   Vec3 translation;   ///< A's translation relative to the level, stored frame
 };
 
@@ -83,6 +83,11 @@ CastSetup setup(const A& a, const Transform3& xa, Vec3 va, const Transform3& xl,
   CastSetup s{LevelCast{ConvexProxy3(a), Frame3::from(level_in_a), inv_rotate(xa.q, va),
                         inv_rotate(xa.q, vl)},
               compute_aabb(a, a_in_stored), inv_rotate(xl.q, va - vl)};
+  // Boxes that touch within rounding count (the cast's own tolerance decides the rest).
+  const float slop = kShapeCastRounding * (max_abs(s.box.min) + max_abs(s.box.max) +
+                                           max_abs(s.translation)) +
+                     kShapeCastTolerance * max_abs(s.box.max - s.box.min);
+  s.box = fatten(s.box, slop);
   return s;
 }
 
@@ -90,11 +95,7 @@ template <Shape3DType A>
 ShapeCastResult3 cast_mesh(const A& a, const Transform3& xa, Vec3 va, const TriangleMesh& mesh,
                            const Transform3& xm, Vec3 vm, std::uint32_t* triangle) noexcept {
   CastSetup s = setup(a, xa, va, xm, vm, mesh.origin);
-  // Boxes that touch within rounding count (the cast's own tolerance decides the rest).
-  const float slop = kShapeCastRounding * (max_abs(s.box.min) + max_abs(s.box.max) +
-                                           max_abs(s.translation)) +
-                     kShapeCastTolerance * max_abs(s.box.max - s.box.min);
-  mesh.bvh.box_cast(fatten(s.box, slop), s.translation, [&](std::uint32_t t, float) -> float {
+  mesh.bvh.box_cast(s.box, s.translation, [&](std::uint32_t t, float) -> float {
     return s.cast.test(t, {mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)});
   });
   return s.cast.finish(xa, triangle);
@@ -104,10 +105,7 @@ template <Shape3DType A>
 ShapeCastResult3 cast_field(const A& a, const Transform3& xa, Vec3 va, const HeightField& field,
                             const Transform3& xf, Vec3 vf, std::uint32_t* triangle) noexcept {
   CastSetup s = setup(a, xa, va, xf, vf, field.origin);
-  const float slop = kShapeCastRounding * (max_abs(s.box.min) + max_abs(s.box.max) +
-                                           max_abs(s.translation)) +
-                     kShapeCastTolerance * max_abs(s.box.max - s.box.min);
-  const Aabb3 box = fatten(s.box, slop);
+  const Aabb3& box = s.box;
   const Aabb3 swept = merge(box, Aabb3{box.min + s.translation, box.max + s.translation});
   float clip = 1.0f;
   field.query(Aabb3{swept.min + field.origin, swept.max + field.origin}, [&](std::uint32_t t) -> bool {

@@ -310,66 +310,61 @@ void reduce_to_four(const PointSet& in, Vec3 normal, Manifold3& m) noexcept {
 
 void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3 normal,
                                    Manifold3& m, float depth_tie) noexcept {
-  struct View {
-    const ManifoldPoint3* points;
-    int count;
-  };
-  const View in{points, count};
-  if (in.count <= 4) {
-    for (int i = 0; i < in.count; ++i) m.points[i] = in.points[i];
-    m.count = in.count;
+  if (count <= 4) {
+    for (int i = 0; i < count; ++i) m.points[i] = points[i];
+    m.count = count;
     return;
   }
   int i0 = 0;
-  for (int i = 1; i < in.count; ++i) {
-    if (in.points[i].depth > in.points[i0].depth) i0 = i;
+  for (int i = 1; i < count; ++i) {
+    if (points[i].depth > points[i0].depth) i0 = i;
   }
   if (depth_tie > 0.0f) {
     // Among the points as deep as the deepest within depth_tie, the one farthest from the
     // points' centre: a corner of the patch rather than a point inside it.
     Vec3 centre(0.0f);
-    for (int i = 0; i < in.count; ++i) centre += in.points[i].point;
-    centre *= 1.0f / float(in.count);
-    const float deepest = in.points[i0].depth;
+    for (int i = 0; i < count; ++i) centre += points[i].point;
+    centre *= 1.0f / float(count);
+    const float deepest = points[i0].depth;
     float far = -1.0f;
-    for (int i = 0; i < in.count; ++i) {
-      const float d = distance_squared(in.points[i].point, centre);
-      if (in.points[i].depth >= deepest - depth_tie && d > far) {
+    for (int i = 0; i < count; ++i) {
+      const float d = distance_squared(points[i].point, centre);
+      if (points[i].depth >= deepest - depth_tie && d > far) {
         far = d;
         i0 = i;
       }
     }
   }
-  const Vec3 p0 = in.points[i0].point;
+  const Vec3 p0 = points[i0].point;
   int i1 = -1;
   float best = -1.0f;
-  for (int i = 0; i < in.count; ++i) {
-    const float d = distance_squared(in.points[i].point, p0);
+  for (int i = 0; i < count; ++i) {
+    const float d = distance_squared(points[i].point, p0);
     if (i != i0 && d > best) {
       best = d;
       i1 = i;
     }
   }
-  const Vec3 p1 = in.points[i1].point;
+  const Vec3 p1 = points[i1].point;
   // Signed area of (p0, p1, p) about the normal.
   const auto area = [&](Vec3 a, Vec3 b, Vec3 p) { return dot(cross(b - a, p - a), normal); };
   int i2 = -1;
   best = -1.0f;
-  for (int i = 0; i < in.count; ++i) {
-    const float s = std::fabs(area(p0, p1, in.points[i].point));
+  for (int i = 0; i < count; ++i) {
+    const float s = std::fabs(area(p0, p1, points[i].point));
     if (i != i0 && i != i1 && s > best) {
       best = s;
       i2 = i;
     }
   }
-  const Vec3 p2 = in.points[i2].point;
+  const Vec3 p2 = points[i2].point;
   const float side = area(p0, p1, p2) >= 0.0f ? 1.0f : -1.0f;
   // The fourth: the point that adds the most area to the triangle, outside one of its edges.
   int i3 = -1;
   best = 0.0f;
-  for (int i = 0; i < in.count; ++i) {
+  for (int i = 0; i < count; ++i) {
     if (i == i0 || i == i1 || i == i2) continue;
-    const Vec3 p = in.points[i].point;
+    const Vec3 p = points[i].point;
     const float added = std::max({-side * area(p0, p1, p), -side * area(p1, p2, p),
                                   -side * area(p2, p0, p)});
     if (added > best) {
@@ -377,11 +372,11 @@ void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3
       i3 = i;
     }
   }
-  m.points[0] = in.points[i0];
-  m.points[1] = in.points[i1];
-  m.points[2] = in.points[i2];
+  m.points[0] = points[i0];
+  m.points[1] = points[i1];
+  m.points[2] = points[i2];
   m.count = 3;
-  if (i3 >= 0) m.points[m.count++] = in.points[i3];
+  if (i3 >= 0) m.points[m.count++] = points[i3];
 }
 
 namespace {
@@ -463,26 +458,46 @@ void point_contact(Vec3 pa, Vec3 pb, Vec3 n, float s, float ra, float rb, Contac
   m.points[0].id = id;
 }
 
-/// One point for a face axis whose clip kept nothing: the other core's vertex deepest below the
-/// reference face `ref_face` (of A when `ref_is_a`, else of B), against its plane.
-void deepest_vertex_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a,
-                            int ref_face, Manifold3& m) noexcept {
+/// The other core's vertex deepest below reference face `ref_face` (of A when `ref_is_a`, else
+/// of B): the face's outward normal (A's frame), the vertex and its height above the plane.
+struct FaceSupport {
+  Vec3 normal;
+  Vec3 point;
+  int vertex;
+  float separation;
+};
+
+FaceSupport face_support(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a,
+                         int ref_face) noexcept {
+  FaceSupport f;
   if (ref_is_a) {
     const HullFace& face = a.faces[ref_face];
-    const int k = b.support(-face.normal);
-    const Vec3 v = b.vertex(k);
-    const float s = dot(face.normal, v) - face.offset;
-    point_contact(v - s * face.normal, v, face.normal, s, a.radius, b.p.radius,
-                  ContactId{std::uint32_t(a.face_feature(ref_face)), std::uint32_t(k),
+    f.normal = face.normal;
+    f.vertex = b.support(-f.normal);
+    f.point = b.vertex(f.vertex);
+    f.separation = dot(f.normal, f.point) - face.offset;
+  } else {
+    f.normal = b.face_normal(ref_face);
+    f.vertex = a.support(-f.normal);
+    f.point = a.vertex(f.vertex);
+    f.separation = dot(f.normal, f.point) - b.face_offset(ref_face, f.normal);
+  }
+  return f;
+}
+
+/// One point for reference face `ref_face` (of A when `ref_is_a`, else of B): the other core's
+/// deepest vertex `f` (face_support) against the face's plane.
+void deepest_vertex_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a,
+                            int ref_face, const FaceSupport& f, Manifold3& m) noexcept {
+  const Vec3 on_plane = f.point - f.separation * f.normal;
+  if (ref_is_a) {
+    point_contact(on_plane, f.point, f.normal, f.separation, a.radius, b.p.radius,
+                  ContactId{std::uint32_t(a.face_feature(ref_face)), std::uint32_t(f.vertex),
                             FeatureType::face, FeatureType::vertex},
                   m);
   } else {
-    const Vec3 n = b.face_normal(ref_face);
-    const int k = a.support(-n);
-    const Vec3 v = a.vertex(k);
-    const float s = dot(n, v) - b.face_offset(ref_face, n);
-    point_contact(v, v - s * n, -n, s, a.radius, b.p.radius,
-                  ContactId{std::uint32_t(k), std::uint32_t(b.p.face_feature(ref_face)),
+    point_contact(f.point, on_plane, -f.normal, f.separation, a.radius, b.p.radius,
+                  ContactId{std::uint32_t(f.vertex), std::uint32_t(b.p.face_feature(ref_face)),
                             FeatureType::vertex, FeatureType::face},
                   m);
   }
@@ -542,6 +557,14 @@ Feature near_feature(const Polytope3& p, Vec3 local_point) noexcept {
     }
   }
   return Feature{FeatureType::vertex, std::uint32_t(best)};
+}
+
+/// The id of one point between A's core point `pa` and B's core point `pb` (both in A's
+/// frame): the features of the cores nearest to them.
+ContactId near_features(const Polytope3& a, const PlacedPolytope& b, Vec3 pa, Vec3 pb) noexcept {
+  const Feature ka = near_feature(a, pa);
+  const Feature kb = near_feature(b.p, inv_transform_point(b.f, pb));
+  return ContactId{ka.index, kb.index, ka.type, kb.type};
 }
 
 /// Two cores without faces (points and segments): closest points; parallel overlapping
@@ -652,32 +675,14 @@ struct EpaAxis {
 void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
                     Vec3 n, Vec3 point_a, Vec3 point_b, const EpaAxis& epa,
                     Manifold3& m) noexcept {
-  // The other core's support vertex below the reference face, and its height above the plane.
-  Vec3 fn;
-  Vec3 deepest;
-  int vertex;
-  float separation;
-  if (ref_is_a) {
-    const HullFace& face = a.faces[ref_face];
-    fn = face.normal;
-    vertex = b.support(-fn);
-    deepest = b.vertex(vertex);
-    separation = dot(fn, deepest) - face.offset;
-  } else {
-    fn = b.face_normal(ref_face);
-    vertex = a.support(-fn);
-    deepest = a.vertex(vertex);
-    separation = dot(fn, deepest) - b.face_offset(ref_face, fn);
-  }
-  const float face_depth = a.radius + b.p.radius - separation;
+  const FaceSupport below = face_support(a, b, ref_is_a, ref_face);
+  const float face_depth = a.radius + b.p.radius - below.separation;
   if (face_depth > epa.depth + epa.tolerance) {
-    const Feature ka = near_feature(a, point_a - a.radius * n);
-    const Feature kb = near_feature(b.p, inv_transform_point(b.f, point_b + b.p.radius * n));
     m.normal = n;
     m.count = 1;
     m.points[0].point = 0.5f * (point_a + point_b);
     m.points[0].depth = epa.depth;
-    m.points[0].id = ContactId{ka.index, kb.index, ka.type, kb.type};
+    m.points[0].id = near_features(a, b, point_a - a.radius * n, point_b + b.p.radius * n);
     return;
   }
   if (m.max_depth() >= face_depth - epa.tolerance) return;
@@ -691,17 +696,7 @@ void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, 
     ++m.count;
   }
   Manifold3 one;
-  const Vec3 on_plane = deepest - separation * fn;
-  const std::uint32_t face_id = std::uint32_t((ref_is_a ? a : b.p).face_feature(ref_face));
-  if (ref_is_a) {
-    point_contact(on_plane, deepest, fn, separation, a.radius, b.p.radius,
-                  ContactId{face_id, std::uint32_t(vertex), FeatureType::face, FeatureType::vertex},
-                  one);
-  } else {
-    point_contact(deepest, on_plane, -fn, separation, a.radius, b.p.radius,
-                  ContactId{std::uint32_t(vertex), face_id, FeatureType::vertex, FeatureType::face},
-                  one);
-  }
+  deepest_vertex_contact(a, b, ref_is_a, ref_face, below, one);
   m.points[slot] = one.points[0];
 }
 
@@ -752,10 +747,7 @@ void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 poi
   // One point from the closest points of the cores (undo the radii).
   const Vec3 pa = point_a - a.radius * n;
   const Vec3 pb = point_b + b.p.radius * n;
-  const Feature ka = near_feature(a, pa);
-  const Feature kb = near_feature(b.p, inv_transform_point(b.f, pb));
-  point_contact(pa, pb, n, s, a.radius, b.p.radius, ContactId{ka.index, kb.index, ka.type, kb.type},
-                m);
+  point_contact(pa, pb, n, s, a.radius, b.p.radius, near_features(a, b, pa, pb), m);
 }
 
 /// The contact of two placed cores: `proxy_a` / `proxy_b` are the same shapes' support maps,
@@ -828,21 +820,23 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   if (ee.edge_a >= 0 && ee.separation >= best_face - edge_tolerance) {
     edge_contact(a, b, ee.edge_a, ee.edge_b, ee.axis, ee.separation, m);
   } else {
-    deepest_vertex_contact(a, b, !ref_b, ref_b ? fb.face : fa.face, m);
+    const int ref_face = ref_b ? fb.face : fa.face;
+    deepest_vertex_contact(a, b, !ref_b, ref_face, face_support(a, b, !ref_b, ref_face), m);
   }
 }
 
 }  // namespace
 
 void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                              const std::array<Vec3, 3>& corners, std::uint8_t active_edges,
-                              float margin, Manifold3& m) noexcept {
+                              const std::array<Vec3, 3>& corners,
+                              FunctionRef<std::uint8_t()> edges, float margin,
+                              Manifold3& m) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
   const PlacedPolytope placed{tri, Frame3::from(Transform3{})};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
-  if (m.count == 0 || (active_edges & 7u) == 7u) return;
+  if (m.count == 0) return;
   const Vec3 n = tri.faces[0].normal;
   if (n == Vec3(0.0f)) return;
   const float c = dot(m.normal, n);
@@ -863,6 +857,9 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
       on |= 1u << k;
     }
   }
+  // Asked only now (a height field computes them from its neighbours), after the early outs.
+  const std::uint8_t active_edges = edges();
+  if ((active_edges & 7u) == 7u) return;
   bool active = false;
   switch (on) {
     case 1u: active = (active_edges & 0b101u) != 0; break;  // vertex 0: edges 0 and 2

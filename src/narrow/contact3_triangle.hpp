@@ -3,6 +3,7 @@
 // HeightField), with the triangle's active edges. Implemented in contact3.cpp beside the
 // convex-convex routines it reuses; called per candidate triangle by mesh_query.cpp.
 
+#include <collide/core/function_ref.hpp>
 #include <collide/narrow/manifold.hpp>
 #include <collide/narrow/support.hpp>
 
@@ -17,17 +18,19 @@ namespace collide::detail {
 /// triangle whose corners `corners` are given in A's frame; `m` in A's frame, normal from A to
 /// the triangle, B's features numbered as a single Triangle's (vertex k, edge k, face 0).
 ///
-/// `active_edges` (bit k: edge k, as TriangleMesh::active_edges): when the manifold's normal is
-/// not the triangle's face normal (within kFaceContactSine) and the triangle's feature nearest
-/// to A along it is an inactive edge, or a vertex whose two edges are both inactive, the contact
-/// is made again with the triangle's face (the side facing A) as the reference face: A's
-/// incident face (or core) clipped to the triangle's side planes, depth along the face normal.
-/// A body sliding over a seam then meets the triangle it is over with the face normal, and the
-/// triangle behind the seam gives no point (Jolt's ActiveEdges::FixNormal idea, done by clipping
-/// so the depth is measured along the normal reported).
+/// `edges()` gives the triangle's active edges (bit k: edge k, as TriangleMesh::active_edges);
+/// it is asked only when they matter (a height field computes them from its neighbours). When
+/// the manifold's normal is not the triangle's face normal (within kFaceContactSine) and the
+/// triangle's feature nearest to A along it is an inactive edge, or a vertex whose two edges are
+/// both inactive, the contact is made again with the triangle's face (the side facing A) as the
+/// reference face: A's incident face (or core) clipped to the triangle's side planes, depth
+/// along the face normal. A body sliding over a seam then meets the triangle it is over with
+/// the face normal, and the triangle behind the seam gives no point (Jolt's
+/// ActiveEdges::FixNormal idea, done by clipping so the depth is measured along the normal
+/// reported).
 void contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                      const std::array<Vec3, 3>& corners, std::uint8_t active_edges, float margin,
-                      Manifold3& m) noexcept;
+                      const std::array<Vec3, 3>& corners, FunctionRef<std::uint8_t()> edges,
+                      float margin, Manifold3& m) noexcept;
 
 /// Keeps at most 4 of `count` contact points sharing `normal` (world or A's frame alike): the
 /// deepest, the farthest from it, then the two that span the largest area with them (the idea

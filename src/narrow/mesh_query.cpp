@@ -163,7 +163,8 @@ DistanceResult3 distance_level(const A& a, const Transform3& xa, const Level& le
   if (seed != kNoTriangle) test(seed);
   if (best.distance > 0.0f) {
     const float grow = std::min(best.distance, bound);
-    level.query(fatten(box, grow + slop(box)), test);
+    // (the seed is tested already: the same answer again)
+    level.query(fatten(box, grow + slop(box)), [&](std::uint32_t t) -> bool { return t == seed || test(t); });
   }
   if (triangle != nullptr) *triangle = best_t;
   if (best_t == kNoTriangle) {
@@ -193,8 +194,8 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
   const Aabb3 box = compute_aabb(a, pl.a_in_stored);
   level.query(fatten(box, margin + slop(box)), [&](std::uint32_t t) -> bool {
     Manifold3 m;
-    detail::contact_triangle(pa, proxy, pl.to_a(level.corners(t)), level.active_edges(t), margin,
-                             m);
+    detail::contact_triangle(pa, proxy, pl.to_a(level.corners(t)),
+                             [&]() -> std::uint8_t { return level.active_edges(t); }, margin, m);
     if (m.count == 0) return true;
     for (int i = 0; i < m.count; ++i) {
       ContactId& id = m.points[i].id;

@@ -556,19 +556,23 @@ inline unsigned distinct_lanes(const std::array<std::uint32_t, kBvhLeafTriangles
 //   max(t_near_x, t_near_y, t_near_z, 0) <= min(t_far_x, t_far_y, t_far_z, max_fraction) * slack.
 // The entered children are visited nearest first; the others wait on the stack with their entry
 // fraction and are dropped when popped if the ray has been clipped before them meanwhile.
-template <class OnLeaf>
-void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const {
-  if (nodes_.empty()) return;
-  const detail::WatertightRay watertight(ray);
-  if (!watertight.valid || !(max_fraction > 0.0f)) return;
+// With Grow (box_cast) every box is first grown by `half` on each side: a box of half extents
+// `half` moving from centre `origin` meets a box exactly when the ray from its centre enters
+// that box grown by `half` (their Minkowski sum).
+template <bool Grow, class OnLeaf>
+void TriangleBvh::traverse_slabs(Vec3 origin_point, Vec3 translation, Vec3 half, float max_fraction,
+                                 OnLeaf&& on_leaf) const {
+  if (nodes_.empty() || !(max_fraction > 0.0f)) return;
   std::array<int, 3> near_row, far_row;
-  std::array<Lanes, 3> origin, inverse;
+  std::array<Lanes, 3> origin, inverse, near_grow, far_grow;
   for (int axis = 0; axis < 3; ++axis) {
-    const bool down = std::signbit(ray.translation[axis]);
+    const bool down = std::signbit(translation[axis]);
     near_row[axis] = down ? kMaxX + axis : kMinX + axis;
     far_row[axis] = down ? kMinX + axis : kMaxX + axis;
-    origin[axis] = splat(ray.origin[axis]);
-    inverse[axis] = splat(1.0f / ray.translation[axis]);
+    origin[axis] = splat(origin_point[axis]);
+    inverse[axis] = splat(1.0f / translation[axis]);
+    near_grow[axis] = splat(down ? half[axis] : -half[axis]);
+    far_grow[axis] = splat(down ? -half[axis] : half[axis]);
   }
   struct Entry {
     std::uint32_t ref;  // node index, or packet index | kLeaf
@@ -580,21 +584,22 @@ void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_
   float max_t = max_fraction;
   for (;;) {
     if (ref & kLeaf) {
-      const Packet& packet = packets_[ref & ~kLeaf];
-      PacketCrossings hits = cross_packet(packet.corners, watertight, max_t);
-      hits.bits &= distinct_lanes(packet.id);
-      if (hits.bits != 0) {
-        max_t = on_leaf(packet, hits.bits, hits.fraction, max_t);
-        if (!(max_t > 0.0f)) return;
-      }
+      max_t = on_leaf(packets_[ref & ~kLeaf], max_t);
+      if (!(max_t > 0.0f)) return;
     } else {
       const Node& node = nodes_[ref];
-      const Lanes t_near_x = (load(node.box[near_row[0]]) - origin[0]) * inverse[0];
-      const Lanes t_near_y = (load(node.box[near_row[1]]) - origin[1]) * inverse[1];
-      const Lanes t_near_z = (load(node.box[near_row[2]]) - origin[2]) * inverse[2];
-      const Lanes t_far_x = (load(node.box[far_row[0]]) - origin[0]) * inverse[0];
-      const Lanes t_far_y = (load(node.box[far_row[1]]) - origin[1]) * inverse[1];
-      const Lanes t_far_z = (load(node.box[far_row[2]]) - origin[2]) * inverse[2];
+      // The fraction at which the ray reaches row `row[axis]` of the node's boxes (grown).
+      const auto slab = [&](const std::array<int, 3>& row, const std::array<Lanes, 3>& grow, int axis) {
+        Lanes side = load(node.box[row[axis]]);
+        if constexpr (Grow) side = side + grow[axis];
+        return (side - origin[axis]) * inverse[axis];
+      };
+      const Lanes t_near_x = slab(near_row, near_grow, 0);
+      const Lanes t_near_y = slab(near_row, near_grow, 1);
+      const Lanes t_near_z = slab(near_row, near_grow, 2);
+      const Lanes t_far_x = slab(far_row, far_grow, 0);
+      const Lanes t_far_y = slab(far_row, far_grow, 1);
+      const Lanes t_far_z = slab(far_row, far_grow, 2);
       const Lanes enter = max(t_near_x, max(t_near_y, max(t_near_z, splat(0.0f))));
       const Lanes exit = min(t_far_x, min(t_far_y, min(t_far_z, splat(max_t)))) * splat(kBvhSlabSlack);
       unsigned open = lane_bits(enter <= exit) & used_slots(node);
@@ -623,6 +628,20 @@ void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_
     if (top == 0) return;
     ref = stack[--top].ref;
   }
+}
+
+// The slab walk with the watertight crossing test of each packet at the leaves.
+template <class OnLeaf>
+void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const {
+  if (nodes_.empty()) return;
+  const detail::WatertightRay watertight(ray);
+  if (!watertight.valid) return;
+  traverse_slabs<false>(ray.origin, ray.translation, Vec3(0.0f), max_fraction,
+                        [&](const Packet& packet, float max_t) {
+                          PacketCrossings hits = cross_packet(packet.corners, watertight, max_t);
+                          hits.bits &= distinct_lanes(packet.id);
+                          return hits.bits != 0 ? on_leaf(packet, hits.bits, hits.fraction, max_t) : max_t;
+                        });
 }
 
 void TriangleBvh::ray_cast(const Ray3& ray, TriangleRayCallback visit, float max_fraction) const {
@@ -667,13 +686,10 @@ TriangleRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const 
   return hit;
 }
 
-// The ray traversal above with every box grown by the cast box's half extents: the cast box
-// (centre c, half extents h) moving by `translation` overlaps a box exactly when the ray from c
-// enters that box grown by h (the Minkowski sum of the two boxes). Leaves test each triangle's
-// own box the same way, scalar.
+// The slab walk grown by the cast box's half extents; leaves test each triangle's own box the
+// same way (grown by h, entered from the box's centre c), scalar.
 void TriangleBvh::box_cast(const Aabb3& box, Vec3 translation, TriangleCastCallback visit,
                            float max_fraction) const {
-  if (nodes_.empty() || !(max_fraction > 0.0f)) return;
   const Vec3 c = 0.5f * (box.min + box.max);
   const Vec3 h = 0.5f * (box.max - box.min);
   for (int axis = 0; axis < 3; ++axis) {
@@ -682,87 +698,33 @@ void TriangleBvh::box_cast(const Aabb3& box, Vec3 translation, TriangleCastCallb
       return;
     }
   }
-  std::array<int, 3> near_row, far_row;
-  std::array<Lanes, 3> origin, inverse, near_grow, far_grow;
-  std::array<float, 3> inverse_scalar;
-  for (int axis = 0; axis < 3; ++axis) {
-    const bool down = std::signbit(translation[axis]);
-    near_row[axis] = down ? kMaxX + axis : kMinX + axis;
-    far_row[axis] = down ? kMinX + axis : kMaxX + axis;
-    origin[axis] = splat(c[axis]);
-    inverse_scalar[axis] = 1.0f / translation[axis];
-    inverse[axis] = splat(inverse_scalar[axis]);
-    near_grow[axis] = splat(down ? h[axis] : -h[axis]);
-    far_grow[axis] = splat(down ? -h[axis] : h[axis]);
-  }
-  struct Entry {
-    std::uint32_t ref;
-    float fraction;
-  };
-  std::array<Entry, kBvhStackSize> stack;
-  int top = 0;
-  std::uint32_t ref = 0;
-  float max_t = max_fraction;
-  for (;;) {
-    if (ref & kLeaf) {
-      const Packet& packet = packets_[ref & ~kLeaf];
-      for (unsigned bits = distinct_lanes(packet.id); bits != 0; bits &= bits - 1) {
-        const auto lane = static_cast<std::uint32_t>(std::countr_zero(bits));
-        const Vec3 a = packet.corner(0, lane), b = packet.corner(1, lane), d = packet.corner(2, lane);
-        const Vec3 lo = glm::min(glm::min(a, b), d) - h;
-        const Vec3 hi = glm::max(glm::max(a, b), d) + h;
-        float enter = 0.0f;
-        float exit = max_t;
-        for (int axis = 0; axis < 3 && enter <= exit; ++axis) {
-          if (translation[axis] == 0.0f) {
-            if (!(lo[axis] <= c[axis] && c[axis] <= hi[axis])) exit = -1.0f;
-            continue;
-          }
-          float t0 = (lo[axis] - c[axis]) * inverse_scalar[axis];
-          float t1 = (hi[axis] - c[axis]) * inverse_scalar[axis];
-          if (t0 > t1) std::swap(t0, t1);
-          enter = std::max(enter, t0);
-          exit = std::min(exit, t1 * kBvhSlabSlack);
+  const Vec3 inverse = 1.0f / translation;
+  traverse_slabs<true>(c, translation, h, max_fraction, [&](const Packet& packet, float max_t) {
+    for (unsigned bits = distinct_lanes(packet.id); bits != 0; bits &= bits - 1) {
+      const auto lane = static_cast<std::uint32_t>(std::countr_zero(bits));
+      const Vec3 a = packet.corner(0, lane), b = packet.corner(1, lane), d = packet.corner(2, lane);
+      const Vec3 lo = glm::min(glm::min(a, b), d) - h;
+      const Vec3 hi = glm::max(glm::max(a, b), d) + h;
+      float enter = 0.0f;
+      float exit = max_t;
+      for (int axis = 0; axis < 3 && enter <= exit; ++axis) {
+        if (translation[axis] == 0.0f) {
+          if (!(lo[axis] <= c[axis] && c[axis] <= hi[axis])) exit = -1.0f;
+          continue;
         }
-        if (!(enter <= exit)) continue;
-        const float next = visit(packet.id[lane], enter);
-        if (!(next > 0.0f)) return;
-        if (next < max_t) max_t = next;
+        float t0 = (lo[axis] - c[axis]) * inverse[axis];
+        float t1 = (hi[axis] - c[axis]) * inverse[axis];
+        if (t0 > t1) std::swap(t0, t1);
+        enter = std::max(enter, t0);
+        exit = std::min(exit, t1 * kBvhSlabSlack);
       }
-    } else {
-      const Node& node = nodes_[ref];
-      const Lanes t_near_x = (load(node.box[near_row[0]]) + near_grow[0] - origin[0]) * inverse[0];
-      const Lanes t_near_y = (load(node.box[near_row[1]]) + near_grow[1] - origin[1]) * inverse[1];
-      const Lanes t_near_z = (load(node.box[near_row[2]]) + near_grow[2] - origin[2]) * inverse[2];
-      const Lanes t_far_x = (load(node.box[far_row[0]]) + far_grow[0] - origin[0]) * inverse[0];
-      const Lanes t_far_y = (load(node.box[far_row[1]]) + far_grow[1] - origin[1]) * inverse[1];
-      const Lanes t_far_z = (load(node.box[far_row[2]]) + far_grow[2] - origin[2]) * inverse[2];
-      const Lanes enter = max(t_near_x, max(t_near_y, max(t_near_z, splat(0.0f))));
-      const Lanes exit = min(t_far_x, min(t_far_y, min(t_far_z, splat(max_t)))) * splat(kBvhSlabSlack);
-      unsigned open = lane_bits(enter <= exit) & used_slots(node);
-      if (open != 0) {
-        std::array<float, kBvhWidth> t;
-        std::memcpy(t.data(), &enter, sizeof t);
-        std::array<Entry, kBvhWidth> order;
-        int count = 0;
-        while (open != 0) {
-          const int k = std::countr_zero(open);
-          open &= open - 1;
-          Entry e{node.child[k], t[k]};
-          int i = count++;
-          for (; i > 0 && order[i - 1].fraction < e.fraction; --i) order[i] = order[i - 1];
-          order[i] = e;
-        }
-        COLLIDE_ASSERT(top + count - 1 <= kBvhStackSize, "BVH traversal stack overflow");
-        for (int i = 0; i < count - 1; ++i) stack[top++] = order[i];
-        ref = order[count - 1].ref;
-        continue;
-      }
+      if (!(enter <= exit)) continue;
+      const float next = visit(packet.id[lane], enter);
+      if (!(next > 0.0f)) return 0.0f;
+      if (next < max_t) max_t = next;
     }
-    while (top > 0 && !(stack[top - 1].fraction <= max_t * kBvhSlabSlack)) --top;
-    if (top == 0) return;
-    ref = stack[--top].ref;
-  }
+    return max_t;
+  });
 }
 
 }  // namespace collide

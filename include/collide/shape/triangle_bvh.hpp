@@ -183,6 +183,13 @@ class TriangleBvh {
     return bits;
   }
 
+  /// The fixed-stack slab walk behind ray_cast and box_cast: from `origin` along `translation`
+  /// within `max_fraction`, nearer children first, through the node boxes (grown by `half` on
+  /// each side when Grow). `on_leaf(packet, max)` handles one packet and returns the new max
+  /// (<= 0 stops).
+  template <bool Grow, class OnLeaf>
+  void traverse_slabs(Vec3 origin, Vec3 translation, Vec3 half, float max_fraction, OnLeaf&& on_leaf) const;
+
   /// The ray traversal behind both ray_cast overloads: `on_leaf(packet, lane bits, fractions,
   /// max)` handles the crossings of one packet and returns the new max (<= 0 stops).
   template <class OnLeaf>
