@@ -107,9 +107,9 @@ TEST(CommandErrors, OutOfMemoryIsStatus2WithAMessage) {
 #ifdef COLLIDE_TEST_UNDER_ASAN
   GTEST_SKIP() << "ulimit -v and AddressSanitizer's shadow memory do not mix";
 #else
-  // walk: 100,000 agents' paths outgrow 150 MB within a few steps.
-  test::CommandRun r =
-      run_shell("(ulimit -v 150000; " + kTimeout + "\"$COLLIDE\" walk " + kDungeon + " --agents 100000 --steps 10000 > /dev/null)");
+  // walk: 100,000 agents' paths, kept for the picture, outgrow 150 MB within a few steps.
+  test::CommandRun r = run_shell("(ulimit -v 150000; " + kTimeout + "\"$COLLIDE\" walk " + kDungeon +
+                                 " --agents 100000 --steps 10000 --png " + ::testing::TempDir() + "oom_walk.png > /dev/null)");
   EXPECT_EQ(exit_code(r), 2) << r.output;
   EXPECT_NE(r.output.find("collide walk: " + kDungeon + ": out of memory"), std::string::npos) << r.output;
   // run and cast: a picture 16,000 pixels wide needs more than 200 MB.
