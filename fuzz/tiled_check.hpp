@@ -2,7 +2,7 @@
 // What must hold for any bytes given to the Tiled loader as a map, an external tileset or a
 // template (fuzz_tiled_*, and the regression test that replays what the fuzzers found): shared
 // so both check the same. load_tiled_map reads files, so the input is written into a scratch
-// folder next to small fixed files it may refer to (t.tsx, a.tx), or that refer to it.
+// folder next to small fixed files it may refer to (t.tsx, a.tx), or that refer to it (host_*.tmx).
 
 #include "fuzz_check.hpp"
 
@@ -11,6 +11,7 @@
 
 #include <exception>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -20,8 +21,8 @@ namespace collide::fuzz {
 enum class TiledInput {
   tmx,      ///< the map, map.tmx
   tmj,      ///< the map, map.tmj
-  tileset,  ///< the external tileset of a fixed map.tmx: t.tsj if it starts with '{', else t.tsx
-  templ,    ///< an object template of a fixed map.tmx: a.tj if it starts with '{', else a.tx
+  tileset,  ///< the external tileset of a fixed map (host_*.tmx): f.tsj if it starts with '{', else f.tsx
+  templ,    ///< an object template of a fixed map (host_*.tmx): f.tj if it starts with '{', else f.tx
 };
 
 /// "" when `input`, as the file `kind` says, is handled as docs/limits.md promises, else what
@@ -36,31 +37,51 @@ inline std::string check_tiled(TiledInput kind, std::string_view input, const st
                                bool* accepted = nullptr) {
   if (accepted != nullptr) *accepted = false;
   namespace fs = std::filesystem;
-  fs::create_directories(dir);
   const bool json = !input.empty() && input.front() == '{';
-  // The fixed files: a tileset with a collision tile, a template, and a map using both.
-  const std::string tileset_name = kind == TiledInput::tileset && json ? "t.tsj" : "t.tsx";
-  const std::string template_name = kind == TiledInput::templ && json ? "a.tj" : "a.tx";
+  // The fixed files: a tileset with a collision tile (t.tsx), a template (a.tx), and hosts that
+  // use both, one per kind of fuzzed tileset or template (f.*). The fuzzed bytes never overwrite
+  // a fixed file, so each fixed file is written once per process and folder: rewriting (and
+  // truncating) three files per execution made file-system work most of a run's time.
   static const std::string kTileset = R"(<tileset name="t" tilewidth="16" tileheight="16" tilecount="4" columns="2">
  <tile id="1"><objectgroup><object id="1" x="2" y="2" width="8" height="4"/><object id="2" x="0" y="8"><polygon points="0,0 16,0 8,8"/></object></objectgroup></tile>
  <tile id="2"><objectgroup><object id="1" x="4" y="4" width="8" height="8"><ellipse/></object></objectgroup></tile>
 </tileset>)";
   static const std::string kTemplate =
       R"(<template><tileset firstgid="1" source="t.tsx"/><object name="door" gid="2" width="32" height="32"/></template>)";
-  if (kind != TiledInput::tileset || json) write_file(dir / "t.tsx", kTileset);
-  if (kind != TiledInput::templ || json) write_file(dir / "a.tx", kTemplate);
-  const std::string host = R"(<map version="1.10" orientation="orthogonal" width="4" height="2" tilewidth="16" tileheight="16">
+  static std::set<fs::path> written;
+  const auto write_fixed = [&](const fs::path& path, const std::string& bytes) {
+    if (written.insert(path).second) write_file(path, bytes);
+  };
+  fs::create_directories(dir);
+  write_fixed(dir / "t.tsx", kTileset);
+  write_fixed(dir / "a.tx", kTemplate);
+  const auto host = [&](const std::string& tileset_name, const std::string& template_name) {
+    const fs::path path = dir / ("host_" + fs::path(tileset_name).extension().string().substr(1) + "_" +
+                                 fs::path(template_name).extension().string().substr(1) + ".tmx");
+    write_fixed(path, R"(<map version="1.10" orientation="orthogonal" width="4" height="2" tilewidth="16" tileheight="16">
  <tileset firstgid="1" source=")" + tileset_name + R"("/>
  <layer name="cells" width="4" height="2"><data encoding="csv">1,2,3,4,4,3,2,1</data></layer>
  <objectgroup name="things"><object id="1" gid="2" x="10" y="40" width="16" height="16" rotation="30"/>
   <object id="2" template=")" + template_name + R"(" x="50" y="60"/></objectgroup>
-</map>)";
+</map>)");
+    return path;
+  };
   fs::path map;
   switch (kind) {
     case TiledInput::tmx: map = dir / "map.tmx"; write_file(map, input); break;
     case TiledInput::tmj: map = dir / "map.tmj"; write_file(map, input); break;
-    case TiledInput::tileset: map = dir / "host.tmx"; write_file(map, host); write_file(dir / tileset_name, input); break;
-    case TiledInput::templ: map = dir / "host.tmx"; write_file(map, host); write_file(dir / template_name, input); break;
+    case TiledInput::tileset: {
+      const std::string fuzzed = json ? "f.tsj" : "f.tsx";
+      map = host(fuzzed, "a.tx");
+      write_file(dir / fuzzed, input);
+      break;
+    }
+    case TiledInput::templ: {
+      const std::string fuzzed = json ? "f.tj" : "f.tx";
+      map = host("t.tsx", fuzzed);
+      write_file(dir / fuzzed, input);
+      break;
+    }
   }
   TiledMap loaded;
   try {
