@@ -126,6 +126,27 @@ void check_tile_colliders(Document& doc) {
   }
 }
 
+Vec2 object_alignment_anchor(std::string_view value, const std::filesystem::path& file, std::string_view element) {
+  // Tiled's ObjectAlignment names (Tiled 1.4); "unspecified" means bottom-left on orthogonal
+  // maps, the only orientation collide reads.
+  struct Named {
+    std::string_view name;
+    Vec2 anchor;
+  };
+  static constexpr Named kAlignments[] = {
+      {"", {0.0f, 1.0f}},          {"unspecified", {0.0f, 1.0f}}, {"bottomleft", {0.0f, 1.0f}},
+      {"topleft", {0.0f, 0.0f}},   {"top", {0.5f, 0.0f}},         {"topright", {1.0f, 0.0f}},
+      {"left", {0.0f, 0.5f}},      {"center", {0.5f, 0.5f}},      {"right", {1.0f, 0.5f}},
+      {"bottom", {0.5f, 1.0f}},    {"bottomright", {1.0f, 1.0f}},
+  };
+  for (const Named& a : kAlignments) {
+    if (a.name == value) return a.anchor;
+  }
+  fail(file, element,
+       "objectalignment '" + std::string(value) +
+           "': not one of unspecified, topleft, top, topright, left, center, right, bottomleft, bottom, bottomright");
+}
+
 void check_group_depth(int depth, const std::filesystem::path& file, std::string_view element) {
   if (depth > kMaxTiledGroupDepth) {
     fail(file, element, "group layers nested " + std::to_string(depth) + " deep, deeper than " +

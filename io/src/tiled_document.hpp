@@ -97,6 +97,12 @@ void add_tile_block(TileLayer& layer, int x0, int y0, int width, const std::vect
 /// bound: a concave shape makes several; the builder checks the exact count too).
 void check_tile_colliders(Document& doc);
 
+/// A tileset's `objectalignment` value (Tiled 1.4) as TiledTileset::object_anchor:
+/// "unspecified" (or absent: "") and "bottomleft" are {0, 1}, "center" {0.5, 0.5}, "topright"
+/// {1, 0}, and so on for "topleft", "top", "left", "right", "bottom", "bottomright". Fails naming
+/// `file` and `element` for any other word.
+Vec2 object_alignment_anchor(std::string_view value, const std::filesystem::path& file, std::string_view element);
+
 /// Fails naming `file` and `element` when a group nests deeper than kMaxTiledGroupDepth.
 void check_group_depth(int depth, const std::filesystem::path& file, std::string_view element);
 

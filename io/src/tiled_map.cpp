@@ -403,11 +403,12 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
     source.gid = obj.gid;
     source.from_tile = true;
     // Tile pixels -> object frame: flip in the tile, scale to the object's size, and move the
-    // tile's bottom-left corner onto the object's position (Tiled anchors tile objects there).
+    // tileset's anchor point of the object's rectangle (objectalignment; bottom-left unless
+    // set) onto the object's position, which it rotates about.
     const bool diagonal = (obj.gid & kTiledFlipDiagonal) != 0;
     const Vec2 flipped = diagonal ? Vec2{image.y, image.x} : image;
-    const Affine scale{{size.x / flipped.x, 0.0f}, {0.0f, size.y / flipped.y},
-                       Vec2{0.0f, -size.y} + ts->tile_offset};
+    const Vec2 top_left = -ts->object_anchor * size;
+    const Affine scale{{size.x / flipped.x, 0.0f}, {0.0f, size.y / flipped.y}, top_left + ts->tile_offset};
     const Affine tile_to_object = scale.after(tile_flips(obj.gid, image));
     if (tile == nullptr || tile->collision.empty()) {
       if (options.tile_object_image_boxes && size.x > 0.0f && size.y > 0.0f) {
@@ -415,7 +416,7 @@ void build_colliders(TiledMap& map, const std::vector<tiled::TileLayer>& layers,
         TiledObject box = obj;
         box.kind = TiledShapeKind::rectangle;
         box.size = size;
-        builder.shape(box, Affine{{1.0f, 0.0f}, {0.0f, 1.0f}, {0.0f, -size.y}}, xf, source, label);
+        builder.shape(box, Affine{{1.0f, 0.0f}, {0.0f, 1.0f}, top_left}, xf, source, label);
       }
       continue;
     }

@@ -208,6 +208,7 @@ TiledTileset read_tileset(const Json& j, const Where& w) {
   ts.name = text(j, "name");
   ts.tile_size = {number(j, "tilewidth", 0.0f, w), number(j, "tileheight", 0.0f, w)};
   ts.tile_count = integer(j, "tilecount", 0, w, 0);
+  ts.object_anchor = object_alignment_anchor(text(j, "objectalignment"), w.file, w.element.empty() ? "root" : w.element);
   if (const Json* offset = find_member(j, "tileoffset")) {
     ts.tile_offset = {number(*offset, "x", 0.0f, w), number(*offset, "y", 0.0f, w)};
   }

@@ -293,6 +293,7 @@ TiledTileset read_tileset_node(const pugi::xml_node& node, const std::filesystem
   ts.name = node.attribute("name").value();
   ts.tile_size = {number(node, "tilewidth", 0.0f, file), number(node, "tileheight", 0.0f, file)};
   ts.tile_count = integer(node, "tilecount", 0, file, 0);
+  ts.object_anchor = object_alignment_anchor(node.attribute("objectalignment").value(), file, element_label(node));
   if (const pugi::xml_node off = node.child("tileoffset")) {
     ts.tile_offset = {number(off, "x", 0.0f, file), number(off, "y", 0.0f, file)};
   }

@@ -171,6 +171,59 @@ TEST(TiledFormats, Tiled19TileSubRectangleSizesTheTileObject) {
   }
 }
 
+// Tiled 1.4 added a tileset's objectalignment: which point of a tile object's rectangle sits on
+// its position (and is the centre of its rotation). Before: always bottom-left, so a map that set
+// "topleft" had every tile object one object height too high.
+TEST(TiledFormats, Tiled14ObjectAlignmentAnchorsTileObjects) {
+  Scratch dir;
+  struct Case {
+    const char* alignment;  // "" leaves the attribute out
+    float rotation;         // degrees, clockwise
+    Vec2 min, max;          // the 4 x 2 collision box of tile 0, world
+  };
+  // Tile object gid 1, 16 x 16, at (100, 50); tile 0's box is its top-left 4 x 2 pixels.
+  const Case cases[] = {
+      {"", 0.0f, {100, 34}, {104, 36}},           {"unspecified", 0.0f, {100, 34}, {104, 36}},
+      {"bottomleft", 0.0f, {100, 34}, {104, 36}}, {"topleft", 0.0f, {100, 50}, {104, 52}},
+      {"center", 0.0f, {92, 42}, {96, 44}},       {"bottomright", 0.0f, {84, 34}, {88, 36}},
+      {"top", 0.0f, {92, 50}, {96, 52}},          {"right", 0.0f, {84, 42}, {88, 44}},
+      // Rotated half a turn about the centre: the box goes to the bottom-right of the tile.
+      {"center", 180.0f, {104, 56}, {108, 58}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string("objectalignment '") + c.alignment + "', rotation " + std::to_string(c.rotation));
+    const std::string attribute = *c.alignment != 0 ? std::string(" objectalignment=\"") + c.alignment + "\"" : "";
+    const std::string member = *c.alignment != 0 ? std::string(", \"objectalignment\": \"") + c.alignment + "\"" : "";
+    const std::string rotation = std::to_string(c.rotation);
+    const TiledMap x = load_tiled_map(dir.write("a.tmx", tmx(R"(<objectgroup name="o"><object id="1" gid="1" x="100" y="50" width="16" height="16" rotation=")" +
+                                                             rotation + R"("/></objectgroup>)",
+                                                         R"(<tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="4")" +
+                                                             attribute + R"(>
+  <tile id="0"><objectgroup><object id="1" x="0" y="0" width="4" height="2"/></objectgroup></tile></tileset>)")));
+    const TiledMap j = load_tiled_map(dir.write("a.tmj", R"({"type": "map", "orientation": "orthogonal", "width": 4,
+      "height": 3, "tilewidth": 16, "tileheight": 16, "tilesets": [{"firstgid": 1, "name": "t", "tilewidth": 16,
+        "tileheight": 16, "tilecount": 4)" + member + R"(, "tiles": [{"id": 0, "objectgroup": {"objects": [
+          {"id": 1, "x": 0, "y": 0, "width": 4, "height": 2}]}}]}],
+      "layers": [{"type": "objectgroup", "name": "o", "objects": [{"id": 1, "gid": 1, "x": 100, "y": 50,
+        "width": 16, "height": 16, "rotation": )" + rotation + "}]}]}"));
+    for (const TiledMap* m : {&x, &j}) {
+      ASSERT_EQ(m->colliders.size(), 1u);
+      EXPECT_VEC2_NEAR(bounds(*m).min, c.min, 1e-3f);
+      EXPECT_VEC2_NEAR(bounds(*m).max, c.max, 1e-3f);
+    }
+  }
+  // A tile without collision shapes becomes its image rectangle, anchored the same way.
+  const TiledMap boxed = load_tiled_map(dir.write("b.tmx", tmx(R"(<objectgroup name="o"><object id="1" gid="2" x="100" y="50" width="16" height="16"/></objectgroup>)",
+                                                           R"(<tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="4" objectalignment="topleft"/>)")));
+  ASSERT_EQ(boxed.colliders.size(), 1u);
+  EXPECT_VEC2_NEAR(bounds(boxed).min, Vec2(100, 50), 1e-3f);
+  EXPECT_VEC2_NEAR(bounds(boxed).max, Vec2(116, 66), 1e-3f);
+  // A word Tiled never writes is named, with the element.
+  const std::string error = error_of(dir.write("c.tmx", tmx("", R"(<tileset firstgid="1" name="t" tilewidth="16" tileheight="16" tilecount="4" objectalignment="middle"/>)")));
+  EXPECT_ERROR_HAS(error, "c.tmx: <tileset");
+  EXPECT_ERROR_HAS(error, "objectalignment 'middle': not one of");
+}
+
 // Tiled 1.3 added zstd-compressed tile data. Before: refused.
 TEST(TiledFormats, ZstdTileDataReadsAsTheOtherEncodings) {
   Scratch dir;

@@ -158,6 +158,10 @@ struct TiledTileset {
   int tile_count = 0;             ///< `tilecount`
   Vec2 tile_size{0.0f, 0.0f};     ///< `tilewidth`, `tileheight`
   Vec2 tile_offset{0.0f, 0.0f};   ///< `<tileoffset>`: drawing offset of every tile
+  /// `objectalignment` (Tiled 1.4): the point of a tile object's rectangle that sits on the
+  /// object's position (and that it rotates about), as fractions of the rectangle's size from
+  /// its top-left corner, y down. {0, 1}, bottom-left, when unspecified (orthogonal maps).
+  Vec2 object_anchor{0.0f, 1.0f};
   std::filesystem::path source;   ///< the `.tsx`/`.tsj` file, empty when embedded
   std::vector<TiledTile> tiles;   ///< only tiles with collision shapes or their own image, by id
 
