@@ -105,11 +105,12 @@ struct ConvexHull {
   /// (SSE2 over `vertex_blocks`; the same float dot products and answer as the plain loop).
   [[nodiscard]] int support_index(Vec3 direction) const noexcept;
 
-  /// A vertex farthest along `direction` found by hill climbing over the vertex adjacency from
-  /// vertex `start` (e.g. the previous answer: O(1) steps under coherent motion). Its support
-  /// value dot(vertex, direction) equals the maximum within the hull's `tolerance` times
-  /// |direction| (faces are planar only within it); on exact ties it may differ from
-  /// `support_index`. `start` must be a vertex index.
+  /// A vertex farthest along `direction`, allowed to start from vertex `start` (e.g. the
+  /// previous answer). Hulls of up to 64 vertices are scanned (`support_index`: faster than
+  /// climbing at that size); bigger ones are climbed over the vertex adjacency from `start`
+  /// (O(1) steps under coherent motion), whose support value dot(vertex, direction) equals the
+  /// maximum within the hull's `tolerance` times |direction| (faces are planar only within it)
+  /// and on exact ties may differ from `support_index`. `start` must be a vertex index.
   [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept;
 
   /// Number of vertices.
