@@ -175,52 +175,67 @@ COLLIDE_ALWAYS_INLINE void gjk_solve_triangle(GjkSimplexN<2>& s) noexcept {
   // else the interior: the origin is inside the triangle.
 }
 
-/// The barycentric weights of the origin's closest point on a 3D simplex, by signed volumes
-/// (Montanari et al. 2017). `keep` gets a bit per vertex in the closest sub-simplex, `lambda`
-/// the weights (of the kept vertices; the others 0), and the return value is the squared
-/// distance of that closest point to the origin. The sub-algorithms below solve a segment, a
-/// triangle and a tetrahedron given by `idx` (indices into `w`).
+/// A candidate sub-simplex of a 3D simplex: a bit per vertex it keeps, and the squared distance
+/// of its closest point to the origin (to pick the nearest when the origin lies beyond several
+/// features). The solver below decides regions by signed volumes (Montanari, Petrinic & Barbieri
+/// 2017): a tetrahedron's sub-volumes with the origin in place of each vertex, a triangle's
+/// sub-areas around the origin's projection on its plane, a segment's sub-lengths. Only signs
+/// and the winner are needed in the loop; the weights are computed once, for the final simplex
+/// (gjk_weights3).
 struct GjkSubSimplex3 {
   unsigned keep = 0;                  ///< bit i: vertex i is in the sub-simplex
-  std::array<float, 4> lambda{};      ///< barycentric weights, 0 for dropped vertices
   float distance_squared = INFINITY;  ///< |closest point|^2
 };
 
-/// Closest point of segment (w[i], w[j]) to the origin: projection on the line, then weights
-/// from signed lengths along the axis where the segment is longest (Montanari's S1D). Ends
-/// win when the projection falls outside.
-inline GjkSubSimplex3 gjk_closest_segment3(const std::array<Vec3, 4>& w, int i, int j) noexcept {
-  const Vec3 s1 = w[i];
-  const Vec3 s2 = w[j];
+/// The nearer of two candidates (the first on ties).
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_nearer(GjkSubSimplex3 a, GjkSubSimplex3 b) noexcept {
+  return b.distance_squared < a.distance_squared ? b : a;
+}
+
+/// Closest feature of segment (s1, s2) (vertex bits b1, b2) to the origin: the unnormalised
+/// weights u1 = s2.t and u2 = -s1.t (t = s2 - s1) are the signed sub-lengths; a non-positive
+/// one puts the origin beyond the other end.
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_closest_segment3(Vec3 s1, Vec3 s2, unsigned b1,
+                                                                 unsigned b2) noexcept {
   const Vec3 t = s2 - s1;
-  GjkSubSimplex3 out;
   const float tt = dot(t, t);
-  const auto take_vertex = [&](int k, Vec3 p) {
-    out.keep = 1u << k;
-    out.lambda[k] = 1.0f;
-    out.distance_squared = dot(p, p);
-  };
-  if (!(tt > 0.0f)) {
-    take_vertex(i, s1);
-    return out;
-  }
-  // Weights of s1 and s2 from the projection parameter along t (the signed lengths over the
-  // longest axis give the same ratio; computed directly with one division).
   const float u2 = -dot(s1, t);  // weight of s2 times tt
-  const float u1 = dot(s2, t);   // weight of s1 times tt
-  if (!(u2 > 0.0f)) {
-    take_vertex(i, s1);
-  } else if (!(u1 > 0.0f)) {
-    take_vertex(j, s2);
-  } else {
-    const float inv = 1.0f / tt;
-    out.keep = (1u << i) | (1u << j);
-    out.lambda[i] = u1 * inv;
-    out.lambda[j] = u2 * inv;
-    const Vec3 p = out.lambda[i] * s1 + out.lambda[j] * s2;
-    out.distance_squared = dot(p, p);
+  if (!(tt > 0.0f) || !(u2 > 0.0f)) return {b1, dot(s1, s1)};
+  if (!(dot(s2, t) > 0.0f)) return {b2, dot(s2, s2)};
+  const Vec3 p = s1 + (u2 / tt) * t;
+  return {b1 | b2, dot(p, p)};
+}
+
+/// Closest feature of triangle (s1, s2, s3) (vertex bits b1, b2, b3) to the origin (Montanari's
+/// S2D): the origin's projection p0 on the plane, and its signed sub-areas c_i (the triangle with
+/// p0 in place of vertex i), measured along the normal n: c1 + c2 + c3 = n.n > 0, so all
+/// positive means p0 is inside. Otherwise the closest point is on an edge whose sub-area is not
+/// positive (all of them for a degenerate triangle). Montanari measures the areas on the
+/// coordinate plane where the triangle's shadow is largest; along n they are the same areas
+/// times |n|, with the same accuracy (p0 is subtracted first), and no axis is chosen at run time.
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_closest_triangle3(Vec3 s1, Vec3 s2, Vec3 s3,
+                                                                  unsigned b1, unsigned b2,
+                                                                  unsigned b3) noexcept {
+  const Vec3 n = cross(s2 - s1, s3 - s1);
+  const float nn = dot(n, n);
+  bool out1 = true;
+  bool out2 = true;
+  bool out3 = true;
+  if (nn > 0.0f) {
+    const Vec3 p0 = (dot(s1, n) / nn) * n;
+    const Vec3 a1 = s1 - p0;
+    const Vec3 a2 = s2 - p0;
+    const Vec3 a3 = s3 - p0;
+    out1 = !(dot(n, cross(a2, a3)) > 0.0f);
+    out2 = !(dot(n, cross(a3, a1)) > 0.0f);
+    out3 = !(dot(n, cross(a1, a2)) > 0.0f);
+    if (!out1 && !out2 && !out3) return {b1 | b2 | b3, dot(p0, p0)};
   }
-  return out;
+  GjkSubSimplex3 best;
+  if (out1) best = gjk_closest_segment3(s2, s3, b2, b3);
+  if (out2) best = gjk_nearer(best, gjk_closest_segment3(s1, s3, b1, b3));
+  if (out3) best = gjk_nearer(best, gjk_closest_segment3(s1, s2, b1, b2));
+  return best;
 }
 
 /// Same signs: both strictly positive or both strictly negative (Montanari's compareSigns).
@@ -228,96 +243,39 @@ inline GjkSubSimplex3 gjk_closest_segment3(const std::array<Vec3, 4>& w, int i, 
   return (a > 0.0f && b > 0.0f) || (a < 0.0f && b < 0.0f);
 }
 
-/// Closest point of triangle (w[i], w[j], w[k]) to the origin (Montanari's S2D): project the
-/// origin on the plane; its signed sub-areas, on the coordinate plane where the triangle's
-/// projection is largest, are its barycentric coordinates if all share the sign of the whole;
-/// otherwise the closest point is on an edge whose sub-area has the other sign.
-inline GjkSubSimplex3 gjk_closest_triangle3(const std::array<Vec3, 4>& w, int i, int j,
-                                            int k) noexcept {
-  const Vec3 s1 = w[i];
-  const Vec3 s2 = w[j];
-  const Vec3 s3 = w[k];
-  const Vec3 n = cross(s2 - s1, s3 - s1);
-  const float nn = dot(n, n);
-  // The origin's projection on the plane: p0 = (s1.n / n.n) n.
-  const Vec3 p0 = nn > 0.0f ? (dot(s1, n) / nn) * n : s1;
-  // Drop the axis where |n| is largest; areas on the other two, in cyclic order, equal n's
-  // component on the dropped axis.
-  const Vec3 an = glm::abs(n);
-  const int x = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
-  const int u = (x + 1) % 3;
-  const int v = (x + 2) % 3;
-  const float mu = n[x];
-  const auto area = [u, v](Vec3 a, Vec3 b, Vec3 c) {
-    return (b[u] - a[u]) * (c[v] - a[v]) - (b[v] - a[v]) * (c[u] - a[u]);
-  };
-  const float c1 = area(p0, s2, s3);
-  const float c2 = area(s1, p0, s3);
-  const float c3 = area(s1, s2, p0);
-  if (gjk_same_sign(mu, c1) && gjk_same_sign(mu, c2) && gjk_same_sign(mu, c3)) {
-    GjkSubSimplex3 out;
-    const float inv = 1.0f / mu;
-    out.keep = (1u << i) | (1u << j) | (1u << k);
-    out.lambda[i] = c1 * inv;
-    out.lambda[j] = c2 * inv;
-    out.lambda[k] = c3 * inv;
-    const Vec3 p = out.lambda[i] * s1 + out.lambda[j] * s2 + out.lambda[k] * s3;
-    out.distance_squared = dot(p, p);
-    return out;
-  }
-  // Outside an edge (or degenerate, mu = 0: every edge is a candidate): the best edge.
-  GjkSubSimplex3 best;
-  if (!gjk_same_sign(mu, c1)) best = gjk_closest_segment3(w, j, k);
-  if (!gjk_same_sign(mu, c2)) {
-    const GjkSubSimplex3 e = gjk_closest_segment3(w, i, k);
-    if (e.distance_squared < best.distance_squared) best = e;
-  }
-  if (!gjk_same_sign(mu, c3)) {
-    const GjkSubSimplex3 e = gjk_closest_segment3(w, i, j);
-    if (e.distance_squared < best.distance_squared) best = e;
-  }
-  return best;
+/// Signed volume (times 6) of tetrahedron (a, b, c, d): (b - a) . ((c - a) x (d - a)).
+[[nodiscard]] COLLIDE_ALWAYS_INLINE float gjk_volume(Vec3 a, Vec3 b, Vec3 c, Vec3 d) noexcept {
+  return dot(b - a, cross(c - a, d - a));
 }
 
-/// Closest point of tetrahedron (w[0..3]) to the origin (Montanari's S3D): the signed volumes
+/// Closest feature of tetrahedron (w1..w4) to the origin (Montanari's S3D): the signed volumes
 /// with the origin in place of each vertex are its barycentric coordinates times the whole
 /// volume; all of the whole's sign means the origin is inside; otherwise the closest point is on
 /// a face whose sub-volume has the other sign (the origin is beyond that face).
-inline GjkSubSimplex3 gjk_closest_tetrahedron3(const std::array<Vec3, 4>& w) noexcept {
-  // Signed volume (times 6) of (a, b, c, d): (b - a) . ((c - a) x (d - a)).
-  const auto volume = [](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
-    return dot(b - a, cross(c - a, d - a));
-  };
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_closest_tetrahedron3(Vec3 w1, Vec3 w2, Vec3 w3,
+                                                                     Vec3 w4) noexcept {
   const Vec3 o(0.0f);
-  const float c1 = volume(o, w[1], w[2], w[3]);
-  const float c2 = volume(w[0], o, w[2], w[3]);
-  const float c3 = volume(w[0], w[1], o, w[3]);
-  const float c4 = volume(w[0], w[1], w[2], o);
+  const float c1 = gjk_volume(o, w2, w3, w4);
+  const float c2 = gjk_volume(w1, o, w3, w4);
+  const float c3 = gjk_volume(w1, w2, o, w4);
+  const float c4 = gjk_volume(w1, w2, w3, o);
   const float det = c1 + c2 + c3 + c4;
-  if (gjk_same_sign(det, c1) && gjk_same_sign(det, c2) && gjk_same_sign(det, c3) &&
-      gjk_same_sign(det, c4)) {
-    GjkSubSimplex3 out;
-    out.keep = 15u;
-    const float inv = 1.0f / det;
-    out.lambda = {c1 * inv, c2 * inv, c3 * inv, c4 * inv};
-    out.distance_squared = 0.0f;
-    return out;
-  }
+  const bool in1 = gjk_same_sign(det, c1);
+  const bool in2 = gjk_same_sign(det, c2);
+  const bool in3 = gjk_same_sign(det, c3);
+  const bool in4 = gjk_same_sign(det, c4);
+  if (in1 && in2 && in3 && in4) return {15u, 0.0f};
   GjkSubSimplex3 best;
-  const float c[4] = {c1, c2, c3, c4};
-  // Face opposite vertex m.
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  for (int m = 0; m < 4; ++m) {
-    if (gjk_same_sign(det, c[m])) continue;
-    const GjkSubSimplex3 f = gjk_closest_triangle3(w, kFace[m][0], kFace[m][1], kFace[m][2]);
-    if (f.distance_squared < best.distance_squared) best = f;
-  }
+  if (!in1) best = gjk_closest_triangle3(w2, w3, w4, 2u, 4u, 8u);
+  if (!in2) best = gjk_nearer(best, gjk_closest_triangle3(w1, w3, w4, 1u, 4u, 8u));
+  if (!in3) best = gjk_nearer(best, gjk_closest_triangle3(w1, w2, w4, 1u, 2u, 8u));
+  if (!in4) best = gjk_nearer(best, gjk_closest_triangle3(w1, w2, w3, 1u, 2u, 4u));
   return best;
 }
 
 /// Keep the vertices of `s` whose bits are set in `keep`, in order.
 template <int D>
-inline void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
+COLLIDE_ALWAYS_INLINE void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
   int n = 0;
   for (int i = 0; i < s.count; ++i) {
     if (keep & (1u << i)) {
@@ -330,12 +288,48 @@ inline void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
 
 /// The solver of a 3D simplex of 3 or 4 vertices: reduce it to the sub-simplex whose Voronoi
 /// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
-inline void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
-  std::array<Vec3, 4> w{};
-  for (int i = 0; i < s.count; ++i) w[i] = s.v[i].w;
+COLLIDE_ALWAYS_INLINE void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
   const GjkSubSimplex3 sub =
-      s.count == 4 ? gjk_closest_tetrahedron3(w) : gjk_closest_triangle3(w, 0, 1, 2);
+      s.count == 4 ? gjk_closest_tetrahedron3(s.v[0].w, s.v[1].w, s.v[2].w, s.v[3].w)
+                   : gjk_closest_triangle3(s.v[0].w, s.v[1].w, s.v[2].w, 1u, 2u, 4u);
   gjk_keep(s, sub.keep);
+}
+
+/// Barycentric weights of the origin's closest point on a reduced 3D simplex (the one the
+/// solver kept, whose Voronoi region holds the origin: no weight negative): sub-lengths,
+/// sub-areas along the normal, or sub-volumes over their sum.
+[[nodiscard]] inline std::array<float, 4> gjk_weights3(const GjkSimplexN<3>& s) noexcept {
+  std::array<float, 4> lambda{1.0f, 0.0f, 0.0f, 0.0f};
+  if (s.count == 2) {
+    const Vec3 t = s.v[1].w - s.v[0].w;
+    const float u1 = dot(s.v[1].w, t);
+    const float u2 = -dot(s.v[0].w, t);
+    const float sum = u1 + u2;  // = t.t > 0 when the solver kept the edge
+    if (sum > 0.0f) lambda = {u1 / sum, u2 / sum, 0.0f, 0.0f};
+  } else if (s.count == 3) {
+    const Vec3 n = cross(s.v[1].w - s.v[0].w, s.v[2].w - s.v[0].w);
+    const float nn = dot(n, n);
+    if (nn > 0.0f) {
+      const Vec3 p0 = (dot(s.v[0].w, n) / nn) * n;
+      const Vec3 a1 = s.v[0].w - p0;
+      const Vec3 a2 = s.v[1].w - p0;
+      const Vec3 a3 = s.v[2].w - p0;
+      const float c1 = dot(n, cross(a2, a3));
+      const float c2 = dot(n, cross(a3, a1));
+      const float c3 = dot(n, cross(a1, a2));
+      const float sum = c1 + c2 + c3;
+      if (sum > 0.0f) lambda = {c1 / sum, c2 / sum, c3 / sum, 0.0f};
+    }
+  } else if (s.count == 4) {
+    const Vec3 o(0.0f);
+    const float c1 = gjk_volume(o, s.v[1].w, s.v[2].w, s.v[3].w);
+    const float c2 = gjk_volume(s.v[0].w, o, s.v[2].w, s.v[3].w);
+    const float c3 = gjk_volume(s.v[0].w, s.v[1].w, o, s.v[3].w);
+    const float c4 = gjk_volume(s.v[0].w, s.v[1].w, s.v[2].w, o);
+    const float det = c1 + c2 + c3 + c4;
+    if (det != 0.0f) lambda = {c1 / det, c2 / det, c3 / det, c4 / det};
+  }
+  return lambda;
 }
 
 /// Reduce any simplex to the sub-simplex whose Voronoi region holds the origin. Returns true
@@ -408,15 +402,12 @@ COLLIDE_ALWAYS_INLINE void gjk_witness_points(const GjkSimplexN<D>& s, VecN<D>& 
     }
     pb = pa;
   } else {
-    std::array<Vec3, 4> w{};
-    for (int i = 0; i < s.count; ++i) w[i] = s.v[i].w;
-    const GjkSubSimplex3 sub =
-        s.count == 4 ? gjk_closest_tetrahedron3(w) : gjk_closest_triangle3(w, 0, 1, 2);
+    const std::array<float, 4> lambda = gjk_weights3(s);
     pa = Vec3(0.0f);
     pb = Vec3(0.0f);
     for (int i = 0; i < s.count; ++i) {
-      pa += sub.lambda[i] * s.v[i].wa;
-      pb += sub.lambda[i] * s.v[i].wb;
+      pa += lambda[i] * s.v[i].wa;
+      pb += lambda[i] * s.v[i].wb;
     }
     if (s.count == 4) pb = pa;
   }
