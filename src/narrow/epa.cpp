@@ -9,19 +9,28 @@
 
 namespace collide {
 
-void EpaPolytope::set_face(int f, int a, int b, int c) noexcept {
+COLLIDE_ALWAYS_INLINE void EpaPolytope::set_vertex(int i, const GjkVertexN<3>& v) noexcept {
+  w_[i] = v.w;
+  wa_[i] = v.wa;
+  wb_[i] = v.wb;
+}
+
+COLLIDE_ALWAYS_INLINE void EpaPolytope::set_face(int f, int a, int b, int c) noexcept {
   Face& face = faces_[f];
-  face.v = {a, b, c};
+  face.v = {static_cast<Index>(a), static_cast<Index>(b), static_cast<Index>(c)};
   face.live = true;
-  const Vec3 pa = vertices_[a].w;
-  const Vec3 n = cross(vertices_[b].w - pa, vertices_[c].w - pa);
+  // Component by component: copying the 12-byte points whole made GCC move them through the
+  // stack in 8 + 4 byte pieces and read them back across the seam, a failed store forwarding
+  // per point (a third of EPA's time on the Jolt-cloud hulls).
+  const Vec3 pa{w_[a].x, w_[a].y, w_[a].z};
+  const Vec3 pb{w_[b].x, w_[b].y, w_[b].z};
+  const Vec3 pc{w_[c].x, w_[c].y, w_[c].z};
+  const Vec3 n = cross(pb - pa, pc - pa);
   const float len = length(n);
   if (len > 0.0f) {
     face.normal = n * (1.0f / len);
     // The plane through the three vertices: their mean distance, so no vertex is favoured.
-    face.distance = (dot(face.normal, pa) + dot(face.normal, vertices_[b].w) +
-                     dot(face.normal, vertices_[c].w)) *
-                    (1.0f / 3.0f);
+    face.distance = (dot(face.normal, pa) + dot(face.normal, pb) + dot(face.normal, pc)) * (1.0f / 3.0f);
   } else {
     // No area: no direction of its own. It is never the nearest face, and the next vertex
     // whose patch reaches it removes it (add); its neighbours carry the polytope's shape.
@@ -39,9 +48,9 @@ int EpaPolytope::new_face() noexcept {
 bool EpaPolytope::init_triangle(const GjkVertexN<3>& a, const GjkVertexN<3>& b,
                                 const GjkVertexN<3>& c) noexcept {
   if (!(length_squared(cross(b.w - a.w, c.w - a.w)) > 0.0f)) return false;
-  vertices_[0] = a;
-  vertices_[1] = b;
-  vertices_[2] = c;
+  set_vertex(0, a);
+  set_vertex(1, b);
+  set_vertex(2, c);
   vertex_count_ = 3;
   face_slots_ = 2;
   free_count_ = 0;
@@ -52,6 +61,32 @@ bool EpaPolytope::init_triangle(const GjkVertexN<3>& a, const GjkVertexN<3>& b,
   set_face(1, 0, 2, 1);
   faces_[0].adj = {1, 1, 1};
   faces_[1].adj = {0, 0, 0};
+  return true;
+}
+
+bool EpaPolytope::init_tetrahedron(const GjkSimplexN<3>& s) noexcept {
+  const Vec3 w0 = s.v[0].w;
+  const float volume = dot(cross(s.v[1].w - w0, s.v[2].w - w0), s.v[3].w - w0);
+  if (!(volume != 0.0f) || !std::isfinite(volume)) return false;
+  // Vertex 3 behind face (0, 1, 2): swap 1 and 2 if it is in front.
+  const bool flip = volume > 0.0f;
+  set_vertex(0, s.v[0]);
+  set_vertex(1, s.v[flip ? 2 : 1]);
+  set_vertex(2, s.v[flip ? 1 : 2]);
+  set_vertex(3, s.v[3]);
+  vertex_count_ = 4;
+  face_slots_ = 4;
+  free_count_ = 0;
+  // Face k is opposite vertex 3 - k; each edge appears once in each direction, and adj names
+  // the face holding the reverse of edge v[k] -> v[k + 1].
+  set_face(0, 0, 1, 2);
+  set_face(1, 0, 3, 1);
+  set_face(2, 0, 2, 3);
+  set_face(3, 1, 3, 2);
+  faces_[0].adj = {1, 3, 2};
+  faces_[1].adj = {2, 3, 0};
+  faces_[2].adj = {0, 3, 1};
+  faces_[3].adj = {1, 2, 0};
   return true;
 }
 
@@ -79,7 +114,7 @@ int EpaPolytope::face_facing(Vec3 p) const noexcept {
   for (int i = 0; i < face_slots_; ++i) {
     const Face& f = faces_[i];
     if (!f.live) continue;
-    const float height = dot(f.normal, p - vertices_[f.v[0]].w);
+    const float height = dot(f.normal, p - w_[f.v[0]]);
     if (height > best_height) {
       best = i;
       best_height = height;
@@ -97,25 +132,25 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
   if (face < 0 || vertex_count_ == kEpaMaxVertices) return false;
   // 1. The visible patch.
   std::array<unsigned char, kEpaMaxFaces> seen{};  // 0 unknown, 1 visible, 2 hidden
-  std::array<int, kEpaMaxFaces> stack;              // NOLINT: filled before read
-  std::array<int, kEpaMaxFaces> patch;              // NOLINT: filled before read
+  std::array<Index, kEpaMaxFaces> stack;            // NOLINT: filled before read
+  std::array<Index, kEpaMaxFaces> patch;            // NOLINT: filled before read
   int stack_size = 0;
   int patch_size = 0;
   seen[face] = 1;
-  stack[stack_size++] = face;
+  stack[stack_size++] = static_cast<Index>(face);
   while (stack_size > 0) {
     const int f = stack[--stack_size];
-    patch[patch_size++] = f;
+    patch[patch_size++] = static_cast<Index>(f);
     for (int k = 0; k < 3; ++k) {
       const int g = faces_[f].adj[k];
       if (seen[g] != 0) continue;
       const Face& fg = faces_[g];
-      // A face without area (three collinear vertices) goes with the patch that reaches it:
-      // it covers nothing, and keeping it would leave the fan to fold around it.
-      const bool visible = fg.normal == Vec3(0.0f) ||
-                           dot(fg.normal, w.w - vertices_[fg.v[0]].w) > 0.0f;
+      // In front of the face's plane. A face without area (three collinear vertices, plane
+      // distance infinite) goes with the patch that reaches it: it covers nothing, and keeping
+      // it would leave the fan to fold around it.
+      const bool visible = fg.normal == Vec3(0.0f) || dot(fg.normal, w.w) > fg.distance;
       seen[g] = visible ? 1 : 2;
-      if (visible) stack[stack_size++] = g;
+      if (visible) stack[stack_size++] = static_cast<Index>(g);
     }
   }
   // 2. The horizon: edges of the patch whose other face is hidden, with that face. Indexed by
@@ -123,9 +158,9 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
   // vertex met twice (a border that is not one loop) is noticed.
   std::array<int, kEpaMaxVertices> edge_from;  // horizon edge index starting at a vertex
   edge_from.fill(-1);
-  std::array<int, kEpaMaxFaces> edge_a;   // NOLINT: filled before read
-  std::array<int, kEpaMaxFaces> edge_b;   // NOLINT
-  std::array<int, kEpaMaxFaces> outside;  // NOLINT
+  std::array<Index, kEpaMaxFaces> edge_a;   // NOLINT: filled before read
+  std::array<Index, kEpaMaxFaces> edge_b;   // NOLINT
+  std::array<Index, kEpaMaxFaces> outside;  // NOLINT
   int edges = 0;
   for (int i = 0; i < patch_size; ++i) {
     const Face& f = faces_[patch[i]];
@@ -135,9 +170,9 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
       const int a = f.v[k];
       if (edge_from[a] >= 0) return false;  // the border touches itself
       edge_from[a] = edges;
-      edge_a[edges] = a;
-      edge_b[edges] = f.v[(k + 1) % 3];
-      outside[edges] = g;
+      edge_a[edges] = static_cast<Index>(a);
+      edge_b[edges] = f.v[k == 2 ? 0 : k + 1];
+      outside[edges] = static_cast<Index>(g);
       ++edges;
     }
   }
@@ -165,10 +200,10 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
     free_[free_count_++] = patch[i];
   }
   const int wi = vertex_count_++;
-  vertices_[wi] = w;
-  std::array<int, kEpaMaxFaces> made;  // NOLINT: new face of each horizon edge
+  set_vertex(wi, w);
+  std::array<Index, kEpaMaxFaces> made;  // NOLINT: new face of each horizon edge
   for (int e = 0; e < edges; ++e) {
-    made[e] = new_face();
+    made[e] = static_cast<Index>(new_face());
     set_face(made[e], edge_a[e], edge_b[e], wi);
   }
   for (int e = 0; e < edges; ++e) {
@@ -177,16 +212,15 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
     const int b = edge_b[e];
     // Edge 0 (a -> b): the hidden face beyond the horizon, whose edge b -> a now borders nf.
     const int g = outside[e];
-    nf.adj[0] = g;
+    nf.adj[0] = static_cast<Index>(g);
     Face& fg = faces_[g];
     for (int k = 0; k < 3; ++k) {
-      if (fg.v[k] == b && fg.v[(k + 1) % 3] == a) fg.adj[k] = made[e];
+      if (fg.v[k] == b && fg.v[k == 2 ? 0 : k + 1] == a) fg.adj[k] = made[e];
     }
     // Edge 1 (b -> w): the new face of the horizon edge starting at b (its edge 2, w -> b).
     nf.adj[1] = made[edge_from[b]];
-    // Edge 2 (w -> a): the new face of the horizon edge ending at a (its edge 1, a -> w).
-    nf.adj[2] = -1;
   }
+  // Edge 2 (w -> a): the new face of the horizon edge ending at a (its edge 1, a -> w).
   for (int e = 0; e < edges; ++e) {
     faces_[faces_[made[e]].adj[1]].adj[2] = made[e];
   }
@@ -246,8 +280,7 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
   const Face& ref = faces_[f];
   int best = f;
   Vec3 lambda;
-  float best_d2 = closest_on_triangle(vertices_[ref.v[0]].w, vertices_[ref.v[1]].w,
-                                      vertices_[ref.v[2]].w, lambda);
+  float best_d2 = closest_on_triangle(w_[ref.v[0]], w_[ref.v[1]], w_[ref.v[2]], lambda);
   for (int i = 0; i < face_slots_; ++i) {
     const Face& g = faces_[i];
     if (i == f || !g.live || !(std::fabs(g.distance - ref.distance) <= tol) ||
@@ -255,8 +288,7 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
         !(length(cross(g.normal, ref.normal)) <= kParallelTolerance)) {
       continue;
     }
-    const float d2 = closest_on_triangle(vertices_[g.v[0]].w, vertices_[g.v[1]].w,
-                                         vertices_[g.v[2]].w, lambda);
+    const float d2 = closest_on_triangle(w_[g.v[0]], w_[g.v[1]], w_[g.v[2]], lambda);
     if (d2 < best_d2) {
       best = i;
       best_d2 = d2;
@@ -267,24 +299,24 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
 
 void EpaPolytope::witness_points(int i, Vec3& pa, Vec3& pb) const noexcept {
   const Face& f = faces_[i];
-  const GjkVertexN<3>& v0 = vertices_[f.v[0]];
-  const GjkVertexN<3>& v1 = vertices_[f.v[1]];
-  const GjkVertexN<3>& v2 = vertices_[f.v[2]];
+  const int i0 = f.v[0];
+  const int i1 = f.v[1];
+  const int i2 = f.v[2];
   // The origin's projection on the plane, and its barycentric coordinates from the signed
   // areas of the sub-triangles it makes (Ericson 3.4).
   const Vec3 p = f.distance * f.normal;
-  const float l0 = dot(cross(v1.w - p, v2.w - p), f.normal);
-  const float l1 = dot(cross(v2.w - p, v0.w - p), f.normal);
-  const float l2 = dot(cross(v0.w - p, v1.w - p), f.normal);
+  const float l0 = dot(cross(w_[i1] - p, w_[i2] - p), f.normal);
+  const float l1 = dot(cross(w_[i2] - p, w_[i0] - p), f.normal);
+  const float l2 = dot(cross(w_[i0] - p, w_[i1] - p), f.normal);
   const float sum = l0 + l1 + l2;  // twice the area: > 0 for a face with a normal
   if (!(sum > 0.0f)) {
-    pa = v0.wa;
-    pb = v0.wb;
+    pa = wa_[i0];
+    pb = wb_[i0];
     return;
   }
   const float inv = 1.0f / sum;
-  pa = (l0 * inv) * v0.wa + (l1 * inv) * v1.wa + (l2 * inv) * v2.wa;
-  pb = (l0 * inv) * v0.wb + (l1 * inv) * v1.wb + (l2 * inv) * v2.wb;
+  pa = (l0 * inv) * wa_[i0] + (l1 * inv) * wa_[i1] + (l2 * inv) * wa_[i2];
+  pb = (l0 * inv) * wb_[i0] + (l1 * inv) * wb_[i1] + (l2 * inv) * wb_[i2];
 }
 
 PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,

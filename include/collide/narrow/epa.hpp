@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 namespace collide {
 
@@ -54,21 +55,31 @@ inline constexpr int kEpaMaxFaces = 2 * kEpaMaxVertices;
 /// of A and one of B, both in A's frame, and their difference), faces are triangles wound
 /// counter-clockwise seen from outside, each with its unit outward normal, its plane's signed
 /// distance from the origin, and the face across each edge. Fixed capacity; never allocates.
+/// The differences w, which every step reads, are stored apart from the A and B halves, which
+/// only the witness points read; a face is 24 bytes (indices fit a byte).
 class EpaPolytope {
  public:
+  /// Index of a vertex or face slot.
+  using Index = std::uint8_t;
+  static_assert(kEpaMaxFaces <= 255, "face and vertex indices must fit EpaPolytope::Index");
+
   /// One triangle of the polytope.
   struct Face {
-    std::array<int, 3> v;    ///< vertex indices, counter-clockwise seen from outside
-    std::array<int, 3> adj;  ///< the face across edge k (from v[k] to v[k + 1])
-    Vec3 normal;             ///< unit, outward; zero for a degenerate (zero-area) face
-    float distance;          ///< normal . vertex: the plane's signed distance from the origin
-    bool live;               ///< false once removed (the slot is reused)
+    Vec3 normal;               ///< unit, outward; zero for a degenerate (zero-area) face
+    float distance;            ///< normal . vertex: the plane's signed distance from the origin
+    std::array<Index, 3> v;    ///< vertex indices, counter-clockwise seen from outside
+    std::array<Index, 3> adj;  ///< the face across edge k (from v[k] to v[k + 1])
+    bool live;                 ///< false once removed (the slot is reused)
   };
 
   /// Start as triangle (a, b, c) seen from both sides: a flat polytope of two faces. False
   /// (and nothing built) when the triangle has no area.
   bool init_triangle(const GjkVertexN<3>& a, const GjkVertexN<3>& b,
                      const GjkVertexN<3>& c) noexcept;
+
+  /// Start as GJK's tetrahedron (4 vertices), its faces wound outwards. False (and nothing
+  /// built) when it has no volume.
+  bool init_tetrahedron(const GjkSimplexN<3>& s) noexcept;
 
   /// Add vertex `w`, which lies in front of face `face`: every face w sees (w in front of its
   /// plane) and connected to `face` is removed, and the hole is closed by a fan of triangles
@@ -83,8 +94,8 @@ class EpaPolytope {
 
   /// Face slot i (check `live`).
   [[nodiscard]] const Face& face(int i) const noexcept { return faces_[i]; }
-  /// Vertex i, i < vertex_count().
-  [[nodiscard]] const GjkVertexN<3>& vertex(int i) const noexcept { return vertices_[i]; }
+  /// Vertex i's point of A - B, i < vertex_count().
+  [[nodiscard]] Vec3 point(int i) const noexcept { return w_[i]; }
   /// Vertices added so far (removed faces' vertices stay).
   [[nodiscard]] int vertex_count() const noexcept { return vertex_count_; }
 
@@ -102,14 +113,18 @@ class EpaPolytope {
   void witness_points(int i, Vec3& pa, Vec3& pb) const noexcept;
 
  private:
+  /// Store vertex `v` in slot i.
+  void set_vertex(int i, const GjkVertexN<3>& v) noexcept;
   /// Fill face slot `f` with triangle (a, b, c): normal and distance from its vertices.
   void set_face(int f, int a, int b, int c) noexcept;
   /// A free face slot (a removed one, else a new one); -1 when full.
   int new_face() noexcept;
 
-  std::array<GjkVertexN<3>, kEpaMaxVertices> vertices_;
+  std::array<Vec3, kEpaMaxVertices> w_;   ///< the points of A - B
+  std::array<Vec3, kEpaMaxVertices> wa_;  ///< their A halves (A's frame)
+  std::array<Vec3, kEpaMaxVertices> wb_;  ///< their B halves (A's frame)
   std::array<Face, kEpaMaxFaces> faces_;
-  std::array<int, kEpaMaxFaces> free_;  ///< removed face slots, reused first
+  std::array<Index, kEpaMaxFaces> free_;  ///< removed face slots, reused first
   int vertex_count_ = 0;
   int face_slots_ = 0;  ///< face slots ever used
   int free_count_ = 0;
@@ -222,9 +237,11 @@ template <class PA, class PB>
 
   EpaPolytope poly;
   if (s.count == 4) {
-    // GJK's tetrahedron holds the origin.
-    if (!poly.init_triangle(s.v[0], s.v[1], s.v[2]) ||
-        !poly.add(s.v[3], poly.face_facing(s.v[3].w))) {
+    // GJK's tetrahedron holds the origin. Flat within rounding: as a triangle and a point in
+    // front of one of its sides (add copes with the flat faces that makes).
+    if (!poly.init_tetrahedron(s) &&
+        (!poly.init_triangle(s.v[0], s.v[1], s.v[2]) ||
+         !poly.add(s.v[3], poly.face_facing(s.v[3].w)))) {
       return stuck();
     }
   } else {
