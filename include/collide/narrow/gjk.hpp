@@ -82,6 +82,18 @@ enum class GjkEnd : unsigned char {
   max_iterations,  ///< kGjkMaxIterations reached
 };
 
+/// `v` read component by component. GCC stores a 12-byte vector as 8 + 4 bytes and its SLP
+/// vectoriser may read (y, z) back as one 8-byte load across that seam, which the CPU cannot
+/// forward from the two stores (about 12 cycles each time); single-float reads forward.
+template <int D>
+[[nodiscard]] COLLIDE_ALWAYS_INLINE VecN<D> gjk_load(const VecN<D>& v) noexcept {
+  if constexpr (D == 3) {
+    return {v.x, v.y, v.z};
+  } else {
+    return v;
+  }
+}
+
 /// The simplex vertex for core point `ia` of A and `ib` of B, with B placed by `b_in_a`.
 template <int D, class PA, class PB>
 [[nodiscard]] COLLIDE_ALWAYS_INLINE GjkVertexN<D> gjk_vertex(const PA& a, const PB& b, const FrameN<D>& b_in_a,
@@ -290,8 +302,10 @@ COLLIDE_ALWAYS_INLINE void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
 /// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
 COLLIDE_ALWAYS_INLINE void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
   const GjkSubSimplex3 sub =
-      s.count == 4 ? gjk_closest_tetrahedron3(s.v[0].w, s.v[1].w, s.v[2].w, s.v[3].w)
-                   : gjk_closest_triangle3(s.v[0].w, s.v[1].w, s.v[2].w, 1u, 2u, 4u);
+      s.count == 4 ? gjk_closest_tetrahedron3(gjk_load<3>(s.v[0].w), gjk_load<3>(s.v[1].w),
+                                              gjk_load<3>(s.v[2].w), gjk_load<3>(s.v[3].w))
+                   : gjk_closest_triangle3(gjk_load<3>(s.v[0].w), gjk_load<3>(s.v[1].w),
+                                           gjk_load<3>(s.v[2].w), 1u, 2u, 4u);
   gjk_keep(s, sub.keep);
 }
 
@@ -355,15 +369,15 @@ template <int D>
 /// the kept feature's line or plane.
 template <int D>
 [[nodiscard]] COLLIDE_ALWAYS_INLINE VecN<D> gjk_search_direction(const GjkSimplexN<D>& s) noexcept {
-  const VecN<D> w1 = s.v[0].w;
+  const VecN<D> w1 = gjk_load<D>(s.v[0].w);
   if (s.count == 1) return -w1;
-  const VecN<D> e12 = s.v[1].w - w1;
+  const VecN<D> e12 = gjk_load<D>(s.v[1].w) - w1;
   if constexpr (D == 2) {
     // The side of the edge the origin is on (right_perp = -left_perp), without a branch.
     return left_perp(e12) * (cross(e12, -w1) > 0.0f ? 1.0f : -1.0f);
   } else {
     if (s.count == 2) return cross(cross(e12, -w1), e12);  // |e|^2 times the perpendicular
-    const Vec3 n = cross(e12, s.v[2].w - w1);
+    const Vec3 n = cross(e12, gjk_load<3>(s.v[2].w) - w1);
     return dot(n, w1) < 0.0f ? n : -n;
   }
 }
@@ -457,7 +471,7 @@ template <int D, class PA, class PB, class Policy>
     // Search direction d from the simplex's closest point v towards the origin.
     const VecN<D> d = gjk_search_direction(s);
     const float dd = dot(d, d);
-    const float k = dot(d, s.v[0].w);  // = -|v| |d|
+    const float k = dot(d, gjk_load<D>(s.v[0].w));  // = -|v| |d|
     // Origin on the simplex (|v| <= on_simplex), or NaN: the cores touch or overlap.
     if (!(k < 0.0f && k * k > on_simplex2 * dd)) return GjkEnd::overlapped;
     if (policy.touching(k, dd)) return GjkEnd::decided_touch;
