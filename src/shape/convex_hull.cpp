@@ -19,17 +19,6 @@
 namespace collide {
 namespace {
 
-/// The index support_index's SIMD lanes start from: above any vertex index, and what a lane
-/// keeps when no dot product beat -infinity (all NaN).
-constexpr int kNoLane = 0x7fff;
-static_assert(kMaxHullVertices + 4 < kNoLane);
-
-/// support_index_from scans hulls of up to this many vertices instead of climbing: the SIMD scan
-/// has no data-dependent branch, while each climbing step mispredicts about once. Measured on the
-/// Jolt-cloud hulls (17.7 vertices on average): GJK boolean on overlapping pairs 750 -> 493 ns,
-/// distance 1.01 -> 0.91 us (bench_narrow3); a coherent climb costs about 16 ns at any size, a
-/// scan 23 ns at 64 vertices and 44 ns at 128 (bench_convex_hull).
-constexpr int kScanMaxVertices = 64;
 
 // The build runs once per shape, never inside a query, so it may allocate; it runs in double
 // (the reason for not using float here): the input floats and their differences are exact in
@@ -1031,62 +1020,7 @@ ConvexHull make_convex_hull(std::span<const Vec3> points, const HullOptions& opt
   return hull;
 }
 
-int ConvexHull::support_index(Vec3 direction) const noexcept {
-  // Plain meaning: the first i maximising dot(vertices[i], direction), scanned in order with
-  // a strict '>'. Each SIMD lane does that over its quarter of the vertices (so it keeps its
-  // lowest index on ties); the lanes are then merged without branches: the maximum, broadcast,
-  // then the lowest index among the lanes that hold it. (A scalar merge of the four lanes
-  // mispredicted about once per call and cost more than the scan: 22 -> 8 ns per call on the
-  // Jolt-cloud hulls, bench_convex_hull.)
-#if defined(__SSE2__) || defined(_M_X64)
-  const __m128 dx = _mm_set1_ps(direction.x);
-  const __m128 dy = _mm_set1_ps(direction.y);
-  const __m128 dz = _mm_set1_ps(direction.z);
-  __m128 best = _mm_set1_ps(-HUGE_VALF);
-  __m128i best_index = _mm_set1_epi32(kNoLane);
-  __m128i index = _mm_setr_epi32(0, 1, 2, 3);
-  const __m128i four = _mm_set1_epi32(4);
-  const float* p = vertex_blocks.data();
-  const float* end = p + vertex_blocks.size();
-  for (; p != end; p += 12) {
-    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(p), dx),
-                                           _mm_mul_ps(_mm_loadu_ps(p + 4), dy)),
-                                _mm_mul_ps(_mm_loadu_ps(p + 8), dz));
-    const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(d, best));  // false for NaN
-    best = _mm_max_ps(d, best);  // a NaN dot keeps the old best
-    best_index = _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
-    index = _mm_add_epi32(index, four);
-  }
-  // Maximum over the lanes, broadcast to all of them.
-  __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
-  // Lowest index among the lanes holding it (indices < kMaxHullVertices + 4 fit the 16-bit
-  // minimum; the padding lanes repeat vertex 0, which comes first).
-  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
-  __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
-                                   _mm_andnot_si128(holds, _mm_set1_epi32(kNoLane)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
-  const int result = _mm_cvtsi128_si32(candidate) & kNoLane;
-  // All dots NaN: no lane improved on -infinity; the scalar scan answers 0 then too.
-  return result == kNoLane ? 0 : result;
-#else
-  int best = 0;
-  float best_dot = dot(vertices[0], direction);
-  const int n = vertex_count();
-  for (int i = 1; i < n; ++i) {
-    const float d = dot(vertices[i], direction);
-    if (d > best_dot) {
-      best_dot = d;
-      best = i;
-    }
-  }
-  return best;
-#endif
-}
-
-int ConvexHull::support_index_from(Vec3 direction, int start) const noexcept {
-  if (vertex_count() <= kScanMaxVertices) return support_index(direction);
+int ConvexHull::climb_support(Vec3 direction, int start) const noexcept {
   int current = start;
   float current_dot = dot(vertices[current], direction);
   for (;;) {

@@ -8,10 +8,15 @@
 #include <collide/core/aabb.hpp>
 #include <collide/core/transform3.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
 
 namespace collide {
 
@@ -38,6 +43,14 @@ inline constexpr float kHullRoundingFactor = 3.0f;
 /// is at most this many tolerances is rejected as coplanar: a thinner hull would have side
 /// faces no wider than the tolerance.
 inline constexpr float kHullFlatFactor = 4.0f;
+
+/// ConvexHull::support_index_from scans hulls of up to this many vertices instead of climbing
+/// their adjacency: the SIMD scan has no data-dependent branch, while each climbing step
+/// mispredicts about once. Measured on the Jolt-cloud hulls (17.7 vertices on average): GJK
+/// boolean on overlapping pairs 750 -> 493 ns, distance 1.01 -> 0.91 us (bench_narrow3); a
+/// coherent climb costs about 16 ns at any size, a scan 23 ns at 64 vertices and 44 ns at 128
+/// (bench_convex_hull).
+inline constexpr int kHullScanMaxVertices = 64;
 
 /// A face of a hull: a convex polygon on the plane dot(normal, x) = offset, local space.
 struct HullFace {
@@ -103,19 +116,86 @@ struct ConvexHull {
   /// Index of the vertex farthest along `direction` (any length, local space); on ties the
   /// lowest index. A NaN direction gives 0. Brute force over all vertices, four at a time
   /// (SSE2 over `vertex_blocks`; the same float dot products and answer as the plain loop).
+  /// Inline: GJK and EPA call it in their loops, and a 12-byte direction passed by value to
+  /// an out-of-line call is assembled through the stack (a failed store forwarding per call).
   [[nodiscard]] int support_index(Vec3 direction) const noexcept;
 
   /// A vertex farthest along `direction`, allowed to start from vertex `start` (e.g. the
-  /// previous answer). Hulls of up to 64 vertices are scanned (`support_index`: faster than
-  /// climbing at that size); bigger ones are climbed over the vertex adjacency from `start`
-  /// (O(1) steps under coherent motion), whose support value dot(vertex, direction) equals the
-  /// maximum within the hull's `tolerance` times |direction| (faces are planar only within it)
-  /// and on exact ties may differ from `support_index`. `start` must be a vertex index.
-  [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept;
+  /// previous answer). Hulls of up to kHullScanMaxVertices vertices are scanned
+  /// (`support_index`: faster than climbing at that size); bigger ones are climbed over the
+  /// vertex adjacency from `start` (O(1) steps under coherent motion), whose support value
+  /// dot(vertex, direction) equals the maximum within the hull's `tolerance` times |direction|
+  /// (faces are planar only within it) and on exact ties may differ from `support_index`.
+  /// `start` must be a vertex index.
+  [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept {
+    if (vertex_count() <= kHullScanMaxVertices) return support_index(direction);
+    return climb_support(direction, start);
+  }
+
+  /// The hill climb of support_index_from, at any size.
+  [[nodiscard]] int climb_support(Vec3 direction, int start) const noexcept;
 
   /// Number of vertices.
   [[nodiscard]] int vertex_count() const noexcept { return static_cast<int>(vertices.size()); }
 };
+
+#if defined(__SSE2__) || defined(_M_X64)
+inline int ConvexHull::support_index(Vec3 direction) const noexcept {
+  // Plain meaning: the first i maximising dot(vertices[i], direction), scanned in order with
+  // a strict '>'. Each SIMD lane does that over its quarter of the vertices (so it keeps its
+  // lowest index on ties); the lanes are then merged without branches: the maximum, broadcast,
+  // then the lowest index among the lanes that hold it. (A scalar merge of the four lanes
+  // mispredicted about once per call and cost more than the scan: 22 -> 8 ns per call on the
+  // Jolt-cloud hulls, bench_convex_hull.) Lanes start from kNoLane, above any vertex index:
+  // it stays when no dot product beat -infinity (all NaN).
+  constexpr int kNoLane = 0x7fff;
+  static_assert(kMaxHullVertices + 4 < kNoLane);
+  const __m128 dx = _mm_set1_ps(direction.x);
+  const __m128 dy = _mm_set1_ps(direction.y);
+  const __m128 dz = _mm_set1_ps(direction.z);
+  __m128 best = _mm_set1_ps(-HUGE_VALF);
+  __m128i best_index = _mm_set1_epi32(kNoLane);
+  __m128i index = _mm_setr_epi32(0, 1, 2, 3);
+  const __m128i four = _mm_set1_epi32(4);
+  const float* p = vertex_blocks.data();
+  const float* end = p + vertex_blocks.size();
+  for (; p != end; p += 12) {
+    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(p), dx),
+                                           _mm_mul_ps(_mm_loadu_ps(p + 4), dy)),
+                                _mm_mul_ps(_mm_loadu_ps(p + 8), dz));
+    const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(d, best));  // false for NaN
+    best = _mm_max_ps(d, best);  // a NaN dot keeps the old best
+    best_index = _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
+    index = _mm_add_epi32(index, four);
+  }
+  // Maximum over the lanes, broadcast to all of them.
+  __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
+  // Lowest index among the lanes holding it (indices fit the 16-bit minimum; the padding lanes
+  // repeat vertex 0, which comes first).
+  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
+  __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
+                                   _mm_andnot_si128(holds, _mm_set1_epi32(kNoLane)));
+  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
+  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
+  const int result = _mm_cvtsi128_si32(candidate) & kNoLane;
+  return result == kNoLane ? 0 : result;
+}
+#else
+inline int ConvexHull::support_index(Vec3 direction) const noexcept {
+  int best = 0;
+  float best_dot = dot(vertices[0], direction);
+  const int n = vertex_count();
+  for (int i = 1; i < n; ++i) {
+    const float d = dot(vertices[i], direction);
+    if (d > best_dot) {
+      best_dot = d;
+      best = i;
+    }
+  }
+  return best;
+}
+#endif
 
 /// Options of `make_convex_hull`.
 struct HullOptions {
