@@ -9,7 +9,11 @@
 //     two solids are pruned to those that form a face of the Minkowski difference A - B (their
 //     arcs cross on the Gauss map); pairs with a flat or faceless core are all tested, with the
 //     separation taken from support queries on both sides. The axis of largest separation is
-//     the minimum-penetration axis when the cores overlap.
+//     the minimum-penetration axis when the cores overlap. Pairs with more than
+//     kSatEdgePairLimit edge pairs take GJK's answer and, when the cores overlap, EPA's axis
+//     instead (epa.hpp); their manifold keeps EPA's normal, its clipped points are measured
+//     along it (as Jolt's ManifoldBetweenTwoFaces does) and are no deeper than EPA's depth, and
+//     EPA's deepest points join them when the clip missed them, so the deepest point is EPA's.
 //  3. Cores that overlap (or touch): a face axis makes a face contact (the reference face's side
 //     planes clip the other shape's most anti-parallel face, Sutherland & Hodgman 1974), an
 //     edge axis one point between the two edges. Cores apart by less than the radii plus the
@@ -26,6 +30,7 @@
 #include <collide/narrow/epa.hpp>
 
 #include "contact3_triangle.hpp"
+#include "penetration_cores.hpp"
 #include "polytope3.hpp"
 #include "segment_closest.hpp"
 
@@ -48,12 +53,6 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 /// their first corners only (never seen on real hulls: the 6755 shared hulls have at most 20).
 constexpr int kMaxClipVertices = 64;
 
-/// Pairs of cores with more edge pairs than this take their axis from EPA (epa.hpp) instead
-/// of the separating axis test: the Gauss-map test of every edge pair grows as the product of
-/// the edge counts (two 30-point hulls: about 7000 pairs), EPA's cost with the support search.
-/// Box-box (144 pairs) and small hulls keep the exact SAT. Chosen by bench_narrow3 on the
-/// shared real hulls (see the commit that set it).
-constexpr int kSatEdgePairLimit = 256;
 
 /// B's core placed in A's frame.
 struct PlacedPolytope {
@@ -382,10 +381,13 @@ void detail::reduce_contact_points(const ManifoldPoint3* points, int count, Vec3
 namespace {
 
 /// Face contact: `ref_is_a` says which core's face `ref_face` is the reference. `n` is the
-/// reference face's outward normal in A's frame; the manifold normal is n (A) or -n (B).
-/// Points are kept while their depth (radii included) is at least -margin.
+/// reference face's outward normal in A's frame; the manifold normal is n (A) or -n (B), or
+/// `axis` when given (A's frame, from A to B, within kFaceContactSine of the face's normal:
+/// EPA's penetration axis): then each clipped point is paired with the reference plane's
+/// point along the axis, and its depth is measured along it (as Jolt's ManifoldBetweenTwoFaces
+/// does). Points are kept while their depth (radii included) is at least -margin.
 void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
-                  float margin, Manifold3& m) noexcept {
+                  float margin, Manifold3& m, const Vec3* axis = nullptr) noexcept {
   const float radii = a.radius + b.p.radius;
   Vec3 n;
   float offset;
@@ -422,17 +424,22 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
     poly = tmp;
   }
   // Keep the points within reach of the reference plane; place them midway between the
-  // surfaces. Separation s of the incident core point above the plane; depth radii - s.
+  // surfaces. Separation s of the incident core point above the plane along the direction d
+  // (the face's normal, or the axis turned outward from the reference face), whose cosine to
+  // the normal is c: s = height / c; depth radii - s.
+  const Vec3 d = axis == nullptr ? n : (ref_is_a ? *axis : -*axis);
+  const float c = axis == nullptr ? 1.0f : dot(n, d);
+  const float inv_c = c > 0.0f ? 1.0f / c : 1.0f;
   PointSet set;
   const float ref_radius = ref_is_a ? a.radius : b.p.radius;
   const float inc_radius = ref_is_a ? b.p.radius : a.radius;
   for (int i = 0; i < poly.count; ++i) {
     const ClipVertex& v = poly.v[i];
-    const float s = dot(n, v.p) - offset;
+    const float s = (dot(n, v.p) - offset) * inv_c;
     const float depth = radii - s;
     if (!(depth >= -margin)) continue;
-    const Vec3 ref_surface = v.p - s * n + ref_radius * n;
-    const Vec3 inc_surface = v.p - inc_radius * n;
+    const Vec3 ref_surface = v.p - s * d + ref_radius * d;
+    const Vec3 inc_surface = v.p - inc_radius * d;
     ManifoldPoint3 mp;
     mp.point = 0.5f * (ref_surface + inc_surface);
     mp.depth = depth;
@@ -443,7 +450,7 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
     }
     set.points[set.count++] = mp;
   }
-  m.normal = ref_is_a ? n : -n;
+  m.normal = ref_is_a ? d : -d;
   reduce_to_four(set, m.normal, m);
 }
 
@@ -659,19 +666,32 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
   return 2.0f * std::sqrt(r) + p.radius;
 }
 
-/// How `contact_along` was asked: from EPA's result when the cores overlap (its depth, and the
-/// tolerance within which a face's depth counts as the same axis).
+/// How `contact_along` was asked: from EPA's result when the cores overlap (its depth, the
+/// tolerance within which a face's depth counts as the same axis, and EPA's own accuracy).
 struct EpaAxis {
   float depth;
   float tolerance;
+  float accuracy;
 };
 
-/// A face contact `m` made for EPA's normal `n` with reference face `ref_face`. If the face's
+/// EPA's deepest points `point_a` and `point_b` (A's frame) as one manifold point of depth
+/// `depth` along `n`, with the features of the cores nearest to them.
+ManifoldPoint3 epa_point(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 point_a,
+                         Vec3 point_b, float depth) noexcept {
+  ManifoldPoint3 mp;
+  mp.point = 0.5f * (point_a + point_b);
+  mp.depth = depth;
+  mp.id = near_features(a, b, point_a - a.radius * n, point_b + b.p.radius * n);
+  return mp;
+}
+
+/// A face contact `m` made along EPA's normal `n` with reference face `ref_face`. If the face's
 /// axis is worse than EPA's (the shapes' depth along it beyond EPA's by more than the
 /// tolerance), the contact is an edge's or a corner's: EPA's deepest points make one point
 /// along `n` (as the separating axis test gives for an edge pair). Otherwise the face's points
-/// stay, and the other core's deepest vertex below the face joins them when the clip left it
-/// out (over the shallowest point when the manifold is full).
+/// stay, no deeper than EPA's depth, and EPA's deepest points join them when the clip left them out (their depth short of
+/// EPA's by more than its accuracy), over the shallowest point when the manifold is full: the
+/// manifold's deepest point is the penetration depth.
 void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
                     Vec3 n, Vec3 point_a, Vec3 point_b, const EpaAxis& epa,
                     Manifold3& m) noexcept {
@@ -680,12 +700,14 @@ void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, 
   if (face_depth > epa.depth + epa.tolerance) {
     m.normal = n;
     m.count = 1;
-    m.points[0].point = 0.5f * (point_a + point_b);
-    m.points[0].depth = epa.depth;
-    m.points[0].id = near_features(a, b, point_a - a.radius * n, point_b + b.p.radius * n);
+    m.points[0] = epa_point(a, b, n, point_a, point_b, epa.depth);
     return;
   }
-  if (m.max_depth() >= face_depth - epa.tolerance) return;
+  // Along the axis no point is deeper than the shapes overlap (moving B by EPA's depth parts
+  // them): a clipped point that projects past the reference face's edge along the tilted axis
+  // would report more.
+  for (int i = 0; i < m.count; ++i) m.points[i].depth = std::min(m.points[i].depth, epa.depth);
+  if (m.max_depth() >= epa.depth - epa.accuracy) return;
   int slot = m.count;
   if (slot == kMaxManifoldPoints<3>) {
     slot = 0;
@@ -695,9 +717,7 @@ void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, 
   } else {
     ++m.count;
   }
-  Manifold3 one;
-  deepest_vertex_contact(a, b, ref_is_a, ref_face, below, one);
-  m.points[slot] = one.points[0];
+  m.points[slot] = epa_point(a, b, n, point_a, point_b, epa.depth);
 }
 
 /// The contact along a known normal `n` (A's frame, from A to B) with the surfaces' closest
@@ -736,7 +756,7 @@ void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 poi
   const float min_cos = std::sqrt(1.0f - kFaceContactSine * kFaceContactSine);
   const bool ref_is_a = face_a >= 0 && align_a >= min_cos && align_a >= align_b;
   if (ref_is_a || (face_b >= 0 && align_b >= min_cos)) {
-    face_contact(a, b, ref_is_a, ref_is_a ? face_a : face_b, keep, m);
+    face_contact(a, b, ref_is_a, ref_is_a ? face_a : face_b, keep, m, epa != nullptr ? &n : nullptr);
     if (m.count > 0) {
       if (epa != nullptr) {
         along_epa_axis(a, b, ref_is_a, ref_is_a ? face_a : face_b, n, point_a, point_b, *epa, m);
@@ -762,13 +782,31 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   }
   const float radii = a.radius + b.p.radius;
   const float reach = radii + margin;
-  // Two cores without volume (a triangle against a segment or a triangle): A - B may be flat,
-  // and then the axes below miss the directions within its plane that separate it from the
-  // origin. GJK decides apart or touching for them too.
-  const bool flat_pair = !a.solid && !b.p.solid;
-  if (reach > 0.0f || flat_pair) {
-    // Rounded or speculative: GJK first; its closest points decide when the cores are apart,
-    // and the separating axis test runs only when they overlap.
+  const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
+  // Touching within rounding counts: the clip keeps points that far apart too.
+  const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
+  if (a.edge_count * b.p.edge_count > kSatEdgePairLimit) {
+    // Many edge pairs: GJK, and EPA for the axis when the cores overlap, then the same face
+    // clipping (or one point). Cores apart: GJK's closest points, as below.
+    const detail::CorePenetration r =
+        detail::penetration_of_cores(proxy_a, Transform3{}, proxy_b, b_in_a);
+    if (!r.cores_overlap) {
+      contact_along(a, b, r.result.normal, r.result.point_a, r.result.point_b, margin, margin,
+                    nullptr, m);
+      return;
+    }
+    if (r.result.status != QueryStatus::max_iterations) {
+      const EpaAxis axis{r.result.depth, kEdgeContactTolerance * size, touch};
+      contact_along(a, b, r.result.normal, r.result.point_a, r.result.point_b, margin,
+                    margin + touch, &axis, m);
+      return;
+    }
+  } else if (const bool flat_pair = !a.solid && !b.p.solid; reach > 0.0f || flat_pair) {
+    // Two cores without volume (a triangle against a segment or a triangle): A - B may be
+    // flat, and then the axes below miss the directions within its plane that separate it
+    // from the origin. GJK decides apart or touching for them too. Rounded or speculative:
+    // GJK first; its closest points decide when the cores are apart, and the separating axis
+    // test runs only when they overlap.
     const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
     if (d.status != QueryStatus::overlapped) {
       if (reach > 0.0f) {
@@ -776,19 +814,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
         return;
       }
       // Bare flat cores: apart unless within rounding of touching.
-      const float size = std::min(core_size(a), core_size(b.p));
-      if (d.distance > kRelativeTolerance * (size + max_abs(b_in_a.p))) return;
-    }
-  }
-  if (a.edge_count * b.p.edge_count > kSatEdgePairLimit) {
-    // Many edge pairs: the axis from EPA, then the same face clipping (or one point).
-    const PenetrationResult3 r = epa_penetration(proxy_a, Transform3{}, proxy_b, b_in_a);
-    if (r.status != QueryStatus::max_iterations) {
-      const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
-      const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
-      const EpaAxis axis{r.depth, kEdgeContactTolerance * size};
-      contact_along(a, b, r.normal, r.point_a, r.point_b, margin, margin + touch, &axis, m);
-      return;
+      if (d.distance > touch) return;
     }
   }
   const FaceQuery fa = query_faces_a(a, b, reach);
@@ -798,10 +824,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const EdgeQuery ee = query_edges(a, b, reach);
   if (ee.separation > reach) return;
 
-  const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
   const float best_face = std::max(fa.separation, fb.separation);
-  // Touching within rounding counts: the clip keeps points that far apart too.
-  const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
   if (std::max(best_face, ee.separation) > reach + touch) return;
   const float keep = margin + touch;
   const float edge_tolerance = kEdgeContactTolerance * size;

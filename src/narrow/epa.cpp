@@ -3,6 +3,8 @@
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 
+#include "penetration_cores.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <variant>
@@ -319,8 +321,9 @@ void EpaPolytope::witness_points(int i, Vec3& pa, Vec3& pb) const noexcept {
   pb = (l0 * inv) * wb_[i0] + (l1 * inv) * wb_[i1] + (l2 * inv) * wb_[i2];
 }
 
-PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
-                                   const ConvexProxy3& b, const Transform3& xb) noexcept {
+detail::CorePenetration detail::penetration_of_cores(const ConvexProxy3& a, const Transform3& xa,
+                                                     const ConvexProxy3& b,
+                                                     const Transform3& xb) noexcept {
   COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "penetration: proxies must hold points");
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "penetration: transforms must be finite rigid");
   const Frame3 b_in_a = to_frame(inv_mul(xa, xb));
@@ -331,7 +334,8 @@ PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
   s.v[0] = gjk_seed_vertex<3>(a, b, b_in_a);
   s.count = 1;
   const float scale = gjk_scale<3>(s.v[0], ra + rb);
-  PenetrationResult3 out;
+  CorePenetration route;
+  PenetrationResult3& out = route.result;
   int gjk_iterations = 0;
   const GjkEnd end = run_gjk<3>(a, b, b_in_a, s, scale, GjkRunToEnd{}, gjk_iterations);
   out.iterations = gjk_iterations + 1;  // the seed's support evaluation counts too
@@ -351,6 +355,7 @@ PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
                  : depth >= 0.0f               ? QueryStatus::overlapped
                                                : QueryStatus::separated;
   } else {
+    route.cores_overlap = true;
     const EpaResult e = run_epa(a, b, b_in_a, s, scale);
     out.iterations += e.iterations;
     out.status = e.status;
@@ -363,7 +368,12 @@ PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
   out.normal = rotate(xa.q, n);
   out.point_a = transform_point(xa, pa + ra * n);
   out.point_b = transform_point(xa, pb - rb * n);
-  return out;
+  return route;
+}
+
+PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
+                                   const ConvexProxy3& b, const Transform3& xb) noexcept {
+  return detail::penetration_of_cores(a, xa, b, xb).result;
 }
 
 PenetrationResult3 penetration(const Shape3D& a, const Transform3& xa, const Shape3D& b,
