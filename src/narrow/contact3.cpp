@@ -9,8 +9,8 @@
 //     two solids are pruned to those that form a face of the Minkowski difference A - B (their
 //     arcs cross on the Gauss map); pairs with a flat or faceless core are all tested, with the
 //     separation taken from support queries on both sides. The axis of largest separation is
-//     the minimum-penetration axis when the cores overlap. Pairs with more than
-//     kSatEdgePairLimit edge pairs take GJK's answer and, when the cores overlap, EPA's axis
+//     the minimum-penetration axis when the cores overlap. Pairs whose edge test would cost
+//     more than kSatEdgePairLimit pairs (contact.hpp) take GJK's answer and, when the cores overlap, EPA's axis
 //     instead (epa.hpp); their manifold keeps EPA's normal, its clipped points are measured
 //     along it (as Jolt's ManifoldBetweenTwoFaces does) and are no deeper than EPA's depth, and
 //     EPA's deepest points join them when the clip missed them, so the deepest point is EPA's.
@@ -785,7 +785,14 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
   // Touching within rounding counts: the clip keeps points that far apart too.
   const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
-  if (a.edge_count * b.p.edge_count > kSatEdgePairLimit) {
+  // The edge test's work, in pruned pairs: pairs of two solids are pruned on the Gauss map
+  // and cost a few products each; the others (a triangle against a solid) each ask both
+  // cores' support points, as many products as they have vertices. Two flat cores stay with
+  // the test below (A - B may be flat, which EPA cannot grow around).
+  const bool flat_pair = !a.solid && !b.p.solid;
+  const int edge_work = a.edge_count * b.p.edge_count *
+                        (a.solid && b.p.solid ? 1 : a.vertex_count + b.p.vertex_count);
+  if (edge_work > kSatEdgePairLimit && !flat_pair) {
     // Many edge pairs: GJK, and EPA for the axis when the cores overlap, then the same face
     // clipping (or one point). Cores apart: GJK's closest points, as below.
     const detail::CorePenetration r =
@@ -801,7 +808,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
                     margin + touch, &axis, m);
       return;
     }
-  } else if (const bool flat_pair = !a.solid && !b.p.solid; reach > 0.0f || flat_pair) {
+  } else if (reach > 0.0f || flat_pair) {
     // Two cores without volume (a triangle against a segment or a triangle): A - B may be
     // flat, and then the axes below miss the directions within its plane that separate it
     // from the origin. GJK decides apart or touching for them too. Rounded or speculative:

@@ -81,13 +81,16 @@ template <Shape3DType A, Shape3DType B>
 [[nodiscard]] Manifold3 contact(const Shape3D& a, const Transform3& xa, const Shape3D& b,
                                 const Transform3& xb, float margin = 0.0f) noexcept;
 
-/// 3D `contact` of two polyhedra (boxes, hulls, triangles) with more edge pairs than this (the
-/// product of their edge counts) takes its axis from GJK and EPA (epa.hpp) and keeps EPA's normal
-/// and depth; fewer take the exact separating axis test, which prefers a face axis to an edge
-/// axis within kEdgeContactTolerance (a steadier manifold for resting contacts). The Gauss-map
-/// test of every edge pair grows as the product of the edge counts (two 30-point hulls: about
-/// 7000 pairs), EPA's cost with the support search; box-box (144 pairs) and small hulls keep
-/// the SAT. Chosen by bench_narrow3 on the shared real hulls.
+/// 3D `contact` of two polyhedra (boxes, hulls, triangles) whose edge test would cost more
+/// than this many edge pairs takes its axis from GJK and EPA (epa.hpp) and keeps EPA's normal
+/// and depth; cheaper pairs take the exact separating axis test, which prefers a face axis to
+/// an edge axis within kEdgeContactTolerance (a steadier manifold for resting contacts). Two
+/// solids' pairs are pruned on the Gauss map and count one each (the product of their edge
+/// counts); a triangle's pairs with a solid are not, and count the two cores' vertex count
+/// each (each asks both cores' support points). The edge test grows as that product (two
+/// 30-point hulls: about 7000 pairs), EPA's cost with the support search; box-box (144 pairs)
+/// and small hulls keep the SAT, a box or a hull on a mesh triangle takes EPA. Chosen by
+/// bench_narrow3 on the shared real hulls and bench_narrow_mesh on dungeon.obj.
 inline constexpr int kSatEdgePairLimit = 256;
 
 /// Points of triangles whose normals are within this cosine (30 degrees) of the deepest
