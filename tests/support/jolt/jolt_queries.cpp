@@ -18,11 +18,14 @@
 #include <Jolt/Physics/Collision/RayCast.h>
 #include <Jolt/Physics/Collision/CastResult.h>
 #include <Jolt/Physics/Collision/ShapeCast.h>
+#include <Jolt/Physics/Collision/Shape/BoxShape.h>
+#include <Jolt/Physics/Collision/Shape/CapsuleShape.h>
 #include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
 #include <Jolt/Physics/Collision/Shape/MeshShape.h>
 #include <Jolt/Physics/PhysicsSettings.h>
 #include <Jolt/RegisterTypes.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <mutex>
 
@@ -51,6 +54,13 @@ class Mesh {
 };
 
 void MeshDeleter::operator()(Mesh* m) const { delete m; }
+
+class Convex {
+ public:
+  JPH::RefConst<JPH::ConvexShape> shape;
+};
+
+void ConvexDeleter::operator()(Convex* c) const { delete c; }
 
 namespace {
 
@@ -275,6 +285,85 @@ float cast_ray(const Mesh& mesh, Vec origin, Vec translation) {
   const JPH::RayCast ray{to_jolt(origin), to_jolt(translation)};
   JPH::RayCastResult hit;
   return mesh.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
+}
+
+ConvexPtr make_box(Vec half) {
+  ConvexPtr c(new Convex);
+  c->shape = new JPH::BoxShape(to_jolt(half), 0.0f);
+  return c;
+}
+
+ConvexPtr make_capsule(float half_height, float radius) {
+  ConvexPtr c(new Convex);
+  c->shape = new JPH::CapsuleShape(half_height, radius);
+  return c;
+}
+
+ConvexPtr make_convex(std::span<const Vec> points) {
+  JPH::Array<Vec3> pts;
+  for (Vec p : points) pts.push_back(to_jolt(p));
+  JPH::ConvexHullShapeSettings settings(pts, 0.0f);
+  settings.mHullTolerance = 0.0f;
+  const JPH::ShapeSettings::ShapeResult result = settings.Create();
+  if (result.HasError()) return nullptr;
+  ConvexPtr c(new Convex);
+  c->shape = static_cast<const JPH::ConvexShape*>(result.Get().GetPtr());
+  return c;
+}
+
+namespace {
+
+/// The centre-of-mass transform of `shape` whose local frame is `pose`.
+Mat44 com_transform(const JPH::Shape& shape, const Pose& pose) {
+  const JPH::Quat q = to_jolt(pose.q);
+  return Mat44::sRotationTranslation(q, to_jolt(pose.p) + q * shape.GetCenterOfMass());
+}
+
+/// Every result made a manifold, as PhysicsSystem's collector does for a body pair.
+class MeshManifoldCollector : public JPH::CollideShapeCollector {
+ public:
+  explicit MeshManifoldCollector(float max_contact_distance)
+      : max_contact_distance_(max_contact_distance) {}
+  void AddHit(const JPH::CollideShapeResult& r) override {
+    JPH::ContactPoints on1, on2;
+    JPH::ManifoldBetweenTwoFaces(r.mContactPointOn1, r.mContactPointOn2, r.mPenetrationAxis,
+                                 max_contact_distance_, r.mShape1Face, r.mShape2Face, on1, on2);
+    if (on1.size() > 4) JPH::PruneContactPoints(r.mPenetrationAxis.Normalized(), on1, on2);
+    ++out.hits;
+    out.points += static_cast<int>(on1.size());
+    out.depth = out.hits == 1 ? r.mPenetrationDepth : std::max(out.depth, r.mPenetrationDepth);
+  }
+  MeshContactOut out;
+
+ private:
+  float max_contact_distance_;
+};
+
+}  // namespace
+
+MeshContactOut mesh_contact(const Convex& convex, const Pose& pose, const Mesh& mesh, float margin) {
+  JPH::CollideShapeSettings settings;
+  settings.mCollectFacesMode = JPH::ECollectFacesMode::CollectFaces;
+  settings.mMaxSeparationDistance = margin;
+  settings.mBackFaceMode = JPH::EBackFaceMode::CollideWithBackFaces;  // two-sided, as collide's
+  MeshManifoldCollector collector(margin + JPH::PhysicsSettings().mManifoldTolerance);
+  JPH::CollisionDispatch::sCollideShapeVsShape(
+      convex.shape, mesh.shape, Vec3::sOne(), Vec3::sOne(), com_transform(*convex.shape, pose),
+      Mat44::sIdentity(), JPH::SubShapeIDCreator(), JPH::SubShapeIDCreator(), settings, collector);
+  return collector.out;
+}
+
+CastOut mesh_cast(const Convex& convex, const Pose& pose, Vec translation, const Mesh& mesh) {
+  const JPH::ShapeCast shape_cast(convex.shape, Vec3::sOne(), com_transform(*convex.shape, pose),
+                                  to_jolt(translation));
+  JPH::ShapeCastSettings settings;
+  settings.SetBackFaceMode(JPH::EBackFaceMode::CollideWithBackFaces);  // two-sided, as collide's
+  JPH::ClosestHitCollisionCollector<JPH::CastShapeCollector> collector;
+  JPH::CollisionDispatch::sCastShapeVsShapeWorldSpace(
+      shape_cast, settings, mesh.shape, Vec3::sOne(), JPH::ShapeFilter(), Mat44::sIdentity(),
+      JPH::SubShapeIDCreator(), JPH::SubShapeIDCreator(), collector);
+  if (!collector.HadHit()) return {};
+  return {true, collector.mHit.mFraction};
 }
 
 const char* instruction_set() { return JPH::GetConfigurationString(); }

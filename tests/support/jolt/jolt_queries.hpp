@@ -128,6 +128,38 @@ MeshPtr make_mesh(std::span<const Vec> positions,
 /// first hit, or -1 for none. Back faces are hit too (CastRay's default).
 float cast_ray(const Mesh& mesh, Vec origin, Vec translation);
 
+// ---- convex shapes against a mesh (bench_narrow_mesh) --------------------------------------
+
+/// A convex JPH::Shape with convex radius 0 (exact geometry, as collide's shapes).
+class Convex;
+struct ConvexDeleter {
+  void operator()(Convex* c) const;
+};
+using ConvexPtr = std::unique_ptr<Convex, ConvexDeleter>;
+/// JPH::BoxShape of half extents `half`.
+ConvexPtr make_box(Vec half);
+/// JPH::CapsuleShape along y: segment from (0, -half_height, 0) to (0, half_height, 0).
+ConvexPtr make_capsule(float half_height, float radius);
+/// JPH::ConvexHullShape of `points` (hull tolerance 0); nullptr if Jolt rejects them.
+ConvexPtr make_convex(std::span<const Vec> points);
+
+struct MeshContactOut {
+  int hits = 0;        ///< collision results (one per triangle within the margin)
+  int points = 0;      ///< contact points over all results' manifolds
+  float depth = 0.0f;  ///< largest penetration depth among the results
+};
+/// CollisionDispatch::sCollideShapeVsShape of the convex shape whose local frame is `pose`
+/// against the mesh at the origin (faces collected, mMaxSeparationDistance = `margin`, back
+/// faces collided with, as collide's triangles are two-sided; active edges on, Jolt's default),
+/// each result made a manifold as PhysicsSystem does
+/// (ManifoldBetweenTwoFaces, PruneContactPoints).
+MeshContactOut mesh_contact(const Convex& convex, const Pose& pose, const Mesh& mesh, float margin);
+
+/// CollisionDispatch::sCastShapeVsShapeWorldSpace: the convex shape whose local frame is
+/// `pose`, moving by `translation`, against the mesh at the origin; ShapeCastSettings with back
+/// faces collided with (two-sided, as collide's triangles), closest hit.
+CastOut mesh_cast(const Convex& convex, const Pose& pose, Vec translation, const Mesh& mesh);
+
 /// Jolt's build as JPH::GetConfigurationString() gives it: precision, CPU and instruction set,
 /// e.g. "Single precision x86 64-bit with instructions: SSE2 SSE4.1 SSE4.2 AVX AVX2 F16C LZCNT
 /// TZCNT FMADD ...".
