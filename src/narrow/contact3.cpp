@@ -908,7 +908,19 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
   Manifold3 fixed;
   const float touch = kRelativeTolerance * (core_size(a) + max_abs(corners[0]));
   face_contact(a, placed, false, face, margin + touch, fixed);
-  m = fixed;
+  if (fixed.count > 0) {
+    m = fixed;
+    return;
+  }
+  // The clip kept nothing: A touches the feature beyond the face's prism (a vertex that
+  // stands out of a surface whose edges are all nearly flat). The contact stays, turned to the
+  // face's normal as Jolt's ActiveEdges::FixNormal turns it, with its depth along that normal;
+  // dropping it let shapes sink through such vertices.
+  const Vec3 face_normal = face == 0 ? -n : n;  // from A to the triangle, as face_contact's
+  const float turn = dot(m.normal, face_normal);
+  if (!(turn > 0.0f)) return;  // the feature faces away from the face: keep it as it is
+  m.normal = face_normal;
+  for (int i = 0; i < m.count; ++i) m.points[i].depth *= turn;
 }
 
 template <Shape3DType A, Shape3DType B>

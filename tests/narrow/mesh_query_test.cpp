@@ -123,6 +123,36 @@ TEST(MeshQuery, SphereSlidingOverInternalEdgesGetsFaceNormal) {
   EXPECT_GT(slide_sphere(all_active, contacts), 1e-2f);
 }
 
+/// A shape resting on a vertex that stands out of a nearly flat surface (a fan of six triangles
+/// around an apex 0.05 above a rim of radius 1: every edge at the apex turns by less than the
+/// active-edge angle, so none is active) still touches it: the vertex contact is turned to a
+/// face's normal, not dropped because the face's clip finds A beyond its prism (shapes sank
+/// through such vertices on dungeon.obj, where Jolt reported them).
+TEST(MeshQuery, ShapeOnAVertexWithoutActiveEdgesTouches) {
+  std::vector<Vec3> vertices{{0.0f, 0.05f, 0.0f}};
+  std::vector<glm::uvec3> triangles;
+  for (int k = 0; k < 6; ++k) {
+    const float angle = float(k) * 3.14159265f / 3.0f;
+    vertices.push_back({std::cos(angle), 0.0f, -std::sin(angle)});
+    triangles.push_back({0u, unsigned(1 + k), unsigned(1 + (k + 1) % 6)});
+  }
+  const TriangleMesh fan = make_triangle_mesh(vertices, triangles);
+  for (std::uint32_t t = 0; t < 6; ++t) ASSERT_FALSE(fan.is_edge_active(t, 0)) << t;  // apex edges
+  const float depth = 0.02f;
+  const float r = 0.3f;
+  const Vec3 centre(0.0f, 0.05f + r - depth, 0.0f);
+  const Capsule3 capsule = make_capsule(Vec3(0.0f), Vec3(0.0f, 0.5f, 0.0f), r);
+  const Sphere sphere{Vec3(0.0f), r};
+  const Manifold3 from_capsule = contact(capsule, Transform3{centre, Quat(1, 0, 0, 0)}, fan, Transform3{});
+  const Manifold3 from_sphere = contact(sphere, Transform3{centre, Quat(1, 0, 0, 0)}, fan, Transform3{});
+  for (const Manifold3& m : {from_capsule, from_sphere}) {
+    ASSERT_GT(m.count, 0);
+    // Down into the fan, along a face's normal (3.3 degrees off the vertical).
+    EXPECT_LT(m.normal.y, -0.99f);
+    EXPECT_NEAR(m.max_depth(), depth, 0.1f * depth);
+  }
+}
+
 TEST(MeshQuery, BoxSlidingOverSeamsOfAHeightFieldGetsFaceNormal) {
   const Terrain flat = make_terrain(21, 0.5f, [](float, float) { return 1.0f; });
   const Box box = make_box({0.3f, 0.3f, 0.3f});
