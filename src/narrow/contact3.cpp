@@ -6,8 +6,9 @@
 //     one point, or two for parallel segments (capsule on capsule).
 //  2. Otherwise the separating axis test over A's faces, B's faces and the edge pairs
 //     (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013): edge pairs of
-//     two solids are pruned to those that form a face of the Minkowski difference A - B (their
-//     arcs cross on the Gauss map); pairs with a flat or faceless core are all tested, with the
+//     two solids, or of a solid and a triangle (whose edge is a half circle on the Gauss map),
+//     are pruned to those that form a face of the Minkowski difference A - B (their arcs cross
+//     on the Gauss map); other pairs with a flat or faceless core are all tested, with the
 //     separation taken from support queries on both sides. The axis of largest separation is
 //     the minimum-penetration axis when the cores overlap. Pairs whose edge test would cost
 //     more than kSatEdgePairLimit pairs (contact.hpp) take GJK's answer and, when the cores overlap, EPA's axis
@@ -36,6 +37,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -144,12 +146,20 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return dot(b.vertex(b.support(l)), l);
 }
 
+/// A solid A against a triangle B with a normal: the triangle's edges are pruned on the Gauss
+/// map like a solid's (query_edges), so each pair costs a few products.
+[[nodiscard]] bool triangle_against_solid(const Polytope3& a, const PlacedPolytope& b) noexcept {
+  return a.solid && b.p.kind == Polytope3::Kind::triangle && b.p.faces[0].normal != Vec3(0.0f);
+}
+
 /// Separation of A and B along the edge pairs' axes (see the file comment). B's edge (its
 /// ends, direction and face normals turned into A's frame) is prepared once in the outer loop;
 /// the inner loop over A's edges reads A's local data as it is.
 EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
   EdgeQuery q;
-  const bool pruned = a.solid && b.p.solid;
+  const bool solids = a.solid && b.p.solid;
+  const bool triangle_b = triangle_against_solid(a, b);
+  const bool pruned = solids || triangle_b;
   for (int j = 0; j < b.p.edge_count; ++j) {
     const HullEdge& eb = b.p.edges[j];
     const Vec3 pb = b.vertex(eb.v0);
@@ -160,17 +170,39 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
     // coplanar faces the cross product of the float normals can get the sign wrong.
     Vec3 c{0.0f};
     Vec3 d{0.0f};
-    if (pruned) {
+    Vec3 m{0.0f};
+    if (solids) {
       c = -b.face_normal(eb.face0);
       d = -b.face_normal(eb.face1);
+    } else if (triangle_b) {
+      // A triangle's edge is the half circle of its Gauss map from the front normal n to the
+      // back one through the edge's outward direction u in the plane; on -B's map, from -n
+      // through -u to n, tested as two quarter arcs (c, m) and (m, d).
+      const Vec3 n = b.face_normal(0);
+      const Vec3 third = b.vertex(3 - eb.v0 - eb.v1);
+      Vec3 u = normalize_or_zero(cross(db, n));
+      if (dot(u, third - pb) > 0.0f) u = -u;
+      c = -n;
+      d = n;
+      m = -u;
     }
+    const Vec3 mxc = cross(m, c);
+    const Vec3 dxm = cross(d, m);
     for (int i = 0; i < a.edge_count; ++i) {
       const HullEdge& ea = a.edges[i];
       const Vec3 pa = a.vertex(ea.v0);
       const Vec3 da = a.vertex(ea.v1) - pa;
-      if (pruned && !is_minkowski_face(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, c,
+      if (solids && !is_minkowski_face(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, c,
                                        d, -db)) {
         continue;
+      }
+      if (triangle_b) {
+        const Vec3 na0 = a.faces[ea.face0].normal;
+        const Vec3 na1 = a.faces[ea.face1].normal;
+        if (!is_minkowski_face(na0, na1, -da, c, m, mxc) &&
+            !is_minkowski_face(na0, na1, -da, m, d, dxm)) {
+          continue;
+        }
       }
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
@@ -217,8 +249,23 @@ struct ClipVertex {
   std::uint32_t incident_edge;  ///< incident polygon edge leaving this vertex
 };
 
+/// Storage for up to N values of T, left uninitialised: the clip buffers are filled before
+/// they are read, and value-initialising their 5 KB (T's members have default initialisers)
+/// was a quarter of a face contact. The bytes implicitly create the T objects that are
+/// assigned (T is an implicit-lifetime type).
+template <class T, int N>
+struct ScratchArray {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+  alignas(T) std::byte bytes[N * sizeof(T)];
+  [[nodiscard]] T& operator[](int i) noexcept { return reinterpret_cast<T*>(bytes)[i]; }
+  [[nodiscard]] const T& operator[](int i) const noexcept {
+    return reinterpret_cast<const T*>(bytes)[i];
+  }
+  [[nodiscard]] const T* data() const noexcept { return reinterpret_cast<const T*>(bytes); }
+};
+
 struct ClipPolygon {
-  std::array<ClipVertex, kMaxClipVertices> v;
+  ScratchArray<ClipVertex, kMaxClipVertices> v;
   int count = 0;
 };
 
@@ -297,7 +344,7 @@ void incident_polygon(const Polytope3& inc, const Place& place, Vec3 normal, Fea
 
 /// Appends `m`'s points, keeping at most 4 (see the file comment).
 struct PointSet {
-  std::array<ManifoldPoint3, kMaxClipVertices> points;
+  ScratchArray<ManifoldPoint3, kMaxClipVertices> points;
   int count = 0;
 };
 
@@ -413,16 +460,20 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
   // loop (the face's interior is to the left of each edge).
   const Polytope3& ref = ref_is_a ? a : b.p;
   const HullFace& rface = ref.faces[ref_face];
-  for (int k = 0; k < ref_count && poly.count > 0; ++k) {
+  // Clipped back and forth between the two buffers (copying one is 1.8 KB).
+  ClipPolygon* in = &poly;
+  ClipPolygon* out = &tmp;
+  for (int k = 0; k < ref_count && in->count > 0; ++k) {
     const int c0 = ref.face_vertices[rface.first + k];
     const int c1 = ref.face_vertices[rface.first + (k + 1) % ref_count];
     const Vec3 v0 = ref_is_a ? a.vertex(c0) : b.vertex(c0);
     const Vec3 v1 = ref_is_a ? a.vertex(c1) : b.vertex(c1);
     const Vec3 side = normalize_or_zero(cross(v1 - v0, n));
     const Feature side_feature{FeatureType::edge, std::uint32_t(ref.face_edges[rface.first + k])};
-    clip_half_space(poly, tmp, side, dot(side, v0), side_feature);
-    poly = tmp;
+    clip_half_space(*in, *out, side, dot(side, v0), side_feature);
+    std::swap(in, out);
   }
+  const ClipPolygon& clipped = *in;
   // Keep the points within reach of the reference plane; place them midway between the
   // surfaces. Separation s of the incident core point above the plane along the direction d
   // (the face's normal, or the axis turned outward from the reference face), whose cosine to
@@ -433,8 +484,8 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
   PointSet set;
   const float ref_radius = ref_is_a ? a.radius : b.p.radius;
   const float inc_radius = ref_is_a ? b.p.radius : a.radius;
-  for (int i = 0; i < poly.count; ++i) {
-    const ClipVertex& v = poly.v[i];
+  for (int i = 0; i < clipped.count; ++i) {
+    const ClipVertex& v = clipped.v[i];
     const float s = (dot(n, v.p) - offset) * inv_c;
     const float depth = radii - s;
     if (!(depth >= -margin)) continue;
@@ -785,13 +836,14 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
   // Touching within rounding counts: the clip keeps points that far apart too.
   const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
-  // The edge test's work, in pruned pairs: pairs of two solids are pruned on the Gauss map
-  // and cost a few products each; the others (a triangle against a solid) each ask both
-  // cores' support points, as many products as they have vertices. Two flat cores stay with
-  // the test below (A - B may be flat, which EPA cannot grow around).
+  // The edge test's work, in solid pairs (kSatEdgePairLimit). Two flat cores stay with the
+  // test below (A - B may be flat, which EPA cannot grow around).
   const bool flat_pair = !a.solid && !b.p.solid;
+  const bool pruned = (a.solid && b.p.solid) || triangle_against_solid(a, b);
   const int edge_work = a.edge_count * b.p.edge_count *
-                        (a.solid && b.p.solid ? 1 : a.vertex_count + b.p.vertex_count);
+                        (a.solid && b.p.solid ? 1
+                         : pruned             ? 4  // two quarter arcs each; measured
+                                              : a.vertex_count + b.p.vertex_count);
   if (edge_work > kSatEdgePairLimit && !flat_pair) {
     // Many edge pairs: GJK, and EPA for the axis when the cores overlap, then the same face
     // clipping (or one point). Cores apart: GJK's closest points, as below.
@@ -912,13 +964,18 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
     m = fixed;
     return;
   }
-  // The clip kept nothing: A touches the feature beyond the face's prism (a vertex that
+  // The clip kept nothing. A touches the feature beyond the face's prism (a vertex that
   // stands out of a surface whose edges are all nearly flat). The contact stays, turned to the
   // face's normal as Jolt's ActiveEdges::FixNormal turns it, with its depth along that normal;
   // dropping it let shapes sink through such vertices.
+  // A normal across the face (a shape entering the triangle sideways over an inactive seam)
+  // has no depth along it: the neighbour beyond the seam holds the contact, and this one goes.
   const Vec3 face_normal = face == 0 ? -n : n;  // from A to the triangle, as face_contact's
   const float turn = dot(m.normal, face_normal);
-  if (!(turn > 0.0f)) return;  // the feature faces away from the face: keep it as it is
+  if (!(turn > kParallelTolerance)) {
+    m = fixed;
+    return;
+  }
   m.normal = face_normal;
   for (int i = 0; i < m.count; ++i) m.points[i].depth *= turn;
 }

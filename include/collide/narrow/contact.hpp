@@ -84,13 +84,14 @@ template <Shape3DType A, Shape3DType B>
 /// 3D `contact` of two polyhedra (boxes, hulls, triangles) whose edge test would cost more
 /// than this many edge pairs takes its axis from GJK and EPA (epa.hpp) and keeps EPA's normal
 /// and depth; cheaper pairs take the exact separating axis test, which prefers a face axis to
-/// an edge axis within kEdgeContactTolerance (a steadier manifold for resting contacts). Two
-/// solids' pairs are pruned on the Gauss map and count one each (the product of their edge
-/// counts); a triangle's pairs with a solid are not, and count the two cores' vertex count
-/// each (each asks both cores' support points). The edge test grows as that product (two
-/// 30-point hulls: about 7000 pairs), EPA's cost with the support search; box-box (144 pairs)
-/// and small hulls keep the SAT, a box or a hull on a mesh triangle takes EPA. Chosen by
-/// bench_narrow3 on the shared real hulls and bench_narrow_mesh on dungeon.obj.
+/// an edge axis within kEdgeContactTolerance (a steadier manifold for resting contacts). The
+/// edge test's cost is the product of the two edge counts, each pair pruned on the Gauss map
+/// (Gregorius 2013): two solids' pairs count one each, a triangle's with a solid four (its
+/// edge's half circle is tested as two quarter arcs), and pairs that are not pruned (a
+/// triangle against a triangle or a segment) count the two cores' vertex count each. Box-box
+/// (144) and box-triangle (144) keep the SAT; two 30-point hulls (about 7000 pairs) and a
+/// 24-point hull on a mesh triangle take EPA. Chosen by bench_narrow3 on the shared real hulls
+/// and bench_narrow_mesh on dungeon.obj.
 inline constexpr int kSatEdgePairLimit = 256;
 
 /// Points of triangles whose normals are within this cosine (30 degrees) of the deepest
