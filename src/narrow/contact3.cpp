@@ -138,6 +138,23 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
 }
 
+/// The same test for an arc of A against a triangle's edge on -B's Gauss map: the half circle
+/// from c = -n through m (the edge's outward direction, negated) to d = n, as the quarter arcs
+/// (c, m) and (m, d) with axes `mxc` = m x c and `dxm` = d x m. The two exclude each other by
+/// the sign of dot(n, bxa) * dot(m, bxa), so one is tested: four products, not eight.
+[[nodiscard]] bool crosses_triangle_edge(Vec3 a, Vec3 b, Vec3 bxa, Vec3 n, Vec3 m, Vec3 mxc,
+                                         Vec3 dxm) noexcept {
+  const float tn = dot(n, bxa);
+  const float tm = dot(m, bxa);
+  if (tn * tm > 0.0f) {  // (c, m): cba = -tn, dba = tm
+    const float bdc = dot(b, mxc);
+    return dot(a, mxc) * bdc < 0.0f && -tn * bdc > 0.0f;
+  }
+  // (m, d): cba = tm, dba = tn
+  const float bdc = dot(b, dxm);
+  return tm * tn < 0.0f && dot(a, dxm) * bdc < 0.0f && tm * bdc > 0.0f;
+}
+
 /// Largest support value of A along `l` (A's frame).
 [[nodiscard]] float support_value(const Polytope3& a, Vec3 l) noexcept {
   return dot(a.vertex(a.support(l)), l);
@@ -196,13 +213,10 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
                                        d, -db)) {
         continue;
       }
-      if (triangle_b) {
-        const Vec3 na0 = a.faces[ea.face0].normal;
-        const Vec3 na1 = a.faces[ea.face1].normal;
-        if (!is_minkowski_face(na0, na1, -da, c, m, mxc) &&
-            !is_minkowski_face(na0, na1, -da, m, d, dxm)) {
-          continue;
-        }
+      if (triangle_b &&
+          !crosses_triangle_edge(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, d, m,
+                                 mxc, dxm)) {
+        continue;
       }
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
