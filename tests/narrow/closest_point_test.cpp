@@ -75,13 +75,13 @@ TEST(ClosestPoint, PolygonMatchesMinOverEdges) {
           const Vec2 e_prev = normalize_or_zero(wv - world[(v + m - 1) % m]);
           const Vec2 e_next = normalize_or_zero(world[(v + 1) % m] - wv);
           if (dot(p - wv, e_prev) > margin && dot(p - wv, e_next) < -margin) {
-            EXPECT_EQ(q.feature, (Feature{FeatureType::vertex, v}));
+            EXPECT_EQ(q.feature, (Feature{FeatureType::vertex, std::uint32_t(v)}));
             EXPECT_VEC2_NEAR(core_closest, b.closest, tol);
           }
         } else {
           const float len = distance(world[b.edge], world[(b.edge + 1) % m]);
           if (b.s * len > margin && (1.0f - b.s) * len > margin) {
-            EXPECT_EQ(q.feature, (Feature{FeatureType::edge, b.edge}));
+            EXPECT_EQ(q.feature, (Feature{FeatureType::edge, std::uint32_t(b.edge)}));
             EXPECT_VEC2_NEAR(core_closest, b.closest, tol);
           }
         }
@@ -107,14 +107,14 @@ TEST(ClosestPoint, PolygonFeatureOfEachVoronoiRegion) {
       const float a = uniform(rng, 0.05f, 1.0f), b = uniform(rng, 0.05f, 1.0f);
       const Vec2 in_wedge = v + 2.0f * (a * n_prev + b * n);
       const PointQuery qv = closest_point(poly, xf, transform_point(xf, in_wedge));
-      EXPECT_EQ(qv.feature, (Feature{FeatureType::vertex, i}));
+      EXPECT_EQ(qv.feature, (Feature{FeatureType::vertex, std::uint32_t(i)}));
       EXPECT_VEC2_NEAR(qv.closest,
                        transform_point(xf, v + poly.radius * normalize_or_zero(in_wedge - v)), tol);
       // Edge i's region: the slab over the edge, outside it.
       const float s = uniform(rng, 0.05f, 0.95f), h = uniform(rng, 0.01f, 3.0f);
       const Vec2 in_slab = v + s * (w - v) + h * n;
       const PointQuery qe = closest_point(poly, xf, transform_point(xf, in_slab));
-      EXPECT_EQ(qe.feature, (Feature{FeatureType::edge, i}));
+      EXPECT_EQ(qe.feature, (Feature{FeatureType::edge, std::uint32_t(i)}));
       EXPECT_NEAR(qe.distance, h - poly.radius, tol);
       // Just inside edge i, near its middle: edge i is the edge of least penetration when the
       // depth is below the distance to every other edge line.
@@ -126,7 +126,7 @@ TEST(ClosestPoint, PolygonFeatureOfEachVoronoiRegion) {
       const float depth = 0.4f * room;
       const PointQuery qi = closest_point(poly, xf, transform_point(xf, mid - depth * n));
       EXPECT_TRUE(qi.inside);
-      EXPECT_EQ(qi.feature, (Feature{FeatureType::edge, i}));
+      EXPECT_EQ(qi.feature, (Feature{FeatureType::edge, std::uint32_t(i)}));
       EXPECT_NEAR(qi.distance, -depth - poly.radius, tol);
       EXPECT_VEC2_NEAR(qi.closest, transform_point(xf, mid + poly.radius * n), tol);
     }
