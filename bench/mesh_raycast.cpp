@@ -80,6 +80,7 @@ RTCDevice embree_device() {
 struct Level {
   std::string name;
   TriangleMesh mesh;
+  Transform3 xf;  ///< the mesh's placement (identity), stored as a world keeps a static's
   RTCScene embree = nullptr;
   jolt_queries::MeshPtr jolt;
   Aabb3 box;
@@ -186,7 +187,7 @@ const std::vector<test::RayTruth>& truth(Level& l, int set) {
 // ---- the libraries: fraction of the closest hit, or -1 ------------------------------------------
 
 float cast_collide(const Level& l, const Ray3& r) {
-  const RayHit3 hit = raycast(l.mesh, Transform3{}, r);
+  const RayHit3 hit = raycast(l.mesh, l.xf, r);
   return hit.hit ? hit.fraction : -1.0f;
 }
 
