@@ -923,6 +923,24 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
 
 }  // namespace
 
+bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
+                             const std::array<Vec3, 3>& corners, float reach) noexcept {
+  const Vec3 lo = glm::min(glm::min(corners[0], corners[1]), corners[2]);
+  const Vec3 hi = glm::max(glm::max(corners[0], corners[1]), corners[2]);
+  const Vec3 gap = glm::max(lo - a_bounds.max, a_bounds.min - hi);
+  if (gap.x > reach || gap.y > reach || gap.z > reach) return true;
+  // The triangle's plane, its normal unnormalised: every distance along it is scaled by its
+  // length.
+  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
+  const float scale = length(n);
+  if (!(scale > 0.0f)) return false;
+  const float plane = dot(n, corners[0]);
+  const float grown = reach + a.radius;
+  const float above = plane - dot(n, a.vertex(a.support(n)));
+  const float below = dot(n, a.vertex(a.support(-n))) - plane;
+  return above > grown * scale || below > grown * scale;
+}
+
 void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                               const std::array<Vec3, 3>& corners,
                               FunctionRef<std::uint8_t()> edges, float margin,

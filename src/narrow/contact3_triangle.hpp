@@ -3,6 +3,7 @@
 // HeightField), with the triangle's active edges. Implemented in contact3.cpp beside the
 // convex-convex routines it reuses; called per candidate triangle by mesh_query.cpp.
 
+#include <collide/core/aabb.hpp>
 #include <collide/core/function_ref.hpp>
 #include <collide/narrow/manifold.hpp>
 #include <collide/narrow/support.hpp>
@@ -31,6 +32,17 @@ namespace collide::detail {
 void contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                       const std::array<Vec3, 3>& corners, FunctionRef<std::uint8_t()> edges,
                       float margin, Manifold3& m) noexcept;
+
+/// The early out before `contact_triangle`: true when convex core `a` (A's frame; `a_bounds`
+/// its local bounding box, the rounding radius included) and the triangle with corners
+/// `corners` (A's frame) are apart by more than `reach` along one of four cheap separating
+/// axes: the three of A's bounding box and the triangle's normal (A's extent along it from two
+/// support queries). False says nothing (the full test decides). Conservative: the axes are
+/// separating axes of the pair, so a caller whose `reach` exceeds the contact's margin plus its
+/// rounding allowance drops no contact (Ericson, Real-Time Collision Detection, 5.2.9: the box
+/// and plane axes of the triangle-box test, here for any core).
+[[nodiscard]] bool triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
+                                   const std::array<Vec3, 3>& corners, float reach) noexcept;
 
 /// Keeps at most 4 of `count` contact points sharing `normal` (world or A's frame alike): the
 /// deepest, the farthest from it, then the two that span the largest area with them (the idea

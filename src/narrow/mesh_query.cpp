@@ -28,6 +28,9 @@ namespace {
 
 constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
 constexpr float kInf = std::numeric_limits<float>::infinity();
+/// Multiples of a shape's rounding allowance (slop) by which the per-triangle early out of a
+/// contact reaches past the margin: the contact's own allowance is at most about two of them.
+constexpr float kPretestSlack = 4.0f;
 
 /// A mesh as the queries see it.
 struct MeshLevel {
@@ -192,9 +195,17 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
   detail::make_polytope(pa, a);
   const ConvexProxy3 proxy(a);
   const Aabb3 box = compute_aabb(a, pl.a_in_stored);
+  // The early out's reach: the margin plus more than the contact's rounding allowance (which
+  // scales with the smaller core and the coordinates, here A's frame: near A's size).
+  const Aabb3 local = compute_aabb(a, Transform3{});
+  const float reach = margin + kPretestSlack * slop(local);
   level.query(fatten(box, margin + slop(box)), [&](std::uint32_t t) -> bool {
+    const std::array<Vec3, 3> corners = pl.to_a(level.corners(t));
+    if (detail::triangle_beyond(pa, local, corners, reach + kRelativeTolerance * max_abs(corners[0]))) {
+      return true;
+    }
     Manifold3 m;
-    detail::contact_triangle(pa, proxy, pl.to_a(level.corners(t)),
+    detail::contact_triangle(pa, proxy, corners,
                              [&]() -> std::uint8_t { return level.active_edges(t); }, margin, m);
     if (m.count == 0) return true;
     for (int i = 0; i < m.count; ++i) {

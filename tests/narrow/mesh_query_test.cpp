@@ -224,6 +224,70 @@ TEST(MeshQuery, RandomSoupAgainstBruteForce) {
   EXPECT_GT(beyond, 100);
 }
 
+// The per-triangle early out (the bounding box and plane axes) drops no triangle a contact
+// needs: shapes placed so their nearest triangle grazes them at the margin (within float
+// rounding) or pushed a little further in, and the triangles the mesh query reports compared
+// with each triangle's own contact (the convex-triangle query): one it finds deeper than
+// -margin by more than the tolerance must be reported, one farther than the margin by more than
+// it must not.
+TEST(MeshQuery, GrazingTrianglesAreAllVisited) {
+  std::mt19937 rng(26);
+  std::vector<Vec3> vertices;
+  std::vector<glm::uvec3> triangles;
+  for (unsigned t = 0; t < 400; ++t) {
+    const Vec3 c = test::random_point3(rng, 3.0f);
+    for (int k = 0; k < 3; ++k) vertices.push_back(c + test::random_point3(rng, 0.8f));
+    triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const TriangleMesh mesh = make_triangle_mesh(vertices, triangles);
+  const Transform3 xm = test::random_transform3(rng, 3.0f);
+  constexpr float kBand = 1e-4f;  // contacts this close to the margin may go either way
+  int required = 0, excluded = 0, grazes = 0;
+  for (int iter = 0; iter < 600; ++iter) {
+    const Shape3D shape = test::random_shape3(rng, 0.6f);
+    Transform3 xa{transform_point(xm, test::random_point3(rng, 4.0f)), test::random_rotation(rng)};
+    const DistanceResult3 d = distance(shape, xa, mesh, xm);
+    if (!(d.distance > 0.0f) || !std::isfinite(d.distance)) continue;
+    // Half the placements touch the nearest triangle, half stand off from it by the margin;
+    // every other one is pushed further in.
+    const float margin = iter % 2 == 0 ? 0.0f : test::uniform(rng, 0.01f, 0.2f);
+    const float push = iter % 4 < 2 ? 0.0f : test::uniform(rng, 0.0f, 0.6f);
+    xa.p += d.normal * (d.distance - margin + push);
+    std::vector<bool> reported(mesh.triangle_count(), false);
+    contact(shape, xa, mesh, xm, margin, [&](std::uint32_t t, const Manifold3& m) -> bool {
+      EXPECT_TRUE(m.touching());
+      reported[t] = true;
+      return true;
+    });
+    for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+      const Triangle tri = world_triangle(mesh, t);
+      float gap = 0.0f;
+      Manifold3 own;
+      std::visit(
+          [&](const auto& a) {
+            gap = distance(a, xa, tri, xm).distance;
+            own = contact(a, xa, tri, xm, margin);
+          },
+          shape);
+      // Its deepest point's depth (negative for a speculative contact; max_depth floors at 0).
+      float deepest = -std::numeric_limits<float>::infinity();
+      for (int i = 0; i < own.count; ++i) deepest = std::max(deepest, own.points[i].depth);
+      if (deepest > kBand - margin) {
+        EXPECT_TRUE(reported[t]) << iter << " triangle " << t << " depth " << deepest;
+        ++required;
+      } else if (gap > margin + kBand) {
+        EXPECT_FALSE(reported[t]) << iter << " triangle " << t << " gap " << gap;
+        ++excluded;
+      } else {
+        ++grazes;
+      }
+    }
+  }
+  EXPECT_GT(required, 120);
+  EXPECT_GT(excluded, 100000);
+  EXPECT_GT(grazes, 120);
+}
+
 // A real level: random shapes near dungeon.obj's surface against the loop over all triangles.
 TEST(MeshQuery, DungeonAgainstBruteForce) {
   const TriangleMesh mesh = io::load_triangle_mesh(kMeshes + "recast/dungeon.obj");
