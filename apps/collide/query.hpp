@@ -42,9 +42,11 @@ struct CastQuestion {
 /// nothing but std::bad_alloc, and that only if not even a fixed error answer can be made.
 [[nodiscard]] std::string answer_query_line(std::string_view line);
 
-/// Answers every line of `in` on `out`, in order; lines longer than kMaxQueryLineBytes are
-/// answered with an error and not read. Returns the number of lines answered. Throws
-/// std::runtime_error ("read error after line N") when `in` fails other than by ending.
+/// Answers every line of `in` on `out`, in order, each answer followed by '\n': a line (its
+/// bytes as they are, without the '\n') gets answer_query_line's answer, none when that is
+/// empty (a blank line); lines longer than kMaxQueryLineBytes are answered with an error and
+/// not read. Returns the number of lines answered. Throws std::runtime_error ("read error after
+/// line N") when `in` fails other than by ending.
 std::size_t answer_query_stream(std::istream& in, std::ostream& out);
 
 /// `collide query [FILE]`: answers FILE (standard input when empty or "-") on `out`. Returns the

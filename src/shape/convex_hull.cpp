@@ -36,6 +36,13 @@ constexpr int kMaxSweeps = 4;
 /// such merges reached 1.09 tolerances on random flat clouds.
 constexpr double kCoplanarFraction = 0.5;
 
+/// Thrown inside the builder when a merge would fold the hull flat: leave a face of fewer than
+/// three sides, or join a face to itself. Merging within the tolerance can do that to a cloud
+/// that passed build_initial's thickness test but is a needle or sliver only a few tolerances
+/// across (fuzz_shapes found one 184,536 long and 16 wide, tolerance 1.8): the merges went on
+/// through freed half-edges and read faces_[-1]. make_convex_hull reports it as InvalidInput.
+struct FoldedFlat {};
+
 /// A half-edge of the hull under construction (indices into the builder's arrays).
 struct HalfEdge {
   int origin = -1;  ///< point index where the half-edge starts
@@ -757,6 +764,7 @@ bool QuickHull::merge_step(int f) {
 // (its inner vertices touch only these two faces), so the union is one simple polygon.
 void QuickHull::merge(int f, int h) {
   const int g = edges_[edges_[h].twin].face;
+  if (g == f || g < 0) throw FoldedFlat{};
   const SharedRun run = shared_run(f, h);
   const int first = run.first;
   const int last = run.last;
@@ -765,6 +773,9 @@ void QuickHull::merge(int f, int h) {
   const int m = run.m;
   const int q = run.q;
   const int t_last = edges_[last].twin;
+  int run_length = 1;
+  for (int e = first; e != last; e = edges_[e].next) ++run_length;
+  if (edge_count(f) + edge_count(g) - 2 * run_length < 3) throw FoldedFlat{};
 
   // g's remaining edges join f.
   for (int e = m; e != t_last; e = edges_[e].next) edges_[e].face = f;
@@ -1012,7 +1023,14 @@ ConvexHull make_convex_hull(std::span<const Vec3> points, const HullOptions& opt
   if (const char* degenerate = builder.build_initial()) {
     throw InvalidInput(std::string("convex hull points: ") + degenerate + " (zero volume)");
   }
-  const auto outcome = builder.run(options.max_vertices);
+  QuickHull::Outcome outcome{};
+  try {
+    outcome = builder.run(options.max_vertices);
+  } catch (const FoldedFlat&) {
+    throw InvalidInput(
+        "convex hull points: too thin for the tolerance (merging faces within it folded the "
+        "hull flat; zero volume)");
+  }
   ConvexHull hull;
   builder.extract(outcome == QuickHull::Outcome::unverified, hull);
   hull.radius = options.radius;

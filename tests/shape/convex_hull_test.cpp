@@ -669,6 +669,29 @@ TEST(MakeConvexHull, RejectsBadInputNamingTheField) {
   EXPECT_EQ(make_convex_hull(tetra, o).radius, 0.5f);
 }
 
+// fuzz_shapes (fuzz/regressions/shapes/hull_needle_merges_folded_flat.bin): a needle 184,536
+// long and about 16 wide, whose tolerance (1e-5 of the extent) is 1.8. It passes the thickness
+// test, but merging faces within the tolerance folded it down to two triangles, and the merges
+// went on through freed half-edges (UBSan: faces_[-1]). Such a fold is now refused by name.
+TEST(MakeConvexHull, ANeedleTheMergesFoldFlatIsNamedTooThin) {
+  const Cloud needle = {{-8.0f, -8.0f, -8.0f}, {-2.0f, 0.0f, 3.0f},  {2.0f, 4.75f, 6.0f},
+                        {-5.0f, -7.0f, 0.0f},  {0.0f, 0.0f, -7.75f}, {5.5f, -7.0f, -8.0f},
+                        {5.25f, 2.0f, -7.0f},  {0.0f, 0.0f, 0.0f},   {-4.25f, -8.0f, -8.0f},
+                        {-8.0f, -7.75f, -8.0f}, {-8.0f, -5.5f, 2.0f}, {0.0f, 3.0f, -6.0f},
+                        {-8.0f, 3.75f, -6.5f}, {-184528.8125f, 5.0f, 1.0f}, {-2.0f, 2.0f, 5.0f},
+                        {5.0f, 5.0f, 7.75f},   {6.0f, 5.0f, 5.0f},   {5.0f, -7.75f, -8.0f},
+                        {-8.0f, 5.0f, 5.0f}};
+  HullOptions options;
+  options.radius = 5.0f;
+  options.max_vertices = 54;
+  try {
+    (void)make_convex_hull(needle, options);
+    FAIL() << "accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("convex hull points: too thin"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ConvexHullSupport, SupportIndexIsTheLowestFarthestVertex) {
   std::mt19937 rng(7);
   // Ties: a cube seen along an axis has four farthest vertices; the lowest index wins.

@@ -228,8 +228,9 @@ struct HullOptions {
 /// Throws InvalidInput naming the field if: a coordinate is not finite (names the point
 /// index); there are fewer than 4 points; the points all coincide, are collinear or are
 /// coplanar within the tolerance (zero volume, says which; coplanar: thinner than
-/// kHullFlatFactor tolerances); the radius is negative or not finite; max_vertices is outside
-/// [4, kMaxHullVertices].
+/// kHullFlatFactor tolerances), or are a needle or sliver so few tolerances across that merging
+/// faces within the tolerance would fold the hull flat ("too thin for the tolerance"); the
+/// radius is negative or not finite; max_vertices is outside [4, kMaxHullVertices].
 [[nodiscard]] ConvexHull make_convex_hull(std::span<const Vec3> points,
                                           const HullOptions& options = {});
 
