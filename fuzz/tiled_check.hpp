@@ -9,6 +9,7 @@
 #include <collide/core/error.hpp>
 #include <collide/io/tiled.hpp>
 
+#include <algorithm>
 #include <exception>
 #include <filesystem>
 #include <set>
@@ -56,8 +57,14 @@ inline std::string check_tiled(TiledInput kind, std::string_view input, const st
   write_fixed(dir / "t.tsx", kTileset);
   write_fixed(dir / "a.tx", kTemplate);
   const auto host = [&](const std::string& tileset_name, const std::string& template_name) {
-    const fs::path path = dir / ("host_" + fs::path(tileset_name).extension().string().substr(1) + "_" +
-                                 fs::path(template_name).extension().string().substr(1) + ".tmx");
+    // Named by both files in full: a tileset kind's host (f.tsx, a.tx) and a template kind's
+    // (t.tsx, f.tx) must not share a name when one process checks both, as the regression test does.
+    const auto part = [](const std::string& name) {
+      std::string s = name;
+      std::replace(s.begin(), s.end(), '.', '_');
+      return s;
+    };
+    const fs::path path = dir / ("host_" + part(tileset_name) + "_" + part(template_name) + ".tmx");
     write_fixed(path, R"(<map version="1.10" orientation="orthogonal" width="4" height="2" tilewidth="16" tileheight="16">
  <tileset firstgid="1" source=")" + tileset_name + R"("/>
  <layer name="cells" width="4" height="2"><data encoding="csv">1,2,3,4,4,3,2,1</data></layer>

@@ -85,9 +85,17 @@ std::uint32_t map_template_gid(Document& doc, const Template& t) {
   if (const auto known = doc.template_tilesets.find(key); known != doc.template_tilesets.end()) {
     return (known->second + local) | flips;
   }
-  const std::filesystem::path want = std::filesystem::weakly_canonical(t.tileset_source);
+  // weakly_canonical without an error code throws on a name the file system refuses (a component
+  // longer than NAME_MAX, found by fuzz_tiled_tx); such a path is compared as written and fails
+  // later, when read, with the file's name.
+  const auto canonical = [](const std::filesystem::path& p) {
+    std::error_code ec;
+    std::filesystem::path c = std::filesystem::weakly_canonical(p, ec);
+    return ec ? p.lexically_normal() : c;
+  };
+  const std::filesystem::path want = canonical(t.tileset_source);
   for (const TiledTileset& ts : map.tilesets) {
-    if (!ts.source.empty() && std::filesystem::weakly_canonical(ts.source) == want) {
+    if (!ts.source.empty() && canonical(ts.source) == want) {
       doc.template_tilesets.emplace(key, ts.first_gid);
       return (ts.first_gid + local) | flips;
     }
