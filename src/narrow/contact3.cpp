@@ -222,14 +222,20 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
       if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
-      l *= 1.0f / std::sqrt(ll);
       float s;
       if (pruned) {
         // The axis points out of A at its edge (away from A's centre), and A - B's face
-        // through the two edges is at distance dot(l, pb - pa) from the origin.
+        // through the two edges is at distance dot(l, pb - pa) / |l| from the origin. Most
+        // pairs do not beat the best so far: compared first without the square root, as
+        // t |t| against best |best| |l|^2 (x |x| grows with x).
         if (dot(l, pa - a.centroid) < 0.0f) l = -l;
-        s = dot(l, pb - pa);
+        const float t = dot(l, pb - pa);
+        if (q.edge_a >= 0 && !(t * std::fabs(t) > q.separation * std::fabs(q.separation) * ll)) continue;
+        const float inv = 1.0f / std::sqrt(ll);
+        l *= inv;
+        s = t * inv;
       } else {
+        l *= 1.0f / std::sqrt(ll);
         // Either side may be the separating one: take the better orientation.
         const float plus = -support_value(b, -l) - support_value(a, l);
         const float minus = -support_value(a, -l) - support_value(b, l);
