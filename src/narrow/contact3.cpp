@@ -880,12 +880,12 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
                     margin + touch, &axis, m);
       return;
     }
-  } else if (reach > 0.0f || flat_pair) {
+  } else if (flat_pair) {
     // Two cores without volume (a triangle against a segment or a triangle): A - B may be
     // flat, and then the axes below miss the directions within its plane that separate it
-    // from the origin. GJK decides apart or touching for them too. Rounded or speculative:
-    // GJK first; its closest points decide when the cores are apart, and the separating axis
-    // test runs only when they overlap.
+    // from the origin. GJK decides apart or touching for them. Rounded or speculative: its
+    // closest points decide when the cores are apart, and the separating axis test runs only
+    // when they overlap.
     const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
     if (d.status != QueryStatus::overlapped) {
       if (reach > 0.0f) {
@@ -902,6 +902,17 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   if (fb.separation > reach) return;
   const EdgeQuery ee = query_edges(a, b, reach);
   if (ee.separation > reach) return;
+  if (reach > 0.0f && !flat_pair && std::max({fa.separation, fb.separation, ee.separation}) > 0.0f) {
+    // Rounded or speculative, and an axis separates the cores (the test is complete for
+    // polytopes: cores that overlap have no such axis): the contact lies between their closest
+    // points, which GJK finds. The test first, as most pairs a level gives overlap, and then
+    // GJK (which must build a simplex around the origin to say so) would be wasted.
+    const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
+    if (d.status != QueryStatus::overlapped) {
+      contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+      return;
+    }
+  }
 
   const float best_face = std::max(fa.separation, fb.separation);
   if (std::max(best_face, ee.separation) > reach + touch) return;

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -235,6 +236,47 @@ TEST(TriangleQuery, BoxOnTriangleFace) {
   const Manifold3 r = contact(tri, Transform3{}, box, xb);
   ASSERT_EQ(r.count, 4);
   EXPECT_NEAR(r.normal.y, 1.0f, 1e-5f);
+}
+
+// A box above, touching or sunk into a large flat triangle, with a speculative margin: the
+// lowest corner's height h is the analytic signed distance. Cores apart within the margin
+// (0 < h <= margin) take GJK's closest points, overlapping ones the separating axis test; both
+// must give depth -h along the triangle's normal, and a box beyond the margin nothing.
+TEST(TriangleQuery, BoxOnTriangleWithMarginAgreesWithTheLowestCorner) {
+  const Triangle tri = make_triangle({-50, 0, -50}, {-50, 0, 50}, {50, 0, 0});
+  const Box box = make_box({0.5f, 0.3f, 0.2f});
+  constexpr float kMargin = 0.1f;
+  std::mt19937 rng(2611);
+  int apart = 0, sunk = 0, beyond = 0;
+  for (int iter = 0; iter < 2000; ++iter) {
+    const Quat q = test::random_rotation(rng);
+    // Lowest corner below the centre by the box's support along -y.
+    float reach_down = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 corner{(c & 1) ? 0.5f : -0.5f, (c & 2) ? 0.3f : -0.3f, (c & 4) ? 0.2f : -0.2f};
+      reach_down = std::max(reach_down, -rotate(q, corner).y);
+    }
+    const float h = std::uniform_real_distribution<float>(-0.2f, 0.2f)(rng);
+    const Transform3 xb{{std::uniform_real_distribution<float>(-5.0f, 5.0f)(rng), h + reach_down, 0.3f}, q};
+    const Manifold3 m = contact(box, xb, tri, Transform3{}, kMargin);
+    if (h > kMargin + 1e-4f) {
+      ++beyond;
+      EXPECT_EQ(m.count, 0) << "h " << h;
+      continue;
+    }
+    if (h > 1e-4f && h < kMargin - 1e-4f) ++apart;
+    if (h < -1e-4f) ++sunk;
+    if (h < kMargin - 1e-4f) {
+      ASSERT_GE(m.count, 1) << "h " << h;
+      EXPECT_NEAR(std::fabs(m.normal.y), 1.0f, 1e-4f) << "h " << h;
+      float deepest = -INFINITY;  // max_depth() clamps at 0: speculative points are negative
+      for (int i = 0; i < m.count; ++i) deepest = std::max(deepest, m.points[i].depth);
+      EXPECT_NEAR(deepest, -h, 2e-5f) << "h " << h;
+    }
+  }
+  EXPECT_GT(apart, 300);
+  EXPECT_GT(sunk, 700);
+  EXPECT_GT(beyond, 300);
 }
 
 // make_triangle refuses degenerate triangles; a collinear one built by hand still yields no NaN.
