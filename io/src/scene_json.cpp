@@ -159,6 +159,11 @@ class SceneReader {
     }
     if (const Json* v = find_member(*j, "speed")) {
       std::tie(s.min_speed, s.max_speed) = range(*v, path.member("speed"), 0.0f, false);
+      if (!(s.max_speed <= kMaxWorldSpeed)) {
+        const JsonPath speed = path.member("speed");
+        fail_json(speed.element(1), "beyond the world's speed range (kMaxWorldSpeed, " +
+                                                        std::to_string(static_cast<long long>(kMaxWorldSpeed)) + ")");
+      }
     }
     if (const Json* v = find_member(*j, "bullets")) {
       s.bullets = static_cast<int>(integer(*v, path.member("bullets"), static_cast<std::uint64_t>(s.count)));
@@ -166,6 +171,10 @@ class SceneReader {
     if (const Json* v = find_member(*j, "bullet_speed")) {
       s.bullet_speed = float_from_json(*v, path.member("bullet_speed"));
       if (!(s.bullet_speed > 0.0f)) fail_json(path.member("bullet_speed"), "must be > 0 (" + shown(*v) + ")");
+      if (!(s.bullet_speed <= kMaxWorldSpeed)) {
+        fail_json(path.member("bullet_speed"), "beyond the world's speed range (kMaxWorldSpeed, " +
+                                                   std::to_string(static_cast<long long>(kMaxWorldSpeed)) + ")");
+      }
     }
     return s;
   }
@@ -249,6 +258,7 @@ class SceneReader {
       for (std::size_t i = 0; i < list->size(); ++i) {
         out.bodies.push_back(body_def((*list)[i], path.element(i)));
         check_world_range(out.bodies.back().shapes, out.bodies.back().transform, path.element(i).str());
+        check_world_velocity(out.bodies.back().velocity, out.bodies.back().angular_velocity, path.element(i).str());
       }
     }
     out.spawn = spawn(find_member(root, "spawn"), top.member("spawn"), out.bounds);

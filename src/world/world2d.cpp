@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <iomanip>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -503,9 +504,13 @@ float World2D::Impl::speed_bound(const detail::Body& b, float dt) const {
   // the deferred push) and the turn; kSpeedBoundSlack leaves room for static push-outs. A body
   // that breaks it costs the temporal broad phase a rebuild, never a missed pair.
   const float push = std::min(length(b.push), kMaxPushFraction * b.bounding_radius);
+  // Velocities are within kMaxWorldSpeed (check_world_velocity), but a push over a tiny step
+  // (dt near the smallest float) is not: the bound saturates at the largest float, which the
+  // temporal broad phase takes as "grows to its cap" (an infinite bound it refuses).
   const float per_second = dt > 0.0f ? push / dt : 0.0f;
-  return detail::kSpeedBoundSlack * (length(b.velocity) + per_second) +
-         std::fabs(b.angular_velocity) * b.bounding_radius;
+  const float bound = detail::kSpeedBoundSlack * (length(b.velocity) + per_second) +
+                      std::fabs(b.angular_velocity) * b.bounding_radius;
+  return std::min(bound, std::numeric_limits<float>::max());
 }
 
 void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
@@ -640,6 +645,25 @@ void check_world_range(std::span<const Shape2D> shapes, const Transform& transfo
   }
 }
 
+void check_world_velocity(Vec2 velocity, float angular_velocity, std::string_view what) {
+  if (!is_finite(velocity)) throw InvalidInput(std::string(what) + " velocity: not finite");
+  if (!std::isfinite(angular_velocity)) throw InvalidInput(std::string(what) + " angular velocity: not finite");
+  const float fastest = std::max(std::fabs(velocity.x), std::fabs(velocity.y));
+  if (fastest > kMaxWorldSpeed) {
+    std::ostringstream os;
+    os << what << " velocity: (" << velocity.x << ", " << velocity.y << ") beyond the speed range [-"
+       << std::fixed << std::setprecision(0) << kMaxWorldSpeed << ", " << kMaxWorldSpeed
+       << "] per axis (kMaxWorldSpeed, world units per second)";
+    throw InvalidInput(os.str());
+  }
+  if (std::fabs(angular_velocity) > kMaxWorldAngularSpeed) {
+    std::ostringstream os;
+    os << what << " angular velocity: " << angular_velocity << " beyond [-" << std::fixed << std::setprecision(0)
+       << kMaxWorldAngularSpeed << ", " << kMaxWorldAngularSpeed << "] (kMaxWorldAngularSpeed, radians per second)";
+    throw InvalidInput(os.str());
+  }
+}
+
 // ---- World2D --------------------------------------------------------------------------------
 
 World2D::World2D(const WorldOptions& options) {
@@ -678,8 +702,7 @@ BodyId World2D::add_body(const BodyDef& def) {
   check_shapes(def.shapes, name + " shapes");
   check_transform(def.transform, name + " transform");
   check_world_range(def.shapes, def.transform, name);
-  if (!is_finite(def.velocity)) throw InvalidInput(name + " velocity: not finite");
-  if (!std::isfinite(def.angular_velocity)) throw InvalidInput(name + " angular velocity: not finite");
+  check_world_velocity(def.velocity, def.angular_velocity, name);
   std::uint32_t index;
   if (!impl_->free_slots.empty()) {
     index = impl_->free_slots.back();
@@ -789,9 +812,7 @@ void World2D::set_transform(BodyId id, const Transform& xf) {
 
 void World2D::set_velocity(BodyId id, Vec2 velocity, float angular_velocity) {
   detail::Body& b = impl_->body(id);
-  if (!is_finite(velocity) || !std::isfinite(angular_velocity)) {
-    throw InvalidInput("body " + std::to_string(id.index) + " velocity: not finite");
-  }
+  check_world_velocity(velocity, angular_velocity, "body " + std::to_string(id.index));
   b.velocity = velocity;
   b.angular_velocity = angular_velocity;
 }

@@ -180,6 +180,46 @@ TEST(World2DInput, RefusesCoordinatesBeyondTheRangeNamingItAndTheLimit) {
   EXPECT_EQ(big.total_stats().escaped, 0);
 }
 
+// Issue 15, fuzz_scene_json's finding 8: a finite velocity of 1e25 was accepted, its length
+// overflowed float, and the step threw from the temporal broad phase ("speed bound 0: negative
+// or not finite"). Velocities beyond kMaxWorldSpeed (and angular ones beyond
+// kMaxWorldAngularSpeed) are refused by name; up to the limit a world steps, and a tiny step
+// whose push over dt overflows gives a saturated speed bound, not a throw.
+TEST(World2DInput, RefusesSpeedsBeyondTheRangeAndStepsUpToIt) {
+  const std::string range = "(kMaxWorldSpeed, world units per second)";
+  World2D world;
+  std::string e = error_of([&] { world.add_body(circle_body({0, 0}, 1.0f, {1e25f, 0.0f})); });
+  EXPECT_NE(e.find("body 0 velocity"), std::string::npos) << e;
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  BodyDef spin = circle_body({0, 0}, 1.0f, {0, 0});
+  spin.angular_velocity = -1e30f;
+  e = error_of([&] { world.add_body(spin); });
+  EXPECT_NE(e.find("angular velocity"), std::string::npos) << e;
+  EXPECT_NE(e.find("kMaxWorldAngularSpeed"), std::string::npos) << e;
+  EXPECT_EQ(world.body_count(), 0);
+  const BodyId body = world.add_body(circle_body({0, 0}, 1.0f, {1.0f, 0.0f}));
+  e = error_of([&] { world.set_velocity(body, {0.0f, -2e9f}); });
+  EXPECT_NE(e.find(range), std::string::npos) << e;
+  EXPECT_EQ(world.velocity(body).x, 1.0f);  // a refused velocity leaves the body as it was
+  // At the limit, in a big world: the step runs and the state stays finite.
+  const float edge = kMaxWorldCoordinate;
+  World2D big(WorldOptions{.bounds = Aabb{{-edge, -edge}, {edge, edge}}});
+  BodyDef fastest = circle_body({0.0f, 0.0f}, 1.0f, {kMaxWorldSpeed, -kMaxWorldSpeed});
+  fastest.angular_velocity = kMaxWorldAngularSpeed;
+  const BodyId f = big.add_body(fastest);
+  for (int i = 0; i < 3; ++i) big.step(kDt);
+  EXPECT_TRUE(std::isfinite(big.transform(f).p.x) && std::isfinite(big.transform(f).p.y));
+  // Two bodies started overlapping get a push; a step of the smallest float then divides it by
+  // dt (1e34 times the push overflows): the speed bound saturates and the step runs.
+  World2D pushed;
+  pushed.add_static(box_static({0.0f, -1.0f}, {10.0f, 1.0f}));
+  pushed.add_body(circle_body({0.0f, 0.5f}, 1.0f, {0.0f, 0.0f}));
+  pushed.add_body(circle_body({0.5f, 0.5f}, 1.0f, {0.0f, 0.0f}));
+  pushed.step(kDt);
+  EXPECT_NO_THROW(pushed.step(std::numeric_limits<float>::denorm_min()));
+  EXPECT_NO_THROW(pushed.step(kDt));
+}
+
 TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
   World2D world;
   StaticDef empty;

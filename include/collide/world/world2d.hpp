@@ -91,6 +91,21 @@ void check_world_range(const Aabb& box, std::string_view what);
 /// shape: "WHAT shapes[K]: ...".
 void check_world_range(std::span<const Shape2D> shapes, const Transform& transform, std::string_view what);
 
+/// Largest speed World2D accepts for a body, in world units per second (each velocity
+/// component within [-kMaxWorldSpeed, kMaxWorldSpeed]): a body crosses the whole coordinate
+/// range in two seconds at it, far beyond any game's speed, and a body's speed bound for the
+/// temporal broad phase, |v| + |angular velocity| * radius, stays finite (below 2^62). Faster
+/// velocities (a finite 1e25 from a scene file, found by fuzz_scene_json) made that bound
+/// overflow and the step throw. Enforced by add_body, set_velocity and the scene loader.
+inline constexpr float kMaxWorldSpeed = kMaxWorldCoordinate;
+/// Largest angular speed World2D accepts, in radians per second (same reason as kMaxWorldSpeed).
+inline constexpr float kMaxWorldAngularSpeed = kMaxWorldCoordinate;
+
+/// Throws InvalidInput "WHAT velocity: ..." / "WHAT angular velocity: ..." unless `velocity`
+/// is finite with each component within kMaxWorldSpeed and `angular_velocity` (radians per
+/// second) finite within kMaxWorldAngularSpeed.
+void check_world_velocity(Vec2 velocity, float angular_velocity, std::string_view what);
+
 /// Which pairs interact: A and B do iff (A.layer & B.mask) != 0 and (B.layer & A.mask) != 0.
 struct CollisionFilter {
   std::uint32_t layer = 1u;            ///< the layers this collider is on (usually one bit)
@@ -350,8 +365,9 @@ class World2D {
   [[nodiscard]] float angular_velocity(BodyId id) const;
   [[nodiscard]] std::span<const Shape2D> shapes(BodyId id) const;
   [[nodiscard]] std::uint64_t user_id(BodyId id) const;
-  /// Setters; throw InvalidInput for a stale id or non-finite values. A teleport is fine: the
-  /// broad phase notices the broken speed bound and rebuilds.
+  /// Setters; throw InvalidInput for a stale id, non-finite values or a velocity beyond
+  /// kMaxWorldSpeed / kMaxWorldAngularSpeed. A teleport is fine: the broad phase notices the
+  /// broken speed bound and rebuilds.
   void set_transform(BodyId id, const Transform& xf);
   void set_velocity(BodyId id, Vec2 velocity, float angular_velocity = 0.0f);
   /// Every alive body's id, in index order.
