@@ -141,7 +141,8 @@ class SceneReader {
     s.max_radius = kSpawnMaxRadiusFraction * side;
     s.min_speed = kSpawnMinSpeedFraction * side;
     s.max_speed = kSpawnMaxSpeedFraction * side;
-    s.bullet_speed = kSpawnBulletSpeedFraction * side;
+    // Bounds up to 2^31 across are in range, so 2 L is capped at the world's speed range.
+    s.bullet_speed = std::min(kSpawnBulletSpeedFraction * side, kMaxWorldSpeed);
     if (j == nullptr) return s;
     check_object(*j, path, "a spawn section");
     check_fields(*j, path, {"count", "seed", "radius", "speed", "bullets", "bullet_speed"});

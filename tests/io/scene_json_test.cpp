@@ -214,6 +214,16 @@ TEST(SceneJson, ThinWallsExampleLoadsWhatTheFileSaysWithDefaultsFromTheBounds) {
   EXPECT_EQ(s.laser->sweep, 0.02f);
 }
 
+/// The message of the InvalidInput that parsing `text` throws (or "no error").
+std::string error_of_text(const std::string& text) {
+  try {
+    (void)parse_scene_json(text, "s.json");
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 TEST(SceneJson, OmittedFieldsTakeTheDocumentedDefaults) {
   const SceneDescription s = parse_scene_json(R"({
     "bounds": [0, 0, 40, 20],
@@ -241,6 +251,21 @@ TEST(SceneJson, OmittedFieldsTakeTheDocumentedDefaults) {
   EXPECT_FLOAT_EQ(s.spawn.max_radius, 20.0f / 150.0f);
   EXPECT_FLOAT_EQ(s.spawn.bullet_speed, 40.0f);
   EXPECT_FALSE(s.laser.has_value());
+  // Bounds 2e9 across are in the coordinate range, but 2 L is beyond the speed range: the
+  // default bullet speed is capped at kMaxWorldSpeed, so such a scene's bullets can be added.
+  const SceneDescription huge = parse_scene_json(R"({"bounds": [-1e9, -1e9, 1e9, 1e9], "walls": 0})", "huge.json");
+  EXPECT_EQ(huge.spawn.bullet_speed, kMaxWorldSpeed);
+  // An explicit bullet speed or body velocity beyond it is an error naming the field.
+  EXPECT_NE(error_of_text(R"({"bounds": [0, 0, 10, 10], "spawn": {"count": 1, "bullet_speed": 2e9}})")
+                .find("spawn.bullet_speed: beyond the world's speed range (kMaxWorldSpeed"),
+            std::string::npos);
+  EXPECT_NE(error_of_text(R"({"bounds": [0, 0, 10, 10], "spawn": {"count": 1, "speed": [1, 2e9]}})")
+                .find("spawn.speed[1]: beyond the world's speed range"),
+            std::string::npos);
+  EXPECT_NE(error_of_text(R"({"bounds": [0, 0, 10, 10], "bodies": [{"shape": {"type": "circle", "radius": 1},
+    "transform": {"p": [5, 5]}, "velocity": [0, -1e25]}]})")
+                .find("bodies[0] velocity: (0, -1e+25) beyond the speed range"),
+            std::string::npos);
   // A spawn section with only a count: one bullet in 50.
   EXPECT_EQ(parse_scene_json(R"({"bounds": [0, 0, 1, 1], "spawn": {"count": 120}})", "s.json").spawn.bullets, 2);
   // Comments are allowed everywhere, and walls may be 0.

@@ -45,7 +45,7 @@ struct SceneSpawn {
   float min_speed = 0.0f;        ///< speed range, world units per second (default L/60..L/12)
   float max_speed = 0.0f;
   int bullets = 0;               ///< of `count`, small fast bodies (default count / 50)
-  float bullet_speed = 0.0f;     ///< world units per second (default 2 L)
+  float bullet_speed = 0.0f;     ///< world units per second (default 2 L, at most kMaxWorldSpeed)
 };
 
 /// A laser cast every frame and reflected by the statics (the scene's `laser`).
