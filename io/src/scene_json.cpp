@@ -134,6 +134,13 @@ class SceneReader {
     return {v.x, v.y};
   }
 
+  /// A spawn speed at `at` must be within the world's (World2D refuses faster bodies).
+  static void within_world_speed(float speed, const JsonPath& at) {
+    if (speed <= kMaxWorldSpeed) return;
+    fail_json(at, "beyond the world's speed range (kMaxWorldSpeed, " +
+                      std::to_string(static_cast<long long>(kMaxWorldSpeed)) + ")");
+  }
+
   static SceneSpawn spawn(const Json* j, const JsonPath& path, const Aabb& box) {
     const float side = std::min(box.max.x - box.min.x, box.max.y - box.min.y);
     SceneSpawn s;
@@ -160,11 +167,8 @@ class SceneReader {
     }
     if (const Json* v = find_member(*j, "speed")) {
       std::tie(s.min_speed, s.max_speed) = range(*v, path.member("speed"), 0.0f, false);
-      if (!(s.max_speed <= kMaxWorldSpeed)) {
-        const JsonPath speed = path.member("speed");
-        fail_json(speed.element(1), "beyond the world's speed range (kMaxWorldSpeed, " +
-                                                        std::to_string(static_cast<long long>(kMaxWorldSpeed)) + ")");
-      }
+      const JsonPath speed = path.member("speed");
+      within_world_speed(s.max_speed, speed.element(1));
     }
     if (const Json* v = find_member(*j, "bullets")) {
       s.bullets = static_cast<int>(integer(*v, path.member("bullets"), static_cast<std::uint64_t>(s.count)));
@@ -172,10 +176,7 @@ class SceneReader {
     if (const Json* v = find_member(*j, "bullet_speed")) {
       s.bullet_speed = float_from_json(*v, path.member("bullet_speed"));
       if (!(s.bullet_speed > 0.0f)) fail_json(path.member("bullet_speed"), "must be > 0 (" + shown(*v) + ")");
-      if (!(s.bullet_speed <= kMaxWorldSpeed)) {
-        fail_json(path.member("bullet_speed"), "beyond the world's speed range (kMaxWorldSpeed, " +
-                                                   std::to_string(static_cast<long long>(kMaxWorldSpeed)) + ")");
-      }
+      within_world_speed(s.bullet_speed, path.member("bullet_speed"));
     }
     return s;
   }

@@ -880,16 +880,22 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
                     margin + touch, &axis, m);
       return;
     }
-  } else if (flat_pair) {
+  }
+  // Rounded or speculative cores found apart: the contact lies between their closest points,
+  // which GJK finds.
+  const auto closest = [&] { return gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a); };
+  const auto contact_at = [&](const DistanceResult3& d) {
+    contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+  };
+  if (flat_pair) {
     // Two cores without volume (a triangle against a segment or a triangle): A - B may be
     // flat, and then the axes below miss the directions within its plane that separate it
-    // from the origin. GJK decides apart or touching for them. Rounded or speculative: its
-    // closest points decide when the cores are apart, and the separating axis test runs only
-    // when they overlap.
-    const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
+    // from the origin. GJK decides apart or touching for them, and the separating axis test
+    // runs only when they overlap.
+    const DistanceResult3 d = closest();
     if (d.status != QueryStatus::overlapped) {
       if (reach > 0.0f) {
-        contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+        contact_at(d);
         return;
       }
       // Bare flat cores: apart unless within rounding of touching.
@@ -903,13 +909,12 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const EdgeQuery ee = query_edges(a, b, reach);
   if (ee.separation > reach) return;
   if (reach > 0.0f && !flat_pair && std::max({fa.separation, fb.separation, ee.separation}) > 0.0f) {
-    // Rounded or speculative, and an axis separates the cores (the test is complete for
-    // polytopes: cores that overlap have no such axis): the contact lies between their closest
-    // points, which GJK finds. The test first, as most pairs a level gives overlap, and then
-    // GJK (which must build a simplex around the origin to say so) would be wasted.
-    const DistanceResult3 d = gjk_distance<3>(proxy_a, Transform3{}, proxy_b, b_in_a);
+    // An axis separates the cores (the test is complete for polytopes: cores that overlap have
+    // no such axis). The test first, as most pairs a level gives overlap, and then GJK (which
+    // must build a simplex around the origin to say so) would be wasted.
+    const DistanceResult3 d = closest();
     if (d.status != QueryStatus::overlapped) {
-      contact_along(a, b, d.normal, d.point_a, d.point_b, margin, margin, nullptr, m);
+      contact_at(d);
       return;
     }
   }
