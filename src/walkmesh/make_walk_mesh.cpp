@@ -100,18 +100,32 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   const glm::dvec3 world_origin(origin);
   const glm::dvec3 world_lift = static_cast<double>(agent.height) * glm::dvec3(up);
   auto world = [&](std::uint32_t v) { return glm::dvec3(level.positions[v]); };
-  auto blocked = [&](std::uint32_t self, const std::array<glm::dvec3, 3>& base) {
-    bool hit = false;
+  // The level triangles that leave a prism (base swept by the lift) less than the tolerance of
+  // headroom. First through the BVH; a refined piece then tests only its parent's blockers: a
+  // piece's prism lies inside its parent's, and its edges are parallel to the parent's (midpoint
+  // subdivision), so the separating axes are the same and every overlap can only shrink.
+  std::vector<std::uint32_t> blockers;  // per level triangle: each piece's list, appended in turn
+  auto collect_blockers = [&](std::uint32_t self, const std::array<glm::dvec3, 3>& base) {
     std::array<Vec3, 3> corner;
     for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(k)] = Vec3(base[static_cast<std::size_t>(k)] - world_origin);
     Aabb3 prism_box{glm::min(glm::min(corner[0], corner[1]), corner[2]), glm::max(glm::max(corner[0], corner[1]), corner[2])};
     prism_box = fatten(merge(prism_box, Aabb3{prism_box.min + lift, prism_box.max + lift}), tolerance);
     bvh.query(prism_box, [&](std::uint32_t other) {
-      if (hit || other == self) return;
+      if (other == self) return;
       const glm::uvec3 o = level.triangles[other];
-      hit = penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance));
+      if (penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance))) {
+        blockers.push_back(other);
+      }
     });
-    return hit;
+  };
+  auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& base) {
+    for (std::size_t i = first; i < first + count; ++i) {
+      const std::uint32_t other = blockers[i];
+      const glm::uvec3 o = level.triangles[other];
+      if (penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance))) {
+        blockers.push_back(other);
+      }
+    }
   };
   // A triangle partly under an obstacle is split into four at its edge midpoints, again and
   // again, keeping the pieces with headroom, until pieces are smaller than
@@ -126,6 +140,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
     std::array<glm::dvec3, 3> corners;          // world coordinates
     std::array<std::uint32_t, 3> level_vertex;  // level vertex index of each corner, or kNewVertex
     int depth;
+    std::size_t first_blocker, blocker_count;  // the parent's blockers in `blockers`
   };
   std::vector<Piece> pieces;
   for (std::uint32_t t = 0; t < level.triangles.size(); ++t) {
@@ -145,17 +160,25 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       ++too_steep;
       continue;
     }
-    if (agent.height <= 0.0f || !blocked(t, base)) {
+    blockers.clear();
+    if (agent.height > 0.0f) collect_blockers(t, base);
+    if (blockers.empty()) {
       walkable.triangles.push_back(tri);
       continue;
     }
     bool dropped = false, split = false;
-    pieces.assign(1, {{world(tri.x), world(tri.y), world(tri.z)}, {tri.x, tri.y, tri.z}, 0});
+    pieces.assign(1, {{world(tri.x), world(tri.y), world(tri.z)}, {tri.x, tri.y, tri.z}, 0, 0, blockers.size()});
     while (!pieces.empty()) {
       const Piece piece = pieces.back();
       pieces.pop_back();
       const auto& c = piece.corners;
-      if (piece.depth > 0 && !blocked(t, c)) {
+      std::size_t first = piece.first_blocker, count = piece.blocker_count;
+      if (piece.depth > 0) {
+        first = blockers.size();
+        filter_blockers(piece.first_blocker, piece.blocker_count, c);
+        count = blockers.size() - first;
+      }
+      if (count == 0) {
         glm::uvec3 kept;
         for (int k = 0; k < 3; ++k) {
           kept[k] = piece.level_vertex[k];
@@ -177,10 +200,10 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       const glm::dvec3 m01 = (c[0] + c[1]) * 0.5, m12 = (c[1] + c[2]) * 0.5, m20 = (c[2] + c[0]) * 0.5;
       const auto& v = piece.level_vertex;
       const int d = piece.depth + 1;
-      pieces.push_back({{c[0], m01, m20}, {v[0], kNewVertex, kNewVertex}, d});
-      pieces.push_back({{m01, c[1], m12}, {kNewVertex, v[1], kNewVertex}, d});
-      pieces.push_back({{m20, m12, c[2]}, {kNewVertex, kNewVertex, v[2]}, d});
-      pieces.push_back({{m01, m12, m20}, {kNewVertex, kNewVertex, kNewVertex}, d});
+      pieces.push_back({{c[0], m01, m20}, {v[0], kNewVertex, kNewVertex}, d, first, count});
+      pieces.push_back({{m01, c[1], m12}, {kNewVertex, v[1], kNewVertex}, d, first, count});
+      pieces.push_back({{m20, m12, c[2]}, {kNewVertex, kNewVertex, v[2]}, d, first, count});
+      pieces.push_back({{m01, m12, m20}, {kNewVertex, kNewVertex, kNewVertex}, d, first, count});
     }
     refined += split ? 1 : 0;
     low_headroom += dropped ? 1 : 0;
