@@ -32,7 +32,6 @@ void project(const std::array<glm::dvec3, N>& points, glm::dvec3 axis, double& l
 /// local origin's rounding (borderline contacts decided one way for every origin).
 bool penetrates(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, const std::array<glm::dvec3, 3>& other,
                 double tolerance) noexcept {
-  const std::array<glm::dvec3, 6> prism{base[0], base[1], base[2], base[0] + lift, base[1] + lift, base[2] + lift};
   const std::array<glm::dvec3, 3> e{base[1] - base[0], base[2] - base[1], base[0] - base[2]};
   const std::array<glm::dvec3, 3> f{other[1] - other[0], other[2] - other[1], other[0] - other[2]};
   std::array<glm::dvec3, 17> axes;
@@ -44,14 +43,18 @@ bool penetrates(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, const st
     for (const glm::dvec3& ei : e) axes[n++] = glm::cross(ei, fj);
     axes[n++] = glm::cross(lift, fj);
   }
-  for (const glm::dvec3& raw : axes) {
-    const double len = glm::length(raw);
+  for (const glm::dvec3& axis : axes) {
+    const double len = glm::length(axis);
     if (!(len > 0.0)) continue;  // parallel edges: no axis
-    const glm::dvec3 axis = raw / len;
+    // The prism's interval is the base's and the lifted base's; both compared unnormalised.
     double a_lo, a_hi, b_lo, b_hi;
-    project(prism, axis, a_lo, a_hi);
+    project(base, axis, a_lo, a_hi);
+    const double rise = glm::dot(lift, axis);
+    a_lo = std::min(a_lo, a_lo + rise);
+    a_hi = std::max(a_hi, a_hi + rise);
     project(other, axis, b_lo, b_hi);
-    if (a_hi - b_lo <= tolerance || b_hi - a_lo <= tolerance) return false;
+    const double margin = tolerance * len;
+    if (a_hi - b_lo <= margin || b_hi - a_lo <= margin) return false;
   }
   return true;
 }
@@ -118,11 +121,21 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       }
     });
   };
+  // Most of a refined piece's children lie away from a small obstacle: disjoint bounding boxes
+  // settle those before the separating axes (disjoint solids cannot overlap on every axis).
   auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& base) {
+    const glm::dvec3 base_lo = glm::min(glm::min(base[0], base[1]), base[2]);
+    const glm::dvec3 base_hi = glm::max(glm::max(base[0], base[1]), base[2]);
+    const glm::dvec3 prism_lo = glm::min(base_lo, base_lo + world_lift);
+    const glm::dvec3 prism_hi = glm::max(base_hi, base_hi + world_lift);
     for (std::size_t i = first; i < first + count; ++i) {
       const std::uint32_t other = blockers[i];
       const glm::uvec3 o = level.triangles[other];
-      if (penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance))) {
+      const std::array<glm::dvec3, 3> tri{world(o.x), world(o.y), world(o.z)};
+      const glm::dvec3 lo = glm::min(glm::min(tri[0], tri[1]), tri[2]);
+      const glm::dvec3 hi = glm::max(glm::max(tri[0], tri[1]), tri[2]);
+      if (glm::any(glm::lessThan(prism_hi, lo)) || glm::any(glm::lessThan(hi, prism_lo))) continue;
+      if (penetrates(base, world_lift, tri, static_cast<double>(tolerance))) {
         blockers.push_back(other);
       }
     }

@@ -113,11 +113,22 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
       }
     }
   }
+  // Per axis the vertices in coordinate order (ties by index), with their coordinates beside them
+  // so that sorting and searching read one contiguous array.
   std::array<std::vector<std::uint32_t>, 3> sorted;
-  for (int axis = 0; axis < 3; ++axis) {
-    sorted[axis] = verts;
-    std::sort(sorted[axis].begin(), sorted[axis].end(),
-              [&](std::uint32_t a, std::uint32_t b) { return local[a][axis] < local[b][axis]; });
+  std::array<std::vector<float>, 3> keys;
+  {
+    std::vector<std::pair<float, std::uint32_t>> keyed(verts.size());
+    for (int axis = 0; axis < 3; ++axis) {
+      for (std::size_t i = 0; i < verts.size(); ++i) keyed[i] = {local[verts[i]][axis], verts[i]};
+      std::sort(keyed.begin(), keyed.end());
+      sorted[axis].resize(keyed.size());
+      keys[axis].resize(keyed.size());
+      for (std::size_t i = 0; i < keyed.size(); ++i) {
+        keys[axis][i] = keyed[i].first;
+        sorted[axis][i] = keyed[i].second;
+      }
+    }
   }
   std::size_t splits = 0;
   for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
@@ -168,11 +179,9 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
         for (int axis = 0; axis < 3; ++axis) {
           const float lo = std::min(a[axis], local[v][axis]) - tolerance;
           const float hi = std::max(a[axis], local[v][axis]) + tolerance;
-          const auto& list = sorted[axis];
-          const auto first = std::lower_bound(list.begin(), list.end(), lo,
-                                              [&](std::uint32_t q, float value) { return local[q][axis] < value; });
-          const auto last = std::upper_bound(list.begin(), list.end(), hi,
-                                             [&](float value, std::uint32_t q) { return value < local[q][axis]; });
+          const auto& list = keys[axis];
+          const auto first = std::lower_bound(list.begin(), list.end(), lo);
+          const auto last = std::upper_bound(first, list.end(), hi);
           range[axis] = {static_cast<std::size_t>(first - list.begin()), static_cast<std::size_t>(last - list.begin())};
           if (range[axis].second - range[axis].first < best_count) {
             best_count = range[axis].second - range[axis].first;
