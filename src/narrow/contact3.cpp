@@ -18,7 +18,9 @@
 //  3. Cores that overlap (or touch): a face axis makes a face contact (the reference face's side
 //     planes clip the other shape's most anti-parallel face, Sutherland & Hodgman 1974), an
 //     edge axis one point between the two edges. Cores apart by less than the radii plus the
-//     margin (rounded shapes, speculative contact): GJK gives their closest points; if the
+//     margin (rounded shapes, speculative contact): GJK gives their closest points (a point or
+//     segment core against a triangle, as a capsule meets a level: in closed form, Ericson
+//     5.1.10, with the edges the segment stays inside of skipped); if the
 //     normal is within kFaceContactSine of a face normal, that face clips as above, else the
 //     closest points make one point.
 //  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
@@ -841,6 +843,89 @@ void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 poi
   point_contact(pa, pb, n, s, a.radius, b.p.radius, near_features(a, b, pa, pb), m);
 }
 
+/// GJK's answer for a point or segment core A (sphere, capsule, segment) and a triangle with
+/// corners `t` (A's frame) and rounding radius `t_radius`, in
+/// closed form: the segment pierces the triangle (overlapped), or the closest points are those
+/// of an endpoint and the triangle or of the segment and a triangle edge (Ericson, Real-Time
+/// Collision Detection, 5.1.10). Cores closer than `touch` count as overlapping, as in GJK. The
+/// result is gjk_distance's for the two proxies (A's frame; radii applied). False when the pair
+/// is not one of these (then GJK answers).
+bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float t_radius, float touch,
+                         DistanceResult3& d) noexcept {
+  using Kind = Polytope3::Kind;
+  if (a.kind != Kind::point && a.kind != Kind::segment) return false;
+  const Vec3 p = a.vertex(0);
+  const Vec3 q = a.vertex(a.vertex_count - 1);
+  d = DistanceResult3{};
+  d.status = QueryStatus::overlapped;
+  const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
+  const float nn = dot(n, n);
+  // Edge functions (seen along n): >= 0 inside edge k, which runs from t[k] to t[k + 1]. Inside
+  // all three, a point is over the triangle (its projection is inside).
+  const auto inside = [&](Vec3 x) {
+    return glm::vec3(dot(cross(t[1] - t[0], x - t[0]), n), dot(cross(t[2] - t[1], x - t[1]), n),
+                     dot(cross(t[0] - t[2], x - t[2]), n));
+  };
+  const auto over = [&](glm::vec3 e) { return nn > 0.0f && e.x >= 0.0f && e.y >= 0.0f && e.z >= 0.0f; };
+  const float hp = dot(n, p - t[0]);
+  const float hq = dot(n, q - t[0]);
+  const bool one_side = (hp > 0.0f && hq > 0.0f) || (hp < 0.0f && hq < 0.0f);
+  if (!one_side && hp != hq) {
+    // Pierced: the ends on opposite sides of the plane (or one on it), the crossing over it.
+    const Vec3 x = p + (hp / (hp - hq)) * (q - p);
+    if (over(inside(x))) {
+      d.point_a = x;
+      d.point_b = x;
+      return true;
+    }
+  }
+  // The closest pair is an end over the triangle with its projection, or lies on a triangle
+  // edge: an end that is not over the triangle is nearest to an edge, which the segment-edge
+  // pairs cover. The pair can lie inside edge k only where the segment is outside it, so an
+  // edge with both ends inside is skipped (all three when both ends are over the triangle on
+  // one side: the distance is then the height, linear along the segment, least at an end).
+  const glm::vec3 ep = inside(p);
+  const bool p_over = over(ep);
+  Vec3 on_a = p;
+  Vec3 on_b = p;
+  float best = kInf;
+  if (p_over || a.kind == Kind::point) {
+    on_b = p_over ? p - (hp / nn) * n : closest_point_on_triangle(p, t[0], t[1], t[2]).point;
+    best = length_squared(on_b - on_a);
+  }
+  if (a.kind == Kind::segment) {
+    const auto consider = [&](Vec3 pa, Vec3 pb) {
+      const float d2 = length_squared(pb - pa);
+      if (d2 < best) {
+        best = d2;
+        on_a = pa;
+        on_b = pb;
+      }
+    };
+    const glm::vec3 eq = inside(q);
+    if (over(eq)) consider(q, q - (hq / nn) * n);
+    for (int k = 0; k < 3; ++k) {
+      if (nn > 0.0f && ep[k] >= 0.0f && eq[k] >= 0.0f) continue;
+      const auto c = detail::closest_between_segments<3>(p, q, t[static_cast<std::size_t>(k)],
+                                                         t[static_cast<std::size_t>(k == 2 ? 0 : k + 1)]);
+      consider(c.point1, c.point2);
+    }
+  }
+  const float core_distance = std::sqrt(best);
+  if (!(core_distance > touch)) {
+    d.point_a = 0.5f * (on_a + on_b);
+    d.point_b = d.point_a;
+    return true;
+  }
+  const Vec3 unit = (on_b - on_a) * (1.0f / core_distance);
+  d.status = QueryStatus::separated;
+  d.normal = unit;
+  d.point_a = on_a + a.radius * unit;
+  d.point_b = on_b - t_radius * unit;
+  d.distance = std::max(core_distance - (a.radius + t_radius), 0.0f);
+  return true;
+}
+
 /// The contact of two placed cores: `proxy_a` / `proxy_b` are the same shapes' support maps,
 /// for GJK when the cores may be apart.
 void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const PlacedPolytope& b,
@@ -892,7 +977,11 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
     // flat, and then the axes below miss the directions within its plane that separate it
     // from the origin. GJK decides apart or touching for them, and the separating axis test
     // runs only when they overlap.
-    const DistanceResult3 d = closest();
+    DistanceResult3 d;
+    if (b.p.kind != Polytope3::Kind::triangle ||
+        !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)}, b.p.radius, touch, d)) {
+      d = closest();
+    }
     if (d.status != QueryStatus::overlapped) {
       if (reach > 0.0f) {
         contact_at(d);

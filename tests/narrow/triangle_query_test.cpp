@@ -4,6 +4,7 @@
 
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -187,6 +189,104 @@ TEST(TriangleQuery, OverlapDistanceContactAgree) {
   }
   EXPECT_GT(hits, 200);
   EXPECT_GT(misses, 500);
+}
+
+// Distance of segment [p, q] to the triangle in double, independent of the library: the
+// distance of a point on the segment to the triangle is convex along it, so a golden-section
+// search over the fraction finds its minimum (to about 1e-12 of the segment).
+double brute_segment_triangle_distance(glm::dvec3 p, glm::dvec3 q, const std::array<glm::dvec3, 3>& t) {
+  const auto f = [&](double s) {
+    const glm::dvec3 x = p + s * (q - p);
+    return glm::length(test::brute_closest_on_triangle(x, t[0], t[1], t[2]) - x);
+  };
+  double lo = 0.0, hi = 1.0;
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int i = 0; i < 80; ++i) {
+    const double m1 = hi - g * (hi - lo);
+    const double m2 = lo + g * (hi - lo);
+    if (f(m1) < f(m2)) {
+      hi = m2;
+    } else {
+      lo = m1;
+    }
+  }
+  return std::min({f(0.0), f(1.0), f(0.5 * (lo + hi))});
+}
+
+// Capsules and segments against a triangle take a closed form for their cores' closest points
+// (not GJK): touching with and without a margin, and the speculative depth, against the brute
+// distance above. Placements over the triangle (both ends above it), lying along an edge and
+// crossing it are drawn on purpose, besides random ones.
+TEST(TriangleQuery, CapsuleAndSegmentAgainstBruteSegmentTriangleDistance) {
+  std::mt19937 rng(29);
+  int apart = 0, touching = 0, over = 0, crossing = 0;
+  for (int iter = 0; iter < 6000; ++iter) {
+    const Triangle tri = random_triangle(rng, 2.0f);
+    const std::array<Vec3, 3>& v = tri.vertices;
+    Vec3 p, q;
+    const Vec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
+    const auto inner = [&]() {  // a random point of the triangle
+      float u = test::uniform(rng, 0.0f, 1.0f), w = test::uniform(rng, 0.0f, 1.0f);
+      if (u + w > 1.0f) u = 1.0f - u, w = 1.0f - w;
+      return v[0] + u * (v[1] - v[0]) + w * (v[2] - v[0]);
+    };
+    switch (iter % 4) {
+      case 0:  // both ends over the triangle, one side
+        p = inner() + test::uniform(rng, 0.01f, 0.8f) * n;
+        q = inner() + test::uniform(rng, 0.01f, 0.8f) * n;
+        ++over;
+        break;
+      case 1: {  // along an edge, off to its outside or above it
+        const int k = static_cast<int>(rng() % 3);
+        const Vec3 e0 = v[static_cast<std::size_t>(k)], e1 = v[static_cast<std::size_t>((k + 1) % 3)];
+        const Vec3 off = test::random_point3(rng, 0.5f);
+        p = e0 + test::uniform(rng, -0.3f, 0.6f) * (e1 - e0) + off;
+        q = e0 + test::uniform(rng, 0.4f, 1.3f) * (e1 - e0) + off;
+        break;
+      }
+      case 2: {  // through the plane, near the triangle
+        const Vec3 x = inner() + test::random_point3(rng, 0.3f);
+        const Vec3 d = test::random_unit3(rng) * test::uniform(rng, 0.1f, 1.0f);
+        p = x + d;
+        q = x - d;
+        ++crossing;
+        break;
+      }
+      default:
+        p = test::random_point3(rng, 2.0f);
+        q = test::random_point3(rng, 2.0f);
+    }
+    const float radius = iter % 5 == 0 ? 0.0f : test::uniform(rng, 0.05f, 0.5f);
+    const double core = brute_segment_triangle_distance(
+        glm::dvec3(p), glm::dvec3(q), {glm::dvec3(v[0]), glm::dvec3(v[1]), glm::dvec3(v[2])});
+    const double gap = core - radius;
+    const auto contact_with = [&](float margin) {
+      return radius > 0.0f ? contact(make_capsule(p, q, radius), Transform3{}, tri, Transform3{}, margin)
+                           : contact(make_segment(p, q), Transform3{}, tri, Transform3{}, margin);
+    };
+    const Manifold3 m = contact_with(0.0f);
+    if (gap > 1e-4) {
+      EXPECT_FALSE(m.touching()) << iter << " gap " << gap;
+      ++apart;
+      const Manifold3 s = contact_with(static_cast<float>(gap) + 0.05f);
+      ASSERT_TRUE(s.touching()) << iter << " gap " << gap;
+      float deepest = -1e30f;
+      for (int i = 0; i < s.count; ++i) deepest = std::max(deepest, s.points[i].depth);
+      // A face contact measures along the face normal (within kFaceContactSine of the closest
+      // points' direction): its deepest point lies no nearer than the gap, a little farther.
+      EXPECT_LE(deepest, -gap + 1e-4) << iter;
+      EXPECT_GE(deepest, -gap * (1.0 + kFaceContactSine) - 1e-4) << iter;
+      const Manifold3 short_margin = contact_with(static_cast<float>(gap) * 0.9f - 1e-4f);
+      EXPECT_FALSE(short_margin.touching()) << iter << " gap " << gap;
+    } else if (gap < -1e-4) {
+      EXPECT_TRUE(m.touching()) << iter << " gap " << gap;
+      ++touching;
+    }
+  }
+  EXPECT_GT(apart, 1500);
+  EXPECT_GT(touching, 1000);
+  EXPECT_GT(over, 1000);
+  EXPECT_GT(crossing, 1000);
 }
 
 TEST(TriangleQuery, ClosestPointVoronoiFeatures) {
