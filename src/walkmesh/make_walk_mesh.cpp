@@ -24,37 +24,60 @@ void project(const std::array<glm::dvec3, N>& points, glm::dvec3 axis, double& l
   }
 }
 
-/// True when the convex prism (triangle `base` swept by `lift`) and triangle `other` overlap by
-/// more than `tolerance` on every separating axis candidate: the face normals of both, and the
-/// cross products of every prism edge direction (three base edges, the lift) with every edge of
-/// the other triangle (separating axis theorem for convex polyhedra; Ericson 5.2.1). In double,
-/// on world coordinates: float corners are exact there, so the answer does not depend on the
-/// local origin's rounding (borderline contacts decided one way for every origin).
-bool penetrates(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, const std::array<glm::dvec3, 3>& other,
-                double tolerance) noexcept {
+/// The candidate separating axes of the convex prism (triangle `base` swept by `lift`) against
+/// triangle `other`: the face normals of both, and the cross products of every prism edge
+/// direction (three base edges, the lift) with every edge of the other triangle (separating
+/// axis theorem for convex polyhedra; Ericson 5.2.1), unnormalised, with the other triangle's
+/// interval and the lift's projection on each. A refined piece of `base` has edges parallel to
+/// its own (midpoint subdivision), so one set serves the base and all its pieces.
+struct PrismAxes {
+  static constexpr int kMax = 17;
+  std::array<glm::dvec3, kMax> axis;
+  std::array<double, kMax> other_lo, other_hi, rise, margin;
+  int count = 0;
+  glm::dvec3 other_min, other_max;  ///< the other triangle's box
+};
+
+PrismAxes prism_axes(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, const std::array<glm::dvec3, 3>& other,
+                     double tolerance) noexcept {
   const std::array<glm::dvec3, 3> e{base[1] - base[0], base[2] - base[1], base[0] - base[2]};
   const std::array<glm::dvec3, 3> f{other[1] - other[0], other[2] - other[1], other[0] - other[2]};
-  std::array<glm::dvec3, 17> axes;
+  std::array<glm::dvec3, PrismAxes::kMax> candidates;
   int n = 0;
-  axes[n++] = glm::cross(e[0], e[1]);
-  axes[n++] = glm::cross(f[0], f[1]);
-  for (const glm::dvec3& ei : e) axes[n++] = glm::cross(ei, lift);
+  candidates[n++] = glm::cross(e[0], e[1]);
+  candidates[n++] = glm::cross(f[0], f[1]);
+  for (const glm::dvec3& ei : e) candidates[n++] = glm::cross(ei, lift);
   for (const glm::dvec3& fj : f) {
-    for (const glm::dvec3& ei : e) axes[n++] = glm::cross(ei, fj);
-    axes[n++] = glm::cross(lift, fj);
+    for (const glm::dvec3& ei : e) candidates[n++] = glm::cross(ei, fj);
+    candidates[n++] = glm::cross(lift, fj);
   }
-  for (const glm::dvec3& axis : axes) {
+  PrismAxes out;
+  for (const glm::dvec3& axis : candidates) {
     const double len = glm::length(axis);
     if (!(len > 0.0)) continue;  // parallel edges: no axis
-    // The prism's interval is the base's and the lifted base's; both compared unnormalised.
-    double a_lo, a_hi, b_lo, b_hi;
-    project(base, axis, a_lo, a_hi);
-    const double rise = glm::dot(lift, axis);
-    a_lo = std::min(a_lo, a_lo + rise);
-    a_hi = std::max(a_hi, a_hi + rise);
-    project(other, axis, b_lo, b_hi);
-    const double margin = tolerance * len;
-    if (a_hi - b_lo <= margin || b_hi - a_lo <= margin) return false;
+    const int k = out.count++;
+    out.axis[k] = axis;
+    project(other, axis, out.other_lo[k], out.other_hi[k]);
+    out.rise[k] = glm::dot(lift, axis);
+    out.margin[k] = tolerance * len;
+  }
+  out.other_min = glm::min(glm::min(other[0], other[1]), other[2]);
+  out.other_max = glm::max(glm::max(other[0], other[1]), other[2]);
+  return out;
+}
+
+/// True when the prism over `piece` (the triangle `axes` were made for, or a refined piece of
+/// it) and the other triangle overlap by more than the tolerance on every axis. In double, on
+/// world coordinates: float corners are exact there, so the answer does not depend on the local
+/// origin's rounding (borderline contacts decided one way for every origin).
+bool penetrates(const PrismAxes& axes, const std::array<glm::dvec3, 3>& piece) noexcept {
+  for (int k = 0; k < axes.count; ++k) {
+    // The prism's interval is the piece's and the lifted piece's; compared unnormalised.
+    double a_lo, a_hi;
+    project(piece, axes.axis[k], a_lo, a_hi);
+    a_lo = std::min(a_lo, a_lo + axes.rise[k]);
+    a_hi = std::max(a_hi, a_hi + axes.rise[k]);
+    if (a_hi - axes.other_lo[k] <= axes.margin[k] || axes.other_hi[k] - a_lo <= axes.margin[k]) return false;
   }
   return true;
 }
@@ -104,10 +127,12 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   const glm::dvec3 world_lift = static_cast<double>(agent.height) * glm::dvec3(up);
   auto world = [&](std::uint32_t v) { return glm::dvec3(level.positions[v]); };
   // The level triangles that leave a prism (base swept by the lift) less than the tolerance of
-  // headroom. First through the BVH; a refined piece then tests only its parent's blockers: a
-  // piece's prism lies inside its parent's, and its edges are parallel to the parent's (midpoint
-  // subdivision), so the separating axes are the same and every overlap can only shrink.
-  std::vector<std::uint32_t> blockers;  // per level triangle: each piece's list, appended in turn
+  // headroom, each with its separating axes against the level triangle being refined. First
+  // through the BVH; a refined piece then tests only its parent's blockers: a piece's prism lies
+  // inside its parent's, and its edges are parallel to the parent's, so the separating axes are
+  // the same and every overlap can only shrink.
+  std::vector<PrismAxes> blocker_axes;  // per level triangle: its blockers
+  std::vector<std::uint32_t> blockers;  // per level triangle: each piece's list (blocker_axes indices), in turn
   auto collect_blockers = [&](std::uint32_t self, const std::array<glm::dvec3, 3>& base) {
     std::array<Vec3, 3> corner;
     for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(k)] = Vec3(base[static_cast<std::size_t>(k)] - world_origin);
@@ -116,28 +141,25 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
     bvh.query(prism_box, [&](std::uint32_t other) {
       if (other == self) return;
       const glm::uvec3 o = level.triangles[other];
-      if (penetrates(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance))) {
-        blockers.push_back(other);
+      const PrismAxes axes = prism_axes(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance));
+      if (penetrates(axes, base)) {
+        blockers.push_back(static_cast<std::uint32_t>(blocker_axes.size()));
+        blocker_axes.push_back(axes);
       }
     });
   };
   // Most of a refined piece's children lie away from a small obstacle: disjoint bounding boxes
   // settle those before the separating axes (disjoint solids cannot overlap on every axis).
-  auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& base) {
-    const glm::dvec3 base_lo = glm::min(glm::min(base[0], base[1]), base[2]);
-    const glm::dvec3 base_hi = glm::max(glm::max(base[0], base[1]), base[2]);
-    const glm::dvec3 prism_lo = glm::min(base_lo, base_lo + world_lift);
-    const glm::dvec3 prism_hi = glm::max(base_hi, base_hi + world_lift);
+  auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& piece) {
+    const glm::dvec3 piece_lo = glm::min(glm::min(piece[0], piece[1]), piece[2]);
+    const glm::dvec3 piece_hi = glm::max(glm::max(piece[0], piece[1]), piece[2]);
+    const glm::dvec3 prism_lo = glm::min(piece_lo, piece_lo + world_lift);
+    const glm::dvec3 prism_hi = glm::max(piece_hi, piece_hi + world_lift);
     for (std::size_t i = first; i < first + count; ++i) {
-      const std::uint32_t other = blockers[i];
-      const glm::uvec3 o = level.triangles[other];
-      const std::array<glm::dvec3, 3> tri{world(o.x), world(o.y), world(o.z)};
-      const glm::dvec3 lo = glm::min(glm::min(tri[0], tri[1]), tri[2]);
-      const glm::dvec3 hi = glm::max(glm::max(tri[0], tri[1]), tri[2]);
-      if (glm::any(glm::lessThan(prism_hi, lo)) || glm::any(glm::lessThan(hi, prism_lo))) continue;
-      if (penetrates(base, world_lift, tri, static_cast<double>(tolerance))) {
-        blockers.push_back(other);
-      }
+      const std::uint32_t b = blockers[i];
+      const PrismAxes& axes = blocker_axes[b];
+      if (glm::any(glm::lessThan(prism_hi, axes.other_min)) || glm::any(glm::lessThan(axes.other_max, prism_lo))) continue;
+      if (penetrates(axes, piece)) blockers.push_back(b);
     }
   };
   // A triangle partly under an obstacle is split into four at its edge midpoints, again and
@@ -174,6 +196,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       continue;
     }
     blockers.clear();
+    blocker_axes.clear();
     if (agent.height > 0.0f) collect_blockers(t, base);
     if (blockers.empty()) {
       walkable.triangles.push_back(tri);
