@@ -9,6 +9,7 @@
 //    sqrt(2^2 + 4^2 + 2^2) = 4.9 m, the ball around Detour's search box (every point Detour could
 //    return, and more). Both return the exact nearest point of the walk mesh; Detour returns its
 //    nearest polygon and the closest point on it (on its detail mesh when over the polygon).
+//  - Build: make_walk_mesh against the Recast + Detour pipeline below, from the same triangles.
 // The navmesh is built with RecastDemo's default parameters (cell 0.3, agent height 2, radius
 // 0.6, climb 0.9, slope 45 degrees); the walk mesh with make_walk_mesh (height 2, slope 45).
 
@@ -138,13 +139,14 @@ std::unique_ptr<Detour> build_detour(const collide::TriangleSoup& level) {
 
 /// Everything both sides share: the level, both meshes, start points, steering, query points.
 struct Scene {
+  collide::TriangleSoup level;
   collide::WalkMesh walk_mesh;
   std::unique_ptr<Detour> detour;
   std::vector<Vec3> starts;           // world points on both meshes
   std::vector<Vec3> steps;            // kAgents x kHeadings horizontal steps
   std::vector<Vec3> queries;          // points near the walkable floor
   Scene() {
-    const collide::TriangleSoup level = collide::io::load_obj(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj");
+    level = collide::io::load_obj(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj");
     walk_mesh = collide::make_walk_mesh(level, {0.785398f, 2.0f, {0, 1, 0}});
     detour = build_detour(level);
     std::mt19937 rng(1);
@@ -264,6 +266,31 @@ void BM_NearestPoint_Detour(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kQueries);
 }
 
+// Building what the walks run on, from the level's triangles: collide's walk mesh (slope and
+// headroom filters on the exact triangles, refinement under obstacles, adjacency, BVH) against
+// Recast's solo-mesh pipeline and Detour's navmesh (voxels, regions, contours, polygons, detail
+// mesh, BV tree). Not the same product: Recast also erodes by the agent's radius and simplifies.
+void BM_Build_Collide(benchmark::State& state) {
+  const Scene& s = scene();
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const collide::WalkMesh mesh = collide::make_walk_mesh(s.level, {0.785398f, 2.0f, {0, 1, 0}});
+    triangles = mesh.triangle_count();
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+
+void BM_Build_Detour(benchmark::State& state) {
+  const Scene& s = scene();
+  for (auto _ : state) {
+    const std::unique_ptr<Detour> detour = build_detour(s.level);
+    benchmark::DoNotOptimize(detour.get());
+  }
+}
+
+BENCHMARK(BM_Build_Collide)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Build_Detour)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WalkStep_Collide);
 BENCHMARK(BM_WalkStep_Detour);
 BENCHMARK(BM_NearestPoint_Collide);
