@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -24,6 +25,10 @@ constexpr std::uint32_t kUnset = 0xffffffffu;
 /// A vertex on another triangle's unshared edge is a T-junction only when its triangle lies on
 /// the far side, its direction from the edge at a cosine below -this with the near side's.
 constexpr float kTJunctionSideCos = 0.1f;
+/// Most grid cells an edge's box may span for the T-junction search to read them; a longer edge
+/// scans the sorted slab instead (measured on dungeon.obj's walk mesh: edges of a few cells
+/// are most, and a cell costs one binary search per column).
+constexpr std::uint64_t kTJunctionGridCells = 64;
 
 std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
 
@@ -93,12 +98,66 @@ struct Link {
   bool cut = false;
 };
 
+/// Vertices in a uniform grid of cubic cells, stored as one array sorted by cell: the cells of a
+/// box are read as runs of consecutive keys (one per x, y column), so a short edge looks at
+/// the vertices around it only. Cell coordinates are clamped to 21 bits, monotonically, so a
+/// box still holds every vertex inside it whatever the coordinates.
+class VertexGrid {
+ public:
+  VertexGrid(const std::vector<Vec3>& local, const std::vector<std::uint32_t>& verts, Vec3 origin, float cell)
+      : origin_(origin), inverse_(1.0f / cell) {
+    entries_.reserve(verts.size());
+    for (const std::uint32_t v : verts) entries_.push_back({key(cell_of(local[v])), v});
+    std::sort(entries_.begin(), entries_.end());
+  }
+
+  /// Cells a box spans (in 64 bits: the product may exceed 32).
+  [[nodiscard]] std::uint64_t cell_count(Vec3 lo, Vec3 hi) const noexcept {
+    const glm::uvec3 a = cell_of(lo), b = cell_of(hi);
+    return std::uint64_t{b.x - a.x + 1} * (b.y - a.y + 1) * (b.z - a.z + 1);
+  }
+
+  /// Calls visit(vertex) for every vertex in a cell the box spans.
+  template <class Visit>
+  void for_each(Vec3 lo, Vec3 hi, Visit&& visit) const {
+    const glm::uvec3 a = cell_of(lo), b = cell_of(hi);
+    for (std::uint32_t x = a.x; x <= b.x; ++x) {
+      for (std::uint32_t y = a.y; y <= b.y; ++y) {
+        auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{key({x, y, a.z}), 0});
+        const std::uint64_t last = key({x, y, b.z});
+        for (; it != entries_.end() && it->first <= last; ++it) visit(it->second);
+      }
+    }
+  }
+
+ private:
+  using Entry = std::pair<std::uint64_t, std::uint32_t>;
+  static constexpr float kMaxCell = 2097151.0f;  // 2^21 - 1
+  [[nodiscard]] glm::uvec3 cell_of(Vec3 p) const noexcept {
+    glm::uvec3 c;
+    for (int k = 0; k < 3; ++k) {
+      const float f = (p[k] - origin_[k]) * inverse_;
+      c[k] = static_cast<std::uint32_t>(f > 0.0f ? std::min(f, kMaxCell) : 0.0f);
+    }
+    return c;
+  }
+  [[nodiscard]] static std::uint64_t key(glm::uvec3 c) noexcept {
+    return (std::uint64_t{c.x} << 42) | (std::uint64_t{c.y} << 21) | c.z;
+  }
+  Vec3 origin_;
+  float inverse_;
+  std::vector<Entry> entries_;
+};
+
 /// Splits triangles at T-junctions: a vertex lying inside an unshared edge of another triangle
 /// (within `tolerance`), as where a refined part of a mesh meets an unrefined one. The triangle
 /// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding, when a triangle at
 /// w runs along (u, v) on the far side from x (overlapping geometry is left alone); repeated until no
 /// unshared edge holds a vertex (at most kMaxTJunctionPasses passes). Candidate vertices for an
-/// edge come from the axis-sorted vertex list whose slab around the edge holds the fewest.
+/// edge come from a grid of cells about as large as the mesh's mean edge (the cells around the
+/// edge), or, for an edge spanning more than kTJunctionGridCells cells, from the axis-sorted
+/// vertex list whose slab around the edge holds the fewest. The vertex nearest to u along the
+/// edge wins (ties: the lowest index), whichever way it was found.
 std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<Vec3>& local,
                               float tolerance) {
   std::vector<std::uint32_t> verts;
@@ -130,23 +189,37 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
       }
     }
   }
+  // The grid's cell: the mean edge length, so that a typical edge spans a few cells.
+  std::optional<VertexGrid> grid;
+  if (!verts.empty()) {
+    double length = 0.0;
+    Vec3 lo = local[verts[0]];
+    for (const std::uint32_t v : verts) lo = glm::min(lo, local[v]);
+    for (const glm::uvec3& t : tris) {
+      for (int k = 0; k < 3; ++k) length += static_cast<double>(glm::length(local[t[(k + 1) % 3]] - local[t[k]]));
+    }
+    const auto cell = static_cast<float>(length / (3.0 * static_cast<double>(tris.size())));
+    if (cell > 0.0f && std::isfinite(1.0f / cell)) grid.emplace(local, verts, lo, cell);
+  }
   std::size_t splits = 0;
   for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
+    // Each edge use keyed by its vertex pair (lower index in the high half): one integer to sort.
     struct Use {
-      std::uint32_t lo, hi, triangle;
+      std::uint64_t key;
+      std::uint32_t triangle;
       int edge;
+      [[nodiscard]] std::uint32_t lo() const noexcept { return static_cast<std::uint32_t>(key >> 32); }
+      [[nodiscard]] std::uint32_t hi() const noexcept { return static_cast<std::uint32_t>(key); }
     };
     std::vector<Use> uses;
     uses.reserve(3 * tris.size());
     for (std::uint32_t t = 0; t < tris.size(); ++t) {
       for (int e = 0; e < 3; ++e) {
         const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3];
-        uses.push_back({std::min(u, v), std::max(u, v), t, e});
+        uses.push_back({(std::uint64_t{std::min(u, v)} << 32) | std::max(u, v), t, e});
       }
     }
-    std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) {
-      return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi;
-    });
+    std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.key < b.key; });
     // Triangles around each vertex, to check that a vertex found on an edge really belongs to the
     // other side of it (and not to geometry overlapping this triangle).
     std::vector<std::uint32_t> around_start(local.size() + 1, 0), around;
@@ -165,38 +238,21 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
     std::size_t before = tris.size();
     for (std::size_t i = 0; i < uses.size();) {
       std::size_t j = i + 1;
-      while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+      while (j < uses.size() && uses[j].key == uses[i].key) ++j;
       if (j - i == 1 && !split_this_pass[uses[i].triangle]) {
         const std::uint32_t t = uses[i].triangle;
         const int e = uses[i].edge;
         const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
         const Vec3 a = local[u], d = local[v] - a;
         const float dd = glm::dot(d, d);
-        // The axis whose slab around the edge holds the fewest vertices.
-        int best_axis = 0;
-        std::size_t best_count = std::numeric_limits<std::size_t>::max();
-        std::array<std::pair<std::size_t, std::size_t>, 3> range{};
-        for (int axis = 0; axis < 3; ++axis) {
-          const float lo = std::min(a[axis], local[v][axis]) - tolerance;
-          const float hi = std::max(a[axis], local[v][axis]) + tolerance;
-          const auto& list = keys[axis];
-          const auto first = std::lower_bound(list.begin(), list.end(), lo);
-          const auto last = std::upper_bound(first, list.end(), hi);
-          range[axis] = {static_cast<std::size_t>(first - list.begin()), static_cast<std::size_t>(last - list.begin())};
-          if (range[axis].second - range[axis].first < best_count) {
-            best_count = range[axis].second - range[axis].first;
-            best_axis = axis;
-          }
-        }
         std::uint32_t w = kUnset;
         float w_param = 2.0f;
-        for (std::size_t k = range[best_axis].first; k < range[best_axis].second && dd > 0.0f; ++k) {
-          const std::uint32_t q = sorted[best_axis][k];
-          if (q == u || q == v) continue;
+        const auto consider = [&](std::uint32_t q) {
+          if (q == u || q == v) return;
           const float s = glm::dot(local[q] - a, d) / dd;
-          if (!(s > 0.0f && s < 1.0f)) continue;
+          if (!(s > 0.0f && s < 1.0f)) return;
           const Vec3 off = local[q] - (a + s * d);
-          if (!(glm::dot(off, off) <= tolerance * tolerance && s < w_param)) continue;
+          if (!(glm::dot(off, off) <= tolerance * tolerance && (s < w_param || (s == w_param && q < w)))) return;
           // A true T-junction: some triangle at q has an edge along (u, v) and lies on the other
           // side of it than x.
           const Vec3 x_side = glm::cross(d, local[x] - a);
@@ -223,6 +279,29 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
             w = q;
             w_param = s;
           }
+        };
+        const Vec3 box_lo = glm::min(a, local[v]) - Vec3(tolerance);
+        const Vec3 box_hi = glm::max(a, local[v]) + Vec3(tolerance);
+        if (!(dd > 0.0f)) {
+          // No direction: nothing lies inside it.
+        } else if (grid && grid->cell_count(box_lo, box_hi) <= kTJunctionGridCells) {
+          grid->for_each(box_lo, box_hi, consider);
+        } else {
+          // The axis whose slab around the edge holds the fewest vertices.
+          int best_axis = 0;
+          std::size_t best_count = std::numeric_limits<std::size_t>::max();
+          std::array<std::pair<std::size_t, std::size_t>, 3> range{};
+          for (int axis = 0; axis < 3; ++axis) {
+            const auto& list = keys[axis];
+            const auto first = std::lower_bound(list.begin(), list.end(), box_lo[axis]);
+            const auto last = std::upper_bound(first, list.end(), box_hi[axis]);
+            range[axis] = {static_cast<std::size_t>(first - list.begin()), static_cast<std::size_t>(last - list.begin())};
+            if (range[axis].second - range[axis].first < best_count) {
+              best_count = range[axis].second - range[axis].first;
+              best_axis = axis;
+            }
+          }
+          for (std::size_t k = range[best_axis].first; k < range[best_axis].second; ++k) consider(sorted[best_axis][k]);
         }
         auto solid = [&](std::uint32_t p0, std::uint32_t p1, std::uint32_t p2) {  // the degenerate test of step 3
           const Vec3 e0 = local[p1] - local[p0], e1 = local[p2] - local[p1], e2 = local[p0] - local[p2];
