@@ -68,7 +68,8 @@ template <Shape2DType A, Shape2DType B>
 /// Axis Test between Convex Polyhedra", GDC 2013): a face axis clips the other shape's most
 /// anti-parallel face against the reference face's side planes (Sutherland & Hodgman 1974), an
 /// edge axis gives the closest points of the two edges. Rounded shapes whose cores are apart
-/// get the normal from GJK's closest points, and a face contact where a face faces along it.
+/// get the normal from GJK's closest points (a sphere or capsule against a triangle: the core's
+/// closest points in closed form, Ericson 5.1.10), and a face contact where a face faces along it.
 /// More than 4 points are reduced to the deepest and the three that span the largest area.
 /// Swapping A and B gives the reversed manifold up to the choice of reference face. Works in
 /// A's frame (B moved there once). Allocates nothing; shapes must be valid and transforms
