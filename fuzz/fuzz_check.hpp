@@ -18,6 +18,8 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <vector>
 
 #include <unistd.h>
 
@@ -44,9 +46,27 @@ bool within_finite_range(const Box& box) {
 }
 
 /// A scratch path of this process in the temporary folder: STEM.PID followed by `extension`, so
-/// fuzzing processes running side by side do not share one.
+/// fuzzing processes running side by side do not share one. Removed, with anything under it,
+/// when the process exits normally: libFuzzer's -fork mode starts a process per job, and each
+/// left its scratch file behind (thousands in a campaign's tmpfs).
 inline std::filesystem::path scratch_path(const std::string& stem, const std::string& extension = "") {
-  return std::filesystem::temp_directory_path() / (stem + "." + std::to_string(::getpid()) + extension);
+  struct Cleanup {
+    std::vector<std::filesystem::path> paths;
+    Cleanup() = default;
+    Cleanup(const Cleanup&) = delete;
+    Cleanup& operator=(const Cleanup&) = delete;
+    ~Cleanup() {
+      for (const std::filesystem::path& p : paths) {
+        std::error_code ignored;
+        std::filesystem::remove_all(p, ignored);
+      }
+    }
+  };
+  static Cleanup cleanup;
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / (stem + "." + std::to_string(::getpid()) + extension);
+  cleanup.paths.push_back(path);
+  return path;
 }
 
 /// Writes `bytes` to the file `path` (created or truncated); false when it cannot be written.
