@@ -149,8 +149,10 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
     });
   };
   // Most of a refined piece's children lie away from a small obstacle: disjoint bounding boxes
-  // settle those before the separating axes (disjoint solids cannot overlap on every axis).
-  auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& piece) {
+  // settle those before the separating axes (disjoint solids cannot overlap on every axis). A
+  // piece that will not be split again (`first_only`) needs one blocker, not the list.
+  auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& piece,
+                             bool first_only) {
     const glm::dvec3 piece_lo = glm::min(glm::min(piece[0], piece[1]), piece[2]);
     const glm::dvec3 piece_hi = glm::max(glm::max(piece[0], piece[1]), piece[2]);
     const glm::dvec3 prism_lo = glm::min(piece_lo, piece_lo + world_lift);
@@ -159,7 +161,10 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       const std::uint32_t b = blockers[i];
       const PrismAxes& axes = blocker_axes[b];
       if (glm::any(glm::lessThan(prism_hi, axes.other_min)) || glm::any(glm::lessThan(axes.other_max, prism_lo))) continue;
-      if (penetrates(axes, piece)) blockers.push_back(b);
+      if (penetrates(axes, piece)) {
+        blockers.push_back(b);
+        if (first_only) return;
+      }
     }
   };
   // A triangle partly under an obstacle is split into four at its edge midpoints, again and
@@ -208,10 +213,14 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       const Piece piece = pieces.back();
       pieces.pop_back();
       const auto& c = piece.corners;
+      const double piece_longest2 = std::max({glm::dot(c[1] - c[0], c[1] - c[0]), glm::dot(c[2] - c[1], c[2] - c[1]),
+                                              glm::dot(c[0] - c[2], c[0] - c[2])});
+      // Blocked, it is dropped rather than split: deep enough, or small enough.
+      const bool last = piece.depth >= kMaxHeadroomRefineDepth || !(piece_longest2 > min_edge * min_edge);
       std::size_t first = piece.first_blocker, count = piece.blocker_count;
       if (piece.depth > 0) {
         first = blockers.size();
-        filter_blockers(piece.first_blocker, piece.blocker_count, c);
+        filter_blockers(piece.first_blocker, piece.blocker_count, c, last);
         count = blockers.size() - first;
       }
       if (count == 0) {
@@ -226,9 +235,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
         walkable.triangles.push_back(kept);
         continue;
       }
-      const double piece_longest2 = std::max({glm::dot(c[1] - c[0], c[1] - c[0]), glm::dot(c[2] - c[1], c[2] - c[1]),
-                                              glm::dot(c[0] - c[2], c[0] - c[2])});
-      if (piece.depth >= kMaxHeadroomRefineDepth || !(piece_longest2 > min_edge * min_edge)) {
+      if (last) {
         dropped = true;
         continue;
       }
