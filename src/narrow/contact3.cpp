@@ -20,9 +20,9 @@
 //     edge axis one point between the two edges. Cores apart by less than the radii plus the
 //     margin (rounded shapes, speculative contact): GJK gives their closest points (a point or
 //     segment core against a triangle, as a capsule meets a level: in closed form, Ericson
-//     5.1.10, with the edges the segment stays inside of skipped); if the
-//     normal is within kFaceContactSine of a face normal, that face clips as above, else the
-//     closest points make one point.
+//     5.1.10, skipping the triangle edges the segment stays inside of); if the normal is within
+//     kFaceContactSine of a face normal, that face clips as above, else the closest points make
+//     one point.
 //  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
 //     span the largest area (the idea of Jolt's PruneContactPoints).
 
