@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace collide {
 namespace {
@@ -64,6 +65,13 @@ PrismAxes prism_axes(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, con
   out.other_min = glm::min(glm::min(other[0], other[1]), other[2]);
   out.other_max = glm::max(glm::max(other[0], other[1]), other[2]);
   return out;
+}
+
+/// Bounding box of the prism over `piece` (the triangle swept by `lift`).
+std::pair<glm::dvec3, glm::dvec3> prism_bounds(const std::array<glm::dvec3, 3>& piece, glm::dvec3 lift) noexcept {
+  const glm::dvec3 lo = glm::min(glm::min(piece[0], piece[1]), piece[2]);
+  const glm::dvec3 hi = glm::max(glm::max(piece[0], piece[1]), piece[2]);
+  return {glm::min(lo, lo + lift), glm::max(hi, hi + lift)};
 }
 
 /// True when the prism over `piece` (the triangle `axes` were made for, or a refined piece of
@@ -153,10 +161,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   // piece that will not be split again (`first_only`) needs one blocker, not the list.
   auto filter_blockers = [&](std::size_t first, std::size_t count, const std::array<glm::dvec3, 3>& piece,
                              bool first_only) {
-    const glm::dvec3 piece_lo = glm::min(glm::min(piece[0], piece[1]), piece[2]);
-    const glm::dvec3 piece_hi = glm::max(glm::max(piece[0], piece[1]), piece[2]);
-    const glm::dvec3 prism_lo = glm::min(piece_lo, piece_lo + world_lift);
-    const glm::dvec3 prism_hi = glm::max(piece_hi, piece_hi + world_lift);
+    const auto [prism_lo, prism_hi] = prism_bounds(piece, world_lift);
     for (std::size_t i = first; i < first + count; ++i) {
       const std::uint32_t b = blockers[i];
       const PrismAxes& axes = blocker_axes[b];
