@@ -74,20 +74,35 @@ std::pair<glm::dvec3, glm::dvec3> prism_bounds(const std::array<glm::dvec3, 3>& 
   return {glm::min(lo, lo + lift), glm::max(hi, hi + lift)};
 }
 
-/// True when the prism over `piece` (the triangle `axes` were made for, or a refined piece of
-/// it) and the other triangle overlap by more than the tolerance on every axis. In double, on
-/// world coordinates: float corners are exact there, so the answer does not depend on the local
+/// How the prism over a piece meets another triangle (headroom()).
+enum class Headroom {
+  clear,    ///< separated, or touching within the tolerance
+  blocked,  ///< overlap by more than the tolerance on every axis
+  covered,  ///< blocked, and so is the prism over every point of the piece: every refined piece too
+};
+
+/// Whether the prism over `piece` (the triangle `axes` were made for, or a refined piece of it)
+/// and the other triangle overlap by more than the tolerance on every axis. In double, on world
+/// coordinates: float corners are exact there, so the answer does not depend on the local
 /// origin's rounding (borderline contacts decided one way for every origin).
-bool penetrates(const PrismAxes& axes, const std::array<glm::dvec3, 3>& piece) noexcept {
+///
+/// `covered` bounds every sub-piece at once: a point of the piece projects inside the piece's
+/// interval [p_lo, p_hi], so its lifted segment reaches at least p_lo + max(0, rise) and starts at
+/// most at p_hi + min(0, rise). When those bounds overlap the other triangle by more than the
+/// tolerance on every axis, no refinement can find headroom (with a doubled margin, so that the
+/// rounding of a sub-piece's own projections cannot decide it).
+Headroom headroom(const PrismAxes& axes, const std::array<glm::dvec3, 3>& piece) noexcept {
+  bool covered = true;
   for (int k = 0; k < axes.count; ++k) {
     // The prism's interval is the piece's and the lifted piece's; compared unnormalised.
-    double a_lo, a_hi;
-    project(piece, axes.axis[k], a_lo, a_hi);
-    a_lo = std::min(a_lo, a_lo + axes.rise[k]);
-    a_hi = std::max(a_hi, a_hi + axes.rise[k]);
-    if (a_hi - axes.other_lo[k] <= axes.margin[k] || axes.other_hi[k] - a_lo <= axes.margin[k]) return false;
+    double p_lo, p_hi;
+    project(piece, axes.axis[k], p_lo, p_hi);
+    const double down = std::min(0.0, axes.rise[k]), up = std::max(0.0, axes.rise[k]);
+    const double margin = axes.margin[k];
+    if (p_hi + up - axes.other_lo[k] <= margin || axes.other_hi[k] - (p_lo + down) <= margin) return Headroom::clear;
+    covered = covered && p_lo + up - axes.other_lo[k] > 2.0 * margin && axes.other_hi[k] - (p_hi + down) > 2.0 * margin;
   }
-  return true;
+  return covered ? Headroom::covered : Headroom::blocked;
 }
 
 }  // namespace
@@ -141,7 +156,10 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
   // the same and every overlap can only shrink.
   std::vector<PrismAxes> blocker_axes;  // per level triangle: its blockers
   std::vector<std::uint32_t> blockers;  // per level triangle: each piece's list (blocker_axes indices), in turn
+  // Each returns true when one blocker covers the whole piece (Headroom::covered): no part of it
+  // can be kept, so it is dropped without refining.
   auto collect_blockers = [&](std::uint32_t self, const std::array<glm::dvec3, 3>& base) {
+    bool covered = false;
     std::array<Vec3, 3> corner;
     for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(k)] = Vec3(base[static_cast<std::size_t>(k)] - world_origin);
     Aabb3 prism_box{glm::min(glm::min(corner[0], corner[1]), corner[2]), glm::max(glm::max(corner[0], corner[1]), corner[2])};
@@ -150,11 +168,14 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       if (other == self) return;
       const glm::uvec3 o = level.triangles[other];
       const PrismAxes axes = prism_axes(base, world_lift, {world(o.x), world(o.y), world(o.z)}, static_cast<double>(tolerance));
-      if (penetrates(axes, base)) {
+      const Headroom h = covered ? Headroom::clear : headroom(axes, base);
+      if (h != Headroom::clear) {
         blockers.push_back(static_cast<std::uint32_t>(blocker_axes.size()));
         blocker_axes.push_back(axes);
+        covered = h == Headroom::covered;
       }
     });
+    return covered;
   };
   // Most of a refined piece's children lie away from a small obstacle: disjoint bounding boxes
   // settle those before the separating axes (disjoint solids cannot overlap on every axis). A
@@ -166,11 +187,14 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       const std::uint32_t b = blockers[i];
       const PrismAxes& axes = blocker_axes[b];
       if (glm::any(glm::lessThan(prism_hi, axes.other_min)) || glm::any(glm::lessThan(axes.other_max, prism_lo))) continue;
-      if (penetrates(axes, piece)) {
+      const Headroom h = headroom(axes, piece);
+      if (h == Headroom::covered) return true;
+      if (h == Headroom::blocked) {
         blockers.push_back(b);
-        if (first_only) return;
+        if (first_only) return false;
       }
     }
+    return false;
   };
   // A triangle partly under an obstacle is split into four at its edge midpoints, again and
   // again, keeping the pieces with headroom, until pieces are smaller than
@@ -207,12 +231,15 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
     }
     blockers.clear();
     blocker_axes.clear();
-    if (agent.height > 0.0f) collect_blockers(t, base);
+    if (agent.height > 0.0f && collect_blockers(t, base)) {
+      ++low_headroom;
+      continue;
+    }
     if (blockers.empty()) {
       walkable.triangles.push_back(tri);
       continue;
     }
-    bool dropped = false, split = false;
+    bool dropped = false, split = false, kept_part = false;
     pieces.assign(1, {{world(tri.x), world(tri.y), world(tri.z)}, {tri.x, tri.y, tri.z}, 0, 0, blockers.size()});
     while (!pieces.empty()) {
       const Piece piece = pieces.back();
@@ -225,8 +252,12 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       std::size_t first = piece.first_blocker, count = piece.blocker_count;
       if (piece.depth > 0) {
         first = blockers.size();
-        filter_blockers(piece.first_blocker, piece.blocker_count, c, last);
+        const bool covered = filter_blockers(piece.first_blocker, piece.blocker_count, c, last);
         count = blockers.size() - first;
+        if (covered) {
+          dropped = true;
+          continue;
+        }
       }
       if (count == 0) {
         glm::uvec3 kept;
@@ -238,6 +269,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
           }
         }
         walkable.triangles.push_back(kept);
+        kept_part = true;
         continue;
       }
       if (last) {
@@ -253,7 +285,7 @@ WalkMesh make_walk_mesh(const TriangleSoup& level, const WalkAgent& agent) {
       pieces.push_back({{m20, m12, c[2]}, {kNewVertex, kNewVertex, v[2]}, d, first, count});
       pieces.push_back({{m01, m12, m20}, {kNewVertex, kNewVertex, kNewVertex}, d, first, count});
     }
-    refined += split ? 1 : 0;
+    refined += split && kept_part ? 1 : 0;
     low_headroom += dropped ? 1 : 0;
   }
   if (walkable.triangles.empty()) {

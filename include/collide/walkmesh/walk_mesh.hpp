@@ -112,7 +112,7 @@ struct WalkMeshStats {
   std::size_t islands = 0;               ///< connected pieces
   std::size_t too_steep_triangles = 0;   ///< make_walk_mesh: dropped, steeper than the agent's max slope
   std::size_t low_headroom_triangles = 0;  ///< make_walk_mesh: level triangles with some part dropped, geometry within the agent's height above
-  std::size_t headroom_refined_triangles = 0;  ///< make_walk_mesh: level triangles split to keep the parts with headroom
+  std::size_t headroom_refined_triangles = 0;  ///< make_walk_mesh: level triangles split, with the parts that have headroom kept (partly under an obstacle)
 };
 
 /// Result of `walk_in_triangle`.
