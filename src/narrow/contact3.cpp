@@ -171,13 +171,68 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return a.solid && b.p.kind == Polytope3::Kind::triangle && b.p.faces[0].normal != Vec3(0.0f);
 }
 
+/// Box edge index (kBoxEdges' numbering) by direction k and the corner it starts from (bit k
+/// clear; -1 for corners with bit k set).
+constexpr std::array<std::array<int, 8>, 3> kBoxEdgeFrom = [] {
+  std::array<std::array<int, 8>, 3> t{};
+  for (auto& row : t) row.fill(-1);
+  for (int e = 0; e < int(detail::kBoxEdges.size()); ++e) {
+    const HullEdge& edge = detail::kBoxEdges[std::size_t(e)];
+    const int bit = int(edge.v1) ^ int(edge.v0);
+    const int k = bit == 1 ? 0 : bit == 2 ? 1 : 2;
+    t[std::size_t(k)][edge.v0] = e;
+  }
+  return t;
+}();
+
+/// query_edges for a box A (centred on its frame's origin) against a triangle B. A box has
+/// three edge directions; a triangle edge's half circle on -B's Gauss map crosses the great
+/// circle of one direction's four arcs once, at l = e_k x d (oriented into the half circle),
+/// and the box edge there is the one that supports A along l. So each of the nine pairs names
+/// its box edge by the signs of l, without searching the Gauss map (Gregorius 2013), and the
+/// separation is the triangle edge's offset along l less the box's support value: the nine
+/// edge axes of Ericson 5.2.9 (Akenine-Moeller's triangle-box test) with their features.
+EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  EdgeQuery q;
+  const Vec3 n = b.face_normal(0);
+  for (int j = 0; j < b.p.edge_count; ++j) {
+    const HullEdge& eb = b.p.edges[j];
+    const Vec3 pb = b.vertex(eb.v0);
+    const Vec3 db = b.vertex(eb.v1) - pb;
+    const float min_ll = kParallelTolerance * kParallelTolerance * dot(db, db);
+    // The edge's outward direction in the triangle's plane (its length does not matter).
+    Vec3 u = cross(db, n);
+    if (dot(u, b.vertex(3 - eb.v0 - eb.v1) - pb) > 0.0f) u = -u;
+    for (int k = 0; k < 3; ++k) {
+      // e_k x db, e_k the box's k-th axis.
+      Vec3 l = k == 0 ? Vec3(0.0f, -db.z, db.y) : k == 1 ? Vec3(db.z, 0.0f, -db.x) : Vec3(-db.y, db.x, 0.0f);
+      const float ll = dot(l, l);
+      if (!(ll > min_ll)) continue;  // parallel: a face axis covers it
+      if (dot(l, u) > 0.0f) l = -l;  // on -B's half circle: B's edge supports B along -l
+      const int corner = (l.x > 0.0f ? 1 : 0) | (l.y > 0.0f ? 2 : 0) | (l.z > 0.0f ? 4 : 0);
+      const int from = corner & ~(1 << k);
+      const Vec3 pa = a.vertex(from);
+      const float t = dot(l, pb - pa);
+      if (q.edge_a >= 0 && !(t * std::fabs(t) > q.separation * std::fabs(q.separation) * ll)) continue;
+      const float inv = 1.0f / std::sqrt(ll);
+      q.separation = t * inv;
+      q.edge_a = kBoxEdgeFrom[std::size_t(k)][std::size_t(from)];
+      q.edge_b = j;
+      q.axis = l * inv;
+      if (q.separation > reach) return q;
+    }
+  }
+  return q;
+}
+
 /// Separation of A and B along the edge pairs' axes (see the file comment). B's edge (its
 /// ends, direction and face normals turned into A's frame) is prepared once in the outer loop;
 /// the inner loop over A's edges reads A's local data as it is.
 EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  const bool triangle_b = triangle_against_solid(a, b);
+  if (triangle_b && a.kind == Polytope3::Kind::box) return query_box_triangle_edges(a, b, reach);
   EdgeQuery q;
   const bool solids = a.solid && b.p.solid;
-  const bool triangle_b = triangle_against_solid(a, b);
   const bool pruned = solids || triangle_b;
   for (int j = 0; j < b.p.edge_count; ++j) {
     const HullEdge& eb = b.p.edges[j];

@@ -171,6 +171,43 @@ TEST(Contact3, ACubeHullMakesTheSameContactsAsABox) {
   EXPECT_GT(touching, 100);
 }
 
+/// A box against a triangle takes its own edge test (the nine axes named by their signs); a
+/// cube hull takes the Gauss-map search: both must give the same contact.
+TEST(Contact3, ACubeHullMakesTheSameTriangleContactsAsABox) {
+  const Box box = make_box({0.5f, 0.7f, 0.9f});
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back(box.vertex(i));
+  const ConvexHull cube = make_convex_hull(corners);
+  std::mt19937 rng(43);
+  int touching = 0, edge_normals = 0;
+  for (int k = 0; k < 2000; ++k) {
+    std::array<Vec3, 3> c;
+    do {  // no slivers: make_triangle refuses the degenerate ones
+      for (Vec3& p : c) p = test::random_point3(rng, 1.5f);
+    } while (length(cross(c[1] - c[0], c[2] - c[0])) < 0.05f);
+    const Triangle tri = make_triangle(c[0], c[1], c[2]);
+    const Transform3 xa = test::random_transform3(rng, 0.3f);
+    const Transform3 xb = test::random_transform3(rng, 0.3f);
+    for (const float margin : {0.0f, 0.05f}) {
+      const Manifold3 from_box = contact(box, xa, tri, xb, margin);
+      const Manifold3 from_hull = contact(cube, xa, tri, xb, margin);
+      ASSERT_EQ(from_box.touching(), from_hull.touching()) << k;
+      if (!from_box.touching()) continue;
+      ++touching;
+      SCOPED_TRACE(k);
+      EXPECT_VEC3_NEAR(from_box.normal, from_hull.normal, 1e-4f);
+      EXPECT_NEAR(from_box.max_depth(), from_hull.max_depth(), 1e-4f) << k;
+      // Normals along none of the box's or the triangle's face normals: edge axes were taken.
+      const Vec3 n = inv_rotate(xa.q, from_box.normal);
+      const float along_box = std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)});
+      const float along_tri = std::fabs(dot(rotate(xb.q, triangle_normal(c[0], c[1], c[2])), from_box.normal));
+      edge_normals += along_box < 0.999f && along_tri < 0.999f;
+    }
+  }
+  EXPECT_GT(touching, 1000);
+  EXPECT_GT(edge_normals, 100);
+}
+
 /// The property test, plus: every point lies in both shapes (its surface points, half
 /// the depth each way, are within tolerance of the shapes), on random pairs.
 void check_random_contacts(float offset, std::uint32_t seed) {
