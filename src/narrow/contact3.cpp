@@ -58,17 +58,27 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kMaxClipVertices = 64;
 
 
-/// B's core placed in A's frame.
+/// B's core placed in A's frame. `identity`: B's core is already given in A's frame (a level's
+/// triangle, moved there once), and nothing is transformed.
 struct PlacedPolytope {
   const Polytope3& p;
   Frame3 f;  ///< B's local -> A's frame
+  bool identity = false;
 
-  [[nodiscard]] Vec3 vertex(int i) const noexcept { return transform_point(f, p.vertex(i)); }
+  [[nodiscard]] Vec3 vertex(int i) const noexcept {
+    return identity ? p.vertex(i) : transform_point(f, p.vertex(i));
+  }
   /// Support vertex along `d` given in A's frame.
-  [[nodiscard]] int support(Vec3 d) const noexcept { return p.support(inv_rotate(f, d)); }
-  [[nodiscard]] Vec3 face_normal(int face) const noexcept { return rotate(f, p.faces[face].normal); }
+  [[nodiscard]] int support(Vec3 d) const noexcept { return p.support(identity ? d : inv_rotate(f, d)); }
+  [[nodiscard]] Vec3 face_normal(int face) const noexcept {
+    return identity ? p.faces[face].normal : rotate(f, p.faces[face].normal);
+  }
   [[nodiscard]] float face_offset(int face, Vec3 normal) const noexcept {
-    return p.faces[face].offset + dot(normal, f.p);
+    return identity ? p.faces[face].offset : p.faces[face].offset + dot(normal, f.p);
+  }
+  /// A point of A's frame in B's local frame.
+  [[nodiscard]] Vec3 to_local(Vec3 point) const noexcept {
+    return identity ? point : inv_transform_point(f, point);
   }
 };
 
@@ -698,7 +708,7 @@ Feature near_feature(const Polytope3& p, Vec3 local_point) noexcept {
 /// frame): the features of the cores nearest to them.
 ContactId near_features(const Polytope3& a, const PlacedPolytope& b, Vec3 pa, Vec3 pb) noexcept {
   const Feature ka = near_feature(a, pa);
-  const Feature kb = near_feature(b.p, inv_transform_point(b.f, pb));
+  const Feature kb = near_feature(b.p, b.to_local(pb));
   return ContactId{ka.index, kb.index, ka.type, kb.type};
 }
 
@@ -1113,7 +1123,7 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                               Manifold3& m) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
-  const PlacedPolytope placed{tri, Frame3::from(Transform3{})};
+  const PlacedPolytope placed{tri, Frame3::from(Transform3{}), true};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
   if (m.count == 0) return;
