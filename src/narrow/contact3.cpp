@@ -6,9 +6,10 @@
 //     one point, or two for parallel segments (capsule on capsule).
 //  2. Otherwise the separating axis test over A's faces, B's faces and the edge pairs
 //     (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013): edge pairs of
-//     two solids, or of a solid and a triangle (whose edge is a half circle on the Gauss map),
-//     are pruned to those that form a face of the Minkowski difference A - B (their arcs cross
-//     on the Gauss map); other pairs with a flat or faceless core are all tested, with the
+//     two solids are pruned to those that form a face of the Minkowski difference A - B (their
+//     arcs cross on the Gauss map); a triangle's edge (a half circle on the Gauss map) meets
+//     the solid's silhouette edges along it, and a box's three directions name their edges
+//     outright; other pairs with a flat or faceless core are all tested, with the
 //     separation taken from support queries on both sides. The axis of largest separation is
 //     the minimum-penetration axis when the cores overlap. Pairs whose edge test would cost
 //     more than kSatEdgePairLimit pairs (contact.hpp) take GJK's answer and, when the cores overlap, EPA's axis
@@ -150,23 +151,6 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
 }
 
-/// The same test for an arc of A against a triangle's edge on -B's Gauss map: the half circle
-/// from c = -n through m (the edge's outward direction, negated) to d = n, as the quarter arcs
-/// (c, m) and (m, d) with axes `mxc` = m x c and `dxm` = d x m. The two exclude each other by
-/// the sign of dot(n, bxa) * dot(m, bxa), so one is tested: four products, not eight.
-[[nodiscard]] bool crosses_triangle_edge(Vec3 a, Vec3 b, Vec3 bxa, Vec3 n, Vec3 m, Vec3 mxc,
-                                         Vec3 dxm) noexcept {
-  const float tn = dot(n, bxa);
-  const float tm = dot(m, bxa);
-  if (tn * tm > 0.0f) {  // (c, m): cba = -tn, dba = tm
-    const float bdc = dot(b, mxc);
-    return dot(a, mxc) * bdc < 0.0f && -tn * bdc > 0.0f;
-  }
-  // (m, d): cba = tm, dba = tn
-  const float bdc = dot(b, dxm);
-  return tm * tn < 0.0f && dot(a, dxm) * bdc < 0.0f && tm * bdc > 0.0f;
-}
-
 /// Largest support value of A along `l` (A's frame).
 [[nodiscard]] float support_value(const Polytope3& a, Vec3 l) noexcept {
   return dot(a.vertex(a.support(l)), l);
@@ -175,8 +159,8 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return dot(b.vertex(b.support(l)), l);
 }
 
-/// A solid A against a triangle B with a normal: the triangle's edges are pruned on the Gauss
-/// map like a solid's (query_edges), so each pair costs a few products.
+/// A solid A against a triangle B with a normal: the triangle's edges meet A's edges on the
+/// Gauss map (query_box_triangle_edges, query_solid_triangle_edges), a few products each.
 [[nodiscard]] bool triangle_against_solid(const Polytope3& a, const PlacedPolytope& b) noexcept {
   return a.solid && b.p.kind == Polytope3::Kind::triangle && b.p.faces[0].normal != Vec3(0.0f);
 }
@@ -235,15 +219,60 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
   return q;
 }
 
+/// query_edges for a solid A against a triangle B, by silhouettes: the great circle of normals
+/// perpendicular to a triangle edge's direction d holds that edge's half circle on -B's Gauss
+/// map, and an edge of A crosses it where its two faces lie on either side of it (dot(n, d) of
+/// opposite signs: A's silhouette seen along d). Each such edge is a Minkowski face of A - B
+/// when the crossing lies on the half circle (Gregorius 2013). Two products per edge of A and
+/// triangle edge, where the arc-against-arc test takes four.
+EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  EdgeQuery q;
+  const Vec3 n = b.face_normal(0);
+  for (int j = 0; j < b.p.edge_count; ++j) {
+    const HullEdge& eb = b.p.edges[j];
+    const Vec3 pb = b.vertex(eb.v0);
+    const Vec3 db = b.vertex(eb.v1) - pb;
+    const float db2 = dot(db, db);
+    Vec3 u = cross(db, n);  // the edge's outward direction in the triangle's plane
+    if (dot(u, b.vertex(3 - eb.v0 - eb.v1) - pb) > 0.0f) u = -u;
+    for (int i = 0; i < a.edge_count; ++i) {
+      const HullEdge& ea = a.edges[i];
+      const Vec3 n0 = a.faces[ea.face0].normal;
+      const Vec3 n1 = a.faces[ea.face1].normal;
+      const float s0 = dot(n0, db);
+      const float s1 = dot(n1, db);
+      if (!(s0 * s1 < 0.0f)) continue;  // not on the silhouette along db
+      const Vec3 pa = a.vertex(ea.v0);
+      const Vec3 da = a.vertex(ea.v1) - pa;
+      Vec3 l = cross(da, db);
+      const float ll = dot(l, l);
+      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
+      // The crossing, on A's arc (between n0 and n1): there l is A's outward normal.
+      if (dot(l, n0 + n1) < 0.0f) l = -l;
+      if (dot(l, u) > 0.0f) continue;  // on the other half of the circle: not B's edge
+      const float t = dot(l, pb - pa);
+      if (q.edge_a >= 0 && !(t * std::fabs(t) > q.separation * std::fabs(q.separation) * ll)) continue;
+      const float inv = 1.0f / std::sqrt(ll);
+      q.separation = t * inv;
+      q.edge_a = i;
+      q.edge_b = j;
+      q.axis = l * inv;
+      if (q.separation > reach) return q;
+    }
+  }
+  return q;
+}
+
 /// Separation of A and B along the edge pairs' axes (see the file comment). B's edge (its
 /// ends, direction and face normals turned into A's frame) is prepared once in the outer loop;
 /// the inner loop over A's edges reads A's local data as it is.
 EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
-  const bool triangle_b = triangle_against_solid(a, b);
-  if (triangle_b && a.kind == Polytope3::Kind::box) return query_box_triangle_edges(a, b, reach);
+  if (triangle_against_solid(a, b)) {
+    return a.kind == Polytope3::Kind::box ? query_box_triangle_edges(a, b, reach)
+                                          : query_solid_triangle_edges(a, b, reach);
+  }
   EdgeQuery q;
   const bool solids = a.solid && b.p.solid;
-  const bool pruned = solids || triangle_b;
   for (int j = 0; j < b.p.edge_count; ++j) {
     const HullEdge& eb = b.p.edges[j];
     const Vec3 pb = b.vertex(eb.v0);
@@ -254,24 +283,10 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
     // coplanar faces the cross product of the float normals can get the sign wrong.
     Vec3 c{0.0f};
     Vec3 d{0.0f};
-    Vec3 m{0.0f};
     if (solids) {
       c = -b.face_normal(eb.face0);
       d = -b.face_normal(eb.face1);
-    } else if (triangle_b) {
-      // A triangle's edge is the half circle of its Gauss map from the front normal n to the
-      // back one through the edge's outward direction u in the plane; on -B's map, from -n
-      // through -u to n, tested as two quarter arcs (c, m) and (m, d).
-      const Vec3 n = b.face_normal(0);
-      const Vec3 third = b.vertex(3 - eb.v0 - eb.v1);
-      Vec3 u = normalize_or_zero(cross(db, n));
-      if (dot(u, third - pb) > 0.0f) u = -u;
-      c = -n;
-      d = n;
-      m = -u;
     }
-    const Vec3 mxc = cross(m, c);
-    const Vec3 dxm = cross(d, m);
     for (int i = 0; i < a.edge_count; ++i) {
       const HullEdge& ea = a.edges[i];
       const Vec3 pa = a.vertex(ea.v0);
@@ -280,17 +295,12 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
                                        d, -db)) {
         continue;
       }
-      if (triangle_b &&
-          !crosses_triangle_edge(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, d, m,
-                                 mxc, dxm)) {
-        continue;
-      }
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
       if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
       float s;
-      if (pruned) {
+      if (solids) {
         // The axis points out of A at its edge (away from A's centre), and A - B's face
         // through the two edges is at distance dot(l, pb - pa) / |l| from the origin. Most
         // pairs do not beat the best so far: compared first without the square root, as
@@ -1012,7 +1022,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const bool pruned = (a.solid && b.p.solid) || triangle_against_solid(a, b);
   const int edge_work = a.edge_count * b.p.edge_count *
                         (a.solid && b.p.solid ? 1
-                         : pruned             ? 4  // two quarter arcs each; measured
+                         : pruned             ? 3  // two products each (silhouettes), weighed by measurement
                                               : a.vertex_count + b.p.vertex_count);
   if (edge_work > kSatEdgePairLimit && !flat_pair) {
     // Many edge pairs: GJK, and EPA for the axis when the cores overlap, then the same face
