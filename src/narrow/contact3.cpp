@@ -96,6 +96,21 @@ struct BPlace {
   [[nodiscard]] Vec3 normal(int face) const noexcept { return b.face_normal(face); }
 };
 
+/// Storage for up to N values of T, left uninitialised: the clip buffers are filled before
+/// they are read, and value-initialising their 5 KB (T's members have default initialisers)
+/// was a quarter of a face contact. The bytes implicitly create the T objects that are
+/// assigned (T is an implicit-lifetime type).
+template <class T, int N>
+struct ScratchArray {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+  alignas(T) std::byte bytes[N * sizeof(T)];
+  [[nodiscard]] T& operator[](int i) noexcept { return reinterpret_cast<T*>(bytes)[i]; }
+  [[nodiscard]] const T& operator[](int i) const noexcept {
+    return reinterpret_cast<const T*>(bytes)[i];
+  }
+  [[nodiscard]] const T* data() const noexcept { return reinterpret_cast<const T*>(bytes); }
+};
+
 /// The best axis of one kind.
 struct FaceQuery {
   float separation = -kInf;
@@ -219,38 +234,64 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
   return q;
 }
 
+/// Most faces a solid core has: a hull of kMaxHullVertices vertices has at most 2 V - 4
+/// (Euler's formula, all faces triangles).
+constexpr int kMaxSolidFaces = 2 * kMaxHullVertices;
+
 /// query_edges for a solid A against a triangle B, by silhouettes: the great circle of normals
 /// perpendicular to a triangle edge's direction d holds that edge's half circle on -B's Gauss
 /// map, and an edge of A crosses it where its two faces lie on either side of it (dot(n, d) of
 /// opposite signs: A's silhouette seen along d). Each such edge is a Minkowski face of A - B
-/// when the crossing lies on the half circle (Gregorius 2013). Two products per edge of A and
-/// triangle edge, where the arc-against-arc test takes four.
+/// when the crossing lies on the half circle (Gregorius 2013). Each face's products with the
+/// three edge directions are taken once, so an edge of A costs a comparison of stored signs
+/// per triangle edge, where the arc-against-arc test takes four products.
 EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
-  EdgeQuery q;
+  struct TriangleEdge {
+    Vec3 p, d, u;    ///< start, direction, outward direction in the plane (unnormalised)
+    float min_ll;    ///< kParallelTolerance^2 |d|^2: shorter axes (over |da|^2) are parallel
+  };
   const Vec3 n = b.face_normal(0);
-  for (int j = 0; j < b.p.edge_count; ++j) {
+  const std::array<Vec3, 3> v{b.vertex(0), b.vertex(1), b.vertex(2)};
+  std::array<TriangleEdge, 3> te;
+  for (int j = 0; j < 3; ++j) {
     const HullEdge& eb = b.p.edges[j];
-    const Vec3 pb = b.vertex(eb.v0);
-    const Vec3 db = b.vertex(eb.v1) - pb;
-    const float db2 = dot(db, db);
-    Vec3 u = cross(db, n);  // the edge's outward direction in the triangle's plane
-    if (dot(u, b.vertex(3 - eb.v0 - eb.v1) - pb) > 0.0f) u = -u;
-    for (int i = 0; i < a.edge_count; ++i) {
-      const HullEdge& ea = a.edges[i];
-      const Vec3 n0 = a.faces[ea.face0].normal;
-      const Vec3 n1 = a.faces[ea.face1].normal;
-      const float s0 = dot(n0, db);
-      const float s1 = dot(n1, db);
-      if (!(s0 * s1 < 0.0f)) continue;  // not on the silhouette along db
-      const Vec3 pa = a.vertex(ea.v0);
-      const Vec3 da = a.vertex(ea.v1) - pa;
-      Vec3 l = cross(da, db);
+    TriangleEdge& e = te[std::size_t(j)];
+    e.p = v[eb.v0];
+    e.d = v[eb.v1] - e.p;
+    e.u = cross(e.d, n);
+    if (dot(e.u, v[3u - eb.v0 - eb.v1] - e.p) > 0.0f) e.u = -e.u;
+    e.min_ll = kParallelTolerance * kParallelTolerance * dot(e.d, e.d);
+  }
+  const auto face_dots = [&](int f) {
+    const Vec3 fn = a.faces[f].normal;
+    return Vec3(dot(fn, te[0].d), dot(fn, te[1].d), dot(fn, te[2].d));
+  };
+  ScratchArray<Vec3, kMaxSolidFaces> dots;
+  const bool stored = a.face_count <= kMaxSolidFaces;  // always, for shapes built by collide
+  if (stored) {
+    for (int f = 0; f < a.face_count; ++f) dots[f] = face_dots(f);
+  }
+  EdgeQuery q;
+  for (int i = 0; i < a.edge_count; ++i) {
+    const HullEdge& ea = a.edges[i];
+    const Vec3 s0 = stored ? dots[ea.face0] : face_dots(ea.face0);
+    const Vec3 s1 = stored ? dots[ea.face1] : face_dots(ea.face1);
+    const Vec3 across = s0 * s1;  // < 0: on the silhouette along that triangle edge
+    if (!(across.x < 0.0f || across.y < 0.0f || across.z < 0.0f)) continue;
+    const Vec3 pa = a.vertex(ea.v0);
+    const Vec3 da = a.vertex(ea.v1) - pa;
+    const float da2 = dot(da, da);
+    const Vec3 mid = a.faces[ea.face0].normal + a.faces[ea.face1].normal;  // inside A's arc
+    for (int j = 0; j < 3; ++j) {
+      if (!(across[j] < 0.0f)) continue;
+      const TriangleEdge& e = te[std::size_t(j)];
+      Vec3 l = cross(da, e.d);
       const float ll = dot(l, l);
-      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
-      // The crossing, on A's arc (between n0 and n1): there l is A's outward normal.
-      if (dot(l, n0 + n1) < 0.0f) l = -l;
-      if (dot(l, u) > 0.0f) continue;  // on the other half of the circle: not B's edge
-      const float t = dot(l, pb - pa);
+      if (!(ll > e.min_ll * da2)) continue;
+      // The crossing, on A's arc (between its two normals): there l is A's outward normal.
+      if (dot(l, mid) < 0.0f) l = -l;
+      if (dot(l, e.u) > 0.0f) continue;  // on the other half of the circle: not B's edge
+      const float t = dot(l, e.p - pa);
       if (q.edge_a >= 0 && !(t * std::fabs(t) > q.separation * std::fabs(q.separation) * ll)) continue;
       const float inv = 1.0f / std::sqrt(ll);
       q.separation = t * inv;
@@ -344,21 +385,6 @@ struct ClipVertex {
   Feature incident;   ///< incident vertex, or the incident edge a side plane cut
   Feature reference;  ///< the reference face, or the reference side edge that cut it
   std::uint32_t incident_edge;  ///< incident polygon edge leaving this vertex
-};
-
-/// Storage for up to N values of T, left uninitialised: the clip buffers are filled before
-/// they are read, and value-initialising their 5 KB (T's members have default initialisers)
-/// was a quarter of a face contact. The bytes implicitly create the T objects that are
-/// assigned (T is an implicit-lifetime type).
-template <class T, int N>
-struct ScratchArray {
-  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
-  alignas(T) std::byte bytes[N * sizeof(T)];
-  [[nodiscard]] T& operator[](int i) noexcept { return reinterpret_cast<T*>(bytes)[i]; }
-  [[nodiscard]] const T& operator[](int i) const noexcept {
-    return reinterpret_cast<const T*>(bytes)[i];
-  }
-  [[nodiscard]] const T* data() const noexcept { return reinterpret_cast<const T*>(bytes); }
 };
 
 struct ClipPolygon {

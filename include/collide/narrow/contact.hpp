@@ -92,8 +92,11 @@ template <Shape3DType A, Shape3DType B>
 /// pass cost more than a solid pair's), and pairs that are not pruned (a triangle against a
 /// triangle or a segment) count the two cores' vertex count each. Box-box (144) and
 /// box-triangle (108) keep the SAT; two 30-point hulls (about 7000 pairs) and a 24-point hull
-/// on a mesh triangle (about 450) take EPA: with the SAT that hull cost 17.3 us per query on
-/// dungeon.obj against EPA's 16.6 us, and 23.4 us against 19.7 us with a margin of 0.05. Chosen by bench_narrow3 on the shared real hulls
+/// on a mesh triangle (about 450) take EPA: with the SAT that hull cost 15.5 us per query on
+/// dungeon.obj against EPA's 16.6 us, but 21.5 us against 19.7 us with a margin of 0.05, and
+/// big hulls forced through the SAT lose the deepest point in the face clip (a 0.05 shortfall
+/// in TriangleQuery.SolidOnTriangleContactDepthIsTheMinimumTranslation), which EPA's path
+/// adds back. Chosen by bench_narrow3 on the shared real hulls
 /// and bench_narrow_mesh on dungeon.obj.
 inline constexpr int kSatEdgePairLimit = 256;
 
