@@ -834,11 +834,6 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
 
 /// Tolerances of a pair scale with the smaller core (its diameter about its centre, plus its
 /// radius).
-[[nodiscard]] float core_size(const Polytope3& p) noexcept {
-  float r = 0.0f;
-  for (int i = 0; i < p.vertex_count; ++i) r = std::max(r, distance_squared(p.vertex(i), p.centroid));
-  return 2.0f * std::sqrt(r) + p.radius;
-}
 
 /// How `contact_along` was asked: from EPA's result when the cores overlap (its depth, the
 /// tolerance within which a face's depth counts as the same axis, and EPA's own accuracy).
@@ -1039,7 +1034,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   }
   const float radii = a.radius + b.p.radius;
   const float reach = radii + margin;
-  const float size = std::max(std::min(core_size(a), core_size(b.p)), kRelativeTolerance);
+  const float size = std::max(std::min(a.size, b.p.size), kRelativeTolerance);
   // Touching within rounding counts: the clip keeps points that far apart too.
   const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
   // The edge test's work, in solid pairs (kSatEdgePairLimit). Two flat cores stay with the
@@ -1202,7 +1197,7 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
   const float side = dot(n, a.centroid - corners[0]);
   const int face = side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
   Manifold3 fixed;
-  const float touch = kRelativeTolerance * (core_size(a) + max_abs(corners[0]));
+  const float touch = kRelativeTolerance * (a.size + max_abs(corners[0]));
   face_contact(a, placed, false, face, margin + touch, fixed);
   if (fixed.count > 0) {
     m = fixed;

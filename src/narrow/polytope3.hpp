@@ -18,7 +18,9 @@
 #include <collide/shape/sphere.hpp>
 #include <collide/shape/triangle.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace collide::detail {
@@ -42,6 +44,10 @@ struct Polytope3 {
   int edge_count = 0;
   Vec3 centroid{0.0f};  ///< an interior point (a flat polytope's: on it)
   float radius = 0.0f;  ///< rounding radius of the shape
+  /// The core's scale for tolerances: twice the largest distance of a vertex from the
+  /// centroid, plus the radius (set when the view is made: a level's triangles are all met by
+  /// the same A).
+  float size = 0.0f;
   /// Has volume: each edge's two faces bound a Gauss-map arc shorter than a half circle, so
   /// edge pairs can be pruned by the Gauss map (Gregorius 2013). Triangles, segments and points
   /// are not solid.
@@ -104,6 +110,12 @@ inline constexpr std::array<HullEdge, 3> kTriangleEdges = {{{0, 1, 0, 1}, {1, 2,
 
 inline constexpr std::array<HullEdge, 1> kSegmentEdges = {{{0, 1, kNoFace, kNoFace}}};
 
+/// Sets `size` from the vertices, centroid and radius made so far.
+inline void set_size(Polytope3& p) noexcept {
+  float r = 0.0f;
+  for (int i = 0; i < p.vertex_count; ++i) r = std::max(r, distance_squared(p.vertex(i), p.centroid));
+  p.size = 2.0f * std::sqrt(r) + p.radius;
+}
 inline void make_polytope(Polytope3& p, const Sphere& s) noexcept {
   p.kind = Polytope3::Kind::point;
   p.vertex_buffer[0] = s.center;
@@ -111,6 +123,7 @@ inline void make_polytope(Polytope3& p, const Sphere& s) noexcept {
   p.vertex_count = 1;
   p.centroid = s.center;
   p.radius = s.radius;
+  set_size(p);
 }
 
 inline void make_segment_polytope(Polytope3& p, Vec3 a, Vec3 b, float radius) noexcept {
@@ -123,6 +136,7 @@ inline void make_segment_polytope(Polytope3& p, Vec3 a, Vec3 b, float radius) no
   p.edge_count = 1;
   p.centroid = 0.5f * (a + b);
   p.radius = radius;
+  set_size(p);
 }
 inline void make_polytope(Polytope3& p, const Capsule3& c) noexcept {
   make_segment_polytope(p, c.a, c.b, c.radius);
@@ -152,6 +166,7 @@ inline void make_polytope(Polytope3& p, const Box& box) noexcept {
   p.centroid = Vec3(0.0f);
   p.radius = box.radius;
   p.solid = true;
+  set_size(p);
 }
 
 /// A triangle (corners a, b, c, counter-clockwise seen from its front) as a flat polytope.
@@ -175,6 +190,7 @@ inline void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float r
   p.edge_count = 3;
   p.centroid = (a + b + c) * (1.0f / 3.0f);
   p.radius = radius;
+  set_size(p);
 }
 
 inline void make_polytope(Polytope3& p, const Triangle& t) noexcept {
@@ -195,6 +211,7 @@ inline void make_polytope(Polytope3& p, const ConvexHull& hull) noexcept {
   p.centroid = hull.centroid;
   p.radius = hull.radius;
   p.solid = true;
+  set_size(p);
 }
 
 }  // namespace collide::detail
