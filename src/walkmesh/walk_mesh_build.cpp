@@ -25,11 +25,14 @@ constexpr std::uint32_t kUnset = 0xffffffffu;
 /// A vertex on another triangle's unshared edge is a T-junction only when its triangle lies on
 /// the far side, its direction from the edge at a cosine below -this with the near side's.
 constexpr float kTJunctionSideCos = 0.1f;
-/// Most grid cells an edge's box may span for the T-junction search to read them; a longer edge
-/// scans the sorted slab instead. Chosen, not tuned: with cells of the mean edge length most
-/// edges span a few cells (on dungeon.obj's walk mesh 70 of 103,489 searches took the slab),
-/// and a cell costs one binary search per column.
+/// Grid cells the T-junction search of one edge may read whatever its slab holds; beyond this it
+/// reads whichever is smaller, the cells or the vertices of the thinnest slab. Chosen, not tuned:
+/// with cells of the median edge length most edges span a few cells, and a cell costs one binary
+/// search per column.
 constexpr std::uint64_t kTJunctionGridCells = 64;
+/// Padding of the boxes of an edge's pieces, relative to the coordinates' size: a vertex whose
+/// parameter falls in a piece is inside the piece's box despite rounding.
+constexpr float kTJunctionPieceSlack = 1e-5f;
 
 std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
 
@@ -112,6 +115,9 @@ class VertexGrid {
     std::sort(entries_.begin(), entries_.end());
   }
 
+  /// Side of a cell.
+  [[nodiscard]] float cell() const noexcept { return 1.0f / inverse_; }
+
   /// Cells a box spans (in 64 bits: the product may exceed 32).
   [[nodiscard]] std::uint64_t cell_count(Vec3 lo, Vec3 hi) const noexcept {
     const glm::uvec3 a = cell_of(lo), b = cell_of(hi);
@@ -153,12 +159,15 @@ class VertexGrid {
 /// Splits triangles at T-junctions: a vertex lying inside an unshared edge of another triangle
 /// (within `tolerance`), as where a refined part of a mesh meets an unrefined one. The triangle
 /// (u, v, x) with w on edge (u, v) becomes (u, w, x) and (w, v, x), same winding, when a triangle at
-/// w runs along (u, v) on the far side from x (overlapping geometry is left alone); repeated until no
-/// unshared edge holds a vertex (at most kMaxTJunctionPasses passes). Candidate vertices for an
-/// edge come from a grid of cells about as large as the mesh's mean edge (the cells around the
-/// edge), or, for an edge spanning more than kTJunctionGridCells cells, from the axis-sorted
-/// vertex list whose slab around the edge holds the fewest. The vertex nearest to u along the
-/// edge wins (ties: the lowest index), whichever way it was found.
+/// w runs along (u, v) on the far side from x (overlapping geometry is left alone). Every such
+/// vertex of an edge is taken in one pass, in order from u (ties: the lowest index), each cutting
+/// the rest of the edge, until a cut would leave a degenerate piece; passes repeat (at most
+/// kMaxTJunctionPasses) for a triangle with T-junctions on two edges, whose second edge waits for
+/// the next pass, and until no unshared edge holds a vertex. Candidate vertices for an
+/// edge come from a grid of cells as large as the mesh's median edge: the cells of the edge's box
+/// when it spans at most kTJunctionGridCells; else the cells along it, read piece by piece (pieces
+/// about a cell long), or the axis-sorted vertex list whose slab around the edge holds the fewest,
+/// whichever reads less.
 std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<Vec3>& local,
                               float tolerance) {
   std::vector<std::uint32_t> verts;
@@ -190,17 +199,27 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
       }
     }
   }
-  // The grid's cell: the mean edge length, so that a typical edge spans a few cells.
+  // The grid's cell: the median edge length (of edges with a length), so that a typical edge
+  // spans a few cells. Not the mean: a few long edges would make cells that hold thousands of
+  // vertices where the rest are dense; long edges are read piece by piece instead.
   std::optional<VertexGrid> grid;
   if (!verts.empty()) {
-    double length = 0.0;
+    std::vector<float> lengths;
+    lengths.reserve(3 * tris.size());
     Vec3 lo = local[verts[0]];
     for (const std::uint32_t v : verts) lo = glm::min(lo, local[v]);
     for (const glm::uvec3& t : tris) {
-      for (int k = 0; k < 3; ++k) length += static_cast<double>(glm::length(local[t[(k + 1) % 3]] - local[t[k]]));
+      for (int k = 0; k < 3; ++k) {
+        const float length = glm::length(local[t[(k + 1) % 3]] - local[t[k]]);
+        if (length > 0.0f) lengths.push_back(length);
+      }
     }
-    const auto cell = static_cast<float>(length / (3.0 * static_cast<double>(tris.size())));
-    if (cell > 0.0f && std::isfinite(1.0f / cell)) grid.emplace(local, verts, lo, cell);
+    if (!lengths.empty()) {
+      const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+      std::nth_element(lengths.begin(), middle, lengths.end());
+      const float cell = *middle;
+      if (std::isfinite(1.0f / cell)) grid.emplace(local, verts, lo, cell);
+    }
   }
   std::size_t splits = 0;
   for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
@@ -234,6 +253,7 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
       }
     }
     std::vector<bool> split_this_pass(tris.size(), false);
+    std::vector<std::pair<float, std::uint32_t>> on_edge;  // (parameter along the edge, vertex)
     std::size_t before = tris.size();
     for (std::size_t i = 0; i < uses.size();) {
       std::size_t j = i + 1;
@@ -244,14 +264,16 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
         const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
         const Vec3 a = local[u], d = local[v] - a;
         const float dd = glm::dot(d, d);
-        std::uint32_t w = kUnset;
-        float w_param = 2.0f;
+        on_edge.clear();
+        // Parameters of the piece of the edge being searched: a vertex counts in the piece that
+        // holds its parameter, so one found by two pieces' boxes counts once.
+        float piece_lo = 0.0f, piece_hi = 2.0f;
         const auto consider = [&](std::uint32_t q) {
           if (q == u || q == v) return;
           const float s = glm::dot(local[q] - a, d) / dd;
-          if (!(s > 0.0f && s < 1.0f)) return;
+          if (!(s > 0.0f && s < 1.0f && s >= piece_lo && s < piece_hi)) return;
           const Vec3 off = local[q] - (a + s * d);
-          if (!(glm::dot(off, off) <= tolerance * tolerance && (s < w_param || (s == w_param && q < w)))) return;
+          if (!(glm::dot(off, off) <= tolerance * tolerance)) return;
           // A true T-junction: some triangle at q has an edge along (u, v) and lies on the other
           // side of it than x.
           const Vec3 x_side = glm::cross(d, local[x] - a);
@@ -274,10 +296,7 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
               other_side = glm::dot(o_side, x_side) < -kTJunctionSideCos * glm::length(o_side) * glm::length(x_side);
             }
           }
-          if (other_side) {
-            w = q;
-            w_param = s;
-          }
+          if (other_side) on_edge.emplace_back(s, q);
         };
         const Vec3 box_lo = glm::min(a, local[v]) - Vec3(tolerance);
         const Vec3 box_hi = glm::max(a, local[v]) + Vec3(tolerance);
@@ -300,16 +319,50 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
               best_axis = axis;
             }
           }
-          for (std::size_t k = range[best_axis].first; k < range[best_axis].second; ++k) consider(sorted[best_axis][k]);
+          // Against it, the grid read in pieces about a cell long: the cells along the edge.
+          std::uint64_t pieces = 0, piece_cells = 0;
+          Vec3 pad{0.0f};
+          if (grid) {
+            const auto largest = [](Vec3 p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); };
+            const float n = std::ceil(largest(d) / grid->cell());
+            if (n >= 1.0f && n <= static_cast<float>(best_count)) {
+              pieces = static_cast<std::uint64_t>(n);
+              pad = Vec3(tolerance + kTJunctionPieceSlack * (grid->cell() + largest(a) + largest(d)));
+              const Vec3 end = a + d / n;
+              piece_cells = grid->cell_count(glm::min(a, end) - pad, glm::max(a, end) + pad);
+            }
+          }
+          if (pieces > 0 && pieces * piece_cells <= best_count) {
+            const auto count = static_cast<float>(pieces);
+            for (std::uint64_t k = 0; k < pieces; ++k) {
+              // The same expression for a boundary from both sides, so the pieces tile [0, 1).
+              piece_lo = static_cast<float>(k) / count;
+              piece_hi = k + 1 == pieces ? 2.0f : static_cast<float>(k + 1) / count;
+              const Vec3 p0 = a + piece_lo * d, p1 = a + std::min(piece_hi, 1.0f) * d;
+              grid->for_each(glm::min(p0, p1) - pad, glm::max(p0, p1) + pad, consider);
+            }
+          } else {
+            for (std::size_t k = range[best_axis].first; k < range[best_axis].second; ++k) consider(sorted[best_axis][k]);
+          }
         }
         auto solid = [&](std::uint32_t p0, std::uint32_t p1, std::uint32_t p2) {  // the degenerate test of step 3
           const Vec3 e0 = local[p1] - local[p0], e1 = local[p2] - local[p1], e2 = local[p0] - local[p2];
           const float longest2 = std::max({glm::dot(e0, e0), glm::dot(e1, e1), glm::dot(e2, e2)});
           return glm::length(glm::cross(e0, -e2)) > kWalkDegenerateTolerance * longest2;
         };
-        if (w != kUnset && solid(u, w, x) && solid(w, v, x)) {
-          tris[t] = {u, w, x};
+        // Cut the edge at each vertex in order from u; the triangle holding the rest of the edge
+        // (first t, then the last one added) is cut again.
+        std::sort(on_edge.begin(), on_edge.end());
+        std::uint32_t rest = t, from = u;
+        float from_param = 0.0f;
+        for (const auto& [s, w] : on_edge) {
+          if (!(s > from_param)) continue;  // coincident with the last cut
+          if (!solid(from, w, x) || !solid(w, v, x)) break;
+          tris[rest] = {from, w, x};
+          rest = static_cast<std::uint32_t>(tris.size());
           tris.push_back({w, v, x});
+          from = w;
+          from_param = s;
           split_this_pass[t] = true;
           ++splits;
         }

@@ -63,8 +63,8 @@ inline constexpr int kMaxIdleIterations = 64;
 /// Two triangles over an edge whose far corners lie in directions with a cosine above this
 /// (folded back onto each other within about 2.5 degrees: overlapping geometry) are not linked.
 inline constexpr float kFoldBackLinkCos = 0.999f;
-/// Passes of T-junction splitting in build_walk_mesh (each pass splits every triangle with a
-/// vertex on an unshared edge once; an edge holding n vertices needs n passes).
+/// Passes of T-junction splitting in build_walk_mesh (a pass cuts one unshared edge of each
+/// triangle at every vertex on it; a triangle with T-junctions on k edges needs k passes).
 inline constexpr int kMaxTJunctionPasses = 16;
 /// Most triangles one `walk` visits (edge crossings plus wall slides); a walk that needs more
 /// stops and says so (`WalkStatus::iteration_limit`).
