@@ -332,7 +332,8 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
               piece_cells = grid->cell_count(glm::min(a, end) - pad, glm::max(a, end) + pad);
             }
           }
-          if (pieces > 0 && pieces * piece_cells <= best_count) {
+          // (Divided, not multiplied: a piece's box may span up to 2^63 cells.)
+          if (pieces > 0 && piece_cells <= best_count / pieces) {
             const auto count = static_cast<float>(pieces);
             for (std::uint64_t k = 0; k < pieces; ++k) {
               // The same expression for a boundary from both sides, so the pieces tile [0, 1).

@@ -642,6 +642,35 @@ TEST(WalkMeshBuild, TJunctionsAreSplitSoBothSidesLink) {
   }
 }
 
+TEST(WalkMeshBuild, AnEdgeHoldingManyVerticesIsSplitAtEveryOne) {
+  // A strip of 40 unit squares along x meets, at z = 0, one long triangle whose edge runs the
+  // strip's whole length: 39 strip vertices lie inside that edge (T-junctions, all cut; passes
+  // once cut one per edge per pass, up to kMaxTJunctionPasses). The strip and the long triangle
+  // then form one island, and a walk from the strip crosses into the long triangle anywhere.
+  constexpr int kSquares = 40;
+  TriangleSoup s{"strip", {}, {}};
+  for (int i = 0; i <= kSquares; ++i) {
+    s.positions.push_back({static_cast<float>(i), 0.0f, 0.0f});
+    s.positions.push_back({static_cast<float>(i), 0.0f, 1.0f});
+  }
+  for (std::uint32_t i = 0; i < kSquares; ++i) {
+    s.triangles.push_back({2 * i, 2 * i + 1, 2 * i + 3});
+    s.triangles.push_back({2 * i, 2 * i + 3, 2 * i + 2});
+  }
+  const auto far = static_cast<std::uint32_t>(s.positions.size());
+  s.positions.push_back({0.5f * kSquares, 0.0f, -5.0f});
+  s.triangles.push_back({0, 2 * kSquares, far});  // edge (0, 2 kSquares) along z = 0
+  const WalkMesh mesh = build_walk_mesh(s);
+  EXPECT_EQ(mesh.stats().t_junction_splits, static_cast<std::size_t>(kSquares - 1));
+  EXPECT_EQ(mesh.stats().islands, 1u);
+  for (const float x : {10.0f, 17.3f, 30.5f}) {  // where the long triangle is deeper than the step
+    const WalkPoint start = mesh.nearest_walk_point({x, 0.0f, 0.5f});
+    const WalkResult r = mesh.walk(start, {0.0f, 0.0f, -1.5f});
+    EXPECT_EQ(r.status, WalkStatus::completed) << x;
+    EXPECT_LT(distance(mesh.to_world_point(r.end), {x, 0.0f, -1.0f}), 1e-4) << x;
+  }
+}
+
 TEST(WalkMeshBuild, AWallStandingOnAnEdgeIsNotATJunction) {
   // A floor square whose edge x = 2 carries a wall split at its midpoint: the wall's vertex lies
   // on the floor's unshared edge, but the wall does not continue the floor (it stands at 90
