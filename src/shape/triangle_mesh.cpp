@@ -92,8 +92,16 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
     throw InvalidInput("triangle mesh: spans more than float range (coordinates near +-3.4e38 on both sides); "
                        "no float frame holds it");
   }
+  // The used vertices are within that span of the origin; an unused one may not be (refused, as
+  // an unused vertex that is not finite is: `vertices` keeps every given vertex, finite).
   mesh.vertices.resize(vertices.size());
-  for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertices[i] = vertices[i] - mesh.origin;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    mesh.vertices[i] = vertices[i] - mesh.origin;
+    if (!is_finite(mesh.vertices[i])) {
+      throw InvalidInput("triangle mesh vertex " + std::to_string(i) +
+                         ": beyond float range of the triangles' vertices (no float frame holds them all)");
+    }
+  }
 
   // Drop triangles without a normal in the stored coordinates (what every query computes with).
   std::vector<Vec3> normals;

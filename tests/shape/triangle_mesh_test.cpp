@@ -103,6 +103,15 @@ TEST(TriangleMesh, InvalidInputIsNamedByField) {
   bad = m;
   bad.vertices = {{-3e38f, 0, 0}, {3e38f, 0, 0}, {0, 0, 1}, {1, 0, 1}};
   EXPECT_EQ(error_of(bad), "triangle mesh: spans more than float range (coordinates near +-3.4e38 on both sides); no float frame holds it");
+  // An unused vertex on the far side of the float range from the used ones (found by
+  // fuzz_obj_mesh: its local coordinate overflowed to -inf in an accepted mesh). Unused, still
+  // refused, naming it; near enough, it is kept.
+  bad = m;
+  bad.vertices = {{3e38f, 0, 0}, {3e38f, 0, 1}, {2e38f, 0, 0}, {-2e38f, 0, 0}};
+  bad.triangles = {{0, 1, 2}};
+  EXPECT_EQ(error_of(bad), "triangle mesh vertex 3: beyond float range of the triangles' vertices (no float frame holds them all)");
+  bad.vertices[3].x = 0.0f;
+  EXPECT_EQ(error_of(bad), "no error");
   for (float cos_angle : {nan, -1.5f, 1.01f}) {
     EXPECT_EQ(error_of(m, {cos_angle}), "triangle mesh options: active_edge_cos_angle must be in [-1, 1]");
   }

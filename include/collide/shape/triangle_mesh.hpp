@@ -87,7 +87,8 @@ struct TriangleMesh {
 /// Throws InvalidInput naming the field: "triangle mesh vertex 7: not finite", "triangle mesh
 /// triangle 12: vertex index 90 out of range (40 vertices)", more than kMaxMeshTriangles
 /// triangles, no triangles, every triangle degenerate, a vertex span beyond float range (no float
-/// frame holds it), options.active_edge_cos_angle not in [-1, 1].
+/// frame holds it; an unused vertex too: "triangle mesh vertex 9: beyond float range of the
+/// triangles' vertices ..."), options.active_edge_cos_angle not in [-1, 1].
 [[nodiscard]] TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles,
                                               const TriangleMeshOptions& options = {});
 
