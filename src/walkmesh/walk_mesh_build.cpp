@@ -6,6 +6,7 @@
 #include "local_frame.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/core/math.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <algorithm>
@@ -323,11 +324,10 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
           std::uint64_t pieces = 0, piece_cells = 0;
           Vec3 pad{0.0f};
           if (grid) {
-            const auto largest = [](Vec3 p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); };
-            const float n = std::ceil(largest(d) / grid->cell());
+            const float n = std::ceil(max_abs(d) / grid->cell());
             if (n >= 1.0f && n <= static_cast<float>(best_count)) {
               pieces = static_cast<std::uint64_t>(n);
-              pad = Vec3(tolerance + kTJunctionPieceSlack * (grid->cell() + largest(a) + largest(d)));
+              pad = Vec3(tolerance + kTJunctionPieceSlack * (grid->cell() + max_abs(a) + max_abs(d)));
               const Vec3 end = a + d / n;
               piece_cells = grid->cell_count(glm::min(a, end) - pad, glm::max(a, end) + pad);
             }
