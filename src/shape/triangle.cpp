@@ -38,8 +38,12 @@ Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
   const Vec3 n = cross(b - a, c - a);
   const float largest = max_abs(n);
   if (!(largest > 0.0f) || !std::isfinite(largest)) return Vec3(0.0f);
-  const Vec3 m = n / largest;  // largest coordinate +-1: the length neither underflows nor overflows
-  return m / length(m);
+  // Largest coordinate +-1 (within rounding): the length neither underflows nor overflows.
+  // Reciprocals, as the normal of a ray's hit is a fixed cost of every cast; a subnormal
+  // `largest` has no finite reciprocal and is divided by.
+  const float scale = 1.0f / largest;
+  const Vec3 m = std::isfinite(scale) ? n * scale : n / largest;
+  return m * (1.0f / length(m));
 }
 
 float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c, float max_fraction) noexcept {

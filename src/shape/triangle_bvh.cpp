@@ -157,6 +157,7 @@ inline Lanes load(const std::array<float, 4>& a) noexcept {
   return v;
 }
 inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
+inline Lanes lanes(float a, float b, float c, float d) noexcept { return Lanes{a, b, c, d}; }
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
 inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
 inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
@@ -187,6 +188,7 @@ inline Lanes lanewise(F f) noexcept {
 }
 inline Lanes load(const std::array<float, 4>& a) noexcept { return {a}; }
 inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
+inline Lanes lanes(float a, float b, float c, float d) noexcept { return {{a, b, c, d}}; }
 inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] + b.v[k]; }); }
 inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
 inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
@@ -490,9 +492,17 @@ struct PacketCrossings {
   std::array<float, 4> fraction{};   ///< where (valid in the lanes of `bits`)
 };
 
-inline PacketCrossings cross_packet(const CornerLanes& t, const detail::WatertightRay& r, float max_fraction) noexcept {
-  const Lanes ox = splat(r.origin[r.kx]), oy = splat(r.origin[r.ky]), oz = splat(r.origin[r.kz]);
-  const Lanes sx = splat(r.sx), sy = splat(r.sy), sz = splat(r.sz);
+/// A watertight ray's constants as lanes, made once per ray (not at every leaf).
+struct PacketRay {
+  int kx, ky, kz;
+  Lanes ox, oy, oz, sx, sy, sz;
+  explicit PacketRay(const detail::WatertightRay& r) noexcept
+      : kx(r.kx), ky(r.ky), kz(r.kz), ox(splat(r.origin[r.kx])), oy(splat(r.origin[r.ky])),
+        oz(splat(r.origin[r.kz])), sx(splat(r.sx)), sy(splat(r.sy)), sz(splat(r.sz)) {}
+};
+
+inline PacketCrossings cross_packet(const CornerLanes& t, const PacketRay& r, float max_fraction) noexcept {
+  const Lanes ox = r.ox, oy = r.oy, oz = r.oz, sx = r.sx, sy = r.sy, sz = r.sz;
   // Corners relative to the origin, in the ray's axes, sheared so the ray runs along z.
   const Lanes az = load(t[0][r.kz]) - oz, bz = load(t[1][r.kz]) - oz, cz = load(t[2][r.kz]) - oz;
   const Lanes ax = (load(t[0][r.kx]) - ox) - sx * az, ay = (load(t[0][r.ky]) - oy) - sy * az;
@@ -568,12 +578,15 @@ COLLIDE_ALWAYS_INLINE void TriangleBvh::traverse_slabs(Vec3 origin_point, Vec3 t
   if (nodes_.empty() || !(max_fraction > 0.0f)) return;
   std::array<int, 3> near_row, far_row;
   std::array<Lanes, 3> origin, inverse, near_grow, far_grow;
+  // The three reciprocals by one vector division (a division per ray is a fixed cost that short
+  // rays, which open two or three nodes, feel).
+  const Lanes reciprocal = splat(1.0f) / lanes(translation.x, translation.y, translation.z, 1.0f);
   for (int axis = 0; axis < 3; ++axis) {
     const bool down = std::signbit(translation[axis]);
     near_row[axis] = down ? kMaxX + axis : kMinX + axis;
     far_row[axis] = down ? kMinX + axis : kMaxX + axis;
     origin[axis] = splat(origin_point[axis]);
-    inverse[axis] = splat(1.0f / translation[axis]);
+    inverse[axis] = splat(reciprocal[axis]);
     near_grow[axis] = splat(down ? half[axis] : -half[axis]);
     far_grow[axis] = splat(down ? -half[axis] : half[axis]);
   }
@@ -605,24 +618,44 @@ COLLIDE_ALWAYS_INLINE void TriangleBvh::traverse_slabs(Vec3 origin_point, Vec3 t
       const Lanes t_far_z = slab(far_row, far_grow, 2);
       const Lanes enter = max(t_near_x, max(t_near_y, max(t_near_z, splat(0.0f))));
       const Lanes exit = min(t_far_x, min(t_far_y, min(t_far_z, splat(max_t)))) * splat(kBvhSlabSlack);
-      unsigned open = lane_bits(enter <= exit) & used_slots(node);
+      // An unused slot's box [+inf, -inf] is never entered by a finite ray (its near side is
+      // +inf or NaN, its far side -inf or NaN, on every axis), so no used_slots mask here.
+      unsigned open = lane_bits(enter <= exit);
+      COLLIDE_ASSERT((open & ~used_slots(node)) == 0, "BVH ray walk entered an unused slot");
       if (open != 0) {
         std::array<float, kBvhWidth> t;
         std::memcpy(t.data(), &enter, sizeof t);
-        // The open children by entry fraction, farthest first (insertion sort of at most four).
-        std::array<Entry, kBvhWidth> order;
-        int count = 0;
+        // One or two open children (most nodes a ray opens) without the sort: the nearer goes
+        // next, and of two at the same fraction the higher slot, as the sort below orders them.
+        const int first = std::countr_zero(open);
+        open &= open - 1;
+        if (open == 0) {
+          ref = node.child[first];
+          continue;
+        }
+        if ((open & (open - 1)) == 0) {
+          const int second = std::countr_zero(open);
+          const bool second_nearer = t[second] <= t[first];
+          const int next = second_nearer ? second : first;
+          const int later = second_nearer ? first : second;
+          stack[top++] = {node.child[later], t[later]};
+          ref = node.child[next];
+          continue;
+        }
+        open |= 1u << first;
+        // Three or four: pushed in order of entry fraction, farthest first (an insertion sort
+        // on the stack itself), and the nearest taken back off.
+        COLLIDE_ASSERT(top + kBvhWidth <= kBvhStackSize, "BVH traversal stack overflow");
+        const int base = top;
         while (open != 0) {
           const int k = std::countr_zero(open);
           open &= open - 1;
-          Entry e{node.child[k], t[k]};
-          int i = count++;
-          for (; i > 0 && order[i - 1].fraction < e.fraction; --i) order[i] = order[i - 1];
-          order[i] = e;
+          const Entry e{node.child[k], t[k]};
+          int i = top++;
+          for (; i > base && stack[i - 1].fraction < e.fraction; --i) stack[i] = stack[i - 1];
+          stack[i] = e;
         }
-        COLLIDE_ASSERT(top + count - 1 <= kBvhStackSize, "BVH traversal stack overflow");
-        for (int i = 0; i < count - 1; ++i) stack[top++] = order[i];
-        ref = order[count - 1].ref;
+        ref = stack[--top].ref;
         continue;
       }
     }
@@ -639,9 +672,10 @@ void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_
   if (nodes_.empty()) return;
   const detail::WatertightRay watertight(ray);
   if (!watertight.valid) return;
+  const PacketRay packet_ray(watertight);
   traverse_slabs<false>(ray.origin, ray.translation, Vec3(0.0f), max_fraction,
                         [&](const Packet& packet, float max_t) {
-                          PacketCrossings hits = cross_packet(packet.corners, watertight, max_t);
+                          PacketCrossings hits = cross_packet(packet.corners, packet_ray, max_t);
                           hits.bits &= distinct_lanes(packet.id);
                           return hits.bits != 0 ? on_leaf(packet, hits.bits, hits.fraction, max_t) : max_t;
                         });

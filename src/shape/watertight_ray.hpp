@@ -29,9 +29,11 @@ struct WatertightRay {
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < 0.0f) std::swap(kx, ky);
-    sx = d[kx] / d[kz];
-    sy = d[ky] / d[kz];
+    // One division per ray: the shear needs only to be the same for every triangle the ray
+    // meets (that is what makes the test watertight), not correctly rounded.
     sz = 1.0f / d[kz];
+    sx = d[kx] * sz;
+    sy = d[ky] * sz;
     valid = true;
   }
 
