@@ -26,7 +26,7 @@ inline constexpr int kBvhWidth = 4;
 /// Most triangles in one BVH leaf: a leaf is one packet of four triangles tested together.
 inline constexpr int kBvhLeafTriangles = 4;
 /// Candidate split planes per axis for the binned surface area heuristic.
-inline constexpr int kBvhBins = 16;
+inline constexpr int kBvhBins = 32;
 /// Depth of the binary build below which nodes are split by the surface area heuristic; deeper
 /// nodes are split at the median (halving their count), so the tree is at most
 /// kBvhMaxSahDepth + 32 levels deep for any input of fewer than 2^32 triangles, whatever the
