@@ -11,7 +11,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -91,20 +93,35 @@ class TriangleBvh {
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = nodes_[stack[--top]];
+      // The four slots' overlap tests without a branch each (& rather than &&: a missed
+      // prediction per slot cost more than the comparisons), then the overlapping used slots.
+      unsigned hits = 0;
       for (int k = 0; k < kBvhWidth; ++k) {
-        if (node.child[k] == kEmpty) break;  // slots are filled from the first: the rest are empty too
-        if (!(node.box[kMinX][k] <= box.max.x && box.min.x <= node.box[kMaxX][k] && node.box[kMinY][k] <= box.max.y &&
-              box.min.y <= node.box[kMaxY][k] && node.box[kMinZ][k] <= box.max.z && box.min.z <= node.box[kMaxZ][k])) {
-          continue;
-        }
+        const bool overlaps = (node.box[kMinX][k] <= box.max.x) & (box.min.x <= node.box[kMaxX][k]) &
+                              (node.box[kMinY][k] <= box.max.y) & (box.min.y <= node.box[kMaxY][k]) &
+                              (node.box[kMinZ][k] <= box.max.z) & (box.min.z <= node.box[kMaxZ][k]);
+        hits |= static_cast<unsigned>(overlaps) << k;
+      }
+      for (hits &= used_slots(node); hits != 0; hits &= hits - 1) {
+        const int k = std::countr_zero(hits);
         if (node.count[k] == 0) {
           stack[top++] = node.child[k];
           continue;
         }
         const Packet& packet = packets_[node.child[k] & ~kLeaf];
-        for (std::uint32_t i = 0; i < node.count[k]; ++i) {
-          const Vec3 a = packet.corner(0, i), b = packet.corner(1, i), c = packet.corner(2, i);
-          if (!overlap(Aabb3{glm::min(glm::min(a, b), c), glm::max(glm::max(a, b), c)}, box)) continue;
+        unsigned lanes = 0;
+        for (std::uint32_t i = 0; i < kBvhLeafTriangles; ++i) {
+          bool overlaps = true;
+          for (int axis = 0; axis < 3; ++axis) {
+            const float p = packet.corners[0][axis][i], q = packet.corners[1][axis][i], r = packet.corners[2][axis][i];
+            const float lo = std::min(std::min(p, q), r), hi = std::max(std::max(p, q), r);
+            overlaps &= (lo <= box.max[axis]) & (box.min[axis] <= hi);
+          }
+          lanes |= static_cast<unsigned>(overlaps) << i;
+        }
+        lanes &= (1u << node.count[k]) - 1u;
+        for (; lanes != 0; lanes &= lanes - 1) {
+          const auto i = static_cast<std::uint32_t>(std::countr_zero(lanes));
           if constexpr (std::is_same_v<std::invoke_result_t<Visit&, std::uint32_t>, bool>) {
             if (!visit(packet.id[i])) return;
           } else {
