@@ -27,7 +27,9 @@ namespace collide {
 inline constexpr int kBvhWidth = 4;
 /// Most triangles in one BVH leaf: a leaf is one packet of four triangles tested together.
 inline constexpr int kBvhLeafTriangles = 4;
-/// Candidate split planes per axis for the binned surface area heuristic.
+/// Candidate split planes per axis for the binned surface area heuristic (32: among FCL's
+/// env.obj's long triangles 16 found planes that cost 20% more instructions per ray; 64 gained
+/// nothing over 32).
 inline constexpr int kBvhBins = 32;
 /// Depth of the binary build below which nodes are split by the surface area heuristic; deeper
 /// nodes are split at the median (halving their count), so the tree is at most
