@@ -18,12 +18,14 @@
 //     EPA's deepest points join them when the clip missed them, so the deepest point is EPA's.
 //  3. Cores that overlap (or touch): a face axis makes a face contact (the reference face's side
 //     planes clip the other shape's most anti-parallel face, Sutherland & Hodgman 1974), an
-//     edge axis one point between the two edges. Cores apart by less than the radii plus the
-//     margin (rounded shapes, speculative contact): GJK gives their closest points (a point or
-//     segment core against a triangle, as a capsule meets a level: in closed form, Ericson
-//     5.1.10, skipping the triangle edges the segment stays inside of); if the normal is within
-//     kFaceContactSine of a face normal, that face clips as above, else the closest points make
-//     one point.
+//     edge axis one point between the two edges. Against a triangle, the incident core's
+//     deepest vertex joins the clipped points when the clip left it out and the face axis is
+//     the minimum translation (the EPA route's deepest point, here exact). Cores apart by less
+//     than the radii plus the margin (rounded shapes, speculative contact): GJK gives their
+//     closest points (a point or segment core against a triangle, as a capsule meets a level:
+//     in closed form, Ericson 5.1.10, skipping the triangle edges the segment stays inside
+//     of); if the normal is within kFaceContactSine of a face normal, that face clips as
+//     above, else the closest points make one point.
 //  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
 //     span the largest area (the idea of Jolt's PruneContactPoints).
 
@@ -42,9 +44,23 @@
 #include <array>
 #include <cstddef>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <variant>
+
+// A hull's face planes are tested four at a time with SSE2 (every x86-64 CPU); elsewhere, or
+// with COLLIDE_HULL_FACES_SSE2=0, one at a time (the same values).
+#ifndef COLLIDE_HULL_FACES_SSE2
+#if defined(__SSE2__) || defined(_M_X64)
+#define COLLIDE_HULL_FACES_SSE2 1
+#else
+#define COLLIDE_HULL_FACES_SSE2 0
+#endif
+#endif
+#if COLLIDE_HULL_FACES_SSE2
+#include <emmintrin.h>
+#endif
 
 namespace collide {
 namespace {
@@ -111,6 +127,10 @@ struct ScratchArray {
   [[nodiscard]] const T* data() const noexcept { return reinterpret_cast<const T*>(bytes); }
 };
 
+/// Most faces a solid core has: a hull of kMaxHullVertices vertices has at most 2 V - 4
+/// (Euler's formula, all faces triangles).
+constexpr int kMaxSolidFaces = 2 * kMaxHullVertices;
+
 /// The best axis of one kind.
 struct FaceQuery {
   float separation = -kInf;
@@ -123,8 +143,73 @@ struct EdgeQuery {
   Vec3 axis{0.0f};  ///< unit, from A towards B
 };
 
+/// query_faces_a for a hull A (face_blocks set) and a triangle B given in A's frame: B's
+/// separation from a face is the least height of B's three corners over its plane, the same
+/// float values as the support query takes, four faces at a time and all of them (no early
+/// stop: a branch per face cost more than the faces after it). The first face of the largest
+/// separation, as the scalar loop.
+FaceQuery hull_faces_against_triangle(const Polytope3& a, const PlacedPolytope& b) noexcept {
+  const Vec3 t0 = b.p.vertex(0);
+  const Vec3 t1 = b.p.vertex(1);
+  const Vec3 t2 = b.p.vertex(2);
+  FaceQuery q;
+#if COLLIDE_HULL_FACES_SSE2
+  constexpr int kNoLane = 0x7fff;
+  static_assert(kMaxSolidFaces + 4 < kNoLane);
+  // dot(n, t) = (n.x t.x + n.y t.y) + n.z t.z, as glm's dot.
+  const auto height = [](__m128 nx, __m128 ny, __m128 nz, Vec3 t) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, _mm_set1_ps(t.x)), _mm_mul_ps(ny, _mm_set1_ps(t.y))),
+                      _mm_mul_ps(nz, _mm_set1_ps(t.z)));
+  };
+  __m128 best = _mm_set1_ps(-kInf);
+  __m128i best_index = _mm_set1_epi32(kNoLane);
+  __m128i index = _mm_setr_epi32(0, 1, 2, 3);
+  const __m128i four = _mm_set1_epi32(4);
+  const float* p = a.face_blocks;
+  const float* end = p + 16 * ((a.face_count + 3) / 4);
+  for (; p != end; p += 16) {
+    const __m128 nx = _mm_loadu_ps(p);
+    const __m128 ny = _mm_loadu_ps(p + 4);
+    const __m128 nz = _mm_loadu_ps(p + 8);
+    const __m128 low = _mm_min_ps(_mm_min_ps(height(nx, ny, nz, t0), height(nx, ny, nz, t1)),
+                                  height(nx, ny, nz, t2));
+    const __m128 sep = _mm_sub_ps(low, _mm_loadu_ps(p + 12));
+    const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(sep, best));
+    best = _mm_max_ps(sep, best);
+    best_index = _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
+    index = _mm_add_epi32(index, four);
+  }
+  // The largest over the lanes, then the lowest face index holding it (support_index's merge).
+  __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
+  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
+  __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
+                                   _mm_andnot_si128(holds, _mm_set1_epi32(kNoLane)));
+  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
+  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
+  const int face = _mm_cvtsi128_si32(candidate) & kNoLane;
+  if (face != kNoLane) {
+    q.face = face;
+    q.separation = _mm_cvtss_f32(top);
+  }
+#else
+  for (int i = 0; i < a.face_count; ++i) {
+    const HullFace& face = a.faces[i];
+    const float s = std::min({dot(face.normal, t0), dot(face.normal, t1), dot(face.normal, t2)}) - face.offset;
+    if (s > q.separation) {
+      q.separation = s;
+      q.face = i;
+    }
+  }
+#endif
+  return q;
+}
+
 /// Separation of B from each face of A; stops early once a face separates by more than `reach`.
 FaceQuery query_faces_a(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  if (a.face_blocks != nullptr && b.identity && b.p.kind == Polytope3::Kind::triangle) {
+    return hull_faces_against_triangle(a, b);
+  }
   FaceQuery q;
   for (int i = 0; i < a.face_count; ++i) {
     const HullFace& face = a.faces[i];
@@ -234,10 +319,6 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
   return q;
 }
 
-/// Most faces a solid core has: a hull of kMaxHullVertices vertices has at most 2 V - 4
-/// (Euler's formula, all faces triangles).
-constexpr int kMaxSolidFaces = 2 * kMaxHullVertices;
-
 /// query_edges for a solid A against a triangle B, by silhouettes: the great circle of normals
 /// perpendicular to a triangle edge's direction d holds that edge's half circle on -B's Gauss
 /// map, and an edge of A crosses it where its two faces lie on either side of it (dot(n, d) of
@@ -262,28 +343,77 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     if (dot(e.u, v[3u - eb.v0 - eb.v1] - e.p) > 0.0f) e.u = -e.u;
     e.min_ll = kParallelTolerance * kParallelTolerance * dot(e.d, e.d);
   }
-  const auto face_dots = [&](int f) {
+  // Each face's side of the three great circles: bit j when dot(normal, d_j) > 0, bit 4 + j
+  // when < 0 (on the circle: neither); and bit 8 + j when the normal leans to the outer side
+  // of edge j, dot(normal, u_j) > 0. An edge of A whose two faces both lean that way crosses
+  // the circle there (its crossing is a positive mix of their normals), on the half that is
+  // not B's.
+  const auto face_signs = [&](int f) {
     const Vec3 fn = a.faces[f].normal;
-    return Vec3(dot(fn, te[0].d), dot(fn, te[1].d), dot(fn, te[2].d));
+    unsigned m = 0;
+    for (int j = 0; j < 3; ++j) {
+      const float s = dot(fn, te[std::size_t(j)].d);
+      m |= (s > 0.0f ? 1u : 0u) << j;
+      m |= (s < 0.0f ? 16u : 0u) << j;
+      m |= (dot(fn, te[std::size_t(j)].u) > 0.0f ? 256u : 0u) << j;
+    }
+    return m;
   };
-  ScratchArray<Vec3, kMaxSolidFaces> dots;
+  alignas(16) std::uint16_t signs[kMaxSolidFaces + 4];
   const bool stored = a.face_count <= kMaxSolidFaces;  // always, for shapes built by collide
   if (stored) {
-    for (int f = 0; f < a.face_count; ++f) dots[f] = face_dots(f);
+#if COLLIDE_HULL_FACES_SSE2
+    if (a.face_blocks != nullptr) {
+      // Four faces at a time: the same products as dot(), the six comparisons' lanes masked
+      // to their bits and packed to one byte per face.
+      const __m128 zero = _mm_setzero_ps();
+      const int blocks = (a.face_count + 3) / 4;
+      for (int blk = 0; blk < blocks; ++blk) {
+        const float* p = a.face_blocks + 16 * blk;
+        const __m128 nx = _mm_loadu_ps(p);
+        const __m128 ny = _mm_loadu_ps(p + 4);
+        const __m128 nz = _mm_loadu_ps(p + 8);
+        __m128i m = _mm_setzero_si128();
+        const auto along = [&](Vec3 d) {
+          return _mm_add_ps(
+              _mm_add_ps(_mm_mul_ps(nx, _mm_set1_ps(d.x)), _mm_mul_ps(ny, _mm_set1_ps(d.y))),
+              _mm_mul_ps(nz, _mm_set1_ps(d.z)));
+        };
+        const auto bits = [](__m128 yes, int bit) {
+          return _mm_and_si128(_mm_castps_si128(yes), _mm_set1_epi32(bit));
+        };
+        for (int j = 0; j < 3; ++j) {
+          const __m128 s = along(te[std::size_t(j)].d);
+          const __m128 lean = along(te[std::size_t(j)].u);
+          m = _mm_or_si128(m, bits(_mm_cmpgt_ps(s, zero), 1 << j));
+          m = _mm_or_si128(m, bits(_mm_cmplt_ps(s, zero), 16 << j));
+          m = _mm_or_si128(m, bits(_mm_cmpgt_ps(lean, zero), 256 << j));
+        }
+        // Four 16-bit words (the values fit: below 2^11).
+        const __m128i words = _mm_packs_epi32(m, m);
+        std::memcpy(signs + 4 * blk, &words, 8);
+      }
+    } else
+#endif
+    {
+      for (int f = 0; f < a.face_count; ++f) signs[f] = std::uint16_t(face_signs(f));
+    }
   }
   EdgeQuery q;
   for (int i = 0; i < a.edge_count; ++i) {
     const HullEdge& ea = a.edges[i];
-    const Vec3 s0 = stored ? dots[ea.face0] : face_dots(ea.face0);
-    const Vec3 s1 = stored ? dots[ea.face1] : face_dots(ea.face1);
-    const Vec3 across = s0 * s1;  // < 0: on the silhouette along that triangle edge
-    if (!(across.x < 0.0f || across.y < 0.0f || across.z < 0.0f)) continue;
+    const unsigned s0 = stored ? signs[ea.face0] : face_signs(ea.face0);
+    const unsigned s1 = stored ? signs[ea.face1] : face_signs(ea.face1);
+    // On the silhouette along triangle edge j: the two faces strictly on either side, and
+    // not both leaning out of the triangle at that edge.
+    const unsigned across = ((s0 & (s1 >> 4)) | (s1 & (s0 >> 4))) & ~((s0 & s1) >> 8) & 7u;
+    if (across == 0) continue;
     const Vec3 pa = a.vertex(ea.v0);
     const Vec3 da = a.vertex(ea.v1) - pa;
     const float da2 = dot(da, da);
     const Vec3 mid = a.faces[ea.face0].normal + a.faces[ea.face1].normal;  // inside A's arc
     for (int j = 0; j < 3; ++j) {
-      if (!(across[j] < 0.0f)) continue;
+      if ((across & (1u << j)) == 0) continue;
       const TriangleEdge& e = te[std::size_t(j)];
       Vec3 l = cross(da, e.d);
       const float ll = dot(l, l);
@@ -392,7 +522,8 @@ struct ClipPolygon {
   int count = 0;
 };
 
-/// Clip `in` against the half-space dot(normal, x) <= offset; points created on a crossing get
+/// Clip `in` against the half-space dot(normal, x) <= offset (`normal` of any length: only the
+/// signs of the heights and their ratios count); points created on a crossing get
 /// the features (side edge `side`, the incident edge they lie on). A 2-point polygon is a
 /// segment (no closing edge).
 void clip_half_space(const ClipPolygon& in, ClipPolygon& out, Vec3 normal, float offset,
@@ -406,10 +537,11 @@ void clip_half_space(const ClipPolygon& in, ClipPolygon& out, Vec3 normal, float
     if (dot(normal, in.v[0].p) <= offset) out.v[out.count++] = in.v[0];
     return;
   }
+  // Each corner's height over the plane is taken once and carried to the next edge.
+  float dp = dot(normal, in.v[0].p) - offset;
   for (int i = 0; i < last; ++i) {
     const ClipVertex& p = in.v[i];
-    const ClipVertex& q = in.v[(i + 1) % n];
-    const float dp = dot(normal, p.p) - offset;
+    const ClipVertex& q = in.v[i + 1 == n ? 0 : i + 1];
     const float dq = dot(normal, q.p) - offset;
     if (dp <= 0.0f && out.count < kMaxClipVertices) out.v[out.count++] = p;
     if ((dp < 0.0f && dq > 0.0f) || (dp > 0.0f && dq < 0.0f)) {
@@ -423,8 +555,10 @@ void clip_half_space(const ClipPolygon& in, ClipPolygon& out, Vec3 normal, float
         out.v[out.count++] = c;
       }
     }
+    dp = dq;
   }
-  if (!closed && dot(normal, in.v[n - 1].p) <= offset && out.count < kMaxClipVertices) {
+  // (An open polyline's loop ends with dp at its last corner.)
+  if (!closed && dp <= 0.0f && out.count < kMaxClipVertices) {
     out.v[out.count++] = in.v[n - 1];
   }
 }
@@ -591,7 +725,8 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
     const int c1 = ref.face_vertices[rface.first + (k + 1) % ref_count];
     const Vec3 v0 = ref_is_a ? a.vertex(c0) : b.vertex(c0);
     const Vec3 v1 = ref_is_a ? a.vertex(c1) : b.vertex(c1);
-    const Vec3 side = normalize_or_zero(cross(v1 - v0, n));
+    // Not normalised: the clip needs only the sign of each height and their ratio.
+    const Vec3 side = cross(v1 - v0, n);
     const Feature side_feature{FeatureType::edge, std::uint32_t(ref.face_edges[rface.first + k])};
     clip_half_space(*in, *out, side, dot(side, v0), side_feature);
     std::swap(in, out);
@@ -711,7 +846,8 @@ template <class Place>
 /// Edge contact of edge `ea` of A and `eb` of B along axis `n` (A to B), separation `s`.
 void edge_contact(const Polytope3& a, const PlacedPolytope& b, int ea, int eb, Vec3 n, float s,
                   Manifold3& m) noexcept {
-  if (!(a.solid && b.p.solid)) {
+  // The pruned tests (two solids, a solid and a triangle) name the supporting edges already.
+  if (!(a.solid && b.p.solid) && !triangle_against_solid(a, b)) {
     ea = supporting_parallel_edge(a, IdentityPlace{a}, ea, n);
     eb = supporting_parallel_edge(b.p, BPlace{b}, eb, -n);
   }
@@ -854,6 +990,21 @@ ManifoldPoint3 epa_point(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Ve
   return mp;
 }
 
+/// Adds point `p` (deeper than every point of face contact `m`) to `m`, over its shallowest
+/// point when `m` is full.
+void add_deepest(Manifold3& m, const ManifoldPoint3& p) noexcept {
+  int slot = m.count;
+  if (slot == kMaxManifoldPoints<3>) {
+    slot = 0;
+    for (int i = 1; i < m.count; ++i) {
+      if (m.points[i].depth < m.points[slot].depth) slot = i;
+    }
+  } else {
+    ++m.count;
+  }
+  m.points[slot] = p;
+}
+
 /// A face contact `m` made along EPA's normal `n` with reference face `ref_face`. If the face's
 /// axis is worse than EPA's (the shapes' depth along it beyond EPA's by more than the
 /// tolerance), the contact is an edge's or a corner's: EPA's deepest points make one point
@@ -877,16 +1028,7 @@ void along_epa_axis(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, 
   // would report more.
   for (int i = 0; i < m.count; ++i) m.points[i].depth = std::min(m.points[i].depth, epa.depth);
   if (m.max_depth() >= epa.depth - epa.accuracy) return;
-  int slot = m.count;
-  if (slot == kMaxManifoldPoints<3>) {
-    slot = 0;
-    for (int i = 1; i < m.count; ++i) {
-      if (m.points[i].depth < m.points[slot].depth) slot = i;
-    }
-  } else {
-    ++m.count;
-  }
-  m.points[slot] = epa_point(a, b, n, point_a, point_b, epa.depth);
+  add_deepest(m, epa_point(a, b, n, point_a, point_b, epa.depth));
 }
 
 /// The contact along a known normal `n` (A's frame, from A to B) with the surfaces' closest
@@ -1037,14 +1179,13 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   const float size = std::max(std::min(a.size, b.p.size), kRelativeTolerance);
   // Touching within rounding counts: the clip keeps points that far apart too.
   const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
-  // The edge test's work, in solid pairs (kSatEdgePairLimit). Two flat cores stay with the
-  // test below (A - B may be flat, which EPA cannot grow around).
+  // The edge test's work, in solid pairs (kSatEdgePairLimit); a solid against a triangle
+  // always takes the test. Two flat cores stay with the test below (A - B may be flat, which
+  // EPA cannot grow around).
   const bool flat_pair = !a.solid && !b.p.solid;
-  const bool pruned = (a.solid && b.p.solid) || triangle_against_solid(a, b);
-  const int edge_work = a.edge_count * b.p.edge_count *
-                        (a.solid && b.p.solid ? 1
-                         : pruned             ? 3  // two products each (silhouettes), weighed by measurement
-                                              : a.vertex_count + b.p.vertex_count);
+  const int edge_work = triangle_against_solid(a, b) ? 0
+                        : a.edge_count * b.p.edge_count *
+                              (a.solid && b.p.solid ? 1 : a.vertex_count + b.p.vertex_count);
   if (edge_work > kSatEdgePairLimit && !flat_pair) {
     // Many edge pairs: GJK, and EPA for the axis when the cores overlap, then the same face
     // clipping (or one point). Cores apart: GJK's closest points, as below.
@@ -1114,8 +1255,25 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   }
   const float face_tolerance = kReferenceFaceTolerance * size;
   const bool ref_b = fb.face >= 0 && (fa.face < 0 || fb.separation > fa.separation + face_tolerance);
-  face_contact(a, b, !ref_b, ref_b ? fb.face : fa.face, keep, m);
-  if (m.count > 0) return;
+  const int ref_face = ref_b ? fb.face : fa.face;
+  face_contact(a, b, !ref_b, ref_face, keep, m);
+  if (m.count > 0) {
+    // The clip keeps the incident core over the reference face. When its vertex deepest below
+    // the face lies beyond the face's side planes (a small hull face over a large triangle),
+    // the points fall short of the axis' depth. If that axis is the best of all (the minimum
+    // translation, exactly: no tolerance preferred it), the vertex joins them, as EPA's
+    // deepest point does in along_epa_axis. (A solid against a triangle only: between two
+    // solids the clipped face is the contact a stack rests on.)
+    const float ref_separation = ref_b ? fb.separation : fa.separation;
+    const float axis_depth = radii - ref_separation;
+    if (triangle_against_solid(a, b) && ref_separation >= best_face &&
+        ref_separation >= ee.separation && m.max_depth() < axis_depth - touch) {
+      Manifold3 deepest;
+      deepest_vertex_contact(a, b, !ref_b, ref_face, face_support(a, b, !ref_b, ref_face), deepest);
+      add_deepest(m, deepest.points[0]);
+    }
+    return;
+  }
   // The clip kept nothing (a face axis at a corner, within the tolerances). The edges when
   // their axis is as good within the tolerance; else the face axis stays the answer, with the
   // incident core's deepest vertex as the one point (an edge axis would report a deeper,
@@ -1123,7 +1281,6 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   if (ee.edge_a >= 0 && ee.separation >= best_face - edge_tolerance) {
     edge_contact(a, b, ee.edge_a, ee.edge_b, ee.axis, ee.separation, m);
   } else {
-    const int ref_face = ref_b ? fb.face : fa.face;
     deepest_vertex_contact(a, b, !ref_b, ref_face, face_support(a, b, !ref_b, ref_face), m);
   }
 }

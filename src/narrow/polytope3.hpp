@@ -53,6 +53,8 @@ struct Polytope3 {
   /// are not solid.
   bool solid = false;
   const ConvexHull* hull = nullptr;  ///< for its support queries
+  /// A hull's face planes four at a time (ConvexHull::face_blocks), else null.
+  const float* face_blocks = nullptr;
 
   std::array<Vec3, 8> vertex_buffer{};
   std::array<HullFace, 6> face_buffer{};
@@ -208,6 +210,7 @@ inline void make_polytope(Polytope3& p, const ConvexHull& hull) noexcept {
   p.face_edges = hull.face_edges.data();
   p.edges = hull.edges.data();
   p.edge_count = static_cast<int>(hull.edges.size());
+  p.face_blocks = hull.face_blocks.data();
   p.centroid = hull.centroid;
   p.radius = hull.radius;
   p.solid = true;

@@ -933,6 +933,17 @@ void QuickHull::extract(bool contain_inputs, ConvexHull& hull) const {
     }
     hull.faces.push_back(out);
   }
+  const int face_count = static_cast<int>(hull.faces.size());
+  const int face_blocks = (face_count + 3) / 4;
+  hull.face_blocks.assign(static_cast<size_t>(face_blocks) * 16, 0.0f);
+  for (int b = 0; b < face_blocks; ++b) {
+    for (int lane = 0; lane < 4; ++lane) {
+      const int f = 4 * b + lane;
+      const HullFace& face = hull.faces[f < face_count ? f : 0];  // padding: ties go to face 0
+      for (int k = 0; k < 3; ++k) hull.face_blocks[16 * b + 4 * k + lane] = face.normal[k];
+      hull.face_blocks[16 * b + 12 + lane] = face.offset;
+    }
+  }
 
   // Vertex adjacency (CSR) from the edges.
   hull.neighbour_offsets.assign(static_cast<size_t>(vcount) + 1, 0);

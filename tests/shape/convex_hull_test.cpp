@@ -249,6 +249,18 @@ std::string check_hull(const ConvexHull& h, std::span<const Vec3> input, bool in
     }
   }
 
+  // The faces' SIMD copy: blocks of four planes (normal x, y, z, offset), padded with face 0.
+  const int face_blocks = (F + 3) / 4;
+  if (h.face_blocks.size() != static_cast<size_t>(16 * face_blocks)) return err.str() + "face blocks; ";
+  for (int f = 0; f < 4 * face_blocks; ++f) {
+    const HullFace& face = h.faces[f < F ? f : 0];
+    const float* block = h.face_blocks.data() + 16 * (f / 4) + f % 4;
+    if (block[0] != face.normal.x || block[4] != face.normal.y || block[8] != face.normal.z ||
+        block[12] != face.offset) {
+      err << "block of face " << f << "; ";
+    }
+  }
+
   // Bounds and volume (divergence theorem over the faces, in double).
   Vec3 blo = h.vertices[0];
   Vec3 bhi = blo;

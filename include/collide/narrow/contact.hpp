@@ -87,17 +87,17 @@ template <Shape3DType A, Shape3DType B>
 /// and depth; cheaper pairs take the exact separating axis test, which prefers a face axis to
 /// an edge axis within kEdgeContactTolerance (a steadier manifold for resting contacts). The
 /// edge test's cost is the product of the two edge counts, each pair pruned on the Gauss map
-/// (Gregorius 2013): two solids' pairs count one each, a triangle's with a solid three (the
-/// solid's silhouette edges along the triangle's edge: two products each, and the pairs that
-/// pass cost more than a solid pair's), and pairs that are not pruned (a triangle against a
-/// triangle or a segment) count the two cores' vertex count each. Box-box (144) and
-/// box-triangle (108) keep the SAT; two 30-point hulls (about 7000 pairs) and a 24-point hull
-/// on a mesh triangle (about 450) take EPA: with the SAT that hull cost 15.5 us per query on
-/// dungeon.obj against EPA's 16.6 us, but 21.5 us against 19.7 us with a margin of 0.05, and
-/// big hulls forced through the SAT lose the deepest point in the face clip (a 0.05 shortfall
-/// in TriangleQuery.SolidOnTriangleContactDepthIsTheMinimumTranslation), which EPA's path
-/// adds back. Chosen by bench_narrow3 on the shared real hulls
-/// and bench_narrow_mesh on dungeon.obj.
+/// (Gregorius 2013): two solids' pairs count one each, and pairs that are not pruned (a
+/// triangle against a triangle or a segment) count the two cores' vertex count each. Box-box
+/// (144) keeps the SAT, two 30-point hulls (about 7000 pairs) take EPA. A box or a hull against
+/// a triangle (a level's) always takes the SAT: one pass over the solid's edges finds those on
+/// its silhouettes along the triangle's edges (sign bits of the face normals, four faces at a
+/// time), and the hull's faces are tested four at a time; a hull of 24, 64 and 256 points in a
+/// ball on dungeon.obj cost 83k, 141k and 279k instructions per level contact against
+/// EPA's 147k, 175k and 386k (callgrind; 27 against 35 us, 49 against 74 us). Where the face
+/// clip leaves out the solid's deepest vertex (a small hull face over a large triangle), the
+/// vertex joins the manifold when its axis is the minimum translation. Chosen by bench_narrow3
+/// on the shared real hulls and bench_narrow_mesh on dungeon.obj.
 inline constexpr int kSatEdgePairLimit = 256;
 
 /// Points of triangles whose normals are within this cosine (30 degrees) of the deepest

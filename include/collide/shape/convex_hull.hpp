@@ -107,6 +107,10 @@ struct ConvexHull {
   /// `vertices` again, four at a time for SIMD support queries: block b holds the x of vertices
   /// 4b..4b+3, then their y, then their z (12 floats); the last block is padded with vertex 0.
   std::vector<float> vertex_blocks;
+  /// `faces`' planes again, four at a time for SIMD separating-axis tests: block b holds the
+  /// normal x of faces 4b..4b+3, then their normal y, normal z and offset (16 floats); the last
+  /// block is padded with face 0.
+  std::vector<float> face_blocks;
   float radius = 0.0f;                          ///< rounding radius, >= 0
   float tolerance = 0.0f;       ///< the build's tolerance t, local units (see above)
   float volume = 0.0f;          ///< volume of the core (without the radius)
