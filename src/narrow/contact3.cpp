@@ -205,10 +205,35 @@ FaceQuery hull_faces_against_triangle(const Polytope3& a, const PlacedPolytope& 
   return q;
 }
 
+/// query_faces_a for a box A and a triangle B given in A's frame: B's least height over face
+/// 2k + 1 (normal +e_k) is its least coordinate k less the half extent, over face 2k (-e_k)
+/// minus its greatest coordinate k less the half extent (box.hpp's numbering), the values the
+/// support query gives; the first face of the largest separation.
+FaceQuery box_faces_against_triangle(const Polytope3& a, const PlacedPolytope& b) noexcept {
+  const Vec3 lo = glm::min(glm::min(b.p.vertex(0), b.p.vertex(1)), b.p.vertex(2));
+  const Vec3 hi = glm::max(glm::max(b.p.vertex(0), b.p.vertex(1)), b.p.vertex(2));
+  FaceQuery q;
+  for (int k = 0; k < 3; ++k) {
+    const float half = a.faces[2 * k + 1].offset;
+    const float below = -hi[k] - half;
+    const float above = lo[k] - half;
+    if (below > q.separation) {
+      q.separation = below;
+      q.face = 2 * k;
+    }
+    if (above > q.separation) {
+      q.separation = above;
+      q.face = 2 * k + 1;
+    }
+  }
+  return q;
+}
+
 /// Separation of B from each face of A; stops early once a face separates by more than `reach`.
 FaceQuery query_faces_a(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
-  if (a.face_blocks != nullptr && b.identity && b.p.kind == Polytope3::Kind::triangle) {
-    return hull_faces_against_triangle(a, b);
+  if (b.identity && b.p.kind == Polytope3::Kind::triangle) {
+    if (a.face_blocks != nullptr) return hull_faces_against_triangle(a, b);
+    if (a.kind == Polytope3::Kind::box) return box_faces_against_triangle(a, b);
   }
   FaceQuery q;
   for (int i = 0; i < a.face_count; ++i) {
@@ -722,7 +747,7 @@ void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, in
   ClipPolygon* out = &tmp;
   for (int k = 0; k < ref_count && in->count > 0; ++k) {
     const int c0 = ref.face_vertices[rface.first + k];
-    const int c1 = ref.face_vertices[rface.first + (k + 1) % ref_count];
+    const int c1 = ref.face_vertices[rface.first + (k + 1 == ref_count ? 0 : k + 1)];
     const Vec3 v0 = ref_is_a ? a.vertex(c0) : b.vertex(c0);
     const Vec3 v1 = ref_is_a ? a.vertex(c1) : b.vertex(c1);
     // Not normalised: the clip needs only the sign of each height and their ratio.
@@ -1099,10 +1124,12 @@ bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float
   const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
   const float nn = dot(n, n);
   // Edge functions (seen along n): >= 0 inside edge k, which runs from t[k] to t[k + 1]. Inside
-  // all three, a point is over the triangle (its projection is inside).
+  // all three, a point is over the triangle (its projection is inside). The triple product
+  // dot(cross(e_k, x - t_k), n) is dot(x - t_k, cross(n, e_k)): the edges' inward normals in
+  // the plane are made once, and each point costs three dot products.
+  const std::array<Vec3, 3> inward{cross(n, t[1] - t[0]), cross(n, t[2] - t[1]), cross(n, t[0] - t[2])};
   const auto inside = [&](Vec3 x) {
-    return glm::vec3(dot(cross(t[1] - t[0], x - t[0]), n), dot(cross(t[2] - t[1], x - t[1]), n),
-                     dot(cross(t[0] - t[2], x - t[2]), n));
+    return glm::vec3(dot(x - t[0], inward[0]), dot(x - t[1], inward[1]), dot(x - t[2], inward[2]));
   };
   const auto over = [&](glm::vec3 e) { return nn > 0.0f && e.x >= 0.0f && e.y >= 0.0f && e.z >= 0.0f; };
   const float hp = dot(n, p - t[0]);
@@ -1300,8 +1327,27 @@ bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
   if (!(scale > 0.0f)) return false;
   const float plane = dot(n, corners[0]);
   const float grown = reach + a.radius;
-  const float above = plane - dot(n, a.vertex(a.support(n)));
-  const float below = dot(n, a.vertex(a.support(-n))) - plane;
+  // A's extent along n, the support queries' values: a point's or a segment's ends and a box's
+  // corner by the signs of n directly (called per candidate triangle; Polytope3::support is
+  // not inlined for its hull scan).
+  float top;
+  float bottom;
+  if (a.kind == Polytope3::Kind::point || a.kind == Polytope3::Kind::segment) {
+    const float d0 = dot(n, a.vertex(0));
+    const float d1 = dot(n, a.vertex(a.vertex_count - 1));
+    top = std::max(d0, d1);
+    bottom = std::min(d0, d1);
+  } else if (a.kind == Polytope3::Kind::box) {
+    const int up = int(n.x > 0.0f) | (int(n.y > 0.0f) << 1) | (int(n.z > 0.0f) << 2);
+    const int down = int(n.x < 0.0f) | (int(n.y < 0.0f) << 1) | (int(n.z < 0.0f) << 2);
+    top = dot(n, a.vertex(up));
+    bottom = dot(n, a.vertex(down));
+  } else {
+    top = dot(n, a.vertex(a.support(n)));
+    bottom = dot(n, a.vertex(a.support(-n)));
+  }
+  const float above = plane - top;
+  const float below = bottom - plane;
   return above > grown * scale || below > grown * scale;
 }
 
@@ -1311,7 +1357,8 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                               Manifold3& m) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
-  const PlacedPolytope placed{tri, Frame3::from(Transform3{}), true};
+  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
+  const PlacedPolytope placed{tri, kIdentity, true};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
   if (m.count == 0) return;
