@@ -56,8 +56,10 @@ struct Polytope3 {
   /// A hull's face planes four at a time (ConvexHull::face_blocks), else null.
   const float* face_blocks = nullptr;
 
-  std::array<Vec3, 8> vertex_buffer{};
-  std::array<HullFace, 6> face_buffer{};
+  /// The small shapes' own vertices and faces, filled by make_polytope (left uninitialised
+  /// until then: a level contact makes a view per candidate triangle).
+  std::array<Vec3, 8> vertex_buffer;
+  std::array<HullFace, 6> face_buffer;
 
   Polytope3() = default;
   Polytope3(const Polytope3&) = delete;
