@@ -542,10 +542,15 @@ struct ClipVertex {
   std::uint32_t incident_edge;  ///< incident polygon edge leaving this vertex
 };
 
-struct ClipPolygon {
-  ScratchArray<ClipVertex, kMaxClipVertices> v;
+/// Clip buffer of capacity N: face_contact's polygons (kMaxClipVertices), or a point's or a
+/// segment's ends (2: a segment clipped by a half-space stays a segment).
+template <int N>
+struct ClipBuffer {
+  ScratchArray<ClipVertex, N> v;
   int count = 0;
 };
+using ClipPolygon = ClipBuffer<kMaxClipVertices>;
+using ClipSegment = ClipBuffer<2>;
 
 /// Clip `in` against the half-space dot(normal, x) <= offset (`normal` of any length: only the
 /// signs of the heights and their ratios count); points created on a crossing get
@@ -588,22 +593,108 @@ void clip_half_space(const ClipPolygon& in, ClipPolygon& out, Vec3 normal, float
   }
 }
 
-/// The incident feature of `inc` (placed by `f`) facing against `normal` (A's frame): its face
-/// most anti-parallel to it, its segment, or its point, as a clip polygon in A's frame.
+/// The same clip for a point or a segment (at most 2 points, and a segment cut by a
+/// half-space stays one), in place and without the polygon loop: the same points in the same
+/// order as the polygon clip gives them (a point kept before the crossing after it, or the
+/// crossing before the point kept), the same arithmetic.
+void clip_half_space(ClipSegment& s, Vec3 normal, float offset, Feature side) noexcept {
+  if (s.count == 0) return;
+  if (s.count == 1) {
+    if (!(dot(normal, s.v[0].p) <= offset)) s.count = 0;
+    return;
+  }
+  const float dp = dot(normal, s.v[0].p) - offset;
+  const float dq = dot(normal, s.v[1].p) - offset;
+  if (dp <= 0.0f && dq <= 0.0f) return;  // both kept
+  if ((dp < 0.0f && dq > 0.0f) || (dp > 0.0f && dq < 0.0f)) {
+    const ClipVertex& p = s.v[0];
+    const float t = dp / (dp - dq);
+    ClipVertex c;
+    c.p = p.p + t * (s.v[1].p - p.p);
+    c.incident = Feature{FeatureType::edge, p.incident_edge};
+    c.reference = side;
+    c.incident_edge = p.incident_edge;
+    s.v[dp < 0.0f ? 1 : 0] = c;
+    return;
+  }
+  // One end on the plane and the other beyond it (or a height not a number): the end kept.
+  if (dp <= 0.0f) {
+    s.count = 1;
+  } else if (dq <= 0.0f) {
+    s.v[0] = s.v[1];
+    s.count = 1;
+  } else {
+    s.count = 0;
+  }
+}
+
+/// Calls `cut(normal, offset, side)` with each side plane of a reference face, while it
+/// returns true (the clip is not empty yet): the face has outward normal `n` and `count`
+/// corners counter-clockwise seen from outside, `corner(k)` (A's frame); side k runs from
+/// corner k to k + 1 and is the edge feature `edge(k)`. A side plane's normal is
+/// cross(edge, n), outward for a counter-clockwise loop (the face's interior is to the left of
+/// each edge), not normalised: a clip needs only the sign of each height and their ratio.
+template <class Corner, class Edge, class Cut>
+void for_each_side(Vec3 n, int count, Corner corner, Edge edge, Cut cut) noexcept {
+  for (int k = 0; k < count; ++k) {
+    const Vec3 v0 = corner(k);
+    const Vec3 v1 = corner(k + 1 == count ? 0 : k + 1);
+    const Vec3 normal = cross(v1 - v0, n);
+    if (!cut(normal, dot(normal, v0), Feature{FeatureType::edge, edge(k)})) return;
+  }
+}
+
+/// The ends of a core without faces (a point or a segment, placed by `place`) as a clip
+/// polygon: a sphere's one feature is its face 0 (sphere.hpp), a segment's ends are vertices.
+template <class Place>
+void core_ends(const Polytope3& core, const Place& place, Feature reference,
+               ClipSegment& out) noexcept {
+  const FeatureType type =
+      core.kind == Polytope3::Kind::point ? FeatureType::face : FeatureType::vertex;
+  out.count = core.vertex_count;
+  for (int i = 0; i < core.vertex_count; ++i) {
+    out.v[i] = ClipVertex{place.vertex(i), Feature{type, std::uint32_t(i)}, reference, 0u};
+  }
+}
+
+/// The points of a face contact from the clipped incident points (on the incident core, A's
+/// frame), for a reference plane of outward normal `n` and `offset`: those whose depth (radii
+/// included) is at least -keep, placed midway between the surfaces, with depth along `d` (the
+/// face's normal, or an axis turned outward from the reference face, of cosine `c` to it).
+/// Written to `out`; returns how many.
+template <int N>
+int face_points(const ClipBuffer<N>& clipped, Vec3 n, float offset, Vec3 d, float c,
+                float ref_radius, float inc_radius, bool ref_is_a, float keep,
+                ManifoldPoint3* out) noexcept {
+  // Separation s of the incident core point above the plane along d: s = height / c.
+  const float radii = ref_radius + inc_radius;
+  const float inv_c = c > 0.0f ? 1.0f / c : 1.0f;
+  int count = 0;
+  for (int i = 0; i < clipped.count; ++i) {
+    const ClipVertex& v = clipped.v[i];
+    const float s = (dot(n, v.p) - offset) * inv_c;
+    const float depth = radii - s;
+    if (!(depth >= -keep)) continue;
+    const Vec3 ref_surface = v.p - s * d + ref_radius * d;
+    const Vec3 inc_surface = v.p - inc_radius * d;
+    ManifoldPoint3& mp = out[count++];
+    mp.point = 0.5f * (ref_surface + inc_surface);
+    mp.depth = depth;
+    if (ref_is_a) {
+      mp.id = ContactId{v.reference.index, v.incident.index, v.reference.type, v.incident.type};
+    } else {
+      mp.id = ContactId{v.incident.index, v.reference.index, v.incident.type, v.reference.type};
+    }
+  }
+  return count;
+}
+
+/// The incident face of a core with faces, `inc` (placed by `place`), facing against `normal`
+/// (A's frame): its face most anti-parallel to it, as a clip polygon in A's frame.
 template <class Place>
 void incident_polygon(const Polytope3& inc, const Place& place, Vec3 normal, Feature reference,
                       ClipPolygon& out) noexcept {
   out.count = 0;
-  if (inc.face_count == 0) {
-    // A sphere's one feature is its face 0 (sphere.hpp); a segment's ends are vertices.
-    const FeatureType type =
-        inc.kind == Polytope3::Kind::point ? FeatureType::face : FeatureType::vertex;
-    for (int i = 0; i < inc.vertex_count; ++i) {
-      out.v[out.count++] =
-          ClipVertex{place.vertex(i), Feature{type, std::uint32_t(i)}, reference, 0u};
-    }
-    return;
-  }
   int best = 0;
   float best_dot = kInf;
   for (int j = 0; j < inc.face_count; ++j) {
@@ -717,72 +808,54 @@ namespace {
 /// does). Points are kept while their depth (radii included) is at least -margin.
 void face_contact(const Polytope3& a, const PlacedPolytope& b, bool ref_is_a, int ref_face,
                   float margin, Manifold3& m, const Vec3* axis = nullptr) noexcept {
-  const float radii = a.radius + b.p.radius;
-  Vec3 n;
-  float offset;
-  Feature ref_feature;
-  ClipPolygon poly;
-  ClipPolygon tmp;
-  int ref_count;
-  if (ref_is_a) {
-    const HullFace& face = a.faces[ref_face];
-    n = face.normal;
-    offset = face.offset;
-    ref_count = face.count;
-    ref_feature = Feature{FeatureType::face, std::uint32_t(a.face_feature(ref_face))};
-    incident_polygon(b.p, BPlace{b}, n, ref_feature, poly);
-  } else {
-    n = b.face_normal(ref_face);
-    offset = b.face_offset(ref_face, n);
-    ref_count = b.p.faces[ref_face].count;
-    ref_feature = Feature{FeatureType::face, std::uint32_t(b.p.face_feature(ref_face))};
-    incident_polygon(a, IdentityPlace{a}, n, ref_feature, poly);
-  }
-  // Side planes of the reference face: outward normal cross(edge, n) for a counter-clockwise
-  // loop (the face's interior is to the left of each edge).
   const Polytope3& ref = ref_is_a ? a : b.p;
+  const Polytope3& inc = ref_is_a ? b.p : a;
   const HullFace& rface = ref.faces[ref_face];
-  // Clipped back and forth between the two buffers (copying one is 1.8 KB).
-  ClipPolygon* in = &poly;
-  ClipPolygon* out = &tmp;
-  for (int k = 0; k < ref_count && in->count > 0; ++k) {
-    const int c0 = ref.face_vertices[rface.first + k];
-    const int c1 = ref.face_vertices[rface.first + (k + 1 == ref_count ? 0 : k + 1)];
-    const Vec3 v0 = ref_is_a ? a.vertex(c0) : b.vertex(c0);
-    const Vec3 v1 = ref_is_a ? a.vertex(c1) : b.vertex(c1);
-    // Not normalised: the clip needs only the sign of each height and their ratio.
-    const Vec3 side = cross(v1 - v0, n);
-    const Feature side_feature{FeatureType::edge, std::uint32_t(ref.face_edges[rface.first + k])};
-    clip_half_space(*in, *out, side, dot(side, v0), side_feature);
-    std::swap(in, out);
-  }
-  const ClipPolygon& clipped = *in;
-  // Keep the points within reach of the reference plane; place them midway between the
-  // surfaces. Separation s of the incident core point above the plane along the direction d
-  // (the face's normal, or the axis turned outward from the reference face), whose cosine to
-  // the normal is c: s = height / c; depth radii - s.
+  const Vec3 n = ref_is_a ? rface.normal : b.face_normal(ref_face);
+  const float offset = ref_is_a ? rface.offset : b.face_offset(ref_face, n);
+  const Feature ref_feature{FeatureType::face, std::uint32_t(ref.face_feature(ref_face))};
+  const auto corner = [&](int k) {
+    const int c = ref.face_vertices[rface.first + k];
+    return ref_is_a ? a.vertex(c) : b.vertex(c);
+  };
+  const auto edge = [&](int k) { return std::uint32_t(ref.face_edges[rface.first + k]); };
+  // Depth along the face's normal, or along the axis turned outward from the reference face.
   const Vec3 d = axis == nullptr ? n : (ref_is_a ? *axis : -*axis);
   const float c = axis == nullptr ? 1.0f : dot(n, d);
-  const float inv_c = c > 0.0f ? 1.0f / c : 1.0f;
+  const float inc_radius = inc.radius;
   PointSet set;
-  const float ref_radius = ref_is_a ? a.radius : b.p.radius;
-  const float inc_radius = ref_is_a ? b.p.radius : a.radius;
-  for (int i = 0; i < clipped.count; ++i) {
-    const ClipVertex& v = clipped.v[i];
-    const float s = (dot(n, v.p) - offset) * inv_c;
-    const float depth = radii - s;
-    if (!(depth >= -margin)) continue;
-    const Vec3 ref_surface = v.p - s * d + ref_radius * d;
-    const Vec3 inc_surface = v.p - inc_radius * d;
-    ManifoldPoint3 mp;
-    mp.point = 0.5f * (ref_surface + inc_surface);
-    mp.depth = depth;
+  if (inc.face_count == 0) {
+    // A point or a segment: its ends, clipped in place.
+    ClipSegment ends;
     if (ref_is_a) {
-      mp.id = ContactId{v.reference.index, v.incident.index, v.reference.type, v.incident.type};
+      core_ends(inc, BPlace{b}, ref_feature, ends);
     } else {
-      mp.id = ContactId{v.incident.index, v.reference.index, v.incident.type, v.reference.type};
+      core_ends(inc, IdentityPlace{a}, ref_feature, ends);
     }
-    set.points[set.count++] = mp;
+    for_each_side(n, rface.count, corner, edge, [&](Vec3 normal, float off, Feature side) {
+      clip_half_space(ends, normal, off, side);
+      return ends.count > 0;
+    });
+    set.count = face_points(ends, n, offset, d, c, ref.radius, inc_radius, ref_is_a, margin,
+                            &set.points[0]);
+  } else {
+    ClipPolygon poly;
+    ClipPolygon tmp;
+    if (ref_is_a) {
+      incident_polygon(inc, BPlace{b}, n, ref_feature, poly);
+    } else {
+      incident_polygon(inc, IdentityPlace{a}, n, ref_feature, poly);
+    }
+    // Clipped back and forth between the two buffers (copying one is 1.8 KB).
+    ClipPolygon* in = &poly;
+    ClipPolygon* out = &tmp;
+    for_each_side(n, rface.count, corner, edge, [&](Vec3 normal, float off, Feature side) {
+      clip_half_space(*in, *out, normal, off, side);
+      std::swap(in, out);
+      return in->count > 0;
+    });
+    set.count = face_points(*in, n, offset, d, c, ref.radius, inc_radius, ref_is_a, margin,
+                            &set.points[0]);
   }
   m.normal = ref_is_a ? d : -d;
   reduce_to_four(set, m.normal, m);
@@ -1192,10 +1265,11 @@ bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float
 }
 
 /// The contact of two placed cores: `proxy_a` / `proxy_b` are the same shapes' support maps,
-/// for GJK when the cores may be apart.
+/// for GJK when the cores may be apart. `flat_closest`, when given, is the flat pair's closest
+/// points already found (closest_to_triangle), not looked for again.
 void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const PlacedPolytope& b,
                    const ConvexProxy3& proxy_b, const Transform3& b_in_a, float margin,
-                   Manifold3& m) noexcept {
+                   Manifold3& m, const DistanceResult3* flat_closest = nullptr) noexcept {
   m.count = 0;
   if (a.face_count == 0 && b.p.face_count == 0) {
     contact_faceless(a, b, margin, m);
@@ -1242,8 +1316,10 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
     // from the origin. GJK decides apart or touching for them, and the separating axis test
     // runs only when they overlap.
     DistanceResult3 d;
-    if (b.p.kind != Polytope3::Kind::triangle ||
-        !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)}, b.p.radius, touch, d)) {
+    if (flat_closest != nullptr) {
+      d = *flat_closest;
+    } else if (b.p.kind != Polytope3::Kind::triangle ||
+               !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)}, b.p.radius, touch, d)) {
       d = closest();
     }
     if (d.status != QueryStatus::overlapped) {
@@ -1351,18 +1427,107 @@ bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
   return above > grown * scale || below > grown * scale;
 }
 
-void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                              const std::array<Vec3, 3>& corners,
-                              FunctionRef<std::uint8_t()> edges, float margin,
-                              Manifold3& m) noexcept {
-  Polytope3 tri;
-  detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
-  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
-  const PlacedPolytope placed{tri, kIdentity, true};
-  const ConvexProxy3 proxy_b(Triangle{corners});
-  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
+namespace {
+
+/// A triangle as the reference face of a core without faces: its corners (A's frame), unit
+/// normal `n` (the front's, corners counter-clockwise; zero for a degenerate triangle) and the
+/// front's plane offset, as make_triangle_polytope makes its two faces.
+struct TriangleFaces {
+  const std::array<Vec3, 3>& corners;
+  Vec3 n;
+  float offset;
+};
+
+/// face_contact for a core without faces (a point or a segment: A, the incident core) and the
+/// triangle's side `face` (0: the front, 1: the back) as the reference, without the triangle's
+/// polytope: A's ends clipped to the triangle's side planes, depth along the face's normal.
+void core_on_triangle_face(const Polytope3& a, const TriangleFaces& t, int face, float keep,
+                           Manifold3& m) noexcept {
+  const Vec3 n = face == 0 ? t.n : -t.n;
+  const float offset = face == 0 ? t.offset : -t.offset;
+  ClipSegment ends;
+  core_ends(a, IdentityPlace{a}, Feature{FeatureType::face, 0}, ends);
+  // The side's corners as make_triangle_polytope's faces loop them (front 0 1 2, back 0 2 1).
+  const std::size_t first = face == 0 ? 0 : 3;
+  for_each_side(
+      n, 3, [&](int k) { return t.corners[detail::kTriangleFaceVertices[first + std::size_t(k)]]; },
+      [&](int k) { return std::uint32_t(detail::kTriangleFaceEdges[first + std::size_t(k)]); },
+      [&](Vec3 normal, float off, Feature side) {
+        clip_half_space(ends, normal, off, side);
+        return ends.count > 0;
+      });
+  // (At most 2 points: the manifold holds them as they are.)
+  m.count = face_points(ends, n, offset, n, 1.0f, 0.0f, a.radius, false, keep, m.points.data());
+  m.normal = -n;
+}
+
+/// The tolerance size of a triangle as make_triangle_polytope's view has it (set_size): twice
+/// the largest distance of a corner from the centroid.
+[[nodiscard]] float triangle_size(const std::array<Vec3, 3>& t) noexcept {
+  const Vec3 centroid = (t[0] + t[1] + t[2]) * (1.0f / 3.0f);
+  float r = 0.0f;
+  for (const Vec3& c : t) r = std::max(r, distance_squared(c, centroid));
+  return 2.0f * std::sqrt(r);
+}
+
+/// contact_triangle for a core without faces (a sphere's point, a capsule's or a segment's
+/// segment) whose closest points to the triangle are apart: contact_cores' answer for the pair
+/// (the closest points in closed form; a face contact when their normal is within
+/// kFaceContactSine of the triangle's, else one point), without the triangle's polytope, which
+/// costs more to make than this whole answer. False when the cores overlap or touch (the
+/// segment pierces the triangle), or A has neither a radius nor a margin: the separating axis
+/// test decides those, with `d` (the closest points, when found) passed on.
+bool core_triangle_contact(const Polytope3& a, const TriangleFaces& t, float margin,
+                           Manifold3& m, DistanceResult3& d, bool& found) noexcept {
+  m.count = 0;
+  found = false;
+  const float radii = a.radius;
+  if (!(radii + margin > 0.0f)) return false;
+  // contact_cores' tolerances: the smaller core's size (the triangle is in A's frame).
+  const float size = std::max(std::min(a.size, triangle_size(t.corners)), kRelativeTolerance);
+  closest_to_triangle(a, t.corners, 0.0f, kRelativeTolerance * size, d);
+  found = true;
+  if (d.status == QueryStatus::overlapped) return false;
+  // contact_along with the triangle as B: its side most anti-parallel to the normal is the
+  // reference face when within kFaceContactSine of it.
+  const Vec3 n = d.normal;
+  const float s = dot(d.point_b - d.point_a, n) + radii;
+  if (s > radii + margin) return true;
+  const float c = dot(t.n, n);
+  const int face = c > -c ? 1 : 0;
+  const float min_cos = std::sqrt(1.0f - kFaceContactSine * kFaceContactSine);
+  if (std::max(c, -c) >= min_cos) {
+    core_on_triangle_face(a, t, face, margin, m);
+    if (m.count > 0) return true;
+  }
+  // One point from the closest points of the cores (undo A's radius), with the features
+  // nearest to them (near_features).
+  const Vec3 pa = d.point_a - a.radius * n;
+  const Vec3 pb = d.point_b;
+  const Feature fa = near_feature(a, pa);
+  int kb = 0;
+  float best = kInf;
+  for (int k = 0; k < 3; ++k) {
+    const float dk = distance_squared(t.corners[static_cast<std::size_t>(k)], pb);
+    if (dk < best) {
+      best = dk;
+      kb = k;
+    }
+  }
+  point_contact(pa, pb, n, s, a.radius, 0.0f,
+                ContactId{fa.index, std::uint32_t(kb), fa.type, FeatureType::vertex}, m);
+  return true;
+}
+
+/// The active-edge correction of contact_triangle (see contact3_triangle.hpp) for manifold
+/// `m` of A (its `centroid` and `size`) against the triangle of corners `corners` and unit
+/// normal `n`: `face_clip(face, keep, out)` makes the face contact with the triangle's side
+/// `face` as the reference.
+template <class FaceClip>
+void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid, float size,
+                      FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m,
+                      FaceClip&& face_clip) noexcept {
   if (m.count == 0) return;
-  const Vec3 n = tri.faces[0].normal;
   if (n == Vec3(0.0f)) return;
   const float c = dot(m.normal, n);
   // Already the face's normal (within rounding): the face axis made it. (A normal only near it,
@@ -1398,11 +1563,11 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
   if (active) return;
   // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
   // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
-  const float side = dot(n, a.centroid - corners[0]);
+  const float side = dot(n, centroid - corners[0]);
   const int face = side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
   Manifold3 fixed;
-  const float touch = kRelativeTolerance * (a.size + max_abs(corners[0]));
-  face_contact(a, placed, false, face, margin + touch, fixed);
+  const float touch = kRelativeTolerance * (size + max_abs(corners[0]));
+  face_clip(face, margin + touch, fixed);
   if (fixed.count > 0) {
     m = fixed;
     return;
@@ -1421,6 +1586,39 @@ void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
   }
   m.normal = face_normal;
   for (int i = 0; i < m.count; ++i) m.points[i].depth *= turn;
+}
+
+}  // namespace
+
+void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                              const std::array<Vec3, 3>& corners,
+                              FunctionRef<std::uint8_t()> edges, float margin,
+                              Manifold3& m) noexcept {
+  DistanceResult3 closest;
+  bool found = false;
+  if (a.face_count == 0) {
+    // A sphere, capsule or segment: most triangles of a level it meets are answered without
+    // the triangle's polytope.
+    const Vec3 n = normalize_or_zero(cross(corners[1] - corners[0], corners[2] - corners[0]));
+    const TriangleFaces t{corners, n, dot(n, corners[0])};
+    if (core_triangle_contact(a, t, margin, m, closest, found)) {
+      use_active_edges(corners, n, a.centroid, a.size, edges, margin, m,
+                       [&](int face, float keep, Manifold3& out) {
+                         core_on_triangle_face(a, t, face, keep, out);
+                       });
+      return;
+    }
+  }
+  Polytope3 tri;
+  detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
+  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
+  const PlacedPolytope placed{tri, kIdentity, true};
+  const ConvexProxy3 proxy_b(Triangle{corners});
+  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m, found ? &closest : nullptr);
+  use_active_edges(corners, tri.faces[0].normal, a.centroid, a.size, edges, margin, m,
+                   [&](int face, float keep, Manifold3& out) {
+                     face_contact(a, placed, false, face, keep, out);
+                   });
 }
 
 template <Shape3DType A, Shape3DType B>
