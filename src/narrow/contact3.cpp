@@ -29,6 +29,7 @@
 //  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
 //     span the largest area (the idea of Jolt's PruneContactPoints).
 
+#include <collide/core/config.hpp>
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/contact.hpp>
@@ -1179,39 +1180,53 @@ void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 poi
   point_contact(pa, pb, n, s, a.radius, b.p.radius, near_features(a, b, pa, pb), m);
 }
 
+/// A triangle's edge functions (seen along its normal): >= 0 inside edge k, which runs from
+/// t[k] to t[k + 1]. Inside all three, a point is over the triangle (its projection is inside).
+/// The triple product dot(cross(e_k, x - t_k), n) is dot(x - t_k, cross(n, e_k)): the edges'
+/// inward normals in the plane are made once, and each point costs three dot products.
+struct TriangleSides {
+  const std::array<Vec3, 3>& t;
+  float nn;  ///< squared length of the triangle's normal n = cross(t1 - t0, t2 - t0)
+  std::array<Vec3, 3> inward;
+
+  struct At {
+    std::array<float, 3> e;  ///< the three edge functions (an array: glm's vec3[k] is a switch)
+    bool over;
+  };
+  /// Inlined by force: an out-of-line call returning the four values took a tenth of a capsule's
+  /// level contact (perf).
+  [[nodiscard]] COLLIDE_ALWAYS_INLINE At at(Vec3 x) const noexcept {
+    At s{{dot(x - t[0], inward[0]), dot(x - t[1], inward[1]), dot(x - t[2], inward[2])}, false};
+    s.over = nn > 0.0f && s.e[0] >= 0.0f && s.e[1] >= 0.0f && s.e[2] >= 0.0f;
+    return s;
+  }
+};
+
 /// GJK's answer for a point or segment core A (sphere, capsule, segment) and a triangle with
 /// corners `t` (A's frame) and rounding radius `t_radius`, in
 /// closed form: the segment pierces the triangle (overlapped), or the closest points are those
 /// of an endpoint and the triangle or of the segment and a triangle edge (Ericson, Real-Time
 /// Collision Detection, 5.1.10). Cores closer than `touch` count as overlapping, as in GJK. The
-/// result is gjk_distance's for the two proxies (A's frame; radii applied). False when the pair
-/// is not one of these (then GJK answers).
-bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float t_radius, float touch,
-                         DistanceResult3& d) noexcept {
+/// result is gjk_distance's for the two proxies (A's frame; radii applied). `n` is the
+/// triangle's normal as cross(t1 - t0, t2 - t0) gives it. False when the pair is not one of
+/// these (then GJK answers).
+bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, Vec3 n, float t_radius,
+                         float touch, DistanceResult3& d) noexcept {
   using Kind = Polytope3::Kind;
   if (a.kind != Kind::point && a.kind != Kind::segment) return false;
   const Vec3 p = a.vertex(0);
   const Vec3 q = a.vertex(a.vertex_count - 1);
   d = DistanceResult3{};
   d.status = QueryStatus::overlapped;
-  const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
   const float nn = dot(n, n);
-  // Edge functions (seen along n): >= 0 inside edge k, which runs from t[k] to t[k + 1]. Inside
-  // all three, a point is over the triangle (its projection is inside). The triple product
-  // dot(cross(e_k, x - t_k), n) is dot(x - t_k, cross(n, e_k)): the edges' inward normals in
-  // the plane are made once, and each point costs three dot products.
-  const std::array<Vec3, 3> inward{cross(n, t[1] - t[0]), cross(n, t[2] - t[1]), cross(n, t[0] - t[2])};
-  const auto inside = [&](Vec3 x) {
-    return glm::vec3(dot(x - t[0], inward[0]), dot(x - t[1], inward[1]), dot(x - t[2], inward[2]));
-  };
-  const auto over = [&](glm::vec3 e) { return nn > 0.0f && e.x >= 0.0f && e.y >= 0.0f && e.z >= 0.0f; };
+  const TriangleSides sides{t, nn, {cross(n, t[1] - t[0]), cross(n, t[2] - t[1]), cross(n, t[0] - t[2])}};
   const float hp = dot(n, p - t[0]);
   const float hq = dot(n, q - t[0]);
   const bool one_side = (hp > 0.0f && hq > 0.0f) || (hp < 0.0f && hq < 0.0f);
   if (!one_side && hp != hq) {
     // Pierced: the ends on opposite sides of the plane (or one on it), the crossing over it.
     const Vec3 x = p + (hp / (hp - hq)) * (q - p);
-    if (over(inside(x))) {
+    if (sides.at(x).over) {
       d.point_a = x;
       d.point_b = x;
       return true;
@@ -1220,18 +1235,18 @@ bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float
   // The closest pair is an end over the triangle with its projection, or lies on a triangle
   // edge: an end that is not over the triangle is nearest to an edge, which the segment-edge
   // pairs cover. The pair can lie inside edge k only where the segment is outside it, so an
-  // edge with both ends inside is skipped (all three when both ends are over the triangle on
-  // one side: the distance is then the height, linear along the segment, least at an end).
-  const glm::vec3 ep = inside(p);
-  const bool p_over = over(ep);
+  // edge with both ends inside is skipped. Ends on one side of the plane: the height is linear
+  // along the segment, so no point of it is nearer the plane (and the triangle) than its lower
+  // end; that end over the triangle is the answer, and no edge is tried.
+  const TriangleSides::At sp = sides.at(p);
   Vec3 on_a = p;
   Vec3 on_b = p;
   float best = kInf;
-  if (p_over || a.kind == Kind::point) {
-    on_b = p_over ? p - (hp / nn) * n : closest_point_on_triangle(p, t[0], t[1], t[2]).point;
+  if (sp.over || a.kind == Kind::point) {
+    on_b = sp.over ? p - (hp / nn) * n : closest_point_on_triangle(p, t[0], t[1], t[2]).point;
     best = length_squared(on_b - on_a);
   }
-  if (a.kind == Kind::segment) {
+  if (a.kind == Kind::segment && !(sp.over && one_side && std::fabs(hp) <= std::fabs(hq))) {
     const auto consider = [&](Vec3 pa, Vec3 pb) {
       const float d2 = length_squared(pb - pa);
       if (d2 < best) {
@@ -1240,13 +1255,14 @@ bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, float
         on_b = pb;
       }
     };
-    const glm::vec3 eq = inside(q);
-    if (over(eq)) consider(q, q - (hq / nn) * n);
-    for (int k = 0; k < 3; ++k) {
-      if (nn > 0.0f && ep[k] >= 0.0f && eq[k] >= 0.0f) continue;
-      const auto c = detail::closest_between_segments<3>(p, q, t[static_cast<std::size_t>(k)],
-                                                         t[static_cast<std::size_t>(k == 2 ? 0 : k + 1)]);
-      consider(c.point1, c.point2);
+    const TriangleSides::At sq = sides.at(q);
+    if (sq.over) consider(q, q - (hq / nn) * n);
+    if (!(sq.over && one_side && std::fabs(hq) <= std::fabs(hp))) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (nn > 0.0f && sp.e[k] >= 0.0f && sq.e[k] >= 0.0f) continue;
+        const auto c = detail::closest_between_segments<3>(p, q, t[k], t[k == 2 ? 0 : k + 1]);
+        consider(c.point1, c.point2);
+      }
     }
   }
   const float core_distance = std::sqrt(best);
@@ -1319,7 +1335,9 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
     if (flat_closest != nullptr) {
       d = *flat_closest;
     } else if (b.p.kind != Polytope3::Kind::triangle ||
-               !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)}, b.p.radius, touch, d)) {
+               !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)},
+                                    cross(b.vertex(1) - b.vertex(0), b.vertex(2) - b.vertex(0)),
+                                    b.p.radius, touch, d)) {
       d = closest();
     }
     if (d.status != QueryStatus::overlapped) {
@@ -1390,22 +1408,26 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
 
 }  // namespace
 
-bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
-                             const std::array<Vec3, 3>& corners, float reach) noexcept {
+namespace {
+
+/// triangle_beyond's box axes: the triangle's bounds apart from A's by more than `reach`.
+[[nodiscard]] bool box_beyond(const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
+                              float reach) noexcept {
   const Vec3 lo = glm::min(glm::min(corners[0], corners[1]), corners[2]);
   const Vec3 hi = glm::max(glm::max(corners[0], corners[1]), corners[2]);
   const Vec3 gap = glm::max(lo - a_bounds.max, a_bounds.min - hi);
-  if (gap.x > reach || gap.y > reach || gap.z > reach) return true;
-  // The triangle's plane, its normal unnormalised: every distance along it is scaled by its
-  // length.
-  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
-  const float scale = length(n);
-  if (!(scale > 0.0f)) return false;
-  const float plane = dot(n, corners[0]);
+  return gap.x > reach || gap.y > reach || gap.z > reach;
+}
+
+/// triangle_beyond's plane axis: A apart from the triangle's plane by more than `reach`, for
+/// the plane's normal `n` (unnormalised, of length `scale` > 0: every distance along it is
+/// scaled by that length) through `corner`. A's extent along n, the support queries' values: a
+/// point's or a segment's ends and a box's corner by the signs of n directly (called per
+/// candidate triangle; Polytope3::support is not inlined for its hull scan).
+[[nodiscard]] bool plane_beyond(const Polytope3& a, Vec3 n, float scale, Vec3 corner,
+                                float reach) noexcept {
+  const float plane = dot(n, corner);
   const float grown = reach + a.radius;
-  // A's extent along n, the support queries' values: a point's or a segment's ends and a box's
-  // corner by the signs of n directly (called per candidate triangle; Polytope3::support is
-  // not inlined for its hull scan).
   float top;
   float bottom;
   if (a.kind == Polytope3::Kind::point || a.kind == Polytope3::Kind::segment) {
@@ -1427,6 +1449,16 @@ bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
   return above > grown * scale || below > grown * scale;
 }
 
+}  // namespace
+
+bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
+                             const std::array<Vec3, 3>& corners, float reach) noexcept {
+  if (box_beyond(a_bounds, corners, reach)) return true;
+  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
+  const float scale = length(n);
+  return scale > 0.0f && plane_beyond(a, n, scale, corners[0], reach);
+}
+
 namespace {
 
 /// A triangle as the reference face of a core without faces: its corners (A's frame), unit
@@ -1436,6 +1468,7 @@ struct TriangleFaces {
   const std::array<Vec3, 3>& corners;
   Vec3 n;
   float offset;
+  Vec3 cross;  ///< cross(t1 - t0, t2 - t0), n before normalisation
 };
 
 /// face_contact for a core without faces (a point or a segment: A, the incident core) and the
@@ -1485,7 +1518,7 @@ bool core_triangle_contact(const Polytope3& a, const TriangleFaces& t, float mar
   if (!(radii + margin > 0.0f)) return false;
   // contact_cores' tolerances: the smaller core's size (the triangle is in A's frame).
   const float size = std::max(std::min(a.size, triangle_size(t.corners)), kRelativeTolerance);
-  closest_to_triangle(a, t.corners, 0.0f, kRelativeTolerance * size, d);
+  closest_to_triangle(a, t.corners, t.cross, 0.0f, kRelativeTolerance * size, d);
   found = true;
   if (d.status == QueryStatus::overlapped) return false;
   // contact_along with the triangle as B: its side most anti-parallel to the normal is the
@@ -1590,35 +1623,72 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
 
 }  // namespace
 
-void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                              const std::array<Vec3, 3>& corners,
-                              FunctionRef<std::uint8_t()> edges, float margin,
-                              Manifold3& m) noexcept {
-  DistanceResult3 closest;
-  bool found = false;
-  if (a.face_count == 0) {
-    // A sphere, capsule or segment: most triangles of a level it meets are answered without
-    // the triangle's polytope.
-    const Vec3 n = normalize_or_zero(cross(corners[1] - corners[0], corners[2] - corners[0]));
-    const TriangleFaces t{corners, n, dot(n, corners[0])};
-    if (core_triangle_contact(a, t, margin, m, closest, found)) {
-      use_active_edges(corners, n, a.centroid, a.size, edges, margin, m,
-                       [&](int face, float keep, Manifold3& out) {
-                         core_on_triangle_face(a, t, face, keep, out);
-                       });
-      return;
-    }
-  }
+namespace {
+
+/// contact_triangle through the triangle's polytope (contact_cores), `closest` the closest
+/// points of a core without faces when already found.
+void contact_triangle_polytope(const Polytope3& a, const ConvexProxy3& proxy_a,
+                               const std::array<Vec3, 3>& corners,
+                               FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m,
+                               const DistanceResult3* closest) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
   static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
   const PlacedPolytope placed{tri, kIdentity, true};
   const ConvexProxy3 proxy_b(Triangle{corners});
-  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m, found ? &closest : nullptr);
+  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m, closest);
   use_active_edges(corners, tri.faces[0].normal, a.centroid, a.size, edges, margin, m,
                    [&](int face, float keep, Manifold3& out) {
                      face_contact(a, placed, false, face, keep, out);
                    });
+}
+
+/// contact_triangle for a core without faces, with the triangle's normal `cross` as
+/// cross(t1 - t0, t2 - t0) and its length `scale` (> 0).
+void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                           const std::array<Vec3, 3>& corners, Vec3 cross, float scale,
+                           FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept {
+  // normalize_or_zero(cross), as make_triangle_polytope makes the face normal.
+  const Vec3 n = scale > 1e-30f ? cross * (1.0f / scale) : Vec3(0.0f);
+  const TriangleFaces t{corners, n, dot(n, corners[0]), cross};
+  DistanceResult3 closest;
+  bool found = false;
+  if (core_triangle_contact(a, t, margin, m, closest, found)) {
+    use_active_edges(corners, n, a.centroid, a.size, edges, margin, m,
+                     [&](int face, float keep, Manifold3& out) {
+                       core_on_triangle_face(a, t, face, keep, out);
+                     });
+    return;
+  }
+  contact_triangle_polytope(a, proxy_a, corners, edges, margin, m, found ? &closest : nullptr);
+}
+
+}  // namespace
+
+void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                              const std::array<Vec3, 3>& corners,
+                              FunctionRef<std::uint8_t()> edges, float margin,
+                              Manifold3& m) noexcept {
+  if (a.face_count == 0) {
+    // A sphere, capsule or segment: most triangles of a level it meets are answered without
+    // the triangle's polytope.
+    const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
+    core_contact_triangle(a, proxy_a, corners, n, length(n), edges, margin, m);
+    return;
+  }
+  contact_triangle_polytope(a, proxy_a, corners, edges, margin, m, nullptr);
+}
+
+void detail::contact_core_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                                   const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
+                                   float reach, FunctionRef<std::uint8_t()> edges, float margin,
+                                   Manifold3& m) noexcept {
+  m.count = 0;
+  if (box_beyond(a_bounds, corners, reach)) return;
+  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
+  const float scale = length(n);
+  if (scale > 0.0f && plane_beyond(a, n, scale, corners[0], reach)) return;
+  core_contact_triangle(a, proxy_a, corners, n, scale, edges, margin, m);
 }
 
 template <Shape3DType A, Shape3DType B>

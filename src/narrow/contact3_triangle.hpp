@@ -44,6 +44,13 @@ void contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
 [[nodiscard]] bool triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
                                    const std::array<Vec3, 3>& corners, float reach) noexcept;
 
+/// `triangle_beyond` and then `contact_triangle` for a core without faces (a sphere's point, a
+/// capsule's or a segment's segment), in one: the triangle's normal is made once for both.
+/// Leaves `m` empty when the early out drops the triangle.
+void contact_core_triangle(const Polytope3& a, const ConvexProxy3& proxy_a, const Aabb3& a_bounds,
+                           const std::array<Vec3, 3>& corners, float reach,
+                           FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept;
+
 /// Keeps at most 4 of `count` contact points sharing `normal` (world or A's frame alike): the
 /// deepest, the farthest from it, then the two that span the largest area with them (the idea
 /// of Jolt's PruneContactPoints); fewer than 5 are copied as they are. With `depth_tie` > 0,
