@@ -39,6 +39,7 @@
 #include "contact3_triangle.hpp"
 #include "penetration_cores.hpp"
 #include "polytope3.hpp"
+#include "scratch_array.hpp"
 #include "segment_closest.hpp"
 
 #include <algorithm>
@@ -67,6 +68,7 @@ namespace collide {
 namespace {
 
 using detail::Polytope3;
+using detail::ScratchArray;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -111,21 +113,6 @@ struct BPlace {
   const PlacedPolytope& b;
   [[nodiscard]] Vec3 vertex(int i) const noexcept { return b.vertex(i); }
   [[nodiscard]] Vec3 normal(int face) const noexcept { return b.face_normal(face); }
-};
-
-/// Storage for up to N values of T, left uninitialised: the clip buffers are filled before
-/// they are read, and value-initialising their 5 KB (T's members have default initialisers)
-/// was a quarter of a face contact. The bytes implicitly create the T objects that are
-/// assigned (T is an implicit-lifetime type).
-template <class T, int N>
-struct ScratchArray {
-  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
-  alignas(T) std::byte bytes[N * sizeof(T)];
-  [[nodiscard]] T& operator[](int i) noexcept { return reinterpret_cast<T*>(bytes)[i]; }
-  [[nodiscard]] const T& operator[](int i) const noexcept {
-    return reinterpret_cast<const T*>(bytes)[i];
-  }
-  [[nodiscard]] const T* data() const noexcept { return reinterpret_cast<const T*>(bytes); }
 };
 
 /// Most faces a solid core has: a hull of kMaxHullVertices vertices has at most 2 V - 4

@@ -16,6 +16,7 @@
 
 #include "contact3_triangle.hpp"
 #include "polytope3.hpp"
+#include "scratch_array.hpp"
 
 #include <algorithm>
 #include <array>
@@ -205,11 +206,13 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
   // scales with the smaller core and the coordinates, here A's frame: near A's size).
   const Aabb3 local = compute_aabb(a, Transform3{});
   const float reach = margin + kPretestSlack * slop(local);
+  // One manifold for every triangle: each sets its count and the points below it (zeroing a
+  // fresh one per candidate triangle showed in the profile).
+  Manifold3 m;
   level.query(fatten(box, margin + slop(box)), [&](std::uint32_t t) -> bool {
     const std::array<Vec3, 3> corners = pl.to_a(level.corners(t));
     const float triangle_reach = reach + kRelativeTolerance * max_abs(corners[0]);
     const auto edges = [&]() -> std::uint8_t { return level.active_edges(t); };
-    Manifold3 m;
     if constexpr (kCoreWithoutFaces<A>) {
       detail::contact_core_triangle(pa, proxy, local, corners, triangle_reach, edges, margin, m);
     } else {
@@ -296,9 +299,10 @@ class LevelPoints {
     }
   }
 
-  std::array<ManifoldPoint3, kMaxLevelContactPoints> points_{};
-  std::array<Vec3, kMaxLevelContactPoints> normals_{};
-  std::array<ManifoldPoint3, kMaxLevelContactPoints> selected_{};
+  // Filled before they are read (count_, select's n): not zeroed for every query.
+  detail::ScratchArray<ManifoldPoint3, kMaxLevelContactPoints> points_;
+  detail::ScratchArray<Vec3, kMaxLevelContactPoints> normals_;
+  detail::ScratchArray<ManifoldPoint3, kMaxLevelContactPoints> selected_;
   int count_ = 0;
   float deepest_depth_ = -kInf;
   Vec3 normal_{0.0f};
