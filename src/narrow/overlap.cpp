@@ -78,9 +78,9 @@ struct GjkOverlapBounds {
 
 /// Boolean GJK on two proxies (van den Bergen 2003, 4.3.4: the separating-axis lower bound),
 /// in 2D or 3D.
-template <int D>
-[[nodiscard]] bool overlap_gjk(const ConvexProxyN<D>& a, const TransformN<D>& xa,
-                               const ConvexProxyN<D>& b, const TransformN<D>& xb) noexcept {
+template <int D, SupportMap<D> PA, SupportMap<D> PB>
+[[nodiscard]] bool overlap_gjk(const PA& a, const TransformN<D>& xa, const PB& b,
+                               const TransformN<D>& xb) noexcept {
   const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
   const float radius_sum = a.radius() + b.radius();
   GjkSimplexN<D> s;
@@ -155,6 +155,8 @@ bool overlap(const A& a, const Transform3& xa, const B& b, const Transform3& xb)
     const float radius_sum = a.radius + b.radius;
     const float reach = radius_sum + kRelativeTolerance * (max_abs(d) + radius_sum);
     return dot(d, d) <= reach * reach;
+  } else if constexpr (std::is_same_v<A, ConvexHull> && std::is_same_v<B, ConvexHull>) {
+    return overlap_gjk<3>(HullSupportMap(a), xa, HullSupportMap(b), xb);
   } else {
     return overlap_gjk<3>(ConvexProxy3(a), xa, ConvexProxy3(b), xb);
   }

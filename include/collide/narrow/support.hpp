@@ -238,7 +238,7 @@ class ConvexProxyN<3> {
         return {(i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z};
       }
       case Kind::points:
-      case Kind::hull: return points_[i];
+      case Kind::hull: return hull_->block_vertex(i);
       case Kind::inline_points:
       case Kind::triangle: break;
     }
@@ -292,5 +292,23 @@ class ConvexProxyN<3> {
 };
 
 using ConvexProxy3 = ConvexProxyN<3>;  ///< the 3D support map
+
+/// A ConvexHull's support map alone (SupportMap, gjk.hpp): ConvexProxy3's answers for a hull,
+/// without its dispatch on the shape's kind at every point and support query, for the queries
+/// that know both shapes are hulls. Keep the hull alive.
+class HullSupportMap {
+ public:
+  explicit HullSupportMap(const ConvexHull& hull) noexcept : hull_(&hull) {}
+  [[nodiscard]] Vec3 point(int i) const noexcept { return hull_->block_vertex(i); }
+  [[nodiscard]] int count() const noexcept { return hull_->vertex_count(); }
+  [[nodiscard]] float radius() const noexcept { return hull_->radius; }
+  [[nodiscard]] int support_index(Vec3 direction) const noexcept { return hull_->support_index(direction); }
+  [[nodiscard]] int support_index_from(Vec3 direction, int start) const noexcept {
+    return hull_->support_index_from(direction, start);
+  }
+
+ private:
+  const ConvexHull* hull_;
+};
 
 }  // namespace collide

@@ -96,22 +96,24 @@ struct HullEdge {
 /// face_edges[first + k] is the edge from corner k to corner k + 1 (mod count). Vertex i's
 /// neighbours (the other ends of its edges) are neighbours[neighbour_offsets[i],
 /// neighbour_offsets[i + 1]).
-struct ConvexHull {
+struct alignas(64) ConvexHull {
+  // What a support query reads (ConvexProxy3, GJK) comes first, on one cache line: a query on
+  // many hulls (a scene's worth) waits on each hull's lines, and these were spread over four.
   std::vector<Vec3> vertices;                   ///< local space, in the order of the input points
+  /// `vertices` again, four at a time for SIMD support queries: block b holds the x of vertices
+  /// 4b..4b+3, then their y, then their z (12 floats); the last block is padded with vertex 0.
+  std::vector<float> vertex_blocks;
+  float radius = 0.0f;                          ///< rounding radius, >= 0
   std::vector<HullFace> faces;                  ///< polygonal faces
   std::vector<HullVertexIndex> face_vertices;   ///< corners of all faces, face by face
   std::vector<std::uint16_t> face_edges;        ///< edge index of each face side, as corners
   std::vector<HullEdge> edges;                  ///< each undirected edge once
   std::vector<std::uint16_t> neighbour_offsets; ///< vertex adjacency offsets, size V + 1
   std::vector<HullVertexIndex> neighbours;      ///< vertex adjacency lists, size 2E
-  /// `vertices` again, four at a time for SIMD support queries: block b holds the x of vertices
-  /// 4b..4b+3, then their y, then their z (12 floats); the last block is padded with vertex 0.
-  std::vector<float> vertex_blocks;
   /// `faces`' planes again, four at a time for SIMD separating-axis tests: block b holds the
   /// normal x of faces 4b..4b+3, then their normal y, normal z and offset (16 floats); the last
   /// block is padded with face 0.
   std::vector<float> face_blocks;
-  float radius = 0.0f;                          ///< rounding radius, >= 0
   float tolerance = 0.0f;       ///< the build's tolerance t, local units (see above)
   float volume = 0.0f;          ///< volume of the core (without the radius)
   Vec3 centroid{0.0f};          ///< volume centroid of the core, local space
@@ -141,6 +143,14 @@ struct ConvexHull {
 
   /// Number of vertices.
   [[nodiscard]] int vertex_count() const noexcept { return static_cast<int>(vertices.size()); }
+
+  /// Vertex i as vertex_blocks holds it (the same values as vertices[i]): a support query that
+  /// has just scanned the blocks finds its answer's coordinates there, already in the cache,
+  /// where vertices[i] is a second array to load.
+  [[nodiscard]] Vec3 block_vertex(int i) const noexcept {
+    const float* block = vertex_blocks.data() + 12 * (i >> 2) + (i & 3);
+    return {block[0], block[4], block[8]};
+  }
 };
 
 #if defined(__SSE2__) || defined(_M_X64)
