@@ -25,7 +25,10 @@
 //     closest points (a point or segment core against a triangle, as a capsule meets a level:
 //     in closed form, Ericson 5.1.10, skipping the triangle edges the segment stays inside
 //     of); if the normal is within kFaceContactSine of a face normal, that face clips as
-//     above, else the closest points make one point.
+//     above, else the closest points make one point. A point or segment core against a
+//     triangle (a sphere or capsule on a level) takes all of this without building the
+//     triangle's polytope while the cores are apart (core_triangle_contact: two ends clipped to
+//     three side planes), the polytope only when the segment pierces the triangle.
 //  4. More than 4 points are reduced to 4: the deepest, the farthest from it, then the two that
 //     span the largest area (the idea of Jolt's PruneContactPoints).
 
