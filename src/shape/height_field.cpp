@@ -372,6 +372,18 @@ HeightField make_height_field(int samples_x, int samples_z, std::span<const floa
   return f;
 }
 
+void for_each_triangle(const HeightField& field, const Transform3& xf, const Aabb3& box,
+                       TriangleCornersCallback visit) {
+  const Aabb3 local = transform_aabb(box, inv_mul(xf, Transform3{}));
+  Transform3 grid_to_world = xf;
+  grid_to_world.p += rotate(xf.q, field.origin);
+  const Frame3 f = Frame3::from(grid_to_world);
+  field.query(local, [&](std::uint32_t t) -> bool {
+    const std::array<Vec3, 3> c = field.grid_corners(t);
+    return visit(t, {transform_point(f, c[0]), transform_point(f, c[1]), transform_point(f, c[2])});
+  });
+}
+
 Aabb3 compute_aabb(const HeightField& field, const Transform3& xf) noexcept {
   const Vec3 lo = field.origin + Vec3(0.0f, field.min_height, 0.0f);
   const Vec3 hi = field.origin + Vec3(static_cast<float>(field.cells_x()) * field.spacing.x, field.max_height,

@@ -164,6 +164,20 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
   return mesh;
 }
 
+void for_each_triangle(const TriangleMesh& mesh, const Transform3& xm, const Aabb3& box,
+                       TriangleCornersCallback visit) {
+  // The box in the stored frame (mesh space minus the origin), the corners back to the world.
+  const Aabb3 local = transform_aabb(box, inv_mul(xm, Transform3{}));
+  const Aabb3 stored{local.min - mesh.origin, local.max - mesh.origin};
+  Transform3 stored_to_world = xm;
+  stored_to_world.p += rotate(xm.q, mesh.origin);
+  const Frame3 f = Frame3::from(stored_to_world);
+  mesh.bvh.query(stored, [&](std::uint32_t t) -> bool {
+    return visit(t, {transform_point(f, mesh.corner(t, 0)), transform_point(f, mesh.corner(t, 1)),
+                     transform_point(f, mesh.corner(t, 2))});
+  });
+}
+
 Aabb3 compute_aabb(const TriangleMesh& mesh, const Transform3& xf) noexcept {
   const Aabb3 local = mesh.bvh.bounds();
   return transform_aabb({mesh.origin + local.min, mesh.origin + local.max}, xf);

@@ -11,7 +11,7 @@
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/broad/temporal_broad_phase.hpp>
-#include <collide/world/world2d.hpp>
+#include <collide/world/world.hpp>
 
 #include <cstdint>
 #include <span>
@@ -19,29 +19,30 @@
 
 namespace collide::detail {
 
-class BodyBroadPhase {
+template <int D>
+class BodyBroadPhaseN {
  public:
-  explicit BodyBroadPhase(WorldBroadPhase kind) {
+  explicit BodyBroadPhaseN(WorldBroadPhase kind) {
     switch (kind) {
-      case WorldBroadPhase::temporal: bp_.emplace<TemporalBroadPhase>(); break;
-      case WorldBroadPhase::hierarchical_grid: bp_.emplace<HierarchicalGrid>(); break;
-      case WorldBroadPhase::sorted_grid: bp_.emplace<SortedGrid>(); break;
-      case WorldBroadPhase::loose_grid: bp_.emplace<LooseGrid>(); break;
-      case WorldBroadPhase::hash_grid: bp_.emplace<HashGrid>(); break;
-      case WorldBroadPhase::dynamic_tree: bp_.emplace<DynamicTree>(); break;
-      case WorldBroadPhase::sweep_and_prune: bp_.emplace<SweepAndPrune>(); break;
-      case WorldBroadPhase::brute_force: bp_.emplace<BruteForce>(); break;
+      case WorldBroadPhase::temporal: bp_.template emplace<TemporalBroadPhaseN<D>>(); break;
+      case WorldBroadPhase::hierarchical_grid: bp_.template emplace<HierarchicalGridN<D>>(); break;
+      case WorldBroadPhase::sorted_grid: bp_.template emplace<SortedGridN<D>>(); break;
+      case WorldBroadPhase::loose_grid: bp_.template emplace<LooseGridN<D>>(); break;
+      case WorldBroadPhase::hash_grid: bp_.template emplace<HashGridN<D>>(); break;
+      case WorldBroadPhase::dynamic_tree: bp_.template emplace<DynamicTreeN<D>>(); break;
+      case WorldBroadPhase::sweep_and_prune: bp_.template emplace<SweepAndPruneN<D>>(); break;
+      case WorldBroadPhase::brute_force: bp_.template emplace<BruteForceN<D>>(); break;
     }
   }
 
   /// The boxes (and, for the temporal broad phase, speed bounds) at `time`. `same_objects`:
   /// the same proxies as last call, so incremental structures may update instead of rebuild.
-  void set(std::span<const Aabb> boxes, std::span<const float> speed_bounds, double time,
+  void set(std::span<const AabbN<D>> boxes, std::span<const float> speed_bounds, double time,
            bool same_objects) {
     std::visit(
         [&](auto& bp) {
           using T = std::decay_t<decltype(bp)>;
-          if constexpr (std::is_same_v<T, TemporalBroadPhase>) {
+          if constexpr (std::is_same_v<T, TemporalBroadPhaseN<D>>) {
             if (same_objects && built_) {
               bp.update(boxes, time);
             } else {
@@ -62,7 +63,7 @@ class BodyBroadPhase {
   /// Speed bounds from now on, after the collision response changed velocities (only the
   /// temporal broad phase uses them).
   void set_speed_bounds(std::span<const float> speed_bounds) {
-    if (auto* t = std::get_if<TemporalBroadPhase>(&bp_); t != nullptr && built_) {
+    if (auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_); t != nullptr && built_) {
       t->set_speed_bounds(speed_bounds);
     }
   }
@@ -73,22 +74,22 @@ class BodyBroadPhase {
     sort_pairs(pairs);
   }
 
-  void query(const Aabb& box, QueryCallback callback) const {
+  void query(const AabbN<D>& box, QueryCallback callback) const {
     std::visit([&](const auto& bp) { bp.query(box, callback); }, bp_);
   }
-  void ray_cast(const Ray& ray, RayCallback callback) const {
+  void ray_cast(const RayN<D>& ray, RayCallback callback) const {
     std::visit([&](const auto& bp) { bp.ray_cast(ray, callback); }, bp_);
   }
 
   /// Pair checks the temporal broad phase skipped so far (0 for the others).
   [[nodiscard]] std::int64_t skipped_checks() const noexcept {
-    const auto* t = std::get_if<TemporalBroadPhase>(&bp_);
+    const auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_);
     return t != nullptr ? t->stats().skipped_checks : 0;
   }
 
  private:
-  std::variant<TemporalBroadPhase, HierarchicalGrid, SortedGrid, LooseGrid, HashGrid,
-               DynamicTree, SweepAndPrune, BruteForce>
+  std::variant<TemporalBroadPhaseN<D>, HierarchicalGridN<D>, SortedGridN<D>, LooseGridN<D>,
+               HashGridN<D>, DynamicTreeN<D>, SweepAndPruneN<D>, BruteForceN<D>>
       bp_;
   bool built_ = false;
 };

@@ -1,10 +1,13 @@
-// The independent end-of-step check of World2D: no body may end a step inside static geometry
-// (tunnelling) or outside the world's bounds. It uses its own uniform grid over the statics and
-// the exact contact of every nearby pair, so a bug in the world's tree, its early-out chains or
-// its continuous collision cannot hide a body that went through a wall.
+// The world's independent end-of-step check, 2D and 3D: no body may end a step inside static
+// geometry or cross a level's surface during it (tunnelling), or end outside the world's
+// bounds. It uses its own uniform grid over the static pieces and the level shapes' triangles
+// and the exact contact (or ray cast) of every nearby pair, so a bug in the world's tree, the
+// levels' BVHs, the early-out chains or the continuous collision cannot hide a body that went
+// through a wall or a floor.
 
 #include "world_impl.hpp"
 
+#include <collide/ccd/raycast.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/contact.hpp>
 
@@ -16,7 +19,7 @@ namespace collide {
 
 namespace {
 
-/// A static piece covering more cells than this is tested against every body instead.
+/// A static item covering more cells than this is tested against every body instead.
 constexpr std::int64_t kMaxCheckCellsPerPiece = 4096;
 
 /// Index of the cell holding coordinate x, clamped far inside int range.
@@ -25,94 +28,199 @@ std::int32_t cell_of(float x, float cell) {
   return static_cast<std::int32_t>(std::clamp(c, -1.0e9, 1.0e9));
 }
 
-std::uint64_t cell_key(std::int32_t x, std::int32_t y) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) |
-         static_cast<std::uint32_t>(y);
-}
+/// The cell range of a box and its key: 2D keys pack two 32-bit cell indices, 3D keys three
+/// 21-bit ones (cells beyond +-2^20 share keys: more candidates, never fewer).
+template <int D>
+struct CellRange {
+  std::array<std::int32_t, D> lo;
+  std::array<std::int32_t, D> hi;
+
+  CellRange(const AabbN<D>& box, float cell) {
+    for (int k = 0; k < D; ++k) {
+      lo[k] = cell_of(box.min[k], cell);
+      hi[k] = cell_of(box.max[k], cell);
+    }
+  }
+  [[nodiscard]] std::int64_t count() const {
+    std::int64_t n = 1;
+    for (int k = 0; k < D; ++k) n *= std::int64_t{hi[k] - lo[k] + 1};
+    return n;
+  }
+  static std::uint64_t key(const std::array<std::int32_t, D>& c) {
+    if constexpr (D == 2) {
+      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[0])) << 32) |
+             static_cast<std::uint32_t>(c[1]);
+    } else {
+      const auto part = [](std::int32_t v) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v) & 0x1fffffu); };
+      return (part(c[0]) << 42) | (part(c[1]) << 21) | part(c[2]);
+    }
+  }
+  template <class Visit>
+  void for_each(Visit&& visit) const {
+    std::array<std::int32_t, D> c = lo;
+    for (;;) {
+      visit(key(c));
+      int k = 0;
+      for (; k < D; ++k) {
+        if (c[k] < hi[k]) {
+          ++c[k];
+          break;
+        }
+        c[k] = lo[k];
+      }
+      if (k == D) return;
+    }
+  }
+};
 
 constexpr std::uint64_t kOversizedKey = ~std::uint64_t{0};
 
 }  // namespace
 
-void World2D::Impl::check(StepStats& stats) {
-  detail::CheckGrid& grid = check_grid;
+template <int D>
+void WorldN<D>::Impl::check(StepStats& stats) {
+  detail::CheckGridN<D>& grid = check_grid;
+  const auto piece_items = static_cast<std::uint32_t>(static_pieces.size());
   if (check_grid_dirty) {
     grid.cells.clear();
+    grid.triangles.clear();
+    grid.triangle_piece.clear();
+    // Items: the convex static pieces, and each triangle of the level shapes.
+    std::vector<AabbN<D>> boxes;
+    std::vector<std::uint32_t> items;
+    for (std::uint32_t i = 0; i < piece_items; ++i) {
+      const StaticPiece& sp = static_pieces[i];
+      if (statics[sp.owner].sensor) continue;
+      if constexpr (D == 3) {
+        if (sp.level) {
+          const StaticDefN<D>& st = statics[sp.owner];
+          const auto add = [&](std::uint32_t, const std::array<Vec3, 3>& c) -> bool {
+            items.push_back(piece_items + static_cast<std::uint32_t>(grid.triangles.size()));
+            boxes.push_back({glm::min(glm::min(c[0], c[1]), c[2]), glm::max(glm::max(c[0], c[1]), c[2])});
+            grid.triangles.push_back(c);
+            grid.triangle_piece.push_back(i);
+            return true;
+          };
+          std::visit(
+              [&](const auto& s) {
+                using S = std::decay_t<decltype(s)>;
+                if constexpr (std::is_same_v<S, std::shared_ptr<const TriangleMesh>> ||
+                              std::is_same_v<S, std::shared_ptr<const HeightField>>) {
+                  for_each_triangle(*s, st.transform, sp.box, add);
+                }
+              },
+              st.shapes[sp.piece]);
+          continue;
+        }
+      }
+      items.push_back(i);
+      boxes.push_back(sp.box);
+    }
     std::vector<float> sides;
-    for (const detail::StaticPiece& sp : static_pieces) {
-      const Vec2 s = sp.box.size();
-      sides.push_back(std::max(s.x, s.y));
+    for (const AabbN<D>& b : boxes) {
+      const VecN<D> s = b.max - b.min;
+      float side = 0.0f;
+      for (int k = 0; k < D; ++k) side = std::max(side, s[k]);
+      sides.push_back(side);
     }
     if (!sides.empty()) {
       std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
       grid.cell = std::max(2.0f * sides[sides.size() / 2], 1e-3f);
     }
-    for (std::uint32_t i = 0; i < static_pieces.size(); ++i) {
-      const detail::StaticPiece& sp = static_pieces[i];
-      if (statics[sp.owner].sensor) continue;
-      const std::int32_t x0 = cell_of(sp.box.min.x, grid.cell), x1 = cell_of(sp.box.max.x, grid.cell);
-      const std::int32_t y0 = cell_of(sp.box.min.y, grid.cell), y1 = cell_of(sp.box.max.y, grid.cell);
-      if (std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1) > kMaxCheckCellsPerPiece) {
-        grid.cells[kOversizedKey].push_back(i);
+    for (std::size_t n = 0; n < items.size(); ++n) {
+      const CellRange<D> range(boxes[n], grid.cell);
+      if (range.count() > kMaxCheckCellsPerPiece) {
+        grid.cells[kOversizedKey].push_back(items[n]);
         continue;
       }
-      for (std::int32_t y = y0; y <= y1; ++y) {
-        for (std::int32_t x = x0; x <= x1; ++x) grid.cells[cell_key(x, y)].push_back(i);
-      }
+      range.for_each([&](std::uint64_t key) { grid.cells[key].push_back(items[n]); });
     }
-    grid.stamp.assign(static_pieces.size(), 0);
+    grid.stamp.assign(piece_items + grid.triangles.size(), 0);
     grid.query = 0;
     check_grid_dirty = false;
   }
   const auto oversized = grid.cells.find(kOversizedKey);
+  // Each item whose cells meet `box` once (stamped per query), or every item for a huge box.
+  const auto for_items = [&](const AabbN<D>& box, auto&& test) {
+    ++grid.query;
+    const auto once = [&](std::uint32_t id) {
+      if (grid.stamp[id] == grid.query) return;
+      grid.stamp[id] = grid.query;
+      test(id);
+    };
+    const CellRange<D> range(box, grid.cell);
+    if (range.count() > kMaxCheckCellsPerPiece) {
+      for (const auto& [key, ids] : grid.cells) {
+        for (const std::uint32_t id : ids) once(id);
+      }
+      return;
+    }
+    range.for_each([&](std::uint64_t key) {
+      const auto it = grid.cells.find(key);
+      if (it == grid.cells.end()) return;
+      for (const std::uint32_t id : it->second) once(id);
+    });
+    if (oversized != grid.cells.end()) {
+      for (const std::uint32_t id : oversized->second) once(id);
+    }
+  };
   for (std::uint32_t i = 0; i < bodies.size(); ++i) {
-    const detail::Body& b = bodies[i];
+    const Body& b = bodies[i];
     if (!b.alive || b.sensor) continue;
     if (options.bounds && !collide::contains(*options.bounds, transform_point(b.xf, b.local_center))) {
       ++stats.escaped;
     }
     bool inside = false;
     for (std::size_t k = 0; k < b.shapes.size(); ++k) {
-      const Aabb box = piece_box(b, static_cast<int>(k));
-      const detail::PieceInfo& piece = b.pieces[k];
-      const float magnitude = std::fabs(b.xf.p.x) + std::fabs(b.xf.p.y) + b.bounding_radius;
-      const float tolerance =
-          kTunnelDepthFraction * std::max(piece.inner_size, 0.1f * piece.circle_radius) +
-          kRelativeTolerance * magnitude;
-      ++grid.query;
-      const auto test = [&](std::uint32_t id) {
-        if (grid.stamp[id] == grid.query) return;
-        grid.stamp[id] = grid.query;
-        const detail::StaticPiece& sp = static_pieces[id];
-        if (!overlap(box, sp.box)) return;
-        const StaticDef& st = statics[sp.owner];
-        if (!should_collide(b.filter, st.filter)) return;
-        const float depth =
-            contact(b.shapes[k], b.xf, st.shapes[sp.piece], st.transform).max_depth();
+      const AabbN<D> box = piece_box(b, static_cast<int>(k));
+      const detail::PieceInfoN<D>& piece = b.pieces[k];
+      float magnitude = std::fabs(b.xf.p[0]);
+      for (int a = 1; a < D; ++a) magnitude += std::fabs(b.xf.p[a]);
+      magnitude += b.bounding_radius;
+      const float tolerance = kTunnelDepthFraction * std::max(piece.inner_size, 0.1f * piece.radius) +
+                              kRelativeTolerance * magnitude;
+      for_items(box, [&](std::uint32_t id) {
+        float depth = 0.0f;
+        if (id < piece_items) {
+          const StaticPiece& sp = static_pieces[id];
+          if (!overlap(box, sp.box)) return;
+          const StaticDefN<D>& st = statics[sp.owner];
+          if (!should_collide(b.filter, st.filter)) return;
+          depth = detail::piece_contact(b.shapes[k], b.xf, st.shapes[sp.piece], st.transform).max_depth();
+        } else if constexpr (D == 3) {
+          const std::array<Vec3, 3>& c = grid.triangles[id - piece_items];
+          const StaticDefN<D>& st = statics[static_pieces[grid.triangle_piece[id - piece_items]].owner];
+          if (!should_collide(b.filter, st.filter)) return;
+          const Triangle t{c};
+          depth = std::visit([&](const auto& s) { return collide::contact(s, b.xf, t, Transform3{}); },
+                             b.shapes[k])
+                      .max_depth();
+        }
         stats.max_static_depth = std::max(stats.max_static_depth, depth);
         inside = inside || depth > tolerance;
-      };
-      const std::int32_t x0 = cell_of(box.min.x, grid.cell), x1 = cell_of(box.max.x, grid.cell);
-      const std::int32_t y0 = cell_of(box.min.y, grid.cell), y1 = cell_of(box.max.y, grid.cell);
-      if (std::int64_t{x1 - x0 + 1} * (y1 - y0 + 1) > kMaxCheckCellsPerPiece) {
-        for (std::uint32_t id = 0; id < static_pieces.size(); ++id) {  // a huge body: every static
-          if (!statics[static_pieces[id].owner].sensor) test(id);
-        }
-      } else {
-        for (std::int32_t y = y0; y <= y1; ++y) {
-          for (std::int32_t x = x0; x <= x1; ++x) {
-            const auto it = grid.cells.find(cell_key(x, y));
-            if (it == grid.cells.end()) continue;
-            for (const std::uint32_t id : it->second) test(id);
-          }
-        }
-        if (oversized != grid.cells.end()) {
-          for (const std::uint32_t id : oversized->second) test(id);
-        }
+      });
+    }
+    // A level is a surface, not a solid: a body through a floor ends below it, not in it. Its
+    // centre's path over the step crossing a triangle counts as tunnelling.
+    if constexpr (D == 3) {
+      for (int leg = 0; leg + 1 < b.path_count && !inside; ++leg) {
+        const Ray3 ray{b.path[leg], b.path[leg + 1] - b.path[leg]};
+        if (ray.translation == Vec3(0.0f)) continue;
+        const Aabb3 box{glm::min(b.path[leg], b.path[leg + 1]), glm::max(b.path[leg], b.path[leg + 1])};
+        for_items(box, [&](std::uint32_t id) {
+          if (id < piece_items || inside) return;
+          const std::array<Vec3, 3>& c = grid.triangles[id - piece_items];
+          const StaticDefN<D>& st = statics[static_pieces[grid.triangle_piece[id - piece_items]].owner];
+          if (!should_collide(b.filter, st.filter)) return;
+          inside = collide::raycast(Triangle{c}, Transform3{}, ray).hit;
+        });
       }
     }
     if (inside) ++stats.tunnelled;
   }
 }
+
+template void WorldN<2>::Impl::check(StepStats&);
+template void WorldN<3>::Impl::check(StepStats&);
 
 }  // namespace collide

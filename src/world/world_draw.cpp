@@ -1,6 +1,8 @@
-// World2D drawn through the DebugDraw interface: statics, bodies, contacts, lasers.
+// World2D drawn through the DebugDraw interface (2D): statics, bodies, contacts, lasers.
 
 #include "world_impl.hpp"
+
+#include <collide/world/world2d.hpp>
 
 #include <collide/shape/draw_shape.hpp>
 
@@ -9,7 +11,10 @@
 
 namespace collide {
 
-void World2D::draw(DebugDraw& draw, const WorldDrawOptions& options) const {
+template <int D>
+void WorldN<D>::draw(DebugDraw& draw, const WorldDrawOptions& options) const
+  requires(D == 2)
+{
   const Impl& w = *impl_;
   if (options.statics) {
     for (const StaticDef& st : w.statics) {
@@ -19,7 +24,7 @@ void World2D::draw(DebugDraw& draw, const WorldDrawOptions& options) const {
   }
   std::vector<float> sizes;
   if (options.bodies) {
-    for (const detail::Body& b : w.bodies) {
+    for (const detail::BodyN<2>& b : w.bodies) {
       if (!b.alive) continue;
       const DrawRole role = b.sensor                  ? DrawRole::sensor
                             : b.bullet || b.very_fast ? DrawRole::fast_body
@@ -53,11 +58,17 @@ void World2D::draw(DebugDraw& draw, const WorldDrawOptions& options) const {
   }
 }
 
-void World2D::draw_laser(DebugDraw& draw, const LaserPath& path) {
+template <int D>
+void WorldN<D>::draw_laser(DebugDraw& draw, const LaserPathN<D>& path)
+  requires(D == 2)
+{
   for (int i = 0; i < path.segments; ++i) {
     draw.draw_segment(path.points[i], path.points[i + 1], DrawRole::laser);
   }
   for (int i = 0; i < path.hit_count; ++i) draw.draw_point(path.hits[i].hit.point, DrawRole::laser_hit);
 }
+
+template void WorldN<2>::draw(DebugDraw&, const WorldDrawOptions&) const;
+template void WorldN<2>::draw_laser(DebugDraw&, const LaserPathN<2>&);
 
 }  // namespace collide

@@ -1,13 +1,15 @@
 #pragma once
-// World2D's state, shared by the files that implement it: world2d.cpp (bodies, statics, the
-// step), world_queries.cpp (ray casts, lasers, picks, shape casts), world_draw.cpp and
-// world_check.cpp (the independent end-of-step check).
+// The world's state, shared by the files that implement it for both dimensions: world.cpp
+// (bodies, statics, the step), world_queries.cpp (ray casts, lasers, picks, shape casts),
+// world_draw.cpp (2D pictures) and world_check.cpp (the independent end-of-step check).
+// Dimension-specific geometry is in world_dim.hpp.
 
 #include "body_broad_phase.hpp"
+#include "world_dim.hpp"
 
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/early_out/check_chain.hpp>
-#include <collide/world/world2d.hpp>
+#include <collide/world/world.hpp>
 
 #include <array>
 #include <cstdint>
@@ -16,37 +18,41 @@
 
 namespace collide::detail {
 
-/// Precomputed facts about one convex piece, in its owner's local frame.
-struct PieceInfo {
-  Vec2 circle_center{0.0f, 0.0f};  ///< bounding circle (the early-out pretest)
-  float circle_radius = 0.0f;
-  /// Radius of the largest circle that fits inside (0 for a segment): how far the piece can
-  /// move in one step before it could pass through a thin wall.
-  float inner_size = 0.0f;
-};
-
-/// Facts about a shape: bounding circle, inner size, area and area centroid (local space).
-PieceInfo piece_info(const Shape2D& shape);
-float shape_area(const Shape2D& shape);
-Vec2 shape_centroid(const Shape2D& shape);
-
-/// One convex piece of a static, in world space.
-struct StaticPiece {
-  std::uint32_t owner = 0;   ///< index into statics
-  std::uint16_t piece = 0;   ///< index into the owner's shapes
-  Aabb box;                  ///< world box
-  Vec2 circle_center{0.0f, 0.0f};  ///< world bounding circle
+/// One piece of a static, in world space.
+template <int D>
+struct StaticPieceN {
+  std::uint32_t owner = 0;      ///< index into statics
+  std::uint16_t piece = 0;      ///< index into the owner's shapes
+  AabbN<D> box;                 ///< world box
+  VecN<D> circle_center{0.0f};  ///< world bounding circle or sphere
   float circle_radius = 0.0f;
   float inner_size = 0.0f;
+  bool level = false;           ///< a level shape (3D): met triangle by triangle
 };
 
-struct Body {
-  std::vector<Shape2D> shapes;
-  std::vector<PieceInfo> pieces;
-  Transform xf;
-  Vec2 velocity{0.0f, 0.0f};
-  float angular_velocity = 0.0f;
-  Vec2 push{0.0f, 0.0f};          ///< push-out from body contacts, applied with the next motion
+/// Most points of a body's path over a step: its start, up to kMaxCcdBounces + 1 legs of
+/// motion, kResolveIterations push-outs.
+inline constexpr int kMaxPathPoints = 2 + kMaxCcdBounces + kResolveIterations;
+
+template <int D>
+struct BodyN {
+  /// Appends the centre of rotation at `xf` to the path (the last point is overwritten when
+  /// the path is full: it is always the body's end).
+  void mark_path(const TransformN<D>& at) noexcept {
+    path[path_count < kMaxPathPoints ? path_count++ : kMaxPathPoints - 1] = transform_point(at, local_center);
+  }
+
+  std::vector<BodyShapeN<D>> shapes;
+  std::vector<PieceInfoN<D>> pieces;
+  TransformN<D> xf;
+  VecN<D> velocity{0.0f};
+  AngularN<D> angular_velocity{0.0f};
+  VecN<D> push{0.0f};             ///< push-out from body contacts, applied with the next motion
+  /// The centre of rotation's path over the last step, leg by leg (start, the end of each
+  /// continuous-collision leg or of the motion, each push-out): the check tests whether it
+  /// crossed a level's surface.
+  std::array<VecN<D>, kMaxPathPoints> path{};
+  int path_count = 0;
   std::uint64_t user_id = 0;
   CollisionFilter filter{};
   bool sensor = false;
@@ -55,7 +61,7 @@ struct Body {
   bool used_ccd = false;          ///< moved by continuous collision in the last step
   bool very_fast = false;         ///< last step's motion exceeded its own size (would tunnel)
   std::uint32_t generation = 0;
-  Vec2 local_center{0.0f, 0.0f};  ///< centre of rotation: area centroid of the pieces
+  VecN<D> local_center{0.0f};     ///< centre of rotation: area (volume) centroid of the pieces
   float inner_size = 0.0f;        ///< smallest piece's inner size
   float bounding_radius = 0.0f;   ///< reach of the pieces from local_center
 };
@@ -67,48 +73,61 @@ struct Proxy {
 };
 
 /// The early-out chain used for both kinds of pairs: check 0 the layer/mask filter, check 1
-/// the tight boxes, check 2 the exact contact with the bounding circles as its pretest.
+/// the tight boxes, check 2 the exact contact with the bounding circles (spheres) as its
+/// pretest.
 using WorldCheckChain = CheckChain<3>;
 inline constexpr int kCheckFilter = 0;
 inline constexpr int kCheckAabb = 1;
 inline constexpr int kCheckExact = 2;
 
-/// The independent check's own uniform grid over the static pieces: deliberately not the
-/// world's tree, so a bug there cannot hide a tunnelled body.
-struct CheckGrid {
+/// The independent check's own uniform grid over the static pieces and the level shapes'
+/// triangles: deliberately not the world's tree or the levels' BVHs, so a bug there cannot hide
+/// a tunnelled body. Item i < static_pieces.size() is a static piece, the rest are triangles.
+template <int D>
+struct CheckGridN {
   float cell = 1.0f;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
-  std::vector<std::uint32_t> stamp;  ///< per static piece: last query that visited it
+  std::vector<std::uint32_t> stamp;  ///< per item: last query that visited it
   std::uint32_t query = 0;
+  /// Triangles of the level shapes (world corners) and the static piece each belongs to.
+  std::vector<std::array<Vec3, 3>> triangles;
+  std::vector<std::uint32_t> triangle_piece;
 };
 
 }  // namespace collide::detail
 
 namespace collide {
 
-struct World2D::Impl {
-  explicit Impl(const WorldOptions& o);
+template <int D>
+struct WorldN<D>::Impl {
+  using Body = detail::BodyN<D>;
+  using StaticPiece = detail::StaticPieceN<D>;
+  using Box = AabbN<D>;
+  using Contact = ContactN<D>;
+  using Manifold = ManifoldN<D>;
 
-  WorldOptions options;
+  explicit Impl(const WorldOptionsN<D>& o);
+
+  WorldOptionsN<D> options;
 
   // Statics
-  std::vector<StaticDef> statics;
-  std::vector<detail::StaticPiece> static_pieces;
-  DynamicTree static_tree;
+  std::vector<StaticDefN<D>> statics;
+  std::vector<StaticPiece> static_pieces;
+  DynamicTreeN<D> static_tree;
   bool static_tree_dirty = false;
-  detail::CheckGrid check_grid;
+  detail::CheckGridN<D> check_grid;
   bool check_grid_dirty = true;
 
   // Bodies
-  std::vector<detail::Body> bodies;
+  std::vector<Body> bodies;
   std::vector<std::uint32_t> free_slots;
   int alive_bodies = 0;
 
   // Body broad phase
-  detail::BodyBroadPhase body_broad;
+  detail::BodyBroadPhaseN<D> body_broad;
   std::vector<detail::Proxy> proxies;
-  std::vector<Aabb> proxy_boxes;        ///< swept boxes over the last step
-  std::vector<Aabb> proxy_start_boxes;  ///< tight boxes at the start of the step
+  std::vector<Box> proxy_boxes;        ///< swept boxes over the last step
+  std::vector<Box> proxy_start_boxes;  ///< tight boxes at the start of the step
   std::vector<float> proxy_speeds;
   bool proxies_changed = true;          ///< bodies added or removed since the broad phase was set
   bool body_boxes_current = false;      ///< the broad phase holds every body's current box
@@ -126,7 +145,7 @@ struct World2D::Impl {
   std::vector<Contact> ccd_contacts;
   std::vector<Contact> merged_contacts;  ///< make_events' buffer, reused every step
   std::vector<Contact> previous_contacts;
-  std::vector<ContactEvent> events;
+  std::vector<ContactEventN<D>> events;
   StepStats last{};
   StepStats total{};
 
@@ -136,32 +155,40 @@ struct World2D::Impl {
   std::vector<Contact> body_contacts;
 
   // Helpers
-  [[nodiscard]] detail::Body& body(BodyId id);
-  [[nodiscard]] const detail::Body& body(BodyId id) const;
-  [[nodiscard]] const Shape2D& shape(const ColliderRef& c) const;
-  [[nodiscard]] Transform transform(const ColliderRef& c) const;
+  [[nodiscard]] Body& body(BodyId id);
+  [[nodiscard]] const Body& body(BodyId id) const;
+  [[nodiscard]] const StaticShapeN<D>& static_shape(const ColliderRef& c) const {
+    return statics[c.index].shapes[c.piece];
+  }
+  [[nodiscard]] const BodyShapeN<D>& body_shape(const ColliderRef& c) const {
+    return bodies[c.index].shapes[c.piece];
+  }
+  [[nodiscard]] TransformN<D> transform(const ColliderRef& c) const;
   [[nodiscard]] CollisionFilter filter(const ColliderRef& c) const;
   [[nodiscard]] bool is_sensor(const ColliderRef& c) const;
   [[nodiscard]] std::uint64_t user_id(const ColliderRef& c) const;
-  [[nodiscard]] Aabb body_box(const detail::Body& b) const;
-  [[nodiscard]] Aabb piece_box(const detail::Body& b, int piece) const;
+  [[nodiscard]] Box body_box(const Body& b) const;
+  [[nodiscard]] Box piece_box(const Body& b, int piece) const;
   void refresh_static_tree();
+  /// The contact of a body piece `a` with the collider `b` (a static piece or a body piece).
+  [[nodiscard]] Manifold contact_with(const ColliderRef& a, const ColliderRef& b) const;
 
   // Step phases
   void integrate(float dt, StepStats& stats);
-  void move_with_ccd(std::uint32_t index, Vec2 translation, float rotation, StepStats& stats);
+  void move_with_ccd(std::uint32_t index, VecN<D> translation, AngularN<D> rotation, StepStats& stats);
   void resolve_statics(StepStats& stats);
   void find_body_contacts(float dt, StepStats& stats);
   /// Bound on how fast body b's swept boxes move from now on, world units per second.
-  [[nodiscard]] float speed_bound(const detail::Body& b, float dt) const;
+  [[nodiscard]] float speed_bound(const Body& b, float dt) const;
   /// Records a fast body's impact on a static piece as a contact of this step.
-  void record_impact(std::uint32_t index, std::size_t piece, int static_piece, Vec2 normal, Vec2 point);
+  void record_impact(std::uint32_t index, std::size_t piece, int static_piece, VecN<D> normal,
+                     VecN<D> point);
   void make_events(StepStats& stats);
   void check(StepStats& stats);
   /// Runs `chain` on one pair; on pass, `out` holds the manifold. Counts rejections in `stats`.
   bool evaluate_pair(detail::WorldCheckChain& chain, const ColliderRef& a, const ColliderRef& b,
-                     const Aabb& box_a, const Aabb& box_b, Vec2 circle_a, float radius_a,
-                     Vec2 circle_b, float radius_b, Manifold& out, StepStats& stats);
+                     const Box& box_a, const Box& box_b, VecN<D> circle_a, float radius_a,
+                     VecN<D> circle_b, float radius_b, Manifold& out, StepStats& stats);
 };
 
 }  // namespace collide

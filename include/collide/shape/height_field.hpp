@@ -121,4 +121,10 @@ struct HeightField {
 /// tight for rotations about the axes by multiples of 90 degrees).
 [[nodiscard]] Aabb3 compute_aabb(const HeightField& field, const Transform3& xf) noexcept;
 
+/// Each triangle of `field` placed by `xf` whose bounding box meets `box` (world space), with its
+/// corners in world space (holes have none), as `for_each_triangle` of a TriangleMesh. No
+/// allocation.
+void for_each_triangle(const HeightField& field, const Transform3& xf, const Aabb3& box,
+                       TriangleCornersCallback visit);
+
 }  // namespace collide

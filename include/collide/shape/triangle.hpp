@@ -37,6 +37,12 @@ struct Triangle {
 /// in float.
 [[nodiscard]] Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept;
 
+/// Called with each triangle a level query finds (`for_each_triangle` of a TriangleMesh or a
+/// HeightField): its index in the level and its corners, world space. Return true to go on,
+/// false to stop.
+using TriangleCornersCallback =
+    FunctionRef<bool(std::uint32_t triangle, const std::array<Vec3, 3>& corners)>;
+
 /// Closest point of triangle (a, b, c) to `p`, and its barycentric weights.
 struct TrianglePoint {
   Vec3 point{0.0f};                  ///< closest point on the closed triangle, same space as input

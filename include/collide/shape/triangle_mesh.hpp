@@ -6,6 +6,7 @@
 
 #include <collide/core/aabb.hpp>
 #include <collide/core/transform3.hpp>
+#include <collide/shape/triangle.hpp>
 #include <collide/shape/triangle_bvh.hpp>
 
 #include <glm/vec3.hpp>
@@ -95,6 +96,14 @@ struct TriangleMesh {
 /// Bounding box of the mesh placed by `xf`, world space (the rotated local bounds of the
 /// triangles: tight for rotations about the axes by multiples of 90 degrees).
 [[nodiscard]] Aabb3 compute_aabb(const TriangleMesh& mesh, const Transform3& xf) noexcept;
+
+/// Each triangle of `mesh` placed by `xm` whose bounding box meets `box` (world space), with its
+/// corners in world space, through the BVH: the box goes into mesh space as the box of its
+/// rotated corners (a rotated mesh sees a larger box, never a smaller one). Stops when `visit`
+/// returns false. No allocation. For code that works on a level's triangles one at a time (a
+/// world's continuous collision and its independent check).
+void for_each_triangle(const TriangleMesh& mesh, const Transform3& xm, const Aabb3& box,
+                       TriangleCornersCallback visit);
 
 /// Per-axis median of the vertices `triangles` use (each counted once per corner): a local
 /// origin that one piece of a level far from the rest does not drag away (the centre of the

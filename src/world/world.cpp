@@ -1,4 +1,5 @@
-// World2D: statics and bodies, and the step (see the header for the pipeline).
+// The world, 2D and 3D: statics and bodies, and the step (see world.hpp for the pipeline). One
+// implementation for both dimensions; the geometry that differs is in world_dim.cpp.
 
 #include "world_impl.hpp"
 
@@ -26,9 +27,9 @@ namespace detail {
 
 namespace {
 
-/// Bounding circles are grown by this fraction of their radius, so that rounding can never make
-/// the pretest reject a pair whose exact contact reports touching (the pretest must be
-/// redundant: it may only reject pairs the exact test rejects too).
+/// Bounding circles (spheres) are grown by this fraction of their radius, so that rounding can
+/// never make the pretest reject a pair whose exact contact reports touching (the pretest must
+/// be redundant: it may only reject pairs the exact test rejects too).
 constexpr float kPretestSlack = 1e-4f;
 
 /// A body's speed bound for the temporal broad phase is its next step's motion per second times
@@ -36,52 +37,6 @@ constexpr float kPretestSlack = 1e-4f;
 constexpr float kSpeedBoundSlack = 1.5f;
 
 }  // namespace
-
-PieceInfo piece_info(const Shape2D& shape) {
-  return std::visit(
-      [](const auto& s) -> PieceInfo {
-        using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Circle>) {
-          return {s.center, s.radius, s.radius};
-        } else if constexpr (std::is_same_v<S, Capsule>) {
-          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b) + s.radius, s.radius};
-        } else if constexpr (std::is_same_v<S, Segment>) {
-          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b), 0.0f};
-        } else {
-          float reach = 0.0f;
-          float inner = std::numeric_limits<float>::infinity();
-          for (int i = 0; i < s.count; ++i) {
-            reach = std::max(reach, distance(s.vertices[i], s.centroid));
-            inner = std::min(inner, dot(s.normals[i], s.vertices[i] - s.centroid));
-          }
-          return {s.centroid, reach + s.radius, std::max(inner, 0.0f) + s.radius};
-        }
-      },
-      shape);
-}
-
-float shape_area(const Shape2D& shape) {
-  constexpr float pi = std::numbers::pi_v<float>;
-  return std::visit(
-      [](const auto& s) -> float {
-        using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, Circle>) {
-          return pi * s.radius * s.radius;
-        } else if constexpr (std::is_same_v<S, Capsule>) {
-          return 2.0f * s.radius * distance(s.a, s.b) + pi * s.radius * s.radius;
-        } else if constexpr (std::is_same_v<S, Segment>) {
-          return 0.0f;
-        } else {
-          float perimeter = 0.0f;
-          for (int i = 0; i < s.count; ++i) perimeter += distance(s.vertices[i], s.vertex(i + 1));
-          return signed_area({s.vertices.data(), static_cast<size_t>(s.count)}) +
-                 perimeter * s.radius + pi * s.radius * s.radius;
-        }
-      },
-      shape);
-}
-
-Vec2 shape_centroid(const Shape2D& shape) { return piece_info(shape).circle_center; }
 
 }  // namespace detail
 
@@ -93,20 +48,25 @@ double seconds(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double>(to - from).count();
 }
 
-void check_transform(const Transform& xf, const std::string& field) {
+template <class Xf>
+void check_transform(const Xf& xf, const std::string& field) {
   if (!is_valid(xf)) throw InvalidInput(field + ": not finite or rotation not unit length");
 }
 
 /// The coordinate of `box` farthest from the origin (an infinity or NaN if it has one).
-float farthest_coordinate(const Aabb& box) noexcept {
+template <int D>
+float farthest_coordinate(const AabbN<D>& box) noexcept {
   float far = 0.0f;
-  for (const float c : {box.min.x, box.min.y, box.max.x, box.max.y}) {
-    if (!(std::fabs(c) <= std::fabs(far))) far = c;  // (a NaN is kept: it fails the range test)
+  for (int k = 0; k < D; ++k) {
+    for (const float c : {box.min[k], box.max[k]}) {
+      if (!(std::fabs(c) <= std::fabs(far))) far = c;  // (a NaN is kept: it fails the range test)
+    }
   }
   return far;
 }
 
-void check_shapes(const std::vector<Shape2D>& shapes, const std::string& field) {
+template <class S>
+void check_shapes(const std::vector<S>& shapes, const std::string& field) {
   if (shapes.empty()) throw InvalidInput(field + ": no shapes");
   if (shapes.size() > 0xffff) throw InvalidInput(field + ": more than 65535 shapes");
 }
@@ -125,32 +85,28 @@ CheckChainOptions chain_options(bool adaptive) {
 constexpr std::array<bool, 3> kChainPretests = {false, false, true};
 
 /// `v` shortened to at most `max_length`.
-Vec2 clamp_length(Vec2 v, float max_length) {
+template <class V>
+V clamp_length(V v, float max_length) {
   const float len2 = length_squared(v);
   if (len2 <= max_length * max_length) return v;
   return v * (max_length / std::sqrt(len2));
 }
 
 /// `v` with its component along unit `n` mirrored when it points along n.
-Vec2 reflect_if_approaching(Vec2 v, Vec2 n) {
+template <class V>
+V reflect_if_approaching(V v, V n) {
   const float vn = dot(v, n);
   return vn > 0.0f ? v - 2.0f * vn * n : v;
 }
 
-/// The transform after moving the centre of rotation `local_center` by `d` and turning by `rot`.
-Transform moved(const Transform& xf, Vec2 local_center, Vec2 d, float rot) {
-  if (rot == 0.0f) return {xf.p + d, xf.q};
-  const Vec2 c = transform_point(xf, local_center) + d;
-  const Rot2 q = mul(Rot2::from_angle(rot), xf.q);
-  return {c - rotate(q, local_center), q};
-}
-
-bool contact_less(const Contact& x, const Contact& y) {
+template <int D>
+bool contact_less(const ContactN<D>& x, const ContactN<D>& y) {
   const std::uint64_t xa = x.a.key(), ya = y.a.key();
   return xa != ya ? xa < ya : x.b.key() < y.b.key();
 }
 
-int compare_contacts(const Contact& x, const Contact& y) {
+template <int D>
+int compare_contacts(const ContactN<D>& x, const ContactN<D>& y) {
   if (contact_less(x, y)) return -1;
   if (contact_less(y, x)) return 1;
   return 0;
@@ -224,13 +180,15 @@ void StepStats::accumulate(const StepStats& o) noexcept {
 
 // ---- Impl helpers ---------------------------------------------------------------------------
 
-World2D::Impl::Impl(const WorldOptions& o)
+template <int D>
+WorldN<D>::Impl::Impl(const WorldOptionsN<D>& o)
     : options(o),
       body_broad(o.broad_phase),
       static_chain(kChainPretests, chain_options(o.adaptive_early_out)),
       body_chain(kChainPretests, chain_options(o.adaptive_early_out)) {}
 
-detail::Body& World2D::Impl::body(BodyId id) {
+template <int D>
+auto WorldN<D>::Impl::body(BodyId id) -> Body& {
   if (id.index >= bodies.size() || !bodies[id.index].alive ||
       bodies[id.index].generation != id.generation) {
     throw InvalidInput("body " + std::to_string(id.index) + ": removed or unknown");
@@ -238,52 +196,63 @@ detail::Body& World2D::Impl::body(BodyId id) {
   return bodies[id.index];
 }
 
-const detail::Body& World2D::Impl::body(BodyId id) const {
+template <int D>
+auto WorldN<D>::Impl::body(BodyId id) const -> const Body& {
   return const_cast<Impl*>(this)->body(id);
 }
 
-const Shape2D& World2D::Impl::shape(const ColliderRef& c) const {
-  return c.is_static ? statics[c.index].shapes[c.piece] : bodies[c.index].shapes[c.piece];
-}
-
-Transform World2D::Impl::transform(const ColliderRef& c) const {
+template <int D>
+TransformN<D> WorldN<D>::Impl::transform(const ColliderRef& c) const {
   return c.is_static ? statics[c.index].transform : bodies[c.index].xf;
 }
 
-CollisionFilter World2D::Impl::filter(const ColliderRef& c) const {
+template <int D>
+CollisionFilter WorldN<D>::Impl::filter(const ColliderRef& c) const {
   return c.is_static ? statics[c.index].filter : bodies[c.index].filter;
 }
 
-bool World2D::Impl::is_sensor(const ColliderRef& c) const {
+template <int D>
+bool WorldN<D>::Impl::is_sensor(const ColliderRef& c) const {
   return c.is_static ? statics[c.index].sensor : bodies[c.index].sensor;
 }
 
-std::uint64_t World2D::Impl::user_id(const ColliderRef& c) const {
+template <int D>
+std::uint64_t WorldN<D>::Impl::user_id(const ColliderRef& c) const {
   return c.is_static ? statics[c.index].user_id : bodies[c.index].user_id;
 }
 
-Aabb World2D::Impl::piece_box(const detail::Body& b, int piece) const {
+template <int D>
+auto WorldN<D>::Impl::piece_box(const Body& b, int piece) const -> Box {
   return compute_aabb(b.shapes[piece], b.xf);
 }
 
-Aabb World2D::Impl::body_box(const detail::Body& b) const {
-  Aabb box = piece_box(b, 0);
+template <int D>
+auto WorldN<D>::Impl::body_box(const Body& b) const -> Box {
+  Box box = piece_box(b, 0);
   for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, piece_box(b, int(k)));
   return box;
 }
 
-void World2D::Impl::refresh_static_tree() {
+template <int D>
+void WorldN<D>::Impl::refresh_static_tree() {
   if (!static_tree_dirty) return;
-  std::vector<Aabb> boxes(static_pieces.size());
+  std::vector<Box> boxes(static_pieces.size());
   for (std::size_t i = 0; i < static_pieces.size(); ++i) boxes[i] = static_pieces[i].box;
   static_tree.build(boxes);
   static_tree_dirty = false;
 }
 
-bool World2D::Impl::evaluate_pair(detail::WorldCheckChain& chain, const ColliderRef& a,
-                                  const ColliderRef& b, const Aabb& box_a, const Aabb& box_b,
-                                  Vec2 circle_a, float radius_a, Vec2 circle_b, float radius_b,
-                                  Manifold& out, StepStats& stats) {
+template <int D>
+auto WorldN<D>::Impl::contact_with(const ColliderRef& a, const ColliderRef& b) const -> Manifold {
+  if (b.is_static) return detail::piece_contact(body_shape(a), bodies[a.index].xf, static_shape(b), transform(b));
+  return contact(body_shape(a), bodies[a.index].xf, body_shape(b), bodies[b.index].xf);
+}
+
+template <int D>
+bool WorldN<D>::Impl::evaluate_pair(detail::WorldCheckChain& chain, const ColliderRef& a,
+                                    const ColliderRef& b, const Box& box_a, const Box& box_b,
+                                    VecN<D> circle_a, float radius_a, VecN<D> circle_b,
+                                    float radius_b, Manifold& out, StepStats& stats) {
   int rejected_by = -1;  // first check (or 3: the pretest) that said no
   const auto run = [&](int check, CheckStage stage) {
     bool pass = false;
@@ -299,7 +268,7 @@ bool World2D::Impl::evaluate_pair(detail::WorldCheckChain& chain, const Collider
       return pass;
     } else {
       ++stats.narrow_tests;
-      out = contact(shape(a), transform(a), shape(b), transform(b));
+      out = contact_with(a, b);
       pass = out.touching();
     }
     if (!pass && rejected_by < 0) rejected_by = check;
@@ -316,7 +285,8 @@ bool World2D::Impl::evaluate_pair(detail::WorldCheckChain& chain, const Collider
 
 // ---- Step -----------------------------------------------------------------------------------
 
-void World2D::Impl::integrate(float dt, StepStats& stats) {
+template <int D>
+void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
   if (proxies_changed) {
     proxies.clear();
     for (std::uint32_t i = 0; i < bodies.size(); ++i) {
@@ -332,30 +302,34 @@ void World2D::Impl::integrate(float dt, StepStats& stats) {
   }
   const bool have_statics = !static_pieces.empty();
   for (std::uint32_t i = 0; i < bodies.size(); ++i) {
-    detail::Body& b = bodies[i];
+    Body& b = bodies[i];
     if (!b.alive) continue;
     b.used_ccd = false;
-    const Vec2 d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
-    b.push = {0.0f, 0.0f};
-    const float rot = b.angular_velocity * dt;
-    const float motion = length(d) + std::fabs(rot) * b.bounding_radius;
+    b.path_count = 0;
+    b.mark_path(b.xf);
+    const VecN<D> d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
+    b.push = VecN<D>(0.0f);
+    const AngularN<D> rot = b.angular_velocity * dt;
+    const float motion = length(d) + detail::turn_size(rot) * b.bounding_radius;
     const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
     b.very_fast = motion > b.inner_size;
     if (b.sensor || !have_statics || !fast || motion == 0.0f) {
-      b.xf = moved(b.xf, b.local_center, d, rot);
+      b.xf = detail::moved(b.xf, b.local_center, d, rot);
+      b.mark_path(b.xf);
     } else {
       move_with_ccd(i, d, rot, stats);
     }
   }
 }
 
-void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepStats& stats) {
-  detail::Body& b = bodies[index];
+template <int D>
+void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> rot, StepStats& stats) {
+  Body& b = bodies[index];
   b.used_ccd = true;
   ++stats.ccd_bodies;
   for (int bounce = 0; bounce <= kMaxCcdBounces; ++bounce) {
-    const Sweep sweep = Sweep::from_motion(b.xf, b.local_center, d, rot);
-    Aabb box = swept_aabb(b.shapes[0], sweep);
+    const auto sweep = detail::sweep_of(b.xf, b.local_center, d, rot);
+    Box box = swept_aabb(b.shapes[0], sweep);
     for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, swept_aabb(b.shapes[k], sweep));
     candidates.clear();
     static_tree.query(box, [&](int id) {
@@ -364,23 +338,22 @@ void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepSt
     });
     std::sort(candidates.begin(), candidates.end());
     float best_t = 1.0f;
-    Vec2 best_n{0.0f, 0.0f};
-    Vec2 best_point{0.0f, 0.0f};
+    VecN<D> best_n(0.0f);
+    VecN<D> best_point(0.0f);
     int best_id = -1;
     std::size_t best_k = 0;
     bool found = false;
     bool stop = false;  // a query failed: stop at its safe time
     for (const int id : candidates) {
-      const detail::StaticPiece& sp = static_pieces[id];
-      const StaticDef& st = statics[sp.owner];
+      const StaticPiece& sp = static_pieces[id];
+      const StaticDefN<D>& st = statics[sp.owner];
       if (st.sensor || !should_collide(b.filter, st.filter)) continue;
-      const Shape2D& static_shape = st.shapes[sp.piece];
-      const Sweep still = Sweep::from_motion(st.transform, {0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f);
+      const StaticShapeN<D>& static_shape = st.shapes[sp.piece];
       for (std::size_t k = 0; k < b.shapes.size(); ++k) {
-        if (b.shapes.size() > 1 && !overlap(swept_aabb(b.shapes[k], sweep), sp.box)) continue;
-        ++stats.toi_queries;
-        const ToiResult r = time_of_impact(ConvexProxy(b.shapes[k]), sweep,
-                                           ConvexProxy(static_shape), still);
+        const Box piece_sweep = b.shapes.size() > 1 || sp.level ? swept_aabb(b.shapes[k], sweep) : box;
+        if (b.shapes.size() > 1 && !overlap(piece_sweep, sp.box)) continue;
+        const auto r = detail::piece_impact(b.shapes[k], sweep, piece_sweep, static_shape,
+                                            st.transform, stats.toi_queries);
         if (r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) {
           if (r.fraction < best_t) {
             best_t = r.fraction;
@@ -394,9 +367,9 @@ void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepSt
         } else if (r.status == QueryStatus::overlapped) {
           // Already touching at the start: only a motion into the static is stopped; sliding
           // along it or leaving it goes on (the push-out pass settles the rest).
-          Vec2 n = r.normal;
-          if (n == Vec2{0.0f, 0.0f}) {
-            n = contact(b.shapes[k], b.xf, static_shape, st.transform).normal;
+          VecN<D> n = r.normal;
+          if (n == VecN<D>(0.0f)) {
+            n = detail::piece_contact(b.shapes[k], b.xf, static_shape, st.transform).normal;
           }
           if (dot(d, n) > 0.0f && best_t > 0.0f) {
             best_t = 0.0f;
@@ -411,21 +384,23 @@ void World2D::Impl::move_with_ccd(std::uint32_t index, Vec2 d, float rot, StepSt
       }
     }
     b.xf = sweep.at(best_t);
+    b.mark_path(b.xf);
     if (!found) break;
     ++stats.toi_hits;
-    if (best_id >= 0 && !stop && best_n != Vec2{0.0f, 0.0f}) record_impact(index, best_k, best_id, best_n, best_point);
-    if (stop || best_n == Vec2{0.0f, 0.0f}) break;
+    if (best_id >= 0 && !stop && best_n != VecN<D>(0.0f)) record_impact(index, best_k, best_id, best_n, best_point);
+    if (stop || best_n == VecN<D>(0.0f)) break;
     b.velocity = reflect_if_approaching(b.velocity, best_n);
     d = reflect_if_approaching((1.0f - best_t) * d, best_n);
-    rot *= 1.0f - best_t;
+    rot = detail::scaled_turn(rot, 1.0f - best_t);
   }
 }
 
-void World2D::Impl::record_impact(std::uint32_t index, std::size_t piece, int static_piece,
-                                  Vec2 normal, Vec2 point) {
-  const detail::Body& b = bodies[index];
-  const detail::StaticPiece& sp = static_pieces[static_piece];
-  const StaticDef& st = statics[sp.owner];
+template <int D>
+void WorldN<D>::Impl::record_impact(std::uint32_t index, std::size_t piece, int static_piece,
+                                    VecN<D> normal, VecN<D> point) {
+  const Body& b = bodies[index];
+  const StaticPiece& sp = static_pieces[static_piece];
+  const StaticDefN<D>& st = statics[sp.owner];
   Contact c{ColliderRef{false, index, static_cast<std::uint16_t>(piece)},
             ColliderRef{true, sp.owner, sp.piece}, {}, false, b.user_id, st.user_id};
   // A pair hit twice in one step keeps its first impact. This body's impacts are the tail of
@@ -435,28 +410,29 @@ void World2D::Impl::record_impact(std::uint32_t index, std::size_t piece, int st
   }
   // The exact manifold at the impact pose when the shapes already touch there (it carries
   // feature ids); else the time of impact's own point and normal at depth 0.
-  c.manifold = contact(b.shapes[piece], b.xf, st.shapes[sp.piece], st.transform);
+  c.manifold = detail::piece_contact(b.shapes[piece], b.xf, st.shapes[sp.piece], st.transform);
   if (!c.manifold.touching()) {
     c.manifold.normal = normal;
     c.manifold.count = 1;
-    c.manifold.points[0] = ManifoldPoint{point, 0.0f, ContactId{}};
+    c.manifold.points[0] = ManifoldPointN<D>{point, 0.0f, ContactId{}};
   }
   ccd_contacts.push_back(c);
 }
 
-void World2D::Impl::resolve_statics(StepStats& stats) {
+template <int D>
+void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
   std::size_t first_proxy = 0;
   for (std::uint32_t i = 0; i < bodies.size(); ++i) {
-    detail::Body& b = bodies[i];
+    Body& b = bodies[i];
     if (!b.alive) continue;
     const std::size_t piece_count = b.shapes.size();
-    Aabb start = proxy_start_boxes[first_proxy];
+    Box start = proxy_start_boxes[first_proxy];
     for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first_proxy + k]);
     first_proxy += piece_count;
     if (static_pieces.empty()) continue;
     for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
       body_contacts.clear();
-      const Aabb query_box = merge(start, body_box(b));
+      const Box query_box = merge(start, body_box(b));
       candidates.clear();
       static_tree.query(query_box, [&](int id) {
         candidates.push_back(id);
@@ -466,16 +442,15 @@ void World2D::Impl::resolve_statics(StepStats& stats) {
       stats.static_candidates += static_cast<std::int64_t>(candidates.size() * piece_count);
       for (std::size_t k = 0; k < piece_count; ++k) {
         const ColliderRef a{false, i, static_cast<std::uint16_t>(k)};
-        const Aabb box_a = piece_box(b, int(k));
-        const Vec2 circle_a = transform_point(b.xf, b.pieces[k].circle_center);
+        const Box box_a = piece_box(b, int(k));
+        const VecN<D> circle_a = transform_point(b.xf, b.pieces[k].center);
         for (const int id : candidates) {
-          const detail::StaticPiece& sp = static_pieces[id];
+          const StaticPiece& sp = static_pieces[id];
           const ColliderRef other{true, sp.owner, sp.piece};
           Manifold m;
-          if (evaluate_pair(static_chain, a, other, box_a, sp.box, circle_a,
-                            b.pieces[k].circle_radius, sp.circle_center, sp.circle_radius, m,
-                            stats)) {
-            const StaticDef& st = statics[sp.owner];
+          if (evaluate_pair(static_chain, a, other, box_a, sp.box, circle_a, b.pieces[k].radius,
+                            sp.circle_center, sp.circle_radius, m, stats)) {
+            const StaticDefN<D>& st = statics[sp.owner];
             body_contacts.push_back({a, other, m, b.sensor || st.sensor, b.user_id, st.user_id});
           }
         }
@@ -490,8 +465,9 @@ void World2D::Impl::resolve_statics(StepStats& stats) {
         }
       }
       if (deepest == nullptr || iteration == kResolveIterations) break;
-      const Vec2 n = deepest->manifold.normal;  // from the body to the static
+      const VecN<D> n = deepest->manifold.normal;  // from the body to the static
       b.xf.p -= depth * n;
+      b.mark_path(b.xf);
       b.velocity = reflect_if_approaching(b.velocity, n);
       ++stats.pushes;
     }
@@ -499,7 +475,8 @@ void World2D::Impl::resolve_statics(StepStats& stats) {
   }
 }
 
-float World2D::Impl::speed_bound(const detail::Body& b, float dt) const {
+template <int D>
+float WorldN<D>::Impl::speed_bound(const Body& b, float dt) const {
   // Next step a swept box moves by at most the motion (velocity, bounces keep its length, plus
   // the deferred push) and the turn; kSpeedBoundSlack leaves room for static push-outs. A body
   // that breaks it costs the temporal broad phase a rebuild, never a missed pair.
@@ -509,17 +486,18 @@ float World2D::Impl::speed_bound(const detail::Body& b, float dt) const {
   // temporal broad phase takes as "grows to its cap" (an infinite bound it refuses).
   const float per_second = dt > 0.0f ? push / dt : 0.0f;
   const float bound = detail::kSpeedBoundSlack * (length(b.velocity) + per_second) +
-                      std::fabs(b.angular_velocity) * b.bounding_radius;
+                      detail::turn_size(b.angular_velocity) * b.bounding_radius;
   return std::min(bound, std::numeric_limits<float>::max());
 }
 
-void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
+template <int D>
+void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   const auto t0 = Clock::now();
   const std::size_t n = proxies.size();
   proxy_boxes.resize(n);
   proxy_speeds.resize(n);
   for (std::size_t p = 0; p < n; ++p) {
-    const detail::Body& b = bodies[proxies[p].body];
+    const Body& b = bodies[proxies[p].body];
     proxy_boxes[p] = merge(proxy_start_boxes[p], piece_box(b, proxies[p].piece));
     proxy_speeds[p] = speed_bound(b, dt);
   }
@@ -539,21 +517,21 @@ void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
     const detail::Proxy pb = proxies[q];
     const ColliderRef a{false, pa.body, pa.piece};
     const ColliderRef b{false, pb.body, pb.piece};
-    detail::Body& ba = bodies[pa.body];
-    detail::Body& bb = bodies[pb.body];
+    Body& ba = bodies[pa.body];
+    Body& bb = bodies[pb.body];
     Manifold m;
     if (!evaluate_pair(body_chain, a, b, piece_box(ba, pa.piece), piece_box(bb, pb.piece),
-                       transform_point(ba.xf, ba.pieces[pa.piece].circle_center),
-                       ba.pieces[pa.piece].circle_radius,
-                       transform_point(bb.xf, bb.pieces[pb.piece].circle_center),
-                       bb.pieces[pb.piece].circle_radius, m, stats)) {
+                       transform_point(ba.xf, ba.pieces[pa.piece].center),
+                       ba.pieces[pa.piece].radius,
+                       transform_point(bb.xf, bb.pieces[pb.piece].center),
+                       bb.pieces[pb.piece].radius, m, stats)) {
       continue;
     }
     const bool sensor = ba.sensor || bb.sensor;
     contacts.push_back({a, b, m, sensor, ba.user_id, bb.user_id});
     if (sensor) continue;
     // Equal masses, elastic: swap the velocity components along the normal when approaching.
-    const Vec2 normal = m.normal;
+    const VecN<D> normal = m.normal;
     const float approach = dot(bb.velocity - ba.velocity, normal);
     if (approach < 0.0f) {
       ba.velocity += approach * normal;
@@ -570,12 +548,13 @@ void World2D::Impl::find_body_contacts(float dt, StepStats& stats) {
   stats.time_bodies = seconds(t1, Clock::now());
 }
 
-void World2D::Impl::make_events(StepStats& stats) {
+template <int D>
+void WorldN<D>::Impl::make_events(StepStats& stats) {
   // Impacts during the motion count as contacts of this step unless the pair also touches at
   // the end (then the end-of-step manifold wins). Both lists hold each pair at most once, so a
   // sort of each and one merge does it (std::stable_sort of the union would allocate every step).
-  std::sort(contacts.begin(), contacts.end(), contact_less);
-  std::sort(ccd_contacts.begin(), ccd_contacts.end(), contact_less);
+  std::sort(contacts.begin(), contacts.end(), contact_less<D>);
+  std::sort(ccd_contacts.begin(), ccd_contacts.end(), contact_less<D>);
   merged_contacts.clear();
   std::size_t k = 0;
   for (const Contact& c : contacts) {
@@ -627,46 +606,101 @@ void World2D::Impl::make_events(StepStats& stats) {
 
 // ---- coordinate range ------------------------------------------------------------------------
 
-void check_world_range(const Aabb& box, std::string_view what) {
+template <int D>
+void check_world_range(const AabbN<D>& box, std::string_view what) {
   const float far = farthest_coordinate(box);
   if (std::fabs(far) <= kMaxWorldCoordinate) return;
   std::ostringstream os;
-  os << what << ": the box [" << box.min.x << ", " << box.min.y << ", " << box.max.x << ", " << box.max.y
-     << "] reaches " << far << ", beyond the coordinate range [-" << std::fixed << std::setprecision(0)
+  os << what << ": the box [";
+  for (int k = 0; k < D; ++k) os << box.min[k] << ", ";
+  for (int k = 0; k < D; ++k) os << box.max[k] << (k + 1 < D ? ", " : "");
+  os << "] reaches " << far << ", beyond the coordinate range [-" << std::fixed << std::setprecision(0)
      << kMaxWorldCoordinate << ", " << kMaxWorldCoordinate << "] (kMaxWorldCoordinate)";
   throw InvalidInput(os.str());
 }
+template void check_world_range<2>(const Aabb&, std::string_view);
+template void check_world_range<3>(const Aabb3&, std::string_view);
 
-void check_world_range(std::span<const Shape2D> shapes, const Transform& transform, std::string_view what) {
+namespace {
+
+template <int D, class S>
+void check_shapes_range(std::span<const S> shapes, const TransformN<D>& transform, std::string_view what) {
   for (std::size_t k = 0; k < shapes.size(); ++k) {
-    const Aabb box = compute_aabb(shapes[k], transform);
+    if constexpr (std::is_same_v<S, StaticShape3D>) {
+      if (detail::is_null_level(shapes[k])) {
+        throw InvalidInput(std::string(what) + " shapes[" + std::to_string(k) + "]: null level shape");
+      }
+    }
+    const AabbN<D> box = detail::piece_box(shapes[k], transform);
     if (std::fabs(farthest_coordinate(box)) <= kMaxWorldCoordinate) continue;
     check_world_range(box, std::string(what) + " shapes[" + std::to_string(k) + "]");
   }
 }
 
-void check_world_velocity(Vec2 velocity, float angular_velocity, std::string_view what) {
+}  // namespace
+
+void check_world_range(std::span<const Shape2D> shapes, const Transform& transform, std::string_view what) {
+  check_shapes_range<2>(shapes, transform, what);
+}
+void check_world_range(std::span<const Shape3D> shapes, const Transform3& transform, std::string_view what) {
+  check_shapes_range<3>(shapes, transform, what);
+}
+void check_world_range(std::span<const StaticShape3D> shapes, const Transform3& transform,
+                       std::string_view what) {
+  check_shapes_range<3>(shapes, transform, what);
+}
+
+namespace {
+
+/// The velocity check of both dimensions: `components` of the velocity and of the angular
+/// velocity (one in 2D, three in 3D), printed as "(x, y)" / "(x, y, z)".
+template <class V, class W>
+void check_velocity(V velocity, W angular_velocity, std::string_view what) {
   if (!is_finite(velocity)) throw InvalidInput(std::string(what) + " velocity: not finite");
-  if (!std::isfinite(angular_velocity)) throw InvalidInput(std::string(what) + " angular velocity: not finite");
-  const float fastest = std::max(std::fabs(velocity.x), std::fabs(velocity.y));
+  float turn_fastest;
+  if constexpr (std::is_same_v<W, float>) {
+    if (!std::isfinite(angular_velocity)) throw InvalidInput(std::string(what) + " angular velocity: not finite");
+    turn_fastest = std::fabs(angular_velocity);
+  } else {
+    if (!is_finite(angular_velocity)) throw InvalidInput(std::string(what) + " angular velocity: not finite");
+    turn_fastest = max_abs(angular_velocity);
+  }
+  const float fastest = max_abs(velocity);
   if (fastest > kMaxWorldSpeed) {
     std::ostringstream os;
-    os << what << " velocity: (" << velocity.x << ", " << velocity.y << ") beyond the speed range [-"
-       << std::fixed << std::setprecision(0) << kMaxWorldSpeed << ", " << kMaxWorldSpeed
-       << "] per axis (kMaxWorldSpeed, world units per second)";
+    os << what << " velocity: (";
+    for (int k = 0; k < V::length(); ++k) os << velocity[k] << (k + 1 < V::length() ? ", " : "");
+    os << ") beyond the speed range [-" << std::fixed << std::setprecision(0) << kMaxWorldSpeed << ", "
+       << kMaxWorldSpeed << "] per axis (kMaxWorldSpeed, world units per second)";
     throw InvalidInput(os.str());
   }
-  if (std::fabs(angular_velocity) > kMaxWorldAngularSpeed) {
+  if (turn_fastest > kMaxWorldAngularSpeed) {
     std::ostringstream os;
-    os << what << " angular velocity: " << angular_velocity << " beyond [-" << std::fixed << std::setprecision(0)
-       << kMaxWorldAngularSpeed << ", " << kMaxWorldAngularSpeed << "] (kMaxWorldAngularSpeed, radians per second)";
+    os << what << " angular velocity: ";
+    if constexpr (std::is_same_v<W, float>) {
+      os << angular_velocity;
+    } else {
+      os << "(" << angular_velocity.x << ", " << angular_velocity.y << ", " << angular_velocity.z << ")";
+    }
+    os << " beyond [-" << std::fixed << std::setprecision(0) << kMaxWorldAngularSpeed << ", "
+       << kMaxWorldAngularSpeed << "] (kMaxWorldAngularSpeed, radians per second)";
     throw InvalidInput(os.str());
   }
 }
 
-// ---- World2D --------------------------------------------------------------------------------
+}  // namespace
 
-World2D::World2D(const WorldOptions& options) {
+void check_world_velocity(Vec2 velocity, float angular_velocity, std::string_view what) {
+  check_velocity(velocity, angular_velocity, what);
+}
+void check_world_velocity(Vec3 velocity, Vec3 angular_velocity, std::string_view what) {
+  check_velocity(velocity, angular_velocity, what);
+}
+
+// ---- WorldN --------------------------------------------------------------------------------
+
+template <int D>
+WorldN<D>::WorldN(const WorldOptionsN<D>& options) {
   if (options.bounds && !is_valid(*options.bounds)) {
     throw InvalidInput("world options bounds: not finite or min > max");
   }
@@ -674,34 +708,39 @@ World2D::World2D(const WorldOptions& options) {
   impl_ = std::make_unique<Impl>(options);
 }
 
-World2D::~World2D() = default;
-World2D::World2D(World2D&&) noexcept = default;
-World2D& World2D::operator=(World2D&&) noexcept = default;
+template <int D>
+WorldN<D>::~WorldN() = default;
+template <int D>
+WorldN<D>::WorldN(WorldN&&) noexcept = default;
+template <int D>
+WorldN<D>& WorldN<D>::operator=(WorldN&&) noexcept = default;
 
-StaticId World2D::add_static(const StaticDef& def) {
+template <int D>
+StaticId WorldN<D>::add_static(const StaticDefN<D>& def) {
   const std::string name = "static " + std::to_string(impl_->statics.size());
   check_shapes(def.shapes, name + " shapes");
   check_transform(def.transform, name + " transform");
-  check_world_range(def.shapes, def.transform, name);
+  check_world_range(std::span<const StaticShape>(def.shapes), def.transform, name);
   const auto owner = static_cast<std::uint32_t>(impl_->statics.size());
   impl_->statics.push_back(def);
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
-    const detail::PieceInfo info = detail::piece_info(def.shapes[k]);
+    const detail::PieceInfoN<D> info = detail::piece_info(def.shapes[k]);
     impl_->static_pieces.push_back({owner, static_cast<std::uint16_t>(k),
-                                    compute_aabb(def.shapes[k], def.transform),
-                                    transform_point(def.transform, info.circle_center),
-                                    info.circle_radius, info.inner_size});
+                                    detail::piece_box(def.shapes[k], def.transform),
+                                    transform_point(def.transform, info.center), info.radius,
+                                    info.inner_size, detail::is_level(def.shapes[k])});
   }
   impl_->static_tree_dirty = true;
   impl_->check_grid_dirty = true;
   return StaticId{owner};
 }
 
-BodyId World2D::add_body(const BodyDef& def) {
+template <int D>
+BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
   const std::string name = "body " + std::to_string(impl_->bodies.size());
   check_shapes(def.shapes, name + " shapes");
   check_transform(def.transform, name + " transform");
-  check_world_range(def.shapes, def.transform, name);
+  check_world_range(std::span<const BodyShape>(def.shapes), def.transform, name);
   check_world_velocity(def.velocity, def.angular_velocity, name);
   std::uint32_t index;
   if (!impl_->free_slots.empty()) {
@@ -711,9 +750,9 @@ BodyId World2D::add_body(const BodyDef& def) {
     index = static_cast<std::uint32_t>(impl_->bodies.size());
     impl_->bodies.emplace_back();
   }
-  detail::Body& b = impl_->bodies[index];
+  detail::BodyN<D>& b = impl_->bodies[index];
   const std::uint32_t generation = b.generation;
-  b = detail::Body{};
+  b = detail::BodyN<D>{};
   b.generation = generation;
   b.shapes = def.shapes;
   b.xf = def.transform;
@@ -724,31 +763,33 @@ BodyId World2D::add_body(const BodyDef& def) {
   b.sensor = def.sensor;
   b.bullet = def.bullet;
   b.alive = true;
-  // Centre of rotation: the area centroid of the pieces (their plain average if all are segments).
-  float area = 0.0f;
-  Vec2 weighted{0.0f, 0.0f}, plain{0.0f, 0.0f};
-  for (const Shape2D& s : b.shapes) {
+  // Centre of rotation: the area (volume) centroid of the pieces (their plain average if none
+  // has any: segments).
+  float measure = 0.0f;
+  Vec weighted(0.0f), plain(0.0f);
+  for (const BodyShape& s : b.shapes) {
     b.pieces.push_back(detail::piece_info(s));
-    const float a = detail::shape_area(s);
-    area += a;
-    weighted += a * b.pieces.back().circle_center;
-    plain += b.pieces.back().circle_center;
+    const float a = detail::shape_measure(s);
+    measure += a;
+    weighted += a * b.pieces.back().center;
+    plain += b.pieces.back().center;
   }
-  b.local_center = area > 0.0f ? weighted / area : plain / static_cast<float>(b.shapes.size());
+  b.local_center = measure > 0.0f ? weighted / measure : plain / static_cast<float>(b.shapes.size());
   b.inner_size = std::numeric_limits<float>::infinity();
-  for (const detail::PieceInfo& p : b.pieces) {
+  for (const detail::PieceInfoN<D>& p : b.pieces) {
     b.inner_size = std::min(b.inner_size, p.inner_size);
-    b.bounding_radius =
-        std::max(b.bounding_radius, distance(p.circle_center, b.local_center) + p.circle_radius);
+    b.bounding_radius = std::max(b.bounding_radius, distance(p.center, b.local_center) + p.radius);
   }
+  b.mark_path(b.xf);
   ++impl_->alive_bodies;
   impl_->proxies_changed = true;
   impl_->body_boxes_current = false;
   return BodyId{index, generation};
 }
 
-void World2D::remove_body(BodyId id) {
-  detail::Body& b = impl_->body(id);
+template <int D>
+void WorldN<D>::remove_body(BodyId id) {
+  detail::BodyN<D>& b = impl_->body(id);
   b.alive = false;
   b.shapes.clear();
   b.pieces.clear();
@@ -759,19 +800,26 @@ void World2D::remove_body(BodyId id) {
   impl_->body_boxes_current = false;
 }
 
-bool World2D::contains(BodyId id) const noexcept {
+template <int D>
+bool WorldN<D>::contains(BodyId id) const noexcept {
   return id.index < impl_->bodies.size() && impl_->bodies[id.index].alive &&
          impl_->bodies[id.index].generation == id.generation;
 }
 
-const Transform& World2D::transform(BodyId id) const { return impl_->body(id).xf; }
-Vec2 World2D::velocity(BodyId id) const { return impl_->body(id).velocity; }
-float World2D::angular_velocity(BodyId id) const { return impl_->body(id).angular_velocity; }
-std::span<const Shape2D> World2D::shapes(BodyId id) const { return impl_->body(id).shapes; }
-std::uint64_t World2D::user_id(BodyId id) const { return impl_->body(id).user_id; }
+template <int D>
+auto WorldN<D>::transform(BodyId id) const -> const Xf& { return impl_->body(id).xf; }
+template <int D>
+auto WorldN<D>::velocity(BodyId id) const -> Vec { return impl_->body(id).velocity; }
+template <int D>
+auto WorldN<D>::angular_velocity(BodyId id) const -> Angular { return impl_->body(id).angular_velocity; }
+template <int D>
+auto WorldN<D>::shapes(BodyId id) const -> std::span<const BodyShape> { return impl_->body(id).shapes; }
+template <int D>
+std::uint64_t WorldN<D>::user_id(BodyId id) const { return impl_->body(id).user_id; }
 
 namespace {
-void check_collider(const World2D::Impl& w, const ColliderRef& c) {
+template <int D>
+void check_collider(const typename WorldN<D>::Impl& w, const ColliderRef& c) {
   if (c.is_static) {
     if (c.index >= w.statics.size() || c.piece >= w.statics[c.index].shapes.size()) {
       throw InvalidInput("collider: unknown static or piece");
@@ -783,41 +831,64 @@ void check_collider(const World2D::Impl& w, const ColliderRef& c) {
 }
 }  // namespace
 
-std::uint64_t World2D::user_id(const ColliderRef& collider) const {
-  check_collider(*impl_, collider);
+template <int D>
+std::uint64_t WorldN<D>::user_id(const ColliderRef& collider) const {
+  check_collider<D>(*impl_, collider);
   return impl_->user_id(collider);
 }
 
-const Shape2D& World2D::collider_shape(const ColliderRef& collider) const {
-  check_collider(*impl_, collider);
-  return impl_->shape(collider);
+template <int D>
+auto WorldN<D>::body_shape(const ColliderRef& collider) const -> const BodyShape& {
+  check_collider<D>(*impl_, collider);
+  if (collider.is_static) throw InvalidInput("collider: a static's piece, not a body's");
+  return impl_->body_shape(collider);
 }
 
-Transform World2D::collider_transform(const ColliderRef& collider) const {
-  check_collider(*impl_, collider);
+template <int D>
+auto WorldN<D>::static_shape(const ColliderRef& collider) const -> const StaticShape& {
+  check_collider<D>(*impl_, collider);
+  if (!collider.is_static) throw InvalidInput("collider: a body's piece, not a static's");
+  return impl_->static_shape(collider);
+}
+
+template <int D>
+const Shape2D& WorldN<D>::collider_shape(const ColliderRef& collider) const
+  requires(D == 2)
+{
+  check_collider<D>(*impl_, collider);
+  return collider.is_static ? impl_->static_shape(collider) : impl_->body_shape(collider);
+}
+
+template <int D>
+auto WorldN<D>::collider_transform(const ColliderRef& collider) const -> Xf {
+  check_collider<D>(*impl_, collider);
   return impl_->transform(collider);
 }
 
-bool World2D::is_sensor(const ColliderRef& collider) const {
-  check_collider(*impl_, collider);
+template <int D>
+bool WorldN<D>::is_sensor(const ColliderRef& collider) const {
+  check_collider<D>(*impl_, collider);
   return impl_->is_sensor(collider);
 }
 
-void World2D::set_transform(BodyId id, const Transform& xf) {
-  detail::Body& b = impl_->body(id);
+template <int D>
+void WorldN<D>::set_transform(BodyId id, const Xf& xf) {
+  detail::BodyN<D>& b = impl_->body(id);
   check_transform(xf, "body " + std::to_string(id.index) + " transform");
   b.xf = xf;
   impl_->body_boxes_current = false;
 }
 
-void World2D::set_velocity(BodyId id, Vec2 velocity, float angular_velocity) {
-  detail::Body& b = impl_->body(id);
+template <int D>
+void WorldN<D>::set_velocity(BodyId id, Vec velocity, Angular angular_velocity) {
+  detail::BodyN<D>& b = impl_->body(id);
   check_world_velocity(velocity, angular_velocity, "body " + std::to_string(id.index));
   b.velocity = velocity;
   b.angular_velocity = angular_velocity;
 }
 
-std::vector<BodyId> World2D::body_ids() const {
+template <int D>
+std::vector<BodyId> WorldN<D>::body_ids() const {
   std::vector<BodyId> ids;
   for (std::uint32_t i = 0; i < impl_->bodies.size(); ++i) {
     if (impl_->bodies[i].alive) ids.push_back({i, impl_->bodies[i].generation});
@@ -825,17 +896,21 @@ std::vector<BodyId> World2D::body_ids() const {
   return ids;
 }
 
-int World2D::body_count() const noexcept { return impl_->alive_bodies; }
-int World2D::static_count() const noexcept { return static_cast<int>(impl_->statics.size()); }
+template <int D>
+int WorldN<D>::body_count() const noexcept { return impl_->alive_bodies; }
+template <int D>
+int WorldN<D>::static_count() const noexcept { return static_cast<int>(impl_->statics.size()); }
 
-const StaticDef& World2D::static_def(StaticId id) const {
+template <int D>
+const StaticDefN<D>& WorldN<D>::static_def(StaticId id) const {
   if (id.index >= impl_->statics.size()) {
     throw InvalidInput("static " + std::to_string(id.index) + ": unknown");
   }
   return impl_->statics[id.index];
 }
 
-void World2D::step(float dt) {
+template <int D>
+void WorldN<D>::step(float dt) {
   if (!std::isfinite(dt) || dt < 0.0f) throw InvalidInput("dt: negative or not finite");
   Impl& w = *impl_;
   w.refresh_static_tree();
@@ -863,16 +938,22 @@ void World2D::step(float dt) {
   w.total.accumulate(s);
 }
 
-std::span<const Contact> World2D::contacts() const noexcept { return impl_->previous_contacts; }
-std::span<const ContactEvent> World2D::events() const noexcept { return impl_->events; }
-const StepStats& World2D::last_step_stats() const noexcept { return impl_->last; }
-const StepStats& World2D::total_stats() const noexcept { return impl_->total; }
+template <int D>
+std::span<const ContactN<D>> WorldN<D>::contacts() const noexcept { return impl_->previous_contacts; }
+template <int D>
+std::span<const ContactEventN<D>> WorldN<D>::events() const noexcept { return impl_->events; }
+template <int D>
+const StepStats& WorldN<D>::last_step_stats() const noexcept { return impl_->last; }
+template <int D>
+const StepStats& WorldN<D>::total_stats() const noexcept { return impl_->total; }
 
-std::array<CheckChainReport, 2> World2D::early_out_reports() const {
+template <int D>
+std::array<CheckChainReport, 2> WorldN<D>::early_out_reports() const {
   return {impl_->static_chain.report(), impl_->body_chain.report()};
 }
 
-std::array<std::array<int, 3>, 2> World2D::early_out_orders() const {
+template <int D>
+std::array<std::array<int, 3>, 2> WorldN<D>::early_out_orders() const {
   std::array<std::array<int, 3>, 2> orders{};
   const std::array<const detail::WorldCheckChain*, 2> chains = {&impl_->static_chain, &impl_->body_chain};
   for (int c = 0; c < 2; ++c) {
@@ -882,7 +963,8 @@ std::array<std::array<int, 3>, 2> World2D::early_out_orders() const {
   return orders;
 }
 
-std::array<std::array<CheckStats, 3>, 2> World2D::early_out_check_stats() const {
+template <int D>
+std::array<std::array<CheckStats, 3>, 2> WorldN<D>::early_out_check_stats() const {
   std::array<std::array<CheckStats, 3>, 2> stats{};
   const std::array<const detail::WorldCheckChain*, 2> chains = {&impl_->static_chain, &impl_->body_chain};
   for (int c = 0; c < 2; ++c) {
@@ -891,12 +973,14 @@ std::array<std::array<CheckStats, 3>, 2> World2D::early_out_check_stats() const 
   return stats;
 }
 
-std::array<bool, 2> World2D::early_out_pretests() const {
+template <int D>
+std::array<bool, 2> WorldN<D>::early_out_pretests() const {
   return {impl_->static_chain.pretest_enabled(detail::kCheckExact),
           impl_->body_chain.pretest_enabled(detail::kCheckExact)};
 }
 
-std::uint64_t World2D::state_hash() const noexcept {
+template <int D>
+std::uint64_t WorldN<D>::state_hash() const noexcept {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a offset basis
   const auto mix = [&](const void* data, std::size_t size) {
     const auto* bytes = static_cast<const unsigned char*>(data);
@@ -906,28 +990,39 @@ std::uint64_t World2D::state_hash() const noexcept {
     }
   };
   for (std::uint32_t i = 0; i < impl_->bodies.size(); ++i) {
-    const detail::Body& b = impl_->bodies[i];
+    const detail::BodyN<D>& b = impl_->bodies[i];
     if (!b.alive) continue;
-    const float values[] = {b.xf.p.x, b.xf.p.y, b.xf.q.c, b.xf.q.s,
-                            b.velocity.x, b.velocity.y, b.angular_velocity};
     mix(&i, sizeof i);
-    mix(values, sizeof values);
+    if constexpr (D == 2) {
+      const float values[] = {b.xf.p.x, b.xf.p.y, b.xf.q.c, b.xf.q.s,
+                              b.velocity.x, b.velocity.y, b.angular_velocity};
+      mix(values, sizeof values);
+    } else {
+      const float values[] = {b.xf.p.x, b.xf.p.y, b.xf.p.z, b.xf.q.w, b.xf.q.x, b.xf.q.y, b.xf.q.z,
+                              b.velocity.x, b.velocity.y, b.velocity.z, b.angular_velocity.x,
+                              b.angular_velocity.y, b.angular_velocity.z};
+      mix(values, sizeof values);
+    }
   }
   return h;
 }
 
-Aabb World2D::bounds() const noexcept {
+template <int D>
+AabbN<D> WorldN<D>::bounds() const noexcept {
   bool any = false;
-  Aabb box{};
-  const auto add = [&](const Aabb& b) {
+  AabbN<D> box{};
+  const auto add = [&](const AabbN<D>& b) {
     box = any ? merge(box, b) : b;
     any = true;
   };
-  for (const detail::StaticPiece& sp : impl_->static_pieces) add(sp.box);
-  for (const detail::Body& b : impl_->bodies) {
+  for (const detail::StaticPieceN<D>& sp : impl_->static_pieces) add(sp.box);
+  for (const detail::BodyN<D>& b : impl_->bodies) {
     if (b.alive) add(impl_->body_box(b));
   }
   return box;
 }
+
+template class WorldN<2>;
+template class WorldN<3>;
 
 }  // namespace collide

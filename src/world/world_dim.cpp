@@ -1,0 +1,326 @@
+// The world's geometry that differs by dimension (world_dim.hpp): 2D pieces are convex shapes;
+// 3D statics may also be level shapes, met triangle by triangle.
+
+#include "world_dim.hpp"
+
+#include <collide/narrow/overlap.hpp>
+#include <collide/shape/polygon.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <type_traits>
+#include <variant>
+
+namespace collide::detail {
+
+template <class T>
+inline constexpr bool kIsMesh = std::is_same_v<T, std::shared_ptr<const TriangleMesh>>;
+template <class T>
+inline constexpr bool kIsField = std::is_same_v<T, std::shared_ptr<const HeightField>>;
+
+namespace {
+
+/// The bounding sphere of a box (a level shape's facts): its centre and half diagonal.
+PieceInfoN<3> box_info(const Aabb3& box) {
+  return {0.5f * (box.min + box.max), 0.5f * length(box.max - box.min), 0.0f};
+}
+
+}  // namespace
+
+// ---- pieces ---------------------------------------------------------------------------------
+
+PieceInfoN<2> piece_info(const Shape2D& shape) {
+  return std::visit(
+      [](const auto& s) -> PieceInfoN<2> {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Circle>) {
+          return {s.center, s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b) + s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Segment>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b), 0.0f};
+        } else {
+          float reach = 0.0f;
+          float inner = std::numeric_limits<float>::infinity();
+          for (int i = 0; i < s.count; ++i) {
+            reach = std::max(reach, distance(s.vertices[i], s.centroid));
+            inner = std::min(inner, dot(s.normals[i], s.vertices[i] - s.centroid));
+          }
+          return {s.centroid, reach + s.radius, std::max(inner, 0.0f) + s.radius};
+        }
+      },
+      shape);
+}
+
+PieceInfoN<3> piece_info(const Shape3D& shape) {
+  return std::visit(
+      [](const auto& s) -> PieceInfoN<3> {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Sphere>) {
+          return {s.center, s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Capsule3>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b) + s.radius, s.radius};
+        } else if constexpr (std::is_same_v<S, Segment3>) {
+          return {0.5f * (s.a + s.b), 0.5f * distance(s.a, s.b), 0.0f};
+        } else if constexpr (std::is_same_v<S, Box>) {
+          return {Vec3(0.0f), length(s.half) + s.radius,
+                  std::min({s.half.x, s.half.y, s.half.z}) + s.radius};
+        } else {
+          // A hull: reach from its centroid, and the nearest face plane inside (the largest
+          // sphere about the centroid that fits).
+          float reach = 0.0f;
+          for (const Vec3& v : s.vertices) reach = std::max(reach, distance(v, s.centroid));
+          float inner = std::numeric_limits<float>::infinity();
+          for (const HullFace& f : s.faces) inner = std::min(inner, f.offset - dot(f.normal, s.centroid));
+          return {s.centroid, reach + s.radius, std::max(inner, 0.0f) + s.radius};
+        }
+      },
+      shape);
+}
+
+PieceInfoN<3> piece_info(const StaticShape3D& shape) {
+  return std::visit(
+      [](const auto& s) -> PieceInfoN<3> {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return box_info(compute_aabb(*s, Transform3{}));
+        } else {
+          return piece_info(Shape3D(s));
+        }
+      },
+      shape);
+}
+
+float shape_measure(const Shape2D& shape) {
+  constexpr float pi = std::numbers::pi_v<float>;
+  return std::visit(
+      [](const auto& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Circle>) {
+          return pi * s.radius * s.radius;
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          return 2.0f * s.radius * distance(s.a, s.b) + pi * s.radius * s.radius;
+        } else if constexpr (std::is_same_v<S, Segment>) {
+          return 0.0f;
+        } else {
+          float perimeter = 0.0f;
+          for (int i = 0; i < s.count; ++i) perimeter += distance(s.vertices[i], s.vertex(i + 1));
+          return signed_area({s.vertices.data(), static_cast<size_t>(s.count)}) +
+                 perimeter * s.radius + pi * s.radius * s.radius;
+        }
+      },
+      shape);
+}
+
+float shape_measure(const Shape3D& shape) {
+  constexpr float pi = std::numbers::pi_v<float>;
+  return std::visit(
+      [](const auto& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        const auto ball = [&](float r) { return 4.0f / 3.0f * pi * r * r * r; };
+        if constexpr (std::is_same_v<S, Sphere>) {
+          return ball(s.radius);
+        } else if constexpr (std::is_same_v<S, Capsule3>) {
+          return pi * s.radius * s.radius * distance(s.a, s.b) + ball(s.radius);
+        } else if constexpr (std::is_same_v<S, Segment3>) {
+          return 0.0f;
+        } else if constexpr (std::is_same_v<S, Box>) {
+          // The core box, its faces pushed out by the radius, its edges' quarter cylinders and
+          // its corners' ball (Steiner's formula for a rounded box).
+          const Vec3 h = s.half;
+          const float r = s.radius;
+          return 8.0f * h.x * h.y * h.z + 8.0f * r * (h.x * h.y + h.y * h.z + h.z * h.x) +
+                 2.0f * pi * r * r * (h.x + h.y + h.z) + ball(r);
+        } else {
+          return s.volume;  // the core's (a rounded hull's rim is left out: the weight of a centre)
+        }
+      },
+      shape);
+}
+
+// ---- motion ---------------------------------------------------------------------------------
+
+Transform moved(const Transform& xf, Vec2 local_center, Vec2 d, float rot) {
+  if (rot == 0.0f) return {xf.p + d, xf.q};
+  const Vec2 c = transform_point(xf, local_center) + d;
+  const Rot2 q = mul(Rot2::from_angle(rot), xf.q);
+  return {c - rotate(q, local_center), q};
+}
+
+Transform3 moved(const Transform3& xf, Vec3 local_center, Vec3 d, Vec3 rot) {
+  if (rot == Vec3(0.0f)) return {xf.p + d, xf.q};
+  // The turn as Sweep3 makes it (one home for the rotation vector's quaternion), renormalised
+  // so rounding never drifts the orientation off unit length over many steps.
+  const Quat q = glm::normalize(Sweep3::from_motion(xf, local_center, d, rot).orientation(1.0f));
+  const Vec3 c = transform_point(xf, local_center) + d;
+  return {c - rotate(q, local_center), q};
+}
+
+// ---- static pieces ---------------------------------------------------------------------------
+
+bool is_level(const StaticShape3D& shape) noexcept {
+  return shape.index() >= 5;  // the mesh and the height field come after the convex shapes
+}
+
+bool is_null_level(const StaticShape3D& shape) noexcept {
+  return std::visit(
+      [](const auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return s == nullptr;
+        } else {
+          return false;
+        }
+      },
+      shape);
+}
+
+Manifold piece_contact(const Shape2D& a, const Transform& xa, const Shape2D& b,
+                       const Transform& xb) noexcept {
+  return contact(a, xa, b, xb);
+}
+
+Manifold3 piece_contact(const Shape3D& a, const Transform3& xa, const StaticShape3D& b,
+                        const Transform3& xb) noexcept {
+  return std::visit(
+      [&](const auto& s) -> Manifold3 {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return contact(a, xa, *s, xb);
+        } else {
+          return contact(a, xa, Shape3D(s), xb);
+        }
+      },
+      b);
+}
+
+ToiResult piece_impact(const Shape2D& a, const Sweep& sweep, const Aabb& /*box*/,
+                       const Shape2D& b, const Transform& xb, std::int64_t& queries) {
+  const Sweep still = Sweep::from_motion(xb, {0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f);
+  ++queries;
+  return time_of_impact(ConvexProxy(a), sweep, ConvexProxy(b), still);
+}
+
+ToiResult3 piece_impact(const Shape3D& a, const Sweep3& sweep, const Aabb3& box,
+                        const StaticShape3D& b, const Transform3& xb, std::int64_t& queries) {
+  const ConvexProxy3 proxy_a(a);
+  return std::visit(
+      [&](const auto& s) -> ToiResult3 {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          // Every triangle the sweep's box meets: the earliest hit, or an overlap at the start
+          // (the triangle the piece already touches) when no triangle is hit before it ends.
+          const Sweep3 still = Sweep3::from_motion(Transform3{}, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
+          ToiResult3 best;
+          best.status = QueryStatus::separated;
+          best.fraction = 1.0f;
+          bool have_overlap = false;
+          ToiResult3 overlap_result;
+          for_each_triangle(*s, xb, box, [&](std::uint32_t, const std::array<Vec3, 3>& c) -> bool {
+            ++queries;
+            const ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(Triangle{c}), still);
+            if (r.status == QueryStatus::overlapped) {
+              if (!have_overlap) overlap_result = r;
+              have_overlap = true;
+            } else if ((r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) &&
+                       r.fraction < best.fraction) {
+              best = r;
+            }
+            return true;
+          });
+          if (best.status == QueryStatus::hit || best.status == QueryStatus::max_iterations) return best;
+          return have_overlap ? overlap_result : best;
+        } else {
+          const Sweep3 still = Sweep3::from_motion(xb, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
+          ++queries;
+          return time_of_impact(proxy_a, sweep, ConvexProxy3(s), still);
+        }
+      },
+      b);
+}
+
+RayHit3 piece_raycast(const StaticShape3D& s, const Transform3& xf, const Ray3& ray) noexcept {
+  return std::visit(
+      [&](const auto& shape) -> RayHit3 {
+        using S = std::decay_t<decltype(shape)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return raycast(*shape, xf, ray);
+        } else {
+          return raycast(shape, xf, ray);
+        }
+      },
+      s);
+}
+
+ShapeCastResult piece_shape_cast(const Shape2D& a, const Transform& xa, Vec2 v, const Shape2D& b,
+                                 const Transform& xb) noexcept {
+  return shape_cast(a, xa, v, b, xb, Vec2{0.0f, 0.0f});
+}
+
+ShapeCastResult3 piece_shape_cast(const Shape3D& a, const Transform3& xa, Vec3 v,
+                                  const StaticShape3D& b, const Transform3& xb) noexcept {
+  return std::visit(
+      [&](const auto& s) -> ShapeCastResult3 {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return shape_cast(a, xa, v, *s, xb, Vec3(0.0f));
+        } else {
+          return shape_cast(a, xa, v, Shape3D(s), xb, Vec3(0.0f));
+        }
+      },
+      b);
+}
+
+bool piece_overlap(const Shape2D& a, const Transform& xa, const Shape2D& b, const Transform& xb) noexcept {
+  return overlap(a, xa, b, xb);
+}
+
+bool piece_overlap(const Shape3D& a, const Transform3& xa, const StaticShape3D& b,
+                   const Transform3& xb) noexcept {
+  return std::visit(
+      [&](const auto& s) -> bool {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S> || kIsField<S>) {
+          return overlap(a, xa, *s, xb);
+        } else {
+          return overlap(a, xa, Shape3D(s), xb);
+        }
+      },
+      b);
+}
+
+Probe<2> box_probe(const Aabb& box) {
+  const Vec2 half = box.extents();
+  if (half.x > 0.0f && half.y > 0.0f) return {make_box(half, box.center(), 0.0f), Transform{}};
+  if (half.x > 0.0f || half.y > 0.0f) return {Segment{box.min, box.max}, Transform{}};
+  return {Circle{box.min, 0.0f}, Transform{}};
+}
+
+Probe<3> box_probe(const Aabb3& box) {
+  // A box around the centre (a flat or empty one too: GJK takes zero half extents; make_box
+  // would refuse them, and the probe never leaves the query).
+  const Vec3 half = 0.5f * (box.max - box.min);
+  if (half == Vec3(0.0f)) return {Sphere{Vec3(0.0f), 0.0f}, Transform3{box.min, Quat{1.0f, 0.0f, 0.0f, 0.0f}}};
+  return {Box{half, 0.0f}, Transform3{0.5f * (box.min + box.max), Quat{1.0f, 0.0f, 0.0f, 0.0f}}};
+}
+
+}  // namespace collide::detail
+
+namespace collide {
+
+Aabb3 compute_aabb(const StaticShape3D& shape, const Transform3& xf) noexcept {
+  return std::visit(
+      [&](const auto& s) -> Aabb3 {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (detail::kIsMesh<S> || detail::kIsField<S>) {
+          return s != nullptr ? compute_aabb(*s, xf) : Aabb3{xf.p, xf.p};
+        } else {
+          return compute_aabb(s, xf);
+        }
+      },
+      shape);
+}
+
+}  // namespace collide
