@@ -301,9 +301,15 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
     proxy_start_boxes[p] = piece_box(bodies[proxies[p].body], proxies[p].piece);
   }
   const bool have_statics = !static_pieces.empty();
+  const bool gravity = options.gravity != VecN<D>(0.0f);
   for (std::uint32_t i = 0; i < bodies.size(); ++i) {
     Body& b = bodies[i];
     if (!b.alive) continue;
+    if (gravity && !b.sensor) {
+      // (kept within kMaxWorldSpeed, as check_world_velocity keeps a game's velocities: a body
+      // falling forever must not overflow the temporal broad phase's speed bound)
+      b.velocity = glm::clamp(b.velocity + options.gravity * dt, VecN<D>(-kMaxWorldSpeed), VecN<D>(kMaxWorldSpeed));
+    }
     b.used_ccd = false;
     b.path_count = 0;
     b.mark_path(b.xf);
@@ -705,6 +711,9 @@ WorldN<D>::WorldN(const WorldOptionsN<D>& options) {
     throw InvalidInput("world options bounds: not finite or min > max");
   }
   if (options.bounds) check_world_range(*options.bounds, "world options bounds");
+  if (!is_finite(options.gravity) || max_abs(options.gravity) > kMaxWorldSpeed) {
+    throw InvalidInput("world options gravity: not finite or beyond kMaxWorldSpeed per second");
+  }
   impl_ = std::make_unique<Impl>(options);
 }
 

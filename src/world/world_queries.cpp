@@ -7,6 +7,7 @@
 
 #include <collide/ccd/sweep.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/overlap.hpp>
 
@@ -127,10 +128,17 @@ LaserPathN<D> WorldN<D>::cast_laser(const RayN<D>& ray, int max_bounces, const Q
     path.hits[path.hit_count++] = *hit;
     if (bounce == max_bounces) break;
     r = reflect(r, hit->hit);
-    // A convex mirror cannot be hit again by the reflected ray; a level shape can (another of
-    // its triangles), so only a convex piece is skipped.
+    // A convex mirror cannot be hit again by the reflected ray, which skips it. A level shape
+    // can (another of its triangles), so it is not skipped; the reflected ray starts a rounding
+    // step off its surface instead, on the side the laser came from: from the hit point itself
+    // (on the plane within rounding), a two-sided triangle is hit again from behind at fraction
+    // 0, which sent the laser out through the wall.
     bool level = false;
     if constexpr (D == 3) level = hit->collider.is_static && detail::is_level(impl_->static_shape(hit->collider));
+    if (level) {
+      const float step = kRelativeTolerance * (max_abs(hit->hit.point) + length(r.translation));
+      r.origin += step * hit->hit.normal;  // the normal faces the incoming laser
+    }
     mirror = level ? std::nullopt : std::optional<ColliderRef>(hit->collider);
   }
   return path;

@@ -255,6 +255,9 @@ struct WorldOptionsN {
   /// Run the independent end-of-step check (tunnelling, escapes). It costs a brute-force pass
   /// per step; games turn it off, tests and `collide run` keep it on.
   bool check_each_step = true;
+  /// Acceleration of every non-sensor body, world units per second squared (e.g. (0, -9.81, 0)
+  /// in a y-up world); zero (the default) leaves velocities to the bounces and the game.
+  VecN<D> gravity{0.0f};
 };
 
 /// A contact between two colliders in a step: touching at the end of the step, or hit by a fast
