@@ -175,6 +175,24 @@ void WorldN<D>::query_point(Vec point, const QueryFilter& filter, const Collider
 }
 
 template <int D>
+void WorldN<D>::collide_shape(const BodyShape& shape, const Xf& xf, const QueryFilter& filter,
+                              const ContactCallbackN<D>& callback) const {
+  if (!is_valid(xf)) throw InvalidInput("collide shape: transform not finite or not unit");
+  impl_->refresh_static_tree();
+  const Impl& w = *impl_;
+  const AabbN<D> box = compute_aabb(shape, xf);
+  for_candidates<D>(
+      w, filter, [&](auto&& each) { w.static_tree.query(box, [&](int id) { return each(id); }); },
+      [&](auto&& each) { w.body_broad.query(box, [&](int id) { return each(id); }); },
+      [&](const AabbN<D>& b) { return collide::overlap(b, box); },
+      [&](const ColliderRef& c) {
+        const ManifoldN<D> m = c.is_static ? detail::piece_contact(shape, xf, w.static_shape(c), w.transform(c))
+                                           : contact(shape, xf, w.body_shape(c), w.transform(c));
+        return !m.touching() || callback(c, m);
+      });
+}
+
+template <int D>
 WorldCastHitN<D> WorldN<D>::shape_cast(const BodyShape& shape, const Xf& xf, Vec translation,
                                        const QueryFilter& filter) const {
   if (!is_valid(xf) || !is_finite(translation)) {
@@ -228,7 +246,9 @@ WorldCastHitN<D> WorldN<D>::ground_check(BodyId id, Vec down) const {
   template void WorldN<D>::query_point(VecN<D>, const QueryFilter&, const ColliderCallback&) const;     \
   template WorldCastHitN<D> WorldN<D>::shape_cast(const BodyShapeN<D>&, const TransformN<D>&, VecN<D>,  \
                                                   const QueryFilter&) const;                          \
-  template WorldCastHitN<D> WorldN<D>::ground_check(BodyId, VecN<D>) const;
+  template WorldCastHitN<D> WorldN<D>::ground_check(BodyId, VecN<D>) const;                            \
+  template void WorldN<D>::collide_shape(const BodyShapeN<D>&, const TransformN<D>&, const QueryFilter&, \
+                                         const ContactCallbackN<D>&) const;
 COLLIDE_WORLD_QUERIES(2)
 COLLIDE_WORLD_QUERIES(3)
 #undef COLLIDE_WORLD_QUERIES

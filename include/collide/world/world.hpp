@@ -386,6 +386,11 @@ struct WorldCastHitN {
 /// Called with each collider a query finds; return false to stop. Non-owning (no allocation).
 using ColliderCallback = FunctionRef<bool(const ColliderRef&)>;
 
+/// Called with each collider a shape touches and the contact (normal from the shape to the
+/// collider, world space); return false to stop. Non-owning (no allocation).
+template <int D>
+using ContactCallbackN = FunctionRef<bool(const ColliderRef&, const ManifoldN<D>&)>;
+
 /// What `draw` includes (2D).
 struct WorldDrawOptions {
   bool statics = true;
@@ -496,6 +501,11 @@ class WorldN {
   /// Each collider whose shape contains `point` (a mouse pick; boundary counts; a level shape's
   /// surface within rounding), world space. Throws InvalidInput for a non-finite point.
   void query_point(Vec point, const QueryFilter& filter, const ColliderCallback& callback) const;
+  /// Each collider that `shape` placed by `xf` touches or overlaps, with their contact (the
+  /// exact `contact`; a level shape's merged manifold): the overlap of a shape, and what a
+  /// character mover pushes itself out of. Throws InvalidInput for a non-finite transform.
+  void collide_shape(const BodyShape& shape, const Xf& xf, const QueryFilter& filter,
+                     const ContactCallbackN<D>& callback) const;
   /// Earliest collider that `shape` placed by `xf` touches while translating by `translation`
   /// (GJK shape cast against each candidate). Colliders it overlaps at the start are reported
   /// at fraction 0. Throws InvalidInput for non-finite input.

@@ -1,0 +1,271 @@
+// move_character (character.hpp): collide and slide, steps, sticking to the ground, in 2D and 3D,
+// on the world's public queries (shape_cast, collide_shape).
+
+#include <collide/world/character.hpp>
+
+#include <collide/core/error.hpp>
+#include <collide/core/tolerance.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace collide {
+
+namespace {
+
+/// Most planes the slide keeps: a plane beyond them is a corner the character cannot leave
+/// along any of them (in 3D three planes fix a point; in 2D two).
+template <int D>
+inline constexpr int kMaxPlanes = D;
+
+/// Most push-out passes at the start of a move.
+constexpr int kPushOutPasses = 4;
+
+template <int D>
+class Mover {
+ public:
+  using Vec = VecN<D>;
+
+  Mover(const WorldN<D>& world, const BodyShapeN<D>& shape, const CharacterSettingsN<D>& settings,
+        CharacterMoveN<D>& out)
+      : world_(world), shape_(shape), s_(settings), out_(out),
+        cos_slope_(std::cos(settings.max_slope)) {
+    filter_ = settings.filter;
+    filter_.sensors = false;
+  }
+
+  [[nodiscard]] bool walkable(Vec n) const { return dot(n, s_.up) >= cos_slope_; }
+
+  /// The plane a surface of normal `n` (from the surface to the character) puts on a walking
+  /// character: a wall steeper than the walkable slope acts as vertical (slid along, never
+  /// climbed); ground and ceilings as they are.
+  [[nodiscard]] Vec effective_normal(Vec n) const {
+    const float up = dot(n, s_.up);
+    if (up <= 0.0f || walkable(n)) return n;
+    const Vec h = n - up * s_.up;
+    const float l = length(h);
+    return l > kParallelTolerance ? h / l : n;
+  }
+
+  /// Casts from `xf` by `d` and a skin further (a surface the shape would end closer to than
+  /// the skin counts too: a cast reports only what it touches); moves `xf` by `d`, or to where
+  /// the gap to the surface hit, along its normal, is the skin. Returns the hit when it cut the
+  /// move short.
+  WorldCastHitN<D> cast(TransformN<D>& xf, Vec d) {
+    const float len = length(d);
+    if (!(len > 0.0f)) return {};
+    ++out_.casts;
+    const Vec dir = d / len;
+    const float skin = (1.0f + kCharacterSkinSlack) * s_.skin;
+    const WorldCastHitN<D> hit = world_.shape_cast(shape_, xf, (len + skin) * dir, filter_);
+    if (!hit.hit) {
+      xf.p += d;
+      return {};
+    }
+    // Approaching the surface at cosine c (the normal's component along the motion), the gap
+    // along the normal closes by c per unit of travel: stop `skin / c` before the contact.
+    const float c = std::max(dot(dir, hit.normal), kParallelTolerance);
+    const float reach = hit.fraction * (len + skin);
+    const float travel = std::clamp(reach - skin / c, 0.0f, len);
+    xf.p += dir * travel;
+    if (travel == len) return {};  // the whole move keeps the skin: not met
+    record(hit.collider, hit.user_id, hit.point, -hit.normal);
+    return hit;
+  }
+
+  /// Pushes `xf` out of whatever the shape overlaps (a spawn or a moving obstacle inside it),
+  /// each pass along the deepest contact, to the skin. True when it moved.
+  bool push_out(TransformN<D>& xf) {
+    bool moved = false;
+    for (int pass = 0; pass < kPushOutPasses; ++pass) {
+      float depth = 0.0f;
+      Vec normal(0.0f);
+      world_.collide_shape(shape_, xf, filter_, [&](const ColliderRef& c, const ManifoldN<D>& m) {
+        if (m.max_depth() > depth) {
+          depth = m.max_depth();
+          normal = m.normal;  // from the shape to the collider
+          record(c, world_.user_id(c), m.points[0].point, -m.normal);
+        }
+        return true;
+      });
+      if (!(depth > 0.0f) || normal == Vec(0.0f)) break;
+      xf.p -= (depth + s_.skin) * normal;
+      moved = true;
+    }
+    return moved;
+  }
+
+  /// What is under `xf` within `distance`: a cast down.
+  WorldCastHitN<D> probe_below(const TransformN<D>& xf, float distance) {
+    ++out_.casts;
+    return world_.shape_cast(shape_, xf, -distance * s_.up, filter_);
+  }
+  /// The ground under `xf`: a cast down by `distance` that hits walkable ground.
+  WorldCastHitN<D> probe_ground(const TransformN<D>& xf, float distance) {
+    const WorldCastHitN<D> hit = probe_below(xf, distance);
+    if (hit.hit && walkable(-hit.normal)) return hit;
+    return {};
+  }
+
+  void record(const ColliderRef& c, std::uint64_t user, Vec point, Vec normal) {
+    for (int i = 0; i < out_.contact_count; ++i) {
+      if (out_.contacts[i].collider == c && dot(out_.contacts[i].normal, normal) > 1.0f - kRelativeTolerance) return;
+    }
+    if (out_.contact_count < kMaxCharacterContacts) out_.contacts[out_.contact_count++] = {c, user, point, normal};
+  }
+
+ private:
+  const WorldN<D>& world_;
+  const BodyShapeN<D>& shape_;
+  const CharacterSettingsN<D>& s_;
+  CharacterMoveN<D>& out_;
+  float cos_slope_;
+  QueryFilter filter_;
+};
+
+/// `v` with its motion into the planes removed (Quake's PM_SlideMove, the idea of Box2D v3's
+/// b2ClipVector): against one plane its component into it; against two, in 3D, the part along
+/// their crease; against more, or two in 2D, nothing.
+template <int D>
+VecN<D> clip(VecN<D> v, const std::array<VecN<D>, kMaxPlanes<D>>& planes, int count) {
+  for (int i = 0; i < count; ++i) {
+    if (dot(v, planes[i]) >= 0.0f) continue;
+    VecN<D> w = v - dot(v, planes[i]) * planes[i];
+    bool ok = true;
+    for (int j = 0; j < count && ok; ++j) {
+      if (j == i || dot(w, planes[j]) >= 0.0f) continue;
+      if constexpr (D == 3) {
+        // Along the crease of planes i and j, if that leaves every other plane.
+        const VecN<D> crease = cross(planes[i], planes[j]);
+        const float cc = dot(crease, crease);
+        if (!(cc > kParallelTolerance * kParallelTolerance)) return VecN<D>(0.0f);
+        w = (dot(v, crease) / cc) * crease;
+        for (int k = 0; k < count; ++k) {
+          if (k != i && k != j && dot(w, planes[k]) < 0.0f) return VecN<D>(0.0f);
+        }
+      } else {
+        return VecN<D>(0.0f);
+      }
+    }
+    return w;
+  }
+  return v;
+}
+
+template <int D>
+void check_settings(const CharacterSettingsN<D>& s, const TransformN<D>& start, VecN<D> displacement) {
+  if (!is_valid(start)) throw InvalidInput("character start: not finite or rotation not unit length");
+  if (!is_finite(displacement)) throw InvalidInput("character displacement: not finite");
+  if (!is_finite(s.up) || std::fabs(length(s.up) - 1.0f) > 1e-3f) {
+    throw InvalidInput("character settings up: not a unit vector");
+  }
+  if (!(s.max_slope >= 0.0f && s.max_slope <= 0.5f * std::numbers::pi_v<float>)) {
+    throw InvalidInput("character settings max_slope: not in [0, pi/2] radians");
+  }
+  if (!(s.step_height >= 0.0f) || !std::isfinite(s.step_height)) {
+    throw InvalidInput("character settings step_height: negative or not finite");
+  }
+  if (!(s.skin >= 0.0f) || !std::isfinite(s.skin)) throw InvalidInput("character settings skin: negative or not finite");
+  if (s.max_iterations < 1) throw InvalidInput("character settings max_iterations: less than 1");
+}
+
+}  // namespace
+
+template <int D>
+CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& shape,
+                                 const TransformN<D>& start, VecN<D> displacement,
+                                 const CharacterSettingsN<D>& settings) {
+  check_settings(settings, start, displacement);
+  using Vec = VecN<D>;
+  CharacterMoveN<D> out;
+  Mover<D> mover(world, shape, settings, out);
+  TransformN<D> xf = start;
+  out.pushed_out = mover.push_out(xf);
+  const Vec up = settings.up;
+  const float probe = 2.0f * (1.0f + kCharacterSkinSlack) * settings.skin + kRelativeTolerance * (max_abs(xf.p) + 1.0f);
+  const WorldCastHitN<D> under = mover.probe_below(xf, probe);
+  const bool was_grounded = under.hit && mover.walkable(-under.normal);
+  // Held up by something under it, walkable or not (a rounded bottom on a step's edge): it may
+  // step.
+  const bool supported = under.hit && dot(-under.normal, settings.up) > 0.0f;
+
+  // Collide and slide.
+  std::array<Vec, kMaxPlanes<D>> planes{};
+  int plane_count = 0;
+  Vec remaining = displacement;
+  bool tried_step = false;
+  for (int i = 0; i < settings.max_iterations; ++i) {
+    if (!(length(remaining) > kRelativeTolerance * (max_abs(xf.p) + 1.0f))) break;
+    const TransformN<D> before = xf;
+    const WorldCastHitN<D> hit = mover.cast(xf, remaining);
+    if (!hit.hit) break;
+    const Vec n = -hit.normal;  // from the surface towards the character
+    Vec leftover = remaining - (xf.p - before.p);
+    // A wall met on the ground: try to step over it (once per move).
+    if (!tried_step && supported && settings.step_height > 0.0f && !mover.walkable(n) && dot(n, up) > -0.5f) {
+      tried_step = true;
+      const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
+      if (length(along) > settings.skin) {
+        TransformN<D> t = xf;
+        mover.cast(t, settings.step_height * up);
+        const float risen = dot(t.p - xf.p, up);
+        mover.cast(t, along);
+        bool land = mover.probe_ground(t, risen + settings.skin).hit;
+        if (!land && settings.step_forward_test > 0.0f) {
+          // Landing on the step's edge: walkable ground a little further on keeps the step.
+          TransformN<D> ahead = t;
+          mover.cast(ahead, settings.step_forward_test * (along / length(along)));
+          land = mover.probe_ground(ahead, risen + settings.skin).hit;
+        }
+        // Kept when it lands higher than it was, on or by walkable ground, and went forward.
+        if (land && risen > settings.skin) {
+          TransformN<D> landed = t;
+          mover.cast(landed, -(risen + settings.skin) * up);
+          const Vec gained = landed.p - xf.p;
+          if (dot(gained, up) > settings.skin && length(gained - dot(gained, up) * up) > settings.skin) {
+            xf = landed;
+            out.stepped = true;
+            remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on
+            continue;
+          }
+        }
+      }
+    }
+    if (plane_count == kMaxPlanes<D>) {
+      remaining = Vec(0.0f);
+      break;
+    }
+    planes[plane_count++] = mover.effective_normal(n);
+    remaining = clip(leftover, planes, plane_count);
+  }
+
+  // Stick to the ground going down: a character that stood on ground and did not move up is
+  // pressed down onto walkable ground within a step.
+  WorldCastHitN<D> ground = mover.probe_ground(xf, probe);
+  if (!ground.hit && was_grounded && dot(displacement, up) <= 0.0f && settings.step_height > 0.0f) {
+    const WorldCastHitN<D> below = mover.probe_ground(xf, settings.step_height + settings.skin);
+    if (below.hit) {
+      mover.cast(xf, -(settings.step_height + settings.skin) * up);
+      ground = mover.probe_ground(xf, probe);
+    }
+  }
+  out.transform = xf;
+  out.moved = xf.p - start.p;
+  out.grounded = ground.hit;
+  if (ground.hit) {
+    out.ground_normal = -ground.normal;
+    out.ground = ground.collider;
+    out.ground_user_id = ground.user_id;
+  }
+  out.blocked = length(displacement - out.moved) > 2.0f * settings.skin + kRelativeTolerance * (max_abs(xf.p) + 1.0f);
+  return out;
+}
+
+template CharacterMoveN<2> move_character<2>(const WorldN<2>&, const BodyShapeN<2>&, const TransformN<2>&,
+                                             VecN<2>, const CharacterSettingsN<2>&);
+template CharacterMoveN<3> move_character<3>(const WorldN<3>&, const BodyShapeN<3>&, const TransformN<3>&,
+                                             VecN<3>, const CharacterSettingsN<3>&);
+
+}  // namespace collide

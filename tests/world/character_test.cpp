@@ -1,0 +1,354 @@
+// move_character on analytic levels, 3D and 2D: a flat floor, a 30 and a 60 degree ramp, a step
+// of 0.2 and of 0.6, a corridor narrower than the capsule, gaps; after every move the capsule
+// overlaps nothing (the world's exact contact finds no depth beyond rounding).
+#include <collide/ccd/raycast.hpp>
+#include <collide/core/error.hpp>
+#include <collide/io/obj.hpp>
+#include <collide/world/character.hpp>
+#include <collide/world/world2d.hpp>
+#include <collide/world/world3d.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace collide {
+namespace {
+
+constexpr float kRadius = 0.3f;
+constexpr float kHalfHeight = 0.5f;  // the core segment's half length
+constexpr int kFrames = 240;
+constexpr float kSpeed = 3.0f;       // units per second, walking along +x
+constexpr float kDt = 1.0f / 60.0f;
+constexpr float kFall = 0.02f;       // per frame, pressing down (gravity's share)
+constexpr float kDeg = std::numbers::pi_v<float> / 180.0f;
+
+/// A quad as two triangles (corners counter-clockwise seen from above).
+std::shared_ptr<const TriangleMesh> quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const std::vector<Vec3> v{a, b, c, d};
+  const std::vector<glm::uvec3> t{{0, 1, 2}, {0, 2, 3}};
+  return std::make_shared<const TriangleMesh>(make_triangle_mesh(v, t));
+}
+
+/// A floor y = 0 over x in [x0, x1], z in [-5, 5].
+std::shared_ptr<const TriangleMesh> floor_strip(float x0, float x1) {
+  return quad({x0, 0, 5}, {x1, 0, 5}, {x1, 0, -5}, {x0, 0, -5});
+}
+
+Shape3D capsule3() { return make_capsule(Vec3(0, -kHalfHeight, 0), Vec3(0, kHalfHeight, 0), kRadius); }
+
+/// Height of the capsule's centre standing on flat ground at y = 0 (the skin kept below it).
+float standing_height(const CharacterSettings3& s) { return kHalfHeight + kRadius + s.skin; }
+
+struct Walk3 {
+  std::vector<CharacterMove3> moves;
+  Transform3 end;
+  float max_depth = 0.0f;  ///< deepest overlap after any move
+};
+
+/// Walks the capsule along +x from `start` for kFrames frames, pressing down by kFall a frame.
+Walk3 walk(const World3D& world, Vec3 start, const CharacterSettings3& s = {}, Vec3 step = Vec3(kSpeed * kDt, -kFall, 0.0f)) {
+  Walk3 w;
+  Transform3 xf{start};
+  for (int i = 0; i < kFrames; ++i) {
+    const CharacterMove3 m = move_character(world, capsule3(), xf, step, s);
+    xf = m.transform;
+    world.collide_shape(capsule3(), xf, QueryFilter{}, [&](const ColliderRef&, const Manifold3& c) {
+      w.max_depth = std::max(w.max_depth, c.max_depth());
+      return true;
+    });
+    w.moves.push_back(m);
+  }
+  w.end = xf;
+  return w;
+}
+
+TEST(Character3D, WalksAcrossAFlatFloorOnTheGround) {
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}, .user_id = 1});
+  const CharacterSettings3 s;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_NEAR(w.end.p.x, kFrames * kSpeed * kDt, 1e-3f);   // the whole way
+  EXPECT_NEAR(w.end.p.y, standing_height(s), 2e-3f);       // on the floor, the skin below
+  for (const CharacterMove3& m : w.moves) {
+    ASSERT_TRUE(m.grounded);
+    EXPECT_EQ(m.ground_user_id, 1u);
+    EXPECT_NEAR(m.ground_normal.y, 1.0f, 1e-4f);
+  }
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+/// A floor for x < 2 and a ramp rising along +x from x = 2 at `degrees`.
+World3D ramp_world(float degrees) {
+  World3D world;
+  const float rise = 12.0f * std::tan(degrees * kDeg);
+  world.add_static({.shapes = {floor_strip(-5.0f, 2.0f), quad({2, 0, 5}, {14, rise, 5}, {14, rise, -5}, {2, 0, -5})}});
+  return world;
+}
+
+TEST(Character3D, WalksUpAThirtyDegreeRamp) {
+  const World3D world = ramp_world(30.0f);
+  const CharacterSettings3 s;  // walkable up to 50 degrees
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  ASSERT_GT(w.end.p.x, 6.0f);  // well onto the ramp
+  // The lower sphere rests on the slope: its centre r / cos(30) above the slope, vertically.
+  const float slope_y = (w.end.p.x - 2.0f) * std::tan(30.0f * kDeg);
+  EXPECT_NEAR(w.end.p.y, slope_y + kHalfHeight + (kRadius + s.skin) / std::cos(30.0f * kDeg), 0.02f);
+  EXPECT_TRUE(w.moves.back().grounded);
+  EXPECT_NEAR(w.moves.back().ground_normal.x, -std::sin(30.0f * kDeg), 1e-3f);
+  EXPECT_NEAR(w.moves.back().ground_normal.y, std::cos(30.0f * kDeg), 1e-3f);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+TEST(Character3D, CannotClimbASixtyDegreeRamp) {
+  const World3D world = ramp_world(60.0f);
+  const CharacterSettings3 s;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  // It walks to the foot of the ramp and gets no higher than a step.
+  EXPECT_LT(w.end.p.y, standing_height(s) + s.step_height + 0.05f);
+  EXPECT_LT(w.end.p.x, 2.5f);
+  EXPECT_TRUE(w.moves.back().blocked);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+/// A floor, and from x = 3 a block of height `h` (a box static).
+World3D step_world(float h) {
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  world.add_static({.shapes = {make_box(Vec3(5.0f, 0.5f * h, 5.0f))}, .transform = Transform3{Vec3(8.0f, 0.5f * h, 0.0f)}, .user_id = 2});
+  return world;
+}
+
+TEST(Character3D, StepsUpAStepOfPointTwo) {
+  const World3D world = step_world(0.2f);
+  const CharacterSettings3 s;  // step height 0.3
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_GT(w.end.p.x, 5.0f);
+  EXPECT_NEAR(w.end.p.y, 0.2f + standing_height(s), 3e-3f);
+  EXPECT_EQ(w.moves.back().ground_user_id, 2u);
+  bool stepped = false;
+  for (const CharacterMove3& m : w.moves) stepped = stepped || m.stepped;
+  EXPECT_TRUE(stepped);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+TEST(Character3D, IsStoppedByAStepOfPointSix) {
+  const World3D world = step_world(0.6f);
+  const CharacterSettings3 s;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_NEAR(w.end.p.x, 3.0f - kRadius - (1.0f + kCharacterSkinSlack) * s.skin, 2e-3f);  // the skin from the step's face
+  EXPECT_NEAR(w.end.p.y, standing_height(s), 2e-3f);
+  EXPECT_TRUE(w.moves.back().blocked);
+  EXPECT_TRUE(w.moves.back().grounded);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+TEST(Character3D, DoesNotEnterACorridorNarrowerThanItself) {
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  // Walls from x = 3 to 13, 0.4 apart: the capsule is 0.6 across.
+  for (const float z : {-0.2f - 0.5f, 0.2f + 0.5f}) {
+    world.add_static({.shapes = {make_box(Vec3(5.0f, 1.5f, 0.5f))}, .transform = Transform3{Vec3(8.0f, 1.5f, z)}});
+  }
+  const CharacterSettings3 s;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_LT(w.end.p.x, 3.0f);
+  EXPECT_TRUE(w.moves.back().blocked);
+  EXPECT_LE(w.max_depth, 1e-4f);
+  // A corridor wider than the capsule lets it through.
+  World3D wide;
+  wide.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  for (const float z : {-0.4f - 0.5f, 0.4f + 0.5f}) {
+    wide.add_static({.shapes = {make_box(Vec3(5.0f, 1.5f, 0.5f))}, .transform = Transform3{Vec3(8.0f, 1.5f, z)}});
+  }
+  const Walk3 through = walk(wide, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_GT(through.end.p.x, 11.0f);
+  EXPECT_LE(through.max_depth, 1e-4f);
+}
+
+TEST(Character3D, FallsIntoAWideGapAndWalksOverANarrowOne) {
+  const CharacterSettings3 s;
+  World3D wide;
+  wide.add_static({.shapes = {floor_strip(-5.0f, 3.0f), floor_strip(4.5f, 20.0f)}});
+  const Walk3 fell = walk(wide, Vec3(0.0f, standing_height(s), 0.0f), s);
+  bool airborne = false;
+  for (const CharacterMove3& m : fell.moves) airborne = airborne || !m.grounded;
+  EXPECT_TRUE(airborne);
+  EXPECT_LT(fell.end.p.y, 0.0f);  // went down into it (pressed down by kFall each frame)
+  // A gap narrower than the capsule's radius: it walks over, never dropping below a step.
+  World3D narrow;
+  narrow.add_static({.shapes = {floor_strip(-5.0f, 3.0f), floor_strip(3.2f, 20.0f)}});
+  const Walk3 over = walk(narrow, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_GT(over.end.p.x, 10.0f);
+  float lowest = 10.0f;
+  for (const CharacterMove3& m : over.moves) lowest = std::min(lowest, m.transform.p.y);
+  EXPECT_GT(lowest, standing_height(s) - 0.1f);
+  EXPECT_LE(over.max_depth, 1e-4f);
+}
+
+TEST(Character3D, StaysOnTheGroundGoingDownARamp) {
+  const World3D world = ramp_world(20.0f);
+  const CharacterSettings3 s;
+  const float at = 11.0f * std::tan(20.0f * kDeg);  // the ramp's height at x = 13
+  // Down the ramp (along -x) from near its top, without any fall per frame: sticking keeps it
+  // on the ramp and then the floor.
+  const Walk3 w = walk(world, Vec3(13.0f, at + kHalfHeight + (kRadius + s.skin) / std::cos(20.0f * kDeg) + 1e-3f, 0.0f), s,
+                       Vec3(-kSpeed * kDt, 0.0f, 0.0f));
+  int grounded = 0;
+  for (const CharacterMove3& m : w.moves) grounded += m.grounded;
+  EXPECT_EQ(grounded, kFrames);
+  EXPECT_LT(w.end.p.x, 2.0f);  // reached the floor
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+TEST(Character3D, IsPushedOutWhenItStartsInsideAWall) {
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  world.add_static({.shapes = {make_box(Vec3(1.0f, 2.0f, 1.0f))}, .transform = Transform3{Vec3(1.2f, 2.0f, 0.0f)}});
+  const CharacterSettings3 s;
+  const CharacterMove3 m = move_character(world, capsule3(), Transform3{Vec3(0.0f, standing_height(s), 0.0f)}, Vec3(0.0f), s);
+  EXPECT_TRUE(m.pushed_out);
+  EXPECT_LE(m.transform.p.x, 0.2f - kRadius + 1e-3f);  // out of the box's face at x = 0.2
+  float depth = 0.0f;
+  world.collide_shape(capsule3(), m.transform, QueryFilter{}, [&](const ColliderRef&, const Manifold3& c) {
+    depth = std::max(depth, c.max_depth());
+    return true;
+  });
+  EXPECT_LE(depth, 1e-4f);
+}
+
+TEST(Character3D, RejectsBadSettings) {
+  World3D world;
+  CharacterSettings3 s;
+  s.up = Vec3(0.0f, 2.0f, 0.0f);
+  EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(1, 0, 0), s), InvalidInput);
+  s = {};
+  s.max_slope = 2.0f;
+  EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(1, 0, 0), s), InvalidInput);
+  EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(std::nanf(""), 0, 0)), InvalidInput);
+}
+
+TEST(Character3D, WandersDungeonObjWithoutEnteringIt) {
+  // Characters walk in random directions over dungeon.obj's floors under gravity (the velocity
+  // kept between frames, zeroed on the ground): after every move the capsule overlaps nothing.
+  auto level = std::make_shared<const TriangleMesh>(
+      io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj"));
+  World3D world;
+  world.add_static({.shapes = {level}});
+  const Aabb3 box = compute_aabb(*level, Transform3{});
+  std::mt19937 rng(5);
+  const auto uniform = [&](float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); };
+  const CharacterSettings3 s;
+  int characters = 0, moves = 0, grounded = 0, stepped = 0;
+  float max_depth = 0.0f;
+  while (characters < 8) {
+    // A start standing on a floor: a ray down from above the level, the capsule over its hit.
+    const Vec3 top(uniform(box.min.x, box.max.x), box.max.y + 1.0f, uniform(box.min.z, box.max.z));
+    const RayHit3 floor = raycast(*level, Transform3{}, Ray3{top, Vec3(0.0f, box.min.y - top.y - 1.0f, 0.0f)});
+    if (!floor.hit || floor.normal.y < 0.9f) continue;
+    Transform3 xf{floor.point + Vec3(0.0f, kHalfHeight + kRadius + 2.0f * s.skin, 0.0f)};
+    bool clear = true;
+    world.collide_shape(capsule3(), xf, QueryFilter{}, [&](const ColliderRef&, const Manifold3&) { return clear = false; });
+    if (!clear) continue;
+    ++characters;
+    Vec3 velocity(0.0f);
+    float heading = uniform(0.0f, 6.283f);
+    for (int frame = 0; frame < 300; ++frame) {
+      if (frame % 60 == 0) heading = uniform(0.0f, 6.283f);
+      velocity.x = kSpeed * std::cos(heading);
+      velocity.z = kSpeed * std::sin(heading);
+      velocity.y -= 9.81f * kDt;
+      const CharacterMove3 m = move_character(world, capsule3(), xf, velocity * kDt, s);
+      xf = m.transform;
+      if (m.grounded) velocity.y = 0.0f;
+      ++moves;
+      grounded += m.grounded;
+      stepped += m.stepped;
+      world.collide_shape(capsule3(), xf, QueryFilter{}, [&](const ColliderRef&, const Manifold3& c) {
+        max_depth = std::max(max_depth, c.max_depth());
+        return true;
+      });
+      if (xf.p.y < box.min.y - 5.0f) break;  // walked off an open edge of the level
+    }
+  }
+  EXPECT_LE(max_depth, 1e-4f);
+  EXPECT_GT(grounded, moves / 2);  // mostly on the floors
+}
+
+// ---- 2D: the same mover -----------------------------------------------------------------------
+
+Shape2D capsule2() { return make_capsule({0.0f, -kHalfHeight}, {0.0f, kHalfHeight}, kRadius); }
+
+struct Walk2 {
+  std::vector<CharacterMove> moves;
+  Transform end;
+  float max_depth = 0.0f;
+};
+
+Walk2 walk2(const World2D& world, Vec2 start, const CharacterSettings& s = {}) {
+  Walk2 w;
+  Transform xf = Transform::from(start, 0.0f);
+  for (int i = 0; i < kFrames; ++i) {
+    const CharacterMove m = move_character(world, capsule2(), xf, Vec2{kSpeed * kDt, -kFall}, s);
+    xf = m.transform;
+    world.collide_shape(capsule2(), xf, QueryFilter{}, [&](const ColliderRef&, const Manifold& c) {
+      w.max_depth = std::max(w.max_depth, c.max_depth());
+      return true;
+    });
+    w.moves.push_back(m);
+  }
+  w.end = xf;
+  return w;
+}
+
+TEST(Character2D, WalksTheFloorUpARampAndAStepButNotAWall) {
+  const CharacterSettings s;
+  const float stand = kHalfHeight + kRadius + s.skin;
+  // A floor, a 30 degree ramp from x = 2 to 6, a plateau.
+  World2D ramp;
+  ramp.add_static({.shapes = {make_box({10.0f, 0.5f}, {0.0f, -0.5f}, 0.0f)}});
+  const float top = 4.0f * std::tan(30.0f * kDeg);
+  const std::vector<Vec2> wedge{{2.0f, 0.0f}, {6.0f, 0.0f}, {6.0f, top}};
+  ramp.add_static({.shapes = {make_polygon(wedge), make_box({5.0f, 0.5f * top}, {11.0f, 0.5f * top}, 0.0f)}});
+  const Walk2 up = walk2(ramp, {0.0f, stand}, s);
+  EXPECT_GT(up.end.p.x, 8.0f);
+  EXPECT_NEAR(up.end.p.y, top + stand, 3e-3f);  // on the plateau
+  EXPECT_TRUE(up.moves.back().grounded);
+  EXPECT_LE(up.max_depth, 1e-4f);
+  // A step of 0.2 is climbed, one of 0.6 stops it.
+  for (const float h : {0.2f, 0.6f}) {
+    World2D world;
+    world.add_static({.shapes = {make_box({20.0f, 0.5f}, {0.0f, -0.5f}, 0.0f)}});
+    world.add_static({.shapes = {make_box({5.0f, 0.5f * h}, {8.0f, 0.5f * h}, 0.0f)}});
+    const Walk2 w = walk2(world, {0.0f, stand}, s);
+    if (h < s.step_height) {
+      EXPECT_NEAR(w.end.p.y, h + stand, 3e-3f) << "step " << h;
+      EXPECT_GT(w.end.p.x, 5.0f);
+    } else {
+      EXPECT_NEAR(w.end.p.x, 3.0f - kRadius - (1.0f + kCharacterSkinSlack) * s.skin, 2e-3f) << "step " << h;
+      EXPECT_TRUE(w.moves.back().blocked);
+    }
+    EXPECT_LE(w.max_depth, 1e-4f);
+  }
+}
+
+TEST(Character2D, StopsUnderACeilingLowerThanItself) {
+  const CharacterSettings s;
+  const float stand = kHalfHeight + kRadius + s.skin;
+  World2D world;
+  world.add_static({.shapes = {make_box({20.0f, 0.5f}, {0.0f, -0.5f}, 0.0f)}});
+  // A ceiling from x = 3 at height 1.4: the capsule is 1.6 tall.
+  world.add_static({.shapes = {make_box({5.0f, 0.5f}, {8.0f, 1.9f}, 0.0f)}});
+  const Walk2 w = walk2(world, {0.0f, stand}, s);
+  EXPECT_LT(w.end.p.x, 3.0f);
+  EXPECT_TRUE(w.moves.back().blocked);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+}  // namespace
+}  // namespace collide
