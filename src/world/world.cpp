@@ -389,7 +389,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
         }
       }
     }
-    b.xf = sweep.at(best_t);
+    b.xf = detail::pose_at(sweep, best_t);
     b.mark_path(b.xf);
     if (!found) break;
     ++stats.toi_hits;
@@ -732,11 +732,12 @@ StaticId WorldN<D>::add_static(const StaticDefN<D>& def) {
   check_world_range(std::span<const StaticShape>(def.shapes), def.transform, name);
   const auto owner = static_cast<std::uint32_t>(impl_->statics.size());
   impl_->statics.push_back(def);
+  const Xf& xf = impl_->statics.back().transform = detail::unit_pose(def.transform);
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
     const detail::PieceInfoN<D> info = detail::piece_info(def.shapes[k]);
     impl_->static_pieces.push_back({owner, static_cast<std::uint16_t>(k),
-                                    detail::piece_box(def.shapes[k], def.transform),
-                                    transform_point(def.transform, info.center), info.radius,
+                                    detail::piece_box(def.shapes[k], xf),
+                                    transform_point(xf, info.center), info.radius,
                                     info.inner_size, detail::is_level(def.shapes[k])});
   }
   impl_->static_tree_dirty = true;
@@ -764,7 +765,7 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
   b = detail::BodyN<D>{};
   b.generation = generation;
   b.shapes = def.shapes;
-  b.xf = def.transform;
+  b.xf = detail::unit_pose(def.transform);
   b.velocity = def.velocity;
   b.angular_velocity = def.angular_velocity;
   b.user_id = def.user_id;
@@ -884,7 +885,7 @@ template <int D>
 void WorldN<D>::set_transform(BodyId id, const Xf& xf) {
   detail::BodyN<D>& b = impl_->body(id);
   check_transform(xf, "body " + std::to_string(id.index) + " transform");
-  b.xf = xf;
+  b.xf = detail::unit_pose(xf);
   impl_->body_boxes_current = false;
 }
 

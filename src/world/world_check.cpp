@@ -191,8 +191,8 @@ void WorldN<D>::Impl::check(StepStats& stats) {
           const std::array<Vec3, 3>& c = grid.triangles[id - piece_items];
           const StaticDefN<D>& st = statics[static_pieces[grid.triangle_piece[id - piece_items]].owner];
           if (!should_collide(b.filter, st.filter)) return;
-          const Triangle t{c};
-          depth = std::visit([&](const auto& s) { return collide::contact(s, b.xf, t, Transform3{}); },
+          const detail::PlacedTriangle t = detail::placed_triangle(c);
+          depth = std::visit([&](const auto& s) { return collide::contact(s, b.xf, t.shape, t.xf); },
                              b.shapes[k])
                       .max_depth();
         }

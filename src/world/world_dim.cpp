@@ -203,6 +203,22 @@ ToiResult piece_impact(const Shape2D& a, const Sweep& sweep, const Aabb& /*box*/
   return time_of_impact(ConvexProxy(a), sweep, ConvexProxy(b), still);
 }
 
+namespace {
+
+/// The normal (from A to B) of an `overlapped` time of impact, which is zero when GJK found the
+/// cores within its touching tolerance: the contact's, with the time of impact's target as a
+/// speculative margin (twice it), so that cores closer than the target but not touching, which
+/// the separating axis test calls apart, still say which way B is. A body moving into such a
+/// surface went through it without (a hull 6e-5 under a room's ceiling).
+template <class B>
+Vec3 overlap_normal(const Shape3D& a, const Transform3& xa, const B& b, const Transform3& xb) {
+  const float size = piece_info(a).radius;
+  const float margin = 2.0f * std::max(kToiTargetSeparation * size, kToiRoundingTarget * (max_abs(xa.p) + size));
+  return std::visit([&](const auto& s) { return contact(s, xa, b, xb, margin).normal; }, a);
+}
+
+}  // namespace
+
 ToiResult3 piece_impact(const Shape3D& a, const Sweep3& sweep, const Aabb3& box,
                         const StaticShape3D& b, const Transform3& xb, std::int64_t& queries) {
   const ConvexProxy3 proxy_a(a);
@@ -210,32 +226,44 @@ ToiResult3 piece_impact(const Shape3D& a, const Sweep3& sweep, const Aabb3& box,
       [&](const auto& s) -> ToiResult3 {
         using S = std::decay_t<decltype(s)>;
         if constexpr (kIsMesh<S> || kIsField<S>) {
-          // Every triangle the sweep's box meets: the earliest hit, or an overlap at the start
-          // (the triangle the piece already touches) when no triangle is hit before it ends.
+          // Every triangle the sweep's box meets. A triangle the piece already touches at the
+          // start and moves into is the answer (at fraction 0, `overlapped`, as a convex piece
+          // answers): another triangle's later hit must not carry the piece through it. Else the
+          // earliest hit; a touched triangle the piece moves away from stops nothing.
           const Sweep3 still = Sweep3::from_motion(Transform3{}, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
+          const Vec3 motion = sweep.c1 - sweep.c0;
+          const Transform3 at_start = sweep.at(0.0f);
           ToiResult3 best;
           best.status = QueryStatus::separated;
           best.fraction = 1.0f;
-          bool have_overlap = false;
-          ToiResult3 overlap_result;
           for_each_triangle(*s, xb, box, [&](std::uint32_t, const std::array<Vec3, 3>& c) -> bool {
             ++queries;
-            const ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(Triangle{c}), still);
+            const Triangle triangle{c};
+            ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(triangle), still);
             if (r.status == QueryStatus::overlapped) {
-              if (!have_overlap) overlap_result = r;
-              have_overlap = true;
+              if (r.normal == Vec3(0.0f)) {
+                const PlacedTriangle placed = placed_triangle(c);
+                r.normal = overlap_normal(a, at_start, placed.shape, placed.xf);
+              }
+              if (dot(motion, r.normal) > 0.0f) {
+                best = r;
+                return false;  // nothing is earlier
+              }
             } else if ((r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) &&
                        r.fraction < best.fraction) {
               best = r;
             }
             return true;
           });
-          if (best.status == QueryStatus::hit || best.status == QueryStatus::max_iterations) return best;
-          return have_overlap ? overlap_result : best;
+          return best;
         } else {
           const Sweep3 still = Sweep3::from_motion(xb, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
           ++queries;
-          return time_of_impact(proxy_a, sweep, ConvexProxy3(s), still);
+          ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(s), still);
+          if (r.status == QueryStatus::overlapped && r.normal == Vec3(0.0f)) {
+            r.normal = overlap_normal(a, sweep.at(0.0f), s, xb);
+          }
+          return r;
         }
       },
       b);
