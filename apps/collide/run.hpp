@@ -38,6 +38,13 @@ struct RunOptions {
   /// Tiled maps: the tile and object layers that collide (TiledLoadOptions::layers); empty: the
   /// map's own declarations decide. Refused for other scenes.
   std::vector<std::string> layers;
+  /// 3D (an OBJ level, or --3d for the embedded 3D scene): characters walking the floors with
+  /// move_character; -1: the scene's own count.
+  int characters = -1;
+  /// The embedded 3D scene (--3d) when no input is given.
+  bool three_d = false;
+  /// 3D: the bodies' gravity, world units per second squared along -y (0: none).
+  float gravity = 0.0f;
 };
 
 /// A scene built into a world, ready to run.
@@ -77,11 +84,36 @@ struct RunReport {
   int laser_last_segments = 0;
   std::uint64_t state_hash = 0;
   std::int64_t events_written = 0;
+  /// 3D: character moves that ended inside static geometry (the check; must be 0).
+  std::int64_t characters_inside = 0;
 };
 
 /// Runs `options`: builds the scene, steps it `frames` times with the laser cast each frame,
 /// writes events and pictures when asked, and prints the summary to `out` (none when null).
-/// Throws InvalidInput for bad options or input files (naming them).
+/// Throws InvalidInput for bad options or input files (naming them). A 3D input (an OBJ level,
+/// or --3d) goes to run_world3d.
 RunReport run_world(const RunOptions& options, std::FILE* out);
+
+/// True when `options` asks for a 3D run: --3d, or an .obj input.
+[[nodiscard]] bool is_3d_run(const RunOptions& options);
+
+/// The characters' numbers of a 3D run.
+struct CharacterReport {
+  int characters = 0;
+  std::int64_t moves = 0;          ///< move_character calls (characters x frames)
+  std::int64_t blocked = 0;        ///< moves cut short
+  std::int64_t airborne = 0;       ///< moves ending off the ground
+  std::int64_t steps = 0;          ///< moves that climbed a step
+  std::int64_t pushed_out = 0;     ///< moves that started inside geometry (a body pushed it)
+  float max_penetration = 0.0f;    ///< deepest overlap with a static after any move (the check)
+  std::int64_t inside = 0;         ///< moves ending deeper than the tunnelling tolerance: must be 0
+  double seconds = 0.0;            ///< time in move_character
+};
+
+/// Runs a 3D scene: the level (an OBJ file, y up: its triangles one static mesh) or the
+/// embedded 3D scene, bodies spawned in its free space (some of them bullets), characters
+/// wandering its floors, a laser with reflections; the same options, checks and summary as the
+/// 2D run, plus the characters' numbers. `characters` receives them when not null.
+RunReport run_world3d(const RunOptions& options, std::FILE* out, CharacterReport* characters = nullptr);
 
 }  // namespace collide::cli

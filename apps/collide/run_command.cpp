@@ -239,6 +239,9 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
 }  // namespace
 
 RunReport run_world(const RunOptions& o, std::FILE* out) {
+  if (is_3d_run(o)) return run_world3d(o, out);
+  if (o.characters >= 0) throw InvalidInput("--characters: a 3D run's (an OBJ level, or --3d)");
+  if (o.gravity != 0.0f) throw InvalidInput("--gravity: a 3D run's (an OBJ level, or --3d)");
   if (o.frames < 0) throw InvalidInput("--frames: negative");
   if (!std::isfinite(o.dt) || o.dt <= 0.0f) throw InvalidInput("--dt: must be positive and finite");
   if (!o.png.empty()) require_output_folder("--png", o.png);  // before the run, not after it
@@ -303,10 +306,11 @@ void register_run_command(CLI::App& app) {
   auto fixed_order = std::make_shared<bool>(false);
   auto quiet = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand(
-      "run", "Run a collision world: the embedded default scene, the bullets scene, a Tiled map or a scene JSON file");
+      "run", "Run a collision world: the embedded default scene, the bullets scene, a Tiled map, a scene JSON file, "
+             "an OBJ level (3D) or the embedded 3D scene (--3d)");
   cmd->add_option("SCENE", o->input,
-                  "Tiled map (.tmx, .tmj, .json), scene JSON file (.json, see docs/scene-json.md) or embedded "
-                  "scene (default, bullets); default: default");
+                  "Tiled map (.tmx, .tmj, .json), scene JSON file (.json, see docs/scene-json.md), OBJ level (.obj, 3D, "
+                  "y up) or embedded scene (default, bullets); default: default");
   cmd->add_option("--bodies", o->bodies,
                   "Bodies to spawn (default scene 3000, bullets 500, maps 300, scene files their spawn count)")
       ->check(CLI::Range(0, 1000000));
@@ -330,6 +334,12 @@ void register_run_command(CLI::App& app) {
       ->delimiter(',')
       ->allow_extra_args(false);  // --layers a,b MAP: MAP is the scene, not a third layer
   cmd->add_flag("--no-progress", *quiet, "No progress bar (it is drawn only when stderr is a terminal)");
+  cmd->add_flag("--3d", o->three_d, "Run the embedded 3D scene (a SCENE ending in .obj is a 3D level)");
+  cmd->add_option("--characters", o->characters,
+                  "3D: characters walking the floors with move_character (default 8)")
+      ->check(CLI::Range(0, 100000));
+  cmd->add_option("--gravity", o->gravity, "3D: the bodies' gravity along -y, world units per second squared (default 0)")
+      ->check(CLI::Range(-1e6, 1e6));
   cmd->callback([o, broad, fixed_order, quiet, seed]() {
     const int code = run_guarded("run", o->input.empty() ? "default" : o->input, [&] {
       o->seed_given = seed->count() > 0;
@@ -337,9 +347,10 @@ void register_run_command(CLI::App& app) {
       o->adaptive_early_out = !*fixed_order;
       o->progress = !*quiet;
       const RunReport r = run_world(*o, stdout);
-      if (r.total.tunnelled != 0 || r.total.escaped != 0) {
-        std::fprintf(stderr, "collide run: the independent check failed (%lld tunnelled, %lld escaped)\n",
-                     static_cast<long long>(r.total.tunnelled), static_cast<long long>(r.total.escaped));
+      if (r.total.tunnelled != 0 || r.total.escaped != 0 || r.characters_inside != 0) {
+        std::fprintf(stderr, "collide run: the independent check failed (%lld tunnelled, %lld escaped, %lld character moves inside)\n",
+                     static_cast<long long>(r.total.tunnelled), static_cast<long long>(r.total.escaped),
+                     static_cast<long long>(r.characters_inside));
         return 3;
       }
       return 0;
