@@ -1,35 +1,54 @@
-// World2D drawn through the DebugDraw interface (2D): statics, bodies, contacts, lasers.
+// The world drawn through the debug-draw interface of its dimension (DebugDraw, DebugDraw3):
+// statics, bodies, contacts, lasers.
 
 #include "world_impl.hpp"
 
 #include <collide/world/world2d.hpp>
+#include <collide/world/world3d.hpp>
 
 #include <collide/shape/draw_shape.hpp>
 
 #include <algorithm>
+#include <memory>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace collide {
 
 template <int D>
-void WorldN<D>::draw(DebugDraw& draw, const WorldDrawOptions& options) const
-  requires(D == 2)
-{
+void WorldN<D>::draw(DebugDrawN<D>& draw, const WorldDrawOptions& options) const {
   const Impl& w = *impl_;
   if (options.statics) {
-    for (const StaticDef& st : w.statics) {
+    for (const StaticDefN<D>& st : w.statics) {
       const DrawRole role = st.sensor ? DrawRole::sensor : DrawRole::static_geometry;
-      for (const Shape2D& s : st.shapes) draw_shape(draw, s, st.transform, role);
+      for (const StaticShape& s : st.shapes) {
+        if constexpr (D == 2) {
+          draw_shape(draw, s, st.transform, role);
+        } else {
+          std::visit(
+              [&](const auto& shape) {
+                using S = std::decay_t<decltype(shape)>;
+                if constexpr (std::is_same_v<S, std::shared_ptr<const TriangleMesh>> ||
+                              std::is_same_v<S, std::shared_ptr<const HeightField>>) {
+                  if (shape != nullptr) draw_shape(draw, *shape, st.transform, role);
+                } else {
+                  draw_shape(draw, Shape3D(shape), st.transform, role);
+                }
+              },
+              s);
+        }
+      }
     }
   }
   std::vector<float> sizes;
   if (options.bodies) {
-    for (const detail::BodyN<2>& b : w.bodies) {
+    for (const detail::BodyN<D>& b : w.bodies) {
       if (!b.alive) continue;
       const DrawRole role = b.sensor                  ? DrawRole::sensor
                             : b.bullet || b.very_fast ? DrawRole::fast_body
                                                       : DrawRole::body;
-      for (const Shape2D& s : b.shapes) draw_shape(draw, s, b.xf, role);
+      for (const BodyShape& s : b.shapes) draw_shape(draw, s, b.xf, role);
       sizes.push_back(b.bounding_radius);
     }
   }
@@ -43,9 +62,9 @@ void WorldN<D>::draw(DebugDraw& draw, const WorldDrawOptions& options) const
         length = 1.0f;
       }
     }
-    for (const Contact& c : w.previous_contacts) {
-      const Manifold& m = c.manifold;
-      Vec2 mid{0.0f, 0.0f};
+    for (const ContactN<D>& c : w.previous_contacts) {
+      const ManifoldN<D>& m = c.manifold;
+      Vec mid(0.0f);
       for (int i = 0; i < m.count; ++i) {
         draw.draw_point(m.points[i].point, DrawRole::contact_point);
         mid += m.points[i].point;
@@ -59,9 +78,7 @@ void WorldN<D>::draw(DebugDraw& draw, const WorldDrawOptions& options) const
 }
 
 template <int D>
-void WorldN<D>::draw_laser(DebugDraw& draw, const LaserPathN<D>& path)
-  requires(D == 2)
-{
+void WorldN<D>::draw_laser(DebugDrawN<D>& draw, const LaserPathN<D>& path) {
   for (int i = 0; i < path.segments; ++i) {
     draw.draw_segment(path.points[i], path.points[i + 1], DrawRole::laser);
   }
@@ -70,5 +87,7 @@ void WorldN<D>::draw_laser(DebugDraw& draw, const LaserPathN<D>& path)
 
 template void WorldN<2>::draw(DebugDraw&, const WorldDrawOptions&) const;
 template void WorldN<2>::draw_laser(DebugDraw&, const LaserPathN<2>&);
+template void WorldN<3>::draw(DebugDraw3&, const WorldDrawOptions&) const;
+template void WorldN<3>::draw_laser(DebugDraw3&, const LaserPathN<3>&);
 
 }  // namespace collide

@@ -4,6 +4,7 @@
 // by one) with the library's pairwise functions.
 #include <collide/ccd/raycast.hpp>
 #include <collide/ccd/shape_cast.hpp>
+#include <collide/core/debug_draw.hpp>
 #include <collide/core/error.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/contact.hpp>
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -222,6 +224,51 @@ TEST(World3DStep, BallBouncesOffAFloorMeshWithEventsNamingItsTriangle) {
   EXPECT_EQ(ends, 1);
   EXPECT_GE(lowest, 0.5f - 1e-3f);           // never through the floor
   EXPECT_GT(world.velocity(ball).y, 2.9f);   // bounced: going up at the speed it came down
+}
+
+// World3D::draw and draw_laser through DebugDraw3: the level's triangles, each body's solid in
+// its role, and one point per contact point and one normal arrow per touching pair of the last
+// step; the laser's segments and hits.
+TEST(World3DDraw, DrawsTheLevelBodiesContactsAndLaser) {
+  struct Counter final : DebugDraw3 {
+    std::map<DrawRole, int> triangles, segments, arrows, points;
+    void draw_triangle(const Vec3&, const Vec3&, const Vec3&, DrawRole r) override { ++triangles[r]; }
+    void draw_segment(const Vec3&, const Vec3&, DrawRole r) override { ++segments[r]; }
+    void draw_arrow(const Vec3& from, const Vec3& to, DrawRole r) override {
+      ++arrows[r];
+      EXPECT_NEAR(length(to - from), 0.25f, 1e-4f);  // WorldDrawOptions::normal_length
+    }
+    void draw_point(const Vec3&, DrawRole r) override { ++points[r]; }
+  };
+  World3D world;
+  world.add_static({.shapes = {floor_mesh(5.0f)}, .user_id = 1});
+  world.add_static({.shapes = {make_box(Vec3(0.5f))}, .transform = Transform3{Vec3(3.0f, 0.5f, 0.0f)}});
+  world.add_body({.shapes = {make_sphere(Vec3(0.0f), 0.5f)}, .transform = Transform3{Vec3(0.0f, 0.45f, 0.0f)}});
+  world.add_body({.shapes = {make_box(Vec3(0.3f))}, .transform = Transform3{Vec3(-2.0f, 2.0f, 0.0f)},
+                  .velocity = Vec3(0.0f, 0.0f, 1.0f), .bullet = true});
+  world.step(kDt);
+  ASSERT_GT(world.contacts().size(), 0u);
+  int points = 0, pairs = 0;
+  for (const Contact3& c : world.contacts()) {
+    points += c.manifold.count;
+    pairs += c.manifold.count > 0 ? 1 : 0;
+  }
+  Counter draw;
+  world.draw(draw, WorldDrawOptions{.normal_length = 0.25f});
+  EXPECT_EQ(draw.triangles[DrawRole::static_geometry], 2 + 12);  // the floor mesh and the box
+  EXPECT_GT(draw.triangles[DrawRole::body], 12);                  // the sphere, tessellated
+  EXPECT_EQ(draw.triangles[DrawRole::fast_body], 12);             // the bullet box
+  EXPECT_EQ(draw.points[DrawRole::contact_point], points);
+  EXPECT_EQ(draw.arrows[DrawRole::contact_normal], pairs);
+  Counter none;
+  world.draw(none, WorldDrawOptions{.statics = false, .bodies = false, .contacts = false});
+  EXPECT_TRUE(none.triangles.empty() && none.points.empty() && none.arrows.empty());
+  const LaserPath3 laser = world.cast_laser(Ray3{Vec3(-4.0f, 3.0f, 0.0f), Vec3(6.0f, -4.0f, 0.0f)}, 4, QueryFilter{.bodies = false});
+  ASSERT_GT(laser.hit_count, 0);
+  Counter l;
+  World3D::draw_laser(l, laser);
+  EXPECT_EQ(l.segments[DrawRole::laser], laser.segments);
+  EXPECT_EQ(l.points[DrawRole::laser_hit], laser.hit_count);
 }
 
 TEST(World3DStep, GravityPullsAndTheFloorHoldsBodiesUp) {

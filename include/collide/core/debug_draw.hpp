@@ -17,6 +17,7 @@
 
 #include <span>
 #include <string_view>
+#include <type_traits>
 
 namespace collide {
 
@@ -67,5 +68,28 @@ class DebugDraw {
   /// A short caption at world point `at` (renderers that cannot draw text may ignore it).
   virtual void draw_label(Vec2 at, std::string_view text, DrawRole role) = 0;
 };
+
+/// A renderer of 3D debug geometry, the 3D counterpart of DebugDraw (Jolt's DebugRenderer has
+/// the same few calls). All coordinates are world space, world units. Solids come as triangles
+/// (shape/draw_shape.hpp tessellates spheres, capsules, boxes, hulls and levels), which a
+/// renderer shades on both sides; segments, arrows and points are strokes and dots of the
+/// renderer's chosen width. Calls may come in any number and order.
+class DebugDraw3 {
+ public:
+  virtual ~DebugDraw3() = default;
+
+  /// A solid triangle, either winding.
+  virtual void draw_triangle(const Vec3& a, const Vec3& b, const Vec3& c, DrawRole role) = 0;
+  /// A line segment (a ray, a path piece).
+  virtual void draw_segment(const Vec3& a, const Vec3& b, DrawRole role) = 0;
+  /// An arrow from `from` to `to` (a normal, a velocity).
+  virtual void draw_arrow(const Vec3& from, const Vec3& to, DrawRole role) = 0;
+  /// A dot at `p` (a contact point, a hit).
+  virtual void draw_point(const Vec3& p, DrawRole role) = 0;
+};
+
+/// The debug-draw interface of D dimensions: DebugDraw (2D) or DebugDraw3.
+template <int D>
+using DebugDrawN = std::conditional_t<D == 2, DebugDraw, DebugDraw3>;
 
 }  // namespace collide

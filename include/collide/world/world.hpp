@@ -391,7 +391,7 @@ using ColliderCallback = FunctionRef<bool(const ColliderRef&)>;
 template <int D>
 using ContactCallbackN = FunctionRef<bool(const ColliderRef&, const ManifoldN<D>&)>;
 
-/// What `draw` includes (2D).
+/// What `draw` includes.
 struct WorldDrawOptions {
   bool statics = true;
   bool bodies = true;
@@ -518,12 +518,11 @@ class WorldN {
   [[nodiscard]] WorldCastHitN<D> ground_check(BodyId id, Vec down) const;
 
   /// Draws statics, bodies (bullets, and bodies whose last step was longer than their own size,
-  /// as DrawRole::fast_body) and the last step's contacts.
-  void draw(DebugDraw& draw, const WorldDrawOptions& options = {}) const
-    requires(D == 2);
+  /// as DrawRole::fast_body) and the last step's contacts (points, and a normal arrow from each
+  /// manifold's centre). 3D: every shape as triangles (draw_shape), levels too.
+  void draw(DebugDrawN<D>& draw, const WorldDrawOptions& options = {}) const;
   /// Draws a laser path (segments as DrawRole::laser, hit points as DrawRole::laser_hit).
-  static void draw_laser(DebugDraw& draw, const LaserPathN<D>& path)
-    requires(D == 2);
+  static void draw_laser(DebugDrawN<D>& draw, const LaserPathN<D>& path);
 
   /// A hash of every body's transform and velocities (bit patterns, in index order): equal
   /// hashes mean equal states. FNV-1a, 64 bits.
