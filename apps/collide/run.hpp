@@ -45,6 +45,9 @@ struct RunOptions {
   bool three_d = false;
   /// 3D: the bodies' gravity, world units per second squared along -y (0: none).
   float gravity = 0.0f;
+  /// 3D: the camera of --png, "AZIMUTH,ELEVATION[,ZOOM]" in degrees or a name (iso, top,
+  /// front, side); empty: iso.
+  std::string view;
 };
 
 /// A scene built into a world, ready to run.

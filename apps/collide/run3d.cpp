@@ -10,8 +10,10 @@
 
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
+#include <collide/draw/view3d.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/contact.hpp>
+#include <collide/shape/draw_shape.hpp>
 #include <collide/shape/height_field.hpp>
 #include <collide/world/character.hpp>
 #include <collide/world/world3d.hpp>
@@ -28,6 +30,7 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -50,6 +53,8 @@ constexpr int kDefaultSceneBodies = 500;
 constexpr int kDefaultCharacters = 8;
 /// Attempts per body (or character) to find a free place before the run says how many fit.
 constexpr int kSpawnAttempts = 60;
+/// Surfaces a vertical line is followed through to find a character's floor (storeys).
+constexpr int kFloorLayers = 16;
 /// A body's size (the radius of its bounding sphere, about) against the level's box diagonal:
 /// a level of any scale gets bodies that fit its rooms.
 constexpr float kBodySizeFraction = 0.004f;
@@ -67,6 +72,18 @@ constexpr int kTurnFrames = 120;
 /// Characters fall with this gravity, in character heights per second squared (9.81 m/s^2 for
 /// a 1.8 m character, about).
 constexpr float kCharacterGravity = 5.5f;
+/// The picture: each character's trail holds its position every kTrailEvery frames, the last
+/// kTrailPoints of them.
+constexpr int kTrailEvery = 4;
+constexpr std::size_t kTrailPoints = 150;
+/// The pictures cut the level this many character heights above the characters' feet (an OBJ
+/// level's roofs would hide its rooms); the close-up always, the whole level for OBJ levels.
+constexpr float kCutHeight = 1.6f;
+/// Contact normals are drawn this many body sizes long.
+constexpr float kNormalLength = 2.0f;
+/// The close-up frames a box reaching this many character heights (or four body sizes, if
+/// larger) from its centre.
+constexpr float kCloseUpReach = 2.0f;
 /// Bodies or characters farther than this many level diagonals from the level have left it
 /// (an open level: over its edges); they are counted and taken out.
 constexpr float kLeftLevelDiagonals = 0.5f;
@@ -100,7 +117,52 @@ struct Character {
   Transform3 xf;
   Vec3 velocity{0.0f};
   float heading = 0.0f;
+  std::vector<Vec3> trail;  ///< recent positions, oldest first (the picture's paths)
+  bool grounded = false;    ///< the last move ended on the ground
 };
+
+/// A camera direction and zoom (--view).
+struct ViewAngles {
+  float azimuth = 0.0f;    ///< radians
+  float elevation = 0.0f;  ///< radians
+  float zoom = 1.0f;
+};
+
+/// Parses --view: a name, or "AZIMUTH,ELEVATION[,ZOOM]" in degrees. Throws InvalidInput naming
+/// the option and what is wrong.
+ViewAngles parse_view(const std::string& text) {
+  const float deg = std::numbers::pi_v<float> / 180.0f;
+  const std::string name = text.empty() ? "iso" : text;
+  if (name == "iso") return {35.0f * deg, 30.0f * deg, 1.0f};
+  if (name == "top") return {0.0f, 90.0f * deg, 1.0f};
+  if (name == "front") return {0.0f, 12.0f * deg, 1.0f};
+  if (name == "side") return {90.0f * deg, 12.0f * deg, 1.0f};
+  std::vector<float> values;
+  std::size_t start = 0;
+  while (start <= name.size()) {
+    const std::size_t comma = std::min(name.find(',', start), name.size());
+    const std::string part = name.substr(start, comma - start);
+    std::size_t used = 0;
+    float v = 0.0f;
+    try {
+      v = std::stof(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size() || !std::isfinite(v)) {
+      throw InvalidInput("--view " + text + ": '" + part + "' is not a number (AZIMUTH,ELEVATION[,ZOOM] in degrees, or iso, top, front, side)");
+    }
+    values.push_back(v);
+    start = comma + 1;
+  }
+  if (values.size() < 2 || values.size() > 3) {
+    throw InvalidInput("--view " + text + ": two or three numbers (AZIMUTH,ELEVATION[,ZOOM] in degrees), or iso, top, front, side");
+  }
+  if (std::fabs(values[1]) > 90.0f) throw InvalidInput("--view " + text + ": elevation outside [-90, 90] degrees");
+  const float zoom = values.size() == 3 ? values[2] : 1.0f;
+  if (!(zoom > 0.0f)) throw InvalidInput("--view " + text + ": zoom must be positive");
+  return {values[0] * deg, values[1] * deg, zoom};
+}
 
 struct Scene3D {
   std::string name;
@@ -235,17 +297,29 @@ Shape3D character_shape(const Scene3D& s) {
   return make_capsule(Vec3(0, -h, 0), Vec3(0, h, 0), r);
 }
 
-/// A free place standing on walkable floor: a ray down from above the level at a random x, z.
+/// A free place standing on walkable floor: along a vertical line at a random x, z, the lowest
+/// walkable surface with room to stand (a level's rooms, not its roofs), surfaces found by rays
+/// down from above the level, each starting just under the last hit.
 bool place_on_floor(const Scene3D& s, const Shape3D& shape, std::mt19937& rng, Transform3& xf) {
   const Vec3 lo = s.level.min, hi = s.level.max;
   const auto& capsule = std::get<Capsule3>(shape);
   const float stand = capsule.b.y + capsule.radius + 0.02f * s.character_height;
+  const float below = 1e-3f * s.character_height;  // the next ray starts this far under a hit
+  const float walkable = std::cos(CharacterSettings3{}.max_slope);
   for (int attempt = 0; attempt < kSpawnAttempts; ++attempt) {
-    const Vec3 top(uniform(rng, lo.x, hi.x), hi.y - 1e-3f * (hi.y - lo.y), uniform(rng, lo.z, hi.z));
-    const auto hit = s.world.raycast(Ray3{top, Vec3(0.0f, lo.y - top.y, 0.0f)}, QueryFilter{.bodies = false});
-    if (!hit || hit->hit.normal.y < std::cos(CharacterSettings3{}.max_slope)) continue;
-    xf = Transform3{hit->hit.point + Vec3(0.0f, stand, 0.0f)};
-    if (free_at(s.world, shape, xf)) return true;
+    Vec3 from(uniform(rng, lo.x, hi.x), hi.y - 1e-3f * (hi.y - lo.y), uniform(rng, lo.z, hi.z));
+    std::optional<Transform3> lowest;
+    for (int layer = 0; layer < kFloorLayers && from.y > lo.y; ++layer) {
+      const auto hit = s.world.raycast(Ray3{from, Vec3(0.0f, lo.y - from.y, 0.0f)}, QueryFilter{.bodies = false});
+      if (!hit) break;
+      const Transform3 at{hit->hit.point + Vec3(0.0f, stand, 0.0f)};
+      if (hit->hit.normal.y >= walkable && free_at(s.world, shape, at)) lowest = at;
+      from = hit->hit.point - Vec3(0.0f, below, 0.0f);
+    }
+    if (lowest) {
+      xf = *lowest;
+      return true;
+    }
   }
   return false;
 }
@@ -283,11 +357,17 @@ Scene3D make_scene3d(const RunOptions& o) {
     Character c{shape, {}, Vec3(0.0f), uniform(rng, 0.0f, 2.0f * std::numbers::pi_v<float>)};
     if (place_on_floor(s, shape, rng, c.xf)) s.characters.push_back(c);
   }
-  // The laser: from high in the level's middle, down and along x, sweeping.
+  // The laser: in the embedded room from high in its middle, down and along x; in a level from
+  // a character's head height, nearly level (along its rooms); sweeping.
   const Vec3 centre = 0.5f * (s.level.min + s.level.max);
   const float diagonal = length(s.level.max - s.level.min);
-  s.laser = Ray3{Vec3(centre.x, s.level.min.y + 0.7f * (s.level.max.y - s.level.min.y), centre.z),
-                 2.0f * diagonal * normalize(Vec3(1.0f, -0.35f, 0.4f))};
+  if (s.closed || s.characters.empty()) {
+    s.laser = Ray3{Vec3(centre.x, s.level.min.y + 0.7f * (s.level.max.y - s.level.min.y), centre.z),
+                   2.0f * diagonal * normalize(Vec3(1.0f, -0.35f, 0.4f))};
+  } else {
+    s.laser = Ray3{s.characters.front().xf.p + Vec3(0.0f, 0.3f * s.character_height, 0.0f),
+                   2.0f * diagonal * normalize(Vec3(1.0f, -0.06f, 0.4f))};
+  }
   return s;
 }
 
@@ -308,6 +388,70 @@ nlohmann::json event_json3(int frame, const ContactEvent3& e) {
 
 double per_frame(std::int64_t total, int frames) { return frames > 0 ? static_cast<double>(total) / frames : 0.0; }
 double ms_per_frame(double seconds, int frames) { return frames > 0 ? 1e3 * seconds / frames : 0.0; }
+
+/// The picture of the last frame (--png): the whole level and a close-up of the first
+/// character (else of the median contact, else of the laser's first hit), the level shaded and
+/// cut away where it faces away from the camera, bodies, characters and their trails, the last
+/// step's contacts with their normals, and the laser's path.
+void write_picture3(const RunOptions& o, const Scene3D& s, const World3D& world, const LaserPath3& laser,
+                    const ViewAngles& angles, int frames) {
+  Picture3D picture;
+  picture.set_role_name(DrawRole::highlight, "character");
+  picture.set_role_name(DrawRole::path, "character path");
+  picture.set_role_name(DrawRole::static_geometry, "level");
+  world.draw(picture, WorldDrawOptions{.normal_length = kNormalLength * s.body_size});
+  World3D::draw_laser(picture, laser);
+  for (const Character& c : s.characters) {
+    draw_shape(picture, c.shape, c.xf, DrawRole::highlight);
+    for (std::size_t i = 1; i < c.trail.size(); ++i) picture.draw_segment(c.trail[i - 1], c.trail[i], DrawRole::path);
+    if (!c.trail.empty()) picture.draw_segment(c.trail.back(), c.xf.p, DrawRole::path);
+  }
+  // The close-up's centre: the grounded character with the longest trail, else the median
+  // contact, else the laser's first hit.
+  Vec3 center = 0.5f * (s.level.min + s.level.max);
+  std::string what = "the level's centre";
+  std::optional<float> cut;  // the close-up's section height
+  const Character* shown = nullptr;
+  for (const Character& c : s.characters) {
+    if (c.grounded && (shown == nullptr || c.trail.size() > shown->trail.size())) shown = &c;
+  }
+  std::vector<Vec3> spots;
+  for (const Contact3& c : world.contacts()) {
+    if (c.manifold.count > 0) spots.push_back(c.manifold.points[0].point);
+  }
+  if (shown != nullptr) {
+    center = shown->xf.p;
+    what = "character " + std::to_string(shown - s.characters.data() + 1);
+    cut = center.y - 0.5f * s.character_height + kCutHeight * s.character_height;
+  } else if (!spots.empty()) {
+    auto mid = spots.begin() + static_cast<std::ptrdiff_t>(spots.size() / 2);
+    std::nth_element(spots.begin(), mid, spots.end(), [](Vec3 a, Vec3 b) { return a.x < b.x; });
+    center = *mid;
+    what = "the median contact";
+  } else if (laser.hit_count > 0) {
+    center = laser.hits[0].hit.point;
+    what = "the laser's first hit";
+  }
+  // The whole level of an OBJ file is cut above its highest grounded character.
+  std::optional<float> whole_cut;
+  if (!s.closed) {
+    for (const Character& c : s.characters) {
+      if (!c.grounded) continue;
+      const float h = c.xf.p.y - 0.5f * s.character_height + kCutHeight * s.character_height;
+      whole_cut = whole_cut ? std::max(*whole_cut, h) : h;
+    }
+  }
+  const Camera3 whole = camera_framing(s.level, angles.azimuth, angles.elevation, angles.zoom);
+  // The close-up looks the same way, at a box a few characters (or bodies) wide.
+  const float reach = kCloseUpReach * std::max(s.character_height, 4.0f * s.body_size);
+  const Camera3 close = camera_framing(Aabb3{center - Vec3(reach), center + Vec3(reach)}, angles.azimuth, angles.elevation);
+  char title[256];
+  std::snprintf(title, sizeof title, "collide run: %s, frame %d: %d bodies, %zu characters", s.name.c_str(), frames,
+                world.body_count(), s.characters.size());
+  picture.write_png(o.png, {{whole, whole_cut ? "whole level, cut above the characters" : "whole level", whole_cut},
+                            {close, "close-up: " + what + (cut ? ", level cut above" : ""), cut}},
+                    View3DOptions{.width = o.picture_width, .title = title});
+}
 
 void print_summary3(std::FILE* out, const RunOptions& o, const Scene3D& s, const RunReport& r,
                     const CharacterReport& c, std::int64_t left) {
@@ -369,6 +513,7 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
   if (!std::isfinite(o.gravity)) throw InvalidInput("--gravity: not finite");
   if (!o.svg.empty()) throw InvalidInput("--svg: a 3D run draws PNG pictures only (--png)");
   if (!o.png.empty()) require_output_folder("--png", o.png);
+  const ViewAngles angles = parse_view(o.view);  // before the run, not after it
   Scene3D s = make_scene3d(o);
   World3D& world = s.world;
   std::ofstream events;
@@ -417,7 +562,12 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
       ch.velocity.y -= gravity * o.dt;
       const CharacterMove3 m = move_character(world, ch.shape, ch.xf, ch.velocity * o.dt, settings);
       ch.xf = m.transform;
+      if (frame % kTrailEvery == 0) {
+        if (ch.trail.size() == kTrailPoints) ch.trail.erase(ch.trail.begin());
+        ch.trail.push_back(ch.xf.p);
+      }
       ++c.moves;
+      ch.grounded = m.grounded;
       if (m.grounded) ch.velocity.y = 0.0f;
       c.airborne += !m.grounded;
       c.steps += m.stepped;
@@ -438,6 +588,7 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
         std::mt19937 rng(s.seed + 3 + static_cast<std::uint32_t>(frame) * 131u + static_cast<std::uint32_t>(k));
         if (!place_on_floor(s, ch.shape, rng, ch.xf)) ch.xf = Transform3{0.5f * (s.level.min + s.level.max)};
         ch.velocity = Vec3(0.0f);
+        ch.trail.clear();
       }
     }
     c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -477,6 +628,7 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
   }
   r.state_hash = h;
   r.characters_inside = c.inside;
+  if (!o.png.empty()) write_picture3(o, s, world, laser, angles, o.frames);
   if (out != nullptr) print_summary3(out, o, s, r, c, left);
   if (characters_out != nullptr) *characters_out = c;
   return r;

@@ -242,6 +242,7 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   if (is_3d_run(o)) return run_world3d(o, out);
   if (o.characters >= 0) throw InvalidInput("--characters: a 3D run's (an OBJ level, or --3d)");
   if (o.gravity != 0.0f) throw InvalidInput("--gravity: a 3D run's (an OBJ level, or --3d)");
+  if (!o.view.empty()) throw InvalidInput("--view: a 3D run's (an OBJ level, or --3d)");
   if (o.frames < 0) throw InvalidInput("--frames: negative");
   if (!std::isfinite(o.dt) || o.dt <= 0.0f) throw InvalidInput("--dt: must be positive and finite");
   if (!o.png.empty()) require_output_folder("--png", o.png);  // before the run, not after it
@@ -340,6 +341,9 @@ void register_run_command(CLI::App& app) {
       ->check(CLI::Range(0, 100000));
   cmd->add_option("--gravity", o->gravity, "3D: the bodies' gravity along -y, world units per second squared (default 0)")
       ->check(CLI::Range(-1e6, 1e6));
+  cmd->add_option("--view", o->view,
+                  "3D: the camera of --png: AZIMUTH,ELEVATION[,ZOOM] in degrees (azimuth about +y from +z, "
+                  "elevation above the floor, zoom > 1 closer) or iso, top, front, side (default iso)");
   cmd->callback([o, broad, fixed_order, quiet, seed]() {
     const int code = run_guarded("run", o->input.empty() ? "default" : o->input, [&] {
       o->seed_given = seed->count() > 0;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -304,6 +305,40 @@ TEST(RunCommand3D, SummaryAndEventsEndToEnd) {
   const CommandRun obj = run_cli("run " + level + " --bodies 60 --frames 30");
   ASSERT_EQ(obj.status, 0) << obj.output;
   EXPECT_NE(obj.output.find("(3D)"), std::string::npos) << obj.output;
+}
+
+// --png in 3D: a PNG of the asked width, from any camera --view names; a view that is no
+// camera is refused before the run.
+TEST(RunCommand3D, PictureOfTheLastFrame) {
+  for (const char* view : {"", "top", "side", "20,40,1.5", "-135,-10"}) {
+    SCOPED_TRACE(view);
+    const std::string png = ::testing::TempDir() + "collide_run3d.png";
+    std::remove(png.c_str());
+    const std::string v = *view != 0 ? std::string(" --view ") + view : std::string();
+    const CommandRun r = run_cli("run --3d --bodies 80 --frames 20 --characters 3 --width 700 --png " + png + v);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(png, std::ios::binary);
+    std::array<unsigned char, 24> head{};
+    in.read(reinterpret_cast<char*>(head.data()), head.size());
+    ASSERT_TRUE(in.good()) << png;
+    EXPECT_EQ(std::string(head.begin() + 1, head.begin() + 4), "PNG");
+    EXPECT_EQ((head[16] << 24) | (head[17] << 16) | (head[18] << 8) | head[19], 700);  // IHDR width
+  }
+  // An OBJ level too.
+  const std::string level = write_level("collide_level_png.obj", Vec3(0.0f), false);
+  const std::string png = ::testing::TempDir() + "collide_run3d_level.png";
+  const CommandRun obj = run_cli("run " + level + " --bodies 60 --frames 20 --png " + png);
+  ASSERT_EQ(obj.status, 0) << obj.output;
+  EXPECT_TRUE(std::ifstream(png).good());
+  for (const char* bad : {"abc", "10", "10,100", "10,20,0", "10,20,30,40", "10,,20"}) {
+    SCOPED_TRACE(bad);
+    const CommandRun r = run_cli(std::string("run --3d --frames 1 --bodies 5 --view ") + bad + " --png " + png);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("--view"), std::string::npos) << r.output;
+  }
+  const CommandRun two_d = run_cli("run --frames 1 --view top");
+  EXPECT_NE(two_d.status, 0);
+  EXPECT_NE(two_d.output.find("--view"), std::string::npos) << two_d.output;
 }
 
 TEST(RunCommand3D, BadArgumentsFailWithAMessage) {

@@ -1,0 +1,267 @@
+// 3D pictures (draw/view3d): the camera's projection against the pinhole formula, framing that
+// keeps a box in view and no farther than needed, and renders read back pixel by pixel: the
+// nearer solid wins whatever the drawing order, cutaway and sections drop what they should,
+// strokes behind a surface are faint, the legend names the roles drawn; bad options are errors.
+#include <collide/draw/palette.hpp>
+#include <collide/draw/view3d.hpp>
+
+#include <collide/core/error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+namespace collide {
+namespace {
+
+constexpr int kW = 320;
+constexpr int kH = 200;
+
+struct Rgb {
+  int r, g, b;
+};
+Rgb rgb(std::uint32_t argb) {
+  return {static_cast<int>((argb >> 16) & 0xffu), static_cast<int>((argb >> 8) & 0xffu), static_cast<int>(argb & 0xffu)};
+}
+
+/// A camera at +z looking at the origin, y up.
+Camera3 front_camera() {
+  Camera3 c;
+  c.eye = Vec3(0.0f, 0.0f, 10.0f);
+  c.target = Vec3(0.0f);
+  return c;
+}
+
+/// The pixel (picture coordinates) where a world point lands in the picture's only view.
+std::array<int, 2> pixel_of(const View3DImage& image, const Camera3& camera, Vec3 p) {
+  const auto& v = image.views.at(0);
+  const auto at = project(camera, v[2], v[3], p);
+  EXPECT_TRUE(at.has_value());
+  return {v[0] + static_cast<int>(at->pixel.x), v[1] + static_cast<int>(at->pixel.y)};
+}
+
+View3DOptions plain() {
+  View3DOptions o;
+  o.width = kW + 200;
+  o.view_height = kH;
+  o.legend = false;
+  return o;
+}
+
+/// A square of side 2 s in the plane z = z, counter-clockwise seen from +z.
+void square(Picture3D& p, float s, float z, DrawRole role, bool facing_plus_z = true) {
+  const Vec3 a(-s, -s, z), b(s, -s, z), c(s, s, z), d(-s, s, z);
+  if (facing_plus_z) {
+    p.draw_triangle(a, b, c, role);
+    p.draw_triangle(a, c, d, role);
+  } else {
+    p.draw_triangle(a, c, b, role);
+    p.draw_triangle(a, d, c, role);
+  }
+}
+
+TEST(View3D, ProjectionIsThePinholeFormula) {
+  const Camera3 c = front_camera();
+  const float focal = 0.5f * kH / std::tan(0.5f * c.fov_y);
+  const auto centre = project(c, kW, kH, Vec3(0.0f));
+  ASSERT_TRUE(centre);
+  EXPECT_NEAR(centre->pixel.x, 0.5f * kW, 1e-3f);
+  EXPECT_NEAR(centre->pixel.y, 0.5f * kH, 1e-3f);
+  EXPECT_NEAR(centre->depth, 10.0f, 1e-4f);
+  const auto p = project(c, kW, kH, Vec3(1.0f, 2.0f, 4.0f));  // depth 6
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->pixel.x, 0.5f * kW + focal * 1.0f / 6.0f, 1e-3f);  // right is +x
+  EXPECT_NEAR(p->pixel.y, 0.5f * kH - focal * 2.0f / 6.0f, 1e-3f);  // up is up the picture
+  EXPECT_NEAR(p->depth, 6.0f, 1e-4f);
+  EXPECT_FALSE(project(c, kW, kH, Vec3(0.0f, 0.0f, 11.0f)));  // behind the eye
+}
+
+TEST(View3D, FramingKeepsEveryCornerInViewAndComesAsCloseAsThat) {
+  const Aabb3 box{Vec3(-3.0f, 0.0f, -90.0f), Vec3(49.0f, 40.0f, 9.0f)};
+  for (const float az : {0.0f, 0.6f, 2.0f, -1.3f}) {
+    for (const float el : {0.1f, 0.6f, 1.2f, 0.5f * std::numbers::pi_v<float>}) {
+      for (const float aspect : {1.0f, 1.6f, 3.0f}) {
+        SCOPED_TRACE(std::to_string(az) + " " + std::to_string(el) + " " + std::to_string(aspect));
+        const Camera3 c = camera_framing(box, az, el, 1.0f, kDefaultFovY, aspect);
+        const int h = 400, w = static_cast<int>(aspect * h);
+        float slack = 1.0f;  // the smallest distance of a corner to the border, a fraction of the view
+        for (int i = 0; i < 8; ++i) {
+          const Vec3 corner{(i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y, (i & 4) ? box.max.z : box.min.z};
+          const auto p = project(c, w, h, corner);
+          ASSERT_TRUE(p);
+          EXPECT_GE(p->pixel.x, 0.0f);
+          EXPECT_LE(p->pixel.x, static_cast<float>(w));
+          EXPECT_GE(p->pixel.y, 0.0f);
+          EXPECT_LE(p->pixel.y, static_cast<float>(h));
+          slack = std::min({slack, p->pixel.x / w, 1.0f - p->pixel.x / w, p->pixel.y / h, 1.0f - p->pixel.y / h});
+        }
+        EXPECT_LT(slack, 0.05f);  // a corner near the border: no farther than needed
+        const auto centre = project(c, w, h, 0.5f * (box.min + box.max));
+        ASSERT_TRUE(centre);
+        EXPECT_NEAR(centre->pixel.x, 0.5f * w, 0.5f);
+        EXPECT_NEAR(centre->pixel.y, 0.5f * h, 0.5f);
+      }
+    }
+  }
+}
+
+TEST(View3D, TheNearerSolidWinsWhateverTheOrder) {
+  for (const bool body_first : {false, true}) {
+    Picture3D p;
+    if (body_first) square(p, 1.0f, 1.0f, DrawRole::body);
+    square(p, 3.0f, -2.0f, DrawRole::static_geometry);
+    if (!body_first) square(p, 1.0f, 1.0f, DrawRole::body);
+    const Camera3 cam = front_camera();
+    const View3DImage image = p.render({{cam, ""}}, plain());
+    const auto centre = pixel_of(image, cam, Vec3(0.0f, 0.0f, 1.0f));
+    const Rgb body = rgb(image.at(centre[0], centre[1]));
+    EXPECT_GT(body.b, body.r + 40) << "the body is blue, in front";
+    const auto level = pixel_of(image, cam, Vec3(2.0f, 2.0f, -2.0f));
+    const Rgb grey = rgb(image.at(level[0], level[1]));
+    EXPECT_NEAR(grey.r, grey.b, 3) << "the level is grey behind";
+    EXPECT_LT(grey.r, 250);
+    const auto outside = pixel_of(image, cam, Vec3(4.5f, 0.0f, -2.0f));
+    EXPECT_EQ(image.at(outside[0], outside[1]), 0xffffffffu) << "background beyond the level";
+  }
+}
+
+TEST(View3D, CutawayDropsLevelFacesTurnedAwayButNeverBodies) {
+  const Camera3 cam = front_camera();
+  for (const DrawRole role : {DrawRole::static_geometry, DrawRole::body}) {
+    Picture3D p;
+    square(p, 2.0f, 0.0f, role, /*facing_plus_z=*/false);  // turned away from the camera
+    for (const bool cutaway : {true, false}) {
+      View3DOptions o = plain();
+      o.cutaway = cutaway;
+      const View3DImage image = p.render({{cam, ""}}, o);
+      const auto centre = pixel_of(image, cam, Vec3(0.5f, 0.5f, 0.0f));
+      const bool drawn = image.at(centre[0], centre[1]) != 0xffffffffu;
+      EXPECT_EQ(drawn, role == DrawRole::body || !cutaway) << to_string(role) << " cutaway " << cutaway;
+    }
+  }
+}
+
+TEST(View3D, ASectionCutsTheLevelAboveItsHeightOnly) {
+  // A wall in the plane z = 0 from y = -2 to 2, cut at y = 0.5; a body above the cut stays.
+  Picture3D p;
+  square(p, 2.0f, 0.0f, DrawRole::static_geometry);
+  p.draw_triangle(Vec3(-0.3f, 1.2f, 1.0f), Vec3(0.3f, 1.2f, 1.0f), Vec3(0.0f, 1.8f, 1.0f), DrawRole::body);
+  Camera3 cam = front_camera();
+  View3DPanel panel{cam, "", 0.5f};
+  const View3DImage image = p.render({panel}, plain());
+  const auto below = pixel_of(image, cam, Vec3(-1.0f, 0.0f, 0.0f));
+  const auto above = pixel_of(image, cam, Vec3(-1.0f, 1.0f, 0.0f));
+  const auto body = pixel_of(image, cam, Vec3(0.0f, 1.4f, 1.0f));
+  EXPECT_NE(image.at(below[0], below[1]), 0xffffffffu);
+  EXPECT_EQ(image.at(above[0], above[1]), 0xffffffffu);
+  const Rgb b = rgb(image.at(body[0], body[1]));
+  EXPECT_GT(b.b, b.r + 40);
+}
+
+TEST(View3D, StrokesBehindASurfaceAreFaint) {
+  // A laser along x at z = -1, half of it behind a square at z = 0 covering x < 0.
+  Picture3D p;
+  p.draw_triangle(Vec3(-4.0f, -2.0f, 0.0f), Vec3(0.0f, -2.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f), DrawRole::static_geometry);
+  p.draw_triangle(Vec3(-4.0f, -2.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f), Vec3(-4.0f, 2.0f, 0.0f), DrawRole::static_geometry);
+  p.draw_segment(Vec3(-3.0f, 0.0f, -1.0f), Vec3(3.0f, 0.0f, -1.0f), DrawRole::laser);
+  const Camera3 cam = front_camera();
+  const View3DImage image = p.render({{cam, ""}}, plain());
+  const auto seen = pixel_of(image, cam, Vec3(1.5f, 0.0f, -1.0f));
+  const auto hidden = pixel_of(image, cam, Vec3(-1.5f, 0.0f, -1.0f));
+  const Rgb s = rgb(image.at(seen[0], seen[1]));
+  const Rgb h = rgb(image.at(hidden[0], hidden[1]));
+  EXPECT_GT(s.r - s.g, 100) << "laser red where in view";
+  EXPECT_LT(h.r - h.g, (s.r - s.g) / 2) << "faint behind the square";
+  // Hidden parts are dashed: along the hidden half, some pixels show the square's grey alone.
+  int grey = 0;
+  for (float x = -2.8f; x < -0.2f; x += 0.05f) {
+    const auto q = pixel_of(image, cam, Vec3(x, 0.0f, -1.0f));
+    const Rgb c = rgb(image.at(q[0], q[1]));
+    grey += std::abs(c.r - c.g) < 10 ? 1 : 0;
+  }
+  EXPECT_GT(grey, 3);
+}
+
+TEST(View3D, LegendListsTheRolesDrawnAndThePictureIsThatTall) {
+  Picture3D p;
+  square(p, 1.0f, 0.0f, DrawRole::body);
+  p.draw_point(Vec3(0.0f), DrawRole::contact_point);
+  p.draw_arrow(Vec3(0.0f), Vec3(0.0f, 1.0f, 0.0f), DrawRole::contact_normal);
+  EXPECT_EQ(p.roles(), (std::vector<DrawRole>{DrawRole::body, DrawRole::contact_point, DrawRole::contact_normal}));
+  View3DOptions with = plain();
+  with.legend = true;
+  with.title = "a title";
+  const Camera3 cam = front_camera();
+  const View3DImage a = p.render({{cam, ""}}, plain());
+  const View3DImage b = p.render({{cam, "a view"}, {cam, "another"}}, with);
+  EXPECT_EQ(a.width, kW + 200);
+  EXPECT_EQ(a.views.size(), 1u);
+  EXPECT_EQ(b.views.size(), 2u);
+  EXPECT_GT(b.height, a.height);  // a title line, view titles and a legend row
+  EXPECT_EQ(b.views[0][3], kH);
+  EXPECT_LT(b.views[0][0] + b.views[0][2], b.views[1][0]);  // side by side, apart
+  // Every pixel under the legend row's text band is drawn inside the picture.
+  EXPECT_EQ(b.pixels.size(), static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height));
+}
+
+TEST(View3D, WritesAPngOfItsSizeAndNamesAPathItCannotWrite) {
+  Picture3D p;
+  square(p, 1.0f, 0.0f, DrawRole::body);
+  const std::string path = ::testing::TempDir() + "view3d_test.png";
+  std::remove(path.c_str());
+  const Camera3 cam = front_camera();
+  p.write_png(path, {{cam, "view"}}, plain());
+  std::ifstream in(path, std::ios::binary);
+  std::array<unsigned char, 24> head{};
+  in.read(reinterpret_cast<char*>(head.data()), head.size());
+  ASSERT_TRUE(in.good());
+  EXPECT_EQ(head[1], 'P');
+  EXPECT_EQ(head[2], 'N');
+  EXPECT_EQ(head[3], 'G');
+  // IHDR: width and height, big-endian, at bytes 16 and 20.
+  const auto be = [&](int at) {
+    return (head[at] << 24) | (head[at + 1] << 16) | (head[at + 2] << 8) | head[at + 3];
+  };
+  const View3DImage image = p.render({{cam, "view"}}, plain());
+  EXPECT_EQ(be(16), image.width);
+  EXPECT_EQ(be(20), image.height);
+  try {
+    p.write_png("/nonexistent/dir/x.png", {{cam, ""}}, plain());
+    FAIL() << "wrote into a missing folder";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.png"), std::string::npos) << e.what();
+  }
+}
+
+TEST(View3D, BadOptionsAndCamerasAreErrors) {
+  Picture3D p;
+  square(p, 1.0f, 0.0f, DrawRole::body);
+  const Camera3 cam = front_camera();
+  View3DOptions narrow = plain();
+  narrow.width = 10;
+  EXPECT_THROW((void)p.render({{cam, ""}}, narrow), InvalidInput);
+  View3DOptions huge = plain();
+  huge.view_height = kMaxViewSide + 1;
+  EXPECT_THROW((void)p.render({{cam, ""}}, huge), InvalidInput);
+  EXPECT_THROW((void)p.render({}, plain()), InvalidInput);
+  Camera3 same = cam;
+  same.target = same.eye;
+  EXPECT_THROW((void)p.render({{same, ""}}, plain()), InvalidInput);
+  Camera3 along = cam;
+  along.up = Vec3(0.0f, 0.0f, 1.0f);
+  EXPECT_THROW((void)p.render({{along, ""}}, plain()), InvalidInput);
+  Camera3 nan = cam;
+  nan.eye.x = std::nanf("");
+  EXPECT_THROW((void)p.render({{nan, ""}}, plain()), InvalidInput);
+  Camera3 wide = cam;
+  wide.fov_y = 3.2f;
+  EXPECT_THROW((void)p.render({{wide, ""}}, plain()), InvalidInput);
+}
+
+}  // namespace
+}  // namespace collide
