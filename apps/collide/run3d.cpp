@@ -7,6 +7,7 @@
 
 #include "command_errors.hpp"
 #include "run.hpp"
+#include "run_common.hpp"
 
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
@@ -18,9 +19,7 @@
 #include <collide/world/character.hpp>
 #include <collide/world/world3d.hpp>
 
-#include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -371,24 +370,6 @@ Scene3D make_scene3d(const RunOptions& o) {
   return s;
 }
 
-nlohmann::json event_json3(int frame, const ContactEvent3& e) {
-  const auto vec = [](Vec3 v) { return nlohmann::json{v.x, v.y, v.z}; };
-  const auto collider = [](const ColliderRef& c, std::uint64_t user) {
-    return nlohmann::json{{c.is_static ? "static" : "body", c.index}, {"piece", c.piece}, {"user", user}};
-  };
-  nlohmann::json points = nlohmann::json::array();
-  for (int i = 0; i < e.manifold.count; ++i) {
-    const ManifoldPoint3& p = e.manifold.points[static_cast<std::size_t>(i)];
-    points.push_back({{"point", vec(p.point)}, {"depth", p.depth}, {"id", p.id.key()}});
-  }
-  return {{"frame", frame}, {"type", to_string(e.type)}, {"a", collider(e.a, e.user_a)},
-          {"b", collider(e.b, e.user_b)}, {"sensor", e.sensor}, {"normal", vec(e.manifold.normal)},
-          {"points", points}, {"persisted", e.persisted_points}};
-}
-
-double per_frame(std::int64_t total, int frames) { return frames > 0 ? static_cast<double>(total) / frames : 0.0; }
-double ms_per_frame(double seconds, int frames) { return frames > 0 ? 1e3 * seconds / frames : 0.0; }
-
 /// The picture of the last frame (--png): the whole level and a close-up of the first
 /// character (else of the median contact, else of the laser's first hit), the level shaded and
 /// cut away where it faces away from the camera, bodies, characters and their trails, the last
@@ -455,6 +436,7 @@ void write_picture3(const RunOptions& o, const Scene3D& s, const World3D& world,
 
 void print_summary3(std::FILE* out, const RunOptions& o, const Scene3D& s, const RunReport& r,
                     const CharacterReport& c, std::int64_t left) {
+  const World3D& world = s.world;
   const StepStats& t = r.total;
   const int f = r.frames;
   std::fprintf(out, "collide run: %s (3D)\n", r.scene.c_str());
@@ -468,27 +450,15 @@ void print_summary3(std::FILE* out, const RunOptions& o, const Scene3D& s, const
   std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, gravity %.3g, seed %u\n", f,
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase), o.adaptive_early_out ? "adaptive" : "fixed order",
                static_cast<double>(o.gravity), s.seed);
-  std::fprintf(out, "per frame (mean)\n");
-  std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
-               per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
-  std::fprintf(out, "  early out      %.1f filtered, %.1f AABB rejected, %.1f pretest rejected\n",
-               per_frame(t.filtered, f), per_frame(t.aabb_rejected, f), per_frame(t.pretest_rejected, f));
-  std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts, %.1f push-outs\n",
-               per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.pushes, f));
-  std::fprintf(out, "  ccd            %.1f bodies moved by continuous collision, %.1f time of impact queries, %.1f hits\n",
-               per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));
-  std::fprintf(out, "  events         %.1f begin, %.1f persist, %.1f end\n", per_frame(t.begin_events, f),
-               per_frame(t.persist_events, f), per_frame(t.end_events, f));
+  print_phases(out, r, /*sensors=*/false);
   std::fprintf(out, "  laser          %.1f hits (reflections and the last surface); last frame %d segments\n",
                per_frame(r.laser_hits, f), r.laser_last_segments);
   std::fprintf(out, "  characters     %.1f blocked, %.1f airborne, %.2f steps climbed, %.2f pushed out of bodies\n",
                per_frame(c.blocked, f), per_frame(c.airborne, f), per_frame(c.steps, f), per_frame(c.pushed_out, f));
-  const double step_ms = ms_per_frame(t.time_integrate + t.time_statics + t.time_broad + t.time_bodies + t.time_events + t.time_check, f);
-  std::fprintf(out, "time per frame (mean ms; world %.3f, characters %.3f, %.1f s wall for the whole run)\n", step_ms,
-               ms_per_frame(c.seconds, f), r.wall_seconds);
-  std::fprintf(out, "  motion + ccd %.3f | statics %.3f | broad %.3f | body pairs %.3f | events %.3f | check %.3f\n",
-               ms_per_frame(t.time_integrate, f), ms_per_frame(t.time_statics, f), ms_per_frame(t.time_broad, f),
-               ms_per_frame(t.time_bodies, f), ms_per_frame(t.time_events, f), ms_per_frame(t.time_check, f));
+  char characters[64];
+  std::snprintf(characters, sizeof characters, "; characters %.3f more", ms_per_frame(c.seconds, f));
+  print_times(out, r, characters);
+  print_early_out(out, world);
   std::fprintf(out, "check (independent, every frame)\n");
   std::fprintf(out, "  tunnelled      %lld bodies ended a frame inside static geometry or crossed a level surface (deepest overlap %.3g)\n",
                static_cast<long long>(t.tunnelled), static_cast<double>(t.max_static_depth));
@@ -499,33 +469,23 @@ void print_summary3(std::FILE* out, const RunOptions& o, const Scene3D& s, const
   }
   std::fprintf(out, "  characters     %lld moves ended inside static geometry (deepest overlap %.3g)\n",
                static_cast<long long>(c.inside), static_cast<double>(c.max_penetration));
-  if (!o.events.empty()) {
-    std::fprintf(out, "  events         %lld written to %s\n", static_cast<long long>(r.events_written), o.events.c_str());
-  }
-  std::fprintf(out, "state hash       %016llx\n", static_cast<unsigned long long>(r.state_hash));
+  print_hash(out, o, r);
 }
 
 }  // namespace
 
 RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* characters_out) {
-  if (o.frames < 0) throw InvalidInput("--frames: negative");
-  if (!std::isfinite(o.dt) || o.dt <= 0.0f) throw InvalidInput("--dt: must be positive and finite");
+  check_run_steps(o);
   if (!std::isfinite(o.gravity)) throw InvalidInput("--gravity: not finite");
   if (!o.svg.empty()) throw InvalidInput("--svg: a 3D run draws PNG pictures only (--png)");
   if (!o.png.empty()) require_output_folder("--png", o.png);
   const ViewAngles angles = parse_view(o.view);  // before the run, not after it
   Scene3D s = make_scene3d(o);
   World3D& world = s.world;
-  std::ofstream events;
-  if (!o.events.empty()) {
-    events.open(o.events);
-    if (!events) throw InvalidInput("--events " + o.events + ": cannot be written");
-  }
+  EventsFile events(o);
   RunReport r;
   r.scene = s.name;
-  r.bodies = world.body_count();
-  r.statics = world.static_count();
-  for (int i = 0; i < r.statics; ++i) r.static_pieces += static_cast<int>(world.static_def(StaticId{std::uint32_t(i)}).shapes.size());
+  count_world(r, world);
   r.frames = o.frames;
   CharacterReport c;
   c.characters = static_cast<int>(s.characters.size());
@@ -539,7 +499,7 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
   std::int64_t left = 0;
   std::mt19937 turns(s.seed + 2);
   LaserPath3 laser;
-  const bool progress = o.progress && isatty(fileno(stderr)) != 0 && o.frames >= 100;
+  Progress progress(o);
   const auto start = std::chrono::steady_clock::now();
   for (int frame = 1; frame <= o.frames; ++frame) {
     world.step(o.dt);
@@ -597,23 +557,11 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
     const Quat turn = glm::angleAxis(angle, Vec3(0.0f, 1.0f, 0.0f));
     laser = world.cast_laser(Ray3{s.laser.origin, rotate(turn, s.laser.translation)}, kMaxLaserBounces, QueryFilter{.bodies = false});
     r.laser_hits += laser.hit_count;
-    if (events.is_open()) {
-      for (const ContactEvent3& e : world.events()) {
-        events << event_json3(frame, e).dump() << '\n';
-        ++r.events_written;
-      }
-    }
-    if (progress && frame % (o.frames / 100) == 0) {
-      std::fprintf(stderr, "\r%3d%% frame %d/%d", frame * 100 / o.frames, frame, o.frames);
-      if (frame == o.frames) std::fprintf(stderr, "\r%*s\r", 40, "");
-      std::fflush(stderr);
-    }
+    events.write<3>(frame, world.events(), r.events_written);
+    progress.tick(frame);
   }
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (events.is_open()) {
-    events.flush();
-    if (!events) throw InvalidInput("--events " + o.events + ": write failed");
-  }
+  events.finish();
   r.total = world.total_stats();
   r.laser_last_segments = laser.segments;
   // The world's hash, and the characters' positions after it (FNV-1a on their bits).

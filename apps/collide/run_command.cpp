@@ -6,15 +6,14 @@
 #include "command_errors.hpp"
 #include "commands.hpp"
 #include "run.hpp"
+#include "run_common.hpp"
 
 #include <collide/core/error.hpp>
 #include <collide/draw/canvas_draw.hpp>
 #include <collide/draw/png.hpp>
 #include <collide/draw/svg_draw.hpp>
 
-#include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -27,51 +26,6 @@
 
 namespace collide::cli {
 namespace {
-
-/// The progress bar redraws at most this many times per run.
-constexpr int kProgressUpdates = 100;
-/// Width of the progress bar, characters.
-constexpr int kProgressWidth = 40;
-
-nlohmann::json collider_json(const ColliderRef& c, std::uint64_t user) {
-  return {{c.is_static ? "static" : "body", c.index}, {"piece", c.piece}, {"user", user}};
-}
-
-nlohmann::json event_json(int frame, const ContactEvent& e) {
-  nlohmann::json points = nlohmann::json::array();
-  for (int i = 0; i < e.manifold.count; ++i) {
-    const ManifoldPoint& p = e.manifold.points[static_cast<std::size_t>(i)];
-    points.push_back({{"point", {p.point.x, p.point.y}}, {"depth", p.depth}, {"id", p.id.key()}});
-  }
-  return {{"frame", frame},
-          {"type", to_string(e.type)},
-          {"a", collider_json(e.a, e.user_a)},
-          {"b", collider_json(e.b, e.user_b)},
-          {"sensor", e.sensor},
-          {"normal", {e.manifold.normal.x, e.manifold.normal.y}},
-          {"points", points},
-          {"persisted", e.persisted_points}};
-}
-
-void draw_progress(int frame, int frames) {
-  const int filled = frames > 0 ? frame * kProgressWidth / frames : kProgressWidth;
-  std::fprintf(stderr, "\r[%.*s%*s] %3d%% frame %d/%d", filled,
-               "########################################", kProgressWidth - filled, "",
-               frames > 0 ? frame * 100 / frames : 100, frame, frames);
-  if (frame == frames) std::fprintf(stderr, "\r%*s\r", kProgressWidth + 40, "");
-  std::fflush(stderr);
-}
-
-double per_frame(std::int64_t total, int frames) {
-  return frames > 0 ? static_cast<double>(total) / frames : 0.0;
-}
-
-double ms_per_frame(double seconds, int frames) { return frames > 0 ? 1e3 * seconds / frames : 0.0; }
-
-const char* check_name(int check) {
-  static const char* const kNames[] = {"filter", "aabb", "exact"};
-  return kNames[check];
-}
 
 /// Tiled maps: the layers used and skipped, each with what it held and why.
 void print_layers(std::FILE* out, const RunOptions& o, const Scene& scene) {
@@ -109,69 +63,21 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase),
                o.adaptive_early_out ? "adaptive" : "fixed order", scene.seed);
   print_layers(out, o, scene);
-  std::fprintf(out, "per frame (mean)\n");
-  std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
-               per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
-  std::fprintf(out, "  early out      %.1f filtered, %.1f AABB rejected, %.1f pretest rejected\n",
-               per_frame(t.filtered, f), per_frame(t.aabb_rejected, f), per_frame(t.pretest_rejected, f));
-  std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts (%.1f with sensors), %.1f push-outs\n",
-               per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.sensor_contacts, f),
-               per_frame(t.pushes, f));
-  std::fprintf(out, "  ccd            %.1f bodies moved by continuous collision, %.1f time of impact queries, %.1f hits\n",
-               per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));
-  std::fprintf(out, "  events         %.1f begin, %.1f persist, %.1f end\n", per_frame(t.begin_events, f),
-               per_frame(t.persist_events, f), per_frame(t.end_events, f));
+  print_phases(out, r, /*sensors=*/true);
   if (scene.has_laser) {
     std::fprintf(out, "  laser          %.1f hits on statics (reflections and the last surface); last frame %d segments\n",
                  per_frame(r.laser_hits, f), r.laser_last_segments);
   } else {
     std::fprintf(out, "  laser          none in this scene\n");
   }
-  const double step_ms = ms_per_frame(t.time_integrate + t.time_statics + t.time_broad + t.time_bodies +
-                                          t.time_events + t.time_check,
-                                      f);
-  std::fprintf(out, "time per frame (mean ms; %.3f total, %.1f s wall for the whole run)\n", step_ms, r.wall_seconds);
-  std::fprintf(out, "  motion + ccd %.3f | statics %.3f | broad %.3f | body pairs %.3f | events %.3f | check %.3f\n",
-               ms_per_frame(t.time_integrate, f), ms_per_frame(t.time_statics, f), ms_per_frame(t.time_broad, f),
-               ms_per_frame(t.time_bodies, f), ms_per_frame(t.time_events, f), ms_per_frame(t.time_check, f));
-  const auto reports = world.early_out_reports();
-  const auto orders = world.early_out_orders();
-  const auto pretests = world.early_out_pretests();
-  const auto check_stats = world.early_out_check_stats();
-  static const char* const kChains[] = {"body-static", "body-body"};
-  std::fprintf(out, "early out (order by t / (1 - p); pretest while t_pre < (1 - p_pre) t_exact)\n");
-  for (std::size_t c = 0; c < 2; ++c) {
-    const CheckChainReport& rep = reports[c];
-    std::fprintf(out, "  %-11s    %llu evaluations, %.1f%% rejected, %llu reorders; circle pretest %s\n", kChains[c],
-                 static_cast<unsigned long long>(rep.evaluations),
-                 rep.evaluations > 0 ? 100.0 * static_cast<double>(rep.rejections) / static_cast<double>(rep.evaluations)
-                                     : 0.0,
-                 static_cast<unsigned long long>(rep.reorders), pretests[c] ? "on" : "off");
-    std::fprintf(out, "                 order:");
-    for (std::size_t k = 0; k < 3; ++k) {
-      const int check = orders[c][k];
-      const CheckStats& cs = check_stats[c][static_cast<std::size_t>(check)];
-      std::fprintf(out, "%s %s (t %.1f ns, p %.2f)", k == 0 ? "" : ",", check_name(check), cs.cost, cs.pass_rate);
-    }
-    std::fprintf(out, "\n");
-    std::fprintf(out, "                 saved: model %.1f vs fixed order %.1f ns per pair (%.0f%%)", rep.expected_cost,
-                 rep.fixed_order_cost, 100.0 * rep.saved_fraction());
-    if (rep.sampled_pairs > 0) {
-      std::fprintf(out, "; measured on %llu sampled pairs %.1f vs %.1f ns (%.0f%%)",
-                   static_cast<unsigned long long>(rep.sampled_pairs), rep.sampled_cost, rep.sampled_fixed_order_cost,
-                   100.0 * rep.sampled_saved_fraction());
-    }
-    std::fprintf(out, "\n");
-  }
+  print_times(out, r, "");
+  print_early_out(out, world);
   std::fprintf(out, "check (independent, every frame)\n");
   std::fprintf(out, "  tunnelled      %lld bodies ended a frame inside static geometry (deepest overlap %.3g)\n",
                static_cast<long long>(t.tunnelled), static_cast<double>(t.max_static_depth));
   std::fprintf(out, "  escaped        %lld bodies ended a frame outside the world's bounds\n",
                static_cast<long long>(t.escaped));
-  if (!o.events.empty()) {
-    std::fprintf(out, "  events         %lld written to %s\n", static_cast<long long>(r.events_written), o.events.c_str());
-  }
-  std::fprintf(out, "state hash       %016llx\n", static_cast<unsigned long long>(r.state_hash));
+  print_hash(out, o, r);
 }
 
 /// The close-up panel shows this many median body diameters across, so bodies stay large
@@ -243,28 +149,17 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   if (o.characters >= 0) throw InvalidInput("--characters: a 3D run's (an OBJ level, or --3d)");
   if (o.gravity != 0.0f) throw InvalidInput("--gravity: a 3D run's (an OBJ level, or --3d)");
   if (!o.view.empty()) throw InvalidInput("--view: a 3D run's (an OBJ level, or --3d)");
-  if (o.frames < 0) throw InvalidInput("--frames: negative");
-  if (!std::isfinite(o.dt) || o.dt <= 0.0f) throw InvalidInput("--dt: must be positive and finite");
+  check_run_steps(o);
   if (!o.png.empty()) require_output_folder("--png", o.png);  // before the run, not after it
   if (!o.svg.empty()) require_output_folder("--svg", o.svg);
   Scene scene = make_scene(o);
   World2D& world = scene.world;
-  std::ofstream events;
-  if (!o.events.empty()) {
-    events.open(o.events);
-    if (!events) throw InvalidInput("--events " + o.events + ": cannot be written");
-  }
+  EventsFile events(o);
   RunReport r;
   r.scene = scene.name;
-  r.bodies = world.body_count();
-  r.statics = world.static_count();
-  for (int i = 0; i < r.statics; ++i) {
-    const auto pieces = static_cast<int>(world.static_def(StaticId{static_cast<std::uint32_t>(i)}).shapes.size());
-    r.static_pieces += pieces;
-    r.split_statics += pieces > 1 ? 1 : 0;
-  }
+  count_world(r, world);
   r.frames = o.frames;
-  const bool progress = o.progress && isatty(fileno(stderr)) != 0 && o.frames >= kProgressUpdates;
+  Progress progress(o);
   LaserPath laser;
   const auto start = std::chrono::steady_clock::now();
   for (int frame = 1; frame <= o.frames; ++frame) {
@@ -276,19 +171,11 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
       laser = world.cast_laser(ray, kMaxLaserBounces, QueryFilter{.bodies = false});  // statics are the mirrors
       r.laser_hits += laser.hit_count;
     }
-    if (events.is_open()) {
-      for (const ContactEvent& e : world.events()) {
-        events << event_json(frame, e).dump() << '\n';
-        ++r.events_written;
-      }
-    }
-    if (progress && frame % (o.frames / kProgressUpdates) == 0) draw_progress(frame, o.frames);
+    events.write<2>(frame, world.events(), r.events_written);
+    progress.tick(frame);
   }
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (events.is_open()) {
-    events.flush();
-    if (!events) throw InvalidInput("--events " + o.events + ": write failed");
-  }
+  events.finish();
   r.total = world.total_stats();
   r.laser_last_segments = laser.segments;
   r.state_hash = world.state_hash();
