@@ -156,6 +156,7 @@ void CairoSink::begin_panel(const PanelView& view) {
 void CairoSink::end_panel() { cairo_restore(cr_); }
 
 void CairoSink::polygon(std::span<const Vec2> vertices, float radius, DrawRole role) {
+  if (vertices.empty()) return;
   if (radius > 0.0f || vertices.size() == 1) {
     add_rounded_outline(cr_, vertices, radius);
   } else {
