@@ -45,9 +45,9 @@ constexpr Color kPathStart{255, 255, 255, 255};
 /// Margin around the mesh, a fraction of the picture's side.
 constexpr float kPictureMargin = 0.03f;
 /// Widths and sizes, pixels.
-constexpr double kWallWidth = 1.5;
-constexpr double kPathWidth = 2.0;
-constexpr double kPathEndRadius = 4.0;
+constexpr float kWallWidth = 1.5f;
+constexpr float kPathWidth = 2.0f;
+constexpr float kPathEndRadius = 4.0f;
 
 /// A random walk point, uniform over the mesh's area.
 WalkPoint random_walk_point(const WalkMesh& mesh, const std::vector<float>& cumulative_area, std::mt19937& rng) {
@@ -226,7 +226,7 @@ int run_walk(const WalkOptions& o) {
         for (const auto& [at, color] : {std::pair{path.front(), kPathStart}, std::pair{path.back(), ink}}) {
           const Vec2 c = to_pixel(at);
           cairo_new_sub_path(cr);
-          cairo_arc(cr, c.x, c.y, kPathEndRadius, 0.0, 2.0 * std::numbers::pi);
+          cairo_arc(cr, c.x, c.y, kPathEndRadius, 0.0, 2.0 * std::numbers::pi);  // Cairo takes doubles
           set_source(cr, color);
           cairo_fill(cr);
         }

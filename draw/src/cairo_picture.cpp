@@ -17,9 +17,12 @@
 #include <string>
 #include <vector>
 
+// Numbers handed to Cairo are doubles (its API takes nothing else); the picture's own are floats.
+
 namespace collide {
 namespace {
 
+/// A whole circle, radians.
 constexpr double kFullTurn = 2.0 * std::numbers::pi;
 
 /// Throws for a failed Cairo `status` met while doing `what`: std::bad_alloc for a lack of

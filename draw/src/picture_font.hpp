@@ -1,6 +1,7 @@
 #pragma once
 // The font of every picture, shared by the layout (which measures text) and the renderer (which
-// draws it), so that text drawn is exactly as wide as the layout measured it.
+// draws it), so that text drawn is exactly as wide as the layout measured it. Measurements are
+// doubles, as Cairo gives them; the layout keeps floats.
 
 #include <cairo.h>
 
