@@ -1,4 +1,4 @@
-// `collide cast [FILE] [--question JSON] [--svg FILE] [--png FILE]`: answers one shape cast (a
+// `collide cast [FILE] [--question JSON] [--svg FILE] [--png FILE] [--pdf FILE]`: answers one shape cast (a
 // `toi` question of the query protocol) and draws it: the shapes' motion, and the ray from the
 // origin into the Minkowski difference A - B that the answer comes from.
 
@@ -8,9 +8,7 @@
 #include "query.hpp"
 
 #include <collide/core/error.hpp>
-#include <collide/draw/canvas_draw.hpp>
-#include <collide/draw/png.hpp>
-#include <collide/draw/svg_draw.hpp>
+#include <collide/draw/cairo_picture.hpp>
 
 #include <array>
 #include <cstdio>
@@ -18,6 +16,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace collide::cli {
 namespace {
@@ -27,6 +26,7 @@ struct CastOptions {
   std::string question;  ///< the question inline (instead of a file)
   std::string svg;
   std::string png;
+  std::string pdf;
   int width = 1000;
   int text_scale = 2;
 };
@@ -67,6 +67,7 @@ std::string read_question(const CastOptions& o) {
 int run_cast(const CastOptions& o) {
   if (!o.png.empty()) require_output_folder("--png", o.png);
   if (!o.svg.empty()) require_output_folder("--svg", o.svg);
+  if (!o.pdf.empty()) require_output_folder("--pdf", o.pdf);
   const CastQuestion q = parse_cast_question(read_question(o));
   PictureOptions options;
   options.width = o.width;
@@ -83,14 +84,12 @@ int run_cast(const CastOptions& o) {
               cast.difference.vertices.size(), static_cast<double>(cast.difference.radius),
               static_cast<double>(cast.difference.signed_distance_to_origin()));
   std::printf("  ray       vb - va = %g %g\n", static_cast<double>(cast.ray.x), static_cast<double>(cast.ray.y));
-  if (!o.svg.empty()) {
-    save_svg(picture, o.svg);
-    std::printf("wrote %s\n", o.svg.c_str());
-  }
-  if (!o.png.empty()) {
-    const Canvas canvas = render_canvas(picture);
-    write_png(o.png, canvas);
-    std::printf("wrote %s (%d x %d)\n", o.png.c_str(), canvas.width(), canvas.height());
+  const PictureLayout layout = picture.layout();
+  for (const auto& [path, format] : {std::pair{o.svg, PictureFormat::svg}, std::pair{o.png, PictureFormat::png},
+                                     std::pair{o.pdf, PictureFormat::pdf}}) {
+    if (path.empty()) continue;
+    save_picture(picture, path, format);
+    std::printf("wrote %s (%d x %d)\n", path.c_str(), layout.width, layout.height);
   }
   return r.status == QueryStatus::max_iterations ? 3 : 0;
 }
@@ -107,9 +106,10 @@ void register_cast_command(CLI::App& app) {
   cmd->add_option("--question", options->question, "The question inline, instead of a file");
   cmd->add_option("--svg", options->svg, "Write the picture as SVG");
   cmd->add_option("--png", options->png, "Write the picture as PNG");
+  cmd->add_option("--pdf", options->pdf, "Write the picture as PDF");
   cmd->add_option("--width", options->width, "Picture width, pixels")
-      ->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
-  cmd->add_option("--text-scale", options->text_scale, "Text size (font pixels of 5 x 7)")
+      ->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxPictureSide));
+  cmd->add_option("--text-scale", options->text_scale, "Text size, 7 pixels per step, and the spacing around it")
       ->capture_default_str()->check(CLI::Range(1, kMaxTextScale));
   cmd->footer("Example:\n  collide cast --svg cast.svg --png cast.png --question '{\"a\": {\"type\": \"box\", "
               "\"half\": [1, 0.5]}, \"va\": [6, 1], \"b\": {\"type\": \"circle\", \"radius\": 1}, "

@@ -9,9 +9,7 @@
 #include "run_common.hpp"
 
 #include <collide/core/error.hpp>
-#include <collide/draw/canvas_draw.hpp>
-#include <collide/draw/png.hpp>
-#include <collide/draw/svg_draw.hpp>
+#include <collide/draw/cairo_picture.hpp>
 
 
 
@@ -138,8 +136,8 @@ void write_pictures(const RunOptions& o, const Scene& scene, const World2D& worl
   picture.begin_panel("close-up", Aabb{center - half, center + half});
   world.draw(picture, WorldDrawOptions{.normal_length = kNormalArrowFraction * width});
   World2D::draw_laser(picture, laser);
-  if (!o.svg.empty()) save_svg(picture, o.svg);
-  if (!o.png.empty()) write_png(o.png, render_canvas(picture));
+  if (!o.svg.empty()) save_picture(picture, o.svg, PictureFormat::svg);
+  if (!o.png.empty()) save_picture(picture, o.png, PictureFormat::png);
 }
 
 }  // namespace
@@ -214,7 +212,7 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--events", o->events, "Write contact events (begin, persist, end) as JSON Lines");
   cmd->add_option("--png", o->png, "Write a picture of the last frame (PNG)");
   cmd->add_option("--svg", o->svg, "Write a picture of the last frame (SVG)");
-  cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxCanvasSide));
+  cmd->add_option("--width", o->picture_width, "Picture width, pixels")->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxPictureSide));
   cmd->add_option("--layers", o->layers,
                   "Tiled maps: the tile and object layers that collide, by name (a group's name takes its layers), "
                   "comma-separated; default: the layers the map declares (a layer class collision/solid, a property "

@@ -6,8 +6,7 @@
 
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
-#include <collide/draw/canvas.hpp>
-#include <collide/draw/png.hpp>
+#include <collide/draw/cairo_picture.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/walkmesh/make_walk_mesh.hpp>
 
@@ -19,6 +18,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace collide::cli {
@@ -36,6 +36,18 @@ struct WalkOptions {
   std::string png;
   int png_size = 1024;
 };
+
+// The top-down picture (--png): the walk mesh by island on a dark ground, walls (boundary edges)
+// dark, each agent's path in its own colour from a white dot to a dot of its colour.
+constexpr Color kGround{32, 32, 40, 255};
+constexpr Color kWall{20, 20, 20, 255};
+constexpr Color kPathStart{255, 255, 255, 255};
+/// Margin around the mesh, a fraction of the picture's side.
+constexpr float kPictureMargin = 0.03f;
+/// Widths and sizes, pixels.
+constexpr float kWallWidth = 1.5f;
+constexpr float kPathWidth = 2.0f;
+constexpr float kPathEndRadius = 4.0f;
 
 /// A random walk point, uniform over the mesh's area.
 WalkPoint random_walk_point(const WalkMesh& mesh, const std::vector<float>& cumulative_area, std::mt19937& rng) {
@@ -162,38 +174,64 @@ int run_walk(const WalkOptions& o) {
       lo = glm::min(lo, g);
       hi = glm::max(hi, g);
     }
-    const float margin = 0.03f * static_cast<float>(o.png_size);
+    const float margin = kPictureMargin * static_cast<float>(o.png_size);
     const float scale = (static_cast<float>(o.png_size) - 2.0f * margin) / std::max(hi.x - lo.x, hi.y - lo.y);
     auto to_pixel = [&](Vec3 world) {
       const Vec3 p = world - b.min;
       return Vec2{margin + scale * (glm::dot(p, right) - lo.x), margin + scale * (hi.y - glm::dot(p, forward))};
     };
-    Canvas canvas(o.png_size, o.png_size, {32, 32, 40, 255});
     // Lower triangles first so upper floors cover them.
     std::vector<std::uint32_t> order(mesh.triangle_count());
     for (std::uint32_t t = 0; t < order.size(); ++t) order[t] = t;
     auto height = [&](std::uint32_t t) { return glm::dot(mesh.to_world_point(mesh.walk_point(t, Vec3(1.0f))), up); };
     std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return height(x) < height(y); });
-    for (std::uint32_t t : order) {
-      const glm::uvec3 tri = mesh.triangle(t);
-      canvas.fill_triangle(to_pixel(mesh.world_vertex(tri.x)), to_pixel(mesh.world_vertex(tri.y)),
-                           to_pixel(mesh.world_vertex(tri.z)), island_color(mesh.island(t)));
-      for (int e = 0; e < 3; ++e) {
-        if (mesh.neighbor(t, e) != kNoNeighbor) continue;
-        canvas.draw_line(to_pixel(mesh.world_vertex(tri[e])), to_pixel(mesh.world_vertex(tri[(e + 1) % 3])),
-                         {20, 20, 20, 255}, 1.5f);
+    auto line_to = [](cairo_t* cr, Vec2 p) { cairo_line_to(cr, p.x, p.y); };
+    save_drawing(o.png, PictureFormat::png, o.png_size, o.png_size, [&](cairo_t* cr) {
+      set_source(cr, kGround);
+      cairo_paint(cr);
+      cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+      cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+      for (std::uint32_t t : order) {
+        const glm::uvec3 tri = mesh.triangle(t);
+        // Triangles are filled without anti-aliasing: two neighbours each blended over the ground
+        // on their own would leave a faint seam along their shared edge. The walls, stroked with
+        // anti-aliasing, smooth the outline.
+        cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
+        cairo_new_path(cr);
+        for (int k = 0; k < 3; ++k) line_to(cr, to_pixel(mesh.world_vertex(tri[k])));
+        cairo_close_path(cr);
+        set_source(cr, island_color(mesh.island(t)));
+        cairo_fill(cr);
+        cairo_set_antialias(cr, CAIRO_ANTIALIAS_DEFAULT);
+        for (int e = 0; e < 3; ++e) {
+          if (mesh.neighbor(t, e) != kNoNeighbor) continue;
+          const Vec2 from = to_pixel(mesh.world_vertex(tri[e]));
+          cairo_move_to(cr, from.x, from.y);
+          line_to(cr, to_pixel(mesh.world_vertex(tri[(e + 1) % 3])));
+        }
+        cairo_set_line_width(cr, kWallWidth);
+        set_source(cr, kWall);
+        cairo_stroke(cr);
       }
-    }
-    for (std::size_t i = 0; i < agents.size(); ++i) {
-      const std::uint32_t h = static_cast<std::uint32_t>(i + 1) * 2246822519u;
-      const Color ink{static_cast<std::uint8_t>(200 + (h >> 8) % 56), static_cast<std::uint8_t>((h >> 16) % 160),
-                      static_cast<std::uint8_t>((h >> 24) % 200), 220};
-      const auto& path = agents[i].path;
-      for (std::size_t k = 1; k < path.size(); ++k) canvas.draw_line(to_pixel(path[k - 1]), to_pixel(path[k]), ink, 2.0f);
-      canvas.fill_circle(to_pixel(path.front()), 4.0f, {255, 255, 255, 255});
-      canvas.fill_circle(to_pixel(path.back()), 4.0f, ink);
-    }
-    write_png(o.png, canvas);
+      for (std::size_t i = 0; i < agents.size(); ++i) {
+        const std::uint32_t h = static_cast<std::uint32_t>(i + 1) * 2246822519u;
+        const Color ink{static_cast<std::uint8_t>(200 + (h >> 8) % 56), static_cast<std::uint8_t>((h >> 16) % 160),
+                        static_cast<std::uint8_t>((h >> 24) % 200), 220};
+        const auto& path = agents[i].path;
+        cairo_new_path(cr);
+        for (const Vec3& p : path) line_to(cr, to_pixel(p));
+        cairo_set_line_width(cr, kPathWidth);
+        set_source(cr, ink);
+        cairo_stroke(cr);
+        for (const auto& [at, color] : {std::pair{path.front(), kPathStart}, std::pair{path.back(), ink}}) {
+          const Vec2 c = to_pixel(at);
+          cairo_new_sub_path(cr);
+          cairo_arc(cr, c.x, c.y, kPathEndRadius, 0.0, 2.0 * std::numbers::pi);  // Cairo takes doubles
+          set_source(cr, color);
+          cairo_fill(cr);
+        }
+      }
+    });
     std::printf("wrote %s (%d x %d, top-down: walk mesh by island, walls dark, paths from white dots)\n",
                 o.png.c_str(), o.png_size, o.png_size);
   }
@@ -216,7 +254,7 @@ void register_walk_command(CLI::App& app) {
   cmd->add_option("--wander", options->wander, "Largest heading change per step, radians")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", options->seed, "Random seed")->capture_default_str();
   cmd->add_option("--png", options->png, "Write a top-down picture of the walk mesh and the paths");
-  cmd->add_option("--png-size", options->png_size, "Picture side, pixels")->capture_default_str()->check(CLI::Range(16, kMaxCanvasSide));
+  cmd->add_option("--png-size", options->png_size, "Picture side, pixels")->capture_default_str()->check(CLI::Range(16, kMaxPictureSide));
   cmd->callback([options]() {
     const int code = run_guarded("walk", options->mesh, [&] { return run_walk(*options); });
     if (code != 0) throw CLI::RuntimeError(code);

@@ -1,7 +1,8 @@
 #include <collide/draw/picture.hpp>
 
+#include "picture_font.hpp"
+
 #include <collide/core/error.hpp>
-#include <collide/draw/bitmap_font.hpp>
 #include <collide/draw/palette.hpp>
 
 #include <algorithm>
@@ -20,23 +21,11 @@ constexpr double kCullMargin = 64.0;
 /// World half-size given to content of no extent at all (a lone point) before the margin.
 constexpr float kLonePointHalfSize = 0.5f;
 
-/// `text` cut to at most `max_width` pixels at `scale`, ending in "..." when cut; cuts between
-/// UTF-8 code points.
-std::string fit_text(std::string_view text, int max_width, int scale) {
-  if (text_width(text, scale) <= max_width) return std::string(text);
-  const int columns = (max_width / scale + 1) / kGlyphAdvance;
-  if (columns <= 3) return columns <= 0 ? std::string() : std::string(static_cast<size_t>(columns), '.');
-  int kept = 0;
-  size_t end = 0;
-  while (end < text.size()) {
-    size_t next = end + 1;
-    while (next < text.size() && (static_cast<unsigned char>(text[next]) & 0xc0) == 0x80) ++next;
-    if (kept + 1 > columns - 3) break;
-    ++kept;
-    end = next;
-  }
-  return std::string(text.substr(0, end)) + "...";
-}
+/// A generous bound on the advance of text per byte of its UTF-8, ems: ASCII glyphs advance
+/// less than one em each, and wider glyphs take 2 to 4 bytes.
+constexpr double kMaxEmsPerByte = 2.0;
+/// An upper bound on the height of a line of text, in ems (ascent plus descent).
+constexpr double kMaxLineEms = 2.0;
 
 using DVec2 = glm::dvec2;
 
@@ -94,13 +83,13 @@ Vec2 PanelView::to_image(Vec2 p) const noexcept {
 
 Picture::Picture(PictureOptions options) : options_(std::move(options)) {
   const PictureOptions& o = options_;
-  if (o.width < kMinPictureWidth || o.width > kMaxCanvasSide) {
+  if (o.width < kMinPictureWidth || o.width > kMaxPictureSide) {
     throw InvalidInput("picture width " + std::to_string(o.width) + ": must be in [" +
-                       std::to_string(kMinPictureWidth) + ", " + std::to_string(kMaxCanvasSide) + "]");
+                       std::to_string(kMinPictureWidth) + ", " + std::to_string(kMaxPictureSide) + "]");
   }
-  if (o.plot_height < 0 || o.plot_height > kMaxCanvasSide) {
+  if (o.plot_height < 0 || o.plot_height > kMaxPictureSide) {
     throw InvalidInput("picture plot_height " + std::to_string(o.plot_height) + ": must be in [0, " +
-                       std::to_string(kMaxCanvasSide) + "] (0: from the content)");
+                       std::to_string(kMaxPictureSide) + "] (0: from the content)");
   }
   if (o.text_scale < 1 || o.text_scale > kMaxTextScale) {
     throw InvalidInput("picture text_scale " + std::to_string(o.text_scale) + ": must be in [1, " +
@@ -120,7 +109,7 @@ void Picture::begin_panel(std::string_view title, std::optional<Aabb> world) {
     throw InvalidInput("panel \"" + std::string(title) +
                        "\" world rectangle: must be finite with min < max on both axes");
   }
-  panels_.push_back(Panel{std::string(title), world, {}, {}, true});
+  panels_.push_back(Panel{clean_text(title), world, {}, {}, true});
 }
 
 Picture::Panel& Picture::current_panel() {
@@ -153,7 +142,7 @@ void Picture::record(Kind kind, DrawRole role, std::span<const Vec2> points, flo
   points_.insert(points_.end(), points.begin(), points.end());
   if (kind == Kind::label) {
     item.text = static_cast<std::uint32_t>(texts_.size());
-    texts_.emplace_back(text);
+    texts_.push_back(clean_text(text));
   }
   panel.items.push_back(item);
   roles_mask_ |= 1u << static_cast<unsigned>(role);
@@ -194,27 +183,29 @@ PictureLayout Picture::layout() const {
   const PictureOptions& o = options_;
   const int u = o.text_scale;
   const int pad = kPicturePadding * u;
-  const int line = kLineAdvance * u;
+  const int gap = kPanelGap * u;
   PictureLayout out;
   out.width = o.width;
-  out.text_scale = u;
+  out.font_size = kFontSizePerTextScale * static_cast<float>(u);
+  const TextMeasurer measure(out.font_size);
+  const auto ascent = static_cast<float>(measure.ascent());
+  // One line of text, in whole pixels so that the plot areas below start on a pixel.
+  const int line = static_cast<int>(std::ceil(measure.ascent() + measure.descent()));
   int y = pad;
 
-  std::string title = o.title;
+  std::string title = clean_text(o.title);
   if (skipped_ > 0) {
     title += (title.empty() ? "" : "  ") + std::string("[") + std::to_string(skipped_) +
              " bad draw call" + (skipped_ == 1 ? "" : "s") + " skipped]";
   }
   if (!title.empty()) {
-    out.title = fit_text(title, o.width - 2 * pad, u);
-    out.title_x = pad;
-    out.title_y = y;
-    y += line + 2 * u;
+    out.title = measure.fit(title, o.width - 2 * pad);
+    out.title_origin = {static_cast<float>(pad), static_cast<float>(y) + ascent};
+    y += line + kTitleGap * u;
   }
 
   // Panels: equal widths across the image; plot height from the tallest world rectangle.
   const int n = std::max<int>(1, static_cast<int>(panels_.size()));
-  const int gap = kPanelGap * u;
   const int panel_width = std::max(1, (o.width - 2 * pad - (n - 1) * gap) / n);
   bool any_title = false;
   float aspect = kMinPlotAspect;
@@ -224,7 +215,7 @@ PictureLayout Picture::layout() const {
     view.y_up = o.y_up;
     if (i < static_cast<int>(panels_.size())) {
       const Panel& p = panels_[static_cast<size_t>(i)];
-      view.title = fit_text(p.title, panel_width, u);
+      view.title = measure.fit(p.title, panel_width);
       view.world = p.world ? *p.world : o.world ? *o.world : fit_world(p.bounds, p.empty, o.margin);
     } else {
       view.world = o.world ? *o.world : fit_world({}, true, o.margin);
@@ -233,6 +224,7 @@ PictureLayout Picture::layout() const {
     const Vec2 size = view.world.size();
     aspect = std::max(aspect, size.x > 0.0f ? size.y / size.x : kMaxPlotAspect);
   }
+  const float panel_title_baseline = static_cast<float>(y) + ascent;
   if (any_title) y += line;
   const float pw = static_cast<float>(panel_width);
   const int plot_height =
@@ -241,6 +233,7 @@ PictureLayout Picture::layout() const {
   for (int i = 0; i < n; ++i) {
     PanelView& view = out.panels[static_cast<size_t>(i)];
     view.plot = {pad + i * (panel_width + gap), y, panel_width, plot_height};
+    view.title_origin = {static_cast<float>(view.plot.x), panel_title_baseline};
     // Uniform scale: the world rectangle fits the plot on its tighter axis. An axis of no
     // extent (float rounding far from the origin) does not constrain it.
     const Vec2 size = view.world.size();
@@ -252,19 +245,28 @@ PictureLayout Picture::layout() const {
   y += plot_height;
 
   if (o.legend && roles_mask_ != 0) {
+    // Rows of entries (swatch, gap, name), wrapped where the next would pass the padding; each
+    // swatch centred on the height of its name's capitals.
     y += pad;
+    const int swatch_width = kSwatchWidth * u, swatch_height = kSwatchHeight * u;
+    const int name_start = swatch_width + kSwatchTextGap * u;
     int x = pad;
     int row_y = y;
     for (const DrawRole role : roles_drawn()) {
-      const int entry = 11 * u + text_width(to_string(role), u);
+      const auto name_width = static_cast<float>(measure.width(to_string(role)));
+      const int entry = name_start + static_cast<int>(std::ceil(name_width));
       if (x > pad && x + entry > o.width - pad) {
         x = pad;
         row_y += line;
       }
-      out.legend.push_back({role, {x, row_y, 8 * u, kGlyphAscent * u}, x + 11 * u, row_y});
+      const float baseline = static_cast<float>(row_y) + ascent;
+      const auto swatch_y = static_cast<int>(
+          std::lround(baseline - 0.5 * measure.cap_height() - 0.5 * static_cast<double>(swatch_height)));
+      out.legend.push_back({role, {x, swatch_y, swatch_width, swatch_height},
+                            {static_cast<float>(x + name_start), baseline}, name_width});
       x += entry + gap;
     }
-    y = row_y + kGlyphHeight * u;
+    y = row_y + line;
   }
   out.height = y + pad;
   return out;
@@ -306,7 +308,9 @@ void Picture::replay_item(const Item& item, const PanelView& view, PixelSink& si
   const float radius = item.radius * view.scale;
   double reach = radius;
   if (item.kind == Kind::label) {
-    reach = kLabelOffset + text_width(texts_[item.text], options_.text_scale) + kGlyphHeight * options_.text_scale;
+    // Far enough for any of the text to reach into the plot: its width is bounded by its bytes.
+    const double em = kFontSizePerTextScale * static_cast<double>(options_.text_scale);
+    reach = kLabelOffset + (static_cast<double>(texts_[item.text].size()) * kMaxEmsPerByte + kMaxLineEms) * em;
   }
   if (!(box_hi.x + reach >= lo.x && box_lo.x - reach <= hi.x && box_hi.y + reach >= lo.y && box_lo.y - reach <= hi.y)) {
     return;
@@ -333,13 +337,10 @@ void Picture::replay_item(const Item& item, const PanelView& view, PixelSink& si
     case Kind::point:
       sink.point(mapped[0], item.role);
       break;
-    case Kind::label: {
-      const float ascent = static_cast<float>(kGlyphAscent * options_.text_scale);
-      const Vec2 top_left = mapped[0] + Vec2{static_cast<float>(kLabelOffset),
-                                             -static_cast<float>(kLabelOffset) - ascent};
-      sink.label(top_left, texts_[item.text], item.role);
+    case Kind::label:
+      sink.label(mapped[0] + Vec2{static_cast<float>(kLabelOffset), -static_cast<float>(kLabelOffset)},
+                 texts_[item.text], item.role);
       break;
-    }
   }
 }
 
@@ -375,7 +376,7 @@ void Picture::replay(PixelSink& sink) const {
           sink.point(mid, e.role);
           break;
       }
-      sink.text(e.text_x, e.text_y, to_string(e.role));
+      sink.text(e.text_origin, to_string(e.role));
     }
     sink.end_legend();
   }

@@ -1,3 +1,6 @@
+#include "picture_font.hpp"
+
+#include <collide/draw/cairo_picture.hpp>
 #include <collide/draw/palette.hpp>
 #include <collide/draw/view3d.hpp>
 
@@ -41,7 +44,7 @@ constexpr float kNearFraction = 1e-4f;
 /// farthest surface sample at its pixel (it lies on that surface: a hit point, a contact).
 constexpr float kDepthBias = 0.01f;
 /// Parts behind a surface: drawn with this opacity, dashed.
-constexpr double kHiddenAlpha = 0.3;
+constexpr float kHiddenAlpha = 0.3f;
 /// Strokes are tested against the depth buffer every this many pixels along their length.
 constexpr float kStrokeSampleStep = 1.5f;
 /// Most samples along one stroke (a stroke across the whole picture at its largest size).
@@ -84,8 +87,10 @@ Color solid_color(DrawRole role) noexcept {
   return s.fill.a > 0 ? s.fill : s.stroke;
 }
 
-void set_source(cairo_t* cr, Color c, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, alpha);
+/// `c` with its opacity multiplied by `alpha` in [0, 1] (lines behind a surface are faint).
+Color faded(Color c, float alpha) noexcept {
+  c.a = static_cast<std::uint8_t>(std::clamp(static_cast<float>(c.a) * alpha + 0.5f, 0.0f, 255.0f));
+  return c;
 }
 
 /// The camera's frame: unit right, up and forward vectors, and the focal length in pixels.
@@ -234,11 +239,6 @@ struct ContextDeleter {
 using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
 using Context = std::unique_ptr<cairo_t, ContextDeleter>;
 
-void select_font(cairo_t* cr, double size) {
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
-}
-
 double text_width(cairo_t* cr, const std::string& text) {
   cairo_text_extents_t e;
   cairo_text_extents(cr, text.c_str(), &e);
@@ -362,13 +362,13 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
   std::vector<std::string> legend_names;
   for (const DrawRole r : legend_roles) {
     const std::string& named = names_[static_cast<std::size_t>(r)];
-    legend_names.push_back(named.empty() ? std::string(to_string(r)) : named);
+    legend_names.push_back(clean_text(named.empty() ? std::string(to_string(r)) : named));
   }
   LegendLayout legend;
   {
     const Surface probe(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1));
     const Context cr(cairo_create(probe.get()));
-    select_font(cr.get(), font);
+    use_picture_font(cr.get(), font);
     legend = layout_legend(cr.get(), legend_names, pad, o.width - 2.0 * pad, unit);
   }
   const double top = pad + (o.title.empty() ? 0.0 : line) + (view_titles ? line : 0.0);
@@ -380,7 +380,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
   const Context cr(cairo_create(surface.get()));
   cairo_set_source_rgb(cr.get(), 1.0, 1.0, 1.0);
   cairo_paint(cr.get());
-  select_font(cr.get(), font);
+  use_picture_font(cr.get(), font);
 
   View3DImage image;
   image.width = o.width;
@@ -494,7 +494,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
           const double dash[] = {kDashLength * unit, kDashLength * unit};
           cairo_set_dash(cr.get(), dash, 2, 0.0);
         }
-        set_source(cr.get(), style.stroke, visible ? 1.0 : kHiddenAlpha);
+        set_source(cr.get(), visible ? style.stroke : faded(style.stroke, kHiddenAlpha));
         cairo_stroke(cr.get());
       };
       for (int i = 1; i <= samples; ++i) {
@@ -522,7 +522,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
           cairo_line_to(cr.get(), sb.x - head * dir.x + half * across.x, sb.y - head * dir.y + half * across.y);
           cairo_line_to(cr.get(), sb.x - head * dir.x - half * across.x, sb.y - head * dir.y - half * across.y);
           cairo_close_path(cr.get());
-          set_source(cr.get(), style.stroke, in_view(sb) ? 1.0 : kHiddenAlpha);
+          set_source(cr.get(), in_view(sb) ? style.stroke : faded(style.stroke, kHiddenAlpha));
           cairo_fill(cr.get());
         }
       }
@@ -540,7 +540,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
         set_source(cr.get(), style.stroke);
         cairo_fill(cr.get());
       } else {
-        set_source(cr.get(), style.stroke, kHiddenAlpha);
+        set_source(cr.get(), faded(style.stroke, kHiddenAlpha));
         cairo_set_line_width(cr.get(), 0.5 * unit);
         cairo_stroke(cr.get());
       }
@@ -554,7 +554,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     if (!panel.title.empty()) {
       set_source(cr.get(), kPictureText);
       cairo_move_to(cr.get(), left, view_top - 0.35 * line);
-      cairo_show_text(cr.get(), panel.title.c_str());
+      cairo_show_text(cr.get(), clean_text(panel.title).c_str());
     }
   }
 
@@ -562,7 +562,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
   if (!o.title.empty()) {
     set_source(cr.get(), kPictureText);
     cairo_move_to(cr.get(), pad, pad + 0.75 * line);
-    cairo_show_text(cr.get(), o.title.c_str());
+    cairo_show_text(cr.get(), clean_text(o.title).c_str());
   }
   const double legend_top = top + view_h + pad;
   for (std::size_t i = 0; i < legend_roles.size(); ++i) {
@@ -614,11 +614,12 @@ void Picture3D::write_png(const std::string& path, const std::vector<View3DPanel
   View3DImage image = render(views, options);
   const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_ARGB32, image.width);
   if (stride != 4 * image.width) throw InvalidInput(path + ": unexpected row stride");
-  const Surface surface(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(image.pixels.data()),
-                                                            CAIRO_FORMAT_ARGB32, image.width, image.height, stride));
-  if (cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS) {
-    throw InvalidInput(path + ": cannot be written");
-  }
+  const Surface rendered(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(image.pixels.data()),
+                                                             CAIRO_FORMAT_ARGB32, image.width, image.height, stride));
+  save_drawing(path, PictureFormat::png, image.width, image.height, [&](cairo_t* cr) {
+    cairo_set_source_surface(cr, rendered.get(), 0.0, 0.0);
+    cairo_paint(cr);
+  });
 }
 
 }  // namespace collide

@@ -1,14 +1,15 @@
 // `collide cast`: the shape-cast picture checked against analytic geometry (a box moving into a
-// circle: time of impact, A - B, the ray's entry point and where the picture puts them), the
-// Minkowski difference of every shape type against GJK distance, and the command end to end
-// through the real binary (SVG that parses, a PNG of the reported size, errors naming the field).
+// circle: time of impact, A - B, the ray's entry point and where the picture puts them, in the
+// calls the picture replays and in the pixels of its PNG), the Minkowski difference of every
+// shape type against GJK distance, and the command end to end through the real binary (SVG that
+// parses, a PNG and a PDF of the reported size, errors naming the field).
 
 #include "cast.hpp"
 #include "cli_run.hpp"
+#include "support/picture_checks.hpp"
 
-#include <collide/draw/canvas_draw.hpp>
+#include <collide/draw/cairo_picture.hpp>
 #include <collide/draw/palette.hpp>
-#include <collide/draw/svg_draw.hpp>
 #include <collide/narrow/distance.hpp>
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <regex>
@@ -42,8 +44,8 @@ constexpr float kDifferenceRadius = 1.0f;
 /// Time and position tolerance of the analytic checks, world units: the cast's own tolerance
 /// (kShapeCastTolerance of the shapes' size) with room to spare.
 constexpr float kWorldTolerance = 1e-3f;
-/// Coordinates in the SVG are printed with 2 decimals (half a hundredth of a pixel).
-constexpr float kPrintedPixels = 0.006f;
+/// Float rounding of pixel coordinates a few hundred pixels from the origin.
+constexpr float kPixelTolerance = 1e-3f;
 
 /// Distance from `p` to the rounded box (core half extents `half` centred on `center`, grown by
 /// `radius`): negative inside.
@@ -54,33 +56,17 @@ float rounded_box_distance(Vec2 p, Vec2 center, Vec2 half, float radius) {
   return outside + inside - radius;
 }
 
-std::vector<pugi::xml_node> panels(const pugi::xml_document& doc) {
-  std::vector<pugi::xml_node> out;
-  for (pugi::xml_node n : doc.child("svg").children("g")) {
-    if (std::string(n.attribute("class").value()) == "panel") out.push_back(n);
-  }
-  return out;
-}
-
-/// Elements of a panel counted by class.
-std::map<std::string, int> classes(pugi::xml_node panel) {
+/// Calls of one panel counted by role (a shape's solid and its label count apart: both are
+/// calls).
+std::map<std::string, int> roles(const std::vector<test::SinkCall>& calls) {
   std::map<std::string, int> out;
-  for (pugi::xml_node n : panel.children()) {
-    if (n.type() == pugi::node_element) ++out[n.attribute("class").value()];
-  }
+  for (const test::SinkCall& c : calls) ++out[to_string(c.role)];
   return out;
-}
-
-pugi::xml_node first_of(pugi::xml_node panel, const char* element, const char* cls) {
-  for (pugi::xml_node n : panel.children(element)) {
-    if (std::string(n.attribute("class").value()) == cls) return n;
-  }
-  return {};
 }
 
 TEST(CastPicture, BoxIntoCircleIsAnalyticInBothPanels) {
-  SvgDraw svg;
-  const CastPicture cast = draw_cast(svg, parse_cast_question(kBoxIntoCircle));
+  Picture picture;
+  const CastPicture cast = draw_cast(picture, parse_cast_question(kBoxIntoCircle));
   ASSERT_EQ(cast.result.status, QueryStatus::hit);
   EXPECT_NEAR(cast.result.fraction, kExpectedT, kWorldTolerance);
   EXPECT_NEAR(cast.result.normal.x, 1.0f, kWorldTolerance);
@@ -96,51 +82,45 @@ TEST(CastPicture, BoxIntoCircleIsAnalyticInBothPanels) {
               0.0f, kWorldTolerance)
       << "the ray's entry point t (vb - va) lies on the boundary of A - B";
 
-  pugi::xml_document doc;
-  const std::string text = svg.svg();
-  ASSERT_TRUE(doc.load_buffer(text.data(), text.size()));
-  EXPECT_NE(std::string(doc.child("svg").child("text").child_value()).find("hit at t = 0.5"), std::string::npos);
-  const auto ps = panels(doc);
-  ASSERT_EQ(ps.size(), 2u);
+  test::RecordingSink sink;
+  picture.replay(sink);
+  const PictureLayout& lay = sink.layout;
+  EXPECT_NE(lay.title.find("hit at t = 0.5"), std::string::npos) << lay.title;
+  ASSERT_EQ(lay.panels.size(), 2u);
   // Motion panel: B does not move, so it is drawn once; A has its end pose, arrow and pose at t.
-  const std::map<std::string, int> motion{
-      {"role-path", 2},        {"role-shape-a", 2}, {"role-shape-b", 2}, {"role-highlight", 1},
-      {"role-contact-normal", 1}, {"role-contact-point", 1}};  // shape A/B: the solid and its label
-  EXPECT_EQ(classes(ps[0]), motion);
-  const std::map<std::string, int> difference{{"role-minkowski-difference", 1}, {"role-path", 1},
-                                              {"role-origin", 2}, {"role-highlight", 2},
-                                              {"role-contact-normal", 1}};
-  EXPECT_EQ(classes(ps[1]), difference);
+  const std::map<std::string, int> motion{{"path", 2},      {"shape A", 2},        {"shape B", 2},
+                                          {"highlight", 1}, {"contact normal", 1}, {"contact point", 1}};
+  EXPECT_EQ(roles(sink.in_panel(0)), motion);  // shape A/B: the solid and its label
+  const std::vector<test::SinkCall> difference_calls = sink.in_panel(1);
+  const std::map<std::string, int> difference{
+      {"Minkowski difference", 1}, {"path", 1}, {"origin", 2}, {"highlight", 2}, {"contact normal", 1}};
+  EXPECT_EQ(roles(difference_calls), difference);
 
-  // Where the configuration-space panel puts things: the entry point's dot and the origin's
-  // label at the layout's world -> image mapping of the analytic points.
-  const PictureLayout lay = svg.layout();
+  // Where the configuration-space panel puts things: the entry point's dot, the origin's label
+  // and A - B (its core's corners and its radius) at the layout's world -> image mapping of the
+  // analytic ones.
   const PanelView& view = lay.panels[1];
-  const pugi::xml_node dot = first_of(ps[1], "circle", "role-highlight");
-  ASSERT_TRUE(dot);
-  const Vec2 entry_px = view.to_image(kEntry);
-  EXPECT_NEAR(dot.attribute("cx").as_float(), entry_px.x, kPrintedPixels + view.scale * kWorldTolerance);
-  EXPECT_NEAR(dot.attribute("cy").as_float(), entry_px.y, kPrintedPixels + view.scale * kWorldTolerance);
-  const pugi::xml_node zero = first_of(ps[1], "text", "role-origin");
-  const Vec2 origin_px = view.to_image({0.0f, 0.0f});
-  EXPECT_NEAR(zero.attribute("x").as_float(), origin_px.x + kLabelOffset, kPrintedPixels);
-  EXPECT_NEAR(zero.attribute("y").as_float(), origin_px.y - kLabelOffset, kPrintedPixels);
-  // The rounded outline of A - B: every point of its path, mapped back to the world, is on the
-  // analytic rounded box (the path's arcs' end points and the pushed-out edges).
-  const std::string d = first_of(ps[1], "path", "role-minkowski-difference").attribute("d").value();
-  const std::regex pair(R"((-?[0-9.]+),(-?[0-9.]+))");
-  int points = 0;
-  for (auto it = std::sregex_iterator(d.begin(), d.end(), pair); it != std::sregex_iterator(); ++it) {
-    const Vec2 px{std::stof((*it)[1]), std::stof((*it)[2])};
-    const Vec2 plot_center{view.plot.x + 0.5f * view.plot.width, view.plot.y + 0.5f * view.plot.height};
-    const Vec2 off = (px - plot_center) / view.scale;
-    const Vec2 world = view.world.center() + Vec2{off.x, -off.y};
-    EXPECT_NEAR(rounded_box_distance(world, kDifferenceCenter, kDifferenceHalf, kDifferenceRadius), 0.0f,
-                2.0f * kPrintedPixels / view.scale)
-        << px.x << "," << px.y;
-    ++points;
+  int checked = 0;
+  for (const test::SinkCall& c : difference_calls) {
+    if (c.role == DrawRole::highlight && c.kind == test::SinkCall::Kind::point) {
+      EXPECT_LE(distance(c.points[0], view.to_image(kEntry)), kPixelTolerance + view.scale * kWorldTolerance);
+      ++checked;
+    } else if (c.role == DrawRole::origin && c.kind == test::SinkCall::Kind::label) {
+      EXPECT_EQ(c.text, "0");
+      EXPECT_LE(distance(c.points[0], view.to_image({0.0f, 0.0f}) + Vec2{kLabelOffset, -kLabelOffset}), kPixelTolerance);
+      ++checked;
+    } else if (c.role == DrawRole::minkowski) {
+      ASSERT_EQ(c.points.size(), 4u);
+      for (const Vec2 corner_px : c.points) {
+        const Vec2 off = (corner_px - view.to_image(kDifferenceCenter)) / view.scale;
+        EXPECT_NEAR(std::fabs(off.x), kDifferenceHalf.x, kPixelTolerance);
+        EXPECT_NEAR(std::fabs(off.y), kDifferenceHalf.y, kPixelTolerance);
+      }
+      EXPECT_NEAR(c.radius, kDifferenceRadius * view.scale, kPixelTolerance);
+      ++checked;
+    }
   }
-  EXPECT_GE(points, 8);  // 4 pushed-out edges, 4 arcs
+  EXPECT_EQ(checked, 3);
 
   // Legend: exactly the roles drawn.
   std::vector<std::string> legend;
@@ -150,26 +130,26 @@ TEST(CastPicture, BoxIntoCircleIsAnalyticInBothPanels) {
 }
 
 TEST(CastPicture, RasterisedEntryPointAndDifferenceHaveTheirColours) {
-  CanvasDraw png;
-  (void)draw_cast(png, parse_cast_question(kBoxIntoCircle));
-  const Canvas c = png.render();
-  const PanelView view = png.layout().panels[1];
-  auto at = [&](Vec2 world) {
-    const Vec2 p = view.to_image(world);
-    return c.pixel(static_cast<int>(p.x), static_cast<int>(p.y));
-  };
-  EXPECT_EQ(at(kEntry), draw_style(DrawRole::highlight).stroke);
-  const Color fill = draw_style(DrawRole::minkowski).fill;
-  const Color expected{static_cast<std::uint8_t>((fill.r * fill.a + 255 * (255 - fill.a) + 127) / 255),
-                       static_cast<std::uint8_t>((fill.g * fill.a + 255 * (255 - fill.a) + 127) / 255),
-                       static_cast<std::uint8_t>((fill.b * fill.a + 255 * (255 - fill.a) + 127) / 255), 255};
-  EXPECT_EQ(at(kDifferenceCenter + Vec2{0.0f, 0.8f}), expected) << "inside A - B, off the ray";
+  Picture picture;
+  (void)draw_cast(picture, parse_cast_question(kBoxIntoCircle));
+  const std::string path = ::testing::TempDir() + "cast_picture.png";
+  save_picture(picture, path, PictureFormat::png);
+  const test::PngImage png = test::read_png(path);
+  const PictureLayout lay = picture.layout();
+  ASSERT_EQ(png.width, lay.width);
+  ASSERT_EQ(png.height, lay.height);
+  const PanelView& view = lay.panels[1];
+  auto at = [&](Vec2 world) { return png.at(view.to_image(world)); };
+  EXPECT_EQ(at(kEntry), draw_style(DrawRole::highlight).stroke) << "the entry point's dot";
+  EXPECT_PRED2(test::near, at(kDifferenceCenter + Vec2{0.0f, 0.8f}),
+               test::over(draw_style(DrawRole::minkowski).fill, kPictureBackground))
+      << "inside A - B, off the ray";
   EXPECT_EQ(at(kDifferenceCenter + Vec2{0.0f, 2.0f}), kPictureBackground) << "0.5 outside A - B";
 }
 
 TEST(CastPicture, SeparatedCastDrawsNoHighlight) {
-  SvgDraw svg;
-  const CastPicture cast = draw_cast(svg, parse_cast_question(
+  Picture picture;
+  const CastPicture cast = draw_cast(picture, parse_cast_question(
       R"({"a": {"type": "circle", "radius": 1}, "va": [4, 0],
           "b": {"type": "circle", "radius": 0.5}, "xb": {"p": [3, 3]}, "vb": [0, 0]})"));
   EXPECT_EQ(cast.result.status, QueryStatus::separated);
@@ -177,7 +157,7 @@ TEST(CastPicture, SeparatedCastDrawsNoHighlight) {
   ASSERT_EQ(cast.difference.vertices.size(), 1u);
   EXPECT_EQ(cast.difference.vertices[0], (Vec2{-3.0f, -3.0f}));
   EXPECT_FLOAT_EQ(cast.difference.radius, 1.5f);
-  for (const DrawRole role : svg.roles_drawn()) {
+  for (const DrawRole role : picture.roles_drawn()) {
     EXPECT_NE(role, DrawRole::highlight);
     EXPECT_NE(role, DrawRole::contact_point);
   }
@@ -223,35 +203,34 @@ TEST(CastPicture, DifferenceOfEveryShapePairMatchesGjkDistance) {
 using test::CommandRun;
 const auto run = test::run_cli;
 
-std::uint32_t big_endian(const unsigned char* p) {
-  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 | p[3];
-}
-
-TEST(CastCommand, WritesAParsingSvgAndAPngOfTheReportedSize) {
+TEST(CastCommand, WritesAParsingSvgAPngAndAPdfOfTheReportedSize) {
   const std::string dir = ::testing::TempDir();
   const std::string question = dir + "collide_cast_question.json", svg = dir + "collide_cast.svg",
-                    png = dir + "collide_cast.png";
+                    png = dir + "collide_cast.png", pdf = dir + "collide_cast.pdf";
   std::ofstream(question) << kBoxIntoCircle;
-  std::remove(svg.c_str());
-  std::remove(png.c_str());
-  const CommandRun r = run("cast " + question + " --width 640 --svg " + svg + " --png " + png);
+  for (const std::string& f : {svg, png, pdf}) std::remove(f.c_str());
+  const CommandRun r = run("cast " + question + " --width 640 --svg " + svg + " --png " + png + " --pdf " + pdf);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("hit at t = 0.5 "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("A - B     4 vertices, radius 1"), std::string::npos) << r.output;
-  pugi::xml_document doc;
-  ASSERT_TRUE(doc.load_file(svg.c_str())) << svg;
-  EXPECT_EQ(panels(doc).size(), 2u);
-  EXPECT_STREQ(doc.child("svg").attribute("width").value(), "640");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(wrote \S+collide_cast.png \((\d+) x (\d+)\))"))) << r.output;
-  std::ifstream file(png, std::ios::binary);
-  std::array<unsigned char, 24> head{};
-  file.read(reinterpret_cast<char*>(head.data()), head.size());
-  ASSERT_TRUE(file.good()) << "no PNG at " << png;
-  const std::array<unsigned char, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  EXPECT_TRUE(std::equal(signature.begin(), signature.end(), head.begin()));
-  EXPECT_EQ(big_endian(&head[16]), 640u);  // IHDR width, then height
-  EXPECT_EQ(big_endian(&head[20]), static_cast<std::uint32_t>(std::stoi(m[2].str())));
+  const std::string width = m[1].str(), height = m[2].str();
+  EXPECT_EQ(width, "640");
+  for (const std::string& f : {svg, pdf}) {
+    EXPECT_NE(r.output.find("wrote " + f + " (" + width + " x " + height + ")"), std::string::npos) << r.output;
+  }
+  const test::PngImage image = test::read_png(png);
+  EXPECT_EQ(image.width, 640);
+  EXPECT_EQ(std::to_string(image.height), height);
+  pugi::xml_document doc;
+  ASSERT_TRUE(doc.load_file(svg.c_str())) << svg;
+  EXPECT_EQ(std::string(doc.child("svg").attribute("width").value()), "640px");
+  EXPECT_EQ(std::string(doc.child("svg").attribute("height").value()), height + "px");
+  std::ifstream in(pdf, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes.rfind("%PDF-", 0), 0u) << pdf;
+  EXPECT_NE(bytes.find("/MediaBox [ 0 0 640 " + height + " ]"), std::string::npos) << pdf;
 }
 
 TEST(CastCommand, BadQuestionsFailNamingTheField) {

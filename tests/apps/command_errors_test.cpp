@@ -93,6 +93,8 @@ TEST(CommandErrors, OutputsThatCannotBeWrittenAreNamedBeforeTheWork) {
       R"('{"a": {"type": "circle", "radius": 1}, "va": [4, 0], "b": {"type": "circle", "radius": 1}, "xb": {"p": [5, 0]}, "vb": [0, 0]}')";
   expect_error("cast --question " + question + " --svg /nonexistent/cast.svg",
                "collide cast: --svg /nonexistent/cast.svg: cannot be written (no folder '/nonexistent')");
+  expect_error("cast --question " + question + " --pdf /nonexistent/cast.pdf",
+               "collide cast: --pdf /nonexistent/cast.pdf: cannot be written (no folder '/nonexistent')");
   // Standard output on a full disk: the summary is lost, so the run is not a success.
   for (const std::string& args : {std::string("run --frames 1 --bodies 10 --no-progress"), "cast --question " + question,
                                  "walk " + kDungeon + " --steps 1"}) {

@@ -6,10 +6,13 @@
 
 #include "cli_run.hpp"
 #include "run.hpp"
+#include "support/picture_checks.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/draw/palette.hpp>
 
 #include <gtest/gtest.h>
+#include <pugixml.hpp>
 
 #include <sys/wait.h>
 
@@ -229,12 +232,19 @@ TEST(RunCommand, ExampleScenesRunThroughTheBinary) {
     }
     EXPECT_EQ(lines, std::stol(m[1].str()));
     EXPECT_GT(lines, 0);
-    EXPECT_TRUE(test::has_png_signature(png)) << png;
-    std::ifstream svg_in(svg);
-    const std::string picture((std::istreambuf_iterator<char>(svg_in)), std::istreambuf_iterator<char>());
-    for (const char* role : {"role-static-geometry", "role-laser", "role-fast-body"}) {
-      EXPECT_NE(picture.find(role), std::string::npos) << role;
+    // The pictures: a PNG 800 pixels wide showing static geometry, the laser's hits and fast
+    // bodies in their palette colours, and an SVG of the same size.
+    const test::PngImage image = test::read_png(png);
+    ASSERT_EQ(image.width, 800) << png;
+    for (const DrawRole role : {DrawRole::static_geometry, DrawRole::fast_body}) {
+      const Color fill = test::over(draw_style(role).fill, kPictureBackground);
+      EXPECT_GT(test::count_pixels(image, [&](Color c) { return test::near(c, fill); }), 0) << to_string(role);
     }
+    const Color hit = draw_style(DrawRole::laser_hit).stroke;
+    EXPECT_GT(test::count_pixels(image, [&](Color c) { return c == hit; }), 0) << "laser hit";
+    pugi::xml_document doc;
+    ASSERT_TRUE(doc.load_file(svg.c_str())) << svg;
+    EXPECT_EQ(std::string(doc.child("svg").attribute("height").value()), std::to_string(image.height) + "px");
     const std::string hash = hash_of(r.output);
     ASSERT_NE(hash, "none") << r.output;
     const CommandRun again = run_cli(args + " --broadphase sweep_and_prune");

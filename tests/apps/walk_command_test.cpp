@@ -4,6 +4,7 @@
 // (and the line).
 
 #include "cli_run.hpp"
+#include "support/picture_checks.hpp"
 
 #include <collide/io/obj.hpp>
 #include <collide/walkmesh/make_walk_mesh.hpp>
@@ -27,7 +28,7 @@ TEST(WalkCommand, AgentsOnTheDungeonStayOnTheMeshAndThePictureIsAPng) {
   const std::string png = ::testing::TempDir() + "collide_walk_test.png";
   std::remove(png.c_str());
   const CommandRun r = run("walk " + std::string(COLLIDE_DATA_DIR) +
-                    "/meshes/recast/dungeon.obj --agents 8 --steps 200 --seed 3 --png " + png);
+                    "/meshes/recast/dungeon.obj --agents 8 --steps 200 --seed 3 --png-size 300 --png " + png);
   ASSERT_EQ(r.status, 0) << r.output;
   // "on-mesh check     1600/1600 positions on the mesh ..."
   std::smatch m;
@@ -35,7 +36,18 @@ TEST(WalkCommand, AgentsOnTheDungeonStayOnTheMeshAndThePictureIsAPng) {
       << r.output;
   EXPECT_EQ(m[1].str(), m[2].str()) << r.output;
   EXPECT_EQ(std::stoi(m[2].str()), 8 * 200);
-  EXPECT_TRUE(collide::test::has_png_signature(png)) << "no PNG at " << png;
+  // The top-down picture: the size asked for, the dark ground in its corner (the mesh is fitted
+  // inside a margin), and a good part of it covered by the mesh's light island colours.
+  const collide::test::PngImage image = collide::test::read_png(png);
+  ASSERT_EQ(image.width, 300) << "no PNG at " << png;
+  ASSERT_EQ(image.height, 300);
+  const collide::Color ground = image.at(0, 0);
+  EXPECT_LT(ground.r + ground.g + ground.b, 3 * 64) << "dark ground";
+  constexpr int kIslandChannelMin = 150;  // walk_command.cpp's island colours are lighter than this
+  const int mesh = collide::test::count_pixels(image, [](collide::Color c) {
+    return c.r >= kIslandChannelMin && c.g >= kIslandChannelMin && c.b >= kIslandChannelMin;
+  });
+  EXPECT_GT(mesh, 300 * 300 / 10) << "the walk mesh covers a tenth of the picture";
 }
 
 TEST(WalkCommand, SameSeedGivesTheSameReport) {

@@ -17,22 +17,22 @@ put(DESIGN.md "# design" "## Layers (data flows top to bottom)" "```" " apps/   
     " core/      basics" "```" "## Next" "```" " ignored/  not a layer" "```")
 # Faults, one per rule.
 put(include/collide/core/low.hpp "#include <collide/shape/circle.hpp>")        # higher-layer
-put(src/shape/circle.cpp "#include <collide/draw/canvas.hpp>")                  # other-target
+put(src/shape/circle.cpp "#include <collide/draw/palette.hpp>")                 # other-target
 put(src/world/world.cpp "#include \"../shape/private.hpp\"")                    # private-header
 put(include/collide/shape/circle.hpp "namespace collide::detail {" "}")         # detail-name
 put(include/collide/world/world.hpp "inline int f() { return detail::g(); }")   # detail-name
 put(src/extra/extra.cpp "int x;")                                               # unknown-folder
-put(io/src/tiled.cpp "#include <collide/draw/canvas.hpp>")                      # other-target
-put(draw/src/canvas.cpp "#include \"sub/inner.hpp\"")                           # private-header
+put(io/src/tiled.cpp "#include <collide/draw/palette.hpp>")                     # other-target
+put(draw/src/cairo_picture.cpp "#include \"sub/inner.hpp\"")                    # private-header
 # Not faults: lower and own layers, a file beside the includer, detail in comments and in
 # private files, a target including the library and itself.
 put(src/shape/private.hpp "namespace collide::detail {}")
 put(src/shape/shape.cpp "#include <collide/core/low.hpp>" "#include <collide/shape/circle.hpp>"
     "#include \"private.hpp\"" "// detail::see_private")
 put(include/collide/core/doc.hpp "/// Details: see detail:: in the sources." "int y; // detail::z")
-put(draw/include/collide/draw/canvas.hpp "#include <collide/core/low.hpp>")
+put(draw/include/collide/draw/palette.hpp "#include <collide/core/low.hpp>")
 put(draw/src/sub/inner.hpp "")
-put(draw/src/picture.cpp "#include <collide/draw/canvas.hpp>" "#include <collide/world/world.hpp>")
+put(draw/src/picture.cpp "#include <collide/draw/palette.hpp>" "#include <collide/world/world.hpp>")
 
 collide_layers_from_design(${root}/DESIGN.md layers)
 set(expected_layers core shape world draw io apps)
@@ -44,7 +44,7 @@ collide_check_layers(ROOT ${root} LAYERS core shape world TARGETS draw io
                      EXCEPTIONS "src/world/world.cpp: private-header" "src/shape/shape.cpp: private-header"
                      VIOLATIONS violations STALE stale)
 set(expected_violations
-  "draw/src/canvas.cpp: private-header"
+  "draw/src/cairo_picture.cpp: private-header"
   "include/collide/core/low.hpp: higher-layer"
   "include/collide/shape/circle.hpp: detail-name"
   "include/collide/world/world.hpp: detail-name"

@@ -1,8 +1,8 @@
 #pragma once
 /// @file
-/// The one palette of debug pictures: each DrawRole has one style, shared by every renderer
-/// (SvgDraw, CanvasDraw), so a colour means the same thing in every picture and the legend can
-/// name it. Sizes are in image pixels, independent of the world scale.
+/// The one palette of debug pictures: each DrawRole has one style, used for every picture
+/// (PNG, SVG or PDF: cairo_picture.hpp), so a colour means the same thing in every picture and
+/// the legend can name it. Sizes are in image pixels, independent of the world scale.
 ///
 /// The choice, so a picture reads at a glance on a white background: static geometry grey,
 /// sensors translucent teal, bodies blue, fast bodies orange, contact points black dots with
@@ -11,9 +11,16 @@
 /// translucent purple, the origin a black cross, highlights magenta.
 
 #include <collide/core/debug_draw.hpp>
-#include <collide/draw/canvas.hpp>
+
+#include <cstdint>
 
 namespace collide {
+
+/// An 8-bit RGBA colour, not premultiplied; a = 255 is opaque.
+struct Color {
+  std::uint8_t r = 0, g = 0, b = 0, a = 255;
+  friend constexpr bool operator==(Color, Color) noexcept = default;
+};
 
 /// How a point (draw_point) of a role is marked.
 enum class PointMarker : unsigned char {
@@ -37,7 +44,7 @@ struct DrawStyle {
   float point_size = 3.0f;               ///< dot radius or cross half-length, pixels
   PointMarker marker = PointMarker::dot;
   Swatch swatch = Swatch::solid;
-  bool dashed = false;                   ///< dashed lines and arrow shafts (and outlines, in SVG only)
+  bool dashed = false;                   ///< dashed lines, arrow shafts and outlines of solids
 };
 
 /// The style of `role`. Roles outside the enum get the static-geometry style.
@@ -56,5 +63,10 @@ inline constexpr float kArrowHeadLength = 9.0f;
 inline constexpr float kArrowHeadHalfWidth = 4.0f;
 /// Dash and gap length of dashed strokes, pixels.
 inline constexpr float kDashLength = 5.0f;
+/// Width of the frame around each panel's plot area, pixels.
+inline constexpr float kPanelFrameWidth = 1.0f;
+/// Width of the background-coloured outline behind label text, so a label reads over shapes,
+/// pixels (half of it reaches beyond the glyphs).
+inline constexpr float kLabelHaloWidth = 3.0f;
 
 }  // namespace collide
