@@ -15,8 +15,11 @@
 //    end-of-step check (WorldOptions3::check_each_step, a brute-force tunnelling test) is turned
 //    off: it is a test harness, not collision work, and Jolt has none.
 //  - Jolt (jolt_world.hpp): the collision half of PhysicsSystem::Update on the same poses: the
-//    bodies are kinematic bodies moved each step to the pose collide's world gave them after the
-//    same step (recorded once, outside the timing), their bounds updated and the
+//    bodies are kinematic bodies, each step put at the pose collide's world had before the same
+//    step (recorded once, outside the timing) and moved by the same velocities as Jolt's
+//    integration moves a body (AddRotationStep, AddPositionStep: the pose collide's world
+//    reaches too, unless it pushed the body out of a contact: counter `j_pose_off`, bodies per
+//    step farther than kPoseOffFraction of their size), their bounds updated and the
 //    BroadPhaseQuadTree told; the quad tree updated; FindCollidingPairs; and each pair
 //    CollideShape with faces collected and active edges, each result made a manifold
 //    (ManifoldBetweenTwoFaces) and merged by normal, pruned to 4 points, as PhysicsSystem's
@@ -25,7 +28,9 @@
 //  - Comparable: the same bodies at the same poses each step, the same level, dt and counts;
 //    both touching-only (collide's contacts have margin 0; Jolt's speculative distance and
 //    mMaxSeparationDistance are 0, its default being 0.02), triangles two-sided on both sides.
-//    collide does more than Jolt: the bounce and push-out response and the contact events. Each
+//    collide does more than Jolt: the bounce and push-out response and the contact events;
+//    Jolt's side copies each recorded pose into its body before moving it, which its own step
+//    would not (a store and a rotation per body). Each
 //    benchmark runs kWarmupSteps untimed (the broad phases and the early-out chains settle),
 //    then exactly kTimedSteps timed steps, so both sides see the recorded poses; collide's final
 //    state hash is checked against the recording.
@@ -214,17 +219,22 @@ struct StepCounters {
   double ccd = 0, pushes = 0;
   double jolt_body_pairs = 0, jolt_level_pairs = 0;
   double jolt_touching_bodies = 0, jolt_touching_level = 0, jolt_manifolds = 0, jolt_points = 0;
+  double jolt_pose_off = 0;  ///< bodies whose pose after the step is off collide's (see kPoseOffFraction)
 };
 
-/// One workload of `count` bodies: their definitions, collide's run of it (poses and velocities
-/// after each step, final hash) and both sides' counters over the timed steps.
+/// A Jolt body's position after a step counts as off collide's when farther than this many body
+/// sizes from it.
+constexpr float kPoseOffFraction = 1e-3f;
+
+/// One workload of `count` bodies: their definitions, collide's run of it (each body's pose and
+/// velocity before each step, the final hash) and both sides' counters over the timed steps.
 struct StepRun {
   std::vector<BodyDef3> bodies;
   std::vector<jolt_queries::ConvexPtr> jolt_shapes;
   std::vector<const jolt_queries::Convex*> jolt_shape_ptrs;
-  std::vector<jolt_queries::Pose> start;
-  std::vector<std::vector<jolt_queries::Pose>> poses;  ///< [step][body], after the step
-  std::vector<std::vector<jolt_queries::Vec>> velocities;
+  std::vector<std::vector<jolt_queries::Pose>> poses;  ///< [step][body], before the step
+  std::vector<std::vector<jolt_queries::Vec>> velocities;  ///< [step][body], before the step
+  std::vector<jolt_queries::Vec> spins;  ///< [body]: angular velocities (a kinematic world keeps them)
   std::uint64_t final_hash = 0;
   int spawned = 0;
   StepCounters counters;
@@ -237,7 +247,12 @@ World3D step_world(const StepRun& run) {
 }
 
 jolt_queries::StepWorldPtr jolt_step_world(const StepRun& run) {
-  return jolt_queries::make_step_world(*level().jolt, run.jolt_shape_ptrs, run.start);
+  return jolt_queries::make_step_world(*level().jolt, run.jolt_shape_ptrs, run.poses[0]);
+}
+
+/// Jolt's step `s`: from collide's pose before it, by collide's velocities.
+jolt_queries::StepCounts jolt_step(jolt_queries::StepWorld& jolt, const StepRun& run, int s) {
+  return jolt_queries::step(jolt, run.poses[s], run.velocities[s], run.spins, kDt, 0.0f);
 }
 
 /// A free place for `shape` in the level's box (false when none was found), its velocity and
@@ -271,7 +286,7 @@ StepRun make_step_run(int count) {
       run.bodies.push_back(def);
       run.jolt_shapes.push_back(jolt_shape(shape));
       run.jolt_shape_ptrs.push_back(run.jolt_shapes.back().get());
-      run.start.push_back(jolt_pose(def.transform));
+      run.spins.push_back(jv(def.angular_velocity));
     }
   }
   run.spawned = static_cast<int>(run.bodies.size());
@@ -281,7 +296,6 @@ StepRun make_step_run(int count) {
   const std::vector<BodyId> ids = world.body_ids();
   StepCounters& c = run.counters;
   for (int s = 0; s < kWarmupSteps + kTimedSteps; ++s) {
-    world.step(kDt);
     std::vector<jolt_queries::Pose> poses;
     std::vector<jolt_queries::Vec> velocities;
     for (const BodyId id : ids) {
@@ -290,6 +304,7 @@ StepRun make_step_run(int count) {
     }
     run.poses.push_back(std::move(poses));
     run.velocities.push_back(std::move(velocities));
+    world.step(kDt);
     if (s < kWarmupSteps) continue;
     const StepStats& st = world.last_step_stats();
     c.body_pairs += double(st.body_pairs);
@@ -304,11 +319,17 @@ StepRun make_step_run(int count) {
   }
   run.final_hash = world.state_hash();
 
-  // Jolt's replay, for its counters.
+  // Jolt's replay, for its counters, and how far its poses are from collide's after each step
+  // (collide pushes a body out of what it touched; Jolt's kinematic motion has no push).
   jolt_queries::StepWorldPtr jolt = jolt_step_world(run);
+  const float off = kPoseOffFraction * body_size();
   for (int s = 0; s < kWarmupSteps + kTimedSteps; ++s) {
-    const jolt_queries::StepCounts j = jolt_queries::step(*jolt, run.poses[s], run.velocities[s], 0.0f);
+    const jolt_queries::StepCounts j = jolt_step(*jolt, run, s);
     if (s < kWarmupSteps) continue;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Vec3 p = s + 1 < kWarmupSteps + kTimedSteps ? cv(run.poses[s + 1][i].p) : world.transform(ids[i]).p;
+      c.jolt_pose_off += length(cv(jolt_queries::pose(*jolt, static_cast<int>(i)).p) - p) > off;
+    }
     c.jolt_body_pairs += j.body_pairs;
     c.jolt_level_pairs += j.level_pairs;
     c.jolt_touching_bodies += j.touching_bodies;
@@ -318,7 +339,7 @@ StepRun make_step_run(int count) {
   }
   for (double* v : {&c.body_pairs, &c.static_candidates, &c.narrow_tests, &c.touching_bodies, &c.touching_level,
                     &c.points, &c.ccd, &c.pushes, &c.jolt_body_pairs, &c.jolt_level_pairs, &c.jolt_touching_bodies,
-                    &c.jolt_touching_level, &c.jolt_manifolds, &c.jolt_points}) {
+                    &c.jolt_touching_level, &c.jolt_manifolds, &c.jolt_points, &c.jolt_pose_off}) {
     *v /= kTimedSteps;
   }
   return run;
@@ -353,6 +374,7 @@ bool step_counters(benchmark::State& state, const StepRun& run) {
   state.counters["j_touch_bl"] = c.jolt_touching_level;
   state.counters["j_manifolds"] = c.jolt_manifolds;
   state.counters["j_points"] = c.jolt_points;
+  state.counters["j_pose_off"] = c.jolt_pose_off;
   const auto agree = [](double a, double b) {
     return a + b < 10.0 || (a <= kCountersAgreeFactor * b && b <= kCountersAgreeFactor * a);
   };
@@ -375,12 +397,9 @@ void BM_Step(benchmark::State& state) {
 void BM_StepJolt(benchmark::State& state) {
   const StepRun& run = step_run(state);
   jolt_queries::StepWorldPtr jolt = jolt_step_world(run);
-  for (int s = 0; s < kWarmupSteps; ++s) jolt_queries::step(*jolt, run.poses[s], run.velocities[s], 0.0f);
+  for (int s = 0; s < kWarmupSteps; ++s) jolt_step(*jolt, run, s);
   int s = kWarmupSteps;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(jolt_queries::step(*jolt, run.poses[s], run.velocities[s], 0.0f));
-    ++s;
-  }
+  for (auto _ : state) benchmark::DoNotOptimize(jolt_step(*jolt, run, s++));
   step_counters(state, run);
 }
 

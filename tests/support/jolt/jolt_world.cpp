@@ -226,8 +226,8 @@ StepWorldPtr make_step_world(const Mesh& level, std::span<const Convex* const> s
   return w;
 }
 
-StepCounts step(StepWorld& w, std::span<const Pose> poses, std::span<const Vec> velocities,
-                float margin) {
+StepCounts step(StepWorld& w, std::span<const Pose> from, std::span<const Vec> velocities,
+                std::span<const Vec> angular, float dt, float margin) {
   const ClearUpperOnReturn clear_upper;
   StepCounts counts;
   JPH::BodyVector& all = w.bodies.GetBodies();
@@ -235,8 +235,13 @@ StepCounts step(StepWorld& w, std::span<const Pose> poses, std::span<const Vec> 
   // 1. Move.
   for (std::size_t i = 0; i < w.moving.size(); ++i) {
     JPH::Body& body = *all[w.moving[i].GetIndex()];
-    body.SetPositionAndRotationInternal(to_jolt(poses[i].p), to_jolt(poses[i].q), false);
-    body.SetLinearVelocity(to_jolt(velocities[i]));
+    body.SetPositionAndRotationInternal(to_jolt(from[i].p), to_jolt(from[i].q), false);
+    const Vec3 v = to_jolt(velocities[i]);
+    const Vec3 omega = to_jolt(angular[i]);
+    body.SetLinearVelocity(v);
+    body.SetAngularVelocity(omega);
+    body.AddRotationStep(omega * dt);
+    body.AddPositionStep(v * dt);
     body.CalculateWorldSpaceBoundsInternal();
   }
   w.find_buffer = w.moving;
@@ -286,6 +291,13 @@ StepCounts step(StepWorld& w, std::span<const Pose> poses, std::span<const Vec> 
     counts.points += collector.finish();
   }
   return counts;
+}
+
+Pose pose(const StepWorld& w, int body) {
+  const ClearUpperOnReturn clear_upper;
+  const JPH::Body& b = *w.bodies.GetBodies()[w.moving[static_cast<std::size_t>(body)].GetIndex()];
+  const JPH::Quat q = b.GetRotation();
+  return {from_jolt(JPH::Vec3(b.GetPosition())), {q.GetX(), q.GetY(), q.GetZ(), q.GetW()}};
 }
 
 // ---- a character walking a level ------------------------------------------------------------------

@@ -46,9 +46,12 @@ struct StepCounts {
 };
 
 /// One step's collision work, as PhysicsSystem::Update does it minus the solver:
-///  1. Move: each body to `poses[i]` with linear velocity `velocities[i]` (the velocity only
-///     steers active edges, as in PhysicsSystem), its world bounds recomputed, and the broad
-///     phase told (NotifyBodiesAABBChanged), as the integration of a step does.
+///  1. Move: each body placed at `from[i]` (the pose the caller's recording had before this
+///     step), then moved as the step's integration moves a body (JobIntegrateVelocity:
+///     AddRotationStep by `angular[i]` * dt about its centre of mass, AddPositionStep by
+///     `velocities[i]` * dt, angular in radians per second, world space), its world bounds
+///     recomputed (CalculateWorldSpaceBoundsInternal) and the broad phase told
+///     (NotifyBodiesAABBChanged). The linear velocity also steers active edges.
 ///  2. Broad phase: UpdatePrepare / UpdateFinalize (the quad tree rebuilt where bodies moved),
 ///     then FindCollidingPairs for every body (speculative distance `margin`).
 ///  3. Narrow phase, each pair: CollisionDispatch::sCollideShapeVsShape in the first body's
@@ -57,8 +60,11 @@ struct StepCounts {
 ///     (ManifoldBetweenTwoFaces), results with normals within PhysicsSettings'
 ///     mContactNormalCosMaxDeltaRotation merged into one manifold and pruned to 4 points
 ///     (PruneContactPoints), as PhysicsSystem's manifold reduction does.
-StepCounts step(StepWorld& world, std::span<const Pose> poses, std::span<const Vec> velocities,
-                float margin);
+StepCounts step(StepWorld& world, std::span<const Pose> from, std::span<const Vec> velocities,
+                std::span<const Vec> angular, float dt, float margin);
+
+/// Where body i is: the pose of its shape's own frame (as `from` takes it).
+Pose pose(const StepWorld& world, int body);
 
 // ---- a character walking a level (bench_world3d) -----------------------------------------------
 
