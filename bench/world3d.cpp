@@ -49,7 +49,8 @@
 // time is per move (`per_move`); the counters come from an untimed run of both: grounded
 // fraction per side, moves that ended inside the level (judged by collide's exact contact
 // against the level, deeper than kTunnelDepthFraction of the radius) and the deepest overlap per
-// side, and the mean distance between the two sides' final positions.
+// side, the characters stuck in place at the end (`stuck`: see kStuckFraction) and the mean
+// distance between the two sides' final positions.
 //
 // Counters are computed once, outside the timing, and the same on both sides' rows. Instruction
 // sets are in the context block (collide's build, Jolt's own).
@@ -541,7 +542,13 @@ struct WalkCounters {
   double max_end_distance = 0;
   double travelled = 0, jolt_travelled = 0;  ///< mean distance from start to end
   int fell = 0, jolt_fell = 0;               ///< falls off the level's open edges
+  /// Characters that moved less than kStuckFraction of their radius over the last kTurnFrames
+  /// frames (a heading change among them): stuck, whichever way they are told to walk.
+  int stuck = 0, jolt_stuck = 0;
 };
+
+/// See WalkCounters::stuck.
+constexpr float kStuckFraction = 0.1f;
 
 const WalkCounters& walk_counters() {
   static const WalkCounters c = [] {
@@ -565,7 +572,12 @@ const WalkCounters& walk_counters() {
         deepest = std::max(deepest, double(depth));
       }
     };
+    std::vector<Walker> ours_before, theirs_before;
     for (int f = 0; f < kCharacterFrames; ++f) {
+      if (f == kCharacterFrames - kTurnFrames) {
+        ours_before = ours;
+        theirs_before = theirs;
+      }
       collide_frame(world, shape, settings, f, ours);
       jolt_frame(characters, f, theirs);
       judge(ours, out.grounded, out.inside, out.depth);
@@ -582,6 +594,9 @@ const WalkCounters& walk_counters() {
       out.jolt_travelled += length(theirs[k].p - walk().start[k]) / kCharacters;
       out.fell += ours[k].fell;
       out.jolt_fell += theirs[k].fell;
+      const float still = kStuckFraction * character_capsule().radius;
+      out.stuck += ours[k].fell == ours_before[k].fell && length(ours[k].p - ours_before[k].p) < still;
+      out.jolt_stuck += theirs[k].fell == theirs_before[k].fell && length(theirs[k].p - theirs_before[k].p) < still;
     }
     return out;
   }();
@@ -603,6 +618,8 @@ void walk_counters(benchmark::State& state, double moves) {
   state.counters["end_dist_max"] = c.max_end_distance;
   state.counters["fell"] = c.fell;
   state.counters["j_fell"] = c.jolt_fell;
+  state.counters["stuck"] = c.stuck;
+  state.counters["j_stuck"] = c.jolt_stuck;
   state.counters["height"] = character_height();
 }
 
