@@ -218,6 +218,9 @@ struct StepCounters {
   double body_pairs = 0, static_candidates = 0, narrow_tests = 0;  // collide's broad phase and early out
   double touching_bodies = 0, touching_level = 0, points = 0;      // collide's contacts
   double ccd = 0, pushes = 0;
+  /// collide's own per-phase clock (StepStats, microseconds per step, in the untimed run): motion,
+  /// body-level contacts, body broad phase, body pairs, events.
+  double us_motion = 0, us_statics = 0, us_broad = 0, us_pairs = 0, us_events = 0;
   double jolt_body_pairs = 0, jolt_level_pairs = 0;
   double jolt_touching_bodies = 0, jolt_touching_level = 0, jolt_manifolds = 0, jolt_points = 0;
   double jolt_pose_off = 0;  ///< bodies whose pose after the step is off collide's (see kPoseOffFraction)
@@ -313,6 +316,11 @@ StepRun make_step_run(int count) {
     c.narrow_tests += double(st.narrow_tests);
     c.ccd += double(st.ccd_bodies);
     c.pushes += double(st.pushes);
+    c.us_motion += 1e6 * st.time_integrate;
+    c.us_statics += 1e6 * st.time_statics;
+    c.us_broad += 1e6 * st.time_broad;
+    c.us_pairs += 1e6 * st.time_bodies;
+    c.us_events += 1e6 * st.time_events;
     for (const Contact3& contact : world.contacts()) {
       (contact.b.is_static ? c.touching_level : c.touching_bodies) += 1.0;
       c.points += contact.manifold.count;
@@ -340,7 +348,8 @@ StepRun make_step_run(int count) {
   }
   for (double* v : {&c.body_pairs, &c.static_candidates, &c.narrow_tests, &c.touching_bodies, &c.touching_level,
                     &c.points, &c.ccd, &c.pushes, &c.jolt_body_pairs, &c.jolt_level_pairs, &c.jolt_touching_bodies,
-                    &c.jolt_touching_level, &c.jolt_manifolds, &c.jolt_points, &c.jolt_pose_off}) {
+                    &c.jolt_touching_level, &c.jolt_manifolds, &c.jolt_points, &c.jolt_pose_off, &c.us_motion,
+                    &c.us_statics, &c.us_broad, &c.us_pairs, &c.us_events}) {
     *v /= kTimedSteps;
   }
   return run;
@@ -369,6 +378,11 @@ bool step_counters(benchmark::State& state, const StepRun& run) {
   state.counters["points"] = c.points;
   state.counters["ccd"] = c.ccd;
   state.counters["pushes"] = c.pushes;
+  state.counters["us_motion"] = c.us_motion;
+  state.counters["us_statics"] = c.us_statics;
+  state.counters["us_broad"] = c.us_broad;
+  state.counters["us_pairs"] = c.us_pairs;
+  state.counters["us_events"] = c.us_events;
   state.counters["j_pairs"] = c.jolt_body_pairs;
   state.counters["j_level_pairs"] = c.jolt_level_pairs;
   state.counters["j_touch_bb"] = c.jolt_touching_bodies;
