@@ -198,18 +198,27 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xl), "contact: transforms must be finite rigid");
   margin = margin > 0.0f ? margin : 0.0f;
   const Placement pl = place(xa, xl, level.offset());
-  detail::Polytope3 pa;
-  detail::make_polytope(pa, a);
-  const ConvexProxy3 proxy(a);
   const Aabb3 box = compute_aabb(a, pl.a_in_stored);
-  // The early out's reach: the margin plus more than the contact's rounding allowance (which
-  // scales with the smaller core and the coordinates, here A's frame: near A's size).
-  const Aabb3 local = compute_aabb(a, Transform3{});
-  const float reach = margin + kPretestSlack * slop(local);
+  // A's view, its local box and the early out's reach are made at the first candidate
+  // triangle: most queries of a world step (bodies in free space) meet none, and a hull's view
+  // and box each cost a pass over its vertices.
+  detail::Polytope3 pa;
+  const ConvexProxy3 proxy(a);
+  Aabb3 local;
+  float reach = 0.0f;
+  bool ready = false;
   // One manifold for every triangle: each sets its count and the points below it (zeroing a
   // fresh one per candidate triangle showed in the profile).
   Manifold3 m;
   level.query(fatten(box, margin + slop(box)), [&](std::uint32_t t) -> bool {
+    if (!ready) {
+      detail::make_polytope(pa, a);
+      local = compute_aabb(a, Transform3{});
+      // The early out's reach: the margin plus more than the contact's rounding allowance
+      // (which scales with the smaller core and the coordinates, here A's frame: near A's size).
+      reach = margin + kPretestSlack * slop(local);
+      ready = true;
+    }
     const std::array<Vec3, 3> corners = pl.to_a(level.corners(t));
     const float triangle_reach = reach + kRelativeTolerance * max_abs(corners[0]);
     const auto edges = [&]() -> std::uint8_t { return level.active_edges(t); };
@@ -242,8 +251,11 @@ void to_world(const Transform3& xa, Manifold3& m) noexcept {
 /// The points of the triangles' manifolds gathered for one merged manifold (see contact.hpp).
 class LevelPoints {
  public:
-  explicit LevelPoints(float merge_distance) noexcept
-      : merge_(merge_distance), merge2_(merge_distance * merge_distance) {}
+  /// Points closer than `merge_distance` merge; set before the first add.
+  void set_merge_distance(float merge_distance) noexcept {
+    merge_ = merge_distance;
+    merge2_ = merge_distance * merge_distance;
+  }
 
   void add(const Manifold3& m) noexcept {
     for (int i = 0; i < m.count; ++i) {
@@ -306,20 +318,26 @@ class LevelPoints {
   int count_ = 0;
   float deepest_depth_ = -kInf;
   Vec3 normal_{0.0f};
-  float merge_;
-  float merge2_;
+  float merge_ = 0.0f;
+  float merge2_ = 0.0f;
 };
 
 template <Shape3DType A, class Level>
 Manifold3 contact_level(const A& a, const Transform3& xa, const Level& level,
                         const Transform3& xl, float margin) noexcept {
-  const Aabb3 local = compute_aabb(a, Transform3{});
-  LevelPoints points(kContactMergeTolerance * max_abs(local.max - local.min));
+  LevelPoints points;
+  bool touched = false;
   contact_each(a, xa, level, xl, margin, [&](std::uint32_t, const Manifold3& m) -> bool {
+    if (!touched) {  // (A's size sets the merge distance: taken once something touches)
+      const Aabb3 local = compute_aabb(a, Transform3{});
+      points.set_merge_distance(kContactMergeTolerance * max_abs(local.max - local.min));
+      touched = true;
+    }
     points.add(m);
     return true;
   });
   Manifold3 m;
+  if (!touched) return m;  // as finish and to_world leave it: no points, normal zero
   points.finish(m);
   to_world(xa, m);
   return m;

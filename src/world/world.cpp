@@ -223,7 +223,7 @@ std::uint64_t WorldN<D>::Impl::user_id(const ColliderRef& c) const {
 
 template <int D>
 auto WorldN<D>::Impl::piece_box(const Body& b, int piece) const -> Box {
-  return compute_aabb(b.shapes[piece], b.xf);
+  return b.boxes[static_cast<std::size_t>(piece)];
 }
 
 template <int D>
@@ -320,7 +320,7 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
     const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
     b.very_fast = motion > b.inner_size;
     if (b.sensor || !have_statics || !fast || motion == 0.0f) {
-      b.xf = detail::moved(b.xf, b.local_center, d, rot);
+      b.place(detail::moved(b.xf, b.local_center, d, rot));
       b.mark_path(b.xf);
     } else {
       move_with_ccd(i, d, rot, stats);
@@ -389,7 +389,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
         }
       }
     }
-    b.xf = detail::pose_at(sweep, best_t);
+    b.place(detail::pose_at(sweep, best_t));
     b.mark_path(b.xf);
     if (!found) break;
     ++stats.toi_hits;
@@ -472,7 +472,9 @@ void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
       }
       if (deepest == nullptr || iteration == kResolveIterations) break;
       const VecN<D> n = deepest->manifold.normal;  // from the body to the static
-      b.xf.p -= depth * n;
+      TransformN<D> out = b.xf;
+      out.p -= depth * n;
+      b.place(out);
       b.mark_path(b.xf);
       b.velocity = reflect_if_approaching(b.velocity, n);
       ++stats.pushes;
@@ -765,7 +767,7 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
   b = detail::BodyN<D>{};
   b.generation = generation;
   b.shapes = def.shapes;
-  b.xf = detail::unit_pose(def.transform);
+  b.place(detail::unit_pose(def.transform));
   b.velocity = def.velocity;
   b.angular_velocity = def.angular_velocity;
   b.user_id = def.user_id;
@@ -885,7 +887,7 @@ template <int D>
 void WorldN<D>::set_transform(BodyId id, const Xf& xf) {
   detail::BodyN<D>& b = impl_->body(id);
   check_transform(xf, "body " + std::to_string(id.index) + " transform");
-  b.xf = detail::unit_pose(xf);
+  b.place(detail::unit_pose(xf));
   impl_->body_boxes_current = false;
 }
 

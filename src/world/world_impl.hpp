@@ -42,9 +42,22 @@ struct BodyN {
     path[path_count < kMaxPathPoints ? path_count++ : kMaxPathPoints - 1] = transform_point(at, local_center);
   }
 
+  /// Moves the body to `at` and computes its pieces' boxes there: every change of `xf` goes
+  /// through here, so `boxes` always match it.
+  void place(const TransformN<D>& at) {
+    xf = at;
+    boxes.resize(shapes.size());
+    for (std::size_t k = 0; k < shapes.size(); ++k) boxes[k] = compute_aabb(shapes[k], xf);
+  }
+
   std::vector<BodyShapeN<D>> shapes;
   std::vector<PieceInfoN<D>> pieces;
-  TransformN<D> xf;
+  TransformN<D> xf;  ///< set by place()
+  /// Each piece's tight box at `xf`, world space. A step asks for a piece's box several times
+  /// per pose (start and end of its motion, the statics' query, the early out, the broad
+  /// phase): computed once per pose instead (a hull's box costs a pass over its vertices; the
+  /// boxes took 30% of a step of 1000 bodies over dungeon.obj).
+  std::vector<AabbN<D>> boxes;
   VecN<D> velocity{0.0f};
   AngularN<D> angular_velocity{0.0f};
   VecN<D> push{0.0f};             ///< push-out from body contacts, applied with the next motion

@@ -1,6 +1,7 @@
 // Jolt's queries (see jolt_queries.hpp): compiled with Jolt's own flags.
 
 #include "jolt_queries.hpp"
+#include "jolt_internal.hpp"
 
 #include <Jolt/Jolt.h>
 
@@ -29,34 +30,10 @@
 #include <cfloat>
 #include <mutex>
 
-#if defined(__AVX__)
-#include <immintrin.h>
-#endif
-
 namespace jolt_queries {
 
 using JPH::Mat44;
 using JPH::Vec3;
-
-namespace {
-
-/// Clears the upper halves of the vector registers when an entry point returns. Some of Jolt's
-/// paths return with them in use (mesh_contact: its collide dispatch), though compiled AVX code
-/// is expected to clear them (vzeroupper) before returning to code that may use SSE. The
-/// baseline SSE code that runs next (collide's side of every benchmark) then pays a false
-/// dependency on each vector register it writes, for as long as nothing clears them: collide's
-/// capsule against a level ran 45% slower after one Jolt call on a Zen 4 host (6.6 -> 9.6 us).
-/// Jolt's own (VEX) code pays nothing either way, and the instruction costs a cycle.
-struct ClearUpperOnReturn {
-  ClearUpperOnReturn() = default;
-  ClearUpperOnReturn(const ClearUpperOnReturn&) = delete;
-  ClearUpperOnReturn& operator=(const ClearUpperOnReturn&) = delete;
-#if defined(__AVX__)
-  ~ClearUpperOnReturn() { _mm256_zeroupper(); }
-#endif
-};
-
-}  // namespace
 
 class Hull {
  public:
@@ -72,17 +49,7 @@ class Cloud {
 
 void CloudDeleter::operator()(Cloud* c) const { delete c; }
 
-class Mesh {
- public:
-  JPH::RefConst<JPH::Shape> shape;
-};
-
 void MeshDeleter::operator()(Mesh* m) const { delete m; }
-
-class Convex {
- public:
-  JPH::RefConst<JPH::ConvexShape> shape;
-};
 
 void ConvexDeleter::operator()(Convex* c) const { delete c; }
 
