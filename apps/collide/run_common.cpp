@@ -121,8 +121,9 @@ void print_phases(std::FILE* out, const RunReport& r, bool sensors) {
   std::fprintf(out, "per frame (mean)\n");
   std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
                per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
-  std::fprintf(out, "  early out      %.1f filtered, %.1f AABB rejected, %.1f pretest rejected\n",
-               per_frame(t.filtered, f), per_frame(t.aabb_rejected, f), per_frame(t.pretest_rejected, f));
+  std::fprintf(out, "  early out      %.1f bodies clear of statics since an earlier frame, %.1f filtered, %.1f AABB rejected, %.1f pretest rejected\n",
+               per_frame(t.static_clear_skips, f), per_frame(t.filtered, f), per_frame(t.aabb_rejected, f),
+               per_frame(t.pretest_rejected, f));
   if (sensors) {
     std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts (%.1f with sensors), %.1f push-outs\n",
                  per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.sensor_contacts, f),

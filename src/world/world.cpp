@@ -36,6 +36,17 @@ constexpr float kPretestSlack = 1e-4f;
 /// this (room for push-outs by statics, which are not known in advance).
 constexpr float kSpeedBoundSlack = 1.5f;
 
+/// Static clearance (BodyN::clearance): the distance measured reaches this many bounding radii
+/// of the piece beyond its sphere (further statics do not matter for the next few dozen steps
+/// of a body moving a fraction of its size per step, and a bound keeps the measure cheap).
+constexpr float kClearanceReach = 1.0f;
+/// A piece is clear while its centre has moved less than its gap minus this fraction of its
+/// bounding radius, and minus kClearanceRounding of its coordinates: far more than the
+/// contacts' own allowance for rounding (kRelativeTolerance of the size and the coordinates),
+/// so a skipped piece is one whose contact query would have found nothing.
+constexpr float kClearanceSlack = 1e-3f;
+constexpr float kClearanceRounding = 1e-4f;
+
 }  // namespace
 
 }  // namespace detail
@@ -153,6 +164,7 @@ void StepStats::accumulate(const StepStats& o) noexcept {
   static_pieces += o.static_pieces;
   body_pairs += o.body_pairs;
   static_candidates += o.static_candidates;
+  static_clear_skips += o.static_clear_skips;
   broad_skipped_checks += o.broad_skipped_checks;
   filtered += o.filtered;
   aabb_rejected += o.aabb_rejected;
@@ -436,6 +448,10 @@ void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
     for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first_proxy + k]);
     first_proxy += piece_count;
     if (static_pieces.empty()) continue;
+    if (clear_of_statics(b)) {
+      ++stats.static_clear_skips;
+      continue;
+    }
     for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
       body_contacts.clear();
       const Box query_box = merge(start, body_box(b));
@@ -470,6 +486,7 @@ void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
           deepest = &c;
         }
       }
+      if (body_contacts.empty()) measure_clearance(b);
       if (deepest == nullptr || iteration == kResolveIterations) break;
       const VecN<D> n = deepest->manifold.normal;  // from the body to the static
       TransformN<D> out = b.xf;
@@ -480,6 +497,38 @@ void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
       ++stats.pushes;
     }
     contacts.insert(contacts.end(), body_contacts.begin(), body_contacts.end());
+  }
+}
+
+template <int D>
+bool WorldN<D>::Impl::clear_of_statics(const Body& b) const {
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+    const typename Body::Clearance& c = b.clearance[k];
+    if (c.version != statics_version) return false;
+    const VecN<D> center = transform_point(b.xf, b.pieces[k].center);
+    const float slack = detail::kClearanceSlack * b.pieces[k].radius +
+                        detail::kClearanceRounding * (max_abs(center) + b.pieces[k].radius);
+    if (!(distance(center, c.anchor) < c.gap - slack)) return false;
+  }
+  return true;
+}
+
+template <int D>
+void WorldN<D>::Impl::measure_clearance(Body& b) {
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+    const float radius = b.pieces[k].radius * (1.0f + detail::kPretestSlack);
+    const float reach = detail::kClearanceReach * radius;
+    const VecN<D> center = transform_point(b.xf, b.pieces[k].center);
+    // Statics whose boxes come within the reach of the sphere; the rest are farther.
+    Box box{center - VecN<D>(radius + reach), center + VecN<D>(radius + reach)};
+    float gap = reach;
+    static_tree.query(box, [&](int id) {
+      const StaticPiece& sp = static_pieces[static_cast<std::size_t>(id)];
+      const StaticDefN<D>& st = statics[sp.owner];
+      gap = std::min(gap, detail::static_distance(st.shapes[sp.piece], st.transform, center, radius + gap) - radius);
+      return gap > 0.0f;
+    });
+    b.clearance[k] = {center, gap, gap > 0.0f ? statics_version : 0u};
   }
 }
 
@@ -744,6 +793,7 @@ StaticId WorldN<D>::add_static(const StaticDefN<D>& def) {
   }
   impl_->static_tree_dirty = true;
   impl_->check_grid_dirty = true;
+  ++impl_->statics_version;
   return StaticId{owner};
 }
 

@@ -3,6 +3,7 @@
 
 #include "world_dim.hpp"
 
+#include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/shape/polygon.hpp>
 
@@ -159,6 +160,34 @@ Transform3 moved(const Transform3& xf, Vec3 local_center, Vec3 d, Vec3 rot) {
 }
 
 // ---- static pieces ---------------------------------------------------------------------------
+
+float static_distance(const Shape2D& shape, const Transform& xf, Vec2 p, float cap) noexcept {
+  return std::min(closest_point(shape, xf, p).distance, cap);
+}
+
+float static_distance(const StaticShape3D& shape, const Transform3& xf, Vec3 p, float cap) noexcept {
+  return std::visit(
+      [&](const auto& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (kIsMesh<S>) {
+          const BvhNearest n = s->bvh.nearest(inv_transform_point(xf, p) - s->origin, cap * cap);
+          return n.triangle == std::numeric_limits<std::uint32_t>::max() ? cap : std::min(std::sqrt(n.distance_squared), cap);
+        } else if constexpr (kIsField<S>) {
+          const Vec3 local = inv_transform_point(xf, p);
+          const Vec3 grid = local - s->origin;
+          float nearest = cap;
+          s->query(Aabb3{local - Vec3(cap), local + Vec3(cap)}, [&](std::uint32_t t) -> bool {
+            const std::array<Vec3, 3> c = s->grid_corners(t);
+            nearest = std::min(nearest, distance(grid, closest_point_on_triangle(grid, c[0], c[1], c[2]).point));
+            return nearest > 0.0f;
+          });
+          return nearest;
+        } else {
+          return std::min(closest_point(s, xf, p).distance, cap);
+        }
+      },
+      shape);
+}
 
 bool is_level(const StaticShape3D& shape) noexcept {
   return shape.index() >= 5;  // the mesh and the height field come after the convex shapes

@@ -34,6 +34,14 @@ PieceInfoN<3> piece_info(const StaticShape3D& shape);
 float shape_measure(const Shape2D& shape);
 float shape_measure(const Shape3D& shape);
 
+/// A lower bound of the distance from world point `p` to static piece `shape` placed by `xf`, or
+/// `cap` when nothing of it is nearer than `cap`: the signed distance for convex solids
+/// (negative inside; closest_point), the distance to the nearest triangle for level shapes,
+/// which are surfaces (the mesh's BVH branch and bound; the height field's cells near `p`).
+/// The world's static clearance stands on it (BodyN::clearance).
+float static_distance(const Shape2D& shape, const Transform& xf, Vec2 p, float cap) noexcept;
+float static_distance(const StaticShape3D& shape, const Transform3& xf, Vec3 p, float cap) noexcept;
+
 /// The transform after moving the centre of rotation `local_center` by `d` and turning by
 /// `rot` (2D: radians; 3D: a rotation vector, world frame).
 Transform moved(const Transform& xf, Vec2 local_center, Vec2 d, float rot);

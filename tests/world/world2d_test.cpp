@@ -784,8 +784,10 @@ TEST(World2DEarlyOut, ChainsLearnAndReportWithoutChangingResults) {
   for (int s = 0; s < 100; ++s) world.step(kDt);
   const auto reports = world.early_out_reports();
   const auto orders = world.early_out_orders();
+  // Bodies in free space skip the static chain while within their static clearance.
+  EXPECT_GT(world.total_stats().static_clear_skips, 0);
   for (int c = 0; c < 2; ++c) {
-    EXPECT_GT(reports[std::size_t(c)].evaluations, 1000u) << "chain " << c;
+    EXPECT_GT(reports[std::size_t(c)].evaluations, 500u) << "chain " << c;
     EXPECT_GT(reports[std::size_t(c)].rejections, 0u);
     auto order = orders[std::size_t(c)];
     std::sort(order.begin(), order.end());

@@ -373,6 +373,55 @@ TEST(World3DStep, BodiesOnAHeightFieldStayAboveTheTerrain) {
   }
 }
 
+// The static clearance (a body's distance to every static, measured when it touched none, lets
+// later steps skip its static contacts until it has moved that far) must never skip a contact:
+// a sphere sinking slowly onto a mesh floor, a height field and a box begins touching on the
+// step the analytic motion says, after many skipped steps; a static added next to a body that
+// was clear of the others is met on the next step.
+TEST(World3DStep, StaticClearanceNeverSkipsAContact) {
+  const float radius = 0.5f, start = 3.0f, speed = 1.3f;
+  // Centre height after k steps: start - speed k dt; touching once it is at most the radius.
+  const int expected = static_cast<int>(std::ceil((start - radius) / (speed * kDt)));
+  ASSERT_GT(start - speed * kDt * static_cast<float>(expected - 1) - radius, 1e-3f);  // clearly apart before
+  std::vector<StaticShape3D> floors{floor_mesh(8.0f)};
+  floors.push_back(std::make_shared<const HeightField>(
+      make_height_field(17, 17, std::vector<float>(17 * 17, 0.0f), Vec2(1.0f), Vec3(-8.0f, 0.0f, -8.0f))));
+  floors.push_back(make_box(Vec3(8.0f, 1.0f, 8.0f)));
+  for (std::size_t f = 0; f < floors.size(); ++f) {
+    World3D world;
+    const bool is_box = f == 2;
+    world.add_static({.shapes = {floors[f]}, .transform = Transform3{Vec3(0.0f, is_box ? -1.0f : 0.0f, 0.0f)}, .user_id = 1});
+    const BodyId ball = world.add_body({.shapes = {make_sphere(Vec3(0.0f), radius)},
+                                        .transform = Transform3{Vec3(0.2f, start, -0.1f)},
+                                        .velocity = Vec3(0.0f, -speed, 0.0f)});
+    int begin_step = -1;
+    for (int k = 1; k <= expected + 5 && begin_step < 0; ++k) {
+      world.step(kDt);
+      for (const ContactEvent3& e : world.events()) {
+        if (e.type == ContactEventType::begin) begin_step = k;
+      }
+    }
+    EXPECT_EQ(begin_step, expected) << "floor " << f;
+    EXPECT_GT(world.total_stats().static_clear_skips, expected / 2) << "floor " << f;  // it did skip
+    (void)ball;
+  }
+
+  // A static added beside a body that is clear of the others.
+  World3D world;
+  world.add_static({.shapes = {floor_mesh(8.0f)}});
+  const BodyId ball = world.add_body({.shapes = {make_sphere(Vec3(0.0f), radius)},
+                                      .transform = Transform3{Vec3(0.0f, 4.0f, 0.0f)},
+                                      .velocity = Vec3(0.1f, 0.0f, 0.0f)});
+  for (int k = 0; k < 10; ++k) world.step(kDt);
+  ASSERT_GT(world.total_stats().static_clear_skips, 5);
+  world.add_static({.shapes = {make_box(Vec3(0.5f))}, .transform = Transform3{world.transform(ball).p + Vec3(0.0f, 0.0f, 0.9f)},
+                    .user_id = 9});
+  world.step(kDt);
+  bool met = false;
+  for (const ContactEvent3& e : world.events()) met = met || (e.type == ContactEventType::begin && e.user_b == 9u);
+  EXPECT_TRUE(met);
+}
+
 TEST(World3DStep, EqualSpheresCollidingHeadOnSwapVelocities) {
   World3D world;
   const BodyId a = world.add_body({.shapes = {make_sphere(Vec3(0.0f), 0.5f)}, .transform = Transform3{Vec3(-2, 0, 0)}, .velocity = Vec3(3, 0, 0)});

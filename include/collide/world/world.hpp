@@ -307,6 +307,9 @@ struct StepStats {
   // Broad phase
   std::int64_t body_pairs = 0;         ///< body-body pairs from the broad phase (swept boxes)
   std::int64_t static_candidates = 0;  ///< body-static pairs from the statics' tree
+  /// Bodies whose static contacts were skipped: each piece still within the clearance from
+  /// every static measured at an earlier step (temporal coherence; no static can touch them)
+  std::int64_t static_clear_skips = 0;
   std::int64_t broad_skipped_checks = 0;  ///< pair checks the temporal broad phase skipped
   // Early out (both chains)
   std::int64_t filtered = 0;           ///< rejected by layer/mask or same body
