@@ -238,6 +238,31 @@ TEST(View3D, WritesAPngOfItsSizeAndNamesAPathItCannotWrite) {
   }
 }
 
+// Titles come from file names and user input, which need not be UTF-8: Cairo stops drawing on
+// ill-formed text, so the view cleans it (picture_font.hpp) and the legend still appears.
+TEST(View3D, TitlesThatAreNotUtf8StillDrawTheWholePicture) {
+  Picture3D p;
+  square(p, 1.0f, 0.0f, DrawRole::body);
+  View3DOptions o = plain();
+  o.legend = true;
+  o.title = "level \xff\xfe.obj \xc3";
+  const Camera3 cam = front_camera();
+  const View3DImage bad = p.render({{cam, "view \x80"}}, o);
+  o.title = "level ??.obj ?";
+  const View3DImage good = p.render({{cam, "view ?"}}, o);
+  ASSERT_EQ(bad.height, good.height);
+  // The legend row (below the view) has ink in both pictures: drawing did not stop at the title.
+  const auto ink_below_view = [](const View3DImage& im) {
+    int ink = 0;
+    for (int y = im.views[0][1] + im.views[0][3] + 1; y < im.height; ++y) {
+      for (int x = 0; x < im.width; ++x) ink += (im.pixels[std::size_t(y) * std::size_t(im.width) + std::size_t(x)] & 0xffffffu) != 0xffffffu;
+    }
+    return ink;
+  };
+  EXPECT_GT(ink_below_view(bad), 20);
+  EXPECT_GT(ink_below_view(good), 20);
+}
+
 TEST(View3D, BadOptionsAndCamerasAreErrors) {
   Picture3D p;
   square(p, 1.0f, 0.0f, DrawRole::body);

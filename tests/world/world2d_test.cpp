@@ -777,6 +777,39 @@ TEST(World2DQueries, LaserReflectsLikeTheUnfoldedStraightLine) {
   EXPECT_THROW((void)world.cast_laser(ray, kMaxLaserBounces + 1), InvalidInput);
 }
 
+// The static clearance in 2D (world.cpp's Body::clearance, one home for both dimensions): a
+// circle drifting towards a wall begins touching on the analytic step after skipped steps, and
+// a static added beside a circle that was clear of the others is met on the next step.
+TEST(World2DStep, StaticClearanceNeverSkipsAContact) {
+  World2D world;
+  add_room(world, 10.0f);  // inner walls at x = +-10
+  const float radius = 0.5f, speed = 1.3f, start = 6.0f;
+  const int expected = static_cast<int>(std::ceil((10.0f - radius - start) / (speed * kDt)));
+  ASSERT_GT(10.0f - radius - (start + speed * kDt * static_cast<float>(expected - 1)), 1e-3f);
+  const BodyId ball = world.add_body(circle_body({start, 0.0f}, radius, {speed, 0.0f}, 5));
+  int begin_step = -1;
+  for (int k = 1; k <= expected + 5 && begin_step < 0; ++k) {
+    world.step(kDt);
+    for (const ContactEvent& e : world.events()) {
+      if (e.type == ContactEventType::begin) begin_step = k;
+    }
+  }
+  EXPECT_EQ(begin_step, expected);
+  EXPECT_GT(world.total_stats().static_clear_skips, expected / 2);
+
+  World2D open;
+  add_room(open, 10.0f);
+  const BodyId b = open.add_body(circle_body({0.0f, 0.0f}, radius, {0.1f, 0.0f}));
+  for (int k = 0; k < 10; ++k) open.step(kDt);
+  ASSERT_GT(open.total_stats().static_clear_skips, 5);
+  open.add_static(box_static(open.transform(b).p + Vec2(0.0f, 0.9f), {0.5f, 0.5f}, 9));
+  open.step(kDt);
+  bool met = false;
+  for (const ContactEvent& e : open.events()) met = met || (e.type == ContactEventType::begin && e.user_b == 9u);
+  EXPECT_TRUE(met);
+  (void)ball;
+}
+
 // ---- Early out -------------------------------------------------------------------------------
 
 TEST(World2DEarlyOut, ChainsLearnAndReportWithoutChangingResults) {
