@@ -16,9 +16,14 @@ namespace collide {
 namespace {
 
 /// Most planes the slide keeps: a plane beyond them is a corner the character cannot leave
-/// along any of them (in 3D three planes fix a point; in 2D two).
+/// along any of them (in 3D three planes fix a point; in 2D two), plus one for the vertical
+/// plane a steep surface adds beside its own.
 template <int D>
-inline constexpr int kMaxPlanes = D;
+inline constexpr int kMaxPlanes = D + 1;
+
+/// Two slide planes whose normals' cosine exceeds 1 minus this are one plane (met again on the
+/// next cast, as a surface the character rests against is).
+constexpr float kSamePlaneTolerance = 1e-4f;
 
 /// Most push-out passes at the start of a move.
 constexpr int kPushOutPasses = 4;
@@ -38,9 +43,10 @@ class Mover {
 
   [[nodiscard]] bool walkable(Vec n) const { return dot(n, s_.up) >= cos_slope_; }
 
-  /// The plane a surface of normal `n` (from the surface to the character) puts on a walking
-  /// character: a wall steeper than the walkable slope acts as vertical (slid along, never
-  /// climbed); ground and ceilings as they are.
+  /// The vertical plane a surface of normal `n` (from the surface to the character) adds for a
+  /// walking character when it faces up but is steeper than the walkable slope: the character
+  /// slides along it, never up it, while its own plane still lets gravity slide it down (as
+  /// Jolt's CharacterVirtual adds a vertical plane beside a steep contact's). Otherwise `n`.
   [[nodiscard]] Vec effective_normal(Vec n) const {
     const float up = dot(n, s_.up);
     if (up <= 0.0f || walkable(n)) return n;
@@ -233,11 +239,24 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
         }
       }
     }
-    if (plane_count == kMaxPlanes<D>) {
+    // The surface's plane, and for a steep one the vertical plane that keeps it from being
+    // climbed; a plane already kept is not added again.
+    const Vec wall = mover.effective_normal(n);
+    bool full = false;
+    for (const Vec p : {n, wall}) {
+      bool known = false;
+      for (int k = 0; k < plane_count && !known; ++k) known = dot(planes[k], p) > 1.0f - kSamePlaneTolerance;
+      if (known) continue;
+      if (plane_count == kMaxPlanes<D>) {
+        full = true;
+        break;
+      }
+      planes[plane_count++] = p;
+    }
+    if (full) {
       remaining = Vec(0.0f);
       break;
     }
-    planes[plane_count++] = mover.effective_normal(n);
     remaining = clip(leftover, planes, plane_count);
   }
 

@@ -116,6 +116,40 @@ TEST(Character3D, CannotClimbASixtyDegreeRamp) {
   EXPECT_LE(w.max_depth, 1e-4f);
 }
 
+// Placed on a 60 degree ramp under gravity (not walkable), a character slides down it to the
+// floor, as Jolt's CharacterVirtual does: the ramp's own plane takes the fall along the slope,
+// and only the vertical plane beside it keeps walking from climbing. (Treating a steep surface
+// as a vertical wall alone held characters in place on it: bench_world3d found 11 of 32 stuck
+// on dungeon.obj.)
+TEST(Character3D, SlidesDownASixtyDegreeRampUnderGravity) {
+  const World3D world = ramp_world(60.0f);
+  const CharacterSettings3 s;
+  const float angle = 60.0f * kDeg;
+  // Resting on the slope at x = 4: the lower sphere's centre r + skin from the plane.
+  const Vec3 n(-std::sin(angle), std::cos(angle), 0.0f);
+  const Vec3 on_slope(4.0f, 2.0f * std::tan(angle), 0.0f);
+  Transform3 xf{on_slope + (kRadius + 2.0f * s.skin) * n + Vec3(0.0f, kHalfHeight, 0.0f)};
+  const float start_y = xf.p.y;
+  float vy = 0.0f;
+  float max_depth = 0.0f;
+  bool grounded = false;
+  for (int i = 0; i < 120; ++i) {
+    vy = (grounded ? 0.0f : vy) - 9.8f * kDt;
+    const CharacterMove3 m = move_character(world, capsule3(), xf, Vec3(0.0f, vy * kDt, 0.0f), s);
+    xf = m.transform;
+    grounded = m.grounded;
+    world.collide_shape(capsule3(), xf, QueryFilter{}, [&](const ColliderRef&, const Manifold3& c) {
+      max_depth = std::max(max_depth, c.max_depth());
+      return true;
+    });
+  }
+  EXPECT_LT(xf.p.y, start_y - 2.0f);                  // came down most of the 3.5 units
+  EXPECT_LT(xf.p.x, 2.5f);                            // to the foot of the ramp
+  EXPECT_NEAR(xf.p.y, standing_height(s), 0.05f);     // standing on the floor
+  EXPECT_TRUE(grounded);
+  EXPECT_LE(max_depth, 1e-4f);
+}
+
 /// A floor, and from x = 3 a block of height `h` (a box static).
 World3D step_world(float h) {
   World3D world;
