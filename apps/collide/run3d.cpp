@@ -426,11 +426,14 @@ void write_picture3(const RunOptions& o, const Scene3D& s, const World3D& world,
   // The close-up looks the same way, at a box a few characters (or bodies) wide.
   const float reach = kCloseUpReach * std::max(s.character_height, 4.0f * s.body_size);
   const Camera3 close = camera_framing(Aabb3{center - Vec3(reach), center + Vec3(reach)}, angles.azimuth, angles.elevation);
+  // Whatever lies between the close-up's camera and the sphere around its box is cut away (a
+  // body passing in front of the camera would hide the character).
+  const float front = std::max(0.0f, distance(close.eye, center) - std::sqrt(3.0f) * reach);
   char title[256];
   std::snprintf(title, sizeof title, "collide run: %s, frame %d: %d bodies, %zu characters", s.name.c_str(), frames,
                 world.body_count(), s.characters.size());
   picture.write_png(o.png, {{whole, whole_cut ? "whole level, cut above the characters" : "whole level", whole_cut},
-                            {close, "close-up: " + what + (cut ? ", level cut above" : ""), cut}},
+                            {close, "close-up: " + what + (cut ? ", level cut above" : ""), cut, front}},
                     View3DOptions{.width = o.picture_width, .title = title});
 }
 

@@ -100,7 +100,8 @@ struct CameraFrame {
   float cx = 0.0f, cy = 0.0f;
   float near = 0.0f;
 
-  CameraFrame(const Camera3& c, int width, int height) {
+  /// `cut_nearer`: View3DPanel::cut_nearer (the near plane, when further than the default).
+  CameraFrame(const Camera3& c, int width, int height, std::optional<float> cut_nearer = std::nullopt) {
     eye = c.eye;
     forward = normalize(c.target - c.eye);
     right = normalize(cross(forward, c.up));
@@ -109,6 +110,7 @@ struct CameraFrame {
     cx = 0.5f * static_cast<float>(width);
     cy = 0.5f * static_cast<float>(height);
     near = kNearFraction * length(c.target - c.eye);
+    if (cut_nearer && *cut_nearer > near) near = *cut_nearer;
   }
   [[nodiscard]] Vec3 to_view(Vec3 p) const noexcept {
     const Vec3 d = p - eye;
@@ -344,7 +346,12 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
                        std::to_string(kMaxViewSide) + "]");
   }
   if (views.empty()) throw InvalidInput("3D view: no view");
-  for (const View3DPanel& v : views) check_camera(v.camera);
+  for (const View3DPanel& v : views) {
+    check_camera(v.camera);
+    if (v.cut_nearer && !(std::isfinite(*v.cut_nearer) && *v.cut_nearer >= 0.0f)) {
+      throw InvalidInput("3D view: cut_nearer " + std::to_string(*v.cut_nearer) + " not finite and >= 0");
+    }
+  }
 
   // ---- layout: title, view titles, views side by side, legend ----
   const double unit = std::clamp(static_cast<double>(o.width) / kUnitWidth, 1.0, static_cast<double>(kMaxUnit));
@@ -395,7 +402,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     // ---- the solids, supersampled ----
     constexpr int S = kViewSupersample;
     Raster raster(view_w * S, view_h * S);
-    const CameraFrame frame(panel.camera, view_w * S, view_h * S);
+    const CameraFrame frame(panel.camera, view_w * S, view_h * S, panel.cut_nearer);
     for (const Triangle3& t : triangles_) {
       const Vec3 normal = cross(t.corners[1] - t.corners[0], t.corners[2] - t.corners[0]);
       const float facing = dot(normal, frame.eye - t.corners[0]);
@@ -459,7 +466,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     cairo_surface_mark_dirty(surface.get());
 
     // ---- strokes and points, in view or behind a surface ----
-    const CameraFrame view(panel.camera, view_w, view_h);
+    const CameraFrame view(panel.camera, view_w, view_h, panel.cut_nearer);
     const auto in_view = [&](const Vec3& s) {  // s: pixel x, y and 1 / depth
       const int x = static_cast<int>(std::floor(s.x)), y = static_cast<int>(std::floor(s.y));
       if (x < 0 || y < 0 || x >= view_w || y >= view_h) return true;

@@ -130,6 +130,27 @@ TEST(View3D, TheNearerSolidWinsWhateverTheOrder) {
   }
 }
 
+// A close-up cuts away what is nearer than its cut (run3d: bodies between the camera and the
+// character): a body 9 units from the eye hides the level 12 away, until the cut is at 10.
+TEST(View3D, CutNearerSeesThroughWhatIsInFrontOfIt) {
+  Picture3D p;
+  square(p, 1.0f, 1.0f, DrawRole::body);
+  square(p, 3.0f, -2.0f, DrawRole::static_geometry);
+  const Camera3 cam = front_camera();
+  const View3DImage plain_view = p.render({{cam, ""}}, plain());
+  View3DPanel cut{cam, ""};
+  cut.cut_nearer = 10.0f;
+  const View3DImage cut_view = p.render({cut}, plain());
+  const auto centre = pixel_of(plain_view, cam, Vec3(0.0f, 0.0f, 1.0f));
+  const Rgb before = rgb(plain_view.at(centre[0], centre[1]));
+  const Rgb after = rgb(cut_view.at(centre[0], centre[1]));
+  EXPECT_GT(before.b, before.r + 40) << "the body, in front";
+  EXPECT_NEAR(after.r, after.b, 3) << "the level behind it, once the body is cut away";
+  EXPECT_LT(after.r, 250);
+  cut.cut_nearer = -1.0f;
+  EXPECT_THROW((void)p.render({cut}, plain()), InvalidInput);
+}
+
 TEST(View3D, CutawayDropsLevelFacesTurnedAwayButNeverBodies) {
   const Camera3 cam = front_camera();
   for (const DrawRole role : {DrawRole::static_geometry, DrawRole::body}) {

@@ -60,6 +60,10 @@ struct View3DPanel {
   /// Static geometry above this world height (y) is cut away, walls cut through at it (an
   /// architect's section): rooms with roofs show their floors. None: nothing is cut.
   std::optional<float> cut_above;
+  /// Everything nearer to the eye than this distance (world units, along the view direction) is
+  /// cut away: a close-up sees through the bodies between its camera and what it frames. None:
+  /// only the camera's own near plane (a tiny fraction of the distance to the target).
+  std::optional<float> cut_nearer;
 };
 
 /// How a 3D picture is laid out. Checked by `render`.
