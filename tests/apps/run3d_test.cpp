@@ -7,6 +7,7 @@
 
 #include "cli_run.hpp"
 #include "run.hpp"
+#include "run_hash_checks.hpp"
 
 #include <collide/core/error.hpp>
 
@@ -67,20 +68,9 @@ TEST(RunWorld3D, EmbeddedSceneStaysCheckedAndBusy) {
 }
 
 TEST(RunWorld3D, StateHashIsTheSameForEveryRunBroadPhaseAndEarlyOutChoice) {
-  const RunReport base = run_world3d(small3d("", 200, 120), nullptr);
-  EXPECT_EQ(run_world3d(small3d("", 200, 120), nullptr).state_hash, base.state_hash);
-  for (const WorldBroadPhase bp : {WorldBroadPhase::brute_force, WorldBroadPhase::hash_grid, WorldBroadPhase::loose_grid,
-                                   WorldBroadPhase::dynamic_tree, WorldBroadPhase::sweep_and_prune}) {
-    RunOptions o = small3d("", 200, 120);
-    o.broad_phase = bp;
-    EXPECT_EQ(run_world3d(o, nullptr).state_hash, base.state_hash) << to_string(bp);
-  }
-  RunOptions fixed = small3d("", 200, 120);
-  fixed.adaptive_early_out = false;
-  EXPECT_EQ(run_world3d(fixed, nullptr).state_hash, base.state_hash);
-  RunOptions other_seed = small3d("", 200, 120);
-  other_seed.seed = 2;
-  EXPECT_NE(run_world3d(other_seed, nullptr).state_hash, base.state_hash);
+  test::expect_hash_independent_of_choices([](const RunOptions& o) { return run_world3d(o, nullptr); }, small3d("", 200, 120),
+                                           {WorldBroadPhase::brute_force, WorldBroadPhase::hash_grid, WorldBroadPhase::loose_grid,
+                                            WorldBroadPhase::dynamic_tree, WorldBroadPhase::sweep_and_prune});
 }
 
 TEST(RunWorld3D, GravityPilesTheBodiesOnTheFloorWithoutTunnelling) {

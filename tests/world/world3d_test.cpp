@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/random.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,16 +33,8 @@ namespace {
 constexpr float kDt = 1.0f / 60.0f;
 constexpr float kTol = 1e-4f;  // float noise on unit-size geometry
 
-float uniform(std::mt19937& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-
-Quat random_rotation(std::mt19937& rng) {
-  const float pi = std::numbers::pi_v<float>;
-  const float u1 = uniform(rng, 0.0f, 1.0f), u2 = uniform(rng, 0.0f, 2.0f * pi), u3 = uniform(rng, 0.0f, 2.0f * pi);
-  const float a = std::sqrt(1.0f - u1), b = std::sqrt(u1);
-  return Quat{a * std::cos(u2), a * std::sin(u2), b * std::sin(u3), b * std::cos(u3)};
-}
+using test::random_rotation;
+using test::uniform;
 
 /// A closed box room [-half, half]^3 as one mesh of 12 triangles, its faces looking inside.
 std::shared_ptr<const TriangleMesh> room_mesh(float half) {
