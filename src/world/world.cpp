@@ -918,7 +918,13 @@ const Shape2D& WorldN<D>::collider_shape(const ColliderRef& collider) const
   requires(D == 2)
 {
   check_collider<D>(*impl_, collider);
-  return collider.is_static ? impl_->static_shape(collider) : impl_->body_shape(collider);
+  // (Clang 14 instantiates this for WorldN<3> in `template class WorldN<3>` despite the
+  // constraint, where the two shapes have different types: only D == 2 has a body here.)
+  if constexpr (D == 2) {
+    return collider.is_static ? impl_->static_shape(collider) : impl_->body_shape(collider);
+  } else {
+    throw InvalidInput("collider_shape: a 2D query");
+  }
 }
 
 template <int D>
