@@ -375,7 +375,7 @@ Scene3D make_scene3d(const RunOptions& o) {
 /// cut away where it faces away from the camera, bodies, characters and their trails, the last
 /// step's contacts with their normals, and the laser's path.
 void write_picture3(const RunOptions& o, const Scene3D& s, const World3D& world, const LaserPath3& laser,
-                    const ViewAngles& angles, int frames) {
+                    const ViewAngles& angles) {
   Picture3D picture;
   picture.set_role_name(DrawRole::highlight, "character");
   picture.set_role_name(DrawRole::path, "character path");
@@ -430,7 +430,7 @@ void write_picture3(const RunOptions& o, const Scene3D& s, const World3D& world,
   // body passing in front of the camera would hide the character).
   const float front = std::max(0.0f, distance(close.eye, center) - std::sqrt(3.0f) * reach);
   char title[256];
-  std::snprintf(title, sizeof title, "collide run: %s, frame %d: %d bodies, %zu characters", s.name.c_str(), frames,
+  std::snprintf(title, sizeof title, "collide run: %s, frame %d: %d bodies, %zu characters", s.name.c_str(), o.frames,
                 world.body_count(), s.characters.size());
   picture.write_png(o.png, {{whole, whole_cut ? "whole level, cut above the characters" : "whole level", whole_cut},
                             {close, "close-up: " + what + (cut ? ", level cut above" : ""), cut, front}},
@@ -579,7 +579,7 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
   }
   r.state_hash = h;
   r.characters_inside = c.inside;
-  if (!o.png.empty()) write_picture3(o, s, world, laser, angles, o.frames);
+  if (!o.png.empty()) write_picture3(o, s, world, laser, angles);
   if (out != nullptr) print_summary3(out, o, s, r, c, left);
   if (characters_out != nullptr) *characters_out = c;
   return r;

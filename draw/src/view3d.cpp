@@ -70,7 +70,6 @@ constexpr double kPointScale = 0.5;
 /// Arrow heads: length and half width at the base, in units.
 constexpr double kViewArrowHead = 5.0;
 constexpr double kViewArrowHalfWidth = 2.2;
-constexpr int kMinWidth = 64;
 
 constexpr std::uint32_t kBackgroundArgb = 0xffffffffu;
 
@@ -224,13 +223,6 @@ int clip_polygon(const Vec3* in, int n, Side&& side, Vec3* out) {
   return m;
 }
 
-/// The final-size view: colours averaged down and, per pixel, the farthest sample's 1 / depth
-/// (a stroke in front of any sample of the pixel counts as in view).
-struct ViewBuffer {
-  int width = 0, height = 0;
-  std::vector<float> far_inv_depth;
-};
-
 /// Cairo objects with their owners.
 struct SurfaceDeleter {
   void operator()(cairo_surface_t* s) const noexcept { cairo_surface_destroy(s); }
@@ -241,23 +233,18 @@ struct ContextDeleter {
 using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
 using Context = std::unique_ptr<cairo_t, ContextDeleter>;
 
-double text_width(cairo_t* cr, const std::string& text) {
-  cairo_text_extents_t e;
-  cairo_text_extents(cr, text.c_str(), &e);
-  return e.x_advance;
-}
-
 /// The legend's entries laid out in rows within `width`: each entry's left x and its row.
 struct LegendLayout {
   std::vector<std::pair<double, int>> places;
   int rows = 0;
 };
-LegendLayout layout_legend(cairo_t* cr, const std::vector<std::string>& names, double left, double width, double unit) {
+LegendLayout layout_legend(const TextMeasurer& measure, const std::vector<std::string>& names, double left, double width,
+                           double unit) {
   LegendLayout l;
   double x = left;
   int row = 0;
   for (const std::string& name : names) {
-    const double w = kSwatchSide * unit + 0.6 * kFontSize * unit + text_width(cr, name);
+    const double w = kSwatchSide * unit + 0.6 * kFontSize * unit + measure.width(name);
     if (x > left && x + w > left + width) {
       x = left;
       ++row;
@@ -337,8 +324,8 @@ std::vector<DrawRole> Picture3D::roles() const {
 }
 
 View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3DOptions& o) const {
-  if (o.width < kMinWidth || o.width > kMaxViewSide) {
-    throw InvalidInput("3D view: width " + std::to_string(o.width) + " outside [" + std::to_string(kMinWidth) + ", " +
+  if (o.width < kMinPictureWidth || o.width > kMaxViewSide) {
+    throw InvalidInput("3D view: width " + std::to_string(o.width) + " outside [" + std::to_string(kMinPictureWidth) + ", " +
                        std::to_string(kMaxViewSide) + "]");
   }
   if (o.view_height < 0 || o.view_height > kMaxViewSide) {
@@ -371,13 +358,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     const std::string& named = names_[static_cast<std::size_t>(r)];
     legend_names.push_back(clean_text(named.empty() ? std::string(to_string(r)) : named));
   }
-  LegendLayout legend;
-  {
-    const Surface probe(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1));
-    const Context cr(cairo_create(probe.get()));
-    use_picture_font(cr.get(), font);
-    legend = layout_legend(cr.get(), legend_names, pad, o.width - 2.0 * pad, unit);
-  }
+  const LegendLayout legend = layout_legend(TextMeasurer(font), legend_names, pad, o.width - 2.0 * pad, unit);
   const double top = pad + (o.title.empty() ? 0.0 : line) + (view_titles ? line : 0.0);
   const int height = static_cast<int>(std::ceil(top + view_h + (legend.rows > 0 ? pad + legend.rows * line : 0.0) + pad));
   if (height > kMaxViewSide) throw InvalidInput("3D view: picture height " + std::to_string(height) + " over " + std::to_string(kMaxViewSide));
@@ -438,7 +419,9 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     raster.outline();
 
     // ---- averaged down into the picture ----
-    ViewBuffer depth{view_w, view_h, std::vector<float>(static_cast<std::size_t>(view_w) * static_cast<std::size_t>(view_h), 0.0f)};
+    // Per pixel of the view, the farthest sample's 1 / depth (a stroke in front of any sample of
+    // the pixel counts as in view).
+    std::vector<float> far_inv_depth(static_cast<std::size_t>(view_w) * static_cast<std::size_t>(view_h), 0.0f);
     cairo_surface_flush(surface.get());
     unsigned char* data = cairo_image_surface_get_data(surface.get());
     const int stride = cairo_image_surface_get_stride(surface.get());
@@ -460,7 +443,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
         }
         constexpr unsigned kSamples = S * S;
         row[left + x] = 0xff000000u | ((r / kSamples) << 16) | ((g / kSamples) << 8) | (b / kSamples);
-        depth.far_inv_depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(view_w) + static_cast<std::size_t>(x)] = far;
+        far_inv_depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(view_w) + static_cast<std::size_t>(x)] = far;
       }
     }
     cairo_surface_mark_dirty(surface.get());
@@ -470,7 +453,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     const auto in_view = [&](const Vec3& s) {  // s: pixel x, y and 1 / depth
       const int x = static_cast<int>(std::floor(s.x)), y = static_cast<int>(std::floor(s.y));
       if (x < 0 || y < 0 || x >= view_w || y >= view_h) return true;
-      const float surface_iz = depth.far_inv_depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(view_w) + static_cast<std::size_t>(x)];
+      const float surface_iz = far_inv_depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(view_w) + static_cast<std::size_t>(x)];
       return s.z >= surface_iz * (1.0f - kDepthBias);
     };
     cairo_save(cr.get());

@@ -322,7 +322,6 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
       // falling forever must not overflow the temporal broad phase's speed bound)
       b.velocity = glm::clamp(b.velocity + options.gravity * dt, VecN<D>(-kMaxWorldSpeed), VecN<D>(kMaxWorldSpeed));
     }
-    b.used_ccd = false;
     b.path_count = 0;
     b.mark_path(b.xf);
     const VecN<D> d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
@@ -343,7 +342,6 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
 template <int D>
 void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> rot, StepStats& stats) {
   Body& b = bodies[index];
-  b.used_ccd = true;
   ++stats.ccd_bodies;
   for (int bounce = 0; bounce <= kMaxCcdBounces; ++bounce) {
     const auto sweep = detail::sweep_of(b.xf, b.local_center, d, rot);
@@ -368,7 +366,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
       if (st.sensor || !should_collide(b.filter, st.filter)) continue;
       const StaticShapeN<D>& static_shape = st.shapes[sp.piece];
       for (std::size_t k = 0; k < b.shapes.size(); ++k) {
-        const Box piece_sweep = b.shapes.size() > 1 || sp.level ? swept_aabb(b.shapes[k], sweep) : box;
+        const Box piece_sweep = b.shapes.size() > 1 ? swept_aabb(b.shapes[k], sweep) : box;  // one piece: the body's box
         if (b.shapes.size() > 1 && !overlap(piece_sweep, sp.box)) continue;
         const auto r = detail::piece_impact(b.shapes[k], sweep, piece_sweep, static_shape,
                                             st.transform, stats.toi_queries);

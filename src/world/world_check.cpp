@@ -104,8 +104,7 @@ void WorldN<D>::Impl::check(StepStats& stats) {
           std::visit(
               [&](const auto& s) {
                 using S = std::decay_t<decltype(s)>;
-                if constexpr (std::is_same_v<S, std::shared_ptr<const TriangleMesh>> ||
-                              std::is_same_v<S, std::shared_ptr<const HeightField>>) {
+                if constexpr (detail::kIsMesh<S> || detail::kIsField<S>) {
                   for_each_triangle(*s, st.transform, sp.box, add);
                 }
               },
@@ -171,12 +170,12 @@ void WorldN<D>::Impl::check(StepStats& stats) {
       ++stats.escaped;
     }
     bool inside = false;
+    float magnitude = std::fabs(b.xf.p[0]);
+    for (int a = 1; a < D; ++a) magnitude += std::fabs(b.xf.p[a]);
+    magnitude += b.bounding_radius;
     for (std::size_t k = 0; k < b.shapes.size(); ++k) {
       const AabbN<D> box = piece_box(b, static_cast<int>(k));
       const detail::PieceInfoN<D>& piece = b.pieces[k];
-      float magnitude = std::fabs(b.xf.p[0]);
-      for (int a = 1; a < D; ++a) magnitude += std::fabs(b.xf.p[a]);
-      magnitude += b.bounding_radius;
       const float tolerance = kTunnelDepthFraction * std::max(piece.inner_size, 0.1f * piece.radius) +
                               kRelativeTolerance * magnitude;
       for_items(box, [&](std::uint32_t id) {

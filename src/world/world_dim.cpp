@@ -16,11 +16,6 @@
 
 namespace collide::detail {
 
-template <class T>
-inline constexpr bool kIsMesh = std::is_same_v<T, std::shared_ptr<const TriangleMesh>>;
-template <class T>
-inline constexpr bool kIsField = std::is_same_v<T, std::shared_ptr<const HeightField>>;
-
 namespace {
 
 /// The bounding sphere of a box (a level shape's facts): its centre and half diagonal.

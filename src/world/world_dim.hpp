@@ -12,8 +12,16 @@
 #include <collide/world/world.hpp>
 
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 
 namespace collide::detail {
+
+/// True for the level shapes a 3D static's variant may hold (a mesh, a height field).
+template <class T>
+inline constexpr bool kIsMesh = std::is_same_v<T, std::shared_ptr<const TriangleMesh>>;
+template <class T>
+inline constexpr bool kIsField = std::is_same_v<T, std::shared_ptr<const HeightField>>;
 
 /// Precomputed facts about one piece, in its owner's local frame.
 template <int D>

@@ -29,8 +29,7 @@ void WorldN<D>::draw(DebugDrawN<D>& draw, const WorldDrawOptions& options) const
           std::visit(
               [&](const auto& shape) {
                 using S = std::decay_t<decltype(shape)>;
-                if constexpr (std::is_same_v<S, std::shared_ptr<const TriangleMesh>> ||
-                              std::is_same_v<S, std::shared_ptr<const HeightField>>) {
+                if constexpr (detail::kIsMesh<S> || detail::kIsField<S>) {
                   if (shape != nullptr) draw_shape(draw, *shape, st.transform, role);
                 } else {
                   draw_shape(draw, Shape3D(shape), st.transform, role);

@@ -39,7 +39,9 @@ struct BodyN {
   /// Appends the centre of rotation at `xf` to the path (the last point is overwritten when
   /// the path is full: it is always the body's end).
   void mark_path(const TransformN<D>& at) noexcept {
-    path[path_count < kMaxPathPoints ? path_count++ : kMaxPathPoints - 1] = transform_point(at, local_center);
+    if constexpr (D == 3) {  // only the 3D check reads it (a centre crossing a level's surface)
+      path[path_count < kMaxPathPoints ? path_count++ : kMaxPathPoints - 1] = transform_point(at, local_center);
+    }
   }
 
   /// Moves the body to `at` and computes its pieces' boxes there: every change of `xf` goes
@@ -85,7 +87,6 @@ struct BodyN {
   bool sensor = false;
   bool bullet = false;
   bool alive = false;
-  bool used_ccd = false;          ///< moved by continuous collision in the last step
   bool very_fast = false;         ///< last step's motion exceeded its own size (would tunnel)
   std::uint32_t generation = 0;
   VecN<D> local_center{0.0f};     ///< centre of rotation: area (volume) centroid of the pieces

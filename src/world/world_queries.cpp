@@ -66,6 +66,14 @@ void for_candidates(const typename WorldN<D>::Impl& w, const QueryFilter& filter
   }
 }
 
+/// The contact of `shape` placed by `xf` with one collider (normal from the shape to it).
+template <int D>
+ManifoldN<D> collider_contact(const typename WorldN<D>::Impl& w, const BodyShapeN<D>& shape, const TransformN<D>& xf,
+                              const ColliderRef& c) {
+  if (c.is_static) return detail::piece_contact(shape, xf, w.static_shape(c), w.transform(c));
+  return contact(shape, xf, w.body_shape(c), w.transform(c));
+}
+
 /// The ray cast of one collider: a static piece (a level shape too) or a body piece.
 template <int D>
 RayHitN<D> collider_raycast(const typename WorldN<D>::Impl& w, const ColliderRef& c, const RayN<D>& ray) {
@@ -133,8 +141,7 @@ LaserPathN<D> WorldN<D>::cast_laser(const RayN<D>& ray, int max_bounces, const Q
     // step off its surface instead, on the side the laser came from: from the hit point itself
     // (on the plane within rounding), a two-sided triangle is hit again from behind at fraction
     // 0, which sent the laser out through the wall.
-    bool level = false;
-    if constexpr (D == 3) level = hit->collider.is_static && detail::is_level(impl_->static_shape(hit->collider));
+    const bool level = hit->collider.is_static && detail::is_level(impl_->static_shape(hit->collider));
     if (level) {
       const float step = kRelativeTolerance * (max_abs(hit->hit.point) + length(r.translation));
       r.origin += step * hit->hit.normal;  // the normal faces the incoming laser
@@ -186,8 +193,7 @@ void WorldN<D>::collide_shape(const BodyShape& shape, const Xf& xf, const QueryF
       [&](auto&& each) { w.body_broad.query(box, [&](int id) { return each(id); }); },
       [&](const AabbN<D>& b) { return collide::overlap(b, box); },
       [&](const ColliderRef& c) {
-        const ManifoldN<D> m = c.is_static ? detail::piece_contact(shape, xf, w.static_shape(c), w.transform(c))
-                                           : contact(shape, xf, w.body_shape(c), w.transform(c));
+        const ManifoldN<D> m = collider_contact<D>(w, shape, xf, c);
         return !m.touching() || callback(c, m);
       });
 }
@@ -210,8 +216,7 @@ WorldCastHitN<D> WorldN<D>::shape_cast(const BodyShape& shape, const Xf& xf, Vec
     Vec normal = r.normal;
     Vec point = r.point;
     if (normal == Vec(0.0f)) {  // overlapping cores at the start: the contact says where
-      const ManifoldN<D> m = c.is_static ? detail::piece_contact(shape, xf, w.static_shape(c), w.transform(c))
-                                         : contact(shape, xf, w.body_shape(c), w.transform(c));
+      const ManifoldN<D> m = collider_contact<D>(w, shape, xf, c);
       normal = m.normal;
       point = m.count > 0 ? m.points[0].point : xf.p;
     }
