@@ -1,0 +1,317 @@
+#pragma once
+/// @file
+/// Signed distance fields and closest-point fields on grids, 2D and 3D (the lesson's "Signed
+/// Distance Fields"): a look-up table of how far inside (negative) or outside (positive) the
+/// solid each grid node is, so "is this point inside?" costs one memory access and a comparison,
+/// and beside it the closest surface point of every node.
+///
+/// Grid: nodes at `origin + i * voxel` for i in [0, dims) per axis, x fastest in memory. Between
+/// nodes the field is multilinear (bilinear in 2D, trilinear in 3D). World units throughout.
+///
+/// Build (`make_distance_field`, the same three stages for every input, Jones, Baerentzen &
+/// Sramek, "3D Distance Fields: A Survey of Techniques and Applications", IEEE TVCG 2006):
+///  1. exact band: every primitive (a placed convex shape, a mesh triangle) writes its exact
+///     distance and closest point into the nodes within `band` voxels of it (a triangle only
+///     visits the nodes of each grid row that lie within the band of its plane);
+///  2. sign: 2D and convex shapes by containment (exact); a triangle mesh by its generalised
+///     winding number (Jacobson, Kavan & Sorkine-Hornung, "Robust Inside-Outside Segmentation
+///     using Generalized Winding Numbers", SIGGRAPH 2013), evaluated fast with a tree of dipoles
+///     (Barill, Dickson, Schmidt, Levin & Jacobson, "Fast Winding Numbers for Soups and Clouds",
+///     SIGGRAPH 2018), so open meshes (real levels) get a sensible inside; nodes outside the
+///     band take their neighbour's sign (no surface lies between two neighbours outside the
+///     band, as the band is at least one voxel wide);
+///  3. the rest by closest-point propagation: 2^D sweeps over the grid in which each node takes
+///     a neighbour's closest point when it is nearer (Danielsson, "Euclidean distance mapping",
+///     CGIP 1980, with the sweep orders of fast sweeping, Zhao, Math. Comp. 2005).
+
+#include <collide/core/aabb.hpp>
+#include <collide/core/ray.hpp>
+#include <collide/core/transform.hpp>
+#include <collide/core/transform3.hpp>
+#include <collide/narrow/closest_point.hpp>
+#include <collide/narrow/manifold.hpp>
+#include <collide/ccd/raycast.hpp>
+#include <collide/shape/shape2d.hpp>
+#include <collide/shape/shape3d.hpp>
+#include <collide/shape/triangle_mesh.hpp>
+
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace collide {
+
+/// Default width of the exact band around the surface, voxels (FieldOptions::band).
+inline constexpr float kFieldDefaultBand = 3.0f;
+/// Default margin of nodes around the input's bounds, voxels (FieldOptions::margin).
+inline constexpr int kFieldDefaultMargin = 4;
+/// Default memory limit of a build, bytes (FieldOptions::max_bytes): 2 GiB.
+inline constexpr std::size_t kFieldDefaultMaxBytes = std::size_t{2} << 30;
+/// Voxels per side of a brick of the sparse field (8: 512 floats, 2 KiB per 3D brick, OpenVDB's
+/// leaf size).
+inline constexpr int kFieldBrickSize = 8;
+/// Sphere tracing stops when the field is below this fraction of a voxel (a hit).
+inline constexpr float kRaymarchHitVoxels = 0.01f;
+/// Halvings of the last step when sphere tracing overshoots into the solid (the interpolated
+/// field can exceed the true distance by a little): 10 leave under 1/1000 of the step.
+inline constexpr int kRaymarchBisections = 10;
+/// Sphere tracing gives up after this many steps (reported as no hit).
+inline constexpr int kRaymarchMaxSteps = 256;
+
+/// The grid under a field: node i (per axis, 0 <= i < dims) sits at origin + i * voxel.
+template <int D>
+struct FieldGridN {
+  VecN<D> origin{0.0f};            ///< world position of node 0
+  float voxel = 1.0f;              ///< spacing of the nodes, world units, > 0
+  glm::vec<D, int> dims{0};        ///< nodes per axis, each >= 2
+
+  /// Number of nodes.
+  [[nodiscard]] std::size_t count() const noexcept {
+    std::size_t n = 1;
+    for (int k = 0; k < D; ++k) n *= static_cast<std::size_t>(dims[k]);
+    return n;
+  }
+  /// Memory index of node `i` (x fastest).
+  [[nodiscard]] std::size_t index(glm::vec<D, int> i) const noexcept {
+    std::size_t at = static_cast<std::size_t>(i[D - 1]);
+    for (int k = D - 2; k >= 0; --k) at = at * static_cast<std::size_t>(dims[k]) + static_cast<std::size_t>(i[k]);
+    return at;
+  }
+  /// World position of node `i`.
+  [[nodiscard]] VecN<D> node(glm::vec<D, int> i) const noexcept { return origin + VecN<D>(i) * voxel; }
+  /// Box from the first node to the last.
+  [[nodiscard]] AabbN<D> bounds() const noexcept { return {origin, origin + VecN<D>(dims - 1) * voxel}; }
+};
+
+using FieldGrid = FieldGridN<2>;   ///< 2D grid
+using FieldGrid3 = FieldGridN<3>;  ///< 3D grid
+
+/// How a field is built.
+struct FieldOptions {
+  float voxel = 0.0f;                        ///< node spacing, world units; > 0 and finite
+  int margin = kFieldDefaultMargin;          ///< nodes beyond the input's bounds on each side, >= 1
+  /// Width of the exact band, voxels (>= 1; values below are raised to 1). Dense fields: exact
+  /// distances within it, propagated beyond. Sparse fields: nothing is stored beyond it (the
+  /// value there is +-band * voxel).
+  float band = kFieldDefaultBand;
+  bool keep_closest_points = true;           ///< keep the closest-point field beside the distances
+  std::size_t max_bytes = kFieldDefaultMaxBytes;  ///< a build that would need more is refused
+};
+
+/// What a build did.
+struct FieldBuildStats {
+  std::size_t nodes = 0;             ///< nodes of the grid (dense) or of its allocated bricks (sparse)
+  std::size_t band_nodes = 0;        ///< nodes given an exact distance (stage 1)
+  std::size_t sign_evaluations = 0;  ///< winding numbers (or containment tests) evaluated
+  std::size_t bytes = 0;             ///< memory the field holds after the build
+  double seconds = 0.0;              ///< wall time of the build
+};
+
+/// A convex shape placed in the world: an input of a field build (a map's statics, a scene's).
+template <int D>
+struct PlacedShapeN;
+/// A 2D shape and its placement.
+template <>
+struct PlacedShapeN<2> {
+  Shape2D shape;
+  Transform xf{};
+};
+/// A 3D shape and its placement.
+template <>
+struct PlacedShapeN<3> {
+  Shape3D shape;
+  Transform3 xf{};
+};
+using PlacedShape = PlacedShapeN<2>;   ///< 2D placed shape
+using PlacedShape3 = PlacedShapeN<3>;  ///< 3D placed shape
+
+/// A dense signed distance field with its closest-point field. Build with `make_distance_field`.
+/// Queries never allocate or throw; a query point outside the grid gets the value at the
+/// nearest point of the grid's box plus its distance to that box (an upper bound).
+template <int D>
+struct DistanceFieldN {
+  static constexpr int kDim = D;  ///< dimension
+  FieldGridN<D> grid;
+  std::vector<float> distances;          ///< signed distance per node, negative inside
+  std::vector<VecN<D>> closest_points;   ///< closest surface point per node; empty when not kept
+  FieldBuildStats stats;
+
+  /// The signed distance at `p`, interpolated between the 2^D nodes around it.
+  [[nodiscard]] float sample(VecN<D> p) const noexcept;
+  /// The gradient of the interpolated field at `p` (not normalised; about unit length near the
+  /// surface; points away from the solid). Zero outside the grid's box along a clamped axis.
+  [[nodiscard]] VecN<D> gradient(VecN<D> p) const noexcept;
+  /// `sample` and `gradient` from one read of the 2^D nodes.
+  [[nodiscard]] float sample(VecN<D> p, VecN<D>& gradient_out) const noexcept;
+  /// The lesson's one-memory-access test: the nearest node's distance is negative. Exact to
+  /// half a voxel diagonal; false outside the grid.
+  [[nodiscard]] bool is_inside(VecN<D> p) const noexcept;
+  /// The stored distance of the node nearest to `p` (one read; +inf outside the grid).
+  [[nodiscard]] float nearest_value(VecN<D> p) const noexcept;
+  /// Bytes held by the field.
+  [[nodiscard]] std::size_t bytes() const noexcept {
+    return distances.capacity() * sizeof(float) + closest_points.capacity() * sizeof(VecN<D>);
+  }
+};
+
+using DistanceField = DistanceFieldN<2>;   ///< 2D dense field
+using DistanceField3 = DistanceFieldN<3>;  ///< 3D dense field
+
+/// A sparse narrow-band signed distance field (as OpenVDB keeps a level set): bricks of
+/// kFieldBrickSize^D nodes only where the band reaches, found through a coarse table of brick
+/// indices; a brick-sized region without a brick holds +-band * voxel (the sign per region).
+/// Same queries as the dense field, two memory accesses each (table, then brick); beyond the
+/// band the value is clamped to +-band * voxel.
+template <int D>
+struct SparseDistanceFieldN {
+  static constexpr int kDim = D;  ///< dimension
+  FieldGridN<D> grid;                   ///< the grid the bricks tile (dims rounded up to whole bricks)
+  glm::vec<D, int> bricks_per_axis{0};  ///< size of the brick table
+  /// Per brick-sized region: index of its brick in `bricks`, or kNoBrick / kNoBrickInside.
+  std::vector<std::uint32_t> table;
+  std::vector<float> bricks;            ///< kFieldBrickSize^D distances per brick, x fastest
+  float band_distance = 0.0f;           ///< band * voxel: the magnitude of every value beyond the band
+  FieldBuildStats stats;
+
+  static constexpr std::uint32_t kNoBrick = 0xffffffffu;        ///< an outside region
+  static constexpr std::uint32_t kNoBrickInside = 0xfffffffeu;  ///< an inside region
+
+  /// As DistanceFieldN::sample (values beyond the band clamped to +-band_distance).
+  [[nodiscard]] float sample(VecN<D> p) const noexcept;
+  /// As DistanceFieldN::sample with the gradient.
+  [[nodiscard]] float sample(VecN<D> p, VecN<D>& gradient_out) const noexcept;
+  /// As DistanceFieldN::gradient (zero beyond the band).
+  [[nodiscard]] VecN<D> gradient(VecN<D> p) const noexcept;
+  /// As DistanceFieldN::is_inside: the nearest node's value is negative.
+  [[nodiscard]] bool is_inside(VecN<D> p) const noexcept;
+  /// The stored value of the node nearest to `p`; +inf outside the grid.
+  [[nodiscard]] float nearest_value(VecN<D> p) const noexcept;
+  /// Bytes held by the field.
+  [[nodiscard]] std::size_t bytes() const noexcept {
+    return table.capacity() * sizeof(std::uint32_t) + bricks.capacity() * sizeof(float);
+  }
+};
+
+using SparseDistanceField = SparseDistanceFieldN<2>;   ///< 2D sparse field
+using SparseDistanceField3 = SparseDistanceFieldN<3>;  ///< 3D sparse field
+
+/// The field types the queries below take.
+template <class F>
+concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>& g) {
+  { f.sample(p) } -> std::same_as<float>;
+  { f.sample(p, g) } -> std::same_as<float>;
+  { f.is_inside(p) } -> std::same_as<bool>;
+};
+
+/// Dense field of the union of `shapes` (convex shapes; a map's statics, which overlap and abut
+/// freely: the union's surface is what counts, so a seam between two pieces is not a surface).
+/// The grid covers the shapes' bounds plus `options.margin` nodes. Throws InvalidInput naming
+/// the problem for a voxel that is not positive and finite, no shapes, a margin below 1, and a
+/// grid that would need more than `options.max_bytes` (the message gives the bytes it needs).
+[[nodiscard]] DistanceField make_distance_field(std::span<const PlacedShape> shapes, const FieldOptions& options);
+/// 3D version of the above.
+[[nodiscard]] DistanceField3 make_distance_field(std::span<const PlacedShape3> shapes, const FieldOptions& options);
+/// Dense field of a triangle mesh (mesh space), signed by the generalised winding number: a
+/// closed mesh's inside exactly; an open mesh's where its winding number exceeds 1/2. The same
+/// errors as above, and for a mesh without triangles.
+[[nodiscard]] DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions& options);
+
+/// The reference build: the exact distance of every node through the mesh BVH
+/// (`TriangleBvh::nearest`) and the winding number of every node. Slow (the benchmark's and the
+/// tests' yardstick for `make_distance_field`); the same errors.
+[[nodiscard]] DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOptions& options);
+
+/// Sparse narrow-band field of the union of `shapes` (see SparseDistanceFieldN). The same
+/// errors as the dense build.
+[[nodiscard]] SparseDistanceField make_sparse_distance_field(std::span<const PlacedShape> shapes, const FieldOptions& options);
+/// 3D version of the above.
+[[nodiscard]] SparseDistanceField3 make_sparse_distance_field(std::span<const PlacedShape3> shapes, const FieldOptions& options);
+/// Sparse narrow-band field of a triangle mesh, signed as the dense one.
+[[nodiscard]] SparseDistanceField3 make_sparse_distance_field(const TriangleMesh& mesh, const FieldOptions& options);
+
+/// The generalised winding number of `p` with respect to the mesh (mesh space): 1 inside a
+/// closed outward-wound mesh, 0 outside, in between near an open mesh's holes. Exact solid
+/// angles summed over every triangle (Van Oosterom & Strackee, IEEE Trans. Biomed. Eng. 1983).
+/// O(triangles): the reference for the fast evaluation the builds use.
+[[nodiscard]] float winding_number(const TriangleMesh& mesh, Vec3 p) noexcept;
+
+/// The closest surface point to `p` from the closest-point field: the stored point of the 2^D
+/// nodes around `p` that lies nearest to it (exact where the nearest surface feature of `p` is
+/// one of theirs; otherwise off by at most about a voxel). `inside` and `distance` from the
+/// field's sign. Requires a field built with keep_closest_points (else the answer of
+/// closest_point_by_gradient).
+[[nodiscard]] PointQuery closest_point(const DistanceField& field, Vec2 p) noexcept;
+/// 3D version of the above.
+[[nodiscard]] PointQuery3 closest_point(const DistanceField3& field, Vec3 p) noexcept;
+/// The closest surface point to `p` by stepping along the field's gradient: p - d * g / |g|,
+/// repeated `steps` times (the lesson's alternative to storing closest points).
+[[nodiscard]] PointQuery closest_point_by_gradient(const DistanceField& field, Vec2 p, int steps = 2) noexcept;
+/// 3D version of the above.
+[[nodiscard]] PointQuery3 closest_point_by_gradient(const DistanceField3& field, Vec3 p, int steps = 2) noexcept;
+
+// The templates below are instantiated in the library for the four field types (dense and
+// sparse, 2D and 3D).
+
+/// Contact of a point (shape A, no extent) with the field's solid (B): one manifold point at
+/// `p` when the field there is <= 0, depth = -distance, normal from A into B (minus the field's
+/// normalised gradient). Feature ids: A vertex 0, B face 0.
+template <DistanceFieldType F>
+[[nodiscard]] ManifoldN<F::kDim> contact(VecN<F::kDim> p, const F& field) noexcept;
+
+/// Contact of a convex shape (A, placed by `xf`) with the field's solid (B), by sampling the
+/// shape's surface (Guendelman, Bridson & Fedkiw, "Nonconvex rigid bodies with stacking",
+/// SIGGRAPH 2003): a circle or sphere at its centre (one point, depth radius - distance); a
+/// capsule along its core at most a voxel apart (distance minus radius); a polygon, box or hull
+/// at its vertices and along its edges at most a voxel apart. The deepest samples that touch
+/// (depth >= 0) become the manifold, up to kMaxManifoldPoints, spread out (the deepest, then the
+/// one farthest from those kept); the normal is the deepest sample's. Points midway between
+/// the surfaces, as every manifold. Agrees with the exact narrow phase to within the field's
+/// error (about a voxel). A segment is sampled as a capsule of radius 0.
+template <DistanceFieldType F>
+  requires(F::kDim == 2)
+[[nodiscard]] Manifold contact(const Shape2D& shape, const Transform& xf, const F& field) noexcept;
+/// 3D version of the above.
+template <DistanceFieldType F>
+  requires(F::kDim == 3)
+[[nodiscard]] Manifold3 contact(const Shape3D& shape, const Transform3& xf, const F& field) noexcept;
+
+/// Sphere tracing of `ray` (world space) through the field (Hart, "Sphere tracing", The Visual
+/// Computer 1996): step by the sampled distance until it falls below kRaymarchHitVoxels of a
+/// voxel (a step that lands inside is bisected back to the zero level). Hit: fraction, point on
+/// the zero level, normal = normalised gradient. No hit when the
+/// ray starts inside, leaves the grid, or takes kRaymarchMaxSteps steps.
+template <DistanceFieldType F>
+[[nodiscard]] RayHitN<F::kDim> raymarch(const F& field, const RayN<F::kDim>& ray) noexcept;
+
+/// Soft shadow factor of a light seen from `point` along `ray` (Quilez, "Soft shadows in
+/// raymarched SDFs", 2010): 0 when the ray is blocked, up to 1 when it passes everything by
+/// at least 1/sharpness of the distance travelled. `sharpness` > 0 (8 to 32 are typical).
+template <DistanceFieldType F>
+[[nodiscard]] float soft_shadow(const F& field, const RayN<F::kDim>& ray, float sharpness) noexcept;
+
+/// A batch of point particles (structure of arrays), world space.
+template <int D>
+struct ParticlesN {
+  std::vector<VecN<D>> positions;
+  std::vector<VecN<D>> velocities;  ///< world units per second
+};
+using Particles = ParticlesN<2>;   ///< 2D particles
+using Particles3 = ParticlesN<3>;  ///< 3D particles
+
+/// What one particle step did.
+struct ParticleStepStats {
+  std::size_t bounced = 0;  ///< particles that met the solid and were pushed out and reflected
+  std::size_t near = 0;     ///< particles whose one-read test was not enough (sampled exactly)
+};
+
+/// Moves every particle by velocity * dt and bounces the ones that end inside the field's solid:
+/// a particle whose nearest node is farther out than a voxel diagonal is done with one read;
+/// otherwise the field is sampled, and if it is below 0 the particle is pushed back to the
+/// surface along the gradient and its velocity reflected about the surface normal, its normal
+/// part scaled by `restitution` (0: stick to the surface, 1: elastic). No allocation.
+template <DistanceFieldType F>
+ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles, float dt, float restitution) noexcept;
+
+}  // namespace collide

@@ -1,0 +1,563 @@
+// Queries on distance fields: sampling, the one-read inside test, closest points, contacts by
+// surface samples, sphere tracing, soft shadows and particles (distance_field.hpp).
+
+#include <collide/sdf/distance_field.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <variant>
+
+namespace collide {
+namespace {
+
+template <int D>
+using IVec = glm::vec<D, int>;
+
+constexpr int kCorners2 = 4, kCorners3 = 8;
+template <int D>
+constexpr int kCorners = D == 2 ? kCorners2 : kCorners3;
+
+/// Where a point falls in the grid: the cell's first node, the fractions in it, and the offset
+/// from the grid's box when the point lies outside it (zero inside).
+template <int D>
+struct CellPoint {
+  IVec<D> node{0};
+  VecN<D> fraction{0.0f};
+  VecN<D> outside{0.0f};
+};
+
+template <int D>
+CellPoint<D> locate(const FieldGridN<D>& grid, VecN<D> p) noexcept {
+  CellPoint<D> at;
+  const float inv = 1.0f / grid.voxel;
+  for (int k = 0; k < D; ++k) {
+    const float u = (p[k] - grid.origin[k]) * inv;
+    const float top = float(grid.dims[k] - 1);
+    // !(u >= 0) also catches a NaN, which then samples node 0.
+    const float c = !(u >= 0.0f) ? 0.0f : (u > top ? top : u);
+    at.outside[k] = (u - c) * grid.voxel;
+    if (!std::isfinite(at.outside[k])) at.outside[k] = 0.0f;
+    const int i = std::min(static_cast<int>(c), grid.dims[k] - 2);
+    at.node[k] = i;
+    at.fraction[k] = c - float(i);
+  }
+  return at;
+}
+
+/// Multilinear interpolation of the 2^D corner values (corner c has bit k set for the far node
+/// on axis k), with the gradient (per world unit) when asked.
+template <int D>
+float interpolate(const std::array<float, kCorners<D>>& v, VecN<D> f, float voxel, VecN<D>* gradient) noexcept {
+  if constexpr (D == 2) {
+    const float bottom = v[0] + (v[1] - v[0]) * f.x, top = v[2] + (v[3] - v[2]) * f.x;
+    if (gradient) {
+      *gradient = Vec2{(v[1] - v[0]) + ((v[3] - v[2]) - (v[1] - v[0])) * f.y, top - bottom} / voxel;
+    }
+    return bottom + (top - bottom) * f.y;
+  } else {
+    const float x00 = v[0] + (v[1] - v[0]) * f.x, x10 = v[2] + (v[3] - v[2]) * f.x;
+    const float x01 = v[4] + (v[5] - v[4]) * f.x, x11 = v[6] + (v[7] - v[6]) * f.x;
+    const float y0 = x00 + (x10 - x00) * f.y, y1 = x01 + (x11 - x01) * f.y;
+    if (gradient) {
+      const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
+      const float dx0 = dx00 + (dx10 - dx00) * f.y, dx1 = dx01 + (dx11 - dx01) * f.y;
+      const float dy0 = x10 - x00, dy1 = x11 - x01;
+      *gradient = Vec3{dx0 + (dx1 - dx0) * f.z, dy0 + (dy1 - dy0) * f.z, y1 - y0} / voxel;
+    }
+    return y0 + (y1 - y0) * f.z;
+  }
+}
+
+/// The value at a cell point and its gradient, adding the distance to the grid's box outside it
+/// (its direction joins the gradient; the clamped axes' interpolated slope is dropped).
+template <int D>
+float finish_sample(float inner, VecN<D> inner_gradient, const CellPoint<D>& at, VecN<D>* gradient) noexcept {
+  const float out2 = glm::dot(at.outside, at.outside);
+  if (out2 == 0.0f) {
+    if (gradient) *gradient = inner_gradient;
+    return inner;
+  }
+  const float out = std::sqrt(out2);
+  if (gradient) {
+    VecN<D> g = inner_gradient;
+    for (int k = 0; k < D; ++k)
+      if (at.outside[k] != 0.0f) g[k] = 0.0f;
+    *gradient = g + at.outside / out;
+  }
+  return inner + out;
+}
+
+template <int D>
+float dense_sample(const DistanceFieldN<D>& field, VecN<D> p, VecN<D>* gradient) noexcept {
+  const CellPoint<D> at = locate(field.grid, p);
+  const std::size_t base = field.grid.index(at.node);
+  const auto nx = static_cast<std::size_t>(field.grid.dims[0]);
+  std::array<float, kCorners<D>> v;
+  const float* d = field.distances.data() + base;
+  v[0] = d[0];
+  v[1] = d[1];
+  v[2] = d[nx];
+  v[3] = d[nx + 1];
+  if constexpr (D == 3) {
+    const std::size_t nxy = nx * static_cast<std::size_t>(field.grid.dims[1]);
+    v[4] = d[nxy];
+    v[5] = d[nxy + 1];
+    v[6] = d[nxy + nx];
+    v[7] = d[nxy + nx + 1];
+  }
+  VecN<D> g{0.0f};
+  const float inner = interpolate<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
+  return finish_sample<D>(inner, g, at, gradient);
+}
+
+/// The node nearest to `p`, or false when `p` is outside the grid's cells (by half a voxel).
+template <int D>
+bool nearest_node(const FieldGridN<D>& grid, VecN<D> p, IVec<D>& node) noexcept {
+  const float inv = 1.0f / grid.voxel;
+  for (int k = 0; k < D; ++k) {
+    const float u = (p[k] - grid.origin[k]) * inv + 0.5f;
+    if (!(u >= 0.0f && u < float(grid.dims[k]))) return false;
+    node[k] = static_cast<int>(u);
+  }
+  return true;
+}
+
+// ---- sparse ---------------------------------------------------------------------------------
+
+template <int D>
+constexpr std::size_t kBrickNodes = D == 2 ? kFieldBrickSize * kFieldBrickSize
+                                           : kFieldBrickSize * kFieldBrickSize * kFieldBrickSize;
+constexpr int kBrickShift = 3;  // log2(kFieldBrickSize)
+static_assert((1 << kBrickShift) == kFieldBrickSize);
+
+template <int D>
+std::size_t region_index(const SparseDistanceFieldN<D>& field, IVec<D> r) noexcept {
+  std::size_t at = static_cast<std::size_t>(r[D - 1]);
+  for (int k = D - 2; k >= 0; --k) at = at * static_cast<std::size_t>(field.bricks_per_axis[k]) + static_cast<std::size_t>(r[k]);
+  return at;
+}
+
+template <int D>
+std::size_t local_index(IVec<D> l) noexcept {
+  std::size_t at = static_cast<std::size_t>(l[D - 1]);
+  for (int k = D - 2; k >= 0; --k) at = at * kFieldBrickSize + static_cast<std::size_t>(l[k]);
+  return at;
+}
+
+/// The value of node `i` (in the grid): its brick's, or its empty region's +-band.
+template <int D>
+float sparse_node(const SparseDistanceFieldN<D>& field, IVec<D> i) noexcept {
+  const IVec<D> r = i >> kBrickShift;
+  const std::uint32_t brick = field.table[region_index(field, r)];
+  if (brick == SparseDistanceFieldN<D>::kNoBrick) return field.band_distance;
+  if (brick == SparseDistanceFieldN<D>::kNoBrickInside) return -field.band_distance;
+  return field.bricks[brick * kBrickNodes<D> + local_index<D>(i & (kFieldBrickSize - 1))];
+}
+
+template <int D>
+float sparse_sample(const SparseDistanceFieldN<D>& field, VecN<D> p, VecN<D>* gradient) noexcept {
+  const CellPoint<D> at = locate(field.grid, p);
+  std::array<float, kCorners<D>> v;
+  const IVec<D> local = at.node & (kFieldBrickSize - 1);
+  bool one_brick = true;
+  for (int k = 0; k < D; ++k) one_brick &= local[k] < kFieldBrickSize - 1;
+  if (one_brick) {
+    // All corners in one region: one table read, then the brick (or the region's value).
+    const std::uint32_t brick = field.table[region_index(field, at.node >> kBrickShift)];
+    if (brick >= SparseDistanceFieldN<D>::kNoBrickInside) {
+      const float value = brick == SparseDistanceFieldN<D>::kNoBrick ? field.band_distance : -field.band_distance;
+      v.fill(value);
+    } else {
+      const float* d = field.bricks.data() + brick * kBrickNodes<D> + local_index<D>(local);
+      v[0] = d[0];
+      v[1] = d[1];
+      v[2] = d[kFieldBrickSize];
+      v[3] = d[kFieldBrickSize + 1];
+      if constexpr (D == 3) {
+        constexpr int kLayer = kFieldBrickSize * kFieldBrickSize;
+        v[4] = d[kLayer];
+        v[5] = d[kLayer + 1];
+        v[6] = d[kLayer + kFieldBrickSize];
+        v[7] = d[kLayer + kFieldBrickSize + 1];
+      }
+    }
+  } else {
+    for (int c = 0; c < kCorners<D>; ++c) {
+      IVec<D> i = at.node;
+      for (int k = 0; k < D; ++k) i[k] += (c >> k) & 1;
+      v[c] = sparse_node(field, i);
+    }
+  }
+  VecN<D> g{0.0f};
+  const float inner = interpolate<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
+  return finish_sample<D>(inner, g, at, gradient);
+}
+
+// ---- contacts -------------------------------------------------------------------------------
+
+/// Most surface samples a contact takes of one shape (spacing grows beyond it).
+constexpr int kMaxContactSamples = 256;
+
+/// A sample of a shape's surface: a core point and the radius around it.
+template <int D>
+struct SurfaceSample {
+  VecN<D> point{0.0f};
+  float radius = 0.0f;
+};
+
+template <int D>
+struct SampleList {
+  std::array<SurfaceSample<D>, kMaxContactSamples> items;
+  int count = 0;
+  void add(VecN<D> p, float r) noexcept {
+    if (count < kMaxContactSamples) items[count++] = {p, r};
+  }
+  /// The two ends and points between them at most `spacing` apart (the ends excluded when
+  /// `ends` is false), within the samples left.
+  void add_segment(VecN<D> a, VecN<D> b, float r, float spacing, bool ends) noexcept {
+    const float length = glm::length(b - a);
+    const int room = std::max(1, (kMaxContactSamples - count) / 2);
+    const int pieces = std::clamp(static_cast<int>(std::ceil(length / spacing)), 1, room);
+    for (int i = ends ? 0 : 1; i <= (ends ? pieces : pieces - 1); ++i)
+      add(a + (b - a) * (float(i) / float(pieces)), r);
+  }
+};
+
+SampleList<2> surface_samples(const Shape2D& shape, const Transform& xf, float spacing) noexcept {
+  SampleList<2> out;
+  std::visit(
+      [&](const auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Circle>) {
+          out.add(transform_point(xf, s.center), s.radius);
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          out.add_segment(transform_point(xf, s.a), transform_point(xf, s.b), s.radius, spacing, true);
+        } else if constexpr (std::is_same_v<S, Segment>) {
+          out.add_segment(transform_point(xf, s.a), transform_point(xf, s.b), 0.0f, spacing, true);
+        } else {
+          for (int i = 0; i < s.count; ++i) out.add(transform_point(xf, s.vertices[i]), s.radius);
+          for (int i = 0; i < s.count; ++i)
+            out.add_segment(transform_point(xf, s.vertices[i]), transform_point(xf, s.vertices[(i + 1) % s.count]),
+                            s.radius, spacing, false);
+        }
+      },
+      shape);
+  return out;
+}
+
+SampleList<3> surface_samples(const Shape3D& shape, const Transform3& xf, float spacing) noexcept {
+  SampleList<3> out;
+  std::visit(
+      [&](const auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Sphere>) {
+          out.add(transform_point(xf, s.center), s.radius);
+        } else if constexpr (std::is_same_v<S, Capsule3>) {
+          out.add_segment(transform_point(xf, s.a), transform_point(xf, s.b), s.radius, spacing, true);
+        } else if constexpr (std::is_same_v<S, Segment3>) {
+          out.add_segment(transform_point(xf, s.a), transform_point(xf, s.b), 0.0f, spacing, true);
+        } else if constexpr (std::is_same_v<S, Box>) {
+          for (int i = 0; i < 8; ++i) out.add(transform_point(xf, s.vertex(i)), s.radius);
+          for (int i = 0; i < 8; ++i)
+            for (int k = 0; k < 3; ++k)
+              if (!(i & (1 << k)))
+                out.add_segment(transform_point(xf, s.vertex(i)), transform_point(xf, s.vertex(i | (1 << k))),
+                                s.radius, spacing, false);
+        } else {
+          for (const Vec3& v : s.vertices) out.add(transform_point(xf, v), s.radius);
+          for (const HullEdge& e : s.edges)
+            out.add_segment(transform_point(xf, s.vertices[e.v0]), transform_point(xf, s.vertices[e.v1]), s.radius,
+                            spacing, false);
+        }
+      },
+      shape);
+  return out;
+}
+
+/// The manifold of the touching samples: deepest first, then each next the farthest from those
+/// kept; the normal is the deepest sample's.
+template <int D, class F>
+ManifoldN<D> samples_contact(const SampleList<D>& samples, const F& field) noexcept {
+  struct Touch {
+    VecN<D> surface;  // A's surface point nearest the solid
+    VecN<D> normal;
+    float depth;
+    int index;
+  };
+  std::array<Touch, kMaxContactSamples> touching;
+  int count = 0;
+  for (int i = 0; i < samples.count; ++i) {
+    VecN<D> g;
+    const float d = field.sample(samples.items[i].point, g) - samples.items[i].radius;
+    const float length = glm::length(g);
+    if (!(d <= 0.0f) || !(length > 0.0f)) continue;
+    const VecN<D> normal = -g / length;  // from the shape into the solid
+    touching[count++] = {samples.items[i].point + samples.items[i].radius * normal, normal, -d, i};
+  }
+  ManifoldN<D> m;
+  if (count == 0) return m;
+  int deepest = 0;
+  for (int i = 1; i < count; ++i)
+    if (touching[i].depth > touching[deepest].depth) deepest = i;
+  m.normal = touching[deepest].normal;
+  std::array<int, kMaxManifoldPoints<D>> kept{};
+  kept[0] = deepest;
+  int kept_count = 1;
+  while (kept_count < kMaxManifoldPoints<D>) {
+    int best = -1;
+    float best_distance = 0.0f;
+    for (int i = 0; i < count; ++i) {
+      float nearest = std::numeric_limits<float>::infinity();
+      for (int j = 0; j < kept_count; ++j) {
+        const VecN<D> d = touching[i].surface - touching[kept[j]].surface;
+        nearest = std::min(nearest, glm::dot(d, d));
+      }
+      if (nearest > best_distance) {
+        best_distance = nearest;
+        best = i;
+      }
+    }
+    if (best < 0) break;
+    kept[kept_count++] = best;
+  }
+  for (int j = 0; j < kept_count; ++j) {
+    const Touch& t = touching[kept[j]];
+    ManifoldPointN<D>& point = m.points[m.count++];
+    point.depth = t.depth;
+    point.point = t.surface - 0.5f * t.depth * t.normal;
+    point.id = {static_cast<std::uint32_t>(t.index), 0, FeatureType::vertex, FeatureType::face};
+  }
+  return m;
+}
+
+template <int D, class F>
+PointQueryN<D> gradient_closest(const F& field, VecN<D> p, int steps) noexcept {
+  PointQueryN<D> out;
+  out.distance = field.sample(p);
+  out.inside = out.distance < 0.0f;
+  VecN<D> q = p;
+  for (int i = 0; i < steps; ++i) {
+    VecN<D> g;
+    const float d = field.sample(q, g);
+    const float length = glm::length(g);
+    if (!(length > 0.0f)) break;
+    q -= d * g / length;
+  }
+  out.closest = q;
+  out.feature = {FeatureType::face, 0};
+  return out;
+}
+
+template <int D>
+PointQueryN<D> stored_closest(const DistanceFieldN<D>& field, VecN<D> p) noexcept {
+  if (field.closest_points.empty()) return gradient_closest<D>(field, p, 2);
+  const CellPoint<D> at = locate(field.grid, p);
+  PointQueryN<D> out;
+  float best = std::numeric_limits<float>::infinity();
+  for (int c = 0; c < kCorners<D>; ++c) {
+    IVec<D> i = at.node;
+    for (int k = 0; k < D; ++k) i[k] += (c >> k) & 1;
+    const VecN<D> candidate = field.closest_points[field.grid.index(i)];
+    const VecN<D> d = candidate - p;
+    const float d2 = glm::dot(d, d);
+    if (d2 < best) {
+      best = d2;
+      out.closest = candidate;
+    }
+  }
+  out.inside = field.sample(p) < 0.0f;
+  out.distance = out.inside ? -std::sqrt(best) : std::sqrt(best);
+  out.feature = {FeatureType::face, 0};
+  return out;
+}
+
+}  // namespace
+
+// ---- members ---------------------------------------------------------------------------------
+
+template <int D>
+float DistanceFieldN<D>::sample(VecN<D> p) const noexcept { return dense_sample<D>(*this, p, nullptr); }
+template <int D>
+float DistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
+  return dense_sample<D>(*this, p, &gradient_out);
+}
+template <int D>
+VecN<D> DistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
+  VecN<D> g;
+  (void)dense_sample<D>(*this, p, &g);
+  return g;
+}
+template <int D>
+bool DistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
+  IVec<D> i;
+  return nearest_node(grid, p, i) && distances[grid.index(i)] < 0.0f;
+}
+template <int D>
+float DistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
+  IVec<D> i;
+  return nearest_node(grid, p, i) ? distances[grid.index(i)] : std::numeric_limits<float>::infinity();
+}
+
+template <int D>
+float SparseDistanceFieldN<D>::sample(VecN<D> p) const noexcept { return sparse_sample<D>(*this, p, nullptr); }
+template <int D>
+float SparseDistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
+  return sparse_sample<D>(*this, p, &gradient_out);
+}
+template <int D>
+VecN<D> SparseDistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
+  VecN<D> g;
+  (void)sparse_sample<D>(*this, p, &g);
+  return g;
+}
+template <int D>
+bool SparseDistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
+  IVec<D> i;
+  return nearest_node(grid, p, i) && sparse_node(*this, i) < 0.0f;
+}
+template <int D>
+float SparseDistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
+  IVec<D> i;
+  return nearest_node(grid, p, i) ? sparse_node(*this, i) : std::numeric_limits<float>::infinity();
+}
+
+template struct DistanceFieldN<2>;
+template struct DistanceFieldN<3>;
+template struct SparseDistanceFieldN<2>;
+template struct SparseDistanceFieldN<3>;
+
+// ---- free functions --------------------------------------------------------------------------
+
+PointQuery closest_point(const DistanceField& field, Vec2 p) noexcept { return stored_closest<2>(field, p); }
+PointQuery3 closest_point(const DistanceField3& field, Vec3 p) noexcept { return stored_closest<3>(field, p); }
+PointQuery closest_point_by_gradient(const DistanceField& field, Vec2 p, int steps) noexcept {
+  return gradient_closest<2>(field, p, steps);
+}
+PointQuery3 closest_point_by_gradient(const DistanceField3& field, Vec3 p, int steps) noexcept {
+  return gradient_closest<3>(field, p, steps);
+}
+
+template <DistanceFieldType F>
+ManifoldN<F::kDim> contact(VecN<F::kDim> p, const F& field) noexcept {
+  SampleList<F::kDim> one;
+  one.add(p, 0.0f);
+  return samples_contact<F::kDim>(one, field);
+}
+
+template <DistanceFieldType F>
+  requires(F::kDim == 2)
+Manifold contact(const Shape2D& shape, const Transform& xf, const F& field) noexcept {
+  return samples_contact<2>(surface_samples(shape, xf, field.grid.voxel), field);
+}
+
+template <DistanceFieldType F>
+  requires(F::kDim == 3)
+Manifold3 contact(const Shape3D& shape, const Transform3& xf, const F& field) noexcept {
+  return samples_contact<3>(surface_samples(shape, xf, field.grid.voxel), field);
+}
+
+template <DistanceFieldType F>
+RayHitN<F::kDim> raymarch(const F& field, const RayN<F::kDim>& ray) noexcept {
+  constexpr int D = F::kDim;
+  RayHitN<D> hit;
+  const float length = glm::length(ray.translation);
+  if (!(length > 0.0f) || !std::isfinite(length)) return hit;
+  const VecN<D> direction = ray.translation / length;
+  const float epsilon = kRaymarchHitVoxels * field.grid.voxel;
+  float t = 0.0f, t_before = 0.0f;
+  for (int step = 0; step < kRaymarchMaxSteps && t <= length; ++step) {
+    VecN<D> p = ray.origin + t * direction;
+    VecN<D> g;
+    float d = field.sample(p, g);
+    if (!std::isfinite(d)) return hit;
+    if (d < epsilon) {
+      if (step == 0 && d < 0.0f) return hit;  // starts inside
+      // The interpolated field is not exactly 1-Lipschitz: a step may overshoot into the solid.
+      // Then bisect between the last point outside and this one for the zero crossing.
+      for (int i = 0; i < kRaymarchBisections && d < -epsilon; ++i) {
+        const float mid = 0.5f * (t_before + t);
+        const float dm = field.sample(ray.origin + mid * direction, g);
+        if (dm < 0.0f) t = mid;
+        else t_before = mid;
+        p = ray.origin + t * direction;
+        d = field.sample(p, g);
+      }
+      if (t > length) return hit;
+      const float gl = glm::length(g);
+      hit.hit = true;
+      hit.fraction = std::min(t / length, 1.0f);
+      hit.point = p;
+      hit.normal = gl > 0.0f ? g / gl : -direction;
+      return hit;
+    }
+    t_before = t;
+    t += d;
+  }
+  return hit;
+}
+
+template <DistanceFieldType F>
+float soft_shadow(const F& field, const RayN<F::kDim>& ray, float sharpness) noexcept {
+  constexpr int D = F::kDim;
+  const float length = glm::length(ray.translation);
+  if (!(length > 0.0f) || !std::isfinite(length)) return 1.0f;
+  const VecN<D> direction = ray.translation / length;
+  const float epsilon = kRaymarchHitVoxels * field.grid.voxel;
+  float light = 1.0f;
+  float t = 2.0f * epsilon;  // leave the surface the ray starts on
+  for (int step = 0; step < kRaymarchMaxSteps && t < length; ++step) {
+    const float d = field.sample(ray.origin + t * direction);
+    if (!(d >= epsilon)) return 0.0f;
+    light = std::min(light, sharpness * d / t);
+    t += d;
+  }
+  return std::clamp(light, 0.0f, 1.0f);
+}
+
+template <DistanceFieldType F>
+ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles, float dt, float restitution) noexcept {
+  constexpr int D = F::kDim;
+  ParticleStepStats stats;
+  // The field changes by at most about a voxel diagonal between a point and its nearest node.
+  const float clear = field.grid.voxel * std::sqrt(float(D));
+  const std::size_t n = std::min(particles.positions.size(), particles.velocities.size());
+  VecN<D>* position = particles.positions.data();
+  VecN<D>* velocity = particles.velocities.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const VecN<D> p = position[i] + velocity[i] * dt;
+    position[i] = p;
+    if (field.nearest_value(p) > clear) continue;  // the one read: far from the solid
+    ++stats.near;
+    VecN<D> g;
+    const float d = field.sample(p, g);
+    const float gl = glm::length(g);
+    if (!(d < 0.0f) || !(gl > 0.0f)) continue;
+    const VecN<D> normal = g / gl;
+    position[i] = p - d * normal;
+    const float vn = glm::dot(velocity[i], normal);
+    if (vn < 0.0f) velocity[i] -= (1.0f + restitution) * vn * normal;
+    ++stats.bounced;
+  }
+  return stats;
+}
+
+#define COLLIDE_FIELD_QUERIES(F)                                                                  \
+  template ManifoldN<F::kDim> contact<F>(VecN<F::kDim>, const F&) noexcept;                       \
+  template RayHitN<F::kDim> raymarch<F>(const F&, const RayN<F::kDim>&) noexcept;                 \
+  template float soft_shadow<F>(const F&, const RayN<F::kDim>&, float) noexcept;                  \
+  template ParticleStepStats step_particles<F>(const F&, ParticlesN<F::kDim>&, float, float) noexcept;
+COLLIDE_FIELD_QUERIES(DistanceField)
+COLLIDE_FIELD_QUERIES(DistanceField3)
+COLLIDE_FIELD_QUERIES(SparseDistanceField)
+COLLIDE_FIELD_QUERIES(SparseDistanceField3)
+#undef COLLIDE_FIELD_QUERIES
+template Manifold contact<DistanceField>(const Shape2D&, const Transform&, const DistanceField&) noexcept;
+template Manifold contact<SparseDistanceField>(const Shape2D&, const Transform&, const SparseDistanceField&) noexcept;
+template Manifold3 contact<DistanceField3>(const Shape3D&, const Transform3&, const DistanceField3&) noexcept;
+template Manifold3 contact<SparseDistanceField3>(const Shape3D&, const Transform3&, const SparseDistanceField3&) noexcept;
+
+}  // namespace collide

@@ -1,0 +1,370 @@
+// Distance fields against independent truths: analytic distances of single shapes, the exact
+// narrow phase, brute-force mesh distance and winding numbers (issue 17's proof).
+
+#include <collide/core/error.hpp>
+#include <collide/io/obj.hpp>
+#include <collide/ccd/raycast.hpp>
+#include <collide/narrow/contact.hpp>
+#include <collide/sdf/distance_field.hpp>
+
+#include "support/random.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace collide {
+namespace {
+
+/// Half a voxel diagonal: the issue's bound for analytic fields.
+template <int D>
+float half_diagonal(float voxel) {
+  return 0.5f * voxel * std::sqrt(float(D));
+}
+
+template <int D>
+VecN<D> random_in(std::mt19937& rng, const AabbN<D>& box) {
+  VecN<D> p;
+  for (int k = 0; k < D; ++k) p[k] = test::uniform(rng, box.min[k], box.max[k]);
+  return p;
+}
+
+/// Worst |field - exact| over random points in the grid.
+template <class Field, class Exact>
+float worst_error(const Field& field, Exact&& exact, int points, unsigned seed) {
+  constexpr int D = Field::kDim;
+  std::mt19937 rng(seed);
+  float worst = 0.0f;
+  for (int i = 0; i < points; ++i) {
+    const VecN<D> p = random_in<D>(rng, field.grid.bounds());
+    worst = std::max(worst, std::abs(field.sample(p) - exact(p)));
+  }
+  return worst;
+}
+
+FieldOptions options(float voxel) {
+  FieldOptions o;
+  o.voxel = voxel;
+  return o;
+}
+
+TEST(DistanceField2D, CircleWithinHalfAVoxelDiagonal) {
+  const Circle circle = make_circle({0.0f, 0.0f}, 2.0f);
+  const std::vector<PlacedShape> shapes{{circle, Transform{{1.0f, -0.5f}, Rot2{}}}};
+  const DistanceField field = make_distance_field(shapes, options(0.1f));
+  const float error = worst_error(field, [](Vec2 p) { return glm::length(p - Vec2{1.0f, -0.5f}) - 2.0f; }, 4000, 1);
+  EXPECT_LT(error, half_diagonal<2>(0.1f));
+  EXPECT_TRUE(field.is_inside({1.0f, -0.5f}));
+  EXPECT_FALSE(field.is_inside({3.5f, -0.5f}));
+  EXPECT_GT(field.stats.band_nodes, 0u);
+  EXPECT_EQ(field.stats.nodes, field.distances.size());
+}
+
+TEST(DistanceField2D, BoxAndCapsuleAgreeWithClosestPoint) {
+  const std::vector<PlacedShape> shapes{
+      {make_box({1.5f, 0.5f}), Transform::from({0.0f, 0.0f}, 0.3f)},
+  };
+  const DistanceField box_field = make_distance_field(shapes, options(0.05f));
+  EXPECT_LT(worst_error(box_field, [&](Vec2 p) { return closest_point(shapes[0].shape, shapes[0].xf, p).distance; }, 4000, 2),
+            half_diagonal<2>(0.05f));
+  const std::vector<PlacedShape> capsule{{make_capsule({-1.0f, 0.0f}, {1.0f, 0.5f}, 0.4f), Transform{}}};
+  const DistanceField capsule_field = make_distance_field(capsule, options(0.05f));
+  EXPECT_LT(worst_error(capsule_field, [&](Vec2 p) { return closest_point(capsule[0].shape, capsule[0].xf, p).distance; }, 4000, 3),
+            half_diagonal<2>(0.05f));
+}
+
+TEST(DistanceField2D, SeamBetweenAbuttingTilesIsNotASurface) {
+  // Two unit tiles side by side make a 2 x 1 rectangle: its inside distance at the seam is 0.5
+  // (to the top and bottom), not 0 (to the tiles' shared edge).
+  const std::vector<PlacedShape> tiles{{make_box({0.5f, 0.5f}), Transform{{0.5f, 0.5f}, Rot2{}}},
+                                       {make_box({0.5f, 0.5f}), Transform{{1.5f, 0.5f}, Rot2{}}}};
+  const float voxel = 0.05f;
+  const DistanceField field = make_distance_field(tiles, options(voxel));
+  const std::vector<PlacedShape> whole{{make_box({1.0f, 0.5f}), Transform{{1.0f, 0.5f}, Rot2{}}}};
+  const float error =
+      worst_error(field, [&](Vec2 p) { return closest_point(whole[0].shape, whole[0].xf, p).distance; }, 4000, 4);
+  EXPECT_LT(error, voxel);
+  EXPECT_NEAR(field.sample({1.0f, 0.5f}), -0.5f, voxel);
+}
+
+TEST(DistanceField3D, SphereBoxCapsuleWithinHalfAVoxelDiagonal) {
+  const float voxel = 0.1f;
+  const std::vector<PlacedShape3> shapes[] = {
+      {{make_sphere({0.0f, 0.0f, 0.0f}, 1.5f), Transform3{{0.2f, 0.1f, -0.3f}, Quat{1, 0, 0, 0}}}},
+      {{make_box({1.0f, 0.5f, 0.75f}), Transform3::from_axis_angle({0, 0, 0}, glm::normalize(Vec3{1, 2, 3}), 0.7f)}},
+      {{make_capsule(Vec3{-1.0f, 0.0f, 0.0f}, Vec3{1.0f, 0.5f, 0.0f}, 0.5f), Transform3{}}},
+  };
+  unsigned seed = 10;
+  for (const auto& one : shapes) {
+    const DistanceField3 field = make_distance_field(one, options(voxel));
+    const float error =
+        worst_error(field, [&](Vec3 p) { return closest_point(one[0].shape, one[0].xf, p).distance; }, 3000, ++seed);
+    EXPECT_LT(error, half_diagonal<3>(voxel)) << type_name(one[0].shape);
+  }
+}
+
+TEST(DistanceField, RefusesBadOptionsAndNamesTheMemoryItWouldNeed) {
+  const std::vector<PlacedShape> shapes{{make_circle({0, 0}, 1.0f), Transform{}}};
+  EXPECT_THROW((void)make_distance_field(shapes, options(0.0f)), InvalidInput);
+  EXPECT_THROW((void)make_distance_field(shapes, options(std::nanf(""))), InvalidInput);
+  EXPECT_THROW((void)make_distance_field(std::span<const PlacedShape>{}, options(0.1f)), InvalidInput);
+  FieldOptions tiny = options(1e-4f);
+  tiny.max_bytes = std::size_t{1} << 20;
+  try {
+    (void)make_distance_field(shapes, tiny);
+    FAIL() << "a grid over the limit was built";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("needs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("MiB"), std::string::npos) << e.what();
+  }
+}
+
+
+/// A closed UV sphere of radius r at c, outward wound (faces counter-clockwise from outside).
+TriangleMesh sphere_mesh(Vec3 c, float r, int rings, int segments) {
+  std::vector<Vec3> v;
+  std::vector<glm::uvec3> t;
+  v.push_back(c + Vec3{0, r, 0});
+  for (int i = 1; i < rings; ++i) {
+    const float theta = std::numbers::pi_v<float> * float(i) / float(rings);
+    for (int j = 0; j < segments; ++j) {
+      const float phi = 2.0f * std::numbers::pi_v<float> * float(j) / float(segments);
+      v.push_back(c + r * Vec3{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
+    }
+  }
+  v.push_back(c - Vec3{0, r, 0});
+  const auto ring = [&](int i, int j) { return 1u + static_cast<unsigned>((i - 1) * segments + (j % segments)); };
+  for (int j = 0; j < segments; ++j) t.push_back({0u, ring(1, j + 1), ring(1, j)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      t.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
+      t.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
+    }
+  const auto last = static_cast<unsigned>(v.size() - 1);
+  for (int j = 0; j < segments; ++j) t.push_back({last, ring(rings - 1, j), ring(rings - 1, j + 1)});
+  return make_triangle_mesh(v, t);
+}
+
+TEST(WindingNumber, OneInsideAClosedMeshZeroOutside) {
+  const TriangleMesh mesh = sphere_mesh({100.0f, 5.0f, -3.0f}, 2.0f, 16, 24);
+  EXPECT_NEAR(winding_number(mesh, {100.0f, 5.0f, -3.0f}), 1.0f, 1e-3f);
+  EXPECT_NEAR(winding_number(mesh, {101.5f, 5.0f, -3.0f}), 1.0f, 1e-3f);
+  EXPECT_NEAR(winding_number(mesh, {103.0f, 5.0f, -3.0f}), 0.0f, 1e-3f);
+  EXPECT_NEAR(winding_number(mesh, {0.0f, 0.0f, 0.0f}), 0.0f, 1e-3f);
+}
+
+TEST(DistanceField3D, MeshFieldAgreesWithBruteForceAndTheSignIsRight) {
+  // A faceted sphere: exact distance to its triangles (brute force over all of them) and the
+  // winding number's sign, against the fast build on every node.
+  const TriangleMesh mesh = sphere_mesh({1.0f, 2.0f, 3.0f}, 1.5f, 10, 14);
+  const float voxel = 0.1f;
+  const DistanceField3 field = make_distance_field(mesh, options(voxel));
+  ASSERT_EQ(field.distances.size(), field.grid.count());
+  ASSERT_EQ(field.closest_points.size(), field.grid.count());
+  float worst = 0.0f;
+  int wrong_sign = 0;
+  for (int z = 0; z < field.grid.dims.z; z += 2)
+    for (int y = 0; y < field.grid.dims.y; y += 2)
+      for (int x = 0; x < field.grid.dims.x; x += 2) {
+        const Vec3 p = field.grid.node({x, y, z});
+        float best = std::numeric_limits<float>::infinity();
+        for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+          const Vec3 q = closest_point_on_triangle(p - mesh.origin, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)).point;
+          best = std::min(best, glm::length(p - mesh.origin - q));
+        }
+        const float exact = winding_number(mesh, p) > 0.5f ? -best : best;
+        const float value = field.distances[field.grid.index({x, y, z})];
+        worst = std::max(worst, std::abs(value - exact));
+        if (std::abs(exact) > 0.01f * voxel && (value < 0.0f) != (exact < 0.0f)) ++wrong_sign;
+      }
+  EXPECT_EQ(wrong_sign, 0);
+  // Exact within the band; closest-point propagation beyond it stays within half a voxel.
+  EXPECT_LT(worst, 0.5f * voxel);
+  // The field's sign is the winding number's, exactly where the reference build says so too.
+  const DistanceField3 exact = make_distance_field_exact(mesh, options(voxel));
+  for (std::size_t i = 0; i < exact.distances.size(); i += 7)
+    if (std::abs(exact.distances[i]) > voxel) ASSERT_EQ(exact.distances[i] < 0.0f, field.distances[i] < 0.0f) << i;
+}
+
+TEST(DistanceField3D, OpenLevelSignFollowsTheWindingNumber) {
+  // dungeon.obj is open (no floor underside, holes): every node's sign against the brute-force
+  // winding number, wherever that is clearly on one side of 1/2.
+  const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj");
+  const float voxel = 1.0f;
+  const DistanceField3 field = make_distance_field(mesh, options(voxel));
+  std::mt19937 rng(7);
+  int checked = 0, wrong = 0;
+  for (int i = 0; i < 400; ++i) {
+    glm::ivec3 n;
+    for (int k = 0; k < 3; ++k) n[k] = std::uniform_int_distribution<int>(0, field.grid.dims[k] - 1)(rng);
+    const float w = winding_number(mesh, field.grid.node(n));
+    if (std::abs(w - 0.5f) < 0.1f) continue;
+    ++checked;
+    wrong += (field.distances[field.grid.index(n)] < 0.0f) != (w > 0.5f);
+  }
+  EXPECT_GT(checked, 300);
+  EXPECT_EQ(wrong, 0);
+  // Far above the level is outside, and the distance there is the height above its top.
+  const Aabb3 top = field.grid.bounds();
+  const Vec3 above{0.5f * (top.min.x + top.max.x), top.max.y, 0.5f * (top.min.z + top.max.z)};
+  EXPECT_GT(field.sample(above), 0.0f);
+}
+
+TEST(SparseDistanceField, MatchesTheDenseFieldInTheBandAndClampsBeyond) {
+  const TriangleMesh mesh = sphere_mesh({0.0f, 0.0f, 0.0f}, 2.0f, 12, 16);
+  const float voxel = 0.1f;
+  const DistanceField3 dense = make_distance_field(mesh, options(voxel));
+  const SparseDistanceField3 sparse = make_sparse_distance_field(mesh, options(voxel));
+  EXPECT_LT(sparse.bytes(), dense.bytes() / 4);
+  EXPECT_FLOAT_EQ(sparse.band_distance, kFieldDefaultBand * voxel);
+  std::mt19937 rng(8);
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 p = random_in<3>(rng, dense.grid.bounds());
+    const float d = dense.sample(p);
+    if (std::abs(d) < (kFieldDefaultBand - 1.5f) * voxel) {
+      ASSERT_NEAR(sparse.sample(p), d, 1e-4f) << p.x << " " << p.y << " " << p.z;
+    } else if (std::abs(d) > (kFieldDefaultBand + 1.5f) * voxel) {
+      ASSERT_FLOAT_EQ(sparse.sample(p), d < 0.0f ? -sparse.band_distance : sparse.band_distance);
+    }
+    ASSERT_EQ(sparse.is_inside(p), dense.is_inside(p));
+  }
+  // 2D shapes too: a circle's sparse field against the analytic distance in the band.
+  const std::vector<PlacedShape> circle{{make_circle({0, 0}, 3.0f), Transform{}}};
+  const SparseDistanceField field2 = make_sparse_distance_field(circle, options(0.05f));
+  for (int i = 0; i < 2000; ++i) {
+    const Vec2 p = random_in<2>(rng, field2.grid.bounds());
+    const float exact = glm::length(p) - 3.0f;
+    if (std::abs(exact) < 1.5f * 0.05f) ASSERT_NEAR(field2.sample(p), exact, half_diagonal<2>(0.05f));
+    if (std::abs(exact) > 0.5f) ASSERT_EQ(field2.sample(p) < 0.0f, exact < 0.0f);
+  }
+}
+
+TEST(DistanceField3D, ClosestPointsStoredAndByGradient) {
+  const Vec3 c{0.5f, -0.25f, 0.0f};
+  const std::vector<PlacedShape3> sphere{{make_sphere({0, 0, 0}, 1.0f), Transform3{c, Quat{1, 0, 0, 0}}}};
+  const float voxel = 0.05f;
+  const DistanceField3 field = make_distance_field(sphere, options(voxel));
+  std::mt19937 rng(9);
+  float worst_stored = 0.0f, worst_gradient = 0.0f;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p = random_in<3>(rng, field.grid.bounds());
+    // Near the centre the closest point turns fast with p (it has none at the centre): a voxel
+    // of error in where the field was sampled becomes a large angle there.
+    if (glm::length(p - c) < 0.6f) continue;
+    const Vec3 exact = c + glm::normalize(p - c);
+    worst_stored = std::max(worst_stored, glm::length(closest_point(field, p).closest - exact));
+    worst_gradient = std::max(worst_gradient, glm::length(closest_point_by_gradient(field, p).closest - exact));
+    ASSERT_EQ(closest_point(field, p).inside, glm::length(p - c) < 1.0f - voxel || (closest_point(field, p).inside && glm::length(p - c) < 1.0f + voxel));
+  }
+  // Stored closest points are those of the nodes around p (and propagated ones beyond the
+  // band are a neighbour's): off by up to about a voxel per voxel of lever.
+  EXPECT_LT(worst_stored, 2.0f * voxel);
+  EXPECT_LT(worst_gradient, 2.0f * voxel);
+}
+
+TEST(DistanceField, ContactsAgreeWithTheExactNarrowPhase) {
+  // A floor slab as the field; spheres, capsules and boxes pressed into it, against collide's
+  // exact contact with the slab as a box.
+  const float voxel = 0.05f;
+  // Thick enough that no sample reaches its lower half (there the bottom face is nearer).
+  const Box slab = make_box({4.0f, 2.0f, 4.0f});
+  const Transform3 slab_xf{{0.0f, -2.0f, 0.0f}, Quat{1, 0, 0, 0}};
+  const std::vector<PlacedShape3> floor{{slab, slab_xf}};
+  const DistanceField3 field = make_distance_field(floor, options(voxel));
+  const Shape3D shapes[] = {make_sphere({0, 0, 0}, 0.5f), make_capsule(Vec3{-0.5f, 0, 0}, Vec3{0.5f, 0, 0}, 0.3f),
+                            make_box({0.4f, 0.3f, 0.5f})};
+  std::mt19937 rng(11);
+  for (const Shape3D& shape : shapes) {
+    for (int i = 0; i < 50; ++i) {
+      const Transform3 xf{{test::uniform(rng, -1, 1), test::uniform(rng, 0.1f, 0.45f), test::uniform(rng, -1, 1)},
+                          test::random_rotation(rng)};
+      const Manifold3 exact = contact(shape, xf, Shape3D{slab}, slab_xf);
+      const Manifold3 sampled = contact(shape, xf, field);
+      ASSERT_EQ(exact.touching(), sampled.touching()) << type_name(shape) << " " << exact.max_depth();
+      if (!exact.touching()) continue;
+      EXPECT_NEAR(sampled.max_depth(), exact.max_depth(), voxel) << type_name(shape);
+      EXPECT_GT(glm::dot(sampled.normal, exact.normal), 0.99f) << type_name(shape);
+    }
+  }
+  // A point: depth and normal from the field.
+  const Manifold3 point = contact(Vec3{0.3f, -0.2f, 0.1f}, field);
+  ASSERT_EQ(point.count, 1);
+  EXPECT_NEAR(point.points[0].depth, 0.2f, 0.5f * voxel);
+  EXPECT_NEAR(point.normal.y, -1.0f, 0.01f);                 // from the point down into the floor
+  EXPECT_EQ(contact(Vec3{0.3f, 0.2f, 0.1f}, field).count, 0);
+  // 2D: a circle on a box.
+  const std::vector<PlacedShape> ground{{make_box({5.0f, 1.0f}), Transform{{0.0f, -1.0f}, Rot2{}}}};
+  const DistanceField field2 = make_distance_field(ground, options(voxel));
+  const Manifold m = contact(Shape2D{make_circle({0, 0}, 0.5f)}, Transform{{1.0f, 0.3f}, Rot2{}}, field2);
+  ASSERT_EQ(m.count, 1);
+  EXPECT_NEAR(m.points[0].depth, 0.2f, 0.5f * voxel);
+  EXPECT_NEAR(m.normal.y, -1.0f, 0.01f);
+}
+
+TEST(DistanceField, RaymarchHitsWhereTheExactRayCastDoes) {
+  const float voxel = 0.05f;
+  const Sphere ball = make_sphere({0, 0, 0}, 1.0f);
+  const Transform3 xf{{0.2f, 0.1f, -0.3f}, Quat{1, 0, 0, 0}};
+  const std::vector<PlacedShape3> scene{{ball, xf}};
+  const DistanceField3 field = make_distance_field(scene, options(voxel));
+  const SparseDistanceField3 sparse = make_sparse_distance_field(scene, options(voxel));
+  std::mt19937 rng(12);
+  int hits = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 from = 1.3f * test::random_unit3(rng) * 1.2f;
+    const Vec3 to = 0.6f * test::random_point3(rng, 1.0f);
+    const Ray3 ray{from, 2.0f * (to - from)};
+    const RayHit3 exact = raycast(ball, xf, ray);
+    for (const RayHit3 marched : {raymarch(field, ray), raymarch(sparse, ray)}) {
+      if (glm::length(from - xf.p) <= 1.0f + voxel) continue;  // starts inside or on it
+      ASSERT_EQ(marched.hit, exact.hit);
+      if (!exact.hit) continue;
+      ++hits;
+      // On the surface to within the field's error; where the exact one is, unless the ray
+      // grazes the ball (then a small error in distance moves the hit far along the ray).
+      EXPECT_LT(std::abs(glm::length(marched.point - xf.p) - 1.0f), 0.5f * voxel);
+      if (-glm::dot(exact.normal, glm::normalize(ray.translation)) > 0.3f) {
+        EXPECT_LT(glm::length(marched.point - exact.point), voxel);
+        EXPECT_GT(glm::dot(marched.normal, exact.normal), 0.98f);
+      }
+    }
+  }
+  EXPECT_GT(hits, 100);
+  // Soft shadows: blocked behind the ball, lit beside it, half-lit in between.
+  EXPECT_EQ(soft_shadow(field, Ray3{xf.p + Vec3{0, 0, -3}, Vec3{0, 0, 6}}, 16.0f), 0.0f);
+  EXPECT_EQ(soft_shadow(field, Ray3{xf.p + Vec3{0, 2.5f, -3}, Vec3{0, 0, 6}}, 16.0f), 1.0f);
+  const float penumbra = soft_shadow(field, Ray3{xf.p + Vec3{0, 1.05f, -3}, Vec3{0, 0, 6}}, 16.0f);
+  EXPECT_GT(penumbra, 0.0f);
+  EXPECT_LT(penumbra, 1.0f);
+}
+
+TEST(DistanceField, ParticlesBounceAndNeverEndInside) {
+  const float voxel = 0.1f;
+  const std::vector<PlacedShape3> floor{{make_box({3.0f, 0.5f, 3.0f}), Transform3{{0, -0.5f, 0}, Quat{1, 0, 0, 0}}}};
+  const DistanceField3 field = make_distance_field(floor, options(voxel));
+  Particles3 particles;
+  std::mt19937 rng(13);
+  for (int i = 0; i < 1000; ++i) {
+    particles.positions.push_back({test::uniform(rng, -2, 2), test::uniform(rng, 0.2f, 0.8f), test::uniform(rng, -2, 2)});
+    particles.velocities.push_back({0.0f, -test::uniform(rng, 1.0f, 5.0f), 0.0f});
+  }
+  std::size_t bounced = 0;
+  for (int frame = 0; frame < 30; ++frame) {
+    bounced += step_particles(field, particles, 1.0f / 60.0f, 0.5f).bounced;
+    for (const Vec3& p : particles.positions) ASSERT_GE(field.sample(p), -1e-3f);
+  }
+  EXPECT_GT(bounced, 500u);
+  for (const Vec3& v : particles.velocities) EXPECT_GE(v.y, -5.0f);  // the floor turned them back
+  int rising = 0;
+  for (const Vec3& v : particles.velocities) rising += v.y > 0.0f;
+  EXPECT_GT(rising, 500);
+}
+
+}  // namespace
+}  // namespace collide
