@@ -150,7 +150,8 @@ void sweep_box(IVec<D> lo, IVec<D> hi, IVec<D> step, Visit&& visit) {
 
 // ---- stores ------------------------------------------------------------------------------
 
-/// Build storage over the whole grid.
+/// Build storage over the whole grid. Distances are squared until the build finishes (the
+/// propagation compares them without a square root).
 template <int D>
 struct DenseStore {
   FieldGridN<D> grid;
@@ -342,13 +343,13 @@ void shapes_band(std::span<const PlacedShapeN<D>> shapes, const std::vector<Aabb
       state |= kSignKnown;
       // A node on this shape's surface is inside the union when every way off it is (a seam).
       if (inside || (d <= step && !(state & kInside) && !on_union_surface(bins, p, VecN<D>(0.0f), step))) state |= kInside;
-      if (d > band_distance || d >= store.distance[at]) return;
+      if (d > band_distance || d * d >= store.distance[at]) return;
       const VecN<D> away = inside ? q.closest - p : p - q.closest;
       const float length = glm::length(away);
       // Off the surface by less than a probe's step, the direction is rounding noise: probe all ways.
       const VecN<D> outward = length > step ? away / length : VecN<D>(0.0f);
       if (!on_union_surface(bins, q.closest, outward, step)) return;  // a seam inside the union
-      store.distance[at] = d;
+      store.distance[at] = d * d;
       store.closest[at] = q.closest;
       state |= kExact | kHasValue;
     });
@@ -360,6 +361,7 @@ void shapes_band(std::span<const PlacedShapeN<D>> shapes, const std::vector<Aabb
 template <class Store>
 void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance, Store& store) {
   const FieldGrid3& grid = store.grid;
+  const float band_squared = band_distance * band_distance;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
     Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance), glm::max(glm::max(a, b), c) + Vec3(band_distance)};
@@ -390,11 +392,12 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
         for (int x = x0; x <= x1; ++x) {
           const Vec3 p{local_origin.x + float(x) * grid.voxel, py, pz};
           const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
-          const float d = glm::length(p - q.point);
-          if (d > band_distance) continue;
+          const Vec3 offset = p - q.point;
+          const float d2 = glm::dot(offset, offset);
+          if (d2 > band_squared) continue;
           const std::size_t at = store.slot({x, y, z});
-          if (d >= store.distance[at]) continue;
-          store.distance[at] = d;
+          if (d2 >= store.distance[at]) continue;
+          store.distance[at] = d2;
           store.closest[at] = q.point;
           store.state[at] |= kExact | kHasValue;
         }
@@ -416,39 +419,47 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
 template <int D, class Position>
 void propagate_dense(DenseStore<D>& store, IVec<D> step, Position& position) {
   const FieldGridN<D>& grid = store.grid;
-  std::array<std::ptrdiff_t, D> stride{};
-  std::ptrdiff_t s = 1;
-  for (int k = 0; k < D; ++k) {
-    stride[k] = s;
-    s *= grid.dims[k];
-  }
+  constexpr std::uint8_t kSignValid = kSignKnown | kSignCopied;
   std::uint8_t* state = store.state.data();
   float* distance = store.distance.data();
   VecN<D>* closest = store.closest.data();
-  sweep_box<D>(IVec<D>(0), grid.dims - 1, step, [&](IVec<D> i) {
-    const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(grid.index(i));
+  const int nx = grid.dims[0];
+  // One neighbour's offer to the node at `at` (position p, computed on first need).
+  auto offer = [&](std::ptrdiff_t at, std::ptrdiff_t from, const VecN<D>& p) {
     std::uint8_t& here = state[at];
-    const bool exact = here & kExact;
-    if (exact && (here & (kSignKnown | kSignCopied))) return;
-    VecN<D> p{0.0f};
-    bool have_p = false;
-    for (int k = 0; k < D; ++k) {
-      if (step[k] > 0 ? i[k] == 0 : i[k] == grid.dims[k] - 1) continue;
-      const std::ptrdiff_t from = at - step[k] * stride[k];
-      const std::uint8_t source = state[from];
-      if (!(here & (kSignKnown | kSignCopied)) && (source & (kSignKnown | kSignCopied)))
-        here = static_cast<std::uint8_t>((here & ~kInside) | (source & kInside) | kSignCopied);
-      if (exact || !(source & kHasValue)) continue;
-      if (!have_p) {
-        p = position(i);
-        have_p = true;
-      }
-      const VecN<D> offset = p - closest[from];
-      const float d2 = glm::dot(offset, offset);
-      if ((here & kHasValue) && d2 >= distance[at] * distance[at]) continue;
-      distance[at] = std::sqrt(d2);
-      closest[at] = closest[from];
-      here |= kHasValue;
+    const std::uint8_t source = state[from];
+    if (!(here & kSignValid) && (source & kSignValid))
+      here = static_cast<std::uint8_t>((here & ~kInside) | (source & kInside) | kSignCopied);
+    if ((here & kExact) || !(source & kHasValue)) return;
+    const VecN<D> offset = p - closest[from];
+    const float d2 = glm::dot(offset, offset);
+    if ((here & kHasValue) && d2 >= distance[at]) return;
+    distance[at] = d2;
+    closest[at] = closest[from];
+    here |= kHasValue;
+  };
+  IVec<D> rows_hi = grid.dims - 1;
+  rows_hi[0] = 0;
+  // Rows in sweep order; along each row a tight loop with the row's neighbours by stride.
+  sweep_box<D>(IVec<D>(0), rows_hi, step, [&](IVec<D> row) {
+    std::array<std::ptrdiff_t, D> upstream{};  // offset of the upstream row neighbour per axis (0: none)
+    std::ptrdiff_t stride = nx;
+    for (int k = 1; k < D; ++k) {
+      const bool edge = step[k] > 0 ? row[k] == 0 : row[k] == grid.dims[k] - 1;
+      upstream[k] = edge ? 0 : step[k] * stride;
+      stride *= grid.dims[k];
+    }
+    const auto base = static_cast<std::ptrdiff_t>(grid.index(row));
+    const int x0 = step[0] > 0 ? 0 : nx - 1, x_end = step[0] > 0 ? nx : -1;
+    IVec<D> i = row;
+    for (int x = x0; x != x_end; x += step[0]) {
+      const std::ptrdiff_t at = base + x;
+      if ((state[at] & kExact) && (state[at] & kSignValid)) continue;
+      i[0] = x;
+      const VecN<D> p = position(i);
+      if (x != x0) offer(at, at - step[0], p);
+      for (int k = 1; k < D; ++k)
+        if (upstream[k] != 0) offer(at, at - upstream[k], p);
     }
   });
 }
@@ -481,9 +492,10 @@ void propagate(Store& store, Position&& position) {
           if (!(state & kSignValid) && (source & kSignValid))
             state = static_cast<std::uint8_t>((state & ~kInside) | (source & kInside) | kSignCopied);
           if (exact || !(source & kHasValue)) continue;
-          const float d = glm::length(p - store.closest[from]);
-          if ((state & kHasValue) && d >= store.distance[at]) continue;
-          store.distance[at] = d;
+          const VecN<D> offset = p - store.closest[from];
+          const float d2 = glm::dot(offset, offset);
+          if ((state & kHasValue) && d2 >= store.distance[at]) continue;
+          store.distance[at] = d2;
           store.closest[at] = store.closest[from];
           state |= kHasValue;
         }
@@ -515,7 +527,8 @@ DistanceFieldN<D> finish_dense(DenseStore<D>& store, const FieldOptions& options
   field.grid = store.grid;
   for (std::size_t i = 0; i < store.distance.size(); ++i) {
     if (store.state[i] & kExact) ++field.stats.band_nodes;
-    if (store.state[i] & kInside) store.distance[i] = -store.distance[i];
+    const float d = std::sqrt(store.distance[i]);
+    store.distance[i] = (store.state[i] & kInside) ? -d : d;
   }
   field.distances = std::move(store.distance);
   if (options.keep_closest_points) field.closest_points = std::move(store.closest);
@@ -565,7 +578,7 @@ std::size_t sign_band(const TriangleMesh& mesh, Vec3 local_origin, Store& store)
     for_each_node<3>(lo, hi, [&](glm::ivec3 i) {
       const std::size_t at = store.find(i);
       // Nodes within a voxel of the surface: farther ones copy a neighbour's sign.
-      if (!(store.state[at] & kExact) || store.distance[at] > grid.voxel) return;
+      if (!(store.state[at] & kExact) || store.distance[at] > grid.voxel * grid.voxel) return;
       ++evaluations;
       store.state[at] |= kSignKnown;
       if (winding(local_origin + Vec3(i) * grid.voxel) > kInsideWinding) store.state[at] |= kInside;
@@ -637,7 +650,7 @@ SparseDistanceFieldN<D> finish_sparse(SparseStore<D>& store, const FieldOptions&
   field.table = std::move(table);
   field.bricks.resize(store.distance.size());
   for (std::size_t i = 0; i < store.distance.size(); ++i) {
-    const float d = std::min(store.distance[i], band);
+    const float d = std::min(std::sqrt(store.distance[i]), band);
     field.bricks[i] = (store.state[i] & kInside) ? -d : d;
   }
   field.stats.nodes = field.bricks.size();
