@@ -42,6 +42,8 @@ enum NodeState : std::uint8_t {
 constexpr float kSurfaceProbeVoxels = 0.01f;
 /// A point whose winding number exceeds this is inside (Jacobson et al. 2013 threshold).
 constexpr float kInsideWinding = 0.5f;
+/// Most nodes of a grid, whatever the memory limit (sizes stay far from size_t's range).
+constexpr double kMaxFieldNodes = 0x1p40;
 /// Most nodes along one axis (indices stay far from int's range).
 constexpr double kMaxNodesPerAxis = double(1 << 30);
 /// Bytes per node a dense build holds at its peak: distance, closest point, state.
@@ -86,7 +88,7 @@ FieldGridN<D> make_grid(AabbN<D> bounds, const FieldOptions& options, double byt
     grid.dims[k] = n < kMaxNodesPerAxis ? static_cast<int>(n) : static_cast<int>(kMaxNodesPerAxis);
   }
   const double bytes = nodes * bytes_per_node;
-  bool too_many = !(bytes <= double(options.max_bytes));
+  bool too_many = !(bytes <= double(options.max_bytes)) || nodes > kMaxFieldNodes;
   for (int k = 0; k < D; ++k) too_many |= grid.dims[k] >= static_cast<int>(kMaxNodesPerAxis);
   if (too_many) {
     std::ostringstream out;
@@ -240,12 +242,15 @@ struct SparseStore {
 /// Shapes binned on a coarse grid: which shapes may contain a point (the union's surface test).
 template <int D>
 class ShapeBins {
+  /// At most about a million bins, whatever the extent and the voxel.
+  static constexpr float kMaxBinsPerAxis = D == 2 ? 1024.0f : 128.0f;
+
  public:
   ShapeBins(std::span<const PlacedShapeN<D>> shapes, const std::vector<AabbN<D>>& boxes, AabbN<D> all, float cell)
       : shapes_(shapes), boxes_(boxes), origin_(all.min), cell_(cell) {
     std::size_t n = 1;
     for (int k = 0; k < D; ++k) {
-      dims_[k] = std::max(1, static_cast<int>(std::min(1024.0f, std::floor((all.max[k] - all.min[k]) / cell) + 1.0f)));
+      dims_[k] = std::max(1, static_cast<int>(std::min(kMaxBinsPerAxis, std::floor((all.max[k] - all.min[k]) / cell) + 1.0f)));
       n *= static_cast<std::size_t>(dims_[k]);
     }
     start_.assign(n + 1, 0);

@@ -114,6 +114,11 @@ TEST(DistanceField, RefusesBadOptionsAndNamesTheMemoryItWouldNeed) {
   EXPECT_THROW((void)make_distance_field(shapes, options(0.0f)), InvalidInput);
   EXPECT_THROW((void)make_distance_field(shapes, options(std::nanf(""))), InvalidInput);
   EXPECT_THROW((void)make_distance_field(std::span<const PlacedShape>{}, options(0.1f)), InvalidInput);
+  // No memory limit still leaves a limit on nodes (sizes must not overflow).
+  FieldOptions unlimited = options(1e-9f);
+  unlimited.max_bytes = std::numeric_limits<std::size_t>::max();
+  EXPECT_THROW((void)make_distance_field(shapes, unlimited), InvalidInput);
+  EXPECT_THROW((void)make_sparse_distance_field(shapes, unlimited), InvalidInput);
   FieldOptions tiny = options(1e-4f);
   tiny.max_bytes = std::size_t{1} << 20;
   try {
