@@ -29,38 +29,6 @@
 namespace collide::io {
 namespace {
 
-/// Longest piece of a statement an error message quotes; longer ones are cut with "...".
-constexpr std::size_t kMaxQuotedBytes = 40;
-
-bool is_blank(char c) { return c == ' ' || c == '\t'; }
-
-/// `word` quoted for a message: printable ASCII as it is, other bytes as \xNN (so the message is
-/// valid UTF-8 and holds no NUL), at most kMaxQuotedBytes of it.
-std::string quoted(std::string_view word) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < word.size() && i < kMaxQuotedBytes; ++i) {
-    const auto c = static_cast<unsigned char>(word[i]);
-    if (c >= 0x20 && c < 0x7F) {
-      out += static_cast<char>(c);
-    } else {
-      append_hex_byte(out, c);
-    }
-  }
-  if (word.size() > kMaxQuotedBytes) out += "...";
-  return out + "'";
-}
-
-/// Splits off the next blank-separated word of `rest` (empty when none is left).
-std::string_view next_word(std::string_view& rest) {
-  std::size_t i = 0;
-  while (i < rest.size() && is_blank(rest[i])) ++i;
-  std::size_t end = i;
-  while (end < rest.size() && !is_blank(rest[end])) ++end;
-  const std::string_view word = rest.substr(i, end - i);
-  rest.remove_prefix(end);
-  return word;
-}
-
 /// One `f` statement: where it is and which of the face corners (ObjReader::corners) it owns.
 struct Face {
   std::size_t line;   ///< 1-based line of the file
@@ -79,11 +47,8 @@ class ObjReader {
 
   void read(std::string_view text) {
     std::size_t pos = 0;
-    while (pos < text.size()) {  // lines end at "\n", "\r\n" or "\r"
-      std::size_t end = pos;
-      while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
-      std::string_view s = text.substr(pos, end - pos);
-      pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+    while (pos < text.size()) {
+      std::string_view s = next_line(text, pos);
       ++line_;
       while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
       if (s.size() < 2 || !is_blank(s[1])) continue;  // only `v` and `f` are used; others are skipped
@@ -137,24 +102,19 @@ class ObjReader {
       throw InvalidInput(what + "more vertices than the limit of " + std::to_string(limits_.max_vertices) +
                          " (ObjLimits::max_vertices)");
     }
-    double xyz[3];
+    float xyz[3];
     for (int k = 0; k < 3; ++k) {
-      std::string_view word = next_word(rest);
+      const std::string_view word = next_word(rest);
       if (word.empty()) throw InvalidInput(what + std::to_string(k) + " coordinates, need 3 (x y z)");
       const std::string coordinate = "coordinate " + std::string(1, "xyz"[k]) + " " + quoted(word);
-      if (word.size() > 1 && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
-      // Parsed as double: what underflows float is a valid 0, what overflows it is not.
-      double value = 0.0;
-      const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
-      const bool whole = ptr == word.data() + word.size();
-      if (ec == std::errc() && whole && !std::isfinite(value)) throw InvalidInput(what + coordinate + " is not finite");
-      if (ec == std::errc::result_out_of_range || std::fabs(value) > std::numeric_limits<float>::max()) {
-        throw InvalidInput(what + coordinate + " is out of float range");
+      switch (parse_float_word(word, xyz[k])) {
+        case FloatWord::ok: break;
+        case FloatWord::not_finite: throw InvalidInput(what + coordinate + " is not finite");
+        case FloatWord::out_of_range: throw InvalidInput(what + coordinate + " is out of float range");
+        case FloatWord::not_a_number: throw InvalidInput(what + coordinate + " is not a number");
       }
-      if (ec != std::errc() || !whole) throw InvalidInput(what + coordinate + " is not a number");
-      xyz[k] = value;
     }
-    positions_.emplace_back(static_cast<float>(xyz[0]), static_cast<float>(xyz[1]), static_cast<float>(xyz[2]));
+    positions_.emplace_back(xyz[0], xyz[1], xyz[2]);
   }
 
   /// "v", "v/vt", "v//vn" or "v/vt/vn" per corner: v a non-zero integer, counting from 1, or back

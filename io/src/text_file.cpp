@@ -4,7 +4,10 @@
 #include "text_file.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <system_error>
 
 namespace collide::io {
@@ -52,6 +55,53 @@ std::optional<std::string> read_text_file(const std::filesystem::path& path, std
   } catch (const std::exception&) {  // std::ios_base::failure from the stream buffer
     return std::nullopt;
   }
+}
+
+std::string_view next_line(std::string_view text, std::size_t& pos) noexcept {
+  std::size_t end = pos;
+  while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
+  const std::string_view line = text.substr(pos, end - pos);
+  pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
+  return line;
+}
+
+std::string_view next_word(std::string_view& rest) noexcept {
+  std::size_t i = 0;
+  while (i < rest.size() && is_blank(rest[i])) ++i;
+  std::size_t end = i;
+  while (end < rest.size() && !is_blank(rest[end])) ++end;
+  const std::string_view word = rest.substr(i, end - i);
+  rest.remove_prefix(end);
+  return word;
+}
+
+std::string quoted(std::string_view word) {
+  std::string out = "'";
+  for (std::size_t i = 0; i < word.size() && i < kMaxQuotedBytes; ++i) {
+    const auto c = static_cast<unsigned char>(word[i]);
+    if (c >= 0x20 && c < 0x7F) {
+      out += static_cast<char>(c);
+    } else {
+      append_hex_byte(out, c);
+    }
+  }
+  if (word.size() > kMaxQuotedBytes) out += "...";
+  return out + "'";
+}
+
+FloatWord parse_float_word(std::string_view word, float& value) noexcept {
+  if (word.size() > 1 && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
+  // Parsed as double: what underflows float is a valid 0, what overflows it is not.
+  double parsed = 0.0;
+  const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), parsed);
+  const bool whole = ptr == word.data() + word.size();
+  if (ec == std::errc() && whole && !std::isfinite(parsed)) return FloatWord::not_finite;
+  if (ec == std::errc::result_out_of_range || std::fabs(parsed) > std::numeric_limits<float>::max()) {
+    return FloatWord::out_of_range;
+  }
+  if (ec != std::errc() || !whole) return FloatWord::not_a_number;
+  value = static_cast<float>(parsed);
+  return FloatWord::ok;
 }
 
 void append_hex_byte(std::string& out, unsigned char b) {
