@@ -18,4 +18,8 @@ void register_cast_command(CLI::App& app);
 /// `collide walk MESH.obj`: walk mesh of a level, agents wandering on it (walkmesh/).
 void register_walk_command(CLI::App& app);
 
+/// `collide sdf FILE`: signed distance field of a map, a scene or a mesh: built, measured, drawn,
+/// sampled, particles bounced off it (sdf.hpp).
+void register_sdf_command(CLI::App& app);
+
 }  // namespace collide::cli

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     collide::cli::register_query_command(app);
     collide::cli::register_walk_command(app);
     collide::cli::register_cast_command(app);
+    collide::cli::register_sdf_command(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {  // a command's own exit status; it said why

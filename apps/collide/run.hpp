@@ -67,6 +67,18 @@ struct Scene {
   std::vector<TiledLayer> map_layers;
 };
 
+/// What a scene file is, as `collide run` (and `collide sdf`) tell it.
+enum class SceneFileKind : unsigned char {
+  tiled_map,   ///< .tmx, .tmj, or .json with a "type" member (looks_like_tiled_json)
+  scene_json,  ///< any other .json (docs/scene-json.md)
+  other,       ///< neither (an embedded scene's name, an OBJ level, ...)
+};
+
+/// The kind of the file `path` names, by its extension and, for .json, its content. A .tmx,
+/// .tmj or .json file is checked first (require_input_file: InvalidInput naming it when it is
+/// missing, not a regular file or empty).
+[[nodiscard]] SceneFileKind scene_file_kind(const std::string& path);
+
 /// Builds the scene `options` name: throws InvalidInput naming the file (and the element or
 /// JSON path) for a map or scene file that cannot be loaded (a directory, a FIFO, a device or an
 /// empty file is named before it is opened), listing the embedded scenes for an unknown name,

@@ -356,18 +356,25 @@ Scene naming_the_file(const std::string& in, Build&& build) {
 
 }  // namespace
 
+SceneFileKind scene_file_kind(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext != ".tmx" && ext != ".tmj" && ext != ".json") return SceneFileKind::other;
+  require_input_file(path);  // before any read
+  if (ext == ".json" && !looks_like_tiled_json(path)) return SceneFileKind::scene_json;
+  return SceneFileKind::tiled_map;
+}
+
 Scene make_scene(const RunOptions& options) {
   const std::string& in = options.input;
-  const std::string ext = std::filesystem::path(in).extension().string();
-  if (ext == ".tmx" || ext == ".tmj" || ext == ".json") require_input_file(in);  // before any read
-  const bool map = ext == ".tmx" || ext == ".tmj" || (ext == ".json" && looks_like_tiled_json(in));
+  const SceneFileKind kind = scene_file_kind(in);
+  const bool map = kind == SceneFileKind::tiled_map;
   if (!options.layers.empty() && !map) {
     throw InvalidInput("--layers: only Tiled maps have layers, not scene '" + (in.empty() ? std::string("default") : in) + "'");
   }
   if (in.empty() || in == "default") return default_scene(options);
   if (in == "bullets") return bullets_scene(options);
   if (map) return naming_the_file(in, [&] { return map_scene(options); });
-  if (ext == ".json") return naming_the_file(in, [&] { return file_scene(options); });
+  if (kind == SceneFileKind::scene_json) return naming_the_file(in, [&] { return file_scene(options); });
   throw InvalidInput("scene '" + in + "': not a Tiled map (.tmx, .tmj, .json), a scene JSON file (.json) nor "
                      "an embedded scene (default, bullets)");
 }
