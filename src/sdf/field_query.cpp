@@ -17,114 +17,6 @@ namespace {
 template <int D>
 using IVec = glm::vec<D, int>;
 
-constexpr int kCorners2 = 4, kCorners3 = 8;
-template <int D>
-constexpr int kCorners = D == 2 ? kCorners2 : kCorners3;
-
-/// Where a point falls in the grid: the cell's first node, the fractions in it, and the offset
-/// from the grid's box when the point lies outside it (zero inside).
-template <int D>
-struct CellPoint {
-  IVec<D> node{0};
-  VecN<D> fraction{0.0f};
-  VecN<D> outside{0.0f};
-};
-
-template <int D>
-CellPoint<D> locate(const FieldGridN<D>& grid, VecN<D> p) noexcept {
-  CellPoint<D> at;
-  const float inv = 1.0f / grid.voxel;
-  for (int k = 0; k < D; ++k) {
-    const float u = (p[k] - grid.origin[k]) * inv;
-    const float top = float(grid.dims[k] - 1);
-    // !(u >= 0) also catches a NaN, which then samples node 0.
-    const float c = !(u >= 0.0f) ? 0.0f : (u > top ? top : u);
-    at.outside[k] = (u - c) * grid.voxel;
-    if (!std::isfinite(at.outside[k])) at.outside[k] = 0.0f;
-    const int i = std::min(static_cast<int>(c), grid.dims[k] - 2);
-    at.node[k] = i;
-    at.fraction[k] = c - float(i);
-  }
-  return at;
-}
-
-/// Multilinear interpolation of the 2^D corner values (corner c has bit k set for the far node
-/// on axis k), with the gradient (per world unit) when asked.
-template <int D>
-float interpolate(const std::array<float, kCorners<D>>& v, VecN<D> f, float voxel, VecN<D>* gradient) noexcept {
-  if constexpr (D == 2) {
-    const float bottom = v[0] + (v[1] - v[0]) * f.x, top = v[2] + (v[3] - v[2]) * f.x;
-    if (gradient) {
-      *gradient = Vec2{(v[1] - v[0]) + ((v[3] - v[2]) - (v[1] - v[0])) * f.y, top - bottom} / voxel;
-    }
-    return bottom + (top - bottom) * f.y;
-  } else {
-    const float x00 = v[0] + (v[1] - v[0]) * f.x, x10 = v[2] + (v[3] - v[2]) * f.x;
-    const float x01 = v[4] + (v[5] - v[4]) * f.x, x11 = v[6] + (v[7] - v[6]) * f.x;
-    const float y0 = x00 + (x10 - x00) * f.y, y1 = x01 + (x11 - x01) * f.y;
-    if (gradient) {
-      const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
-      const float dx0 = dx00 + (dx10 - dx00) * f.y, dx1 = dx01 + (dx11 - dx01) * f.y;
-      const float dy0 = x10 - x00, dy1 = x11 - x01;
-      *gradient = Vec3{dx0 + (dx1 - dx0) * f.z, dy0 + (dy1 - dy0) * f.z, y1 - y0} / voxel;
-    }
-    return y0 + (y1 - y0) * f.z;
-  }
-}
-
-/// The value at a cell point and its gradient, adding the distance to the grid's box outside it
-/// (its direction joins the gradient; the clamped axes' interpolated slope is dropped).
-template <int D>
-float finish_sample(float inner, VecN<D> inner_gradient, const CellPoint<D>& at, VecN<D>* gradient) noexcept {
-  const float out2 = glm::dot(at.outside, at.outside);
-  if (out2 == 0.0f) {
-    if (gradient) *gradient = inner_gradient;
-    return inner;
-  }
-  const float out = std::sqrt(out2);
-  if (gradient) {
-    VecN<D> g = inner_gradient;
-    for (int k = 0; k < D; ++k)
-      if (at.outside[k] != 0.0f) g[k] = 0.0f;
-    *gradient = g + at.outside / out;
-  }
-  return inner + out;
-}
-
-template <int D>
-float dense_sample(const DistanceFieldN<D>& field, VecN<D> p, VecN<D>* gradient) noexcept {
-  const CellPoint<D> at = locate(field.grid, p);
-  const std::size_t base = field.grid.index(at.node);
-  const auto nx = static_cast<std::size_t>(field.grid.dims[0]);
-  std::array<float, kCorners<D>> v;
-  const float* d = field.distances.data() + base;
-  v[0] = d[0];
-  v[1] = d[1];
-  v[2] = d[nx];
-  v[3] = d[nx + 1];
-  if constexpr (D == 3) {
-    const std::size_t nxy = nx * static_cast<std::size_t>(field.grid.dims[1]);
-    v[4] = d[nxy];
-    v[5] = d[nxy + 1];
-    v[6] = d[nxy + nx];
-    v[7] = d[nxy + nx + 1];
-  }
-  VecN<D> g{0.0f};
-  const float inner = interpolate<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
-  return finish_sample<D>(inner, g, at, gradient);
-}
-
-/// The node nearest to `p`, or false when `p` is outside the grid's cells (by half a voxel).
-template <int D>
-bool nearest_node(const FieldGridN<D>& grid, VecN<D> p, IVec<D>& node) noexcept {
-  const float inv = 1.0f / grid.voxel;
-  for (int k = 0; k < D; ++k) {
-    const float u = (p[k] - grid.origin[k]) * inv + 0.5f;
-    if (!(u >= 0.0f && u < float(grid.dims[k]))) return false;
-    node[k] = static_cast<int>(u);
-  }
-  return true;
-}
 
 // ---- sparse ---------------------------------------------------------------------------------
 
@@ -148,59 +40,24 @@ std::size_t local_index(IVec<D> l) noexcept {
   return at;
 }
 
-/// The value of node `i` (in the grid): its brick's, or its empty region's +-band.
-template <int D>
-float sparse_node(const SparseDistanceFieldN<D>& field, IVec<D> i) noexcept {
-  const IVec<D> r = i >> kBrickShift;
-  const std::uint32_t brick = field.table[region_index(field, r)];
-  if (brick == SparseDistanceFieldN<D>::kNoBrick) return field.band_distance;
-  if (brick == SparseDistanceFieldN<D>::kNoBrickInside) return -field.band_distance;
-  return field.bricks[brick * kBrickNodes<D> + local_index<D>(i & (kFieldBrickSize - 1))];
-}
-
-template <int D>
-float sparse_sample(const SparseDistanceFieldN<D>& field, VecN<D> p, VecN<D>* gradient) noexcept {
-  const CellPoint<D> at = locate(field.grid, p);
-  std::array<float, kCorners<D>> v;
-  const IVec<D> local = at.node & (kFieldBrickSize - 1);
-  bool one_brick = true;
-  for (int k = 0; k < D; ++k) one_brick &= local[k] < kFieldBrickSize - 1;
-  if (one_brick) {
-    // All corners in one region: one table read, then the brick (or the region's value).
-    const std::uint32_t brick = field.table[region_index(field, at.node >> kBrickShift)];
-    if (brick >= SparseDistanceFieldN<D>::kNoBrickInside) {
-      const float value = brick == SparseDistanceFieldN<D>::kNoBrick ? field.band_distance : -field.band_distance;
-      v.fill(value);
-    } else {
-      const float* d = field.bricks.data() + brick * kBrickNodes<D> + local_index<D>(local);
-      v[0] = d[0];
-      v[1] = d[1];
-      v[2] = d[kFieldBrickSize];
-      v[3] = d[kFieldBrickSize + 1];
-      if constexpr (D == 3) {
-        constexpr int kLayer = kFieldBrickSize * kFieldBrickSize;
-        v[4] = d[kLayer];
-        v[5] = d[kLayer + 1];
-        v[6] = d[kLayer + kFieldBrickSize];
-        v[7] = d[kLayer + kFieldBrickSize + 1];
-      }
-    }
-  } else {
-    for (int c = 0; c < kCorners<D>; ++c) {
-      IVec<D> i = at.node;
-      for (int k = 0; k < D; ++k) i[k] += (c >> k) & 1;
-      v[c] = sparse_node(field, i);
-    }
-  }
-  VecN<D> g{0.0f};
-  const float inner = interpolate<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
-  return finish_sample<D>(inner, g, at, gradient);
-}
-
 // ---- contacts -------------------------------------------------------------------------------
 
 /// Most surface samples a contact takes of one shape (spacing grows beyond it).
 constexpr int kMaxContactSamples = 256;
+
+/// step_particles asks for the node of the particle this many places on before it needs it
+/// (about the reads a core keeps in flight, ~ memory latency / time per particle).
+constexpr std::size_t kParticlePrefetchAhead = 64;
+
+/// A hint to bring the cache line at `address` in (and its page's translation); nothing where the
+/// compiler has no such hint.
+inline void prefetch(const void* address) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
+}
 
 /// A sample of a shape's surface: a core point and the radius around it.
 template <int D>
@@ -355,10 +212,10 @@ PointQueryN<D> gradient_closest(const F& field, VecN<D> p, int steps) noexcept {
 template <int D>
 PointQueryN<D> stored_closest(const DistanceFieldN<D>& field, VecN<D> p) noexcept {
   if (field.closest_points.empty()) return gradient_closest<D>(field, p, 2);
-  const CellPoint<D> at = locate(field.grid, p);
+  const FieldCellN<D> at = field.grid.locate(p);
   PointQueryN<D> out;
   float best = std::numeric_limits<float>::infinity();
-  for (int c = 0; c < kCorners<D>; ++c) {
+  for (int c = 0; c < (1 << D); ++c) {
     IVec<D> i = at.node;
     for (int k = 0; k < D; ++k) i[k] += (c >> k) & 1;
     const VecN<D> candidate = field.closest_points[field.grid.index(i)];
@@ -380,49 +237,66 @@ PointQueryN<D> stored_closest(const DistanceFieldN<D>& field, VecN<D> p) noexcep
 // ---- members ---------------------------------------------------------------------------------
 
 template <int D>
-float DistanceFieldN<D>::sample(VecN<D> p) const noexcept { return dense_sample<D>(*this, p, nullptr); }
-template <int D>
-float DistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
-  return dense_sample<D>(*this, p, &gradient_out);
+float SparseDistanceFieldN<D>::node_value(IVec<D> i) const noexcept {
+  const std::uint32_t brick = table[region_index(*this, i >> kBrickShift)];
+  if (brick == kNoBrick) return band_distance;
+  if (brick == kNoBrickInside) return -band_distance;
+  return bricks[brick * kBrickNodes<D> + local_index<D>(i & (kFieldBrickSize - 1))];
 }
 template <int D>
-VecN<D> DistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
-  VecN<D> g;
-  (void)dense_sample<D>(*this, p, &g);
-  return g;
+void SparseDistanceFieldN<D>::cell_values(IVec<D> i, float (&v)[1 << D]) const noexcept {
+  const IVec<D> local = i & (kFieldBrickSize - 1);
+  bool one_brick = true;
+  for (int k = 0; k < D; ++k) one_brick &= local[k] < kFieldBrickSize - 1;
+  if (!one_brick) {
+    for (int c = 0; c < (1 << D); ++c) {
+      IVec<D> corner = i;
+      for (int k = 0; k < D; ++k) corner[k] += (c >> k) & 1;
+      v[c] = node_value(corner);
+    }
+    return;
+  }
+  // All corners in one region: one table read, then the brick (or the region's value).
+  const std::uint32_t brick = table[region_index(*this, i >> kBrickShift)];
+  if (brick >= kNoBrickInside) {
+    const float value = brick == kNoBrick ? band_distance : -band_distance;
+    for (float& x : v) x = value;
+    return;
+  }
+  const float* d = bricks.data() + brick * kBrickNodes<D> + local_index<D>(local);
+  v[0] = d[0];
+  v[1] = d[1];
+  v[2] = d[kFieldBrickSize];
+  v[3] = d[kFieldBrickSize + 1];
+  if constexpr (D == 3) {
+    constexpr int kLayer = kFieldBrickSize * kFieldBrickSize;
+    v[4] = d[kLayer];
+    v[5] = d[kLayer + 1];
+    v[6] = d[kLayer + kFieldBrickSize];
+    v[7] = d[kLayer + kFieldBrickSize + 1];
+  }
 }
 template <int D>
-bool DistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
-  IVec<D> i;
-  return nearest_node(grid, p, i) && distances[grid.index(i)] < 0.0f;
-}
-template <int D>
-float DistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
-  IVec<D> i;
-  return nearest_node(grid, p, i) ? distances[grid.index(i)] : std::numeric_limits<float>::infinity();
-}
-
-template <int D>
-float SparseDistanceFieldN<D>::sample(VecN<D> p) const noexcept { return sparse_sample<D>(*this, p, nullptr); }
+float SparseDistanceFieldN<D>::sample(VecN<D> p) const noexcept { return sample_cells(*this, p, nullptr); }
 template <int D>
 float SparseDistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
-  return sparse_sample<D>(*this, p, &gradient_out);
+  return sample_cells(*this, p, &gradient_out);
 }
 template <int D>
 VecN<D> SparseDistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
   VecN<D> g;
-  (void)sparse_sample<D>(*this, p, &g);
+  (void)sample(p, g);
   return g;
 }
 template <int D>
 bool SparseDistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
   IVec<D> i;
-  return nearest_node(grid, p, i) && sparse_node(*this, i) < 0.0f;
+  return grid.nearest_node(p, i) && node_value(i) < 0.0f;
 }
 template <int D>
 float SparseDistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
   IVec<D> i;
-  return nearest_node(grid, p, i) ? sparse_node(*this, i) : std::numeric_limits<float>::infinity();
+  return grid.nearest_node(p, i) ? node_value(i) : std::numeric_limits<float>::infinity();
 }
 
 template struct DistanceFieldN<2>;
@@ -527,10 +401,23 @@ ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles,
   const std::size_t n = std::min(particles.positions.size(), particles.velocities.size());
   VecN<D>* position = particles.positions.data();
   VecN<D>* velocity = particles.velocities.data();
+  // A copy of the grid: the stores to the particles (floats) could alias the field's own, so the
+  // loop would reload it (and divide by the voxel) at every particle.
+  const FieldGridN<D> grid = field.grid;
   for (std::size_t i = 0; i < n; ++i) {
+    if constexpr (requires { field.distances; }) {
+      // The read of a particle kParticlePrefetchAhead places on asked for now: particles sit
+      // anywhere, so each read misses the caches (and the TLB) and would wait alone.
+      glm::vec<D, int> ahead;
+      const std::size_t j = i + kParticlePrefetchAhead;
+      if (j < n && grid.nearest_node(position[j] + velocity[j] * dt, ahead)) {
+        prefetch(field.distances.data() + grid.index(ahead));
+      }
+    }
     const VecN<D> p = position[i] + velocity[i] * dt;
     position[i] = p;
-    if (field.nearest_value(p) > clear) continue;  // the one read: far from the solid
+    glm::vec<D, int> node;
+    if (grid.nearest_node(p, node) && field.node_value(node) > clear) continue;  // the one read: far from the solid
     ++stats.near;
     VecN<D> g;
     const float d = field.sample(p, g);

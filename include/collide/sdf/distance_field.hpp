@@ -35,9 +35,14 @@
 #include <collide/shape/shape3d.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -59,6 +64,34 @@ inline constexpr float kRaymarchHitVoxels = 0.01f;
 inline constexpr int kRaymarchBisections = 10;
 /// Sphere tracing gives up after this many steps (reported as no hit).
 inline constexpr int kRaymarchMaxSteps = 256;
+
+/// Where a point falls in a field's grid (FieldGridN::locate): the cell whose 2^D corner nodes
+/// surround it, the point's position inside that cell, and how far it lies outside the grid's
+/// box (a point outside is clamped onto the box first).
+template <int D>
+struct FieldCellN {
+  glm::vec<D, int> node{0};  ///< the cell's first corner node, each axis in [0, dims - 2]
+  VecN<D> fraction{0.0f};    ///< position inside the cell per axis, [0, 1]
+  VecN<D> outside{0.0f};     ///< offset from the grid's box, world units; zero inside it
+
+  /// `inner` (the value interpolated at the clamped point) plus the distance to the grid's box
+  /// (an upper bound of the field beyond it, exact on the box). With `gradient` (may be null):
+  /// `inner_gradient` with the clamped axes' slope dropped, plus the direction away from the box.
+  [[nodiscard]] float add_outside(float inner, VecN<D> inner_gradient, VecN<D>* gradient) const noexcept {
+    const float out2 = glm::dot(outside, outside);
+    if (out2 == 0.0f) [[likely]] {
+      if (gradient) *gradient = inner_gradient;
+      return inner;
+    }
+    const float out = std::sqrt(out2);
+    if (gradient) {
+      for (int k = 0; k < D; ++k)
+        if (outside[k] != 0.0f) inner_gradient[k] = 0.0f;
+      *gradient = inner_gradient + outside / out;
+    }
+    return inner + out;
+  }
+};
 
 /// The grid under a field: node i (per axis, 0 <= i < dims) sits at origin + i * voxel.
 template <int D>
@@ -83,7 +116,70 @@ struct FieldGridN {
   [[nodiscard]] VecN<D> node(glm::vec<D, int> i) const noexcept { return origin + VecN<D>(i) * voxel; }
   /// Box from the first node to the last.
   [[nodiscard]] AabbN<D> bounds() const noexcept { return {origin, origin + VecN<D>(dims - 1) * voxel}; }
+
+  /// The cell around `p` (world space), `p` clamped onto the grid's box first. A NaN coordinate
+  /// falls on node 0 with no outside offset; an infinite one on the box with none either.
+  [[nodiscard]] FieldCellN<D> locate(VecN<D> p) const noexcept {
+    FieldCellN<D> at;
+    const float inv = 1.0f / voxel;
+    bool clamped = false;
+    for (int k = 0; k < D; ++k) {
+      const float u = (p[k] - origin[k]) * inv;
+      // Branch-free clamp onto [0, dims - 1]; std::max(0, NaN) is 0.
+      const float c = std::min(std::max(0.0f, u), float(dims[k] - 1));
+      clamped |= c != u;
+      const int i = std::min(static_cast<int>(c), dims[k] - 2);
+      at.node[k] = i;
+      at.fraction[k] = c - float(i);
+    }
+    if (clamped) {  // rare: the offset from the box, zero for a NaN or infinite coordinate
+      for (int k = 0; k < D; ++k) {
+        const float u = (p[k] - origin[k]) * inv;
+        const float out = (u - (float(at.node[k]) + at.fraction[k])) * voxel;
+        at.outside[k] = std::fabs(out) <= std::numeric_limits<float>::max() ? out : 0.0f;
+      }
+    }
+    return at;
+  }
+  /// The node nearest to `p` (world space) into `node`; false when `p` lies more than half a
+  /// voxel outside the grid's box (or is NaN), `node` then unspecified.
+  [[nodiscard]] bool nearest_node(VecN<D> p, glm::vec<D, int>& node) const noexcept {
+    const float inv = 1.0f / voxel;
+    bool in = true;
+    for (int k = 0; k < D; ++k) {
+      const float u = (p[k] - origin[k]) * inv + 0.5f;
+      in &= u >= 0.0f && u < float(dims[k]);
+      node[k] = in ? static_cast<int>(u) : 0;
+    }
+    return in;
+  }
 };
+
+/// Multilinear interpolation (bilinear in 2D, trilinear in 3D) of a cell's 2^D corner values
+/// `v` (corner c holds the far node on axis k when bit k of c is set) at `fraction` in the cell,
+/// and, when `gradient` is not null, its gradient per world unit for cells `voxel` wide.
+template <int D>
+[[nodiscard]] inline float interpolate_cell(const float (&v)[1 << D], VecN<D> f, float voxel,
+                                            VecN<D>* gradient) noexcept {
+  if constexpr (D == 2) {
+    const float bottom = v[0] + (v[1] - v[0]) * f.x, top = v[2] + (v[3] - v[2]) * f.x;
+    if (gradient) {
+      *gradient = Vec2{(v[1] - v[0]) + ((v[3] - v[2]) - (v[1] - v[0])) * f.y, top - bottom} / voxel;
+    }
+    return bottom + (top - bottom) * f.y;
+  } else {
+    const float x00 = v[0] + (v[1] - v[0]) * f.x, x10 = v[2] + (v[3] - v[2]) * f.x;
+    const float x01 = v[4] + (v[5] - v[4]) * f.x, x11 = v[6] + (v[7] - v[6]) * f.x;
+    const float y0 = x00 + (x10 - x00) * f.y, y1 = x01 + (x11 - x01) * f.y;
+    if (gradient) {
+      const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
+      const float dx0 = dx00 + (dx10 - dx00) * f.y, dx1 = dx01 + (dx11 - dx01) * f.y;
+      const float dy0 = x10 - x00, dy1 = x11 - x01;
+      *gradient = Vec3{dx0 + (dx1 - dx0) * f.z, dy0 + (dy1 - dy0) * f.z, y1 - y0} / voxel;
+    }
+    return y0 + (y1 - y0) * f.z;
+  }
+}
 
 using FieldGrid = FieldGridN<2>;   ///< 2D grid
 using FieldGrid3 = FieldGridN<3>;  ///< 3D grid
@@ -150,6 +246,11 @@ struct DistanceFieldN {
   [[nodiscard]] bool is_inside(VecN<D> p) const noexcept;
   /// The stored distance of the node nearest to `p` (one read; +inf outside the grid).
   [[nodiscard]] float nearest_value(VecN<D> p) const noexcept;
+  /// The stored distance of node `i` (each axis in [0, dims)).
+  [[nodiscard]] float node_value(glm::vec<D, int> i) const noexcept { return distances[grid.index(i)]; }
+  /// The 2^D corner values of the cell whose first node is `i` (each axis in [0, dims - 2]),
+  /// ordered as interpolate_cell takes them.
+  void cell_values(glm::vec<D, int> i, float (&v)[1 << D]) const noexcept;
   /// Bytes held by the field.
   [[nodiscard]] std::size_t bytes() const noexcept {
     return distances.capacity() * sizeof(float) + closest_points.capacity() * sizeof(VecN<D>);
@@ -188,6 +289,11 @@ struct SparseDistanceFieldN {
   [[nodiscard]] bool is_inside(VecN<D> p) const noexcept;
   /// The stored value of the node nearest to `p`; +inf outside the grid.
   [[nodiscard]] float nearest_value(VecN<D> p) const noexcept;
+  /// The value of node `i` (each axis in [0, dims)): its brick's, or its empty region's
+  /// +-band_distance (two reads: the table, then the brick).
+  [[nodiscard]] float node_value(glm::vec<D, int> i) const noexcept;
+  /// As DistanceFieldN::cell_values: one table read when the cell lies inside one brick.
+  void cell_values(glm::vec<D, int> i, float (&v)[1 << D]) const noexcept;
   /// Bytes held by the field.
   [[nodiscard]] std::size_t bytes() const noexcept {
     return table.capacity() * sizeof(std::uint32_t) + bricks.capacity() * sizeof(float);
@@ -199,7 +305,9 @@ using SparseDistanceField3 = SparseDistanceFieldN<3>;  ///< 3D sparse field
 
 /// The field types the queries below take.
 template <class F>
-concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>& g) {
+concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>& g, glm::vec<F::kDim, int> i) {
+  { f.grid } -> std::convertible_to<FieldGridN<F::kDim>>;
+  { f.node_value(i) } -> std::same_as<float>;
   { f.sample(p) } -> std::same_as<float>;
   { f.sample(p, g) } -> std::same_as<float>;
   { f.is_inside(p) } -> std::same_as<bool>;
@@ -313,5 +421,61 @@ struct ParticleStepStats {
 /// part scaled by `restitution` (0: stick to the surface, 1: elastic). No allocation.
 template <DistanceFieldType F>
 ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles, float dt, float restitution) noexcept;
+
+/// The multilinear sample of `field` at `p` (world space; any field with a `grid` and
+/// `cell_values`, as DistanceFieldN): the cell's corners interpolated, plus the distance to the
+/// grid's box beyond it; the gradient per world unit into `gradient` when not null. What the
+/// fields' `sample` members call.
+template <class F>
+[[nodiscard]] inline float sample_cells(const F& field, VecN<F::kDim> p, VecN<F::kDim>* gradient) noexcept {
+  constexpr int D = F::kDim;
+  const FieldCellN<D> at = field.grid.locate(p);
+  float v[1 << D];
+  field.cell_values(at.node, v);
+  VecN<D> g{0.0f};
+  const float inner = interpolate_cell<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
+  return at.add_outside(inner, g, gradient);
+}
+
+// ---- the dense field's queries, inline: a caller's loop keeps the grid in registers ----------
+
+template <int D>
+inline void DistanceFieldN<D>::cell_values(glm::vec<D, int> i, float (&v)[1 << D]) const noexcept {
+  const float* d = distances.data() + grid.index(i);
+  const auto nx = static_cast<std::size_t>(grid.dims[0]);
+  v[0] = d[0];
+  v[1] = d[1];
+  v[2] = d[nx];
+  v[3] = d[nx + 1];
+  if constexpr (D == 3) {
+    const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims[1]);
+    v[4] = d[nxy];
+    v[5] = d[nxy + 1];
+    v[6] = d[nxy + nx];
+    v[7] = d[nxy + nx + 1];
+  }
+}
+template <int D>
+inline float DistanceFieldN<D>::sample(VecN<D> p) const noexcept { return sample_cells(*this, p, nullptr); }
+template <int D>
+inline float DistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
+  return sample_cells(*this, p, &gradient_out);
+}
+template <int D>
+inline VecN<D> DistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
+  VecN<D> g;
+  (void)sample(p, g);
+  return g;
+}
+template <int D>
+inline bool DistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
+  glm::vec<D, int> i;
+  return grid.nearest_node(p, i) && distances[grid.index(i)] < 0.0f;
+}
+template <int D>
+inline float DistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
+  glm::vec<D, int> i;
+  return grid.nearest_node(p, i) ? distances[grid.index(i)] : std::numeric_limits<float>::infinity();
+}
 
 }  // namespace collide
