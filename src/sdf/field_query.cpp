@@ -404,20 +404,53 @@ ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles,
   // A copy of the grid: the stores to the particles (floats) could alias the field's own, so the
   // loop would reload it (and divide by the voxel) at every particle.
   const FieldGridN<D> grid = field.grid;
-  for (std::size_t i = 0; i < n; ++i) {
+  // Each particle's next position and node are worked out kParticlePrefetchAhead particles
+  // before its turn, and its node asked for then; half way there, the node (arrived by then)
+  // tells whether the particle is near the solid, and a near particle's cell is asked for.
+  // Particles sit anywhere, so each read misses the caches (and the TLB) and would otherwise
+  // wait alone.
+  struct Ahead {
+    VecN<D> p;
+    glm::vec<D, int> node;
+    bool in;   ///< p within half a voxel of the grid: `node` is its nearest node
+    bool far;  ///< the nearest node is farther out than `clear`: nothing to do
+  };
+  constexpr std::size_t kAhead = kParticlePrefetchAhead, kHalf = kAhead / 2, kMask = kAhead - 1;
+  static_assert((kAhead & kMask) == 0, "a power of two");
+  Ahead ring[kAhead];
+  const auto plan = [&](std::size_t j) noexcept {
+    Ahead& a = ring[j & kMask];
+    a.p = position[j] + velocity[j] * dt;
+    a.in = grid.nearest_node(a.p, a.node);
     if constexpr (requires { field.distances; }) {
-      // The read of a particle kParticlePrefetchAhead places on asked for now: particles sit
-      // anywhere, so each read misses the caches (and the TLB) and would wait alone.
-      glm::vec<D, int> ahead;
-      const std::size_t j = i + kParticlePrefetchAhead;
-      if (j < n && grid.nearest_node(position[j] + velocity[j] * dt, ahead)) {
-        prefetch(field.distances.data() + grid.index(ahead));
+      if (a.in) prefetch(field.distances.data() + grid.index(a.node));
+    }
+  };
+  const auto check = [&](std::size_t j) noexcept {
+    Ahead& a = ring[j & kMask];
+    a.far = a.in && field.node_value(a.node) > clear;
+    if constexpr (requires { field.distances; }) {
+      if (a.far || !a.in) return;
+      const float* d = field.distances.data() + grid.index(grid.locate(a.p).node);
+      const auto nx = static_cast<std::size_t>(grid.dims[0]);
+      prefetch(d);
+      prefetch(d + nx + 1);
+      if constexpr (D == 3) {
+        const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims[1]);
+        prefetch(d + nxy);
+        prefetch(d + nxy + nx + 1);
       }
     }
-    const VecN<D> p = position[i] + velocity[i] * dt;
+  };
+  for (std::size_t j = 0; j < std::min(n, kAhead); ++j) plan(j);
+  for (std::size_t j = 0; j < std::min(n, kHalf); ++j) check(j);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Ahead a = ring[i & kMask];
+    if (i + kAhead < n) plan(i + kAhead);
+    if (i + kHalf < n) check(i + kHalf);
+    const VecN<D> p = a.p;
     position[i] = p;
-    glm::vec<D, int> node;
-    if (grid.nearest_node(p, node) && field.node_value(node) > clear) continue;  // the one read: far from the solid
+    if (a.far) continue;  // the one read: far from the solid
     ++stats.near;
     VecN<D> g;
     const float d = field.sample(p, g);
