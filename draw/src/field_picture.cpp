@@ -3,6 +3,8 @@
 
 #include <collide/draw/field_picture.hpp>
 
+#include <collide/sdf/contour.hpp>
+
 #include "picture_font.hpp"
 
 #include <collide/core/error.hpp>
@@ -103,43 +105,10 @@ std::string number(double x) {
 std::vector<std::array<Vec2, 2>> contour_segments(const FieldSlice& s, float level) {
   check_slice(s);
   std::vector<std::array<Vec2, 2>> out;
-  const auto at = [&](int a, int b) { return s.values[static_cast<std::size_t>(b) * s.width + a] - level; };
-  const auto world = [&](float i, float j) { return s.origin + s.spacing * Vec2{i, j}; };
-  // Where the edge from corner p (value a) to corner q (value b) crosses zero.
-  const auto cross = [](Vec2 p, float a, Vec2 q, float b) { return p + (a / (a - b)) * (q - p); };
-  for (int j = 0; j + 1 < s.height; ++j) {
-    for (int i = 0; i + 1 < s.width; ++i) {
-      // Corners counter-clockwise from (i, j): 0 (i, j), 1 (i+1, j), 2 (i+1, j+1), 3 (i, j+1).
-      const float v[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
-      int code = 0;
-      for (int k = 0; k < 4; ++k) code |= (v[k] < 0.0f ? 1 : 0) << k;
-      if (code == 0 || code == 15) continue;
-      const float fi = static_cast<float>(i), fj = static_cast<float>(j);
-      const Vec2 c[4] = {world(fi, fj), world(fi + 1, fj), world(fi + 1, fj + 1), world(fi, fj + 1)};
-      // The crossing on edge k (corner k to k + 1), for edges whose ends differ in sign.
-      const auto edge = [&](int k) { return cross(c[k], v[k], c[(k + 1) % 4], v[(k + 1) % 4]); };
-      if (code == 5 || code == 10) {  // saddle: opposite corners below; the centre decides
-        const bool centre_below = 0.25f * (v[0] + v[1] + v[2] + v[3]) < 0.0f;
-        // Centre below: the below corners join through it, the contour cuts off the above ones;
-        // centre above: it cuts off the below ones. Either way around corners 1 and 3 when:
-        const bool around_1_3 = (code == 5) == centre_below;
-        if (around_1_3) {
-          out.push_back({edge(0), edge(1)});
-          out.push_back({edge(2), edge(3)});
-        } else {
-          out.push_back({edge(3), edge(0)});
-          out.push_back({edge(1), edge(2)});
-        }
-        continue;
-      }
-      Vec2 ends[2];
-      int n = 0;
-      for (int k = 0; k < 4 && n < 2; ++k) {
-        if (((code >> k) & 1) != ((code >> ((k + 1) % 4)) & 1)) ends[n++] = edge(k);
-      }
-      out.push_back({ends[0], ends[1]});
-    }
-  }
+  march_squares(
+      s.width, s.height, s.origin, s.spacing, level,
+      [&](int i, int j) { return s.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(s.width) + i]; },
+      [&](Vec2 a, Vec2 b) { out.push_back({a, b}); });
   return out;
 }
 

@@ -3,6 +3,8 @@
 
 #include <collide/sdf/distance_field.hpp>
 
+#include <collide/broad/broad_phase.hpp>
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -149,7 +151,11 @@ ManifoldN<D> samples_contact(const SampleList<D>& samples, const F& field) noexc
   int count = 0;
   for (int i = 0; i < samples.count; ++i) {
     VecN<D> g;
-    const float d = field.sample(samples.items[i].point, g) - samples.items[i].radius;
+    const float value = field.sample(samples.items[i].point, g);
+    if constexpr (requires { field.band_distance; }) {
+      if (value >= field.band_distance) continue;  // beyond a sparse field's band: how far is unknown
+    }
+    const float d = value - samples.items[i].radius;
     const float length = glm::length(g);
     if (!(d <= 0.0f) || !(length > 0.0f)) continue;
     const VecN<D> normal = -g / length;  // from the shape into the solid
@@ -342,7 +348,11 @@ RayHitN<F::kDim> raymarch(const F& field, const RayN<F::kDim>& ray) noexcept {
   if (!(length > 0.0f) || !std::isfinite(length)) return hit;
   const VecN<D> direction = ray.translation / length;
   const float epsilon = kRaymarchHitVoxels * field.grid.voxel;
-  float t = 0.0f, t_before = 0.0f;
+  // The march starts where the ray enters the grid's box: beyond it the sample is an upper
+  // bound of the distance, not a safe step (it would cut past the solid's corners).
+  const float enter = ray_box_fraction(ray, field.grid.bounds(), 1.0f);
+  if (enter < 0.0f) return hit;
+  float t = enter * length, t_before = t;
   for (int step = 0; step < kRaymarchMaxSteps && t <= length; ++step) {
     VecN<D> p = ray.origin + t * direction;
     VecN<D> g;

@@ -376,7 +376,9 @@ template <DistanceFieldType F>
 /// (depth >= 0) become the manifold, up to kMaxManifoldPoints, spread out (the deepest, then the
 /// one farthest from those kept); the normal is the deepest sample's. Points midway between
 /// the surfaces, as every manifold. Agrees with the exact narrow phase to within the field's
-/// error (about a voxel). A segment is sampled as a capsule of radius 0.
+/// error (about a voxel). A segment is sampled as a capsule of radius 0. A sparse field skips a
+/// sample beyond its band (its distance there is unknown): a circle, sphere or capsule wider than
+/// the band touches only where its core comes within the band.
 template <DistanceFieldType F>
   requires(F::kDim == 2)
 [[nodiscard]] Manifold contact(const Shape2D& shape, const Transform& xf, const F& field) noexcept;
@@ -388,8 +390,9 @@ template <DistanceFieldType F>
 /// Sphere tracing of `ray` (world space) through the field (Hart, "Sphere tracing", The Visual
 /// Computer 1996): step by the sampled distance until it falls below kRaymarchHitVoxels of a
 /// voxel (a step that lands inside is bisected back to the zero level). Hit: fraction, point on
-/// the zero level, normal = normalised gradient. No hit when the
-/// ray starts inside, leaves the grid, or takes kRaymarchMaxSteps steps.
+/// the zero level, normal = normalised gradient. The march starts where the ray enters the
+/// grid's box (beyond it the field's value is an upper bound, no safe step). No hit when the ray
+/// misses the box, starts inside the solid, leaves the grid, or takes kRaymarchMaxSteps steps.
 template <DistanceFieldType F>
 [[nodiscard]] RayHitN<F::kDim> raymarch(const F& field, const RayN<F::kDim>& ray) noexcept;
 
