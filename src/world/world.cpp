@@ -256,7 +256,7 @@ void WorldN<D>::Impl::refresh_static_tree() {
 
 template <int D>
 auto WorldN<D>::Impl::contact_with(const ColliderRef& a, const ColliderRef& b) const -> Manifold {
-  if (b.is_static) return detail::piece_contact(body_shape(a), bodies[a.index].xf, static_shape(b), transform(b));
+  if (b.is_static) return detail::piece_contact(body_shape(a), bodies[a.index].xf, static_piece(b), transform(b));
   return contact(body_shape(a), bodies[a.index].xf, body_shape(b), bodies[b.index].xf);
 }
 
@@ -364,7 +364,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
       const StaticPiece& sp = static_pieces[id];
       const StaticDefN<D>& st = statics[sp.owner];
       if (st.sensor || !should_collide(b.filter, st.filter)) continue;
-      const StaticShapeN<D>& static_shape = st.shapes[sp.piece];
+      const detail::StaticPieceRefN<D> static_shape = static_piece(sp.owner, sp.piece);  // a shape or a field
       for (std::size_t k = 0; k < b.shapes.size(); ++k) {
         const Box piece_sweep = b.shapes.size() > 1 ? swept_aabb(b.shapes[k], sweep) : box;  // one piece: the body's box
         if (b.shapes.size() > 1 && !overlap(piece_sweep, sp.box)) continue;
@@ -426,7 +426,7 @@ void WorldN<D>::Impl::record_impact(std::uint32_t index, std::size_t piece, int 
   }
   // The exact manifold at the impact pose when the shapes already touch there (it carries
   // feature ids); else the time of impact's own point and normal at depth 0.
-  c.manifold = detail::piece_contact(b.shapes[piece], b.xf, st.shapes[sp.piece], st.transform);
+  c.manifold = detail::piece_contact(b.shapes[piece], b.xf, this->static_piece(sp.owner, sp.piece), st.transform);
   if (!c.manifold.touching()) {
     c.manifold.normal = normal;
     c.manifold.count = 1;
@@ -523,7 +523,7 @@ void WorldN<D>::Impl::measure_clearance(Body& b) {
     static_tree.query(box, [&](int id) {
       const StaticPiece& sp = static_pieces[static_cast<std::size_t>(id)];
       const StaticDefN<D>& st = statics[sp.owner];
-      gap = std::min(gap, detail::static_distance(st.shapes[sp.piece], st.transform, center, radius + gap) - radius);
+      gap = std::min(gap, detail::static_distance(static_piece(sp.owner, sp.piece), st.transform, center, radius + gap) - radius);
       return gap > 0.0f;
     });
     b.clearance[k] = {center, gap, gap > 0.0f ? statics_version : 0u};
@@ -776,18 +776,41 @@ WorldN<D>& WorldN<D>::operator=(WorldN&&) noexcept = default;
 template <int D>
 StaticId WorldN<D>::add_static(const StaticDefN<D>& def) {
   const std::string name = "static " + std::to_string(impl_->statics.size());
-  check_shapes(def.shapes, name + " shapes");
+  if (!def.fields.empty()) {
+    if (def.shapes.size() + def.fields.size() > 0xffff) throw InvalidInput(name + " shapes: more than 65535 pieces");
+  } else {
+    check_shapes(def.shapes, name + " shapes");
+  }
   check_transform(def.transform, name + " transform");
   check_world_range(std::span<const StaticShape>(def.shapes), def.transform, name);
+  const Xf xf = detail::unit_pose(def.transform);
+  // Each field's solid box (field frame), once: the broad phase's box and the pretest's sphere.
+  std::vector<AabbN<D>> field_boxes(def.fields.size());
+  for (std::size_t k = 0; k < def.fields.size(); ++k) {
+    const std::string field = name + " fields[" + std::to_string(k) + "]";
+    if (detail::is_null_field<D>(def.fields[k])) throw InvalidInput(field + ": null field");
+    if (!detail::field_solid_box<D>(def.fields[k], field_boxes[k])) {
+      throw InvalidInput(field + ": no solid (no node at or below 0)");
+    }
+    check_world_range<D>(detail::placed_box<D>(field_boxes[k], xf), field);
+  }
   const auto owner = static_cast<std::uint32_t>(impl_->statics.size());
   impl_->statics.push_back(def);
-  const Xf& xf = impl_->statics.back().transform = detail::unit_pose(def.transform);
+  impl_->statics.back().transform = xf;
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
     const detail::PieceInfoN<D> info = detail::piece_info(def.shapes[k]);
     impl_->static_pieces.push_back({owner, static_cast<std::uint16_t>(k),
                                     detail::piece_box(def.shapes[k], xf),
                                     transform_point(xf, info.center), info.radius,
                                     info.inner_size, detail::is_level(def.shapes[k])});
+  }
+  for (std::size_t k = 0; k < def.fields.size(); ++k) {
+    const AabbN<D>& box = field_boxes[k];
+    // The broad phase's box and the pretest's sphere around the solid's box; no inner size (as
+    // a level's).
+    impl_->static_pieces.push_back({owner, static_cast<std::uint16_t>(def.shapes.size() + k),
+                                    detail::placed_box<D>(box, xf), transform_point(xf, 0.5f * (box.min + box.max)),
+                                    0.5f * length(box.max - box.min), 0.0f, false});
   }
   impl_->static_tree_dirty = true;
   impl_->check_grid_dirty = true;
@@ -881,7 +904,8 @@ namespace {
 template <int D>
 void check_collider(const typename WorldN<D>::Impl& w, const ColliderRef& c) {
   if (c.is_static) {
-    if (c.index >= w.statics.size() || c.piece >= w.statics[c.index].shapes.size()) {
+    if (c.index >= w.statics.size() ||
+        c.piece >= w.statics[c.index].shapes.size() + w.statics[c.index].fields.size()) {
       throw InvalidInput("collider: unknown static or piece");
     }
   } else if (c.index >= w.bodies.size() || !w.bodies[c.index].alive ||
@@ -908,7 +932,18 @@ template <int D>
 auto WorldN<D>::static_shape(const ColliderRef& collider) const -> const StaticShape& {
   check_collider<D>(*impl_, collider);
   if (!collider.is_static) throw InvalidInput("collider: a body's piece, not a static's");
-  return impl_->static_shape(collider);
+  const detail::StaticPieceRefN<D> piece = impl_->static_piece(collider);
+  if (piece.shape == nullptr) throw InvalidInput("collider: a static's field, not a shape (static_field)");
+  return *piece.shape;
+}
+
+template <int D>
+const StaticFieldN<D>& WorldN<D>::static_field(const ColliderRef& collider) const {
+  check_collider<D>(*impl_, collider);
+  if (!collider.is_static) throw InvalidInput("collider: a body's piece, not a static's field");
+  const detail::StaticPieceRefN<D> piece = impl_->static_piece(collider);
+  if (piece.field == nullptr) throw InvalidInput("collider: a static's shape, not a field (static_shape)");
+  return *piece.field;
 }
 
 template <int D>
@@ -919,7 +954,7 @@ const Shape2D& WorldN<D>::collider_shape(const ColliderRef& collider) const
   // (Clang 14 instantiates this for WorldN<3> in `template class WorldN<3>` despite the
   // constraint, where the two shapes have different types: only D == 2 has a body here.)
   if constexpr (D == 2) {
-    return collider.is_static ? impl_->static_shape(collider) : impl_->body_shape(collider);
+    return collider.is_static ? static_shape(collider) : impl_->body_shape(collider);
   } else {
     throw InvalidInput("collider_shape: a 2D query");
   }

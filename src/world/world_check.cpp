@@ -185,7 +185,7 @@ void WorldN<D>::Impl::check(StepStats& stats) {
           if (!overlap(box, sp.box)) return;
           const StaticDefN<D>& st = statics[sp.owner];
           if (!should_collide(b.filter, st.filter)) return;
-          depth = detail::piece_contact(b.shapes[k], b.xf, st.shapes[sp.piece], st.transform).max_depth();
+          depth = detail::piece_depth(b.shapes[k], b.xf, static_piece(sp.owner, sp.piece), st.transform);
         } else if constexpr (D == 3) {
           const std::array<Vec3, 3>& c = grid.triangles[id - piece_items];
           const StaticDefN<D>& st = statics[static_pieces[grid.triangle_piece[id - piece_items]].owner];

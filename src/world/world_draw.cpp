@@ -38,6 +38,7 @@ void WorldN<D>::draw(DebugDrawN<D>& draw, const WorldDrawOptions& options) const
               s);
         }
       }
+      for (const StaticFieldN<D>& f : st.fields) detail::draw_field<D>(draw, f, st.transform, role);
     }
   }
   std::vector<float> sizes;

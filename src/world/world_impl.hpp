@@ -2,10 +2,11 @@
 // The world's state, shared by the files that implement it for both dimensions: world.cpp
 // (bodies, statics, the step), world_queries.cpp (ray casts, lasers, picks, shape casts),
 // world_draw.cpp (2D pictures) and world_check.cpp (the independent end-of-step check).
-// Dimension-specific geometry is in world_dim.hpp.
+// Dimension-specific geometry is in world_dim.hpp; fields as static pieces in world_field.hpp.
 
 #include "body_broad_phase.hpp"
 #include "world_dim.hpp"
+#include "world_field.hpp"
 
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/early_out/check_chain.hpp>
@@ -187,8 +188,14 @@ struct WorldN<D>::Impl {
   // Helpers
   [[nodiscard]] Body& body(BodyId id);
   [[nodiscard]] const Body& body(BodyId id) const;
-  [[nodiscard]] const StaticShapeN<D>& static_shape(const ColliderRef& c) const {
-    return statics[c.index].shapes[c.piece];
+  /// Static piece `piece` of static `owner`: a shape (pieces below shapes.size()) or a field.
+  [[nodiscard]] detail::StaticPieceRefN<D> static_piece(std::uint32_t owner, std::uint16_t piece) const {
+    const StaticDefN<D>& st = statics[owner];
+    if (piece < st.shapes.size()) return {&st.shapes[piece], nullptr};
+    return {nullptr, &st.fields[piece - st.shapes.size()]};
+  }
+  [[nodiscard]] detail::StaticPieceRefN<D> static_piece(const ColliderRef& c) const {
+    return static_piece(c.index, c.piece);
   }
   [[nodiscard]] const BodyShapeN<D>& body_shape(const ColliderRef& c) const {
     return bodies[c.index].shapes[c.piece];

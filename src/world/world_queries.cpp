@@ -70,14 +70,14 @@ void for_candidates(const typename WorldN<D>::Impl& w, const QueryFilter& filter
 template <int D>
 ManifoldN<D> collider_contact(const typename WorldN<D>::Impl& w, const BodyShapeN<D>& shape, const TransformN<D>& xf,
                               const ColliderRef& c) {
-  if (c.is_static) return detail::piece_contact(shape, xf, w.static_shape(c), w.transform(c));
+  if (c.is_static) return detail::piece_contact(shape, xf, w.static_piece(c), w.transform(c));
   return contact(shape, xf, w.body_shape(c), w.transform(c));
 }
 
 /// The ray cast of one collider: a static piece (a level shape too) or a body piece.
 template <int D>
 RayHitN<D> collider_raycast(const typename WorldN<D>::Impl& w, const ColliderRef& c, const RayN<D>& ray) {
-  if (c.is_static) return detail::piece_raycast(w.static_shape(c), w.transform(c), ray);
+  if (c.is_static) return detail::piece_raycast(w.static_piece(c), w.transform(c), ray);
   return raycast(w.body_shape(c), w.transform(c), ray);
 }
 
@@ -140,10 +140,14 @@ LaserPathN<D> WorldN<D>::cast_laser(const RayN<D>& ray, int max_bounces, const Q
     // can (another of its triangles), so it is not skipped; the reflected ray starts a rounding
     // step off its surface instead, on the side the laser came from: from the hit point itself
     // (on the plane within rounding), a two-sided triangle is hit again from behind at fraction
-    // 0, which sent the laser out through the wall.
-    const bool level = hit->collider.is_static && detail::is_level(impl_->static_shape(hit->collider));
+    // 0, which sent the laser out through the wall. A field can be hit again too (a concave
+    // solid); its ray starts off the surface by more than sphere tracing's hit threshold.
+    const detail::StaticPieceRefN<D> piece =
+        hit->collider.is_static ? impl_->static_piece(hit->collider) : detail::StaticPieceRefN<D>{};
+    const bool level = piece.field != nullptr || (piece.shape != nullptr && detail::is_level(*piece.shape));
     if (level) {
-      const float step = kRelativeTolerance * (max_abs(hit->hit.point) + length(r.translation));
+      float step = kRelativeTolerance * (max_abs(hit->hit.point) + length(r.translation));
+      if (piece.field != nullptr) step += detail::field_laser_offset<D>(*piece.field);
       r.origin += step * hit->hit.normal;  // the normal faces the incoming laser
     }
     mirror = level ? std::nullopt : std::optional<ColliderRef>(hit->collider);
@@ -169,7 +173,7 @@ void WorldN<D>::query_aabb(const AabbN<D>& box, const QueryFilter& filter,
       [&](const AabbN<D>& b) { return collide::overlap(b, box); },
       [&](const ColliderRef& c) {
         const bool touch = c.is_static
-                               ? detail::piece_overlap(probe.shape, probe.xf, w.static_shape(c), w.transform(c))
+                               ? detail::piece_overlap(probe.shape, probe.xf, w.static_piece(c), w.transform(c))
                                : collide::overlap(probe.shape, probe.xf, w.body_shape(c), w.transform(c));
         return !touch || callback(c);
       });
@@ -210,7 +214,7 @@ WorldCastHitN<D> WorldN<D>::shape_cast(const BodyShape& shape, const Xf& xf, Vec
   WorldCastHitN<D> best;
   const auto visit = [&](const ColliderRef& c) {
     const auto r = c.is_static
-                       ? detail::piece_shape_cast(shape, xf, translation, w.static_shape(c), w.transform(c))
+                       ? detail::piece_shape_cast(shape, xf, translation, w.static_piece(c), w.transform(c))
                        : collide::shape_cast(shape, xf, translation, w.body_shape(c), w.transform(c), Vec(0.0f));
     if (!r.hit || !better(r.fraction, c, best.hit, best.fraction, best.collider)) return true;
     Vec normal = r.normal;

@@ -34,6 +34,13 @@
 ///     geometry, or whose centre crossed a level's surface during it (tunnelling), and bodies
 ///     outside the world's bounds; all must stay 0.
 ///
+/// A static may also hold signed distance fields (`StaticDefN::fields`, dense or sparse, 2D and
+/// 3D: terrain baked once, shared by pointer): the solid is where the field is at or below 0,
+/// met through the field's own queries, one look-up per sample point (sdf/distance_field.hpp):
+/// contacts sample the body's surface (`contact`), continuous collision and shape casts advance
+/// conservatively on the sampled distance, rays sphere-trace (`raymarch`). Its answers agree with
+/// the exact shapes it was built from to within the field's error, about a voxel.
+///
 /// Units: world units (metres or pixels, the caller's choice), seconds, radians (2D:
 /// counter-clockwise in a y-up world; 3D: an angular velocity is a rotation vector, its
 /// direction the axis, right-handed). Determinism: the same calls in the same order give the
@@ -54,6 +61,7 @@
 #include <collide/core/transform3.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/narrow/manifold.hpp>
+#include <collide/sdf/distance_field.hpp>
 #include <collide/shape/height_field.hpp>
 #include <collide/shape/shape2d.hpp>
 #include <collide/shape/shape3d.hpp>
@@ -111,6 +119,17 @@ inline constexpr float kMaxWorldAngularSpeed = kMaxWorldCoordinate;
 using StaticShape3D = std::variant<Sphere, Capsule3, Segment3, Box, ConvexHull,
                                    std::shared_ptr<const TriangleMesh>,
                                    std::shared_ptr<const HeightField>>;
+
+/// A signed distance field as a piece of a static collider (StaticDefN::fields), dense or sparse,
+/// held by a shared pointer: a field is baked once and never copied into the world (which keeps
+/// the pointer: the field stays alive while the world does). Its grid is in the static's local
+/// space, placed by the static's transform (any rigid transform: rotated fields are fine). The
+/// solid is where the interpolated field is at or below 0. A sparse field holds +band beyond its
+/// band, and its `contact` samples a circle, sphere or capsule along its core minus the radius,
+/// skipping a sample beyond the band (its distance unknown): build it with a band
+/// (FieldOptions::band * voxel) wider than the bodies' radii, or such a body's contacts are missed.
+template <int D>
+using StaticFieldN = std::variant<std::shared_ptr<const DistanceFieldN<D>>, std::shared_ptr<const SparseDistanceFieldN<D>>>;
 
 /// The types a world of D dimensions works with: what its bodies and statics are made of and
 /// what an angular velocity is (2D: radians per second, counter-clockwise; 3D: a rotation
@@ -198,16 +217,22 @@ struct ColliderRef {
   friend constexpr bool operator==(ColliderRef, ColliderRef) noexcept = default;
 };
 
-/// A static collider: one or more shapes placed by one transform. Statics never move. 2D: convex
+/// A static collider: one or more pieces placed by one transform. Statics never move. 2D: convex
 /// shapes (a concave outline goes in as the pieces of `convex_pieces`); 3D: convex shapes,
-/// triangle meshes (a level from OBJ) and height fields (StaticShape3D).
+/// triangle meshes (a level from OBJ) and height fields (StaticShape3D). Both: signed distance
+/// fields (`fields`). Pieces are numbered shapes first, then fields: field k is piece
+/// shapes.size() + k (ColliderRef::piece).
 template <int D>
 struct StaticDefN {
-  std::vector<StaticShapeN<D>> shapes;  ///< local space, at least one
+  std::vector<StaticShapeN<D>> shapes;  ///< local space; at least one piece in shapes and fields
   TransformN<D> transform;              ///< local -> world
   std::uint64_t user_id = 0;            ///< the game's own id, echoed in contacts and queries
   CollisionFilter filter{};
   bool sensor = false;                  ///< reports overlaps (events), never pushes
+  /// Signed distance fields, local space (their grids placed by `transform`), shared: see
+  /// StaticFieldN. A contact with a field names the body's surface sample in
+  /// ContactId::index_a and face 0 of the field.
+  std::vector<StaticFieldN<D>> fields;
 };
 
 /// A moving body: one or more convex shapes moving together, with a velocity. Kinematic: it
@@ -420,10 +445,12 @@ class WorldN {
   WorldN(const WorldN&) = delete;
   WorldN& operator=(const WorldN&) = delete;
 
-  /// Adds a static collider. Throws InvalidInput, naming the field, for no shapes, more than
-  /// 65535 shapes, a non-finite or non-unit transform, a null level shape, or a shape reaching
-  /// beyond kMaxWorldCoordinate ("static 7 shapes[0]: ... beyond the coordinate range ...").
-  /// Shapes must come from the make_* functions (they are trusted as valid).
+  /// Adds a static collider. Throws InvalidInput, naming the field, for no shapes and no fields,
+  /// more than 65535 pieces, a non-finite or non-unit transform, a null level shape or field, a
+  /// field with no node at or below 0 (no solid), or a piece reaching beyond kMaxWorldCoordinate
+  /// ("static 7 shapes[0]: ... beyond the coordinate range ..."). Shapes must come from the
+  /// make_* functions and fields from make_distance_field / make_sparse_distance_field (they
+  /// are trusted as valid).
   StaticId add_static(const StaticDefN<D>& def);
   /// Adds a body. Throws InvalidInput as add_static, and for a non-finite velocity.
   BodyId add_body(const BodyDefN<D>& def);
@@ -457,6 +484,10 @@ class WorldN {
   /// in the world, or not a body's (body_shape) or a static's (static_shape) piece.
   [[nodiscard]] const BodyShape& body_shape(const ColliderRef& collider) const;
   [[nodiscard]] const StaticShape& static_shape(const ColliderRef& collider) const;
+  /// The field of a static's field piece (StaticDefN::fields). Throws InvalidInput for a
+  /// collider that is not in the world or not a static's field piece (static_shape and
+  /// collider_shape throw for a field piece).
+  [[nodiscard]] const StaticFieldN<D>& static_field(const ColliderRef& collider) const;
   [[nodiscard]] Xf collider_transform(const ColliderRef& collider) const;
   /// 2D: the shape of any collider (statics and bodies are both Shape2D).
   [[nodiscard]] const Shape2D& collider_shape(const ColliderRef& collider) const
@@ -522,7 +553,8 @@ class WorldN {
 
   /// Draws statics, bodies (bullets, and bodies whose last step was longer than their own size,
   /// as DrawRole::fast_body) and the last step's contacts (points, and a normal arrow from each
-  /// manifold's centre). 3D: every shape as triangles (draw_shape), levels too.
+  /// manifold's centre). 3D: every shape as triangles (draw_shape), levels too. A field: 2D its
+  /// zero contour as segments (marching squares over its nodes), 3D the edges of its solid's box.
   void draw(DebugDrawN<D>& draw, const WorldDrawOptions& options = {}) const;
   /// Draws a laser path (segments as DrawRole::laser, hit points as DrawRole::laser_hit).
   static void draw_laser(DebugDrawN<D>& draw, const LaserPathN<D>& path);

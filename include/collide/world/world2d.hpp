@@ -2,7 +2,7 @@
 /// @file
 /// `World2D`: the collision world in 2D (`WorldN<2>`, world.hpp, where the step and the queries
 /// are described). Statics and bodies are made of `Shape2D`s; a concave outline goes in as the
-/// pieces of `convex_pieces`.
+/// pieces of `convex_pieces`; a static may also hold signed distance fields (`StaticDef::fields`).
 
 #include <collide/world/world.hpp>
 
@@ -13,6 +13,7 @@
 namespace collide {
 
 using StaticDef = StaticDefN<2>;          ///< a 2D static collider
+using StaticField = StaticFieldN<2>;      ///< a 2D static's signed distance field (shared)
 using BodyDef = BodyDefN<2>;              ///< a 2D body
 using WorldOptions = WorldOptionsN<2>;    ///< options of a World2D
 using Contact = ContactN<2>;              ///< a 2D contact of a step
