@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -38,6 +39,9 @@ enum NodeState : std::uint8_t {
   kSignCopied = 16,  ///< the inside bit was copied from a neighbour whose sign was known or copied
 };
 
+/// Coordinate of the closest point of a node that has none yet: its squared distance to any
+/// node overflows to +inf, so an offer from such a node never wins (propagate_mesh_dense).
+constexpr float kNoClosestPoint = 1e30f;
 /// A probe for the union's surface steps this fraction of a voxel off a candidate closest point.
 constexpr float kSurfaceProbeVoxels = 0.01f;
 /// A point whose winding number exceeds this is inside (Jacobson et al. 2013 threshold).
@@ -162,7 +166,10 @@ struct DenseStore {
   std::vector<std::uint8_t> state;
 
   explicit DenseStore(const FieldGridN<D>& g)
-      : grid(g), distance(g.count(), std::numeric_limits<float>::infinity()), closest(g.count()), state(g.count(), 0) {}
+      : grid(g),
+        distance(g.count(), std::numeric_limits<float>::infinity()),
+        closest(g.count(), VecN<D>(kNoClosestPoint)),
+        state(g.count(), 0) {}
   std::size_t slot(IVec<D> i) { return grid.index(i); }
   /// The slot of a node that may have none (dense: always one).
   std::size_t find(IVec<D> i) const { return grid.index(i); }
@@ -171,6 +178,7 @@ struct DenseStore {
   template <class Visit>
   void for_each_block(IVec<D> /*step*/, Visit&& visit) const { visit(IVec<D>(0), grid.dims - 1); }
   static constexpr bool kSparse = false;
+  static constexpr bool keeps_closest() { return true; }
 };
 
 /// Build storage in bricks allocated on first touch, found through a table of regions.
@@ -186,8 +194,10 @@ struct SparseStore {
   std::vector<VecN<D>> closest;
   std::vector<std::uint8_t> state;
   std::size_t max_bytes = 0;
+  bool keep_closest = true;  ///< false: the build needs no closest points (a mesh's sparse field)
 
-  SparseStore(const FieldGridN<D>& g, std::size_t limit) : grid(g), max_bytes(limit) {
+  SparseStore(const FieldGridN<D>& g, std::size_t limit, bool closest_points = true)
+      : grid(g), max_bytes(limit), keep_closest(closest_points) {
     regions = g.dims / kFieldBrickSize;
     std::size_t n = 1;
     for (int k = 0; k < D; ++k) n *= static_cast<std::size_t>(regions[k]);
@@ -214,7 +224,7 @@ struct SparseStore {
       }
       brick = static_cast<std::uint32_t>(bricks);
       distance.resize(distance.size() + kBrickNodes, std::numeric_limits<float>::infinity());
-      closest.resize(closest.size() + kBrickNodes);
+      if (keep_closest) closest.resize(closest.size() + kBrickNodes);
       state.resize(state.size() + kBrickNodes, 0);
     }
     return std::size_t{brick} * kBrickNodes + local_index(i - r * kFieldBrickSize);
@@ -235,6 +245,7 @@ struct SparseStore {
     });
   }
   static constexpr bool kSparse = true;
+  bool keeps_closest() const { return keep_closest; }
 };
 
 // ---- stage 1: the exact band ---------------------------------------------------------------
@@ -361,12 +372,97 @@ void shapes_band(std::span<const PlacedShapeN<D>> shapes, const std::vector<Aabb
   }
 }
 
-/// A mesh's exact band: each triangle visits, row by row, the nodes within the band of its plane
-/// and inside its box grown by the band. Coordinates relative to the mesh's origin.
+/// x clamped to [0, 1] by selects.
+inline float clamp01(float x) {
+  x = x > 0.0f ? x : 0.0f;
+  return x < 1.0f ? x : 1.0f;
+}
+
+/// Nodes of a row a triangle's band kernel handles at once (its results sit in arrays this long).
+constexpr int kBandChunk = 64;
+
+/// A triangle prepared for the distances of many nodes: its edges, their reciprocal squared
+/// lengths, its normal and the in-plane inward normals of its edges.
+struct BandTriangle {
+  Vec3 a, b, c, ab, bc, ca, n, in_ab, in_bc, in_ca;
+  float inv_ab = 0.0f, inv_bc = 0.0f, inv_ca = 0.0f, inv_nn = 0.0f;
+  bool has_face = false;
+  std::array<Vec3, 3> edge_inward{};  ///< unit inward normals of ab, bc, ca in the plane
+
+  BandTriangle(Vec3 a_, Vec3 b_, Vec3 c_) : a(a_), b(b_), c(c_), ab(b_ - a_), bc(c_ - b_), ca(a_ - c_) {
+    const auto inverse = [](float x) { return x > 0.0f ? 1.0f / x : 0.0f; };
+    inv_ab = inverse(glm::dot(ab, ab));
+    inv_bc = inverse(glm::dot(bc, bc));
+    inv_ca = inverse(glm::dot(ca, ca));
+    n = glm::cross(ab, -ca);
+    const float nn = glm::dot(n, n);
+    has_face = nn > 0.0f && std::isfinite(1.0f / nn);
+    inv_nn = has_face ? 1.0f / nn : 0.0f;
+    in_ab = glm::cross(n, ab);
+    in_bc = glm::cross(n, bc);
+    in_ca = glm::cross(n, ca);
+    const Vec3 inward[3] = {in_ab, in_bc, in_ca};
+    for (int e = 0; e < 3; ++e) {
+      const float length = glm::length(inward[e]);
+      edge_inward[e] = length > 0.0f ? inward[e] / length : Vec3(0.0f);
+    }
+  }
+
+  /// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
+  /// [0, count): the closest point of a triangle is its projection onto the plane when that lies
+  /// inside all three edges, else the nearest of the three edges' closest points (Ericson, RTCD
+  /// 5.1.5 and 5.1.2, every region evaluated and the answer picked by selects: no branch on the
+  /// region, which Ericson's order mispredicts from node to node).
+  void row(float ox, float voxel, int x0, int count, float py, float pz, float* d2, float* qx, float* qy,
+           float* qz) const {
+    const float apy = py - a.y, apz = pz - a.z, bpy = py - b.y, bpz = pz - b.z, cpy = py - c.y, cpz = pz - c.z;
+    for (int l = 0; l < count; ++l) {
+      const float px = ox + float(x0 + l) * voxel;
+      const float apx = px - a.x, bpx = px - b.x, cpx = px - c.x;
+      // Edge ab: parameter clamped to the segment, then the offset from the closest point.
+      const float t1 = clamp01((apx * ab.x + apy * ab.y + apz * ab.z) * inv_ab);
+      const float e1x = apx - t1 * ab.x, e1y = apy - t1 * ab.y, e1z = apz - t1 * ab.z;
+      const float t2 = clamp01((bpx * bc.x + bpy * bc.y + bpz * bc.z) * inv_bc);
+      const float e2x = bpx - t2 * bc.x, e2y = bpy - t2 * bc.y, e2z = bpz - t2 * bc.z;
+      const float t3 = clamp01((cpx * ca.x + cpy * ca.y + cpz * ca.z) * inv_ca);
+      const float e3x = cpx - t3 * ca.x, e3y = cpy - t3 * ca.y, e3z = cpz - t3 * ca.z;
+      const float s1 = e1x * e1x + e1y * e1y + e1z * e1z, s2 = e2x * e2x + e2y * e2y + e2z * e2z,
+                  s3 = e3x * e3x + e3y * e3y + e3z * e3z;
+      float best = s1, ex = e1x, ey = e1y, ez = e1z;
+      ex = s2 < best ? e2x : ex;
+      ey = s2 < best ? e2y : ey;
+      ez = s2 < best ? e2z : ez;
+      best = s2 < best ? s2 : best;
+      ex = s3 < best ? e3x : ex;
+      ey = s3 < best ? e3y : ey;
+      ez = s3 < best ? e3z : ez;
+      best = s3 < best ? s3 : best;
+      // The face: the projection lies inside every edge.
+      const float h = (apx * n.x + apy * n.y + apz * n.z) * inv_nn;
+      const bool inside = has_face & (apx * in_ab.x + apy * in_ab.y + apz * in_ab.z >= 0.0f) &
+                          (bpx * in_bc.x + bpy * in_bc.y + bpz * in_bc.z >= 0.0f) &
+                          (cpx * in_ca.x + cpy * in_ca.y + cpz * in_ca.z >= 0.0f);
+      ex = inside ? h * n.x : ex;
+      ey = inside ? h * n.y : ey;
+      ez = inside ? h * n.z : ez;
+      const float face = ex * ex + ey * ey + ez * ez;
+      d2[l] = inside ? face : best;
+      qx[l] = px - ex;
+      qy[l] = py - ey;
+      qz[l] = pz - ez;
+    }
+  }
+};
+
+/// A mesh's exact band, scattered per triangle (as OpenVDB's meshToVolume (Museth 2013) scatters
+/// each triangle into the voxels near it): each triangle visits, row by row, the nodes within the
+/// band of its plane and inside its box grown by the band, and keeps the nearer of its distance
+/// and the node's. Coordinates relative to the mesh's origin.
 template <class Store>
 void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance, Store& store) {
   const FieldGrid3& grid = store.grid;
   const float band_squared = band_distance * band_distance;
+  alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
     Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance), glm::max(glm::max(a, b), c) + Vec3(band_distance)};
@@ -377,7 +473,8 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
     glm::ivec3 lo, hi;
     node_range(local, box, lo, hi);
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) continue;
-    Vec3 n = glm::cross(b - a, c - a);
+    const BandTriangle tri(a, b, c);
+    Vec3 n = tri.n;
     const float length = glm::length(n);
     n = length > 0.0f ? n / length : Vec3(0.0f);
     for (int z = lo.z; z <= hi.z; ++z) {
@@ -394,17 +491,35 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
         } else if (std::abs(offset) > band_distance) {
           continue;
         }
-        for (int x = x0; x <= x1; ++x) {
-          const Vec3 p{local_origin.x + float(x) * grid.voxel, py, pz};
-          const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
-          const Vec3 offset = p - q.point;
-          const float d2 = glm::dot(offset, offset);
-          if (d2 > band_squared) continue;
-          const std::size_t at = store.slot({x, y, z});
-          if (d2 >= store.distance[at]) continue;
-          store.distance[at] = d2;
-          store.closest[at] = q.point;
-          store.state[at] |= kExact | kHasValue;
+        // And inside each edge's line grown by the band: the triangle lies on the inner side of
+        // each edge's plane through the normal, so a node farther than the band outside it is
+        // beyond the band (one node of slack each way, as above).
+        if (tri.has_face) {
+          for (int e = 0; e < 3; ++e) {
+            const Vec3 m = tri.edge_inward[e];
+            const Vec3 v = e == 0 ? a : (e == 1 ? b : c);
+            const float at0 = m.x * (local_origin.x - v.x) + m.y * (py - v.y) + m.z * (pz - v.z);
+            const float slope = m.x * grid.voxel;  // m . (p - v) = at0 + slope * x >= -band
+            if (std::abs(slope) > 1e-6f * grid.voxel) {
+              const float bound = (-band_distance - at0) / slope;
+              if (slope > 0.0f) x0 = std::max(x0, static_cast<int>(std::ceil(bound)) - 1);
+              else x1 = std::min(x1, static_cast<int>(std::floor(bound)) + 1);
+            } else if (at0 < -band_distance) {
+              x1 = x0 - 1;  // the whole row is beyond the band
+            }
+          }
+        }
+        for (int first = x0; first <= x1; first += kBandChunk) {
+          const int count = std::min(kBandChunk, x1 - first + 1);
+          tri.row(local_origin.x, grid.voxel, first, count, py, pz, d2.data(), qx.data(), qy.data(), qz.data());
+          for (int l = 0; l < count; ++l) {
+            if (d2[l] > band_squared) continue;
+            const std::size_t at = store.slot({first + l, y, z});
+            if (d2[l] >= store.distance[at]) continue;
+            store.distance[at] = d2[l];
+            if (store.keeps_closest()) store.closest[at] = Vec3(qx[l], qy[l], qz[l]);
+            store.state[at] |= kExact | kHasValue;
+          }
         }
       }
     }
@@ -467,6 +582,56 @@ void propagate_dense(DenseStore<D>& store, IVec<D> step, Position& position) {
         if (upstream[k] != 0) offer(at, at - upstream[k], p);
     }
   });
+}
+
+/// `propagate` for a mesh's dense build, whose every node is signed already (sign_blocks): the
+/// same 8 sweeps of closest-point propagation (Danielsson 1980; sweep orders of Zhao 2005), with
+/// distances only and no state: an offer from a node without a closest point has an infinite
+/// distance (kNoClosestPoint), and one to a band node cannot beat its exact distance (beyond
+/// rounding, which then swaps equally near points). Per row, the offers of the two upstream rows
+/// (independent along the row, so the loop vectorizes), then the offers along the row.
+void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin) {
+  const FieldGrid3& grid = store.grid;
+  float* distance = store.distance.data();
+  Vec3* closest = store.closest.data();
+  const int nx = grid.dims[0];
+  const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * grid.dims[1];
+  for (int order = 0; order < 8; ++order) {
+    const glm::ivec3 step((order & 1) ? -1 : 1, (order & 2) ? -1 : 1, (order & 4) ? -1 : 1);
+    sweep_box<3>(glm::ivec3(0), glm::ivec3(0, grid.dims.y - 1, grid.dims.z - 1), step, [&](glm::ivec3 row) {
+      const std::ptrdiff_t base = static_cast<std::ptrdiff_t>(grid.index(row));
+      const float py = local_origin.y + float(row.y) * grid.voxel, pz = local_origin.z + float(row.z) * grid.voxel;
+      float* d = distance + base;
+      Vec3* c = closest + base;
+      // Upstream rows along y and z (none at the grid's first row in the sweep's direction).
+      for (int k = 1; k < 3; ++k) {
+        const bool edge = step[k] > 0 ? row[k] == 0 : row[k] == grid.dims[k] - 1;
+        if (edge) continue;
+        const std::ptrdiff_t up = (k == 1 ? sy : sz) * step[k];
+        const Vec3* from = c - up;
+        for (int x = 0; x < nx; ++x) {
+          const float px = local_origin.x + float(x) * grid.voxel;
+          const float dx = px - from[x].x, dy = py - from[x].y, dz = pz - from[x].z;
+          const float d2 = dx * dx + dy * dy + dz * dz;
+          const bool nearer = d2 < d[x];
+          d[x] = nearer ? d2 : d[x];
+          c[x] = nearer ? from[x] : c[x];
+        }
+      }
+      // Along the row, in the sweep's direction.
+      const int x0 = step.x > 0 ? 1 : nx - 2, x_end = step.x > 0 ? nx : -1;
+      for (int x = x0; x != x_end; x += step.x) {
+        const Vec3 from = c[x - step.x];
+        const float px = local_origin.x + float(x) * grid.voxel;
+        const float dx = px - from.x, dy = py - from.y, dz = pz - from.z;
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 < d[x]) {
+          d[x] = d2;
+          c[x] = from;
+        }
+      }
+    });
+  }
 }
 
 template <int D, class Store, class Position>
@@ -573,23 +738,217 @@ Vec3 local_grid_origin(const TriangleMesh& mesh, const FieldOptions& options) {
   return mesh.bvh.bounds().min - Vec3(static_cast<float>(options.margin) * options.voxel);
 }
 
-/// Signs the band's nodes within a voxel of the surface by their winding number.
-template <class Store>
-std::size_t sign_band(const TriangleMesh& mesh, Vec3 local_origin, Store& store) {
-  const WindingTree winding(mesh.vertices, mesh.triangles);
-  std::size_t evaluations = 0;
-  const FieldGrid3& grid = store.grid;
-  store.for_each_block(glm::ivec3(1), [&](glm::ivec3 lo, glm::ivec3 hi) {
-    for_each_node<3>(lo, hi, [&](glm::ivec3 i) {
-      const std::size_t at = store.find(i);
-      // Nodes within a voxel of the surface: farther ones copy a neighbour's sign.
-      if (!(store.state[at] & kExact) || store.distance[at] > grid.voxel * grid.voxel) return;
-      ++evaluations;
-      store.state[at] |= kSignKnown;
-      if (winding(local_origin + Vec3(i) * grid.voxel) > kInsideWinding) store.state[at] |= kInside;
-    });
+/// Two neighbouring nodes may have the surface between them only when their exact distances sum
+/// to at most the voxel (plus this fraction of it, for rounding): see sign_blocks.
+constexpr float kCrossingSlackVoxels = 0.01f;
+/// Length of a neighbour offset of squared length 0 to 3 (voxels).
+constexpr std::array<float, 4> kNeighbourLength = {0.0f, 1.0f, std::numbers::sqrt2_v<float>, std::numbers::sqrt3_v<float>};
+/// Bytes per node sign_blocks holds while it runs (each node's region).
+constexpr std::size_t kSignBytesPerNode = sizeof(std::uint32_t);
+/// Nodes per block of sign_blocks (the sparse field's brick).
+constexpr int kSignBlockNodes = kFieldBrickSize * kFieldBrickSize * kFieldBrickSize;
+
+/// Calls visit(lo, hi) for the node box of every block of kFieldBrickSize^3 nodes the store
+/// holds: the sparse store's bricks; the dense grid cut into blocks (partial at its far faces).
+template <class Visit>
+void for_each_sign_block(const DenseStore<3>& store, Visit&& visit) {
+  const glm::ivec3 dims = store.grid.dims;
+  const glm::ivec3 blocks = (dims + (kFieldBrickSize - 1)) / kFieldBrickSize;
+  for_each_node<3>(glm::ivec3(0), blocks - 1, [&](glm::ivec3 b) {
+    const glm::ivec3 lo = b * kFieldBrickSize;
+    visit(lo, glm::min(lo + (kFieldBrickSize - 1), dims - 1));
   });
-  return evaluations;
+}
+template <class Visit>
+void for_each_sign_block(const SparseStore<3>& store, Visit&& visit) {
+  store.for_each_block(glm::ivec3(1), visit);
+}
+
+/// A region whose winding number is within this of 1/2 is not sure of its side: it takes the side
+/// of the surest sure region it reaches without crossing the surface (sign_blocks). Under an open
+/// terrain the winding number stays within about 0.1 to 0.3 of 1/2 for voxels below the surface
+/// (undulating.obj), so 0.1 left pockets of flipped sign under its valleys; 0.3 removes them and
+/// keeps dungeon.obj's rooms (about 0 and 1) on the winding number's side.
+constexpr float kUnsureWinding = 0.3f;
+
+/// Signs every node of a mesh build with few winding numbers, in three steps.
+///  1. Regions: within a block of kFieldBrickSize^3 nodes, two neighbouring nodes i, j (26
+///     neighbours) can have the surface between them only when d_i + d_j <= |i - j| (a
+///     crossing point s on the segment gives d_i <= |i - s| and d_j <= |j - s|; a node beyond
+///     the band counts as the band's distance, a lower bound of its own). The pairs that fail this test join the block's
+///     nodes into regions no surface crosses (a flood fill, as OpenVDB's meshToVolume (Museth
+///     2013) floods its sign between the voxels the surface cuts), and one winding number
+///     (Barill et al. 2018), at the region's node farthest from the surface, gives its side.
+///  2. The regions of neighbouring blocks are joined the same way across the blocks' faces.
+///  3. Sure regions (winding number at least kUnsureWinding from 1/2) keep their side and flood
+///     it through joined unsure regions, the surest first (a priority flood: an unsure region
+///     takes the side of the surest sure region that reaches it without crossing the surface);
+///     joined unsure regions that no sure region reaches take the side of most of their nodes.
+/// A closed mesh's sides are exact (every region's winding number is about 0 or 1). An open
+/// terrain's underside, whose winding number hovers about 1/2 just below it and falls off
+/// farther down, takes the side of the sure regions around it instead of flipping under every
+/// valley (the sign then changes only across the surface, or between sure regions that disagree
+/// across a hole: the dungeon's rooms keep the winding number's sides). The regions are the
+/// flood fill's; the rule on unsure regions is ours. Returns the winding numbers evaluated.
+template <class Store>
+std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_distance, Store& store) {
+  const WindingTree winding(mesh.vertices, mesh.triangles);
+  const float voxel = store.grid.voxel;
+  const float join = voxel * (1.0f + kCrossingSlackVoxels);
+  constexpr std::uint16_t kUnlabelled = 0xffff;
+  // A node beyond the band is farther than the band from the surface: its distance's lower bound.
+  const auto distance_at = [&](std::size_t at) {
+    return (store.state[at] & kExact) ? std::sqrt(store.distance[at]) : band_distance;
+  };
+  std::array<float, kSignBlockNodes> dist;
+  std::array<std::size_t, kSignBlockNodes> slot;
+  std::array<std::uint16_t, kSignBlockNodes> label, stack;
+  std::vector<std::uint32_t> region(store.state.size());  // node slot -> region
+  std::vector<float> region_winding;
+  std::vector<std::uint32_t> region_size;
+  // Room for a few regions and joins per block up front (the block loops then rarely allocate).
+  const std::size_t blocks_estimate = store.state.size() / kSignBlockNodes + 1;
+  region_winding.reserve(4 * blocks_estimate);
+  region_size.reserve(4 * blocks_estimate);
+  // 1. Regions within each block.
+  for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
+    const glm::ivec3 n = hi - lo + 1;
+    const int count = n.x * n.y * n.z;
+    const auto first = static_cast<std::uint32_t>(region_winding.size());
+    bool any_band = false;
+    int k = 0;
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x, ++k) {
+          const std::size_t at = store.find({x, y, z});
+          slot[k] = at;
+          dist[k] = distance_at(at);
+          any_band |= (store.state[at] & kExact) != 0;
+        }
+    const auto node_of = [&](int at) { return lo + glm::ivec3(at % n.x, (at / n.x) % n.y, at / (n.x * n.y)); };
+    if (!any_band) {  // no surface in the block: one region, its winding number at the centre
+      region_winding.push_back(winding(local_origin + Vec3((lo + hi) / 2) * voxel));
+      region_size.push_back(static_cast<std::uint32_t>(count));
+      for (int i = 0; i < count; ++i) region[slot[i]] = first;
+      return;
+    }
+    std::fill_n(label.begin(), count, kUnlabelled);
+    const int sy = n.x, sz = n.x * n.y;
+    std::uint16_t regions = 0;
+    for (int seed = 0; seed < count; ++seed) {
+      if (label[seed] != kUnlabelled) continue;
+      const std::uint16_t c = regions++;
+      int top = 0, best = seed;
+      label[seed] = c;
+      stack[top++] = static_cast<std::uint16_t>(seed);
+      while (top > 0) {
+        const int at = stack[--top];
+        if (dist[at] > dist[best]) best = at;
+        const int x = at % n.x, y = (at / n.x) % n.y, z = at / sz;
+        // The 26 neighbours, each with its own length: a node within a small fraction of a
+        // voxel of an oblique surface has no axis neighbour passing the test, but one along
+        // a diagonal that points away from the surface.
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (z + dz < 0 || z + dz >= n.z) continue;
+          for (int dy = -1; dy <= 1; ++dy) {
+            if (y + dy < 0 || y + dy >= n.y) continue;
+            for (int dx = -1; dx <= 1; ++dx) {
+              if (x + dx < 0 || x + dx >= n.x) continue;
+              const int to = at + dx + dy * sy + dz * sz;
+              if (label[to] != kUnlabelled) continue;
+              if (!(dist[at] + dist[to] > join * kNeighbourLength[dx * dx + dy * dy + dz * dz])) continue;
+              label[to] = c;
+              stack[top++] = static_cast<std::uint16_t>(to);
+            }
+          }
+        }
+      }
+      region_winding.push_back(winding(local_origin + Vec3(node_of(best)) * voxel));
+      region_size.push_back(0);
+    }
+    for (int i = 0; i < count; ++i) ++region_size[first + label[i]];
+    for (int i = 0; i < count; ++i) region[slot[i]] = first + label[i];
+  });
+  const std::size_t regions = region_winding.size();
+  // 2. Joins across block faces (pairs of regions; repeats of the last pair skipped).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> joins;
+  joins.reserve(12 * blocks_estimate);
+  const glm::ivec3 dims = store.grid.dims;
+  for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (hi[axis] + 1 >= dims[axis]) continue;
+      glm::ivec3 face_lo = lo, face_hi = hi;
+      face_lo[axis] = face_hi[axis] = hi[axis];
+      std::pair<std::uint32_t, std::uint32_t> last{0xffffffffu, 0xffffffffu};
+      for_each_node<3>(face_lo, face_hi, [&](glm::ivec3 i) {
+        glm::ivec3 j = i;
+        ++j[axis];
+        const std::size_t from = store.find(i), to = store.find(j);
+        if (to == std::numeric_limits<std::size_t>::max()) return;
+        const std::uint32_t a = region[from], b = region[to];
+        if (a == b || !(distance_at(from) + distance_at(to) > join)) return;
+        const std::pair<std::uint32_t, std::uint32_t> pair{a, b};
+        if (pair == last) return;
+        last = pair;
+        joins.push_back(pair);
+        joins.push_back({b, a});
+      });
+    }
+  });
+  // Joins as adjacency lists (counting sort by the first region).
+  std::vector<std::uint32_t> start(regions + 1, 0), next(joins.size());
+  for (const auto& [a, b] : joins) ++start[a + 1];
+  for (std::size_t r = 0; r < regions; ++r) start[r + 1] += start[r];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (const auto& [a, b] : joins) next[fill[a]++] = b;
+  }
+  // 3. Sure regions keep their side and flood it into the unsure ones, the surest first (a
+  // region is claimed by the surest sure region that reaches it through unsure ones).
+  std::vector<std::uint8_t> inside(regions), done(regions, 0);
+  std::vector<std::pair<float, std::uint32_t>> heap;  // (sureness of the side, region)
+  heap.reserve(regions);
+  for (std::uint32_t r = 0; r < regions; ++r) {
+    inside[r] = region_winding[r] > kInsideWinding ? kInside : 0;
+    const float sureness = std::abs(region_winding[r] - kInsideWinding);
+    if (sureness >= kUnsureWinding) heap.push_back({sureness, r});
+  }
+  std::make_heap(heap.begin(), heap.end());
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end());
+    const auto [sureness, r] = heap.back();
+    heap.pop_back();
+    if (done[r]) continue;
+    done[r] = 1;
+    for (std::uint32_t e = start[r]; e < start[r + 1]; ++e) {
+      const std::uint32_t to = next[e];
+      if (done[to] || std::abs(region_winding[to] - kInsideWinding) >= kUnsureWinding) continue;
+      inside[to] = inside[r];
+      heap.push_back({sureness, to});
+      std::push_heap(heap.begin(), heap.end());
+    }
+  }
+  // Joined unsure regions no sure region reaches take the side most of their nodes are on.
+  std::vector<std::uint32_t> queue;
+  for (std::uint32_t r = 0; r < regions; ++r) {
+    if (done[r]) continue;
+    queue.assign(1, r);
+    done[r] = 1;
+    std::int64_t vote = 0;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const std::uint32_t at = queue[head];
+      vote += inside[at] ? std::int64_t{region_size[at]} : -std::int64_t{region_size[at]};
+      for (std::uint32_t e = start[at]; e < start[at + 1]; ++e) {
+        if (done[next[e]]) continue;
+        done[next[e]] = 1;
+        queue.push_back(next[e]);
+      }
+    }
+    for (const std::uint32_t at : queue) inside[at] = vote > 0 ? kInside : 0;
+  }
+  for (std::size_t at = 0; at < store.state.size(); ++at)
+    store.state[at] |= static_cast<std::uint8_t>(kSignKnown | inside[region[at]]);
+  return regions;
 }
 
 /// Closest points of a mesh build are kept in the mesh's local frame until the end.
@@ -598,7 +957,7 @@ void closest_to_mesh_space(std::vector<Vec3>& closest, Vec3 origin) {
 }
 
 /// The sparse field from a store whose bricks hold the band: values beyond the band clamped,
-/// signs of brick nodes propagated, each empty region's sign from a neighbour.
+/// brick nodes signed (propagation or sign_blocks), each empty region's sign from a neighbour.
 template <int D>
 SparseDistanceFieldN<D> finish_sparse(SparseStore<D>& store, const FieldOptions& options) {
   const float band = band_distance(options);
@@ -699,11 +1058,11 @@ SparseDistanceField3 make_sparse_distance_field(std::span<const PlacedShape3> sh
 
 DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  DenseStore<3> store(make_grid<3>(mesh_bounds(mesh), options, kDenseBuildBytesPerNode<3>, 1));
+  DenseStore<3> store(make_grid<3>(mesh_bounds(mesh), options, kDenseBuildBytesPerNode<3> + kSignBytesPerNode, 1));
   const Vec3 local = local_grid_origin(mesh, options);
   mesh_band(mesh, local, band_distance(options), store);
-  const std::size_t signs = sign_band(mesh, local, store);
-  propagate<3>(store, [&](glm::ivec3 i) { return local + Vec3(i) * store.grid.voxel; });
+  const std::size_t signs = sign_blocks(mesh, local, band_distance(options), store);
+  propagate_mesh_dense(store, local);
   if (options.keep_closest_points) closest_to_mesh_space(store.closest, mesh.origin);
   DistanceField3 field = finish_dense(store, options);
   field.stats.sign_evaluations = signs;
@@ -713,11 +1072,13 @@ DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions&
 
 SparseDistanceField3 make_sparse_distance_field(const TriangleMesh& mesh, const FieldOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  SparseStore<3> store(make_grid<3>(mesh_bounds(mesh), options, kSparseTableBytesPerNode<3>, kFieldBrickSize), options.max_bytes);
+  SparseStore<3> store(make_grid<3>(mesh_bounds(mesh), options, kSparseTableBytesPerNode<3>, kFieldBrickSize),
+                       options.max_bytes, false);
   const Vec3 local = local_grid_origin(mesh, options);
   mesh_band(mesh, local, band_distance(options), store);
-  const std::size_t signs = sign_band(mesh, local, store);
-  propagate<3>(store, [&](glm::ivec3 i) { return local + Vec3(i) * store.grid.voxel; });
+  // Every brick node is signed; nodes beyond the band keep +inf, which finish_sparse clamps to
+  // the band (propagated distances would be clamped as well: no propagation).
+  const std::size_t signs = sign_blocks(mesh, local, band_distance(options), store);
   SparseDistanceField3 field = finish_sparse(store, options);
   field.stats.sign_evaluations = signs;
   field.stats.seconds = seconds_since(start);

@@ -13,13 +13,16 @@
 ///  1. exact band: every primitive (a placed convex shape, a mesh triangle) writes its exact
 ///     distance and closest point into the nodes within `band` voxels of it (a triangle only
 ///     visits the nodes of each grid row that lie within the band of its plane);
-///  2. sign: 2D and convex shapes by containment (exact); a triangle mesh by its generalised
-///     winding number (Jacobson, Kavan & Sorkine-Hornung, "Robust Inside-Outside Segmentation
-///     using Generalized Winding Numbers", SIGGRAPH 2013), evaluated fast with a tree of dipoles
-///     (Barill, Dickson, Schmidt, Levin & Jacobson, "Fast Winding Numbers for Soups and Clouds",
-///     SIGGRAPH 2018), so open meshes (real levels) get a sensible inside; nodes outside the
-///     band take their neighbour's sign (no surface lies between two neighbours outside the
-///     band, as the band is at least one voxel wide);
+///  2. sign: 2D and convex shapes by containment (exact); a triangle mesh per region that no
+///     surface crosses (the grid cut into 8^D blocks; two neighbouring nodes are joined when
+///     their exact distances sum to more than the distance between them, so the surface cannot
+///     pass between them), one generalised winding number per region (Jacobson, Kavan &
+///     Sorkine-Hornung, "Robust Inside-Outside Segmentation using Generalized Winding Numbers",
+///     SIGGRAPH 2013), evaluated fast with a tree of dipoles (Barill, Dickson, Schmidt, Levin &
+///     Jacobson, "Fast Winding Numbers for Soups and Clouds", SIGGRAPH 2018), so open meshes
+///     (real levels) get a sensible inside. A region whose winding number lies within 0.3 of 1/2
+///     (unsure: under an open terrain, by a hole) takes the side of the surest region that
+///     reaches it without crossing the surface;
 ///  3. the rest by closest-point propagation: 2^D sweeps over the grid in which each node takes
 ///     a neighbour's closest point when it is nearer (Danielsson, "Euclidean distance mapping",
 ///     CGIP 1980, with the sweep orders of fast sweeping, Zhao, Math. Comp. 2005).
@@ -321,9 +324,11 @@ concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>&
 [[nodiscard]] DistanceField make_distance_field(std::span<const PlacedShape> shapes, const FieldOptions& options);
 /// 3D version of the above.
 [[nodiscard]] DistanceField3 make_distance_field(std::span<const PlacedShape3> shapes, const FieldOptions& options);
-/// Dense field of a triangle mesh (mesh space), signed by the generalised winding number: a
-/// closed mesh's inside exactly; an open mesh's where its winding number exceeds 1/2. The same
-/// errors as above, and for a mesh without triangles.
+/// Dense field of a triangle mesh (mesh space), signed by the generalised winding number per
+/// region (stage 2 above): a closed mesh's inside exactly; an open mesh's where its winding
+/// number exceeds 1/2, an unsure region (within 0.3 of 1/2) on the side of the surest region that
+/// reaches it without crossing the surface. The same errors as above, and for a mesh without
+/// triangles.
 [[nodiscard]] DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions& options);
 
 /// The reference build: the exact distance of every node through the mesh BVH

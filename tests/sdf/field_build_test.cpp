@@ -1,0 +1,141 @@
+// The mesh builds' own stages against their references (src/sdf/field_build.cpp): the band's
+// distances, the sign of every node by regions and few winding numbers, the sparse build's
+// agreement with the dense one, and the sign under an open terrain (issue 17).
+
+#include <collide/io/obj.hpp>
+#include <collide/sdf/distance_field.hpp>
+#include <collide/shape/triangle.hpp>
+
+#include "support/random.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace collide {
+namespace {
+
+/// The field's error bound away from the band: closest-point propagation is off by under half a
+/// voxel (distance_field_test.cpp); a sign flip off the surface would show as far more.
+constexpr float kPropagatedVoxels = 0.5f;
+/// A node this close to the surface (voxels) may take either sign.
+constexpr float kOnSurfaceVoxels = 0.01f;
+
+TriangleMesh load(const char* name) {
+  return io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/" + name);
+}
+
+FieldOptions options(float voxel) {
+  FieldOptions o;
+  o.voxel = voxel;
+  return o;
+}
+
+/// A closed torus about the y axis, wound outward (bench/sdf.cpp's, smaller).
+TriangleMesh torus(float major, float minor, int around, int tube) {
+  std::vector<Vec3> v;
+  std::vector<glm::uvec3> t;
+  const float two_pi = 2.0f * std::numbers::pi_v<float>;
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      const float u = two_pi * float(i) / float(around), w = two_pi * float(j) / float(tube);
+      const float r = major + minor * std::cos(w);
+      v.push_back({r * std::cos(u), minor * std::sin(w), r * std::sin(u)});
+    }
+  const auto at = [&](int i, int j) { return static_cast<unsigned>((i % around) * tube + j % tube); };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < tube; ++j) {
+      t.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      t.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  TriangleMesh mesh = make_triangle_mesh(v, t);
+  if (winding_number(mesh, {major, 0.0f, 0.0f}) < 0.0f) {
+    for (glm::uvec3& tri : t) std::swap(tri.y, tri.z);
+    mesh = make_triangle_mesh(v, t);
+  }
+  return mesh;
+}
+
+TEST(FieldBuild, ClosedMeshEveryNodeAsTheExactBuildWithFewWindingNumbers) {
+  // The exact build takes every node's own BVH distance and winding number; the fast build's
+  // band must match it to rounding and its sign everywhere off the surface.
+  const TriangleMesh mesh = torus(3.0f, 1.0f, 40, 20);
+  const float voxel = 0.1f;
+  const DistanceField3 fast = make_distance_field(mesh, options(voxel));
+  const DistanceField3 exact = make_distance_field_exact(mesh, options(voxel));
+  ASSERT_EQ(fast.distances.size(), exact.distances.size());
+  int wrong_sign = 0;
+  float worst_band = 0.0f, worst = 0.0f;
+  for (std::size_t i = 0; i < exact.distances.size(); ++i) {
+    const float e = exact.distances[i], f = fast.distances[i];
+    if (std::abs(e) > kOnSurfaceVoxels * voxel && (e < 0.0f) != (f < 0.0f)) ++wrong_sign;
+    const float error = std::abs(std::abs(e) - std::abs(f));
+    if (std::abs(e) <= kFieldDefaultBand * voxel) worst_band = std::max(worst_band, error);
+    worst = std::max(worst, error);
+  }
+  EXPECT_EQ(wrong_sign, 0);
+  EXPECT_LT(worst_band, 1e-4f);
+  EXPECT_LT(worst, kPropagatedVoxels * voxel);
+  // One winding number per region of a block, not per node near the surface.
+  EXPECT_LT(fast.stats.sign_evaluations * 4, fast.stats.band_nodes);
+}
+
+TEST(FieldBuild, SparseAgreesWithDenseOnAnOpenLevel) {
+  // dungeon.obj is open: the sparse build signs its bricks as the dense build signs its blocks,
+  // and keeps no value beyond the band.
+  const TriangleMesh mesh = load("dungeon.obj");
+  const float voxel = 1.0f;
+  const DistanceField3 dense = make_distance_field(mesh, options(voxel));
+  const SparseDistanceField3 sparse = make_sparse_distance_field(mesh, options(voxel));
+  std::mt19937 rng(21);
+  int checked = 0, wrong = 0;
+  for (int i = 0; i < 20000; ++i) {
+    glm::ivec3 n;
+    for (int k = 0; k < 3; ++k) n[k] = std::uniform_int_distribution<int>(0, dense.grid.dims[k] - 1)(rng);
+    const Vec3 p = dense.grid.node(n);
+    const float d = dense.distances[dense.grid.index(n)];
+    const float s = sparse.nearest_value(p);
+    if (std::abs(d) < kFieldDefaultBand * voxel) {
+      ASSERT_NEAR(std::abs(s), std::abs(d), 1e-4f) << n.x << " " << n.y << " " << n.z;
+    } else {
+      ASSERT_FLOAT_EQ(std::abs(s), sparse.band_distance);
+    }
+    if (std::abs(d) < kOnSurfaceVoxels * voxel) continue;
+    ++checked;
+    wrong += (s < 0.0f) != (d < 0.0f);
+  }
+  EXPECT_GT(checked, 10000);
+  // Regions are the same per brick; only the flood between them sees fewer regions (no empty
+  // bricks), so a handful of far nodes may differ.
+  EXPECT_LE(wrong, checked / 1000);
+}
+
+TEST(FieldBuild, OpenTerrainHasNoSignFlipsUnderIt) {
+  // undulating.obj is an open height field: its winding number stays near 1/2 below it and
+  // crosses 1/2 under valleys, so signing each node by it flips the sign off the surface and
+  // the sampled field (interpolating +d and -d) loses its magnitude there. The field's
+  // magnitude must match the exact unsigned distance everywhere.
+  const TriangleMesh mesh = load("undulating.obj");
+  const float voxel = 0.6f;
+  const DistanceField3 field = make_distance_field(mesh, options(voxel));
+  std::mt19937 rng(22);
+  const Aabb3 box = field.grid.bounds();
+  float worst = 0.0f;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 p(test::uniform(rng, box.min.x, box.max.x), test::uniform(rng, box.min.y, box.max.y),
+                 test::uniform(rng, box.min.z, box.max.z));
+    const float exact = std::sqrt(mesh.bvh.nearest(p - mesh.origin).distance_squared);
+    worst = std::max(worst, std::abs(std::abs(field.sample(p)) - exact));
+  }
+  // Trilinear interpolation of exact node values is off by up to about half a voxel diagonal.
+  EXPECT_LT(worst, 0.5f * std::sqrt(3.0f) * voxel);
+}
+
+}  // namespace
+}  // namespace collide
