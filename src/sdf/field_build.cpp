@@ -7,6 +7,7 @@
 #include <collide/sdf/distance_field.hpp>
 #include <collide/shape/triangle.hpp>
 
+#include "large_pages.hpp"
 #include "winding_tree.hpp"
 
 #include <glm/geometric.hpp>
@@ -167,8 +168,8 @@ struct DenseStore {
 
   explicit DenseStore(const FieldGridN<D>& g)
       : grid(g),
-        distance(g.count(), std::numeric_limits<float>::infinity()),
-        closest(g.count(), VecN<D>(kNoClosestPoint)),
+        distance(detail::large_page_vector(g.count(), std::numeric_limits<float>::infinity())),
+        closest(detail::large_page_vector(g.count(), VecN<D>(kNoClosestPoint))),
         state(g.count(), 0) {}
   std::size_t slot(IVec<D> i) { return grid.index(i); }
   /// The slot of a node that may have none (dense: always one).
@@ -1012,7 +1013,7 @@ SparseDistanceFieldN<D> finish_sparse(SparseStore<D>& store, const FieldOptions&
   for (std::size_t at = 0; at < table.size(); ++at)
     if (table[at] == SparseStore<D>::kNone && region_inside[at]) table[at] = SparseDistanceFieldN<D>::kNoBrickInside;
   field.table = std::move(table);
-  field.bricks.resize(store.distance.size());
+  field.bricks = detail::large_page_vector(store.distance.size(), 0.0f);
   for (std::size_t i = 0; i < store.distance.size(); ++i) {
     const float d = std::min(std::sqrt(store.distance[i]), band);
     field.bricks[i] = (store.state[i] & kInside) ? -d : d;
@@ -1090,8 +1091,8 @@ DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOp
   DistanceField3 field;
   field.grid = make_grid<3>(mesh_bounds(mesh), options, sizeof(float) + sizeof(Vec3), 1);
   const Vec3 local = local_grid_origin(mesh, options);
-  field.distances.resize(field.grid.count());
-  if (options.keep_closest_points) field.closest_points.resize(field.grid.count());
+  field.distances = detail::large_page_vector(field.grid.count(), 0.0f);
+  if (options.keep_closest_points) field.closest_points = detail::large_page_vector(field.grid.count(), Vec3(0.0f));
   const WindingTree winding(mesh.vertices, mesh.triangles);
   for_each_node<3>(glm::ivec3(0), field.grid.dims - 1, [&](glm::ivec3 i) {
     const Vec3 p = local + Vec3(i) * field.grid.voxel;
