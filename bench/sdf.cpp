@@ -41,6 +41,12 @@
 //   openvdb_point / openvdb_box: tools::GridSampler with PointSampler (nearest voxel; its
 //                    "< 0" is the rival of is_inside) and BoxSampler (trilinear) over a cached
 //                    ConstAccessor of the narrow-band grid, world-space points (wsSample).
+// BM_SdfClosest/<mesh>/4M/<points>/<method>: the closest surface point of the same points (the
+//   lesson's comparison): stored = closest_point (the closest-point field), gradient_1 /
+//   gradient_2 = closest_point_by_gradient with 1 or 2 steps, bvh_nearest = the exact answer
+//   through the mesh's BVH; per_point; off_max / off_mean = how far the answer lies off the
+//   surface, excess_max / excess_mean = | |p - answer| - exact distance |, world units (voxel:
+//   the voxel size).
 // BM_SdfParticles/<mesh>/4M/<field>: step_particles on 65536 particles (seeded, outside the
 //   solid, random directions, speeds of 1 to 4 % of the box diagonal per second), 60 steps of
 //   1/60 s per iteration from the same start (the reset is not timed); per_step = time per
@@ -399,6 +405,60 @@ void register_sample(Res* r, bool in_band, Method method) {
   })->Unit(benchmark::kMicrosecond);
 }
 
+// ---- closest points -----------------------------------------------------------------------------
+
+enum ClosestMethod { kStored, kGradient1, kGradient2, kBvhNearest };
+const char* const kClosestNames[] = {"stored", "gradient_1", "gradient_2", "bvh_nearest"};
+
+/// The lesson's comparison: the closest surface point from the stored closest-point field
+/// (closest_point), by stepping down the distance field's gradient once or twice
+/// (closest_point_by_gradient), and exactly through the mesh's BVH (TriangleBvh::nearest, the
+/// truth and the cost of not storing anything).
+void register_closest(Res* r, bool in_band, ClosestMethod method) {
+  const std::string name = std::string("BM_SdfClosest/") + r->level->name + "/" + r->scale->name + "/" +
+                           (in_band ? "band" : "box") + "/" + kClosestNames[method];
+  benchmark::RegisterBenchmark(name.c_str(), [r, in_band, method](benchmark::State& state) {
+    const std::vector<Vec3>& pts = (in_band ? band_points(*r) : box_points(*r)).p;
+    const DistanceField3& d = dense(*r);
+    const TriangleMesh& mesh = r->level->mesh;
+    const auto answer = [&](Vec3 p) {
+      switch (method) {
+        case kStored: return closest_point(d, p).closest;
+        case kGradient1: return closest_point_by_gradient(d, p, 1).closest;
+        case kGradient2: return closest_point_by_gradient(d, p, 2).closest;
+        case kBvhNearest: break;
+      }
+      return mesh.bvh.nearest(p - mesh.origin).closest.point + mesh.origin;
+    };
+    for (auto _ : state) {
+      Vec3 sum(0.0f);
+      for (const Vec3& p : pts) sum += answer(p);
+      benchmark::DoNotOptimize(sum);
+    }
+    // Errors, world units: how far the answer lies off the surface, and how much farther from
+    // the query point it is than the exact closest point (not the distance between the two
+    // points: near the medial axis two far-apart surface points are about equally close).
+    double off_max = 0.0, off_total = 0.0, excess_max = 0.0, excess_total = 0.0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Vec3 a = answer(pts[i]);
+      const double off = exact_distance(mesh, a);
+      const double excess = std::fabs(double(glm::length(a - pts[i])) - double(exact_distance(mesh, pts[i])));
+      off_max = std::max(off_max, off);
+      off_total += off;
+      excess_max = std::max(excess_max, excess);
+      excess_total += excess;
+    }
+    const double n = double(pts.size());
+    state.counters["off_max"] = off_max;
+    state.counters["off_mean"] = off_total / n;
+    state.counters["excess_max"] = excess_max;
+    state.counters["excess_mean"] = excess_total / n;
+    state.counters["voxel"] = r->voxel;
+    state.counters["per_point"] =
+        benchmark::Counter(double(pts.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  })->Unit(benchmark::kMicrosecond);
+}
+
 // ---- particles ----------------------------------------------------------------------------------
 
 Particles3 make_particles(Res& r) {
@@ -526,6 +586,9 @@ void register_all() {
     Res* r = &l->res[kMainScale];
     for (bool in_band : {false, true}) {
       for (int m = kBareRead; m <= kVdbBox; ++m) register_sample(r, in_band, static_cast<Method>(m));
+    }
+    for (bool in_band : {false, true}) {
+      for (int m = kStored; m <= kBvhNearest; ++m) register_closest(r, in_band, static_cast<ClosestMethod>(m));
     }
     for (bool sorted : {false, true}) {
       register_particles(r, false, sorted);

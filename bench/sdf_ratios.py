@@ -154,6 +154,35 @@ def main():
                   f" | {ratio(ns['openvdb_box'], ns['dense_sample'])} | {ratio(ns['openvdb_point'], ns['dense_inside'])} |")
     print()
 
+    print(f"### Queries against a bare read at a point (bare_lookup: the index computed from the point)\n")
+    print("| mesh / points | bare_lookup ns | dense_inside | dense_sample | sparse_inside | sparse_sample |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for m in meshes:
+        for pts in ["box", "band"]:
+            ns = {s: get(f"BM_SdfSample/{m}/{MAIN}/{pts}/{s}", "per_point") for s in SAMPLES}
+            base = ns["bare_lookup"]
+            if base is None:
+                continue
+            cells = [ratio(ns[s], base) for s in ["dense_inside", "dense_sample", "sparse_inside", "sparse_sample"]]
+            print(f"| {m} / {pts} | {base * 1e9:.2f} | " + " | ".join(cells) + " |")
+    print()
+
+    print(f"### Closest points at the {MAIN} voxel: stored field vs gradient steps vs exact (BVH)\n")
+    print("| mesh / points | method | ns per point | off the surface, max / mean (voxels) | "
+          "farther than the nearest, max / mean (voxels) |")
+    print("| --- | --- | --- | --- | --- |")
+    for m in meshes:
+        for pts in ["box", "band"]:
+            for method in ["stored", "gradient_1", "gradient_2", "bvh_nearest"]:
+                n = f"BM_SdfClosest/{m}/{MAIN}/{pts}/{method}"
+                if n not in runs:
+                    continue
+                v = get(n, "voxel")
+                print(f"| {m} / {pts} | {method} | {get(n, 'per_point') * 1e9:.1f} | "
+                      f"{get(n, 'off_max') / v:.2f} / {get(n, 'off_mean') / v:.3f} | "
+                      f"{get(n, 'excess_max') / v:.2f} / {get(n, 'excess_mean') / v:.3f} |")
+    print()
+
     print(f"### Particles (step_particles, {MAIN} voxel)\n")
     print("| mesh | field | ns per particle step | bounced | near (sampled) |")
     print("| --- | --- | --- | --- | --- |")
