@@ -7,6 +7,8 @@
 
 #include <collide/core/aabb.hpp>  // Vec2
 
+#include <array>
+
 namespace collide {
 
 /// Calls `emit(Vec2 a, Vec2 b)` for each segment of the contour where the samples cross
@@ -24,12 +26,14 @@ void march_squares(int width, int height, Vec2 origin, float spacing, float leve
   for (int j = 0; j + 1 < height; ++j) {
     for (int i = 0; i + 1 < width; ++i) {
       // Corners counter-clockwise from (i, j): 0 (i, j), 1 (i+1, j), 2 (i+1, j+1), 3 (i, j+1).
-      const float v[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+      // std::array, not C arrays: GCC 12 with -fsanitize=undefined (the sanitize preset)
+      // miscompiled C arrays here (garbage indices reported, no segments emitted).
+      const std::array<float, 4> v = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
       int code = 0;
       for (int k = 0; k < 4; ++k) code |= (v[k] < 0.0f ? 1 : 0) << k;
       if (code == 0 || code == 15) continue;
       const float fi = static_cast<float>(i), fj = static_cast<float>(j);
-      const Vec2 c[4] = {world(fi, fj), world(fi + 1, fj), world(fi + 1, fj + 1), world(fi, fj + 1)};
+      const std::array<Vec2, 4> c = {world(fi, fj), world(fi + 1, fj), world(fi + 1, fj + 1), world(fi, fj + 1)};
       // The crossing on edge k (corner k to k + 1), for edges whose ends differ in sign.
       const auto edge = [&](int k) { return cross(c[k], v[k], c[(k + 1) % 4], v[(k + 1) % 4]); };
       if (code == 5 || code == 10) {  // saddle: opposite corners below; the centre decides
@@ -46,7 +50,7 @@ void march_squares(int width, int height, Vec2 origin, float spacing, float leve
         }
         continue;
       }
-      Vec2 ends[2];
+      std::array<Vec2, 2> ends{};
       int n = 0;
       for (int k = 0; k < 4 && n < 2; ++k) {
         if (((code >> k) & 1) != ((code >> ((k + 1) % 4)) & 1)) ends[n++] = edge(k);
