@@ -3,7 +3,6 @@
 
 #include "world_field.hpp"
 
-#include <collide/broad/broad_phase.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/sdf/contour.hpp>
 
