@@ -85,3 +85,7 @@ set_target_properties(box2d_v3 PROPERTIES C_STANDARD 17 C_STANDARD_REQUIRED YES 
                                           C_VISIBILITY_PRESET hidden)
 target_compile_options(box2d_v3 PRIVATE $<$<C_COMPILER_ID:GNU,Clang>:-ffp-contract=off>)
 target_link_libraries(box2d_v3 PUBLIC m)
+# Its instruction set, for the context block beside every ratio (bench/instruction_set.hpp): the
+# default x86-64 compile (no -m options, as collide's) selects v3's SSE2 path in src/core.h.
+target_compile_definitions(box2d_v3 INTERFACE
+  "COLLIDE_BOX2D_V3_ISA=\"SSE2, the x86-64 baseline: B2_SIMD_SSE2 4-wide contact solver of v3, BOX2D_AVX2 off\"")

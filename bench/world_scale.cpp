@@ -1,0 +1,540 @@
+// A world step at scale (issue 20): collide's World2D against Box2D v3 on the same bodies and
+// statics, 1e3 .. 1e6 bodies, 1 and 2 threads, side by side in one run.
+//
+// The scene: `collide run`'s embedded default scene (cli::make_scene: tiles of concave obstacles,
+// thin walls and sensor zones; circles, boxes, capsules, convex polygons and L-shaped compounds
+// of convex pieces, 1% bullets; the world grows with the body count at constant density).
+//
+// BM_Spawn/N: cli::make_scene with N bodies (1 thread): the time to build the scene, per body
+// placed.
+//
+// BM_CollideStep/N/T: World2D::step(1/60) on the scene make_scene gives (RunOptions::threads =
+// T, its own oneTBB scheduler), as `collide run` steps it: integrate with continuous collision,
+// statics (tree, early out, contact, push-out), body broad phase, body pairs (early out,
+// contact, elastic response), contact events, and the world's independent end-of-step check
+// (WorldOptions::check_each_step: on in make_scene; a brute-force tunnelling test, no peer has
+// it). Counters: `ns_body` (ns per body per frame, everything), `ns_body_nocheck` (the same
+// without StepStats::time_check), the phases per body, `bodies` placed, `workers` (the
+// scheduler's worker count: 1 when the scene has none, i.e. `threads` is ignored).
+//
+// BM_Box2DStep/N/T: Box2D v3's b2World_Step(1/60, 4 substeps) on a world built from the same
+// collide scene (its statics via static_def, its bodies via body_ids / shapes / transform /
+// velocity / angular_velocity, before collide steps it). The bodies are dynamic (v3's kinematic
+// bodies do not collide with statics), zero gravity, density 1, friction 0, restitution 1 (the
+// elastic bounce collide's world does), sleeping off (collide has no sleep), contact and sensor
+// events on (collide's world always reports them), maximum speed 1000 m/s (v3's default 400 would
+// clamp the 600 m/s bullets), bullets flagged isBullet. Polygons keep their rounding radius;
+// a static piece of more than 8 vertices (v3's limit) is split into a fan of convex pieces.
+// T = 1: v3's serial fallback (no callbacks); T = 2: its task callbacks on oneTBB (a task_arena
+// of T threads, one task_group per enqueued task; the stepping thread waits in finishTask and
+// helps).
+//   Counters from b2World_GetProfile, per body per frame:
+//    `ns_body`       the whole b2World_Step (our clock), solver included;
+//    `b2_collision`  pairs + collide + transforms + refit + bullets + sensors: the step without
+//                    the constraint solver (solverSetup, constraints, island split/sleep, events):
+//                    broad-phase pair finding and proxy refit, narrow phase (every contact's
+//                    manifold), continuous collision (fast bodies in transforms, bullets),
+//                    sensor overlaps, and the integration of transforms and AABBs. The figure to
+//                    set beside collide's `ns_body_nocheck`;
+//    `b2_broad_narrow` pairs + collide: pair finding and narrow phase alone, beside collide's
+//                    `statics` + `broad` + `pairs` (which also hold collide's push-out and bounce);
+//    `b2_solver`     solverSetup + constraints (what collide does not do).
+//   What is not the same: the trajectories (v3 solves contacts with a soft-step solver and
+//   turns bodies about their centre of mass; collide bounces and pushes out), so after the first
+//   frames the two worlds hold different states of similar density; the counters `contacts`
+//   (collide: touching pairs incl. sensors; v3: contact pairs whose fat boxes overlap,
+//   b2Counters::contactCount) say how much pair work each side saw.
+//
+// Each step benchmark runs kWarmupFrames untimed first (broad phases, caches, contacts settle),
+// then a fixed number of timed frames (fewer at larger N). Real time (UseRealTime): T = 2 runs
+// on two threads.
+//
+// Instruction sets: in the context block (collide's build; Box2D v3's as compiled by
+// cmake/peers.cmake, COLLIDE_BOX2D_V3_ISA).
+//
+// Run: build/release/bench/bench_world_scale  (about 5-10 minutes on 2 cores; filter a size with
+//      --benchmark_filter=/100000/ and so on). bench/world_scale_ratios.py prints the table.
+
+#include <collide/core/task_scheduler.hpp>
+#include <collide/world/world2d.hpp>
+
+#include "run.hpp"
+
+#include <benchmark/benchmark.h>
+#include <box2d/box2d.h>
+#include <box2d/constants.h>  // B2_MAX_TASKS
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
+
+#include "instruction_set.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#ifndef COLLIDE_BOX2D_V3_ISA
+#define COLLIDE_BOX2D_V3_ISA "unknown"
+#endif
+
+namespace {
+
+using namespace collide;
+using Clock = std::chrono::steady_clock;
+
+constexpr float kDt = 1.0f / 60.0f;
+constexpr int kBox2DSubSteps = 4;  // v3's recommended count; it changes the solver, not collision
+constexpr int kWarmupFrames = 3;
+/// Bullets are the only bodies this fast in the default scene (600 m/s; the others 2..15 m/s):
+/// how a body is recognised as one, since World2D does not give a body's filter or bullet flag.
+constexpr float kBulletSpeed = 100.0f;
+// The default scene's collision layers (apps/collide/run_scene.cpp): World2D gives statics'
+// filters (static_def) but not bodies', so bodies get the scene's rule again here.
+constexpr std::uint32_t kLayerWorld = 1u;
+constexpr std::uint32_t kLayerBodies = 2u;
+constexpr std::uint32_t kLayerGhosts = 4u;
+
+/// Timed frames per size: about the same work per benchmark, and the whole run in minutes.
+int timed_frames(int n) {
+  if (n <= 1000) return 200;
+  if (n <= 10000) return 40;
+  if (n <= 100000) return 10;
+  return 4;
+}
+
+double ns_per(double seconds, double frames, double bodies) {
+  return frames > 0 && bodies > 0 ? seconds * 1e9 / (frames * bodies) : 0.0;
+}
+
+cli::RunOptions scene_options(int n, int threads) {
+  cli::RunOptions o;
+  o.bodies = n;
+  o.threads = threads;
+  o.progress = false;
+  return o;
+}
+
+// ---- Box2D v3: the collide scene as v3 shapes --------------------------------------------------
+
+using V3Shape = std::variant<b2Circle, b2Capsule, b2Polygon, b2Segment>;
+
+struct V3Body {
+  b2Vec2 position;
+  b2Rot rotation;
+  b2Vec2 velocity;
+  float angular_velocity;
+  bool bullet;
+  std::uint32_t first_shape, shape_count;  // into V3Scene::shapes
+};
+
+struct V3Static {
+  b2Vec2 position;
+  b2Rot rotation;
+  bool sensor;
+  CollisionFilter filter;
+  std::uint32_t first_shape, shape_count;
+};
+
+/// The scene in v3's own shape types, a few hundred bytes per body (collide's Polygon holds 64
+/// vertex slots: copies of collide's bodies would take gigabytes at 1e6).
+struct V3Scene {
+  std::vector<V3Shape> shapes;
+  std::vector<V3Body> bodies;
+  std::vector<V3Static> statics;
+  int bullets = 0;
+  int split_pieces = 0;  ///< static pieces of more than 8 vertices split for v3
+};
+
+b2Vec2 v3(Vec2 v) { return {v.x, v.y}; }
+
+/// A v3 polygon from the vertices [first, first + count) of `p` (count <= 8, convex, CCW).
+b2Polygon v3_polygon(const Polygon& p, int first, int count, const int* index = nullptr) {
+  b2Vec2 points[B2_MAX_POLYGON_VERTICES];
+  for (int i = 0; i < count; ++i) points[i] = v3(p.vertices[static_cast<std::size_t>(index ? index[i] : first + i)]);
+  const b2Hull hull = b2ComputeHull(points, count);
+  if (hull.count < 3) throw std::runtime_error("Box2D v3: b2ComputeHull refused a collide polygon");
+  return b2MakePolygon(&hull, p.radius);
+}
+
+/// Appends `shape` as v3 shapes: one, or a fan of pieces for a polygon over v3's 8 vertices
+/// (fan triangles grouped 6 at a time: pieces 0, i, ..., i + 6; convex as the polygon is).
+int append_v3(std::vector<V3Shape>& out, const Shape2D& shape, int* split) {
+  return std::visit(
+      [&](const auto& s) -> int {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Circle>) {
+          out.emplace_back(b2Circle{v3(s.center), s.radius});
+        } else if constexpr (std::is_same_v<T, Capsule>) {
+          out.emplace_back(b2Capsule{v3(s.a), v3(s.b), s.radius});
+        } else if constexpr (std::is_same_v<T, Segment>) {
+          out.emplace_back(b2Segment{v3(s.a), v3(s.b)});
+        } else {
+          if (s.count <= B2_MAX_POLYGON_VERTICES) {
+            out.emplace_back(v3_polygon(s, 0, s.count));
+            return 1;
+          }
+          int pieces = 0;
+          for (int i = 1; i + 1 < s.count; i += B2_MAX_POLYGON_VERTICES - 2) {
+            int index[B2_MAX_POLYGON_VERTICES];
+            int k = 0;
+            index[k++] = 0;
+            for (int j = i; j < s.count && k < B2_MAX_POLYGON_VERTICES; ++j) index[k++] = j;
+            out.emplace_back(v3_polygon(s, 0, k, index));
+            ++pieces;
+          }
+          ++*split;
+          return pieces;
+        }
+        return 1;
+      },
+      shape);
+}
+
+/// The collide world's statics and (unstepped) bodies as v3 definitions.
+V3Scene v3_scene(const World2D& world) {
+  V3Scene out;
+  out.statics.reserve(static_cast<std::size_t>(world.static_count()));
+  for (int i = 0; i < world.static_count(); ++i) {
+    const StaticDef& def = world.static_def(StaticId{static_cast<std::uint32_t>(i)});
+    V3Static st{v3(def.transform.p), {def.transform.q.c, def.transform.q.s}, def.sensor, def.filter,
+                static_cast<std::uint32_t>(out.shapes.size()), 0};
+    for (const Shape2D& s : def.shapes) st.shape_count += static_cast<std::uint32_t>(append_v3(out.shapes, s, &out.split_pieces));
+    out.statics.push_back(st);
+  }
+  const std::vector<BodyId> ids = world.body_ids();
+  out.bodies.reserve(ids.size());
+  for (const BodyId id : ids) {
+    const Transform& xf = world.transform(id);
+    const Vec2 v = world.velocity(id);
+    const bool bullet = std::hypot(v.x, v.y) > kBulletSpeed;
+    V3Body b{v3(xf.p), {xf.q.c, xf.q.s}, v3(v), world.angular_velocity(id), bullet,
+             static_cast<std::uint32_t>(out.shapes.size()), 0};
+    for (const Shape2D& s : world.shapes(id)) b.shape_count += static_cast<std::uint32_t>(append_v3(out.shapes, s, &out.split_pieces));
+    out.bodies.push_back(b);
+    out.bullets += bullet ? 1 : 0;
+  }
+  return out;
+}
+
+void create_v3_shape(b2BodyId body, const b2ShapeDef& def, const V3Shape& shape) {
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, b2Circle>) b2CreateCircleShape(body, &def, &s);
+        else if constexpr (std::is_same_v<T, b2Capsule>) b2CreateCapsuleShape(body, &def, &s);
+        else if constexpr (std::is_same_v<T, b2Polygon>) b2CreatePolygonShape(body, &def, &s);
+        else b2CreateSegmentShape(body, &def, &s);
+      },
+      shape);
+}
+
+/// v3's task callbacks on oneTBB. v3 enqueues tasks from the stepping thread only (parallel-for
+/// chunks, the solver's workers, the tree rebuild, the island split) and finishes each exactly
+/// once; a task_group per enqueued task, taken from a pool reset before each step, so finishing
+/// one waits for that task alone (the stepping thread helps with queued work while it waits).
+/// The step runs inside the arena so that its tasks go to the arena's T threads.
+class TbbTasks {
+ public:
+  explicit TbbTasks(int threads) : arena_(threads) {}
+
+  static void* enqueue(b2TaskCallback* task, void* task_context, void* user_context) {
+    auto& self = *static_cast<TbbTasks*>(user_context);
+    const int slot = self.next_.fetch_add(1, std::memory_order_relaxed);
+    if (slot >= kSlots) {  // pool exhausted: run it here (v3: a null handle means "done")
+      task(task_context);
+      return nullptr;
+    }
+    tbb::task_group& group = self.groups_[static_cast<std::size_t>(slot)];
+    group.run([task, task_context] { task(task_context); });
+    return &group;
+  }
+  static void finish(void* handle, void* /*user_context*/) { static_cast<tbb::task_group*>(handle)->wait(); }
+
+  template <class F>
+  void step(F&& f) {
+    next_.store(0, std::memory_order_relaxed);
+    arena_.execute(f);
+  }
+
+ private:
+  // v3 caps a step's parallel-for tasks at B2_MAX_TASKS; the solver's and the tree's come on top.
+  static constexpr int kSlots = 2 * B2_MAX_TASKS;
+  tbb::task_arena arena_;
+  std::atomic<int> next_{0};
+  std::array<tbb::task_group, kSlots> groups_;
+};
+
+struct V3World {
+  b2WorldId id{};
+  std::unique_ptr<TbbTasks> tasks;
+  V3World() = default;
+  V3World(const V3World&) = delete;
+  V3World& operator=(const V3World&) = delete;
+  ~V3World() {
+    if (b2World_IsValid(id)) b2DestroyWorld(id);
+  }
+  void step() {
+    if (tasks) {
+      tasks->step([this] { b2World_Step(id, kDt, kBox2DSubSteps); });
+    } else {
+      b2World_Step(id, kDt, kBox2DSubSteps);
+    }
+  }
+};
+
+std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads) {
+  auto w = std::make_unique<V3World>();
+  b2WorldDef def = b2DefaultWorldDef();
+  def.gravity = {0.0f, 0.0f};
+  def.enableSleep = false;
+  def.maximumLinearSpeed = 1000.0f;
+  if (threads > 1) {
+    w->tasks = std::make_unique<TbbTasks>(threads);
+    def.workerCount = threads;
+    def.enqueueTask = &TbbTasks::enqueue;
+    def.finishTask = &TbbTasks::finish;
+    def.userTaskContext = w->tasks.get();
+  }
+  w->id = b2CreateWorld(&def);
+
+  for (const V3Static& st : scene.statics) {
+    b2BodyDef bd = b2DefaultBodyDef();
+    bd.type = b2_staticBody;
+    bd.position = st.position;
+    bd.rotation = st.rotation;
+    const b2BodyId body = b2CreateBody(w->id, &bd);
+    b2ShapeDef sd = b2DefaultShapeDef();
+    sd.filter.categoryBits = st.filter.layer;
+    sd.filter.maskBits = st.filter.mask;
+    sd.isSensor = st.sensor;
+    sd.enableSensorEvents = st.sensor;
+    for (std::uint32_t k = 0; k < st.shape_count; ++k) create_v3_shape(body, sd, scene.shapes[st.first_shape + k]);
+  }
+  for (const V3Body& b : scene.bodies) {
+    b2BodyDef bd = b2DefaultBodyDef();
+    bd.type = b2_dynamicBody;
+    bd.position = b.position;
+    bd.rotation = b.rotation;
+    bd.linearVelocity = b.velocity;
+    bd.angularVelocity = b.angular_velocity;
+    bd.isBullet = b.bullet;
+    bd.enableSleep = false;
+    const b2BodyId body = b2CreateBody(w->id, &bd);
+    b2ShapeDef sd = b2DefaultShapeDef();
+    sd.density = 1.0f;
+    sd.material.friction = 0.0f;
+    sd.material.restitution = 1.0f;
+    sd.filter.categoryBits = b.bullet ? kLayerGhosts : kLayerBodies;
+    sd.filter.maskBits = b.bullet ? kLayerWorld : 0xffffffffu;
+    sd.enableContactEvents = true;
+    sd.enableSensorEvents = true;
+    for (std::uint32_t k = 0; k < b.shape_count; ++k) create_v3_shape(body, sd, scene.shapes[b.first_shape + k]);
+  }
+  return w;
+}
+
+// ---- The scenes of one size, shared by its benchmarks -------------------------------------------
+
+/// Scenes are built once per size and thread count (a 1e6 scene takes a while), the v3
+/// description from the first, unstepped one; everything is dropped when the size changes.
+struct SizeCache {
+  int n = -1;
+  std::map<int, std::unique_ptr<cli::Scene>> scenes;  // by threads
+  std::unique_ptr<V3Scene> v3;
+  int requested_bullets = 0;
+
+  void reset(int size) {
+    if (n == size) return;
+    scenes.clear();
+    v3.reset();
+    n = size;
+  }
+  /// Takes a freshly made scene: the v3 description is read from it before anyone steps it.
+  void adopt(int threads, std::unique_ptr<cli::Scene> scene) {
+    if (!v3) {
+      v3 = std::make_unique<V3Scene>(v3_scene(scene->world));
+      requested_bullets = scene->bullets;
+    }
+    scenes[threads] = std::move(scene);
+  }
+  cli::Scene& scene(int threads) {
+    auto it = scenes.find(threads);
+    if (it == scenes.end()) {
+      adopt(threads, std::make_unique<cli::Scene>(cli::make_scene(scene_options(n, threads))));
+      it = scenes.find(threads);
+    }
+    return *it->second;
+  }
+  const V3Scene& v3_description() {
+    if (!v3) scene(1);
+    return *v3;
+  }
+};
+
+SizeCache& cache() {
+  static SizeCache c;
+  return c;
+}
+
+// ---- Benchmarks ---------------------------------------------------------------------------------
+
+void BM_Spawn(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  cache().reset(n);
+  cache().scenes.erase(1);  // time a fresh build; the last one stays for the step benchmarks
+  std::unique_ptr<cli::Scene> scene;
+  double seconds = 0.0;
+  for (auto _ : state) {
+    scene.reset();
+    const auto t0 = Clock::now();
+    scene = std::make_unique<cli::Scene>(cli::make_scene(scene_options(n, 1)));
+    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  const int placed = scene->world.body_count();
+  state.counters["bodies"] = placed;
+  state.counters["statics"] = scene->world.static_count();
+  state.counters["ns_body"] = ns_per(seconds, static_cast<double>(state.iterations()), placed);
+  if (placed < n * 9 / 10) {
+    state.SetLabel("scene did not grow: " + std::to_string(placed) + " of " + std::to_string(n) + " placed");
+  }
+  cache().v3.reset();  // re-read from this scene
+  cache().adopt(1, std::move(scene));
+}
+
+void BM_CollideStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  cache().reset(n);
+  cli::Scene& scene = cache().scene(threads);
+  World2D& world = scene.world;
+  for (int f = 0; f < kWarmupFrames; ++f) world.step(kDt);
+
+  StepStats sum;
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    world.step(kDt);
+    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    sum.accumulate(world.last_step_stats());
+  }
+  const double frames = static_cast<double>(state.iterations());
+  const double bodies = world.body_count();
+  state.counters["bodies"] = bodies;
+  state.counters["workers"] = scene.scheduler ? scene.scheduler->worker_count() : 1;
+  state.counters["ns_body"] = ns_per(seconds, frames, bodies);
+  state.counters["ns_body_nocheck"] = ns_per(seconds - sum.time_check, frames, bodies);
+  state.counters["integrate"] = ns_per(sum.time_integrate, frames, bodies);
+  state.counters["statics"] = ns_per(sum.time_statics, frames, bodies);
+  state.counters["broad"] = ns_per(sum.time_broad, frames, bodies);
+  state.counters["pairs"] = ns_per(sum.time_bodies, frames, bodies);
+  state.counters["events"] = ns_per(sum.time_events, frames, bodies);
+  state.counters["check"] = ns_per(sum.time_check, frames, bodies);
+  state.counters["contacts"] = static_cast<double>(sum.contacts) / (frames * bodies);
+  state.counters["narrow_tests"] = static_cast<double>(sum.narrow_tests) / (frames * bodies);
+  if (sum.tunnelled + sum.escaped > 0) {
+    state.SetLabel("check: " + std::to_string(sum.tunnelled) + " tunnelled, " + std::to_string(sum.escaped) +
+                   " escaped");
+  }
+}
+
+void BM_Box2DStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  cache().reset(n);
+  const V3Scene& description = cache().v3_description();
+  if (description.bullets != cache().requested_bullets) {
+    state.SkipWithError("Box2D v3: bodies faster than kBulletSpeed are not the scene's bullets");
+    return;
+  }
+  const std::unique_ptr<V3World> w = make_v3_world(description, threads);
+  for (int f = 0; f < kWarmupFrames; ++f) w->step();
+
+  b2Profile sum{};
+  double seconds = 0.0;
+  std::int64_t contacts = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    w->step();
+    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    const b2Profile p = b2World_GetProfile(w->id);
+    sum.pairs += p.pairs;
+    sum.collide += p.collide;
+    sum.transforms += p.transforms;
+    sum.refit += p.refit;
+    sum.bullets += p.bullets;
+    sum.sensors += p.sensors;
+    sum.solverSetup += p.solverSetup;
+    sum.constraints += p.constraints;
+    contacts += b2World_GetCounters(w->id).contactCount;
+  }
+  const double frames = static_cast<double>(state.iterations());
+  const double bodies = static_cast<double>(description.bodies.size());
+  const auto ms = [](float milliseconds) { return 1e-3 * milliseconds; };
+  state.counters["bodies"] = bodies;
+  state.counters["workers"] = threads;
+  state.counters["ns_body"] = ns_per(seconds, frames, bodies);
+  state.counters["b2_collision"] = ns_per(
+      ms(sum.pairs + sum.collide + sum.transforms + sum.refit + sum.bullets + sum.sensors), frames, bodies);
+  state.counters["b2_broad_narrow"] = ns_per(ms(sum.pairs + sum.collide), frames, bodies);
+  state.counters["b2_pairs"] = ns_per(ms(sum.pairs), frames, bodies);
+  state.counters["b2_collide"] = ns_per(ms(sum.collide), frames, bodies);
+  state.counters["b2_transforms"] = ns_per(ms(sum.transforms), frames, bodies);
+  state.counters["b2_solver"] = ns_per(ms(sum.solverSetup + sum.constraints), frames, bodies);
+  state.counters["contacts"] = static_cast<double>(contacts) / (frames * bodies);
+  // The broad phase's shape: a degenerate tree would explain a pair time growing faster than N.
+  const b2Counters counters = b2World_GetCounters(w->id);
+  state.counters["tree_height"] = counters.treeHeight;
+  state.counters["static_tree_height"] = counters.staticTreeHeight;
+  if (description.split_pieces > 0) {
+    state.SetLabel(std::to_string(description.split_pieces) + " static pieces split (over 8 vertices)");
+  }
+}
+
+void register_all() {
+  for (const int n : {1000, 10000, 100000, 1000000}) {
+    const int frames = timed_frames(n);
+    benchmark::RegisterBenchmark("BM_Spawn", BM_Spawn)
+        ->Arg(n)
+        ->Iterations(n <= 10000 ? 5 : 1)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    for (const int threads : {1, 2}) {
+      benchmark::RegisterBenchmark("BM_CollideStep", BM_CollideStep)
+          ->Args({n, threads})
+          ->Iterations(frames)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+      benchmark::RegisterBenchmark("BM_Box2DStep", BM_Box2DStep)
+          ->Args({n, threads})
+          ->Iterations(frames)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  const b2Version version = b2GetVersion();
+  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
+  benchmark::AddCustomContext("box2d v3 version", std::to_string(version.major) + "." +
+                                                      std::to_string(version.minor) + "." +
+                                                      std::to_string(version.revision));
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
