@@ -287,7 +287,21 @@ void finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPol
   } else {
     reference_face_manifold(pa, ref_a, pb, ctx, as_is, m);
   }
-  if (m.count > 0 || std::max(ref_a.separation, sep_b.separation) > ctx.apart) return;
+  const float best_separation = std::max(ref_a.separation, sep_b.separation);
+  if (m.count > 0 || best_separation > ctx.apart) return;
+  // Cores touching within the tolerance (rounding decides the sign), yet the incident edge
+  // clipped to nothing: a corner resting on the face. The deepest vertex below the best face is
+  // the answer. The other polygon's face is not: a small box resting on a long wall is deep
+  // below the wall's far corners along its own axes, and clipping against its face reported
+  // metres of depth (a box pushed through the boundary of a large world).
+  if (best_separation >= -ctx.apart) {
+    if (b_reference) {
+      deepest_point_manifold(pb, sep_b.edge, pa, ctx, reversed_side, m);
+    } else {
+      deepest_point_manifold(pa, ref_a.edge, pb, ctx, as_is, m);
+    }
+    return;
+  }
   // Cores overlap yet the incident edge missed the reference edge's slab: it happens when many
   // short edges overlap deeply (a 64-gon), where the edge facing the least-overlap axis can lie
   // beside the reference edge. Try the other polygon's best face, then the deepest vertex.

@@ -1,0 +1,66 @@
+// A small polygon resting on, or sinking into, a long wall (the boundary of a large world): the
+// manifold's normal is the wall's and its depth the analytic penetration, in both argument
+// orders, however long the wall. A 1288 m wall once made a box touching it by a hair (below the
+// rounding of coordinates near 360 m) report 7 m of depth along the box's own axis: the incident
+// edge clipped to nothing and the fallback for deep many-gon overlaps clipped against the box's
+// face instead, and `collide run --bodies 48000` pushed that box through the wall.
+
+#include <collide/narrow/contact.hpp>
+#include <collide/shape/shape2d.hpp>
+
+#include "support/random.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace collide {
+namespace {
+
+/// Depth error allowed: float rounding of coordinates near 360 m, plus the tolerance by which
+/// the contact counts sharp shapes apart by a hair as touching.
+constexpr float kDepthSlack = 2e-3f;
+
+TEST(ContactLongWall, SmallPolygonOnLongWall) {
+  std::mt19937 rng(48000);
+  const float wall_top = -360.0f;
+  int touching = 0;
+  for (const float half_length : {10.0f, 100.0f, 300.0f, 644.0f, 2000.0f}) {
+    const Polygon wall = make_box({half_length, 2.0f});
+    const Transform wall_xf = Transform::from({0.0f, wall_top - 2.0f}, 0.0f);
+    for (int i = 0; i < 2000; ++i) {
+      const Polygon body = i % 2 == 0 ? make_box({test::uniform(rng, 0.2f, 1.2f), test::uniform(rng, 0.2f, 1.2f)})
+                                      : test::random_polygon(rng, 3 + static_cast<int>(rng() % 6), 1.0f, 0.0f);
+      const float angle = test::uniform(rng, -std::numbers::pi_v<float>, std::numbers::pi_v<float>);
+      // Lowest point of the body at this angle, relative to its origin.
+      Transform xf = Transform::from({test::uniform(rng, -5.0f, 5.0f), 0.0f}, angle);
+      float lowest = INFINITY;
+      for (int v = 0; v < body.count; ++v) lowest = std::min(lowest, rotate(xf.q, body.vertices[v]).y);
+      // Apart by less than the long wall's tolerance (a hair: the case that failed), or up to a
+      // quarter of a metre into it.
+      const float penetration = i % 4 < 2 ? test::uniform(rng, -1e-4f, 0.0f) : test::uniform(rng, 0.0f, 0.25f);
+      xf.p.y = wall_top - penetration - lowest;
+      for (const bool body_first : {true, false}) {
+        const Manifold m = body_first ? contact(Shape2D{body}, xf, Shape2D{wall}, wall_xf)
+                                      : contact(Shape2D{wall}, wall_xf, Shape2D{body}, xf);
+        if (penetration > kDepthSlack) {
+          ASSERT_TRUE(m.touching()) << "wall " << half_length << " case " << i;
+        }
+        if (!m.touching()) continue;
+        ++touching;
+        const Vec2 down{0.0f, body_first ? -1.0f : 1.0f};  // from A to B
+        EXPECT_GT(dot(m.normal, down), 0.999f) << "wall " << half_length << " case " << i << " body first "
+                                                << body_first;
+        EXPECT_NEAR(m.max_depth(), std::max(penetration, 0.0f), kDepthSlack)
+            << "wall " << half_length << " case " << i << " body first " << body_first;
+      }
+    }
+  }
+  EXPECT_GT(touching, 10000);
+}
+
+}  // namespace
+}  // namespace collide
