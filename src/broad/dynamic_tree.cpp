@@ -229,6 +229,19 @@ void DynamicTreeN<D>::build(std::span<const AabbN<D>> boxes) {
 }
 
 template <int D>
+int DynamicTreeN<D>::insert(const AabbN<D>& box) {
+  validate_boxes(std::span<const AabbN<D>>(&box, 1));
+  const int id = size();
+  const int leaf = allocate_node();
+  nodes_[leaf].box = fat_box(box);
+  nodes_[leaf].object = id;
+  tight_.push_back(box);
+  leaf_.push_back(leaf);
+  insert_leaf(leaf);
+  return id;
+}
+
+template <int D>
 void DynamicTreeN<D>::update(std::span<const AabbN<D>> boxes) {
   if (boxes.size() != tight_.size()) {
     build(boxes);

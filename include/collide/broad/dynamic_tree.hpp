@@ -46,6 +46,10 @@ class DynamicTreeN {
   /// Moves the objects to their new boxes, reinserting only those that left their fat box. A
   /// different number of boxes rebuilds. Throws InvalidInput as build.
   void update(std::span<const AabbN<D>> boxes);
+  /// Adds one object (id: the number of objects before it) without touching the others: a
+  /// leaf inserted as by build, O(log n) on a balanced tree (spawning objects one by one, each
+  /// checked against those already placed). Throws InvalidInput as build.
+  int insert(const AabbN<D>& box);
 
   /// Every overlapping pair once as (smaller id, larger id), by traversing the tree against
   /// itself (fat boxes prune, tight boxes decide); order: depth first, deterministic.
