@@ -27,7 +27,8 @@
 // a static piece of more than 8 vertices (v3's limit) is split into a fan of convex pieces.
 // T = 1: v3's serial fallback (no callbacks); T = 2: its task callbacks on oneTBB (a task_arena
 // of T threads, one task_group per enqueued task; the stepping thread waits in finishTask and
-// helps).
+// helps). BM_Box2DStepOwnScheduler/N/2: v3's built-in scheduler (workerCount 2, no callbacks),
+// the reference for what the oneTBB callbacks cost or save.
 //   Counters from b2World_GetProfile, per body per frame:
 //    `ns_body`       the whole b2World_Step (our clock), solver included;
 //    `b2_collision`  pairs + collide + transforms + refit + bullets + sensors: the step without
@@ -44,6 +45,9 @@
 //   frames the two worlds hold different states of similar density; the counters `contacts`
 //   (collide: touching pairs incl. sensors; v3: contact pairs whose fat boxes overlap,
 //   b2Counters::contactCount) say how much pair work each side saw.
+//
+// Memory: `heap_per_body` (glibc's heap in use, before and after building the world: collide's
+// whole scene in BM_Spawn, v3's world from the same description in BM_Box2DStep), bytes.
 //
 // Each step benchmark runs kWarmupFrames untimed first (broad phases, caches, contacts settle),
 // then a fixed number of timed frames (fewer at larger N). Real time (UseRealTime): T = 2 runs
@@ -67,6 +71,8 @@
 #include <oneapi/tbb/task_group.h>
 
 #include "instruction_set.hpp"
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <array>
@@ -109,8 +115,11 @@ int timed_frames(int n) {
   if (n <= 1000) return 200;
   if (n <= 10000) return 40;
   if (n <= 100000) return 10;
-  return 4;
+  return 5;
 }
+
+/// Bytes of glibc's heap in use.
+double heap_bytes() { return static_cast<double>(mallinfo2().uordblks); }
 
 double ns_per(double seconds, double frames, double bodies) {
   return frames > 0 && bodies > 0 ? seconds * 1e9 / (frames * bodies) : 0.0;
@@ -292,15 +301,16 @@ struct V3World {
   }
 };
 
-std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads) {
+/// `own_scheduler`: v3's built-in scheduler for threads > 1 instead of the oneTBB callbacks.
+std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads, bool own_scheduler) {
   auto w = std::make_unique<V3World>();
   b2WorldDef def = b2DefaultWorldDef();
   def.gravity = {0.0f, 0.0f};
   def.enableSleep = false;
   def.maximumLinearSpeed = 1000.0f;
-  if (threads > 1) {
+  def.workerCount = threads;
+  if (threads > 1 && !own_scheduler) {
     w->tasks = std::make_unique<TbbTasks>(threads);
-    def.workerCount = threads;
     def.enqueueTask = &TbbTasks::enqueue;
     def.finishTask = &TbbTasks::finish;
     def.userTaskContext = w->tasks.get();
@@ -393,17 +403,20 @@ void BM_Spawn(benchmark::State& state) {
   cache().reset(n);
   cache().scenes.erase(1);  // time a fresh build; the last one stays for the step benchmarks
   std::unique_ptr<cli::Scene> scene;
-  double seconds = 0.0;
+  double seconds = 0.0, heap = 0.0;
   for (auto _ : state) {
     scene.reset();
+    const double heap0 = heap_bytes();
     const auto t0 = Clock::now();
     scene = std::make_unique<cli::Scene>(cli::make_scene(scene_options(n, 1)));
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    heap = heap_bytes() - heap0;
   }
   const int placed = scene->world.body_count();
   state.counters["bodies"] = placed;
   state.counters["statics"] = scene->world.static_count();
   state.counters["ns_body"] = ns_per(seconds, static_cast<double>(state.iterations()), placed);
+  state.counters["heap_per_body"] = heap / placed;
   if (placed < n * 9 / 10) {
     state.SetLabel("scene did not grow: " + std::to_string(placed) + " of " + std::to_string(n) + " placed");
   }
@@ -447,7 +460,7 @@ void BM_CollideStep(benchmark::State& state) {
   }
 }
 
-void BM_Box2DStep(benchmark::State& state) {
+void box2d_step(benchmark::State& state, bool own_scheduler) {
   const int n = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   cache().reset(n);
@@ -456,7 +469,9 @@ void BM_Box2DStep(benchmark::State& state) {
     state.SkipWithError("Box2D v3: bodies faster than kBulletSpeed are not the scene's bullets");
     return;
   }
-  const std::unique_ptr<V3World> w = make_v3_world(description, threads);
+  const double heap0 = heap_bytes();
+  const std::unique_ptr<V3World> w = make_v3_world(description, threads, own_scheduler);
+  const double heap = heap_bytes() - heap0;
   for (int f = 0; f < kWarmupFrames; ++f) w->step();
 
   b2Profile sum{};
@@ -482,6 +497,7 @@ void BM_Box2DStep(benchmark::State& state) {
   const auto ms = [](float milliseconds) { return 1e-3 * milliseconds; };
   state.counters["bodies"] = bodies;
   state.counters["workers"] = threads;
+  state.counters["heap_per_body"] = heap / bodies;
   state.counters["ns_body"] = ns_per(seconds, frames, bodies);
   state.counters["b2_collision"] = ns_per(
       ms(sum.pairs + sum.collide + sum.transforms + sum.refit + sum.bullets + sum.sensors), frames, bodies);
@@ -499,6 +515,9 @@ void BM_Box2DStep(benchmark::State& state) {
     state.SetLabel(std::to_string(description.split_pieces) + " static pieces split (over 8 vertices)");
   }
 }
+
+void BM_Box2DStep(benchmark::State& state) { box2d_step(state, false); }
+void BM_Box2DStepOwnScheduler(benchmark::State& state) { box2d_step(state, true); }
 
 void register_all() {
   for (const int n : {1000, 10000, 100000, 1000000}) {
@@ -520,6 +539,11 @@ void register_all() {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
+    benchmark::RegisterBenchmark("BM_Box2DStepOwnScheduler", BM_Box2DStepOwnScheduler)
+        ->Args({n, 2})
+        ->Iterations(frames)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   }
 }
 
