@@ -95,6 +95,12 @@ CheckChainOptions chain_options(bool adaptive) {
 
 constexpr std::array<bool, 3> kChainPretests = {false, false, true};
 
+/// Smallest range of bodies (or body pairs) a step hands to one task: enough work to pay for
+/// a task (a body's motion and static contacts take a microsecond or more, a pair's early out
+/// and contact a few hundred nanoseconds).
+constexpr int kBodiesPerTask = 128;
+constexpr int kPairsPerTask = 512;
+
 /// `v` shortened to at most `max_length`.
 template <class V>
 V clamp_length(V v, float max_length) {
@@ -298,10 +304,26 @@ bool WorldN<D>::Impl::evaluate_pair(detail::WorldCheckChain& chain, const Collid
 // ---- Step -----------------------------------------------------------------------------------
 
 template <int D>
+void WorldN<D>::Impl::prepare_workers() {
+  const int n = options.scheduler != nullptr ? std::max(1, options.scheduler->worker_count()) : 1;
+  if (static_cast<int>(workers.size()) == n) return;
+  workers.resize(static_cast<std::size_t>(n));
+  for (int w = 1; w < n; ++w) {
+    auto& wk = workers[static_cast<std::size_t>(w)];
+    if (wk.static_chain == nullptr) {
+      wk.static_chain = std::make_unique<detail::WorldCheckChain>(kChainPretests, chain_options(options.adaptive_early_out));
+      wk.body_chain = std::make_unique<detail::WorldCheckChain>(kChainPretests, chain_options(options.adaptive_early_out));
+    }
+  }
+}
+
+template <int D>
 void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
   if (proxies_changed) {
     proxies.clear();
+    first_proxy.assign(bodies.size(), 0);
     for (std::uint32_t i = 0; i < bodies.size(); ++i) {
+      first_proxy[i] = static_cast<std::uint32_t>(proxies.size());
       if (!bodies[i].alive) continue;
       for (std::size_t k = 0; k < bodies[i].shapes.size(); ++k) {
         proxies.push_back({i, static_cast<std::uint16_t>(k)});
@@ -313,35 +335,48 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
     proxy_start_boxes[p] = piece_box(bodies[proxies[p].body], proxies[p].piece);
   }
   const bool have_statics = !static_pieces.empty();
-  const bool gravity = options.gravity != VecN<D>(0.0f);
-  for (std::uint32_t i = 0; i < bodies.size(); ++i) {
-    Body& b = bodies[i];
-    if (!b.alive) continue;
-    if (gravity && !b.sensor) {
-      // (kept within kMaxWorldSpeed, as check_world_velocity keeps a game's velocities: a body
-      // falling forever must not overflow the temporal broad phase's speed bound)
-      b.velocity = glm::clamp(b.velocity + options.gravity * dt, VecN<D>(-kMaxWorldSpeed), VecN<D>(kMaxWorldSpeed));
-    }
-    b.path_count = 0;
-    b.mark_path(b.xf);
-    const VecN<D> d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
-    b.push = VecN<D>(0.0f);
-    const AngularN<D> rot = b.angular_velocity * dt;
-    const float motion = length(d) + detail::turn_size(rot) * b.bounding_radius;
-    const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
-    b.very_fast = motion > b.inner_size;
-    if (b.sensor || !have_statics || !fast || motion == 0.0f) {
-      b.place(detail::moved(b.xf, b.local_center, d, rot));
-      b.mark_path(b.xf);
-    } else {
-      move_with_ccd(i, d, rot, stats);
-    }
+  parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
+    for (int i = begin; i < end; ++i) integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
+  });
+  for (detail::StepWorkerN<D>& wk : workers) {
+    ccd_contacts.insert(ccd_contacts.end(), wk.ccd_contacts.begin(), wk.ccd_contacts.end());
+    wk.ccd_contacts.clear();
+    stats.accumulate(wk.stats);
+    wk.stats = StepStats{};
   }
 }
 
 template <int D>
-void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> rot, StepStats& stats) {
+void WorldN<D>::Impl::integrate_body(std::uint32_t i, float dt, bool have_statics, int w) {
+  Body& b = bodies[i];
+  if (!b.alive) return;
+  if (options.gravity != VecN<D>(0.0f) && !b.sensor) {
+    // (kept within kMaxWorldSpeed, as check_world_velocity keeps a game's velocities: a body
+    // falling forever must not overflow the temporal broad phase's speed bound)
+    b.velocity = glm::clamp(b.velocity + options.gravity * dt, VecN<D>(-kMaxWorldSpeed), VecN<D>(kMaxWorldSpeed));
+  }
+  b.path_count = 0;
+  b.mark_path(b.xf);
+  const VecN<D> d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
+  b.push = VecN<D>(0.0f);
+  const AngularN<D> rot = b.angular_velocity * dt;
+  const float motion = length(d) + detail::turn_size(rot) * b.bounding_radius;
+  const bool fast = b.bullet || motion > kCcdMotionFraction * b.inner_size;
+  b.very_fast = motion > b.inner_size;
+  if (b.sensor || !have_statics || !fast || motion == 0.0f) {
+    b.place(detail::moved(b.xf, b.local_center, d, rot));
+    b.mark_path(b.xf);
+  } else {
+    move_with_ccd(i, d, rot, w);
+  }
+}
+
+template <int D>
+void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> rot, int w) {
   Body& b = bodies[index];
+  detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
+  std::vector<int>& candidates = wk.candidates;
+  StepStats& stats = wk.stats;
   ++stats.ccd_bodies;
   for (int bounce = 0; bounce <= kMaxCcdBounces; ++bounce) {
     const auto sweep = detail::sweep_of(b.xf, b.local_center, d, rot);
@@ -403,7 +438,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
     b.mark_path(b.xf);
     if (!found) break;
     ++stats.toi_hits;
-    if (best_id >= 0 && !stop && best_n != VecN<D>(0.0f)) record_impact(index, best_k, best_id, best_n, best_point);
+    if (best_id >= 0 && !stop && best_n != VecN<D>(0.0f)) record_impact(index, best_k, best_id, best_n, best_point, wk.ccd_contacts);
     if (stop || best_n == VecN<D>(0.0f)) break;
     b.velocity = reflect_if_approaching(b.velocity, best_n);
     d = reflect_if_approaching((1.0f - best_t) * d, best_n);
@@ -413,15 +448,15 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
 
 template <int D>
 void WorldN<D>::Impl::record_impact(std::uint32_t index, std::size_t piece, int static_piece,
-                                    VecN<D> normal, VecN<D> point) {
+                                    VecN<D> normal, VecN<D> point, std::vector<Contact>& out) {
   const Body& b = bodies[index];
   const StaticPiece& sp = static_pieces[static_piece];
   const StaticDefN<D>& st = statics[sp.owner];
   Contact c{ColliderRef{false, index, static_cast<std::uint16_t>(piece)},
             ColliderRef{true, sp.owner, sp.piece}, {}, false, b.user_id, st.user_id};
   // A pair hit twice in one step keeps its first impact. This body's impacts are the tail of
-  // ccd_contacts (bodies move one after another), so the scan stops at the first other body.
-  for (auto it = ccd_contacts.rbegin(); it != ccd_contacts.rend() && it->a.index == index; ++it) {
+  // `out` (a worker moves its bodies one after another), so the scan stops at the first other body.
+  for (auto it = out.rbegin(); it != out.rend() && it->a.index == index; ++it) {
     if (compare_contacts(*it, c) == 0) return;
   }
   // The exact manifold at the impact pose when the shapes already touch there (it carries
@@ -432,70 +467,86 @@ void WorldN<D>::Impl::record_impact(std::uint32_t index, std::size_t piece, int 
     c.manifold.count = 1;
     c.manifold.points[0] = ManifoldPointN<D>{point, 0.0f, ContactId{}};
   }
-  ccd_contacts.push_back(c);
+  out.push_back(c);
 }
 
 template <int D>
 void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
-  std::size_t first_proxy = 0;
-  for (std::uint32_t i = 0; i < bodies.size(); ++i) {
-    Body& b = bodies[i];
-    if (!b.alive) continue;
-    const std::size_t piece_count = b.shapes.size();
-    Box start = proxy_start_boxes[first_proxy];
-    for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first_proxy + k]);
-    first_proxy += piece_count;
-    if (static_pieces.empty()) continue;
-    if (clear_of_statics(b)) {
-      ++stats.static_clear_skips;
-      continue;
-    }
-    for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
-      body_contacts.clear();
-      const Box query_box = merge(start, body_box(b));
-      candidates.clear();
-      static_tree.query(query_box, [&](int id) {
-        candidates.push_back(id);
-        return true;
-      });
-      std::sort(candidates.begin(), candidates.end());
-      stats.static_candidates += static_cast<std::int64_t>(candidates.size() * piece_count);
-      for (std::size_t k = 0; k < piece_count; ++k) {
-        const ColliderRef a{false, i, static_cast<std::uint16_t>(k)};
-        const Box box_a = piece_box(b, int(k));
-        const VecN<D> circle_a = transform_point(b.xf, b.pieces[k].center);
-        for (const int id : candidates) {
-          const StaticPiece& sp = static_pieces[id];
-          const ColliderRef other{true, sp.owner, sp.piece};
-          Manifold m;
-          if (evaluate_pair(static_chain, a, other, box_a, sp.box, circle_a, b.pieces[k].radius,
-                            sp.circle_center, sp.circle_radius, m, stats)) {
-            const StaticDefN<D>& st = statics[sp.owner];
-            body_contacts.push_back({a, other, m, b.sensor || st.sensor, b.user_id, st.user_id});
-          }
-        }
-      }
-      // The deepest solid contact pushes the body out; then look again (corners).
-      const Contact* deepest = nullptr;
-      float depth = kRelativeTolerance * b.inner_size;
-      for (const Contact& c : body_contacts) {
-        if (!c.sensor && c.manifold.max_depth() > depth) {
-          depth = c.manifold.max_depth();
-          deepest = &c;
-        }
-      }
-      if (body_contacts.empty()) measure_clearance(b);
-      if (deepest == nullptr || iteration == kResolveIterations) break;
-      const VecN<D> n = deepest->manifold.normal;  // from the body to the static
-      TransformN<D> out = b.xf;
-      out.p -= depth * n;
-      b.place(out);
-      b.mark_path(b.xf);
-      b.velocity = reflect_if_approaching(b.velocity, n);
-      ++stats.pushes;
-    }
-    contacts.insert(contacts.end(), body_contacts.begin(), body_contacts.end());
+  if (!static_pieces.empty()) {
+    parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
+      for (int i = begin; i < end; ++i) resolve_body(static_cast<std::uint32_t>(i), w);
+    });
   }
+  for (detail::StepWorkerN<D>& wk : workers) {
+    contacts.insert(contacts.end(), wk.contacts.begin(), wk.contacts.end());
+    wk.contacts.clear();
+    stats.accumulate(wk.stats);
+    wk.stats = StepStats{};
+  }
+}
+
+template <int D>
+void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
+  Body& b = bodies[i];
+  if (!b.alive) return;
+  detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
+  std::vector<int>& candidates = wk.candidates;
+  std::vector<Contact>& body_contacts = wk.body_contacts;
+  StepStats& stats = wk.stats;
+  detail::WorldCheckChain& chain = static_chain_of(w);
+  const std::size_t piece_count = b.shapes.size();
+  const std::size_t first = first_proxy[i];
+  Box start = proxy_start_boxes[first];
+  for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first + k]);
+  if (clear_of_statics(b)) {
+    ++stats.static_clear_skips;
+    return;
+  }
+  for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
+    body_contacts.clear();
+    const Box query_box = merge(start, body_box(b));
+    candidates.clear();
+    static_tree.query(query_box, [&](int id) {
+      candidates.push_back(id);
+      return true;
+    });
+    std::sort(candidates.begin(), candidates.end());
+    stats.static_candidates += static_cast<std::int64_t>(candidates.size() * piece_count);
+    for (std::size_t k = 0; k < piece_count; ++k) {
+      const ColliderRef a{false, i, static_cast<std::uint16_t>(k)};
+      const Box box_a = piece_box(b, int(k));
+      const VecN<D> circle_a = transform_point(b.xf, b.pieces[k].center);
+      for (const int id : candidates) {
+        const StaticPiece& sp = static_pieces[id];
+        const ColliderRef other{true, sp.owner, sp.piece};
+        Manifold m;
+        if (evaluate_pair(chain, a, other, box_a, sp.box, circle_a, b.pieces[k].radius,
+                          sp.circle_center, sp.circle_radius, m, stats)) {
+          const StaticDefN<D>& st = statics[sp.owner];
+          body_contacts.push_back({a, other, m, b.sensor || st.sensor, b.user_id, st.user_id});
+        }
+      }
+    }
+    // The deepest solid contact pushes the body out; then look again (corners).
+    const Contact* deepest = nullptr;
+    float depth = kRelativeTolerance * b.inner_size;
+    for (const Contact& c : body_contacts) {
+      if (!c.sensor && c.manifold.max_depth() > depth) {
+        depth = c.manifold.max_depth();
+        deepest = &c;
+      }
+    }
+    if (body_contacts.empty()) measure_clearance(b);
+    if (deepest == nullptr || iteration == kResolveIterations) break;
+    const VecN<D> n = deepest->manifold.normal;  // from the body to the static
+    TransformN<D> out = b.xf;
+    out.p -= depth * n;
+    b.place(out);
+    b.mark_path(b.xf);
+    b.velocity = reflect_if_approaching(b.velocity, n);
+    ++stats.pushes;
+  }
+  wk.contacts.insert(wk.contacts.end(), body_contacts.begin(), body_contacts.end());
 }
 
 template <int D>
@@ -567,21 +618,40 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   const auto t1 = Clock::now();
   stats.time_broad = seconds(t0, t1);
 
-  for (const auto& [p, q] : pairs) {
-    const detail::Proxy pa = proxies[p];
-    const detail::Proxy pb = proxies[q];
+  // The narrow phase, pair by pair on the workers (each writes only its own pair's slot), then
+  // the response in pair order on this thread: it changes velocities that later pairs read.
+  const auto pair_count = static_cast<int>(pairs.size());
+  pair_manifolds.resize(pairs.size());
+  pair_passed.resize(pairs.size());
+  parallel(pair_count, kPairsPerTask, [&](int begin, int end, int w) {
+    detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
+    detail::WorldCheckChain& chain = body_chain_of(w);
+    for (int i = begin; i < end; ++i) {
+      const auto [p, q] = pairs[static_cast<std::size_t>(i)];
+      const detail::Proxy pa = proxies[p];
+      const detail::Proxy pb = proxies[q];
+      const Body& ba = bodies[pa.body];
+      const Body& bb = bodies[pb.body];
+      pair_passed[static_cast<std::size_t>(i)] = evaluate_pair(
+          chain, ColliderRef{false, pa.body, pa.piece}, ColliderRef{false, pb.body, pb.piece},
+          piece_box(ba, pa.piece), piece_box(bb, pb.piece), transform_point(ba.xf, ba.pieces[pa.piece].center),
+          ba.pieces[pa.piece].radius, transform_point(bb.xf, bb.pieces[pb.piece].center), bb.pieces[pb.piece].radius,
+          pair_manifolds[static_cast<std::size_t>(i)], wk.stats);
+    }
+  });
+  for (detail::StepWorkerN<D>& wk : workers) {
+    stats.accumulate(wk.stats);
+    wk.stats = StepStats{};
+  }
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (pair_passed[i] == 0) continue;
+    const detail::Proxy pa = proxies[pairs[i].first];
+    const detail::Proxy pb = proxies[pairs[i].second];
     const ColliderRef a{false, pa.body, pa.piece};
     const ColliderRef b{false, pb.body, pb.piece};
     Body& ba = bodies[pa.body];
     Body& bb = bodies[pb.body];
-    Manifold m;
-    if (!evaluate_pair(body_chain, a, b, piece_box(ba, pa.piece), piece_box(bb, pb.piece),
-                       transform_point(ba.xf, ba.pieces[pa.piece].center),
-                       ba.pieces[pa.piece].radius,
-                       transform_point(bb.xf, bb.pieces[pb.piece].center),
-                       bb.pieces[pb.piece].radius, m, stats)) {
-      continue;
-    }
+    const Manifold& m = pair_manifolds[i];
     const bool sensor = ba.sensor || bb.sensor;
     contacts.push_back({a, b, m, sensor, ba.user_id, bb.user_id});
     if (sensor) continue;
@@ -1020,6 +1090,7 @@ void WorldN<D>::step(float dt) {
   s.bodies = w.alive_bodies;
   s.static_pieces = static_cast<std::int64_t>(w.static_pieces.size());
   w.contacts.clear();
+  w.prepare_workers();
   const auto t0 = Clock::now();
   w.integrate(dt, s);
   const auto t1 = Clock::now();

@@ -14,6 +14,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -109,6 +111,22 @@ inline constexpr int kCheckFilter = 0;
 inline constexpr int kCheckAabb = 1;
 inline constexpr int kCheckExact = 2;
 
+/// What one worker of a step writes (TaskScheduler): its scratch and its share of the outputs,
+/// merged after each phase. Outputs are contacts with unique (a, b) keys, sorted by the events
+/// pass, and integer counters: the merge order cannot change a result.
+template <int D>
+struct StepWorkerN {
+  std::vector<int> candidates;
+  std::vector<ContactN<D>> body_contacts;  ///< one body's static contacts while it is pushed out
+  std::vector<ContactN<D>> contacts;       ///< body-static contacts at the end of the motion
+  std::vector<ContactN<D>> ccd_contacts;   ///< impacts during the motion
+  StepStats stats{};
+  /// Early-out chains of workers after the first (worker 0 uses the world's own, whose reports
+  /// the world gives; with several workers they describe worker 0's share of the pairs).
+  std::unique_ptr<WorldCheckChain> static_chain;
+  std::unique_ptr<WorldCheckChain> body_chain;
+};
+
 /// The independent check's own uniform grid over the static pieces and the level shapes'
 /// triangles: deliberately not the world's tree or the levels' BVHs, so a bug there cannot hide
 /// a tunnelled body. Item i < static_pieces.size() is a static piece, the rest are triangles.
@@ -157,6 +175,7 @@ struct WorldN<D>::Impl {
   // Body broad phase
   detail::BodyBroadPhaseN<D> body_broad;
   std::vector<detail::Proxy> proxies;
+  std::vector<std::uint32_t> first_proxy;  ///< per body slot: index of its first proxy
   std::vector<Box> proxy_boxes;        ///< swept boxes over the last step
   std::vector<Box> proxy_start_boxes;  ///< tight boxes at the start of the step
   std::vector<float> proxy_speeds;
@@ -182,8 +201,29 @@ struct WorldN<D>::Impl {
 
   // Scratch, reused every step
   PairList pairs;
-  std::vector<int> candidates;
-  std::vector<Contact> body_contacts;
+  std::vector<Manifold> pair_manifolds;  ///< per body pair: its manifold when it passed
+  std::vector<std::uint8_t> pair_passed;
+  std::vector<detail::StepWorkerN<D>> workers;  ///< one per scheduler worker
+
+  /// Runs f(begin, end, worker) over [0, count) on the scheduler's workers (or on this thread,
+  /// as one range, when there is none or the work is a single range).
+  template <class F>
+  void parallel(int count, int min_range, F&& f) {
+    if (count <= 0) return;
+    if (options.scheduler == nullptr || workers.size() < 2 || count <= min_range) {
+      f(0, count, 0);
+      return;
+    }
+    using Fn = std::remove_reference_t<F>;
+    options.scheduler->parallel_for(
+        count, min_range, [](int begin, int end, int worker, void* context) { (*static_cast<Fn*>(context))(begin, end, worker); },
+        &f);
+  }
+  /// Worker w's scratch and chains (the world's own chains for worker 0).
+  detail::WorldCheckChain& static_chain_of(int w) { return w == 0 ? static_chain : *workers[w].static_chain; }
+  detail::WorldCheckChain& body_chain_of(int w) { return w == 0 ? body_chain : *workers[w].body_chain; }
+  /// Sizes `workers` to the scheduler's worker count (chains made once).
+  void prepare_workers();
 
   // Helpers
   [[nodiscard]] Body& body(BodyId id);
@@ -212,8 +252,12 @@ struct WorldN<D>::Impl {
 
   // Step phases
   void integrate(float dt, StepStats& stats);
-  void move_with_ccd(std::uint32_t index, VecN<D> translation, AngularN<D> rotation, StepStats& stats);
+  /// One body's motion (worker w): gravity, then free or continuous motion against statics.
+  void integrate_body(std::uint32_t index, float dt, bool have_statics, int w);
+  void move_with_ccd(std::uint32_t index, VecN<D> translation, AngularN<D> rotation, int w);
   void resolve_statics(StepStats& stats);
+  /// One body's contacts with statics and its push-outs (worker w).
+  void resolve_body(std::uint32_t index, int w);
   /// True when every piece of `b` is within its static clearance (BodyN::clearance).
   bool clear_of_statics(const Body& b) const;
   /// Measures the static clearance of every piece of `b` at its pose.
@@ -223,7 +267,7 @@ struct WorldN<D>::Impl {
   [[nodiscard]] float speed_bound(const Body& b, float dt) const;
   /// Records a fast body's impact on a static piece as a contact of this step.
   void record_impact(std::uint32_t index, std::size_t piece, int static_piece, VecN<D> normal,
-                     VecN<D> point);
+                     VecN<D> point, std::vector<Contact>& out);
   void make_events(StepStats& stats);
   void check(StepStats& stats);
   /// Runs `chain` on one pair; on pass, `out` holds the manifold. Counts rejections in `stats`.

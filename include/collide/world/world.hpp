@@ -58,6 +58,7 @@
 #include <collide/core/finite_range.hpp>
 #include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
+#include <collide/core/task_scheduler.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/narrow/manifold.hpp>
@@ -283,6 +284,10 @@ struct WorldOptionsN {
   /// Acceleration of every non-sensor body, world units per second squared (e.g. (0, -9.81, 0)
   /// in a y-up world); zero (the default) leaves velocities to the bounces and the game.
   VecN<D> gravity{0.0f};
+  /// The game's job system (not owned; it must outlive the world's steps): the step's per-body and
+  /// per-pair work is spread over its workers, with results bit for bit identical to a serial
+  /// step for any worker count. Null: every phase runs on the stepping thread.
+  TaskScheduler* scheduler = nullptr;
 };
 
 /// A contact between two colliders in a step: touching at the end of the step, or hit by a fast
