@@ -7,6 +7,8 @@
 
 #include "command_errors.hpp"
 #include "run.hpp"
+#include "spawn.hpp"
+#include "tbb_scheduler.hpp"
 #include "run_common.hpp"
 
 #include <collide/ccd/raycast.hpp>
@@ -165,6 +167,7 @@ ViewAngles parse_view(const std::string& text) {
 
 struct Scene3D {
   std::string name;
+  std::shared_ptr<TaskScheduler> scheduler;  ///< the step's job system; the world points to it
   World3D world;
   Aabb3 level;                  ///< the level's box (statics)
   Aabb3 spawn;                  ///< where bodies are spawned
@@ -268,21 +271,28 @@ Shape3D body_shape(std::mt19937& rng, float size) {
   }
 }
 
-/// Bodies at random free places in the level's box (each at most kSpawnAttempts tries).
+/// Bodies at random free places in the level's box (each at most kSpawnAttempts tries; all stop
+/// after kSpawnMissesInARow tries in a row find no room: the level is full).
 void spawn_bodies(Scene3D& s, int count, float dt) {
   std::mt19937 rng(s.seed);
   const Vec3 lo = s.spawn.min, hi = s.spawn.max;
-  for (int i = 0; i < count; ++i) {
+  SpawnSpace<3> space(s.world);
+  int misses = 0;
+  for (int i = 0; i < count && misses < kSpawnMissesInARow; ++i) {
     const Shape3D shape = body_shape(rng, s.body_size);
     for (int attempt = 0; attempt < kSpawnAttempts; ++attempt) {
       const Transform3 xf{Vec3(uniform(rng, lo.x, hi.x), uniform(rng, lo.y, hi.y), uniform(rng, lo.z, hi.z)), random_rotation(rng)};
-      if (!free_at(s.world, shape, xf)) continue;
+      if (!space.fits(std::span<const Shape3D>(&shape, 1), xf)) {
+        ++misses;
+        continue;
+      }
+      misses = 0;
       const bool bullet = (s.world.body_count() + 1) % kBulletEvery == 0;
       const Vec3 dir = normalize(Vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)) + Vec3(1e-3f));
       const float speed = bullet ? kBulletSpeed * s.body_size / dt : uniform(rng, 0.0f, kBodySpeed * s.body_size);
-      s.world.add_body({.shapes = {shape}, .transform = xf, .velocity = speed * dir,
-                        .angular_velocity = Vec3(uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2)),
-                        .user_id = 1000 + std::uint64_t(i), .bullet = bullet});
+      space.add(s.world.add_body({.shapes = {shape}, .transform = xf, .velocity = speed * dir,
+                                  .angular_velocity = Vec3(uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2)),
+                                  .user_id = 1000 + std::uint64_t(i), .bullet = bullet}));
       s.bullets += bullet;
       break;
     }
@@ -331,6 +341,8 @@ Scene3D make_scene3d(const RunOptions& o) {
   WorldOptions3 options{.broad_phase = o.broad_phase, .adaptive_early_out = o.adaptive_early_out,
                         .gravity = Vec3(0.0f, -o.gravity, 0.0f)};
   if (o.input.empty()) options.bounds = Aabb3{Vec3(-kRoomX, -1.0f, -kRoomZ), Vec3(kRoomX, kRoomY, kRoomZ)};
+  s.scheduler = make_scheduler(o.threads);
+  options.scheduler = s.scheduler.get();
   s.world = World3D(options);
   if (o.input.empty()) {
     s.name = "embedded 3D scene";
@@ -450,9 +462,10 @@ void print_summary3(std::FILE* out, const RunOptions& o, const Scene3D& s, const
   std::fprintf(out, "\n  level          box [%.3g %.3g %.3g] .. [%.3g %.3g %.3g], bodies of size %.3g, characters %.3g tall\n",
                s.level.min.x, s.level.min.y, s.level.min.z, s.level.max.x, s.level.max.y, s.level.max.z,
                s.body_size, s.character_height);
-  std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, gravity %.3g, seed %u\n", f,
+  std::fprintf(out, "  spawn          %.3f s to build the scene and place its bodies\n", r.setup_seconds);
+  std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, gravity %.3g, seed %u, %d thread%s\n", f,
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase), o.adaptive_early_out ? "adaptive" : "fixed order",
-               static_cast<double>(o.gravity), s.seed);
+               static_cast<double>(o.gravity), s.seed, r.threads, r.threads == 1 ? "" : "s");
   print_phases(out, r, /*sensors=*/false);
   std::fprintf(out, "  laser          %.1f hits (reflections and the last surface); last frame %d segments\n",
                per_frame(r.laser_hits, f), r.laser_last_segments);
@@ -483,10 +496,13 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
   if (!o.svg.empty()) throw InvalidInput("--svg: a 3D run draws PNG pictures only (--png)");
   if (!o.png.empty()) require_output_folder("--png", o.png);
   const ViewAngles angles = parse_view(o.view);  // before the run, not after it
+  const auto setup = std::chrono::steady_clock::now();
   Scene3D s = make_scene3d(o);
   World3D& world = s.world;
-  EventsFile events(o);
   RunReport r;
+  r.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup).count();
+  r.threads = s.scheduler->worker_count();
+  EventsFile events(o);
   r.scene = s.name;
   count_world(r, world);
   r.frames = o.frames;

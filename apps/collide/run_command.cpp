@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "run.hpp"
 #include "run_common.hpp"
+#include "tbb_scheduler.hpp"
 
 #include <collide/core/error.hpp>
 #include <collide/draw/cairo_picture.hpp>
@@ -57,9 +58,10 @@ void print_summary(std::FILE* out, const RunOptions& o, const Scene& scene, cons
                r.statics, r.static_pieces, r.split_statics, r.bodies, scene.bullets);
   if (r.bodies < scene.requested_bodies) std::fprintf(out, "; %d asked, no free space for more", scene.requested_bodies);
   std::fprintf(out, ")\n");
-  std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u\n", f,
+  std::fprintf(out, "  spawn          %.3f s to build the scene and place its bodies\n", r.setup_seconds);
+  std::fprintf(out, "  run            %d frames of %.2f ms, broad phase %s, early out %s, seed %u, %d thread%s\n", f,
                1e3 * static_cast<double>(o.dt), to_string(o.broad_phase),
-               o.adaptive_early_out ? "adaptive" : "fixed order", scene.seed);
+               o.adaptive_early_out ? "adaptive" : "fixed order", scene.seed, r.threads, r.threads == 1 ? "" : "s");
   print_layers(out, o, scene);
   print_phases(out, r, /*sensors=*/true);
   if (scene.has_laser) {
@@ -150,10 +152,13 @@ RunReport run_world(const RunOptions& o, std::FILE* out) {
   check_run_steps(o);
   if (!o.png.empty()) require_output_folder("--png", o.png);  // before the run, not after it
   if (!o.svg.empty()) require_output_folder("--svg", o.svg);
+  const auto setup = std::chrono::steady_clock::now();
   Scene scene = make_scene(o);
   World2D& world = scene.world;
-  EventsFile events(o);
   RunReport r;
+  r.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup).count();
+  r.threads = scene.scheduler->worker_count();
+  EventsFile events(o);
   r.scene = scene.name;
   count_world(r, world);
   r.frames = o.frames;
@@ -199,7 +204,15 @@ void register_run_command(CLI::App& app) {
                   "y up) or embedded scene (default, bullets); default: default");
   cmd->add_option("--bodies", o->bodies,
                   "Bodies to spawn (default scene 3000, bullets 500, maps 300, scene files their spawn count)")
-      ->check(CLI::Range(0, 1000000));
+      ->check(CLI::Range(0, 10000000));
+  cmd->add_option("--threads", o->threads, "Worker threads of the step (oneTBB); 0: every core")
+      ->capture_default_str()
+      ->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--density", o->density,
+                  "Default scene: bodies per area relative to its own (3000 per 320 x 180 tile); the scene grows "
+                  "with --bodies at this density")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 1000.0));
   CLI::Option* seed = cmd->add_option("--seed", o->seed, "Random seed of the scene (overrides a scene file's)")
                           ->capture_default_str();
   cmd->add_option("--frames", o->frames, "Frames to run")->capture_default_str()->check(CLI::Range(0, 100000000));

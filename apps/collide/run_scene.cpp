@@ -4,6 +4,8 @@
 
 #include "command_errors.hpp"
 #include "run.hpp"
+#include "spawn.hpp"
+#include "tbb_scheduler.hpp"
 
 #include <collide/core/error.hpp>
 #include <collide/io/scene_json.hpp>
@@ -26,6 +28,8 @@ namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 /// Spawning gives up after this many tries per body (a map with little free space).
 constexpr int kSpawnAttemptsPerBody = 200;
+/// The default scene grows to at most this many tiles (3.4e7 bodies at density 1).
+constexpr std::int64_t kMaxDefaultTiles = 1 << 14;
 /// Collision layers of the scenes.
 constexpr std::uint32_t kLayerWorld = 1u;
 constexpr std::uint32_t kLayerBodies = 2u;
@@ -51,19 +55,6 @@ void add_boundary(World2D& world, const Aabb& box, float t) {
   wall({c.x, box.max.y + t}, {h.x + 2 * t, t});
   wall({box.min.x - t, c.y}, {t, h.y + 2 * t});
   wall({box.max.x + t, c.y}, {t, h.y + 2 * t});
-}
-
-/// True when the shapes placed by `xf` overlap no solid collider of the world.
-bool fits(const World2D& world, const std::vector<Shape2D>& shapes, const Transform& xf) {
-  for (const Shape2D& shape : shapes) {
-    bool clear = true;
-    world.query_aabb(compute_aabb(shape, xf), QueryFilter{}, [&](const ColliderRef& c) {
-      clear = !overlap(shape, xf, world.collider_shape(c), world.collider_transform(c));
-      return clear;
-    });
-    if (!clear) return false;
-  }
-  return true;
 }
 
 /// A random convex polygon of 5 to 8 vertices on a jittered circle of radius r.
@@ -105,12 +96,14 @@ BodyDef random_body(Rng& rng, float s) {
 
 /// Spawns up to `count` bodies of size [min_size, max_size] and speed [min_speed, max_speed]
 /// in the free space of `box`; `bullets` of them fast (bullet_speed) and small. Returns how
-/// many bullets were placed.
+/// many bullets were placed. Stops early when kSpawnMissesInARow tries in a row find no room
+/// (the caller reports how many fit).
 int spawn_bodies(World2D& world, Rng& rng, const Aabb& box, int count, float min_size, float max_size,
                  float min_speed, float max_speed, int bullets, float bullet_speed) {
-  int placed = 0, placed_bullets = 0;
+  int placed = 0, placed_bullets = 0, misses = 0;
+  SpawnSpace<2> space(world);
   const long attempts = static_cast<long>(count) * kSpawnAttemptsPerBody;
-  for (long attempt = 0; attempt < attempts && placed < count; ++attempt) {
+  for (long attempt = 0; attempt < attempts && placed < count && misses < kSpawnMissesInARow; ++attempt) {
     const bool bullet = placed < bullets;
     BodyDef def;
     if (bullet) {
@@ -126,13 +119,17 @@ int spawn_bodies(World2D& world, Rng& rng, const Aabb& box, int count, float min
     def.transform = Transform::from({uniform(rng, box.min.x + margin, box.max.x - margin),
                                      uniform(rng, box.min.y + margin, box.max.y - margin)},
                                     uniform(rng, -kPi, kPi));
-    if (!fits(world, def.shapes, def.transform)) continue;
+    if (!space.fits(def.shapes, def.transform)) {
+      ++misses;
+      continue;
+    }
+    misses = 0;
     const float heading = uniform(rng, -kPi, kPi);
     const float speed = bullet ? bullet_speed : uniform(rng, min_speed, max_speed);
     def.velocity = speed * Vec2{std::cos(heading), std::sin(heading)};
     def.angular_velocity = bullet ? 0.0f : uniform(rng, -2.0f, 2.0f);
     def.user_id = 1000 + static_cast<std::uint64_t>(placed);
-    world.add_body(def);
+    space.add(world.add_body(def));
     ++placed;
     placed_bullets += bullet ? 1 : 0;
   }
@@ -182,23 +179,31 @@ Scene walled_scene(const RunOptions& options, std::string name, const Aabb& aren
   scene.name = std::move(name);
   scene.bounds = arena;
   scene.seed = options.seed;
-  scene.world = World2D(WorldOptions{options.broad_phase, arena, options.adaptive_early_out, true});
+  scene.scheduler = make_scheduler(options.threads);
+  WorldOptions world_options{options.broad_phase, arena, options.adaptive_early_out, true};
+  world_options.scheduler = scene.scheduler.get();
+  scene.world = World2D(world_options);
   if (wall > 0.0f) add_boundary(scene.world, arena, wall);
   return scene;
 }
 
-Scene default_scene(const RunOptions& options) {
-  const Aabb arena{{-160.0f, -90.0f}, {160.0f, 90.0f}};
-  Scene scene = walled_scene(options, "default scene", arena, 2.0f);
-  World2D& world = scene.world;
-  Rng rng(options.seed);
-  // Concave obstacles on a 5 x 3 lattice (jittered, rotated), the laser's corridor kept free.
+/// The default scene's tile: its size, and how many bodies it holds at density 1.
+constexpr Vec2 kDefaultTileSize{320.0f, 180.0f};
+constexpr int kDefaultTileBodies = 3000;
+/// Statics of tiles after the first take user ids from here up (tile t: kTileUserBase + 64 t + k),
+/// clear of the first tile's (10..., 900...) and of the bodies' (1000 + n).
+constexpr std::uint64_t kTileUserBase = std::uint64_t{1} << 40;
+
+/// One tile of the default scene, its centre at `centre`: concave obstacles on a 5 x 3 lattice
+/// (jittered, rotated), thin walls (segments and thin boxes, mirrors for the laser) and three
+/// sensor zones. `tile` 0 gives the first tile's user ids (10 up, sensors 900 up).
+void add_default_tile(World2D& world, Rng& rng, Vec2 centre, std::uint64_t tile) {
   const auto outlines = obstacle_outlines();
-  std::uint64_t user = 10;
+  std::uint64_t user = tile == 0 ? 10 : kTileUserBase + 64 * tile;
   for (int gx = 0; gx < 5; ++gx) {
     for (int gy = 0; gy < 3; ++gy) {
-      const Vec2 at{-110.0f + 55.0f * static_cast<float>(gx) + uniform(rng, -6.0f, 6.0f),
-                    -55.0f + 55.0f * static_cast<float>(gy) + uniform(rng, -6.0f, 6.0f)};
+      const Vec2 at{centre.x + -110.0f + 55.0f * static_cast<float>(gx) + uniform(rng, -6.0f, 6.0f),
+                    centre.y + -55.0f + 55.0f * static_cast<float>(gy) + uniform(rng, -6.0f, 6.0f)};
       const auto& outline = outlines[static_cast<std::size_t>(gx * 3 + gy) % outlines.size()];
       world.add_static(outline_static(outline, at, uniform(rng, -kPi, kPi), user++, "obstacle"));
     }
@@ -207,7 +212,7 @@ Scene default_scene(const RunOptions& options) {
   // without continuous collision.
   for (int i = 0; i < 8; ++i) {
     StaticDef def;
-    const Vec2 at{uniform(rng, -140.0f, 140.0f), uniform(rng, -75.0f, 75.0f)};
+    const Vec2 at{centre.x + uniform(rng, -140.0f, 140.0f), centre.y + uniform(rng, -75.0f, 75.0f)};
     const float a = uniform(rng, -kPi, kPi);
     const float half = uniform(rng, 6.0f, 14.0f);
     if (i % 2 == 0) {
@@ -224,18 +229,51 @@ Scene default_scene(const RunOptions& options) {
   for (int i = 0; i < 3; ++i) {
     StaticDef def;
     def.shapes = {i == 1 ? Shape2D{make_circle({0.0f, 0.0f}, 9.0f)} : Shape2D{make_box({9.0f, 6.0f})}};
-    def.transform = Transform::from({-80.0f + 80.0f * static_cast<float>(i), uniform(rng, -20.0f, 20.0f)}, 0.0f);
+    def.transform = Transform::from({centre.x + -80.0f + 80.0f * static_cast<float>(i), centre.y + uniform(rng, -20.0f, 20.0f)}, 0.0f);
     def.sensor = true;
-    def.user_id = 900 + static_cast<std::uint64_t>(i);
+    def.user_id = tile == 0 ? 900 + static_cast<std::uint64_t>(i) : user++;
     def.filter = {kLayerWorld, 0xffffffffu};
     world.add_static(def);
   }
-  scene.requested_bodies = options.bodies >= 0 ? options.bodies : 3000;
+}
+
+/// The embedded default scene, generated from the seed: tiles of 320 x 180 (obstacles, thin
+/// walls, sensors), as many as the bodies need at the options' density (3000 bodies per tile at
+/// density 1), laid out in a near-square grid and closed by walls; then the bodies, 1% of them
+/// bullets. Up to 3000 x density bodies it is the one tile it always was.
+Scene default_scene(const RunOptions& options) {
+  if (!(options.density > 0.0f) || !std::isfinite(options.density)) {
+    throw InvalidInput("--density: must be a positive number");
+  }
+  const int bodies = options.bodies >= 0 ? options.bodies : kDefaultTileBodies;
+  const double per_tile = static_cast<double>(kDefaultTileBodies) * options.density;
+  const auto tiles = static_cast<std::int64_t>(std::max(1.0, std::ceil(static_cast<double>(bodies) / per_tile)));
+  if (tiles > kMaxDefaultTiles) {
+    throw InvalidInput("--bodies " + std::to_string(bodies) + " at --density " + std::to_string(options.density) +
+                       ": the default scene would need " + std::to_string(tiles) + " tiles (at most " +
+                       std::to_string(kMaxDefaultTiles) + "); raise --density");
+  }
+  const auto cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(tiles))));
+  const auto rows = static_cast<int>((tiles + cols - 1) / cols);
+  const Vec2 half{0.5f * kDefaultTileSize.x * static_cast<float>(cols), 0.5f * kDefaultTileSize.y * static_cast<float>(rows)};
+  const Aabb arena{-half, half};
+  Scene scene = walled_scene(options, "default scene", arena, 2.0f);
+  World2D& world = scene.world;
+  Rng rng(options.seed);
+  for (int row = 0; row < rows; ++row) {
+    for (int col = 0; col < cols; ++col) {
+      const Vec2 centre{arena.min.x + kDefaultTileSize.x * (static_cast<float>(col) + 0.5f),
+                        arena.min.y + kDefaultTileSize.y * (static_cast<float>(row) + 0.5f)};
+      add_default_tile(world, rng, centre, static_cast<std::uint64_t>(row * cols + col));
+    }
+  }
+  scene.requested_bodies = bodies;
   const int bullets = scene.requested_bodies / 100;
   // Bullets: 0.3 m at 600 m/s = 10 m per 60 Hz frame, over 30 times their size.
   scene.bullets = spawn_bodies(world, rng, arena, scene.requested_bodies, 0.3f, 1.2f, 2.0f, 15.0f,
                                bullets, 600.0f);
-  scene.laser = Ray{{arena.min.x + 1.0f, 0.5f * (arena.min.y + arena.max.y)}, {2000.0f, 0.0f}};
+  scene.laser = Ray{{arena.min.x + 1.0f, 0.5f * (arena.min.y + arena.max.y)},
+                    {std::max(2000.0f, 6.25f * (arena.max.x - arena.min.x)), 0.0f}};
   scene.laser_turn = 0.004f;
   return scene;
 }
