@@ -111,12 +111,15 @@ constexpr std::uint32_t kLayerBodies = 2u;
 constexpr std::uint32_t kLayerGhosts = 4u;
 
 /// Timed frames per size: about the same work per benchmark, and the whole run in minutes.
+/// (At 1e3 a frame is under half a millisecond: 200 frames varied 2x from run to run.)
 int timed_frames(int n) {
-  if (n <= 1000) return 200;
-  if (n <= 10000) return 40;
-  if (n <= 100000) return 10;
+  if (n <= 1000) return 1000;
+  if (n <= 10000) return 150;
+  if (n <= 100000) return 20;
   return 5;
 }
+/// Repetitions where they are cheap: the small sizes are the noisy ones. The table takes medians.
+int repetitions(int n) { return n <= 10000 ? 3 : 1; }
 
 /// Bytes of glibc's heap in use.
 double heap_bytes() { return static_cast<double>(mallinfo2().uordblks); }
@@ -531,17 +534,20 @@ void register_all() {
       benchmark::RegisterBenchmark("BM_CollideStep", BM_CollideStep)
           ->Args({n, threads})
           ->Iterations(frames)
+          ->Repetitions(repetitions(n))
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
       benchmark::RegisterBenchmark("BM_Box2DStep", BM_Box2DStep)
           ->Args({n, threads})
           ->Iterations(frames)
+          ->Repetitions(repetitions(n))
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
     benchmark::RegisterBenchmark("BM_Box2DStepOwnScheduler", BM_Box2DStepOwnScheduler)
         ->Args({n, 2})
         ->Iterations(frames)
+        ->Repetitions(repetitions(n))
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }

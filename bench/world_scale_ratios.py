@@ -2,8 +2,10 @@
 """The table of a bench_world_scale run, from its JSON output.
 
     build/release/bench/bench_world_scale --benchmark_out=world_scale.json --benchmark_out_format=json
-    python3 bench/world_scale_ratios.py world_scale.json
+    python3 bench/world_scale_ratios.py world_scale.json [more.json ...]
 
+Several files (e.g. one size per run, each run when the machine was quiet) are merged; a later
+file's benchmark replaces an earlier one's of the same name.
 Prints Markdown: per size and thread count, ns per body per frame of collide's step (everything,
 and without its independent check) and of Box2D v3 (the whole b2World_Step, its collision work
 without the constraint solver, and pair finding + narrow phase alone), the ratio v3 / collide on
@@ -23,7 +25,9 @@ def load(path):
     with open(path) as f:
         data = json.load(f)
     runs = defaultdict(list)
+    load_avg = data.get("context", {}).get("load_avg")
     for b in data["benchmarks"]:
+        b["load_avg"] = load_avg
         if b.get("run_type") == "aggregate" or b.get("error_occurred"):
             continue
         parts = [p for p in b.get("run_name", b["name"]).split("/")
@@ -36,6 +40,7 @@ def load(path):
         fields = {k for r in rs for k, v in r.items() if isinstance(v, (int, float))}
         out[key] = {k: statistics.median(r[k] for r in rs if k in r) for k in fields}
         out[key]["label"] = rs[0].get("label", "")
+        out[key]["load"] = rs[0].get("load_avg")
     return out, data.get("context", {})
 
 
@@ -43,14 +48,19 @@ def fmt(x):
     return "-" if x is None else (f"{x:.0f}" if x >= 100 else f"{x:.3g}")
 
 
-def main(path):
-    runs, ctx = load(path)
+def main(paths):
+    runs, ctx = {}, {}
+    for path in paths:
+        r, c = load(path)
+        runs.update(r)
+        ctx = ctx or c
+    loads = sorted({tuple(round(x, 2) for x in (r.get("load") or [])) for r in runs.values()})
     sizes = sorted({s for (_, s, _) in runs})
     get = lambda name, n, t, field: runs.get((name, n, t), {}).get(field)
 
     print(f"collide: {ctx.get('collide instruction set', '?')}; "
           f"Box2D v3 {ctx.get('box2d v3 version', '?')}: {ctx.get('box2d v3 instruction set', '?')}; "
-          f"load average at start {ctx.get('load_avg', '?')}\n")
+          f"load averages (1, 5, 15 min) at the start of the runs: {loads}\n")
     print("ns per body per frame. collide: `step` = World2D::step, `no check` = without its "
           "independent check; v3: `step` = b2World_Step (solver included), `collision` = pairs + "
           "collide + transforms + refit + bullets + sensors, `pairs+narrow` = pairs + collide. "
@@ -116,6 +126,6 @@ def main(path):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
+    if len(sys.argv) < 2:
         sys.exit(__doc__)
-    main(sys.argv[1])
+    main(sys.argv[1:])
