@@ -119,18 +119,20 @@ void print_phases(std::FILE* out, const RunReport& r, bool sensors) {
   const StepStats& t = r.total;
   const int f = r.frames;
   std::fprintf(out, "per frame (mean)\n");
-  std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds\n",
-               per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f));
+  std::fprintf(out, "  broad phase    %.1f body pairs, %.1f body-static candidates, %.1f checks skipped by speed bounds, %.2f rebuilds\n",
+               per_frame(t.body_pairs, f), per_frame(t.static_candidates, f), per_frame(t.broad_skipped_checks, f),
+               per_frame(t.broad_rebuilds, f));
   std::fprintf(out, "  early out      %.1f bodies clear of statics since an earlier frame, %.1f filtered, %.1f AABB rejected, %.1f pretest rejected\n",
                per_frame(t.static_clear_skips, f), per_frame(t.filtered, f), per_frame(t.aabb_rejected, f),
                per_frame(t.pretest_rejected, f));
   if (sensors) {
-    std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts (%.1f with sensors), %.1f push-outs\n",
+    std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts (%.1f with sensors), %.1f push-outs, %lld jammed in all\n",
                  per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.sensor_contacts, f),
-                 per_frame(t.pushes, f));
+                 per_frame(t.pushes, f), static_cast<long long>(t.jammed));
   } else {
-    std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts, %.1f push-outs\n", per_frame(t.narrow_tests, f),
-                 per_frame(t.contacts, f), per_frame(t.pushes, f));
+    std::fprintf(out, "  narrow phase   %.1f exact tests, %.1f contacts, %.1f push-outs, %lld jammed in all\n",
+                 per_frame(t.narrow_tests, f), per_frame(t.contacts, f), per_frame(t.pushes, f),
+                 static_cast<long long>(t.jammed));
   }
   std::fprintf(out, "  ccd            %.1f bodies moved by continuous collision, %.1f time of impact queries, %.1f hits\n",
                per_frame(t.ccd_bodies, f), per_frame(t.toi_queries, f), per_frame(t.toi_hits, f));

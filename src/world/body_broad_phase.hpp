@@ -81,6 +81,11 @@ class BodyBroadPhaseN {
     std::visit([&](const auto& bp) { bp.ray_cast(ray, callback); }, bp_);
   }
 
+  /// Candidate sets the temporal broad phase built so far (0 for the others).
+  [[nodiscard]] std::int64_t rebuilds() const noexcept {
+    const auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_);
+    return t != nullptr ? t->stats().rebuilds : 0;
+  }
   /// Pair checks the temporal broad phase skipped so far (0 for the others).
   [[nodiscard]] std::int64_t skipped_checks() const noexcept {
     const auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_);

@@ -45,6 +45,9 @@ constexpr float kClearanceReach = 1.0f;
 /// contacts' own allowance for rounding (kRelativeTolerance of the size and the coordinates),
 /// so a skipped piece is one whose contact query would have found nothing.
 constexpr float kClearanceSlack = 1e-3f;
+/// A body still deeper than this fraction of the check's tunnelling depth after the last push-out
+/// is jammed (StepStats::jammed): it goes back to its pose at the start of the step.
+constexpr float kJamDepthFraction = 0.5f;
 constexpr float kClearanceRounding = 1e-4f;
 
 }  // namespace
@@ -172,6 +175,7 @@ void StepStats::accumulate(const StepStats& o) noexcept {
   static_candidates += o.static_candidates;
   static_clear_skips += o.static_clear_skips;
   broad_skipped_checks += o.broad_skipped_checks;
+  broad_rebuilds += o.broad_rebuilds;
   filtered += o.filtered;
   aabb_rejected += o.aabb_rejected;
   pretest_rejected += o.pretest_rejected;
@@ -179,6 +183,7 @@ void StepStats::accumulate(const StepStats& o) noexcept {
   contacts += o.contacts;
   sensor_contacts += o.sensor_contacts;
   pushes += o.pushes;
+  jammed += o.jammed;
   ccd_bodies += o.ccd_bodies;
   toi_queries += o.toi_queries;
   toi_hits += o.toi_hits;
@@ -357,6 +362,7 @@ void WorldN<D>::Impl::integrate_body(std::uint32_t i, float dt, bool have_static
   }
   b.path_count = 0;
   b.mark_path(b.xf);
+  b.start_xf = b.xf;
   const VecN<D> d = b.velocity * dt + clamp_length(b.push, kMaxPushFraction * b.bounding_radius);
   b.push = VecN<D>(0.0f);
   const AngularN<D> rot = b.angular_velocity * dt;
@@ -502,7 +508,8 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
     ++stats.static_clear_skips;
     return;
   }
-  for (int iteration = 0; iteration <= kResolveIterations; ++iteration) {
+  bool put_back = false;
+  for (int iteration = 0;; ++iteration) {
     body_contacts.clear();
     const Box query_box = merge(start, body_box(b));
     candidates.clear();
@@ -537,7 +544,20 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
       }
     }
     if (body_contacts.empty()) measure_clearance(b);
-    if (deepest == nullptr || iteration == kResolveIterations) break;
+    if (deepest == nullptr || put_back) break;
+    if (iteration == kResolveIterations) {
+      // Pushed out of one static into another: a gap narrower than the body (a thin wall across
+      // an obstacle's notch). Pushes cannot settle it; the pose it started the step at was clear,
+      // so it goes back there and turns around (then its contacts are gathered once more).
+      if (depth <= detail::kJamDepthFraction * kTunnelDepthFraction * b.inner_size) break;
+      b.place(b.start_xf);
+      b.mark_path(b.xf);
+      b.velocity = -b.velocity;
+      b.angular_velocity = -b.angular_velocity;
+      ++stats.jammed;
+      put_back = true;
+      continue;
+    }
     const VecN<D> n = deepest->manifold.normal;  // from the body to the static
     TransformN<D> out = b.xf;
     out.p -= depth * n;
@@ -614,6 +634,9 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   const std::int64_t skipped = body_broad.skipped_checks();
   stats.broad_skipped_checks = skipped >= last_skipped ? skipped - last_skipped : skipped;
   last_skipped = skipped;
+  const std::int64_t rebuilds = body_broad.rebuilds();
+  stats.broad_rebuilds = rebuilds >= last_rebuilds ? rebuilds - last_rebuilds : rebuilds;
+  last_rebuilds = rebuilds;
   stats.body_pairs = static_cast<std::int64_t>(pairs.size());
   const auto t1 = Clock::now();
   stats.time_broad = seconds(t0, t1);

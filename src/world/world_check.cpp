@@ -19,6 +19,9 @@ namespace collide {
 
 namespace {
 
+/// Smallest range of bodies one task checks.
+constexpr int kCheckBodiesPerTask = 128;
+
 /// A static item covering more cells than this is tested against every body instead.
 constexpr std::int64_t kMaxCheckCellsPerPiece = 4096;
 
@@ -134,17 +137,41 @@ void WorldN<D>::Impl::check(StepStats& stats) {
       }
       range.for_each([&](std::uint64_t key) { grid.cells[key].push_back(items[n]); });
     }
-    grid.stamp.assign(piece_items + grid.triangles.size(), 0);
-    grid.query = 0;
+    grid.items = piece_items + static_cast<std::uint32_t>(grid.triangles.size());
+    ++grid.version;
     check_grid_dirty = false;
+  }
+  parallel(static_cast<int>(bodies.size()), kCheckBodiesPerTask, [&](int begin, int end, int w) {
+    for (int i = begin; i < end; ++i) check_body(static_cast<std::uint32_t>(i), w);
+  });
+  for (detail::StepWorkerN<D>& wk : workers) {
+    stats.accumulate(wk.stats);
+    wk.stats = StepStats{};
+  }
+}
+
+template <int D>
+void WorldN<D>::Impl::check_body(std::uint32_t i, int w) {
+  const detail::CheckGridN<D>& grid = check_grid;
+  detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
+  StepStats& stats = wk.stats;
+  const auto piece_items = static_cast<std::uint32_t>(static_pieces.size());
+  if (wk.check_grid_version != grid.version) {
+    wk.check_stamp.assign(grid.items, 0);
+    wk.check_query = 0;
+    wk.check_grid_version = grid.version;
   }
   const auto oversized = grid.cells.find(kOversizedKey);
   // Each item whose cells meet `box` once (stamped per query), or every item for a huge box.
   const auto for_items = [&](const AabbN<D>& box, auto&& test) {
-    ++grid.query;
+    if (++wk.check_query == 0) {  // wrapped: old stamps could match again
+      std::fill(wk.check_stamp.begin(), wk.check_stamp.end(), 0u);
+      wk.check_query = 1;
+    }
+    const std::uint32_t query = wk.check_query;
     const auto once = [&](std::uint32_t id) {
-      if (grid.stamp[id] == grid.query) return;
-      grid.stamp[id] = grid.query;
+      if (wk.check_stamp[id] == query) return;
+      wk.check_stamp[id] = query;
       test(id);
     };
     const CellRange<D> range(box, grid.cell);
@@ -163,9 +190,9 @@ void WorldN<D>::Impl::check(StepStats& stats) {
       for (const std::uint32_t id : oversized->second) once(id);
     }
   };
-  for (std::uint32_t i = 0; i < bodies.size(); ++i) {
+  {
     const Body& b = bodies[i];
-    if (!b.alive || b.sensor) continue;
+    if (!b.alive || b.sensor) return;
     if (options.bounds && !collide::contains(*options.bounds, transform_point(b.xf, b.local_center))) {
       ++stats.escaped;
     }

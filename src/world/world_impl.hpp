@@ -59,6 +59,7 @@ struct BodyN {
   std::vector<BodyShapeN<D>> shapes;
   std::vector<PieceInfoN<D>> pieces;
   TransformN<D> xf;  ///< set by place()
+  TransformN<D> start_xf;  ///< the pose at the start of the step (a jammed body goes back to it)
   /// Each piece's tight box at `xf`, world space. A step asks for a piece's box several times
   /// per pose (start and end of its motion, the statics' query, the early out, the broad
   /// phase): computed once per pose instead (a hull's box costs a pass over its vertices; the
@@ -125,6 +126,10 @@ struct StepWorkerN {
   /// the world gives; with several workers they describe worker 0's share of the pairs).
   std::unique_ptr<WorldCheckChain> static_chain;
   std::unique_ptr<WorldCheckChain> body_chain;
+  /// The end-of-step check's per-query stamps over the check grid's items (CheckGridN).
+  std::vector<std::uint32_t> check_stamp;
+  std::uint32_t check_query = 0;
+  std::uint32_t check_grid_version = 0;  ///< the grid the stamps belong to
 };
 
 /// The independent check's own uniform grid over the static pieces and the level shapes'
@@ -134,8 +139,8 @@ template <int D>
 struct CheckGridN {
   float cell = 1.0f;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
-  std::vector<std::uint32_t> stamp;  ///< per item: last query that visited it
-  std::uint32_t query = 0;
+  std::uint32_t items = 0;    ///< static pieces and triangles
+  std::uint32_t version = 0;  ///< bumped by each rebuild (the workers' stamps follow it)
   /// Triangles of the level shapes (world corners) and the static piece each belongs to.
   std::vector<std::array<Vec3, 3>> triangles;
   std::vector<std::uint32_t> triangle_piece;
@@ -183,6 +188,7 @@ struct WorldN<D>::Impl {
   bool body_boxes_current = false;      ///< the broad phase holds every body's current box
   double time = 0.0;
   std::int64_t last_skipped = 0;
+  std::int64_t last_rebuilds = 0;
 
   // Early out
   detail::WorldCheckChain static_chain;
@@ -270,6 +276,8 @@ struct WorldN<D>::Impl {
                      VecN<D> point, std::vector<Contact>& out);
   void make_events(StepStats& stats);
   void check(StepStats& stats);
+  /// The check of body i (worker w): escaped, tunnelled, deepest overlap into the worker's stats.
+  void check_body(std::uint32_t i, int w);
   /// Runs `chain` on one pair; on pass, `out` holds the manifold. Counts rejections in `stats`.
   bool evaluate_pair(detail::WorldCheckChain& chain, const ColliderRef& a, const ColliderRef& b,
                      const Box& box_a, const Box& box_b, VecN<D> circle_a, float radius_a,

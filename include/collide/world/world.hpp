@@ -341,6 +341,7 @@ struct StepStats {
   /// every static measured at an earlier step (temporal coherence; no static can touch them)
   std::int64_t static_clear_skips = 0;
   std::int64_t broad_skipped_checks = 0;  ///< pair checks the temporal broad phase skipped
+  std::int64_t broad_rebuilds = 0;  ///< candidate sets the temporal broad phase rebuilt (a broken speed bound)
   // Early out (both chains)
   std::int64_t filtered = 0;           ///< rejected by layer/mask or same body
   std::int64_t aabb_rejected = 0;      ///< rejected by the tight boxes
@@ -350,6 +351,9 @@ struct StepStats {
   std::int64_t contacts = 0;           ///< touching pairs at the end of the step
   std::int64_t sensor_contacts = 0;    ///< of which involve a sensor
   std::int64_t pushes = 0;             ///< push-outs applied against statics
+  /// Bodies still inside a static after the last push-out (wedged in a gap narrower than
+  /// themselves), put back at their pose at the start of the step and turned around
+  std::int64_t jammed = 0;
   // Continuous collision
   std::int64_t ccd_bodies = 0;         ///< bodies moved by continuous collision
   std::int64_t toi_queries = 0;        ///< time-of-impact queries run
