@@ -24,6 +24,12 @@ constexpr double kMaxGrowth = 1e30;
 /// a grid query instead. Growing it would make it a candidate with everything it could reach.
 constexpr double kFastGrowthCells = 4.0;
 
+/// Objects that break their bound between rebuilds join the fast ones (demote), until more than
+/// one in kDemotedFractionForRebuild (and more than kMinDemotionsBeforeRebuild) have: then a
+/// rebuild costs less than their queries.
+constexpr std::size_t kDemotedFractionForRebuild = 16;
+constexpr std::size_t kMinDemotionsBeforeRebuild = 16;
+
 /// Throws InvalidInput unless there is one finite, non-negative bound per object.
 void validate_speed_bounds(std::span<const float> speed_bounds, std::size_t objects) {
   if (speed_bounds.size() != objects) {
@@ -96,16 +102,25 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
                static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
                static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
     }
+    if (!within) ++stats_.bound_violations;
     if (!needs_rebuild_ && is_fast_[std::size_t(i)]) continue;  // checked every frame anyway
-    if (!within) {
-      ++stats_.bound_violations;
-      needs_rebuild_ = true;
-    } else if (!needs_rebuild_ && !contains(grown_[i], now)) {
-      needs_rebuild_ = true;  // left its grown box: the candidate set no longer covers it
-    }
+    // Broke its bound, or left its grown box: the candidate set no longer covers it. It joins
+    // the fast objects until the next rebuild (its pairs found by a grid query every frame, its
+    // candidate pairs ignored), unless so many do that a rebuild is cheaper.
+    if (!needs_rebuild_ && (!within || !contains(grown_[i], now))) demote(i);
   }
   boxes_.assign(boxes.begin(), boxes.end());
   time_ = time;
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::demote(int i) {
+  is_fast_[std::size_t(i)] = 1;
+  fast_.push_back(i);
+  ++stats_.demoted;
+  if (++demoted_since_rebuild_ > std::max<std::size_t>(kMinDemotionsBeforeRebuild, boxes_.size() / kDemotedFractionForRebuild)) {
+    needs_rebuild_ = true;
+  }
 }
 
 template <int D>
@@ -160,6 +175,7 @@ void TemporalBroadPhaseN<D>::rebuild() {
   wake_.assign(candidates_.size(), time_);
   built_at_ = time_;
   needs_rebuild_ = false;
+  demoted_since_rebuild_ = 0;
   ++stats_.rebuilds;
   stats_.candidate_pairs = static_cast<std::int64_t>(candidates_.size());
   stats_.fast_objects = static_cast<std::int64_t>(fast_.size());
@@ -177,6 +193,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
     }
     ++stats_.checks;
     const auto [a, b] = candidates_[c];
+    if (is_fast_[std::size_t(a)] | is_fast_[std::size_t(b)]) continue;  // demoted: found below
     const AabbN<D>& box_a = boxes_[a];
     const AabbN<D>& box_b = boxes_[b];
     if (overlap(box_a, box_b)) {
@@ -194,19 +211,32 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
                              : std::numeric_limits<double>::infinity();
   }
   // Fast objects, every frame: against the slow ones through the grid (a slow object's grown
-  // box contains its current box), and against each other directly.
-  for (std::size_t k = 0; k < fast_.size(); ++k) {
-    const int f = fast_[k];
+  // box contains its current box), and against each other by sort and sweep along x (1% of a
+  // million bodies are bullets: all pairs of them would be 5e7 checks a frame).
+  for (const int f : fast_) {
     const AabbN<D>& box_f = boxes_[std::size_t(f)];
     grid_.query(box_f, [&](int slot) {
       const int s = slow_ids_[std::size_t(slot)];
+      if (is_fast_[std::size_t(s)]) return true;  // demoted since the rebuild: a fast pair below
       ++stats_.checks;
       if (overlap(box_f, boxes_[std::size_t(s)])) pairs.emplace_back(std::min(f, s), std::max(f, s));
       return true;
     });
-    for (std::size_t m = k + 1; m < fast_.size(); ++m) {
+  }
+  fast_order_.assign(fast_.begin(), fast_.end());
+  std::sort(fast_order_.begin(), fast_order_.end(), [&](int a, int b) {
+    const float xa = boxes_[std::size_t(a)].min[0], xb = boxes_[std::size_t(b)].min[0];
+    return xa < xb || (xa == xb && a < b);
+  });
+  for (std::size_t k = 0; k < fast_order_.size(); ++k) {
+    const int f = fast_order_[k];
+    const AabbN<D>& box_f = boxes_[std::size_t(f)];
+    for (std::size_t m = k + 1; m < fast_order_.size(); ++m) {
+      const int g = fast_order_[m];
+      const AabbN<D>& box_g = boxes_[std::size_t(g)];
+      if (box_g.min[0] > box_f.max[0]) break;
       ++stats_.checks;
-      if (overlap(box_f, boxes_[std::size_t(fast_[m])])) pairs.emplace_back(f, fast_[m]);
+      if (overlap(box_f, box_g)) pairs.emplace_back(std::min(f, g), std::max(f, g));
     }
   }
 }
@@ -222,7 +252,7 @@ void TemporalBroadPhaseN<D>::query(const AabbN<D>& box, QueryCallback callback) 
   bool go_on = true;
   grid_.query(box, [&](int slot) {
     const int id = slow_ids_[std::size_t(slot)];
-    go_on = !overlap(box, boxes_[std::size_t(id)]) || callback(id);
+    go_on = is_fast_[std::size_t(id)] || !overlap(box, boxes_[std::size_t(id)]) || callback(id);
     return go_on;
   });
   for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
@@ -241,7 +271,7 @@ void TemporalBroadPhaseN<D>::query_point(const VecN<D>& point, QueryCallback cal
   bool go_on = true;
   grid_.query_point(point, [&](int slot) {
     const int id = slow_ids_[std::size_t(slot)];
-    go_on = !contains(boxes_[std::size_t(id)], point) || callback(id);
+    go_on = is_fast_[std::size_t(id)] || !contains(boxes_[std::size_t(id)], point) || callback(id);
     return go_on;
   });
   for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
@@ -262,7 +292,10 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
     for (int i = 0; i < size() && limit > 0.0f; ++i) visit(i);
     return;
   }
-  grid_.ray_cast(ray, [&](int slot, float) { return visit(slow_ids_[std::size_t(slot)]); });
+  grid_.ray_cast(ray, [&](int slot, float) {
+    const int id = slow_ids_[std::size_t(slot)];
+    return is_fast_[std::size_t(id)] ? limit : visit(id);  // demoted: visited with the fast ones
+  });
   for (std::size_t k = 0; k < fast_.size() && limit > 0.0f; ++k) visit(fast_[k]);
 }
 
@@ -272,7 +305,7 @@ std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
          (speeds_.capacity() + scratch_.capacity()) * sizeof(float) +
          candidates_.capacity() * sizeof(BroadPair) + wake_.capacity() * sizeof(double) +
          slow_grown_.capacity() * sizeof(AabbN<D>) +
-         (slow_ids_.capacity() + fast_.capacity()) * sizeof(int) + is_fast_.capacity() +
+         (slow_ids_.capacity() + fast_.capacity() + fast_order_.capacity()) * sizeof(int) + is_fast_.capacity() +
          raised_.capacity() + grid_.memory_bytes();
 }
 

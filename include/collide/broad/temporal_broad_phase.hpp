@@ -21,10 +21,13 @@
 ///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
 ///     are not grown, which would make them candidates with everything they could reach; each
 ///     frame a grid query finds their pairs directly (stats().fast_objects).
-///  4. An object that breaks its bound (a teleport) or leaves its grown box makes the next
-///     find_pairs rebuild the candidates from the current boxes: nothing is missed, it only
-///     costs a rebuild (stats().bound_violations, rebuilds). A different number of objects is
-///     a new set, with a speed bound for each: update throws, build starts over.
+///  4. An object that breaks its bound (a bounce, a push, a teleport) or leaves its grown box
+///     joins the fast objects until the next rebuild: its candidate pairs are ignored and a
+///     grid query finds its pairs every frame (stats().bound_violations, demoted). Only when
+///     more than one object in 16 has done so does the next find_pairs rebuild the candidates
+///     from the current boxes (a crowd of bouncing bodies broke some bound every frame, and
+///     rebuilt every frame). Nothing is missed either way. A different number of objects is a
+///     new set, with a speed bound for each: update throws, build starts over.
 /// The result equals brute force at every frame while the contract holds, and also when it
 /// does not (thanks to 4).
 ///
@@ -61,6 +64,7 @@ class TemporalBroadPhaseN {
     std::int64_t bound_violations = 0;  ///< object updates that broke their speed bound
     std::int64_t candidate_pairs = 0;   ///< size of the current candidate set
     std::int64_t fast_objects = 0;      ///< objects handled every frame at the last rebuild
+    std::int64_t demoted = 0;           ///< objects that joined the fast ones between rebuilds
   };
 
   TemporalBroadPhaseN() = default;
@@ -103,6 +107,9 @@ class TemporalBroadPhaseN {
 
  private:
   void rebuild();
+  /// Object i broke its bound or left its grown box: handled with the fast objects until the
+  /// next rebuild (or a rebuild is due when too many have).
+  void demote(int i);
   [[nodiscard]] bool grid_is_current() const noexcept { return !needs_rebuild_; }
 
   Options options_{};
@@ -120,7 +127,9 @@ class TemporalBroadPhaseN {
   std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   std::vector<unsigned char> is_fast_; // per object, at the last rebuild
-  std::vector<int> fast_;              // ids of the fast objects, ascending
+  std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
+  std::size_t demoted_since_rebuild_ = 0;
+  std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
   std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
