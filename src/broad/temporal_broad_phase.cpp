@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 namespace collide {
 
@@ -84,6 +85,32 @@ void TemporalBroadPhaseN<D>::build(std::span<const AabbN<D>> boxes,
 
 template <int D>
 void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time) {
+  update(boxes, time, nullptr);
+}
+
+namespace {
+
+/// Runs f(begin, end, worker) over [0, count) on the scheduler, or inline as one range.
+template <class F>
+void run_ranges(TaskScheduler* scheduler, int count, int min_range, F&& f) {
+  if (count <= 0) return;
+  if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= min_range) {
+    f(0, count, 0);
+    return;
+  }
+  using Fn = std::remove_reference_t<F>;
+  scheduler->parallel_for(
+      count, min_range, [](int begin, int end, int worker, void* context) { (*static_cast<Fn*>(context))(begin, end, worker); },
+      &f);
+}
+
+/// Smallest range of objects or candidates per task.
+constexpr int kObjectsPerTask = 2048;
+
+}  // namespace
+
+template <int D>
+void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler) {
   validate_boxes(boxes);
   if (boxes.size() != boxes_.size()) {
     throw InvalidInput("boxes: " + std::to_string(boxes.size()) + " given, " +
@@ -92,22 +119,33 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
   if (!std::isfinite(time) || time < time_) throw InvalidInput("time: not finite or goes back");
   const double dt = time - time_;
   const int n = size();
-  for (int i = 0; i < n; ++i) {
-    const AabbN<D>& before = boxes_[i];
-    const AabbN<D>& now = boxes[i];
-    const double reach = static_cast<double>(speeds_[i]) * dt;
-    bool within = true;
-    for (int k = 0; k < D; ++k) {
-      within = within &&
-               static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
-               static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
+  broke_.resize(boxes_.size());
+  // Each object's verdict into its own slot (in parallel), then the demotions in id order.
+  run_ranges(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    for (int i = begin; i < end; ++i) {
+      const AabbN<D>& before = boxes_[i];
+      const AabbN<D>& now = boxes[i];
+      const double reach = static_cast<double>(speeds_[i]) * dt;
+      bool within = true;
+      for (int k = 0; k < D; ++k) {
+        within = within &&
+                 static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
+                 static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
+      }
+      unsigned char verdict = within ? 0 : 1;
+      if (within && !needs_rebuild_ && !is_fast_[std::size_t(i)] && !contains(grown_[i], now)) verdict = 2;
+      broke_[std::size_t(i)] = verdict;
     }
-    if (!within) ++stats_.bound_violations;
+  });
+  for (int i = 0; i < n; ++i) {
+    const unsigned char verdict = broke_[std::size_t(i)];
+    if (verdict == 0) continue;
+    if (verdict == 1) ++stats_.bound_violations;
     if (!needs_rebuild_ && is_fast_[std::size_t(i)]) continue;  // checked every frame anyway
     // Broke its bound, or left its grown box: the candidate set no longer covers it. It joins
     // the fast objects until the next rebuild (its pairs found by a grid query every frame, its
     // candidate pairs ignored), unless so many do that a rebuild is cheaper.
-    if (!needs_rebuild_ && (!within || !contains(grown_[i], now))) demote(i);
+    if (!needs_rebuild_) demote(i);
   }
   boxes_.assign(boxes.begin(), boxes.end());
   time_ = time;
@@ -182,34 +220,73 @@ void TemporalBroadPhaseN<D>::rebuild() {
 }
 
 template <int D>
+template <class Emit>
+void TemporalBroadPhaseN<D>::check_candidate(std::size_t c, Emit&& emit, std::int64_t& checks,
+                                             std::int64_t& skipped) {
+  if (wake_[c] > time_) {
+    ++skipped;
+    return;
+  }
+  const auto [a, b] = candidates_[c];
+  if (is_fast_[std::size_t(a)] | is_fast_[std::size_t(b)]) return;  // demoted: find_fast_pairs
+  ++checks;
+  const AabbN<D>& box_a = boxes_[a];
+  const AabbN<D>& box_b = boxes_[b];
+  if (overlap(box_a, box_b)) {
+    emit(a, b);
+    wake_[c] = time_;
+    return;
+  }
+  double gap = 0.0;
+  for (int k = 0; k < D; ++k) {
+    gap = std::max({gap, static_cast<double>(box_b.min[k]) - box_a.max[k],
+                    static_cast<double>(box_a.min[k]) - box_b.max[k]});
+  }
+  const double closing = static_cast<double>(speeds_[a]) + speeds_[b];
+  wake_[c] = closing > 0.0 ? time_ + (gap / closing) * (1.0 - kWakeEarly)
+                           : std::numeric_limits<double>::infinity();
+}
+
+template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
+  find_pairs(pairs, nullptr);
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler) {
   pairs.clear();
   if (needs_rebuild_ || time_ > built_at_ + horizon_) rebuild();
-  const std::size_t count = candidates_.size();
-  for (std::size_t c = 0; c < count; ++c) {
-    if (wake_[c] > time_) {
-      ++stats_.skipped_checks;
-      continue;
+  const auto count = static_cast<int>(candidates_.size());
+  if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
+    for (std::size_t c = 0; c < candidates_.size(); ++c) {
+      check_candidate(c, [&](int a, int b) { pairs.emplace_back(a, b); }, stats_.checks, stats_.skipped_checks);
     }
-    ++stats_.checks;
-    const auto [a, b] = candidates_[c];
-    if (is_fast_[std::size_t(a)] | is_fast_[std::size_t(b)]) continue;  // demoted: found below
-    const AabbN<D>& box_a = boxes_[a];
-    const AabbN<D>& box_b = boxes_[b];
-    if (overlap(box_a, box_b)) {
-      pairs.emplace_back(a, b);
-      wake_[c] = time_;
-      continue;
+  } else {
+    // Each candidate writes only its own wake time; pairs and counters go to the worker's share.
+    worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
+    for (WorkerOutput& out : worker_out_) {  // (capacities kept: no allocation in a steady state)
+      out.pairs.clear();
+      out.checks = 0;
+      out.skipped = 0;
     }
-    double gap = 0.0;
-    for (int k = 0; k < D; ++k) {
-      gap = std::max({gap, static_cast<double>(box_b.min[k]) - box_a.max[k],
-                      static_cast<double>(box_a.min[k]) - box_b.max[k]});
+    run_ranges(scheduler, count, kObjectsPerTask, [&](int begin, int end, int w) {
+      WorkerOutput& out = worker_out_[static_cast<std::size_t>(w)];
+      for (int c = begin; c < end; ++c) {
+        check_candidate(static_cast<std::size_t>(c), [&](int a, int b) { out.pairs.emplace_back(a, b); },
+                        out.checks, out.skipped);
+      }
+    });
+    for (const WorkerOutput& out : worker_out_) {
+      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
+      stats_.checks += out.checks;
+      stats_.skipped_checks += out.skipped;
     }
-    const double closing = static_cast<double>(speeds_[a]) + speeds_[b];
-    wake_[c] = closing > 0.0 ? time_ + (gap / closing) * (1.0 - kWakeEarly)
-                             : std::numeric_limits<double>::infinity();
   }
+  find_fast_pairs(pairs);
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs) {
   // Fast objects, every frame: against the slow ones through the grid (a slow object's grown
   // box contains its current box), and against each other by sort and sweep along x (1% of a
   // million bodies are bullets: all pairs of them would be 5e7 checks a frame).

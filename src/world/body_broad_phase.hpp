@@ -38,13 +38,13 @@ class BodyBroadPhaseN {
   /// The boxes (and, for the temporal broad phase, speed bounds) at `time`. `same_objects`:
   /// the same proxies as last call, so incremental structures may update instead of rebuild.
   void set(std::span<const AabbN<D>> boxes, std::span<const float> speed_bounds, double time,
-           bool same_objects) {
+           bool same_objects, TaskScheduler* scheduler = nullptr) {
     std::visit(
         [&](auto& bp) {
           using T = std::decay_t<decltype(bp)>;
           if constexpr (std::is_same_v<T, TemporalBroadPhaseN<D>>) {
             if (same_objects && built_) {
-              bp.update(boxes, time);
+              bp.update(boxes, time, scheduler);
             } else {
               bp.build(boxes, speed_bounds, time);
             }
@@ -68,9 +68,18 @@ class BodyBroadPhaseN {
     }
   }
 
-  /// Every overlapping pair once, (i, j) with i < j, sorted.
-  void find_pairs(PairList& pairs) {
-    std::visit([&](auto& bp) { bp.find_pairs(pairs); }, bp_);
+  /// Every overlapping pair once, (i, j) with i < j, sorted (the temporal broad phase on the
+  /// scheduler's workers when there is one).
+  void find_pairs(PairList& pairs, TaskScheduler* scheduler = nullptr) {
+    std::visit(
+        [&](auto& bp) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(bp)>, TemporalBroadPhaseN<D>>) {
+            bp.find_pairs(pairs, scheduler);
+          } else {
+            bp.find_pairs(pairs);
+          }
+        },
+        bp_);
     sort_pairs(pairs);
   }
 

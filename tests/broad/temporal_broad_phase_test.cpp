@@ -6,6 +6,7 @@
 #include <collide/core/error.hpp>
 
 #include "support/broad_worlds.hpp"
+#include "support/test_scheduler.hpp"
 
 #include <gtest/gtest.h>
 
@@ -33,17 +34,18 @@ std::vector<float> bounds_of_world(const test::MovingWorld<D>& world) {
 }
 
 template <int D>
-void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::int64_t& violations) {
+void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::int64_t& violations,
+                TaskScheduler* scheduler = nullptr, int objects = 500, int frames = 150) {
   std::mt19937 rng(11 + D);
   auto world = test::moving_world<D>(
-      rng, test::uniform_world<D>(rng, 500, D == 2 ? 25.0f : 10.0f, 0.2f, 1.0f, offset),
+      rng, test::uniform_world<D>(rng, objects, D == 2 ? 25.0f : 10.0f, 0.2f, 1.0f, offset),
       D == 2 ? 25.0f : 10.0f, 0.05f, offset);
   world.velocity[0] = VecN<D>(0.0f);  // a resting object: speed bound 0
   TemporalBroadPhaseN<D> temporal;
   temporal.build(world.boxes, bounds_of_world(world), 0.0);
   PairList pairs;
   std::size_t total = 0;
-  for (int frame = 1; frame <= 150; ++frame) {
+  for (int frame = 1; frame <= frames; ++frame) {
     world.step();
     if (teleport_every > 0 && frame % teleport_every == 0) {
       // Object 1 jumps onto another object, breaking its bound.
@@ -52,8 +54,8 @@ void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::in
       world.boxes[1].min += shift;
       world.boxes[1].max += shift;
     }
-    temporal.update(world.boxes, static_cast<double>(frame));
-    temporal.find_pairs(pairs);
+    temporal.update(world.boxes, static_cast<double>(frame), scheduler);
+    temporal.find_pairs(pairs, scheduler);
     sort_pairs(pairs);
     const PairList expected = brute_pairs<D>(world.boxes);
     total += expected.size();
@@ -78,6 +80,19 @@ TYPED_TEST(TemporalTest, MatchesBruteForceEveryFrameWithinSpeedBounds) {
     run_frames<TypeParam::value>(offset, 0, skipped, violations);
     EXPECT_GT(skipped, 1000) << offset;
     EXPECT_EQ(violations, 0) << offset;
+  }
+}
+
+TYPED_TEST(TemporalTest, OnSeveralWorkersTheSamePairsAndCounters) {
+  // 3000 objects: enough candidates for several ranges per worker; teleports demote objects.
+  std::int64_t skipped = 0, violations = 0;
+  run_frames<TypeParam::value>(0.0f, 5, skipped, violations, nullptr, 3000, 30);
+  for (const int workers : {2, 3, 8}) {
+    test::ThreadScheduler scheduler(workers);
+    std::int64_t skipped_many = 0, violations_many = 0;
+    run_frames<TypeParam::value>(0.0f, 5, skipped_many, violations_many, &scheduler, 3000, 30);
+    EXPECT_EQ(skipped_many, skipped) << workers << " workers";
+    EXPECT_EQ(violations_many, violations) << workers << " workers";
   }
 }
 

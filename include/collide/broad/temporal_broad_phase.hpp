@@ -36,6 +36,7 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/core/task_scheduler.hpp>
 
 #include <cstdint>
 #include <span>
@@ -88,6 +89,12 @@ class TemporalBroadPhaseN {
   void set_speed_bounds(std::span<const float> speed_bounds);
   /// Every pair overlapping at the current time, once, i < j; order: candidate order.
   void find_pairs(PairList& pairs);
+
+  /// update and find_pairs with their per-object and per-candidate loops spread over a game's
+  /// job system (null: the calls above). The same pairs and the same state for any worker
+  /// count; the pairs' order then depends on the schedule (sort_pairs for a fixed one).
+  void update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler);
+  void find_pairs(PairList& pairs, TaskScheduler* scheduler);
   /// Each id whose current box overlaps `box`, once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose current box contains `point`, once.
@@ -130,6 +137,18 @@ class TemporalBroadPhaseN {
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
   std::size_t demoted_since_rebuild_ = 0;
   std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
+  std::vector<unsigned char> broke_;   // update's scratch: per object, broke its bound (1) / left its grown box (2)
+  struct WorkerOutput {                // a worker's share of find_pairs
+    PairList pairs;
+    std::int64_t checks = 0;
+    std::int64_t skipped = 0;
+  };
+  std::vector<WorkerOutput> worker_out_;
+  /// The candidate check of candidate c (wake time, overlap, next wake time).
+  template <class Emit>
+  void check_candidate(std::size_t c, Emit&& emit, std::int64_t& checks, std::int64_t& skipped);
+  /// The fast objects' pairs (grid queries, sort and sweep).
+  void find_fast_pairs(PairList& pairs);
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
   std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
