@@ -324,6 +324,20 @@ void WorldN<D>::Impl::prepare_workers() {
 }
 
 template <int D>
+void WorldN<D>::Impl::collect_workers(StepStats& stats, std::vector<Contact> detail::StepWorkerN<D>::*share,
+                                      std::vector<Contact>* into) {
+  for (detail::StepWorkerN<D>& wk : workers) {
+    if (share != nullptr) {
+      std::vector<Contact>& list = wk.*share;
+      into->insert(into->end(), list.begin(), list.end());
+      list.clear();
+    }
+    stats.accumulate(wk.stats);
+    wk.stats = StepStats{};
+  }
+}
+
+template <int D>
 void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
   if (proxies_changed) {
     proxies.clear();
@@ -346,12 +360,7 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
   parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
     for (int i = begin; i < end; ++i) integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
   });
-  for (detail::StepWorkerN<D>& wk : workers) {
-    ccd_contacts.insert(ccd_contacts.end(), wk.ccd_contacts.begin(), wk.ccd_contacts.end());
-    wk.ccd_contacts.clear();
-    stats.accumulate(wk.stats);
-    wk.stats = StepStats{};
-  }
+  collect_workers(stats, &detail::StepWorkerN<D>::ccd_contacts, &ccd_contacts);
 }
 
 template <int D>
@@ -486,12 +495,7 @@ void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
       for (int i = begin; i < end; ++i) resolve_body(static_cast<std::uint32_t>(i), w);
     });
   }
-  for (detail::StepWorkerN<D>& wk : workers) {
-    contacts.insert(contacts.end(), wk.contacts.begin(), wk.contacts.end());
-    wk.contacts.clear();
-    stats.accumulate(wk.stats);
-    wk.stats = StepStats{};
-  }
+  collect_workers(stats, &detail::StepWorkerN<D>::contacts, &contacts);
 }
 
 template <int D>
@@ -667,10 +671,7 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
           pair_manifolds[static_cast<std::size_t>(i)], wk.stats);
     }
   });
-  for (detail::StepWorkerN<D>& wk : workers) {
-    stats.accumulate(wk.stats);
-    wk.stats = StepStats{};
-  }
+  collect_workers(stats);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (pair_passed[i] == 0) continue;
     const detail::Proxy pa = proxies[pairs[i].first];

@@ -144,10 +144,7 @@ void WorldN<D>::Impl::check(StepStats& stats) {
   parallel(static_cast<int>(bodies.size()), kCheckBodiesPerTask, [&](int begin, int end, int w) {
     for (int i = begin; i < end; ++i) check_body(static_cast<std::uint32_t>(i), w);
   });
-  for (detail::StepWorkerN<D>& wk : workers) {
-    stats.accumulate(wk.stats);
-    wk.stats = StepStats{};
-  }
+  collect_workers(stats);
 }
 
 template <int D>

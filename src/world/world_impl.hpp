@@ -230,6 +230,10 @@ struct WorldN<D>::Impl {
   detail::WorldCheckChain& body_chain_of(int w) { return w == 0 ? body_chain : *workers[w].body_chain; }
   /// Sizes `workers` to the scheduler's worker count (chains made once).
   void prepare_workers();
+  /// Moves every worker's counters into `stats`, and its `share` of contacts (when given) onto
+  /// the end of `into` (their order does not matter: contacts have unique keys, sorted later).
+  void collect_workers(StepStats& stats, std::vector<Contact> detail::StepWorkerN<D>::*share = nullptr,
+                       std::vector<Contact>* into = nullptr);
 
   // Helpers
   [[nodiscard]] Body& body(BodyId id);
