@@ -19,6 +19,9 @@ namespace collide {
 
 namespace {
 
+/// Smallest range of rays one task of raycast_batch casts.
+constexpr int kRaysPerTask = 64;
+
 bool visible(const QueryFilter& f, CollisionFilter cf, bool sensor) {
   return (cf.layer & f.mask) != 0u && (f.sensors || !sensor);
 }
@@ -111,6 +114,28 @@ std::optional<WorldRayHitN<D>> WorldN<D>::raycast(const RayN<D>& ray, const Quer
   if (!is_finite(ray.origin) || !is_finite(ray.translation)) throw InvalidInput("ray: not finite");
   impl_->refresh_static_tree();
   return cast_ray<D>(*impl_, ray, filter, std::nullopt);
+}
+
+template <int D>
+void WorldN<D>::raycast_batch(std::span<const RayN<D>> rays, std::span<std::optional<WorldRayHitN<D>>> hits,
+                              const QueryFilter& filter) const {
+  if (rays.size() != hits.size()) {
+    throw InvalidInput("raycast batch: " + std::to_string(rays.size()) + " rays, " + std::to_string(hits.size()) +
+                       " hit slots");
+  }
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (!is_finite(rays[i].origin) || !is_finite(rays[i].translation)) {
+      throw InvalidInput("raycast batch: ray " + std::to_string(i) + " not finite");
+    }
+  }
+  Impl& w = *impl_;
+  w.refresh_static_tree();
+  w.prepare_workers();
+  w.parallel(static_cast<int>(rays.size()), kRaysPerTask, [&](int begin, int end, int) {
+    for (int i = begin; i < end; ++i) {
+      hits[static_cast<std::size_t>(i)] = cast_ray<D>(w, rays[static_cast<std::size_t>(i)], filter, std::nullopt);
+    }
+  });
 }
 
 template <int D>
@@ -250,6 +275,8 @@ WorldCastHitN<D> WorldN<D>::ground_check(BodyId id, Vec down) const {
 
 #define COLLIDE_WORLD_QUERIES(D)                                                                      \
   template std::optional<WorldRayHitN<D>> WorldN<D>::raycast(const RayN<D>&, const QueryFilter&) const; \
+  template void WorldN<D>::raycast_batch(std::span<const RayN<D>>, std::span<std::optional<WorldRayHitN<D>>>, \
+                                         const QueryFilter&) const; \
   template LaserPathN<D> WorldN<D>::cast_laser(const RayN<D>&, int, const QueryFilter&) const;          \
   template void WorldN<D>::query_aabb(const AabbN<D>&, const QueryFilter&, const ColliderCallback&) const; \
   template void WorldN<D>::query_point(VecN<D>, const QueryFilter&, const ColliderCallback&) const;     \

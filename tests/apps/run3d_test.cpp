@@ -45,6 +45,22 @@ RunOptions small3d(std::string input, int bodies, int frames) {
   return o;
 }
 
+TEST(RunWorld3D, SameStateHashForEveryThreadCount) {
+  // The 3D world runs the same step on the workers (issue 20): bit for bit the same world.
+  RunOptions o = small3d("", 250, 120);
+  o.threads = 1;
+  const RunReport one = run_world3d(o, nullptr);
+  EXPECT_EQ(one.threads, 1);
+  EXPECT_EQ(one.total.tunnelled, 0);
+  for (const int threads : {2, 3}) {
+    o.threads = threads;
+    const RunReport many = run_world3d(o, nullptr);
+    EXPECT_EQ(many.threads, threads);
+    EXPECT_EQ(many.state_hash, one.state_hash) << threads << " threads";
+    EXPECT_EQ(many.total.contacts, one.total.contacts) << threads << " threads";
+  }
+}
+
 TEST(RunWorld3D, EmbeddedSceneStaysCheckedAndBusy) {
   CharacterReport c;
   const RunReport r = run_world3d(small3d("", 250, 240), nullptr, &c);

@@ -532,6 +532,12 @@ class WorldN {
   /// for a non-finite ray.
   [[nodiscard]] std::optional<WorldRayHitN<D>> raycast(const RayN<D>& ray,
                                                        const QueryFilter& filter = {}) const;
+  /// Casts each ray of `rays` as `raycast` does (the same filter) into the same slot of `hits`,
+  /// spread over the world's scheduler (WorldOptionsN::scheduler): a frame's lasers, line of
+  /// sight checks, a batch of picks. The same hits for any worker count. Throws InvalidInput,
+  /// before casting any, for sizes that differ or a non-finite ray (naming its index).
+  void raycast_batch(std::span<const RayN<D>> rays, std::span<std::optional<WorldRayHitN<D>>> hits,
+                     const QueryFilter& filter = {}) const;
   /// The lesson's laser and mirrors: casts `ray`, reflects at each hit about the surface normal
   /// (keeping the remaining length), up to `max_bounces` reflections (<= kMaxLaserBounces).
   /// Throws InvalidInput for a non-finite ray or max_bounces out of range.
