@@ -108,18 +108,6 @@ TEST(RunThreads, GrownDefaultSceneSameForEveryThreadCount) {
   expect_same_for_every_thread_count(o, 20);
 }
 
-TEST(RunThreads, JammedBodyGoesBackInsteadOfStayingInsideAStatic) {
-  // 16 tiles: one of them has a thin wall across an obstacle's notch, and between frames 60 and
-  // 120 a box is pushed into it, out of one static into the other. It used to end inside (the
-  // check counted it as tunnelled); it goes back to its pose at the start of the step.
-  RunOptions o = options("default", 48000);
-  o.threads = 2;
-  Scene s = make_scene(o);
-  for (int f = 0; f < 120; ++f) s.world.step(o.dt);
-  EXPECT_EQ(s.world.total_stats().tunnelled, 0);
-  EXPECT_GE(s.world.total_stats().jammed, 1);
-}
-
 TEST(RunThreads, DefaultSceneGrowsWithBodiesAtItsDensity) {
   // Up to 3000 bodies: the one 320 x 180 tile it always was; beyond, tiles at the same density.
   const Scene one = make_scene(options("default", 3000));

@@ -1,6 +1,7 @@
 // A body driven into a gap narrower than itself: pushing it out of one static pushes it into the
-// other. It must never end a step inside either (the jam itself, StepStats::jammed, is tested on
-// the scene that found it: tests/apps/run_threads_test.cpp).
+// other. It must never end a step inside either: a jammed body goes back to its pose at the start
+// of the step (StepStats::jammed). Found by `collide run --bodies 48000`, where a thin wall across
+// an obstacle's notch made such a gap.
 
 #include <collide/narrow/contact.hpp>
 #include <collide/world/world2d.hpp>
@@ -43,6 +44,31 @@ TEST(World2DJam, BodyDrivenIntoANarrowWedgeNeverEndsInsideAStatic) {
       EXPECT_LE(m.max_depth(), kTunnelDepthFraction * 0.45f) << "half angle " << half_angle;
     }
   }
+}
+
+TEST(World2DJam, BodyPushedIntoASlotNarrowerThanItselfGoesBackToItsStartPose) {
+  // Two walls 3.1 apart; a box 3.2 tall and 4 long moves 0.35 (slow for its size: no continuous
+  // collision) from just outside into the slot's mouth, overlapping each wall by 0.05 across and
+  // 0.34 along: each push out of one wall (across, the shallower axis) is a push into the other.
+  World2D world;
+  for (const float side : {1.0f, -1.0f}) {
+    StaticDef wall;
+    wall.shapes = {make_box({5.0f, 0.5f})};
+    wall.transform = Transform::from({5.0f, side * (1.55f + 0.5f)}, 0.0f);
+    world.add_static(wall);
+  }
+  BodyDef body;
+  body.shapes = {make_box({2.0f, 1.6f})};
+  body.transform = Transform::from({-2.01f, 0.0f}, 0.0f);
+  body.velocity = {0.35f * 60.0f, 0.0f};
+  const BodyId id = world.add_body(body);
+  world.step(1.0f / 60.0f);
+  const StepStats& s = world.last_step_stats();
+  EXPECT_EQ(s.ccd_bodies, 0);
+  EXPECT_EQ(s.jammed, 1);
+  EXPECT_EQ(s.tunnelled, 0);
+  EXPECT_EQ(world.transform(id).p, body.transform.p);  // back where it started
+  EXPECT_LT(world.velocity(id).x, 0.0f);               // and turned around
 }
 
 }  // namespace
