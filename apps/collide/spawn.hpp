@@ -37,9 +37,10 @@ class SpawnSpace {
   /// world's own spawning queries always meant: 2D `overlap`, 3D a touching `contact`.
   [[nodiscard]] bool fits(std::span<const Shape> shapes, const Xf& xf) const {
     for (const Shape& shape : shapes) {
-      if (touches_static(shape, xf)) return false;
+      const AabbN<D> box = compute_aabb(shape, xf);
+      if (touches_static(shape, xf, box)) return false;
       bool clear = true;
-      tree_.query(compute_aabb(shape, xf), [&](int id) {
+      tree_.query(box, [&](int id) {
         const auto& [body, piece] = pieces_[static_cast<std::size_t>(id)];
         clear = !touches(shape, xf, world_.shapes(body)[piece], world_.transform(body));
         return clear;
@@ -69,15 +70,15 @@ class SpawnSpace {
     }
   }
 
-  bool touches_static(const Shape& shape, const Xf& xf) const {
+  bool touches_static(const Shape& shape, const Xf& xf, [[maybe_unused]] const AabbN<D>& box) const {
     bool hit = false;
     const QueryFilter statics{.bodies = false};
     if constexpr (D == 2) {
-      world_.query_aabb(compute_aabb(shape, xf), statics, [&](const ColliderRef& c) {
+      world_.query_aabb(box, statics, [&](const ColliderRef& c) {
         hit = overlap(shape, xf, world_.collider_shape(c), world_.collider_transform(c));
         return !hit;
       });
-    } else {
+    } else {  // (collide_shape computes the same box itself)
       world_.collide_shape(shape, xf, statics, [&](const ColliderRef&, const ManifoldN<D>&) {
         hit = true;
         return false;

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <type_traits>
 
 namespace collide {
 
@@ -90,20 +89,6 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
 
 namespace {
 
-/// Runs f(begin, end, worker) over [0, count) on the scheduler, or inline as one range.
-template <class F>
-void run_ranges(TaskScheduler* scheduler, int count, int min_range, F&& f) {
-  if (count <= 0) return;
-  if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= min_range) {
-    f(0, count, 0);
-    return;
-  }
-  using Fn = std::remove_reference_t<F>;
-  scheduler->parallel_for(
-      count, min_range, [](int begin, int end, int worker, void* context) { (*static_cast<Fn*>(context))(begin, end, worker); },
-      &f);
-}
-
 /// Smallest range of objects or candidates per task.
 constexpr int kObjectsPerTask = 2048;
 
@@ -121,7 +106,7 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
   const int n = size();
   broke_.resize(boxes_.size());
   // Each object's verdict into its own slot (in parallel), then the demotions in id order.
-  run_ranges(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
     for (int i = begin; i < end; ++i) {
       const AabbN<D>& before = boxes_[i];
       const AabbN<D>& now = boxes[i];
@@ -141,11 +126,11 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
     const unsigned char verdict = broke_[std::size_t(i)];
     if (verdict == 0) continue;
     if (verdict == 1) ++stats_.bound_violations;
-    if (!needs_rebuild_ && is_fast_[std::size_t(i)]) continue;  // checked every frame anyway
     // Broke its bound, or left its grown box: the candidate set no longer covers it. It joins
     // the fast objects until the next rebuild (its pairs found by a grid query every frame, its
-    // candidate pairs ignored), unless so many do that a rebuild is cheaper.
-    if (!needs_rebuild_) demote(i);
+    // candidate pairs ignored), unless so many do that a rebuild is cheaper. A fast object is
+    // checked every frame anyway.
+    if (!needs_rebuild_ && !is_fast_[std::size_t(i)]) demote(i);
   }
   boxes_.assign(boxes.begin(), boxes.end());
   time_ = time;
@@ -269,7 +254,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
       out.checks = 0;
       out.skipped = 0;
     }
-    run_ranges(scheduler, count, kObjectsPerTask, [&](int begin, int end, int w) {
+    parallel_for(scheduler, count, kObjectsPerTask, [&](int begin, int end, int w) {
       WorkerOutput& out = worker_out_[static_cast<std::size_t>(w)];
       for (int c = begin; c < end; ++c) {
         check_candidate(static_cast<std::size_t>(c), [&](int a, int b) { out.pairs.emplace_back(a, b); },

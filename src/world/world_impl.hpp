@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <type_traits>
+#include <utility>
 #include <unordered_map>
 #include <vector>
 
@@ -211,19 +212,10 @@ struct WorldN<D>::Impl {
   std::vector<std::uint8_t> pair_passed;
   std::vector<detail::StepWorkerN<D>> workers;  ///< one per scheduler worker
 
-  /// Runs f(begin, end, worker) over [0, count) on the scheduler's workers (or on this thread,
-  /// as one range, when there is none or the work is a single range).
+  /// collide::parallel_for on the world's scheduler (prepare_workers has sized `workers`).
   template <class F>
   void parallel(int count, int min_range, F&& f) {
-    if (count <= 0) return;
-    if (options.scheduler == nullptr || workers.size() < 2 || count <= min_range) {
-      f(0, count, 0);
-      return;
-    }
-    using Fn = std::remove_reference_t<F>;
-    options.scheduler->parallel_for(
-        count, min_range, [](int begin, int end, int worker, void* context) { (*static_cast<Fn*>(context))(begin, end, worker); },
-        &f);
+    collide::parallel_for(options.scheduler, count, min_range, std::forward<F>(f));
   }
   /// Worker w's scratch and chains (the world's own chains for worker 0).
   detail::WorldCheckChain& static_chain_of(int w) { return w == 0 ? static_chain : *workers[w].static_chain; }

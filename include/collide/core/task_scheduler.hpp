@@ -8,6 +8,8 @@
 // output slots (or a per-worker scratch that is merged in item order afterwards), so a step is
 // bit for bit the same for every worker count and every schedule.
 
+#include <type_traits>
+
 namespace collide {
 
 /// Work over items [begin, end) on worker `worker` (0 <= worker < TaskScheduler::worker_count();
@@ -37,5 +39,22 @@ class SerialScheduler final : public TaskScheduler {
     if (count > 0) task(0, count, 0, context);
   }
 };
+
+/// Runs f(begin, end, worker) over [0, count) on `scheduler`'s workers in ranges of at least
+/// `min_range` items, or on the calling thread as one range (worker 0) when there is no
+/// scheduler, it has one worker, or the work is a single range. `f` may be any callable; it is
+/// passed to the scheduler through its `context` pointer (no allocation).
+template <class F>
+void parallel_for(TaskScheduler* scheduler, int count, int min_range, F&& f) {
+  if (count <= 0) return;
+  if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= min_range) {
+    f(0, count, 0);
+    return;
+  }
+  using Fn = std::remove_reference_t<F>;
+  scheduler->parallel_for(
+      count, min_range,
+      [](int begin, int end, int worker, void* context) { (*static_cast<Fn*>(context))(begin, end, worker); }, &f);
+}
 
 }  // namespace collide
