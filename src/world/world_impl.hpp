@@ -9,6 +9,7 @@
 #include "world_field.hpp"
 
 #include <collide/broad/dynamic_tree.hpp>
+#include <collide/broad/hash_grid.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/world/world.hpp>
 
@@ -127,21 +128,20 @@ struct StepWorkerN {
   /// the world gives; with several workers they describe worker 0's share of the pairs).
   std::unique_ptr<WorldCheckChain> static_chain;
   std::unique_ptr<WorldCheckChain> body_chain;
-  /// The end-of-step check's per-query stamps over the check grid's items (CheckGridN).
-  std::vector<std::uint32_t> check_stamp;
-  std::uint32_t check_query = 0;
-  std::uint32_t check_grid_version = 0;  ///< the grid the stamps belong to
 };
 
-/// The independent check's own uniform grid over the static pieces and the level shapes'
-/// triangles: deliberately not the world's tree or the levels' BVHs, so a bug there cannot hide
-/// a tunnelled body. Item i < static_pieces.size() is a static piece, the rest are triangles.
+/// A static item of the check's grid covering more cells than this is tested against every body
+/// instead (HashGridN's oversized list).
+inline constexpr int kMaxCheckCellsPerItem = 4096;
+
+/// The independent check's own grid over the static pieces and the level shapes' triangles: a
+/// hashed uniform grid (broad/hash_grid.hpp), deliberately not the world's tree or the levels'
+/// BVHs, so a bug there cannot hide a tunnelled body. Grid id n is `items[n]`: a static piece
+/// index below static_pieces.size(), else static_pieces.size() + a triangle index.
 template <int D>
 struct CheckGridN {
-  float cell = 1.0f;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
-  std::uint32_t items = 0;    ///< static pieces and triangles
-  std::uint32_t version = 0;  ///< bumped by each rebuild (the workers' stamps follow it)
+  HashGridN<D> grid{typename HashGridN<D>::Options{.max_cells_per_box = kMaxCheckCellsPerItem}};
+  std::vector<std::uint32_t> items;
   /// Triangles of the level shapes (world corners) and the static piece each belongs to.
   std::vector<std::array<Vec3, 3>> triangles;
   std::vector<std::uint32_t> triangle_piece;
