@@ -45,10 +45,14 @@ constexpr float kClearanceReach = 1.0f;
 /// contacts' own allowance for rounding (kRelativeTolerance of the size and the coordinates),
 /// so a skipped piece is one whose contact query would have found nothing.
 constexpr float kClearanceSlack = 1e-3f;
+constexpr float kClearanceRounding = 1e-4f;
+/// A fast body whose whole motion stays within its pieces' clearance skips its continuous
+/// collision query; the clearance then must also hold this many bounding radii more than the
+/// time of impact's target separation (a query stops that far from a static and calls it a hit).
+constexpr float kClearanceToiMargin = 4.0f * kToiTargetSeparation;
 /// A body still deeper than this fraction of the check's tunnelling depth after the last push-out
 /// is jammed (StepStats::jammed): it goes back to its pose at the start of the step.
 constexpr float kJamDepthFraction = 0.5f;
-constexpr float kClearanceRounding = 1e-4f;
 
 }  // namespace
 
@@ -186,6 +190,7 @@ void StepStats::accumulate(const StepStats& o) noexcept {
   pushes += o.pushes;
   jammed += o.jammed;
   ccd_bodies += o.ccd_bodies;
+  ccd_clear_skips += o.ccd_clear_skips;
   toi_queries += o.toi_queries;
   toi_hits += o.toi_hits;
   begin_events += o.begin_events;
@@ -384,9 +389,18 @@ void WorldN<D>::Impl::integrate_body(std::uint32_t i, float dt, bool have_static
   if (b.sensor || !have_statics || !fast || motion == 0.0f) {
     b.place(detail::moved(b.xf, b.local_center, d, rot));
     b.mark_path(b.xf);
-  } else {
-    move_with_ccd(i, d, rot, w);
+    return;
   }
+  // A fast body whose motion stays within its static clearance can hit no static: the pose its
+  // continuous motion would reach (the same sweep, at its end), without the query.
+  const TransformN<D> end = detail::pose_at(detail::sweep_of(b.xf, b.local_center, d, rot), 1.0f);
+  if (clear_of_statics(b, end, detail::turn_size(rot), detail::kClearanceToiMargin)) {
+    b.place(end);
+    b.mark_path(b.xf);
+    ++workers[static_cast<std::size_t>(w)].stats.ccd_clear_skips;
+    return;
+  }
+  move_with_ccd(i, d, rot, w);
 }
 
 template <int D>
@@ -577,14 +591,21 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
 }
 
 template <int D>
-bool WorldN<D>::Impl::clear_of_statics(const Body& b) const {
+bool WorldN<D>::Impl::clear_of_statics(const Body& b, const TransformN<D>& to, float turn, float margin) const {
   for (std::size_t k = 0; k < b.shapes.size(); ++k) {
     const typename Body::Clearance& c = b.clearance[k];
     if (c.version != statics_version) return false;
-    const VecN<D> center = transform_point(b.xf, b.pieces[k].center);
-    const float slack = detail::kClearanceSlack * b.pieces[k].radius +
-                        detail::kClearanceRounding * (max_abs(center) + b.pieces[k].radius);
-    if (!(distance(center, c.anchor) < c.gap - slack)) return false;
+    const detail::PieceInfoN<D>& piece = b.pieces[k];
+    const VecN<D> c0 = transform_point(b.xf, piece.center);
+    const VecN<D> c1 = transform_point(to, piece.center);
+    const float slack = detail::kClearanceSlack * piece.radius +
+                        detail::kClearanceRounding * (std::max(max_abs(c0), max_abs(c1)) + piece.radius) +
+                        margin * piece.radius;
+    // The ball around the anchor holds the segment c0 c1; the centre's path leaves the segment
+    // by at most the arc its offset from the centre of rotation sweeps.
+    const float reach = std::max(distance(c0, c.anchor), distance(c1, c.anchor)) +
+                        turn * distance(piece.center, b.local_center);
+    if (!(reach < c.gap - slack)) return false;
   }
   return true;
 }

@@ -260,8 +260,13 @@ struct WorldN<D>::Impl {
   void resolve_statics(StepStats& stats);
   /// One body's contacts with statics and its push-outs (worker w).
   void resolve_body(std::uint32_t index, int w);
-  /// True when every piece of `b` is within its static clearance (BodyN::clearance).
-  bool clear_of_statics(const Body& b) const;
+  /// True when every piece of `b` stays within its static clearance (BodyN::clearance) over a
+  /// motion from its pose to `to` turning by `turn` radians, with `margin` bounding radii to
+  /// spare (the ball about the anchor holds the straight path of each piece's centre; the turn
+  /// adds the arc of its offset from the centre of rotation).
+  bool clear_of_statics(const Body& b, const TransformN<D>& to, float turn, float margin) const;
+  /// True when every piece of `b` is within its static clearance where it is.
+  bool clear_of_statics(const Body& b) const { return clear_of_statics(b, b.xf, 0.0f, 0.0f); }
   /// Measures the static clearance of every piece of `b` at its pose.
   void measure_clearance(Body& b);
   void find_body_contacts(float dt, StepStats& stats);

@@ -17,7 +17,9 @@
 ///     against the statics: time of impact (`time_of_impact`: GJK ray cast into the Minkowski
 ///     difference, conservative advancement with rotation; against a level's triangles, one
 ///     candidate triangle at a time), stop there, reflect, go on with the rest of the step (up
-///     to kMaxCcdBounces times). Slower bodies move the whole step at once.
+///     to kMaxCcdBounces times). Slower bodies move the whole step at once, and so do fast
+///     ones whose whole motion stays within their static clearance (the distance to the statics
+///     measured when the body last met none: no query could hit; StepStats::ccd_clear_skips).
 ///  2. Statics. Each body's swept box is looked up in the statics' tree (DynamicTree); each
 ///     candidate goes through the early-out chain (filter, AABB, bounding-sphere pretest) and
 ///     the exact `contact` (a level shape: its merged manifold, active edges applied); the body
@@ -356,6 +358,9 @@ struct StepStats {
   std::int64_t jammed = 0;
   // Continuous collision
   std::int64_t ccd_bodies = 0;         ///< bodies moved by continuous collision
+  /// Fast bodies whose whole motion stayed within their static clearance (static_clear_skips):
+  /// moved without a continuous collision query, as none could hit.
+  std::int64_t ccd_clear_skips = 0;
   std::int64_t toi_queries = 0;        ///< time-of-impact queries run
   std::int64_t toi_hits = 0;           ///< of which stopped a body before the end of its motion
   // Events
