@@ -15,6 +15,10 @@
 
 namespace collide::cli {
 
+/// Most bodies `collide run --bodies` asks for (about 1.7 KB a body in 2D: a million is 1.7 GB);
+/// the embedded scenes reserve room for at most this many up front.
+inline constexpr int kMaxRunBodies = 1000000;
+
 /// The laser sweeps this far either side of its first direction (radians).
 inline constexpr float kLaserSweepRadians = 0.6f;
 

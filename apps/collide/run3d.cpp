@@ -480,6 +480,7 @@ Scene3D make_scene3d(const RunOptions& o) {
   }
   std::mt19937 spawn_rng(s.seed);
   std::uint64_t user = 1000;
+  s.world.reserve(std::min(s.requested_bodies, kMaxRunBodies));
   SpawnSpace<3> space(s.world);
   if (embedded) {
     // Each room's share of the bodies, room after room (bodies near in the world are near in

@@ -204,7 +204,7 @@ void register_run_command(CLI::App& app) {
                   "y up) or embedded scene (default, bullets); default: default");
   cmd->add_option("--bodies", o->bodies,
                   "Bodies to spawn (default scene 3000, bullets 500, maps 300, scene files their spawn count)")
-      ->check(CLI::Range(0, 1000000));  // 1.7 KB a body: a million is 1.7 GB
+      ->check(CLI::Range(0, kMaxRunBodies));
   cmd->add_option("--threads", o->threads, "Worker threads of the step (oneTBB); 0: every core")
       ->capture_default_str()
       ->check(CLI::Range(0, kMaxThreads));

@@ -276,6 +276,7 @@ Scene default_scene(const RunOptions& options) {
   // world are near in the world's arrays (a million bodies spawned anywhere made every phase
   // miss the cache). Bullets, 1% of each share: 0.3 m at 600 m/s = 10 m per 60 Hz frame, over 30
   // times their size.
+  world.reserve(std::min(bodies, kMaxRunBodies));
   SpawnSpace<2> space(world);
   scene.bullets = 0;
   std::uint64_t user = 1000;

@@ -995,6 +995,12 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
 }
 
 template <int D>
+void WorldN<D>::reserve(int bodies) {
+  if (bodies < 0) throw InvalidInput("World reserve bodies: negative (" + std::to_string(bodies) + ")");
+  impl_->bodies.reserve(static_cast<std::size_t>(bodies));
+}
+
+template <int D>
 void WorldN<D>::remove_body(BodyId id) {
   detail::BodyN<D>& b = impl_->body(id);
   b.alive = false;

@@ -264,6 +264,26 @@ TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
   EXPECT_THROW((void)world.ground_check(body, {0, -1}), InvalidInput);
 }
 
+TEST(World2DInput, ReserveRefusesANegativeCountAndChangesNoResult) {
+  World2D w;
+  EXPECT_THROW(w.reserve(-1), InvalidInput);
+  // The same bodies with and without room reserved: the same state after the same steps.
+  std::uint64_t hashes[2] = {};
+  for (const bool reserve : {false, true}) {
+    World2D world;
+    if (reserve) world.reserve(100);
+    world.add_static({.shapes = {make_box({10.0f, 0.5f})}, .transform = Transform::from({0.0f, -6.0f}, 0.0f)});
+    for (int i = 0; i < 100; ++i) {
+      const float x = static_cast<float>(i % 10) - 4.5f, y = static_cast<float>(i / 10) * 0.6f - 3.0f;
+      world.add_body({.shapes = {make_circle({0.0f, 0.0f}, 0.2f)}, .transform = Transform::from({x, y}, 0.0f),
+                      .velocity = {0.5f * x, -2.0f}});
+    }
+    for (int f = 0; f < 30; ++f) world.step(1.0f / 60.0f);
+    hashes[reserve] = world.state_hash();
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
 TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {
   World2D world;
   const BodyId a = world.add_body(circle_body({0, 0}, 1.0f, {0, 0}));

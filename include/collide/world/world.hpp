@@ -468,6 +468,10 @@ class WorldN {
   StaticId add_static(const StaticDefN<D>& def);
   /// Adds a body. Throws InvalidInput as add_static, and for a non-finite velocity.
   BodyId add_body(const BodyDefN<D>& def);
+  /// Grows the world's storage for `bodies` bodies in all, so that adding up to that many never
+  /// moves the bodies already added (a million bodies added one by one otherwise copy the body
+  /// array about 20 times). Throws InvalidInput for a negative count.
+  void reserve(int bodies);
   /// Removes a body; its contacts end (reported as end events by the next step). Throws
   /// InvalidInput for a stale or unknown id.
   void remove_body(BodyId id);
