@@ -225,7 +225,9 @@ JoltScene jolt_scene(const World3D& world) {
   JoltScene out;
   for (int i = 0; i < world.static_count(); ++i) {
     const StaticDef3& def = world.static_def(StaticId{static_cast<std::uint32_t>(i)});
-    if (!def.fields.empty() || def.sensor) throw std::runtime_error("world_scale3d: a field or sensor static (not in the scene)");
+    if (!def.fields.empty() || def.sensor) {
+      throw std::runtime_error("world_scale3d: a field or sensor static (not in the scene)");
+    }
     for (const StaticShape3D& piece : def.shapes) {
       if (const auto* mesh = std::get_if<std::shared_ptr<const TriangleMesh>>(&piece)) {
         out.levels.push_back(jolt_mesh(**mesh));
@@ -343,6 +345,10 @@ void BM_JoltStep3(benchmark::State& state) {
   cache().reset(n);
   JoltScene& description = cache().jolt_description(threads);
   cli::Scene3D& scene = cache().scene(threads);  // stepped untimed beside Jolt (lockstep)
+  if (static_cast<std::size_t>(scene.world.body_count()) != description.ids.size()) {
+    state.SkipWithError("the scenes of one size differ: the Jolt bodies cannot follow this one");
+    return;
+  }
   description.read_bodies(scene.world);
   const jq::ScaleWorldPtr jolt = jq::make_scale_world(description.statics, description.bodies, threads);
   const auto frame = [&] {  // collide's state at the start of the frame, then collide's frame
