@@ -65,7 +65,9 @@
 // Instruction sets: in the context block (collide's build; Jolt's as jolt_queries reports it).
 //
 // Run: build/release/bench/bench_world_scale3d --benchmark_filter='/(1000|10000|100000)/'
-//      (1e6 is registered too: a scene of 2000 rooms, minutes to build and several GB);
+//      (about 3 minutes on 2 cores). 1e6 is registered too, a scene of 2000 rooms: run one
+//      thread count at a time (--benchmark_filter=/1000000/1/, then /1000000/2/; 3.5 minutes
+//      and 6.2 GB each, as each thread count keeps its own collide scene).
 //      bench/world_scale_ratios.py prints the table.
 
 #include <collide/world/world3d.hpp>
