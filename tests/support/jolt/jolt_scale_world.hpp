@@ -55,7 +55,9 @@ struct ScaleBody {
 struct ScaleCapacity {
   int body_pairs_per_body = 16;        ///< PhysicsSystem::Init's inMaxBodyPairs / bodies
   int contacts_per_body = 8;           ///< inMaxContactConstraints / bodies (cached manifolds too)
-  std::size_t temp_bytes_per_body = 4096;  ///< the step's TempAllocatorImpl (malloc fallback past it)
+  /// The step's temporary allocator block (TempAllocatorImplWithMallocFallback: malloc serves
+  /// what does not fit), per body; at least 32 MB, at most 3 GB (its size is 32-bit).
+  std::size_t temp_bytes_per_body = 4096;
 };
 
 /// A JPH::PhysicsSystem (BroadPhaseQuadTree, two broad phase layers: the level and moving
@@ -66,7 +68,8 @@ struct ScaleCapacity {
 /// sleeping off, maximum speeds raised so that no velocity is clamped; gravity zero; a
 /// ContactListener counting OnContactAdded / OnContactPersisted manifolds; a
 /// JobSystemThreadPool of `threads` - 1 worker threads (Update's thread runs jobs too while it
-/// waits: `threads` run at once; 1: Update runs every job itself) and a TempAllocatorImpl.
+/// waits: `threads` run at once; 1: Update runs every job itself) and a temporary allocator
+/// (ScaleCapacity).
 /// The broad phase is optimised (OptimizeBroadPhase) after the bodies are added.
 class ScaleWorld;
 struct ScaleWorldDeleter {
