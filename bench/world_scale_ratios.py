@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""The table of a bench_world_scale run, from its JSON output.
+"""The table of a bench_world_scale or bench_world_scale3d run, from its JSON output.
 
     build/release/bench/bench_world_scale --benchmark_out=world_scale.json --benchmark_out_format=json
-    python3 bench/world_scale_ratios.py world_scale.json [more.json ...]
+    build/release/bench/bench_world_scale3d --benchmark_out=world_scale3d.json --benchmark_out_format=json
+    python3 bench/world_scale_ratios.py world_scale.json [world_scale3d.json more.json ...]
 
 Several files (e.g. one size per run, each run when the machine was quiet) are merged; a later
 file's benchmark replaces an earlier one's of the same name.
@@ -10,8 +11,11 @@ Prints Markdown: per size and thread count, ns per body per frame of collide's s
 and without its independent check) and of Box2D v3 (the whole b2World_Step, its collision work
 without the constraint solver, and pair finding + narrow phase alone), the ratio v3 / collide on
 the collision work, each side's speed-up on 2 threads, the growth of the per-body cost from 1e4
-to 1e6 bodies, and spawn time per body. The instruction sets and the load come from the run's
-context block. With repetitions, the median of each field.
+to 1e6 bodies, and spawn time per body. 3D rows (bench_world_scale3d: BM_CollideStep3 against
+BM_JoltStep3) get their own table: collide's World3D::step without its check beside Jolt's
+PhysicsSystem::Update on kinematic bodies, the ratio, and each side's speed-up on 2 threads.
+The instruction sets and the load come from the run's context block. With repetitions, the
+median of each field.
 """
 
 import json
@@ -48,13 +52,84 @@ def fmt(x):
     return "-" if x is None else (f"{x:.0f}" if x >= 100 else f"{x:.3g}")
 
 
-def main(paths):
+def load_all(paths):
+    """The runs of every file merged (later files win), and each file's context merged."""
     runs, ctx = {}, {}
     for path in paths:
         r, c = load(path)
         runs.update(r)
-        ctx = ctx or c
-    loads = sorted({tuple(round(x, 2) for x in (r.get("load") or [])) for r in runs.values()})
+        ctx = {**c, **ctx}
+    return runs, ctx
+
+
+def loads_of(runs):
+    return sorted({tuple(round(x, 2) for x in (r.get("load") or [])) for r in runs.values()})
+
+
+def main(paths):
+    runs, ctx = load_all(paths)
+    runs2d = {k: v for k, v in runs.items() if not k[0].endswith("3")}
+    runs3d = {k: v for k, v in runs.items() if k[0].endswith("3")}
+    if runs2d:
+        print_2d(runs2d, ctx)
+    if runs3d:
+        print_3d(runs3d, ctx)
+
+
+def print_3d(runs, ctx):
+    """World3D (BM_CollideStep3) against Jolt's PhysicsSystem (BM_JoltStep3)."""
+    sizes = sorted({s for (_, s, _) in runs})
+    get = lambda name, n, t, field: runs.get((name, n, t), {}).get(field)
+    print(f"\n3D. collide: {ctx.get('collide instruction set', '?')}; "
+          f"Jolt: {ctx.get('jolt instruction set', '?')}; "
+          f"load averages (1, 5, 15 min) at the start of the runs: {loads_of(runs)}\n")
+    print("ns per body per frame. collide: `step` = World3D::step, `no check` = without its "
+          "independent check, `discrete` = without the check nor its motion with continuous "
+          "collision (`integrate`: Jolt has no continuous collision for kinematic bodies); "
+          "Jolt: PhysicsSystem::Update on kinematic bodies (collision work, nothing to solve). "
+          "`Jolt/collide` = Jolt / collide no check (above 1: collide faster). Contacts per body "
+          "per frame: collide touching pairs (continuous collision's hits included), Jolt "
+          "manifolds.\n")
+    print("| bodies | threads | collide step | collide no check | collide discrete | Jolt step "
+          "| Jolt/collide | Jolt/discrete | collide contacts | Jolt contacts |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for n in sizes:
+        for t in (1, 2):
+            c = get("BM_CollideStep3", n, t, "ns_body_nocheck")
+            j = get("BM_JoltStep3", n, t, "ns_body")
+            ratio = j / c if j and c else None
+            i = get("BM_CollideStep3", n, t, "integrate")
+            d = c - i if c and i is not None else None
+            print(f"| {n:,} | {t} | {fmt(get('BM_CollideStep3', n, t, 'ns_body'))} | {fmt(c)} | {fmt(d)} "
+                  f"| {fmt(j)} | {fmt(ratio)} | {fmt(j / d if j and d else None)} "
+                  f"| {fmt(get('BM_CollideStep3', n, t, 'contacts'))} "
+                  f"| {fmt(get('BM_JoltStep3', n, t, 'contacts'))} |")
+    print("\nSpeed-up on 2 threads (time on 1 / time on 2):\n")
+    print("| bodies | collide step | collide no check | Jolt step |")
+    print("|---:|---:|---:|---:|")
+    for n in sizes:
+        cells = []
+        for name, field in (("BM_CollideStep3", "ns_body"), ("BM_CollideStep3", "ns_body_nocheck"),
+                            ("BM_JoltStep3", "ns_body")):
+            one, two = get(name, n, 1, field), get(name, n, 2, field)
+            cells.append(fmt(one / two) if one and two else "-")
+        print(f"| {n:,} | " + " | ".join(cells) + " |")
+    print("\ncollide's phases, ns per body per frame (1 thread / 2 threads):\n")
+    phases = ("integrate", "statics", "broad", "pairs", "events", "check")
+    print("| bodies | " + " | ".join(phases) + " |")
+    print("|---:|" + "---:|" * len(phases))
+    for n in sizes:
+        cells = [f"{fmt(get('BM_CollideStep3', n, 1, p))} / {fmt(get('BM_CollideStep3', n, 2, p))}"
+                 for p in phases]
+        print(f"| {n:,} | " + " | ".join(cells) + " |")
+    labels = sorted({(k, r["label"]) for k, r in runs.items() if r.get("label")})
+    for (name, n, t), label in labels:
+        print(f"\nnote: {name}/{n}/{t}: {label}")
+
+
+def print_2d(runs, ctx):
+    """World2D (BM_CollideStep) against Box2D v3 (BM_Box2DStep)."""
+    loads = loads_of(runs)
     sizes = sorted({s for (_, s, _) in runs})
     get = lambda name, n, t, field: runs.get((name, n, t), {}).get(field)
 

@@ -8,7 +8,8 @@
 # Link targets:
 #  - `collide_jolt_queries`  Jolt's queries behind plain types (tests/support/jolt/
 #                  jolt_queries.hpp; a world step's collision work and CharacterVirtual in
-#                  jolt_world.hpp): the only code compiled with Jolt's headers and instruction
+#                  jolt_world.hpp; PhysicsSystem::Update on a world of kinematic bodies in
+#                  jolt_scale_world.hpp): the only code compiled with Jolt's headers and instruction
 #                  set. Benchmarks and tests link this, not Jolt: Jolt's -m options are PUBLIC in
 #                  its target, so every source of a target linking `Jolt::Jolt` would be
 #                  compiled with them, collide's inline code included. Its INTERFACE defines
@@ -68,7 +69,8 @@ add_subdirectory(${COLLIDE_PEERS_DIR}/jolt/Build ${CMAKE_BINARY_DIR}/peers/jolt 
 # benchmarks and tests: the one library compiled with Jolt's headers and instruction set.
 add_library(collide_jolt_queries STATIC EXCLUDE_FROM_ALL
             ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_queries.cpp
-            ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_world.cpp)
+            ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_world.cpp
+            ${PROJECT_SOURCE_DIR}/tests/support/jolt/jolt_scale_world.cpp)
 target_link_libraries(collide_jolt_queries PRIVATE Jolt::Jolt)
 target_include_directories(collide_jolt_queries PUBLIC ${PROJECT_SOURCE_DIR}/tests)
 if(NOT COLLIDE_JOLT_SSE2)

@@ -7,8 +7,12 @@
 
 #include <Jolt/Jolt.h>
 
+#include <Jolt/Physics/Collision/BroadPhase/BroadPhaseLayer.h>
+#include <Jolt/Physics/Collision/ObjectLayer.h>
 #include <Jolt/Physics/Collision/Shape/ConvexShape.h>
 #include <Jolt/Physics/Collision/Shape/Shape.h>
+
+#include <array>
 
 #if defined(__AVX__)
 #include <immintrin.h>
@@ -33,7 +37,8 @@ struct ClearUpperOnReturn {
 #endif
 };
 
-/// A level: a JPH::MeshShape (make_mesh).
+/// A level: a JPH::MeshShape (make_mesh) or a JPH::HeightFieldShape (make_height_field,
+/// jolt_scale_world.hpp).
 class Mesh {
  public:
   JPH::RefConst<JPH::Shape> shape;
@@ -43,6 +48,49 @@ class Mesh {
 class Convex {
  public:
   JPH::RefConst<JPH::ConvexShape> shape;
+};
+
+inline JPH::Vec3 to_jolt(Vec v) { return JPH::Vec3(v.x, v.y, v.z); }
+inline Vec from_jolt(JPH::Vec3Arg v) { return {v.GetX(), v.GetY(), v.GetZ()}; }
+/// A quaternion given as (x, y, z, w).
+inline JPH::Quat to_jolt(const std::array<float, 4>& q) { return JPH::Quat(q[0], q[1], q[2], q[3]); }
+
+// ---- layers: moving bodies and the level (jolt_world.cpp, jolt_scale_world.cpp) ----------------
+
+/// Object layers, each in a broad phase layer (tree) of its own, as Jolt's samples do: the level
+/// never moves, so its tree is never rebuilt.
+inline constexpr JPH::ObjectLayer kLevelLayer = 0;
+inline constexpr JPH::ObjectLayer kMovingLayer = 1;
+inline constexpr JPH::uint kLayerCount = 2;
+
+class Layers final : public JPH::BroadPhaseLayerInterface {
+ public:
+  JPH::uint GetNumBroadPhaseLayers() const override { return kLayerCount; }
+  JPH::BroadPhaseLayer GetBroadPhaseLayer(JPH::ObjectLayer layer) const override {
+    return JPH::BroadPhaseLayer(static_cast<JPH::BroadPhaseLayer::Type>(layer));
+  }
+#if defined(JPH_EXTERNAL_PROFILE) || defined(JPH_PROFILE_ENABLED)
+  const char* GetBroadPhaseLayerName(JPH::BroadPhaseLayer layer) const override {
+    return layer.GetValue() == kLevelLayer ? "level" : "moving";
+  }
+#endif
+};
+
+/// Moving bodies meet everything; the level meets moving bodies only.
+inline bool layers_meet(JPH::ObjectLayer a, JPH::ObjectLayer b) {
+  return a == kMovingLayer || b == kMovingLayer;
+}
+
+class LayerVsTree final : public JPH::ObjectVsBroadPhaseLayerFilter {
+ public:
+  bool ShouldCollide(JPH::ObjectLayer layer, JPH::BroadPhaseLayer tree) const override {
+    return layers_meet(layer, static_cast<JPH::ObjectLayer>(tree.GetValue()));
+  }
+};
+
+class LayerPairs final : public JPH::ObjectLayerPairFilter {
+ public:
+  bool ShouldCollide(JPH::ObjectLayer a, JPH::ObjectLayer b) const override { return layers_meet(a, b); }
 };
 
 }  // namespace jolt_queries

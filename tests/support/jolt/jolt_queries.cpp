@@ -55,10 +55,6 @@ void ConvexDeleter::operator()(Convex* c) const { delete c; }
 
 namespace {
 
-Vec3 to_jolt(Vec v) { return Vec3(v.x, v.y, v.z); }
-Vec from_jolt(JPH::Vec3Arg v) { return {v.GetX(), v.GetY(), v.GetZ()}; }
-JPH::Quat to_jolt(const std::array<float, 4>& q) { return JPH::Quat(q[0], q[1], q[2], q[3]); }
-
 /// The centre-of-mass transform, as JPH::Body::GetCenterOfMassTransform computes it.
 Mat44 com_transform(const Body& b) {
   return Mat44::sRotationTranslation(to_jolt(b.com.q), to_jolt(b.com.p));

@@ -32,48 +32,6 @@ namespace {
 
 using JPH::Vec3;
 
-Vec3 to_jolt(Vec v) { return Vec3(v.x, v.y, v.z); }
-Vec from_jolt(JPH::Vec3Arg v) { return {v.GetX(), v.GetY(), v.GetZ()}; }
-JPH::Quat to_jolt(const std::array<float, 4>& q) { return JPH::Quat(q[0], q[1], q[2], q[3]); }
-
-// ---- layers: moving bodies and the level -------------------------------------------------------
-
-/// Object layers, each in a broad phase layer (tree) of its own, as Jolt's samples do: the level
-/// never moves, so its tree is never rebuilt.
-constexpr JPH::ObjectLayer kLevelLayer = 0;
-constexpr JPH::ObjectLayer kMovingLayer = 1;
-constexpr JPH::uint kLayerCount = 2;
-
-class Layers final : public JPH::BroadPhaseLayerInterface {
- public:
-  JPH::uint GetNumBroadPhaseLayers() const override { return kLayerCount; }
-  JPH::BroadPhaseLayer GetBroadPhaseLayer(JPH::ObjectLayer layer) const override {
-    return JPH::BroadPhaseLayer(static_cast<JPH::BroadPhaseLayer::Type>(layer));
-  }
-#if defined(JPH_EXTERNAL_PROFILE) || defined(JPH_PROFILE_ENABLED)
-  const char* GetBroadPhaseLayerName(JPH::BroadPhaseLayer layer) const override {
-    return layer.GetValue() == kLevelLayer ? "level" : "moving";
-  }
-#endif
-};
-
-/// Moving bodies meet everything; the level meets moving bodies only.
-bool layers_meet(JPH::ObjectLayer a, JPH::ObjectLayer b) {
-  return a == kMovingLayer || b == kMovingLayer;
-}
-
-class LayerVsTree final : public JPH::ObjectVsBroadPhaseLayerFilter {
- public:
-  bool ShouldCollide(JPH::ObjectLayer layer, JPH::BroadPhaseLayer tree) const override {
-    return layers_meet(layer, static_cast<JPH::ObjectLayer>(tree.GetValue()));
-  }
-};
-
-class LayerPairs final : public JPH::ObjectLayerPairFilter {
- public:
-  bool ShouldCollide(JPH::ObjectLayer a, JPH::ObjectLayer b) const override { return layers_meet(a, b); }
-};
-
 /// The broad phase's pairs, in a buffer reused from step to step.
 class PairCollector final : public JPH::BodyPairCollector {
  public:
