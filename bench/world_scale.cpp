@@ -71,6 +71,7 @@
 #include <oneapi/tbb/task_group.h>
 
 #include "instruction_set.hpp"
+#include "world_step_timing.hpp"
 
 #include <malloc.h>
 
@@ -96,6 +97,7 @@
 namespace {
 
 using namespace collide;
+using bench::ns_per;
 using Clock = std::chrono::steady_clock;
 
 constexpr float kDt = 1.0f / 60.0f;
@@ -127,10 +129,6 @@ int repetitions(int n) { return n <= 10000 ? 3 : 1; }
 double heap_bytes() {
   const struct mallinfo2 info = mallinfo2();
   return static_cast<double>(info.uordblks + info.hblkhd);
-}
-
-double ns_per(double seconds, double frames, double bodies) {
-  return frames > 0 && bodies > 0 ? seconds * 1e9 / (frames * bodies) : 0.0;
 }
 
 cli::RunOptions scene_options(int n, int threads) {
@@ -437,35 +435,7 @@ void BM_CollideStep(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   cache().reset(n);
   cli::Scene& scene = cache().scene(threads);
-  World2D& world = scene.world;
-  for (int f = 0; f < kWarmupFrames; ++f) world.step(kDt);
-
-  StepStats sum;
-  double seconds = 0.0;
-  for (auto _ : state) {
-    const auto t0 = Clock::now();
-    world.step(kDt);
-    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-    sum.accumulate(world.last_step_stats());
-  }
-  const double frames = static_cast<double>(state.iterations());
-  const double bodies = world.body_count();
-  state.counters["bodies"] = bodies;
-  state.counters["workers"] = scene.scheduler ? scene.scheduler->worker_count() : 1;
-  state.counters["ns_body"] = ns_per(seconds, frames, bodies);
-  state.counters["ns_body_nocheck"] = ns_per(seconds - sum.time_check, frames, bodies);
-  state.counters["integrate"] = ns_per(sum.time_integrate, frames, bodies);
-  state.counters["statics"] = ns_per(sum.time_statics, frames, bodies);
-  state.counters["broad"] = ns_per(sum.time_broad, frames, bodies);
-  state.counters["pairs"] = ns_per(sum.time_bodies, frames, bodies);
-  state.counters["events"] = ns_per(sum.time_events, frames, bodies);
-  state.counters["check"] = ns_per(sum.time_check, frames, bodies);
-  state.counters["contacts"] = static_cast<double>(sum.contacts) / (frames * bodies);
-  state.counters["narrow_tests"] = static_cast<double>(sum.narrow_tests) / (frames * bodies);
-  if (sum.tunnelled + sum.escaped > 0) {
-    state.SetLabel("check: " + std::to_string(sum.tunnelled) + " tunnelled, " + std::to_string(sum.escaped) +
-                   " escaped");
-  }
+  bench::time_world_steps(state, scene.world, scene.scheduler.get(), kWarmupFrames, kDt);
 }
 
 void box2d_step(benchmark::State& state, bool own_scheduler) {

@@ -77,6 +77,7 @@
 #include <benchmark/benchmark.h>
 
 #include "instruction_set.hpp"
+#include "world_step_timing.hpp"
 #include "support/jolt/jolt_scale_world.hpp"
 #include "support/jolt/jolt_world.hpp"  // make_sphere
 
@@ -94,6 +95,7 @@
 namespace {
 
 using namespace collide;
+using bench::ns_per;
 namespace jq = jolt_queries;
 using Clock = std::chrono::steady_clock;
 
@@ -112,10 +114,6 @@ int timed_frames(int n) {
 }
 /// Repetitions where they are cheap: the small sizes are the noisy ones. The table takes medians.
 int repetitions(int n) { return n <= 10000 ? 3 : 1; }
-
-double ns_per(double seconds, double frames, double bodies) {
-  return frames > 0 && bodies > 0 ? seconds * 1e9 / (frames * bodies) : 0.0;
-}
 
 cli::RunOptions scene_options(int n, int threads) {
   cli::RunOptions o;
@@ -308,37 +306,7 @@ void BM_CollideStep3(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   cache().reset(n);
   cli::Scene3D& scene = cache().scene(threads);
-  World3D& world = scene.world;
-  for (int f = 0; f < kWarmupFrames; ++f) world.step(kDt);
-
-  StepStats sum;
-  double seconds = 0.0;
-  for (auto _ : state) {
-    const auto t0 = Clock::now();
-    world.step(kDt);
-    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-    sum.accumulate(world.last_step_stats());
-  }
-  const double frames = static_cast<double>(state.iterations());
-  const double bodies = world.body_count();
-  state.counters["bodies"] = bodies;
-  state.counters["workers"] = scene.scheduler ? scene.scheduler->worker_count() : 1;
-  state.counters["ns_body"] = ns_per(seconds, frames, bodies);
-  state.counters["ns_body_nocheck"] = ns_per(seconds - sum.time_check, frames, bodies);
-  state.counters["integrate"] = ns_per(sum.time_integrate, frames, bodies);
-  state.counters["statics"] = ns_per(sum.time_statics, frames, bodies);
-  state.counters["broad"] = ns_per(sum.time_broad, frames, bodies);
-  state.counters["pairs"] = ns_per(sum.time_bodies, frames, bodies);
-  state.counters["events"] = ns_per(sum.time_events, frames, bodies);
-  state.counters["check"] = ns_per(sum.time_check, frames, bodies);
-  state.counters["contacts"] = static_cast<double>(sum.contacts) / (frames * bodies);
-  state.counters["narrow_tests"] = static_cast<double>(sum.narrow_tests) / (frames * bodies);
-  state.counters["ccd_bodies"] = static_cast<double>(sum.ccd_bodies) / (frames * bodies);
-  state.counters["toi_queries"] = static_cast<double>(sum.toi_queries) / (frames * bodies);
-  if (sum.tunnelled + sum.escaped > 0) {
-    state.SetLabel("check: " + std::to_string(sum.tunnelled) + " tunnelled, " + std::to_string(sum.escaped) +
-                   " escaped");
-  }
+  bench::time_world_steps(state, scene.world, scene.scheduler.get(), kWarmupFrames, kDt);
 }
 
 void BM_JoltStep3(benchmark::State& state) {
