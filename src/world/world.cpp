@@ -521,14 +521,14 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
   std::vector<Contact>& body_contacts = wk.body_contacts;
   StepStats& stats = wk.stats;
   detail::WorldCheckChain& chain = static_chain_of(w);
-  const std::size_t piece_count = b.shapes.size();
-  const std::size_t first = first_proxy[i];
-  Box start = proxy_start_boxes[first];
-  for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first + k]);
   if (clear_of_statics(b)) {
     ++stats.static_clear_skips;
     return;
   }
+  const std::size_t piece_count = b.shapes.size();
+  const std::size_t first = first_proxy[i];
+  Box start = proxy_start_boxes[first];
+  for (std::size_t k = 1; k < piece_count; ++k) start = merge(start, proxy_start_boxes[first + k]);
   bool put_back = false;
   for (int iteration = 0;; ++iteration) {
     body_contacts.clear();

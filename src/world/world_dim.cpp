@@ -3,6 +3,7 @@
 
 #include "world_dim.hpp"
 
+#include <collide/broad/broad_phase.hpp>  // ray_box_fraction
 #include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/shape/polygon.hpp>
@@ -35,21 +36,9 @@ constexpr float kNeverEntered = 2.0f;
 /// and its coming within `reach` of the triangle's plane; kNeverEntered when it does neither
 /// within the step. A cheap cull and order for the exact time of impact per triangle.
 float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3, 3>& c) {
-  const Vec3 lo = glm::min(glm::min(c[0], c[1]), c[2]) - Vec3(reach);
-  const Vec3 hi = glm::max(glm::max(c[0], c[1]), c[2]) + Vec3(reach);
-  float enter = 0.0f, leave = 1.0f;
-  for (int k = 0; k < 3; ++k) {
-    if (motion[k] == 0.0f) {
-      if (from[k] < lo[k] || from[k] > hi[k]) return kNeverEntered;
-      continue;
-    }
-    const float inv = 1.0f / motion[k];
-    float t0 = (lo[k] - from[k]) * inv, t1 = (hi[k] - from[k]) * inv;
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-  }
-  if (!(enter <= leave)) return kNeverEntered;
+  const Aabb3 grown{glm::min(glm::min(c[0], c[1]), c[2]) - Vec3(reach), glm::max(glm::max(c[0], c[1]), c[2]) + Vec3(reach)};
+  const float enter = ray_box_fraction(Ray3{from, motion}, grown, 1.0f);
+  if (enter < 0.0f) return kNeverEntered;
   const Vec3 n = cross(c[1] - c[0], c[2] - c[0]);
   const float n_length = length(n);
   if (!(n_length > 0.0f)) return enter;
@@ -283,6 +272,93 @@ Vec3 overlap_normal(const Shape3D& a, const Transform3& xa, const B& b, const Tr
   return std::visit([&](const auto& s) { return contact(s, xa, b, xb, margin).normal; }, a);
 }
 
+/// piece_impact against a level shape (a triangle mesh or a height field placed by `xb`): the
+/// triangles the sweep's box `box` meets, one time of impact each (`queries` counts them).
+template <class Level>
+ToiResult3 level_impact(const Shape3D& a, const ConvexProxy3& proxy_a, const Sweep3& sweep, const Aabb3& box,
+                        const Level& level, const Transform3& xb, std::int64_t& queries) {
+  // Every triangle the sweep's box meets. A triangle the piece already touches at the
+  // start and moves into is the answer (at fraction 0, `overlapped`, as a convex piece
+  // answers): another triangle's later hit must not carry the piece through it. Else the
+  // earliest hit; a touched triangle the piece moves away from stops nothing. Triangles
+  // are queried in order of a lower bound on their hit (triangle_entry), and none whose
+  // bound is past the earliest hit so far: a bullet into a floor meets one or two of
+  // the dozens of triangles its box holds.
+  const Sweep3 still = Sweep3::from_motion(Transform3{}, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
+  const Vec3 motion = sweep.c1 - sweep.c0;
+  const Transform3 at_start = sweep.at(0.0f);
+  float reach = 0.0f;
+  for (int i = 0; i < proxy_a.count(); ++i) reach = std::max(reach, distance(proxy_a.point(i), sweep.local_center));
+  reach = (reach + proxy_a.radius()) * (1.0f + kTriangleEntrySlack) +
+          kTriangleEntryRounding * (max_abs(sweep.c0) + max_abs(sweep.c1) + reach);
+  ToiResult3 best;
+  best.status = QueryStatus::separated;
+  best.fraction = 1.0f;
+  int best_order = std::numeric_limits<int>::max();
+  // The exact query of the triangle `order`-th in the walk; false when it is the answer
+  // (nothing is earlier). Equal fractions go to the earlier triangle in the walk, so the
+  // answer is the walk's whatever order the triangles are queried in.
+  const auto query = [&](const std::array<Vec3, 3>& c, int order) -> bool {
+    ++queries;
+    const Triangle triangle{c};
+    ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(triangle), still);
+    if (r.status == QueryStatus::overlapped) {
+      if (r.normal == Vec3(0.0f)) {
+        const PlacedTriangle placed = placed_triangle(c);
+        r.normal = overlap_normal(a, at_start, placed.shape, placed.xf);
+      }
+      if (dot(motion, r.normal) > 0.0f) {
+        best = r;
+        return false;
+      }
+    } else if ((r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) &&
+               (r.fraction < best.fraction || (r.fraction == best.fraction && order < best_order))) {
+      best = r;
+      best_order = order;
+    }
+    return true;
+  };
+  struct Entry {
+    float fraction;  // triangle_entry's lower bound on its hit
+    int order;       // its place in the walk
+    std::array<Vec3, 3> corners;
+  };
+  std::array<Entry, kSortedTriangles> entries;
+  int count = 0;
+  int walk = 0;
+  bool at_once = false;  // more than kSortedTriangles: the walk's order, as they come
+  bool answered = false;
+  for_each_triangle(level, xb, box, [&](std::uint32_t, const std::array<Vec3, 3>& c) -> bool {
+    const int order = walk++;
+    const float entry = triangle_entry(sweep.c0, motion, reach, c);
+    if (entry > best.fraction) return true;  // its hit, if any, is later than the earliest
+    if (!at_once && count < kSortedTriangles) {
+      entries[static_cast<std::size_t>(count++)] = {entry, order, c};
+      return true;
+    }
+    if (!at_once) {  // the ones kept so far first, in the walk's order
+      at_once = true;
+      for (int k = 0; k < count && !answered; ++k) {
+        const Entry& e = entries[static_cast<std::size_t>(k)];
+        if (e.fraction <= best.fraction) answered = !query(e.corners, e.order);
+      }
+      if (answered) return false;
+    }
+    answered = !query(c, order);
+    return !answered;
+  });
+  if (at_once) return best;
+  std::sort(entries.begin(), entries.begin() + count, [](const Entry& x, const Entry& y) {
+    return x.fraction < y.fraction || (x.fraction == y.fraction && x.order < y.order);
+  });
+  for (int k = 0; k < count; ++k) {
+    const Entry& e = entries[static_cast<std::size_t>(k)];
+    if (e.fraction > best.fraction) break;
+    if (!query(e.corners, e.order)) break;
+  }
+  return best;
+}
+
 }  // namespace
 
 ToiResult3 piece_impact(const Shape3D& a, const Sweep3& sweep, const Aabb3& box,
@@ -292,86 +368,7 @@ ToiResult3 piece_impact(const Shape3D& a, const Sweep3& sweep, const Aabb3& box,
       [&](const auto& s) -> ToiResult3 {
         using S = std::decay_t<decltype(s)>;
         if constexpr (kIsMesh<S> || kIsField<S>) {
-          // Every triangle the sweep's box meets. A triangle the piece already touches at the
-          // start and moves into is the answer (at fraction 0, `overlapped`, as a convex piece
-          // answers): another triangle's later hit must not carry the piece through it. Else the
-          // earliest hit; a touched triangle the piece moves away from stops nothing. Triangles
-          // are queried in order of a lower bound on their hit (triangle_entry), and none whose
-          // bound is past the earliest hit so far: a bullet into a floor meets one or two of
-          // the dozens of triangles its box holds.
-          const Sweep3 still = Sweep3::from_motion(Transform3{}, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
-          const Vec3 motion = sweep.c1 - sweep.c0;
-          const Transform3 at_start = sweep.at(0.0f);
-          float reach = 0.0f;
-          for (int i = 0; i < proxy_a.count(); ++i) reach = std::max(reach, distance(proxy_a.point(i), sweep.local_center));
-          reach = (reach + proxy_a.radius()) * (1.0f + kTriangleEntrySlack) +
-                  kTriangleEntryRounding * (max_abs(sweep.c0) + max_abs(sweep.c1) + reach);
-          ToiResult3 best;
-          best.status = QueryStatus::separated;
-          best.fraction = 1.0f;
-          int best_order = std::numeric_limits<int>::max();
-          // The exact query of the triangle `order`-th in the walk; false when it is the answer
-          // (nothing is earlier). Equal fractions go to the earlier triangle in the walk, so the
-          // answer is the walk's whatever order the triangles are queried in.
-          const auto query = [&](const std::array<Vec3, 3>& c, int order) -> bool {
-            ++queries;
-            const Triangle triangle{c};
-            ToiResult3 r = time_of_impact(proxy_a, sweep, ConvexProxy3(triangle), still);
-            if (r.status == QueryStatus::overlapped) {
-              if (r.normal == Vec3(0.0f)) {
-                const PlacedTriangle placed = placed_triangle(c);
-                r.normal = overlap_normal(a, at_start, placed.shape, placed.xf);
-              }
-              if (dot(motion, r.normal) > 0.0f) {
-                best = r;
-                return false;
-              }
-            } else if ((r.status == QueryStatus::hit || r.status == QueryStatus::max_iterations) &&
-                       (r.fraction < best.fraction || (r.fraction == best.fraction && order < best_order))) {
-              best = r;
-              best_order = order;
-            }
-            return true;
-          };
-          struct Entry {
-            float fraction;  // triangle_entry's lower bound on its hit
-            int order;       // its place in the walk
-            std::array<Vec3, 3> corners;
-          };
-          std::array<Entry, kSortedTriangles> entries;
-          int count = 0;
-          int walk = 0;
-          bool at_once = false;  // more than kSortedTriangles: the walk's order, as they come
-          bool answered = false;
-          for_each_triangle(*s, xb, box, [&](std::uint32_t, const std::array<Vec3, 3>& c) -> bool {
-            const int order = walk++;
-            const float entry = triangle_entry(sweep.c0, motion, reach, c);
-            if (entry > best.fraction) return true;  // its hit, if any, is later than the earliest
-            if (!at_once && count < kSortedTriangles) {
-              entries[static_cast<std::size_t>(count++)] = {entry, order, c};
-              return true;
-            }
-            if (!at_once) {  // the ones kept so far first, in the walk's order
-              at_once = true;
-              for (int k = 0; k < count && !answered; ++k) {
-                const Entry& e = entries[static_cast<std::size_t>(k)];
-                if (e.fraction <= best.fraction) answered = !query(e.corners, e.order);
-              }
-              if (answered) return false;
-            }
-            answered = !query(c, order);
-            return !answered;
-          });
-          if (at_once) return best;
-          std::sort(entries.begin(), entries.begin() + count, [](const Entry& x, const Entry& y) {
-            return x.fraction < y.fraction || (x.fraction == y.fraction && x.order < y.order);
-          });
-          for (int k = 0; k < count; ++k) {
-            const Entry& e = entries[static_cast<std::size_t>(k)];
-            if (e.fraction > best.fraction) break;
-            if (!query(e.corners, e.order)) break;
-          }
-          return best;
+          return level_impact(a, proxy_a, sweep, box, *s, xb, queries);
         } else {
           const Sweep3 still = Sweep3::from_motion(xb, Vec3(0.0f), Vec3(0.0f), Vec3(0.0f));
           ++queries;

@@ -18,7 +18,6 @@
 #include <memory>
 #include <type_traits>
 #include <utility>
-#include <unordered_map>
 #include <vector>
 
 namespace collide::detail {
