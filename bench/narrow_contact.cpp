@@ -107,8 +107,8 @@ const CirclePairs& circle_pairs() {
 }
 
 // state.range(0): how many of the pairs to cycle through. 1024 distinct pairs spread collide's
-// 1 KiB polygons over 2 MiB (a world's worth of shapes, out of L1); 64 stay in L1 and show the
-// arithmetic alone.
+// 192-byte polygons over 384 KiB (a world's worth of shapes, out of L1); 64 stay in L1 and show
+// the arithmetic alone.
 template <class Pairs>
 void ours(benchmark::State& state, const Pairs& p) {
   const int pairs = static_cast<int>(state.range(0));

@@ -12,7 +12,7 @@
 namespace collide::detail {
 
 /// The 2-vertex polygon of a capsule or segment: edge 0 runs a -> b with its normal to the
-/// right, edge 1 runs b -> a. Only the first two array slots are written (no 1 KiB fill).
+/// right, edge 1 runs b -> a. Only the first two slots are written (inline storage, no fill).
 inline Polygon two_vertex_polygon(Vec2 a, Vec2 b, float radius) noexcept {
   Polygon p;  // NOLINT: arrays deliberately left unset beyond count
   p.count = 2;

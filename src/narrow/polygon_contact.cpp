@@ -465,7 +465,7 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
     }
     if (sep_b.separation > radius) return m;
 
-    // Only the first kSatLanes entries of each array are written (no 1 KiB fill).
+    // Only the first kSatLanes entries of each array are written (no fill of the full capacity).
     SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond kSatLanes
     SoaPolygon pb_soa;  // NOLINT
     pa_soa.count = na;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,31 @@ void finish(Polygon& poly) {
 }
 
 }  // namespace
+
+void PolygonPoints::resize(int count) {
+  COLLIDE_ASSERT(count >= 0 && count <= kMaxPolygonVertices, "polygon point count out of range");
+  if (count <= capacity()) return;
+  auto block = std::make_unique_for_overwrite<Vec2[]>(static_cast<size_t>(count));
+  std::memcpy(static_cast<void*>(block.get()), static_cast<const void*>(data()),
+              static_cast<size_t>(capacity()) * sizeof(Vec2));
+  heap_ = std::move(block);
+  heap_capacity_ = count;
+}
+
+void PolygonPoints::copy_from(const PolygonPoints& other) {
+  if (other.heap_) {
+    if (heap_capacity_ != other.heap_capacity_ || !heap_) {
+      heap_ = std::make_unique_for_overwrite<Vec2[]>(static_cast<size_t>(other.heap_capacity_));
+      heap_capacity_ = other.heap_capacity_;
+    }
+  } else {
+    heap_.reset();
+    heap_capacity_ = 0;
+  }
+  // Raw bytes: slots past the polygon's count may be unset.
+  std::memcpy(static_cast<void*>(data()), static_cast<const void*>(other.data()),
+              static_cast<size_t>(other.capacity()) * sizeof(Vec2));
+}
 
 float signed_area(std::span<const Vec2> vertices) noexcept {
   if (vertices.size() < 3) return 0.0f;
@@ -125,7 +151,7 @@ Polygon make_polygon(std::span<const Vec2> points, float radius) {
                        std::to_string(kMaxPolygonVertices) + ")");
   }
   Polygon poly;
-  poly.count = static_cast<int>(hull.size());
+  poly.set_count(static_cast<int>(hull.size()));
   std::copy(hull.begin(), hull.end(), poly.vertices.begin());
   poly.radius = radius;
   finish(poly);
@@ -179,7 +205,7 @@ Polygon make_convex_polygon(std::span<const Vec2> vertices, float radius) {
     throw InvalidInput("polygon: outline winds around more than once (self-intersecting)");
   }
   Polygon poly;
-  poly.count = static_cast<int>(n);
+  poly.set_count(static_cast<int>(n));
   std::copy(vertices.begin(), vertices.end(), poly.vertices.begin());
   poly.radius = radius;
   finish(poly);
@@ -200,7 +226,7 @@ Polygon make_box(Vec2 half, Vec2 center, float angle, float radius) {
   check_radius(radius, "box");
   const Transform xf = Transform::from(center, angle);
   Polygon poly;
-  poly.count = 4;
+  poly.set_count(4);
   poly.vertices[0] = transform_point(xf, {-half.x, -half.y});
   poly.vertices[1] = transform_point(xf, {half.x, -half.y});
   poly.vertices[2] = transform_point(xf, {half.x, half.y});

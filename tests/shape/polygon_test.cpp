@@ -86,7 +86,7 @@ TEST(MakeConvexPolygon, KeepsOrderAndRejectsClockwiseOrConcave) {
   EXPECT_THROW((void)make_convex_polygon(star), InvalidInput);
 }
 
-TEST(MakePolygon, SixtyFourVerticesFitTheInlineStorage) {
+TEST(MakePolygon, SixtyFourVerticesFit) {
   std::vector<Vec2> pts;
   for (int i = 0; i < kMaxPolygonVertices; ++i) {
     const float a = 2.0f * test::kPi * static_cast<float>(i) / kMaxPolygonVertices;
@@ -103,6 +103,53 @@ TEST(MakePolygon, SixtyFourVerticesFitTheInlineStorage) {
     EXPECT_LE(p.count, kMaxPolygonVertices);
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("kMaxPolygonVertices"), std::string::npos);
+  }
+}
+
+// Small polygons stay compact (the layout issue 19 asked for); large ones keep every vertex
+// through copies and assignments in either direction between inline and heap storage.
+static_assert(sizeof(Polygon) <= 192, "a polygon of up to 8 vertices fits three cache lines");
+
+Polygon regular_polygon(int n, float r) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i < n; ++i) {
+    const float a = 2.0f * test::kPi * static_cast<float>(i) / static_cast<float>(n);
+    pts.push_back({r * std::cos(a), r * std::sin(a)});
+  }
+  return make_convex_polygon(pts);
+}
+
+void expect_same_points(const Polygon& a, const Polygon& b) {
+  ASSERT_EQ(a.count, b.count);
+  for (int i = 0; i < a.count; ++i) {
+    EXPECT_EQ(a.vertices[i], b.vertices[i]) << i;
+    EXPECT_EQ(a.normals[i], b.normals[i]) << i;
+  }
+}
+
+TEST(PolygonStorage, CopiesAndAssignmentsKeepEveryVertexInlineOrOnTheHeap) {
+  const Polygon big = regular_polygon(kMaxPolygonVertices, 2.0f);
+  const Polygon nine = regular_polygon(kInlinePolygonVertices + 1, 3.0f);
+  const Polygon small = regular_polygon(kInlinePolygonVertices, 1.0f);
+  EXPECT_EQ(big.vertices.capacity(), kMaxPolygonVertices);
+  EXPECT_EQ(small.vertices.capacity(), kInlinePolygonVertices);
+
+  Polygon copy = big;  // deep copy: its own block
+  expect_same_points(copy, big);
+  EXPECT_NE(copy.vertices.data(), big.vertices.data());
+  copy = small;  // heap -> inline
+  expect_same_points(copy, small);
+  EXPECT_EQ(copy.vertices.capacity(), kInlinePolygonVertices);
+  copy = nine;  // inline -> heap
+  expect_same_points(copy, nine);
+  copy = big;  // heap -> larger heap
+  expect_same_points(copy, big);
+  Polygon moved = std::move(copy);
+  expect_same_points(moved, big);
+  // Every vertex of the 64-gon is on its circle, in order: none came from a stale slot.
+  for (int i = 0; i < moved.count; ++i) {
+    EXPECT_NEAR(glm::length(moved.vertices[i]), 2.0f, 1e-5f);
+    EXPECT_GT(cross(moved.vertex(i + 1) - moved.vertices[i], moved.vertex(i + 2) - moved.vertex(i + 1)), 0.0f);
   }
 }
 

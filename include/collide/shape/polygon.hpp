@@ -1,18 +1,62 @@
 #pragma once
 /// @file
-/// Convex polygons with an optional rounding radius, stored inline (no heap) so queries on them
-/// never allocate.
+/// Convex polygons with an optional rounding radius. Up to 8 vertices are stored inline; larger
+/// polygons keep their points in one heap block made when they are built. Queries never
+/// allocate.
 
 #include <collide/core/aabb.hpp>
 #include <collide/core/transform.hpp>
 
-#include <array>
+#include <memory>
 #include <span>
 
 namespace collide {
 
 /// Most vertices a Polygon holds. Queries keep every temporary on the stack at this size.
 inline constexpr int kMaxPolygonVertices = 64;
+
+/// Vertices a Polygon keeps inline; polygons with more keep their points in one heap block,
+/// allocated when the polygon is built or copied (never by a query). Box2D v3's limit (8), so
+/// the polygons games build most (boxes, wedges, octagons) never touch the heap.
+inline constexpr int kInlinePolygonVertices = 8;
+
+/// The points of a Polygon (vertices or edge normals): kInlinePolygonVertices inline, more in
+/// a heap block of exactly the count asked. Indexed like an array; holds no count of its own
+/// (the polygon's `count` says how many slots are meaningful).
+class PolygonPoints {
+ public:
+  PolygonPoints() noexcept {}  // NOLINT: inline slots deliberately left unset (no 64-byte fill)
+  PolygonPoints(const PolygonPoints& other) { copy_from(other); }
+  PolygonPoints(PolygonPoints&& other) noexcept = default;
+  PolygonPoints& operator=(const PolygonPoints& other) {
+    if (this != &other) copy_from(other);
+    return *this;
+  }
+  PolygonPoints& operator=(PolygonPoints&& other) noexcept = default;
+  ~PolygonPoints() = default;
+
+  /// Makes room for `count` points (0..kMaxPolygonVertices), keeping the first ones held.
+  /// Allocates only above kInlinePolygonVertices.
+  void resize(int count);
+
+  /// Slots held: kInlinePolygonVertices, or the heap block's size.
+  [[nodiscard]] int capacity() const noexcept {
+    return heap_ ? heap_capacity_ : kInlinePolygonVertices;
+  }
+  [[nodiscard]] const Vec2* data() const noexcept { return heap_ ? heap_.get() : inline_; }
+  [[nodiscard]] Vec2* data() noexcept { return heap_ ? heap_.get() : inline_; }
+  [[nodiscard]] const Vec2& operator[](size_t i) const noexcept { return data()[i]; }
+  [[nodiscard]] Vec2& operator[](size_t i) noexcept { return data()[i]; }
+  [[nodiscard]] const Vec2* begin() const noexcept { return data(); }
+  [[nodiscard]] Vec2* begin() noexcept { return data(); }
+
+ private:
+  void copy_from(const PolygonPoints& other);
+
+  Vec2 inline_[kInlinePolygonVertices];  // NOLINT: C array, left unset until written
+  std::unique_ptr<Vec2[]> heap_;
+  int heap_capacity_ = 0;
+};
 
 /// A convex polygon, counter-clockwise, in local space, optionally rounded: the solid set of
 /// points within `radius` of the convex hull of `vertices`. Edge i runs from vertex i to vertex
@@ -21,23 +65,36 @@ inline constexpr int kMaxPolygonVertices = 64;
 /// Build polygons with `make_polygon`, `make_convex_polygon` or `make_box`, which establish the
 /// invariants (3..kMaxPolygonVertices distinct vertices, strictly convex, counter-clockwise,
 /// finite); treat the fields as read-only afterwards. Inside collide, capsules and segments are
-/// also seen as 2-vertex polygons (count 2), which public constructors never produce.
+/// also seen as 2-vertex polygons (count 2), which public constructors never produce. Code that
+/// builds a polygon by hand calls `set_count` before writing the points.
 ///
-/// Size: about 1 KiB (vertex and normal arrays are inline). Aligned to a cache line so that a
-/// small polygon touches two lines in a query (the header with its first vertices, and its
-/// first normals) wherever it sits in an array (unaligned, one in four straddled four lines;
-/// circle-polygon contact over 1024 polygons in an array was 6% slower, bench_narrow_contact).
+/// Size: 192 bytes (up to kInlinePolygonVertices vertices and normals inline, more on the
+/// heap), a sixth of the 1 KiB it took with 64 slots inline: 1024 polygons fit in 192 KiB of
+/// cache. Aligned to a cache line so that a small polygon's header, vertices and normals sit in
+/// known lines wherever it is in an array.
 struct alignas(64) Polygon {
   // Small fields first: a query on a small polygon then touches the count, the radius and the
-  // first vertices in neighbouring cache lines rather than lines 1 KiB apart.
-  int count = 0;                                   ///< number of vertices
-  float radius = 0.0f;                             ///< rounding radius, >= 0
-  Vec2 centroid{0.0f, 0.0f};                       ///< area centroid of the core, local space
-  std::array<Vec2, kMaxPolygonVertices> vertices;  ///< local space, counter-clockwise
-  std::array<Vec2, kMaxPolygonVertices> normals;   ///< unit outward normal of edge i
+  // first vertices in the same cache line.
+  int count = 0;                  ///< number of vertices
+  float radius = 0.0f;            ///< rounding radius, >= 0
+  Vec2 centroid{0.0f, 0.0f};      ///< area centroid of the core, local space
+  PolygonPoints vertices;         ///< local space, counter-clockwise; `count` of them
+  PolygonPoints normals;          ///< unit outward normal of edge i; `count` of them
+
+  /// Sets `count` (0..kMaxPolygonVertices) and makes room for that many vertices and normals;
+  /// allocates only above kInlinePolygonVertices.
+  void set_count(int n) {
+    vertices.resize(n);
+    normals.resize(n);
+    count = n;
+  }
 
   /// Vertex i wrapped modulo count.
   [[nodiscard]] Vec2 vertex(int i) const noexcept { return vertices[static_cast<size_t>(i % count)]; }
+  /// The vertices as a span of `count` points.
+  [[nodiscard]] std::span<const Vec2> vertex_span() const noexcept {
+    return {vertices.data(), static_cast<size_t>(count)};
+  }
 };
 
 /// The convex hull of `points` as a polygon, with rounding `radius`. Points may come in any
