@@ -1,11 +1,14 @@
-// Continuous collision: collide vs Box2D 2.4 on the same pre-generated inputs, each benchmark
-// iteration a batch of 1024 moving pairs (about half of them meet during the step).
-//  - BM_ShapeCast/<pair>/collide (GJK ray cast, shape_cast) vs /box2d (b2ShapeCast), and
-//    /explicit (build A - B, cast into it) for polygon pairs.
+// Continuous collision: collide vs Box2D v3 (/box2d_v3, the first rival) and Box2D 2.4 (/box2d)
+// on the same pre-generated inputs, each benchmark iteration a batch of 1024 moving pairs (about
+// half of them meet during the step).
+//  - BM_ShapeCast/<pair>/collide (GJK ray cast, shape_cast) vs b2ShapeCast, and /explicit
+//    (build A - B, cast into it) for polygon pairs. v3 casts in A's frame: the conversion of
+//    B's pose and the motion is timed on its side (box2d_v3/queries.cpp).
 //  - BM_ToiTranslation/<pair>: time_of_impact without rotation vs b2TimeOfImpact.
 //  - BM_ToiRotation/<pair>: time_of_impact with turns up to pi/2 per step (Box2D's per-step
-//    limit) vs b2TimeOfImpact; collide at Box2D's target (b2_linearSlop) and at its own
-//    default (1e-3 of the smaller size: tighter, more accurate).
+//    limit) vs b2TimeOfImpact; collide at Box2D's target (b2_linearSlop, 2.4's and v3's
+//    linear slop alike: 0.005) and at its own default (1e-3 of the smaller size: tighter, more
+//    accurate).
 // Counters (computed once, outside the timing): hits, and sep_at_t, the mean distance between
 // the shapes at the reported time of hits (by Box2D's b2Distance): the accuracy.
 //
@@ -17,6 +20,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "box2d_v3/queries.hpp"
+#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/b2_time_of_impact.h>
@@ -231,6 +236,27 @@ void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
   report(state, *pairs, times);
 }
 
+std::vector<collide::bench::box2d_v3::MovingPair> v3_inputs(const std::vector<Pair>& pairs) {
+  std::vector<collide::bench::box2d_v3::MovingPair> out;
+  for (const Pair& p : pairs) {
+    out.push_back({ConvexProxy(p.a.shape), ConvexProxy(p.b.shape), p.xa(), p.xb(), p.va(), p.vb(),
+                   p.sa, p.sb});
+  }
+  return out;
+}
+
+void cast_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
+  std::vector<float> times;
+  collide::bench::box2d_v3::shape_cast(state, v3_inputs(*pairs), times);
+  report(state, *pairs, times);
+}
+
+void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
+  std::vector<float> times;
+  collide::bench::box2d_v3::time_of_impact(state, v3_inputs(*pairs), times);
+  report(state, *pairs, times);
+}
+
 // ---- time of impact ---------------------------------------------------------------------------
 
 void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool box2d_target) {
@@ -306,20 +332,27 @@ int main(int argc, char** argv) {
     const std::vector<Pair>* tr = &translating[i];
     const std::vector<Pair>* rot = &rotating[i];
     benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/collide").c_str(), cast_collide, tr);
+    benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/box2d_v3").c_str(), cast_box2d_v3, tr);
     benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/box2d").c_str(), cast_box2d, tr);
     if (cases[i].ka >= 3 && cases[i].kb >= 3) {
       benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/explicit").c_str(), cast_explicit, tr);
     }
     benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/collide").c_str(), toi_collide, tr,
                                  true);
+    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d_v3").c_str(), toi_box2d_v3,
+                                 tr);
     benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d").c_str(), toi_box2d, tr);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide_box2d_target").c_str(),
                                  toi_collide, rot, true);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide").c_str(), toi_collide, rot,
                                  false);
+    benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d_v3").c_str(), toi_box2d_v3, rot);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d").c_str(), toi_box2d, rot);
   }
   benchmark::Initialize(&argc, argv);
+  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
+  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
+  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

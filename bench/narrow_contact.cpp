@@ -1,16 +1,21 @@
-// Contact manifolds, collide vs Box2D 2.4, on the same pre-generated pairs in the same run.
-// Each iteration computes the manifolds of all kPairs pairs (mixed overlapping and separated;
-// the "overlap" counter is the touching fraction) with world-space points on both sides:
-// collide's `contact` returns them; Box2D needs b2Collide* followed by b2WorldManifold.
-// Pairs read side by side: BM_Contact_Poly4/collide, BM_Contact_Poly4/box2d.
+// Contact manifolds, collide vs Box2D v3 (the first rival) and Box2D 2.4, on the same
+// pre-generated pairs in the same run. Each iteration computes the manifolds of all kPairs pairs
+// (mixed overlapping and separated; the "overlap" counter is the touching fraction) with
+// world-space points on every side: collide's `contact` returns them; Box2D 2.4 needs b2Collide*
+// followed by b2WorldManifold; v3 takes the relative transform and answers in A's frame
+// (box2d_v3/queries.cpp). Rows read side by side: BM_Contact_Poly4/collide, /box2d_v3, /box2d.
+// Capsules: v3 only (2.4 has none).
 
 #include <benchmark/benchmark.h>
 
+#include "box2d_v3/queries.hpp"
+#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/box2d.h>
 
 #include <cmath>
 #include <collide/narrow/contact.hpp>
+#include <collide/shape/capsule.hpp>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -18,6 +23,7 @@
 namespace {
 
 using namespace collide;
+namespace box2d_v3 = collide::bench::box2d_v3;
 using namespace collide::test;  // uniform, random points, rotations and transforms
 
 constexpr int kPairs = 1024;
@@ -106,6 +112,26 @@ const CirclePairs& circle_pairs() {
   return p;
 }
 
+struct CapsulePairs {
+  std::vector<Polygon> a;
+  std::vector<Capsule> b;
+  std::vector<Transform> xa, xb;
+};
+
+const CapsulePairs& capsule_pairs() {
+  static CapsulePairs p;
+  if (!p.a.empty()) return p;
+  std::mt19937 rng(23);
+  for (int i = 0; i < kPairs; ++i) {
+    p.a.push_back(make_convex_polygon(random_convex(rng, 6)));
+    const float half = uniform(rng, 0.1f, 0.4f);
+    p.b.push_back(make_capsule({-half, 0.0f}, {half, 0.0f}, uniform(rng, 0.05f, 0.25f)));
+    p.xa.push_back(random_transform(rng, 0.65f));
+    p.xb.push_back(random_transform(rng, 0.65f));
+  }
+  return p;
+}
+
 // state.range(0): how many of the pairs to cycle through. 1024 distinct pairs spread collide's
 // 192-byte polygons over 384 KiB (a world's worth of shapes, out of L1); 64 stay in L1 and show
 // the arithmetic alone.
@@ -144,25 +170,44 @@ void box2d(benchmark::State& state, const Pairs& p, Collide collide) {
   state.counters["overlap"] = static_cast<double>(touching) / pairs;
 }
 
-void BM_Contact_Poly4_collide(benchmark::State& s) { ours(s, polygon_pairs(4)); }
-void BM_Contact_Poly4_box2d(benchmark::State& s) { box2d(s, polygon_pairs(4), b2CollidePolygons); }
-void BM_Contact_Poly8_collide(benchmark::State& s) { ours(s, polygon_pairs(8)); }
-void BM_Contact_Poly8_box2d(benchmark::State& s) { box2d(s, polygon_pairs(8), b2CollidePolygons); }
-void BM_Contact_CirclePoly_collide(benchmark::State& s) { ours(s, circle_pairs()); }
-void BM_Contact_CirclePoly_box2d(benchmark::State& s) {
-  box2d(s, circle_pairs(), b2CollidePolygonAndCircle);
+template <class Pairs>
+void v3(benchmark::State& s, const Pairs& p) {
+  using B = typename decltype(p.b)::value_type;
+  if constexpr (std::is_same_v<B, Polygon>) {
+    box2d_v3::contact_polygons(s, p.a, p.xa, p.b, p.xb);
+  } else if constexpr (std::is_same_v<B, Circle>) {
+    box2d_v3::contact_polygon_circle(s, p.a, p.xa, p.b, p.xb);
+  } else {
+    box2d_v3::contact_polygon_capsule(s, p.a, p.xa, p.b, p.xb);
+  }
 }
 
 }  // namespace
 
-BENCHMARK(BM_Contact_Poly4_collide)->Name("BM_Contact_Poly4/collide")->Arg(kPairs)->Arg(64);
-BENCHMARK(BM_Contact_Poly4_box2d)->Name("BM_Contact_Poly4/box2d")->Arg(kPairs)->Arg(64);
-BENCHMARK(BM_Contact_Poly8_collide)->Name("BM_Contact_Poly8/collide")->Arg(kPairs)->Arg(64);
-BENCHMARK(BM_Contact_Poly8_box2d)->Name("BM_Contact_Poly8/box2d")->Arg(kPairs)->Arg(64);
-BENCHMARK(BM_Contact_CirclePoly_collide)
-    ->Name("BM_Contact_CirclePoly/collide")
-    ->Arg(kPairs)
-    ->Arg(64);
-BENCHMARK(BM_Contact_CirclePoly_box2d)->Name("BM_Contact_CirclePoly/box2d")->Arg(kPairs)->Arg(64);
-
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
+  benchmark::AddCustomContext("box2d v3 version", box2d_v3::describe());
+  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  const auto add = [](const std::string& name, auto fn) {
+    benchmark::RegisterBenchmark(name.c_str(), fn)->Arg(kPairs)->Arg(64);
+  };
+  add("BM_Contact_Poly4/collide", [](benchmark::State& s) { ours(s, polygon_pairs(4)); });
+  add("BM_Contact_Poly4/box2d_v3", [](benchmark::State& s) { v3(s, polygon_pairs(4)); });
+  add("BM_Contact_Poly4/box2d",
+      [](benchmark::State& s) { box2d(s, polygon_pairs(4), b2CollidePolygons); });
+  add("BM_Contact_Poly8/collide", [](benchmark::State& s) { ours(s, polygon_pairs(8)); });
+  add("BM_Contact_Poly8/box2d_v3", [](benchmark::State& s) { v3(s, polygon_pairs(8)); });
+  add("BM_Contact_Poly8/box2d",
+      [](benchmark::State& s) { box2d(s, polygon_pairs(8), b2CollidePolygons); });
+  add("BM_Contact_CirclePoly/collide", [](benchmark::State& s) { ours(s, circle_pairs()); });
+  add("BM_Contact_CirclePoly/box2d_v3", [](benchmark::State& s) { v3(s, circle_pairs()); });
+  add("BM_Contact_CirclePoly/box2d",
+      [](benchmark::State& s) { box2d(s, circle_pairs(), b2CollidePolygonAndCircle); });
+  add("BM_Contact_CapsulePoly/collide", [](benchmark::State& s) { ours(s, capsule_pairs()); });
+  add("BM_Contact_CapsulePoly/box2d_v3", [](benchmark::State& s) { v3(s, capsule_pairs()); });
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,175 @@
+// Box2D v3's side of the 2D query benchmarks: see queries.hpp.
+#include "queries.hpp"
+
+#include <box2d/box2d.h>
+#include <box2d/collision.h>
+
+#include <vector>
+
+namespace collide::bench::box2d_v3 {
+namespace {
+
+b2Vec2 to_v3(Vec2 v) { return {v.x, v.y}; }
+
+b2Transform to_v3(const Transform& xf) { return {to_v3(xf.p), {xf.q.c, xf.q.s}}; }
+
+b2Polygon to_v3(const Polygon& p) {
+  std::vector<b2Vec2> points;
+  for (int i = 0; i < p.count; ++i) points.push_back(to_v3(p.vertices[i]));
+  const b2Hull hull = b2ComputeHull(points.data(), static_cast<int>(points.size()));
+  return b2MakePolygon(&hull, p.radius);
+}
+
+b2Circle to_v3(const Circle& c) { return {to_v3(c.center), c.radius}; }
+
+b2Capsule to_v3(const Capsule& c) { return {to_v3(c.a), to_v3(c.b), c.radius}; }
+
+template <class A, class B>
+struct Pairs {
+  std::vector<A> a;
+  std::vector<B> b;
+  std::vector<b2Transform> xa, xb;
+};
+
+template <class ShapeA, class ShapeB>
+auto convert(std::span<const ShapeA> a, std::span<const Transform> xa, std::span<const ShapeB> b,
+             std::span<const Transform> xb) {
+  Pairs<decltype(to_v3(a[0])), decltype(to_v3(b[0]))> out;
+  for (const ShapeA& s : a) out.a.push_back(to_v3(s));
+  for (const ShapeB& s : b) out.b.push_back(to_v3(s));
+  for (const Transform& x : xa) out.xa.push_back(to_v3(x));
+  for (const Transform& x : xb) out.xb.push_back(to_v3(x));
+  return out;
+}
+
+/// The world-space manifold a game reads: normal and points rotated out of frame A.
+struct WorldManifold {
+  b2Vec2 normal;
+  b2Vec2 points[2];
+  float separations[2];
+  int count;
+};
+
+template <class P, class Collide>
+void run(benchmark::State& state, const P& p, Collide collide) {
+  const int pairs = static_cast<int>(state.range(0));
+  int touching = 0;
+  for (auto _ : state) {
+    touching = 0;
+    for (int i = 0; i < pairs; ++i) {
+      const b2Transform xa = p.xa[static_cast<size_t>(i)];
+      const b2Transform rel = b2InvMulTransforms(xa, p.xb[static_cast<size_t>(i)]);
+      const b2LocalManifold m =
+          collide(&p.a[static_cast<size_t>(i)], &p.b[static_cast<size_t>(i)], rel);
+      WorldManifold w;
+      w.count = m.pointCount;
+      w.normal = b2RotateVector(xa.q, m.normal);
+      for (int k = 0; k < m.pointCount; ++k) {
+        w.points[k] = b2TransformPoint(xa, m.points[k].point);
+        w.separations[k] = m.points[k].separation;
+      }
+      benchmark::DoNotOptimize(w);
+      touching += m.pointCount > 0 ? 1 : 0;
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * pairs);
+  state.counters["overlap"] = static_cast<double>(touching) / pairs;
+}
+
+}  // namespace
+
+std::string describe() {
+  const b2Version v = b2GetVersion();
+  return std::to_string(v.major) + "." + std::to_string(v.minor) + "." +
+         std::to_string(v.revision);
+}
+
+void contact_polygons(benchmark::State& state, std::span<const Polygon> a,
+                      std::span<const Transform> xa, std::span<const Polygon> b,
+                      std::span<const Transform> xb) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygons);
+}
+
+void contact_polygon_circle(benchmark::State& state, std::span<const Polygon> a,
+                            std::span<const Transform> xa, std::span<const Circle> b,
+                            std::span<const Transform> xb) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCircle);
+}
+
+void contact_polygon_capsule(benchmark::State& state, std::span<const Polygon> a,
+                             std::span<const Transform> xa, std::span<const Capsule> b,
+                             std::span<const Transform> xb) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCapsule);
+}
+
+namespace {
+
+b2ShapeProxy proxy(const ConvexProxy& p) {
+  std::vector<b2Vec2> points;
+  for (int i = 0; i < p.count(); ++i) points.push_back(to_v3(p.point(i)));
+  return b2MakeProxy(points.data(), p.count(), p.radius());
+}
+
+b2Sweep to_v3(const Sweep& s) {
+  return {to_v3(s.local_center), to_v3(s.c0), to_v3(s.c1), b2MakeRot(s.a0), b2MakeRot(s.a1)};
+}
+
+}  // namespace
+
+void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
+                std::vector<float>& fractions) {
+  struct Input {
+    b2ShapeProxy a, b;
+    b2Transform xa, xb;
+    b2Vec2 va, vb;
+  };
+  std::vector<Input> inputs;
+  for (const MovingPair& p : pairs) {
+    inputs.push_back({proxy(p.a), proxy(p.b), to_v3(p.xa), to_v3(p.xb), to_v3(p.va), to_v3(p.vb)});
+  }
+  fractions.assign(pairs.size(), -1.0f);
+  double iterations = 0.0;
+  for (auto _ : state) {
+    int iters = 0;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const Input& in = inputs[i];
+      b2ShapeCastPairInput cast{};
+      cast.proxyA = in.a;
+      cast.proxyB = in.b;
+      cast.transform = b2InvMulTransforms(in.xa, in.xb);
+      cast.translationB = b2InvRotateVector(in.xa.q, b2Sub(in.vb, in.va));
+      cast.maxFraction = 1.0f;
+      cast.canEncroach = false;
+      const b2CastOutput out = b2ShapeCast(&cast);
+      fractions[i] = out.hit ? out.fraction : -1.0f;
+      iters += out.iterations;
+    }
+    iterations = iters;
+    benchmark::DoNotOptimize(fractions.data());
+  }
+  state.counters["iters"] = iterations / double(inputs.size());
+}
+
+void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
+                    std::vector<float>& fractions) {
+  std::vector<b2TOIInput> inputs;
+  for (const MovingPair& p : pairs) {
+    b2TOIInput in{};
+    in.proxyA = proxy(p.a);
+    in.proxyB = proxy(p.b);
+    in.sweepA = to_v3(p.sa);
+    in.sweepB = to_v3(p.sb);
+    in.maxFraction = 1.0f;
+    inputs.push_back(in);
+  }
+  fractions.assign(pairs.size(), -1.0f);
+  for (auto _ : state) {
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const b2TOIOutput out = b2TimeOfImpact(&inputs[i]);
+      fractions[i] = out.state == b2_toiStateHit && out.fraction > 0.0f ? out.fraction : -1.0f;
+    }
+    benchmark::DoNotOptimize(fractions.data());
+  }
+}
+
+}  // namespace collide::bench::box2d_v3

@@ -1,0 +1,67 @@
+#pragma once
+// Box2D v3's side of the 2D query benchmarks (bench_narrow_contact, ...). Box2D 2.4 and v3 both
+// spell their header <box2d/box2d.h> with clashing types, so v3 lives in its own translation
+// unit (queries.cpp) and takes collide's shapes: each function converts them to v3's types
+// before the timed loop, then times v3 answering in world space, as collide does (v3 answers in
+// shape A's frame; the relative transform in and the world-space points out are part of the
+// timed work). Symbols do not clash: 2.4 is C++ (mangled), v3 is C.
+
+#include <benchmark/benchmark.h>
+
+#include <collide/ccd/sweep.hpp>
+#include <collide/core/transform.hpp>
+#include <collide/narrow/support.hpp>
+#include <collide/shape/capsule.hpp>
+#include <collide/shape/circle.hpp>
+#include <collide/shape/polygon.hpp>
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace collide::bench::box2d_v3 {
+
+/// Version of the Box2D v3 build, for the benchmark context (its instruction set:
+/// COLLIDE_BOX2D_V3_ISA, cmake/peers.cmake).
+[[nodiscard]] std::string describe();
+
+/// Manifolds of pairs [0, state.range(0)) per iteration: `b2CollidePolygons` with the relative
+/// transform, then points and normal to world space. Counter "overlap": touching fraction.
+void contact_polygons(benchmark::State& state, std::span<const Polygon> a,
+                      std::span<const Transform> xa, std::span<const Polygon> b,
+                      std::span<const Transform> xb);
+/// As contact_polygons, `b2CollidePolygonAndCircle`.
+void contact_polygon_circle(benchmark::State& state, std::span<const Polygon> a,
+                            std::span<const Transform> xa, std::span<const Circle> b,
+                            std::span<const Transform> xb);
+/// As contact_polygons, `b2CollidePolygonAndCapsule`.
+void contact_polygon_capsule(benchmark::State& state, std::span<const Polygon> a,
+                             std::span<const Transform> xa, std::span<const Capsule> b,
+                             std::span<const Transform> xb);
+
+/// A moving pair as the continuous collision benches hold it (world space; velocities are the
+/// displacement over the step).
+struct MovingPair {
+  ConvexProxy a;
+  ConvexProxy b;
+  Transform xa;
+  Transform xb;
+  Vec2 va;
+  Vec2 vb;
+  Sweep sa;
+  Sweep sb;
+};
+
+/// `b2ShapeCast` over every pair per iteration: B's pose and the relative motion put in A's
+/// frame (timed, as collide takes world space). `fractions[i]`: the hit fraction, -1 for a
+/// miss. Counter "iters": mean GJK iterations.
+void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
+                std::vector<float>& fractions);
+
+/// `b2TimeOfImpact` over every pair per iteration (v3 turns a sweep by normalised linear
+/// interpolation of its rotations, collide by its angle: for turning pairs the motions differ
+/// slightly between the start and end poses). `fractions[i]`: the time of a hit, -1 otherwise.
+void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
+                    std::vector<float>& fractions);
+
+}  // namespace collide::bench::box2d_v3
