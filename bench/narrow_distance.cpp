@@ -1,7 +1,10 @@
-// GJK distance and overlap: collide vs Box2D 2.4 (b2Distance, b2TestOverlap) on the same
+// GJK distance and overlap: collide vs Box2D v3 (b2ShapeDistance; /box2d_v3, the first rival,
+// box2d_v3/queries.cpp) and Box2D 2.4 (b2Distance, b2TestOverlap; /box2d) on the same
 // pre-generated inputs. Each benchmark iteration runs a batch of 1024 random pairs, mostly
-// separated (4-16% overlap, depending on the shapes); names pair up as BM_X/collide and
-// BM_X/box2d. Warm runs carry each pair's simplex cache from one frame to the next while B
+// separated (4-16% overlap, depending on the shapes), except BM_Overlap_*Touching (B 0.2..0.9
+// from A: mostly overlapping); names pair up as BM_X/collide, BM_X/box2d_v3 and BM_X/box2d.
+// v3 has no boolean overlap test: its row is b2ShapeDistance < 10 FLT_EPSILON. v3 proxies hold
+// at most 8 points, so the 64-gon rows have no v3 entry. Warm runs carry each pair's simplex cache from one frame to the next while B
 // orbits A slowly. BM_Overlap_*/sat_alternative is the separating axis test, measured to justify
 // using GJK for polygon overlap (it is not in the library).
 //
@@ -13,6 +16,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "box2d_v3/queries.hpp"
+#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/box2d.h>
@@ -73,7 +78,8 @@ struct Pair {
 };
 
 /// A batch of pairs: A a polygon with `na` vertices (or a circle if na == 1), B likewise.
-std::vector<Pair> make_pairs(int na, int nb, unsigned seed) {
+std::vector<Pair> make_pairs(int na, int nb, unsigned seed, float min_dist = 1.0f,
+                             float max_dist = 3.0f) {
   std::mt19937 rng(seed);
   auto make_shape = [&](int n) {
     Shape s;
@@ -100,8 +106,8 @@ std::vector<Pair> make_pairs(int na, int nb, unsigned seed) {
     p.b = make_shape(nb);
     p.xa = Transform::from({uniform(rng, -50.0f, 50.0f), uniform(rng, -50.0f, 50.0f)},
                            uniform(rng, -3.1f, 3.1f));
-    // B 1.0 .. 3.0 units from A: mostly separated, some overlapping.
-    const float dist = uniform(rng, 1.0f, 3.0f);
+    // B min_dist .. max_dist from A (1..3 by default: mostly separated, some overlapping).
+    const float dist = uniform(rng, min_dist, max_dist);
     const float dir = uniform(rng, -3.1f, 3.1f);
     const float rot = uniform(rng, -3.1f, 3.1f);
     for (int f = 0; f < kFrames; ++f) {
@@ -172,23 +178,27 @@ void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, boo
 }
 
 void overlap_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
+  int hits = 0;
   for (auto _ : state) {
-    int hits = 0;
+    hits = 0;
     for (const Pair& p : *pairs) hits += overlap(p.a.polygon, p.xa, p.b.polygon, p.xb[0]) ? 1 : 0;
     benchmark::DoNotOptimize(hits);
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
+  state.counters["overlap"] = static_cast<double>(hits) / static_cast<double>(pairs->size());
 }
 
 void overlap_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
+  int hits = 0;
   for (auto _ : state) {
-    int hits = 0;
+    hits = 0;
     for (const Pair& p : *pairs) {
       hits += b2TestOverlap(&p.a.b2_polygon, 0, &p.b.b2_polygon, 0, p.xa_b2, p.xb_b2[0]) ? 1 : 0;
     }
     benchmark::DoNotOptimize(hits);
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
+  state.counters["overlap"] = static_cast<double>(hits) / static_cast<double>(pairs->size());
 }
 
 /// The alternative kept out of the library, measured here to justify the choice of GJK for
@@ -223,6 +233,30 @@ void overlap_sat_alternative(benchmark::State& state, const std::vector<Pair>* p
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
 }
 
+std::vector<collide::bench::box2d_v3::DistancePair> v3_pairs(const std::vector<Pair>& pairs) {
+  std::vector<collide::bench::box2d_v3::DistancePair> out;
+  for (const Pair& p : pairs) out.push_back({proxy(p.a), proxy(p.b), p.xa, p.xb});
+  return out;
+}
+
+void distance_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool warm) {
+  collide::bench::box2d_v3::distance(state, v3_pairs(*pairs), warm);
+}
+
+void overlap_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
+  collide::bench::box2d_v3::overlap(state, v3_pairs(*pairs));
+}
+
+bool fits_v3(const std::vector<Pair>& pairs) {
+  for (const Pair& p : pairs) {
+    if (proxy(p.a).count() > collide::bench::box2d_v3::kMaxProxyPoints ||
+        proxy(p.b).count() > collide::bench::box2d_v3::kMaxProxyPoints) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -230,6 +264,8 @@ int main(int argc, char** argv) {
   static const std::vector<Pair> poly8 = make_pairs(8, 8, 2);
   static const std::vector<Pair> circle_poly = make_pairs(1, 8, 3);
   static const std::vector<Pair> poly64 = make_pairs(64, 8, 4);
+  static const std::vector<Pair> poly4_touching = make_pairs(4, 4, 5, 0.2f, 0.9f);
+  static const std::vector<Pair> poly8_touching = make_pairs(8, 8, 6, 0.2f, 0.9f);
   struct Case {
     const char* name;
     const std::vector<Pair>* pairs;
@@ -243,17 +279,31 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     benchmark::RegisterBenchmark((std::string(c.name) + "/collide").c_str(), distance_collide,
                                  c.pairs, c.warm);
+    if (fits_v3(*c.pairs)) {
+      benchmark::RegisterBenchmark((std::string(c.name) + "/box2d_v3").c_str(), distance_box2d_v3,
+                                   c.pairs, c.warm);
+    }
     benchmark::RegisterBenchmark((std::string(c.name) + "/box2d").c_str(), distance_box2d,
                                  c.pairs, c.warm);
   }
-  benchmark::RegisterBenchmark("BM_Overlap_Poly4/collide", overlap_collide, &poly4);
-  benchmark::RegisterBenchmark("BM_Overlap_Poly4/box2d", overlap_box2d, &poly4);
-  benchmark::RegisterBenchmark("BM_Overlap_Poly8/collide", overlap_collide, &poly8);
-  benchmark::RegisterBenchmark("BM_Overlap_Poly8/box2d", overlap_box2d, &poly8);
+  const std::pair<const char*, const std::vector<Pair>*> overlaps[] = {
+      {"BM_Overlap_Poly4", &poly4},
+      {"BM_Overlap_Poly8", &poly8},
+      {"BM_Overlap_Poly4Touching", &poly4_touching},
+      {"BM_Overlap_Poly8Touching", &poly8_touching}};
+  for (const auto& [name, pairs] : overlaps) {
+    benchmark::RegisterBenchmark((std::string(name) + "/collide").c_str(), overlap_collide, pairs);
+    benchmark::RegisterBenchmark((std::string(name) + "/box2d_v3").c_str(), overlap_box2d_v3,
+                                 pairs);
+    benchmark::RegisterBenchmark((std::string(name) + "/box2d").c_str(), overlap_box2d, pairs);
+  }
   benchmark::RegisterBenchmark("BM_Overlap_Poly4/sat_alternative", overlap_sat_alternative, &poly4);
   benchmark::RegisterBenchmark("BM_Overlap_Poly8/sat_alternative", overlap_sat_alternative, &poly8);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
+  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
+  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

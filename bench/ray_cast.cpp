@@ -1,14 +1,19 @@
-// Ray casts: collide vs Box2D 2.4 on the same pre-generated shapes, transforms and rays.
-// Polygons of 4 and 8 vertices (b2PolygonShape::RayCast, m_radius = 0) and circles
-// (b2CircleShape::RayCast). Each run reports the inputs' hit rate, which shapes the cost
+// Ray casts: collide vs Box2D v3 (b2RayCastPolygon / Circle / Capsule; rows *_box2d_v3, the
+// first rival, box2d_v3/queries.cpp: v3 casts in the shape's frame, the conversions are timed)
+// and Box2D 2.4 on the same pre-generated shapes, transforms and rays. Polygons of 4 and 8
+// vertices (b2PolygonShape::RayCast, m_radius = 0), circles (b2CircleShape::RayCast) and
+// capsules (v3 only: 2.4 has none). Each run reports the inputs' hit rate, which shapes the cost
 // (misses can stop early). Run with
 //   bench_ray_cast --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // and compare medians (ratio = Box2D time / collide time).
 
 #include <collide/ccd/raycast.hpp>
+#include <collide/shape/capsule.hpp>
 
 #include <benchmark/benchmark.h>
 
+#include "box2d_v3/queries.hpp"
+#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/box2d.h>
 
@@ -124,6 +129,28 @@ const CircleSet& circles() {
   return set;
 }
 
+/// Capsules (segment half length 0.3..1.5, radius 0.1..0.6): collide and v3 only.
+struct CapsuleSet {
+  std::vector<Capsule> ours;
+  std::vector<Case> cases;
+};
+
+const CapsuleSet& capsules() {
+  static const CapsuleSet set = [] {
+    std::mt19937 rng(77);
+    CapsuleSet s;
+    for (int i = 0; i < kCases; ++i) {
+      const float half = uniform(rng, 0.3f, 1.5f);
+      const float angle = uniform(rng, -3.14f, 3.14f);
+      const Vec2 d = half * Vec2{std::cos(angle), std::sin(angle)};
+      s.ours.push_back(make_capsule(-d, d, uniform(rng, 0.1f, 0.6f)));
+    }
+    s.cases = make_cases(rng, 3.0f);
+    return s;
+  }();
+  return set;
+}
+
 /// Shapes visited: kHot cycles through a few shapes that stay in L1 (the arithmetic alone);
 /// kCold through all kCases shapes, as a broad phase handing over scattered candidates would
 /// (collide's Polygon is 192 bytes with 8 vertices inline, Box2D's about 150 bytes, so this also
@@ -212,14 +239,40 @@ void BM_PolygonRaycast_box2d(benchmark::State& state) {
 }
 void BM_CircleRaycast_collide(benchmark::State& state) { run_collide(state, circles()); }
 void BM_CircleRaycast_box2d(benchmark::State& state) { run_box2d(state, circles()); }
+void BM_CapsuleRaycast_collide(benchmark::State& state) { run_collide(state, capsules()); }
+
+template <class Set>
+void run_box2d_v3(benchmark::State& state, const Set& set) {
+  std::vector<collide::bench::box2d_v3::RayCase> cases;
+  for (const Case& c : set.cases) cases.push_back({c.xf, c.ray});
+  collide::bench::box2d_v3::ray_cast(state, std::span(set.ours), cases);
+}
+void BM_PolygonRaycast_box2d_v3(benchmark::State& state) {
+  run_box2d_v3(state, polygons(static_cast<int>(state.range(0))));
+}
+void BM_CircleRaycast_box2d_v3(benchmark::State& state) { run_box2d_v3(state, circles()); }
+void BM_CapsuleRaycast_box2d_v3(benchmark::State& state) { run_box2d_v3(state, capsules()); }
 
 // Arguments: vertex count (polygons), shape mask (kHot or kCold).
 BENCHMARK(BM_PolygonRaycast_collide)->ArgsProduct({{4, 8}, {kHot, kCold}});
+BENCHMARK(BM_PolygonRaycast_box2d_v3)->ArgsProduct({{4, 8}, {kHot, kCold}});
 BENCHMARK(BM_PolygonRaycast_box2d)->ArgsProduct({{4, 8}, {kHot, kCold}});
 BENCHMARK(BM_PolygonRaycast_collide_circle_pretest)->ArgsProduct({{4, 8}, {kHot, kCold}});
 BENCHMARK(BM_CircleRaycast_collide)->Args({0, kHot})->Args({0, kCold});
+BENCHMARK(BM_CircleRaycast_box2d_v3)->Args({0, kHot})->Args({0, kCold});
 BENCHMARK(BM_CircleRaycast_box2d)->Args({0, kHot})->Args({0, kCold});
+BENCHMARK(BM_CapsuleRaycast_collide)->Args({0, kHot})->Args({0, kCold});
+BENCHMARK(BM_CapsuleRaycast_box2d_v3)->Args({0, kHot})->Args({0, kCold});
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
+  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
+  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -4,6 +4,7 @@
 #include <box2d/box2d.h>
 #include <box2d/collision.h>
 
+#include <cfloat>
 #include <vector>
 
 namespace collide::bench::box2d_v3 {
@@ -170,6 +171,135 @@ void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
     }
     benchmark::DoNotOptimize(fractions.data());
   }
+}
+
+namespace {
+
+struct DistanceInputs {
+  std::vector<b2DistanceInput> inputs;   // proxies, radii on; transform set per call
+  std::vector<b2Transform> xa;
+  std::vector<std::vector<b2Transform>> xb;
+};
+
+DistanceInputs distance_inputs(std::span<const DistancePair> pairs) {
+  DistanceInputs d;
+  for (const DistancePair& p : pairs) {
+    b2DistanceInput in{};
+    in.proxyA = proxy(p.a);
+    in.proxyB = proxy(p.b);
+    in.useRadii = true;
+    d.inputs.push_back(in);
+    d.xa.push_back(to_v3(p.xa));
+    std::vector<b2Transform> frames;
+    for (const Transform& x : p.xb) frames.push_back(to_v3(x));
+    d.xb.push_back(std::move(frames));
+  }
+  return d;
+}
+
+}  // namespace
+
+void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm) {
+  DistanceInputs d = distance_inputs(pairs);
+  std::vector<b2SimplexCache> caches(pairs.size(), b2SimplexCache{});
+  const size_t frames = pairs.empty() ? 1 : pairs[0].xb.size();
+  size_t frame = 0;
+  for (auto _ : state) {
+    float sum = 0.0f;
+    for (size_t i = 0; i < d.inputs.size(); ++i) {
+      b2DistanceInput& in = d.inputs[i];
+      in.transform = b2InvMulTransforms(d.xa[i], d.xb[i][warm ? frame : 0]);
+      b2SimplexCache cold{};
+      const b2DistanceOutput out = b2ShapeDistance(&in, warm ? &caches[i] : &cold, nullptr, 0);
+      sum += out.distance;
+    }
+    benchmark::DoNotOptimize(sum);
+    frame = (frame + 1) % frames;
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs.size()));
+}
+
+void overlap(benchmark::State& state, std::span<const DistancePair> pairs) {
+  DistanceInputs d = distance_inputs(pairs);
+  int hits = 0;
+  for (auto _ : state) {
+    hits = 0;
+    for (size_t i = 0; i < d.inputs.size(); ++i) {
+      b2DistanceInput& in = d.inputs[i];
+      in.transform = b2InvMulTransforms(d.xa[i], d.xb[i][0]);
+      b2SimplexCache cache{};
+      const b2DistanceOutput out = b2ShapeDistance(&in, &cache, nullptr, 0);
+      hits += out.distance < 10.0f * FLT_EPSILON ? 1 : 0;
+    }
+    benchmark::DoNotOptimize(hits);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs.size()));
+  state.counters["overlap"] = static_cast<double>(hits) / static_cast<double>(pairs.size());
+}
+
+namespace {
+
+struct WorldHit {
+  b2Vec2 point;
+  b2Vec2 normal;
+  float fraction;
+  bool hit;
+};
+
+template <class Shape, class Cast>
+void run_rays(benchmark::State& state, std::span<const Shape> shapes,
+              std::span<const RayCase> cases, Cast cast) {
+  std::vector<decltype(to_v3(shapes[0]))> v3_shapes;
+  for (const Shape& s : shapes) v3_shapes.push_back(to_v3(s));
+  struct Input {
+    b2Transform xf;
+    b2Vec2 origin, translation;
+  };
+  std::vector<Input> inputs;
+  for (const RayCase& c : cases) {
+    inputs.push_back({to_v3(c.xf), to_v3(c.ray.origin), to_v3(c.ray.translation)});
+  }
+  const size_t mask = inputs.size() - 1;
+  const size_t shape_mask = static_cast<size_t>(state.range(1));
+  size_t i = 0;
+  int64_t hits = 0, casts = 0;
+  for (auto _ : state) {
+    const Input& in = inputs[i];
+    b2RayCastInput local;
+    local.origin = b2InvTransformPoint(in.xf, in.origin);
+    local.translation = b2InvRotateVector(in.xf.q, in.translation);
+    local.maxFraction = 1.0f;
+    const b2CastOutput out = cast(&v3_shapes[i & shape_mask], &local);
+    WorldHit h{};
+    h.hit = out.hit;
+    if (out.hit) {
+      h.fraction = out.fraction;
+      h.point = b2TransformPoint(in.xf, out.point);
+      h.normal = b2RotateVector(in.xf.q, out.normal);
+    }
+    benchmark::DoNotOptimize(h);
+    hits += out.hit ? 1 : 0;
+    ++casts;
+    i = (i + 1) & mask;
+  }
+  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+}
+
+}  // namespace
+
+void ray_cast(benchmark::State& state, std::span<const Polygon> shapes,
+              std::span<const RayCase> cases) {
+  run_rays(state, shapes, cases, b2RayCastPolygon);
+}
+
+void ray_cast(benchmark::State& state, std::span<const Circle> shapes,
+              std::span<const RayCase> cases) {
+  run_rays(state, shapes, cases, b2RayCastCircle);
+}
+
+void ray_cast(benchmark::State& state, std::span<const Capsule> shapes,
+              std::span<const RayCase> cases) {
+  run_rays(state, shapes, cases, b2RayCastCapsule);
 }
 
 }  // namespace collide::bench::box2d_v3

@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <collide/ccd/sweep.hpp>
+#include <collide/core/ray.hpp>
 #include <collide/core/transform.hpp>
 #include <collide/narrow/support.hpp>
 #include <collide/shape/capsule.hpp>
@@ -63,5 +64,42 @@ void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
 /// slightly between the start and end poses). `fractions[i]`: the time of a hit, -1 otherwise.
 void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
                     std::vector<float>& fractions);
+
+/// A pair for distance and overlap: B at one pose per frame (frame 0 for cold runs).
+struct DistancePair {
+  ConvexProxy a;
+  ConvexProxy b;
+  Transform xa;
+  std::span<const Transform> xb;
+};
+
+/// Most points a v3 proxy holds (B2_MAX_POLYGON_VERTICES): larger shapes are left out.
+inline constexpr int kMaxProxyPoints = 8;
+
+/// `b2ShapeDistance` (radii included) over every pair per iteration, B's pose put in A's frame
+/// (timed). Warm: each pair keeps its simplex cache and B advances one frame per iteration.
+void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm);
+
+/// Overlap as v3 answers it (it has no boolean test): `b2ShapeDistance` below 10 FLT_EPSILON,
+/// cold, frame 0. Counter "overlap": the overlapping fraction.
+void overlap(benchmark::State& state, std::span<const DistancePair> pairs);
+
+/// One ray cast: the shape's placement and the ray, world space.
+struct RayCase {
+  Transform xf;
+  Ray ray;
+};
+
+/// One ray cast per iteration, as bench_ray_cast's rows: case i (cycling through `cases`, a
+/// power of two) against shape i & state.range(1). v3 casts in the shape's frame: the ray in
+/// and the hit point and normal out are converted (timed). Counter "hit_rate".
+void ray_cast(benchmark::State& state, std::span<const Polygon> shapes,
+              std::span<const RayCase> cases);
+/// As above, `b2RayCastCircle`.
+void ray_cast(benchmark::State& state, std::span<const Circle> shapes,
+              std::span<const RayCase> cases);
+/// As above, `b2RayCastCapsule`.
+void ray_cast(benchmark::State& state, std::span<const Capsule> shapes,
+              std::span<const RayCase> cases);
 
 }  // namespace collide::bench::box2d_v3
