@@ -2,7 +2,8 @@
 // overlapping pair) for N = 1e3 .. 1e6 moving boxes, collide's structures and the peers side by
 // side on the same boxes in the same run.
 //
-// 2D world (against Box2D 2.4 and Chipmunk 7): boxes of half size 0.25..0.75, 4 square units of
+// 2D world (against Box2D v3's b2DynamicTree as its broad phase drives it, Box2D 2.4 and
+// Chipmunk 7): boxes of half size 0.25..0.75, 4 square units of
 // world per object; 3D world (against Bullet 3 and FCL 0.7): the same sizes, 8 cubic units per
 // object. Each object keeps a random velocity of up to 0.05 units per frame per axis and bounces
 // off the world's edge. Every contender produces the full set of overlapping pairs each frame
@@ -42,6 +43,8 @@
 #include <collide/broad/sorted_grid.hpp>
 #include <collide/broad/sweep_and_prune.hpp>
 #include <collide/broad/temporal_broad_phase.hpp>
+
+#include "box2d_v3/queries.hpp"
 
 #include <benchmark/benchmark.h>
 #include <box2d/b2_broad_phase.h>
@@ -218,6 +221,18 @@ struct Box2DBroadPhaseNewPairs {
     bp.UpdatePairs(this);
     return count;
   }
+};
+
+// ---- Box2D v3 --------------------------------------------------------------------------------
+
+// v3's b2DynamicTree driven as its broad phase drives it (box2d_v3/queries.cpp: fat boxes,
+// enlarge on leaving them, partial rebuild each frame), every box querying it: the full pair set.
+struct Box2DV3Tree {
+  std::unique_ptr<collide::bench::box2d_v3::DynamicTreeRace> race;
+  void init(const World<2>& w) {
+    race = std::make_unique<collide::bench::box2d_v3::DynamicTreeRace>(w.boxes);
+  }
+  std::size_t frame(const World<2>& w) { return race->frame(w.boxes); }
 };
 
 // ---- Chipmunk 7 ------------------------------------------------------------------------------
@@ -528,6 +543,7 @@ int main(int argc, char** argv) {
   add<2, Collide<2, SweepAndPruneN<2>>>("collide_sweep_and_prune", k1e5);
   add<2, Collide<2, DynamicTreeN<2>>>("collide_dynamic_tree", k1e5);
   // peers, 2D
+  add<2, Box2DV3Tree>("Box2Dv3_b2DynamicTree", k1e6);
   add<2, Box2DTree>("Box2D_b2DynamicTree", k1e5);
   add<2, Chipmunk<true>>("Chipmunk_cpSpaceHash", k1e6);
   add<2, Chipmunk<false>>("Chipmunk_cpBBTree", k1e5);

@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <collide/ccd/sweep.hpp>
+#include <collide/core/aabb.hpp>
 #include <collide/core/ray.hpp>
 #include <collide/core/transform.hpp>
 #include <collide/narrow/support.hpp>
@@ -16,6 +17,8 @@
 #include <collide/shape/circle.hpp>
 #include <collide/shape/polygon.hpp>
 
+#include <cstddef>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -101,5 +104,28 @@ void ray_cast(benchmark::State& state, std::span<const Circle> shapes,
 /// As above, `b2RayCastCapsule`.
 void ray_cast(benchmark::State& state, std::span<const Capsule> shapes,
               std::span<const RayCase> cases);
+
+/// Box2D v3's b2DynamicTree driven as v3's broad phase drives it for moving bodies: each proxy
+/// holds a fat box (the exact box grown by min(5 cm, 1/8 of its largest half extent): v3's
+/// B2_MAX_AABB_MARGIN and B2_AABB_MARGIN_FRACTION); a box that leaves its fat box gets a new one
+/// (b2DynamicTree_EnlargeProxy, v3's move buffer), the tree is rebuilt where it was enlarged
+/// (b2DynamicTree_Rebuild(tree, false), as b2Collide does each step), then every box queries the
+/// tree and the exact boxes decide: the full set of overlapping pairs, as collide's broad
+/// phases produce (v3 itself queries only the moved proxies and keeps older pairs in its
+/// contact list).
+class DynamicTreeRace {
+ public:
+  explicit DynamicTreeRace(std::span<const Aabb> boxes);
+  ~DynamicTreeRace();
+  DynamicTreeRace(const DynamicTreeRace&) = delete;
+  DynamicTreeRace& operator=(const DynamicTreeRace&) = delete;
+
+  /// One frame with the boxes moved: returns the number of overlapping pairs.
+  std::size_t frame(std::span<const Aabb> boxes);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace collide::bench::box2d_v3
