@@ -64,22 +64,16 @@ void finish(Polygon& poly) {
 void PolygonPoints::resize(int count) {
   COLLIDE_ASSERT(count >= 0 && count <= kMaxPolygonVertices, "polygon point count out of range");
   if (count <= capacity()) return;
-  auto block = std::make_unique_for_overwrite<Vec2[]>(static_cast<size_t>(count));
-  std::memcpy(static_cast<void*>(block.get()), static_cast<const void*>(data()),
-              static_cast<size_t>(capacity()) * sizeof(Vec2));
+  auto block = std::make_unique_for_overwrite<Vec2[]>(kMaxPolygonVertices);
+  std::memcpy(static_cast<void*>(block.get()), static_cast<const void*>(inline_), sizeof(inline_));
   heap_ = std::move(block);
-  heap_capacity_ = count;
 }
 
 void PolygonPoints::copy_from(const PolygonPoints& other) {
-  if (other.heap_) {
-    if (heap_capacity_ != other.heap_capacity_ || !heap_) {
-      heap_ = std::make_unique_for_overwrite<Vec2[]>(static_cast<size_t>(other.heap_capacity_));
-      heap_capacity_ = other.heap_capacity_;
-    }
-  } else {
+  if (!other.heap_) {
     heap_.reset();
-    heap_capacity_ = 0;
+  } else if (!heap_) {
+    heap_ = std::make_unique_for_overwrite<Vec2[]>(kMaxPolygonVertices);
   }
   // Raw bytes: slots past the polygon's count may be unset.
   std::memcpy(static_cast<void*>(data()), static_cast<const void*>(other.data()),

@@ -109,6 +109,18 @@ TEST(MakePolygon, SixtyFourVerticesFit) {
 // Small polygons stay compact (the layout issue 19 asked for); large ones keep every vertex
 // through copies and assignments in either direction between inline and heap storage.
 static_assert(sizeof(Polygon) <= 192, "a polygon of up to 8 vertices fits three cache lines");
+static_assert(alignof(Polygon) == 64, "polygons start on a cache line");
+
+TEST(PolygonStorage, AFourGonReadsTwoCacheLines) {
+  const Polygon box = make_box({1.0f, 2.0f});
+  const auto offset = [&box](const void* p) {
+    return static_cast<const char*>(p) - reinterpret_cast<const char*>(&box);
+  };
+  // Header, vertex block pointer and vertices 0..3 in line 0; normals with theirs in line 1.
+  EXPECT_LE(offset(&box.vertices[3] + 1), 64);
+  EXPECT_GE(offset(&box.normals), 64);
+  EXPECT_LE(offset(&box.normals[3] + 1), 128);
+}
 
 Polygon regular_polygon(int n, float r) {
   std::vector<Vec2> pts;

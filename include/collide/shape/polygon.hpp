@@ -20,9 +20,10 @@ inline constexpr int kMaxPolygonVertices = 64;
 /// the polygons games build most (boxes, wedges, octagons) never touch the heap.
 inline constexpr int kInlinePolygonVertices = 8;
 
-/// The points of a Polygon (vertices or edge normals): kInlinePolygonVertices inline, more in
-/// a heap block of exactly the count asked. Indexed like an array; holds no count of its own
-/// (the polygon's `count` says how many slots are meaningful).
+/// The points of a Polygon (vertices or edge normals): kInlinePolygonVertices inline, or all
+/// kMaxPolygonVertices slots in a heap block. Indexed like an array; holds no count of its own
+/// (the polygon's `count` says how many slots are meaningful). The block pointer sits just
+/// before the inline slots, so a small polygon's query reads both from the same cache line.
 class PolygonPoints {
  public:
   PolygonPoints() noexcept {}  // NOLINT: inline slots deliberately left unset (no 64-byte fill)
@@ -35,13 +36,13 @@ class PolygonPoints {
   PolygonPoints& operator=(PolygonPoints&& other) noexcept = default;
   ~PolygonPoints() = default;
 
-  /// Makes room for `count` points (0..kMaxPolygonVertices), keeping the first ones held.
-  /// Allocates only above kInlinePolygonVertices.
+  /// Makes room for `count` points (0..kMaxPolygonVertices), keeping the points held. Allocates
+  /// (once, kMaxPolygonVertices slots) only above kInlinePolygonVertices.
   void resize(int count);
 
-  /// Slots held: kInlinePolygonVertices, or the heap block's size.
+  /// Slots held: kInlinePolygonVertices, or kMaxPolygonVertices once on the heap.
   [[nodiscard]] int capacity() const noexcept {
-    return heap_ ? heap_capacity_ : kInlinePolygonVertices;
+    return heap_ ? kMaxPolygonVertices : kInlinePolygonVertices;
   }
   [[nodiscard]] const Vec2* data() const noexcept { return heap_ ? heap_.get() : inline_; }
   [[nodiscard]] Vec2* data() noexcept { return heap_ ? heap_.get() : inline_; }
@@ -53,9 +54,8 @@ class PolygonPoints {
  private:
   void copy_from(const PolygonPoints& other);
 
-  Vec2 inline_[kInlinePolygonVertices];  // NOLINT: C array, left unset until written
   std::unique_ptr<Vec2[]> heap_;
-  int heap_capacity_ = 0;
+  Vec2 inline_[kInlinePolygonVertices];  // NOLINT: C array, left unset until written
 };
 
 /// A convex polygon, counter-clockwise, in local space, optionally rounded: the solid set of
@@ -70,8 +70,8 @@ class PolygonPoints {
 ///
 /// Size: 192 bytes (up to kInlinePolygonVertices vertices and normals inline, more on the
 /// heap), a sixth of the 1 KiB it took with 64 slots inline: 1024 polygons fit in 192 KiB of
-/// cache. Aligned to a cache line so that a small polygon's header, vertices and normals sit in
-/// known lines wherever it is in an array.
+/// cache. Aligned to a cache line: a polygon of up to 4 vertices has its header and vertices in
+/// its first line and its normals in the second; up to 8, three lines.
 struct alignas(64) Polygon {
   // Small fields first: a query on a small polygon then touches the count, the radius and the
   // first vertices in the same cache line.
