@@ -21,7 +21,6 @@
 #include <benchmark/benchmark.h>
 
 #include "box2d_v3/queries.hpp"
-#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/b2_time_of_impact.h>
@@ -161,28 +160,24 @@ void report(benchmark::State& state, const std::vector<Pair>& pairs,
 
 // ---- shape cast -------------------------------------------------------------------------------
 
-/// The inputs of a shape cast, prepared once (as Box2D's inputs are).
-struct CastInput {
-  ConvexProxy a;
-  ConvexProxy b;
-  Transform xa;
-  Transform xb;
-  Vec2 va;
-  Vec2 vb;
-};
-
-void cast_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
-  std::vector<CastInput> inputs;
-  for (const Pair& p : *pairs) {
-    inputs.push_back({ConvexProxy(p.a.shape), ConvexProxy(p.b.shape), p.xa(), p.xb(), p.va(),
-                      p.vb()});
+std::vector<collide::bench::box2d_v3::MovingPair> moving_pairs(const std::vector<Pair>& pairs) {
+  std::vector<collide::bench::box2d_v3::MovingPair> out;
+  for (const Pair& p : pairs) {
+    out.push_back({ConvexProxy(p.a.shape), ConvexProxy(p.b.shape), p.xa(), p.xb(), p.va(), p.vb(),
+                   p.sa, p.sb});
   }
+  return out;
+}
+
+/// The inputs of a shape cast, prepared once (as Box2D's inputs are).
+void cast_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
+  const auto inputs = moving_pairs(*pairs);
   std::vector<float> times(pairs->size(), -1.0f);
   double iterations = 0.0;
   for (auto _ : state) {
     int iters = 0;
     for (size_t i = 0; i < inputs.size(); ++i) {
-      const CastInput& in = inputs[i];
+      const collide::bench::box2d_v3::MovingPair& in = inputs[i];
       const ShapeCastResult r = gjk_shape_cast(in.a, in.xa, in.va, in.b, in.xb, in.vb);
       times[i] = r.status == QueryStatus::hit ? r.fraction : -1.0f;
       iters += r.iterations;
@@ -236,24 +231,15 @@ void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
   report(state, *pairs, times);
 }
 
-std::vector<collide::bench::box2d_v3::MovingPair> v3_inputs(const std::vector<Pair>& pairs) {
-  std::vector<collide::bench::box2d_v3::MovingPair> out;
-  for (const Pair& p : pairs) {
-    out.push_back({ConvexProxy(p.a.shape), ConvexProxy(p.b.shape), p.xa(), p.xb(), p.va(), p.vb(),
-                   p.sa, p.sb});
-  }
-  return out;
-}
-
 void cast_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
   std::vector<float> times;
-  collide::bench::box2d_v3::shape_cast(state, v3_inputs(*pairs), times);
+  collide::bench::box2d_v3::shape_cast(state, moving_pairs(*pairs), times);
   report(state, *pairs, times);
 }
 
 void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
   std::vector<float> times;
-  collide::bench::box2d_v3::time_of_impact(state, v3_inputs(*pairs), times);
+  collide::bench::box2d_v3::time_of_impact(state, moving_pairs(*pairs), times);
   report(state, *pairs, times);
 }
 
@@ -350,9 +336,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d").c_str(), toi_box2d, rot);
   }
   benchmark::Initialize(&argc, argv);
-  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
-  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
-  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  collide::bench::box2d_v3::add_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

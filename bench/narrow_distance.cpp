@@ -17,7 +17,6 @@
 #include <benchmark/benchmark.h>
 
 #include "box2d_v3/queries.hpp"
-#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/b2_distance.h>
 #include <box2d/box2d.h>
@@ -301,9 +300,7 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("BM_Overlap_Poly8/sat_alternative", overlap_sat_alternative, &poly8);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
-  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
-  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  collide::bench::box2d_v3::add_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -13,7 +13,6 @@
 #include <benchmark/benchmark.h>
 
 #include "box2d_v3/queries.hpp"
-#include "instruction_set.hpp"
 #include "support/random.hpp"
 #include <box2d/box2d.h>
 
@@ -269,9 +268,7 @@ BENCHMARK(BM_CapsuleRaycast_box2d_v3)->Args({0, kHot})->Args({0, kCold});
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  collide::bench::add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
-  benchmark::AddCustomContext("box2d v3 version", collide::bench::box2d_v3::describe());
-  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  collide::bench::box2d_v3::add_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

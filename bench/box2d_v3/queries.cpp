@@ -1,6 +1,8 @@
 // Box2D v3's side of the 2D query benchmarks: see queries.hpp.
 #include "queries.hpp"
 
+#include "../instruction_set.hpp"
+
 #include <box2d/box2d.h>
 #include <box2d/collision.h>
 
@@ -80,10 +82,13 @@ void run(benchmark::State& state, const P& p, Collide collide) {
 
 }  // namespace
 
-std::string describe() {
+void add_context() {
+  add_instruction_sets("box2d v3", COLLIDE_BOX2D_V3_ISA);
   const b2Version v = b2GetVersion();
-  return std::to_string(v.major) + "." + std::to_string(v.minor) + "." +
-         std::to_string(v.revision);
+  benchmark::AddCustomContext("box2d v3 version", std::to_string(v.major) + "." +
+                                                      std::to_string(v.minor) + "." +
+                                                      std::to_string(v.revision));
+  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
 }
 
 void contact_polygons(benchmark::State& state, std::span<const Polygon> a,

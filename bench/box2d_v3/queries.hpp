@@ -25,9 +25,9 @@
 
 namespace collide::bench::box2d_v3 {
 
-/// Version of the Box2D v3 build, for the benchmark context (its instruction set:
-/// COLLIDE_BOX2D_V3_ISA, cmake/peers.cmake).
-[[nodiscard]] std::string describe();
+/// Adds to the benchmark context collide's and Box2D v3's instruction sets, v3's version and
+/// Box2D 2.4's instruction set (Debian's x86-64 package). Call after benchmark::Initialize.
+void add_context();
 
 /// Manifolds of pairs [0, state.range(0)) per iteration: `b2CollidePolygons` with the relative
 /// transform, then points and normal to world space. Counter "overlap": touching fraction.
