@@ -66,7 +66,8 @@ class PolygonPoints {
 /// invariants (3..kMaxPolygonVertices distinct vertices, strictly convex, counter-clockwise,
 /// finite); treat the fields as read-only afterwards. Inside collide, capsules and segments are
 /// also seen as 2-vertex polygons (count 2), which public constructors never produce. Code that
-/// builds a polygon by hand calls `set_count` before writing the points.
+/// builds a polygon by hand calls `set_count` before writing its points (needed above
+/// kInlinePolygonVertices; the 2-vertex polygons set `count` directly).
 ///
 /// Size: 192 bytes (up to kInlinePolygonVertices vertices and normals inline, more on the
 /// heap), a sixth of the 1 KiB it took with 64 slots inline: 1024 polygons fit in 192 KiB of
@@ -91,10 +92,6 @@ struct alignas(64) Polygon {
 
   /// Vertex i wrapped modulo count.
   [[nodiscard]] Vec2 vertex(int i) const noexcept { return vertices[static_cast<size_t>(i % count)]; }
-  /// The vertices as a span of `count` points.
-  [[nodiscard]] std::span<const Vec2> vertex_span() const noexcept {
-    return {vertices.data(), static_cast<size_t>(count)};
-  }
 };
 
 /// The convex hull of `points` as a polygon, with rounding `radius`. Points may come in any
