@@ -308,23 +308,26 @@ void ray_cast(benchmark::State& state, std::span<const Capsule> shapes,
   run_rays(state, shapes, cases, b2RayCastCapsule);
 }
 
+namespace {
+
+b2AABB to_v3(const Aabb& b) { return {to_v3(b.min), to_v3(b.max)}; }
+
+/// v3's fat box for a moving shape: min(B2_MAX_AABB_MARGIN, B2_AABB_MARGIN_FRACTION x extent).
+Aabb fat_box(const Aabb& b) {
+  const Vec2 half = 0.5f * (b.max - b.min);
+  return fatten(b, std::min(0.05f, 0.125f * std::max(half.x, half.y)));
+}
+
+}  // namespace
+
 struct DynamicTreeRace::Impl {
   b2DynamicTree tree;
   std::vector<int> proxy;
-  std::vector<b2AABB> fat;
+  std::vector<Aabb> fat;
   std::span<const Aabb> boxes;
   int current = 0;
   std::size_t count = 0;
 
-  static b2AABB fat_box(const Aabb& b) {
-    const Vec2 half = 0.5f * (b.max - b.min);
-    const float margin = std::min(0.05f, 0.125f * std::max(half.x, half.y));
-    return {{b.min.x - margin, b.min.y - margin}, {b.max.x + margin, b.max.y + margin}};
-  }
-  static bool contains(const b2AABB& outer, const Aabb& b) {
-    return outer.lowerBound.x <= b.min.x && outer.lowerBound.y <= b.min.y &&
-           b.max.x <= outer.upperBound.x && b.max.y <= outer.upperBound.y;
-  }
   static bool query(int proxy_id, uint64_t user_data, void* context) {
     (void)proxy_id;
     Impl& self = *static_cast<Impl*>(context);
@@ -340,8 +343,8 @@ struct DynamicTreeRace::Impl {
 DynamicTreeRace::DynamicTreeRace(std::span<const Aabb> boxes) : impl_(std::make_unique<Impl>()) {
   impl_->tree = b2DynamicTree_Create(static_cast<int>(boxes.size()));
   for (size_t i = 0; i < boxes.size(); ++i) {
-    impl_->fat.push_back(Impl::fat_box(boxes[i]));
-    impl_->proxy.push_back(b2DynamicTree_CreateProxy(&impl_->tree, impl_->fat.back(),
+    impl_->fat.push_back(fat_box(boxes[i]));
+    impl_->proxy.push_back(b2DynamicTree_CreateProxy(&impl_->tree, to_v3(impl_->fat.back()),
                                                      B2_DEFAULT_CATEGORY_BITS, i));
   }
   b2DynamicTree_Rebuild(&impl_->tree, true);
@@ -352,18 +355,17 @@ DynamicTreeRace::~DynamicTreeRace() { b2DynamicTree_Destroy(&impl_->tree); }
 std::size_t DynamicTreeRace::frame(std::span<const Aabb> boxes) {
   Impl& m = *impl_;
   for (size_t i = 0; i < boxes.size(); ++i) {
-    if (!Impl::contains(m.fat[i], boxes[i])) {
-      m.fat[i] = Impl::fat_box(boxes[i]);
-      b2DynamicTree_EnlargeProxy(&m.tree, m.proxy[i], m.fat[i]);
+    if (!contains(m.fat[i], boxes[i])) {
+      m.fat[i] = fat_box(boxes[i]);
+      b2DynamicTree_EnlargeProxy(&m.tree, m.proxy[i], to_v3(m.fat[i]));
     }
   }
   b2DynamicTree_Rebuild(&m.tree, false);
   m.boxes = boxes;
   m.count = 0;
   for (m.current = 0; m.current < static_cast<int>(boxes.size()); ++m.current) {
-    const Aabb& b = boxes[static_cast<size_t>(m.current)];
-    b2DynamicTree_Query(&m.tree, {{b.min.x, b.min.y}, {b.max.x, b.max.y}}, B2_DEFAULT_MASK_BITS,
-                        Impl::query, &m);
+    b2DynamicTree_Query(&m.tree, to_v3(boxes[static_cast<size_t>(m.current)]),
+                        B2_DEFAULT_MASK_BITS, Impl::query, &m);
   }
   return m.count;
 }
