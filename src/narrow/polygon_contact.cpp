@@ -192,7 +192,7 @@ int edge_across(const LocalPolygon& p, int e, float fraction) noexcept {
 /// corner gives one point with the normal along the closest points; a corner against the inside
 /// of an edge makes that edge the reference face; otherwise p1's edge is. Written into `m` as
 /// clip_manifold does.
-void reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
+void reference_face_manifold(const LocalPolygon& p1, const EdgeSeparation& reference,
                              const LocalPolygon& p2, const Context& ctx, Side side,
                              Manifold& m) noexcept {
   const Transform& frame = ctx.frame;
@@ -249,8 +249,8 @@ void reference_face_manifold(const LocalPolygon& p1, EdgeSeparation reference,
 /// sep_a and sep_b the axes of greatest separation over A's and B's edges, neither above the
 /// radius sum. `xa` and `origin` map that frame to world space. The manifold is written into
 /// `m` (fresh, count 0: the caller's return slot).
-void finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPolygon& pb,
-                    EdgeSeparation sep_b, const Transform& xa, Vec2 origin,
+void finish_contact(const LocalPolygon& pa, const EdgeSeparation& sep_a, const LocalPolygon& pb,
+                    const EdgeSeparation& sep_b, const Transform& xa, Vec2 origin,
                     Manifold& m) noexcept {
   const float radius = pa.radius + pb.radius;
   EdgeSeparation ref_a = sep_a;
@@ -319,33 +319,69 @@ void finish_contact(const LocalPolygon& pa, EdgeSeparation sep_a, const LocalPol
 }
 
 #if COLLIDE_SMALL_POLYGON_SSE2
-/// Vertices (or normals) 0..3 of an array of `count` (2..4) points as x and y lanes, the last
-/// point repeated past `count`. Reads only the first `count` points.
+/// Points 0..3 of an array of `count` (1..4) points as x and y lanes, the last point repeated
+/// past `count`. Reads only the first `count` points.
 inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept {
-  const __m128 lo = _mm_loadu_ps(&v[0].x);  // x0 y0 x1 y1
-  __m128 hi;                                // x2 y2 x3 y3
-  if (count == 4) {
-    hi = _mm_loadu_ps(&v[2].x);
-  } else if (count == 3) {
-    // x2 y2 x2 y2: one 8-byte load (float alignment is enough for it), duplicated.
-    const __m128 v2 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&v[2].x)));
-    hi = _mm_movelh_ps(v2, v2);
+  // One point as x y x y: one 8-byte load (float alignment is enough for it), duplicated.
+  const auto pair = [](const Vec2* p) {
+    const __m128 one = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p->x)));
+    return _mm_movelh_ps(one, one);
+  };
+  __m128 lo;  // x0 y0 x1 y1
+  __m128 hi;  // x2 y2 x3 y3
+  if (count == 1) {
+    lo = pair(v);
+    hi = lo;
   } else {
-    hi = _mm_movehl_ps(lo, lo);
+    lo = _mm_loadu_ps(&v[0].x);
+    if (count == 4) {
+      hi = _mm_loadu_ps(&v[2].x);
+    } else if (count == 3) {
+      hi = pair(v + 2);
+    } else {
+      hi = _mm_movehl_ps(lo, lo);
+    }
   }
   x = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
   y = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
 }
 
-/// find_max_separation_soa for four edges in registers against four vertices (padded by
-/// repetition, so the minimum over them is the minimum over the real ones):
+/// A polygon of up to kGroups * kSatLanes points in registers: x and y lanes per group of four,
+/// the last point repeated to fill the last group (SoaPolygon's padding).
+template <int kGroups>
+struct LanePoints {
+  __m128 x[kGroups];
+  __m128 y[kGroups];
+};
+
+template <int kGroups>
+inline LanePoints<kGroups> load_points(const Vec2* v, int count) noexcept {
+  LanePoints<kGroups> p;
+  if constexpr (kGroups == 1) {
+    load_lanes(v, count, p.x[0], p.y[0]);
+  } else {
+    static_assert(kGroups == 2, "up to two groups: eight points");
+    load_lanes(v, kSatLanes, p.x[0], p.y[0]);
+    load_lanes(v + kSatLanes, count - kSatLanes, p.x[1], p.y[1]);
+  }
+  return p;
+}
+
+/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
+/// in registers (vertex lanes padded by repetition, so the minimum over them is the minimum
+/// over the real ones):
 ///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
 /// the same products and sums, so the results are bitwise equal (a minimum is exact, so the
-/// pairwise order of the minima, shorter in latency than a chain, gives the same value). The
-/// winner is the first lane holding the maximum, found without branches. Returns false (and
-/// nothing) if a lane is NaN: the general path then decides, as it would.
-inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m128 x2,
-                                 __m128 y2, EdgeSeparation& out) noexcept {
+/// pairwise order of the minima, shorter in latency than a chain, gives the same value). All
+/// groups are computed (no early exit between them: the caller's test of the maximum against
+/// the radius then rejects the same pairs). The winner is the first lane holding the maximum,
+/// found without branches. Returns false (and nothing) if a lane is NaN: the general path then
+/// decides, as it would.
+template <int kEdgeGroups, int kVertexGroups>
+inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
+                                 const LanePoints<kEdgeGroups>& v1,
+                                 const LanePoints<kVertexGroups>& v2,
+                                 EdgeSeparation& out) noexcept {
   const auto lane = [](__m128 v, int k) {
     switch (k) {
       case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
@@ -355,19 +391,37 @@ inline bool max_separation_lanes(__m128 nx, __m128 ny, __m128 x1, __m128 y1, __m
     }
   };
   static_assert(kSatLanes == 4, "four lanes: one SSE register");
-  const auto dots = [&](int j) {
-    return _mm_add_ps(_mm_mul_ps(nx, lane(x2, j)), _mm_mul_ps(ny, lane(y2, j)));
-  };
-  const __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0), dots(1)), _mm_min_ps(dots(2), dots(3)));
-  const __m128 s =
-      _mm_sub_ps(lowest, _mm_add_ps(_mm_mul_ps(nx, x1), _mm_mul_ps(ny, y1)));
-  if (_mm_movemask_ps(_mm_cmpord_ps(s, s)) != 0xF) return false;
-  __m128 top = _mm_max_ps(s, _mm_shuffle_ps(s, s, _MM_SHUFFLE(1, 0, 3, 2)));
+  __m128 s[kEdgeGroups];
+  for (int g = 0; g < kEdgeGroups; ++g) {
+    const auto dots = [&](int h, int j) {
+      return _mm_add_ps(_mm_mul_ps(n.x[g], lane(v2.x[h], j)),
+                        _mm_mul_ps(n.y[g], lane(v2.y[h], j)));
+    };
+    __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0, 0), dots(0, 1)),
+                               _mm_min_ps(dots(0, 2), dots(0, 3)));
+    for (int h = 1; h < kVertexGroups; ++h) {
+      lowest = _mm_min_ps(lowest, _mm_min_ps(_mm_min_ps(dots(h, 0), dots(h, 1)),
+                                             _mm_min_ps(dots(h, 2), dots(h, 3))));
+    }
+    s[g] = _mm_sub_ps(lowest,
+                      _mm_add_ps(_mm_mul_ps(n.x[g], v1.x[g]), _mm_mul_ps(n.y[g], v1.y[g])));
+  }
+  __m128 ordered = _mm_cmpord_ps(s[0], s[0]);
+  __m128 top = s[0];
+  for (int g = 1; g < kEdgeGroups; ++g) {
+    ordered = _mm_and_ps(ordered, _mm_cmpord_ps(s[g], s[g]));
+    top = _mm_max_ps(top, s[g]);
+  }
+  if (_mm_movemask_ps(ordered) != 0xF) return false;
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(1, 0, 3, 2)));
   top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));  // max in every lane
   // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
   // before it.
-  const int edge = std::countr_zero(static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s, top))));
-  out = EdgeSeparation{edge, _mm_cvtss_f32(top), 0};
+  unsigned mask = 0;
+  for (int g = 0; g < kEdgeGroups; ++g) {
+    mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s[g], top))) << (kSatLanes * g);
+  }
+  out = EdgeSeparation{std::countr_zero(mask), _mm_cvtss_f32(top), 0};
   return true;
 }
 #endif
@@ -405,6 +459,78 @@ void contact_polygons_general(const Polygon& a, const Transform& xa, const Polyg
   finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin, m);
 }
 
+#if COLLIDE_SMALL_POLYGON_SSE2
+/// The register front end for polygons of up to kGroupsA (kGroupsB) groups of kSatLanes
+/// vertices. Writes into `m` (fresh, count 0).
+template <int kGroupsA, int kGroupsB>
+void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon& b,
+                            const Transform& xb, Manifold& m) noexcept {
+  const int na = a.count;
+  const int nb = b.count;
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 origin = a.vertices[0];
+  const Vec2 shift = b_in_a.p - origin;
+  const __m128 c = _mm_set1_ps(b_in_a.q.c);
+  const __m128 s = _mm_set1_ps(b_in_a.q.s);
+
+  // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
+  LanePoints<kGroupsA> av = load_points<kGroupsA>(a.vertices.data(), na);
+  for (int g = 0; g < kGroupsA; ++g) {
+    av.x[g] = _mm_sub_ps(av.x[g], _mm_set1_ps(origin.x));
+    av.y[g] = _mm_sub_ps(av.y[g], _mm_set1_ps(origin.y));
+  }
+  const LanePoints<kGroupsA> an = load_points<kGroupsA>(a.normals.data(), na);
+  LanePoints<kGroupsB> bv = load_points<kGroupsB>(b.vertices.data(), nb);
+  for (int g = 0; g < kGroupsB; ++g) {
+    const __m128 vx = bv.x[g];
+    const __m128 vy = bv.y[g];
+    bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(shift.x));
+    bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(shift.y));
+  }
+  const float radius = a.radius + b.radius;
+  EdgeSeparation sep_a;
+  if (!max_separation_lanes(an, av, bv, sep_a)) {
+    contact_polygons_general(a, xa, b, xb, m);
+    return;
+  }
+  if (sep_a.separation > radius) return;
+  LanePoints<kGroupsB> bn = load_points<kGroupsB>(b.normals.data(), nb);
+  for (int g = 0; g < kGroupsB; ++g) {
+    const __m128 nx = bn.x[g];
+    const __m128 ny = bn.y[g];
+    bn.x[g] = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
+    bn.y[g] = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
+  }
+  EdgeSeparation sep_b;
+  if (!max_separation_lanes(bn, bv, av, sep_b)) {
+    contact_polygons_general(a, xa, b, xb, m);
+    return;
+  }
+  if (sep_b.separation > radius) return;
+
+  // Only the first groups of each array are written (no fill of the full capacity).
+  SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond the groups used
+  SoaPolygon pb_soa;  // NOLINT
+  pa_soa.count = na;
+  pa_soa.padded = kGroupsA * kSatLanes;
+  pb_soa.count = nb;
+  pb_soa.padded = kGroupsB * kSatLanes;
+  for (int g = 0; g < kGroupsA; ++g) {
+    _mm_store_ps(pa_soa.x + kSatLanes * g, av.x[g]);
+    _mm_store_ps(pa_soa.y + kSatLanes * g, av.y[g]);
+    _mm_store_ps(pa_soa.nx + kSatLanes * g, an.x[g]);
+    _mm_store_ps(pa_soa.ny + kSatLanes * g, an.y[g]);
+  }
+  for (int g = 0; g < kGroupsB; ++g) {
+    _mm_store_ps(pb_soa.x + kSatLanes * g, bv.x[g]);
+    _mm_store_ps(pb_soa.y + kSatLanes * g, bv.y[g]);
+    _mm_store_ps(pb_soa.nx + kSatLanes * g, bn.x[g]);
+    _mm_store_ps(pb_soa.ny + kSatLanes * g, bn.y[g]);
+  }
+  finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin, m);
+}
+#endif
+
 }  // namespace
 
 Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa, const Polygon& b,
@@ -414,75 +540,38 @@ Manifold contact_polygons_general_path(const Polygon& a, const Transform& xa, co
   return m;
 }
 
-// Small pairs (both polygons within one group of kSatLanes vertices: boxes, triangles,
-// capsules and segments) skip the copies: each polygon's arrays are loaded straight into x and
-// y registers, B is rotated into A's frame there, and both separating axis passes run in
-// registers with a branch-free choice of the winning edge. Same operations in the same order
-// as the general front end, so the manifold is bitwise the same (tests/narrow check it).
+// Small pairs (both polygons within two groups of kSatLanes vertices: boxes, triangles,
+// hexagons, octagons, capsules and segments) skip the copies: each polygon's arrays are loaded
+// straight into x and y registers, B is rotated into A's frame there, and both separating axis
+// passes run in registers with a branch-free choice of the winning edge. Same operations in the
+// same order as the general front end, so the manifold is bitwise the same (tests/narrow check
+// it).
 Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& b,
                           const Transform& xb) noexcept {
   Manifold m;  // the one object returned on every path: built in the caller's slot
 #if COLLIDE_SMALL_POLYGON_SSE2
+  constexpr int kOneGroup = kSatLanes;
+  constexpr int kTwoGroups = 2 * kSatLanes;
   const int na = a.count;
   const int nb = b.count;
-  if (na <= kSatLanes && nb <= kSatLanes) {
-    const Transform b_in_a = inv_mul(xa, xb);
-    const Vec2 origin = a.vertices[0];
-    const Vec2 shift = b_in_a.p - origin;
-    const __m128 c = _mm_set1_ps(b_in_a.q.c);
-    const __m128 s = _mm_set1_ps(b_in_a.q.s);
-
-    // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
-    __m128 ax, ay, anx, any, bx, by;
-    load_lanes(a.vertices.data(), na, ax, ay);
-    ax = _mm_sub_ps(ax, _mm_set1_ps(origin.x));
-    ay = _mm_sub_ps(ay, _mm_set1_ps(origin.y));
-    load_lanes(a.normals.data(), na, anx, any);
-    {
-      __m128 vx, vy;
-      load_lanes(b.vertices.data(), nb, vx, vy);
-      bx = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(shift.x));
-      by = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(shift.y));
-    }
-    const float radius = a.radius + b.radius;
-    EdgeSeparation sep_a;
-    if (!max_separation_lanes(anx, any, ax, ay, bx, by, sep_a)) {
-      contact_polygons_general(a, xa, b, xb, m);
+  if (na <= kOneGroup) {
+    if (nb <= kOneGroup) {
+      contact_polygons_lanes<1, 1>(a, xa, b, xb, m);
       return m;
     }
-    if (sep_a.separation > radius) return m;
-    __m128 bnx, bny;
-    {
-      __m128 nx, ny;
-      load_lanes(b.normals.data(), nb, nx, ny);
-      bnx = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
-      bny = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
-    }
-    EdgeSeparation sep_b;
-    if (!max_separation_lanes(bnx, bny, bx, by, ax, ay, sep_b)) {
-      contact_polygons_general(a, xa, b, xb, m);
+    if (nb <= kTwoGroups) {
+      contact_polygons_lanes<1, 2>(a, xa, b, xb, m);
       return m;
     }
-    if (sep_b.separation > radius) return m;
-
-    // Only the first kSatLanes entries of each array are written (no fill of the full capacity).
-    SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond kSatLanes
-    SoaPolygon pb_soa;  // NOLINT
-    pa_soa.count = na;
-    pa_soa.padded = kSatLanes;
-    pb_soa.count = nb;
-    pb_soa.padded = kSatLanes;
-    _mm_store_ps(pa_soa.x, ax);
-    _mm_store_ps(pa_soa.y, ay);
-    _mm_store_ps(pa_soa.nx, anx);
-    _mm_store_ps(pa_soa.ny, any);
-    _mm_store_ps(pb_soa.x, bx);
-    _mm_store_ps(pb_soa.y, by);
-    _mm_store_ps(pb_soa.nx, bnx);
-    _mm_store_ps(pb_soa.ny, bny);
-    finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin,
-                   m);
-    return m;
+  } else if (na <= kTwoGroups) {
+    if (nb <= kOneGroup) {
+      contact_polygons_lanes<2, 1>(a, xa, b, xb, m);
+      return m;
+    }
+    if (nb <= kTwoGroups) {
+      contact_polygons_lanes<2, 2>(a, xa, b, xb, m);
+      return m;
+    }
   }
 #endif
   contact_polygons_general(a, xa, b, xb, m);

@@ -1,7 +1,8 @@
-// The small-polygon front end of contact_polygons (pairs of at most four vertices each, in
-// registers) against the general front end (4-wide arrays) that every pair took before: the
-// manifolds must be bitwise equal, for boxes, triangles, quads, capsules and segments (2-vertex
-// polygons), rounded or not, overlapping, touching, apart, and far from the origin.
+// The small-polygon front end of contact_polygons (pairs of at most eight vertices each, in
+// registers, one or two groups of four) against the general front end (4-wide arrays) that
+// every pair took before: the manifolds must be bitwise equal, for boxes, triangles, quads,
+// 5- to 8-gons, capsules and segments (2-vertex polygons), rounded or not, overlapping,
+// touching, apart, and far from the origin. Larger polygons take the general path only.
 
 #include <gtest/gtest.h>
 
@@ -16,17 +17,21 @@ namespace {
 
 using detail::two_vertex_polygon;  // a capsule or segment as contact() sees it
 
-/// A polygon of 2..4 vertices, size about 1, rounded one time in three.
+/// A polygon of 2..8 vertices, size about 1, rounded one time in three: every combination of
+/// one and two register groups.
 Polygon random_small_polygon(std::mt19937& rng) {
   const float radius = rng() % 3 == 0 ? test::uniform(rng, 0.01f, 0.3f) : 0.0f;
-  switch (rng() % 4) {
+  switch (rng() % 6) {
     case 0:
       return two_vertex_polygon(test::random_point(rng, 0.6f), test::random_point(rng, 0.6f),
                                 radius);
     case 1:
       return make_box({test::uniform(rng, 0.1f, 0.6f), test::uniform(rng, 0.1f, 0.6f)}, radius);
-    default:
+    case 2:
+    case 3:
       return test::random_polygon(rng, 3 + static_cast<int>(rng() % 2), 0.6f, radius);
+    default:
+      return test::random_polygon(rng, 5 + static_cast<int>(rng() % 4), 0.6f, radius);
   }
 }
 
