@@ -23,6 +23,51 @@ import sys
 from collections import defaultdict
 
 SIDES = ("collide_box2d_target", "box2d_v3", "collide", "box2d")
+
+# The README's row labels, in its order; queries not listed follow under their benchmark names.
+LABELS = {
+    "BM_Contact_Poly4/1024": "manifold, 4-gons, 1024 pairs (v3 `b2CollidePolygons`)",
+    "BM_Contact_Poly4/64": "manifold, 4-gons, 64 pairs (in L1)",
+    "BM_Contact_Poly8/1024": "manifold, 8-gons, 1024 pairs",
+    "BM_Contact_Poly8/64": "manifold, 8-gons, 64 pairs",
+    "BM_Contact_CirclePoly/1024":
+        "manifold, circle-6-gon, 1024 pairs (`b2CollidePolygonAndCircle`)",
+    "BM_Contact_CirclePoly/64": "manifold, circle-6-gon, 64 pairs",
+    "BM_Contact_CapsulePoly/1024":
+        "manifold, capsule-6-gon, 1024 pairs (`b2CollidePolygonAndCapsule`)",
+    "BM_Contact_CapsulePoly/64": "manifold, capsule-6-gon, 64 pairs",
+    "BM_Distance_Poly4": "GJK distance, 4-gons, cold (`b2ShapeDistance`)",
+    "BM_Distance_Poly8": "GJK distance, 8-gons, cold",
+    "BM_Distance_CirclePoly8": "GJK distance, circle-8-gon, cold",
+    "BM_Distance_Poly64Poly8": "GJK distance, 64-gon-8-gon, cold (v3 holds at most 8 points)",
+    "BM_DistanceWarm_Poly8": "GJK distance, 8-gons, warm-started",
+    "BM_DistanceWarm_Poly64Poly8": "GJK distance, 64-gon-8-gon, warm-started",
+    "BM_Overlap_Poly4":
+        "overlap, 4-gons, mostly separated (v3: `b2ShapeDistance` < 10 FLT_EPSILON)",
+    "BM_Overlap_Poly8": "overlap, 8-gons, mostly separated",
+    "BM_Overlap_Poly4Touching": "overlap, 4-gons, mostly overlapping",
+    "BM_Overlap_Poly8Touching": "overlap, 8-gons, mostly overlapping",
+    "BM_PolygonRaycast/4/15": "ray cast, 4-gon, 16 shapes (in L1) (`b2RayCastPolygon`)",
+    "BM_PolygonRaycast/4/4095": "ray cast, 4-gon, 4096 shapes",
+    "BM_PolygonRaycast/8/15": "ray cast, 8-gon, 16 shapes",
+    "BM_PolygonRaycast/8/4095": "ray cast, 8-gon, 4096 shapes",
+    "BM_CircleRaycast/0/15": "ray cast, circle, 16 shapes (`b2RayCastCircle`)",
+    "BM_CircleRaycast/0/4095": "ray cast, circle, 4096 shapes",
+    "BM_CapsuleRaycast/0/15": "ray cast, capsule, 16 shapes (`b2RayCastCapsule`)",
+    "BM_CapsuleRaycast/0/4095": "ray cast, capsule, 4096 shapes",
+    "BM_ShapeCast/box_box": "shape cast, box-box (`b2ShapeCast`)",
+    "BM_ShapeCast/poly8_poly8": "shape cast, 8-gons",
+    "BM_ShapeCast/circle_poly8": "shape cast, circle-8-gon",
+    "BM_ShapeCast/capsule_poly8": "shape cast, capsule-8-gon",
+    "BM_ToiTranslation/box_box": "time of impact, translating, box-box (`b2TimeOfImpact`)",
+    "BM_ToiTranslation/poly8_poly8": "time of impact, translating, 8-gons",
+    "BM_ToiTranslation/circle_poly8": "time of impact, translating, circle-8-gon",
+    "BM_ToiTranslation/capsule_poly8": "time of impact, translating, capsule-8-gon",
+    "BM_ToiRotation/box_box": "time of impact, turning up to pi/2, box-box",
+    "BM_ToiRotation/poly8_poly8": "time of impact, turning, 8-gons",
+    "BM_ToiRotation/circle_poly8": "time of impact, turning, circle-8-gon",
+    "BM_ToiRotation/capsule_poly8": "time of impact, turning, capsule-8-gon",
+}
 ACCURACY = ("sep_at_t", "overlap", "hit_rate")
 
 
@@ -72,7 +117,8 @@ def main(paths):
     print()
     print("| query | collide | Box2D v3 | Box2D 2.4 | v3 / collide | 2.4 / collide |")
     print("| --- | --- | --- | --- | --- | --- |")
-    for query in sorted(order):
+    known = [q for q in LABELS if q in table]
+    for query in known + sorted(q for q in order if q not in LABELS):
         sides = table[query]
         ours = sides.get("collide_box2d_target", sides.get("collide"))
         if ours is None:
@@ -91,7 +137,7 @@ def main(paths):
 
         v3 = sides.get("box2d_v3")
         old = sides.get("box2d")
-        print(f"| {query} | {cell(ours)} | {cell(v3)} | {cell(old)} | {ratio(v3)} | {ratio(old)} |")
+        print(f"| {LABELS.get(query, query)} | {cell(ours)} | {cell(v3)} | {cell(old)} | {ratio(v3)} | {ratio(old)} |")
 
 
 if __name__ == "__main__":
