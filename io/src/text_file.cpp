@@ -96,7 +96,13 @@ FloatWord parse_float_word(std::string_view word, float& value) noexcept {
   const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), parsed);
   const bool whole = ptr == word.data() + word.size();
   if (ec == std::errc() && whole && !std::isfinite(parsed)) return FloatWord::not_finite;
-  if (ec == std::errc::result_out_of_range || std::fabs(parsed) > std::numeric_limits<float>::max()) {
+  // Out of float range means rounding to infinity: from 2^128 - 2^103, the midpoint between
+  // FLT_MAX and 2^128, up (a tie rounds to even, which is 2^128). Below it a word rounds to a
+  // finite float, FLT_MAX at most: "3.4028235e38" and FLT_MAX written with 9 digits,
+  // "3.40282347e+38", are both FLT_MAX (the fuzzer found the second refused while the first
+  // was read, so a point written back with %.9g could not be read again).
+  constexpr double kFloatOverflow = 0x1.ffffffp+127;
+  if (ec == std::errc::result_out_of_range || std::fabs(parsed) >= kFloatOverflow) {
     return FloatWord::out_of_range;
   }
   if (ec != std::errc() || !whole) return FloatWord::not_a_number;

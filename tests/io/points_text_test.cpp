@@ -57,6 +57,13 @@ TEST(PointsText, ErrorsNameTheFileAndTheLineCountingBlankAndCommentLines) {
   EXPECT_EQ(error_of<2>("1 nan\n"), "points.txt:1: y 'nan' is not finite");
   EXPECT_EQ(error_of<3>("0 0 0\n-inf 0 0\n"), "points.txt:2: x '-inf' is not finite");
   EXPECT_EQ(error_of<3>("1 2 1e39\n"), "points.txt:1: z '1e39' is out of float range");
+  // The edge of float range is where rounding reaches infinity (2^128 - 2^103, about
+  // 3.40282357e38), not FLT_MAX itself: FLT_MAX with 9 digits reads back as FLT_MAX.
+  EXPECT_EQ(error_of<3>("1 2 3.4028236e38\n"), "points.txt:1: z '3.4028236e38' is out of float range");
+  EXPECT_EQ(error_of<3>("1 2 -3.4028236e38\n"), "points.txt:1: z '-3.4028236e38' is out of float range");
+  EXPECT_EQ(io::parse_points<3>("3.40282347e+38 3.4028235e38 -3.40282356e38\n", "edge.txt"),
+            (std::vector<Vec3>{Vec3(std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+                                    -std::numeric_limits<float>::max())}));
   EXPECT_EQ(error_of<2>("1 2x\n"), "points.txt:1: y '2x' is not a number");
   EXPECT_EQ(error_of<2>("1,2 3\n"), "points.txt:1: x '1,2' is not a number");
   // A quoted word is cut and its bytes escaped, so the message stays readable UTF-8.
