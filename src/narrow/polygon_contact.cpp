@@ -23,6 +23,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <collide/core/config.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/sat.hpp>
 #include <span>
@@ -426,15 +427,32 @@ inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
 }
 #endif
 
+/// The frame both front ends work in: A's local frame shifted so that A's vertex 0 is the
+/// origin (coordinates stay small however far from the world origin the pair is). `shift`
+/// takes B's local points there after rotating them by b_in_a.q.
+struct SharedFrame {
+  Transform b_in_a;
+  Vec2 origin;  ///< A's vertex 0, A's local frame
+  Vec2 shift;   ///< b_in_a.p - origin
+};
+
+COLLIDE_ALWAYS_INLINE SharedFrame shared_frame(const Polygon& a, const Transform& xa,
+                                               const Transform& xb) noexcept {
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 origin = a.vertices[0];
+  return {b_in_a, origin, b_in_a.p - origin};
+}
+
 /// The general front end: both cores copied into 4-wide x/y arrays in A's frame. Writes into
 /// `m` (fresh, count 0).
 void contact_polygons_general(const Polygon& a, const Transform& xa, const Polygon& b,
                               const Transform& xb, Manifold& m) noexcept {
   const int na = a.count;
   const int nb = b.count;
-  const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 origin = a.vertices[0];
-  const Vec2 shift = b_in_a.p - origin;
+  const SharedFrame f = shared_frame(a, xa, xb);
+  const Transform& b_in_a = f.b_in_a;
+  const Vec2 origin = f.origin;
+  const Vec2 shift = f.shift;
 
   // Both cores in A's frame, origin at A's vertex 0, as x and y arrays (the separating axis
   // test runs four edges wide on them).
@@ -467,9 +485,10 @@ void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon
                             const Transform& xb, Manifold& m) noexcept {
   const int na = a.count;
   const int nb = b.count;
-  const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 origin = a.vertices[0];
-  const Vec2 shift = b_in_a.p - origin;
+  const SharedFrame f = shared_frame(a, xa, xb);
+  const Transform& b_in_a = f.b_in_a;
+  const Vec2 origin = f.origin;
+  const Vec2 shift = f.shift;
   const __m128 c = _mm_set1_ps(b_in_a.q.c);
   const __m128 s = _mm_set1_ps(b_in_a.q.s);
 
