@@ -8,7 +8,7 @@
 #include <collide/shape/triangle.hpp>
 
 #include "large_pages.hpp"
-#include "winding_tree.hpp"
+#include <collide/sdf/winding_tree.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -26,7 +26,6 @@
 namespace collide {
 namespace {
 
-using detail::WindingTree;
 
 template <int D>
 using IVec = glm::vec<D, int>;
@@ -1112,7 +1111,7 @@ float winding_number(const TriangleMesh& mesh, Vec3 p) noexcept {
   const Vec3 q = p - mesh.origin;
   float omega = 0.0f;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t)
-    omega += detail::solid_angle(mesh.corner(t, 0) - q, mesh.corner(t, 1) - q, mesh.corner(t, 2) - q);
+    omega += solid_angle(mesh.corner(t, 0) - q, mesh.corner(t, 1) - q, mesh.corner(t, 2) - q);
   return omega / (4.0f * std::numbers::pi_v<float>);
 }
 

@@ -1,4 +1,4 @@
-#include "winding_tree.hpp"
+#include <collide/sdf/winding_tree.hpp>
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -12,7 +12,7 @@
 #include <limits>
 #include <numbers>
 
-namespace collide::detail {
+namespace collide {
 
 namespace {
 
@@ -200,4 +200,4 @@ float WindingTree::operator()(Vec3 q) const noexcept {
   return omega / (4.0f * std::numbers::pi_v<float>);
 }
 
-}  // namespace collide::detail
+}  // namespace collide

@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-namespace collide::detail {
+namespace collide {
 
 /// A cluster is taken as one dipole when the query is farther from its centre than this many
 /// times its radius (Barill et al. use 2 with a second-order expansion; the first-order one
@@ -28,11 +28,18 @@ inline constexpr std::uint32_t kWindingLeafTriangles = 8;
 /// Solid Angle of a Plane Triangle", IEEE Trans. Biomed. Eng. 30(2), 1983).
 [[nodiscard]] float solid_angle(Vec3 a, Vec3 b, Vec3 c) noexcept;
 
-/// Tree of dipoles over a triangle soup (coordinates as given: callers pass local ones).
+/// Tree of dipoles over a triangle soup (coordinates as given: callers pass local ones, e.g. a
+/// TriangleMesh's `vertices`, relative to its origin). Builds in O(n log n) for n triangles;
+/// a query costs O(log n) far from the surface, more near it (leaves are summed exactly).
 class WindingTree {
  public:
+  /// Builds over `triangles` (indices into `vertices`, in range; positions finite: callers
+  /// validate, as make_triangle_mesh does). Allocates.
   WindingTree(std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles);
-  /// Winding number of `q`: 1 inside a closed outward-wound surface, 0 outside.
+  /// Generalised winding number of `q` (the tree's coordinates): 1 inside a closed
+  /// outward-wound surface, 0 outside, in between near an open surface's holes. Far clusters
+  /// add one dipole term each, so it approximates the exact sum of solid angles
+  /// (winding_number in distance_field.hpp) closely enough to compare with 1/2.
   [[nodiscard]] float operator()(Vec3 q) const noexcept;
 
  private:
@@ -58,4 +65,4 @@ class WindingTree {
   std::vector<Leaf> leaves_;
 };
 
-}  // namespace collide::detail
+}  // namespace collide
