@@ -1,0 +1,576 @@
+// Approximate convex decomposition of triangle meshes: best-first splitting of the mesh's solid
+// grid nodes by axis-aligned planes, hulls from the nodes' closest surface points, concavity
+// read off the distance field (see approximate_decomposition.hpp for the method and why).
+
+#include <collide/decompose/approximate_decomposition.hpp>
+
+#include <collide/core/error.hpp>
+#include <collide/narrow/closest_point.hpp>
+#include <collide/sdf/distance_field.hpp>
+#include <collide/sdf/winding_tree.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace collide {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Nodes beyond the mesh's bounds on each side: the hulls of the surface's closest points never
+/// reach farther than the surface, and a node outside that box is never inside a hull; one ring
+/// keeps the outermost solid nodes' outside neighbours on the grid.
+constexpr int kDecompositionMargin = 2;
+
+/// A piece with no volume of its own (a sheet seen from one side, a single node) is given one by
+/// moving its points this many voxels each way along each axis (see piece_hull).
+constexpr float kDecompositionSheetVoxels = 0.25f;
+
+/// A candidate split's two concavities are taken as equal (and the smaller hull volume wins)
+/// within this fraction of a voxel: the field's distances are exact to float rounding near the
+/// surface, so closer concavities are the same node.
+constexpr float kConcavityTieVoxels = 1e-3f;
+
+/// A point a hull is built from, with the grid node it belongs to (which side of a cut takes it).
+struct HullPoint {
+  Vec3 position;      ///< local (mesh storage) coordinates
+  glm::ivec3 node;    ///< the node it was made for
+};
+
+/// One piece of the solid: grid nodes (ascending memory index) and the points its hull is made of.
+struct Piece {
+  std::vector<std::uint32_t> nodes;
+  std::vector<HullPoint> points;
+  glm::ivec3 lo{0}, hi{0};            ///< node index bounds (inclusive)
+  std::optional<ConvexHull> hull;     ///< null when its points have no volume
+  float concavity = 0.0f;             ///< field distance of the farthest outside node in the hull
+  bool splittable = true;             ///< false once no plane could split it
+};
+
+/// The solid as grid nodes: the field, which nodes are solid, which piece owns each.
+struct SolidGrid {
+  FieldGrid3 grid;
+  Vec3 local_origin{0.0f};            ///< node (0, 0, 0) in local coordinates
+  std::vector<float> distance;        ///< signed distance per node
+  std::vector<Vec3> closest;          ///< closest surface point per node, local coordinates
+  std::vector<std::int32_t> owner;    ///< piece index per solid node, -1 outside the solid
+
+  [[nodiscard]] Vec3 position(glm::ivec3 i) const noexcept { return local_origin + Vec3(i) * grid.voxel; }
+  [[nodiscard]] glm::ivec3 coords(std::uint32_t index) const noexcept {
+    const int nx = grid.dims.x, ny = grid.dims.y;
+    const int x = static_cast<int>(index % static_cast<std::uint32_t>(nx));
+    const std::uint32_t rest = index / static_cast<std::uint32_t>(nx);
+    return {x, static_cast<int>(rest % static_cast<std::uint32_t>(ny)), static_cast<int>(rest / static_cast<std::uint32_t>(ny))};
+  }
+  [[nodiscard]] bool in_grid(glm::ivec3 i) const noexcept {
+    return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < grid.dims.x && i.y < grid.dims.y && i.z < grid.dims.z;
+  }
+};
+
+constexpr std::array<glm::ivec3, 6> kNeighbours{glm::ivec3{-1, 0, 0}, glm::ivec3{1, 0, 0}, glm::ivec3{0, -1, 0},
+                                                glm::ivec3{0, 1, 0},  glm::ivec3{0, 0, -1}, glm::ivec3{0, 0, 1}};
+
+/// The hull of `points`, or null when they have no volume (fewer than 4, flat, too thin).
+std::optional<ConvexHull> try_hull(std::span<const Vec3> points, int max_vertices) {
+  if (points.size() < 4) return std::nullopt;
+  try {
+    HullOptions options;
+    options.max_vertices = max_vertices;
+    return make_convex_hull(points, options);
+  } catch (const InvalidInput&) {
+    return std::nullopt;
+  }
+}
+
+/// The hull of a piece's (or a side's) points, moved by `shift` (to mesh space for the result).
+/// A sheet thinner than a voxel seen from one side only has all its closest points on one face,
+/// and a piece of a single node or a single row has too few points: no volume. Then every point
+/// is also moved kDecompositionSheetVoxels along each axis both ways, so a thin feature gets a
+/// hull about that thin. Null only when even that fails (no points).
+std::optional<ConvexHull> piece_hull(std::span<const HullPoint> points, Vec3 shift, float voxel, int max_vertices,
+                                     std::vector<Vec3>& scratch) {
+  scratch.clear();
+  for (const HullPoint& p : points) scratch.push_back(p.position + shift);
+  std::optional<ConvexHull> hull = try_hull(scratch, max_vertices);
+  if (hull || points.empty()) return hull;
+  const float offset = kDecompositionSheetVoxels * voxel;
+  for (const HullPoint& p : points) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Vec3 d(0.0f);
+      d[axis] = offset;
+      scratch.push_back(p.position + shift + d);
+      scratch.push_back(p.position + shift - d);
+    }
+  }
+  return try_hull(scratch, max_vertices);
+}
+
+/// How far `hull` (local coordinates) reaches outside the mesh: the largest field distance of an
+/// outside node inside it. Scans the nodes of the hull's bounds, the distance test first (most
+/// nodes are inside the solid or no farther than the best so far), planes only for the rest.
+float hull_concavity(const SolidGrid& solid, const ConvexHull& hull) {
+  const float voxel = solid.grid.voxel;
+  const glm::ivec3 lo = glm::max(glm::ivec3(glm::floor((hull.bounds.min - solid.local_origin) / voxel)), glm::ivec3(0));
+  const glm::ivec3 hi = glm::min(glm::ivec3(glm::ceil((hull.bounds.max - solid.local_origin) / voxel)), solid.grid.dims - 1);
+  float worst = 0.0f;
+  for (int z = lo.z; z <= hi.z; ++z) {
+    for (int y = lo.y; y <= hi.y; ++y) {
+      const std::size_t row = solid.grid.index({0, y, z});
+      for (int x = lo.x; x <= hi.x; ++x) {
+        const float d = solid.distance[row + static_cast<std::size_t>(x)];
+        if (!(d > worst)) continue;
+        const Vec3 p = solid.position({x, y, z});
+        bool inside = true;
+        for (const HullFace& face : hull.faces) {
+          if (glm::dot(face.normal, p) > face.offset + hull.tolerance) {
+            inside = false;
+            break;
+          }
+        }
+        if (inside) worst = d;
+      }
+    }
+  }
+  return worst;
+}
+
+/// A piece's hull and concavity from its points (local coordinates).
+void finish_piece(const SolidGrid& solid, Piece& piece, std::vector<Vec3>& scratch) {
+  piece.hull = piece_hull(piece.points, Vec3(0.0f), solid.grid.voxel, kMaxHullVertices, scratch);
+  piece.concavity = piece.hull ? hull_concavity(solid, *piece.hull) : 0.0f;
+  if (!piece.hull) piece.splittable = false;
+}
+
+/// A candidate plane: nodes with coordinate `axis` <= `cut` go left, the rest right.
+struct Candidate {
+  int axis = 0;
+  int cut = 0;
+  float cost = std::numeric_limits<float>::infinity();    ///< max of the two concavities
+  float volume = std::numeric_limits<float>::infinity();  ///< sum of the two hull volumes
+};
+
+/// The two sides' hull points for `candidate`: the piece's own points by their node, plus the
+/// new cut face (midpoints between the piece's neighbouring nodes across the plane).
+void split_points(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, int axis, int cut,
+                  std::vector<HullPoint>& left, std::vector<HullPoint>& right) {
+  left.clear();
+  right.clear();
+  for (const HullPoint& p : piece.points) (p.node[axis] <= cut ? left : right).push_back(p);
+  glm::ivec3 step(0);
+  step[axis] = 1;
+  for (const std::uint32_t n : piece.nodes) {
+    const glm::ivec3 i = solid.coords(n);
+    if (i[axis] != cut) continue;
+    const glm::ivec3 j = i + step;
+    if (!solid.in_grid(j) || solid.owner[solid.grid.index(j)] != piece_id) continue;
+    const Vec3 mid = (solid.position(i) + solid.position(j)) * 0.5f;
+    left.push_back({mid, i});
+    right.push_back({mid, j});
+  }
+}
+
+/// Concavity and volume of the two hulls of a candidate (infinite cost when a side has no
+/// volume).
+void evaluate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, Candidate& candidate,
+              std::vector<HullPoint>& left, std::vector<HullPoint>& right, std::vector<Vec3>& scratch) {
+  split_points(solid, piece, piece_id, candidate.axis, candidate.cut, left, right);
+  float cost = 0.0f, volume = 0.0f;
+  for (const std::vector<HullPoint>* side : {&left, &right}) {
+    const std::optional<ConvexHull> hull = piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kMaxHullVertices, scratch);
+    if (!hull) return;
+    cost = std::max(cost, hull_concavity(solid, *hull));
+    volume += hull->volume;
+  }
+  candidate.cost = cost;
+  candidate.volume = volume;
+}
+
+/// True when `a` is a better split than `b` (lower concavity; within the tie band, less hull
+/// volume; then the earlier candidate, so the choice never depends on evaluation order).
+bool better(const Candidate& a, const Candidate& b, float tie) {
+  if (a.cost < b.cost - tie) return true;
+  if (a.cost > b.cost + tie) return false;
+  return a.volume < b.volume;
+}
+
+/// Per-worker buffers of the candidate evaluation.
+struct Scratch {
+  std::vector<HullPoint> left, right;
+  std::vector<Vec3> points;
+};
+
+/// Evaluates `candidates` on the scheduler (each into its own slot) and returns the index of the
+/// best, or -1 when none splits the piece into two solids.
+int best_candidate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, std::vector<Candidate>& candidates,
+                   std::vector<Scratch>& scratch, TaskScheduler* scheduler) {
+  parallel_for(scheduler, static_cast<int>(candidates.size()), 1, [&](int begin, int end, int worker) {
+    Scratch& s = scratch[static_cast<std::size_t>(worker)];
+    for (int c = begin; c < end; ++c) evaluate(solid, piece, piece_id, candidates[static_cast<std::size_t>(c)], s.left, s.right, s.points);
+  });
+  const float tie = kConcavityTieVoxels * solid.grid.voxel;
+  int best = -1;
+  for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
+    if (!std::isfinite(candidates[static_cast<std::size_t>(c)].cost)) continue;
+    if (best < 0 || better(candidates[static_cast<std::size_t>(c)], candidates[static_cast<std::size_t>(best)], tie)) best = c;
+  }
+  return best;
+}
+
+/// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
+/// axis, then every plane between the best one's coarse neighbours. Null when none splits it.
+std::optional<Candidate> choose_split(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
+                                      std::vector<Scratch>& scratch, TaskScheduler* scheduler, int& evaluated) {
+  std::vector<Candidate> candidates;
+  std::array<int, 3> steps{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int cuts = piece.hi[axis] - piece.lo[axis];  // planes between lo and hi
+    if (cuts < 1) continue;
+    const int step = std::max(1, (cuts + kDecompositionCoarsePlanes - 1) / kDecompositionCoarsePlanes);
+    steps[static_cast<std::size_t>(axis)] = step;
+    for (int cut = piece.lo[axis] + (step - 1) / 2; cut < piece.hi[axis]; cut += step) candidates.push_back({axis, cut});
+  }
+  if (candidates.empty()) return std::nullopt;
+  int best = best_candidate(solid, piece, piece_id, candidates, scratch, scheduler);
+  evaluated += static_cast<int>(candidates.size());
+  if (best < 0) return std::nullopt;
+  Candidate chosen = candidates[static_cast<std::size_t>(best)];
+  const int step = steps[static_cast<std::size_t>(chosen.axis)];
+  if (step > 1) {
+    std::vector<Candidate> fine;
+    for (int cut = std::max(piece.lo[chosen.axis], chosen.cut - step + 1);
+         cut <= std::min(piece.hi[chosen.axis] - 1, chosen.cut + step - 1); ++cut) {
+      if (cut != chosen.cut) fine.push_back({chosen.axis, cut});
+    }
+    const int fine_best = best_candidate(solid, piece, piece_id, fine, scratch, scheduler);
+    evaluated += static_cast<int>(fine.size());
+    if (fine_best >= 0 && better(fine[static_cast<std::size_t>(fine_best)], chosen, kConcavityTieVoxels * solid.grid.voxel)) {
+      chosen = fine[static_cast<std::size_t>(fine_best)];
+    }
+  }
+  return chosen;
+}
+
+/// Splits pieces[index] by `plane` into itself (the left side) and a new piece at the back.
+void apply_split(SolidGrid& solid, std::vector<Piece>& pieces, std::size_t index, const Candidate& plane,
+                 std::vector<Vec3>& scratch) {
+  Piece left, right;
+  split_points(solid, pieces[index], static_cast<std::int32_t>(index), plane.axis, plane.cut, left.points, right.points);
+  const auto right_id = static_cast<std::int32_t>(pieces.size());
+  left.lo = right.lo = glm::ivec3(std::numeric_limits<int>::max());
+  left.hi = right.hi = glm::ivec3(std::numeric_limits<int>::min());
+  for (const std::uint32_t n : pieces[index].nodes) {
+    const glm::ivec3 i = solid.coords(n);
+    Piece& side = i[plane.axis] <= plane.cut ? left : right;
+    side.nodes.push_back(n);
+    side.lo = glm::min(side.lo, i);
+    side.hi = glm::max(side.hi, i);
+    if (&side == &right) solid.owner[n] = right_id;
+  }
+  finish_piece(solid, left, scratch);
+  finish_piece(solid, right, scratch);
+  pieces[index] = std::move(left);
+  pieces.push_back(std::move(right));
+}
+
+void check_options(const ApproximateDecompositionOptions& o) {
+  if (o.max_hulls < 1 || o.max_hulls > kDecompositionMaxHulls) {
+    throw InvalidInput("max_hulls: " + std::to_string(o.max_hulls) + " is outside [1, " +
+                       std::to_string(kDecompositionMaxHulls) + "]");
+  }
+  if (!(o.concavity >= 0.0f) || !std::isfinite(o.concavity)) {
+    throw InvalidInput("concavity: must be finite and >= 0, got " + std::to_string(o.concavity));
+  }
+  if (o.max_vertices < 4 || o.max_vertices > kMaxHullVertices) {
+    throw InvalidInput("max_vertices: " + std::to_string(o.max_vertices) + " is outside [4, " +
+                       std::to_string(kMaxHullVertices) + "]");
+  }
+  if (o.resolution < kDecompositionMinResolution || o.resolution > kDecompositionMaxResolution) {
+    throw InvalidInput("resolution: " + std::to_string(o.resolution) + " is outside [" +
+                       std::to_string(kDecompositionMinResolution) + ", " +
+                       std::to_string(kDecompositionMaxResolution) + "]");
+  }
+  if (o.measure_samples < 0) throw InvalidInput("measure_samples: must be >= 0");
+}
+
+/// Local bounds of the vertices the triangles use.
+Aabb3 used_bounds(const TriangleMesh& mesh) {
+  Aabb3 box{Vec3(std::numeric_limits<float>::infinity()), Vec3(-std::numeric_limits<float>::infinity())};
+  for (const glm::uvec3& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      box.min = glm::min(box.min, mesh.vertices[t[k]]);
+      box.max = glm::max(box.max, mesh.vertices[t[k]]);
+    }
+  }
+  return box;
+}
+
+/// splitmix64 (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", OOPSLA
+/// 2014): the same stream on every platform, unlike std's distributions.
+struct SampleRng {
+  std::uint64_t state;
+  std::uint64_t next() noexcept {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1).
+  float uniform() noexcept { return static_cast<float>(next() >> 40) * 0x1p-24f; }
+};
+
+/// A triangle to sample from and the running sum of areas up to and including it.
+struct AreaTriangle {
+  Vec3 a, b, c;
+  double cumulative;
+};
+
+/// `count` points spread by area over `triangles` (uniform on the surface), appended to `out`.
+void sample_triangles(const std::vector<AreaTriangle>& triangles, int count, SampleRng& rng, std::vector<Vec3>& out) {
+  if (triangles.empty() || !(triangles.back().cumulative > 0.0)) return;
+  const double total = triangles.back().cumulative;
+  for (int s = 0; s < count; ++s) {
+    const double target = static_cast<double>(rng.uniform()) * total;
+    const auto it = std::upper_bound(triangles.begin(), triangles.end(), target,
+                                     [](double v, const AreaTriangle& t) { return v < t.cumulative; });
+    const AreaTriangle& t = it == triangles.end() ? triangles.back() : *it;
+    float u = rng.uniform(), v = rng.uniform();
+    if (u + v > 1.0f) {  // fold the far half of the parallelogram back onto the triangle
+      u = 1.0f - u;
+      v = 1.0f - v;
+    }
+    out.push_back(t.a + (t.b - t.a) * u + (t.c - t.a) * v);
+  }
+}
+
+void push_area_triangle(std::vector<AreaTriangle>& list, Vec3 a, Vec3 b, Vec3 c) {
+  const double area = 0.5 * static_cast<double>(glm::length(glm::cross(b - a, c - a)));
+  list.push_back({a, b, c, (list.empty() ? 0.0 : list.back().cumulative) + area});
+}
+
+/// Volume bounded by a mesh by the divergence theorem (local coordinates): exact for a closed
+/// surface whatever its triangulation (T-junctions and unwelded soups included); a hole's cap is
+/// left out.
+double closed_mesh_volume(const TriangleMesh& mesh) {
+  double six_v = 0.0;
+  for (const glm::uvec3& t : mesh.triangles) {
+    const glm::dvec3 a(mesh.vertices[t[0]]), b(mesh.vertices[t[1]]), c(mesh.vertices[t[2]]);
+    six_v += glm::dot(a, glm::cross(b, c));
+  }
+  return std::abs(six_v) / 6.0;
+}
+
+}  // namespace
+
+ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const ApproximateDecompositionOptions& options,
+                                               std::optional<DecompositionProgress> progress) {
+  const Clock::time_point start = Clock::now();
+  check_options(options);
+  if (mesh.triangles.empty()) throw InvalidInput("mesh: no triangles");
+  const Aabb3 bounds = used_bounds(mesh);
+  const Vec3 extent = bounds.max - bounds.min;
+  static constexpr std::array<const char*, 3> kAxisNames{"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    if (!(extent[k] > 0.0f)) throw InvalidInput(std::string("mesh: no volume (flat along ") + kAxisNames[static_cast<std::size_t>(k)] + ")");
+  }
+
+  ApproximateDecomposition result;
+  result.diagonal = glm::length(extent);
+  const double box_volume = static_cast<double>(extent.x) * extent.y * extent.z;
+  result.voxel = static_cast<float>(std::cbrt(box_volume / options.resolution));
+
+  // The solid: the mesh's signed distance field and its closest points.
+  const Clock::time_point field_start = Clock::now();
+  FieldOptions field_options;
+  field_options.voxel = result.voxel;
+  field_options.margin = kDecompositionMargin;
+  field_options.keep_closest_points = true;
+  DistanceField3 field = make_distance_field(mesh, field_options);
+  result.field_seconds = seconds_since(field_start);
+
+  SolidGrid solid;
+  solid.grid = field.grid;
+  solid.local_origin = field.grid.origin - mesh.origin;
+  solid.distance = std::move(field.distances);
+  solid.closest = std::move(field.closest_points);
+  for (Vec3& p : solid.closest) p -= mesh.origin;
+  const std::size_t count = solid.grid.count();
+  result.grid_nodes = static_cast<int>(count);
+  const float solid_below = kDecompositionSolidVoxels * result.voxel;
+
+  Piece root;
+  root.lo = glm::ivec3(std::numeric_limits<int>::max());
+  root.hi = glm::ivec3(std::numeric_limits<int>::min());
+  solid.owner.assign(count, -1);
+  for (std::size_t n = 0; n < count; ++n) {
+    if (!(solid.distance[n] < solid_below)) continue;
+    solid.owner[n] = 0;
+    root.nodes.push_back(static_cast<std::uint32_t>(n));
+    const glm::ivec3 i = solid.coords(static_cast<std::uint32_t>(n));
+    root.lo = glm::min(root.lo, i);
+    root.hi = glm::max(root.hi, i);
+  }
+  result.solid_nodes = static_cast<int>(root.nodes.size());
+  if (root.nodes.empty()) throw InvalidInput("mesh: no volume (no grid node inside it at voxel " + std::to_string(result.voxel) + ")");
+
+  // Hull points: each solid node next to the outside gives its closest surface point; each mesh
+  // vertex is given to its nearest solid node (sharp corners that no node sees).
+  for (const std::uint32_t n : root.nodes) {
+    const glm::ivec3 i = solid.coords(n);
+    for (const glm::ivec3& step : kNeighbours) {
+      const glm::ivec3 j = i + step;
+      if (!solid.in_grid(j) || solid.owner[solid.grid.index(j)] < 0) {
+        root.points.push_back({solid.closest[n], i});
+        break;
+      }
+    }
+  }
+  {
+    std::vector<char> used(mesh.vertices.size(), 0);
+    for (const glm::uvec3& t : mesh.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+      if (!used[v]) continue;
+      const Vec3 p = mesh.vertices[v];
+      const FieldCellN<3> cell = solid.grid.locate(p + mesh.origin);
+      float best = std::numeric_limits<float>::infinity();
+      glm::ivec3 owner_node(-1);
+      for (int c = 0; c < 8; ++c) {
+        const glm::ivec3 j = cell.node + glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        if (!solid.in_grid(j) || solid.owner[solid.grid.index(j)] < 0) continue;
+        const Vec3 d = solid.position(j) - p;
+        const float d2 = glm::dot(d, d);
+        if (d2 < best) {
+          best = d2;
+          owner_node = j;
+        }
+      }
+      if (owner_node.x >= 0) root.points.push_back({p, owner_node});
+    }
+  }
+
+  std::vector<Piece> pieces;
+  std::vector<Vec3> scratch_points;
+  finish_piece(solid, root, scratch_points);
+  if (!root.hull) throw InvalidInput("mesh: no volume (its solid is flat at voxel " + std::to_string(result.voxel) + ")");
+  pieces.push_back(std::move(root));
+
+  const int workers = options.scheduler ? std::max(1, options.scheduler->worker_count()) : 1;
+  std::vector<Scratch> scratch(static_cast<std::size_t>(workers));
+  const float bound = options.concavity * result.diagonal;
+  while (static_cast<int>(pieces.size()) < options.max_hulls) {
+    // The worst piece that can still be split (the first on ties: deterministic).
+    int worst = -1;
+    for (int p = 0; p < static_cast<int>(pieces.size()); ++p) {
+      const Piece& piece = pieces[static_cast<std::size_t>(p)];
+      if (!piece.splittable || !(piece.concavity > bound)) continue;
+      if (worst < 0 || piece.concavity > pieces[static_cast<std::size_t>(worst)].concavity) worst = p;
+    }
+    if (worst < 0) break;
+    const std::optional<Candidate> plane =
+        choose_split(solid, pieces[static_cast<std::size_t>(worst)], worst, scratch, options.scheduler, result.candidates);
+    if (!plane) {
+      pieces[static_cast<std::size_t>(worst)].splittable = false;
+      continue;
+    }
+    apply_split(solid, pieces, static_cast<std::size_t>(worst), *plane, scratch_points);
+    ++result.splits;
+    if (progress) {
+      float left = 0.0f;
+      for (const Piece& piece : pieces) left = std::max(left, piece.concavity);
+      (*progress)(static_cast<int>(pieces.size()), left);
+    }
+  }
+
+  // The hulls in mesh space, capped at max_vertices.
+  for (const Piece& piece : pieces) {
+    result.grid_concavity = std::max(result.grid_concavity, piece.concavity);
+    std::optional<ConvexHull> hull = piece_hull(piece.points, mesh.origin, solid.grid.voxel, options.max_vertices, scratch_points);
+    if (hull) result.hulls.push_back(std::move(*hull));
+  }
+  if (result.hulls.empty()) throw InvalidInput("mesh: no volume (no piece has a hull)");
+
+  if (options.measure_samples > 0) {
+    const Clock::time_point measure_start = Clock::now();
+    result.error = measure_decomposition(mesh, result.hulls, options.measure_samples, options.seed);
+    result.measure_seconds = seconds_since(measure_start);
+  }
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+DecompositionError measure_decomposition(const TriangleMesh& mesh, std::span<const ConvexHull> hulls, int samples,
+                                         std::uint64_t seed) {
+  if (mesh.triangles.empty()) throw InvalidInput("mesh: no triangles");
+  if (hulls.empty()) throw InvalidInput("hulls: none to measure");
+  if (samples < 1) throw InvalidInput("samples: must be >= 1, got " + std::to_string(samples));
+  DecompositionError error;
+  SampleRng rng{seed};
+
+  // Hull surfaces against the solid (local coordinates, where the mesh's BVH and tree are).
+  std::vector<AreaTriangle> hull_triangles;
+  std::vector<Vec3> points;
+  double hull_volume = 0.0;
+  for (const ConvexHull& hull : hulls) {
+    hull_volume += hull.volume;
+    for (const Vec3& v : hull.vertices) points.push_back(v - mesh.origin);
+    for (const HullFace& face : hull.faces) {
+      const Vec3 a = hull.vertices[hull.face_vertices[face.first]] - mesh.origin;
+      for (int k = 1; k + 1 < face.count; ++k) {
+        push_area_triangle(hull_triangles, a, hull.vertices[hull.face_vertices[face.first + k]] - mesh.origin,
+                           hull.vertices[hull.face_vertices[face.first + k + 1]] - mesh.origin);
+      }
+    }
+  }
+  sample_triangles(hull_triangles, samples, rng, points);
+  const WindingTree winding(mesh.vertices, mesh.triangles);
+  for (const Vec3& p : points) {
+    if (winding(p) > 0.5f) continue;
+    error.hull_to_mesh = std::max(error.hull_to_mesh, std::sqrt(mesh.bvh.nearest(p).distance_squared));
+  }
+  error.hull_samples = static_cast<int>(points.size());
+
+  // The mesh's surface against the union of the hulls (mesh space, where the hulls are).
+  std::vector<AreaTriangle> mesh_triangles;
+  points.clear();
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const glm::uvec3& t : mesh.triangles) {
+    push_area_triangle(mesh_triangles, mesh.vertices[t[0]] + mesh.origin, mesh.vertices[t[1]] + mesh.origin,
+                       mesh.vertices[t[2]] + mesh.origin);
+    used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  }
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (used[v]) points.push_back(mesh.vertices[v] + mesh.origin);
+  }
+  sample_triangles(mesh_triangles, samples, rng, points);
+  for (const Vec3& p : points) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (const ConvexHull& hull : hulls) {
+      // The distance to the hull's box bounds the distance to the hull from below.
+      const Vec3 out = glm::max(glm::max(hull.bounds.min - p, p - hull.bounds.max), Vec3(0.0f));
+      if (glm::dot(out, out) >= nearest * nearest) continue;
+      nearest = std::min(nearest, std::max(0.0f, closest_point(hull, Transform3{}, p).distance));
+      if (nearest == 0.0f) break;
+    }
+    error.mesh_to_hull = std::max(error.mesh_to_hull, nearest);
+  }
+  error.mesh_samples = static_cast<int>(points.size());
+
+  const double mesh_volume = closed_mesh_volume(mesh);
+  error.volume_ratio = mesh_volume > 0.0 ? static_cast<float>(hull_volume / mesh_volume) : 0.0f;
+  return error;
+}
+
+}  // namespace collide
