@@ -43,9 +43,10 @@ namespace collide {
 /// Default number of grid nodes the mesh's bounding box is divided into (V-HACD's default
 /// resolution is 1e5 voxels too): voxel = cbrt(box volume / this).
 inline constexpr int kDecompositionDefaultResolution = 100000;
-/// Fewest and most grid nodes `ApproximateDecompositionOptions::resolution` may ask for.
+/// Fewest and most grid nodes `ApproximateDecompositionOptions::resolution` may ask for (the most:
+/// about 100 MB of field, closest points and owners, and tens of seconds).
 inline constexpr int kDecompositionMinResolution = 1000;
-inline constexpr int kDecompositionMaxResolution = 20000000;
+inline constexpr int kDecompositionMaxResolution = 4000000;
 /// Most hulls a decomposition may be asked for.
 inline constexpr int kDecompositionMaxHulls = 1024;
 /// Plane positions tried per axis in the coarse pass of a split (then the best one's
@@ -68,7 +69,7 @@ struct ApproximateDecompositionOptions {
   float concavity = 0.01f;
   /// Most vertices per hull, in [4, kMaxHullVertices]: the hull keeps the farthest points first
   /// (make_convex_hull's cap), so a capped hull may leave a little of its piece outside (the
-  /// report's `coverage_distance` measures it).
+  /// report's `mesh_to_hull` measures it).
   int max_vertices = 64;
   /// Grid nodes over the mesh's bounding box, in [kDecompositionMinResolution,
   /// kDecompositionMaxResolution]. More nodes: finer splits and a finer concavity, slower.
