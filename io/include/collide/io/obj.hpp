@@ -1,12 +1,15 @@
 #pragma once
 /// @file
 /// Wavefront OBJ level meshes: as triangle soups for the walk mesh, and as collision meshes
-/// (TriangleMesh) through the same reader.
+/// (TriangleMesh) through the same reader; and convex hulls written out as OBJ objects (a
+/// decomposition's pieces, for an engine or a modelling tool to load).
 
+#include <collide/shape/convex_hull.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 #include <collide/walkmesh/walk_mesh.hpp>
 
 #include <cstddef>
+#include <span>
 #include <string>
 
 namespace collide::io {
@@ -54,5 +57,15 @@ struct ObjLimits {
 /// InvalidInput for what either rejects, the message starting with the file name.
 [[nodiscard]] TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptions& options = {},
                                               const ObjLimits& limits = {});
+
+/// Writes `hulls` to the OBJ file at `path` (created or replaced): one object `o hull_N` per
+/// hull, N counting from 1 in the order given, with its vertices (`v x y z`, the hull's own
+/// coordinates, each float written with 9 significant digits so it reads back bit for bit) and
+/// its polygonal faces (`f`, counter-clockwise seen from outside as ConvexHull stores them,
+/// which is OBJ's front face; 1-based indices counting over the whole file). A rounded hull's
+/// core is written (OBJ has no radius). `load_obj` reads the file back (its faces triangulated).
+/// Throws InvalidInput "PATH: cannot be written (WHY)" when the file cannot be opened or a write
+/// fails (no folder, no permission, disk full); a partly written file is left as it is.
+void write_hulls_obj(const std::string& path, std::span<const ConvexHull> hulls);
 
 }  // namespace collide::io
