@@ -1,6 +1,8 @@
 #include <collide/draw/palette.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace collide {
 namespace {
@@ -44,6 +46,32 @@ constexpr std::array<DrawStyle, kDrawRoleCount> kStyles = {{
 }};
 
 }  // namespace
+
+Color distinct_color(int index) noexcept {
+  // Hue: index times the golden angle (360 / phi^2 degrees), as a fraction of a turn.
+  constexpr double kGoldenTurn = 0.3819660112501051;
+  constexpr std::array<double, 3> kSaturation{0.62, 0.45, 0.75};
+  constexpr std::array<double, 3> kValue{0.92, 0.80, 0.70};
+  const double turns = static_cast<double>(index) * kGoldenTurn;
+  const double h = 6.0 * (turns - std::floor(turns));  // [0, 6): the sector of the colour wheel
+  const auto cycle = static_cast<std::size_t>(((index % 9) + 9) % 9);
+  const double s = kSaturation[cycle % 3], v = kValue[cycle / 3];
+  // HSV to RGB (Smith 1978): the largest channel v, the smallest v (1 - s), the middle one
+  // moving between them across the sector.
+  const double f = h - std::floor(h);
+  const double p = v * (1.0 - s), q = v * (1.0 - s * f), t = v * (1.0 - s * (1.0 - f));
+  double r = v, g = t, b = p;
+  switch (static_cast<int>(h)) {
+    case 0: r = v, g = t, b = p; break;
+    case 1: r = q, g = v, b = p; break;
+    case 2: r = p, g = v, b = t; break;
+    case 3: r = p, g = q, b = v; break;
+    case 4: r = t, g = p, b = v; break;
+    default: r = v, g = p, b = q; break;
+  }
+  const auto channel = [](double x) { return static_cast<std::uint8_t>(std::clamp(x * 255.0 + 0.5, 0.0, 255.0)); };
+  return {channel(r), channel(g), channel(b), 255};
+}
 
 const DrawStyle& draw_style(DrawRole role) noexcept {
   const auto i = static_cast<unsigned>(role);

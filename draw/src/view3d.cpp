@@ -135,21 +135,29 @@ void check_camera(const Camera3& c) {
   }
 }
 
+/// What a sample's outline compares: the role of the nearest solid and the colour it is filled
+/// with (its role's, or its own: Picture3D::draw_triangle with a fill), so solids of another role
+/// or another colour are outlined where they meet.
+std::uint32_t surface_key(DrawRole role, Color fill) noexcept {
+  return (static_cast<std::uint32_t>(fill.r) << 24 | static_cast<std::uint32_t>(fill.g) << 16 |
+          static_cast<std::uint32_t>(fill.b) << 8) | static_cast<std::uint32_t>(role);
+}
+
 /// One view's render at kViewSupersample times its size: colour, 1 / depth (0: nothing) and
-/// the role of the nearest solid per sample.
+/// the surface (surface_key) of the nearest solid per sample.
 struct Raster {
   int width = 0, height = 0;
   std::vector<std::uint32_t> color;
   std::vector<float> inv_depth;
-  std::vector<std::uint8_t> role;
-  static constexpr std::uint8_t kNoRole = 0xff;
+  std::vector<std::uint32_t> role;
+  static constexpr std::uint32_t kNoRole = 0xffffffffu;  // never a key: roles are below 0xff
 
   Raster(int w, int h)
       : width(w), height(h), color(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kBackgroundArgb),
         inv_depth(color.size(), 0.0f), role(color.size(), kNoRole) {}
 
   /// A screen-space triangle (pixel x, y, 1 / depth per corner), depth-tested.
-  void fill(const Vec3& a, const Vec3& b, const Vec3& c, std::uint32_t argb_color, std::uint8_t role_id) {
+  void fill(const Vec3& a, const Vec3& b, const Vec3& c, std::uint32_t argb_color, std::uint32_t role_id) {
     const float area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (!(std::fabs(area) > 0.0f)) return;
     const float inv_area = 1.0f / area;
@@ -296,6 +304,12 @@ void Picture3D::draw_triangle(const Vec3& a, const Vec3& b, const Vec3& c, DrawR
   used_[static_cast<std::size_t>(role)] = true;
 }
 
+void Picture3D::draw_triangle(const Vec3& a, const Vec3& b, const Vec3& c, DrawRole role, Color fill) {
+  fill.a = 255;
+  triangles_.push_back({{a, b, c}, role, fill});
+  used_[static_cast<std::size_t>(role)] = true;
+}
+
 void Picture3D::draw_segment(const Vec3& a, const Vec3& b, DrawRole role) {
   strokes_.push_back({a, b, role, false});
   used_[static_cast<std::size_t>(role)] = true;
@@ -384,7 +398,11 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     constexpr int S = kViewSupersample;
     Raster raster(view_w * S, view_h * S);
     const CameraFrame frame(panel.camera, view_w * S, view_h * S, panel.cut_nearer);
+    const auto shown = [&](DrawRole role) {
+      return panel.roles.empty() || std::find(panel.roles.begin(), panel.roles.end(), role) != panel.roles.end();
+    };
     for (const Triangle3& t : triangles_) {
+      if (!shown(t.role)) continue;
       const Vec3 normal = cross(t.corners[1] - t.corners[0], t.corners[2] - t.corners[0]);
       const float facing = dot(normal, frame.eye - t.corners[0]);
       if (o.cutaway && t.role == DrawRole::static_geometry && facing < 0.0f) continue;
@@ -394,7 +412,8 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
       const Vec3 to_eye = normalize(frame.eye - t.corners[0]);
       const float light = kAmbient + kSunWeight * std::max(0.0f, dot(nrm, sun)) +
                           kHeadlightWeight * std::max(0.0f, dot(nrm, to_eye));
-      const std::uint32_t color = argb(solid_color(t.role), std::min(light, 1.0f));
+      const Color base = t.fill ? *t.fill : solid_color(t.role);
+      const std::uint32_t color = argb(base, std::min(light, 1.0f));
       // Cut at the section plane (static geometry), then at the near plane (view space).
       std::array<Vec3, 4> world_corners{t.corners[0], t.corners[1], t.corners[2], Vec3(0.0f)};
       int m = 3;
@@ -413,7 +432,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
       std::array<Vec3, 5> s;
       for (int i = 0; i < m; ++i) s[static_cast<std::size_t>(i)] = frame.to_screen(clipped[static_cast<std::size_t>(i)]);
       for (int i = 1; i + 1 < m; ++i) {
-        raster.fill(s[0], s[static_cast<std::size_t>(i)], s[static_cast<std::size_t>(i + 1)], color, static_cast<std::uint8_t>(t.role));
+        raster.fill(s[0], s[static_cast<std::size_t>(i)], s[static_cast<std::size_t>(i + 1)], color, surface_key(t.role, base));
       }
     }
     raster.outline();
@@ -463,6 +482,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     cairo_set_line_cap(cr.get(), CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(cr.get(), CAIRO_LINE_JOIN_ROUND);
     for (const Stroke3& st : strokes_) {
+      if (!shown(st.role)) continue;
       const DrawStyle& style = draw_style(st.role);
       std::array<Vec3, 2> ends{view.to_view(st.a), view.to_view(st.b)};
       std::array<Vec3, 3> clipped;
@@ -519,6 +539,7 @@ View3DImage Picture3D::render(const std::vector<View3DPanel>& views, const View3
     }
     cairo_set_dash(cr.get(), nullptr, 0, 0.0);
     for (const Point3& p : points_) {
+      if (!shown(p.role)) continue;
       const DrawStyle& style = draw_style(p.role);
       const Vec3 v = view.to_view(p.p);
       if (!(v.z >= view.near)) continue;

@@ -9,11 +9,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
+#include <optional>
+#include <vector>
 #include <string>
 
 namespace collide {
@@ -228,6 +231,112 @@ TEST(View3D, LegendListsTheRolesDrawnAndThePictureIsThatTall) {
   EXPECT_LT(b.views[0][0] + b.views[0][2], b.views[1][0]);  // side by side, apart
   // Every pixel under the legend row's text band is drawn inside the picture.
   EXPECT_EQ(b.pixels.size(), static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height));
+}
+
+/// A rectangle x in [x0, x1], y in [-1, 1] at depth plane z, facing +z, optionally in its own colour.
+void panel_rect(Picture3D& p, float x0, float x1, float z, DrawRole role, std::optional<Color> fill) {
+  const Vec3 a(x0, -1.0f, z), b(x1, -1.0f, z), c(x1, 1.0f, z), d(x0, 1.0f, z);
+  if (fill) {
+    p.draw_triangle(a, b, c, role, *fill);
+    p.draw_triangle(a, c, d, role, *fill);
+  } else {
+    p.draw_triangle(a, b, c, role);
+    p.draw_triangle(a, c, d, role);
+  }
+}
+
+// Things of one role told apart by colour (decompose's hulls): each fill shows, shaded as the
+// role's would be, and two colours meeting at the same depth are outlined where one role alone
+// is not (the seam between two rectangles 0.1 apart in depth is no depth jump).
+TEST(View3D, OwnColoursFillTrianglesAndAreOutlinedWhereTheyMeet) {
+  const Camera3 cam = front_camera();
+  const Color red{220, 40, 40, 255}, green{40, 200, 40, 0};  // the fill's alpha is not used
+  const auto brightness = [](std::uint32_t c) { const Rgb v = rgb(c); return v.r + v.g + v.b; };
+  int seam_colours = 0, seam_role = 0, inside_colours = 0, inside_role = 0;
+  for (const bool coloured : {true, false}) {
+    Picture3D p;
+    panel_rect(p, -2.0f, 0.0f, 0.0f, DrawRole::body, coloured ? std::optional<Color>(red) : std::nullopt);
+    panel_rect(p, 0.0f, 2.0f, 0.1f, DrawRole::body, coloured ? std::optional<Color>(green) : std::nullopt);
+    EXPECT_EQ(p.roles(), std::vector<DrawRole>{DrawRole::body});
+    const View3DImage image = p.render({{cam, ""}}, plain());
+    const auto left = pixel_of(image, cam, Vec3(-1.0f, 0.0f, 0.0f));
+    const auto right = pixel_of(image, cam, Vec3(1.0f, 0.0f, 0.1f));
+    const Rgb l = rgb(image.at(left[0], left[1])), r = rgb(image.at(right[0], right[1]));
+    if (coloured) {
+      EXPECT_GT(l.r, l.g + 60) << "red on the left";
+      EXPECT_GT(r.g, r.r + 60) << "green on the right";
+    } else {
+      EXPECT_GT(l.b, l.r + 40) << "the body's blue";
+      EXPECT_NEAR(l.r, r.r, 3) << "one role, one colour (the light at the eye differs a little)";
+      EXPECT_NEAR(l.b, r.b, 3);
+    }
+    // The darkest pixel of the row across the seam, against the rectangles' inside.
+    const auto seam = pixel_of(image, cam, Vec3(0.0f, 0.0f, 0.0f));
+    int darkest = 3 * 255;
+    for (int x = seam[0] - 2; x <= seam[0] + 2; ++x) darkest = std::min(darkest, brightness(image.at(x, seam[1])));
+    const int inside = std::min(brightness(image.at(left[0], left[1])), brightness(image.at(right[0], right[1])));
+    (coloured ? seam_colours : seam_role) = darkest;
+    (coloured ? inside_colours : inside_role) = inside;
+  }
+  EXPECT_LT(seam_colours, 0.85 * inside_colours) << "two colours meet: an outline";
+  EXPECT_GE(seam_role, inside_role - 3) << "one role without colours: no outline at the seam";
+}
+
+// Panels of one picture show different roles (decompose: the input mesh beside its hulls), the
+// strokes and points of a role too; the legend still names every role drawn.
+TEST(View3D, APanelShowsOnlyTheRolesItNames) {
+  Picture3D p;
+  square(p, 1.0f, 0.0f, DrawRole::static_geometry);
+  square(p, 1.0f, 1.0f, DrawRole::body);
+  p.draw_segment(Vec3(-3.0f, 1.5f, 2.0f), Vec3(3.0f, 1.5f, 2.0f), DrawRole::laser);
+  const Camera3 cam = front_camera();
+  View3DPanel level{cam, "level"}, bodies{cam, "bodies"}, all{cam, "all"};
+  level.roles = {DrawRole::static_geometry};
+  bodies.roles = {DrawRole::body, DrawRole::laser};
+  View3DOptions o = plain();
+  o.width = 3 * kW;
+  const View3DImage image = p.render({level, bodies, all}, o);
+  ASSERT_EQ(image.views.size(), 3u);
+  const auto at = [&](int view, Vec3 world) {
+    const auto& v = image.views[static_cast<std::size_t>(view)];
+    const auto s = project(cam, v[2], v[3], world);
+    return rgb(image.at(v[0] + static_cast<int>(s->pixel.x), v[1] + static_cast<int>(s->pixel.y)));
+  };
+  const Rgb level_centre = at(0, Vec3(0.0f)), bodies_centre = at(1, Vec3(0.0f, 0.0f, 1.0f)), all_centre = at(2, Vec3(0.0f, 0.0f, 1.0f));
+  EXPECT_NEAR(level_centre.r, level_centre.b, 3) << "the level alone: grey, the body in front not drawn";
+  EXPECT_LT(level_centre.r, 250);
+  EXPECT_GT(bodies_centre.b, bodies_centre.r + 40) << "the body";
+  EXPECT_GT(all_centre.b, all_centre.r + 40) << "every role: the body in front";
+  // The laser: red in the second and third views, nothing in the first.
+  const Rgb laser_level = at(0, Vec3(2.5f, 1.5f, 2.0f)), laser_bodies = at(1, Vec3(2.5f, 1.5f, 2.0f));
+  EXPECT_EQ(laser_level.r + laser_level.g + laser_level.b, 3 * 255) << "no laser where only the level is shown";
+  EXPECT_GT(laser_bodies.r, laser_bodies.g + 60) << "the laser";
+  // The empty one: a panel of a role that was never drawn shows the background alone.
+  View3DPanel none{cam, "none"};
+  none.roles = {DrawRole::sensor};
+  const View3DImage empty = p.render({none}, plain());
+  const auto& v = empty.views[0];
+  int ink = 0;
+  for (int y = v[1] + 2; y < v[1] + v[3] - 2; ++y) {
+    for (int x = v[0] + 2; x < v[0] + v[2] - 2; ++x) ink += empty.at(x, y) != 0xffffffffu;
+  }
+  EXPECT_EQ(ink, 0);
+}
+
+TEST(View3D, DistinctColoursAreOpaqueDifferentAndNeighboursFarApart) {
+  std::vector<Color> seen;
+  for (int i = 0; i < 1024; ++i) {
+    const Color c = distinct_color(i);
+    EXPECT_EQ(c.a, 255);
+    for (const Color& other : seen) ASSERT_FALSE(other == c) << "index " << i;
+    if (!seen.empty()) {
+      const Color& b = seen.back();
+      const double d = std::hypot(double(c.r) - b.r, double(c.g) - b.g, double(c.b) - b.b);
+      EXPECT_GT(d, 100.0) << "indices " << i - 1 << " and " << i;
+    }
+    seen.push_back(c);
+  }
+  EXPECT_TRUE(distinct_color(-5) == distinct_color(-5));
 }
 
 TEST(View3D, WritesAPngOfItsSizeAndNamesAPathItCannotWrite) {

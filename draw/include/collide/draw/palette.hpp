@@ -50,6 +50,13 @@ struct DrawStyle {
 /// The style of `role`. Roles outside the enum get the static-geometry style.
 [[nodiscard]] const DrawStyle& draw_style(DrawRole role) noexcept;
 
+/// The `index`-th of a sequence of colours told apart by number, not by role (the hulls of a
+/// decomposition, islands): opaque, mid-light, hues a golden angle apart, so colours close in
+/// index are far apart in hue (consecutive ones more than 100 apart in 8-bit RGB), with
+/// saturation and brightness cycling over 3 steps each; indices 0 to 1023 give 1024 different
+/// colours. Any index, negative ones too.
+[[nodiscard]] Color distinct_color(int index) noexcept;
+
 /// Background of every picture.
 inline constexpr Color kPictureBackground{255, 255, 255, 255};
 /// Titles and legend text.

@@ -18,6 +18,7 @@
 #include <collide/core/aabb.hpp>
 #include <collide/core/debug_draw.hpp>
 #include <collide/core/math.hpp>
+#include <collide/draw/palette.hpp>
 
 #include <array>
 #include <cstdint>
@@ -64,6 +65,9 @@ struct View3DPanel {
   /// cut away: a close-up sees through the bodies between its camera and what it frames. None:
   /// only the camera's own near plane (a tiny fraction of the distance to the target).
   std::optional<float> cut_nearer;
+  /// The roles this view shows (solids, strokes and points); empty: every role. Panels of one
+  /// picture can so show different things side by side (an input and what was made of it).
+  std::vector<DrawRole> roles;
 };
 
 /// How a 3D picture is laid out. Checked by `render`.
@@ -111,6 +115,11 @@ class Picture3D final : public DebugDraw3 {
   void draw_segment(const Vec3& a, const Vec3& b, DrawRole role) override;
   void draw_arrow(const Vec3& from, const Vec3& to, DrawRole role) override;
   void draw_point(const Vec3& p, DrawRole role) override;
+  /// A solid triangle of `role` filled with its own colour `fill` (opaque: its alpha is not
+  /// used) instead of the role's, shaded the same way: things of one role told apart by colour
+  /// (each hull of a decomposition). Solids of different colours are outlined where they meet,
+  /// as solids of different roles are. The legend still shows the role's own swatch.
+  void draw_triangle(const Vec3& a, const Vec3& b, const Vec3& c, DrawRole role, Color fill);
 
   /// The legend's name for `role` (default: to_string(role)), e.g. "characters" for highlight.
   void set_role_name(DrawRole role, std::string name);
@@ -127,6 +136,7 @@ class Picture3D final : public DebugDraw3 {
   struct Triangle3 {
     std::array<Vec3, 3> corners;
     DrawRole role;
+    std::optional<Color> fill{};  ///< its own colour (opaque), else the role's
   };
   struct Stroke3 {
     Vec3 a, b;
