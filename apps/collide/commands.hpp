@@ -22,4 +22,8 @@ void register_walk_command(CLI::App& app);
 /// sampled, particles bounced off it (sdf.hpp).
 void register_sdf_command(CLI::App& app);
 
+/// `collide decompose MESH.obj`: approximate convex decomposition of a triangle mesh into hulls,
+/// written as an OBJ (--out) and drawn (--png), with the run's report (decompose/).
+void register_decompose_command(CLI::App& app);
+
 }  // namespace collide::cli

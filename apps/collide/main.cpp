@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     collide::cli::register_walk_command(app);
     collide::cli::register_cast_command(app);
     collide::cli::register_sdf_command(app);
+    collide::cli::register_decompose_command(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {  // a command's own exit status; it said why
