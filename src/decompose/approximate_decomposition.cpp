@@ -40,6 +40,12 @@ constexpr int kDecompositionMargin = 2;
 /// moving its points this many voxels each way along each axis (see piece_hull).
 constexpr float kDecompositionSheetVoxels = 0.25f;
 
+/// A candidate plane's two hulls are built with at most this many vertices (quickhull adds the
+/// farthest points first, so the capped hull is the full one's best approximation of that
+/// size): the hull builds are most of the time of a split, and ranking the planes needs only
+/// their shapes' gist. The chosen plane's pieces get their full hulls.
+constexpr int kDecompositionCandidateVertices = 48;
+
 /// A candidate split's two concavities are taken as equal (and the smaller hull volume wins)
 /// within this fraction of a voxel: the field's distances are exact to float rounding near the
 /// surface, so closer concavities are the same node.
@@ -190,7 +196,7 @@ void evaluate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
   split_points(solid, piece, piece_id, candidate.axis, candidate.cut, left, right);
   float cost = 0.0f, volume = 0.0f;
   for (const std::vector<HullPoint>* side : {&left, &right}) {
-    const std::optional<ConvexHull> hull = piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kMaxHullVertices, scratch);
+    const std::optional<ConvexHull> hull = piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices, scratch);
     if (!hull) return;
     cost = std::max(cost, hull_concavity(solid, *hull));
     volume += hull->volume;

@@ -1,0 +1,204 @@
+// Approximate convex decomposition of 3D meshes: collide's decompose_approximate against HACD
+// (Mamou & Ghorbel, ICIP 2009: hierarchical approximate convex decomposition by surface
+// decimation, V-HACD's predecessor; Debian's libbullet-extras-dev, Bullet 3.24's Extras/HACD),
+// side by side in one run on the same meshes with the same hull budgets, and every result
+// measured by the same yardstick: measure_decomposition (the one-sided Hausdorff distances from
+// the hulls to the mesh's solid and from the mesh's surface to the hulls, sampled, and the
+// hulls' volume over the mesh's). V-HACD and CoACD are pip packages only (pybullet, coacd);
+// this machine has no PyPI, so they are not in the run (README says so).
+//
+// BM_Decompose/<mesh>/<hulls>/<library>: one decomposition per iteration (Iterations(1): they
+// take seconds), wall time.
+//   collide: decompose_approximate, concavity 0 (the whole budget spent), max_vertices 64,
+//            default resolution (1e5 nodes), one thread;
+//   hacd:    HACD::Compute with SetNClusters(budget), concavity 1e9 (merging stops at the
+//            budget, not at a concavity), SetNVerticesPerCH(64), Bullet demo's other settings
+//            (compacity weight 0.1, volume weight 0, extra distance points on), connect distance
+//            1% of the diagonal (a soup welded, it is still several components where T-joints
+//            or separate parts leave gaps).
+//   Counters: hulls; hull_to_mesh and mesh_to_hull as % of the bounding-box diagonal; volume
+//   ratio; the hulls' vertices.
+//
+// Meshes: FCL's rob.obj and env.obj (../shared/data), and assimp-testmodels' spider.obj and
+// WusonOBJ.obj (Debian package assimp-testmodels, /usr/share/assimp/models/OBJ/).
+//
+//   ./build/release/bench/bench_decompose_mesh
+
+#include <collide/core/error.hpp>
+#include <collide/decompose/approximate_decomposition.hpp>
+#include <collide/io/obj.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <HACD/hacdHACD.h>
+
+#include "instruction_set.hpp"
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace collide;
+
+struct MeshInput {
+  const char* name;
+  std::string path;
+};
+
+const std::vector<MeshInput>& meshes() {
+  static const std::vector<MeshInput> list{
+      {"rob", std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/rob.obj"},
+      {"env", std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/env.obj"},
+      {"spider", "/usr/share/assimp/models/OBJ/spider.obj"},
+      {"wuson", "/usr/share/assimp/models/OBJ/WusonOBJ.obj"},
+  };
+  return list;
+}
+
+/// Hull budgets compared.
+constexpr int kBudgets[] = {8, 16, 32};
+/// Vertices per hull, both libraries.
+constexpr int kBenchMaxVertices = 64;
+/// HACD joins components closer than this fraction of the diagonal.
+constexpr double kHacdConnectFraction = 0.01;
+/// Samples of the measurement (each surface).
+constexpr int kBenchSamples = 20000;
+
+const TriangleMesh& load(const MeshInput& input) {
+  static std::map<std::string, std::unique_ptr<TriangleMesh>> cache;
+  auto& slot = cache[input.path];
+  if (!slot) slot = std::make_unique<TriangleMesh>(io::load_triangle_mesh(input.path));
+  return *slot;
+}
+
+void report(benchmark::State& state, const TriangleMesh& mesh, const std::vector<ConvexHull>& hulls) {
+  const DecompositionError e = measure_decomposition(mesh, hulls, kBenchSamples, 1);
+  Vec3 lo(INFINITY), hi(-INFINITY);
+  for (const glm::uvec3& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      lo = glm::min(lo, mesh.vertices[t[k]]);
+      hi = glm::max(hi, mesh.vertices[t[k]]);
+    }
+  }
+  const float diagonal = glm::length(hi - lo);
+  int vertices = 0;
+  for (const ConvexHull& h : hulls) vertices += h.vertex_count();
+  state.counters["hulls"] = static_cast<double>(hulls.size());
+  state.counters["hull_to_mesh_pct"] = 100.0 * e.hull_to_mesh / diagonal;
+  state.counters["mesh_to_hull_pct"] = 100.0 * e.mesh_to_hull / diagonal;
+  state.counters["volume_ratio"] = e.volume_ratio;
+  state.counters["vertices"] = vertices;
+}
+
+void BM_Collide(benchmark::State& state, const MeshInput* input, int budget) {
+  const TriangleMesh& mesh = load(*input);
+  ApproximateDecompositionOptions options;
+  options.max_hulls = budget;
+  options.concavity = 0.0f;
+  options.max_vertices = kBenchMaxVertices;
+  options.measure_samples = 0;
+  std::vector<ConvexHull> hulls;
+  for (auto _ : state) {
+    ApproximateDecomposition d = decompose_approximate(mesh, options);
+    hulls = std::move(d.hulls);
+  }
+  report(state, mesh, hulls);
+}
+
+void BM_Hacd(benchmark::State& state, const MeshInput* input, int budget) {
+  const TriangleMesh& mesh = load(*input);
+  // HACD's graph is the mesh's triangle adjacency through shared vertex indices: a soup (three
+  // vertices per triangle, as FCL's files are) is welded where positions are exactly equal, as
+  // make_triangle_mesh does for its own adjacency. HACD normalises the points it is given in
+  // place: a fresh copy per run, mesh space.
+  std::vector<HACD::Vec3<HACD::Real>> source_points;
+  std::map<std::array<float, 3>, long> welded;
+  std::vector<long> index_of(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3 p = mesh.vertices[i] + mesh.origin;
+    const auto [it, added] = welded.try_emplace({p.x, p.y, p.z}, static_cast<long>(source_points.size()));
+    if (added) source_points.emplace_back(p.x, p.y, p.z);
+    index_of[i] = it->second;
+  }
+  std::vector<HACD::Vec3<long>> triangles;
+  for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(index_of[t[0]], index_of[t[1]], index_of[t[2]]);
+  Vec3 lo(INFINITY), hi(-INFINITY);
+  for (const Vec3& v : mesh.vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  std::vector<ConvexHull> hulls;
+  for (auto _ : state) {
+    std::vector<HACD::Vec3<HACD::Real>> points = source_points;
+    HACD::HACD hacd;
+    hacd.SetPoints(points.data());
+    hacd.SetNPoints(points.size());
+    hacd.SetTriangles(triangles.data());
+    hacd.SetNTriangles(triangles.size());
+    hacd.SetCompacityWeight(0.1);
+    hacd.SetVolumeWeight(0.0);
+    hacd.SetNClusters(static_cast<std::size_t>(budget));
+    hacd.SetNVerticesPerCH(kBenchMaxVertices);
+    hacd.SetConcavity(1e9);
+    hacd.SetConnectDist(kHacdConnectFraction * glm::length(hi - lo));
+    hacd.SetAddExtraDistPoints(true);
+    hacd.SetAddNeighboursDistPoints(false);
+    hacd.SetAddFacesPoints(true);
+    if (!hacd.Compute()) {
+      state.SkipWithError("HACD::Compute failed");
+      return;
+    }
+    hulls.clear();
+    for (std::size_t c = 0; c < hacd.GetNClusters(); ++c) {
+      std::vector<HACD::Vec3<HACD::Real>> ch_points(hacd.GetNPointsCH(c));
+      std::vector<HACD::Vec3<long>> ch_triangles(hacd.GetNTrianglesCH(c));
+      hacd.GetCH(c, ch_points.data(), ch_triangles.data());
+      std::vector<Vec3> cloud;
+      for (const auto& p : ch_points) cloud.emplace_back(float(p.X()), float(p.Y()), float(p.Z()));
+      try {
+        hulls.push_back(make_convex_hull(cloud));  // its own hull's points: convex already
+      } catch (const InvalidInput&) {
+        // a flat cluster (a single sheet): no volume, nothing a convex query could use
+      }
+    }
+  }
+  if (hulls.empty()) {
+    state.SkipWithError("HACD gave no hull with volume");
+    return;
+  }
+  report(state, mesh, hulls);
+}
+
+void register_all() {
+  for (const MeshInput& input : meshes()) {
+    if (!std::filesystem::exists(input.path)) {
+      std::fprintf(stderr, "bench_decompose_mesh: %s not found (install assimp-testmodels); left out\n",
+                   input.path.c_str());
+      continue;
+    }
+    for (const int budget : kBudgets) {
+      const std::string base = std::string("BM_Decompose/") + input.name + "/" + std::to_string(budget);
+      benchmark::RegisterBenchmark((base + "/collide").c_str(), BM_Collide, &input, budget)
+          ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+      benchmark::RegisterBenchmark((base + "/hacd").c_str(), BM_Hacd, &input, budget)
+          ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  collide::bench::add_instruction_sets("hacd", "Debian's libHACD (Bullet 3.24 Extras), built for x86-64 baseline (SSE2)");
+  register_all();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
