@@ -221,10 +221,11 @@ struct ColliderRef {
 };
 
 /// A static collider: one or more pieces placed by one transform. Statics never move. 2D: convex
-/// shapes (a concave outline goes in as the pieces of `convex_pieces`); 3D: convex shapes,
-/// triangle meshes (a level from OBJ) and height fields (StaticShape3D). Both: signed distance
-/// fields (`fields`). Pieces are numbered shapes first, then fields: field k is piece
-/// shapes.size() + k (ColliderRef::piece).
+/// shapes (a concave outline goes in as the pieces of `convex_pieces`); 3D: convex shapes (a
+/// decomposed concave mesh: make_compound_static, world/compound.hpp), triangle meshes (a level
+/// from OBJ) and height fields (StaticShape3D). Both: signed distance fields (`fields`). Pieces
+/// are numbered shapes first, then fields: field k is piece shapes.size() + k
+/// (ColliderRef::piece).
 template <int D>
 struct StaticDefN {
   std::vector<StaticShapeN<D>> shapes;  ///< local space; at least one piece in shapes and fields
@@ -240,6 +241,8 @@ struct StaticDefN {
 
 /// A moving body: one or more convex shapes moving together, with a velocity. Kinematic: it
 /// keeps its velocity until it bounces (reflection about the contact normal) or the game sets it.
+/// The body turns about its local origin. A concave 3D prop goes in as the hulls of its convex
+/// decomposition: make_compound_body (world/compound.hpp) centres them on their volume centroid.
 template <int D>
 struct BodyDefN {
   std::vector<BodyShapeN<D>> shapes;    ///< local space, at least one
