@@ -170,7 +170,11 @@ struct Candidate {
 };
 
 /// The two sides' hull points for `candidate`: the piece's own points by their node, plus the
-/// new cut face (midpoints between the piece's neighbouring nodes across the plane).
+/// new cut face: midpoints between the piece's neighbouring nodes across the plane where the
+/// midpoint is inside the mesh; where it is not, surface points instead (solid nodes reach up
+/// to kDecompositionSolidVoxels outside the surface, and their midpoints would let the hulls
+/// poke out along the cut by up to that): each node's closest point on its own side, and where
+/// the chord between the two meets the plane on both sides, so the hulls meet on the surface.
 void split_points(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, int axis, int cut,
                   std::vector<HullPoint>& left, std::vector<HullPoint>& right) {
   left.clear();
@@ -182,10 +186,25 @@ void split_points(const SolidGrid& solid, const Piece& piece, std::int32_t piece
     const glm::ivec3 i = solid.coords(n);
     if (i[axis] != cut) continue;
     const glm::ivec3 j = i + step;
-    if (!solid.in_grid(j) || solid.owner[solid.grid.index(j)] != piece_id) continue;
-    const Vec3 mid = (solid.position(i) + solid.position(j)) * 0.5f;
-    left.push_back({mid, i});
-    right.push_back({mid, j});
+    const std::size_t m = solid.grid.index(j);
+    if (!solid.in_grid(j) || solid.owner[m] != piece_id) continue;
+    if (solid.distance[n] + solid.distance[m] <= 0.0f) {  // the midpoint is inside the mesh
+      const Vec3 mid = (solid.position(i) + solid.position(j)) * 0.5f;
+      left.push_back({mid, i});
+      right.push_back({mid, j});
+    } else {  // outside (a node of the thin shell around the surface): surface points
+      const Vec3 a = solid.closest[n], b = solid.closest[m];
+      const float plane = (solid.position(i)[axis] + solid.position(j)[axis]) * 0.5f;
+      // Where the chord between the two surface points meets the plane (the end nearer to it
+      // when it does not): the seam, on both sides, so the hulls meet on the surface.
+      const float span = b[axis] - a[axis];
+      const float t = span != 0.0f ? std::clamp((plane - a[axis]) / span, 0.0f, 1.0f) : 0.5f;
+      const Vec3 seam = a + (b - a) * t;
+      left.push_back({seam, i});
+      right.push_back({seam, j});
+      if (a[axis] <= plane) left.push_back({a, i});
+      if (b[axis] >= plane) right.push_back({b, j});
+    }
   }
 }
 
