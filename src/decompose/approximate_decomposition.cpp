@@ -40,6 +40,13 @@ constexpr int kDecompositionMargin = 2;
 /// moving its points this many voxels each way along each axis (see piece_hull).
 constexpr float kDecompositionSheetVoxels = 0.25f;
 
+/// Jacobi sweeps of the 3x3 eigen-solver (each sweep squares the off-diagonal error: 8 reach
+/// double precision from any start).
+constexpr int kJacobiSweeps = 8;
+/// A piece's principal axis is tried as a split direction (beside the three world axes) when its
+/// largest direction cosine with an axis is below this: cos 15 degrees.
+constexpr double kObliqueMaxCosine = 0.9659258;
+
 /// A candidate plane's two hulls are built with at most this many vertices (quickhull adds the
 /// farthest points first, so the capped hull is the full one's best approximation of that
 /// size): the hull builds are most of the time of a split, and ranking the planes needs only
@@ -61,7 +68,6 @@ struct HullPoint {
 struct Piece {
   std::vector<std::uint32_t> nodes;
   std::vector<HullPoint> points;
-  glm::ivec3 lo{0}, hi{0};            ///< node index bounds (inclusive)
   std::optional<ConvexHull> hull;     ///< null when its points have no volume
   float concavity = 0.0f;             ///< field distance of the farthest outside node in the hull
   bool splittable = true;             ///< false once no plane could split it
@@ -161,61 +167,95 @@ void finish_piece(const SolidGrid& solid, Piece& piece, std::vector<Vec3>& scrat
   if (!piece.hull) piece.splittable = false;
 }
 
-/// A candidate plane: nodes with coordinate `axis` <= `cut` go left, the rest right.
+/// A direction planes are tried across: nodes whose position projects onto `normal` at most
+/// `first + (k + 0.5) voxel` go left of plane k, k in [0, planes).
+struct Direction {
+  Vec3 normal{1.0f, 0.0f, 0.0f};  ///< unit
+  float first = 0.0f;             ///< smallest projection of the piece's nodes
+  int planes = 0;                 ///< planes between the piece's extreme nodes, a voxel apart
+};
+
+/// A candidate plane: direction `direction`, plane `k`.
 struct Candidate {
-  int axis = 0;
-  int cut = 0;
+  int direction = 0;
+  int k = 0;
   float cost = std::numeric_limits<float>::infinity();    ///< max of the two concavities
   float volume = std::numeric_limits<float>::infinity();  ///< sum of the two hull volumes
 };
 
-/// The two sides' hull points for `candidate`: the piece's own points by their node, plus the
-/// new cut face: midpoints between the piece's neighbouring nodes across the plane where the
-/// midpoint is inside the mesh; where it is not, surface points instead (solid nodes reach up
+/// A plane as the split applies it: left is dot(normal, position) <= offset.
+struct SplitPlane {
+  Vec3 normal;
+  float offset;
+  [[nodiscard]] bool left(Vec3 position) const noexcept { return glm::dot(normal, position) <= offset; }
+};
+
+SplitPlane plane_of(const std::vector<Direction>& directions, const Candidate& c, float voxel) {
+  const Direction& d = directions[static_cast<std::size_t>(c.direction)];
+  return {d.normal, d.first + (float(c.k) + 0.5f) * voxel};
+}
+
+/// The two sides' hull points for `plane`: the piece's own points by their node, plus the new
+/// cut face: for each pair of the piece's neighbouring nodes across the plane, their midpoint
+/// where it is inside the mesh; where it is not, surface points instead (solid nodes reach up
 /// to kDecompositionSolidVoxels outside the surface, and their midpoints would let the hulls
 /// poke out along the cut by up to that): each node's closest point on its own side, and where
 /// the chord between the two meets the plane on both sides, so the hulls meet on the surface.
-void split_points(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, int axis, int cut,
+void split_points(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, const SplitPlane& plane,
                   std::vector<HullPoint>& left, std::vector<HullPoint>& right) {
   left.clear();
   right.clear();
-  for (const HullPoint& p : piece.points) (p.node[axis] <= cut ? left : right).push_back(p);
-  glm::ivec3 step(0);
-  step[axis] = 1;
+  for (const HullPoint& p : piece.points) (plane.left(solid.position(p.node)) ? left : right).push_back(p);
+  const float reach = solid.grid.voxel;  // a neighbour is a voxel away: nodes farther cannot cross
+  // Only a step with a positive component along the normal can cross from left to right.
+  std::array<glm::ivec3, 3> steps;
+  int step_count = 0;
+  for (const glm::ivec3& step : kNeighbours) {
+    if (glm::dot(plane.normal, Vec3(step)) > 0.0f) steps[static_cast<std::size_t>(step_count++)] = step;
+  }
   for (const std::uint32_t n : piece.nodes) {
     const glm::ivec3 i = solid.coords(n);
-    if (i[axis] != cut) continue;
-    const glm::ivec3 j = i + step;
-    const std::size_t m = solid.grid.index(j);
-    if (!solid.in_grid(j) || solid.owner[m] != piece_id) continue;
-    if (solid.distance[n] + solid.distance[m] <= 0.0f) {  // the midpoint is inside the mesh
-      const Vec3 mid = (solid.position(i) + solid.position(j)) * 0.5f;
-      left.push_back({mid, i});
-      right.push_back({mid, j});
-    } else {  // outside (a node of the thin shell around the surface): surface points
-      const Vec3 a = solid.closest[n], b = solid.closest[m];
-      const float plane = (solid.position(i)[axis] + solid.position(j)[axis]) * 0.5f;
-      // Where the chord between the two surface points meets the plane (the end nearer to it
-      // when it does not): the seam, on both sides, so the hulls meet on the surface.
-      const float span = b[axis] - a[axis];
-      const float t = span != 0.0f ? std::clamp((plane - a[axis]) / span, 0.0f, 1.0f) : 0.5f;
-      const Vec3 seam = a + (b - a) * t;
-      left.push_back({seam, i});
-      right.push_back({seam, j});
-      if (a[axis] <= plane) left.push_back({a, i});
-      if (b[axis] >= plane) right.push_back({b, j});
+    const Vec3 pi = solid.position(i);
+    const float side = glm::dot(plane.normal, pi) - plane.offset;
+    if (side > 0.0f || side < -reach) continue;  // right of the plane, or too far left
+    for (int s = 0; s < step_count; ++s) {
+      const glm::ivec3& step = steps[static_cast<std::size_t>(s)];
+      const glm::ivec3 j = i + step;
+      if (!solid.in_grid(j)) continue;
+      const std::size_t m = solid.grid.index(j);
+      if (solid.owner[m] != piece_id) continue;
+      const Vec3 pj = solid.position(j);
+      if (plane.left(pj)) continue;
+      if (solid.distance[n] + solid.distance[m] <= 0.0f) {  // the midpoint is inside the mesh
+        const Vec3 mid = (pi + pj) * 0.5f;
+        left.push_back({mid, i});
+        right.push_back({mid, j});
+      } else {  // outside (a node of the thin shell around the surface): surface points
+        const Vec3 a = solid.closest[n], b = solid.closest[m];
+        const float da = glm::dot(plane.normal, a) - plane.offset, db = glm::dot(plane.normal, b) - plane.offset;
+        // Where the chord between the two surface points meets the plane (the end nearer to
+        // it when it does not): the seam, on both sides, so the hulls meet on the surface.
+        const float t = da != db ? std::clamp(da / (da - db), 0.0f, 1.0f) : 0.5f;
+        const Vec3 seam = a + (b - a) * t;
+        left.push_back({seam, i});
+        right.push_back({seam, j});
+        if (da <= 0.0f) left.push_back({a, i});
+        if (db >= 0.0f) right.push_back({b, j});
+      }
     }
   }
 }
 
 /// Concavity and volume of the two hulls of a candidate (infinite cost when a side has no
 /// volume).
-void evaluate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, Candidate& candidate,
-              std::vector<HullPoint>& left, std::vector<HullPoint>& right, std::vector<Vec3>& scratch) {
-  split_points(solid, piece, piece_id, candidate.axis, candidate.cut, left, right);
+void evaluate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, const SplitPlane& plane,
+              Candidate& candidate, std::vector<HullPoint>& left, std::vector<HullPoint>& right,
+              std::vector<Vec3>& scratch) {
+  split_points(solid, piece, piece_id, plane, left, right);
   float cost = 0.0f, volume = 0.0f;
   for (const std::vector<HullPoint>* side : {&left, &right}) {
-    const std::optional<ConvexHull> hull = piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices, scratch);
+    const std::optional<ConvexHull> hull =
+        piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices, scratch);
     if (!hull) return;
     cost = std::max(cost, hull_concavity(solid, *hull));
     volume += hull->volume;
@@ -240,11 +280,16 @@ struct Scratch {
 
 /// Evaluates `candidates` on the scheduler (each into its own slot) and returns the index of the
 /// best, or -1 when none splits the piece into two solids.
-int best_candidate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id, std::vector<Candidate>& candidates,
+int best_candidate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
+                   const std::vector<Direction>& directions, std::vector<Candidate>& candidates,
                    std::vector<Scratch>& scratch, TaskScheduler* scheduler) {
   parallel_for(scheduler, static_cast<int>(candidates.size()), 1, [&](int begin, int end, int worker) {
     Scratch& s = scratch[static_cast<std::size_t>(worker)];
-    for (int c = begin; c < end; ++c) evaluate(solid, piece, piece_id, candidates[static_cast<std::size_t>(c)], s.left, s.right, s.points);
+    for (int c = begin; c < end; ++c) {
+      Candidate& candidate = candidates[static_cast<std::size_t>(c)];
+      evaluate(solid, piece, piece_id, plane_of(directions, candidate, solid.grid.voxel), candidate, s.left,
+               s.right, s.points);
+    }
   });
   const float tie = kConcavityTieVoxels * solid.grid.voxel;
   int best = -1;
@@ -255,55 +300,121 @@ int best_candidate(const SolidGrid& solid, const Piece& piece, std::int32_t piec
   return best;
 }
 
-/// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
-/// axis, then every plane between the best one's coarse neighbours. Null when none splits it.
-std::optional<Candidate> choose_split(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
-                                      std::vector<Scratch>& scratch, TaskScheduler* scheduler, int& evaluated) {
+/// Eigenvectors of a symmetric 3x3 matrix (columns of the result), by cyclic Jacobi rotations
+/// (Golub & Van Loan, Matrix Computations, 8.5; Ericson, Real-Time Collision Detection, 4.3.4).
+/// In double; a fixed sweep count, so the same input gives the same output everywhere.
+glm::dmat3 symmetric_eigenvectors(glm::dmat3 a) {
+  glm::dmat3 v(1.0);
+  for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (std::abs(a[q][p]) < 1e-300) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[q][p]);
+        const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        glm::dmat3 rotation(1.0);
+        rotation[p][p] = c;
+        rotation[q][q] = c;
+        rotation[q][p] = s;   // column q, row p
+        rotation[p][q] = -s;  // column p, row q
+        a = glm::transpose(rotation) * a * rotation;
+        v = v * rotation;
+      }
+    }
+  }
+  return v;
+}
+
+/// The directions a piece is split across: the three axes, and the principal axes of its nodes
+/// that are not within kObliqueMinAngle of an axis (a limb or a wall at an angle: axis planes
+/// would cut it into staircases). Principal axes of the nodes' positions: the eigenvectors of
+/// their covariance (Ericson 4.3.2), each signed so that its largest coordinate is positive.
+std::vector<Direction> split_directions(const SolidGrid& solid, const Piece& piece) {
+  std::vector<Vec3> normals{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  if (piece.nodes.size() >= 4) {
+    glm::dvec3 mean(0.0);
+    for (const std::uint32_t n : piece.nodes) mean += glm::dvec3(solid.coords(n));
+    mean /= double(piece.nodes.size());
+    glm::dmat3 covariance(0.0);
+    for (const std::uint32_t n : piece.nodes) {
+      const glm::dvec3 d = glm::dvec3(solid.coords(n)) - mean;
+      covariance += glm::outerProduct(d, d);
+    }
+    const glm::dmat3 axes = symmetric_eigenvectors(covariance / double(piece.nodes.size()));
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 e = glm::normalize(axes[k]);
+      const glm::dvec3 m = glm::abs(e);
+      const double largest = std::max({m.x, m.y, m.z});
+      if (!(largest < kObliqueMaxCosine)) continue;  // near an axis (or NaN): the axis covers it
+      const int at = m.x == largest ? 0 : (m.y == largest ? 1 : 2);
+      if (e[at] < 0.0) e = -e;
+      normals.push_back(Vec3(e));
+    }
+  }
+  std::vector<Direction> directions;
+  const float voxel = solid.grid.voxel;
+  for (const Vec3& normal : normals) {
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (const std::uint32_t n : piece.nodes) {
+      const float x = glm::dot(normal, solid.position(solid.coords(n)));
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    directions.push_back({normal, lo, static_cast<int>(std::floor((hi - lo) / voxel))});
+  }
+  return directions;
+}
+
+/// The plane that splits `piece` best, with its directions: a coarse pass of
+/// kDecompositionCoarsePlanes planes per direction, then every plane between the best one's
+/// coarse neighbours. Null when none splits it.
+std::optional<std::pair<SplitPlane, Candidate>> choose_split(const SolidGrid& solid, const Piece& piece,
+                                                             std::int32_t piece_id, std::vector<Scratch>& scratch,
+                                                             TaskScheduler* scheduler, int& evaluated) {
+  const std::vector<Direction> directions = split_directions(solid, piece);
   std::vector<Candidate> candidates;
-  std::array<int, 3> steps{};
-  for (int axis = 0; axis < 3; ++axis) {
-    const int cuts = piece.hi[axis] - piece.lo[axis];  // planes between lo and hi
-    if (cuts < 1) continue;
-    const int step = std::max(1, (cuts + kDecompositionCoarsePlanes - 1) / kDecompositionCoarsePlanes);
-    steps[static_cast<std::size_t>(axis)] = step;
-    for (int cut = piece.lo[axis] + (step - 1) / 2; cut < piece.hi[axis]; cut += step) candidates.push_back({axis, cut});
+  std::vector<int> steps(directions.size(), 0);
+  for (int d = 0; d < static_cast<int>(directions.size()); ++d) {
+    const int planes = directions[static_cast<std::size_t>(d)].planes;
+    if (planes < 1) continue;
+    const int step = std::max(1, (planes + kDecompositionCoarsePlanes - 1) / kDecompositionCoarsePlanes);
+    steps[static_cast<std::size_t>(d)] = step;
+    for (int k = (step - 1) / 2; k < planes; k += step) candidates.push_back({d, k});
   }
   if (candidates.empty()) return std::nullopt;
-  int best = best_candidate(solid, piece, piece_id, candidates, scratch, scheduler);
+  const int best = best_candidate(solid, piece, piece_id, directions, candidates, scratch, scheduler);
   evaluated += static_cast<int>(candidates.size());
   if (best < 0) return std::nullopt;
   Candidate chosen = candidates[static_cast<std::size_t>(best)];
-  const int step = steps[static_cast<std::size_t>(chosen.axis)];
+  const int step = steps[static_cast<std::size_t>(chosen.direction)];
   if (step > 1) {
     std::vector<Candidate> fine;
-    for (int cut = std::max(piece.lo[chosen.axis], chosen.cut - step + 1);
-         cut <= std::min(piece.hi[chosen.axis] - 1, chosen.cut + step - 1); ++cut) {
-      if (cut != chosen.cut) fine.push_back({chosen.axis, cut});
+    const int planes = directions[static_cast<std::size_t>(chosen.direction)].planes;
+    for (int k = std::max(0, chosen.k - step + 1); k <= std::min(planes - 1, chosen.k + step - 1); ++k) {
+      if (k != chosen.k) fine.push_back({chosen.direction, k});
     }
-    const int fine_best = best_candidate(solid, piece, piece_id, fine, scratch, scheduler);
+    const int fine_best = best_candidate(solid, piece, piece_id, directions, fine, scratch, scheduler);
     evaluated += static_cast<int>(fine.size());
     if (fine_best >= 0 && better(fine[static_cast<std::size_t>(fine_best)], chosen, kConcavityTieVoxels * solid.grid.voxel)) {
       chosen = fine[static_cast<std::size_t>(fine_best)];
     }
   }
-  return chosen;
+  return std::pair{plane_of(directions, chosen, solid.grid.voxel), chosen};
 }
 
 /// Splits pieces[index] by `plane` into itself (the left side) and a new piece at the back.
-void apply_split(SolidGrid& solid, std::vector<Piece>& pieces, std::size_t index, const Candidate& plane,
+void apply_split(SolidGrid& solid, std::vector<Piece>& pieces, std::size_t index, const SplitPlane& plane,
                  std::vector<Vec3>& scratch) {
   Piece left, right;
-  split_points(solid, pieces[index], static_cast<std::int32_t>(index), plane.axis, plane.cut, left.points, right.points);
+  split_points(solid, pieces[index], static_cast<std::int32_t>(index), plane, left.points, right.points);
   const auto right_id = static_cast<std::int32_t>(pieces.size());
-  left.lo = right.lo = glm::ivec3(std::numeric_limits<int>::max());
-  left.hi = right.hi = glm::ivec3(std::numeric_limits<int>::min());
   for (const std::uint32_t n : pieces[index].nodes) {
-    const glm::ivec3 i = solid.coords(n);
-    Piece& side = i[plane.axis] <= plane.cut ? left : right;
-    side.nodes.push_back(n);
-    side.lo = glm::min(side.lo, i);
-    side.hi = glm::max(side.hi, i);
-    if (&side == &right) solid.owner[n] = right_id;
+    if (plane.left(solid.position(solid.coords(n)))) {
+      left.nodes.push_back(n);
+    } else {
+      right.nodes.push_back(n);
+      solid.owner[n] = right_id;
+    }
   }
   finish_piece(solid, left, scratch);
   finish_piece(solid, right, scratch);
@@ -437,16 +548,11 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
   const float solid_below = kDecompositionSolidVoxels * result.voxel;
 
   Piece root;
-  root.lo = glm::ivec3(std::numeric_limits<int>::max());
-  root.hi = glm::ivec3(std::numeric_limits<int>::min());
   solid.owner.assign(count, -1);
   for (std::size_t n = 0; n < count; ++n) {
     if (!(solid.distance[n] < solid_below)) continue;
     solid.owner[n] = 0;
     root.nodes.push_back(static_cast<std::uint32_t>(n));
-    const glm::ivec3 i = solid.coords(static_cast<std::uint32_t>(n));
-    root.lo = glm::min(root.lo, i);
-    root.hi = glm::max(root.hi, i);
   }
   result.solid_nodes = static_cast<int>(root.nodes.size());
   if (root.nodes.empty()) throw InvalidInput("mesh: no volume (no grid node inside it at voxel " + std::to_string(result.voxel) + ")");
@@ -504,13 +610,13 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
       if (worst < 0 || piece.concavity > pieces[static_cast<std::size_t>(worst)].concavity) worst = p;
     }
     if (worst < 0) break;
-    const std::optional<Candidate> plane =
+    const auto plane =
         choose_split(solid, pieces[static_cast<std::size_t>(worst)], worst, scratch, options.scheduler, result.candidates);
     if (!plane) {
       pieces[static_cast<std::size_t>(worst)].splittable = false;
       continue;
     }
-    apply_split(solid, pieces, static_cast<std::size_t>(worst), *plane, scratch_points);
+    apply_split(solid, pieces, static_cast<std::size_t>(worst), plane->first, scratch_points);
     ++result.splits;
     if (progress) {
       float left = 0.0f;
