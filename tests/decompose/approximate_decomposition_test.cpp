@@ -7,6 +7,7 @@
 #include <collide/decompose/approximate_decomposition.hpp>
 #include <collide/io/obj.hpp>
 
+#include "support/box_meshes.hpp"
 #include "support/brute_triangle.hpp"
 #include "support/random.hpp"
 #include "support/test_scheduler.hpp"
@@ -21,23 +22,10 @@
 namespace collide {
 namespace {
 
-/// Triangles of an axis-aligned box, outward wound, appended to (vertices, triangles).
-void add_box(std::vector<Vec3>& vertices, std::vector<glm::uvec3>& triangles, Vec3 lo, Vec3 hi) {
-  const auto base = static_cast<unsigned>(vertices.size());
-  for (int c = 0; c < 8; ++c) vertices.push_back({c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z});
-  // Corner c has bit 0 = x, bit 1 = y, bit 2 = z; each face as two counter-clockwise triangles
-  // seen from outside.
-  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& f : faces) {
-    triangles.push_back({base + f[0], base + f[1], base + f[2]});
-    triangles.push_back({base + f[0], base + f[2], base + f[3]});
-  }
-}
-
 TriangleMesh box_mesh(Vec3 lo, Vec3 hi) {
   std::vector<Vec3> v;
   std::vector<glm::uvec3> t;
-  add_box(v, t, lo, hi);
+  test::add_box(v, t, lo, hi);
   return make_triangle_mesh(v, t);
 }
 
@@ -45,9 +33,7 @@ TriangleMesh box_mesh(Vec3 lo, Vec3 hi) {
 TriangleMesh dumbbell() {
   std::vector<Vec3> v;
   std::vector<glm::uvec3> t;
-  add_box(v, t, {0, 0, 0}, {1, 1, 1});
-  add_box(v, t, {4, 0, 0}, {5, 1, 1});
-  add_box(v, t, {1, 0.4f, 0.4f}, {4, 0.6f, 0.6f});
+  test::add_dumbbell(v, t);
   return make_triangle_mesh(v, t);
 }
 
@@ -204,10 +190,7 @@ TEST(ApproximateDecomposition, FarFromOriginKeepsItsShape) {
   // The same dumbbell 10 km away: the hulls come back in the input's coordinates and cover it.
   std::vector<Vec3> v;
   std::vector<glm::uvec3> t;
-  const Vec3 far(1e4f, -2e3f, 5e3f);
-  add_box(v, t, far + Vec3(0, 0, 0), far + Vec3(1, 1, 1));
-  add_box(v, t, far + Vec3(4, 0, 0), far + Vec3(5, 1, 1));
-  add_box(v, t, far + Vec3(1, 0.4f, 0.4f), far + Vec3(4, 0.6f, 0.6f));
+  test::add_dumbbell(v, t, Vec3(1e4f, -2e3f, 5e3f));
   const TriangleMesh mesh = make_triangle_mesh(v, t);
   ApproximateDecompositionOptions options;
   options.resolution = 30000;

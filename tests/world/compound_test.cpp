@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/box_meshes.hpp"
 #include "support/test_util.hpp"
 
 #include <algorithm>
@@ -23,19 +24,6 @@
 namespace collide {
 namespace {
 
-/// Triangles of an axis-aligned box, outward wound, appended to (vertices, triangles).
-void add_box(std::vector<Vec3>& vertices, std::vector<glm::uvec3>& triangles, Vec3 lo, Vec3 hi) {
-  const auto base = static_cast<unsigned>(vertices.size());
-  for (int c = 0; c < 8; ++c) vertices.push_back({c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z});
-  // Corner c has bit 0 = x, bit 1 = y, bit 2 = z; each face as two counter-clockwise triangles
-  // seen from outside.
-  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& f : faces) {
-    triangles.push_back({base + f[0], base + f[1], base + f[2]});
-    triangles.push_back({base + f[0], base + f[2], base + f[3]});
-  }
-}
-
 /// The dumbbell, mesh space: two 1 m cubes [0, 1]^3 and [4, 5] x [0, 1]^2, 3 m apart, joined by a
 /// 0.2 m square bar along x through y, z in [0.4, 0.6].
 struct Dumbbell {
@@ -47,9 +35,7 @@ struct Dumbbell {
 const Dumbbell& dumbbell() {
   static const Dumbbell d = [] {
     Dumbbell out;
-    add_box(out.vertices, out.triangles, {0, 0, 0}, {1, 1, 1});
-    add_box(out.vertices, out.triangles, {4, 0, 0}, {5, 1, 1});
-    add_box(out.vertices, out.triangles, {1, 0.4f, 0.4f}, {4, 0.6f, 0.6f});
+    test::add_dumbbell(out.vertices, out.triangles);
     out.hulls = decompose_approximate(make_triangle_mesh(out.vertices, out.triangles)).hulls;
     return out;
   }();
