@@ -79,14 +79,8 @@ const TriangleMesh& load(const MeshInput& input) {
 
 void report(benchmark::State& state, const TriangleMesh& mesh, const std::vector<ConvexHull>& hulls) {
   const DecompositionError e = measure_decomposition(mesh, hulls, kBenchSamples, 1);
-  Vec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::uvec3& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      lo = glm::min(lo, mesh.vertices[t[k]]);
-      hi = glm::max(hi, mesh.vertices[t[k]]);
-    }
-  }
-  const float diagonal = glm::length(hi - lo);
+  const Aabb3 box = compute_aabb(mesh, Transform3{});
+  const float diagonal = glm::length(box.max - box.min);
   int vertices = 0;
   for (const ConvexHull& h : hulls) vertices += h.vertex_count();
   state.counters["hulls"] = static_cast<double>(hulls.size());
@@ -128,11 +122,7 @@ void BM_Hacd(benchmark::State& state, const MeshInput* input, int budget) {
   }
   std::vector<HACD::Vec3<long>> triangles;
   for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(index_of[t[0]], index_of[t[1]], index_of[t[2]]);
-  Vec3 lo(INFINITY), hi(-INFINITY);
-  for (const Vec3& v : mesh.vertices) {
-    lo = glm::min(lo, v);
-    hi = glm::max(hi, v);
-  }
+  const Aabb3 box = compute_aabb(mesh, Transform3{});
   std::vector<ConvexHull> hulls;
   for (auto _ : state) {
     std::vector<HACD::Vec3<HACD::Real>> points = source_points;
@@ -146,7 +136,7 @@ void BM_Hacd(benchmark::State& state, const MeshInput* input, int budget) {
     hacd.SetNClusters(static_cast<std::size_t>(budget));
     hacd.SetNVerticesPerCH(kBenchMaxVertices);
     hacd.SetConcavity(1e9);
-    hacd.SetConnectDist(kHacdConnectFraction * glm::length(hi - lo));
+    hacd.SetConnectDist(kHacdConnectFraction * glm::length(box.max - box.min));
     hacd.SetAddExtraDistPoints(true);
     hacd.SetAddNeighboursDistPoints(false);
     hacd.SetAddFacesPoints(true);

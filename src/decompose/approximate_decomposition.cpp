@@ -375,12 +375,11 @@ std::vector<Direction> split_directions(const SolidGrid& solid, const Piece& pie
   return directions;
 }
 
-/// The plane that splits `piece` best, with its directions: a coarse pass of
-/// kDecompositionCoarsePlanes planes per direction, then every plane between the best one's
-/// coarse neighbours. Null when none splits it.
-std::optional<std::pair<SplitPlane, Candidate>> choose_split(const SolidGrid& solid, const Piece& piece,
-                                                             std::int32_t piece_id, std::vector<Scratch>& scratch,
-                                                             TaskScheduler* scheduler, int& evaluated) {
+/// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
+/// direction, then every plane between the best one's coarse neighbours. Null when none splits
+/// it.
+std::optional<SplitPlane> choose_split(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
+                                       std::vector<Scratch>& scratch, TaskScheduler* scheduler, int& evaluated) {
   const std::vector<Direction> directions = split_directions(solid, piece);
   std::vector<Candidate> candidates;
   std::vector<int> steps(directions.size(), 0);
@@ -409,7 +408,7 @@ std::optional<std::pair<SplitPlane, Candidate>> choose_split(const SolidGrid& so
       chosen = fine[static_cast<std::size_t>(fine_best)];
     }
   }
-  return std::pair{plane_of(directions, chosen, solid.grid.voxel), chosen};
+  return plane_of(directions, chosen, solid.grid.voxel);
 }
 
 /// Splits pieces[index] by `plane` into itself (the left side) and a new piece at the back.
@@ -452,16 +451,11 @@ void check_options(const ApproximateDecompositionOptions& o) {
   if (o.measure_samples < 0) throw InvalidInput("measure_samples: must be >= 0");
 }
 
-/// Local bounds of the vertices the triangles use.
-Aabb3 used_bounds(const TriangleMesh& mesh) {
-  Aabb3 box{Vec3(std::numeric_limits<float>::infinity()), Vec3(-std::numeric_limits<float>::infinity())};
-  for (const glm::uvec3& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      box.min = glm::min(box.min, mesh.vertices[t[k]]);
-      box.max = glm::max(box.max, mesh.vertices[t[k]]);
-    }
-  }
-  return box;
+/// Which of the mesh's vertices its triangles use (`vertices` may hold unused ones).
+std::vector<char> used_vertices(const TriangleMesh& mesh) {
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const glm::uvec3& t : mesh.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  return used;
 }
 
 /// splitmix64 (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", OOPSLA
@@ -526,7 +520,7 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
   const Clock::time_point start = Clock::now();
   check_options(options);
   if (mesh.triangles.empty()) throw InvalidInput("mesh: no triangles");
-  const Aabb3 bounds = used_bounds(mesh);
+  const Aabb3 bounds = mesh.bvh.bounds();  // local: the triangles' corners
   const Vec3 extent = bounds.max - bounds.min;
   static constexpr std::array<const char*, 3> kAxisNames{"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
@@ -580,8 +574,7 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
     }
   }
   {
-    std::vector<char> used(mesh.vertices.size(), 0);
-    for (const glm::uvec3& t : mesh.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    const std::vector<char> used = used_vertices(mesh);
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
       if (!used[v]) continue;
       const Vec3 p = mesh.vertices[v];
@@ -626,7 +619,7 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
       pieces[static_cast<std::size_t>(worst)].splittable = false;
       continue;
     }
-    apply_split(solid, pieces, static_cast<std::size_t>(worst), plane->first, scratch_points);
+    apply_split(solid, pieces, static_cast<std::size_t>(worst), *plane, scratch_points);
     ++result.splits;
     if (progress) {
       float left = 0.0f;
@@ -686,12 +679,11 @@ DecompositionError measure_decomposition(const TriangleMesh& mesh, std::span<con
   // The mesh's surface against the union of the hulls (mesh space, where the hulls are).
   std::vector<AreaTriangle> mesh_triangles;
   points.clear();
-  std::vector<char> used(mesh.vertices.size(), 0);
   for (const glm::uvec3& t : mesh.triangles) {
     push_area_triangle(mesh_triangles, mesh.vertices[t[0]] + mesh.origin, mesh.vertices[t[1]] + mesh.origin,
                        mesh.vertices[t[2]] + mesh.origin);
-    used[t[0]] = used[t[1]] = used[t[2]] = 1;
   }
+  const std::vector<char> used = used_vertices(mesh);
   for (std::size_t v = 0; v < used.size(); ++v) {
     if (used[v]) points.push_back(mesh.vertices[v] + mesh.origin);
   }
