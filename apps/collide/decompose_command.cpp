@@ -27,9 +27,6 @@
 namespace collide::cli {
 namespace {
 
-/// Largest --samples: far beyond any use (each costs a closest-point query and a winding number).
-constexpr int kMaxDecomposeSamples = 100000000;
-
 /// The camera of --png: the `collide run --view iso` angles (degrees), both panels alike.
 constexpr float kPictureAzimuthDegrees = 35.0f;
 constexpr float kPictureElevationDegrees = 30.0f;
@@ -186,7 +183,7 @@ void register_decompose_command(CLI::App& app) {
   cmd->add_option("--seed", d.seed, "Random seed of the measurement's surface samples")->capture_default_str();
   cmd->add_option("--samples", d.measure_samples,
                   "Surface samples of the measurement, on the mesh and as many over the hulls (0: not measured)")
-      ->capture_default_str()->check(CLI::Range(0, kMaxDecomposeSamples));
+      ->capture_default_str()->check(CLI::Range(0, kDecompositionMaxSamples));
   cmd->add_option("--threads", o->threads, "Worker threads (oneTBB); 0: every core. The hulls are the same for any")
       ->capture_default_str()->check(CLI::Range(0, kMaxThreads));
   cmd->add_option("--png", o->png, "Write a shaded picture: the input mesh beside its hulls, each hull in its own colour");

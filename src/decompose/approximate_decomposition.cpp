@@ -448,7 +448,26 @@ void check_options(const ApproximateDecompositionOptions& o) {
                        std::to_string(kDecompositionMinResolution) + ", " +
                        std::to_string(kDecompositionMaxResolution) + "]");
   }
-  if (o.measure_samples < 0) throw InvalidInput("measure_samples: must be >= 0");
+  if (o.measure_samples < 0 || o.measure_samples > kDecompositionMaxSamples) {
+    throw InvalidInput("measure_samples: " + std::to_string(o.measure_samples) + " is outside [0, " +
+                       std::to_string(kDecompositionMaxSamples) + "]");
+  }
+}
+
+/// The grid spacing for `resolution` nodes over a box of `extent` (all > 0):
+/// cbrt(volume / resolution), but an axis thinner than the voxel counts as one node, and the
+/// voxel is taken over the thicker axes alone (see ApproximateDecompositionOptions::resolution).
+/// A 1000 x 1000 x 0.001 plate at 1e5 gets 3.2 (5e5 nodes with the margins), not 0.22 (1e8).
+float decomposition_voxel(Vec3 extent, int resolution) {
+  std::array<double, 3> e{extent.x, extent.y, extent.z};
+  std::sort(e.begin(), e.end());
+  const double n = resolution;
+  double voxel = std::cbrt(e[0] * e[1] * e[2] / n);
+  if (e[0] < voxel) {
+    voxel = std::sqrt(e[1] * e[2] / n);
+    if (e[1] < voxel) voxel = e[2] / n;
+  }
+  return static_cast<float>(voxel);
 }
 
 /// Which of the mesh's vertices its triangles use (`vertices` may hold unused ones).
@@ -529,8 +548,7 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
 
   ApproximateDecomposition result;
   result.diagonal = glm::length(extent);
-  const double box_volume = static_cast<double>(extent.x) * extent.y * extent.z;
-  result.voxel = static_cast<float>(std::cbrt(box_volume / options.resolution));
+  result.voxel = decomposition_voxel(extent, options.resolution);
 
   // The solid: the mesh's signed distance field and its closest points.
   const Clock::time_point field_start = Clock::now();
@@ -649,7 +667,10 @@ DecompositionError measure_decomposition(const TriangleMesh& mesh, std::span<con
                                          std::uint64_t seed) {
   if (mesh.triangles.empty()) throw InvalidInput("mesh: no triangles");
   if (hulls.empty()) throw InvalidInput("hulls: none to measure");
-  if (samples < 1) throw InvalidInput("samples: must be >= 1, got " + std::to_string(samples));
+  if (samples < 1 || samples > kDecompositionMaxSamples) {
+    throw InvalidInput("samples: " + std::to_string(samples) + " is outside [1, " +
+                       std::to_string(kDecompositionMaxSamples) + "]");
+  }
   DecompositionError error;
   SampleRng rng{seed};
 

@@ -200,6 +200,21 @@ TEST(ApproximateDecomposition, FarFromOriginKeepsItsShape) {
   EXPECT_LE(max_uncovered(mesh, d.hulls, 4), options.concavity * d.diagonal + d.voxel);
 }
 
+TEST(ApproximateDecomposition, ThinPlateKeepsItsGridSmall) {
+  // A 1000 x 1000 x 0.001 plate: a voxel from the box's volume would be 0.22, a grid of 1e8
+  // nodes (refused by the field's memory limit); taken over its two wide axes it stays within a
+  // few times the resolution, and the plate is one hull covering it.
+  const TriangleMesh mesh = box_mesh({0, 0, 0}, {1000, 1000, 0.001f});
+  ApproximateDecompositionOptions options;
+  options.resolution = 20000;
+  options.measure_samples = 2000;
+  const ApproximateDecomposition d = decompose_approximate(mesh, options);
+  EXPECT_LE(d.grid_nodes, 8 * options.resolution);
+  ASSERT_EQ(d.hulls.size(), 1u);
+  ASSERT_TRUE(d.error.has_value());
+  EXPECT_LE(d.error->mesh_to_hull, d.voxel);
+}
+
 TEST(ApproximateDecomposition, BadInputNamesTheProblem) {
   const TriangleMesh empty;  // make_triangle_mesh refuses one; a default mesh has none
   EXPECT_THROW(static_cast<void>(decompose_approximate(empty)), InvalidInput);
@@ -233,6 +248,9 @@ TEST(ApproximateDecomposition, BadInputNamesTheProblem) {
   o = {};
   o.resolution = kDecompositionMaxResolution + 1;
   expect_names(o, "resolution");
+  o = {};
+  o.measure_samples = kDecompositionMaxSamples + 1;
+  expect_names(o, "measure_samples");
   EXPECT_THROW(static_cast<void>(measure_decomposition(mesh, {}, 10, 1)), InvalidInput);
 }
 

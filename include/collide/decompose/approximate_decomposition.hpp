@@ -51,6 +51,8 @@ inline constexpr int kDecompositionDefaultResolution = 100000;
 /// about 100 MB of field, closest points and owners, and tens of seconds).
 inline constexpr int kDecompositionMinResolution = 1000;
 inline constexpr int kDecompositionMaxResolution = 4000000;
+/// Most surface samples the measurement may be asked for per surface (12 bytes each, 120 MB).
+inline constexpr int kDecompositionMaxSamples = 10000000;
 /// Most hulls a decomposition may be asked for.
 inline constexpr int kDecompositionMaxHulls = 1024;
 /// Plane positions tried per axis in the coarse pass of a split (then the best one's
@@ -76,13 +78,17 @@ struct ApproximateDecompositionOptions {
   /// report's `mesh_to_hull` measures it).
   int max_vertices = 64;
   /// Grid nodes over the mesh's bounding box, in [kDecompositionMinResolution,
-  /// kDecompositionMaxResolution]. More nodes: finer splits and a finer concavity, slower.
+  /// kDecompositionMaxResolution]: voxel = cbrt(box volume / resolution), except that an axis
+  /// thinner than that voxel (a plate, a sheet) counts as one node and the voxel is chosen over
+  /// the other axes, so a thin mesh's grid stays within a few times `resolution` (with the
+  /// margin nodes) instead of growing with its flatness. More nodes: finer splits and a finer
+  /// concavity, slower.
   int resolution = kDecompositionDefaultResolution;
   /// Seeds the surface samples of the report's measurement (the split itself has no randomness).
   std::uint64_t seed = 1;
   /// Surface samples of the report's measurement per unit of budget: this many on the mesh and
-  /// this many over all hulls (>= 0; 0 skips the measurement, leaving the report's distances
-  /// unset).
+  /// this many over all hulls (in [0, kDecompositionMaxSamples]; 0 skips the measurement,
+  /// leaving the report's distances unset).
   int measure_samples = 20000;
   /// Runs the candidate planes of each split in parallel; null: the calling thread. The result
   /// does not depend on it.
@@ -150,7 +156,7 @@ struct ApproximateDecomposition {
 /// its generalised winding number (exact solid angles; sdf/winding_number), distances by the
 /// mesh BVH and `closest_point`. Independent of how the hulls were made (the benchmark measures
 /// peers' hulls with it). Throws InvalidInput for a mesh without triangles, no hulls or
-/// samples < 1.
+/// samples outside [1, kDecompositionMaxSamples].
 [[nodiscard]] DecompositionError measure_decomposition(const TriangleMesh& mesh,
                                                        std::span<const ConvexHull> hulls, int samples,
                                                        std::uint64_t seed);
