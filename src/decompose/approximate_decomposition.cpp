@@ -53,6 +53,14 @@ constexpr double kObliqueMaxCosine = 0.9659258;
 /// their shapes' gist. The chosen plane's pieces get their full hulls.
 constexpr int kDecompositionCandidateVertices = 48;
 
+/// The look-ahead (choose_split) takes another direction's best plane over the best one only
+/// when, two splits ahead, it leaves at most this fraction of the best one's worst concavity:
+/// a clear win (two limbs on a block: cut both limbs off together, then apart, instead of
+/// halving the block with a limb on each half). A smaller margin lets it trade near-ties, where
+/// the look-ahead's single next split is a poor guide: measured on rob, env, spider and Wuson at
+/// 5-32 hulls, 0.75 made env and Wuson worse at 32 hulls; 0.35-0.5 change only what they should.
+constexpr float kLookaheadGain = 0.5f;
+
 /// A candidate split's two concavities are taken as equal (and the smaller hull volume wins)
 /// within this fraction of a voxel: the field's distances are exact to float rounding near the
 /// surface, so closer concavities are the same node.
@@ -180,6 +188,7 @@ struct Candidate {
   int direction = 0;
   int k = 0;
   float cost = std::numeric_limits<float>::infinity();    ///< max of the two concavities
+  float low = std::numeric_limits<float>::infinity();     ///< min of the two concavities
   float volume = std::numeric_limits<float>::infinity();  ///< sum of the two hull volumes
 };
 
@@ -252,15 +261,18 @@ void evaluate(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
               Candidate& candidate, std::vector<HullPoint>& left, std::vector<HullPoint>& right,
               std::vector<Vec3>& scratch) {
   split_points(solid, piece, piece_id, plane, left, right);
-  float cost = 0.0f, volume = 0.0f;
+  float cost = 0.0f, low = std::numeric_limits<float>::infinity(), volume = 0.0f;
   for (const std::vector<HullPoint>* side : {&left, &right}) {
     const std::optional<ConvexHull> hull =
         piece_hull(*side, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices, scratch);
     if (!hull) return;
-    cost = std::max(cost, hull_concavity(solid, *hull));
+    const float concavity = hull_concavity(solid, *hull);
+    cost = std::max(cost, concavity);
+    low = std::min(low, concavity);
     volume += hull->volume;
   }
   candidate.cost = cost;
+  candidate.low = low;
   candidate.volume = volume;
 }
 
@@ -375,14 +387,11 @@ std::vector<Direction> split_directions(const SolidGrid& solid, const Piece& pie
   return directions;
 }
 
-/// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
-/// direction, then every plane between the best one's coarse neighbours. Null when none splits
-/// it.
-std::optional<SplitPlane> choose_split(const SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
-                                       std::vector<Scratch>& scratch, TaskScheduler* scheduler, int& evaluated) {
-  const std::vector<Direction> directions = split_directions(solid, piece);
+/// The coarse candidates of `directions`: kDecompositionCoarsePlanes planes per direction,
+/// evenly spaced; `steps` gets each direction's spacing (in planes).
+std::vector<Candidate> coarse_candidates(const std::vector<Direction>& directions, std::vector<int>& steps) {
   std::vector<Candidate> candidates;
-  std::vector<int> steps(directions.size(), 0);
+  steps.assign(directions.size(), 0);
   for (int d = 0; d < static_cast<int>(directions.size()); ++d) {
     const int planes = directions[static_cast<std::size_t>(d)].planes;
     if (planes < 1) continue;
@@ -390,11 +399,100 @@ std::optional<SplitPlane> choose_split(const SolidGrid& solid, const Piece& piec
     steps[static_cast<std::size_t>(d)] = step;
     for (int k = (step - 1) / 2; k < planes; k += step) candidates.push_back({d, k});
   }
+  return candidates;
+}
+
+/// The worst concavity left two splits ahead when `piece` is split by `plane` and then the
+/// worse of its two sides by its own best coarse plane (a depth-2 look-ahead, the idea of
+/// CoACD's tree search at its smallest). The sides are made for real and undone: the right
+/// side's nodes are owned by `free_id` meanwhile.
+float two_step_concavity(SolidGrid& solid, const Piece& piece, std::int32_t piece_id, std::int32_t free_id,
+                         const SplitPlane& plane, std::vector<Scratch>& scratch, TaskScheduler* scheduler,
+                         int& evaluated) {
+  Piece sides[2];
+  split_points(solid, piece, piece_id, plane, sides[0].points, sides[1].points);
+  for (const std::uint32_t n : piece.nodes) {
+    if (plane.left(solid.position(solid.coords(n)))) {
+      sides[0].nodes.push_back(n);
+    } else {
+      sides[1].nodes.push_back(n);
+      solid.owner[n] = free_id;
+    }
+  }
+  float result = std::numeric_limits<float>::infinity();
+  for (Piece& side : sides) {
+    side.hull = piece_hull(side.points, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices,
+                           scratch[0].points);
+    side.concavity = side.hull ? hull_concavity(solid, *side.hull) : 0.0f;
+  }
+  if (sides[0].hull && sides[1].hull) {
+    const int worse = sides[1].concavity > sides[0].concavity ? 1 : 0;
+    const Piece& w = sides[worse];
+    float after = w.concavity;
+    const std::vector<Direction> directions = split_directions(solid, w);
+    std::vector<int> steps;
+    std::vector<Candidate> candidates = coarse_candidates(directions, steps);
+    if (!candidates.empty()) {
+      const int best = best_candidate(solid, w, worse == 0 ? piece_id : free_id, directions, candidates, scratch,
+                                      scheduler);
+      evaluated += static_cast<int>(candidates.size());
+      if (best >= 0) after = std::min(after, candidates[static_cast<std::size_t>(best)].cost);
+    }
+    result = std::max(sides[1 - worse].concavity, after);
+  }
+  for (const std::uint32_t n : sides[1].nodes) solid.owner[n] = piece_id;
+  return result;
+}
+
+/// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
+/// direction; the best plane of each direction is then judged two splits ahead
+/// (two_step_concavity), and every plane between the winner's coarse neighbours is tried.
+/// Null when none splits it.
+std::optional<SplitPlane> choose_split(SolidGrid& solid, const Piece& piece, std::int32_t piece_id,
+                                       std::int32_t free_id, std::vector<Scratch>& scratch, TaskScheduler* scheduler,
+                                       int& evaluated) {
+  const std::vector<Direction> directions = split_directions(solid, piece);
+  std::vector<int> steps;
+  std::vector<Candidate> candidates = coarse_candidates(directions, steps);
   if (candidates.empty()) return std::nullopt;
   const int best = best_candidate(solid, piece, piece_id, directions, candidates, scratch, scheduler);
   evaluated += static_cast<int>(candidates.size());
   if (best < 0) return std::nullopt;
   Candidate chosen = candidates[static_cast<std::size_t>(best)];
+  const float tie = kConcavityTieVoxels * solid.grid.voxel;
+  {
+    // Each direction's best plane, the overall best first (it wins ties), that could beat it
+    // two splits ahead by the margin kLookaheadGain: a leader's better side is left as it is
+    // (so its two-step concavity is at least its `low`), and the best's is at most its cost.
+    const float gain = kLookaheadGain;
+    std::vector<Candidate> leaders{chosen};
+    for (int d = 0; d < static_cast<int>(directions.size()); ++d) {
+      if (d == chosen.direction) continue;
+      int lead = -1;
+      for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
+        const Candidate& candidate = candidates[static_cast<std::size_t>(c)];
+        if (candidate.direction != d || !std::isfinite(candidate.cost)) continue;
+        if (lead < 0 || better(candidate, candidates[static_cast<std::size_t>(lead)], tie)) lead = c;
+      }
+      if (lead >= 0 && candidates[static_cast<std::size_t>(lead)].low < gain * chosen.cost) {
+        leaders.push_back(candidates[static_cast<std::size_t>(lead)]);
+      }
+    }
+    if (leaders.size() > 1) {
+      float bar = gain * two_step_concavity(solid, piece, piece_id, free_id, plane_of(directions, leaders[0], solid.grid.voxel),
+                                            scratch, scheduler, evaluated);
+      for (std::size_t l = 1; l < leaders.size(); ++l) {
+        if (!(leaders[l].low < bar)) continue;
+        const float ahead = two_step_concavity(solid, piece, piece_id, free_id,
+                                               plane_of(directions, leaders[l], solid.grid.voxel), scratch, scheduler,
+                                               evaluated);
+        if (ahead < bar - tie) {
+          bar = ahead;
+          chosen = leaders[l];
+        }
+      }
+    }
+  }
   const int step = steps[static_cast<std::size_t>(chosen.direction)];
   if (step > 1) {
     std::vector<Candidate> fine;
@@ -404,7 +502,7 @@ std::optional<SplitPlane> choose_split(const SolidGrid& solid, const Piece& piec
     }
     const int fine_best = best_candidate(solid, piece, piece_id, directions, fine, scratch, scheduler);
     evaluated += static_cast<int>(fine.size());
-    if (fine_best >= 0 && better(fine[static_cast<std::size_t>(fine_best)], chosen, kConcavityTieVoxels * solid.grid.voxel)) {
+    if (fine_best >= 0 && better(fine[static_cast<std::size_t>(fine_best)], chosen, tie)) {
       chosen = fine[static_cast<std::size_t>(fine_best)];
     }
   }
@@ -632,7 +730,8 @@ ApproximateDecomposition decompose_approximate(const TriangleMesh& mesh, const A
     }
     if (worst < 0) break;
     const auto plane =
-        choose_split(solid, pieces[static_cast<std::size_t>(worst)], worst, scratch, options.scheduler, result.candidates);
+        choose_split(solid, pieces[static_cast<std::size_t>(worst)], worst, static_cast<std::int32_t>(pieces.size()),
+                     scratch, options.scheduler, result.candidates);
     if (!plane) {
       pieces[static_cast<std::size_t>(worst)].splittable = false;
       continue;

@@ -254,6 +254,45 @@ TEST(ApproximateDecomposition, BadInputNamesTheProblem) {
   EXPECT_THROW(static_cast<void>(measure_decomposition(mesh, {}, 10, 1)), InvalidInput);
 }
 
+TEST(ApproximateDecomposition, TwoLegsComeOffTogetherThenApart) {
+  // A 4 x 4 x 1 slab on two 0.4 m square legs 3 m long, at its two ends: three convex parts. The
+  // greedy first split halves the slab (each half keeps a leg: both halves reach far outside),
+  // and three hulls cannot undo it; the look-ahead sees that cutting both legs off first, then
+  // apart, leaves nothing concave.
+  std::vector<Vec3> v;
+  std::vector<glm::uvec3> t;
+  test::add_box(v, t, {0, 0, 3}, {4, 4, 4});
+  test::add_box(v, t, {0.2f, 1.8f, 0}, {0.6f, 2.2f, 3.01f});
+  test::add_box(v, t, {3.4f, 1.8f, 0}, {3.8f, 2.2f, 3.01f});
+  const TriangleMesh mesh = make_triangle_mesh(v, t);
+  ApproximateDecompositionOptions options;
+  options.resolution = 30000;
+  options.max_hulls = 3;
+  options.concavity = 0.0f;
+  const ApproximateDecomposition d = decompose_approximate(mesh, options);
+  ASSERT_EQ(d.hulls.size(), 3u);
+  expect_convex_and_capped(d, options.max_vertices);
+  ASSERT_TRUE(d.error.has_value());
+  EXPECT_LE(d.error->hull_to_mesh, 2.0f * d.voxel);
+  EXPECT_LE(max_uncovered(mesh, d.hulls, 4), d.voxel);
+}
+
+TEST(ApproximateDecomposition, RealPropBeatsVhacdAtItsHullCount) {
+  // rob.obj at 5 hulls, the count V-HACD 2.x (pybullet's) stops at from any depth of 3 or more:
+  // V-HACD reaches 2.87% of the diagonal outside the mesh (bench_decompose_mesh); greedy
+  // splitting alone reached 13% (a block with two limbs halved), the look-ahead 2.2%.
+  const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/rob.obj");
+  ApproximateDecompositionOptions options;
+  options.max_hulls = 5;
+  options.concavity = 0.0f;
+  options.measure_samples = 20000;
+  const ApproximateDecomposition d = decompose_approximate(mesh, options);
+  ASSERT_EQ(d.hulls.size(), 5u);
+  ASSERT_TRUE(d.error.has_value());
+  EXPECT_LT(d.error->hull_to_mesh, 0.0287f * d.diagonal);
+  EXPECT_LE(d.error->mesh_to_hull, d.voxel);
+}
+
 TEST(ApproximateDecomposition, RealPropReachesItsBound) {
   // FCL's "robot" (shared data): a concave soup with open and non-manifold edges.
   const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/rob.obj");
