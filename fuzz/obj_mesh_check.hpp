@@ -1,5 +1,5 @@
 #pragma once
-// What must hold for any bytes given to the OBJ reader as a file (fuzz_obj_mesh, and the
+// What must hold for any bytes given to the OBJ readers as a file (fuzz_obj_mesh, and the
 // regression test that replays the inputs the fuzzer found): shared so both check the same.
 
 #include "fuzz_check.hpp"
@@ -28,7 +28,9 @@ namespace collide::fuzz {
 ///    (0, -1000, 0), a unit sphere at the origin within 1000) get finite answers when its bounds
 ///    lie within kFiniteQueryRange (collide/core/finite_range.hpp);
 ///  - make_walk_mesh on the soup (what `collide walk` does) throws nothing but InvalidInput
-///    naming the file.
+///    naming the file;
+///  - io::load_hulls_obj (what `collide decompose --hulls` reads) throws nothing but
+///    InvalidInput naming the file; its hulls have finite vertices.
 /// Crashes, hangs and undefined behaviour are the sanitizers' and the fuzzer's to catch.
 inline std::string check_obj_mesh(std::string_view input) {
   // The reader takes a path: one scratch file per process.
@@ -81,6 +83,18 @@ inline std::string check_obj_mesh(std::string_view input) {
     if (std::string problem = check_message(e.what(), prefix); !problem.empty()) return problem;
   } catch (const std::exception& e) {
     return std::string("make_walk_mesh threw other than InvalidInput: ") + e.what();
+  }
+
+  try {
+    for (const ConvexHull& hull : io::load_hulls_obj(path)) {
+      for (const Vec3& v : hull.vertices) {
+        if (!is_finite(v)) return "an accepted hull holds a vertex that is not finite";
+      }
+    }
+  } catch (const InvalidInput& e) {
+    if (std::string problem = check_message(e.what(), prefix); !problem.empty()) return problem;
+  } catch (const std::exception& e) {
+    return std::string("load_hulls_obj threw other than InvalidInput: ") + e.what();
   }
   return {};
 }

@@ -20,6 +20,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 
 #include <unistd.h>
@@ -34,6 +35,7 @@ constexpr float kPictureElevationDegrees = 30.0f;
 struct DecomposeOptions {
   std::string mesh;
   std::string out;  ///< hulls OBJ; empty: not written
+  std::string hulls;  ///< --hulls: a decomposition to measure and draw instead of making one
   std::string png;  ///< picture; empty: none
   int png_width = 1400;
   int threads = 0;  ///< 0: every core
@@ -48,15 +50,15 @@ double percent(float x, float whole) {
 
 /// The picture (--png): the input mesh on the left, its hulls on the right, each hull its own
 /// colour (distinct_color in the order made), seen from the same camera, nothing cut away.
-void write_picture(const DecomposeOptions& o, const std::string& name, const TriangleMesh& mesh,
-                   const ApproximateDecomposition& d) {
+void write_picture(const DecomposeOptions& o, const TriangleMesh& mesh, std::span<const ConvexHull> hulls_drawn,
+                   const std::string& title) {
   Picture3D picture;
   picture.set_role_name(DrawRole::static_geometry, "input mesh");
   picture.set_role_name(DrawRole::body, "hulls (a colour each)");
   draw_shape(picture, mesh, Transform3{}, DrawRole::static_geometry);
   Aabb3 box = compute_aabb(mesh, Transform3{});
-  for (std::size_t h = 0; h < d.hulls.size(); ++h) {
-    const ConvexHull& hull = d.hulls[h];
+  for (std::size_t h = 0; h < hulls_drawn.size(); ++h) {
+    const ConvexHull& hull = hulls_drawn[h];
     const Color color = distinct_color(static_cast<int>(h));
     for (const HullFace& f : hull.faces) {
       const Vec3 a = hull.vertices[hull.face_vertices[f.first]];
@@ -72,14 +74,50 @@ void write_picture(const DecomposeOptions& o, const std::string& name, const Tri
   const Camera3 camera = camera_framing(box, kPictureAzimuthDegrees * kDegree, kPictureElevationDegrees * kDegree);
   View3DPanel input{camera, "input: " + std::to_string(mesh.triangle_count()) + " triangles"};
   input.roles = {DrawRole::static_geometry};
-  View3DPanel hulls{camera, std::to_string(d.hulls.size()) + " convex hull" + (d.hulls.size() == 1 ? "" : "s")};
+  View3DPanel hulls{camera, std::to_string(hulls_drawn.size()) + " convex hull" + (hulls_drawn.size() == 1 ? "" : "s")};
   hulls.roles = {DrawRole::body};
-  char title[256];
-  std::snprintf(title, sizeof title, "collide decompose: %s, at most %d hulls of %d vertices, concavity %g of the diagonal",
-                name.c_str(), o.decomposition.max_hulls, o.decomposition.max_vertices,
-                static_cast<double>(o.decomposition.concavity));
   // Nothing is cut away: a prop is seen from outside, whichever way its triangles are wound.
   picture.write_png(o.png, {input, hulls}, View3DOptions{.width = o.png_width, .title = title, .cutaway = false});
+}
+
+/// The measured half of the report (measure_decomposition's figures).
+void print_error(const DecompositionError& e, float diag, std::uint64_t seed) {
+  std::printf("  hull_to_mesh    %.4g (%.3g%% of the diagonal): how far the hulls reach outside the mesh\n",
+              static_cast<double>(e.hull_to_mesh), percent(e.hull_to_mesh, diag));
+  std::printf("  mesh_to_hull    %.4g (%.3g%% of the diagonal): how far the mesh reaches outside the hulls\n",
+              static_cast<double>(e.mesh_to_hull), percent(e.mesh_to_hull, diag));
+  std::printf("  volume ratio    %.4g (the hulls' volumes over the mesh's)\n", static_cast<double>(e.volume_ratio));
+  std::printf("  samples         %d on the hulls, %d on the mesh (seed %llu)\n", e.hull_samples, e.mesh_samples,
+              static_cast<unsigned long long>(seed));
+}
+
+/// `--hulls FILE`: another decomposition of the mesh (V-HACD's, CoACD's, an artist's) read
+/// (io::load_hulls_obj), measured by the same yardstick as collide's own, and drawn.
+int run_measure_hulls(const DecomposeOptions& o, const TriangleMesh& mesh, const std::string& name) {
+  require_input_file(o.hulls);
+  const std::vector<ConvexHull> hulls = io::load_hulls_obj(o.hulls);
+  if (o.decomposition.measure_samples < 1) throw InvalidInput("--samples: at least 1 with --hulls (it measures them)");
+  const DecompositionError e = measure_decomposition(mesh, hulls, o.decomposition.measure_samples, o.decomposition.seed);
+  const Aabb3 box = compute_aabb(mesh, Transform3{});
+  const float diag = glm::length(box.max - box.min);
+  std::size_t hull_vertices = 0;
+  for (const ConvexHull& h : hulls) hull_vertices += h.vertices.size();
+  const std::string hulls_name = std::filesystem::path(o.hulls).filename().string();
+  std::printf("collide decompose: %s measured against %s\n", hulls_name.c_str(), name.c_str());
+  std::printf("  input           %u triangles, %zu vertices, diagonal %.4g\n", mesh.triangle_count(), mesh.vertices.size(),
+              static_cast<double>(diag));
+  std::printf("  hulls           %zu\n", hulls.size());
+  std::printf("  hull vertices   %zu\n", hull_vertices);
+  print_error(e, diag, o.decomposition.seed);
+  if (!o.out.empty()) {
+    io::write_hulls_obj(o.out, hulls);
+    std::printf("wrote %s (%zu hulls, one OBJ object each)\n", o.out.c_str(), hulls.size());
+  }
+  if (!o.png.empty()) {
+    write_picture(o, mesh, hulls, "collide decompose: " + name + ", the hulls of " + hulls_name);
+    std::printf("wrote %s (the input mesh and the hulls, a colour each)\n", o.png.c_str());
+  }
+  return 0;
 }
 
 int run_decompose(DecomposeOptions& o) {
@@ -92,6 +130,7 @@ int run_decompose(DecomposeOptions& o) {
   require_input_file(o.mesh);
   const TriangleMesh mesh = io::load_triangle_mesh(o.mesh);
   const std::string name = std::filesystem::path(o.mesh).filename().string();
+  if (!o.hulls.empty()) return run_measure_hulls(o, mesh, name);
   const std::shared_ptr<TaskScheduler> scheduler = make_scheduler(o.threads);
   o.decomposition.scheduler = scheduler.get();
 
@@ -131,14 +170,7 @@ int run_decompose(DecomposeOptions& o) {
               static_cast<double>(d.grid_concavity), percent(d.grid_concavity, diag), target,
               100.0 * static_cast<double>(o.decomposition.concavity));
   if (d.error) {
-    const DecompositionError& e = *d.error;
-    std::printf("  hull_to_mesh    %.4g (%.3g%% of the diagonal): how far the hulls reach outside the mesh\n",
-                static_cast<double>(e.hull_to_mesh), percent(e.hull_to_mesh, diag));
-    std::printf("  mesh_to_hull    %.4g (%.3g%% of the diagonal): how far the mesh reaches outside the hulls\n",
-                static_cast<double>(e.mesh_to_hull), percent(e.mesh_to_hull, diag));
-    std::printf("  volume ratio    %.4g (the hulls' volumes over the mesh's)\n", static_cast<double>(e.volume_ratio));
-    std::printf("  samples         %d on the hulls, %d on the mesh (seed %llu)\n", e.hull_samples, e.mesh_samples,
-                static_cast<unsigned long long>(o.decomposition.seed));
+    print_error(*d.error, diag, o.decomposition.seed);
   } else {
     std::printf("  measured        not measured (--samples 0)\n");
   }
@@ -150,7 +182,11 @@ int run_decompose(DecomposeOptions& o) {
     std::printf("wrote %s (%zu hulls, one OBJ object each)\n", o.out.c_str(), d.hulls.size());
   }
   if (!o.png.empty()) {
-    write_picture(o, name, mesh, d);
+    char title[256];
+    std::snprintf(title, sizeof title, "collide decompose: %s, at most %d hulls of %d vertices, concavity %g of the diagonal",
+                  name.c_str(), o.decomposition.max_hulls, o.decomposition.max_vertices,
+                  static_cast<double>(o.decomposition.concavity));
+    write_picture(o, mesh, d.hulls, title);
     std::printf("wrote %s (the input mesh and its hulls, a colour each)\n", o.png.c_str());
   }
   return 0;
@@ -186,6 +222,9 @@ void register_decompose_command(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(0, kDecompositionMaxSamples));
   cmd->add_option("--threads", o->threads, "Worker threads (oneTBB); 0: every core. The hulls are the same for any")
       ->capture_default_str()->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--hulls", o->hulls,
+                  "Measure and draw this OBJ of convex hulls (another tool's decomposition of MESH: one connected "
+                  "surface per hull) instead of decomposing MESH; --out, --png, --samples and --seed apply");
   cmd->add_option("--png", o->png, "Write a shaded picture: the input mesh beside its hulls, each hull in its own colour");
   cmd->add_option("--width", o->png_width, "Picture width, pixels")
       ->capture_default_str()->check(CLI::Range(kMinPictureWidth, kMaxViewSide));

@@ -195,4 +195,49 @@ TriangleMesh load_triangle_mesh(const std::string& path, const TriangleMeshOptio
   }
 }
 
+std::vector<ConvexHull> load_hulls_obj(const std::string& path, const ObjLimits& limits) {
+  const TriangleSoup soup = load_obj(path, limits);
+  // Components by shared vertex index: union-find over the triangles' corners (path halving).
+  std::vector<std::uint32_t> parent(soup.positions.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<std::uint32_t>(i);
+  auto root = [&parent](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const glm::uvec3& t : soup.triangles) {
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = root(t[0]), b = root(t[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // Each component's used vertices, components numbered by their first triangle.
+  std::vector<std::int64_t> component_of_root(soup.positions.size(), -1);
+  std::vector<std::vector<Vec3>> clouds;
+  std::vector<bool> taken(soup.positions.size(), false);
+  for (const glm::uvec3& t : soup.triangles) {
+    const std::uint32_t r = root(t[0]);
+    if (component_of_root[r] < 0) {
+      component_of_root[r] = static_cast<std::int64_t>(clouds.size());
+      clouds.emplace_back();
+    }
+    std::vector<Vec3>& cloud = clouds[static_cast<std::size_t>(component_of_root[r])];
+    for (int k = 0; k < 3; ++k) {
+      if (!taken[t[k]]) {
+        taken[t[k]] = true;
+        cloud.push_back(soup.positions[t[k]]);
+      }
+    }
+  }
+  std::vector<ConvexHull> hulls;
+  hulls.reserve(clouds.size());
+  for (std::size_t h = 0; h < clouds.size(); ++h) {
+    try {
+      hulls.push_back(make_convex_hull(clouds[h]));
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(soup.name + ": hull " + std::to_string(h + 1) + ": " + e.what());
+    }
+  }
+  return hulls;
+}
+
 }  // namespace collide::io

@@ -3,7 +3,8 @@
 // (at least 3: no hull may span a box and the bar within the concavity asked), the OBJ reads back,
 // the hulls are the same bit for bit on 1 and 2 threads, and the picture shows each hull's own
 // colour. Bad inputs (missing, NaN, flat), bad options and an output folder that does not exist
-// fail with exit status 2 and a message naming the file or the option.
+// fail with exit status 2 and a message naming the file or the option. `--hulls` measures
+// another tool's hulls: an exact decomposition reaches nowhere outside, one box around all 1.
 
 #include "cli_run.hpp"
 #include "support/picture_checks.hpp"
@@ -148,6 +149,44 @@ TEST(DecomposeCommand, HullsAreTheSameOnOneAndTwoThreads) {
   }
   EXPECT_FALSE(written[0].empty());
   EXPECT_EQ(written[0], written[1]);
+}
+
+TEST(DecomposeCommand, AnotherToolsHullsAreMeasuredByTheSameYardstick) {
+  // --hulls: the dumbbell's own three boxes (its exact decomposition) reach nowhere outside it;
+  // the hull of the whole dumbbell (one box around it) reaches 1 out (the middle of the gap
+  // between the boxes, 1 from each; the bar is farther); both cover it. Written by hand as another tool would: vertices per hull, no `o`.
+  const std::string mesh = dumbbell();
+  std::ostringstream exact, single;
+  add_box(exact, {-3.0f, -1.0f, -1.0f}, {-1.0f, 1.0f, 1.0f}, 1);
+  add_box(exact, {1.0f, -1.0f, -1.0f}, {3.0f, 1.0f, 1.0f}, 9);
+  add_box(exact, {-1.2f, -0.1f, -0.1f}, {1.2f, 0.1f, 0.1f}, 17);
+  add_box(single, {-3.0f, -1.0f, -1.0f}, {3.0f, 1.0f, 1.0f}, 1);
+  const std::string exact_path = write_temp("collide_decompose_exact_hulls.obj", exact.str());
+  const std::string single_path = write_temp("collide_decompose_single_hull.obj", single.str());
+  const std::string png = ::testing::TempDir() + "collide_decompose_their_hulls.png";
+  std::remove(png.c_str());
+
+  const CommandRun e = run("decompose " + mesh + " --hulls " + exact_path + " --samples 4000 --png " + png + " --width 700");
+  ASSERT_EQ(exit_code(e), 0) << e.output;
+  EXPECT_EQ(report_number(e.output, "hulls"), 3.0) << e.output;
+  EXPECT_EQ(report_number(e.output, "hull vertices"), 24.0) << e.output;
+  EXPECT_LT(report_number(e.output, "hull_to_mesh"), 1e-3) << e.output;
+  EXPECT_LT(report_number(e.output, "mesh_to_hull"), 1e-3) << e.output;
+  EXPECT_EQ(report_number(e.output, "splits"), -1.0) << "no decomposition run\n" << e.output;
+  ASSERT_TRUE(test::has_png_signature(png));
+  EXPECT_GT(pixels_shaded_from(test::read_png(png), distinct_color(0)), 30);
+
+  const CommandRun one = run("decompose " + mesh + " --hulls " + single_path + " --samples 4000");
+  ASSERT_EQ(exit_code(one), 0) << one.output;
+  EXPECT_EQ(report_number(one.output, "hulls"), 1.0) << one.output;
+  EXPECT_NEAR(report_number(one.output, "hull_to_mesh"), 1.0, 0.05) << one.output;
+  EXPECT_LT(report_number(one.output, "mesh_to_hull"), 1e-3) << one.output;
+
+  const CommandRun missing = run("decompose " + mesh + " --hulls /nonexistent/hulls.obj");
+  EXPECT_EQ(exit_code(missing), 2) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent/hulls.obj: cannot be read (no such file)"), std::string::npos)
+      << missing.output;
+  for (const std::string& path : {exact_path, single_path, png}) std::remove(path.c_str());
 }
 
 TEST(DecomposeCommand, BadInputsFailNamingTheFile) {

@@ -1,12 +1,15 @@
 // The hull writer (io::write_hulls_obj) read back by the OBJ reader (io::load_obj): every vertex
 // position comes back bit for bit (boxes, random clouds with coordinates of every magnitude, a
 // hull far from the origin), every polygonal face comes back as its count - 2 triangles wound
-// outward, one `o` object per hull; a path that cannot be written is an error naming it.
+// outward, one `o` object per hull; a path that cannot be written is an error naming it. And
+// io::load_hulls_obj: the written hulls come back as the same hulls, a file without `o`
+// statements by its connected surfaces, a flat one as an error naming the hull.
 #include <collide/core/error.hpp>
 #include <collide/io/obj.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace collide {
@@ -105,6 +109,59 @@ TEST(ObjWriter, HullsReadBackBitForBitWithTheirFacesWoundOutward) {
       }
     }
     base += hull.vertices.size();
+  }
+  std::remove(path.c_str());
+}
+
+/// `text` written to a temporary file named `name`; returns its path.
+std::string write_text(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+TEST(ObjWriter, HullsReadBackAsHullsOneComponentEach) {
+  const std::vector<ConvexHull> hulls = sample_hulls();
+  const std::string path = ::testing::TempDir() + "collide_hulls_components.obj";
+  io::write_hulls_obj(path, hulls);
+  const std::vector<ConvexHull> back = io::load_hulls_obj(path);
+  ASSERT_EQ(back.size(), hulls.size());
+  for (std::size_t h = 0; h < hulls.size(); ++h) {
+    // The same points (hull vertices are extreme points: rebuilding keeps every one).
+    auto sorted = [](std::vector<Vec3> p) {
+      std::sort(p.begin(), p.end(), [](Vec3 a, Vec3 b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); });
+      return p;
+    };
+    EXPECT_EQ(sorted(back[h].vertices), sorted(hulls[h].vertices)) << "hull " << h + 1;
+    EXPECT_NEAR(back[h].volume, hulls[h].volume, 1e-5f * hulls[h].volume) << "hull " << h + 1;
+  }
+  std::remove(path.c_str());
+}
+
+TEST(ObjWriter, HullsWithoutObjectStatementsAreTheirConnectedSurfaces) {
+  // Two tetrahedra with vertices of their own, no `o` or `g`, the second's faces listed first
+  // and interleaved with the first's (a tool's order): two hulls, in order of first face.
+  const std::string path = write_text("collide_hulls_no_o.obj",
+                                      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                      "v 5 0 0\nv 7 0 0\nv 5 2 0\nv 5 0 2\n"
+                                      "f 5 7 6\nf 1 3 2\nf 5 6 8\nf 1 2 4\nf 5 8 7\nf 1 4 3\nf 6 7 8\nf 2 3 4\n");
+  const std::vector<ConvexHull> hulls = io::load_hulls_obj(path);
+  ASSERT_EQ(hulls.size(), 2u);
+  EXPECT_NEAR(hulls[0].volume, 8.0f / 6.0f, 1e-5f);  // the second tetrahedron, 2 m legs
+  EXPECT_NEAR(hulls[1].volume, 1.0f / 6.0f, 1e-6f);
+  std::remove(path.c_str());
+}
+
+TEST(ObjWriter, AFlatHullIsAnErrorNamingTheFileAndTheHull) {
+  const std::string path = write_text("collide_hulls_flat.obj",
+                                      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                      "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+                                      "v 5 0 0\nv 6 0 0\nv 5 1 0\nf 5 6 7\n");
+  try {
+    (void)io::load_hulls_obj(path);
+    ADD_FAILURE() << "a flat triangle was read as a hull";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("collide_hulls_flat.obj: hull 2: ", 0), 0u) << e.what();
   }
   std::remove(path.c_str());
 }

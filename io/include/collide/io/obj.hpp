@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace collide::io {
 
@@ -67,5 +68,14 @@ struct ObjLimits {
 /// Throws InvalidInput "PATH: cannot be written (WHY)" when the file cannot be opened or a write
 /// fails (no folder, no permission, disk full); a partly written file is left as it is.
 void write_hulls_obj(const std::string& path, std::span<const ConvexHull> hulls);
+
+/// Reads a set of convex hulls from the OBJ file at `path`, as write_hulls_obj, V-HACD and
+/// CoACD write them (each hull a closed surface with vertices of its own): `load_obj`, then one
+/// hull per connected component of the faces (faces sharing a vertex index belong together;
+/// `o` and `g` statements are not needed), each the convex hull (make_convex_hull) of its
+/// component's vertices, in file order of their first face. Throws InvalidInput naming the file
+/// for what load_obj rejects, and "NAME: hull N: ..." for a component whose points have no
+/// volume (flat, or a single edge).
+[[nodiscard]] std::vector<ConvexHull> load_hulls_obj(const std::string& path, const ObjLimits& limits = {});
 
 }  // namespace collide::io
