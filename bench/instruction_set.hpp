@@ -43,10 +43,14 @@ inline std::string compiled_instruction_set() {
 #endif
 }
 
-/// Adds "collide" and `peer` with their instruction sets to the benchmark context. Call after
-/// benchmark::Initialize.
+/// Adds "collide" (once per run) and `peer` with their instruction sets to the benchmark
+/// context; call once per peer, after benchmark::Initialize.
 inline void add_instruction_sets(const std::string& peer, const std::string& peer_isa) {
-  benchmark::AddCustomContext("collide instruction set", compiled_instruction_set());
+  static const bool collide_added = [] {
+    benchmark::AddCustomContext("collide instruction set", compiled_instruction_set());
+    return true;
+  }();
+  static_cast<void>(collide_added);
   benchmark::AddCustomContext(peer + " instruction set", peer_isa);
 }
 
