@@ -29,6 +29,11 @@ TriangleMesh box_mesh(Vec3 lo, Vec3 hi) {
   return make_triangle_mesh(v, t);
 }
 
+/// One of FCL's meshes in the shared data (../shared/data/meshes/fcl/).
+TriangleMesh fcl_mesh(const std::string& name) {
+  return io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/" + name);
+}
+
 /// Two 1 m cubes 3 m apart joined by a 0.2 m square bar: three convex parts.
 TriangleMesh dumbbell() {
   std::vector<Vec3> v;
@@ -281,7 +286,7 @@ TEST(ApproximateDecomposition, RealPropBeatsVhacdAtItsHullCount) {
   // rob.obj at 5 hulls, the count V-HACD 2.x (pybullet's) stops at from any depth of 3 or more:
   // V-HACD reaches 2.87% of the diagonal outside the mesh (bench_decompose_mesh); greedy
   // splitting alone reached 13% (a block with two limbs halved), the look-ahead 2.2%.
-  const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/rob.obj");
+  const TriangleMesh mesh = fcl_mesh("rob.obj");
   ApproximateDecompositionOptions options;
   options.max_hulls = 5;
   options.concavity = 0.0f;
@@ -295,7 +300,7 @@ TEST(ApproximateDecomposition, RealPropBeatsVhacdAtItsHullCount) {
 
 TEST(ApproximateDecomposition, RealPropReachesItsBound) {
   // FCL's "robot" (shared data): a concave soup with open and non-manifold edges.
-  const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/rob.obj");
+  const TriangleMesh mesh = fcl_mesh("rob.obj");
   ApproximateDecompositionOptions options;
   options.resolution = 50000;
   options.max_hulls = 32;
@@ -342,7 +347,7 @@ TEST(ApproximateDecomposition, RealEnvironmentImprovesWithTheBudget) {
   // (1856 boundary edges). More hulls must reach much less far out; none may miss the mesh.
   // (At the default resolution: at half of it the walls, 9 units thick, are a tenth of a voxel,
   // and the greedy split stalls on the hollow room; see the README's notes.)
-  const TriangleMesh mesh = io::load_triangle_mesh(std::string(COLLIDE_DATA_DIR) + "/meshes/fcl/env.obj");
+  const TriangleMesh mesh = fcl_mesh("env.obj");
   ApproximateDecompositionOptions options;
   options.concavity = 0.0f;
   options.measure_samples = 5000;
