@@ -387,6 +387,21 @@ std::vector<Direction> split_directions(const SolidGrid& solid, const Piece& pie
   return directions;
 }
 
+/// `piece` (owner id `piece_id`) cut by `plane` into `left` and `right`: their nodes and hull
+/// points (split_points); the right side's nodes are handed to owner `right_id`. No hulls yet.
+void split_piece(SolidGrid& solid, const Piece& piece, std::int32_t piece_id, std::int32_t right_id,
+                 const SplitPlane& plane, Piece& left, Piece& right) {
+  split_points(solid, piece, piece_id, plane, left.points, right.points);
+  for (const std::uint32_t n : piece.nodes) {
+    if (plane.left(solid.position(solid.coords(n)))) {
+      left.nodes.push_back(n);
+    } else {
+      right.nodes.push_back(n);
+      solid.owner[n] = right_id;
+    }
+  }
+}
+
 /// The coarse candidates of `directions`: kDecompositionCoarsePlanes planes per direction,
 /// evenly spaced; `steps` gets each direction's spacing (in planes).
 std::vector<Candidate> coarse_candidates(const std::vector<Direction>& directions, std::vector<int>& steps) {
@@ -410,15 +425,7 @@ float two_step_concavity(SolidGrid& solid, const Piece& piece, std::int32_t piec
                          const SplitPlane& plane, std::vector<Scratch>& scratch, TaskScheduler* scheduler,
                          int& evaluated) {
   Piece sides[2];
-  split_points(solid, piece, piece_id, plane, sides[0].points, sides[1].points);
-  for (const std::uint32_t n : piece.nodes) {
-    if (plane.left(solid.position(solid.coords(n)))) {
-      sides[0].nodes.push_back(n);
-    } else {
-      sides[1].nodes.push_back(n);
-      solid.owner[n] = free_id;
-    }
-  }
+  split_piece(solid, piece, piece_id, free_id, plane, sides[0], sides[1]);
   float result = std::numeric_limits<float>::infinity();
   for (Piece& side : sides) {
     side.hull = piece_hull(side.points, Vec3(0.0f), solid.grid.voxel, kDecompositionCandidateVertices,
@@ -444,6 +451,43 @@ float two_step_concavity(SolidGrid& solid, const Piece& piece, std::int32_t piec
   return result;
 }
 
+/// Of the coarse `candidates`, the one to split by two splits ahead: `best` (the greedy choice)
+/// unless another direction's best plane leaves at most kLookaheadGain of best's worst
+/// concavity after two_step_concavity. Only planes that could win are judged: a plane's better
+/// side is left as it is (its two-step concavity is at least its `low`), and best's two-step
+/// concavity is at most its cost.
+Candidate look_ahead(SolidGrid& solid, const Piece& piece, std::int32_t piece_id, std::int32_t free_id,
+                     const std::vector<Direction>& directions, const std::vector<Candidate>& candidates,
+                     const Candidate& best, std::vector<Scratch>& scratch, TaskScheduler* scheduler, int& evaluated) {
+  const float tie = kConcavityTieVoxels * solid.grid.voxel;
+  std::vector<Candidate> leaders;
+  for (int d = 0; d < static_cast<int>(directions.size()); ++d) {
+    if (d == best.direction) continue;
+    const Candidate* lead = nullptr;
+    for (const Candidate& candidate : candidates) {
+      if (candidate.direction != d || !std::isfinite(candidate.cost)) continue;
+      if (!lead || better(candidate, *lead, tie)) lead = &candidate;
+    }
+    if (lead && lead->low < kLookaheadGain * best.cost) leaders.push_back(*lead);
+  }
+  if (leaders.empty()) return best;
+  auto two_step = [&](const Candidate& c) {
+    return two_step_concavity(solid, piece, piece_id, free_id, plane_of(directions, c, solid.grid.voxel), scratch,
+                              scheduler, evaluated);
+  };
+  Candidate chosen = best;
+  float bar = kLookaheadGain * two_step(best);
+  for (const Candidate& leader : leaders) {
+    if (!(leader.low < bar)) continue;
+    const float ahead = two_step(leader);
+    if (ahead < bar - tie) {
+      bar = ahead;
+      chosen = leader;
+    }
+  }
+  return chosen;
+}
+
 /// The plane that splits `piece` best: a coarse pass of kDecompositionCoarsePlanes planes per
 /// direction; the best plane of each direction is then judged two splits ahead
 /// (two_step_concavity), and every plane between the winner's coarse neighbours is tried.
@@ -458,41 +502,9 @@ std::optional<SplitPlane> choose_split(SolidGrid& solid, const Piece& piece, std
   const int best = best_candidate(solid, piece, piece_id, directions, candidates, scratch, scheduler);
   evaluated += static_cast<int>(candidates.size());
   if (best < 0) return std::nullopt;
-  Candidate chosen = candidates[static_cast<std::size_t>(best)];
+  Candidate chosen = look_ahead(solid, piece, piece_id, free_id, directions, candidates,
+                                candidates[static_cast<std::size_t>(best)], scratch, scheduler, evaluated);
   const float tie = kConcavityTieVoxels * solid.grid.voxel;
-  {
-    // Each direction's best plane, the overall best first (it wins ties), that could beat it
-    // two splits ahead by the margin kLookaheadGain: a leader's better side is left as it is
-    // (so its two-step concavity is at least its `low`), and the best's is at most its cost.
-    const float gain = kLookaheadGain;
-    std::vector<Candidate> leaders{chosen};
-    for (int d = 0; d < static_cast<int>(directions.size()); ++d) {
-      if (d == chosen.direction) continue;
-      int lead = -1;
-      for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
-        const Candidate& candidate = candidates[static_cast<std::size_t>(c)];
-        if (candidate.direction != d || !std::isfinite(candidate.cost)) continue;
-        if (lead < 0 || better(candidate, candidates[static_cast<std::size_t>(lead)], tie)) lead = c;
-      }
-      if (lead >= 0 && candidates[static_cast<std::size_t>(lead)].low < gain * chosen.cost) {
-        leaders.push_back(candidates[static_cast<std::size_t>(lead)]);
-      }
-    }
-    if (leaders.size() > 1) {
-      float bar = gain * two_step_concavity(solid, piece, piece_id, free_id, plane_of(directions, leaders[0], solid.grid.voxel),
-                                            scratch, scheduler, evaluated);
-      for (std::size_t l = 1; l < leaders.size(); ++l) {
-        if (!(leaders[l].low < bar)) continue;
-        const float ahead = two_step_concavity(solid, piece, piece_id, free_id,
-                                               plane_of(directions, leaders[l], solid.grid.voxel), scratch, scheduler,
-                                               evaluated);
-        if (ahead < bar - tie) {
-          bar = ahead;
-          chosen = leaders[l];
-        }
-      }
-    }
-  }
   const int step = steps[static_cast<std::size_t>(chosen.direction)];
   if (step > 1) {
     std::vector<Candidate> fine;
@@ -513,16 +525,8 @@ std::optional<SplitPlane> choose_split(SolidGrid& solid, const Piece& piece, std
 void apply_split(SolidGrid& solid, std::vector<Piece>& pieces, std::size_t index, const SplitPlane& plane,
                  std::vector<Vec3>& scratch) {
   Piece left, right;
-  split_points(solid, pieces[index], static_cast<std::int32_t>(index), plane, left.points, right.points);
-  const auto right_id = static_cast<std::int32_t>(pieces.size());
-  for (const std::uint32_t n : pieces[index].nodes) {
-    if (plane.left(solid.position(solid.coords(n)))) {
-      left.nodes.push_back(n);
-    } else {
-      right.nodes.push_back(n);
-      solid.owner[n] = right_id;
-    }
-  }
+  split_piece(solid, pieces[index], static_cast<std::int32_t>(index), static_cast<std::int32_t>(pieces.size()), plane,
+              left, right);
   finish_piece(solid, left, scratch);
   finish_piece(solid, right, scratch);
   pieces[index] = std::move(left);
