@@ -1,7 +1,8 @@
 // `collide decompose MESH.obj`: approximate convex decomposition of a triangle mesh
 // (decompose/approximate_decomposition.hpp): the hulls written as an OBJ (one object per hull),
 // the run's report printed (what the split saw, what was measured on both surfaces, the time),
-// and optionally a picture of the input beside its hulls, each hull in its own colour.
+// and optionally a picture of the input beside its hulls, each hull in its own colour. With
+// --hulls, another tool's hulls of the mesh are read instead, measured and drawn the same way.
 
 #include "command_errors.hpp"
 #include "commands.hpp"
@@ -94,9 +95,9 @@ void print_error(const DecompositionError& e, float diag, std::uint64_t seed) {
 /// `--hulls FILE`: another decomposition of the mesh (V-HACD's, CoACD's, an artist's) read
 /// (io::load_hulls_obj), measured by the same yardstick as collide's own, and drawn.
 int run_measure_hulls(const DecomposeOptions& o, const TriangleMesh& mesh, const std::string& name) {
+  if (o.decomposition.measure_samples < 1) throw InvalidInput("--samples: at least 1 with --hulls (it measures them)");
   require_input_file(o.hulls);
   const std::vector<ConvexHull> hulls = io::load_hulls_obj(o.hulls);
-  if (o.decomposition.measure_samples < 1) throw InvalidInput("--samples: at least 1 with --hulls (it measures them)");
   const DecompositionError e = measure_decomposition(mesh, hulls, o.decomposition.measure_samples, o.decomposition.seed);
   const Aabb3 box = compute_aabb(mesh, Transform3{});
   const float diag = glm::length(box.max - box.min);
