@@ -30,6 +30,11 @@ using DVec3 = glm::dvec3;
 /// by more than the tolerance (at most two were needed on all test clouds; see run()).
 constexpr int kMaxSweeps = 4;
 
+/// Bound, in FLT_EPSILON units of |q|1 + max |offset|, on the rounding of a point's height above
+/// a plane computed in float by the sweep's pre-pass (the offset's conversion, three products,
+/// two sums, one difference: within 2 of those units together; twice that for margin).
+constexpr double kSweepFloatErrorUlps = 4.0;
+
 /// Two neighbouring faces merge when the corners of their union spread less than this fraction
 /// of the tolerance about its plane. Below 1 so that the merges a concave edge forces (after
 /// another merge tilted a plane) still leave every face planar within the tolerance: with 1,
@@ -156,6 +161,7 @@ class QuickHull {
   /// Per face slot: the stored plane's offset (through the farthest vertex, input coordinates)
   /// as the last sweep computed it; valid for extract() when that sweep found nothing.
   std::vector<double> swept_offset_;
+  std::vector<float> sweep_planes_;  ///< the sweep's planes as float: normals x, y, z, offsets
   bool swept_ = false;
   // Scratch of add_point, kept to reuse capacity.
   std::vector<int> horizon_;
@@ -442,10 +448,51 @@ bool QuickHull::sweep_outside_points() {
     normal.push_back(n);
     swept_offset_[f] = top;
   }
+  // A float pre-pass, four planes at a time, settles most points: the largest height above the
+  // planes in float, when below the tolerance by more than its rounding error, proves the
+  // exact (double) heights are too. Planes padded to a multiple of four never win.
+  const size_t lanes = (alive.size() + 3) / 4 * 4;
+  sweep_planes_.assign(4 * lanes, 0.0f);
+  float* nx = sweep_planes_.data();
+  float* ny = nx + lanes;
+  float* nz = ny + lanes;
+  float* off = nz + lanes;
+  float max_offset = 0.0f;
+  for (size_t k = 0; k < lanes; ++k) {
+    if (k < alive.size()) {
+      const Vec3& n = faces_[alive[k]].stored_normal;
+      nx[k] = n.x;
+      ny[k] = n.y;
+      nz[k] = n.z;
+      off[k] = static_cast<float>(swept_offset_[alive[k]]);
+      max_offset = std::max(max_offset, std::abs(off[k]));
+    } else {
+      off[k] = FLT_MAX;  // height -FLT_MAX: never the largest
+    }
+  }
   bool any = false;
   for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
     if (vertex_mark_[i] == vertex_stamp_) continue;
-    const DVec3 p(input_[i]);
+    const Vec3& q = input_[i];
+    const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
+    __m128 top4 = _mm_set1_ps(-FLT_MAX);
+    for (size_t k = 0; k < lanes; k += 4) {
+      const __m128 h = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx + k), qx),
+                                                        _mm_mul_ps(_mm_loadu_ps(ny + k), qy)),
+                                             _mm_mul_ps(_mm_loadu_ps(nz + k), qz)),
+                                  _mm_loadu_ps(off + k));
+      top4 = _mm_max_ps(top4, h);
+    }
+    top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(1, 0, 3, 2)));
+    top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(2, 3, 0, 1)));
+    // Rounding of a height in float: the offset's conversion, three products, two sums and
+    // the difference, each within half an ulp of a magnitude at most |q|1 + |offset| (|n| <= 1
+    // per component), so within kSweepFloatErrorUlps ulps of that together.
+    const double error = kSweepFloatErrorUlps * static_cast<double>(FLT_EPSILON) *
+                         (std::abs(static_cast<double>(q.x)) + std::abs(static_cast<double>(q.y)) +
+                          std::abs(static_cast<double>(q.z)) + static_cast<double>(max_offset));
+    if (static_cast<double>(_mm_cvtss_f32(top4)) + error <= tol_) continue;
+    const DVec3 p(q);
     int best_face = -1;
     double best = tol_;
     for (size_t k = 0; k < alive.size(); ++k) {
