@@ -34,6 +34,9 @@ constexpr int kMaxSweeps = 4;
 /// a plane computed in float by the sweep's pre-pass (the offset's conversion, three products,
 /// two sums, one difference: within 2 of those units together; twice that for margin).
 constexpr double kSweepFloatErrorUlps = 4.0;
+/// The pre-pass is used where |q|1 + max |offset| stays below this (sums of such terms cannot
+/// overflow a float); points farther out take the exact loop alone.
+constexpr double kSweepFloatRange = 1e30;
 
 /// Two neighbouring faces merge when the corners of their union spread less than this fraction
 /// of the tolerance about its plane. Below 1 so that the merges a concave edge forces (after
@@ -457,15 +460,16 @@ bool QuickHull::sweep_outside_points() {
   float* ny = nx + lanes;
   float* nz = ny + lanes;
   float* off = nz + lanes;
-  float max_offset = 0.0f;
+  double max_offset = 0.0;
   for (size_t k = 0; k < lanes; ++k) {
     if (k < alive.size()) {
       const Vec3& n = faces_[alive[k]].stored_normal;
       nx[k] = n.x;
       ny[k] = n.y;
       nz[k] = n.z;
-      off[k] = static_cast<float>(swept_offset_[alive[k]]);
-      max_offset = std::max(max_offset, std::abs(off[k]));
+      const double offset = std::clamp(swept_offset_[alive[k]], -kSweepFloatRange, kSweepFloatRange);
+      off[k] = static_cast<float>(offset);
+      max_offset = std::max(max_offset, std::abs(swept_offset_[alive[k]]));
     } else {
       off[k] = FLT_MAX;  // height -FLT_MAX: never the largest
     }
@@ -474,24 +478,27 @@ bool QuickHull::sweep_outside_points() {
   for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
     if (vertex_mark_[i] == vertex_stamp_) continue;
     const Vec3& q = input_[i];
-    const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
-    __m128 top4 = _mm_set1_ps(-FLT_MAX);
-    for (size_t k = 0; k < lanes; k += 4) {
-      const __m128 h = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx + k), qx),
-                                                        _mm_mul_ps(_mm_loadu_ps(ny + k), qy)),
-                                             _mm_mul_ps(_mm_loadu_ps(nz + k), qz)),
-                                  _mm_loadu_ps(off + k));
-      top4 = _mm_max_ps(top4, h);
-    }
-    top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(1, 0, 3, 2)));
-    top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(2, 3, 0, 1)));
     // Rounding of a height in float: the offset's conversion, three products, two sums and
     // the difference, each within half an ulp of a magnitude at most |q|1 + |offset| (|n| <= 1
-    // per component), so within kSweepFloatErrorUlps ulps of that together.
-    const double error = kSweepFloatErrorUlps * static_cast<double>(FLT_EPSILON) *
-                         (std::abs(static_cast<double>(q.x)) + std::abs(static_cast<double>(q.y)) +
-                          std::abs(static_cast<double>(q.z)) + static_cast<double>(max_offset));
-    if (static_cast<double>(_mm_cvtss_f32(top4)) + error <= tol_) continue;
+    // per component), so within kSweepFloatErrorUlps ulps of that together. Beyond
+    // kSweepFloatRange (nothing a hull of a game's shapes holds) float could overflow: exact only.
+    const double magnitude = std::abs(static_cast<double>(q.x)) + std::abs(static_cast<double>(q.y)) +
+                             std::abs(static_cast<double>(q.z)) + max_offset;
+    if (magnitude <= kSweepFloatRange) {
+      const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
+      __m128 top4 = _mm_set1_ps(-FLT_MAX);
+      for (size_t k = 0; k < lanes; k += 4) {
+        const __m128 h = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(nx + k), qx),
+                                                          _mm_mul_ps(_mm_loadu_ps(ny + k), qy)),
+                                               _mm_mul_ps(_mm_loadu_ps(nz + k), qz)),
+                                    _mm_loadu_ps(off + k));
+        top4 = _mm_max_ps(top4, h);
+      }
+      top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(1, 0, 3, 2)));
+      top4 = _mm_max_ps(top4, _mm_shuffle_ps(top4, top4, _MM_SHUFFLE(2, 3, 0, 1)));
+      const double error = kSweepFloatErrorUlps * static_cast<double>(FLT_EPSILON) * magnitude;
+      if (static_cast<double>(_mm_cvtss_f32(top4)) + error <= tol_) continue;
+    }
     const DVec3 p(q);
     int best_face = -1;
     double best = tol_;

@@ -525,6 +525,24 @@ TEST(MakeConvexHull, ShuffledInputGivesTheSameHull) {
   }
 }
 
+TEST(MakeConvexHull, HugeCoordinatesGiveTheScaledHull) {
+  // Scaling by a power of two is exact in float and double alike, so the hull of the scaled
+  // cloud is the scaled hull, vertex for vertex. 2^110 (1.3e33) puts every point beyond the
+  // final sweep's float pre-pass (kSweepFloatRange): the exact path alone must give it.
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 10; ++trial) {
+    Cloud cloud = sphere_cloud(rng, 200, 1.0f, test::random_transform3(rng, 2.0f));
+    const ConvexHull small = make_convex_hull(cloud);
+    for (Vec3& p : cloud) p *= std::ldexp(1.0f, 110);
+    const ConvexHull huge = make_convex_hull(cloud);
+    ASSERT_EQ(huge.vertices.size(), small.vertices.size()) << "trial " << trial;
+    for (std::size_t v = 0; v < small.vertices.size(); ++v) {
+      EXPECT_EQ(huge.vertices[v], small.vertices[v] * std::ldexp(1.0f, 110)) << "trial " << trial << " vertex " << v;
+    }
+    EXPECT_EQ(huge.faces.size(), small.faces.size()) << "trial " << trial;
+  }
+}
+
 /// Random clouds of each family against qhull: the volume within the tolerance's bound and the
 /// same extreme points up to the tolerance.
 TEST(MakeConvexHull, AgreesWithQhullOnRandomClouds) {
