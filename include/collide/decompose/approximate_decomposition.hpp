@@ -25,9 +25,10 @@
 /// smaller hull volume). Greedy alone halves a block with two limbs into two limbed halves; so
 /// each direction's best plane is also judged two splits ahead (its worse side split once more,
 /// CoACD's tree search at depth 2), and one that clearly wins there is taken instead: rob.obj
-/// at 5 hulls goes from 13% of its diagonal to 2.2%. A piece's hull is made of its surface nodes' closest surface points,
-/// the mesh vertices nearest its nodes and its cut faces (surface points where a cut meets the
-/// surface), so hulls hug the mesh to within the field's exact distances. Candidates are
+/// at 5 hulls goes from 13% of its diagonal to 2.2%. A piece's hull is made of its surface
+/// nodes' closest surface points, the mesh vertices nearest its nodes and its cut faces (surface
+/// points where a cut meets the surface), so hulls hug the mesh to within the field's exact
+/// distances. Candidates are
 /// evaluated in parallel on a TaskScheduler, each into its own slot, and chosen in a fixed
 /// order: the result is the same for every worker count.
 ///
