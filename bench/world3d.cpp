@@ -79,6 +79,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -494,6 +495,8 @@ struct Walker {
   float vy = 0.0f;
   bool grounded = true;
   int fell = 0;  ///< times it fell off the level's open edges and started again
+  /// collide's last move, handed to the next (as Jolt's CharacterVirtual keeps its state).
+  std::optional<CharacterMove3> last;
 };
 
 /// A character that fell this far below the level's box (dungeon.obj has open edges) starts
@@ -508,7 +511,8 @@ void collide_frame(const World3D& world, const Shape3D& shape, const CharacterSe
     Walker& w = walkers[k];
     w.vy = next_vertical(w.vy, w.grounded);
     const Vec3 v(desired[k].x, w.vy, desired[k].z);
-    const CharacterMove3 m = move_character(world, shape, Transform3{w.p}, v * kDt, settings);
+    const CharacterMove3 m = move_character(world, shape, Transform3{w.p}, v * kDt, settings, w.last ? &*w.last : nullptr);
+    w.last = m;
     w.p = m.transform.p;
     w.grounded = m.grounded;
     if (fell_off(w)) w = {walk().start[k], 0.0f, true, w.fell + 1};

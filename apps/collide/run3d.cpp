@@ -566,7 +566,9 @@ RunReport run_world3d(const RunOptions& o, std::FILE* out, CharacterReport* char
       ch.velocity.x = walk * std::cos(ch.heading);
       ch.velocity.z = walk * std::sin(ch.heading);
       ch.velocity.y -= gravity * o.dt;
-      const CharacterMove3 m = move_character(world, ch.shape, ch.xf, ch.velocity * o.dt, settings);
+      const CharacterMove3 m =
+          move_character(world, ch.shape, ch.xf, ch.velocity * o.dt, settings, ch.last ? &*ch.last : nullptr);
+      ch.last = m;
       ch.xf = m.transform;
       if (frame % kTrailEvery == 0) {
         if (ch.trail.size() == kTrailPoints) ch.trail.erase(ch.trail.begin());

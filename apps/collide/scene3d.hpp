@@ -4,10 +4,12 @@
 
 #include "run.hpp"
 
+#include <collide/world/character.hpp>
 #include <collide/world/world3d.hpp>
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@ struct Character {
   float heading = 0.0f;     ///< walking direction about y, radians
   std::vector<Vec3> trail;  ///< recent positions, oldest first (the picture's paths)
   bool grounded = false;    ///< the last move ended on the ground
+  std::optional<CharacterMove3> last;  ///< the last move (the next one reuses its ground probe)
 };
 
 /// A 3D scene built into a world, ready to run.

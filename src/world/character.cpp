@@ -108,9 +108,29 @@ class Mover {
     ++out_.casts;
     return world_.shape_cast(shape_, xf, -distance * s_.up, filter_);
   }
+  /// `probe_below` when its part against the statics is `statics` (the same cast, kept by the
+  /// last move): the bodies alone are cast against, and the first of the two hits is taken as
+  /// the world's shape_cast orders them (the earlier fraction; at the same fraction the
+  /// smaller collider key, statics first).
+  WorldCastHitN<D> probe_below(const TransformN<D>& xf, float distance, const WorldCastHitN<D>& statics) {
+    if (!filter_.bodies) return statics;
+    ++out_.casts;
+    QueryFilter bodies_only = filter_;
+    bodies_only.statics = false;
+    const WorldCastHitN<D> bodies = world_.shape_cast(shape_, xf, -distance * s_.up, bodies_only);
+    if (!bodies.hit) return statics;
+    if (!statics.hit || bodies.fraction < statics.fraction ||
+        (bodies.fraction == statics.fraction && bodies.collider.key() < statics.collider.key())) {
+      return bodies;
+    }
+    return statics;
+  }
   /// The ground under `xf`: a cast down by `distance` that hits walkable ground.
   WorldCastHitN<D> probe_ground(const TransformN<D>& xf, float distance) {
-    const WorldCastHitN<D> hit = probe_below(xf, distance);
+    return ground_of(probe_below(xf, distance));
+  }
+  /// `hit` if it is walkable ground, else no hit.
+  [[nodiscard]] WorldCastHitN<D> ground_of(const WorldCastHitN<D>& hit) const {
     if (hit.hit && walkable(-hit.normal)) return hit;
     return {};
   }
@@ -160,6 +180,14 @@ VecN<D> clip(VecN<D> v, const std::array<VecN<D>, kMaxPlanes<D>>& planes, int co
   return v;
 }
 
+/// Bit for bit the same placement.
+[[nodiscard]] bool same_transform(const Transform& a, const Transform& b) noexcept {
+  return a.p == b.p && a.q.c == b.q.c && a.q.s == b.q.s;
+}
+[[nodiscard]] bool same_transform(const Transform3& a, const Transform3& b) noexcept {
+  return a.p == b.p && a.q == b.q;
+}
+
 template <int D>
 void check_settings(const CharacterSettingsN<D>& s, const TransformN<D>& start, VecN<D> displacement) {
   if (!is_valid(start)) throw InvalidInput("character start: not finite or rotation not unit length");
@@ -182,7 +210,7 @@ void check_settings(const CharacterSettingsN<D>& s, const TransformN<D>& start, 
 template <int D>
 CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& shape,
                                  const TransformN<D>& start, VecN<D> displacement,
-                                 const CharacterSettingsN<D>& settings) {
+                                 const CharacterSettingsN<D>& settings, const CharacterMoveN<D>* previous) {
   check_settings(settings, start, displacement);
   using Vec = VecN<D>;
   CharacterMoveN<D> out;
@@ -190,8 +218,17 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   TransformN<D> xf = start;
   out.pushed_out = mover.push_out(xf);
   const Vec up = settings.up;
-  const float probe = 2.0f * (1.0f + kCharacterSkinSlack) * settings.skin + kRelativeTolerance * (max_abs(xf.p) + 1.0f);
-  const WorldCastHitN<D> under = mover.probe_below(xf, probe);
+  // How far down the ground probe looks from `at`: twice the skin it keeps, and rounding.
+  const auto probe_at = [&](const TransformN<D>& at) {
+    return 2.0f * (1.0f + kCharacterSkinSlack) * settings.skin + kRelativeTolerance * (max_abs(at.p) + 1.0f);
+  };
+  const float probe = probe_at(xf);
+  // The last move ended with this very cast when the character starts where it ended.
+  const bool reuse = previous != nullptr && previous->probe_statics >= 0 &&
+                     previous->probe_statics == world.static_count() && !out.pushed_out &&
+                     same_transform(start, previous->transform);
+  const WorldCastHitN<D> under = reuse ? mover.probe_below(xf, probe, previous->static_probe)
+                                       : mover.probe_below(xf, probe);
   const bool was_grounded = under.hit && mover.walkable(-under.normal);
   // Held up by something under it, walkable or not (a rounded bottom on a step's edge): it may
   // step.
@@ -261,14 +298,21 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   }
 
   // Stick to the ground going down: a character that stood on ground and did not move up is
-  // pressed down onto walkable ground within a step.
-  WorldCastHitN<D> ground = mover.probe_ground(xf, probe);
-  if (!ground.hit && was_grounded && dot(displacement, up) <= 0.0f && settings.step_height > 0.0f) {
+  // pressed down onto walkable ground within a step. The last cast down is the ground probe
+  // (from where the character ends, so that the next move can start from it).
+  WorldCastHitN<D> end_probe = mover.probe_below(xf, probe_at(xf));
+  if (!mover.ground_of(end_probe).hit && was_grounded && dot(displacement, up) <= 0.0f &&
+      settings.step_height > 0.0f) {
     const WorldCastHitN<D> below = mover.probe_ground(xf, settings.step_height + settings.skin);
     if (below.hit) {
       mover.cast(xf, -(settings.step_height + settings.skin) * up);
-      ground = mover.probe_ground(xf, probe);
+      end_probe = mover.probe_below(xf, probe_at(xf));
     }
+  }
+  const WorldCastHitN<D> ground = mover.ground_of(end_probe);
+  if (!end_probe.hit || end_probe.collider.is_static) {
+    out.static_probe = end_probe;
+    out.probe_statics = world.static_count();
   }
   out.transform = xf;
   out.moved = xf.p - start.p;
@@ -283,8 +327,8 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
 }
 
 template CharacterMoveN<2> move_character<2>(const WorldN<2>&, const BodyShapeN<2>&, const TransformN<2>&,
-                                             VecN<2>, const CharacterSettingsN<2>&);
+                                             VecN<2>, const CharacterSettingsN<2>&, const CharacterMoveN<2>*);
 template CharacterMoveN<3> move_character<3>(const WorldN<3>&, const BodyShapeN<3>&, const TransformN<3>&,
-                                             VecN<3>, const CharacterSettingsN<3>&);
+                                             VecN<3>, const CharacterSettingsN<3>&, const CharacterMoveN<3>*);
 
 }  // namespace collide

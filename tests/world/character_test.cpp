@@ -13,6 +13,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -265,6 +266,76 @@ TEST(Character3D, RejectsBadSettings) {
   s.max_slope = 2.0f;
   EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(1, 0, 0), s), InvalidInput);
   EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(std::nanf(""), 0, 0)), InvalidInput);
+}
+
+// Handing a move the last one (`previous`) saves its ground probe against the statics and
+// changes nothing: a character walking over a ramp world where boxes slide under its feet and
+// a static is added half way makes the same moves with and without it. And the probe is taken
+// from `previous` indeed: a forged one (nothing under the feet) keeps a character from
+// stepping up the step it climbs with the true one.
+TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
+  World3D world = ramp_world(20.0f);
+  for (int k = 0; k < 6; ++k) {
+    world.add_body({.shapes = {make_box({0.3f, 0.1f, 0.3f})},
+                    .transform = Transform3{{1.0f + 1.5f * float(k), 3.0f, -2.0f + 0.7f * float(k)}},
+                    .velocity = {0.5f, -1.0f, 1.5f}});
+  }
+  const CharacterSettings3 s;
+  Transform3 with{Vec3(-3.0f, standing_height(s), 0.0f)};
+  Transform3 without = with;
+  std::optional<CharacterMove3> last;
+  Vec3 velocity(0.0f);
+  for (int frame = 0; frame < 300; ++frame) {
+    world.step(kDt);
+    if (frame == 150) {
+      // A new static right under the feet: a mat half way between the floor (y = 0, the
+      // circles stay on it) and the capsule's bottom. The ground changes.
+      ASSERT_LT(with.p.x, 2.0f);
+      const float bottom = with.p.y - kHalfHeight - kRadius;
+      const Vec3 feet(with.p.x, 0.5f * bottom, with.p.z);
+      world.add_static({.shapes = {quad(feet + Vec3(-1, 0, 1), feet + Vec3(1, 0, 1), feet + Vec3(1, 0, -1), feet + Vec3(-1, 0, -1))},
+                        .user_id = 7});
+    }
+    velocity.x = 0.5f * kSpeed * std::cos(0.03f * float(frame));  // circles of radius 0.8
+    velocity.z = 0.5f * kSpeed * std::sin(0.03f * float(frame));
+    velocity.y -= 9.81f * kDt;
+    const CharacterMove3 a = move_character(world, capsule3(), with, velocity * kDt, s, last ? &*last : nullptr);
+    const CharacterMove3 b = move_character(world, capsule3(), without, velocity * kDt, s);
+    ASSERT_EQ(a.transform.p, b.transform.p) << frame;
+    ASSERT_EQ(a.grounded, b.grounded) << frame;
+    ASSERT_EQ(a.ground_normal, b.ground_normal) << frame;
+    ASSERT_EQ(a.ground, b.ground) << frame;
+    ASSERT_EQ(a.blocked, b.blocked) << frame;
+    ASSERT_EQ(a.stepped, b.stepped) << frame;
+    ASSERT_EQ(a.contact_count, b.contact_count) << frame;
+    if (frame == 150) EXPECT_EQ(a.ground_user_id, 7u);
+    last = a;
+    with = a.transform;
+    without = b.transform;
+    if (a.grounded) velocity.y = 0.0f;
+  }
+
+  World3D steps = step_world(0.2f);
+  Transform3 xf{Vec3(0.0f, standing_height(s), 0.0f)};
+  const Vec3 step(kSpeed * kDt, -kFall, 0.0f);
+  std::optional<CharacterMove3> previous;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    const CharacterMove3 m = move_character(steps, capsule3(), xf, step, s, previous ? &*previous : nullptr);
+    if (m.stepped) {
+      ASSERT_TRUE(previous.has_value());
+      CharacterMove3 forged = *previous;
+      forged.static_probe = {};  // "nothing under the feet": not supported, so no step
+      EXPECT_FALSE(move_character(steps, capsule3(), xf, step, s, &forged).stepped);
+      EXPECT_TRUE(move_character(steps, capsule3(), xf, step, s, &*previous).stepped);
+      // A static added since (anywhere): the kept probe may miss it, so it is not used.
+      steps.add_static({.shapes = {floor_strip(-20.0f, -10.0f)}});
+      EXPECT_TRUE(move_character(steps, capsule3(), xf, step, s, &forged).stepped);
+      return;
+    }
+    previous = m;
+    xf = m.transform;
+  }
+  FAIL() << "never stepped";
 }
 
 TEST(Character3D, WandersDungeonObjWithoutEnteringIt) {

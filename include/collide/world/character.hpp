@@ -89,6 +89,13 @@ struct CharacterMoveN {
   int casts = 0;               ///< shape casts made
   std::array<CharacterContactN<D>, kMaxCharacterContacts> contacts{};  ///< surfaces met
   int contact_count = 0;
+  /// What the cast down under the shape at the end met first among the world's statics (no
+  /// hit: nothing within the probe), kept for this character's next move (`previous` of
+  /// move_character), which starts with the same cast. Kept when `probe_statics` >= 0: the
+  /// world's static_count() then; -1 when that cast met a body first (the statics' own first
+  /// hit is then unknown).
+  WorldCastHitN<D> static_probe{};
+  int probe_statics = -1;
 };
 
 using CharacterSettings = CharacterSettingsN<2>;    ///< 2D character settings
@@ -100,12 +107,22 @@ using CharacterMove3 = CharacterMoveN<3>;           ///< 3D character move
 
 /// Moves `shape` (local space, usually a capsule along `up`) from `start` by `displacement`
 /// (world units, e.g. velocity * dt, gravity included) through `world`'s colliders that
-/// `settings.filter` sees, as the file comment says. The shape keeps its orientation. Throws
-/// InvalidInput for a non-finite transform or displacement, a non-unit `up`, a negative skin or
-/// step height, or a max_slope outside [0, pi/2].
+/// `settings.filter` sees, as the file comment says. The shape keeps its orientation.
+///
+/// `previous`, optional: this character's last move, as a game keeps it. A move starts with a
+/// cast down (what is under the shape), the same cast the last move ended with when the
+/// character starts where it ended; then that cast's part against the statics, which never
+/// move, is taken from `previous` and only the bodies are cast against again (one shape cast
+/// against the level fewer per move). The result is the same as without it: it is used only
+/// when `start` is `previous->transform` exactly, with the same shape and settings, no static
+/// added since, and no push out at the start.
+///
+/// Throws InvalidInput for a non-finite transform or displacement, a non-unit `up`, a negative
+/// skin or step height, or a max_slope outside [0, pi/2].
 template <int D>
 [[nodiscard]] CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& shape,
                                                const TransformN<D>& start, VecN<D> displacement,
-                                               const CharacterSettingsN<D>& settings = {});
+                                               const CharacterSettingsN<D>& settings = {},
+                                               const CharacterMoveN<D>* previous = nullptr);
 
 }  // namespace collide
