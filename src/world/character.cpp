@@ -103,6 +103,20 @@ class Mover {
     return moved;
   }
 
+  /// `push_out` when no static can overlap the shape at `xf` (see move_character): a pass
+  /// against the bodies alone, and only if one overlaps it the full push out.
+  bool push_out_of_bodies(TransformN<D>& xf) {
+    if (!filter_.bodies) return false;
+    QueryFilter bodies_only = filter_;
+    bodies_only.statics = false;
+    bool overlapped = false;
+    world_.collide_shape(shape_, xf, bodies_only, [&](const ColliderRef&, const ManifoldN<D>& m) {
+      overlapped = m.max_depth() > 0.0f;
+      return !overlapped;
+    });
+    return overlapped && push_out(xf);
+  }
+
   /// What is under `xf` within `distance`: a cast down.
   WorldCastHitN<D> probe_below(const TransformN<D>& xf, float distance) {
     ++out_.casts;
@@ -216,7 +230,15 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   CharacterMoveN<D> out;
   Mover<D> mover(world, shape, settings, out);
   TransformN<D> xf = start;
-  out.pushed_out = mover.push_out(xf);
+  // Where the last move ended, with the same statics: its ground probe is this move's first
+  // cast against them. That cast reports every static the shape overlaps at the start at
+  // fraction 0, so a first static hit later than that (or none) says no static overlaps it,
+  // and pushing out needs to look at the bodies only.
+  const bool continued = previous != nullptr && previous->probe_statics == world.static_count() &&
+                         same_transform(start, previous->transform);
+  const bool statics_clear =
+      continued && (!previous->static_probe.hit || previous->static_probe.fraction > 0.0f);
+  out.pushed_out = statics_clear ? mover.push_out_of_bodies(xf) : mover.push_out(xf);
   const Vec up = settings.up;
   // How far down the ground probe looks from `at`: twice the skin it keeps, and rounding.
   const auto probe_at = [&](const TransformN<D>& at) {
@@ -224,9 +246,7 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   };
   const float probe = probe_at(xf);
   // The last move ended with this very cast when the character starts where it ended.
-  const bool reuse = previous != nullptr && previous->probe_statics >= 0 &&
-                     previous->probe_statics == world.static_count() && !out.pushed_out &&
-                     same_transform(start, previous->transform);
+  const bool reuse = continued && !out.pushed_out;
   const WorldCastHitN<D> under = reuse ? mover.probe_below(xf, probe, previous->static_probe)
                                        : mover.probe_below(xf, probe);
   const bool was_grounded = under.hit && mover.walkable(-under.normal);

@@ -268,9 +268,10 @@ TEST(Character3D, RejectsBadSettings) {
   EXPECT_THROW((void)move_character(world, capsule3(), Transform3{}, Vec3(std::nanf(""), 0, 0)), InvalidInput);
 }
 
-// Handing a move the last one (`previous`) saves its ground probe against the statics and
-// changes nothing: a character walking over a ramp world where boxes slide under its feet and
-// a static is added half way makes the same moves with and without it. And the probe is taken
+// Handing a move the last one (`previous`) saves its ground probe and its push out against the
+// statics and changes nothing: a character walking over a ramp world where boxes slide under
+// its feet, one sweeps through it, and a static is added half way makes the same moves with
+// and without it. And the probe is taken
 // from `previous` indeed: a forged one (nothing under the feet) keeps a character from
 // stepping up the step it climbs with the true one.
 TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
@@ -280,11 +281,15 @@ TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
                     .transform = Transform3{{1.0f + 1.5f * float(k), 3.0f, -2.0f + 0.7f * float(k)}},
                     .velocity = {0.5f, -1.0f, 1.5f}});
   }
+  // And one that sweeps through the character's circles at its height: it pushes it out.
+  world.add_body({.shapes = {make_box({0.4f, 0.4f, 0.4f})}, .transform = Transform3{{-3.0f, 0.8f, -4.0f}},
+                  .velocity = {0.0f, 0.0f, 1.0f}});
   const CharacterSettings3 s;
   Transform3 with{Vec3(-3.0f, standing_height(s), 0.0f)};
   Transform3 without = with;
   std::optional<CharacterMove3> last;
   Vec3 velocity(0.0f);
+  int pushed = 0;
   for (int frame = 0; frame < 300; ++frame) {
     world.step(kDt);
     if (frame == 150) {
@@ -308,12 +313,15 @@ TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
     ASSERT_EQ(a.blocked, b.blocked) << frame;
     ASSERT_EQ(a.stepped, b.stepped) << frame;
     ASSERT_EQ(a.contact_count, b.contact_count) << frame;
+    ASSERT_EQ(a.pushed_out, b.pushed_out) << frame;
+    pushed += a.pushed_out;
     if (frame == 150) EXPECT_EQ(a.ground_user_id, 7u);
     last = a;
     with = a.transform;
     without = b.transform;
     if (a.grounded) velocity.y = 0.0f;
   }
+  EXPECT_GT(pushed, 0);  // the sweeping box met the character
 
   World3D steps = step_world(0.2f);
   Transform3 xf{Vec3(0.0f, standing_height(s), 0.0f)};

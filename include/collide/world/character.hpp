@@ -109,13 +109,14 @@ using CharacterMove3 = CharacterMoveN<3>;           ///< 3D character move
 /// (world units, e.g. velocity * dt, gravity included) through `world`'s colliders that
 /// `settings.filter` sees, as the file comment says. The shape keeps its orientation.
 ///
-/// `previous`, optional: this character's last move, as a game keeps it. A move starts with a
-/// cast down (what is under the shape), the same cast the last move ended with when the
-/// character starts where it ended; then that cast's part against the statics, which never
-/// move, is taken from `previous` and only the bodies are cast against again (one shape cast
-/// against the level fewer per move). The result is the same as without it: it is used only
-/// when `start` is `previous->transform` exactly, with the same shape and settings, no static
-/// added since, and no push out at the start.
+/// `previous`, optional: this character's last move (same shape and settings), as a game keeps
+/// it. A move starts with a push out and a cast down (what is under the shape); the last move
+/// ended with that same cast when the character starts where it ended. Then that cast's part
+/// against the statics, which never move, is taken from `previous`, and so is the push out's:
+/// the cast reports a static the shape overlaps at fraction 0, so a later first hit means none
+/// does. Only the bodies are queried again (a shape cast and a contact query against the level
+/// fewer per move). The result is the same as without it: it is used only when `start` is
+/// `previous->transform` exactly and no static was added since.
 ///
 /// Throws InvalidInput for a non-finite transform or displacement, a non-unit `up`, a negative
 /// skin or step height, or a max_slope outside [0, pi/2].
