@@ -39,11 +39,11 @@ int main() {
   Vec3 velocity{2.0f, 0.0f, 0.0f};
   const CharacterSettings3 settings{.step_height = 0.3f, .filter = QueryFilter{.bodies = false}};
   const float dt = 1.0f / 60.0f;
-  CharacterMove3 m;  // the last move: handed to the next one, which then casts less
+  CharacterMove3 m;  // the last move, handed to the next one (which then casts less; a fresh one is not used)
   for (int frame = 1; frame <= 240; ++frame) {
     world.step(dt);
     velocity.y -= 9.81f * dt;
-    m = move_character(world, player, player_at, velocity * dt, settings, frame > 1 ? &m : nullptr);
+    m = move_character(world, player, player_at, velocity * dt, settings, &m);
     player_at = m.transform;
     if (m.grounded) velocity.y = 0.0f;
     if (frame % 60 == 0) {
