@@ -258,6 +258,14 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   std::array<Vec, kMaxPlanes<D>> planes{};
   int plane_count = 0;
   Vec remaining = displacement;
+  // Standing on walkable ground within the skin (the gap along its normal, from the probe):
+  // its plane is the slide's first, so the part of the displacement into the ground (gravity
+  // while walking) is taken out before the first cast instead of by a cast that meets the
+  // ground at once and moves nowhere.
+  if (was_grounded && under.fraction * probe * dot(-under.normal, up) <= (1.0f + kCharacterSkinSlack) * settings.skin) {
+    planes[plane_count++] = -under.normal;
+    remaining = clip(displacement, planes, plane_count);
+  }
   bool tried_step = false;
   for (int i = 0; i < settings.max_iterations; ++i) {
     if (!(length(remaining) > kRelativeTolerance * (max_abs(xf.p) + 1.0f))) break;

@@ -84,6 +84,35 @@ TEST(Character3D, WalksAcrossAFlatFloorOnTheGround) {
   EXPECT_LE(w.max_depth, 1e-4f);
 }
 
+// Walking under gravity (the fall speed growing each frame until the move ends on the ground,
+// as a game steps it), the character keeps its skin above the floor: the ground it stands on
+// is the slide's first plane, so gravity is taken out before any cast. (Before, each frame's
+// fall was cast into the floor and the gap shrank to a third of the skin.)
+TEST(Character3D, KeepsItsSkinWalkingUnderGravity) {
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  const CharacterSettings3 s;
+  Transform3 xf{Vec3(0.0f, standing_height(s), 0.0f)};
+  float vy = 0.0f;
+  float min_gap = 1e9f, max_gap = 0.0f;
+  std::optional<CharacterMove3> last;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    vy -= 9.81f * kDt;
+    const CharacterMove3 m = move_character(world, capsule3(), xf, Vec3(kSpeed * kDt, vy * kDt, 0.0f), s,
+                                            last ? &*last : nullptr);
+    ASSERT_TRUE(m.grounded) << frame;
+    if (m.grounded) vy = 0.0f;
+    last = m;
+    xf = m.transform;
+    const float gap = xf.p.y - kHalfHeight - kRadius;
+    min_gap = std::min(min_gap, gap);
+    max_gap = std::max(max_gap, gap);
+  }
+  EXPECT_NEAR(xf.p.x, kFrames * kSpeed * kDt, 1e-3f);  // the whole way
+  EXPECT_GE(min_gap, 0.9f * s.skin);
+  EXPECT_LE(max_gap, (1.0f + kCharacterSkinSlack) * s.skin + 1e-4f);
+}
+
 /// A floor for x < 2 and a ramp rising along +x from x = 2 at `degrees`.
 World3D ramp_world(float degrees) {
   World3D world;
