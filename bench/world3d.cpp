@@ -511,7 +511,8 @@ void collide_frame(const World3D& world, const Shape3D& shape, const CharacterSe
     Walker& w = walkers[k];
     w.vy = next_vertical(w.vy, w.grounded);
     const Vec3 v(desired[k].x, w.vy, desired[k].z);
-    const CharacterMove3 m = move_character(world, shape, Transform3{w.p}, v * kDt, settings, w.last ? &*w.last : nullptr);
+    const CharacterMove3 m =
+        move_character(world, shape, Transform3{w.p}, v * kDt, settings, w.last ? &*w.last : nullptr);
     w.last = m;
     w.p = m.transform.p;
     w.grounded = m.grounded;

@@ -6,6 +6,8 @@
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 
+#include "hit_order.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -124,20 +126,16 @@ class Mover {
   }
   /// `probe_below` when its part against the statics is `statics` (the same cast, kept by the
   /// last move): the bodies alone are cast against, and the first of the two hits is taken as
-  /// the world's shape_cast orders them (the earlier fraction; at the same fraction the
-  /// smaller collider key, statics first).
+  /// the world's shape_cast orders them (detail::better).
   WorldCastHitN<D> probe_below(const TransformN<D>& xf, float distance, const WorldCastHitN<D>& statics) {
     if (!filter_.bodies) return statics;
     ++out_.casts;
     QueryFilter bodies_only = filter_;
     bodies_only.statics = false;
     const WorldCastHitN<D> bodies = world_.shape_cast(shape_, xf, -distance * s_.up, bodies_only);
-    if (!bodies.hit) return statics;
-    if (!statics.hit || bodies.fraction < statics.fraction ||
-        (bodies.fraction == statics.fraction && bodies.collider.key() < statics.collider.key())) {
-      return bodies;
-    }
-    return statics;
+    const bool bodies_first =
+        bodies.hit && detail::better(bodies.fraction, bodies.collider, statics.hit, statics.fraction, statics.collider);
+    return bodies_first ? bodies : statics;
   }
   /// The ground under `xf`: a cast down by `distance` that hits walkable ground.
   WorldCastHitN<D> probe_ground(const TransformN<D>& xf, float distance) {
@@ -262,7 +260,8 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   // its plane is the slide's first, so the part of the displacement into the ground (gravity
   // while walking) is taken out before the first cast instead of by a cast that meets the
   // ground at once and moves nowhere.
-  if (was_grounded && under.fraction * probe * dot(-under.normal, up) <= (1.0f + kCharacterSkinSlack) * settings.skin) {
+  const float skin_kept = (1.0f + kCharacterSkinSlack) * settings.skin;
+  if (was_grounded && under.fraction * probe * dot(-under.normal, up) <= skin_kept) {
     planes[plane_count++] = -under.normal;
     remaining = clip(displacement, planes, plane_count);
   }

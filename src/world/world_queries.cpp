@@ -3,6 +3,7 @@
 // answers through its own BVH or grid); bodies through the body broad phase when it holds their
 // current boxes (after a step), else by a scan of the bodies.
 
+#include "hit_order.hpp"
 #include "world_impl.hpp"
 
 #include <collide/ccd/sweep.hpp>
@@ -26,11 +27,7 @@ bool visible(const QueryFilter& f, CollisionFilter cf, bool sensor) {
   return (cf.layer & f.mask) != 0u && (f.sensors || !sensor);
 }
 
-/// Is candidate `c` (fraction t) better than the best so far? Earlier wins; ties go to the
-/// smaller collider key, so results do not depend on the order structures visit candidates.
-bool better(float t, const ColliderRef& c, bool have_best, float best_t, const ColliderRef& best) {
-  return !have_best || t < best_t || (t == best_t && c.key() < best.key());
-}
+using detail::better;
 
 /// Calls `visit(ColliderRef)` for every collider (passing `filter`) whose box may meet the
 /// query: statics through `static_query`, bodies through `body_query` on the broad phase when

@@ -300,9 +300,8 @@ TEST(Character3D, RejectsBadSettings) {
 // Handing a move the last one (`previous`) saves its ground probe and its push out against the
 // statics and changes nothing: a character walking over a ramp world where boxes slide under
 // its feet, one sweeps through it, and a static is added half way makes the same moves with
-// and without it. And the probe is taken
-// from `previous` indeed: a forged one (nothing under the feet) keeps a character from
-// stepping up the step it climbs with the true one.
+// and without it. And the probe is taken from `previous` indeed: a forged one (nothing under
+// the feet) keeps a character from stepping up the step it climbs with the true one.
 TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
   World3D world = ramp_world(20.0f);
   for (int k = 0; k < 6; ++k) {
@@ -327,8 +326,8 @@ TEST(Character3D, PreviousMoveSavesTheGroundProbeAndChangesNothing) {
       ASSERT_LT(with.p.x, 2.0f);
       const float bottom = with.p.y - kHalfHeight - kRadius;
       const Vec3 feet(with.p.x, 0.5f * bottom, with.p.z);
-      world.add_static({.shapes = {quad(feet + Vec3(-1, 0, 1), feet + Vec3(1, 0, 1), feet + Vec3(1, 0, -1), feet + Vec3(-1, 0, -1))},
-                        .user_id = 7});
+      const auto mat = quad(feet + Vec3(-1, 0, 1), feet + Vec3(1, 0, 1), feet + Vec3(1, 0, -1), feet + Vec3(-1, 0, -1));
+      world.add_static({.shapes = {mat}, .user_id = 7});
     }
     velocity.x = 0.5f * kSpeed * std::cos(0.03f * float(frame));  // circles of radius 0.8
     velocity.z = 0.5f * kSpeed * std::sin(0.03f * float(frame));
