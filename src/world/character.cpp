@@ -278,23 +278,32 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
       tried_step = true;
       const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
       if (length(along) > settings.skin) {
+        // Kept when it rises, goes forward and lands higher than it was, each by more than
+        // the skin, on or by walkable ground; the first of these to fail ends the try (most
+        // tries meet a wall taller than a step: the cast forward goes nowhere).
         TransformN<D> t = xf;
         mover.cast(t, settings.step_height * up);
         const float risen = dot(t.p - xf.p, up);
-        mover.cast(t, along);
-        bool land = mover.probe_ground(t, risen + settings.skin).hit;
-        if (!land && settings.step_forward_test > 0.0f) {
-          // Landing on the step's edge: walkable ground a little further on keeps the step.
-          TransformN<D> ahead = t;
-          mover.cast(ahead, settings.step_forward_test * (along / length(along)));
-          land = mover.probe_ground(ahead, risen + settings.skin).hit;
+        bool land = false;
+        if (risen > settings.skin) {
+          const Vec raised = t.p;
+          mover.cast(t, along);
+          const Vec forward = t.p - raised;
+          if (length(forward - dot(forward, up) * up) > settings.skin) {
+            land = mover.probe_ground(t, risen + settings.skin).hit;
+            if (!land && settings.step_forward_test > 0.0f) {
+              // Landing on the step's edge: walkable ground a little further on keeps the step.
+              TransformN<D> ahead = t;
+              mover.cast(ahead, settings.step_forward_test * (along / length(along)));
+              land = mover.probe_ground(ahead, risen + settings.skin).hit;
+            }
+          }
         }
-        // Kept when it lands higher than it was, on or by walkable ground, and went forward.
-        if (land && risen > settings.skin) {
+        if (land) {
           TransformN<D> landed = t;
           mover.cast(landed, -(risen + settings.skin) * up);
           const Vec gained = landed.p - xf.p;
-          if (dot(gained, up) > settings.skin && length(gained - dot(gained, up) * up) > settings.skin) {
+          if (dot(gained, up) > settings.skin) {
             xf = landed;
             out.stepped = true;
             remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on

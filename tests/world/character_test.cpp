@@ -209,6 +209,11 @@ TEST(Character3D, IsStoppedByAStepOfPointSix) {
   EXPECT_NEAR(w.end.p.y, standing_height(s), 2e-3f);
   EXPECT_TRUE(w.moves.back().blocked);
   EXPECT_TRUE(w.moves.back().grounded);
+  EXPECT_FALSE(w.moves.back().stepped);
+  // Pressed against the face, a move casts: the ground probe, into the face, the step's try up
+  // and forward (which goes nowhere, so the try ends without probing for ground to land on),
+  // and the end's ground probe.
+  EXPECT_EQ(w.moves.back().casts, 5);
   EXPECT_LE(w.max_depth, 1e-4f);
 }
 
