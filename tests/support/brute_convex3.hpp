@@ -235,4 +235,29 @@ inline double brute_point_distance(const BruteCore& c, DVec3 p) {
   return std::max(brute_core_distance(point, c) - c.radius, 0.0);
 }
 
+/// First time t in [0, 1] at which a distance that is convex in t (two translating convex
+/// shapes) reaches 0, or -1 when it never does; `min_distance` gets its least value over the
+/// step. A ternary search for the closest approach, then a bisection before it.
+template <class DistanceAt>
+double brute_first_touch(const DistanceAt& distance_at, double& min_distance) {
+  double lo = 0.0;
+  double hi = 1.0;
+  for (int i = 0; i < 40; ++i) {
+    const double m1 = lo + (hi - lo) / 3.0;
+    const double m2 = hi - (hi - lo) / 3.0;
+    if (distance_at(m1) <= distance_at(m2)) hi = m2; else lo = m1;
+  }
+  const double t_min = 0.5 * (lo + hi);
+  min_distance = std::min({distance_at(t_min), distance_at(0.0), distance_at(1.0)});
+  if (min_distance > 0.0) return -1.0;
+  if (distance_at(0.0) <= 0.0) return 0.0;
+  double a = 0.0;
+  double b = distance_at(t_min) <= 0.0 ? t_min : 1.0;
+  for (int i = 0; i < 40; ++i) {
+    const double m = 0.5 * (a + b);
+    if (distance_at(m) > 0.0) a = m; else b = m;
+  }
+  return b;
+}
+
 }  // namespace collide::test
