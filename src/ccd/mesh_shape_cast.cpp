@@ -38,6 +38,15 @@ struct LevelCast {
   float core_size = 0.0f;  ///< detail::proxy_size of A (the cast's tolerance scales with it)
   Vec3 motion{0.0f};       ///< A's motion against the level, va_local - vl_local
   float motion_length = 0.0f;
+  /// Triangles `plane_test` found `outside`, with their first reach, for cast_deferred.
+  struct Deferred {
+    Triangle tri;  ///< A's frame
+    float from;
+    std::uint32_t t;
+  };
+  static constexpr int kMaxDeferred = 8;  ///< more go to GJK at once
+  std::array<Deferred, kMaxDeferred> deferred{};
+  int deferred_count = 0;
 
   /// What the planes of the triangle's prism tell a sphere's or capsule's cast before GJK is
   /// asked (`tri` in A's frame, the triangle still and A moving by `motion`):
@@ -54,12 +63,16 @@ struct LevelCast {
   ///    fraction before `clip` at a point inside the triangle: the first touch, in closed form,
   ///    filled into `hit` as gjk_shape_cast reports it (A's frame, the triangle moving by
   ///    vl_local). The plane is the earliest any part of the triangle can be met.
+  ///  - `outside`: A first reaches the plane before `clip`, but outside the triangle: it can
+  ///    touch the triangle only after `from` (that first reach), if at all. For GJK, which
+  ///    `test` puts off (see `deferred`).
   ///  - `unknown`: for GJK (a start within the target separation of the plane, a core across
-  ///    it, a first reach outside the triangle before `clip`, a degenerate triangle).
+  ///    it, a degenerate triangle).
   /// A character's casts meet floors and walls face on: most hits are `face` (a GJK hit costs
   /// about 950 cycles).
-  enum class PlaneVerdict { separated, later, face, unknown };
-  [[nodiscard]] PlaneVerdict plane_test(const Triangle& tri, float clip, ShapeCastResult3& hit) const noexcept {
+  enum class PlaneVerdict { separated, later, face, outside, unknown };
+  [[nodiscard]] PlaneVerdict plane_test(const Triangle& tri, float clip, ShapeCastResult3& hit,
+                                        float& from) const noexcept {
     const std::array<Vec3, 3>& c = tri.vertices;
     const Vec3 e[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
     const Vec3 nn = cross(e[0], -e[2]);
@@ -104,7 +117,10 @@ struct LevelCast {
     const Vec3 q = (g0 <= g1 ? core0 : core1) + fraction * motion - core_radius * n;
     bool inside = true;
     for (int k = 0; k < 3 && inside; ++k) inside = dot(cross(e[k], q - c[k]), nn) >= 0.0f;
-    if (!inside) return fraction >= clip ? PlaneVerdict::later : PlaneVerdict::unknown;
+    if (!inside) {
+      from = fraction;
+      return fraction >= clip ? PlaneVerdict::later : PlaneVerdict::outside;
+    }
     if (!(fraction < clip)) return PlaneVerdict::later;
     hit.hit = true;
     hit.status = QueryStatus::hit;
@@ -115,17 +131,33 @@ struct LevelCast {
     return PlaneVerdict::face;
   }
 
+  /// The best fraction so far, the bound past which no triangle matters (1 before a hit).
+  [[nodiscard]] float clip() const noexcept { return best_t == kNoTriangle ? 1.0f : best.fraction; }
+
   /// Cast against triangle `t` (stored corners); returns the new clip fraction (0: stop).
   float test(std::uint32_t t, const std::array<Vec3, 3>& c) noexcept {
     const Triangle tri{{transform_point(stored_to_a, c[0]), transform_point(stored_to_a, c[1]),
                         transform_point(stored_to_a, c[2])}};
-    const float clip = best_t == kNoTriangle ? 1.0f : best.fraction;
+    if (!rounded_core) return keep(t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local));
     ShapeCastResult3 r;
-    const PlaneVerdict verdict = rounded_core ? plane_test(tri, clip, r) : PlaneVerdict::unknown;
-    if (verdict == PlaneVerdict::separated || verdict == PlaneVerdict::later) return clip;
-    if (verdict == PlaneVerdict::unknown) {
-      r = gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local);
+    float from = 0.0f;
+    switch (plane_test(tri, clip(), r, from)) {
+      case PlaneVerdict::separated:
+      case PlaneVerdict::later: return clip();
+      case PlaneVerdict::face: return keep(t, r);
+      case PlaneVerdict::outside:
+        if (deferred_count < kMaxDeferred) {
+          deferred[deferred_count++] = {tri, from, t};
+          return clip();
+        }
+        break;
+      case PlaneVerdict::unknown: break;
     }
+    return keep(t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local));
+  }
+
+  /// Takes `r`, the cast against triangle `t`, into the best; returns the new clip fraction.
+  float keep(std::uint32_t t, const ShapeCastResult3& r) noexcept {
     if (r.hit) {
       if (best_t == kNoTriangle || r.fraction < best.fraction) {
         best = r;
@@ -137,11 +169,26 @@ struct LevelCast {
       stalled = r;
       any_stalled = true;
     }
-    return best_t == kNoTriangle ? 1.0f : best.fraction;
+    return clip();
+  }
+
+  /// The triangles put off as `outside`, cast by GJK nearest first reach first while that
+  /// reach is before the best touch (the others cannot be touched earlier). A character's end
+  /// probe meets the floor triangle it stands over face on, and the floor triangles beside it
+  /// reach their shared plane no earlier: put off, they are never cast.
+  void cast_deferred() noexcept {
+    std::sort(deferred.begin(), deferred.begin() + deferred_count,
+              [](const Deferred& a, const Deferred& b) { return a.from < b.from; });
+    for (int i = 0; i < deferred_count && deferred[i].from < clip() && clip() > 0.0f; ++i) {
+      keep(deferred[i].t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(deferred[i].tri), Transform3{},
+                                            vl_local));
+    }
+    deferred_count = 0;
   }
 
   /// The result in the world.
-  ShapeCastResult3 finish(const Transform3& xa, std::uint32_t* triangle) const noexcept {
+  ShapeCastResult3 finish(const Transform3& xa, std::uint32_t* triangle) noexcept {
+    cast_deferred();
     if (triangle != nullptr) *triangle = best_t;
     ShapeCastResult3 r;
     if (best_t != kNoTriangle && !(any_stalled && stalled.fraction < best.fraction)) {

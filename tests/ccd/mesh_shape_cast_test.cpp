@@ -103,6 +103,63 @@ TEST(MeshShapeCast, DungeonAgainstBruteForce) {
   EXPECT_GT(misses, 5);
 }
 
+/// A floor y = 0 of `n` x `n` quads of side `side` centred on the origin, two triangles each,
+/// leaving out the quads whose centre is within `hole` of the origin.
+TriangleMesh fine_floor(int n, float side, float hole) {
+  std::vector<Vec3> vertices;
+  std::vector<glm::uvec3> triangles;
+  const float half = 0.5f * float(n) * side;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const float x = -half + float(i) * side, z = -half + float(j) * side;
+      if (length(Vec2(x + 0.5f * side, z + 0.5f * side)) < hole) continue;
+      const auto v = static_cast<unsigned>(vertices.size());
+      vertices.insert(vertices.end(), {{x, 0, z}, {x, 0, z + side}, {x + side, 0, z + side}, {x + side, 0, z}});
+      triangles.push_back({v, v + 1, v + 2});
+      triangles.push_back({v, v + 2, v + 3});
+    }
+  }
+  return make_triangle_mesh(vertices, triangles);
+}
+
+TEST(MeshShapeCast, WideRoundedShapesOverManySmallTriangles) {
+  // A sphere and a lying capsule of radius 0.5 dropped onto a floor of 0.05 quads: hundreds of
+  // triangles lie within the radius of the foot, reached first outside themselves, more than
+  // the cast puts off for later. Whole, the floor is met face on under the foot; with a hole
+  // of radius 0.2 under it, the sphere on the hole's rim, later (only the triangles put off
+  // can give that touch).
+  for (const float hole : {0.0f, 0.2f}) {
+    const TriangleMesh floor = fine_floor(40, 0.05f, hole);
+    const float r = 0.5f;
+    const Shape3D shapes[] = {make_sphere(Vec3(0.0f), r), make_capsule(Vec3(-0.3f, 0, 0), Vec3(0.3f, 0, 0), r)};
+    for (const Shape3D& shape : shapes) {
+      const Transform3 xa{Vec3(0.013f, 1.0f, -0.007f)};
+      const Vec3 va(0.0f, -1.0f, 0.0f);
+      const ShapeCastResult3 got = shape_cast(shape, xa, va, floor, Transform3{}, Vec3(0.0f));
+      const ShapeCastResult3 truth = brute_cast(shape, xa, va, floor, Transform3{}, Vec3(0.0f));
+      SCOPED_TRACE(testing::Message() << "hole " << hole << " shape " << shape.index());
+      ASSERT_TRUE(got.hit);
+      expect_same(got, truth, 0);
+      const bool sphere = std::holds_alternative<Sphere>(shape);
+      if (hole == 0.0f || !sphere) {
+        // The capsule (core x in [-0.3, 0.3]) lies across the hole onto the floor beyond it.
+        EXPECT_NEAR(got.fraction, 1.0f - r, 1e-5f);
+        // The sphere's touch is the face under its foot, in closed form (the capsule's is a
+        // segment of the floor, which GJK may find first, on a triangle beside the foot).
+        if (hole == 0.0f && sphere) EXPECT_EQ(got.iterations, 0);
+      } else {
+        // The lowest ring of the sphere resting on a rim of radius about the hole's: lower
+        // than the face by r - sqrt(r^2 - rim^2), rim in [0.2 - 0.05, 0.2 + 0.05] (quads are
+        // left out by their centres).
+        const auto drop = [&](float rim) { return r - std::sqrt(r * r - rim * rim); };
+        EXPECT_GT(got.fraction, 1.0f - r + drop(0.14f));
+        EXPECT_LT(got.fraction, 1.0f - r + drop(0.26f));
+        EXPECT_NEAR(got.normal.y, -1.0f, 0.3f);
+      }
+    }
+  }
+}
+
 TEST(MeshShapeCast, HeightFieldMatchesEquivalentMeshAndFlatDrop) {
   const int n = 13;
   std::vector<float> heights;
