@@ -160,6 +160,36 @@ TEST(MeshShapeCast, WideRoundedShapesOverManySmallTriangles) {
   }
 }
 
+TEST(MeshShapeCast, RoundedShapesBesideALedgeMeetItsEdgeOnly) {
+  // The wall below a ledge: the plane x = 0 for y in [-5, 0] (its top edge along z at y = 0).
+  // A sphere of radius 0.5 beside it, centre at x = 0.35 (inside the wall's plane's reach),
+  // above the edge, moving down: it touches the edge when its centre is 0.5 from it.
+  const TriangleMesh wall = make_triangle_mesh(std::vector<Vec3>{{0, -5, -5}, {0, 0, -5}, {0, 0, 5}, {0, -5, 5}},
+                                               std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}});
+  const float r = 0.5f;
+  const Sphere ball = make_sphere(Vec3(0.0f), r);
+  const Capsule3 upright = make_capsule(Vec3(0, -0.2f, 0), Vec3(0, 0.2f, 0), r);
+  const float touch_y = std::sqrt(r * r - 0.35f * 0.35f);  // of the lower core end
+  for (const bool capsule : {false, true}) {
+    const float below = capsule ? 0.2f : 0.0f;  // the lower core end under the centre
+    const auto cast = [&](Vec3 v) {
+      const Transform3 xa{Vec3(0.35f, 0.4f + below, 0.1f)};
+      return capsule ? shape_cast(upright, xa, v, wall, Transform3{}, Vec3(0.0f))
+                     : shape_cast(ball, xa, v, wall, Transform3{}, Vec3(0.0f));
+    };
+    SCOPED_TRACE(capsule ? "capsule" : "sphere");
+    // Down by 0.05: the edge is met after (0.4 - touch_y) / 0.05.
+    const ShapeCastResult3 down = cast(Vec3(0, -0.05f, 0));
+    ASSERT_TRUE(down.hit);
+    EXPECT_NEAR(down.fraction, (0.4f - touch_y) / 0.05f, 2e-3f);
+    EXPECT_VEC3_NEAR(down.point, Vec3(0, 0, 0.1f), 1e-3f);
+    EXPECT_VEC3_NEAR(down.normal, normalize(Vec3(-0.35f, -touch_y, 0)), 1e-3f);
+    // Down by 0.02 it ends 0.017 short of the edge; along the edge it never nears it.
+    EXPECT_FALSE(cast(Vec3(0, -0.02f, 0)).hit);
+    EXPECT_FALSE(cast(Vec3(0, 0, 2.0f)).hit);
+  }
+}
+
 TEST(MeshShapeCast, HeightFieldMatchesEquivalentMeshAndFlatDrop) {
   const int n = 13;
   std::vector<float> heights;
