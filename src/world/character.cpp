@@ -5,6 +5,7 @@
 
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
+#include <collide/narrow/support.hpp>
 
 #include "hit_order.hpp"
 
@@ -37,13 +38,19 @@ class Mover {
 
   Mover(const WorldN<D>& world, const BodyShapeN<D>& shape, const CharacterSettingsN<D>& settings,
         CharacterMoveN<D>& out)
-      : world_(world), shape_(shape), s_(settings), out_(out),
+      : world_(world), shape_(shape), proxy_(shape), s_(settings), out_(out),
         cos_slope_(std::cos(settings.max_slope)) {
     filter_ = settings.filter;
     filter_.sensors = false;
   }
 
   [[nodiscard]] bool walkable(Vec n) const { return dot(n, s_.up) >= cos_slope_; }
+
+  /// Height along up of the shape's lowest point when placed at `xf` (its support point down).
+  [[nodiscard]] float lowest(const TransformN<D>& xf) const {
+    const Vec down = inv_rotate(xf.q, -s_.up);
+    return dot(transform_point(xf, proxy_.point(proxy_.support_index(down))), s_.up) - proxy_.radius();
+  }
 
   /// The vertical plane a surface of normal `n` (from the surface to the character) adds for a
   /// walking character when it faces up but is steeper than the walkable slope: the character
@@ -157,6 +164,7 @@ class Mover {
  private:
   const WorldN<D>& world_;
   const BodyShapeN<D>& shape_;
+  ConvexProxyN<D> proxy_;  ///< shape_'s support map
   const CharacterSettingsN<D>& s_;
   CharacterMoveN<D>& out_;
   float cos_slope_;
@@ -273,42 +281,61 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
     if (!hit.hit) break;
     const Vec n = -hit.normal;  // from the surface towards the character
     Vec leftover = remaining - (xf.p - before.p);
-    // A wall met on the ground: try to step over it (once per move).
-    if (!tried_step && supported && settings.step_height > 0.0f && !mover.walkable(n) && dot(n, up) > -0.5f) {
+    // A wall met on the ground: try to step over it, once per move, when what is left of
+    // the move goes into it by more than the skin (not a wall walked along: the try is left
+    // for a step met further on) and it is met no higher above the character's lowest point
+    // than a step (rising by a step, the shape would meet that point again going forward).
+    const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
+    const auto met_low = [&] {
+      const TransformN<D> at_contact{before.p + hit.fraction * (length(remaining) + skin_kept) * normalize(remaining), xf.q};
+      return dot(hit.point, up) - mover.lowest(at_contact) <= settings.step_height + settings.skin;
+    };
+    if (!tried_step && supported && settings.step_height > 0.0f && !mover.walkable(n) && dot(n, up) > -0.5f &&
+        -dot(along, mover.effective_normal(n)) > settings.skin && met_low()) {
       tried_step = true;
-      const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
-      if (length(along) > settings.skin) {
-        // Kept when it rises, goes forward and lands higher than it was, each by more than
-        // the skin, on or by walkable ground; the first of these to fail ends the try (most
-        // tries meet a wall taller than a step: the cast forward goes nowhere).
-        TransformN<D> t = xf;
-        mover.cast(t, settings.step_height * up);
-        const float risen = dot(t.p - xf.p, up);
-        bool land = false;
-        if (risen > settings.skin) {
-          const Vec raised = t.p;
-          mover.cast(t, along);
+      // Kept when it rises, goes forward and lands higher than it was, each by more than the
+      // skin, on or by walkable ground; the first of these to fail ends the try.
+      TransformN<D> t = xf;
+      mover.cast(t, settings.step_height * up);
+      const float risen = dot(t.p - xf.p, up);
+      bool land = false;
+      if (risen > settings.skin) {
+        const Vec raised = t.p;
+        Vec ahead = along;
+        const WorldCastHitN<D> block = mover.cast(t, along);
+        const auto gone = [&] {
           const Vec forward = t.p - raised;
-          if (length(forward - dot(forward, up) * up) > settings.skin) {
-            land = mover.probe_ground(t, risen + settings.skin).hit;
-            if (!land && settings.step_forward_test > 0.0f) {
-              // Landing on the step's edge: walkable ground a little further on keeps the step.
-              TransformN<D> ahead = t;
-              mover.cast(ahead, settings.step_forward_test * (along / length(along)));
-              land = mover.probe_ground(ahead, risen + settings.skin).hit;
-            }
+          return length(forward - dot(forward, up) * up);
+        };
+        if (block.hit && gone() <= settings.skin) {
+          // Stopped at once by another surface than the one stepped over (a wall beside a
+          // stair, the move going a little into it): along that surface, once.
+          const Vec side = mover.effective_normal(-block.normal);
+          const float into_side = dot(along, side);
+          if (into_side < 0.0f && dot(side, mover.effective_normal(n)) < 1.0f - kSamePlaneTolerance) {
+            ahead = along - into_side * side;
+            mover.cast(t, ahead);
           }
         }
-        if (land) {
-          TransformN<D> landed = t;
-          mover.cast(landed, -(risen + settings.skin) * up);
-          const Vec gained = landed.p - xf.p;
-          if (dot(gained, up) > settings.skin) {
-            xf = landed;
-            out.stepped = true;
-            remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on
-            continue;
+        if (gone() > settings.skin) {
+          land = mover.probe_ground(t, risen + settings.skin).hit;
+          if (!land && settings.step_forward_test > 0.0f) {
+            // Landing on the step's edge: walkable ground a little further on keeps the step.
+            TransformN<D> further = t;
+            mover.cast(further, settings.step_forward_test * (ahead / length(ahead)));
+            land = mover.probe_ground(further, risen + settings.skin).hit;
           }
+        }
+      }
+      if (land) {
+        TransformN<D> landed = t;
+        mover.cast(landed, -(risen + settings.skin) * up);
+        const Vec gained = landed.p - xf.p;
+        if (dot(gained, up) > settings.skin) {
+          xf = landed;
+          out.stepped = true;
+          remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on
+          continue;
         }
       }
     }

@@ -250,6 +250,42 @@ TEST(Character3D, IsStoppedByAStepOfPointSix) {
   EXPECT_LE(w.max_depth, 1e-4f);
 }
 
+TEST(Character3D, IsStoppedByABarAtChestHeightWithoutTryingAStep) {
+  // A bar across the way at y in [0.6, 1.0] (x in [3, 4]): the capsule meets it higher above its
+  // lowest point than a step (0.3), so no step is tried: a move pressed against it casts the
+  // ground probe, into the bar, and the end's ground probe.
+  World3D world;
+  world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
+  world.add_static({.shapes = {make_box(Vec3(0.5f, 0.2f, 5.0f))}, .transform = Transform3{Vec3(3.5f, 0.8f, 0.0f)}});
+  const CharacterSettings3 s;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 0.0f), s);
+  EXPECT_NEAR(w.end.p.x, 3.0f - kRadius - (1.0f + kCharacterSkinSlack) * s.skin, 2e-3f);
+  EXPECT_TRUE(w.moves.back().blocked);
+  EXPECT_FALSE(w.moves.back().stepped);
+  EXPECT_EQ(w.moves.back().casts, 3);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
+// A step beside a wall, walked to while drifting 5 degrees into the wall (a stair between
+// walls): the character slides along the wall and climbs the step. Two things kept it below:
+// the one try a move gets was spent on the wall, and the try's move forward went into the
+// wall as well as over the step, so the wall stopped it.
+TEST(Character3D, ClimbsAStepBesideAWallItDriftsInto) {
+  World3D world = step_world(0.2f);
+  world.add_static({.shapes = {quad({-5, 0, 1}, {-5, 3, 1}, {30, 3, 1}, {30, 0, 1})}});
+  const CharacterSettings3 s;
+  const float drift = 5.0f * kDeg;
+  const Walk3 w = walk(world, Vec3(0.0f, standing_height(s), 1.0f - kRadius - 3.0f * s.skin), s,
+                       Vec3(kSpeed * kDt * std::cos(drift), -kFall, kSpeed * kDt * std::sin(drift)));
+  EXPECT_GT(w.end.p.x, 5.0f);
+  EXPECT_NEAR(w.end.p.y, 0.2f + standing_height(s), 3e-3f);
+  EXPECT_LT(w.end.p.z, 1.0f - kRadius);
+  bool stepped = false;
+  for (const CharacterMove3& m : w.moves) stepped = stepped || m.stepped;
+  EXPECT_TRUE(stepped);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
 TEST(Character3D, DoesNotEnterACorridorNarrowerThanItself) {
   World3D world;
   world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
