@@ -171,33 +171,53 @@ class Mover {
   QueryFilter filter_;
 };
 
-/// `v` with its motion into the planes removed (Quake's PM_SlideMove, the idea of Box2D v3's
-/// b2ClipVector): against one plane its component into it; against two, in 3D, the part along
-/// their crease; against more, or two in 2D, nothing.
+/// `v` with its motion into the planes removed: of the motions that go into none of the planes,
+/// the nearest to `v` (Quake's PM_SlideMove and Box2D v3's b2SolvePlanes solve the same small
+/// problem). It is `v` itself, or `v` projected onto one plane (slide along it), or in 3D onto
+/// the crease of two (slide along the crease), or nothing: the nearest motion that keeps clear of
+/// a set of planes lies on as many of them as it must, so the candidates are those, each kept
+/// only if it goes into no other plane. (Taking the first plane `v` goes into, then the crease
+/// with the first plane that projection goes into, held a character still on a slope beside a
+/// steep wall: the crease of the wall with the vertical plane beside it is level and goes into
+/// the slope, while the crease of the slope with the vertical plane climbs along the wall.)
 template <int D>
 VecN<D> clip(VecN<D> v, const std::array<VecN<D>, kMaxPlanes<D>>& planes, int count) {
+  // Into none of the planes but `skip_a` and `skip_b` (the ones `w` lies on).
+  const auto clear = [&](VecN<D> w, int skip_a, int skip_b) {
+    for (int k = 0; k < count; ++k) {
+      if (k != skip_a && k != skip_b && dot(w, planes[k]) < 0.0f) return false;
+    }
+    return true;
+  };
+  if (clear(v, -1, -1)) return v;
+  VecN<D> best(0.0f);
+  float best_d2 = INFINITY;
+  const auto offer = [&](VecN<D> w) {
+    const float d2 = dot(v - w, v - w);
+    if (d2 < best_d2) {
+      best = w;
+      best_d2 = d2;
+    }
+  };
   for (int i = 0; i < count; ++i) {
-    if (dot(v, planes[i]) >= 0.0f) continue;
-    VecN<D> w = v - dot(v, planes[i]) * planes[i];
-    bool ok = true;
-    for (int j = 0; j < count && ok; ++j) {
-      if (j == i || dot(w, planes[j]) >= 0.0f) continue;
-      if constexpr (D == 3) {
-        // Along the crease of planes i and j, if that leaves every other plane.
+    const float into = dot(v, planes[i]);
+    if (into >= 0.0f) continue;
+    const VecN<D> w = v - into * planes[i];
+    if (clear(w, i, -1)) offer(w);
+  }
+  if (best_d2 < INFINITY) return best;  // a crease is never nearer than a plane it lies on
+  if constexpr (D == 3) {
+    for (int i = 0; i < count; ++i) {
+      for (int j = i + 1; j < count; ++j) {
         const VecN<D> crease = cross(planes[i], planes[j]);
         const float cc = dot(crease, crease);
-        if (!(cc > kParallelTolerance * kParallelTolerance)) return VecN<D>(0.0f);
-        w = (dot(v, crease) / cc) * crease;
-        for (int k = 0; k < count; ++k) {
-          if (k != i && k != j && dot(w, planes[k]) < 0.0f) return VecN<D>(0.0f);
-        }
-      } else {
-        return VecN<D>(0.0f);
+        if (!(cc > kParallelTolerance * kParallelTolerance)) continue;
+        const VecN<D> w = (dot(v, crease) / cc) * crease;
+        if (clear(w, i, j)) offer(w);
       }
     }
-    return w;
   }
-  return v;
+  return best_d2 < INFINITY ? best : VecN<D>(0.0f);
 }
 
 /// Bit for bit the same placement.

@@ -286,6 +286,43 @@ TEST(Character3D, ClimbsAStepBesideAWallItDriftsInto) {
   EXPECT_LE(w.max_depth, 1e-4f);
 }
 
+// Walking up a 22 degree slope into a steep wall beside it (83 degrees, leaning back: its
+// normal faces a little up): the character slides up the slope along the wall. The wall gives
+// two planes, its own and the vertical one beside it; their crease is level and goes into the
+// slope, so the slide must take the crease of the slope and the vertical plane, which climbs
+// along the wall. (Taking the first crease found held a character still in bench_world3d.)
+TEST(Character3D, SlidesUpASlopeAlongASteepWall) {
+  const float slope = 22.0f * kDeg;
+  const float lean = 7.0f * kDeg;  // the wall's tilt from the vertical
+  const float rise = std::tan(slope);
+  World3D world;
+  // The slope y = -rise x (rising towards -x), for z up to the wall and beyond.
+  world.add_static({.shapes = {quad({-10, 10 * rise, 5}, {10, -10 * rise, 5}, {10, -10 * rise, -5}, {-10, 10 * rise, -5})}});
+  // The wall through z = 1 at y = 0, leaning back (z grows with y), facing -z and a little up.
+  const float t = std::tan(lean);
+  world.add_static({.shapes = {quad({-10, -8, 1 - 8 * t}, {-10, 8, 1 + 8 * t}, {10, 8, 1 + 8 * t}, {10, -8, 1 - 8 * t})}});
+  const CharacterSettings3 s;
+  const Vec3 n_slope(std::sin(slope), std::cos(slope), 0.0f);
+  const float x0 = 3.0f;
+  // On the slope, the lower sphere's centre r + skin from it, 3 skins from the wall.
+  const Vec3 foot = Vec3(x0, -rise * x0, 1.0f - kRadius - 3.0f * s.skin);
+  const Vec3 start = foot + (kRadius + s.skin) * n_slope + Vec3(0, kHalfHeight, 0);
+  const Vec3 heading = normalize(Vec3(-0.46f, 0.0f, 0.89f));  // into the wall, up the slope
+  const Vec3 step(kSpeed * kDt * heading.x, -kFall, kSpeed * kDt * heading.z);
+  const Walk3 w = walk(world, start, s, step);
+  // Each frame the step's part along the crease of the slope and the wall's vertical plane.
+  Vec3 crease = normalize(cross(n_slope, Vec3(0.0f, 0.0f, -1.0f)));
+  if (crease.y < 0.0f) crease = -crease;  // up the slope
+  const Vec3 expected = start + float(kFrames) * dot(step, crease) * crease;
+  EXPECT_LT(w.end.p.x, x0 - 2.5f);
+  EXPECT_NEAR(w.end.p.x, expected.x, 0.05f * (x0 - expected.x));
+  EXPECT_NEAR(w.end.p.y, expected.y, 0.05f * (expected.y - start.y));
+  int grounded = 0;
+  for (const CharacterMove3& m : w.moves) grounded += m.grounded;
+  EXPECT_GT(grounded, kFrames * 9 / 10);
+  EXPECT_LE(w.max_depth, 1e-4f);
+}
+
 TEST(Character3D, DoesNotEnterACorridorNarrowerThanItself) {
   World3D world;
   world.add_static({.shapes = {floor_strip(-5.0f, 20.0f)}});
