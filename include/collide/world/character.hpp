@@ -10,8 +10,8 @@
 /// Method (collide and slide). The shape is cast along what is left of the displacement
 /// (`WorldN::shape_cast`: the ray into the Minkowski difference) and stops `skin` short of the
 /// first surface; the rest of the displacement is projected onto the planes met so far, as
-/// Box2D v3's mover (`b2SolvePlanes`) and Jolt's `CharacterVirtual` do: one plane, slide along
-/// it; two, along their crease (3D); more, stop. A character that starts on walkable ground
+/// Box2D v3's mover (`b2SolvePlanes`) and Jolt's `CharacterVirtual` do: the nearest motion that
+/// goes into none of them, which slides along one plane, along the crease of two (3D), or stops. A character that starts on walkable ground
 /// within its skin has that ground as its first plane (the part of the displacement into it,
 /// gravity, is taken out before the first cast). A surface steeper than `max_slope` counts as a
 /// vertical wall, so it can be slid along but not climbed; a ceiling blocks upward motion. Met
