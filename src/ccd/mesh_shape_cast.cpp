@@ -167,7 +167,7 @@ struct LevelCast {
   float test(std::uint32_t t, const std::array<Vec3, 3>& c) noexcept {
     const Triangle tri{{transform_point(stored_to_a, c[0]), transform_point(stored_to_a, c[1]),
                         transform_point(stored_to_a, c[2])}};
-    if (!rounded_core) return keep(t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local));
+    if (!rounded_core) return keep(t, gjk(tri));
     ShapeCastResult3 r;
     float from = 0.0f;
     switch (plane_test(tri, clip(), r, from)) {
@@ -182,7 +182,12 @@ struct LevelCast {
         break;
       case PlaneVerdict::unknown: break;
     }
-    return keep(t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local));
+    return keep(t, gjk(tri));
+  }
+
+  /// gjk_shape_cast against `tri` (A's frame, moving by vl_local).
+  [[nodiscard]] ShapeCastResult3 gjk(const Triangle& tri) const noexcept {
+    return gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(tri), Transform3{}, vl_local);
   }
 
   /// Takes `r`, the cast against triangle `t`, into the best; returns the new clip fraction.
@@ -209,8 +214,7 @@ struct LevelCast {
     std::sort(deferred.begin(), deferred.begin() + deferred_count,
               [](const Deferred& a, const Deferred& b) { return a.from < b.from; });
     for (int i = 0; i < deferred_count && deferred[i].from < clip() && clip() > 0.0f; ++i) {
-      keep(deferred[i].t, gjk_shape_cast<3>(proxy, Transform3{}, va_local, ConvexProxy3(deferred[i].tri), Transform3{},
-                                            vl_local));
+      keep(deferred[i].t, gjk(deferred[i].tri));
     }
     deferred_count = 0;
   }

@@ -307,8 +307,9 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
     // than a step (rising by a step, the shape would meet that point again going forward).
     const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
     const auto met_low = [&] {
-      const TransformN<D> at_contact{before.p + hit.fraction * (length(remaining) + skin_kept) * normalize(remaining), xf.q};
-      return dot(hit.point, up) - mover.lowest(at_contact) <= settings.step_height + settings.skin;
+      // Where the cast met the wall (it cast the rest of the move and a skin further).
+      const Vec met = before.p + hit.fraction * (length(remaining) + skin_kept) * normalize(remaining);
+      return dot(hit.point, up) - mover.lowest(TransformN<D>{met, xf.q}) <= settings.step_height + settings.skin;
     };
     if (!tried_step && supported && settings.step_height > 0.0f && !mover.walkable(n) && dot(n, up) > -0.5f &&
         -dot(along, mover.effective_normal(n)) > settings.skin && met_low()) {
