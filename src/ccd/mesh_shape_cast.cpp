@@ -61,8 +61,8 @@ struct LevelCast {
   ///    reach from the edge. In bench_world3d's character moves about half the candidates end
   ///    here (a GJK miss costs about 500 TSC cycles).
   ///  - `later`: A first reaches the triangle's plane (grown by its radius) at a fraction no
-  ///    earlier than `clip` (the best touch so far) and not inside the triangle, so it touches
-  ///    the triangle later than `clip` if at all.
+  ///    earlier than `clip` (the best touch so far), so it touches the triangle no earlier than
+  ///    `clip`, if at all.
   ///  - `face`: A's core end nearer the plane first reaches it (grown by the radius) at a
   ///    fraction before `clip` at a point inside the triangle: the first touch, in closed form,
   ///    filled into `hit` as gjk_shape_cast reports it (A's frame, the triangle moving by

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace collide {
@@ -46,6 +47,9 @@ class Mover {
 
   [[nodiscard]] bool walkable(Vec n) const { return dot(n, s_.up) >= cos_slope_; }
 
+  /// `v` without its part along up.
+  [[nodiscard]] Vec horizontal(Vec v) const { return v - dot(v, s_.up) * s_.up; }
+
   /// Height along up of the shape's lowest point when placed at `xf` (its support point down).
   [[nodiscard]] float lowest(const TransformN<D>& xf) const {
     const Vec down = inv_rotate(xf.q, -s_.up);
@@ -67,8 +71,9 @@ class Mover {
   /// Casts from `xf` by `d` and a skin further (a surface the shape would end closer to than
   /// the skin counts too: a cast reports only what it touches); moves `xf` by `d`, or to where
   /// the gap to the surface hit, along its normal, is the skin. Returns the hit when it cut the
-  /// move short.
-  WorldCastHitN<D> cast(TransformN<D>& xf, Vec d) {
+  /// move short, and then, in `met` if given, where the shape met the surface (the skin short
+  /// of it along the motion is where `xf` stops).
+  WorldCastHitN<D> cast(TransformN<D>& xf, Vec d, Vec* met = nullptr) {
     const float len = length(d);
     if (!(len > 0.0f)) return {};
     ++out_.casts;
@@ -84,6 +89,7 @@ class Mover {
     const float c = std::max(dot(dir, hit.normal), kParallelTolerance);
     const float reach = hit.fraction * (len + skin);
     const float travel = std::clamp(reach - skin / c, 0.0f, len);
+    if (met != nullptr) *met = xf.p + dir * reach;
     xf.p += dir * travel;
     if (travel == len) return {};  // the whole move keeps the skin: not met
     record(hit.collider, hit.user_id, hit.point, -hit.normal);
@@ -152,6 +158,44 @@ class Mover {
   [[nodiscard]] WorldCastHitN<D> ground_of(const WorldCastHitN<D>& hit) const {
     if (hit.hit && walkable(-hit.normal)) return hit;
     return {};
+  }
+
+  /// The step over a wall of normal `n` (from the wall to the character) met at `xf`, going
+  /// `along` (horizontal): up by at most step_height, forward, down onto walkable ground. Kept
+  /// when it rises, goes forward and lands higher than it was, each by more than the skin, on
+  /// or by walkable ground (`step_forward_test` further on: a rounded bottom perched on the
+  /// step's edge goes on climbing in the next frames); the first of these to fail ends the try.
+  /// Where it landed, or nothing.
+  std::optional<TransformN<D>> step_over(const TransformN<D>& xf, Vec n, Vec along) {
+    TransformN<D> t = xf;
+    cast(t, s_.step_height * s_.up);
+    const float risen = dot(t.p - xf.p, s_.up);
+    if (!(risen > s_.skin)) return std::nullopt;
+    const Vec raised = t.p;
+    Vec ahead = along;
+    const WorldCastHitN<D> block = cast(t, along);
+    const auto gone = [&] { return length(horizontal(t.p - raised)); };
+    if (block.hit && gone() <= s_.skin) {
+      // Stopped at once by another surface than the one stepped over (a wall beside a stair,
+      // the move going a little into it): along that surface, once.
+      const Vec side = effective_normal(-block.normal);
+      const float into_side = dot(along, side);
+      if (into_side < 0.0f && dot(side, effective_normal(n)) < 1.0f - kSamePlaneTolerance) {
+        ahead = along - into_side * side;
+        cast(t, ahead);
+      }
+    }
+    if (!(gone() > s_.skin)) return std::nullopt;
+    bool land = probe_ground(t, risen + s_.skin).hit;
+    if (!land && s_.step_forward_test > 0.0f) {
+      TransformN<D> further = t;
+      cast(further, s_.step_forward_test * (ahead / length(ahead)));
+      land = probe_ground(further, risen + s_.skin).hit;
+    }
+    if (!land) return std::nullopt;
+    cast(t, -(risen + s_.skin) * s_.up);
+    if (!(dot(t.p - xf.p, s_.up) > s_.skin)) return std::nullopt;
+    return t;
   }
 
   void record(const ColliderRef& c, std::uint64_t user, Vec point, Vec normal) {
@@ -297,7 +341,8 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
   for (int i = 0; i < settings.max_iterations; ++i) {
     if (!(length(remaining) > kRelativeTolerance * (max_abs(xf.p) + 1.0f))) break;
     const TransformN<D> before = xf;
-    const WorldCastHitN<D> hit = mover.cast(xf, remaining);
+    Vec met(0.0f);
+    const WorldCastHitN<D> hit = mover.cast(xf, remaining, &met);
     if (!hit.hit) break;
     const Vec n = -hit.normal;  // from the surface towards the character
     Vec leftover = remaining - (xf.p - before.p);
@@ -305,59 +350,16 @@ CharacterMoveN<D> move_character(const WorldN<D>& world, const BodyShapeN<D>& sh
     // the move goes into it by more than the skin (not a wall walked along: the try is left
     // for a step met further on) and it is met no higher above the character's lowest point
     // than a step (rising by a step, the shape would meet that point again going forward).
-    const Vec along = leftover - dot(leftover, up) * up;  // the horizontal part of what is left
-    const auto met_low = [&] {
-      // Where the cast met the wall (it cast the rest of the move and a skin further).
-      const Vec met = before.p + hit.fraction * (length(remaining) + skin_kept) * normalize(remaining);
-      return dot(hit.point, up) - mover.lowest(TransformN<D>{met, xf.q}) <= settings.step_height + settings.skin;
-    };
+    const Vec along = mover.horizontal(leftover);
     if (!tried_step && supported && settings.step_height > 0.0f && !mover.walkable(n) && dot(n, up) > -0.5f &&
-        -dot(along, mover.effective_normal(n)) > settings.skin && met_low()) {
+        -dot(along, mover.effective_normal(n)) > settings.skin &&
+        dot(hit.point, up) - mover.lowest(TransformN<D>{met, xf.q}) <= settings.step_height + settings.skin) {
       tried_step = true;
-      // Kept when it rises, goes forward and lands higher than it was, each by more than the
-      // skin, on or by walkable ground; the first of these to fail ends the try.
-      TransformN<D> t = xf;
-      mover.cast(t, settings.step_height * up);
-      const float risen = dot(t.p - xf.p, up);
-      bool land = false;
-      if (risen > settings.skin) {
-        const Vec raised = t.p;
-        Vec ahead = along;
-        const WorldCastHitN<D> block = mover.cast(t, along);
-        const auto gone = [&] {
-          const Vec forward = t.p - raised;
-          return length(forward - dot(forward, up) * up);
-        };
-        if (block.hit && gone() <= settings.skin) {
-          // Stopped at once by another surface than the one stepped over (a wall beside a
-          // stair, the move going a little into it): along that surface, once.
-          const Vec side = mover.effective_normal(-block.normal);
-          const float into_side = dot(along, side);
-          if (into_side < 0.0f && dot(side, mover.effective_normal(n)) < 1.0f - kSamePlaneTolerance) {
-            ahead = along - into_side * side;
-            mover.cast(t, ahead);
-          }
-        }
-        if (gone() > settings.skin) {
-          land = mover.probe_ground(t, risen + settings.skin).hit;
-          if (!land && settings.step_forward_test > 0.0f) {
-            // Landing on the step's edge: walkable ground a little further on keeps the step.
-            TransformN<D> further = t;
-            mover.cast(further, settings.step_forward_test * (ahead / length(ahead)));
-            land = mover.probe_ground(further, risen + settings.skin).hit;
-          }
-        }
-      }
-      if (land) {
-        TransformN<D> landed = t;
-        mover.cast(landed, -(risen + settings.skin) * up);
-        const Vec gained = landed.p - xf.p;
-        if (dot(gained, up) > settings.skin) {
-          xf = landed;
-          out.stepped = true;
-          remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on
-          continue;
-        }
+      if (const std::optional<TransformN<D>> landed = mover.step_over(xf, n, along)) {
+        xf = *landed;
+        out.stepped = true;
+        remaining = dot(leftover, up) * up;  // the vertical part (gravity) goes on
+        continue;
       }
     }
     // The surface's plane, and for a steep one the vertical plane that keeps it from being

@@ -11,9 +11,9 @@
 /// (`WorldN::shape_cast`: the ray into the Minkowski difference) and stops `skin` short of the
 /// first surface; the rest of the displacement is projected onto the planes met so far, as
 /// Box2D v3's mover (`b2SolvePlanes`) and Jolt's `CharacterVirtual` do: the nearest motion that
-/// goes into none of them, which slides along one plane, along the crease of two (3D), or stops. A character that starts on walkable ground
-/// within its skin has that ground as its first plane (the part of the displacement into it,
-/// gravity, is taken out before the first cast). A surface steeper than `max_slope` counts as a
+/// goes into none of them, which slides along one plane, along the crease of two (3D), or stops.
+/// A character that starts on walkable ground within its skin has that ground as its first plane
+/// (the part of the displacement into it, gravity, is taken out before the first cast). A surface steeper than `max_slope` counts as a
 /// vertical wall, so it can be slid along but not climbed; a ceiling blocks upward motion. Met
 /// by a wall while on the ground, the mover tries a step (once a move): up by at most
 /// `step_height`, forward (along another wall it meets at once, as beside a stair), down onto
