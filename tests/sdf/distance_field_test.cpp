@@ -109,6 +109,36 @@ TEST(DistanceField3D, SphereBoxCapsuleWithinHalfAVoxelDiagonal) {
   }
 }
 
+TEST(DistanceField3D, SampleFastPathGivesTheGeneralPathsValueBitForBit) {
+  // sample takes an SSE2 path inside the grid's box; sample_cells' general path (locate, then
+  // interpolate_cell) is the reference. They must agree exactly, value and gradient, on the
+  // box's faces and last nodes too, and beyond the box (where both take the general path).
+  const std::vector<PlacedShape3> scene{{make_sphere({0, 0, 0}, 1.0f), Transform3{{0.1f, 0.2f, -0.3f}, Quat{1, 0, 0, 0}}}};
+  const DistanceField3 field = make_distance_field(scene, options(0.07f));
+  const Aabb3 box = field.grid.bounds();
+  std::mt19937 rng(31);
+  for (int i = 0; i < 20000; ++i) {
+    Vec3 p = random_in<3>(rng, box);
+    if (i % 5 == 1) p[i % 3] = box.max[i % 3];  // on a far face: the last cell, fraction 1
+    if (i % 5 == 2) p[i % 3] = box.min[i % 3];  // on a near face
+    if (i % 5 == 3) p[i % 3] += (i % 2 ? 0.5f : -0.5f);  // beyond the box on one axis
+    if (i % 5 == 4) p = field.grid.node(glm::ivec3(p[0] > 0, 1, 2) * (field.grid.dims - 1) / glm::ivec3(1, 2, 2));
+    const FieldCellN<3> at = field.grid.locate(p);
+    float v[8];
+    field.cell_values(at.node, v);
+    Vec3 inner_gradient;
+    const float inner = interpolate_cell<3>(v, at.fraction, field.grid.voxel, &inner_gradient);
+    Vec3 general_gradient;
+    const float general = at.add_outside(inner, inner_gradient, &general_gradient);
+    Vec3 g;
+    ASSERT_EQ(field.sample(p), general) << p.x << " " << p.y << " " << p.z;
+    ASSERT_EQ(field.sample(p, g), general) << p.x << " " << p.y << " " << p.z;
+    ASSERT_EQ(g.x, general_gradient.x);
+    ASSERT_EQ(g.y, general_gradient.y);
+    ASSERT_EQ(g.z, general_gradient.z);
+  }
+}
+
 TEST(DistanceField, RefusesBadOptionsAndNamesTheMemoryItWouldNeed) {
   const std::vector<PlacedShape> shapes{{make_circle({0, 0}, 1.0f), Transform{}}};
   EXPECT_THROW((void)make_distance_field(shapes, options(0.0f)), InvalidInput);
