@@ -32,12 +32,12 @@ COLLIDE_ALWAYS_INLINE void EpaPolytope::set_face(int f, int a, int b, int c) noe
   if (len > 0.0f) {
     face.normal = n * (1.0f / len);
     // The plane through the three vertices: their mean distance, so no vertex is favoured.
-    face.distance = (dot(face.normal, pa) + dot(face.normal, pb) + dot(face.normal, pc)) * (1.0f / 3.0f);
+    distance_[f] = (dot(face.normal, pa) + dot(face.normal, pb) + dot(face.normal, pc)) * (1.0f / 3.0f);
   } else {
     // No area: no direction of its own. It is never the nearest face, and the next vertex
     // whose patch reaches it removes it (add); its neighbours carry the polytope's shape.
     face.normal = Vec3(0.0f);
-    face.distance = INFINITY;
+    distance_[f] = INFINITY;
   }
 }
 
@@ -93,12 +93,13 @@ bool EpaPolytope::init_tetrahedron(const GjkSimplexN<3>& s) noexcept {
 }
 
 int EpaPolytope::closest_face() const noexcept {
+  // The first slot holding the smallest distance (removed and flat faces hold +inf).
   int best = -1;
   float best_distance = INFINITY;
   for (int i = 0; i < face_slots_; ++i) {
-    if (faces_[i].live && faces_[i].distance < best_distance) {
+    if (distance_[i] < best_distance) {
       best = i;
-      best_distance = faces_[i].distance;
+      best_distance = distance_[i];
     }
   }
   // Every face degenerate cannot happen on a polytope with volume; fall back to any live one.
@@ -150,7 +151,7 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
       // In front of the face's plane. A face without area (three collinear vertices, plane
       // distance infinite) goes with the patch that reaches it: it covers nothing, and keeping
       // it would leave the fan to fold around it.
-      const bool visible = fg.normal == Vec3(0.0f) || dot(fg.normal, w.w) > fg.distance;
+      const bool visible = fg.normal == Vec3(0.0f) || dot(fg.normal, w.w) > distance_[g];
       seen[g] = visible ? 1 : 2;
       if (visible) stack[stack_size++] = static_cast<Index>(g);
     }
@@ -158,7 +159,8 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
   // 2. The horizon: edges of the patch whose other face is hidden, with that face. Indexed by
   // the edge's first vertex, so that each new triangle finds its neighbours in O(1), and a
   // vertex met twice (a border that is not one loop) is noticed.
-  std::array<int, kEpaMaxVertices> edge_from;  // horizon edge index starting at a vertex
+  std::array<std::int8_t, kEpaMaxVertices> edge_from;  // horizon edge starting at a vertex
+  static_assert(kEpaMaxVertices <= 127, "horizon edge indices must fit edge_from");
   edge_from.fill(-1);
   std::array<Index, kEpaMaxFaces> edge_a;   // NOLINT: filled before read
   std::array<Index, kEpaMaxFaces> edge_b;   // NOLINT
@@ -171,7 +173,7 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
       if (seen[g] == 1) continue;
       const int a = f.v[k];
       if (edge_from[a] >= 0) return false;  // the border touches itself
-      edge_from[a] = edges;
+      edge_from[a] = static_cast<std::int8_t>(edges);
       edge_a[edges] = static_cast<Index>(a);
       edge_b[edges] = f.v[k == 2 ? 0 : k + 1];
       outside[edges] = static_cast<Index>(g);
@@ -199,6 +201,7 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
   // 3. Commit: remove the patch, add w, fan from it.
   for (int i = 0; i < patch_size; ++i) {
     faces_[patch[i]].live = false;
+    distance_[patch[i]] = INFINITY;  // never the closest face (closest_face reads no `live`)
     free_[free_count_++] = patch[i];
   }
   const int wi = vertex_count_++;
@@ -285,7 +288,7 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
   float best_d2 = closest_on_triangle(w_[ref.v[0]], w_[ref.v[1]], w_[ref.v[2]], lambda);
   for (int i = 0; i < face_slots_; ++i) {
     const Face& g = faces_[i];
-    if (i == f || !g.live || !(std::fabs(g.distance - ref.distance) <= tol) ||
+    if (i == f || !g.live || !(std::fabs(distance_[i] - distance_[f]) <= tol) ||
         !(dot(g.normal, ref.normal) > 0.0f) ||
         !(length(cross(g.normal, ref.normal)) <= kParallelTolerance)) {
       continue;
@@ -306,7 +309,7 @@ void EpaPolytope::witness_points(int i, Vec3& pa, Vec3& pb) const noexcept {
   const int i2 = f.v[2];
   // The origin's projection on the plane, and its barycentric coordinates from the signed
   // areas of the sub-triangles it makes (Ericson 3.4).
-  const Vec3 p = f.distance * f.normal;
+  const Vec3 p = distance_[i] * f.normal;
   const float l0 = dot(cross(w_[i1] - p, w_[i2] - p), f.normal);
   const float l1 = dot(cross(w_[i2] - p, w_[i0] - p), f.normal);
   const float l2 = dot(cross(w_[i0] - p, w_[i1] - p), f.normal);
@@ -321,9 +324,13 @@ void EpaPolytope::witness_points(int i, Vec3& pa, Vec3& pb) const noexcept {
   pb = (l0 * inv) * wb_[i0] + (l1 * inv) * wb_[i1] + (l2 * inv) * wb_[i2];
 }
 
-detail::CorePenetration detail::penetration_of_cores(const ConvexProxy3& a, const Transform3& xa,
-                                                     const ConvexProxy3& b,
-                                                     const Transform3& xb) noexcept {
+namespace {
+
+/// penetration_of_cores on any two support maps (ConvexProxy3, or HullSupportMap for a pair of
+/// hulls, which saves the proxy's dispatch on the shape's kind at every support point).
+template <class PA, class PB>
+detail::CorePenetration cores_penetration(const PA& a, const Transform3& xa, const PB& b,
+                                          const Transform3& xb) noexcept {
   COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "penetration: proxies must hold points");
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "penetration: transforms must be finite rigid");
   const Frame3 b_in_a = to_frame(inv_mul(xa, xb));
@@ -334,7 +341,7 @@ detail::CorePenetration detail::penetration_of_cores(const ConvexProxy3& a, cons
   s.v[0] = gjk_seed_vertex<3>(a, b, b_in_a);
   s.count = 1;
   const float scale = gjk_scale<3>(s.v[0], ra + rb);
-  CorePenetration route;
+  detail::CorePenetration route;
   PenetrationResult3& out = route.result;
   int gjk_iterations = 0;
   const GjkEnd end = run_gjk<3>(a, b, b_in_a, s, scale, GjkRunToEnd{}, gjk_iterations);
@@ -371,9 +378,22 @@ detail::CorePenetration detail::penetration_of_cores(const ConvexProxy3& a, cons
   return route;
 }
 
+}  // namespace
+
+detail::CorePenetration detail::penetration_of_cores(const ConvexProxy3& a, const Transform3& xa,
+                                                     const ConvexProxy3& b,
+                                                     const Transform3& xb) noexcept {
+  return cores_penetration(a, xa, b, xb);
+}
+
 PenetrationResult3 epa_penetration(const ConvexProxy3& a, const Transform3& xa,
                                    const ConvexProxy3& b, const Transform3& xb) noexcept {
-  return detail::penetration_of_cores(a, xa, b, xb).result;
+  return cores_penetration(a, xa, b, xb).result;
+}
+
+PenetrationResult3 epa_penetration(const ConvexHull& a, const Transform3& xa, const ConvexHull& b,
+                                   const Transform3& xb) noexcept {
+  return cores_penetration(HullSupportMap(a), xa, HullSupportMap(b), xb).result;
 }
 
 PenetrationResult3 penetration(const Shape3D& a, const Transform3& xa, const Shape3D& b,

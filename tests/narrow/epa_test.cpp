@@ -326,6 +326,33 @@ void check_random_pairs(float offset, std::uint32_t seed) {
 TEST(Epa, RandomPairsAreMinimumTranslationsAndAgreeWithContact) { check_random_pairs(0.0f, 62); }
 TEST(Epa, RandomPairsFarFromTheOrigin) { check_random_pairs(1e4f, 63); }
 
+TEST(Epa, HullPairsTakeTheHullSupportMapWithTheProxysAnswerBitForBit) {
+  // penetration(hull, hull) runs on HullSupportMap; epa_penetration on ConvexProxy3 is the
+  // general route. Same support points, so the same answer to the bit.
+  std::mt19937 rng(64);
+  int overlapping = 0;
+  for (int i = 0; i < 300; ++i) {
+    std::vector<Vec3> ca, cb;
+    const int na = 4 + i % 30, nb = 4 + (i * 7) % 40;
+    for (int k = 0; k < na; ++k) ca.push_back({uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)});
+    for (int k = 0; k < nb; ++k) cb.push_back({uniform(rng, -1, 1), uniform(rng, -0.5f, 0.5f), uniform(rng, -1, 1)});
+    const ConvexHull a = make_convex_hull(ca, HullOptions{.radius = i % 3 == 0 ? 0.1f : 0.0f});
+    const ConvexHull b = make_convex_hull(cb);
+    const Transform3 xa = Transform3::from({uniform(rng, -1, 1), 0.0f, 0.0f}, test::random_rotation(rng));
+    const Transform3 xb = Transform3::from({uniform(rng, -1, 1), uniform(rng, -1, 1), 0.0f}, test::random_rotation(rng));
+    const PenetrationResult3 fast = penetration(a, xa, b, xb);
+    const PenetrationResult3 general = epa_penetration(ConvexProxy3(a), xa, ConvexProxy3(b), xb);
+    ASSERT_EQ(fast.status, general.status);
+    ASSERT_EQ(fast.depth, general.depth);
+    ASSERT_EQ(fast.normal, general.normal);
+    ASSERT_EQ(fast.point_a, general.point_a);
+    ASSERT_EQ(fast.point_b, general.point_b);
+    ASSERT_EQ(fast.iterations, general.iterations);
+    overlapping += fast.depth > 0.0f;
+  }
+  EXPECT_GT(overlapping, 150);
+}
+
 /// A support map that is not a collide shape: a regular octahedron of "radius" r (its six
 /// vertices on the axes), scanning its points.
 struct Octahedron {

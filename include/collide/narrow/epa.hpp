@@ -41,6 +41,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 namespace collide {
 
@@ -56,7 +57,8 @@ inline constexpr int kEpaMaxFaces = 2 * kEpaMaxVertices;
 /// counter-clockwise seen from outside, each with its unit outward normal, its plane's signed
 /// distance from the origin, and the face across each edge. Fixed capacity; never allocates.
 /// The differences w, which every step reads, are stored apart from the A and B halves, which
-/// only the witness points read; a face is 24 bytes (indices fit a byte).
+/// only the witness points read; a face is 20 bytes (indices fit a byte), and the faces' plane
+/// distances one array of their own, which the search for the nearest face reads.
 class EpaPolytope {
  public:
   /// Index of a vertex or face slot.
@@ -66,7 +68,6 @@ class EpaPolytope {
   /// One triangle of the polytope.
   struct Face {
     Vec3 normal;               ///< unit, outward; zero for a degenerate (zero-area) face
-    float distance;            ///< normal . vertex: the plane's signed distance from the origin
     std::array<Index, 3> v;    ///< vertex indices, counter-clockwise seen from outside
     std::array<Index, 3> adj;  ///< the face across edge k (from v[k] to v[k + 1])
     bool live;                 ///< false once removed (the slot is reused)
@@ -94,6 +95,9 @@ class EpaPolytope {
 
   /// Face slot i (check `live`).
   [[nodiscard]] const Face& face(int i) const noexcept { return faces_[i]; }
+  /// Face slot i's plane distance from the origin (normal . vertex); +inf for a removed face or
+  /// one without area.
+  [[nodiscard]] float distance(int i) const noexcept { return distance_[i]; }
   /// Vertex i's point of A - B, i < vertex_count().
   [[nodiscard]] Vec3 point(int i) const noexcept { return w_[i]; }
   /// Vertices added so far (removed faces' vertices stay).
@@ -124,6 +128,7 @@ class EpaPolytope {
   std::array<Vec3, kEpaMaxVertices> wa_;  ///< their A halves (A's frame)
   std::array<Vec3, kEpaMaxVertices> wb_;  ///< their B halves (A's frame)
   std::array<Face, kEpaMaxFaces> faces_;
+  std::array<float, kEpaMaxFaces> distance_;  ///< per face slot, see distance()
   std::array<Index, kEpaMaxFaces> free_;  ///< removed face slots, reused first
   int vertex_count_ = 0;
   int face_slots_ = 0;  ///< face slots ever used
@@ -267,7 +272,7 @@ template <class PA, class PB>
     const EpaPolytope::Face& face = poly.face(f);
     const GjkVertexN<3> w = support(face.normal);
     const float h = dot(face.normal, w.w);
-    if (h - face.distance <= tol) break;  // converged
+    if (h - poly.distance(f) <= tol) break;  // converged
     if (!poly.add(w, f)) {
       out.status = QueryStatus::max_iterations;
       break;
@@ -278,7 +283,7 @@ template <class PA, class PB>
   // into, whose barycentric coordinates give the witness points.
   f = poly.coplanar_face_nearest_origin(f, tol);
   const EpaPolytope::Face& face = poly.face(f);
-  out.depth = face.distance > 0.0f ? face.distance : 0.0f;
+  out.depth = poly.distance(f) > 0.0f ? poly.distance(f) : 0.0f;
   out.normal = face.normal;
   poly.witness_points(f, out.point_a, out.point_b);
   return out;
@@ -318,6 +323,11 @@ using PenetrationResult3 = PenetrationResultN<3>;  ///< 3D penetration result
                                                  const ConvexProxy3& b,
                                                  const Transform3& xb) noexcept;
 
+/// epa_penetration for two hulls: the same answer, through HullSupportMap (no dispatch on the
+/// shape's kind at every support point). Hulls must be valid (make_convex_hull).
+[[nodiscard]] PenetrationResult3 epa_penetration(const ConvexHull& a, const Transform3& xa,
+                                                 const ConvexHull& b, const Transform3& xb) noexcept;
+
 /// Penetration depth (minimum translation distance), normal from A to B and the deepest points
 /// of any two convex 3D shapes, A placed by `xa` and B by `xb`, by GJK and EPA (see
 /// `epa_penetration`); world space. The general tool for every convex pair, and the check of
@@ -326,7 +336,11 @@ using PenetrationResult3 = PenetrationResultN<3>;  ///< 3D penetration result
 template <Shape3DType A, Shape3DType B>
 [[nodiscard]] PenetrationResult3 penetration(const A& a, const Transform3& xa, const B& b,
                                              const Transform3& xb) noexcept {
-  return epa_penetration(ConvexProxy3(a), xa, ConvexProxy3(b), xb);
+  if constexpr (std::is_same_v<A, ConvexHull> && std::is_same_v<B, ConvexHull>) {
+    return epa_penetration(a, xa, b, xb);
+  } else {
+    return epa_penetration(ConvexProxy3(a), xa, ConvexProxy3(b), xb);
+  }
 }
 
 /// `penetration` for 3D shapes whose types are known only at run time.
