@@ -13,13 +13,13 @@
 /// Box2D v3's mover (`b2SolvePlanes`) and Jolt's `CharacterVirtual` do: the nearest motion that
 /// goes into none of them, which slides along one plane, along the crease of two (3D), or stops.
 /// A character that starts on walkable ground within its skin has that ground as its first plane
-/// (the part of the displacement into it, gravity, is taken out before the first cast). A surface steeper than `max_slope` counts as a
-/// vertical wall, so it can be slid along but not climbed; a ceiling blocks upward motion. Met
-/// by a wall while on the ground, the mover tries a step (once a move): up by at most
-/// `step_height`, forward (along another wall it meets at once, as beside a stair), down onto
-/// walkable ground, kept only if it lands there or finds walkable ground a little further on
-/// (`step_forward_test`: a rounded bottom perched on the step's edge goes on climbing in the
-/// next frames). No step is tried at a wall the rest of the move goes into by no more than the
+/// (the part of the displacement into it, gravity, is taken out before the first cast). A
+/// surface steeper than `max_slope` counts as a vertical wall, so it can be slid along but not
+/// climbed; a ceiling blocks upward motion. Met by a wall while on the ground, the mover tries a
+/// step (once a move): up by at most `step_height`, forward (along another wall it meets at
+/// once, as beside a stair), down onto walkable ground, kept only if it lands there or finds
+/// walkable ground a little further on (`step_forward_test`: a rounded bottom perched on the
+/// step's edge goes on climbing in the next frames). No step is tried at a wall the rest of the move goes into by no more than the
 /// skin (one walked along) or met higher above the shape's lowest point than `step_height`
 /// (rising by a step, the shape meets it again going forward). After the move a character that
 /// stood on ground and did not move up is pressed down by up to `step_height` onto walkable
