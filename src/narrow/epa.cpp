@@ -41,7 +41,7 @@ COLLIDE_ALWAYS_INLINE void EpaPolytope::set_face(int f, int a, int b, int c) noe
   }
 }
 
-int EpaPolytope::new_face() noexcept {
+COLLIDE_ALWAYS_INLINE int EpaPolytope::new_face() noexcept {
   if (free_count_ > 0) return free_[--free_count_];
   if (face_slots_ == kEpaMaxFaces) return -1;
   return face_slots_++;
@@ -149,9 +149,10 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
       if (seen[g] != 0) continue;
       const Face& fg = faces_[g];
       // In front of the face's plane. A face without area (three collinear vertices, plane
-      // distance infinite) goes with the patch that reaches it: it covers nothing, and keeping
-      // it would leave the fan to fold around it.
-      const bool visible = fg.normal == Vec3(0.0f) || dot(fg.normal, w.w) > distance_[g];
+      // distance infinite: the only live faces with an infinite distance) goes with the patch
+      // that reaches it: it covers nothing, and keeping it would leave the fan to fold around it.
+      const float plane = distance_[g];
+      const bool visible = dot(fg.normal, w.w) > plane || plane == INFINITY;
       seen[g] = visible ? 1 : 2;
       if (visible) stack[stack_size++] = static_cast<Index>(g);
     }
@@ -285,7 +286,7 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
   const Face& ref = faces_[f];
   int best = f;
   Vec3 lambda;
-  float best_d2 = closest_on_triangle(w_[ref.v[0]], w_[ref.v[1]], w_[ref.v[2]], lambda);
+  float best_d2 = -1.0f;  // face f's, measured when a second candidate turns up (most often none)
   for (int i = 0; i < face_slots_; ++i) {
     const Face& g = faces_[i];
     if (i == f || !g.live || !(std::fabs(distance_[i] - distance_[f]) <= tol) ||
@@ -293,6 +294,7 @@ int EpaPolytope::coplanar_face_nearest_origin(int f, float tol) const noexcept {
         !(length(cross(g.normal, ref.normal)) <= kParallelTolerance)) {
       continue;
     }
+    if (best_d2 < 0.0f) best_d2 = closest_on_triangle(w_[ref.v[0]], w_[ref.v[1]], w_[ref.v[2]], lambda);
     const float d2 = closest_on_triangle(w_[g.v[0]], w_[g.v[1]], w_[g.v[2]], lambda);
     if (d2 < best_d2) {
       best = i;
