@@ -214,15 +214,13 @@ bool EpaPolytope::add(const GjkVertexN<3>& w, int face) noexcept {
   }
   for (int e = 0; e < edges; ++e) {
     Face& nf = faces_[made[e]];
-    const int a = edge_a[e];
     const int b = edge_b[e];
-    // Edge 0 (a -> b): the hidden face beyond the horizon, whose edge b -> a now borders nf.
+    // Edge 0 (a -> b): the hidden face beyond the horizon, whose edge b -> a now borders nf
+    // (the edge of g that starts at b: g holds each vertex once, and its twin of a -> b).
     const int g = outside[e];
     nf.adj[0] = static_cast<Index>(g);
     Face& fg = faces_[g];
-    for (int k = 0; k < 3; ++k) {
-      if (fg.v[k] == b && fg.v[k == 2 ? 0 : k + 1] == a) fg.adj[k] = made[e];
-    }
+    fg.adj[fg.v[0] == b ? 0 : fg.v[1] == b ? 1 : 2] = made[e];
     // Edge 1 (b -> w): the new face of the horizon edge starting at b (its edge 2, w -> b).
     nf.adj[1] = made[edge_from[b]];
   }
