@@ -252,7 +252,7 @@ std::uint64_t WorldN<D>::Impl::user_id(const ColliderRef& c) const {
 
 template <int D>
 auto WorldN<D>::Impl::piece_box(const Body& b, int piece) const -> Box {
-  return b.boxes[static_cast<std::size_t>(piece)];
+  return b.piece(static_cast<std::size_t>(piece)).box;
 }
 
 template <int D>
@@ -543,12 +543,12 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
     for (std::size_t k = 0; k < piece_count; ++k) {
       const ColliderRef a{false, i, static_cast<std::uint16_t>(k)};
       const Box box_a = piece_box(b, int(k));
-      const VecN<D> circle_a = transform_point(b.xf, b.pieces[k].center);
+      const VecN<D> circle_a = transform_point(b.xf, b.piece(k).info.center);
       for (const int id : candidates) {
         const StaticPiece& sp = static_pieces[id];
         const ColliderRef other{true, sp.owner, sp.piece};
         Manifold m;
-        if (evaluate_pair(chain, a, other, box_a, sp.box, circle_a, b.pieces[k].radius,
+        if (evaluate_pair(chain, a, other, box_a, sp.box, circle_a, b.piece(k).info.radius,
                           sp.circle_center, sp.circle_radius, m, stats)) {
           const StaticDefN<D>& st = statics[sp.owner];
           body_contacts.push_back({a, other, m, b.sensor || st.sensor, b.user_id, st.user_id});
@@ -593,9 +593,9 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
 template <int D>
 bool WorldN<D>::Impl::clear_of_statics(const Body& b, const TransformN<D>& to, float turn, float margin) const {
   for (std::size_t k = 0; k < b.shapes.size(); ++k) {
-    const typename Body::Clearance& c = b.clearance[k];
+    const typename Body::Clearance& c = b.piece(k).clearance;
     if (c.version != statics_version) return false;
-    const detail::PieceInfoN<D>& piece = b.pieces[k];
+    const detail::PieceInfoN<D>& piece = b.piece(k).info;
     const VecN<D> c0 = transform_point(b.xf, piece.center);
     const VecN<D> c1 = transform_point(to, piece.center);
     const float slack = detail::kClearanceSlack * piece.radius +
@@ -613,9 +613,9 @@ bool WorldN<D>::Impl::clear_of_statics(const Body& b, const TransformN<D>& to, f
 template <int D>
 void WorldN<D>::Impl::measure_clearance(Body& b) {
   for (std::size_t k = 0; k < b.shapes.size(); ++k) {
-    const float radius = b.pieces[k].radius * (1.0f + detail::kPretestSlack);
+    const float radius = b.piece(k).info.radius * (1.0f + detail::kPretestSlack);
     const float reach = detail::kClearanceReach * radius;
-    const VecN<D> center = transform_point(b.xf, b.pieces[k].center);
+    const VecN<D> center = transform_point(b.xf, b.piece(k).info.center);
     // Statics whose boxes come within the reach of the sphere; the rest are farther.
     Box box{center - VecN<D>(radius + reach), center + VecN<D>(radius + reach)};
     float gap = reach;
@@ -625,7 +625,7 @@ void WorldN<D>::Impl::measure_clearance(Body& b) {
       gap = std::min(gap, detail::static_distance(static_piece(sp.owner, sp.piece), st.transform, center, radius + gap) - radius);
       return gap > 0.0f;
     });
-    b.clearance[k] = {center, gap, gap > 0.0f ? statics_version : 0u};
+    b.piece(k).clearance = {center, gap, gap > 0.0f ? statics_version : 0u};
   }
 }
 
@@ -687,8 +687,8 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
       const Body& bb = bodies[pb.body];
       pair_passed[static_cast<std::size_t>(i)] = evaluate_pair(
           chain, ColliderRef{false, pa.body, pa.piece}, ColliderRef{false, pb.body, pb.piece},
-          piece_box(ba, pa.piece), piece_box(bb, pb.piece), transform_point(ba.xf, ba.pieces[pa.piece].center),
-          ba.pieces[pa.piece].radius, transform_point(bb.xf, bb.pieces[pb.piece].center), bb.pieces[pb.piece].radius,
+          piece_box(ba, pa.piece), piece_box(bb, pb.piece), transform_point(ba.xf, ba.piece(pa.piece).info.center),
+          ba.piece(pa.piece).info.radius, transform_point(bb.xf, bb.piece(pb.piece).info.center), bb.piece(pb.piece).info.radius,
           pair_manifolds[static_cast<std::size_t>(i)], wk.stats);
     }
   });
@@ -962,6 +962,7 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
   b = detail::BodyN<D>{};
   b.generation = generation;
   b.shapes = def.shapes;
+  b.more_pieces.resize(b.shapes.size() - 1);  // check_shapes: at least one
   b.place(detail::unit_pose(def.transform));
   b.velocity = def.velocity;
   b.angular_velocity = def.angular_velocity;
@@ -974,16 +975,17 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
   // has any: segments).
   float measure = 0.0f;
   Vec weighted(0.0f), plain(0.0f);
-  for (const BodyShape& s : b.shapes) {
-    b.pieces.push_back(detail::piece_info(s));
-    const float a = detail::shape_measure(s);
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+    const detail::PieceInfoN<D>& info = b.piece(k).info = detail::piece_info(b.shapes[k]);
+    const float a = detail::shape_measure(b.shapes[k]);
     measure += a;
-    weighted += a * b.pieces.back().center;
-    plain += b.pieces.back().center;
+    weighted += a * info.center;
+    plain += info.center;
   }
   b.local_center = measure > 0.0f ? weighted / measure : plain / static_cast<float>(b.shapes.size());
   b.inner_size = std::numeric_limits<float>::infinity();
-  for (const detail::PieceInfoN<D>& p : b.pieces) {
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+    const detail::PieceInfoN<D>& p = b.piece(k).info;
     b.inner_size = std::min(b.inner_size, p.inner_size);
     b.bounding_radius = std::max(b.bounding_radius, distance(p.center, b.local_center) + p.radius);
   }
@@ -1005,7 +1007,7 @@ void WorldN<D>::remove_body(BodyId id) {
   detail::BodyN<D>& b = impl_->body(id);
   b.alive = false;
   b.shapes.clear();
-  b.pieces.clear();
+  b.more_pieces.clear();
   ++b.generation;
   impl_->free_slots.push_back(id.index);
   --impl_->alive_bodies;

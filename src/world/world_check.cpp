@@ -95,7 +95,7 @@ void WorldN<D>::Impl::check_body(std::uint32_t i, int w) {
     magnitude += b.bounding_radius;
     for (std::size_t k = 0; k < b.shapes.size(); ++k) {
       const AabbN<D> box = piece_box(b, static_cast<int>(k));
-      const detail::PieceInfoN<D>& piece = b.pieces[k];
+      const detail::PieceInfoN<D>& piece = b.piece(k).info;
       const float tolerance = kTunnelDepthFraction * std::max(piece.inner_size, 0.1f * piece.radius) +
                               kRelativeTolerance * magnitude;
       for_items(box, [&](std::uint32_t id) {

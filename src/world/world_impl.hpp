@@ -49,23 +49,12 @@ struct BodyN {
   }
 
   /// Moves the body to `at` and computes its pieces' boxes there: every change of `xf` goes
-  /// through here, so `boxes` always match it.
+  /// through here, so the boxes always match it.
   void place(const TransformN<D>& at) {
     xf = at;
-    boxes.resize(shapes.size());
-    clearance.resize(shapes.size());
-    for (std::size_t k = 0; k < shapes.size(); ++k) boxes[k] = compute_aabb(shapes[k], xf);
+    for (std::size_t k = 0; k < shapes.size(); ++k) piece(k).box = compute_aabb(shapes[k], xf);
   }
 
-  std::vector<BodyShapeN<D>> shapes;
-  std::vector<PieceInfoN<D>> pieces;
-  TransformN<D> xf;  ///< set by place()
-  TransformN<D> start_xf;  ///< the pose at the start of the step (a jammed body goes back to it)
-  /// Each piece's tight box at `xf`, world space. A step asks for a piece's box several times
-  /// per pose (start and end of its motion, the statics' query, the early out, the broad
-  /// phase): computed once per pose instead (a hull's box costs a pass over its vertices; the
-  /// boxes took 30% of a step of 1000 bodies over dungeon.obj).
-  std::vector<AabbN<D>> boxes;
   /// Each piece's static clearance: the lesson's temporal coherence applied to the statics. When
   /// a piece met no static, the step measures how far its bounding circle or sphere is from
   /// every static piece (`gap`, a lower bound) with the sphere's centre then (`anchor`). Until
@@ -78,14 +67,35 @@ struct BodyN {
     float gap = 0.0f;
     std::uint32_t version = 0;  ///< 0: never measured
   };
-  std::vector<Clearance> clearance;
+  /// What the step keeps for each piece (shape k of the body).
+  struct PieceState {
+    PieceInfoN<D> info;  ///< bounding circle or sphere and inner size, local space
+    /// The piece's tight box at `xf`, world space. A step asks for a piece's box several times
+    /// per pose (start and end of its motion, the statics' query, the early out, the broad
+    /// phase): computed once per pose instead (a hull's box costs a pass over its vertices;
+    /// the boxes took 30% of a step of 1000 bodies over dungeon.obj).
+    AabbN<D> box;
+    Clearance clearance;
+  };
+  /// Piece k's state, k < shapes.size().
+  PieceState& piece(std::size_t k) noexcept { return k == 0 ? first_piece : more_pieces[k - 1]; }
+  const PieceState& piece(std::size_t k) const noexcept { return k == 0 ? first_piece : more_pieces[k - 1]; }
+
+  TransformN<D> xf;  ///< set by place()
+  /// The first piece's state in the body itself, the others' on the heap: most bodies are one
+  /// shape, and the passes of a step read a piece's box, clearance and circle for every body,
+  /// which in heap blocks of their own cost a cache miss each per body at 1e6 bodies.
+  PieceState first_piece;
+  std::vector<PieceState> more_pieces;  ///< pieces 1, 2, ... (shapes.size() - 1 of them)
+  std::vector<BodyShapeN<D>> shapes;
+  TransformN<D> start_xf;  ///< the pose at the start of the step (a jammed body goes back to it)
   VecN<D> velocity{0.0f};
   AngularN<D> angular_velocity{0.0f};
   VecN<D> push{0.0f};             ///< push-out from body contacts, applied with the next motion
   /// The centre of rotation's path over the last step, leg by leg (start, the end of each
   /// continuous-collision leg or of the motion, each push-out): the check tests whether it
   /// crossed a level's surface.
-  std::array<VecN<D>, kMaxPathPoints> path{};
+  std::array<VecN<D>, D == 3 ? kMaxPathPoints : 0> path{};  ///< 2D keeps none (only 3D reads it)
   int path_count = 0;
   std::uint64_t user_id = 0;
   CollisionFilter filter{};
