@@ -119,7 +119,8 @@ template <int D>
 void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes) {
   std::uint64_t total_cells = 1;  // below 2^62 (make_grid_mapping)
   for (int k = 0; k < D; ++k) total_cells *= static_cast<std::uint64_t>(grid_.dims[k]);
-  if (total_cells <= kDenseCellsPerBox * (ranges_.size() + 256)) {
+  dense_ = total_cells <= kDenseCellsPerBox * (ranges_.size() + 256);
+  if (dense_) {
     fill_counting(boxes, total_cells);
   } else {
     fill_radix(boxes, total_cells);
@@ -223,12 +224,27 @@ int SortedGridN<D>::find_run(std::uint64_t key) const noexcept {
 }
 
 template <int D>
-std::span<const typename SortedGridN<D>::CellEntry> SortedGridN<D>::cell_entries(
-    const CellN<D>& cell) const noexcept {
-  const int r = find_run(grid_.linear_index(cell));
+std::span<const typename SortedGridN<D>::CellEntry> SortedGridN<D>::entries_of(
+    std::uint64_t key) const noexcept {
+  if (dense_) {
+    // offsets_[c] is the end of cell c's entries (fill_counting), and the start of c + 1's.
+    const std::uint32_t begin = key == 0 ? 0 : offsets_[key - 1];
+    return {entries_.data() + begin, static_cast<std::size_t>(offsets_[key] - begin)};
+  }
+  const int r = find_run(key);
   if (r < 0) return {};
   return {entries_.data() + runs_[r].begin,
           static_cast<std::size_t>(runs_[r + 1].begin - runs_[r].begin)};
+}
+
+template <int D>
+std::span<const typename SortedGridN<D>::CellEntry> SortedGridN<D>::cell_entries(
+    const CellN<D>& cell) const noexcept {
+  if (cell_count() <= 0) return {};
+  for (int k = 0; k < D; ++k) {
+    if (cell[k] < 0 || cell[k] >= grid_.dims[k]) return {};  // no cell of this grid
+  }
+  return entries_of(grid_.linear_index(cell));
 }
 
 template <int D>
@@ -254,12 +270,10 @@ void SortedGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
   if (cell_count() <= 0 || !overlap(box, grid_.bounds)) return;
   const CellN<D> lo = grid_.cell_of(box.min);
   const CellN<D> hi = grid_.cell_of(box.max);
-  const auto visit_run = [&](int r) {
-    for (int e = runs_[r].begin; e < runs_[r + 1].begin; ++e) {
-      const CellEntry& entry = entries_[e];
+  const auto visit_cell = [&](std::uint64_t key, std::span<const CellEntry> entries) {
+    for (const CellEntry& entry : entries) {
       // Reported only by the cell holding the min corner of the intersection: once.
-      if (overlap(box, entry.box) &&
-          grid_.linear_index(grid_.owner_cell(box, entry.box)) == runs_[r].key &&
+      if (overlap(box, entry.box) && grid_.linear_index(grid_.owner_cell(box, entry.box)) == key &&
           !callback(entry.id)) {
         return false;
       }
@@ -272,13 +286,15 @@ void SortedGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
     // Wider than the occupied cells: scan those. A cell is in the range when the owner rule can
     // pick it, which visit_run checks entry by entry.
     for (int r = 0; r < cell_count(); ++r) {
-      if (!visit_run(r)) return;
+      const std::span<const CellEntry> entries{entries_.data() + runs_[r].begin,
+                                               static_cast<std::size_t>(runs_[r + 1].begin - runs_[r].begin)};
+      if (!visit_cell(runs_[r].key, entries)) return;
     }
     return;
   }
   for_each_cell<D>(lo, hi, [&](const CellN<D>& cell) {
-    const int r = find_run(grid_.linear_index(cell));
-    return r < 0 || visit_run(r);
+    const std::uint64_t key = grid_.linear_index(cell);
+    return visit_cell(key, entries_of(key));
   });
 }
 

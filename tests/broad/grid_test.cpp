@@ -158,6 +158,62 @@ TEST(SortedGrid, WorldsFarFromTheOriginWidenTheCells) {
   EXPECT_EQ((pairs_of<HashGrid, 2>(h2, boxes2)), want2);
 }
 
+// A cell's entries come from the counting sort's offsets when the grid is dense and from a
+// binary search over the runs when it is sparse: both answer box queries as brute force does,
+// and a cell holds exactly the boxes whose cell range covers it (none outside the grid).
+TEST(SortedGrid, DenseAndSparseGridsFindTheSameCellsAndQueries) {
+  std::mt19937 rng(23);
+  const auto boxes = test::uniform_world<2>(rng, 500, 100.0f, 0.5f, 4.0f);
+  SortedGrid dense({.cell_size = 5.0f});
+  SortedGrid sparse({.cell_size = 0.25f, .max_cells_per_box = 1 << 20});  // none oversized
+  dense.build(boxes);
+  sparse.build(boxes);
+  const auto total_cells = [](const SortedGrid& g) {
+    return static_cast<std::uint64_t>(g.grid().dims[0]) * static_cast<std::uint64_t>(g.grid().dims[1]);
+  };
+  ASSERT_LE(total_cells(dense), SortedGrid::kDenseCellsPerBox * boxes.size());  // counting sort
+  ASSERT_GT(total_cells(sparse), SortedGrid::kDenseCellsPerBox * (boxes.size() + 256));  // radix sort
+  for (const SortedGrid* g : {&dense, &sparse}) {
+    const GridMapping<2>& m = g->grid();
+    for (int y = -1; y <= m.dims[1]; y += (y < 3 || y > m.dims[1] - 4) ? 1 : 7) {
+      for (int x = -1; x <= m.dims[0]; x += (x < 3 || x > m.dims[0] - 4) ? 1 : 5) {
+        std::vector<int> want;
+        for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
+          if (cell_in_range<2>(CellN<2>{x, y}, m.cell_of(boxes[i].min), m.cell_of(boxes[i].max)) &&
+              x >= 0 && y >= 0 && x < m.dims[0] && y < m.dims[1]) {
+            want.push_back(i);
+          }
+        }
+        std::vector<int> got;
+        for (const auto& e : g->cell_entries(CellN<2>{x, y})) got.push_back(static_cast<int>(e.id));
+        ASSERT_EQ(got, want) << "cell " << x << ", " << y << " of the grid of cell size " << m.cell_size;
+      }
+    }
+  }
+  std::uniform_real_distribution<float> at(-110.0f, 110.0f), size(0.0f, 12.0f);
+  int hits = 0;
+  for (int q = 0; q < 300; ++q) {
+    const Vec2 lo{at(rng), at(rng)};
+    const Aabb box{lo, lo + Vec2(size(rng), size(rng))};
+    std::vector<int> want;
+    for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
+      if (overlap(box, boxes[i])) want.push_back(i);
+    }
+    hits += want.empty() ? 0 : 1;
+    for (const SortedGrid* g : {&dense, &sparse}) {
+      std::vector<int> got;
+      g->query(box, [&](int id) {
+        got.push_back(id);
+        return true;
+      });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, want) << "query " << q << ", cell size " << g->grid().cell_size;
+    }
+  }
+  EXPECT_GT(hits, 100);
+  EXPECT_LT(hits, 300);
+}
+
 TEST(HierarchicalGrid, MixedSizesGetTheirOwnLevels) {
   std::mt19937 rng(23);
   const auto boxes = test::mixed_size_world<3>(rng, 2000, 300.0f);

@@ -8,12 +8,13 @@
 /// ascending within a cell) by a counting sort over all cells when the grid has at most
 /// kDenseCellsPerBox cells per box, else by an LSD radix sort over the key bits in use (11 bits
 /// per pass); either way each entry is written straight to its place with a copy of its box,
-/// so finding pairs reads memory sequentially, and a cell is found by binary search over the
-/// runs of equal keys. make_grid_mapping widens the cells when the world would need more than
-/// 2^62 of them, so positions 1e6 from the origin (and much further) work. Pairs are reported
-/// by the one cell holding the min corner of their intersection, as in HashGrid, read from the
-/// entries' first-cell bits (GridEntry). (Sorting cell keys each frame: Le Grand, "Broad-Phase
-/// Collision Detection with CUDA", GPU Gems 3, 32, 2007.)
+/// so finding pairs reads memory sequentially, and a cell is found from the counting sort's
+/// offsets (one read) or by binary search over the runs of equal keys. make_grid_mapping widens
+/// the cells when the world would need more than 2^62 of them, so positions 1e6 from the origin
+/// (and much further) work. Pairs are reported by the one cell holding the min corner of their
+/// intersection, as in HashGrid, read from the entries' first-cell bits (GridEntry). (Sorting
+/// cell keys each frame: Le Grand, "Broad-Phase Collision Detection with CUDA", GPU Gems 3, 32,
+/// 2007.)
 ///
 /// Memory per object: per covered cell a (8*D + 8)-byte entry, plus a (8*D + 4)-byte cell range
 /// per box, plus either 4 bytes per grid cell (counting sort) or two 8-byte sort records per
@@ -130,6 +131,9 @@ class SortedGridN {
     return grid_.linear_index(cell);
   }
   [[nodiscard]] int find_run(std::uint64_t key) const noexcept;
+  /// The entries of the cell with linear index `key` (< the grid's cell total): read from the
+  /// counting sort's offsets when the grid is dense, else found by binary search over the runs.
+  [[nodiscard]] std::span<const CellEntry> entries_of(std::uint64_t key) const noexcept;
 
   Options options_{};
   GridMapping<D> grid_{};
@@ -138,7 +142,8 @@ class SortedGridN {
   float chosen_cell_size_ = 0.0f;     // from the data at build; kept by update
   std::vector<CellRange> ranges_;     // cells of each binned box, ids ascending
   std::size_t entry_total_ = 0;       // sum of the cells of the binned boxes
-  std::vector<std::uint32_t> offsets_;  // counting sort: first entry of each grid cell
+  bool dense_ = false;                // the last fill was the counting sort: offsets_ index cells
+  std::vector<std::uint32_t> offsets_;  // counting sort: end of each grid cell's entries
   std::vector<PackedKey> packed_;     // radix sort: (cell key, id) entries
   std::vector<PackedKey> packed_scratch_;
   std::vector<WideKey> wide_;
