@@ -268,6 +268,7 @@ void WorldN<D>::Impl::refresh_static_tree() {
   std::vector<Box> boxes(static_pieces.size());
   for (std::size_t i = 0; i < static_pieces.size(); ++i) boxes[i] = static_pieces[i].box;
   static_tree.build(boxes);
+  static_grid.build(boxes);
   static_tree_dirty = false;
 }
 
@@ -415,7 +416,7 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
     Box box = swept_aabb(b.shapes[0], sweep);
     for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, swept_aabb(b.shapes[k], sweep));
     candidates.clear();
-    static_tree.query(box, [&](int id) {
+    static_grid.query(box, [&](int id) {
       candidates.push_back(id);
       return true;
     });
@@ -534,7 +535,7 @@ void WorldN<D>::Impl::resolve_body(std::uint32_t i, int w) {
     body_contacts.clear();
     const Box query_box = merge(start, body_box(b));
     candidates.clear();
-    static_tree.query(query_box, [&](int id) {
+    static_grid.query(query_box, [&](int id) {
       candidates.push_back(id);
       return true;
     });
@@ -619,7 +620,7 @@ void WorldN<D>::Impl::measure_clearance(Body& b) {
     // Statics whose boxes come within the reach of the sphere; the rest are farther.
     Box box{center - VecN<D>(radius + reach), center + VecN<D>(radius + reach)};
     float gap = reach;
-    static_tree.query(box, [&](int id) {
+    static_grid.query(box, [&](int id) {
       const StaticPiece& sp = static_pieces[static_cast<std::size_t>(id)];
       const StaticDefN<D>& st = statics[sp.owner];
       gap = std::min(gap, detail::static_distance(static_piece(sp.owner, sp.piece), st.transform, center, radius + gap) - radius);

@@ -10,6 +10,7 @@
 
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
+#include <collide/broad/sorted_grid.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/world/world.hpp>
 
@@ -175,8 +176,14 @@ struct WorldN<D>::Impl {
   // Statics
   std::vector<StaticDefN<D>> statics;
   std::vector<StaticPiece> static_pieces;
+  /// The static pieces' boxes for ray casts (a dynamic tree: a ray finds its first hits
+  /// without walking the cells between them)...
   DynamicTreeN<D> static_tree;
-  bool static_tree_dirty = false;
+  /// ... and for box queries: the step's (swept bodies, push-outs, clearance), which a uniform
+  /// grid answers from the one to four cells a body covers instead of a descent through the
+  /// tree (at 1e6 bodies over 26k static pieces the tree's descent was a fifth of the step).
+  SortedGridN<D> static_grid;
+  bool static_tree_dirty = false;  ///< static_tree and static_grid
   /// Bumped by every add_static: a body's static clearance measured before is void.
   std::uint32_t statics_version = 1;
   detail::CheckGridN<D> check_grid;
