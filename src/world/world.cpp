@@ -109,6 +109,20 @@ constexpr int kBodiesPerTask = 128;
 constexpr int kPairsPerTask = 512;
 constexpr int kProxiesPerTask = 4096;  ///< a proxy's box or speed bound: a few nanoseconds
 
+/// Bodies ahead of the one being moved whose shapes are prefetched (a body's motion takes
+/// about 100 ns, a miss to memory about as long).
+constexpr int kShapePrefetchAhead = 4;
+
+/// Asks the cache for the first shape of `b` (both ends of it: the variant's kind is stored
+/// after its largest alternative).
+template <class Body>
+void prefetch_shapes(const Body& b) noexcept {
+  if (b.shapes.empty()) return;
+  const auto* first = reinterpret_cast<const char*>(b.shapes.data());
+  __builtin_prefetch(first);
+  __builtin_prefetch(first + sizeof(b.shapes[0]) - 1);
+}
+
 /// `v` shortened to at most `max_length`.
 template <class V>
 V clamp_length(V v, float max_length) {
@@ -364,7 +378,12 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
   });
   const bool have_statics = !static_pieces.empty();
   parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
-    for (int i = begin; i < end; ++i) integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
+    for (int i = begin; i < end; ++i) {
+      // The shapes of a body a few ahead: its new boxes read them, from a heap block apart from
+      // the body (at 1e6 bodies a cache miss a body, most of the box computation's time).
+      if (i + kShapePrefetchAhead < end) prefetch_shapes(bodies[static_cast<std::size_t>(i + kShapePrefetchAhead)]);
+      integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
+    }
   });
   collect_workers(stats, &detail::StepWorkerN<D>::ccd_contacts, &ccd_contacts);
 }
