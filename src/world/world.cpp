@@ -370,12 +370,7 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
       }
     }
   }
-  proxy_start_boxes.resize(proxies.size());
-  parallel(static_cast<int>(proxies.size()), kProxiesPerTask, [&](int begin, int end, int) {
-    for (auto p = static_cast<std::size_t>(begin); p < static_cast<std::size_t>(end); ++p) {
-      proxy_start_boxes[p] = piece_box(bodies[proxies[p].body], proxies[p].piece);
-    }
-  });
+  proxy_start_boxes.resize(proxies.size());  // filled by integrate_body
   const bool have_statics = !static_pieces.empty();
   parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
     for (int i = begin; i < end; ++i) {
@@ -392,6 +387,8 @@ template <int D>
 void WorldN<D>::Impl::integrate_body(std::uint32_t i, float dt, bool have_statics, int w) {
   Body& b = bodies[i];
   if (!b.alive) return;
+  // The boxes the body starts the step with (its proxies' swept boxes begin there).
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) proxy_start_boxes[first_proxy[i] + k] = b.piece(k).box;
   if (options.gravity != VecN<D>(0.0f) && !b.sensor) {
     // (kept within kMaxWorldSpeed, as check_world_velocity keeps a game's velocities: a body
     // falling forever must not overflow the temporal broad phase's speed bound)
@@ -523,13 +520,29 @@ void WorldN<D>::Impl::record_impact(std::uint32_t index, std::size_t piece, int 
 }
 
 template <int D>
-void WorldN<D>::Impl::resolve_statics(StepStats& stats) {
-  if (!static_pieces.empty()) {
-    parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
-      for (int i = begin; i < end; ++i) resolve_body(static_cast<std::uint32_t>(i), w);
-    });
-  }
+void WorldN<D>::Impl::resolve_statics(float dt, StepStats& stats) {
+  proxy_boxes.resize(proxies.size());
+  proxy_speeds.resize(proxies.size());
+  const bool have_statics = !static_pieces.empty();
+  parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
+    for (int i = begin; i < end; ++i) {
+      if (have_statics) resolve_body(static_cast<std::uint32_t>(i), w);
+      finish_motion(static_cast<std::uint32_t>(i), dt);
+    }
+  });
   collect_workers(stats, &detail::StepWorkerN<D>::contacts, &contacts);
+}
+
+template <int D>
+void WorldN<D>::Impl::finish_motion(std::uint32_t i, float dt) {
+  const Body& b = bodies[i];
+  if (!b.alive) return;
+  const std::uint32_t first = first_proxy[i];
+  const float bound = speed_bound(b, dt);
+  for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+    proxy_boxes[first + k] = merge(proxy_start_boxes[first + k], b.piece(k).box);
+    proxy_speeds[first + k] = bound;
+  }
 }
 
 template <int D>
@@ -667,16 +680,6 @@ float WorldN<D>::Impl::speed_bound(const Body& b, float dt) const {
 template <int D>
 void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   const auto t0 = Clock::now();
-  const std::size_t n = proxies.size();
-  proxy_boxes.resize(n);
-  proxy_speeds.resize(n);
-  parallel(static_cast<int>(n), kProxiesPerTask, [&](int begin, int end, int) {
-    for (auto p = static_cast<std::size_t>(begin); p < static_cast<std::size_t>(end); ++p) {
-      const Body& b = bodies[proxies[p].body];
-      proxy_boxes[p] = merge(proxy_start_boxes[p], piece_box(b, proxies[p].piece));
-      proxy_speeds[p] = speed_bound(b, dt);
-    }
-  });
   body_broad.set(proxy_boxes, proxy_speeds, time + dt, !proxies_changed, options.scheduler);
   proxies_changed = false;
   body_boxes_current = true;
@@ -1185,7 +1188,7 @@ void WorldN<D>::step(float dt) {
   const auto t0 = Clock::now();
   w.integrate(dt, s);
   const auto t1 = Clock::now();
-  w.resolve_statics(s);
+  w.resolve_statics(dt, s);
   const auto t2 = Clock::now();
   w.find_body_contacts(dt, s);
   const auto t3 = Clock::now();

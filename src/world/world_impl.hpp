@@ -273,7 +273,9 @@ struct WorldN<D>::Impl {
   /// One body's motion (worker w): gravity, then free or continuous motion against statics.
   void integrate_body(std::uint32_t index, float dt, bool have_statics, int w);
   void move_with_ccd(std::uint32_t index, VecN<D> translation, AngularN<D> rotation, int w);
-  void resolve_statics(StepStats& stats);
+  /// Every body's contacts with statics and push-outs, then its proxies' swept boxes and speed
+  /// bounds for the body broad phase (finish_motion), in the same pass over the bodies.
+  void resolve_statics(float dt, StepStats& stats);
   /// One body's contacts with statics and its push-outs (worker w).
   void resolve_body(std::uint32_t index, int w);
   /// True when every piece of `b` stays within its static clearance (BodyN::clearance) over a
@@ -285,6 +287,8 @@ struct WorldN<D>::Impl {
   bool clear_of_statics(const Body& b) const { return clear_of_statics(b, b.xf, 0.0f, 0.0f); }
   /// Measures the static clearance of every piece of `b` at its pose.
   void measure_clearance(Body& b);
+  /// Body i's proxies' boxes over the step (from its start to its end pose) and speed bound.
+  void finish_motion(std::uint32_t index, float dt);
   void find_body_contacts(float dt, StepStats& stats);
   /// Bound on how fast body b's swept boxes move from now on, world units per second.
   [[nodiscard]] float speed_bound(const Body& b, float dt) const;
