@@ -91,6 +91,8 @@ namespace {
 
 /// Smallest range of objects or candidates per task.
 constexpr int kObjectsPerTask = 2048;
+/// Smallest range of fast objects per task (each a grid query of a few microseconds).
+constexpr int kFastObjectsPerTask = 64;
 
 }  // namespace
 
@@ -267,23 +269,45 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
       stats_.skipped_checks += out.skipped;
     }
   }
-  find_fast_pairs(pairs);
+  find_fast_pairs(pairs, scheduler);
 }
 
 template <int D>
-void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs) {
+void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs, TaskScheduler* scheduler) {
   // Fast objects, every frame: against the slow ones through the grid (a slow object's grown
   // box contains its current box), and against each other by sort and sweep along x (1% of a
-  // million bodies are bullets: all pairs of them would be 5e7 checks a frame).
-  for (const int f : fast_) {
-    const AabbN<D>& box_f = boxes_[std::size_t(f)];
-    grid_.query(box_f, [&](int slot) {
-      const int s = slow_ids_[std::size_t(slot)];
-      if (is_fast_[std::size_t(s)]) return true;  // demoted since the rebuild: a fast pair below
-      ++stats_.checks;
-      if (overlap(box_f, boxes_[std::size_t(s)])) pairs.emplace_back(std::min(f, s), std::max(f, s));
-      return true;
+  // million bodies are bullets: all pairs of them would be 5e7 checks a frame). The grid
+  // queries (a few microseconds each) run on the scheduler's workers, each into its own share.
+  const auto query_fast = [&](int begin, int end, PairList& out, std::int64_t& checks) {
+    for (int n = begin; n < end; ++n) {
+      const int f = fast_[std::size_t(n)];
+      const AabbN<D>& box_f = boxes_[std::size_t(f)];
+      grid_.query(box_f, [&](int slot) {
+        const int s = slow_ids_[std::size_t(slot)];
+        if (is_fast_[std::size_t(s)]) return true;  // demoted since the rebuild: a fast pair below
+        ++checks;
+        if (overlap(box_f, boxes_[std::size_t(s)])) out.emplace_back(std::min(f, s), std::max(f, s));
+        return true;
+      });
+    }
+  };
+  const auto fast_count = static_cast<int>(fast_.size());
+  if (scheduler == nullptr || scheduler->worker_count() < 2 || fast_count <= kFastObjectsPerTask) {
+    query_fast(0, fast_count, pairs, stats_.checks);
+  } else {
+    worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
+    for (WorkerOutput& out : worker_out_) {
+      out.pairs.clear();
+      out.checks = 0;
+    }
+    parallel_for(scheduler, fast_count, kFastObjectsPerTask, [&](int begin, int end, int w) {
+      WorkerOutput& out = worker_out_[static_cast<std::size_t>(w)];
+      query_fast(begin, end, out.pairs, out.checks);
     });
+    for (const WorkerOutput& out : worker_out_) {
+      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
+      stats_.checks += out.checks;
+    }
   }
   fast_order_.assign(fast_.begin(), fast_.end());
   std::sort(fast_order_.begin(), fast_order_.end(), [&](int a, int b) {

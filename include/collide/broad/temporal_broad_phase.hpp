@@ -147,8 +147,8 @@ class TemporalBroadPhaseN {
   /// The candidate check of candidate c (wake time, overlap, next wake time).
   template <class Emit>
   void check_candidate(std::size_t c, Emit&& emit, std::int64_t& checks, std::int64_t& skipped);
-  /// The fast objects' pairs (grid queries, sort and sweep).
-  void find_fast_pairs(PairList& pairs);
+  /// The fast objects' pairs (grid queries, on the scheduler's workers when given; sort and sweep).
+  void find_fast_pairs(PairList& pairs, TaskScheduler* scheduler);
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
   std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
