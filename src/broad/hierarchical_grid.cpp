@@ -138,30 +138,78 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   }
 }
 
+namespace {
+
+/// Occupied cells, and boxes, per piece of find_pairs' work: a few hundred microseconds.
+constexpr int kCellsPerPiece = 4096;
+constexpr int kBoxesPerPiece = 2048;
+
+}  // namespace
+
+template <int D>
+template <class Visit>
+void HierarchicalGridN<D>::for_each_piece(Visit&& visit) const {
+  const auto level_total = static_cast<int>(levels_.size());
+  for (int l = 0; l < level_total; ++l) {
+    if (levels_[static_cast<std::size_t>(l)].ids.empty()) continue;
+    const int cells = levels_[static_cast<std::size_t>(l)].grid.cell_count();
+    for (int c = 0; c < cells; c += kCellsPerPiece) visit(Piece{l, -1, c, std::min(cells, c + kCellsPerPiece)});
+    const auto boxes = static_cast<int>(levels_[static_cast<std::size_t>(l)].ids.size());
+    for (int m = l + 1; m < level_total; ++m) {
+      if (levels_[static_cast<std::size_t>(m)].ids.empty()) continue;
+      for (int b = 0; b < boxes; b += kBoxesPerPiece) visit(Piece{l, m, b, std::min(boxes, b + kBoxesPerPiece)});
+    }
+  }
+}
+
+template <int D>
+void HierarchicalGridN<D>::piece_pairs(const Piece& piece, PairList& pairs) const {
+  const Level& level = levels_[static_cast<std::size_t>(piece.level)];
+  if (piece.coarse < 0) {
+    level.grid.append_cell_range_pairs(pairs, piece.begin, piece.end);
+    return;
+  }
+  const SortedGridN<D>& coarse = levels_[static_cast<std::size_t>(piece.coarse)].grid;
+  const GridMapping<D>& g = coarse.grid();
+  for (int i = piece.begin; i < piece.end; ++i) {
+    const int a = level.ids[static_cast<std::size_t>(i)];
+    const AabbN<D> box = boxes_[a];
+    for_each_cell<D>(g.cell_of(box.min), g.cell_of(box.max), [&](const CellN<D>& cell) {
+      for (const auto& entry : coarse.cell_entries(cell)) {
+        if (overlap(box, entry.box) && g.owner_cell(box, entry.box) == cell) {
+          pairs.emplace_back(std::min(a, entry.id), std::max(a, entry.id));
+        }
+      }
+      return true;
+    });
+  }
+}
+
 template <int D>
 void HierarchicalGridN<D>::find_pairs(PairList& pairs) const {
   pairs.clear();
-  const std::size_t level_total = levels_.size();
-  for (std::size_t l = 0; l < level_total; ++l) {
-    if (levels_[l].ids.empty()) continue;
-    levels_[l].grid.append_pairs(pairs);
-    for (std::size_t m = l + 1; m < level_total; ++m) {
-      const SortedGridN<D>& coarse = levels_[m].grid;
-      if (levels_[m].ids.empty()) continue;
-      const GridMapping<D>& g = coarse.grid();
-      for (const int a : levels_[l].ids) {
-        const AabbN<D> box = boxes_[a];
-        for_each_cell<D>(g.cell_of(box.min), g.cell_of(box.max), [&](const CellN<D>& cell) {
-          for (const auto& entry : coarse.cell_entries(cell)) {
-            if (overlap(box, entry.box) && g.owner_cell(box, entry.box) == cell) {
-              pairs.emplace_back(std::min(a, entry.id), std::max(a, entry.id));
-            }
-          }
-          return true;
-        });
-      }
-    }
+  for_each_piece([&](const Piece& piece) { piece_pairs(piece, pairs); });
+  detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
+}
+
+template <int D>
+void HierarchicalGridN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler) {
+  if (scheduler == nullptr || scheduler->worker_count() < 2) {
+    find_pairs(pairs);
+    return;
   }
+  pieces_.clear();
+  for_each_piece([&](const Piece& piece) { pieces_.push_back(piece); });
+  if (piece_pairs_.size() < pieces_.size()) piece_pairs_.resize(pieces_.size());
+  parallel_for(scheduler, static_cast<int>(pieces_.size()), 1, [&](int begin, int end, int) {
+    for (int p = begin; p < end; ++p) {
+      PairList& out = piece_pairs_[static_cast<std::size_t>(p)];
+      out.clear();
+      piece_pairs(pieces_[static_cast<std::size_t>(p)], out);
+    }
+  });
+  pairs.clear();
+  for (std::size_t p = 0; p < pieces_.size(); ++p) pairs.insert(pairs.end(), piece_pairs_[p].begin(), piece_pairs_[p].end());
   detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
 }
 

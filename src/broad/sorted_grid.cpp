@@ -255,13 +255,17 @@ void SortedGridN<D>::find_pairs(PairList& pairs) const {
 
 template <int D>
 void SortedGridN<D>::append_pairs(PairList& pairs) const {
-  const int cells = cell_count();
-  for (int r = 0; r < cells; ++r) {
+  append_cell_range_pairs(pairs, 0, cell_count());
+  detail::oversized_pairs<D>(oversized_, is_oversized_, boxes_, pairs);
+}
+
+template <int D>
+void SortedGridN<D>::append_cell_range_pairs(PairList& pairs, int first, int last) const {
+  for (int r = first; r < last; ++r) {
     const int begin = runs_[r].begin;
     append_cell_pairs<D>({entries_.data() + begin, static_cast<std::size_t>(runs_[r + 1].begin - begin)},
                          pairs);
   }
-  detail::oversized_pairs<D>(oversized_, is_oversized_, boxes_, pairs);
 }
 
 template <int D>

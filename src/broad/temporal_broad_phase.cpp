@@ -172,7 +172,7 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
 }
 
 template <int D>
-void TemporalBroadPhaseN<D>::rebuild() {
+void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler) {
   grown_.resize(boxes_.size());
   is_fast_.assign(boxes_.size(), 0);
   fast_.clear();
@@ -192,7 +192,7 @@ void TemporalBroadPhaseN<D>::rebuild() {
     slow_grown_.push_back(grown_[i]);
   }
   grid_.build(slow_grown_);
-  grid_.find_pairs(candidates_);
+  grid_.find_pairs(candidates_, scheduler);
   // Grid ids are positions in slow_ids_, which is ascending: mapping keeps i < j.
   for (BroadPair& pair : candidates_) {
     pair = {slow_ids_[std::size_t(pair.first)], slow_ids_[std::size_t(pair.second)]};
@@ -242,7 +242,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
 template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler) {
   pairs.clear();
-  if (needs_rebuild_ || time_ > built_at_ + horizon_) rebuild();
+  if (needs_rebuild_ || time_ > built_at_ + horizon_) rebuild(scheduler);
   const auto count = static_cast<int>(candidates_.size());
   if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
     for (std::size_t c = 0; c < candidates_.size(); ++c) {

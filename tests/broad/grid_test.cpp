@@ -14,6 +14,7 @@
 
 #include "support/allocation_counter.hpp"
 #include "support/broad_worlds.hpp"
+#include "support/test_scheduler.hpp"
 
 #include <gtest/gtest.h>
 
@@ -233,6 +234,33 @@ TEST(HierarchicalGrid, MixedSizesGetTheirOwnLevels) {
 // Rays exactly along cell boundaries and through cell corners, on a lattice of boxes whose
 // faces lie on those boundaries: the 3D-DDA walk must visit every cell that holds a box the
 // ray touches.
+// With a scheduler the pairs are found in pieces on the workers (ranges handed out from the
+// end backwards by the test scheduler) and joined in order: the very list find_pairs gives on
+// one thread, on worlds large enough to cut every level into several pieces.
+TEST(HierarchicalGrid, PairsOnWorkersAreTheSerialListInItsOrder) {
+  std::mt19937 rng(29);
+  for (const int n : {3000, 40000}) {
+    auto boxes = test::mixed_size_world<2>(rng, n, 8.0f * std::sqrt(static_cast<float>(n)));
+    HierarchicalGrid grid;
+    grid.build(boxes);
+    ASSERT_GE(grid.level_count(), 2);
+    PairList serial;
+    grid.find_pairs(serial);
+    ASSERT_GT(serial.size(), static_cast<std::size_t>(n) / 4);
+    if (n <= 3000) {  // (brute force on the large world would take seconds)
+      PairList sorted = serial;
+      sort_pairs(sorted);
+      EXPECT_EQ(sorted, brute_pairs<2>(boxes)) << n;
+    }
+    for (const int workers : {2, 3, 8}) {
+      test::ThreadScheduler scheduler(workers);
+      PairList parallel;
+      grid.find_pairs(parallel, &scheduler);
+      EXPECT_EQ(parallel, serial) << n << " boxes, " << workers << " workers";
+    }
+  }
+}
+
 TEST(GridRayCast, AlongCellBoundariesAndThroughCorners) {
   std::mt19937 rng(31);
   const auto boxes = test::touching_world<2>(rng, 300, 10);

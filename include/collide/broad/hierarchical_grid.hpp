@@ -22,6 +22,7 @@
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
 #include <collide/broad/sorted_grid.hpp>
+#include <collide/core/task_scheduler.hpp>
 
 #include <cstdint>
 #include <span>
@@ -55,6 +56,11 @@ class HierarchicalGridN {
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
   /// its own pairs then its boxes against the coarser levels; the boxes in no level last.
   void find_pairs(PairList& pairs) const;
+  /// find_pairs with its work cut into fixed pieces (a level's cells, a level's boxes against a
+  /// coarser level, in ranges) that run on the scheduler's workers, each into its own list, the
+  /// lists then joined in order: the same pairs in the same order for any schedule (null or one
+  /// worker: find_pairs). Not to be called concurrently on one grid (the lists are members).
+  void find_pairs(PairList& pairs, TaskScheduler* scheduler);
   /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose box contains `point` (boundary included), once.
@@ -78,6 +84,20 @@ class HierarchicalGridN {
 
   void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& world);
 
+  /// A piece of find_pairs' work: level `level`'s own pairs in its occupied cells
+  /// [begin, end) (coarse < 0), or its boxes ids[begin, end) against level `coarse`.
+  struct Piece {
+    int level;
+    int coarse;
+    int begin;
+    int end;
+  };
+  /// Calls visit(piece) for find_pairs' pieces in its order.
+  template <class Visit>
+  void for_each_piece(Visit&& visit) const;
+  /// Appends the pairs of one piece.
+  void piece_pairs(const Piece& piece, PairList& pairs) const;
+
   Options options_{};
   float base_ = 0.0f;          // level 0 cell size chosen at build
   std::vector<AabbN<D>> boxes_;
@@ -87,6 +107,8 @@ class HierarchicalGridN {
   std::vector<int> big_;
   std::vector<std::uint8_t> is_big_;
   std::vector<float> scratch_;
+  std::vector<Piece> pieces_;           // find_pairs with a scheduler: its pieces...
+  std::vector<PairList> piece_pairs_;   // ... and the pairs of each
 };
 
 using HierarchicalGrid = HierarchicalGridN<2>;

@@ -70,6 +70,9 @@ class SortedGridN {
   void find_pairs(PairList& pairs) const;
   /// find_pairs without clearing `pairs` first: appends.
   void append_pairs(PairList& pairs) const;
+  /// The pairs found in occupied cells [first, last) (0 <= first <= last <= cell_count(), in
+  /// cell order; oversized boxes not included), appended: a share of find_pairs for one worker.
+  void append_cell_range_pairs(PairList& pairs, int first, int last) const;
   /// Each id whose box overlaps `box` once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose box contains `point` once.

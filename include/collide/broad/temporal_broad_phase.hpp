@@ -113,7 +113,9 @@ class TemporalBroadPhaseN {
   [[nodiscard]] double horizon() const noexcept { return horizon_; }
 
  private:
-  void rebuild();
+  /// The grown boxes and the candidate pairs, anew (the grid's pairs on the scheduler's workers
+  /// when given).
+  void rebuild(TaskScheduler* scheduler);
   /// Object i broke its bound or left its grown box: handled with the fast objects until the
   /// next rebuild (or a rebuild is due when too many have).
   void demote(int i);
