@@ -265,11 +265,6 @@ std::uint64_t WorldN<D>::Impl::user_id(const ColliderRef& c) const {
 }
 
 template <int D>
-auto WorldN<D>::Impl::piece_box(const Body& b, int piece) const -> Box {
-  return b.piece(static_cast<std::size_t>(piece)).box;
-}
-
-template <int D>
 auto WorldN<D>::Impl::body_box(const Body& b) const -> Box {
   Box box = piece_box(b, 0);
   for (std::size_t k = 1; k < b.shapes.size(); ++k) box = merge(box, piece_box(b, int(k)));

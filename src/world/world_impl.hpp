@@ -263,7 +263,10 @@ struct WorldN<D>::Impl {
   [[nodiscard]] bool is_sensor(const ColliderRef& c) const;
   [[nodiscard]] std::uint64_t user_id(const ColliderRef& c) const;
   [[nodiscard]] Box body_box(const Body& b) const;
-  [[nodiscard]] Box piece_box(const Body& b, int piece) const;
+  /// Piece `piece` of `b`'s tight box at its pose (world space).
+  [[nodiscard]] Box piece_box(const Body& b, int piece) const noexcept {
+    return b.piece(static_cast<std::size_t>(piece)).box;
+  }
   void refresh_static_tree();
   /// The contact of a body piece `a` with the collider `b` (a static piece or a body piece).
   [[nodiscard]] Manifold contact_with(const ColliderRef& a, const ColliderRef& b) const;
