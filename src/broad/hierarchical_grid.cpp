@@ -209,7 +209,9 @@ void HierarchicalGridN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler)
     }
   });
   pairs.clear();
-  for (std::size_t p = 0; p < pieces_.size(); ++p) pairs.insert(pairs.end(), piece_pairs_[p].begin(), piece_pairs_[p].end());
+  for (std::size_t p = 0; p < pieces_.size(); ++p) {
+    pairs.insert(pairs.end(), piece_pairs_[p].begin(), piece_pairs_[p].end());
+  }
   detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
 }
 

@@ -107,7 +107,6 @@ constexpr std::array<bool, 3> kChainPretests = {false, false, true};
 /// and contact a few hundred nanoseconds).
 constexpr int kBodiesPerTask = 128;
 constexpr int kPairsPerTask = 512;
-constexpr int kProxiesPerTask = 4096;  ///< a proxy's box or speed bound: a few nanoseconds
 
 /// Bodies ahead of the one being moved whose shapes are prefetched (a body's motion takes
 /// about 100 ns, a miss to memory about as long).
@@ -705,8 +704,9 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
       const Body& bb = bodies[pb.body];
       pair_passed[static_cast<std::size_t>(i)] = evaluate_pair(
           chain, ColliderRef{false, pa.body, pa.piece}, ColliderRef{false, pb.body, pb.piece},
-          piece_box(ba, pa.piece), piece_box(bb, pb.piece), transform_point(ba.xf, ba.piece(pa.piece).info.center),
-          ba.piece(pa.piece).info.radius, transform_point(bb.xf, bb.piece(pb.piece).info.center), bb.piece(pb.piece).info.radius,
+          piece_box(ba, pa.piece), piece_box(bb, pb.piece),
+          transform_point(ba.xf, ba.piece(pa.piece).info.center), ba.piece(pa.piece).info.radius,
+          transform_point(bb.xf, bb.piece(pb.piece).info.center), bb.piece(pb.piece).info.radius,
           pair_manifolds[static_cast<std::size_t>(i)], wk.stats);
     }
   });
