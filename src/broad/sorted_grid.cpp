@@ -233,8 +233,7 @@ std::span<const typename SortedGridN<D>::CellEntry> SortedGridN<D>::entries_of(
   }
   const int r = find_run(key);
   if (r < 0) return {};
-  return {entries_.data() + runs_[r].begin,
-          static_cast<std::size_t>(runs_[r + 1].begin - runs_[r].begin)};
+  return run_entries(r);
 }
 
 template <int D>
@@ -261,11 +260,7 @@ void SortedGridN<D>::append_pairs(PairList& pairs) const {
 
 template <int D>
 void SortedGridN<D>::append_cell_range_pairs(PairList& pairs, int first, int last) const {
-  for (int r = first; r < last; ++r) {
-    const int begin = runs_[r].begin;
-    append_cell_pairs<D>({entries_.data() + begin, static_cast<std::size_t>(runs_[r + 1].begin - begin)},
-                         pairs);
-  }
+  for (int r = first; r < last; ++r) append_cell_pairs<D>(run_entries(r), pairs);
 }
 
 template <int D>
@@ -290,9 +285,7 @@ void SortedGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
     // Wider than the occupied cells: scan those. A cell is in the range when the owner rule can
     // pick it, which visit_run checks entry by entry.
     for (int r = 0; r < cell_count(); ++r) {
-      const std::span<const CellEntry> entries{entries_.data() + runs_[r].begin,
-                                               static_cast<std::size_t>(runs_[r + 1].begin - runs_[r].begin)};
-      if (!visit_cell(runs_[r].key, entries)) return;
+      if (!visit_cell(runs_[r].key, run_entries(r))) return;
     }
     return;
   }

@@ -235,6 +235,25 @@ void TemporalBroadPhaseN<D>::check_candidate(std::size_t c, Emit&& emit, std::in
 }
 
 template <int D>
+template <class Task>
+void TemporalBroadPhaseN<D>::on_workers(TaskScheduler* scheduler, int count, int min_range, PairList& pairs,
+                                        Task&& task) {
+  worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
+  for (WorkerOutput& out : worker_out_) {  // (capacities kept: no allocation in a steady state)
+    out.pairs.clear();
+    out.checks = 0;
+    out.skipped = 0;
+  }
+  parallel_for(scheduler, count, min_range,
+               [&](int begin, int end, int w) { task(begin, end, worker_out_[static_cast<std::size_t>(w)]); });
+  for (const WorkerOutput& out : worker_out_) {
+    pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
+    stats_.checks += out.checks;
+    stats_.skipped_checks += out.skipped;
+  }
+}
+
+template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
   find_pairs(pairs, nullptr);
 }
@@ -250,24 +269,12 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
     }
   } else {
     // Each candidate writes only its own wake time; pairs and counters go to the worker's share.
-    worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
-    for (WorkerOutput& out : worker_out_) {  // (capacities kept: no allocation in a steady state)
-      out.pairs.clear();
-      out.checks = 0;
-      out.skipped = 0;
-    }
-    parallel_for(scheduler, count, kObjectsPerTask, [&](int begin, int end, int w) {
-      WorkerOutput& out = worker_out_[static_cast<std::size_t>(w)];
+    on_workers(scheduler, count, kObjectsPerTask, pairs, [&](int begin, int end, WorkerOutput& out) {
       for (int c = begin; c < end; ++c) {
         check_candidate(static_cast<std::size_t>(c), [&](int a, int b) { out.pairs.emplace_back(a, b); },
                         out.checks, out.skipped);
       }
     });
-    for (const WorkerOutput& out : worker_out_) {
-      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
-      stats_.checks += out.checks;
-      stats_.skipped_checks += out.skipped;
-    }
   }
   find_fast_pairs(pairs, scheduler);
 }
@@ -295,19 +302,8 @@ void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs, TaskScheduler* sch
   if (scheduler == nullptr || scheduler->worker_count() < 2 || fast_count <= kFastObjectsPerTask) {
     query_fast(0, fast_count, pairs, stats_.checks);
   } else {
-    worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
-    for (WorkerOutput& out : worker_out_) {
-      out.pairs.clear();
-      out.checks = 0;
-    }
-    parallel_for(scheduler, fast_count, kFastObjectsPerTask, [&](int begin, int end, int w) {
-      WorkerOutput& out = worker_out_[static_cast<std::size_t>(w)];
-      query_fast(begin, end, out.pairs, out.checks);
-    });
-    for (const WorkerOutput& out : worker_out_) {
-      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
-      stats_.checks += out.checks;
-    }
+    on_workers(scheduler, fast_count, kFastObjectsPerTask, pairs,
+               [&](int begin, int end, WorkerOutput& out) { query_fast(begin, end, out.pairs, out.checks); });
   }
   fast_order_.assign(fast_.begin(), fast_.end());
   std::sort(fast_order_.begin(), fast_order_.end(), [&](int a, int b) {

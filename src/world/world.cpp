@@ -271,13 +271,13 @@ auto WorldN<D>::Impl::body_box(const Body& b) const -> Box {
 }
 
 template <int D>
-void WorldN<D>::Impl::refresh_static_tree() {
-  if (!static_tree_dirty) return;
+void WorldN<D>::Impl::refresh_static_index() {
+  if (!static_index_dirty) return;
   std::vector<Box> boxes(static_pieces.size());
   for (std::size_t i = 0; i < static_pieces.size(); ++i) boxes[i] = static_pieces[i].box;
   static_tree.build(boxes);
   static_grid.build(boxes);
-  static_tree_dirty = false;
+  static_index_dirty = false;
 }
 
 template <int D>
@@ -532,11 +532,16 @@ void WorldN<D>::Impl::finish_motion(std::uint32_t i, float dt) {
   const Body& b = bodies[i];
   if (!b.alive) return;
   const std::uint32_t first = first_proxy[i];
-  const float bound = speed_bound(b, dt);
   for (std::size_t k = 0; k < b.shapes.size(); ++k) {
     proxy_boxes[first + k] = merge(proxy_start_boxes[first + k], b.piece(k).box);
-    proxy_speeds[first + k] = bound;
   }
+  store_speed_bound(i, dt);
+}
+
+template <int D>
+void WorldN<D>::Impl::store_speed_bound(std::uint32_t i, float dt) {
+  const float bound = speed_bound(bodies[i], dt);
+  for (std::size_t k = 0; k < bodies[i].shapes.size(); ++k) proxy_speeds[first_proxy[i] + k] = bound;
 }
 
 template <int D>
@@ -736,19 +741,14 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   }
   // The response changed velocities and pushes: tell the broad phase how fast the swept boxes
   // may move from now on, so its sleeping pairs stay safe without a rebuild. Only the bodies of
-  // solid pairs changed (a few percent of them); the others keep the bounds computed above.
-  const auto refresh_speeds = [&](std::uint32_t body) {
-    const std::uint32_t first = first_proxy[body];
-    const float bound = speed_bound(bodies[body], dt);
-    for (std::size_t k = 0; k < bodies[body].shapes.size(); ++k) proxy_speeds[first + k] = bound;
-  };
+  // solid pairs changed (a few percent of them); the others keep the bounds finish_motion stored.
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (pair_passed[i] == 0) continue;
     const detail::Proxy pa = proxies[pairs[i].first];
     const detail::Proxy pb = proxies[pairs[i].second];
     if (bodies[pa.body].sensor || bodies[pb.body].sensor) continue;
-    refresh_speeds(pa.body);
-    refresh_speeds(pb.body);
+    store_speed_bound(pa.body, dt);
+    store_speed_bound(pb.body, dt);
   }
   body_broad.set_speed_bounds(proxy_speeds);
   stats.time_bodies = seconds(t1, Clock::now());
@@ -963,7 +963,7 @@ StaticId WorldN<D>::add_static(const StaticDefN<D>& def) {
                                     detail::placed_box<D>(box, xf), transform_point(xf, 0.5f * (box.min + box.max)),
                                     0.5f * length(box.max - box.min), 0.0f, false});
   }
-  impl_->static_tree_dirty = true;
+  impl_->static_index_dirty = true;
   impl_->check_grid_dirty = true;
   ++impl_->statics_version;
   return StaticId{owner};
@@ -1173,7 +1173,7 @@ template <int D>
 void WorldN<D>::step(float dt) {
   if (!std::isfinite(dt) || dt < 0.0f) throw InvalidInput("dt: negative or not finite");
   Impl& w = *impl_;
-  w.refresh_static_tree();
+  w.refresh_static_index();
   StepStats s;
   s.steps = 1;
   s.bodies = w.alive_bodies;

@@ -183,7 +183,7 @@ struct WorldN<D>::Impl {
   /// grid answers from the one to four cells a body covers instead of a descent through the
   /// tree (at 1e6 bodies over 26k static pieces the tree's descent was a fifth of the step).
   SortedGridN<D> static_grid;
-  bool static_tree_dirty = false;  ///< static_tree and static_grid
+  bool static_index_dirty = false;  ///< static_tree and static_grid
   /// Bumped by every add_static: a body's static clearance measured before is void.
   std::uint32_t statics_version = 1;
   detail::CheckGridN<D> check_grid;
@@ -267,7 +267,8 @@ struct WorldN<D>::Impl {
   [[nodiscard]] Box piece_box(const Body& b, int piece) const noexcept {
     return b.piece(static_cast<std::size_t>(piece)).box;
   }
-  void refresh_static_tree();
+  /// Rebuilds static_tree and static_grid when a static was added since the last build.
+  void refresh_static_index();
   /// The contact of a body piece `a` with the collider `b` (a static piece or a body piece).
   [[nodiscard]] Manifold contact_with(const ColliderRef& a, const ColliderRef& b) const;
 
@@ -292,6 +293,8 @@ struct WorldN<D>::Impl {
   void measure_clearance(Body& b);
   /// Body i's proxies' boxes over the step (from its start to its end pose) and speed bound.
   void finish_motion(std::uint32_t index, float dt);
+  /// Body i's speed bound (speed_bound) stored for each of its proxies.
+  void store_speed_bound(std::uint32_t index, float dt);
   void find_body_contacts(float dt, StepStats& stats);
   /// Bound on how fast body b's swept boxes move from now on, world units per second.
   [[nodiscard]] float speed_bound(const Body& b, float dt) const;

@@ -109,7 +109,7 @@ std::optional<WorldRayHitN<D>> cast_ray(const typename WorldN<D>::Impl& w, const
 template <int D>
 std::optional<WorldRayHitN<D>> WorldN<D>::raycast(const RayN<D>& ray, const QueryFilter& filter) const {
   if (!is_finite(ray.origin) || !is_finite(ray.translation)) throw InvalidInput("ray: not finite");
-  impl_->refresh_static_tree();
+  impl_->refresh_static_index();
   return cast_ray<D>(*impl_, ray, filter, std::nullopt);
 }
 
@@ -126,7 +126,7 @@ void WorldN<D>::raycast_batch(std::span<const RayN<D>> rays, std::span<std::opti
     }
   }
   Impl& w = *impl_;
-  w.refresh_static_tree();
+  w.refresh_static_index();
   w.prepare_workers();
   w.parallel(static_cast<int>(rays.size()), kRaysPerTask, [&](int begin, int end, int) {
     for (int i = begin; i < end; ++i) {
@@ -143,7 +143,7 @@ LaserPathN<D> WorldN<D>::cast_laser(const RayN<D>& ray, int max_bounces, const Q
   if (max_bounces < 0 || max_bounces > kMaxLaserBounces) {
     throw InvalidInput("laser max_bounces: must be in [0, " + std::to_string(kMaxLaserBounces) + "]");
   }
-  impl_->refresh_static_tree();
+  impl_->refresh_static_index();
   LaserPathN<D> path;
   path.points[0] = ray.origin;
   RayN<D> r = ray;
@@ -181,7 +181,7 @@ template <int D>
 void WorldN<D>::query_aabb(const AabbN<D>& box, const QueryFilter& filter,
                            const ColliderCallback& callback) const {
   if (!is_valid(box)) throw InvalidInput("query box: not finite or min > max");
-  impl_->refresh_static_tree();
+  impl_->refresh_static_index();
   const detail::Probe<D> probe = detail::box_probe(box);
   const Impl& w = *impl_;
   for_candidates<D>(
@@ -211,7 +211,7 @@ template <int D>
 void WorldN<D>::collide_shape(const BodyShape& shape, const Xf& xf, const QueryFilter& filter,
                               const ContactCallbackN<D>& callback) const {
   if (!is_valid(xf)) throw InvalidInput("collide shape: transform not finite or not unit");
-  impl_->refresh_static_tree();
+  impl_->refresh_static_index();
   const Impl& w = *impl_;
   const AabbN<D> box = compute_aabb(shape, xf);
   for_candidates<D>(
@@ -230,7 +230,7 @@ WorldCastHitN<D> WorldN<D>::shape_cast(const BodyShape& shape, const Xf& xf, Vec
   if (!is_valid(xf) || !is_finite(translation)) {
     throw InvalidInput("shape cast: transform or translation not finite");
   }
-  impl_->refresh_static_tree();
+  impl_->refresh_static_index();
   const Impl& w = *impl_;
   const AabbN<D> swept = swept_aabb(shape, xf, translation);
   WorldCastHitN<D> best;

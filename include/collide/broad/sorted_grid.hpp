@@ -134,6 +134,10 @@ class SortedGridN {
     return grid_.linear_index(cell);
   }
   [[nodiscard]] int find_run(std::uint64_t key) const noexcept;
+  /// The entries of run r (an occupied cell), r < cell_count().
+  [[nodiscard]] std::span<const CellEntry> run_entries(int r) const noexcept {
+    return {entries_.data() + runs_[r].begin, static_cast<std::size_t>(runs_[r + 1].begin - runs_[r].begin)};
+  }
   /// The entries of the cell with linear index `key` (< the grid's cell total): read from the
   /// counting sort's offsets when the grid is dense, else found by binary search over the runs.
   [[nodiscard]] std::span<const CellEntry> entries_of(std::uint64_t key) const noexcept;

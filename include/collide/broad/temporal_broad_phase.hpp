@@ -146,6 +146,10 @@ class TemporalBroadPhaseN {
     std::int64_t skipped = 0;
   };
   std::vector<WorkerOutput> worker_out_;
+  /// task(begin, end, share) over [0, count) on the scheduler's workers, each range writing
+  /// its worker's share; then the shares' pairs appended to `pairs` and their counters added.
+  template <class Task>
+  void on_workers(TaskScheduler* scheduler, int count, int min_range, PairList& pairs, Task&& task);
   /// The candidate check of candidate c (wake time, overlap, next wake time).
   template <class Emit>
   void check_candidate(std::size_t c, Emit&& emit, std::int64_t& checks, std::int64_t& skipped);

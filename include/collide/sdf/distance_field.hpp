@@ -467,7 +467,9 @@ template <class F>
   const auto nx = static_cast<std::size_t>(grid.dims.x);
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
   // Two neighbouring floats (4-byte aligned only: _mm_loadl_epi64 reads them unaligned).
-  const auto pair = [](const float* at) { return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at))); };
+  const auto pair = [](const float* at) {
+    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at)));
+  };
   const __m128 lo = _mm_movelh_ps(pair(d), pair(d + nx));
   const __m128 hi = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
   // Along x: (x00, x10, x01, x11) = even + (odd - even) * fx.

@@ -19,11 +19,11 @@
 /// step (once a move): up by at most `step_height`, forward (along another wall it meets at
 /// once, as beside a stair), down onto walkable ground, kept only if it lands there or finds
 /// walkable ground a little further on (`step_forward_test`: a rounded bottom perched on the
-/// step's edge goes on climbing in the next frames). No step is tried at a wall the rest of the move goes into by no more than the
-/// skin (one walked along) or met higher above the shape's lowest point than `step_height`
-/// (rising by a step, the shape meets it again going forward). After the move a character that
-/// stood on ground and did not move up is pressed down by up to `step_height` onto walkable
-/// ground (stairs and slopes down). A start inside geometry (a spawn, a moving obstacle) is
+/// step's edge goes on climbing in the next frames). No step is tried at a wall the rest of the
+/// move goes into by no more than the skin (one walked along) or met higher above the shape's
+/// lowest point than `step_height` (rising by a step, the shape meets it again going forward).
+/// After the move a character that stood on ground and did not move up is pressed down by up to
+/// `step_height` onto walkable ground (stairs and slopes down). A start inside geometry (a spawn, a moving obstacle) is
 /// first pushed out along the deepest contacts. The ground is what a short cast down finds.
 
 #include <collide/world/world.hpp>
