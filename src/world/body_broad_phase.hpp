@@ -80,7 +80,7 @@ class BodyBroadPhaseN {
           }
         },
         bp_);
-    sort_pairs(pairs);
+    sort_pairs(pairs, sort_scratch_);
   }
 
   void query(const AabbN<D>& box, QueryCallback callback) const {
@@ -105,6 +105,7 @@ class BodyBroadPhaseN {
   std::variant<TemporalBroadPhaseN<D>, HierarchicalGridN<D>, SortedGridN<D>, LooseGridN<D>,
                HashGridN<D>, DynamicTreeN<D>, SweepAndPruneN<D>, BruteForceN<D>>
       bp_;
+  PairList sort_scratch_;  ///< sort_pairs' storage, kept across frames
   bool built_ = false;
 };
 

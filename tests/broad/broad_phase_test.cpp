@@ -18,6 +18,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <random>
 #include <set>
 #include <string>
 
@@ -360,6 +361,39 @@ TYPED_TEST(BroadPhaseTest, UpdateRejectsNonFiniteAndInvertedBoxesNamingTheIndex)
     bp.update(good);
     expect_same_pairs<D>(bp, good, expected, std::string("update after ") + c.what);
   }
+}
+
+}  // namespace
+}  // namespace collide
+
+namespace collide {
+namespace {
+
+// sort_pairs radix-sorts lists of 512 or more non-negative pairs: its order must be std::sort's
+// lexicographic one for every id range (the key's width follows the largest id), duplicates,
+// pairs with first > second, a scratch reused across calls, and lists with a negative id (which
+// take std::sort).
+TEST(SortPairs, SameOrderAsStdSortForEverySizeAndIdRange) {
+  std::mt19937 rng(7);
+  PairList scratch;
+  for (const std::size_t n : {0u, 1u, 2u, 511u, 512u, 513u, 3000u, 100000u}) {
+    for (const int largest : {1, 10, 10000, 1000000, std::numeric_limits<int>::max()}) {
+      for (const bool with_negative : {false, true}) {
+        std::uniform_int_distribution<int> id(0, largest);
+        PairList pairs(n);
+        for (BroadPair& p : pairs) p = {id(rng), id(rng)};
+        if (with_negative && n > 0) pairs[n / 2].second = -3;
+        if (n >= 4) pairs[1] = pairs[3];  // a duplicate
+        PairList want = pairs;
+        std::sort(want.begin(), want.end());
+        sort_pairs(pairs, scratch);
+        ASSERT_EQ(pairs, want) << n << " pairs, ids up to " << largest << (with_negative ? ", one negative" : "");
+      }
+    }
+  }
+  PairList one_call{{5, 2}, {1, 9}, {1, 3}};
+  sort_pairs(one_call);
+  EXPECT_EQ(one_call, (PairList{{1, 3}, {1, 9}, {5, 2}}));
 }
 
 }  // namespace

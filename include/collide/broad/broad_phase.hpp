@@ -95,7 +95,12 @@ template <int D>
   return t_enter;
 }
 
-/// Sorts pairs lexicographically: the canonical order of the registry and of the tests.
+/// Sorts pairs lexicographically: the canonical order of the registry, the world and the tests.
+/// Pairs of non-negative ids, 512 or more, by a radix sort on first * 2^w + second (w the bits
+/// of the largest id: 3 or 4 passes of 11 bits for 1e4 to 1e6 objects; Knuth, TAOCP vol. 3,
+/// 5.2.5), otherwise std::sort. `scratch` is storage reused across calls (a world sorts its
+/// pairs every frame without allocating); the first form makes its own.
 void sort_pairs(PairList& pairs);
+void sort_pairs(PairList& pairs, PairList& scratch);
 
 }  // namespace collide
