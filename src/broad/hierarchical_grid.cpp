@@ -140,24 +140,31 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
 
 namespace {
 
-/// Occupied cells, and boxes, per piece of find_pairs' work: a few hundred microseconds.
+/// Occupied cells, and boxes, per piece of find_pairs' work: at most a few hundred
+/// microseconds ...
 constexpr int kCellsPerPiece = 4096;
 constexpr int kBoxesPerPiece = 2048;
+/// ... and at least a few microseconds (a task's cost on the workers).
+constexpr int kMinCellsPerPiece = 128;
+constexpr int kMinBoxesPerPiece = 64;
+/// Pieces per worker wanted (more than one: pieces differ in cost, and a worker that finishes
+/// early takes another).
+constexpr int kPiecesPerWorker = 4;
 
 }  // namespace
 
 template <int D>
 template <class Visit>
-void HierarchicalGridN<D>::for_each_piece(Visit&& visit) const {
+void HierarchicalGridN<D>::for_each_piece(int cells_per_piece, int boxes_per_piece, Visit&& visit) const {
   const auto level_total = static_cast<int>(levels_.size());
   for (int l = 0; l < level_total; ++l) {
     if (levels_[static_cast<std::size_t>(l)].ids.empty()) continue;
     const int cells = levels_[static_cast<std::size_t>(l)].grid.cell_count();
-    for (int c = 0; c < cells; c += kCellsPerPiece) visit(Piece{l, -1, c, std::min(cells, c + kCellsPerPiece)});
+    for (int c = 0; c < cells; c += cells_per_piece) visit(Piece{l, -1, c, std::min(cells, c + cells_per_piece)});
     const auto boxes = static_cast<int>(levels_[static_cast<std::size_t>(l)].ids.size());
     for (int m = l + 1; m < level_total; ++m) {
       if (levels_[static_cast<std::size_t>(m)].ids.empty()) continue;
-      for (int b = 0; b < boxes; b += kBoxesPerPiece) visit(Piece{l, m, b, std::min(boxes, b + kBoxesPerPiece)});
+      for (int b = 0; b < boxes; b += boxes_per_piece) visit(Piece{l, m, b, std::min(boxes, b + boxes_per_piece)});
     }
   }
 }
@@ -188,7 +195,7 @@ void HierarchicalGridN<D>::piece_pairs(const Piece& piece, PairList& pairs) cons
 template <int D>
 void HierarchicalGridN<D>::find_pairs(PairList& pairs) const {
   pairs.clear();
-  for_each_piece([&](const Piece& piece) { piece_pairs(piece, pairs); });
+  for_each_piece(kCellsPerPiece, kBoxesPerPiece, [&](const Piece& piece) { piece_pairs(piece, pairs); });
   detail::oversized_pairs<D>(big_, is_big_, boxes_, pairs);
 }
 
@@ -198,8 +205,17 @@ void HierarchicalGridN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler)
     find_pairs(pairs);
     return;
   }
+  // Piece sizes for kPiecesPerWorker pieces a worker over the largest level's cells and boxes.
+  int most_cells = 0, most_boxes = 0;
+  for (const Level& level : levels_) {
+    most_cells = std::max(most_cells, level.grid.cell_count());
+    most_boxes = std::max(most_boxes, static_cast<int>(level.ids.size()));
+  }
+  const int wanted = kPiecesPerWorker * scheduler->worker_count();
+  const int cells_per_piece = std::clamp(most_cells / wanted, kMinCellsPerPiece, kCellsPerPiece);
+  const int boxes_per_piece = std::clamp(most_boxes / wanted, kMinBoxesPerPiece, kBoxesPerPiece);
   pieces_.clear();
-  for_each_piece([&](const Piece& piece) { pieces_.push_back(piece); });
+  for_each_piece(cells_per_piece, boxes_per_piece, [&](const Piece& piece) { pieces_.push_back(piece); });
   if (piece_pairs_.size() < pieces_.size()) piece_pairs_.resize(pieces_.size());
   parallel_for(scheduler, static_cast<int>(pieces_.size()), 1, [&](int begin, int end, int) {
     for (int p = begin; p < end; ++p) {

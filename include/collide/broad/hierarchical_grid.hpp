@@ -56,10 +56,11 @@ class HierarchicalGridN {
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
   /// its own pairs then its boxes against the coarser levels; the boxes in no level last.
   void find_pairs(PairList& pairs) const;
-  /// find_pairs with its work cut into fixed pieces (a level's cells, a level's boxes against a
-  /// coarser level, in ranges) that run on the scheduler's workers, each into its own list, the
-  /// lists then joined in order: the same pairs in the same order for any schedule (null or one
-  /// worker: find_pairs). Not to be called concurrently on one grid (the lists are members).
+  /// find_pairs with its work cut into pieces (a level's cells, a level's boxes against a
+  /// coarser level, in ranges: a few per worker, at most a few hundred microseconds each) that
+  /// run on the scheduler's workers, each into its own list, the lists then joined in order:
+  /// the same pairs in the same order for any schedule and worker count (null or one worker:
+  /// find_pairs). Not to be called concurrently on one grid (the lists are members).
   void find_pairs(PairList& pairs, TaskScheduler* scheduler);
   /// Each id whose box overlaps `box` (touching counts), once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
@@ -92,9 +93,11 @@ class HierarchicalGridN {
     int begin;
     int end;
   };
-  /// Calls visit(piece) for find_pairs' pieces in its order.
+  /// Calls visit(piece) for find_pairs' pieces in its order, cells and boxes cut in ranges of
+  /// at most `cells_per_piece` and `boxes_per_piece` (any sizes give the same pairs in the same
+  /// order once the pieces' lists are joined).
   template <class Visit>
-  void for_each_piece(Visit&& visit) const;
+  void for_each_piece(int cells_per_piece, int boxes_per_piece, Visit&& visit) const;
   /// Appends the pairs of one piece.
   void piece_pairs(const Piece& piece, PairList& pairs) const;
 
