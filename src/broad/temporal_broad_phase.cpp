@@ -3,6 +3,7 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -94,11 +95,17 @@ constexpr int kObjectsPerTask = 2048;
 /// Smallest range of fast objects per task (each a grid query of a few microseconds).
 constexpr int kFastObjectsPerTask = 64;
 
+/// update's verdict on an object: bound kept, bound broken, bound kept but out of its grown box
+/// (it may still pair with candidates it was not grown towards), or a bad box.
+constexpr unsigned char kKept = 0;
+constexpr unsigned char kBrokeBound = 1;
+constexpr unsigned char kLeftGrownBox = 2;
+constexpr unsigned char kBadBox = 3;
+
 }  // namespace
 
 template <int D>
 void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler) {
-  validate_boxes(boxes);
   if (boxes.size() != boxes_.size()) {
     throw InvalidInput("boxes: " + std::to_string(boxes.size()) + " given, " +
                        std::to_string(boxes_.size()) + " built; call build for a new set");
@@ -107,34 +114,42 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
   const double dt = time - time_;
   const int n = size();
   broke_.resize(boxes_.size());
-  // Each object's verdict into its own slot (in parallel), then the demotions in id order.
+  // Each object's verdict into its own slot (in parallel), then the demotions in id order. A
+  // box that is not finite and ordered (validate_boxes' test) gets kBadBox, and validate_boxes
+  // then names the first one before anything changes.
+  constexpr float kMax = std::numeric_limits<float>::max();
   parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
     for (int i = begin; i < end; ++i) {
       const AabbN<D>& before = boxes_[i];
       const AabbN<D>& now = boxes[i];
       const double reach = static_cast<double>(speeds_[i]) * dt;
       bool within = true;
+      bool good = true;
       for (int k = 0; k < D; ++k) {
         within = within &&
                  static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
                  static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
+        good &= (now.min[k] <= now.max[k]) & (now.min[k] >= -kMax) & (now.max[k] <= kMax);
       }
-      unsigned char verdict = within ? 0 : 1;
-      if (within && !needs_rebuild_ && !is_fast_[std::size_t(i)] && !contains(grown_[i], now)) verdict = 2;
-      broke_[std::size_t(i)] = verdict;
+      unsigned char verdict = within ? kKept : kBrokeBound;
+      if (within && !needs_rebuild_ && !is_fast_[std::size_t(i)] && !contains(grown_[i], now)) verdict = kLeftGrownBox;
+      broke_[std::size_t(i)] = good ? verdict : kBadBox;
     }
   });
+  if (std::find(broke_.begin(), broke_.end(), kBadBox) != broke_.end()) validate_boxes(boxes);
   for (int i = 0; i < n; ++i) {
     const unsigned char verdict = broke_[std::size_t(i)];
-    if (verdict == 0) continue;
-    if (verdict == 1) ++stats_.bound_violations;
+    if (verdict == kKept) continue;
+    if (verdict == kBrokeBound) ++stats_.bound_violations;
     // Broke its bound, or left its grown box: the candidate set no longer covers it. It joins
     // the fast objects until the next rebuild (its pairs found by a grid query every frame, its
     // candidate pairs ignored), unless so many do that a rebuild is cheaper. A fast object is
     // checked every frame anyway.
     if (!needs_rebuild_ && !is_fast_[std::size_t(i)]) demote(i);
   }
-  boxes_.assign(boxes.begin(), boxes.end());
+  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    std::copy(boxes.begin() + begin, boxes.begin() + end, boxes_.begin() + begin);
+  });
   time_ = time;
 }
 
@@ -150,25 +165,44 @@ void TemporalBroadPhaseN<D>::demote(int i) {
 
 template <int D>
 void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bounds) {
-  validate_speed_bounds(speed_bounds, speeds_.size());
-  bool any_raised = false;
-  raised_.assign(speeds_.size(), 0);
-  for (std::size_t i = 0; i < speeds_.size(); ++i) {
-    if (speed_bounds[i] > speeds_[i]) {
-      raised_[i] = 1;
-      any_raised = true;
+  set_speed_bounds(speed_bounds, nullptr);
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler) {
+  if (speed_bounds.size() != speeds_.size()) validate_speed_bounds(speed_bounds, speeds_.size());
+  // Per object (in parallel): raised (1), or a bad bound (2, named by validate_speed_bounds
+  // before anything changes); then the bounds stored.
+  raised_.resize(speeds_.size());
+  std::atomic<unsigned> found{0};  // bit 0: a bound raised, bit 1: a bad bound
+  const auto n = static_cast<int>(speeds_.size());
+  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    unsigned any = 0;
+    for (int i = begin; i < end; ++i) {
+      const float v = speed_bounds[std::size_t(i)];
+      const bool bad = !(v >= 0.0f && v <= std::numeric_limits<float>::max());  // NaN fails too
+      const unsigned char flag = bad ? 2 : v > speeds_[std::size_t(i)] ? 1 : 0;
+      raised_[std::size_t(i)] = flag;
+      any |= flag;
     }
-    speeds_[i] = speed_bounds[i];
-  }
-  if (!any_raised || needs_rebuild_) return;
+    if (any != 0) found.fetch_or(any, std::memory_order_relaxed);
+  });
+  const unsigned any = found.load(std::memory_order_relaxed);
+  if (any & 2u) validate_speed_bounds(speed_bounds, speeds_.size());
+  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    std::copy(speed_bounds.begin() + begin, speed_bounds.begin() + end, speeds_.begin() + begin);
+  });
+  if (!(any & 1u) || needs_rebuild_) return;
   // A sleeping pair with a faster object may meet sooner than its wake time: check it at the
   // next find_pairs. (Its grown box assumed the old bound, too; update() rebuilds when an
   // object leaves it.)
-  for (std::size_t c = 0; c < candidates_.size(); ++c) {
-    if (raised_[std::size_t(candidates_[c].first)] || raised_[std::size_t(candidates_[c].second)]) {
-      wake_[c] = std::min(wake_[c], time_);
+  const auto candidate_count = static_cast<int>(candidates_.size());
+  parallel_for(scheduler, candidate_count, kObjectsPerTask, [&](int begin, int end, int) {
+    for (int c = begin; c < end; ++c) {
+      const auto [a, b] = candidates_[std::size_t(c)];
+      if (raised_[std::size_t(a)] | raised_[std::size_t(b)]) wake_[std::size_t(c)] = std::min(wake_[std::size_t(c)], time_);
     }
-  }
+  });
 }
 
 template <int D>

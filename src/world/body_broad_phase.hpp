@@ -62,9 +62,9 @@ class BodyBroadPhaseN {
 
   /// Speed bounds from now on, after the collision response changed velocities (only the
   /// temporal broad phase uses them).
-  void set_speed_bounds(std::span<const float> speed_bounds) {
+  void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler = nullptr) {
     if (auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_); t != nullptr && built_) {
-      t->set_speed_bounds(speed_bounds);
+      t->set_speed_bounds(speed_bounds, scheduler);
     }
   }
 

@@ -750,7 +750,7 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
     store_speed_bound(pa.body, dt);
     store_speed_bound(pb.body, dt);
   }
-  body_broad.set_speed_bounds(proxy_speeds);
+  body_broad.set_speed_bounds(proxy_speeds, options.scheduler);
   stats.time_bodies = seconds(t1, Clock::now());
 }
 

@@ -136,6 +136,58 @@ TYPED_TEST(TemporalTest, ChangingSpeedsAreSafeWithoutRebuilds) {
   EXPECT_THROW(temporal.set_speed_bounds(bad), InvalidInput);
 }
 
+// The same speed changes on a world large enough for several ranges a worker (update's and
+// set_speed_bounds' per-object loops, the wake-up of the raised objects' candidates): every
+// frame's pairs and the counters as without workers, and at least one frame's pairs non-empty
+// and one raise that woke a sleeping pair (the skipped checks differ from a run without raises).
+TYPED_TEST(TemporalTest, SpeedChangesOnWorkersGiveTheSerialAnswer) {
+  constexpr int D = TypeParam::value;
+  constexpr int kObjects = 6000;
+  struct Run {
+    std::vector<PairList> pairs;
+    std::int64_t skipped = 0, checks = 0, violations = 0;
+  };
+  const auto run = [](TaskScheduler* scheduler, bool raise) {
+    std::mt19937 rng(23 + D);
+    auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, kObjects, D == 2 ? 90.0f : 24.0f, 0.2f, 1.0f),
+                                       D == 2 ? 90.0f : 24.0f, 0.02f);
+    TemporalBroadPhaseN<D> temporal;
+    temporal.build(world.boxes, bounds_of_world(world), 0.0);
+    std::uniform_int_distribution<int> pick(0, kObjects - 1);
+    Run out;
+    for (int frame = 1; frame <= 20; ++frame) {
+      world.step();
+      temporal.update(world.boxes, static_cast<double>(frame), scheduler);
+      PairList pairs;
+      temporal.find_pairs(pairs, scheduler);
+      sort_pairs(pairs);
+      out.pairs.push_back(pairs);
+      for (int k = 0; k < 200 && raise; ++k) {
+        const std::size_t up = std::size_t(pick(rng)), down = std::size_t(pick(rng));
+        if (std::abs(world.velocity[up][0]) < 0.2f) world.velocity[up] *= 5.0f;
+        world.velocity[down] *= 0.5f;
+      }
+      temporal.set_speed_bounds(bounds_of_world(world), scheduler);
+    }
+    out.skipped = temporal.stats().skipped_checks;
+    out.checks = temporal.stats().checks;
+    out.violations = temporal.stats().bound_violations;
+    return out;
+  };
+  const Run serial = run(nullptr, true);
+  ASSERT_GT(serial.pairs.back().size(), 100u);
+  EXPECT_EQ(serial.violations, 0);
+  EXPECT_NE(run(nullptr, false).skipped, serial.skipped);  // the raises woke pairs
+  for (const int workers : {2, 3, 8}) {
+    test::ThreadScheduler scheduler(workers);
+    const Run many = run(&scheduler, true);
+    EXPECT_EQ(many.pairs, serial.pairs) << workers << " workers";
+    EXPECT_EQ(many.skipped, serial.skipped) << workers << " workers";
+    EXPECT_EQ(many.checks, serial.checks) << workers << " workers";
+    EXPECT_EQ(many.violations, serial.violations) << workers << " workers";
+  }
+}
+
 // A few bullets among slow walkers: the bullets are handled every frame instead of being grown
 // into candidates with everything, and the answer stays brute force's.
 TYPED_TEST(TemporalTest, FastObjectsAmongSlowOnesAreFoundEveryFrame) {

@@ -90,10 +90,12 @@ class TemporalBroadPhaseN {
   /// Every pair overlapping at the current time, once, i < j; order: candidate order.
   void find_pairs(PairList& pairs);
 
-  /// update and find_pairs with their per-object and per-candidate loops spread over a game's
-  /// job system (null: the calls above). The same pairs and the same state for any worker
-  /// count; the pairs' order then depends on the schedule (sort_pairs for a fixed one).
+  /// update, set_speed_bounds and find_pairs with their per-object and per-candidate loops
+  /// spread over a game's job system (null: the calls above). The same pairs and the same state
+  /// for any worker count; the pairs' order then depends on the schedule (sort_pairs for a
+  /// fixed one).
   void update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler);
+  void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler);
   void find_pairs(PairList& pairs, TaskScheduler* scheduler);
   /// Each id whose current box overlaps `box`, once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
@@ -133,13 +135,13 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
-  std::vector<unsigned char> raised_;  // per object: bound raised since the wake times were set
+  std::vector<unsigned char> raised_;  // set_speed_bounds' scratch: per object, bound raised (1) / bad (2)
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   std::vector<unsigned char> is_fast_; // per object, at the last rebuild
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
   std::size_t demoted_since_rebuild_ = 0;
   std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
-  std::vector<unsigned char> broke_;   // update's scratch: per object, broke its bound (1) / left its grown box (2)
+  std::vector<unsigned char> broke_;   // update's scratch: per object, its verdict (kept, broke its bound, left its grown box, bad box)
   struct WorkerOutput {                // a worker's share of find_pairs
     PairList pairs;
     std::int64_t checks = 0;
