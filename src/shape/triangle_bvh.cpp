@@ -534,13 +534,15 @@ inline PacketCrossings cross_packet(const CornerLanes& t, const PacketRay& r, fl
     w = load(ww);
   }
   const auto inside = ((u >= zero) & (v >= zero) & (w >= zero)) | ((u <= zero) & (v <= zero) & (w <= zero));
+  PacketCrossings out;
+  // Most leaves a ray opens hold no triangle it passes through: done before the fractions.
+  if (lane_bits(inside) == 0) return out;
   const Lanes det = u + v + w;
   const Lanes time = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
   // Two-sided: the back side has a negative determinant; flip both.
   const auto back = det < zero;
   const Lanes abs_det = select(back, zero - det, det);
   const Lanes abs_time = select(back, zero - time, time);
-  PacketCrossings out;
   out.bits = lane_bits(inside & (abs_det > zero) & (abs_time > zero) & (abs_time <= splat(max_fraction) * abs_det));
   if (out.bits != 0) {
     const Lanes f = min(abs_time / abs_det, splat(max_fraction));
