@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <string>
 #if defined(__SSE__)
 #include <immintrin.h>
 #endif
@@ -364,14 +365,20 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
       }
       if (c.count > 0) {
         Packet packet;
+        std::uint32_t slivers = 0;
         for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
           const std::uint32_t slot = c.first + std::min(lane, c.count - 1);  // repeat the last one
           for (int v = 0; v < 3; ++v) {
             for (int axis = 0; axis < 3; ++axis) packet.corners[v][axis][lane] = corners[order[slot]][v][axis];
           }
           packet.id[lane] = order[slot];
+          const auto& tri = corners[order[slot]];
+          if (lane < c.count && detail::is_sliver(tri[0], tri[1], tri[2])) slivers |= 1u << lane;
         }
-        node.child[k] = static_cast<std::uint32_t>(packets_.size()) | kLeaf;
+        if (packets_.size() >= kPacketMask) {
+          throw InvalidInput("triangle mesh: " + std::to_string(n) + " triangles: more than the BVH holds");
+        }
+        node.child[k] = kLeaf | slivers << kSliverShift | static_cast<std::uint32_t>(packets_.size());
         node.count[k] = c.count;
         packets_.push_back(packet);
       } else {
@@ -416,14 +423,14 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
   std::uint32_t ref = 0;  // the node or packet being searched: the root first
   for (;;) {
     if (ref & kLeaf) {
-      const Packet& packet = packets_[ref & ~kLeaf];
+      const Packet& packet = packets_[ref & kPacketMask];
       const Lanes d2 = triangle_distance_squared(packet.corners, pl);
       const Lanes nearest = horizontal_min(d2);
       const unsigned at_minimum = lane_bits(d2 == nearest);
       if (at_minimum != 0 && nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
         best_d2 = nearest[0];
         best_lane = std::countr_zero(at_minimum);
-        best_packet = ref & ~kLeaf;
+        best_packet = ref & kPacketMask;
       } else if (at_minimum == 0) {
         // A NaN distance (corners beyond kFiniteQueryRange overflow) makes the minimum disagree
         // with every lane, and countr_zero(0) = 32 read past the packet (found by fuzz_shapes):
@@ -434,7 +441,7 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
           if (d[k] < best_d2) {  // (unused lanes repeat the last triangle)
             best_d2 = d[k];
             best_lane = k;
-            best_packet = ref & ~kLeaf;
+            best_packet = ref & kPacketMask;
           }
         }
       }
@@ -494,14 +501,32 @@ struct PacketCrossings {
 
 /// A watertight ray's constants as lanes, made once per ray (not at every leaf).
 struct PacketRay {
+  const detail::WatertightRay& ray;
   int kx, ky, kz;
   Lanes ox, oy, oz, sx, sy, sz;
   explicit PacketRay(const detail::WatertightRay& r) noexcept
-      : kx(r.kx), ky(r.ky), kz(r.kz), ox(splat(r.origin[r.kx])), oy(splat(r.origin[r.ky])),
+      : ray(r), kx(r.kx), ky(r.ky), kz(r.kz), ox(splat(r.origin[r.kx])), oy(splat(r.origin[r.ky])),
         oz(splat(r.origin[r.kz])), sx(splat(r.sx)), sy(splat(r.sy)), sz(splat(r.sz)) {}
 };
 
-inline PacketCrossings cross_packet(const CornerLanes& t, const PacketRay& r, float max_fraction) noexcept {
+/// The sliver lanes `lanes` whose edge functions the ray's line passes, measured from their
+/// planes by the scalar test's own function (so both give the same floats): a crossing within
+/// (0, max_fraction] joins out.bits. Rare, and out of line: inside cross_packet it cost every
+/// ray a few percent.
+COLLIDE_COLD void measure_slivers(const CornerLanes& t, unsigned lanes, const detail::WatertightRay& ray,
+                                  float max_fraction, PacketCrossings& out) noexcept {
+  for (; lanes != 0; lanes &= lanes - 1) {
+    const int k = std::countr_zero(lanes);
+    const auto corner = [&](int c) { return Vec3(t[c][0][k], t[c][1][k], t[c][2][k]); };
+    const float fraction = ray.sliver_fraction(corner(0), corner(1), corner(2), max_fraction);
+    if (fraction > 0.0f) out.bits |= 1u << k;
+    out.fraction[k] = fraction;
+  }
+}
+
+/// `slivers`: the lanes whose triangles are slivers (TriangleBvh::Packet::slivers), whose
+/// fractions are taken from their planes as WatertightRay::fraction does.
+inline PacketCrossings cross_packet(const CornerLanes& t, unsigned slivers, const PacketRay& r, float max_fraction) noexcept {
   const Lanes ox = r.ox, oy = r.oy, oz = r.oz, sx = r.sx, sy = r.sy, sz = r.sz;
   // Corners relative to the origin, in the ray's axes, sheared so the ray runs along z.
   const Lanes az = load(t[0][r.kz]) - oz, bz = load(t[1][r.kz]) - oz, cz = load(t[2][r.kz]) - oz;
@@ -543,10 +568,13 @@ inline PacketCrossings cross_packet(const CornerLanes& t, const PacketRay& r, fl
   const auto back = det < zero;
   const Lanes abs_det = select(back, zero - det, det);
   const Lanes abs_time = select(back, zero - time, time);
-  out.bits = lane_bits(inside & (abs_det > zero) & (abs_time > zero) & (abs_time <= splat(max_fraction) * abs_det));
-  if (out.bits != 0) {
+  const auto crossed = inside & (abs_det > zero);
+  out.bits = lane_bits(crossed & (abs_time > zero) & (abs_time <= splat(max_fraction) * abs_det)) & ~slivers;
+  const unsigned crossed_slivers = lane_bits(crossed) & slivers;
+  if ((out.bits | crossed_slivers) != 0) {
     const Lanes f = min(abs_time / abs_det, splat(max_fraction));
     std::memcpy(out.fraction.data(), &f, sizeof f);
+    if (crossed_slivers != 0) measure_slivers(t, crossed_slivers, r.ray, max_fraction, out);
   }
   return out;
 }
@@ -602,7 +630,7 @@ COLLIDE_ALWAYS_INLINE void TriangleBvh::traverse_slabs(Vec3 origin_point, Vec3 t
   float max_t = max_fraction;
   for (;;) {
     if (ref & kLeaf) {
-      max_t = on_leaf(packets_[ref & ~kLeaf], max_t);
+      max_t = on_leaf(packets_[ref & kPacketMask], (ref >> kSliverShift) & 0xfu, max_t);
       if (!(max_t > 0.0f)) return;
     } else {
       const Node& node = nodes_[ref];
@@ -676,8 +704,8 @@ void TriangleBvh::traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_
   if (!watertight.valid) return;
   const PacketRay packet_ray(watertight);
   traverse_slabs<false>(ray.origin, ray.translation, Vec3(0.0f), max_fraction,
-                        [&](const Packet& packet, float max_t) {
-                          PacketCrossings hits = cross_packet(packet.corners, packet_ray, max_t);
+                        [&](const Packet& packet, unsigned slivers, float max_t) {
+                          PacketCrossings hits = cross_packet(packet.corners, slivers, packet_ray, max_t);
                           hits.bits &= distinct_lanes(packet.id);
                           return hits.bits != 0 ? on_leaf(packet, hits.bits, hits.fraction, max_t) : max_t;
                         });
@@ -738,7 +766,7 @@ void TriangleBvh::box_cast(const Aabb3& box, Vec3 translation, TriangleCastCallb
     }
   }
   const Vec3 inverse = 1.0f / translation;
-  traverse_slabs<true>(c, translation, h, max_fraction, [&](const Packet& packet, float max_t) {
+  traverse_slabs<true>(c, translation, h, max_fraction, [&](const Packet& packet, unsigned, float max_t) {
     for (unsigned bits = distinct_lanes(packet.id); bits != 0; bits &= bits - 1) {
       const auto lane = static_cast<std::uint32_t>(std::countr_zero(bits));
       const Vec3 a = packet.corner(0, lane), b = packet.corner(1, lane), d = packet.corner(2, lane);

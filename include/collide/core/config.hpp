@@ -11,3 +11,12 @@
 #else
 #define COLLIDE_ALWAYS_INLINE inline
 #endif
+
+/// Keeps a rarely taken path out of the hot loop that calls it (its code and registers apart).
+#if defined(__GNUC__) || defined(__clang__)
+#define COLLIDE_COLD __attribute__((noinline, cold))
+#elif defined(_MSC_VER)
+#define COLLIDE_COLD __declspec(noinline)
+#else
+#define COLLIDE_COLD
+#endif

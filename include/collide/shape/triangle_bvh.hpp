@@ -71,7 +71,8 @@ class TriangleBvh {
  public:
   TriangleBvh() = default;
   /// Builds over `triangles` (indices into `positions`). Indices must be in range and positions
-  /// finite (callers validate; this is not an entry point for user data).
+  /// finite (callers validate; this is not an entry point for user data). Throws InvalidInput
+  /// when the tree would need 2^27 leaf packets or more (over 134 million triangles).
   TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles);
 
   /// The exact nearest point of all triangles to `p`: branch and bound, nearer child first,
@@ -110,7 +111,7 @@ class TriangleBvh {
           stack[top++] = node.child[k];
           continue;
         }
-        const Packet& packet = packets_[node.child[k] & ~kLeaf];
+        const Packet& packet = packets_[node.child[k] & kPacketMask];
         unsigned lanes = 0;
         for (std::uint32_t i = 0; i < kBvhLeafTriangles; ++i) {
           bool overlaps = true;
@@ -170,9 +171,15 @@ class TriangleBvh {
   [[nodiscard]] Aabb3 bounds() const noexcept { return bounds_; }
 
  private:
-  /// Set in a child reference that names a leaf packet rather than a node.
+  /// Set in a child reference that names a leaf packet rather than a node. A leaf reference
+  /// is kLeaf | slivers << kSliverShift | packet index, `slivers` bit k set when lane k's
+  /// triangle is a sliver (longer than detail::kSliverAspect times its width), whose ray
+  /// crossings are measured from its plane (src/shape/watertight_ray.hpp): kept here rather
+  /// than in the packet, whose 160 bytes a ray reads at every leaf (176 cost short rays 3-5%).
   static constexpr std::uint32_t kLeaf = 0x80000000u;
-  /// The child reference of an unused slot (packets number fewer than 2^31 - 1).
+  static constexpr int kSliverShift = 27;
+  static constexpr std::uint32_t kPacketMask = (1u << kSliverShift) - 1;
+  /// The child reference of an unused slot (packets number fewer than kPacketMask).
   static constexpr std::uint32_t kEmpty = 0xffffffffu;
   /// Rows of Node::box: the near side of a slab for a ray moving up the axis is row axis, for a
   /// ray moving down it row axis + 3.
@@ -204,8 +211,8 @@ class TriangleBvh {
 
   /// The fixed-stack slab walk behind ray_cast and box_cast: from `origin` along `translation`
   /// within `max_fraction`, nearer children first, through the node boxes (grown by `half` on
-  /// each side when Grow). `on_leaf(packet, max)` handles one packet and returns the new max
-  /// (<= 0 stops).
+  /// each side when Grow). `on_leaf(packet, slivers, max)` handles one packet (`slivers`: its
+  /// sliver lanes, from the leaf reference) and returns the new max (<= 0 stops).
   template <bool Grow, class OnLeaf>
   void traverse_slabs(Vec3 origin, Vec3 translation, Vec3 half, float max_fraction, OnLeaf&& on_leaf) const;
 
