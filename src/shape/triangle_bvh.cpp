@@ -524,8 +524,8 @@ COLLIDE_COLD void measure_slivers(const CornerLanes& t, unsigned lanes, const de
   }
 }
 
-/// `slivers`: the lanes whose triangles are slivers (TriangleBvh::Packet::slivers), whose
-/// fractions are taken from their planes as WatertightRay::fraction does.
+/// `slivers`: the lanes whose triangles are slivers (from the leaf reference), whose fractions
+/// are taken from their planes as WatertightRay::fraction does.
 inline PacketCrossings cross_packet(const CornerLanes& t, unsigned slivers, const PacketRay& r, float max_fraction) noexcept {
   const Lanes ox = r.ox, oy = r.oy, oz = r.oz, sx = r.sx, sy = r.sy, sz = r.sz;
   // Corners relative to the origin, in the ray's axes, sheared so the ray runs along z.
