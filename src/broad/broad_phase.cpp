@@ -19,15 +19,9 @@ void validate_boxes(std::span<const AabbN<D>> boxes) {
     throw InvalidInput("boxes: too many (" + std::to_string(boxes.size()) + ")");
   }
   static constexpr char kAxis[] = "xyz";
-  constexpr float kMax = std::numeric_limits<float>::max();
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const AabbN<D>& b = boxes[i];
-    // Fast path, written so NaN fails: finite and ordered on every axis.
-    bool good = true;
-    for (int k = 0; k < D; ++k) {
-      good &= (b.min[k] <= b.max[k]) & (b.min[k] >= -kMax) & (b.max[k] <= kMax);
-    }
-    if (good) continue;
+    if (is_valid_box(b)) continue;
     for (int k = 0; k < D; ++k) {
       if (!std::isfinite(b.min[k]) || !std::isfinite(b.max[k])) {
         throw InvalidInput("box " + std::to_string(i) + ": coordinate not finite");

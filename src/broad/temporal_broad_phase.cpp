@@ -31,6 +31,9 @@ constexpr double kFastGrowthCells = 4.0;
 constexpr std::size_t kDemotedFractionForRebuild = 16;
 constexpr std::size_t kMinDemotionsBeforeRebuild = 16;
 
+/// A speed bound the temporal broad phase accepts: finite and non-negative (NaN fails).
+bool is_valid_speed_bound(float v) noexcept { return v >= 0.0f && v <= std::numeric_limits<float>::max(); }
+
 /// Throws InvalidInput unless there is one finite, non-negative bound per object.
 void validate_speed_bounds(std::span<const float> speed_bounds, std::size_t objects) {
   if (speed_bounds.size() != objects) {
@@ -38,7 +41,7 @@ void validate_speed_bounds(std::span<const float> speed_bounds, std::size_t obje
                        std::to_string(objects) + " boxes");
   }
   for (std::size_t i = 0; i < speed_bounds.size(); ++i) {
-    if (!std::isfinite(speed_bounds[i]) || speed_bounds[i] < 0.0f) {
+    if (!is_valid_speed_bound(speed_bounds[i])) {
       throw InvalidInput("speed bound " + std::to_string(i) + ": negative or not finite");
     }
   }
@@ -95,12 +98,11 @@ constexpr int kObjectsPerTask = 2048;
 /// Smallest range of fast objects per task (each a grid query of a few microseconds).
 constexpr int kFastObjectsPerTask = 64;
 
-/// update's verdict on an object: bound kept, bound broken, bound kept but out of its grown box
-/// (it may still pair with candidates it was not grown towards), or a bad box.
+/// update's verdict on an object: bound kept, bound broken, or bound kept but out of its grown
+/// box (it may still pair with candidates it was not grown towards).
 constexpr unsigned char kKept = 0;
 constexpr unsigned char kBrokeBound = 1;
 constexpr unsigned char kLeftGrownBox = 2;
-constexpr unsigned char kBadBox = 3;
 
 }  // namespace
 
@@ -115,28 +117,29 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
   const int n = size();
   broke_.resize(boxes_.size());
   // Each object's verdict into its own slot (in parallel), then the demotions in id order. A
-  // box that is not finite and ordered (validate_boxes' test) gets kBadBox, and validate_boxes
-  // then names the first one before anything changes.
-  constexpr float kMax = std::numeric_limits<float>::max();
+  // box is_valid_box refuses makes validate_boxes name the first bad one before anything
+  // changes.
+  std::atomic<bool> any_bad{false};
   parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    bool bad = false;
     for (int i = begin; i < end; ++i) {
       const AabbN<D>& before = boxes_[i];
       const AabbN<D>& now = boxes[i];
       const double reach = static_cast<double>(speeds_[i]) * dt;
       bool within = true;
-      bool good = true;
       for (int k = 0; k < D; ++k) {
         within = within &&
                  static_cast<double>(before.min[k]) - static_cast<double>(now.min[k]) <= reach &&
                  static_cast<double>(now.max[k]) - static_cast<double>(before.max[k]) <= reach;
-        good &= (now.min[k] <= now.max[k]) & (now.min[k] >= -kMax) & (now.max[k] <= kMax);
       }
+      bad |= !is_valid_box(now);
       unsigned char verdict = within ? kKept : kBrokeBound;
       if (within && !needs_rebuild_ && !is_fast_[std::size_t(i)] && !contains(grown_[i], now)) verdict = kLeftGrownBox;
-      broke_[std::size_t(i)] = good ? verdict : kBadBox;
+      broke_[std::size_t(i)] = verdict;
     }
+    if (bad) any_bad.store(true, std::memory_order_relaxed);
   });
-  if (std::find(broke_.begin(), broke_.end(), kBadBox) != broke_.end()) validate_boxes(boxes);
+  if (any_bad.load(std::memory_order_relaxed)) validate_boxes(boxes);
   for (int i = 0; i < n; ++i) {
     const unsigned char verdict = broke_[std::size_t(i)];
     if (verdict == kKept) continue;
@@ -180,8 +183,7 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
     unsigned any = 0;
     for (int i = begin; i < end; ++i) {
       const float v = speed_bounds[std::size_t(i)];
-      const bool bad = !(v >= 0.0f && v <= std::numeric_limits<float>::max());  // NaN fails too
-      const unsigned char flag = bad ? 2 : v > speeds_[std::size_t(i)] ? 1 : 0;
+      const unsigned char flag = !is_valid_speed_bound(v) ? 2 : v > speeds_[std::size_t(i)] ? 1 : 0;
       raised_[std::size_t(i)] = flag;
       any |= flag;
     }

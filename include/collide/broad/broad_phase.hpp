@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <limits>
 #include <span>
 #include <type_traits>
 #include <utility>
@@ -61,6 +62,16 @@ concept BroadPhase =
       { cbp.size() } -> std::same_as<int>;
       { cbp.memory_bytes() } -> std::same_as<std::size_t>;
     };
+
+/// True when the box has finite coordinates and min <= max on each axis (NaN fails): the test
+/// validate_boxes makes of each box, for loops that check boxes as they go.
+template <int D>
+[[nodiscard]] inline bool is_valid_box(const AabbN<D>& b) noexcept {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  bool good = true;
+  for (int k = 0; k < D; ++k) good &= (b.min[k] <= b.max[k]) & (b.min[k] >= -kMax) & (b.max[k] <= kMax);
+  return good;
+}
 
 /// Throws InvalidInput unless every box has finite coordinates and min <= max on each axis, and
 /// there are fewer than 2^31 - 1 boxes. The message names the first bad box, e.g.

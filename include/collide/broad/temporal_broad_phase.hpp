@@ -141,7 +141,7 @@ class TemporalBroadPhaseN {
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
   std::size_t demoted_since_rebuild_ = 0;
   std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
-  std::vector<unsigned char> broke_;   // update's scratch: per object, its verdict (kept, broke its bound, left its grown box, bad box)
+  std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box
   struct WorkerOutput {                // a worker's share of find_pairs
     PairList pairs;
     std::int64_t checks = 0;

@@ -23,8 +23,9 @@
 /// move goes into by no more than the skin (one walked along) or met higher above the shape's
 /// lowest point than `step_height` (rising by a step, the shape meets it again going forward).
 /// After the move a character that stood on ground and did not move up is pressed down by up to
-/// `step_height` onto walkable ground (stairs and slopes down). A start inside geometry (a spawn, a moving obstacle) is
-/// first pushed out along the deepest contacts. The ground is what a short cast down finds.
+/// `step_height` onto walkable ground (stairs and slopes down). A start inside geometry (a
+/// spawn, a moving obstacle) is first pushed out along the deepest contacts. The ground is what
+/// a short cast down finds.
 
 #include <collide/world/world.hpp>
 
