@@ -406,7 +406,6 @@ AabbN<D> LooseGridN<D>::sample_boxes(std::span<const AabbN<D>> boxes, std::vecto
   // of their extent when not every box was sampled.
   static_assert(std::has_single_bit(static_cast<unsigned>(kCellSizeSamples)));
   constexpr int kShift = std::countr_zero(static_cast<unsigned>(kCellSizeSamples));
-  constexpr float kMax = std::numeric_limits<float>::max();
   const std::size_t n = boxes.size();
   if (n >= static_cast<std::size_t>(std::numeric_limits<int>::max())) validate_boxes(boxes);
   sides.clear();
@@ -417,10 +416,9 @@ AabbN<D> LooseGridN<D>::sample_boxes(std::span<const AabbN<D>> boxes, std::vecto
   bool good = true;
   for (std::size_t s = 0; s < samples; ++s) {
     const AabbN<D>& box = boxes[samples == n ? s : (s * n) >> kShift];
+    good = good && is_valid_box(box);
     float largest = box.max[0] - box.min[0];
     for (int k = 0; k < D; ++k) {
-      // finite and ordered (false for NaN)
-      good &= (box.min[k] <= box.max[k]) & (box.min[k] >= -kMax) & (box.max[k] <= kMax);
       largest = std::max(largest, box.max[k] - box.min[k]);
       lo[k] = std::min(lo[k], box.min[k]);
       hi[k] = std::max(hi[k], box.max[k]);

@@ -68,9 +68,11 @@ concept BroadPhase =
 template <int D>
 [[nodiscard]] inline bool is_valid_box(const AabbN<D>& b) noexcept {
   constexpr float kMax = std::numeric_limits<float>::max();
-  bool good = true;
-  for (int k = 0; k < D; ++k) good &= (b.min[k] <= b.max[k]) & (b.min[k] >= -kMax) & (b.max[k] <= kMax);
-  return good;
+  unsigned good = 1;  // & on unsigned rather than &&: no branch per comparison
+  for (int k = 0; k < D; ++k) {
+    good &= unsigned{b.min[k] <= b.max[k]} & unsigned{b.min[k] >= -kMax} & unsigned{b.max[k] <= kMax};
+  }
+  return good != 0;
 }
 
 /// Throws InvalidInput unless every box has finite coordinates and min <= max on each axis, and

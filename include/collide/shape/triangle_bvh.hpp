@@ -100,10 +100,11 @@ class TriangleBvh {
       // prediction per slot cost more than the comparisons), then the overlapping used slots.
       unsigned hits = 0;
       for (int k = 0; k < kBvhWidth; ++k) {
-        const bool overlaps = (node.box[kMinX][k] <= box.max.x) & (box.min.x <= node.box[kMaxX][k]) &
-                              (node.box[kMinY][k] <= box.max.y) & (box.min.y <= node.box[kMaxY][k]) &
-                              (node.box[kMinZ][k] <= box.max.z) & (box.min.z <= node.box[kMaxZ][k]);
-        hits |= static_cast<unsigned>(overlaps) << k;
+        const unsigned overlaps =
+            unsigned{node.box[kMinX][k] <= box.max.x} & unsigned{box.min.x <= node.box[kMaxX][k]} &
+            unsigned{node.box[kMinY][k] <= box.max.y} & unsigned{box.min.y <= node.box[kMaxY][k]} &
+            unsigned{node.box[kMinZ][k] <= box.max.z} & unsigned{box.min.z <= node.box[kMaxZ][k]};
+        hits |= overlaps << k;
       }
       for (hits &= used_slots(node); hits != 0; hits &= hits - 1) {
         const int k = std::countr_zero(hits);
@@ -114,13 +115,13 @@ class TriangleBvh {
         const Packet& packet = packets_[node.child[k] & kPacketMask];
         unsigned lanes = 0;
         for (std::uint32_t i = 0; i < kBvhLeafTriangles; ++i) {
-          bool overlaps = true;
+          unsigned overlaps = 1;
           for (int axis = 0; axis < 3; ++axis) {
             const float p = packet.corners[0][axis][i], q = packet.corners[1][axis][i], r = packet.corners[2][axis][i];
             const float lo = std::min(std::min(p, q), r), hi = std::max(std::max(p, q), r);
-            overlaps &= (lo <= box.max[axis]) & (box.min[axis] <= hi);
+            overlaps &= unsigned{lo <= box.max[axis]} & unsigned{box.min[axis] <= hi};
           }
-          lanes |= static_cast<unsigned>(overlaps) << i;
+          lanes |= overlaps << i;
         }
         lanes &= (1u << node.count[k]) - 1u;
         for (; lanes != 0; lanes &= lanes - 1) {
