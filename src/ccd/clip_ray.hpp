@@ -56,35 +56,4 @@ template <class Crossing>
   return {entering, lo_num / lo_den, false};
 }
 
-/// clip_ray with the bounds kept as plain fractions: one division for each half-space that
-/// moves a bound, and the same early exit the moment the interval is empty. Same contract and
-/// results as clip_ray up to the rounding of the fractions compared. For a few half-spaces (2D
-/// boxes and triangles) it is the faster of the two (bench/ray_cast, 4-gons: 8.6 ns against
-/// clip_ray's 14): random rays hit or miss at random, so the branch that ends the loop
-/// mispredicts often, and here each bound is ready earlier, without clip_ray's cross-multiplied
-/// chain behind it (Cyrus & Beck 1978; Ericson, Real-Time Collision Detection, 5.3.8; Box2D's
-/// polygon ray cast is this loop).
-template <class Crossing>
-[[nodiscard]] inline ClipResult clip_ray_dividing(int count, Crossing&& crossing) noexcept {
-  float lower = 0.0f;
-  float upper = 1.0f;
-  int entering = -1;
-  for (int i = 0; i < count; ++i) {
-    const PlaneCrossing c = crossing(i);
-    if (c.den < 0.0f) {
-      if (c.num < lower * c.den) {  // entering at num / den > lower (den < 0 flips the test)
-        lower = c.num / c.den;
-        entering = i;
-      }
-    } else if (c.den > 0.0f) {
-      if (c.num < upper * c.den) upper = c.num / c.den;  // leaving at num / den < upper
-    } else if (c.num < 0.0f) {
-      return {};  // parallel and outside this half-space: never inside
-    }
-    if (upper < lower) return {};  // empty
-  }
-  if (entering < 0) return {-1, 0.0f, true};
-  return {entering, lower, false};
-}
-
 }  // namespace collide::detail

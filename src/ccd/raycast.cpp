@@ -105,6 +105,15 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
   return {true, h.fraction, h.normal.x * u + h.normal.y * left_perp(u)};
 }
 
+/// cast_sides' answer: `edge` is -1 when the ray's line misses the polygon; otherwise the edge
+/// where the line enters, and `hit` says whether the ray gets there (`fraction` in (0, 1]; when
+/// not `hit`, `fraction` is to be ignored: it may be NaN).
+struct SideCast {
+  float fraction;
+  int edge;
+  bool hit;
+};
+
 /// Entry of p + t d, t in [0, 1], into a convex polygon (no radius), by the sides of the ray's
 /// line. Vertex i is left of the line when w_i = cross(d, v_i - p) > 0, right when w_i < 0. A
 /// convex outline crosses a line twice; walking counter-clockwise it crosses from left to right
@@ -118,7 +127,7 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
 /// Cheaper than clipping by every edge (Cyrus-Beck): one cross product per vertex, no normals
 /// read, one division. The sides are gathered as bit masks and the edge found by counting
 /// trailing zeros, so the scan has no data-dependent branch for random rays to mispredict.
-Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+SideCast cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   static_assert(kMaxPolygonVertices <= 64, "side masks hold one bit per vertex");
   const int n = poly.count;
   // Bit i of left / right: w_i > 0 / w_i < 0, where w_i > 0 <=> cross(d, v_i) > cross(d, p).
@@ -155,34 +164,20 @@ Clip cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   const std::uint64_t enters = (left & ~next_left) | (~right & next_right);
   const std::uint64_t in_range = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1u;
   const std::uint64_t edges = enters & in_range;
-  if (edges == 0) return {};
+  if (edges == 0) return {0.0f, -1, false};
   const int edge = std::countr_zero(edges);
   const Vec2 v = poly.vertices[edge];
   const Vec2 e = poly.vertices[edge < last ? edge + 1 : 0] - v;
   const float t = cross(v - p, e) / cross(d, e);  // cross(d, e) = w_{i+1} - w_i < 0
-  if (!(t > 0.0f && t <= 1.0f)) return {};
-  return {edge, t, false};
+  // Whether t lies in (0, 1] without a branch: random rays stop short or reach the edge at
+  // random, and the mispredicted return cost more than the work it skipped.
+  const unsigned hit = unsigned{t > 0.0f} & unsigned{t <= 1.0f};
+  return {t, edge, hit != 0};
 }
 
-/// Polygons of up to this many edges take clip_few_edges, larger ones cast_sides.
-constexpr int kFewEdges = 4;
-
-/// Entry of p + t d, t in (0, 1], into a convex polygon (no radius) of few edges, by
-/// clip_ray_dividing over its edges' half-planes n_i . (x - v_i) <= 0 (clip_ray.hpp): for a box
-/// or triangle it beats cast_sides (bench/ray_cast, 4-gons 11.6-12.0 -> 10.1-10.7 ns in one
-/// A/B), as a miss is mostly known after the first edge or two, where cast_sides decides only
-/// after all its work and a division. A ray starting inside or along the outside of an edge's
-/// line misses; touching counts.
-Clip clip_few_edges(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
-  const Vec2* vertices = poly.vertices.data();
-  const Vec2* normals = poly.normals.data();
-  return detail::clip_ray_dividing(poly.count, [&](int i) {
-    return detail::PlaneCrossing{dot(normals[i], vertices[i] - p), dot(normals[i], d)};
-  });
-}
-
-/// Rounded polygon (radius > 0).
-LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
+/// Rounded polygon (radius > 0). Out of line: inlined, its registers were saved on entry to
+/// every polygon cast (bench/ray_cast, 4-gons 20.5 -> 19.6-20.1 ns, 8-gons 26.5 -> 22.5-23).
+[[gnu::noinline]] LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
   const float r = poly.radius;
   const Clip clip = clip_ray_polygon(poly, p, d, r);
   // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
@@ -245,28 +240,27 @@ LocalHit raycast_local(const Segment& seg, Vec2 p, Vec2 d) noexcept {
   return {true, t, side < 0.0f ? right : -right};
 }
 
-/// A polygon of up to kFewEdges edges and no radius: clip_few_edges, in a function of its own
-/// (inlined beside cast_sides, it slowed the 8-gon scan by a quarter).
-[[gnu::noinline]] RayHit raycast_few_edges(const Polygon& poly, const Transform& xf,
-                                           const Ray& ray) noexcept {
-  const LocalRay local = to_local(xf, ray);
-  const Clip clip = clip_few_edges(poly, local.origin, local.translation);
-  if (clip.plane < 0) return {};
-  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, poly.normals[clip.plane])};
-}
-
 RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) noexcept {
-  if (poly.count <= kFewEdges && !(poly.radius > 0.0f)) return raycast_few_edges(poly, xf, ray);
   const LocalRay local = to_local(xf, ray);
   if (poly.radius > 0.0f) {
     if (!(length_squared(local.translation) > 0.0f)) return {};
     return to_world(raycast_rounded(poly, local.origin, local.translation), xf, ray);
   }
-  const Clip clip = cast_sides(poly, local.origin, local.translation);
-  if (clip.plane < 0) return {};
+  const SideCast cast = cast_sides(poly, local.origin, local.translation);
+  if (cast.edge < 0) return {};
   // The edge's stored unit normal: with 8 vertices inline it sits one cache line past the
   // vertices (when normals lived 512 bytes away, recomputing it from the edge was faster).
-  return {true, clip.fraction, ray.at(clip.fraction), rotate(xf.q, poly.normals[clip.plane])};
+  // A ray short of the edge zeroes every field by a mask rather than a branch (a select of the
+  // whole struct compiled to a branch and a copy through the stack). bench/ray_cast with the
+  // earlier branches: 4-gons 38 -> 20 ns, 8-gons 21.7 -> 22.5-23 (Intel Xeon, one A/B).
+  const std::uint32_t keep = 0u - static_cast<std::uint32_t>(cast.hit);
+  const auto masked = [keep](float x) {
+    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) & keep);
+  };
+  const float t = masked(cast.fraction);
+  const Vec2 point = ray.at(t);
+  const Vec2 normal = rotate(xf.q, poly.normals[cast.edge]);
+  return {cast.hit, t, {masked(point.x), masked(point.y)}, {masked(normal.x), masked(normal.y)}};
 }
 
 /// Shapes with corners: cast in the local frame, rotate the normal back.
