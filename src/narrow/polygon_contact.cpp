@@ -31,20 +31,8 @@
 #include "contact_routines.hpp"
 #include "polygon_clip.hpp"
 #include "segment_closest.hpp"
+#include "sat_lanes.hpp"
 #include "sat_soa.hpp"
-
-// The small-polygon front end uses SSE2 (every x86-64 CPU); elsewhere, or with
-// COLLIDE_SMALL_POLYGON_SSE2=0, every pair takes the general front end.
-#ifndef COLLIDE_SMALL_POLYGON_SSE2
-#if defined(__SSE2__) || defined(_M_X64)
-#define COLLIDE_SMALL_POLYGON_SSE2 1
-#else
-#define COLLIDE_SMALL_POLYGON_SSE2 0
-#endif
-#endif
-#if COLLIDE_SMALL_POLYGON_SSE2
-#include <emmintrin.h>
-#endif
 
 namespace collide::detail {
 namespace {
@@ -319,130 +307,6 @@ void finish_contact(const LocalPolygon& pa, const EdgeSeparation& sep_a, const L
   }
 }
 
-#if COLLIDE_SMALL_POLYGON_SSE2
-/// Points 0..3 of an array of `count` (1..4) points as x and y lanes, the last point repeated
-/// past `count`. Reads only the first `count` points.
-inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept {
-  // One point as x y x y: one 8-byte load (float alignment is enough for it), duplicated.
-  const auto pair = [](const Vec2* p) {
-    const __m128 one = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p->x)));
-    return _mm_movelh_ps(one, one);
-  };
-  __m128 lo;  // x0 y0 x1 y1
-  __m128 hi;  // x2 y2 x3 y3
-  if (count == 1) {
-    lo = pair(v);
-    hi = lo;
-  } else {
-    lo = _mm_loadu_ps(&v[0].x);
-    if (count == 4) {
-      hi = _mm_loadu_ps(&v[2].x);
-    } else if (count == 3) {
-      hi = pair(v + 2);
-    } else {
-      hi = _mm_movehl_ps(lo, lo);
-    }
-  }
-  x = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
-  y = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
-}
-
-/// A polygon of up to kGroups * kSatLanes points in registers: x and y lanes per group of four,
-/// the last point repeated to fill the last group (SoaPolygon's padding).
-template <int kGroups>
-struct LanePoints {
-  __m128 x[kGroups];
-  __m128 y[kGroups];
-};
-
-template <int kGroups>
-inline LanePoints<kGroups> load_points(const Vec2* v, int count) noexcept {
-  LanePoints<kGroups> p;
-  if constexpr (kGroups == 1) {
-    load_lanes(v, count, p.x[0], p.y[0]);
-  } else {
-    static_assert(kGroups == 2, "up to two groups: eight points");
-    load_lanes(v, kSatLanes, p.x[0], p.y[0]);
-    load_lanes(v + kSatLanes, count - kSatLanes, p.x[1], p.y[1]);
-  }
-  return p;
-}
-
-/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
-/// in registers (vertex lanes padded by repetition, so the minimum over them is the minimum
-/// over the real ones):
-///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
-/// the same products and sums, so the results are bitwise equal (a minimum is exact, so the
-/// pairwise order of the minima, shorter in latency than a chain, gives the same value). All
-/// groups are computed (no early exit between them: the caller's test of the maximum against
-/// the radius then rejects the same pairs). The winner is the first lane holding the maximum,
-/// found without branches. Returns false (and nothing) if a lane is NaN: the general path then
-/// decides, as it would.
-template <int kEdgeGroups, int kVertexGroups>
-inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
-                                 const LanePoints<kEdgeGroups>& v1,
-                                 const LanePoints<kVertexGroups>& v2,
-                                 EdgeSeparation& out) noexcept {
-  const auto lane = [](__m128 v, int k) {
-    switch (k) {
-      case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
-      case 1: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
-      case 2: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
-      default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
-    }
-  };
-  static_assert(kSatLanes == 4, "four lanes: one SSE register");
-  __m128 s[kEdgeGroups];
-  for (int g = 0; g < kEdgeGroups; ++g) {
-    const auto dots = [&](int h, int j) {
-      return _mm_add_ps(_mm_mul_ps(n.x[g], lane(v2.x[h], j)),
-                        _mm_mul_ps(n.y[g], lane(v2.y[h], j)));
-    };
-    __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0, 0), dots(0, 1)),
-                               _mm_min_ps(dots(0, 2), dots(0, 3)));
-    for (int h = 1; h < kVertexGroups; ++h) {
-      lowest = _mm_min_ps(lowest, _mm_min_ps(_mm_min_ps(dots(h, 0), dots(h, 1)),
-                                             _mm_min_ps(dots(h, 2), dots(h, 3))));
-    }
-    s[g] = _mm_sub_ps(lowest,
-                      _mm_add_ps(_mm_mul_ps(n.x[g], v1.x[g]), _mm_mul_ps(n.y[g], v1.y[g])));
-  }
-  __m128 ordered = _mm_cmpord_ps(s[0], s[0]);
-  __m128 top = s[0];
-  for (int g = 1; g < kEdgeGroups; ++g) {
-    ordered = _mm_and_ps(ordered, _mm_cmpord_ps(s[g], s[g]));
-    top = _mm_max_ps(top, s[g]);
-  }
-  if (_mm_movemask_ps(ordered) != 0xF) return false;
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));  // max in every lane
-  // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
-  // before it.
-  unsigned mask = 0;
-  for (int g = 0; g < kEdgeGroups; ++g) {
-    mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s[g], top))) << (kSatLanes * g);
-  }
-  out = EdgeSeparation{std::countr_zero(mask), _mm_cvtss_f32(top), 0};
-  return true;
-}
-#endif
-
-/// The frame both front ends work in: A's local frame shifted so that A's vertex 0 is the
-/// origin (coordinates stay small however far from the world origin the pair is). `shift`
-/// takes B's local points there after rotating them by b_in_a.q.
-struct SharedFrame {
-  Transform b_in_a;
-  Vec2 origin;  ///< A's vertex 0, A's local frame
-  Vec2 shift;   ///< b_in_a.p - origin
-};
-
-COLLIDE_ALWAYS_INLINE SharedFrame shared_frame(const Polygon& a, const Transform& xa,
-                                               const Transform& xb) noexcept {
-  const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 origin = a.vertices[0];
-  return {b_in_a, origin, b_in_a.p - origin};
-}
-
 /// The general front end: both cores copied into 4-wide x/y arrays in A's frame. Writes into
 /// `m` (fresh, count 0).
 void contact_polygons_general(const Polygon& a, const Transform& xa, const Polygon& b,
@@ -486,46 +350,16 @@ void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon
   const int na = a.count;
   const int nb = b.count;
   const SharedFrame f = shared_frame(a, xa, xb);
-  const Transform& b_in_a = f.b_in_a;
   const Vec2 origin = f.origin;
-  const Vec2 shift = f.shift;
-  const __m128 c = _mm_set1_ps(b_in_a.q.c);
-  const __m128 s = _mm_set1_ps(b_in_a.q.s);
-
-  // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
-  LanePoints<kGroupsA> av = load_points<kGroupsA>(a.vertices.data(), na);
-  for (int g = 0; g < kGroupsA; ++g) {
-    av.x[g] = _mm_sub_ps(av.x[g], _mm_set1_ps(origin.x));
-    av.y[g] = _mm_sub_ps(av.y[g], _mm_set1_ps(origin.y));
-  }
-  const LanePoints<kGroupsA> an = load_points<kGroupsA>(a.normals.data(), na);
-  LanePoints<kGroupsB> bv = load_points<kGroupsB>(b.vertices.data(), nb);
-  for (int g = 0; g < kGroupsB; ++g) {
-    const __m128 vx = bv.x[g];
-    const __m128 vy = bv.y[g];
-    bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(shift.x));
-    bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(shift.y));
-  }
   const float radius = a.radius + b.radius;
-  EdgeSeparation sep_a;
-  if (!max_separation_lanes(an, av, bv, sep_a)) {
+  LanePair<kGroupsA, kGroupsB> p;
+  if (!separate_lanes(a, b, f, radius, p)) {
     contact_polygons_general(a, xa, b, xb, m);
     return;
   }
-  if (sep_a.separation > radius) return;
-  LanePoints<kGroupsB> bn = load_points<kGroupsB>(b.normals.data(), nb);
-  for (int g = 0; g < kGroupsB; ++g) {
-    const __m128 nx = bn.x[g];
-    const __m128 ny = bn.y[g];
-    bn.x[g] = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
-    bn.y[g] = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
-  }
-  EdgeSeparation sep_b;
-  if (!max_separation_lanes(bn, bv, av, sep_b)) {
-    contact_polygons_general(a, xa, b, xb, m);
-    return;
-  }
-  if (sep_b.separation > radius) return;
+  const EdgeSeparation& sep_a = p.sep_a;
+  const EdgeSeparation& sep_b = p.sep_b;
+  if (sep_a.separation > radius || sep_b.separation > radius) return;
 
   // Only the first groups of each array are written (no fill of the full capacity).
   SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond the groups used
@@ -535,16 +369,16 @@ void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon
   pb_soa.count = nb;
   pb_soa.padded = kGroupsB * kSatLanes;
   for (int g = 0; g < kGroupsA; ++g) {
-    _mm_store_ps(pa_soa.x + kSatLanes * g, av.x[g]);
-    _mm_store_ps(pa_soa.y + kSatLanes * g, av.y[g]);
-    _mm_store_ps(pa_soa.nx + kSatLanes * g, an.x[g]);
-    _mm_store_ps(pa_soa.ny + kSatLanes * g, an.y[g]);
+    _mm_store_ps(pa_soa.x + kSatLanes * g, p.av.x[g]);
+    _mm_store_ps(pa_soa.y + kSatLanes * g, p.av.y[g]);
+    _mm_store_ps(pa_soa.nx + kSatLanes * g, p.an.x[g]);
+    _mm_store_ps(pa_soa.ny + kSatLanes * g, p.an.y[g]);
   }
   for (int g = 0; g < kGroupsB; ++g) {
-    _mm_store_ps(pb_soa.x + kSatLanes * g, bv.x[g]);
-    _mm_store_ps(pb_soa.y + kSatLanes * g, bv.y[g]);
-    _mm_store_ps(pb_soa.nx + kSatLanes * g, bn.x[g]);
-    _mm_store_ps(pb_soa.ny + kSatLanes * g, bn.y[g]);
+    _mm_store_ps(pb_soa.x + kSatLanes * g, p.bv.x[g]);
+    _mm_store_ps(pb_soa.y + kSatLanes * g, p.bv.y[g]);
+    _mm_store_ps(pb_soa.nx + kSatLanes * g, p.bn.x[g]);
+    _mm_store_ps(pb_soa.ny + kSatLanes * g, p.bn.y[g]);
   }
   finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin, m);
 }
@@ -569,29 +403,10 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
                           const Transform& xb) noexcept {
   Manifold m;  // the one object returned on every path: built in the caller's slot
 #if COLLIDE_SMALL_POLYGON_SSE2
-  constexpr int kOneGroup = kSatLanes;
-  constexpr int kTwoGroups = 2 * kSatLanes;
-  const int na = a.count;
-  const int nb = b.count;
-  if (na <= kOneGroup) {
-    if (nb <= kOneGroup) {
-      contact_polygons_lanes<1, 1>(a, xa, b, xb, m);
-      return m;
-    }
-    if (nb <= kTwoGroups) {
-      contact_polygons_lanes<1, 2>(a, xa, b, xb, m);
-      return m;
-    }
-  } else if (na <= kTwoGroups) {
-    if (nb <= kOneGroup) {
-      contact_polygons_lanes<2, 1>(a, xa, b, xb, m);
-      return m;
-    }
-    if (nb <= kTwoGroups) {
-      contact_polygons_lanes<2, 2>(a, xa, b, xb, m);
-      return m;
-    }
-  }
+  const bool small = with_lane_groups(a.count, b.count, [&](auto groups_a, auto groups_b) {
+    contact_polygons_lanes<groups_a(), groups_b()>(a, xa, b, xb, m);
+  });
+  if (small) return m;
 #endif
   contact_polygons_general(a, xa, b, xb, m);
   return m;

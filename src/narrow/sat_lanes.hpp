@@ -1,0 +1,228 @@
+#pragma once
+// Internal: the separating axis test of two small polygons (up to two groups of kSatLanes
+// vertices each) in SSE registers, shared by `contact` (polygon_contact.cpp) and `overlap`
+// (overlap.cpp): both polygons are loaded straight into x and y lanes in A's frame (shifted to
+// A's vertex 0), B rotated there, and both passes run without copies.
+
+#include <collide/core/config.hpp>
+#include <collide/narrow/sat.hpp>
+
+#include "sat_soa.hpp"
+
+#include <bit>
+#include <type_traits>
+
+// The small-polygon front ends use SSE2 (every x86-64 CPU); elsewhere, or with
+// COLLIDE_SMALL_POLYGON_SSE2=0, every pair takes the general paths.
+#ifndef COLLIDE_SMALL_POLYGON_SSE2
+#if defined(__SSE2__) || defined(_M_X64)
+#define COLLIDE_SMALL_POLYGON_SSE2 1
+#else
+#define COLLIDE_SMALL_POLYGON_SSE2 0
+#endif
+#endif
+#if COLLIDE_SMALL_POLYGON_SSE2
+#include <emmintrin.h>
+#endif
+
+namespace collide::detail {
+
+/// The frame both front ends work in: A's local frame shifted so that A's vertex 0 is the
+/// origin (coordinates stay small however far from the world origin the pair is). `shift`
+/// takes B's local points there after rotating them by b_in_a.q.
+struct SharedFrame {
+  Transform b_in_a;
+  Vec2 origin;  ///< A's vertex 0, A's local frame
+  Vec2 shift;   ///< b_in_a.p - origin
+};
+
+COLLIDE_ALWAYS_INLINE SharedFrame shared_frame(const Polygon& a, const Transform& xa,
+                                               const Transform& xb) noexcept {
+  const Transform b_in_a = inv_mul(xa, xb);
+  const Vec2 origin = a.vertices[0];
+  return {b_in_a, origin, b_in_a.p - origin};
+}
+
+#if COLLIDE_SMALL_POLYGON_SSE2
+/// Points 0..3 of an array of `count` (1..4) points as x and y lanes, the last point repeated
+/// past `count`. Reads only the first `count` points.
+inline void load_lanes(const Vec2* v, int count, __m128& x, __m128& y) noexcept {
+  // One point as x y x y: one 8-byte load (float alignment is enough for it), duplicated.
+  const auto pair = [](const Vec2* p) {
+    const __m128 one = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p->x)));
+    return _mm_movelh_ps(one, one);
+  };
+  __m128 lo;  // x0 y0 x1 y1
+  __m128 hi;  // x2 y2 x3 y3
+  if (count == 1) {
+    lo = pair(v);
+    hi = lo;
+  } else {
+    lo = _mm_loadu_ps(&v[0].x);
+    if (count == 4) {
+      hi = _mm_loadu_ps(&v[2].x);
+    } else if (count == 3) {
+      hi = pair(v + 2);
+    } else {
+      hi = _mm_movehl_ps(lo, lo);
+    }
+  }
+  x = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));
+  y = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));
+}
+
+/// A polygon of up to kGroups * kSatLanes points in registers: x and y lanes per group of four,
+/// the last point repeated to fill the last group (SoaPolygon's padding).
+template <int kGroups>
+struct LanePoints {
+  __m128 x[kGroups];
+  __m128 y[kGroups];
+};
+
+template <int kGroups>
+inline LanePoints<kGroups> load_points(const Vec2* v, int count) noexcept {
+  LanePoints<kGroups> p;
+  if constexpr (kGroups == 1) {
+    load_lanes(v, count, p.x[0], p.y[0]);
+  } else {
+    static_assert(kGroups == 2, "up to two groups: eight points");
+    load_lanes(v, kSatLanes, p.x[0], p.y[0]);
+    load_lanes(v + kSatLanes, count - kSatLanes, p.x[1], p.y[1]);
+  }
+  return p;
+}
+
+/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
+/// in registers (vertex lanes padded by repetition, so the minimum over them is the minimum
+/// over the real ones):
+///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
+/// the same products and sums, so the results are bitwise equal (a minimum is exact, so the
+/// pairwise order of the minima, shorter in latency than a chain, gives the same value). All
+/// groups are computed (no early exit between them: the caller's test of the maximum against
+/// the radius then rejects the same pairs). The winner is the first lane holding the maximum,
+/// found without branches. Returns false (and nothing) if a lane is NaN: the general path then
+/// decides, as it would.
+template <int kEdgeGroups, int kVertexGroups>
+inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
+                                 const LanePoints<kEdgeGroups>& v1,
+                                 const LanePoints<kVertexGroups>& v2,
+                                 EdgeSeparation& out) noexcept {
+  const auto lane = [](__m128 v, int k) {
+    switch (k) {
+      case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
+      case 1: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
+      case 2: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
+      default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
+    }
+  };
+  static_assert(kSatLanes == 4, "four lanes: one SSE register");
+  __m128 s[kEdgeGroups];
+  for (int g = 0; g < kEdgeGroups; ++g) {
+    const auto dots = [&](int h, int j) {
+      return _mm_add_ps(_mm_mul_ps(n.x[g], lane(v2.x[h], j)),
+                        _mm_mul_ps(n.y[g], lane(v2.y[h], j)));
+    };
+    __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0, 0), dots(0, 1)),
+                               _mm_min_ps(dots(0, 2), dots(0, 3)));
+    for (int h = 1; h < kVertexGroups; ++h) {
+      lowest = _mm_min_ps(lowest, _mm_min_ps(_mm_min_ps(dots(h, 0), dots(h, 1)),
+                                             _mm_min_ps(dots(h, 2), dots(h, 3))));
+    }
+    s[g] = _mm_sub_ps(lowest,
+                      _mm_add_ps(_mm_mul_ps(n.x[g], v1.x[g]), _mm_mul_ps(n.y[g], v1.y[g])));
+  }
+  __m128 ordered = _mm_cmpord_ps(s[0], s[0]);
+  __m128 top = s[0];
+  for (int g = 1; g < kEdgeGroups; ++g) {
+    ordered = _mm_and_ps(ordered, _mm_cmpord_ps(s[g], s[g]));
+    top = _mm_max_ps(top, s[g]);
+  }
+  if (_mm_movemask_ps(ordered) != 0xF) return false;
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(1, 0, 3, 2)));
+  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));  // max in every lane
+  // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
+  // before it.
+  unsigned mask = 0;
+  for (int g = 0; g < kEdgeGroups; ++g) {
+    mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s[g], top))) << (kSatLanes * g);
+  }
+  out = EdgeSeparation{std::countr_zero(mask), _mm_cvtss_f32(top), 0};
+  return true;
+}
+
+/// Both polygons of a pair in registers, in the shared frame, and their separating axis passes.
+template <int kGroupsA, int kGroupsB>
+struct LanePair {
+  LanePoints<kGroupsA> av;  ///< A's vertices minus the origin
+  LanePoints<kGroupsA> an;  ///< A's edge normals
+  LanePoints<kGroupsB> bv;  ///< B's vertices, rotated and shifted into the frame
+  LanePoints<kGroupsB> bn;  ///< B's edge normals, rotated (set only when sep_b is)
+  EdgeSeparation sep_a;     ///< over A's edges
+  EdgeSeparation sep_b;     ///< over B's edges (set only when sep_a.separation <= early_exit)
+};
+
+/// The separating axis test of A's edges against B's vertices, then (unless that found an axis
+/// separating by more than `early_exit`) B's edges against A's vertices, in frame `f`. Same
+/// operations in the same order as find_max_separation_soa on SoaPolygon copies, so the
+/// separations are bitwise the same. Returns false (and nothing usable) when a lane is NaN:
+/// the caller's general path then decides.
+template <int kGroupsA, int kGroupsB>
+COLLIDE_ALWAYS_INLINE bool separate_lanes(const Polygon& a, const Polygon& b, const SharedFrame& f,
+                                          float early_exit,
+                                          LanePair<kGroupsA, kGroupsB>& p) noexcept {
+  const int na = a.count;
+  const int nb = b.count;
+  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
+  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
+  // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
+  p.av = load_points<kGroupsA>(a.vertices.data(), na);
+  for (int g = 0; g < kGroupsA; ++g) {
+    p.av.x[g] = _mm_sub_ps(p.av.x[g], _mm_set1_ps(f.origin.x));
+    p.av.y[g] = _mm_sub_ps(p.av.y[g], _mm_set1_ps(f.origin.y));
+  }
+  p.an = load_points<kGroupsA>(a.normals.data(), na);
+  p.bv = load_points<kGroupsB>(b.vertices.data(), nb);
+  for (int g = 0; g < kGroupsB; ++g) {
+    const __m128 vx = p.bv.x[g];
+    const __m128 vy = p.bv.y[g];
+    p.bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(f.shift.x));
+    p.bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(f.shift.y));
+  }
+  if (!max_separation_lanes(p.an, p.av, p.bv, p.sep_a)) return false;
+  if (p.sep_a.separation > early_exit) return true;
+  p.bn = load_points<kGroupsB>(b.normals.data(), nb);
+  for (int g = 0; g < kGroupsB; ++g) {
+    const __m128 nx = p.bn.x[g];
+    const __m128 ny = p.bn.y[g];
+    p.bn.x[g] = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
+    p.bn.y[g] = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
+  }
+  return max_separation_lanes(p.bn, p.bv, p.av, p.sep_b);
+}
+
+/// Calls `visit(std::integral_constant<int, kGroupsA>{}, std::integral_constant<int, kGroupsB>{})`
+/// with the fewest groups of kSatLanes that hold A's and B's vertices, when both fit in two
+/// groups; returns false (without calling) otherwise.
+template <class Visit>
+COLLIDE_ALWAYS_INLINE bool with_lane_groups(int na, int nb, Visit&& visit) {
+  using One = std::integral_constant<int, 1>;
+  using Two = std::integral_constant<int, 2>;
+  constexpr int kOneGroup = kSatLanes;
+  constexpr int kTwoGroups = 2 * kSatLanes;
+  if (na > kTwoGroups || nb > kTwoGroups) return false;
+  if (na <= kOneGroup) {
+    if (nb <= kOneGroup) {
+      visit(One{}, One{});
+    } else {
+      visit(One{}, Two{});
+    }
+  } else if (nb <= kOneGroup) {
+    visit(Two{}, One{});
+  } else {
+    visit(Two{}, Two{});
+  }
+  return true;
+}
+#endif
+
+}  // namespace collide::detail
