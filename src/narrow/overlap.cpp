@@ -1,6 +1,7 @@
 #include <collide/narrow/overlap.hpp>
 
 #include <collide/narrow/gjk.hpp>
+#include "sat_lanes.hpp"
 #include "segment_closest.hpp"
 
 #include <collide/core/error.hpp>
@@ -111,12 +112,55 @@ template <int D, SupportMap<D> PA, SupportMap<D> PB>
   return distance_squared(pa, pb) <= reach * reach;
 }
 
+/// What the separating axis test could settle for a pair of polygons.
+enum class SatVerdict { apart, overlapping, undecided };
+
+/// Two polygons of up to two groups of vertices each: the separating axis test in registers
+/// (sat_lanes.hpp) over both polygons' edge normals (Ericson, Real-Time Collision Detection,
+/// 5.2.1). An axis separating the cores by more than the reach proves the shapes apart (a
+/// separation is a lower bound of the distance); no axis separating them at all proves the
+/// cores overlap (in 2D the edge normals of two convex polygons are the only candidate axes).
+/// A gap between the two (within the rounding band, or rounded corners that may or may not
+/// reach each other) is left undecided for GJK. For overlapping pairs, which GJK settles only
+/// after building a simplex around the origin, this is 1.5-2x faster (bench/narrow_distance).
+SatVerdict overlap_polygon_axes(const Polygon& a, const Transform& xa, const Polygon& b,
+                                const Transform& xb) noexcept {
+  SatVerdict verdict = SatVerdict::undecided;
+#if COLLIDE_SMALL_POLYGON_SSE2
+  const detail::SharedFrame f = detail::shared_frame(a, xa, xb);
+  const float radius_sum = a.radius + b.radius;
+  // The rounding band as GJK draws it: relative to the size of the coordinates in A's frame.
+  const Vec2 b0 = rotate(f.b_in_a.q, b.vertices[0]) + f.b_in_a.p;
+  const float scale = std::max(coord_size(f.origin), coord_size(b0)) + radius_sum;
+  const float reach = radius_sum + kRelativeTolerance * scale;
+  detail::with_lane_groups(a.count, b.count, [&](auto groups_a, auto groups_b) {
+    detail::LanePair<groups_a(), groups_b()> p;
+    if (!detail::separate_lanes(a, b, f, reach, p)) return;  // a NaN lane: GJK decides
+    if (p.sep_a.separation > reach || p.sep_b.separation > reach) {
+      verdict = SatVerdict::apart;
+    } else if (p.sep_a.separation <= 0.0f && p.sep_b.separation <= 0.0f) {
+      verdict = SatVerdict::overlapping;
+    }
+  });
+#else
+  static_cast<void>(a);
+  static_cast<void>(xa);
+  static_cast<void>(b);
+  static_cast<void>(xb);
+#endif
+  return verdict;
+}
+
 }  // namespace
 
 template <Shape2DType A, Shape2DType B>
 bool overlap(const A& a, const Transform& xa, const B& b, const Transform& xb) noexcept {
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "overlap: transforms must be finite rigid");
-  if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
+  if constexpr (std::is_same_v<A, Polygon> && std::is_same_v<B, Polygon>) {
+    const SatVerdict verdict = overlap_polygon_axes(a, xa, b, xb);
+    if (verdict != SatVerdict::undecided) return verdict == SatVerdict::overlapping;
+    return overlap_gjk<2>(ConvexProxy(a), xa, ConvexProxy(b), xb);
+  } else if constexpr (std::is_same_v<A, Polygon> || std::is_same_v<B, Polygon>) {
     return overlap_gjk<2>(ConvexProxy(a), xa, ConvexProxy(b), xb);
   } else {
     // Everything in A's frame, so large world coordinates cancel first.

@@ -96,6 +96,31 @@ TEST(Overlap, LargePolygonsAgreeWithBruteForce) {
   EXPECT_GT(outcomes[1], 300 * 3 / 10);
 }
 
+TEST(Overlap, PolygonPairsNearTouchingAgreeWithBruteForce) {
+  // Polygon pairs of 3..10 vertices (up to 8 take the separating axis test in registers, then
+  // GJK when it cannot decide; more take GJK), rounded or not, placed so that many are within
+  // a fraction of their size of touching: both answers against the double-precision truth.
+  std::mt19937 rng(1988);
+  std::array<int, 2> outcomes{};
+  const int trials = 4000;
+  for (int i = 0; i < trials; ++i) {
+    const int na = 3 + static_cast<int>(rng() % 8);
+    const int nb = 3 + static_cast<int>(rng() % 8);
+    const float ra = i % 3 == 0 ? uniform(rng, 0.02f, 0.2f) : 0.0f;
+    const float rb = i % 4 == 0 ? uniform(rng, 0.02f, 0.2f) : 0.0f;
+    Scene s{test::random_polygon(rng, na, 0.5f, ra), test::random_polygon(rng, nb, 0.5f, rb),
+            test::random_transform(rng, 5.0f), {}};
+    s.xb = Transform::from(s.xa.p + test::random_point(rng, 1.1f), uniform(rng, -3.0f, 3.0f));
+    const int t = truth(s);
+    if (t == 0) continue;
+    ++outcomes[t > 0 ? 1 : 0];
+    EXPECT_EQ(overlap(s.a, s.xa, s.b, s.xb), t > 0) << "trial " << i << ", " << na << "-" << nb;
+    EXPECT_EQ(overlap(s.b, s.xb, s.a, s.xa), t > 0) << "trial " << i << ", " << nb << "-" << na;
+  }
+  EXPECT_GT(outcomes[0], trials * 3 / 10);
+  EXPECT_GT(outcomes[1], trials * 3 / 10);
+}
+
 TEST(Overlap, AgreesWithBox2DTestOverlap) {
   std::mt19937 rng(2);
   std::array<int, 2> outcomes{};
@@ -196,6 +221,11 @@ std::vector<TouchCase> touch_cases() {
       {"rounded-box face", rounded, box, Transform::from({0.75f, 1.25f}, 0.0f), {0, 1}},
       {"rounded-circle corner", rounded, circle,
        Transform::from(Vec2{0.5f, 0.5f} + 0.75f * Vec2{0.6f, 0.8f}, 0.0f), {0.6f, 0.8f}},
+      // Core corners 0.5 apart on the diagonal: the face axes separate the cores by only
+      // 0.35, less than the radii; the rounded corners just touch.
+      {"rounded-rounded corner", rounded, rounded,
+       Transform::from(Vec2{1.0f, 1.0f} + 0.5f * Vec2{0.70710678f, 0.70710678f}, 0.0f),
+       {0.70710678f, 0.70710678f}},
   };
 }
 

@@ -15,10 +15,14 @@ namespace collide {
 /// Touching counts: shapes whose gap is within float rounding (kRelativeTolerance of the
 /// coordinates' size, in A's frame) overlap. Pairs of circles, capsules and segments are
 /// analytic: the closest points of a point or segment to a segment (Ericson, Real-Time Collision
-/// Detection, 5.1.2 and 5.1.9) against the sum of the radii. Pairs with a polygon use GJK with
-/// early exit (Gilbert, Johnson & Keerthi 1988), which stops as soon as either bound decides:
-/// the simplex's distance to the origin within the radii (overlap), or the support point's
-/// separating-axis lower bound beyond them (apart; van den Bergen 2003, 4.3.4). Shapes must be
+/// Detection, 5.1.2 and 5.1.9) against the sum of the radii. Two polygons of up to 8 vertices
+/// each first take the separating axis test over both polygons' edge normals, four at a time
+/// (Ericson 5.2.1): an axis separating the cores by more than the radii proves them apart, no
+/// separating axis proves the cores overlap; a gap in between goes on to GJK. Other pairs with
+/// a polygon use GJK with early exit (Gilbert, Johnson & Keerthi 1988), which stops as soon as
+/// either bound decides: the simplex's distance to the origin within the radii (overlap), or
+/// the support point's separating-axis lower bound beyond them (apart; van den Bergen 2003,
+/// 4.3.4). Shapes must be
 /// valid (built by the make_* functions); transforms finite. Swapping A and B gives the same
 /// answer except possibly for gaps within the rounding band.
 template <Shape2DType A, Shape2DType B>
