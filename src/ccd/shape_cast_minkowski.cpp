@@ -3,43 +3,14 @@
 #include <collide/core/error.hpp>
 #include <collide/narrow/minkowski.hpp>
 
+#include "touching_feature.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace collide {
 namespace {
-
-/// Fraction of the shapes' size within which two vertices count as equally far along the
-/// normal: they then form the touching edge rather than a touching vertex.
-constexpr float kFeatureTieTolerance = 1e-4f;
-
-/// Where along the tangent `u` and the normal `n` the touching features of A and B lie: the
-/// core vertices farthest along n on A and against n on B, each set's extent along u.
-struct TouchingFeature {
-  float height = 0.0f;  ///< along n: the core's extreme
-  float lo = 0.0f;      ///< along u: the feature's extent
-  float hi = 0.0f;
-};
-
-/// The vertices of `core` (moved by `offset`) extreme along `sign * n`, within `tie`.
-TouchingFeature touching_feature(const Vec2* core, int count, const Transform& xf, Vec2 offset,
-                                 Vec2 n, float sign, float tie) {
-  float best = -INFINITY;
-  for (int i = 0; i < count; ++i) {
-    best = std::max(best, sign * dot(transform_point(xf, core[i]) + offset, n));
-  }
-  const Vec2 u = left_perp(n);
-  TouchingFeature f{sign * best, INFINITY, -INFINITY};
-  for (int i = 0; i < count; ++i) {
-    const Vec2 p = transform_point(xf, core[i]) + offset;
-    if (sign * dot(p, n) >= best - tie) {
-      f.lo = std::min(f.lo, dot(p, u));
-      f.hi = std::max(f.hi, dot(p, u));
-    }
-  }
-  return f;
-}
 
 /// Diagonal of the core's local bounding box.
 float core_size(const Polygon& p) {
@@ -80,22 +51,17 @@ ShapeCastResult shape_cast_minkowski(const Polygon& a, const Transform& xa, Vec2
   // along n minus B's support along -n is that boundary point).
   const Vec2 n = entry.normal;
   const float t = entry.fraction;
-  const float tie = kFeatureTieTolerance * std::max(core_size(a), core_size(b));
-  const TouchingFeature fa =
-      touching_feature(a.vertices.data(), a.count, Transform{}, t * va_local, n, 1.0f, tie);
-  const TouchingFeature fb =
-      touching_feature(b.vertices.data(), b.count, b_in_a, t * vb_local, n, -1.0f, tie);
-  // The middle of the overlap of the two features along the tangent (vertex against edge: the
-  // vertex; edge against edge: the middle of the shared part), midway between the surfaces.
-  const float lo = std::max(fa.lo, fb.lo);
-  const float hi = std::min(fa.hi, fb.hi);
-  const float along = 0.5f * (lo + hi);
-  const float across = 0.5f * ((fa.height + a.radius) + (fb.height - b.radius));
+  const float tie = detail::kFeatureTieTolerance * std::max(core_size(a), core_size(b));
+  const detail::TouchingFeature fa = detail::touching_feature(
+      a.count, [&](int i) { return a.vertices[i] + t * va_local; }, n, 1.0f, tie);
+  const detail::TouchingFeature fb = detail::touching_feature(
+      b.count, [&](int i) { return transform_point(b_in_a, b.vertices[i]) + t * vb_local; }, n,
+      -1.0f, tie);
   result.hit = true;
   result.fraction = t;
   result.status = t > 0.0f ? QueryStatus::hit : QueryStatus::overlapped;
   result.normal = rotate(xa.q, n);
-  result.point = transform_point(xa, along * left_perp(n) + across * n);
+  result.point = transform_point(xa, detail::touching_point(fa, a.radius, fb, b.radius, n));
   return result;
 }
 

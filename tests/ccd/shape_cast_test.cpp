@@ -238,6 +238,63 @@ TEST(ShapeCast, RandomPairsAgainstDenseSampling) {
   EXPECT_LT(hits, total * 8 / 10);
 }
 
+// 6b. Sharp polygons of up to 8 vertices take the separating-axis cast into A - B: exact (the
+// gap at the reported time is rounding, not the GJK cast's tolerance), never late, without
+// GJK iterations for almost every hit; 9- and 10-gons still take GJK.
+TEST(ShapeCast, SharpPolygonsCastExactlyAlongTheAxes) {
+  std::mt19937 rng(1978);
+  int hits = 0;
+  int axis_hits = 0;
+  int large_hits = 0;
+  const int total = 1500;
+  for (int k = 0; k < total; ++k) {
+    const int na = 3 + static_cast<int>(rng() % 8);
+    const int nb = 3 + static_cast<int>(rng() % 8);
+    const Polygon a = test::random_polygon(rng, na, uniform(rng, 0.3f, 2.0f));
+    const Polygon b = test::random_polygon(rng, nb, uniform(rng, 0.3f, 2.0f));
+    Scene s{test::random_transform(rng, k % 4 == 3 ? 1e4f : 5.0f), test::random_point(rng, 10.0f),
+            {}, {}};
+    s.xb = Transform::from(s.xa.p + test::random_point(rng, 6.0f), uniform(rng, -kPi, kPi));
+    s.vb = k % 2 == 0 ? (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f) + s.va
+                      : test::random_point(rng, 10.0f);
+    const ShapeCastResult r = shape_cast(a, s.xa, s.va, b, s.xb, s.vb);
+    const ConvexProxy pa(a);
+    const ConvexProxy pb(b);
+    const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
+    const float tol = hit_tolerance(pa, pb, s);
+    SCOPED_TRACE(testing::Message() << "case " << k << " " << na << "-" << nb << " t "
+                                    << r.fraction << " truth " << truth.t_first);
+    if (truth.touches) {
+      ASSERT_TRUE(r.hit);
+      EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
+    } else if (truth.min_distance > tol) {
+      EXPECT_FALSE(r.hit);
+    }
+    if (r.status != QueryStatus::hit) continue;
+    ++hits;
+    if (a.count > 8 || b.count > 8) {  // (the hull of the jittered points may drop a vertex)
+      EXPECT_GT(r.iterations, 0) << "a 9- or 10-gon takes GJK";
+      ++large_hits;
+      continue;
+    }
+    if (r.iterations != 0) continue;  // touching at the start or grazing: GJK's
+    ++axis_hits;
+    // Exact: at the reported time the shapes touch to within the rounding of the coordinates
+    // (the GJK cast stops anywhere within kShapeCastTolerance of the smaller size).
+    const float magnitude = length(s.vb - s.va) + distance(s.xa.p, s.xb.p) + 4.0f;
+    const test::B2Proxy ba(pa);
+    const test::B2Proxy bb(pb);
+    EXPECT_LE(truth.distance_at(ba, bb, r.fraction), 2e-6f * magnitude);
+    const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
+    const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
+    const float sep = test::separation_along(pa, xa_t, pb, xb_t, r.normal);
+    EXPECT_NEAR(sep, 0.0f, 2e-6f * magnitude) << "the normal is the touching axis";
+  }
+  EXPECT_GT(hits, total * 3 / 10);
+  EXPECT_GT(axis_hits, hits * 5 / 10);
+  EXPECT_GT(large_hits, 20);
+}
+
 // 7. No tunnelling: small fast circles, capsules and boxes fired at thin walls (segments and
 // 0.01-thick boxes) at up to 1e4 times their own size per step, from many angles and positions,
 // also far from the origin. Every shot that crosses the wall is caught, never late.

@@ -108,6 +108,16 @@ template <Shape2DType A, Shape2DType B>
   return gjk_shape_cast<2>(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 
+/// `shape_cast` for two polygons. Sharp polygons of up to 8 vertices each take the ray into
+/// A - B without building it: Cyrus-Beck clipping by both polygons' edge normals, which are
+/// exactly A - B's (Ericson, Real-Time Collision Detection, 5.3.8): the exact time of first
+/// touch (up to rounding), with the contact point in the middle of the touching features as
+/// in `shape_cast_minkowski`, and `iterations` 0. Rounded or larger polygons, and answers
+/// within the cast tolerance of another (touching at the start, grazing), take
+/// `gjk_shape_cast`. Throws InvalidInput if a transform or velocity is not finite.
+[[nodiscard]] ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va,
+                                         const Polygon& b, const Transform& xb, Vec2 vb);
+
 /// `shape_cast` for shapes whose types are known only at run time (the query tool's `toi`).
 [[nodiscard]] ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va,
                                          const Shape2D& b, const Transform& xb, Vec2 vb);
