@@ -1,8 +1,10 @@
+#include <algorithm>
 #include <array>
 #include <collide/core/error.hpp>
 #include <collide/narrow/sat.hpp>
 #include <limits>
 
+#include "sat_lanes.hpp"
 #include "sat_soa.hpp"
 
 namespace collide {
@@ -84,6 +86,33 @@ int deepest_vertex(const SoaPolygon& p, Vec2 n) noexcept {
 }
 
 }  // namespace detail
+
+void edge_separations(const Polygon& a, const Polygon& b, const Transform& b_in_a,
+                      std::span<float> out) noexcept {
+  COLLIDE_ASSERT(out.size() >= static_cast<std::size_t>(a.count), "edge_separations: out too small");
+  const Vec2 origin = a.vertices[0];
+  const detail::SharedFrame f{b_in_a, origin, b_in_a.p - origin};
+#if COLLIDE_SMALL_POLYGON_SSE2
+  const bool small = detail::with_lane_groups(a.count, b.count, [&](auto groups_a, auto groups_b) {
+    detail::LanePair<groups_a(), groups_b()> p;
+    detail::load_pair(a, b, f, p);
+    __m128 s[groups_a()];
+    detail::separation_lanes(p.an, p.av, p.bv, s);
+    alignas(16) float lanes[groups_a() * detail::kSatLanes];
+    for (int g = 0; g < groups_a(); ++g) _mm_store_ps(lanes + detail::kSatLanes * g, s[g]);
+    std::copy_n(lanes, a.count, out.begin());
+  });
+  if (small) return;
+#endif
+  std::array<Vec2, kMaxPolygonVertices> placed;  // B's vertices in the shifted frame
+  for (int j = 0; j < b.count; ++j) placed[j] = rotate(b_in_a.q, b.vertices[j]) + f.shift;
+  for (int i = 0; i < a.count; ++i) {
+    const Vec2 n = a.normals[i];
+    float lowest = dot(n, placed[0]);
+    for (int j = 1; j < b.count; ++j) lowest = std::min(lowest, dot(n, placed[j]));
+    out[i] = lowest - dot(n, a.vertices[i] - origin);
+  }
+}
 
 EdgeSeparation find_max_separation(std::span<const Vec2> vertices1, std::span<const Vec2> normals1,
                                    std::span<const Vec2> vertices2, float early_exit) noexcept {

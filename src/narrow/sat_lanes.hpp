@@ -92,21 +92,16 @@ inline LanePoints<kGroups> load_points(const Vec2* v, int count) noexcept {
   return p;
 }
 
-/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
-/// in registers (vertex lanes padded by repetition, so the minimum over them is the minimum
-/// over the real ones):
-///   separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i),
-/// the same products and sums, so the results are bitwise equal (a minimum is exact, so the
-/// pairwise order of the minima, shorter in latency than a chain, gives the same value). All
-/// groups are computed (no early exit between them: the caller's test of the maximum against
-/// the radius then rejects the same pairs). The winner is the first lane holding the maximum,
-/// found without branches. Returns false (and nothing) if a lane is NaN: the general path then
-/// decides, as it would.
+/// separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i) for every lane of the edge groups:
+/// the same products and sums as find_max_separation_soa, so the results are bitwise equal (a
+/// minimum is exact, so the pairwise order of the minima, shorter in latency than a chain,
+/// gives the same value). Vertex lanes are padded by repetition, so the minimum over them is
+/// the minimum over the real ones.
 template <int kEdgeGroups, int kVertexGroups>
-inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
-                                 const LanePoints<kEdgeGroups>& v1,
-                                 const LanePoints<kVertexGroups>& v2,
-                                 EdgeSeparation& out) noexcept {
+COLLIDE_ALWAYS_INLINE void separation_lanes(const LanePoints<kEdgeGroups>& n,
+                                            const LanePoints<kEdgeGroups>& v1,
+                                            const LanePoints<kVertexGroups>& v2,
+                                            __m128 (&s)[kEdgeGroups]) noexcept {
   const auto lane = [](__m128 v, int k) {
     switch (k) {
       case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
@@ -116,7 +111,6 @@ inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
     }
   };
   static_assert(kSatLanes == 4, "four lanes: one SSE register");
-  __m128 s[kEdgeGroups];
   for (int g = 0; g < kEdgeGroups; ++g) {
     const auto dots = [&](int h, int j) {
       return _mm_add_ps(_mm_mul_ps(n.x[g], lane(v2.x[h], j)),
@@ -131,6 +125,20 @@ inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
     s[g] = _mm_sub_ps(lowest,
                       _mm_add_ps(_mm_mul_ps(n.x[g], v1.x[g]), _mm_mul_ps(n.y[g], v1.y[g])));
   }
+}
+
+/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
+/// in registers: separation_lanes, then the largest. All groups are computed (no early exit
+/// between them: the caller's test of the maximum against the radius then rejects the same
+/// pairs). The winner is the first lane holding the maximum, found without branches. Returns
+/// false (and nothing) if a lane is NaN: the general path then decides, as it would.
+template <int kEdgeGroups, int kVertexGroups>
+inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
+                                 const LanePoints<kEdgeGroups>& v1,
+                                 const LanePoints<kVertexGroups>& v2,
+                                 EdgeSeparation& out) noexcept {
+  __m128 s[kEdgeGroups];
+  separation_lanes(n, v1, v2, s);
   __m128 ordered = _mm_cmpord_ps(s[0], s[0]);
   __m128 top = s[0];
   for (int g = 1; g < kEdgeGroups; ++g) {
@@ -161,6 +169,29 @@ struct LanePair {
   EdgeSeparation sep_b;     ///< over B's edges (set only when sep_a.separation <= early_exit)
 };
 
+/// Loads A's vertices (minus the origin) and normals, and B's vertices rotated and shifted into
+/// frame `f`, into `p`.
+template <int kGroupsA, int kGroupsB>
+COLLIDE_ALWAYS_INLINE void load_pair(const Polygon& a, const Polygon& b, const SharedFrame& f,
+                                     LanePair<kGroupsA, kGroupsB>& p) noexcept {
+  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
+  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
+  // A: vertices - origin, normals as stored. B: rotate(q, v) + shift.
+  p.av = load_points<kGroupsA>(a.vertices.data(), a.count);
+  for (int g = 0; g < kGroupsA; ++g) {
+    p.av.x[g] = _mm_sub_ps(p.av.x[g], _mm_set1_ps(f.origin.x));
+    p.av.y[g] = _mm_sub_ps(p.av.y[g], _mm_set1_ps(f.origin.y));
+  }
+  p.an = load_points<kGroupsA>(a.normals.data(), a.count);
+  p.bv = load_points<kGroupsB>(b.vertices.data(), b.count);
+  for (int g = 0; g < kGroupsB; ++g) {
+    const __m128 vx = p.bv.x[g];
+    const __m128 vy = p.bv.y[g];
+    p.bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(f.shift.x));
+    p.bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(f.shift.y));
+  }
+}
+
 /// The separating axis test of A's edges against B's vertices, then (unless that found an axis
 /// separating by more than `early_exit`) B's edges against A's vertices, in frame `f`. Same
 /// operations in the same order as find_max_separation_soa on SoaPolygon copies, so the
@@ -170,27 +201,12 @@ template <int kGroupsA, int kGroupsB>
 COLLIDE_ALWAYS_INLINE bool separate_lanes(const Polygon& a, const Polygon& b, const SharedFrame& f,
                                           float early_exit,
                                           LanePair<kGroupsA, kGroupsB>& p) noexcept {
-  const int na = a.count;
-  const int nb = b.count;
-  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
-  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
-  // A: vertices - origin, normals as stored. B: rotate(q, v) + shift, rotate(q, n).
-  p.av = load_points<kGroupsA>(a.vertices.data(), na);
-  for (int g = 0; g < kGroupsA; ++g) {
-    p.av.x[g] = _mm_sub_ps(p.av.x[g], _mm_set1_ps(f.origin.x));
-    p.av.y[g] = _mm_sub_ps(p.av.y[g], _mm_set1_ps(f.origin.y));
-  }
-  p.an = load_points<kGroupsA>(a.normals.data(), na);
-  p.bv = load_points<kGroupsB>(b.vertices.data(), nb);
-  for (int g = 0; g < kGroupsB; ++g) {
-    const __m128 vx = p.bv.x[g];
-    const __m128 vy = p.bv.y[g];
-    p.bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(f.shift.x));
-    p.bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(f.shift.y));
-  }
+  load_pair(a, b, f, p);
   if (!max_separation_lanes(p.an, p.av, p.bv, p.sep_a)) return false;
   if (p.sep_a.separation > early_exit) return true;
-  p.bn = load_points<kGroupsB>(b.normals.data(), nb);
+  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
+  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
+  p.bn = load_points<kGroupsB>(b.normals.data(), b.count);
   for (int g = 0; g < kGroupsB; ++g) {
     const __m128 nx = p.bn.x[g];
     const __m128 ny = p.bn.y[g];

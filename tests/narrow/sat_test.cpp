@@ -3,6 +3,7 @@
 
 #include <collide/narrow/sat.hpp>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "support/test_util.hpp"
@@ -47,6 +48,42 @@ TEST(SatFindMaxSeparation, MatchesBruteForceOverEveryEdge) {
                            transform_point(xa, a.vertices[s.edge])),
                 world_edge_separation(a, xa, b, xb, s.edge), 1e-4f);
     (s.separation > 0.0f ? apart : overlapping)++;
+  }
+  EXPECT_GT(apart, trials * 3 / 10);
+  EXPECT_GT(overlapping, trials * 3 / 10);
+}
+
+TEST(SatEdgeSeparations, EveryEdgeMatchesBruteForceAndTheMaximumMatchesFindMaxSeparation) {
+  // 3..8 vertices take the register path (every combination of one and two groups of four),
+  // 9..12 and 40-64 the scalar one; also far from the origin.
+  std::mt19937 rng(12);
+  int apart = 0;
+  int overlapping = 0;
+  const int trials = 2000;
+  for (int t = 0; t < trials; ++t) {
+    const int na = t % 8 == 0 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const int nb = t % 8 == 1 ? 40 + static_cast<int>(rng() % 25) : 3 + static_cast<int>(rng() % 10);
+    const Polygon a = test::random_polygon(rng, na, 1.0f);
+    const Polygon b = test::random_polygon(rng, nb, 1.0f);
+    const Vec2 far = t % 5 == 0 ? Vec2{3e3f, -2e3f} : Vec2{0.0f};
+    const Transform xa = test::random_transform(rng, 2.0f);
+    const Transform xb = test::random_transform(rng, 2.0f);
+    const Transform xa_far{xa.p + far, xa.q};
+    const Transform xb_far{xb.p + far, xb.q};
+    std::vector<float> out(static_cast<size_t>(a.count) + 1, 12345.0f);
+    edge_separations(a, b, inv_mul(xa_far, xb_far), std::span(out).first(a.count));
+    EXPECT_EQ(out.back(), 12345.0f) << "wrote past a.count";
+    float best = -std::numeric_limits<float>::infinity();
+    for (int i = 0; i < a.count; ++i) {
+      // The brute force near the origin: the same relative placement, no far-away rounding.
+      EXPECT_NEAR(out[i], world_edge_separation(a, xa, b, xb, i), 2e-3f)
+          << "trial " << t << " edge " << i << " of " << a.count << "-" << b.count;
+      best = std::max(best, out[i]);
+    }
+    if (t % 5 != 0) {
+      EXPECT_NEAR(best, find_max_separation(a, b, inv_mul(xa, xb)).separation, 1e-5f) << "trial " << t;
+    }
+    (best > 0.0f ? apart : overlapping)++;
   }
   EXPECT_GT(apart, trials * 3 / 10);
   EXPECT_GT(overlapping, trials * 3 / 10);

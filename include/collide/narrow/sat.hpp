@@ -28,6 +28,15 @@ struct EdgeSeparation {
 [[nodiscard]] EdgeSeparation find_max_separation(const Polygon& a, const Polygon& b,
                                                  const Transform& b_in_a) noexcept;
 
+/// The separation of B's core from A's core along each of A's edge normals, B given in A's
+/// local frame by `b_in_a`: out[i] = min_j n_i . (b_j - a_i), world units (> 0: that axis
+/// separates them by that much; the largest is find_max_separation's). Frame-independent
+/// values, computed relative to A's vertex 0 so large coordinates cancel first; four edges at
+/// a time in registers for polygons of up to 8 vertices. `out` must hold at least a.count
+/// values. Ericson, Real-Time Collision Detection, 5.2.1.
+void edge_separations(const Polygon& a, const Polygon& b, const Transform& b_in_a,
+                      std::span<float> out) noexcept;
+
 /// The same test on raw arrays already in one frame: edge i of polygon 1 starts at
 /// `vertices1[i]` and has unit outward normal `normals1[i]`; `vertices2` are the other polygon's
 /// core vertices. Returns once an axis separates by more than `early_exit` (checked after each
