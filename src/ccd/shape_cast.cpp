@@ -1,6 +1,7 @@
 #include <collide/ccd/shape_cast.hpp>
 
 #include <collide/narrow/gjk.hpp>
+#include <collide/narrow/sat.hpp>
 #include "shape_size.hpp"
 #include "touching_feature.hpp"
 
@@ -10,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <variant>
 
 namespace collide {
@@ -54,6 +56,52 @@ struct SimplexIds {
 /// up to here (the size Box2D v3 caps polygons at); larger ones take GJK.
 constexpr int kAxisCastMaxVertices = kInlinePolygonVertices;
 
+/// Cyrus-Beck clipping of the cast's time interval [0, 1] by separating axes (see
+/// cast_polygon_axes).
+struct AxisClip {
+  float t_enter = 0.0f;  ///< latest time an axis closes
+  float t_exit = 1.0f;   ///< earliest time an axis reopens (or the end of the step)
+  int enter_axis = -1;   ///< the first axis closing at t_enter, -1 if none closes
+  int exit_axis = -1;    ///< the first axis reopening at t_exit, -1 if none before the end
+  unsigned never = 0;      ///< an axis apart and not closing
+  unsigned undecided = 0;  ///< such an axis within the tolerance of touching
+};
+
+/// Over the first N slots of `sep` (separations at t = 0) and `rate` (their rates of change):
+/// an axis apart (sep > 0) closes at sep / -rate if closing, never otherwise; an axis
+/// overlapping (sep <= 0) and opening reopens at -sep / rate. Selects rather than branches
+/// (random casts mispredict them), over a fixed count so the compiler runs four axes at a time
+/// (unused slots hold an overlapping, still axis, which bounds nothing): 8-gon casts 181 -> 143
+/// ns. N = 8 when both polygons have 4 sides or fewer (16 slots slowed box casts by a tenth).
+template <int N, std::size_t M>
+AxisClip clip_axes(const std::array<float, M>& sep, const std::array<float, M>& rate,
+                   float tolerance) noexcept {
+  static_assert(N <= static_cast<int>(M));
+  std::array<float, N> t_in;   // when axis k closes, or 0
+  std::array<float, N> t_out;  // when axis k reopens, or 1
+  AxisClip c;
+  for (int k = 0; k < N; ++k) {
+    const float s = sep[k];
+    const float r = rate[k];
+    const unsigned apart = unsigned{s > 0.0f};
+    const unsigned closing = unsigned{r < 0.0f};
+    c.never |= apart & (closing ^ 1u);
+    c.undecided |= apart & (closing ^ 1u) & unsigned{s <= tolerance};
+    const float at = -s / r;  // when sep + t rate = 0
+    t_in[k] = (apart & closing) != 0 ? at : 0.0f;
+    t_out[k] = (apart == 0 && r > 0.0f) ? at : 1.0f;
+  }
+  for (int k = 0; k < N; ++k) {
+    c.t_enter = std::max(c.t_enter, t_in[k]);
+    c.t_exit = std::min(c.t_exit, t_out[k]);
+  }
+  for (int k = N - 1; k >= 0; --k) {
+    c.enter_axis = c.t_enter > 0.0f && t_in[k] == c.t_enter ? k : c.enter_axis;
+    c.exit_axis = c.t_exit < 1.0f && t_out[k] == c.t_exit ? k : c.exit_axis;
+  }
+  return c;
+}
+
 /// The lesson's ray into the Minkowski difference, for two sharp polygons, without building
 /// A - B: its edges' normals are exactly A's and B's edge normals, so the ray from the origin
 /// along B's motion relative to A enters A - B where Cyrus-Beck clipping by those half-planes
@@ -75,71 +123,41 @@ std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transfo
   const int na = a.count;
   const int nb = b.count;
   const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 origin = a.vertices[0];
-  const Vec2 shift = b_in_a.p - origin;
   const Vec2 ray = inv_rotate(xa.q, vb - va);  // B's motion relative to A, A's frame
-  std::array<Vec2, kAxisCastMaxVertices> av;
-  std::array<Vec2, kAxisCastMaxVertices> bv;
-  for (int i = 0; i < na; ++i) av[i] = a.vertices[i] - origin;
-  for (int j = 0; j < nb; ++j) bv[j] = rotate(b_in_a.q, b.vertices[j]) + shift;
 
   // The tolerance of gjk_shape_cast for this pair: answers within it of a graze go to GJK.
-  const float size_a = distance(av[0], av[na / 2]);
-  const float size_b = distance(bv[0], bv[nb / 2]);
+  const float size_a = distance(a.vertices[0], a.vertices[na / 2]);
+  const float size_b = distance(b.vertices[0], b.vertices[nb / 2]);
   const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance =
       kShapeCastTolerance * detail::smaller_size(size_a, size_b) + kShapeCastRounding * magnitude;
 
-  // Every axis's separation at t = 0 and its rate of change, A's edges then B's.
+  // Every axis's separation at t = 0 (the separating axis test's, each polygon's in its own
+  // frame: the values do not depend on it) and its rate of change, A's edges then B's.
   constexpr int kAxes = 2 * kAxisCastMaxVertices;
   std::array<float, kAxes> sep;
   std::array<float, kAxes> rate;
-  for (int i = 0; i < na; ++i) {
-    const Vec2 n = a.normals[i];
-    float lowest = dot(n, bv[0]);
-    for (int j = 1; j < nb; ++j) lowest = std::min(lowest, dot(n, bv[j]));
-    sep[i] = lowest - dot(n, av[i]);
-    rate[i] = dot(n, ray);
+  edge_separations(a, b, b_in_a, std::span(sep).first(na));
+  edge_separations(b, a, inv_mul(xb, xa), std::span(sep).subspan(na, nb));
+  const Vec2 ray_in_b = inv_rotate(b_in_a.q, ray);
+  for (int i = 0; i < na; ++i) rate[i] = dot(a.normals[i], ray);
+  for (int j = 0; j < nb; ++j) rate[na + j] = -dot(b.normals[j], ray_in_b);
+  for (int k = na + nb; k < kAxes; ++k) {  // unused slots: overlapping and still
+    sep[k] = -1.0f;
+    rate[k] = 0.0f;
   }
-  std::array<Vec2, kAxisCastMaxVertices> bn;
-  for (int j = 0; j < nb; ++j) {
-    const Vec2 m = rotate(b_in_a.q, b.normals[j]);
-    bn[j] = m;
-    float lowest = dot(m, av[0]);
-    for (int i = 1; i < na; ++i) lowest = std::min(lowest, dot(m, av[i]));
-    sep[na + j] = lowest - dot(m, bv[j]);
-    rate[na + j] = -dot(m, ray);
-  }
-  // Cyrus-Beck over the axes with selects rather than branches (random casts mispredict them):
-  // an axis apart (sep > 0) closes at sep / -rate if closing, never otherwise; an axis
-  // overlapping (sep <= 0) and opening reopens at -sep / rate.
-  float t_enter = 0.0f;  // latest time an axis closes
-  float t_exit = 1.0f;   // earliest time an axis reopens (or the end of the step)
-  int enter_axis = -1;   // < na: A's edge; else B's edge enter_axis - na
-  int exit_axis = -1;
-  unsigned never = 0;      // an axis apart and not closing
-  unsigned undecided = 0;  // such an axis within tolerance of touching
-  for (int k = 0; k < na + nb; ++k) {
-    const float s = sep[k];
-    const float r = rate[k];
-    const unsigned apart = unsigned{s > 0.0f};
-    const unsigned closing = unsigned{r < 0.0f};
-    never |= apart & (closing ^ 1u);
-    undecided |= apart & (closing ^ 1u) & unsigned{s <= tolerance};
-    const float at = -s / r;  // when sep + t rate = 0
-    const float t_in = (apart & closing) != 0 ? at : 0.0f;
-    const float t_out = (apart == 0 && r > 0.0f) ? at : 1.0f;
-    enter_axis = t_in > t_enter ? k : enter_axis;
-    t_enter = std::max(t_enter, t_in);
-    exit_axis = t_out < t_exit ? k : exit_axis;
-    t_exit = std::min(t_exit, t_out);
-  }
-  // Touching at the start, or a miss decided within the tolerance: GJK's answer.
-  if (undecided != 0) return std::nullopt;
+  const AxisClip clip = na + nb <= kAxes / 2 ? clip_axes<kAxes / 2>(sep, rate, tolerance)
+                                             : clip_axes<kAxes>(sep, rate, tolerance);
+  const int enter_axis = clip.enter_axis;
+  const int exit_axis = clip.exit_axis;
+
+  // A miss decided within the tolerance, or touching at the start: GJK's answer.
+  if (clip.undecided != 0) return std::nullopt;
   ShapeCastResult result;
-  if (never != 0) return result;  // separated, fraction 1
+  if (clip.never != 0) return result;  // separated, fraction 1
   if (enter_axis < 0 || sep[enter_axis] <= tolerance) return std::nullopt;
-  if (!(t_enter <= t_exit)) {
+  const float t_enter = clip.t_enter;
+  if (!(t_enter <= clip.t_exit)) {
     // Misses: the closing axis arrives after the step ends or after another axis reopened.
     // A graze (the gap left at t_enter along the reopened axis, or along the closing axis at
     // the step's end, within tolerance) is GJK's to call.
@@ -149,13 +167,16 @@ std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transfo
     return result;  // separated, fraction 1
   }
   const float t = t_enter;
-  const Vec2 n = enter_axis < na ? a.normals[enter_axis] : -bn[enter_axis - na];  // A to B
+  const Vec2 n = enter_axis < na ? a.normals[enter_axis]
+                                 : -rotate(b_in_a.q, b.normals[enter_axis - na]);  // A to B
+  // The touching features, in A's frame shifted to A's vertex 0, B moved by t ray.
+  const Vec2 origin = a.vertices[0];
+  const Vec2 shift = b_in_a.p - origin + t * ray;
   const float tie = detail::kFeatureTieTolerance * std::max(size_a, size_b);
-  const detail::TouchingFeature fa =
-      detail::touching_feature(na, [&](int i) { return av[i]; }, n, 1.0f, tie);
-  const Vec2 moved = t * ray;
-  const detail::TouchingFeature fb =
-      detail::touching_feature(nb, [&](int i) { return bv[i] + moved; }, n, -1.0f, tie);
+  const detail::TouchingFeature fa = detail::touching_feature(
+      na, [&](int i) { return a.vertices[i] - origin; }, n, 1.0f, tie);
+  const detail::TouchingFeature fb = detail::touching_feature(
+      nb, [&](int i) { return rotate(b_in_a.q, b.vertices[i]) + shift; }, n, -1.0f, tie);
   result.hit = true;
   result.fraction = t;
   result.status = QueryStatus::hit;
