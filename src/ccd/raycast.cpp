@@ -14,6 +14,7 @@
 
 #include "clip_ray.hpp"
 #include "ray_ball.hpp"
+#include "rounded_polygon_ray.hpp"
 
 #include <bit>
 #include <cmath>
@@ -178,31 +179,7 @@ SideCast cast_sides(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
 /// Rounded polygon (radius > 0). Out of line: inlined, its registers were saved on entry to
 /// every polygon cast (bench/ray_cast, 4-gons 20.5 -> 19.6-20.1 ns, 8-gons 26.5 -> 22.5-23).
 [[gnu::noinline]] LocalHit raycast_rounded(const Polygon& poly, Vec2 p, Vec2 d) noexcept {
-  const float r = poly.radius;
-  const Clip clip = clip_ray_polygon(poly, p, d, r);
-  // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
-  // at each vertex. It lies inside the polygon of edges pushed out by r, and differs from it
-  // only in the corner kites beyond each vertex, which are bounded towards the shape by that
-  // vertex's disc. So: the entry into the pushed-out polygon is the answer when it lands
-  // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
-  int vertex = -1;
-  if (clip.plane >= 0) {
-    const int i = clip.plane;
-    const Vec2 v0 = poly.vertices[i];
-    const Vec2 v1 = poly.vertices[i + 1 < poly.count ? i + 1 : 0];
-    const Vec2 e = v1 - v0;
-    const float s = dot(p + clip.fraction * d - v0, e);
-    if (s >= 0.0f && s <= length_squared(e)) return {true, clip.fraction, poly.normals[i]};
-    vertex = s < 0.0f ? i : (i + 1 < poly.count ? i + 1 : 0);
-  } else {
-    // No entry into the pushed-out polygon: a miss, or the origin is already in it. In a kite
-    // outside the rounded shape the ray can still hit that kite's vertex disc.
-    if (!clip.inside) return {};
-    const PointQuery q = closest_point(poly, Transform{}, p);
-    if (!(q.distance > 0.0f) || q.feature.type != FeatureType::vertex) return {};
-    vertex = q.feature.index;
-  }
-  return ray_disc(p - poly.vertices[vertex], d, r);
+  return detail::ray_rounded_polygon(poly, poly.radius, p, d).hit;
 }
 
 /// Two-sided segment. The ray crosses the segment's line at t = -side / den, where side is the
@@ -251,8 +228,10 @@ RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) 
   // The edge's stored unit normal: with 8 vertices inline it sits one cache line past the
   // vertices (when normals lived 512 bytes away, recomputing it from the edge was faster).
   // A ray short of the edge zeroes every field by a mask rather than a branch (a select of the
-  // whole struct compiled to a branch and a copy through the stack). bench/ray_cast with the
-  // earlier branches: 4-gons 38 -> 20 ns, 8-gons 21.7 -> 22.5-23 (Intel Xeon, one A/B).
+  // whole struct compiled to a branch and a copy through the stack). bench/ray_cast against the
+  // branch on t and the clip for boxes: 4-gons 38 -> 20 ns, 8-gons 21.7 -> 22.5-23 (Intel Xeon,
+  // one A/B). Hosts differ here: on the AMD host of stop 39 a wholly branch-free end (no early
+  // return for a missed line either) lost, 10.4 -> 15 ns; the missed line keeps its return.
   const std::uint32_t keep = 0u - static_cast<std::uint32_t>(cast.hit);
   const auto masked = [keep](float x) {
     return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) & keep);
@@ -282,6 +261,40 @@ RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray)
 }
 
 }  // namespace
+
+namespace detail {
+
+RoundedPolygonEntry ray_rounded_polygon(const Polygon& poly, float radius, Vec2 p,
+                                        Vec2 d) noexcept {
+  const float r = radius;
+  const Clip clip = clip_ray_polygon(poly, p, d, r);
+  // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
+  // at each vertex. It lies inside the polygon of edges pushed out by r, and differs from it
+  // only in the corner kites beyond each vertex, which are bounded towards the shape by that
+  // vertex's disc. So: the entry into the pushed-out polygon is the answer when it lands
+  // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
+  int vertex = -1;
+  if (clip.plane >= 0) {
+    const int i = clip.plane;
+    const Vec2 v0 = poly.vertices[i];
+    const Vec2 v1 = poly.vertices[i + 1 < poly.count ? i + 1 : 0];
+    const Vec2 e = v1 - v0;
+    const float s = dot(p + clip.fraction * d - v0, e);
+    if (s >= 0.0f && s <= length_squared(e)) return {{true, clip.fraction, poly.normals[i]}};
+    vertex = s < 0.0f ? i : (i + 1 < poly.count ? i + 1 : 0);
+  } else {
+    // No entry into the pushed-out polygon: a miss, or the origin is already in it. In a kite
+    // outside the rounded shape the ray can still hit that kite's vertex disc.
+    if (!clip.inside) return {};
+    const PointQuery q = closest_point(poly, Transform{}, p);  // signed, to poly's own radius
+    const float gap = q.distance + poly.radius - r;             // to the core grown by r
+    if (!(gap > 0.0f) || q.feature.type != FeatureType::vertex) return {{}, gap};
+    return {ray_disc(p - poly.vertices[q.feature.index], d, r), gap};
+  }
+  return {ray_disc(p - poly.vertices[vertex], d, r)};
+}
+
+}  // namespace detail
 
 template <Shape2DType S>
 RayHit raycast(const S& shape, const Transform& xf, const Ray& ray) noexcept {

@@ -295,6 +295,62 @@ TEST(ShapeCast, SharpPolygonsCastExactlyAlongTheAxes) {
   EXPECT_GT(large_hits, 20);
 }
 
+// 6c. A circle and a polygon (sharp or rounded) take the ray from the centre into the polygon
+// grown by the circle: exact, never late, no GJK iterations for almost every hit; both orders
+// give the same time and point and opposite normals.
+TEST(ShapeCast, CirclePolygonCastsIntoTheGrownPolygon) {
+  std::mt19937 rng(1979);
+  int hits = 0;
+  int ray_hits = 0;
+  const int total = 1500;
+  for (int k = 0; k < total; ++k) {
+    const Circle c = make_circle(test::random_point(rng, 0.3f), uniform(rng, 0.1f, 1.0f));
+    const Polygon p = test::random_polygon(rng, 3 + static_cast<int>(rng() % 10),
+                                           uniform(rng, 0.3f, 2.0f),
+                                           k % 3 == 0 ? uniform(rng, 0.05f, 0.3f) : 0.0f);
+    Scene s{test::random_transform(rng, k % 4 == 3 ? 1e4f : 5.0f), test::random_point(rng, 10.0f),
+            {}, {}};
+    s.xb = Transform::from(s.xa.p + test::random_point(rng, 6.0f), uniform(rng, -kPi, kPi));
+    s.vb = k % 2 == 0 ? (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f) + s.va
+                      : test::random_point(rng, 10.0f);
+    const ShapeCastResult r = shape_cast(c, s.xa, s.va, p, s.xb, s.vb);
+    const ConvexProxy pa(c);
+    const ConvexProxy pb(p);
+    const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
+    const float tol = hit_tolerance(pa, pb, s);
+    SCOPED_TRACE(testing::Message() << "case " << k << " t " << r.fraction << " truth "
+                                    << truth.t_first << " iterations " << r.iterations);
+    if (truth.touches) {
+      ASSERT_TRUE(r.hit);
+      EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
+    } else if (truth.min_distance > tol) {
+      EXPECT_FALSE(r.hit);
+    }
+    const ShapeCastResult w = shape_cast(p, s.xb, s.vb, c, s.xa, s.va);
+    EXPECT_EQ(w.status, r.status);
+    EXPECT_EQ(w.fraction, r.fraction);
+    if (r.status != QueryStatus::hit) continue;
+    ++hits;
+    EXPECT_EQ(w.normal, -r.normal);
+    EXPECT_EQ(w.point, r.point);
+    if (r.iterations != 0) continue;  // near touching at the start: GJK's
+    ++ray_hits;
+    const float magnitude = length(s.vb - s.va) + distance(s.xa.p, s.xb.p) + 4.0f;
+    const test::B2Proxy ba(pa);
+    const test::B2Proxy bb(pb);
+    EXPECT_LE(truth.distance_at(ba, bb, r.fraction), 2e-6f * magnitude);
+    const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
+    const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
+    EXPECT_NEAR(test::separation_along(pa, xa_t, pb, xb_t, r.normal), 0.0f, 2e-6f * magnitude);
+    // The point is on the circle: the centre at t, one radius back along the normal (world
+    // coordinates: within their rounding far from the origin).
+    const Vec2 centre_t = transform_point(s.xa, c.center) + r.fraction * s.va;
+    EXPECT_NEAR(distance(r.point, centre_t), c.radius, 2e-6f * magnitude + 4e-7f * length(s.xa.p));
+  }
+  EXPECT_GT(hits, total * 3 / 10);
+  EXPECT_GT(ray_hits, hits * 9 / 10);
+}
+
 // 7. No tunnelling: small fast circles, capsules and boxes fired at thin walls (segments and
 // 0.01-thick boxes) at up to 1e4 times their own size per step, from many angles and positions,
 // also far from the origin. Every shot that crosses the wall is caught, never late.

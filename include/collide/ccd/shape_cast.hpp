@@ -118,6 +118,18 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va,
                                          const Polygon& b, const Transform& xb, Vec2 vb);
 
+/// `shape_cast` for a circle and a polygon (either order): the ray from the circle's centre
+/// into the polygon grown by the circle's radius, which is the Minkowski difference (Ericson,
+/// Real-Time Collision Detection, 5.3.8 into the pushed-out edges, 5.3.2 at the corners'
+/// discs): exact up to rounding, `iterations` 0. A start touching or near touching (the centre
+/// within the polygon of edges pushed out by the radii) takes `gjk_shape_cast`. Throws
+/// InvalidInput if a transform or velocity is not finite.
+[[nodiscard]] ShapeCastResult shape_cast(const Circle& a, const Transform& xa, Vec2 va,
+                                         const Polygon& b, const Transform& xb, Vec2 vb);
+/// `shape_cast` for a polygon and a circle: the circle-polygon cast with the normal flipped.
+[[nodiscard]] ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va,
+                                         const Circle& b, const Transform& xb, Vec2 vb);
+
 /// `shape_cast` for shapes whose types are known only at run time (the query tool's `toi`).
 [[nodiscard]] ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va,
                                          const Shape2D& b, const Transform& xb, Vec2 vb);
