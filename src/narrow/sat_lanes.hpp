@@ -1,8 +1,9 @@
 #pragma once
 // Internal: the separating axis test of two small polygons (up to two groups of kSatLanes
-// vertices each) in SSE registers, shared by `contact` (polygon_contact.cpp) and `overlap`
-// (overlap.cpp): both polygons are loaded straight into x and y lanes in A's frame (shifted to
-// A's vertex 0), B rotated there, and both passes run without copies.
+// vertices each) in SSE registers, shared by `contact` (polygon_contact.cpp), `overlap`
+// (overlap.cpp) and `edge_separations` (sat.cpp, which the polygon shape cast uses): both
+// polygons are loaded straight into x and y lanes in A's frame (shifted to A's vertex 0), B
+// rotated there, and both passes run without copies.
 
 #include <collide/core/config.hpp>
 #include <collide/narrow/sat.hpp>
