@@ -127,8 +127,8 @@ std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transfo
   const Vec2 ray = inv_rotate(xa.q, vb - va);  // B's motion relative to A, A's frame
 
   // The tolerance of gjk_shape_cast for this pair: answers within it of a graze go to GJK.
-  const float size_a = distance(a.vertices[0], a.vertices[na / 2]);
-  const float size_b = distance(b.vertices[0], b.vertices[nb / 2]);
+  const float size_a = detail::proxy_size(ConvexProxy(a));
+  const float size_b = detail::proxy_size(ConvexProxy(b));
   const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
   const float tolerance =
       kShapeCastTolerance * detail::smaller_size(size_a, size_b) + kShapeCastRounding * magnitude;
