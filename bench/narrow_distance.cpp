@@ -3,11 +3,16 @@
 // pre-generated inputs. Each benchmark iteration runs a batch of 1024 random pairs, mostly
 // separated (4-16% overlap, depending on the shapes), except BM_Overlap_*Touching (B 0.2..0.9
 // from A: mostly overlapping); names pair up as BM_X/collide, BM_X/box2d_v3 and BM_X/box2d.
+// BM_Distance_*/collide is the public `distance` on the shapes (for polygons: last frame's
+// pair checked, then the pair at the support points, then separating axes, GJK last);
+// BM_Distance_*/gjk is GJK alone on prepared proxies. Both return world space; the v3 row
+// converts b2ShapeDistance's frame-A points and normal to world space, as a game must.
 // v3 has no boolean overlap test: its row is b2ShapeDistance < 10 FLT_EPSILON. v3 proxies hold
-// at most 8 points, so the 64-gon rows have no v3 entry. Warm runs carry each pair's simplex cache from one frame to the next while B
-// orbits A slowly. BM_Overlap_*/sat_alternative is the textbook scalar separating axis test
-// (not in the library): collide's overlap runs the test four edges at a time in registers for
-// polygons of up to 8 vertices, and GJK for larger ones or when the axes leave a gap undecided.
+// at most 8 points, so the 64-gon rows have no v3 entry. Warm runs carry each pair's simplex
+// cache from one frame to the next while B orbits A slowly. BM_Overlap_*/sat_alternative is the
+// textbook scalar separating axis test (not in the library): collide's overlap runs the test
+// four edges at a time in registers for polygons of up to 8 vertices, and GJK for larger ones
+// or when the axes leave a gap undecided.
 //
 // Run: ./build/release/bench/bench_narrow_distance --benchmark_repetitions=5 \
 //        --benchmark_report_aggregates_only=true
@@ -131,22 +136,34 @@ b2DistanceProxy b2_proxy(const Shape& s) {
   return p;
 }
 
-void distance_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool warm) {
+/// The public call a game makes on the shapes (`distance`: for polygons, warm pairs and
+/// separating axes before GJK), or GJK alone on prepared proxies (`gjk_only`: the /gjk rows).
+DistanceResult query(const Pair& p, const Transform& xb, SimplexCache* cache, bool gjk_only) {
+  if (gjk_only) return gjk_distance(proxy(p.a), p.xa, proxy(p.b), xb, cache);
+  if (p.a.is_circle) return distance(p.a.circle, p.xa, p.b.polygon, xb, cache);
+  return distance(p.a.polygon, p.xa, p.b.polygon, xb, cache);
+}
+
+void distance_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool warm,
+                      bool gjk_only) {
   std::vector<SimplexCache> caches(pairs->size());
   int frame = 0;
+  int iterations = 0;
   for (auto _ : state) {
     float sum = 0.0f;
+    iterations = 0;
     for (size_t i = 0; i < pairs->size(); ++i) {
       const Pair& p = (*pairs)[i];
       const DistanceResult r =
-          gjk_distance(proxy(p.a), p.xa, proxy(p.b), p.xb[warm ? frame : 0],
-                       warm ? &caches[i] : nullptr);
+          query(p, p.xb[warm ? frame : 0], warm ? &caches[i] : nullptr, gjk_only);
       sum += r.distance;
+      iterations += r.iterations;
     }
     benchmark::DoNotOptimize(sum);
     frame = (frame + 1) % kFrames;
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
+  state.counters["iters"] = static_cast<double>(iterations) / static_cast<double>(pairs->size());
 }
 
 void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool warm) {
@@ -278,7 +295,9 @@ int main(int argc, char** argv) {
   };
   for (const Case& c : cases) {
     benchmark::RegisterBenchmark((std::string(c.name) + "/collide").c_str(), distance_collide,
-                                 c.pairs, c.warm);
+                                 c.pairs, c.warm, false);
+    benchmark::RegisterBenchmark((std::string(c.name) + "/gjk").c_str(), distance_collide,
+                                 c.pairs, c.warm, true);
     if (fits_v3(*c.pairs)) {
       benchmark::RegisterBenchmark((std::string(c.name) + "/box2d_v3").c_str(), distance_box2d_v3,
                                    c.pairs, c.warm);

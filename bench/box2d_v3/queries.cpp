@@ -210,19 +210,28 @@ void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool
   std::vector<b2SimplexCache> caches(pairs.size(), b2SimplexCache{});
   const size_t frames = pairs.empty() ? 1 : pairs[0].xb.size();
   size_t frame = 0;
+  int iterations = 0;
   for (auto _ : state) {
     float sum = 0.0f;
+    iterations = 0;
     for (size_t i = 0; i < d.inputs.size(); ++i) {
       b2DistanceInput& in = d.inputs[i];
       in.transform = b2InvMulTransforms(d.xa[i], d.xb[i][warm ? frame : 0]);
       b2SimplexCache cold{};
       const b2DistanceOutput out = b2ShapeDistance(&in, warm ? &caches[i] : &cold, nullptr, 0);
+      // Frame A to world, as collide answers.
+      const b2Vec2 world[3] = {b2TransformPoint(d.xa[i], out.pointA),
+                               b2TransformPoint(d.xa[i], out.pointB),
+                               b2RotateVector(d.xa[i].q, out.normal)};
+      benchmark::DoNotOptimize(world);
       sum += out.distance;
+      iterations += out.iterations;
     }
     benchmark::DoNotOptimize(sum);
     frame = (frame + 1) % frames;
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs.size()));
+  state.counters["iters"] = static_cast<double>(iterations) / static_cast<double>(pairs.size());
 }
 
 void overlap(benchmark::State& state, std::span<const DistancePair> pairs) {

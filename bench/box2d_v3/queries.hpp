@@ -80,7 +80,8 @@ struct DistancePair {
 inline constexpr int kMaxProxyPoints = 8;
 
 /// `b2ShapeDistance` (radii included) over every pair per iteration, B's pose put in A's frame
-/// (timed). Warm: each pair keeps its simplex cache and B advances one frame per iteration.
+/// and the frame-A points and normal put back in world space (both timed). Warm: each pair
+/// keeps its simplex cache and B advances one frame per iteration.
 void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm);
 
 /// Overlap as v3 answers it (it has no boolean test): `b2ShapeDistance` below 10 FLT_EPSILON,

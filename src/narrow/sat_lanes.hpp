@@ -1,9 +1,9 @@
 #pragma once
 // Internal: the separating axis test of two small polygons (up to two groups of kSatLanes
 // vertices each) in SSE registers, shared by `contact` (polygon_contact.cpp), `overlap`
-// (overlap.cpp) and `edge_separations` (sat.cpp, which the polygon shape cast uses): both
-// polygons are loaded straight into x and y lanes in A's frame (shifted to A's vertex 0), B
-// rotated there, and both passes run without copies.
+// (overlap.cpp), `distance` (distance.cpp) and `edge_separations` (sat.cpp, which the polygon
+// shape cast uses): both polygons are loaded straight into x and y lanes in A's frame (shifted
+// to A's vertex 0), B rotated there, and both passes run without copies.
 
 #include <collide/core/config.hpp>
 #include <collide/narrow/sat.hpp>
@@ -11,6 +11,7 @@
 #include "sat_soa.hpp"
 
 #include <bit>
+#include <limits>
 #include <type_traits>
 
 // The small-polygon front ends use SSE2 (every x86-64 CPU); elsewhere, or with
@@ -157,6 +158,28 @@ inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
   }
   out = EdgeSeparation{std::countr_zero(mask), _mm_cvtss_f32(top), 0};
   return true;
+}
+
+/// Index of the first of the points in `p` with the least dot product with `n`: the support
+/// point in direction -n, without branches. Padded lanes repeat the last point, so they never
+/// come before it. NaN dots are never the least (a NaN-free point wins; all NaN: point 0).
+template <int kGroups>
+inline int lowest_point(const LanePoints<kGroups>& p, Vec2 n) noexcept {
+  const __m128 nx = _mm_set1_ps(n.x);
+  const __m128 ny = _mm_set1_ps(n.y);
+  __m128 d[kGroups];
+  __m128 low = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  for (int g = 0; g < kGroups; ++g) {
+    d[g] = _mm_add_ps(_mm_mul_ps(nx, p.x[g]), _mm_mul_ps(ny, p.y[g]));
+    low = _mm_min_ps(d[g], low);  // a NaN dot keeps the other operand
+  }
+  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(1, 0, 3, 2)));
+  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(2, 3, 0, 1)));  // in every lane
+  unsigned mask = 0;
+  for (int g = 0; g < kGroups; ++g) {
+    mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(d[g], low))) << (kSatLanes * g);
+  }
+  return mask != 0 ? std::countr_zero(mask) : 0;
 }
 
 /// Both polygons of a pair in registers, in the shared frame, and their separating axis passes.

@@ -7,7 +7,9 @@
 #include "support/test_util.hpp"
 
 #include <array>
+#include <cmath>
 #include <string>
+#include <variant>
 
 namespace collide {
 namespace {
@@ -362,8 +364,10 @@ TEST(GjkDistance, WarmStartSameAnswerAndNoMoreIterations) {
       const float t = start + 0.01f * static_cast<float>(frame);
       const Transform xb =
           Transform::from(xa.p + 2.6f * Vec2{std::cos(t), std::sin(t)}, 0.5f * t);
-      const DistanceResult cold = distance(a, xa, b, xb);
-      const DistanceResult warm = distance(a, xa, b, xb, &cache);
+      // GJK itself (the polygon overload of `distance` checks cached pairs without GJK: see
+      // PolygonDistance.WarmPairsAgreeWithColdAndBruteForce).
+      const DistanceResult cold = gjk_distance(ConvexProxy(a), xa, ConvexProxy(b), xb);
+      const DistanceResult warm = gjk_distance(ConvexProxy(a), xa, ConvexProxy(b), xb, &cache);
       ASSERT_EQ(cold.status, QueryStatus::separated);
       EXPECT_EQ(warm.status, QueryStatus::separated);
       EXPECT_NEAR(warm.distance, cold.distance, 1e-5f);
@@ -402,13 +406,167 @@ TEST(GjkDistance, BadCacheFallsBackToColdStart) {
   EXPECT_NEAR(distance(a, Transform{}, b, xb, &stale).distance, 1.5f, kTol);
 }
 
+/// A pair of polygons of 3..10 vertices (some rounded) placed so that every kind of closest
+/// pair occurs: faces, corners facing each other, overlapping cores.
+test::Scene random_polygon_scene(std::mt19937& rng) {
+  const int na = 3 + static_cast<int>(rng() % 8);
+  const int nb = 3 + static_cast<int>(rng() % 8);
+  const float ra = rng() % 3 == 0 ? uniform(rng, 0.01f, 0.2f) : 0.0f;
+  const float rb = rng() % 3 == 0 ? uniform(rng, 0.01f, 0.2f) : 0.0f;
+  test::Scene s{test::random_polygon(rng, na, uniform(rng, 0.3f, 1.0f), ra),
+                test::random_polygon(rng, nb, uniform(rng, 0.3f, 1.0f), rb), {}, {}};
+  s.xa = test::random_transform(rng, 2.0f);
+  const float angle = uniform(rng, -3.14f, 3.14f);
+  s.xb = Transform::from(s.xa.p + uniform(rng, 0.3f, 3.0f) * Vec2{std::cos(angle), std::sin(angle)},
+                         uniform(rng, -3.14f, 3.14f));
+  return s;
+}
+
+TEST(PolygonDistance, EveryPathAgreesWithBruteForceAndGjk) {
+  std::mt19937 rng(20261127);
+  int by_pair = 0;    // answered without GJK (iterations 0)
+  int corners = 0;    // ... with a corner of each (the cache names one vertex pair)
+  int faces = 0;      // ... with an edge and a vertex
+  int with_gjk = 0;
+  const int trials = 6000;
+  for (int i = 0; i < trials; ++i) {
+    const test::Scene s = random_polygon_scene(rng);
+    const Polygon& a = std::get<Polygon>(s.a);
+    const Polygon& b = std::get<Polygon>(s.b);
+    SimplexCache cache;
+    const DistanceResult r = distance(a, s.xa, b, s.xb, &cache);
+    const std::string what = std::to_string(a.count) + "-gon/" + std::to_string(b.count) +
+                             "-gon trial " + std::to_string(i);
+    SCOPED_TRACE(what);
+    check_against_brute_force(s, r, what);
+    const DistanceResult g = gjk_distance(ConvexProxy(a), s.xa, ConvexProxy(b), s.xb);
+    EXPECT_EQ(r.status, g.status) << what;
+    EXPECT_NEAR(r.distance, g.distance, 1e-5f) << what;
+    if (r.status == QueryStatus::separated && g.distance > kTol) {
+      EXPECT_VEC2_NEAR(r.point_a, g.point_a, kTol);
+      EXPECT_VEC2_NEAR(r.point_b, g.point_b, kTol);
+      EXPECT_VEC2_NEAR(r.normal, g.normal, 1e-4f);
+    }
+    // Swapped, the same pair seen from B.
+    const DistanceResult w = distance(b, s.xb, a, s.xa);
+    EXPECT_NEAR(w.distance, r.distance, 1e-5f) << what;
+    if (r.status == QueryStatus::separated && r.distance > kTol) {
+      EXPECT_VEC2_NEAR(w.point_a, r.point_b, kTol);
+      EXPECT_VEC2_NEAR(w.normal, -r.normal, 1e-4f);
+    }
+    // The cache written names features valid for GJK, which then agrees at once.
+    SimplexCache again = cache;
+    const DistanceResult h = gjk_distance(ConvexProxy(a), s.xa, ConvexProxy(b), s.xb, &again);
+    EXPECT_NEAR(h.distance, r.distance, 1e-5f) << what;
+    if (r.iterations == 0) {
+      ++by_pair;
+      (cache.count == 1 ? corners : faces) += 1;
+      EXPECT_LE(h.iterations, 1) << what << ": the cached pair was not GJK's answer";
+    } else {
+      ++with_gjk;
+    }
+  }
+  // Every path exercised: face pairs, corner pairs, and GJK (overlaps, larger polygons).
+  EXPECT_GT(faces, trials / 4);
+  EXPECT_GT(corners, trials / 10);
+  EXPECT_GT(with_gjk, trials / 10);
+  EXPECT_EQ(by_pair + with_gjk, trials);
+}
+
+TEST(PolygonDistance, WarmPairsAgreeWithColdAndBruteForce) {
+  std::mt19937 rng(1127);
+  int checked_pairs = 0;
+  for (int run = 0; run < 60; ++run) {
+    test::Scene s = random_polygon_scene(rng);
+    const Polygon& a = std::get<Polygon>(s.a);
+    const Polygon& b = std::get<Polygon>(s.b);
+    SimplexCache cache;
+    const Vec2 offset = s.xb.p - s.xa.p;
+    const float turn = s.xb.q.angle();
+    for (int frame = 0; frame < 80; ++frame) {
+      // B orbits A and turns, so the closest pair moves from feature to feature; every 20th
+      // frame it jumps to the other side (the cached pair is then far from the answer).
+      const float t = 0.02f * static_cast<float>(frame) + (frame % 20 == 19 ? 3.0f : 0.0f);
+      s.xb = Transform::from(s.xa.p + rotate(Rot2::from_angle(t), offset), turn + 1.5f * t);
+      const int cached_count = cache.count;
+      const DistanceResult warm = distance(a, s.xa, b, s.xb, &cache);
+      const DistanceResult cold = distance(a, s.xa, b, s.xb);
+      const std::string what = "run " + std::to_string(run) + " frame " + std::to_string(frame);
+      SCOPED_TRACE(what);
+      check_against_brute_force(s, warm, what);
+      EXPECT_EQ(warm.status, cold.status) << what;
+      EXPECT_NEAR(warm.distance, cold.distance, 1e-5f) << what;
+      if (cold.status == QueryStatus::separated && cold.distance > kTol) {
+        EXPECT_VEC2_NEAR(warm.point_a, cold.point_a, kTol);
+        EXPECT_VEC2_NEAR(warm.point_b, cold.point_b, kTol);
+      }
+      if (cached_count > 0 && warm.iterations == 0) ++checked_pairs;
+    }
+  }
+  EXPECT_GT(checked_pairs, 60 * 40);  // most frames answered from the warm pair or the axes
+}
+
+TEST(PolygonDistance, WrongCachesAreCheckedNotTrusted) {
+  // Two unit boxes 3 apart along x: the closest pair is A's right edge (1 -> 2) and B's left
+  // edge. Caches naming other features, or indices these boxes do not have, must not change
+  // the answer (2 apart).
+  const Polygon a = make_box({0.5f, 0.5f});
+  const Polygon b = make_box({0.5f, 0.5f});
+  const Transform xb = Transform::from({3.0f, 0.2f}, 0.0f);
+  const std::array<SimplexCache, 7> caches = {
+      SimplexCache{2, {3, 0}, {1, 1}},    // A's left edge: an edge, but on the far side
+      SimplexCache{1, {0}, {2}},          // corners on the far sides
+      SimplexCache{1, {1}, {3}},          // a corner of each, near but not the closest pair
+      SimplexCache{2, {2, 2}, {0, 2}},    // B's "edge" 0 -> 2 is a diagonal
+      SimplexCache{2, {1, 2}, {9, 9}},    // B has no vertex 9
+      SimplexCache{2, {200, 201}, {0, 0}},
+      SimplexCache{7, {}, {}}};
+  for (SimplexCache c : caches) {
+    const DistanceResult r = distance(a, Transform{}, b, xb, &c);
+    EXPECT_EQ(r.status, QueryStatus::separated);
+    EXPECT_NEAR(r.distance, 2.0f, 1e-6f);
+    EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-6f);
+    EXPECT_NEAR(r.point_a.x, 0.5f, 1e-6f);
+    EXPECT_NEAR(r.point_b.x, 2.5f, 1e-6f);
+    ASSERT_GE(c.count, 1);
+    ASSERT_LE(c.count, 3);
+    for (int i = 0; i < c.count; ++i) {
+      EXPECT_LT(c.index_a[i], 4);
+      EXPECT_LT(c.index_b[i], 4);
+    }
+  }
+}
+
+TEST(PolygonDistance, CornersFacingEachOtherAreExact) {
+  // Two unit squares turned 45 degrees, corner to corner along x at a known gap: no edge normal
+  // of either is the closest direction, so the separating axes alone would under-estimate it.
+  const float h = 0.5f * std::sqrt(2.0f);  // corner distance from the centre
+  const Polygon a = make_box({0.5f, 0.5f}, {0.0f, 0.0f}, 0.25f * test::kPi);
+  const Polygon b = make_box({0.5f, 0.5f}, {0.0f, 0.0f}, 0.25f * test::kPi);
+  for (float gap : {1e-3f, 0.1f, 1.0f, 7.5f}) {
+    SCOPED_TRACE(gap);
+    const Transform xa = Transform::from({-40.0f, 12.0f}, 0.0f);
+    const Transform xb = Transform::from(xa.p + Vec2{2.0f * h + gap, 0.0f}, 0.0f);
+    SimplexCache cache;
+    const DistanceResult r = distance(a, xa, b, xb, &cache);
+    EXPECT_NEAR(r.distance, gap, 1e-5f + 1e-6f * gap) << gap;
+    EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-5f);
+    EXPECT_VEC2_NEAR(r.point_a, (xa.p + Vec2{h, 0.0f}), 1e-5f);
+    EXPECT_EQ(r.iterations, 0) << gap << ": a corner pair needs no GJK";
+    EXPECT_EQ(cache.count, 1) << gap;
+    const DistanceResult warm = distance(a, xa, b, xb, &cache);
+    EXPECT_EQ(warm.distance, r.distance) << gap;
+  }
+}
+
 TEST(GjkDistance, Shape2DOverloadMatchesTypedCall) {
   std::mt19937 rng(31);
   for (ShapeType2D ta : kAllTypes2D) {
     for (ShapeType2D tb : kAllTypes2D) {
       const Scene s = random_scene(rng, ta, tb);
       const DistanceResult r = distance(s.a, s.xa, s.b, s.xb);
-      const DistanceResult g = gjk_distance(ConvexProxy(s.a), s.xa, ConvexProxy(s.b), s.xb);
+      const DistanceResult g = std::visit(
+          [&](const auto& a, const auto& b) { return distance(a, s.xa, b, s.xb); }, s.a, s.b);
       EXPECT_EQ(r.distance, g.distance);
       EXPECT_EQ(r.point_a, g.point_a);
       EXPECT_EQ(r.point_b, g.point_b);
