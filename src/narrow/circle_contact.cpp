@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "contact_routines.hpp"
+#include "point_region.hpp"
 
 namespace collide::detail {
 namespace {
@@ -68,8 +69,9 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
   float distance = separation;           // of c from A's core, signed
   ContactId id = circle_id(edge, FeatureType::edge);
   if (separation > 0.0f || a.count == 2) {
-    const bool at_v1 = dot(c - v1, v2 - v1) < 0.0f;
-    const bool at_v2 = !at_v1 && dot(c - v2, v1 - v2) < 0.0f;
+    const int region = edge_end_region(a, edge, next, c);
+    const bool at_v1 = region == edge;
+    const bool at_v2 = region == next;
     if (at_v1 || at_v2) {
       const Vec2 v = at_v1 ? v1 : v2;
       const Vec2 d = c - v;

@@ -5,6 +5,7 @@
 #include <collide/core/error.hpp>
 #include <collide/core/tolerance.hpp>
 
+#include "point_region.hpp"
 #include "sat_lanes.hpp"
 
 #include <algorithm>
@@ -226,6 +227,20 @@ void write_cache(const PolygonPair& pair, SimplexCache& c) noexcept {
   c.index_b[1] = pair.a_first ? s : f1;
 }
 
+/// The distance result for a closest pair of cores, with the radii `ra`, `rb` applied, in world
+/// space; `cache` (if any) names the pair.
+COLLIDE_ALWAYS_INLINE DistanceResult pair_result(const PolygonPair& pair, float ra, float rb, const Transform& xa,
+                           const Transform& xb, SimplexCache* cache) noexcept {
+  DistanceResult out;
+  if (cache != nullptr) write_cache(pair, *cache);
+  if (pair.a_first) {
+    set_apart<2>(out, pair.on_first, pair.on_second, pair.normal, pair.gap, ra, rb, xa);
+  } else {
+    set_apart<2>(out, pair.on_second, pair.on_first, -pair.normal, pair.gap, ra, rb, xb);
+  }
+  return out;
+}
+
 /// Whether the pair a cache names (a vertex of each, or an edge of one, index_X[0] to [1] or
 /// back, and a vertex of the other) is still a closest pair.
 bool cached_pair(const SimplexCache& c, const Polygon& a, const Polygon& b, const Transform& b_in_a,
@@ -302,16 +317,7 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
   const float on_core = kRelativeTolerance * scale;
 
   PolygonPair pair;
-  const auto answer = [&]() {
-    DistanceResult out;
-    if (cache != nullptr) write_cache(pair, *cache);
-    if (pair.a_first) {
-      set_apart<2>(out, pair.on_first, pair.on_second, pair.normal, pair.gap, ra, rb, xa);
-    } else {
-      set_apart<2>(out, pair.on_second, pair.on_first, -pair.normal, pair.gap, ra, rb, xb);
-    }
-    return out;
-  };
+  const auto answer = [&]() { return pair_result(pair, ra, rb, xa, xb, cache); };
   // Warm start: last frame's closest features, if they are still a closest pair.
   if (cache != nullptr && cached_pair(*cache, a, b, b_in_a, a_in_b, on_core, pair)) {
     return answer();
@@ -364,6 +370,89 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
   const DistanceResult out = gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, &seed);
   if (cache != nullptr) *cache = seed;
   return out;
+}
+
+namespace {
+
+/// The edge of `a` (its frame) of greatest separation dot(n_i, c - v_i) of point `c`: for up to
+/// 8 vertices four edges at a time in registers, else a scalar scan. Returns false when a
+/// separation is NaN.
+bool max_point_separation(const Polygon& a, Vec2 c, int& edge) noexcept {
+#if COLLIDE_SMALL_POLYGON_SSE2
+  if (a.count <= 2 * detail::kSatLanes) {
+    // The point in every lane, from registers (a load of it would read across the two stores
+    // that just wrote it, which the CPU cannot forward).
+    const detail::LanePoints<1> point{{_mm_set1_ps(c.x)}, {_mm_set1_ps(c.y)}};
+    EdgeSeparation best;
+    bool ok = false;
+    detail::with_lane_groups(a.count, 1, [&](auto groups_a, auto) {
+      const auto normals = detail::load_points<groups_a()>(a.normals.data(), a.count);
+      const auto vertices = detail::load_points<groups_a()>(a.vertices.data(), a.count);
+      ok = detail::max_separation_lanes(normals, vertices, point, best);
+    });
+    edge = best.edge;
+    return ok;
+  }
+#endif
+  float best = dot(a.normals[0], c - a.vertices[0]);
+  edge = 0;
+  for (int i = 1; i < a.count; ++i) {
+    const float s = dot(a.normals[i], c - a.vertices[i]);
+    edge = s > best ? i : edge;
+    best = s > best ? s : best;
+  }
+  return best == best;
+}
+
+/// The closest pair of polygon `p`'s core and point `c` (p's frame), seen from p (`a_first`:
+/// p is A): the Voronoi region of c, the edge of greatest separation or one of its ends.
+/// False when c is within `on_core` of the core or inside it, or a separation is NaN.
+COLLIDE_ALWAYS_INLINE bool polygon_point_pair(const Polygon& p, Vec2 c, bool a_first,
+                                              float on_core, PolygonPair& out) noexcept {
+  int edge = 0;
+  if (!max_point_separation(p, c, edge)) return false;
+  const Vec2 n = p.normals[edge];
+  const float separation = dot(n, c - p.vertices[edge]);
+  if (!(separation > on_core)) return false;
+  const int next = next_vertex(edge, p.count);
+  const int end = detail::edge_end_region(p, edge, next, c);
+  if (end < 0) {
+    out = {a_first, edge, next, 0, c - separation * n, c, n, separation};
+    return true;
+  }
+  const Vec2 d = c - p.vertices[end];
+  const float gap = length(d);
+  if (!(gap > on_core)) return false;
+  out = {a_first, end, end, 0, p.vertices[end], c, d * (1.0f / gap), gap};
+  return true;
+}
+
+}  // namespace
+
+DistanceResult distance(const Polygon& a, const Transform& xa, const Circle& b,
+                        const Transform& xb, SimplexCache* cache) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
+  const Vec2 c = transform_point(inv_mul(xa, xb), b.center);  // B's centre, A's frame
+  // GJK's overlap tolerance (gjk_scale): relative to the coordinates' size in A's frame.
+  const float scale = std::max(max_abs(a.vertices[0]), max_abs(c)) + a.radius + b.radius;
+  PolygonPair pair;
+  if (polygon_point_pair(a, c, true, kRelativeTolerance * scale, pair)) {
+    return pair_result(pair, a.radius, b.radius, xa, xb, cache);
+  }
+  // The centre on or inside the core: GJK's answer (one point inside both).
+  return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+}
+
+DistanceResult distance(const Circle& a, const Transform& xa, const Polygon& b,
+                        const Transform& xb, SimplexCache* cache) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
+  const Vec2 c = transform_point(inv_mul(xb, xa), a.center);  // A's centre, B's frame
+  const float scale = std::max(max_abs(b.vertices[0]), max_abs(c)) + a.radius + b.radius;
+  PolygonPair pair;
+  if (polygon_point_pair(b, c, false, kRelativeTolerance * scale, pair)) {
+    return pair_result(pair, a.radius, b.radius, xa, xb, cache);
+  }
+  return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
 }
 
 DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,

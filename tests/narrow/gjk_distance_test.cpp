@@ -559,6 +559,58 @@ TEST(PolygonDistance, CornersFacingEachOtherAreExact) {
   }
 }
 
+TEST(PolygonDistance, CirclesAgreeWithBruteForceAndGjkInBothOrders) {
+  std::mt19937 rng(271127);
+  int edges = 0;     // centre in an edge's region (the cache names an edge)
+  int corners = 0;   // ... in a vertex's region
+  int with_gjk = 0;  // centre on or inside the core
+  const int trials = 4000;
+  for (int i = 0; i < trials; ++i) {
+    const int n = 3 + static_cast<int>(rng() % 12);  // past 8: the scalar scan
+    const float ra = rng() % 3 == 0 ? uniform(rng, 0.01f, 0.2f) : 0.0f;
+    const Polygon a = test::random_polygon(rng, n, uniform(rng, 0.3f, 1.0f), ra);
+    const Circle b = make_circle(test::random_point(rng, 0.3f), uniform(rng, 0.05f, 0.5f));
+    test::Scene s{a, b, test::random_transform(rng, 2.0f), {}};
+    s.xb = Transform::from(s.xa.p + test::random_point(rng, 2.5f), uniform(rng, -3.0f, 3.0f));
+    const std::string what = std::to_string(n) + "-gon trial " + std::to_string(i);
+    SCOPED_TRACE(what);
+    SimplexCache cache;
+    const DistanceResult r = distance(a, s.xa, b, s.xb, &cache);
+    check_against_brute_force(s, r, what);
+    const DistanceResult g = gjk_distance(ConvexProxy(a), s.xa, ConvexProxy(b), s.xb);
+    EXPECT_EQ(r.status, g.status);
+    EXPECT_NEAR(r.distance, g.distance, 1e-5f);
+    if (r.status == QueryStatus::separated && g.distance > kTol) {
+      EXPECT_VEC2_NEAR(r.point_a, g.point_a, kTol);
+      EXPECT_VEC2_NEAR(r.point_b, g.point_b, kTol);
+    }
+    // The circle first: the same pair, points swapped, normal flipped, cache exchanged.
+    SimplexCache flipped;
+    const DistanceResult w = distance(b, s.xb, a, s.xa, &flipped);
+    EXPECT_NEAR(w.distance, r.distance, 1e-5f);
+    EXPECT_EQ(w.status, r.status);
+    if (r.status == QueryStatus::separated && r.distance > kTol) {
+      EXPECT_VEC2_NEAR(w.point_a, r.point_b, kTol);
+      EXPECT_VEC2_NEAR(w.normal, -r.normal, 1e-4f);
+    }
+    EXPECT_EQ(flipped.count, cache.count);
+    EXPECT_EQ(flipped.index_a[0], cache.index_b[0]);
+    EXPECT_EQ(flipped.index_b[0], cache.index_a[0]);
+    // The cache names GJK's answer.
+    const DistanceResult h = gjk_distance(ConvexProxy(a), s.xa, ConvexProxy(b), s.xb, &cache);
+    EXPECT_NEAR(h.distance, r.distance, 1e-5f);
+    if (r.iterations > 0) {
+      ++with_gjk;
+    } else {
+      EXPECT_LE(h.iterations, 1) << "the cached feature was not GJK's answer";
+      (cache.count == 1 ? corners : edges) += 1;
+    }
+  }
+  EXPECT_GT(edges, trials / 5);
+  EXPECT_GT(corners, trials / 5);
+  EXPECT_GT(with_gjk, trials / 50);
+}
+
 TEST(GjkDistance, Shape2DOverloadMatchesTypedCall) {
   std::mt19937 rng(31);
   for (ShapeType2D ta : kAllTypes2D) {

@@ -104,6 +104,17 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
                                       const Transform& xb, SimplexCache* cache = nullptr) noexcept;
 
+/// `distance` for a polygon and a circle: the Voronoi region of the circle's centre (the edge
+/// of greatest separation, four edges at a time in registers up to 8 vertices, or one of its
+/// ends; Ericson, Real-Time Collision Detection, 5.2.7), exact, no GJK (`iterations` 0) unless
+/// the centre is on or inside the polygon's core. `cache` is written with the closest features.
+[[nodiscard]] DistanceResult distance(const Polygon& a, const Transform& xa, const Circle& b,
+                                      const Transform& xb, SimplexCache* cache = nullptr) noexcept;
+
+/// `distance` for a circle and a polygon: the polygon-circle answer seen from the circle.
+[[nodiscard]] DistanceResult distance(const Circle& a, const Transform& xa, const Polygon& b,
+                                      const Transform& xb, SimplexCache* cache = nullptr) noexcept;
+
 /// `distance` for shapes of types known only at run time.
 [[nodiscard]] DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,
                                       const Transform& xb,
@@ -152,8 +163,9 @@ template <ConvexShape3DType A>
     std::uint32_t* triangle = nullptr) noexcept;
 
 /// The same result seen from the other side: points swapped, normal flipped.
-[[nodiscard]] constexpr DistanceResult3 swapped(DistanceResult3 d) noexcept {
-  const Vec3 p = d.point_a;
+template <int D>
+[[nodiscard]] constexpr DistanceResultN<D> swapped(DistanceResultN<D> d) noexcept {
+  const VecN<D> p = d.point_a;
   d.point_a = d.point_b;
   d.point_b = p;
   d.normal = -d.normal;
