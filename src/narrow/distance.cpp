@@ -161,56 +161,132 @@ struct PolygonPair {
 [[nodiscard]] constexpr int next_vertex(int i, int n) noexcept { return i + 1 == n ? 0 : i + 1; }
 [[nodiscard]] constexpr int previous_vertex(int i, int n) noexcept { return i == 0 ? n - 1 : i - 1; }
 
-/// Whether vertex `v` of polygon `q` is its lowest point along `m` (q's frame): on a convex
-/// polygon, when neither neighbour is lower.
-COLLIDE_ALWAYS_INLINE bool lowest_along(const Polygon& q, int v, Vec2 m) noexcept {
-  const Vec2 qv = q.vertices[v];
-  return dot(m, q.vertices[previous_vertex(v, q.count)] - qv) >= 0.0f &&
-         dot(m, q.vertices[next_vertex(v, q.count)] - qv) >= 0.0f;
+/// Features of two polygons' cores on the way to their closest pair: a corner of each (A's
+/// vertex `first`, B's vertex `second`), or an edge of one (the "first": A's when `a_first`) and
+/// a corner of the other.
+struct Features {
+  bool face = false;    ///< first is an edge (from vertex first to the next), else a corner
+  bool a_first = true;  ///< first is A's (always, for a corner pair)
+  int first = 0;
+  int second = 0;
+};
+
+/// Most steps of walk_to_closest before it gives up (a cycle between features that rounding
+/// can cause when a pair is all but degenerate).
+inline constexpr int kMaxWalkSteps = 12;
+
+/// Walks from `f` to the closest pair of the cores of A and B (Lin & Canny's closest-feature
+/// walk, 1991, in 2D), true with the pair in `out`. A pair is closest when the line between
+/// its points leaves both cores on their own sides: for an edge, the other corner's foot on
+/// the edge and that corner the lowest of its polygon along the edge's normal; for two corners,
+/// each the farthest of its polygon towards the other (the optimality condition of the
+/// closest points of convex sets; Ericson, Real-Time Collision Detection, 9.1). Each failed
+/// condition names the neighbouring feature that is closer: the edge the other corner lies
+/// over, the corner an edge's foot falls beyond, the lower neighbour of a corner. False when a
+/// corner lies within `on_core` of an edge's line or behind it (the cores may overlap: the
+/// caller decides) or after kMaxWalkSteps.
+bool walk_to_closest(const Polygon& a, const Polygon& b, const Transform& b_in_a,
+                     const Transform& a_in_b, float on_core, Features f,
+                     PolygonPair& out) noexcept {
+  for (int step = 0; step < kMaxWalkSteps; ++step) {
+    if (!f.face) {
+      const Vec2 ak = a.vertices[f.first];
+      const Vec2 w = transform_point(b_in_a, b.vertices[f.second]);
+      const Vec2 d = w - ak;
+      const int a_next = next_vertex(f.first, a.count);
+      const int a_previous = previous_vertex(f.first, a.count);
+      if (dot(d, a.vertices[a_next] - ak) > 0.0f) {  // B's corner lies over A's next edge
+        f = {true, true, f.first, f.second};
+        continue;
+      }
+      if (dot(d, a.vertices[a_previous] - ak) > 0.0f) {
+        f = {true, true, a_previous, f.second};
+        continue;
+      }
+      const Vec2 m = inv_rotate(b_in_a.q, d);  // B's corner should be lowest along d
+      const Vec2 bv = b.vertices[f.second];
+      const int b_next = next_vertex(f.second, b.count);
+      const int b_previous = previous_vertex(f.second, b.count);
+      if (dot(m, b.vertices[b_next] - bv) < 0.0f) {  // A's corner lies over B's next edge
+        f = {true, false, f.second, f.first};
+        continue;
+      }
+      if (dot(m, b.vertices[b_previous] - bv) < 0.0f) {
+        f = {true, false, b_previous, f.first};
+        continue;
+      }
+      const float gap = length(d);
+      if (!(gap > on_core)) return false;
+      out = {true, f.first, f.first, f.second, ak, w, d * (1.0f / gap), gap};
+      return true;
+    }
+    // An edge of p (the first) and a corner of q, in p's frame.
+    const Polygon& p = f.a_first ? a : b;
+    const Polygon& q = f.a_first ? b : a;
+    const Transform& q_in_p = f.a_first ? b_in_a : a_in_b;
+    const int end = next_vertex(f.first, p.count);
+    const Vec2 n = p.normals[f.first];
+    const Vec2 v1 = p.vertices[f.first];
+    const Vec2 e = p.vertices[end] - v1;
+    const Vec2 w = transform_point(q_in_p, q.vertices[f.second]);
+    const Vec2 d = w - v1;
+    const float gap = dot(n, d);
+    if (!(gap > on_core)) return false;
+    const float t = dot(d, e);
+    const float ee = dot(e, e);
+    if (!(t >= 0.0f) || !(t <= ee)) {  // the foot falls beyond an end: that corner
+      const int corner = t < 0.0f ? f.first : end;
+      f = f.a_first ? Features{false, true, corner, f.second}
+                    : Features{false, true, f.second, corner};
+      continue;
+    }
+    const Vec2 m = inv_rotate(q_in_p.q, n);  // q's corner should be lowest along n
+    const Vec2 qv = q.vertices[f.second];
+    const int q_next = next_vertex(f.second, q.count);
+    const int q_previous = previous_vertex(f.second, q.count);
+    if (dot(m, q.vertices[q_next] - qv) < 0.0f) {
+      f.second = q_next;
+      continue;
+    }
+    if (dot(m, q.vertices[q_previous] - qv) < 0.0f) {
+      f.second = q_previous;
+      continue;
+    }
+    out = {f.a_first, f.first, end, f.second, v1 + (t / ee) * e, w, n, gap};
+    return true;
+  }
+  return false;
 }
 
-/// Whether edge `edge` of polygon `p` and vertex `v` of polygon `q` (placed in p's frame by
-/// `q_in_p`) are a closest pair of the cores, and if so the pair in `out`. They are when the
-/// vertex is beyond the edge's line by more than `on_core`, its foot lies on the edge, and
-/// (unless `v_is_lowest`: the caller found it as q's lowest point along the normal) it is q's
-/// lowest point along the edge's normal: then the strip between the edge's line and the
-/// parallel line through the vertex holds neither core, so no pair is closer than its width,
-/// which this pair attains (the optimality condition of the closest points of two convex sets,
-/// Ericson, Real-Time Collision Detection, 9.1; its separating axis, 5.2.1).
-COLLIDE_ALWAYS_INLINE bool face_pair(const Polygon& p, int edge, const Polygon& q, int v, const Transform& q_in_p,
-               bool a_first, float on_core, bool v_is_lowest, PolygonPair& out) noexcept {
-  const Vec2 n = p.normals[edge];
-  if (!v_is_lowest && !lowest_along(q, v, inv_rotate(q_in_p.q, n))) return false;
-  const int end = next_vertex(edge, p.count);
-  const Vec2 v1 = p.vertices[edge];
-  const Vec2 e = p.vertices[end] - v1;
-  const Vec2 w = transform_point(q_in_p, q.vertices[v]);
-  const Vec2 d = w - v1;
-  const float gap = dot(n, d);
-  const float t = dot(d, e);
-  const float ee = dot(e, e);
-  if (!(gap > on_core) || !(t >= 0.0f) || !(t <= ee)) return false;
-  out = {a_first, edge, end, v, v1 + (t / ee) * e, w, n, gap};
-  return true;
-}
-
-/// Whether vertex `k` of polygon `p` and vertex `v` of polygon `q` (placed in p's frame by
-/// `q_in_p`) are a closest pair of the cores: more than `on_core` apart, p's vertex the highest
-/// of p and q's the lowest of q along the line between them (same condition as face_pair).
-COLLIDE_ALWAYS_INLINE bool corner_pair(const Polygon& p, int k, const Polygon& q, int v, const Transform& q_in_p,
-                 bool a_first, float on_core, PolygonPair& out) noexcept {
-  const Vec2 pk = p.vertices[k];
-  const Vec2 w = transform_point(q_in_p, q.vertices[v]);
-  const Vec2 d = w - pk;
-  if (!(dot(d, p.vertices[previous_vertex(k, p.count)] - pk) <= 0.0f) ||
-      !(dot(d, p.vertices[next_vertex(k, p.count)] - pk) <= 0.0f) ||
-      !lowest_along(q, v, inv_rotate(q_in_p.q, d))) {
+/// The features a cache names, if they fit these polygons: a vertex of each, or an edge of one
+/// (index_X[0] to [1] or back) and a vertex of the other.
+bool cached_features(const SimplexCache& c, const Polygon& a, const Polygon& b,
+                     Features& f) noexcept {
+  const int a0 = c.index_a[0];
+  const int a1 = c.index_a[1];
+  const int b0 = c.index_b[0];
+  const int b1 = c.index_b[1];
+  if (c.count == 1) {
+    f = {false, true, a0, b0};
+    return a0 < a.count && b0 < b.count;
+  }
+  if (c.count != 2 || a0 >= a.count || a1 >= a.count || b0 >= b.count || b1 >= b.count) {
     return false;
   }
-  const float gap = length(d);
-  if (!(gap > on_core)) return false;
-  out = {a_first, k, k, v, pk, w, d * (1.0f / gap), gap};
-  return true;
+  // The edge's first vertex, or -1 if i0, i1 are not an edge of an n-gon.
+  const auto edge_of = [](int i0, int i1, int n) {
+    if (i1 == next_vertex(i0, n)) return i0;
+    return i0 == next_vertex(i1, n) ? i1 : -1;
+  };
+  if (b0 == b1) {
+    f = {true, true, edge_of(a0, a1, a.count), b0};
+    return f.first >= 0;
+  }
+  if (a0 == a1) {
+    f = {true, false, edge_of(b0, b1, b.count), a0};
+    return f.first >= 0;
+  }
+  return false;
 }
 
 /// Writes the simplex GJK would end on for `pair` into `c`: its vertex pairs (A's, B's). Field
@@ -241,67 +317,6 @@ COLLIDE_ALWAYS_INLINE DistanceResult pair_result(const PolygonPair& pair, float 
   return out;
 }
 
-/// Whether the pair a cache names (a vertex of each, or an edge of one, index_X[0] to [1] or
-/// back, and a vertex of the other) is still a closest pair.
-bool cached_pair(const SimplexCache& c, const Polygon& a, const Polygon& b, const Transform& b_in_a,
-                 const Transform& a_in_b, float on_core, PolygonPair& out) noexcept {
-  const int a0 = c.index_a[0];
-  const int a1 = c.index_a[1];
-  const int b0 = c.index_b[0];
-  const int b1 = c.index_b[1];
-  if (c.count == 1) {
-    return a0 < a.count && b0 < b.count && corner_pair(a, a0, b, b0, b_in_a, true, on_core, out);
-  }
-  if (c.count != 2 || a0 >= a.count || a1 >= a.count || b0 >= b.count || b1 >= b.count) {
-    return false;
-  }
-  // The edge's first vertex, or -1 if i0, i1 are not an edge of an n-gon.
-  const auto edge_of = [](int i0, int i1, int n) {
-    if (i1 == next_vertex(i0, n)) return i0;
-    return i0 == next_vertex(i1, n) ? i1 : -1;
-  };
-  if (b0 == b1) {
-    const int edge = edge_of(a0, a1, a.count);
-    return edge >= 0 && face_pair(a, edge, b, b0, b_in_a, true, on_core, false, out);
-  }
-  if (a0 == a1) {
-    const int edge = edge_of(b0, b1, b.count);
-    return edge >= 0 && face_pair(b, edge, a, a0, a_in_b, false, on_core, false, out);
-  }
-  return false;
-}
-
-/// From the best separating axis's features (edge `edge` of p, q's lowest vertex `v` along its
-/// normal), the closest pair when it is one of them or next to them: the edge and the vertex;
-/// else the corner of the edge the vertex's foot falls beyond against the vertex; else that
-/// corner's other edge against the vertex, or the vertex's two edges against the corner.
-bool pair_near_axis(const Polygon& p, int edge, const Polygon& q, int v, const Transform& q_in_p,
-                    const Transform& p_in_q, bool a_first, float on_core,
-                    PolygonPair& out) noexcept {
-  if (face_pair(p, edge, q, v, q_in_p, a_first, on_core, true, out)) return true;
-  const int end = next_vertex(edge, p.count);
-  const Vec2 v1 = p.vertices[edge];
-  const Vec2 w = transform_point(q_in_p, q.vertices[v]);
-  const bool before = dot(w - v1, p.vertices[end] - v1) < 0.0f;
-  const int k = before ? edge : end;           // the corner the foot falls beyond
-  const int other = before ? previous_vertex(edge, p.count) : end;  // its other edge
-  return corner_pair(p, k, q, v, q_in_p, a_first, on_core, out) ||
-         face_pair(p, other, q, v, q_in_p, a_first, on_core, false, out) ||
-         face_pair(q, v, p, k, p_in_q, !a_first, on_core, false, out) ||
-         face_pair(q, previous_vertex(v, q.count), p, k, p_in_q, !a_first, on_core, false, out);
-}
-
-/// The closest pair when it is at or next to corner `k` of A and corner `v` of B: the corners
-/// themselves, or an edge at one against the other's corner.
-bool pair_near_corners(const Polygon& a, int k, const Polygon& b, int v, const Transform& b_in_a,
-                       const Transform& a_in_b, float on_core, PolygonPair& out) noexcept {
-  return corner_pair(a, k, b, v, b_in_a, true, on_core, out) ||
-         face_pair(a, k, b, v, b_in_a, true, on_core, false, out) ||
-         face_pair(a, previous_vertex(k, a.count), b, v, b_in_a, true, on_core, false, out) ||
-         face_pair(b, v, a, k, a_in_b, false, on_core, false, out) ||
-         face_pair(b, previous_vertex(v, b.count), a, k, a_in_b, false, on_core, false, out);
-}
-
 }  // namespace
 
 DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
@@ -318,51 +333,43 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
 
   PolygonPair pair;
   const auto answer = [&]() { return pair_result(pair, ra, rb, xa, xb, cache); };
-  // Warm start: last frame's closest features, if they are still a closest pair.
-  if (cache != nullptr && cached_pair(*cache, a, b, b_in_a, a_in_b, on_core, pair)) {
-    return answer();
+  // Walk from last frame's closest features, or on a cold start from GJK's first support pair
+  // (gjk_seed_vertex: the corners farthest towards each other along the line between the
+  // shapes' origins); the closest pair is usually there or a step or two away.
+  Features start;
+  if (cache == nullptr || !cached_features(*cache, a, b, start)) {
+    const Vec2 c = b_in_a.p;
+    start = dot(c, c) > 0.0f
+                ? Features{false, true, ConvexProxy(a).support_index(c),
+                           ConvexProxy(b).support_index(inv_rotate(b_in_a.q, -c))}
+                : Features{};
   }
-
-  // GJK's first support pair: the corners farthest towards each other along the line between
-  // the shapes' origins (gjk_seed_vertex). The closest pair is usually at or next to them.
-  const Vec2 c = b_in_a.p;
-  if (dot(c, c) > 0.0f) {
-    const int k = ConvexProxy(a).support_index(c);
-    const int v = ConvexProxy(b).support_index(inv_rotate(b_in_a.q, -c));
-    if (pair_near_corners(a, k, b, v, b_in_a, a_in_b, on_core, pair)) return answer();
-  }
+  if (walk_to_closest(a, b, b_in_a, a_in_b, on_core, start, pair)) return answer();
 
   SimplexCache seed;  // GJK's start: the user's cache, or the best axis's features
   if (cache != nullptr) seed = *cache;
 #if COLLIDE_SMALL_POLYGON_SSE2
-  // The separating axes of both polygons (in registers, as the manifold's); the closest pair
-  // is then almost always the best axis's edge and the other core's lowest vertex along it, or
-  // next to them (pair_near_axis). If not, GJK starts from those features.
+  // The walk met a corner behind an edge (the cores may overlap) or went round in circles: the
+  // separating axes of both polygons (in registers, as the manifold's) tell overlap (no axis
+  // separates: GJK gives the witness) from apart, where the best axis's edge and the other
+  // core's lowest vertex along it start a walk that almost always ends at once.
   const detail::SharedFrame f{b_in_a, a.vertices[0], b_in_a.p - a.vertices[0]};
   bool found = false;
   detail::with_lane_groups(a.count, b.count, [&](auto groups_a, auto groups_b) {
     detail::LanePair<groups_a(), groups_b()> p;
     if (!detail::separate_lanes(a, b, f, std::numeric_limits<float>::infinity(), p)) return;
-    const bool a_face = p.sep_a.separation >= p.sep_b.separation;
     if (!(std::max(p.sep_a.separation, p.sep_b.separation) > on_core)) return;  // GJK decides
-    int edge = 0;
-    int vertex = 0;
-    if (a_face) {
-      edge = p.sep_a.edge;
-      vertex = detail::lowest_point(p.bv, a.normals[edge]);
-      found = pair_near_axis(a, edge, b, vertex, b_in_a, a_in_b, true, on_core, pair);
+    Features axis;
+    if (p.sep_a.separation >= p.sep_b.separation) {
+      axis = {true, true, p.sep_a.edge, detail::lowest_point(p.bv, a.normals[p.sep_a.edge])};
     } else {
-      edge = p.sep_b.edge;
-      vertex = detail::lowest_point(p.av, rotate(b_in_a.q, b.normals[edge]));
-      found = pair_near_axis(b, edge, a, vertex, a_in_b, b_in_a, false, on_core, pair);
+      axis = {true, false, p.sep_b.edge,
+              detail::lowest_point(p.av, rotate(b_in_a.q, b.normals[p.sep_b.edge]))};
     }
+    found = walk_to_closest(a, b, b_in_a, a_in_b, on_core, axis, pair);
     if (!found) {
-      PolygonPair axis;
-      axis.a_first = a_face;
-      axis.first0 = edge;
-      axis.first1 = next_vertex(edge, a_face ? a.count : b.count);
-      axis.second = vertex;
-      write_cache(axis, seed);
+      const int edge_end = next_vertex(axis.first, axis.a_first ? a.count : b.count);
+      write_cache({axis.a_first, axis.first, edge_end, axis.second}, seed);
     }
   });
   if (found) return answer();

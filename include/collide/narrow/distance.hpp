@@ -92,15 +92,16 @@ template <Shape2DType A, Shape2DType B>
 }
 
 /// `distance` for two polygons: the same answer as GJK (within rounding), found faster. The
-/// closest pair of two convex polygons is an edge of one and a vertex of the other unless two
-/// corners face each other. Warm start: if `cache` names such a pair and it is still a closest
-/// pair (the strip between the edge's line and the vertex holds neither core), that is the
-/// answer. Otherwise, for polygons of up to 8 vertices, the separating axis test over both
-/// polygons' edge normals, in SSE registers (Ericson, Real-Time Collision Detection, 5.2.1 and
-/// 9.1): the best axis's edge and the other polygon's lowest vertex along it, when the vertex's
-/// foot lies on the edge. Everything else (corner against corner, overlapping or touching cores,
-/// larger polygons) runs GJK, started from the axis's features when there are some.
-/// `iterations` is 0 when no GJK ran. `cache` is written with the closest features either way.
+/// closest pair of two convex polygons is an edge of one and a corner of the other, or a corner
+/// of each, and a pair is proven closest by a few dot products (the line between its points
+/// leaves both cores on their own sides). A closest-feature walk (Lin & Canny 1991, in 2D)
+/// moves from last frame's pair (`cache`), or on a cold start from GJK's first support pair, to
+/// the neighbouring feature each failed condition names, usually in 0-2 steps. When it meets a
+/// corner behind an edge (the cores may overlap), polygons of up to 8 vertices take the
+/// separating axis test in SSE registers (Ericson, Real-Time Collision Detection, 5.2.1):
+/// overlap, or a new walk from the best axis's features. GJK runs only for overlapping or
+/// touching cores and what the walks leave, started from the axis's features when there are
+/// some. `iterations` is 0 when no GJK ran. `cache` is written with the closest features.
 [[nodiscard]] DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
                                       const Transform& xb, SimplexCache* cache = nullptr) noexcept;
 
