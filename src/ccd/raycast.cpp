@@ -83,12 +83,12 @@ LocalHit ray_capsule_axis(Vec2 p, Vec2 d, float length, float r) noexcept {
 using Clip = detail::ClipResult;
 
 /// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
-/// n_i . (x - v_i) <= offset of a convex polygon (clip_ray.hpp). offset r is the polygon with
+/// n_i . (x - v_i) <= offset of a convex outline (clip_ray.hpp). offset r is the outline with
 /// every edge pushed out by r (used for rounded polygons).
-Clip clip_ray_polygon(const Polygon& poly, Vec2 p, Vec2 d, float offset) noexcept {
-  return detail::clip_ray(poly.count, [&](int i) {
-    const Vec2 normal = poly.normals[i];
-    return detail::PlaneCrossing{offset - dot(normal, p - poly.vertices[i]), dot(normal, d)};
+Clip clip_ray_outline(const detail::OutlineView& o, Vec2 p, Vec2 d, float offset) noexcept {
+  return detail::clip_ray(o.count, [&](int i) {
+    const Vec2 normal = o.normals[i];
+    return detail::PlaneCrossing{offset - dot(normal, p - o.vertices[i]), dot(normal, d)};
   });
 }
 
@@ -264,34 +264,38 @@ RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray)
 
 namespace detail {
 
+LocalHit ray_rounded_outline(const OutlineView& o, float radius, Vec2 p, Vec2 d,
+                             bool& inside) noexcept {
+  const float r = radius;
+  const Clip clip = clip_ray_outline(o, p, d, r);
+  inside = clip.inside;
+  // Rounded outline: the union of the core, each edge swept outward by r and a disc of radius r
+  // at each vertex. It lies inside the outline of edges pushed out by r, and differs from it
+  // only in the corner kites beyond each vertex, which are bounded towards the shape by that
+  // vertex's disc. So: the entry into the pushed-out outline is the answer when it lands
+  // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
+  if (clip.plane < 0) return {};  // a miss, or the origin is already in the pushed-out outline
+  const int i = clip.plane;
+  const Vec2 v0 = o.vertices[i];
+  const Vec2 v1 = o.vertices[i + 1 < o.count ? i + 1 : 0];
+  const Vec2 e = v1 - v0;
+  const float s = dot(p + clip.fraction * d - v0, e);
+  if (s >= 0.0f && s <= length_squared(e)) return {true, clip.fraction, o.normals[i]};
+  return ray_disc(p - (s < 0.0f ? v0 : v1), d, r);
+}
+
 RoundedPolygonEntry ray_rounded_polygon(const Polygon& poly, float radius, Vec2 p,
                                         Vec2 d) noexcept {
-  const float r = radius;
-  const Clip clip = clip_ray_polygon(poly, p, d, r);
-  // Rounded polygon: the union of the core, each edge swept outward by r and a disc of radius r
-  // at each vertex. It lies inside the polygon of edges pushed out by r, and differs from it
-  // only in the corner kites beyond each vertex, which are bounded towards the shape by that
-  // vertex's disc. So: the entry into the pushed-out polygon is the answer when it lands
-  // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
-  int vertex = -1;
-  if (clip.plane >= 0) {
-    const int i = clip.plane;
-    const Vec2 v0 = poly.vertices[i];
-    const Vec2 v1 = poly.vertices[i + 1 < poly.count ? i + 1 : 0];
-    const Vec2 e = v1 - v0;
-    const float s = dot(p + clip.fraction * d - v0, e);
-    if (s >= 0.0f && s <= length_squared(e)) return {{true, clip.fraction, poly.normals[i]}};
-    vertex = s < 0.0f ? i : (i + 1 < poly.count ? i + 1 : 0);
-  } else {
-    // No entry into the pushed-out polygon: a miss, or the origin is already in it. In a kite
-    // outside the rounded shape the ray can still hit that kite's vertex disc.
-    if (!clip.inside) return {};
-    const PointQuery q = closest_point(poly, Transform{}, p);  // signed, to poly's own radius
-    const float gap = q.distance + poly.radius - r;             // to the core grown by r
-    if (!(gap > 0.0f) || q.feature.type != FeatureType::vertex) return {{}, gap};
-    return {ray_disc(p - poly.vertices[q.feature.index], d, r), gap};
-  }
-  return {ray_disc(p - poly.vertices[vertex], d, r)};
+  bool inside = false;
+  const LocalHit hit = ray_rounded_outline({poly.vertices.data(), poly.normals.data(), poly.count},
+                                           radius, p, d, inside);
+  if (!inside) return {hit};
+  // The origin is in the pushed-out polygon. In a kite outside the rounded shape the ray can
+  // still hit that kite's vertex disc.
+  const PointQuery q = closest_point(poly, Transform{}, p);  // signed, to poly's own radius
+  const float gap = q.distance + poly.radius - radius;       // to the core grown by radius
+  if (!(gap > 0.0f) || q.feature.type != FeatureType::vertex) return {{}, gap};
+  return {ray_disc(p - poly.vertices[q.feature.index], d, radius), gap};
 }
 
 }  // namespace detail

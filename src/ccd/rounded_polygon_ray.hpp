@@ -1,7 +1,8 @@
 #pragma once
 // Internal to ccd: the ray cast into a polygon rounded by any radius (raycast.cpp), shared by
-// `raycast` on rounded polygons and `shape_cast` of a circle against a polygon (the ray from
-// the circle's centre into the polygon grown by the circle: A - B, literally).
+// `raycast` on rounded polygons and `shape_cast` of a circle or a capsule against a polygon (the
+// ray from the circle's centre into the polygon grown by the circle: A - B, literally; for a
+// capsule, into the polygon minus its segment, grown by its radius).
 
 #include <collide/shape/polygon.hpp>
 
@@ -20,6 +21,21 @@ struct RoundedPolygonEntry {
   /// pushed-out edge's line).
   float start_gap = INFINITY;
 };
+
+/// A convex outline: vertices counter-clockwise, edge i from vertex i to vertex i + 1 (mod
+/// count) with unit outward normal normals[i]. A polygon's own arrays, or an outline built on
+/// the stack (the Minkowski difference of a polygon and a capsule's segment in shape_cast).
+struct OutlineView {
+  const Vec2* vertices;
+  const Vec2* normals;
+  int count;
+};
+
+/// First entry of p + t d, t in (0, 1], into outline `o` rounded by `radius` (> 0): the
+/// method of ray_rounded_polygon. When p starts within the outline of edges pushed out by the
+/// radius, `inside` is set and no entry is computed (the caller resolves that start).
+[[nodiscard]] LocalHitN<2> ray_rounded_outline(const OutlineView& o, float radius, Vec2 p, Vec2 d,
+                                               bool& inside) noexcept;
 
 /// First entry of p + t d, t in (0, 1], into `poly`'s core rounded by `radius` (> 0; the
 /// polygon's own radius is ignored), in the polygon's local frame: Cyrus-Beck into the polygon

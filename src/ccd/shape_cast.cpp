@@ -221,6 +221,73 @@ std::optional<ShapeCastResult> cast_circle_polygon(const Circle& a, const Transf
   return result;
 }
 
+/// Capsule A against polygon B: the ray from the origin along A's motion relative to B into
+/// B - S rounded by the sum of the radii, S being A's core segment (B's frame): A touches B
+/// when S moved by t d comes within the radii of B, that is when t d enters (B - S) grown by
+/// them. B - S = B + (-S) is built on the stack: B's edges, each moved by the end of -S
+/// farthest along its normal, and -S's direction inserted as an edge (both ways) where that end
+/// changes (the Minkowski sum of a convex polygon and a segment; de Berg et al. 13.3). Then the
+/// rounded-outline ray of the circle cast: exact up to rounding, no iterations. Returns nothing,
+/// leaving the pair to GJK, when the start is within the outline of edges pushed out by the
+/// radii (touching, or near it) or the shapes do not move relative to each other.
+std::optional<ShapeCastResult> cast_capsule_polygon(const Capsule& a, const Transform& xa, Vec2 va,
+                                                    const Polygon& b, const Transform& xb,
+                                                    Vec2 vb) noexcept {
+  // Relative to B's origin first, so large world coordinates cancel before the rotation.
+  const Vec2 offset = xa.p - xb.p;
+  const Vec2 s0 = inv_rotate(xb.q, offset + rotate(xa.q, a.a));
+  const Vec2 s1 = inv_rotate(xb.q, offset + rotate(xa.q, a.b));
+  const Vec2 d = inv_rotate(xb.q, va - vb);
+  if (!(length_squared(d) > 0.0f)) return std::nullopt;
+  // -S runs from u0 = -s0 to u1 = -s1; edge i of B moves by u1 where its normal leans along
+  // f = u1 - u0, else by u0.
+  const Vec2 u0 = -s0;
+  const Vec2 u1 = -s1;
+  const Vec2 f = u1 - u0;
+  const Vec2 m = normalize_or_zero(right_perp(f));  // outward normal of an inserted edge along f
+  std::array<Vec2, kMaxPolygonVertices + 2> vertices;
+  std::array<Vec2, kMaxPolygonVertices + 2> normals;
+  int count = 0;
+  bool previous_high = dot(b.normals[b.count - 1], f) > 0.0f;
+  for (int i = 0; i < b.count; ++i) {
+    const bool high = dot(b.normals[i], f) > 0.0f;
+    if (high != previous_high) {  // -S's edge, from the end before to the end after
+      vertices[count] = b.vertices[i] + (previous_high ? u1 : u0);
+      normals[count] = high ? m : -m;
+      ++count;
+    }
+    vertices[count] = b.vertices[i] + (high ? u1 : u0);
+    normals[count] = b.normals[i];
+    ++count;
+    previous_high = high;
+  }
+  const float radius = a.radius + b.radius;
+  bool inside = false;
+  const detail::LocalHitN<2> hit = detail::ray_rounded_outline(
+      {vertices.data(), normals.data(), count}, radius, Vec2{0.0f, 0.0f}, d, inside);
+  if (inside) return std::nullopt;
+  ShapeCastResult result;
+  if (!hit.hit) return result;  // separated, fraction 1
+  const float t = hit.fraction;
+  const Vec2 n = -hit.normal;  // from A to B, B's frame (B - S's outward normal faces A)
+  // The contact point: the middle of the touching features at t, between the surfaces.
+  const float size_a = detail::proxy_size(ConvexProxy(a));
+  const float size_b = detail::proxy_size(ConvexProxy(b));
+  const float tie = detail::kFeatureTieTolerance * std::max(size_a, size_b);
+  const Vec2 moved = t * d;
+  const detail::TouchingFeature fa = detail::touching_feature(
+      2, [&](int i) { return (i == 0 ? s0 : s1) + moved; }, n, 1.0f, tie);
+  const detail::TouchingFeature fb = detail::touching_feature(
+      b.count, [&](int i) { return b.vertices[i]; }, n, -1.0f, tie);
+  result.hit = true;
+  result.fraction = t;
+  result.status = QueryStatus::hit;
+  result.normal = rotate(xb.q, n);
+  // B's frame at t: B has moved by t vb in the world.
+  result.point = transform_point(xb, detail::touching_point(fa, a.radius, fb, b.radius, n)) + t * vb;
+  return result;
+}
+
 }  // namespace
 
 void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb) {
@@ -462,6 +529,20 @@ ShapeCastResult shape_cast(const Circle& a, const Transform& xa, Vec2 va, const 
 }
 
 ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va, const Circle& b,
+                           const Transform& xb, Vec2 vb) {
+  ShapeCastResult r = shape_cast(b, xb, vb, a, xa, va);  // the same time and point either way
+  r.normal = -r.normal;                                  // from A (the polygon) to B
+  return r;
+}
+
+ShapeCastResult shape_cast(const Capsule& a, const Transform& xa, Vec2 va, const Polygon& b,
+                           const Transform& xb, Vec2 vb) {
+  check_cast_input(xa, va, xb, vb);
+  if (const std::optional<ShapeCastResult> r = cast_capsule_polygon(a, xa, va, b, xb, vb)) return *r;
+  return gjk_shape_cast<2>(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
+}
+
+ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va, const Capsule& b,
                            const Transform& xb, Vec2 vb) {
   ShapeCastResult r = shape_cast(b, xb, vb, a, xa, va);  // the same time and point either way
   r.normal = -r.normal;                                  // from A (the polygon) to B

@@ -130,6 +130,19 @@ template <Shape2DType A, Shape2DType B>
 [[nodiscard]] ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va,
                                          const Circle& b, const Transform& xb, Vec2 vb);
 
+/// `shape_cast` for a capsule and a polygon (either order): the ray along the capsule's motion
+/// relative to the polygon into the polygon minus the capsule's segment (a polygon of up to two
+/// more edges, built on the stack) grown by both radii: the Minkowski difference, rounded
+/// (Ericson, Real-Time Collision Detection, 5.3.8 and 5.3.2; the sum of a polygon and a
+/// segment, de Berg et al., Computational Geometry, 13.3). Exact up to rounding, `iterations`
+/// 0. A start touching or near touching (within the difference's edges pushed out by the
+/// radii) takes `gjk_shape_cast`. Throws InvalidInput if a transform or velocity is not finite.
+[[nodiscard]] ShapeCastResult shape_cast(const Capsule& a, const Transform& xa, Vec2 va,
+                                         const Polygon& b, const Transform& xb, Vec2 vb);
+/// `shape_cast` for a polygon and a capsule: the capsule-polygon cast with the normal flipped.
+[[nodiscard]] ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va,
+                                         const Capsule& b, const Transform& xb, Vec2 vb);
+
 /// `shape_cast` for shapes whose types are known only at run time (the query tool's `toi`).
 [[nodiscard]] ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va,
                                          const Shape2D& b, const Transform& xb, Vec2 vb);
