@@ -36,12 +36,12 @@ LABELS = {
     "BM_Contact_CapsulePoly/1024":
         "manifold, capsule-6-gon, 1024 pairs (`b2CollidePolygonAndCapsule`)",
     "BM_Contact_CapsulePoly/64": "manifold, capsule-6-gon, 64 pairs",
-    "BM_Distance_Poly4": "GJK distance, 4-gons, cold (`b2ShapeDistance`)",
-    "BM_Distance_Poly8": "GJK distance, 8-gons, cold",
-    "BM_Distance_CirclePoly8": "GJK distance, circle-8-gon, cold",
-    "BM_Distance_Poly64Poly8": "GJK distance, 64-gon-8-gon, cold (v3 holds at most 8 points)",
-    "BM_DistanceWarm_Poly8": "GJK distance, 8-gons, warm-started",
-    "BM_DistanceWarm_Poly64Poly8": "GJK distance, 64-gon-8-gon, warm-started",
+    "BM_Distance_Poly4": "distance, 4-gons, cold (`b2ShapeDistance`)",
+    "BM_Distance_Poly8": "distance, 8-gons, cold",
+    "BM_Distance_CirclePoly8": "distance, circle-8-gon, cold",
+    "BM_Distance_Poly64Poly8": "distance, 64-gon-8-gon, cold (v3 holds at most 8 points)",
+    "BM_DistanceWarm_Poly8": "distance, 8-gons, warm-started",
+    "BM_DistanceWarm_Poly64Poly8": "distance, 64-gon-8-gon, warm-started",
     "BM_Overlap_Poly4":
         "overlap, 4-gons, mostly separated (v3: `b2ShapeDistance` < 10 FLT_EPSILON)",
     "BM_Overlap_Poly8": "overlap, 8-gons, mostly separated",

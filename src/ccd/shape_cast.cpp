@@ -288,6 +288,12 @@ std::optional<ShapeCastResult> cast_capsule_polygon(const Capsule& a, const Tran
   return result;
 }
 
+/// A cast of B against A seen as A against B: the same time and point, the normal flipped.
+ShapeCastResult seen_from_b(ShapeCastResult r) noexcept {
+  r.normal = -r.normal;
+  return r;
+}
+
 }  // namespace
 
 void check_cast_input(const Transform& xa, Vec2 va, const Transform& xb, Vec2 vb) {
@@ -530,9 +536,7 @@ ShapeCastResult shape_cast(const Circle& a, const Transform& xa, Vec2 va, const 
 
 ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va, const Circle& b,
                            const Transform& xb, Vec2 vb) {
-  ShapeCastResult r = shape_cast(b, xb, vb, a, xa, va);  // the same time and point either way
-  r.normal = -r.normal;                                  // from A (the polygon) to B
-  return r;
+  return seen_from_b(shape_cast(b, xb, vb, a, xa, va));
 }
 
 ShapeCastResult shape_cast(const Capsule& a, const Transform& xa, Vec2 va, const Polygon& b,
@@ -544,9 +548,7 @@ ShapeCastResult shape_cast(const Capsule& a, const Transform& xa, Vec2 va, const
 
 ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va, const Capsule& b,
                            const Transform& xb, Vec2 vb) {
-  ShapeCastResult r = shape_cast(b, xb, vb, a, xa, va);  // the same time and point either way
-  r.normal = -r.normal;                                  // from A (the polygon) to B
-  return r;
+  return seen_from_b(shape_cast(b, xb, vb, a, xa, va));
 }
 
 ShapeCastResult shape_cast(const Shape2D& a, const Transform& xa, Vec2 va, const Shape2D& b,

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <variant>
 
 namespace collide {
@@ -434,32 +435,41 @@ COLLIDE_ALWAYS_INLINE bool polygon_point_pair(const Polygon& p, Vec2 c, bool a_f
   return true;
 }
 
+/// Polygon and circle in either order (A, B placed by xa, xb): the closest pair in the
+/// polygon's frame (polygon_point_pair), GJK when the centre is on or inside the core.
+template <class A, class B>
+DistanceResult polygon_circle_distance(const A& a, const Transform& xa, const B& b,
+                                       const Transform& xb, SimplexCache* cache) noexcept {
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
+  constexpr bool kPolygonFirst = std::is_same_v<A, Polygon>;
+  const Polygon& p = [&]() -> const Polygon& {
+    if constexpr (kPolygonFirst) return a; else return b;
+  }();
+  const Circle& circle = [&]() -> const Circle& {
+    if constexpr (kPolygonFirst) return b; else return a;
+  }();
+  // The centre in the polygon's frame, relative positions formed first.
+  const Vec2 c = kPolygonFirst ? transform_point(inv_mul(xa, xb), circle.center)
+                               : transform_point(inv_mul(xb, xa), circle.center);
+  // GJK's overlap tolerance (gjk_scale): relative to the coordinates' size in that frame.
+  const float scale = std::max(max_abs(p.vertices[0]), max_abs(c)) + p.radius + circle.radius;
+  PolygonPair pair;
+  if (polygon_point_pair(p, c, kPolygonFirst, kRelativeTolerance * scale, pair)) {
+    return pair_result(pair, a.radius, b.radius, xa, xb, cache);
+  }
+  return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+}
+
 }  // namespace
 
 DistanceResult distance(const Polygon& a, const Transform& xa, const Circle& b,
                         const Transform& xb, SimplexCache* cache) noexcept {
-  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
-  const Vec2 c = transform_point(inv_mul(xa, xb), b.center);  // B's centre, A's frame
-  // GJK's overlap tolerance (gjk_scale): relative to the coordinates' size in A's frame.
-  const float scale = std::max(max_abs(a.vertices[0]), max_abs(c)) + a.radius + b.radius;
-  PolygonPair pair;
-  if (polygon_point_pair(a, c, true, kRelativeTolerance * scale, pair)) {
-    return pair_result(pair, a.radius, b.radius, xa, xb, cache);
-  }
-  // The centre on or inside the core: GJK's answer (one point inside both).
-  return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+  return polygon_circle_distance(a, xa, b, xb, cache);
 }
 
 DistanceResult distance(const Circle& a, const Transform& xa, const Polygon& b,
                         const Transform& xb, SimplexCache* cache) noexcept {
-  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
-  const Vec2 c = transform_point(inv_mul(xb, xa), a.center);  // A's centre, B's frame
-  const float scale = std::max(max_abs(b.vertices[0]), max_abs(c)) + a.radius + b.radius;
-  PolygonPair pair;
-  if (polygon_point_pair(b, c, false, kRelativeTolerance * scale, pair)) {
-    return pair_result(pair, a.radius, b.radius, xa, xb, cache);
-  }
-  return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+  return polygon_circle_distance(a, xa, b, xb, cache);
 }
 
 DistanceResult distance(const Shape2D& a, const Transform& xa, const Shape2D& b,

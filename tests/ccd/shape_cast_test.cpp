@@ -299,10 +299,59 @@ TEST(ShapeCast, SharpPolygonsCastExactlyAlongTheAxes) {
 // 6c. A circle and a polygon (sharp or rounded) take the ray from the centre into the polygon
 // grown by the circle: exact, never late, no GJK iterations for almost every hit; both orders
 // give the same time and point and opposite normals.
+/// Counts of one exact-cast test: hits, and hits the exact path answered (iterations 0).
+struct ExactCastCounts {
+  int hits = 0;
+  int exact_hits = 0;
+};
+
+/// Checks one cast of a round shape A (core segment core0 -> core1 in A's frame: a circle's
+/// centre twice, a capsule's segment) against polygon `p` by the exact path: against dense
+/// sampling and Box2D's distance at the hit, the reverse order bit-equal, and the point on A's
+/// surface at the hit.
+template <class Round>
+void check_exact_cast(const Round& a, Vec2 core0, Vec2 core1, const Polygon& p, const Scene& s,
+                      ExactCastCounts& counts) {
+  const ShapeCastResult r = shape_cast(a, s.xa, s.va, p, s.xb, s.vb);
+  const ConvexProxy pa(a);
+  const ConvexProxy pb(p);
+  const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
+  const float tol = hit_tolerance(pa, pb, s);
+  SCOPED_TRACE(testing::Message() << "t " << r.fraction << " truth " << truth.t_first
+                                  << " iterations " << r.iterations);
+  if (truth.touches) {
+    ASSERT_TRUE(r.hit);
+    EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
+  } else if (truth.min_distance > tol) {
+    EXPECT_FALSE(r.hit);
+  }
+  const ShapeCastResult w = shape_cast(p, s.xb, s.vb, a, s.xa, s.va);
+  EXPECT_EQ(w.status, r.status);
+  EXPECT_EQ(w.fraction, r.fraction);
+  if (r.status != QueryStatus::hit) return;
+  ++counts.hits;
+  EXPECT_EQ(w.normal, -r.normal);
+  EXPECT_EQ(w.point, r.point);
+  if (r.iterations != 0) return;  // near touching at the start: GJK's
+  ++counts.exact_hits;
+  const float magnitude = length(s.vb - s.va) + distance(s.xa.p, s.xb.p) + 4.0f;
+  const test::B2Proxy ba(pa);
+  const test::B2Proxy bb(pb);
+  EXPECT_LE(truth.distance_at(ba, bb, r.fraction), 2e-6f * magnitude);
+  const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
+  const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
+  EXPECT_NEAR(test::separation_along(pa, xa_t, pb, xb_t, r.normal), 0.0f, 2e-6f * magnitude);
+  // The point is on A's surface: one radius from its core at t (world coordinates: within
+  // their rounding far from the origin).
+  const Vec2 c0 = transform_point(s.xa, core0) + r.fraction * s.va;
+  const Vec2 c1 = transform_point(s.xa, core1) + r.fraction * s.va;
+  EXPECT_NEAR(distance(r.point, test::closest_on_segment(c0, c1, r.point)), a.radius,
+              2e-6f * magnitude + 4e-7f * length(s.xa.p));
+}
+
 TEST(ShapeCast, CirclePolygonCastsIntoTheGrownPolygon) {
   std::mt19937 rng(1979);
-  int hits = 0;
-  int ray_hits = 0;
+  ExactCastCounts counts;
   const int total = 1500;
   for (int k = 0; k < total; ++k) {
     const Circle c = make_circle(test::random_point(rng, 0.3f), uniform(rng, 0.1f, 1.0f));
@@ -314,55 +363,23 @@ TEST(ShapeCast, CirclePolygonCastsIntoTheGrownPolygon) {
     s.xb = Transform::from(s.xa.p + test::random_point(rng, 6.0f), uniform(rng, -kPi, kPi));
     s.vb = k % 2 == 0 ? (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f) + s.va
                       : test::random_point(rng, 10.0f);
-    const ShapeCastResult r = shape_cast(c, s.xa, s.va, p, s.xb, s.vb);
-    const ConvexProxy pa(c);
-    const ConvexProxy pb(p);
-    const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
-    const float tol = hit_tolerance(pa, pb, s);
-    SCOPED_TRACE(testing::Message() << "case " << k << " t " << r.fraction << " truth "
-                                    << truth.t_first << " iterations " << r.iterations);
-    if (truth.touches) {
-      ASSERT_TRUE(r.hit);
-      EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
-    } else if (truth.min_distance > tol) {
-      EXPECT_FALSE(r.hit);
-    }
-    const ShapeCastResult w = shape_cast(p, s.xb, s.vb, c, s.xa, s.va);
-    EXPECT_EQ(w.status, r.status);
-    EXPECT_EQ(w.fraction, r.fraction);
-    if (r.status != QueryStatus::hit) continue;
-    ++hits;
-    EXPECT_EQ(w.normal, -r.normal);
-    EXPECT_EQ(w.point, r.point);
-    if (r.iterations != 0) continue;  // near touching at the start: GJK's
-    ++ray_hits;
-    const float magnitude = length(s.vb - s.va) + distance(s.xa.p, s.xb.p) + 4.0f;
-    const test::B2Proxy ba(pa);
-    const test::B2Proxy bb(pb);
-    EXPECT_LE(truth.distance_at(ba, bb, r.fraction), 2e-6f * magnitude);
-    const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
-    const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
-    EXPECT_NEAR(test::separation_along(pa, xa_t, pb, xb_t, r.normal), 0.0f, 2e-6f * magnitude);
-    // The point is on the circle: the centre at t, one radius back along the normal (world
-    // coordinates: within their rounding far from the origin).
-    const Vec2 centre_t = transform_point(s.xa, c.center) + r.fraction * s.va;
-    EXPECT_NEAR(distance(r.point, centre_t), c.radius, 2e-6f * magnitude + 4e-7f * length(s.xa.p));
+    SCOPED_TRACE(testing::Message() << "case " << k);
+    check_exact_cast(c, c.center, c.center, p, s, counts);
   }
-  EXPECT_GT(hits, total * 3 / 10);
-  EXPECT_GT(ray_hits, hits * 9 / 10);
+  EXPECT_GT(counts.hits, total * 3 / 10);
+  EXPECT_GT(counts.exact_hits, counts.hits * 9 / 10);
 }
 
 TEST(ShapeCast, CapsulePolygonCastsIntoThePolygonMinusTheSegment) {
   std::mt19937 rng(2711);
-  int hits = 0;
-  int ray_hits = 0;
+  ExactCastCounts counts;
   const int total = 1500;
   for (int k = 0; k < total; ++k) {
     const Vec2 c = test::random_point(rng, 0.3f);
     const Vec2 half = test::random_point(rng, 1.0f);
     // Now and then a capsule with almost no segment (a circle), or parallel to a box's side.
-    const Capsule cap = make_capsule(c - (k % 7 == 0 ? 1e-4f : 1.0f) * half,
-                                     c + (k % 7 == 0 ? 1e-4f : 1.0f) * half,
+    const float stretch = k % 7 == 0 ? 1e-4f : 1.0f;
+    const Capsule cap = make_capsule(c - stretch * half, c + stretch * half,
                                      uniform(rng, 0.05f, 0.6f));
     const Polygon p = k % 5 == 0 ? make_box({uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f)})
                                  : test::random_polygon(rng, 3 + static_cast<int>(rng() % 10),
@@ -374,45 +391,11 @@ TEST(ShapeCast, CapsulePolygonCastsIntoThePolygonMinusTheSegment) {
                            k % 5 == 0 ? s.xa.q.angle() : uniform(rng, -kPi, kPi));
     s.vb = k % 2 == 0 ? (s.xa.p - s.xb.p) * uniform(rng, 0.5f, 2.0f) + s.va
                       : test::random_point(rng, 10.0f);
-    const ShapeCastResult r = shape_cast(cap, s.xa, s.va, p, s.xb, s.vb);
-    const ConvexProxy pa(cap);
-    const ConvexProxy pb(p);
-    const test::TranslationTruth truth = test::translation_truth(pa, s.xa, s.va, pb, s.xb, s.vb);
-    const float tol = hit_tolerance(pa, pb, s);
-    SCOPED_TRACE(testing::Message() << "case " << k << " t " << r.fraction << " truth "
-                                    << truth.t_first << " iterations " << r.iterations);
-    if (truth.touches) {
-      ASSERT_TRUE(r.hit);
-      EXPECT_LE(r.fraction, truth.t_first + late_tolerance(pa, pb, s)) << "late";
-    } else if (truth.min_distance > tol) {
-      EXPECT_FALSE(r.hit);
-    }
-    const ShapeCastResult w = shape_cast(p, s.xb, s.vb, cap, s.xa, s.va);
-    EXPECT_EQ(w.status, r.status);
-    EXPECT_EQ(w.fraction, r.fraction);
-    if (r.status != QueryStatus::hit) continue;
-    ++hits;
-    EXPECT_EQ(w.normal, -r.normal);
-    EXPECT_EQ(w.point, r.point);
-    if (r.iterations != 0) continue;  // near touching at the start: GJK's
-    ++ray_hits;
-    const float magnitude = length(s.vb - s.va) + distance(s.xa.p, s.xb.p) + 4.0f;
-    const test::B2Proxy ba(pa);
-    const test::B2Proxy bb(pb);
-    EXPECT_LE(truth.distance_at(ba, bb, r.fraction), 2e-6f * magnitude);
-    const Transform xa_t{truth.xa.p + r.fraction * s.va, s.xa.q};
-    const Transform xb_t{truth.xb.p + r.fraction * s.vb, s.xb.q};
-    EXPECT_NEAR(test::separation_along(pa, xa_t, pb, xb_t, r.normal), 0.0f, 2e-6f * magnitude);
-    // The point lies between the surfaces: within the capsule's radius of its core at t and
-    // within the polygon's radius of its core (both touch there).
-    const Vec2 a_t = transform_point(s.xa, cap.a) + r.fraction * s.va;
-    const Vec2 b_t = transform_point(s.xa, cap.b) + r.fraction * s.va;
-    const Vec2 on_core = test::closest_on_segment(a_t, b_t, r.point);
-    const float far_tol = 2e-6f * magnitude + 4e-7f * length(s.xa.p);
-    EXPECT_NEAR(distance(r.point, on_core), cap.radius, far_tol + 1e-3f * cap.radius);
+    SCOPED_TRACE(testing::Message() << "case " << k);
+    check_exact_cast(cap, cap.a, cap.b, p, s, counts);
   }
-  EXPECT_GT(hits, total * 3 / 10);
-  EXPECT_GT(ray_hits, hits * 9 / 10);
+  EXPECT_GT(counts.hits, total * 3 / 10);
+  EXPECT_GT(counts.exact_hits, counts.hits * 9 / 10);
 }
 
 // 7. No tunnelling: small fast circles, capsules and boxes fired at thin walls (segments and
