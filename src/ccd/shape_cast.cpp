@@ -284,7 +284,8 @@ std::optional<ShapeCastResult> cast_capsule_polygon(const Capsule& a, const Tran
   result.status = QueryStatus::hit;
   result.normal = rotate(xb.q, n);
   // B's frame at t: B has moved by t vb in the world.
-  result.point = transform_point(xb, detail::touching_point(fa, a.radius, fb, b.radius, n)) + t * vb;
+  result.point =
+      transform_point(xb, detail::touching_point(fa, a.radius, fb, b.radius, n)) + t * vb;
   return result;
 }
 
@@ -542,7 +543,9 @@ ShapeCastResult shape_cast(const Polygon& a, const Transform& xa, Vec2 va, const
 ShapeCastResult shape_cast(const Capsule& a, const Transform& xa, Vec2 va, const Polygon& b,
                            const Transform& xb, Vec2 vb) {
   check_cast_input(xa, va, xb, vb);
-  if (const std::optional<ShapeCastResult> r = cast_capsule_polygon(a, xa, va, b, xb, vb)) return *r;
+  if (const std::optional<ShapeCastResult> r = cast_capsule_polygon(a, xa, va, b, xb, vb)) {
+    return *r;
+  }
   return gjk_shape_cast<2>(ConvexProxy(a), xa, va, ConvexProxy(b), xb, vb);
 }
 

@@ -160,7 +160,9 @@ struct PolygonPair {
 };
 
 [[nodiscard]] constexpr int next_vertex(int i, int n) noexcept { return i + 1 == n ? 0 : i + 1; }
-[[nodiscard]] constexpr int previous_vertex(int i, int n) noexcept { return i == 0 ? n - 1 : i - 1; }
+[[nodiscard]] constexpr int previous_vertex(int i, int n) noexcept {
+  return i == 0 ? n - 1 : i - 1;
+}
 
 /// Features of two polygons' cores on the way to their closest pair: a corner of each (A's
 /// vertex `first`, B's vertex `second`), or an edge of one (the "first": A's when `a_first`) and
@@ -306,8 +308,9 @@ void write_cache(const PolygonPair& pair, SimplexCache& c) noexcept {
 
 /// The distance result for a closest pair of cores, with the radii `ra`, `rb` applied, in world
 /// space; `cache` (if any) names the pair.
-COLLIDE_ALWAYS_INLINE DistanceResult pair_result(const PolygonPair& pair, float ra, float rb, const Transform& xa,
-                           const Transform& xb, SimplexCache* cache) noexcept {
+COLLIDE_ALWAYS_INLINE DistanceResult pair_result(const PolygonPair& pair, float ra, float rb,
+                                                 const Transform& xa, const Transform& xb,
+                                                 SimplexCache* cache) noexcept {
   DistanceResult out;
   if (cache != nullptr) write_cache(pair, *cache);
   if (pair.a_first) {
@@ -383,7 +386,7 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
 namespace {
 
 /// The edge of `a` (its frame) of greatest separation dot(n_i, c - v_i) of point `c`: for up to
-/// 8 vertices four edges at a time in registers, else a scalar scan. Returns false when a
+/// 8 vertices four edges at a time in registers, else a scalar scan. Returns false when any
 /// separation is NaN.
 bool max_point_separation(const Polygon& a, Vec2 c, int& edge) noexcept {
 #if COLLIDE_SMALL_POLYGON_SSE2
@@ -403,13 +406,15 @@ bool max_point_separation(const Polygon& a, Vec2 c, int& edge) noexcept {
   }
 #endif
   float best = dot(a.normals[0], c - a.vertices[0]);
+  bool ok = best == best;
   edge = 0;
   for (int i = 1; i < a.count; ++i) {
     const float s = dot(a.normals[i], c - a.vertices[i]);
+    ok &= s == s;
     edge = s > best ? i : edge;
     best = s > best ? s : best;
   }
-  return best == best;
+  return ok;
 }
 
 /// The closest pair of polygon `p`'s core and point `c` (p's frame), seen from p (`a_first`:

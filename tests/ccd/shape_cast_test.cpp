@@ -381,10 +381,10 @@ TEST(ShapeCast, CapsulePolygonCastsIntoThePolygonMinusTheSegment) {
     const float stretch = k % 7 == 0 ? 1e-4f : 1.0f;
     const Capsule cap = make_capsule(c - stretch * half, c + stretch * half,
                                      uniform(rng, 0.05f, 0.6f));
+    const float rounding = k % 3 == 0 ? uniform(rng, 0.05f, 0.3f) : 0.0f;
     const Polygon p = k % 5 == 0 ? make_box({uniform(rng, 0.2f, 2.0f), uniform(rng, 0.2f, 2.0f)})
                                  : test::random_polygon(rng, 3 + static_cast<int>(rng() % 10),
-                                                        uniform(rng, 0.3f, 2.0f),
-                                                        k % 3 == 0 ? uniform(rng, 0.05f, 0.3f) : 0.0f);
+                                                        uniform(rng, 0.3f, 2.0f), rounding);
     Scene s{test::random_transform(rng, k % 4 == 3 ? 1e4f : 5.0f), test::random_point(rng, 10.0f),
             {}, {}};
     s.xb = Transform::from(s.xa.p + test::random_point(rng, 6.0f),
