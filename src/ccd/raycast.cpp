@@ -275,13 +275,36 @@ LocalHit ray_rounded_outline(const OutlineView& o, float radius, Vec2 p, Vec2 d,
   // vertex's disc. So: the entry into the pushed-out outline is the answer when it lands
   // beside its edge; when it lands in a kite, only that vertex's disc can be hit.
   if (clip.plane < 0) return {};  // a miss, or the origin is already in the pushed-out outline
-  const int i = clip.plane;
-  const Vec2 v0 = o.vertices[i];
-  const Vec2 v1 = o.vertices[i + 1 < o.count ? i + 1 : 0];
-  const Vec2 e = v1 - v0;
-  const float s = dot(p + clip.fraction * d - v0, e);
-  if (s >= 0.0f && s <= length_squared(e)) return {true, clip.fraction, o.normals[i]};
-  return ray_disc(p - (s < 0.0f ? v0 : v1), d, r);
+  const Vec2 entry = p + clip.fraction * d;
+  // The entry lies on the entering edge's pushed line: beside the edge (its band), or beyond
+  // one of its ends. At a corner where the outline turns, beyond the end means in the corner's
+  // kite, before the next edge's band (exactly: a valid entry is within r tan(a/2) of the
+  // corner's foot, a the turn), and only the corner's disc can be hit. Where the outline runs
+  // straight on (collinear edges: an upright capsule's segment beside a box's side in B - S;
+  // or nearly, where the clip's choice between equal pushed lines is rounding) the entry can
+  // lie in a later edge's band, or beyond it too: walk along until the band or the kite.
+  const auto next = [&o](int k) { return k + 1 < o.count ? k + 1 : 0; };
+  const auto previous = [&o](int k) { return k == 0 ? o.count - 1 : k - 1; };
+  int i = clip.plane;
+  for (int step = 0; step < o.count; ++step) {
+    const Vec2 v0 = o.vertices[i];
+    const Vec2 e = o.vertices[next(i)] - v0;
+    const float s = dot(entry - v0, e);
+    const float ee = length_squared(e);
+    if (s >= 0.0f && s <= ee) return {true, clip.fraction, o.normals[i]};
+    const bool forwards = s > ee;
+    const int j = forwards ? next(i) : previous(i);
+    const Vec2 w0 = o.vertices[j];
+    const Vec2 f = o.vertices[next(j)] - w0;
+    const float sj = dot(entry - w0, f);
+    // Before the next edge's start (going forwards) or past the previous edge's end (going
+    // backwards): the kite of the corner between i and j.
+    if (forwards ? sj < 0.0f : sj > length_squared(f)) {
+      return ray_disc(p - (forwards ? o.vertices[next(i)] : v0), d, r);
+    }
+    i = j;
+  }
+  return {};  // only for a degenerate outline (every edge collinear)
 }
 
 RoundedPolygonEntry ray_rounded_polygon(const Polygon& poly, float radius, Vec2 p,
