@@ -6,7 +6,9 @@
 //    cast alone, gjk_shape_cast on prepared proxies), and /explicit (build A - B, cast into
 //    it) for polygon pairs. v3 casts in A's frame: the conversion of B's pose and the motion
 //    is timed on its side (box2d_v3/queries.cpp).
-//  - BM_ToiTranslation/<pair>: time_of_impact without rotation vs b2TimeOfImpact.
+//  - BM_ToiTranslation/<pair>: time_of_impact without rotation vs b2TimeOfImpact: /collide on
+//    the shapes (translating sharp polygons take the separating-axis cast moved by the target),
+//    /gjk on prepared proxies (the GJK ray cast for every pair).
 //  - BM_ToiRotation/<pair>: time_of_impact with turns up to pi/2 per step (Box2D's per-step
 //    limit) vs b2TimeOfImpact; collide at Box2D's target (b2_linearSlop, 2.4's and v3's
 //    linear slop alike: 0.005) and at its own default (1e-3 of the smaller size: tighter, more
@@ -269,7 +271,11 @@ void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
 
 // ---- time of impact ---------------------------------------------------------------------------
 
-void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool box2d_target) {
+/// time_of_impact as a game calls it, on the shapes (validation, the variant's dispatch, and for
+/// translating sharp polygons of up to 8 vertices the separating-axis cast into A - B), or
+/// (`on_proxies`) on proxies prepared once, the GJK path for every pair.
+void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool box2d_target,
+                 bool on_proxies) {
   std::vector<ConvexProxy> pa;
   std::vector<ConvexProxy> pb;
   for (const Pair& p : *pairs) {
@@ -283,7 +289,8 @@ void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool b
     int iters = 0;
     for (size_t i = 0; i < pairs->size(); ++i) {
       const Pair& p = (*pairs)[i];
-      const ToiResult r = time_of_impact(pa[i], p.sa, pb[i], p.sb, target);
+      const ToiResult r = on_proxies ? time_of_impact(pa[i], p.sa, pb[i], p.sb, target)
+                                     : time_of_impact(p.a.shape, p.sa, p.b.shape, p.sb, target);
       times[i] = r.status == QueryStatus::hit ? r.fraction : -1.0f;
       iters += r.iterations;
     }
@@ -349,14 +356,16 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/explicit").c_str(), cast_explicit, tr);
     }
     benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/collide").c_str(), toi_collide, tr,
-                                 true);
+                                 true, false);
+    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/gjk").c_str(), toi_collide, tr,
+                                 true, true);
     benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d_v3").c_str(), toi_box2d_v3,
                                  tr);
     benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d").c_str(), toi_box2d, tr);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide_box2d_target").c_str(),
-                                 toi_collide, rot, true);
+                                 toi_collide, rot, true, false);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide").c_str(), toi_collide, rot,
-                                 false);
+                                 false, false);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d_v3").c_str(), toi_box2d_v3, rot);
     benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d").c_str(), toi_box2d, rot);
   }

@@ -2,6 +2,7 @@
 
 #include <collide/narrow/gjk.hpp>
 #include <collide/narrow/sat.hpp>
+#include "polygon_axis_cast.hpp"
 #include "rounded_polygon_ray.hpp"
 #include "shape_size.hpp"
 #include "touching_feature.hpp"
@@ -53,10 +54,6 @@ struct SimplexIds {
 [[nodiscard]] inline float sin_between(Vec2 n, Vec2 m) noexcept { return std::fabs(cross(n, m)); }
 [[nodiscard]] inline float sin_between(Vec3 n, Vec3 m) noexcept { return length(cross(n, m)); }
 
-/// Largest polygons the separating-axis cast takes: O(n m) work, cheaper than GJK's iterations
-/// up to here (the size Box2D v3 caps polygons at); larger ones take GJK.
-constexpr int kAxisCastMaxVertices = kInlinePolygonVertices;
-
 /// Cyrus-Beck clipping of the cast's time interval [0, 1] by separating axes (see
 /// cast_polygon_axes).
 struct AxisClip {
@@ -103,46 +100,43 @@ AxisClip clip_axes(const std::array<float, M>& sep, const std::array<float, M>& 
   return c;
 }
 
-/// The lesson's ray into the Minkowski difference, for two sharp polygons, without building
-/// A - B: its edges' normals are exactly A's and B's edge normals, so the ray from the origin
-/// along B's motion relative to A enters A - B where Cyrus-Beck clipping by those half-planes
-/// says (Cyrus & Beck 1978; Ericson, Real-Time Collision Detection, 5.3.8 and 5.5 for moving
-/// separating axes). Along axis k the cores' separation is s_k + t rate_k: A's edge i gives
-/// s = min_j n_i . (b_j - a_i), rate = n_i . r; B's edge j gives s = min_i m_j . (a_i - b_j),
-/// rate = -m_j . r. First touch is the largest time an axis closes, if no axis has reopened by
-/// then. Exact up to rounding (GJK stops within kShapeCastTolerance), and no iterations. Works
-/// in A's frame shifted to A's vertex 0. Returns nothing, leaving the pair to GJK, when it
-/// does not apply (rounded or larger polygons) or when the answer is within `tolerance` of
-/// another (touching at the start, grazing), so those cases keep GJK's tolerance semantics.
-std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transform& xa, Vec2 va,
-                                                 const Polygon& b, const Transform& xb,
-                                                 Vec2 vb) noexcept {
+}  // namespace
+
+namespace detail {
+
+// The lesson's ray into the Minkowski difference, for two sharp polygons, without building
+// A - B: its edges' normals are exactly A's and B's edge normals, so the ray from the origin
+// along B's motion relative to A enters A - B where Cyrus-Beck clipping by those half-planes
+// says. Along axis k the cores' separation is s_k + t rate_k: A's edge i gives
+// s = min_j n_i . (b_j - a_i), rate = n_i . r; B's edge j gives s = min_i m_j . (a_i - b_j),
+// rate = -m_j . r. The separation first comes down to `gap` at the largest time an axis
+// closes to it, if no axis has reopened by then. No iterations.
+AxisCast polygon_axis_cast(const Polygon& a, const Transform& xa, Vec2 va, const Polygon& b,
+                           const Transform& xb, Vec2 vb, float gap, float tolerance) noexcept {
+  AxisCast cast;
   if (a.radius > 0.0f || b.radius > 0.0f || a.count > kAxisCastMaxVertices ||
       b.count > kAxisCastMaxVertices) {
-    return std::nullopt;
+    return cast;
   }
   const int na = a.count;
   const int nb = b.count;
-  const Transform b_in_a = inv_mul(xa, xb);
-  const Vec2 ray = inv_rotate(xa.q, vb - va);  // B's motion relative to A, A's frame
-
-  // The tolerance of gjk_shape_cast for this pair: answers within it of a graze go to GJK.
-  const float size_a = detail::proxy_size(ConvexProxy(a));
-  const float size_b = detail::proxy_size(ConvexProxy(b));
-  const float magnitude = length(ray) + length(b_in_a.p) + size_a + size_b;
-  const float tolerance =
-      kShapeCastTolerance * detail::smaller_size(size_a, size_b) + kShapeCastRounding * magnitude;
+  cast.b_in_a = inv_mul(xa, xb);
+  cast.ray = inv_rotate(xa.q, vb - va);  // B's motion relative to A, A's frame
 
   // Every axis's separation at t = 0 (the separating axis test's, each polygon's in its own
-  // frame: the values do not depend on it) and its rate of change, A's edges then B's.
+  // frame: the values do not depend on it) less the gap, and its rate of change, A's edges
+  // then B's.
   constexpr int kAxes = 2 * kAxisCastMaxVertices;
   std::array<float, kAxes> sep;
   std::array<float, kAxes> rate;
-  edge_separations(a, b, b_in_a, std::span(sep).first(na));
+  edge_separations(a, b, cast.b_in_a, std::span(sep).first(na));
   edge_separations(b, a, inv_mul(xb, xa), std::span(sep).subspan(na, nb));
-  const Vec2 ray_in_b = inv_rotate(b_in_a.q, ray);
-  for (int i = 0; i < na; ++i) rate[i] = dot(a.normals[i], ray);
+  const Vec2 ray_in_b = inv_rotate(cast.b_in_a.q, cast.ray);
+  for (int i = 0; i < na; ++i) rate[i] = dot(a.normals[i], cast.ray);
   for (int j = 0; j < nb; ++j) rate[na + j] = -dot(b.normals[j], ray_in_b);
+  if (gap != 0.0f) {
+    for (int k = 0; k < na + nb; ++k) sep[k] -= gap;
+  }
   for (int k = na + nb; k < kAxes; ++k) {  // unused slots: overlapping and still
     sep[k] = -1.0f;
     rate[k] = 0.0f;
@@ -152,32 +146,63 @@ std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transfo
   const int enter_axis = clip.enter_axis;
   const int exit_axis = clip.exit_axis;
 
-  // A miss decided within the tolerance, or touching at the start: GJK's answer.
-  if (clip.undecided != 0) return std::nullopt;
-  ShapeCastResult result;
-  if (clip.never != 0) return result;  // separated, fraction 1
-  if (enter_axis < 0 || sep[enter_axis] <= tolerance) return std::nullopt;
+  // A miss decided within the tolerance, or at the gap at the start: undecided.
+  if (clip.undecided != 0) return cast;
+  if (clip.never != 0) {
+    cast.end = AxisCastEnd::separated;
+    return cast;
+  }
+  if (enter_axis < 0 || sep[enter_axis] <= tolerance) return cast;
   const float t_enter = clip.t_enter;
   if (!(t_enter <= clip.t_exit)) {
     // Misses: the closing axis arrives after the step ends or after another axis reopened.
     // A graze (the gap left at t_enter along the reopened axis, or along the closing axis at
-    // the step's end, within tolerance) is GJK's to call.
-    const float gap = exit_axis >= 0 ? sep[exit_axis] + t_enter * rate[exit_axis]
-                                     : sep[enter_axis] + rate[enter_axis];  // closing one at t = 1
-    if (!(gap > tolerance)) return std::nullopt;
-    return result;  // separated, fraction 1
+    // the step's end, within tolerance) is undecided.
+    const float left = exit_axis >= 0 ? sep[exit_axis] + t_enter * rate[exit_axis]
+                                      : sep[enter_axis] + rate[enter_axis];  // closing one at 1
+    if (left > tolerance) cast.end = AxisCastEnd::separated;
+    return cast;
   }
-  const float t = t_enter;
-  const Vec2 n = enter_axis < na ? a.normals[enter_axis]
-                                 : -rotate(b_in_a.q, b.normals[enter_axis - na]);  // A to B
+  cast.end = AxisCastEnd::hit;
+  cast.fraction = t_enter;
+  cast.normal = enter_axis < na ? a.normals[enter_axis]
+                                : -rotate(cast.b_in_a.q, b.normals[enter_axis - na]);  // A to B
+  return cast;
+}
+
+}  // namespace detail
+
+namespace {
+
+/// The separating-axis cast (detail::polygon_axis_cast) stopped at touching, with the contact
+/// point from the touching features. Exact up to rounding (GJK stops within
+/// kShapeCastTolerance). Returns nothing, leaving the pair to GJK, when it does not apply
+/// (rounded or larger polygons) or when the answer is within GJK's tolerance of another
+/// (touching at the start, grazing), so those cases keep GJK's tolerance semantics.
+std::optional<ShapeCastResult> cast_polygon_axes(const Polygon& a, const Transform& xa, Vec2 va,
+                                                 const Polygon& b, const Transform& xb,
+                                                 Vec2 vb) noexcept {
+  // The tolerance of gjk_shape_cast for this pair: answers within it of a graze go to GJK.
+  const float size_a = detail::proxy_size(ConvexProxy(a));
+  const float size_b = detail::proxy_size(ConvexProxy(b));
+  const float magnitude = length(vb - va) + length(xb.p - xa.p) + size_a + size_b;
+  const float tolerance =
+      kShapeCastTolerance * detail::smaller_size(size_a, size_b) + kShapeCastRounding * magnitude;
+  const detail::AxisCast cast = detail::polygon_axis_cast(a, xa, va, b, xb, vb, 0.0f, tolerance);
+  if (cast.end == detail::AxisCastEnd::undecided) return std::nullopt;
+  ShapeCastResult result;
+  if (cast.end == detail::AxisCastEnd::separated) return result;  // fraction 1
+  const float t = cast.fraction;
+  const Vec2 n = cast.normal;
   // The touching features, in A's frame shifted to A's vertex 0, B moved by t ray.
   const Vec2 origin = a.vertices[0];
-  const Vec2 shift = b_in_a.p - origin + t * ray;
+  const Vec2 shift = cast.b_in_a.p - origin + t * cast.ray;
   const float tie = detail::kFeatureTieTolerance * std::max(size_a, size_b);
   const detail::TouchingFeature fa = detail::touching_feature(
-      na, [&](int i) { return a.vertices[i] - origin; }, n, 1.0f, tie);
+      a.count, [&](int i) { return a.vertices[i] - origin; }, n, 1.0f, tie);
   const detail::TouchingFeature fb = detail::touching_feature(
-      nb, [&](int i) { return rotate(b_in_a.q, b.vertices[i]) + shift; }, n, -1.0f, tie);
+      b.count, [&](int i) { return rotate(cast.b_in_a.q, b.vertices[i]) + shift; }, n, -1.0f,
+      tie);
   result.hit = true;
   result.fraction = t;
   result.status = QueryStatus::hit;

@@ -1,5 +1,6 @@
 #include <collide/ccd/time_of_impact.hpp>
 
+#include "polygon_axis_cast.hpp"
 #include "shape_size.hpp"
 #include "turn_bound.hpp"
 
@@ -11,6 +12,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
+#include <variant>
 
 namespace collide {
 namespace {
@@ -156,6 +159,21 @@ ToiResultN<D> translation_toi(const ConvexProxyN<D>& a, const SweepT& sweep_a,
   return r;
 }
 
+/// The target separation time_of_impact works to (see its contract): the caller's, or the
+/// default for shapes of these sizes (negative `target`), raised to what float resolves.
+template <class SweepT>
+float effective_target(float size_a, float size_b, const SweepT& sweep_a, const SweepT& sweep_b,
+                       float target) noexcept {
+  if (target < 0.0f) target = kToiTargetSeparation * detail::smaller_size(size_a, size_b);
+  // Not below what float can resolve: the world positions are subtracted first (rounding
+  // relative to their magnitude), and GJK then counts shapes closer than kRelativeTolerance of
+  // their coordinates' size as touching.
+  const float magnitude = std::max(std::max(length(sweep_a.c0), length(sweep_a.c1)),
+                                   std::max(length(sweep_b.c0), length(sweep_b.c1)));
+  return std::max({target, kToiRoundingTarget * (magnitude + size_a + size_b),
+                   2.0f * kRelativeTolerance * (size_a + size_b)});
+}
+
 /// Conservative advancement, once for both dimensions (see time_of_impact.hpp).
 template <int D>
 ToiResultN<D> advance(const ConvexProxyN<D>& a, const typename PairMotion<D>::SweepT& sweep_a,
@@ -163,16 +181,8 @@ ToiResultN<D> advance(const ConvexProxyN<D>& a, const typename PairMotion<D>::Sw
                       float target) noexcept {
   using Motion = PairMotion<D>;
   using Vec = VecN<D>;
-  const float size_a = detail::proxy_size(a);
-  const float size_b = detail::proxy_size(b);
-  if (target < 0.0f) target = kToiTargetSeparation * detail::smaller_size(size_a, size_b);
-  // Not below what float can resolve: the world positions are subtracted first (rounding
-  // relative to their magnitude), and GJK then counts shapes closer than kRelativeTolerance of
-  // their coordinates' size as touching.
-  const float magnitude = std::max(std::max(length(sweep_a.c0), length(sweep_a.c1)),
-                                   std::max(length(sweep_b.c0), length(sweep_b.c1)));
-  target = std::max({target, kToiRoundingTarget * (magnitude + size_a + size_b),
-                     2.0f * kRelativeTolerance * (size_a + size_b)});
+  target = effective_target(detail::proxy_size(a), detail::proxy_size(b), sweep_a, sweep_b,
+                            target);
   if (!Motion::rotates(sweep_a) && !Motion::rotates(sweep_b)) {
     return translation_toi<D>(a, sweep_a, b, sweep_b, target);
   }
@@ -286,6 +296,89 @@ ToiResultN<D> advance(const ConvexProxyN<D>& a, const typename PairMotion<D>::Sw
   return r;
 }
 
+/// Two translating sharp polygons: the separating-axis cast into A - B with every axis moved by
+/// the target (detail::polygon_axis_cast), no iterations. Before the time it finds the
+/// separation along some axis exceeds the target, so the shapes are farther apart than that;
+/// at that time the distance equals the axis's separation when the closest features include
+/// an edge, which the polygons' distance walk confirms (corners meeting first are farther
+/// apart there). Returns nothing, leaving the pair to the GJK ray cast, when the cast is
+/// undecided (a start or a graze within the tolerance band) or corners meet first.
+std::optional<ToiResult> toi_polygon_axes(const Polygon& a, const Sweep& sweep_a,
+                                          const Polygon& b, const Sweep& sweep_b,
+                                          float target) noexcept {
+  if (a.radius > 0.0f || b.radius > 0.0f || a.count > detail::kAxisCastMaxVertices ||
+      b.count > detail::kAxisCastMaxVertices) {
+    return std::nullopt;
+  }
+  target = effective_target(detail::proxy_size(ConvexProxy(a)),
+                            detail::proxy_size(ConvexProxy(b)), sweep_a, sweep_b, target);
+  const float tolerance = kToiToleranceFraction * target;
+  const detail::AxisCast cast =
+      detail::polygon_axis_cast(a, sweep_a.at(0.0f), sweep_a.c1 - sweep_a.c0, b,
+                                sweep_b.at(0.0f), sweep_b.c1 - sweep_b.c0, target, tolerance);
+  if (cast.end == detail::AxisCastEnd::undecided) return std::nullopt;
+  ToiResult r;
+  if (cast.end == detail::AxisCastEnd::separated) return r;  // fraction 1
+  const float t = cast.fraction;
+  const DistanceResult d = distance(a, sweep_a.at(t), b, sweep_b.at(t));
+  if (d.status == QueryStatus::overlapped || !(std::fabs(d.distance - target) <= tolerance)) {
+    return std::nullopt;  // corners meet first (or rounding): the GJK ray cast decides
+  }
+  r.status = QueryStatus::hit;
+  r.fraction = t;
+  set_contact(r, d);
+  return r;
+}
+
+/// A circle or capsule A and a polygon B, both translating: the shape cast of A grown by the
+/// target against B (the rounded-outline ray into B - A's core, exact up to rounding, no
+/// iterations; GJK's ray cast where the cast leaves it so), since A's surface is `target` from
+/// B exactly where the grown surface touches it. Starts within the target go to the GJK path,
+/// which reports them.
+template <class Rounded>
+ToiResult toi_rounded_polygon(const Rounded& a, const Sweep& sweep_a, const Polygon& b,
+                              const Sweep& sweep_b, float target) {
+  const ConvexProxy pa(a);
+  const ConvexProxy pb(b);
+  target = effective_target(detail::proxy_size(pa), detail::proxy_size(pb), sweep_a, sweep_b,
+                            target);
+  Rounded grown = a;
+  grown.radius += target;
+  const ShapeCastResult cast = shape_cast(grown, sweep_a.at(0.0f), sweep_a.c1 - sweep_a.c0, b,
+                                          sweep_b.at(0.0f), sweep_b.c1 - sweep_b.c0);
+  if (cast.status != QueryStatus::hit && cast.status != QueryStatus::separated) {
+    return advance<2>(pa, sweep_a, pb, sweep_b, target);
+  }
+  ToiResult r;
+  r.iterations = cast.iterations;
+  if (cast.status == QueryStatus::separated) return r;  // fraction 1
+  r.status = QueryStatus::hit;
+  r.fraction = cast.fraction;
+  // The grown surface touches B at cast.point: A's own surface is `target` behind it.
+  r.separation = target;
+  r.normal = cast.normal;
+  r.point = cast.point - 0.5f * target * cast.normal;
+  return r;
+}
+
+/// The result of B against A seen from A: the same time and point, the normal flipped.
+ToiResult seen_from_b(ToiResult r) noexcept {
+  r.normal = -r.normal;
+  return r;
+}
+
+/// Whether neither sweep turns: the casts apply.
+bool translating(const Sweep& sweep_a, const Sweep& sweep_b) noexcept {
+  return !PairMotion<2>::rotates(sweep_a) && !PairMotion<2>::rotates(sweep_b);
+}
+
+/// The validation of every time_of_impact on shapes.
+void check_toi_input(const Sweep& sweep_a, const Sweep& sweep_b, float target) {
+  check_sweep(sweep_a, "sweep_a");
+  check_sweep(sweep_b, "sweep_b");
+  if (!std::isfinite(target)) throw InvalidInput("target: not finite");
+}
+
 }  // namespace
 
 ToiResult time_of_impact(const ConvexProxy& a, const Sweep& sweep_a, const ConvexProxy& b,
@@ -298,12 +391,48 @@ ToiResult3 time_of_impact(const ConvexProxy3& a, const Sweep3& sweep_a, const Co
   return advance<3>(a, sweep_a, b, sweep_b, target);
 }
 
+ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Polygon& b,
+                         const Sweep& sweep_b, float target) {
+  check_toi_input(sweep_a, sweep_b, target);
+  if (translating(sweep_a, sweep_b)) {
+    if (const std::optional<ToiResult> r = toi_polygon_axes(a, sweep_a, b, sweep_b, target)) {
+      return *r;
+    }
+  }
+  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+}
+
+ToiResult time_of_impact(const Circle& a, const Sweep& sweep_a, const Polygon& b,
+                         const Sweep& sweep_b, float target) {
+  check_toi_input(sweep_a, sweep_b, target);
+  if (translating(sweep_a, sweep_b)) return toi_rounded_polygon(a, sweep_a, b, sweep_b, target);
+  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+}
+
+ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Circle& b,
+                         const Sweep& sweep_b, float target) {
+  return seen_from_b(time_of_impact(b, sweep_b, a, sweep_a, target));
+}
+
+ToiResult time_of_impact(const Capsule& a, const Sweep& sweep_a, const Polygon& b,
+                         const Sweep& sweep_b, float target) {
+  check_toi_input(sweep_a, sweep_b, target);
+  if (translating(sweep_a, sweep_b)) return toi_rounded_polygon(a, sweep_a, b, sweep_b, target);
+  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+}
+
+ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Capsule& b,
+                         const Sweep& sweep_b, float target) {
+  return seen_from_b(time_of_impact(b, sweep_b, a, sweep_a, target));
+}
+
 ToiResult time_of_impact(const Shape2D& a, const Sweep& sweep_a, const Shape2D& b,
                          const Sweep& sweep_b, float target) {
-  check_sweep(sweep_a, "sweep_a");
-  check_sweep(sweep_b, "sweep_b");
-  if (!std::isfinite(target)) throw InvalidInput("target: not finite");
-  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+  return std::visit(
+      [&](const auto& sa, const auto& sb) {
+        return time_of_impact(sa, sweep_a, sb, sweep_b, target);
+      },
+      a, b);
 }
 
 

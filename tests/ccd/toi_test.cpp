@@ -299,6 +299,157 @@ TEST(TimeOfImpact, NoTunnellingWithSpin) {
   EXPECT_GT(shots, 3 * 2 * 200 * 3 / 4);
 }
 
+// 5c. Translating sharp polygons take the separating-axis cast into A - B (no iterations):
+// against the GJK ray cast on the same shapes (the proxies' path) and dense sampling with Box2D
+// distances. Both stop inside the target band; the axis cast is never late (no sample before
+// its time is closer than the band's low end); their outcomes differ only for grazes.
+TEST(TimeOfImpact, TranslatingPolygonsTakeTheAxisCast) {
+  std::mt19937 rng(2026);
+  const float target = 0.01f;
+  const float band = 0.25f * target;
+  int hits = 0;
+  int axis_hits = 0;
+  int disagree = 0;
+  const int total = 600;
+  for (int k = 0; k < total; ++k) {
+    const Polygon a = std::get<Polygon>(test::random_shape(rng, 2, uniform(rng, 0.3f, 1.5f)));
+    const Polygon b = std::get<Polygon>(test::random_shape(rng, 2, uniform(rng, 0.3f, 1.5f)));
+    const bool far = k % 5 == 4;  // some far from the origin (target raised to the float floor)
+    const Vec2 at = far ? test::random_point(rng, 2e3f) : Vec2{0.0f, 0.0f};
+    const Sweep wa = random_sweep(rng, at, 6.0f, 0.0f);
+    Sweep wb = random_sweep(rng, at + Vec2{uniform(rng, 2.0f, 5.0f), 0.0f}, 6.0f, 0.0f);
+    if (k % 2 == 0) wb.c1 = wa.c1 + test::random_point(rng, 1.0f);  // aim at each other
+    const ToiResult ours = time_of_impact(a, wa, b, wb, target);
+    const ToiResult gjk = time_of_impact(ConvexProxy(a), wa, ConvexProxy(b), wb, target);
+    SCOPED_TRACE(testing::Message() << "case " << k << " ours " << ours.fraction << " status "
+                                    << int(ours.status) << " gjk " << gjk.fraction << " status "
+                                    << int(gjk.status));
+    ASSERT_NE(ours.status, QueryStatus::max_iterations);
+    const test::B2Proxy ba{ConvexProxy(a)};
+    const test::B2Proxy bb{ConvexProxy(b)};
+    // The target actually used: raised to the float floor far from the origin.
+    const float magnitude = std::max({length(wa.c0), length(wa.c1), length(wb.c0), length(wb.c1)});
+    const float used = std::max(target, kToiRoundingTarget * (magnitude + 6.0f));
+    if (ours.status != gjk.status) {
+      ++disagree;
+      // Only a graze may split them: the closest approach is near the band.
+      const test::SweepTruth truth = test::sweep_truth(ConvexProxy(a), wa, ConvexProxy(b), wb, 2000);
+      EXPECT_LE(truth.min_distance, 2.0f * used);
+      continue;
+    }
+    if (ours.status != QueryStatus::hit) continue;
+    ++hits;
+    if (ours.iterations == 0) ++axis_hits;
+    const float sep = test::b2_distance(ba, wa.at(ours.fraction), bb, wb.at(ours.fraction));
+    EXPECT_NEAR(sep, used, 0.25f * used + (far ? 2e-3f : 1e-5f));
+    EXPECT_NEAR(sep, ours.separation, far ? 2e-3f : 1e-4f);
+    EXPECT_NEAR(length(ours.normal), 1.0f, 1e-3f);
+    // Never late: no earlier sample is closer than the band's low end.
+    for (int i = 0; i < 64; ++i) {
+      const float t = ours.fraction * float(i) / 64.0f;
+      ASSERT_GT(test::b2_distance(ba, wa.at(t), bb, wb.at(t)), 0.75f * used - (far ? 2e-3f : 1e-5f))
+          << "late, t " << t;
+    }
+    if (!far) EXPECT_NEAR(sep, test::b2_distance(ba, wa.at(gjk.fraction), bb, wb.at(gjk.fraction)),
+                          2.0f * band);
+  }
+  EXPECT_GT(hits, total / 5);
+  EXPECT_GT(axis_hits, hits * 3 / 4) << "the axis cast answers most translating hits";
+  EXPECT_LE(disagree, total / 50);
+  (void)band;
+}
+
+// 5d. Face to face the axis cast's time is exact; corners meeting first are farther apart at
+// that time than the target (the polygons grown by the target with sharp corners touch there),
+// so those go to the GJK ray cast: two diamonds (boxes turned 45 degrees) meet corner to corner
+// at the analytic time.
+TEST(TimeOfImpact, CornersMeetingTakeTheGjkPath) {
+  const Polygon box = make_box({0.5f, 0.5f});
+  const float target = 0.02f;
+  const Sweep still = Sweep::from_motion(Transform{}, {0.0f, 0.0f}, {}, 0.0f);
+  {
+    // Faces 4 apart, closing at 10 per step: target apart at t = (4 - target) / 10.
+    const Sweep in = Sweep::from_motion(Transform{{5.0f, 0.0f}, {}}, {0.0f, 0.0f},
+                                        {-10.0f, 0.0f}, 0.0f);
+    const ToiResult r = time_of_impact(box, still, box, in, target);
+    ASSERT_EQ(r.status, QueryStatus::hit);
+    EXPECT_EQ(r.iterations, 0) << "the separating-axis cast";
+    EXPECT_NEAR(r.fraction, (4.0f - target) / 10.0f, 1e-6f);
+    EXPECT_NEAR(r.separation, target, 1e-5f);
+    EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-5f);
+  }
+  {
+    // Diamonds: corners at x = +-sqrt(1/2) from each centre, 5 - sqrt 2 apart.
+    const Rot2 q = Rot2::from_angle(0.25f * kPi);
+    const Sweep a = Sweep::from_motion(Transform{{0.0f, 0.0f}, q}, {0.0f, 0.0f}, {}, 0.0f);
+    const Sweep b = Sweep::from_motion(Transform{{5.0f, 0.0f}, q}, {0.0f, 0.0f},
+                                       {-10.0f, 0.0f}, 0.0f);
+    const ToiResult r = time_of_impact(box, a, box, b, target);
+    ASSERT_EQ(r.status, QueryStatus::hit);
+    EXPECT_GT(r.iterations, 0) << "the GJK ray cast";
+    const float t = (5.0f - std::sqrt(2.0f) - target) / 10.0f;
+    EXPECT_NEAR(r.fraction, t, 0.25f * target / 10.0f);
+    EXPECT_LE(r.fraction, t + 1e-6f) << "never late";
+    EXPECT_NEAR(r.separation, target, 0.25f * target);
+    EXPECT_VEC2_NEAR(r.normal, Vec2(1.0f, 0.0f), 1e-3f);
+  }
+}
+
+// 5e. A translating circle or capsule against a polygon (either order) takes the shape cast of
+// the rounded shape grown by the target: against the GJK path on proxies and Box2D distances.
+// Both stop inside the target band at the same outcome (but for grazes), never late; the
+// point lies midway (half the target from each shape), the normal is the GJK path's.
+TEST(TimeOfImpact, TranslatingRoundShapesCastGrownByTheTarget) {
+  std::mt19937 rng(4242);
+  const float target = 0.01f;
+  int hits = 0;
+  int disagree = 0;
+  const int total = 800;
+  for (int k = 0; k < total; ++k) {
+    const Shape2D round = test::random_shape(rng, k % 4 < 2 ? 0 : 1, uniform(rng, 0.3f, 1.5f));
+    const Shape2D poly = test::random_shape(rng, 2, uniform(rng, 0.3f, 1.5f));
+    const bool round_first = k % 2 == 0;
+    const Shape2D& sa = round_first ? round : poly;
+    const Shape2D& sb = round_first ? poly : round;
+    const Sweep wa = random_sweep(rng, {0.0f, 0.0f}, 6.0f, 0.0f);
+    Sweep wb = random_sweep(rng, {uniform(rng, 2.0f, 5.0f), 0.0f}, 6.0f, 0.0f);
+    if (k % 3 != 2) wb.c1 = wa.c1 + test::random_point(rng, 1.0f);  // aim at each other
+    const ToiResult ours = time_of_impact(sa, wa, sb, wb, target);
+    const ToiResult gjk = time_of_impact(ConvexProxy(sa), wa, ConvexProxy(sb), wb, target);
+    SCOPED_TRACE(testing::Message() << "case " << k << " ours " << ours.fraction << " status "
+                                    << int(ours.status) << " gjk " << gjk.fraction << " status "
+                                    << int(gjk.status));
+    const test::B2Proxy ba{ConvexProxy(sa)};
+    const test::B2Proxy bb{ConvexProxy(sb)};
+    if (ours.status != gjk.status) {
+      ++disagree;
+      const test::SweepTruth truth = test::sweep_truth(ConvexProxy(sa), wa, ConvexProxy(sb), wb,
+                                                       2000);
+      EXPECT_LE(truth.min_distance, 2.0f * target);
+      continue;
+    }
+    if (ours.status != QueryStatus::hit) continue;
+    ++hits;
+    const Transform xa = wa.at(ours.fraction);
+    const Transform xb = wb.at(ours.fraction);
+    const float sep = test::b2_distance(ba, xa, bb, xb);
+    EXPECT_NEAR(sep, target, 0.25f * target);
+    EXPECT_NEAR(ours.separation, target, 0.25f * target);
+    for (int i = 0; i < 64; ++i) {
+      const float t = ours.fraction * float(i) / 64.0f;
+      ASSERT_GT(test::b2_distance(ba, wa.at(t), bb, wb.at(t)), 0.75f * target) << "late " << t;
+    }
+    // The point: half the separation from each shape.
+    const Vec2 point = ours.point;
+    const test::B2Proxy bp{ConvexProxy(&point, 1, 0.0f)};
+    EXPECT_NEAR(test::b2_distance(ba, xa, bp, Transform{}), 0.5f * sep, 1e-3f);
+    EXPECT_NEAR(test::b2_distance(bb, xb, bp, Transform{}), 0.5f * sep, 1e-3f);
+    EXPECT_NEAR(dot(ours.normal, gjk.normal), 1.0f, 2e-3f);
+  }
+  EXPECT_GT(hits, total / 4);
+  EXPECT_LE(disagree, total / 50);
+}
+
 // 6. Non-finite sweeps and targets are rejected by name.
 TEST(TimeOfImpact, RejectsBadInput) {
   const Circle c = make_circle({0.0f, 0.0f}, 1.0f);

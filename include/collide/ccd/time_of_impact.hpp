@@ -104,6 +104,33 @@ template <Shape2DType A, Shape2DType B>
   return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
 }
 
+/// `time_of_impact` for two polygons. Sharp polygons of up to 8 vertices that only translate
+/// take the lesson's ray into A - B directly: Cyrus-Beck clipping of the step by A's and B's
+/// edge normals, each axis's separation moved by the target (Ericson, Real-Time Collision
+/// Detection, 5.3.8 and 5.5), exact up to rounding, with no iterations (`iterations` 0); the
+/// polygons' `distance` at that time confirms it (corners meeting first go to the GJK ray
+/// cast, as do starts and grazes within the tolerance band). Other pairs as above.
+[[nodiscard]] ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Polygon& b,
+                                       const Sweep& sweep_b, float target = -1.0f);
+
+/// `time_of_impact` for a circle and a polygon. When neither turns: the shape cast of the
+/// circle grown by the target (the ray into the polygon rounded by the radii, exact up to
+/// rounding, no iterations; Ericson, Real-Time Collision Detection, 5.5.7), `separation` the
+/// target. Otherwise as above.
+[[nodiscard]] ToiResult time_of_impact(const Circle& a, const Sweep& sweep_a, const Polygon& b,
+                                       const Sweep& sweep_b, float target = -1.0f);
+/// `time_of_impact` for a polygon and a circle: the circle-polygon answer seen from A.
+[[nodiscard]] ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Circle& b,
+                                       const Sweep& sweep_b, float target = -1.0f);
+/// `time_of_impact` for a capsule and a polygon. When neither turns: the shape cast of the
+/// capsule grown by the target (the ray into B minus the capsule's segment, rounded by the
+/// radii: exact up to rounding, no iterations), `separation` the target. Otherwise as above.
+[[nodiscard]] ToiResult time_of_impact(const Capsule& a, const Sweep& sweep_a, const Polygon& b,
+                                       const Sweep& sweep_b, float target = -1.0f);
+/// `time_of_impact` for a polygon and a capsule: the capsule-polygon answer seen from A.
+[[nodiscard]] ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Capsule& b,
+                                       const Sweep& sweep_b, float target = -1.0f);
+
 /// `time_of_impact` for shapes whose types are known only at run time.
 [[nodiscard]] ToiResult time_of_impact(const Shape2D& a, const Sweep& sweep_a, const Shape2D& b,
                                        const Sweep& sweep_b, float target = -1.0f);
