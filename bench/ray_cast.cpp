@@ -3,7 +3,9 @@
 // and Box2D 2.4 on the same pre-generated shapes, transforms and rays. Polygons of 4 and 8
 // vertices (b2PolygonShape::RayCast, m_radius = 0), circles (b2CircleShape::RayCast) and
 // capsules (v3 only: 2.4 has none). Each run reports the inputs' hit rate, which shapes the cost
-// (misses can stop early). Run with
+// (misses can stop early). Cases are visited in a pseudo-random order that does not repeat
+// with their count (case_order.hpp: replayed in order, a long-history branch predictor learns
+// them). Run with
 //   bench_ray_cast --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // and compare medians (ratio = Box2D time / collide time).
 
@@ -13,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include "box2d_v3/queries.hpp"
+#include "case_order.hpp"
 #include "support/random.hpp"
 #include <box2d/box2d.h>
 
@@ -160,15 +163,15 @@ constexpr int kCold = kCases - 1;
 template <class Set>
 void run_collide(benchmark::State& state, const Set& set) {
   const int shape_mask = static_cast<int>(state.range(1));
-  int i = 0;
+  collide::bench::CaseOrder order(kCases - 1);
   int64_t hits = 0, casts = 0;
   for (auto _ : state) {
+    const int i = static_cast<int>(order.next());
     const Case& c = set.cases[i];
     const RayHit h = raycast(set.ours[i & shape_mask], c.xf, c.ray);
     benchmark::DoNotOptimize(h);
     hits += h.hit;
     ++casts;
-    i = (i + 1) & (kCases - 1);
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
 }
@@ -176,9 +179,10 @@ void run_collide(benchmark::State& state, const Set& set) {
 template <class Set>
 void run_box2d(benchmark::State& state, const Set& set) {
   const int shape_mask = static_cast<int>(state.range(1));
-  int i = 0;
+  collide::bench::CaseOrder order(kCases - 1);
   int64_t hits = 0, casts = 0;
   for (auto _ : state) {
+    const int i = static_cast<int>(order.next());
     const Case& c = set.cases[i];
     b2RayCastOutput out;
     const bool hit = set.theirs[i & shape_mask].RayCast(&out, c.b2_ray, c.b2_xf, 0);
@@ -186,7 +190,6 @@ void run_box2d(benchmark::State& state, const Set& set) {
     benchmark::DoNotOptimize(out);
     hits += hit;
     ++casts;
-    i = (i + 1) & (kCases - 1);
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
 }
@@ -207,9 +210,10 @@ void BM_PolygonRaycast_collide_circle_pretest(benchmark::State& state) {
     }
   }
   const int shape_mask = static_cast<int>(state.range(1));
-  int i = 0;
+  collide::bench::CaseOrder order(kCases - 1);
   int64_t hits = 0, casts = 0, pretest_passes = 0;
   for (auto _ : state) {
+    const int i = static_cast<int>(order.next());
     const Case& c = set.cases[i];
     const int s = i & shape_mask;
     const Vec2 m = c.xf.p - c.ray.origin;  // centre relative to the ray origin
@@ -223,7 +227,6 @@ void BM_PolygonRaycast_collide_circle_pretest(benchmark::State& state) {
     benchmark::DoNotOptimize(h);
     hits += h.hit;
     ++casts;
-    i = (i + 1) & (kCases - 1);
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
   state.counters["pretest_pass_rate"] =

@@ -1,6 +1,7 @@
 // Box2D v3's side of the 2D query benchmarks: see queries.hpp.
 #include "queries.hpp"
 
+#include "../case_order.hpp"
 #include "../instruction_set.hpp"
 
 #include <box2d/box2d.h>
@@ -274,11 +275,11 @@ void run_rays(benchmark::State& state, std::span<const Shape> shapes,
   for (const RayCase& c : cases) {
     inputs.push_back({to_v3(c.xf), to_v3(c.ray.origin), to_v3(c.ray.translation)});
   }
-  const size_t mask = inputs.size() - 1;
+  CaseOrder order(static_cast<std::uint32_t>(inputs.size() - 1));
   const size_t shape_mask = static_cast<size_t>(state.range(1));
-  size_t i = 0;
   int64_t hits = 0, casts = 0;
   for (auto _ : state) {
+    const size_t i = order.next();
     const Input& in = inputs[i];
     b2RayCastInput local;
     local.origin = b2InvTransformPoint(in.xf, in.origin);
@@ -295,7 +296,6 @@ void run_rays(benchmark::State& state, std::span<const Shape> shapes,
     benchmark::DoNotOptimize(h);
     hits += out.hit ? 1 : 0;
     ++casts;
-    i = (i + 1) & mask;
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
 }

@@ -94,7 +94,7 @@ struct RayCase {
   Ray ray;
 };
 
-/// One ray cast per iteration, as bench_ray_cast's rows: case i (cycling through `cases`, a
+/// One ray cast per iteration, as bench_ray_cast's rows: case i (in CaseOrder over `cases`, a
 /// power of two) against shape i & state.range(1). v3 casts in the shape's frame: the ray in
 /// and the hit point and normal out are converted (timed). Counter "hit_rate".
 void ray_cast(benchmark::State& state, std::span<const Polygon> shapes,

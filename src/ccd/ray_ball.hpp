@@ -5,7 +5,10 @@
 
 #include <collide/core/aabb.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace collide::detail {
 
@@ -17,29 +20,47 @@ struct LocalHitN {
   VecN<D> normal{0.0f};
 };
 
+/// `x` where `keep` is all ones, +0 where it is zero: a select without a branch (a ternary on
+/// floats often compiles to one, and random rays mispredict it).
+[[nodiscard]] inline float keep_if(float x, std::uint32_t keep) noexcept {
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) & keep);
+}
+
+/// All ones if `b`, else zero: the mask of keep_if.
+[[nodiscard]] inline std::uint32_t mask_of(bool b) noexcept {
+  return 0u - static_cast<std::uint32_t>(b);
+}
+
 /// First entry of the ray m + t d, t in [0, 1], into the ball of `radius` about the origin
 /// (m is the ray's origin relative to the ball's centre), in D dimensions. Ericson, Real-Time
 /// Collision Detection, 5.3.2, with the discriminant computed from the ray's closest approach to
 /// the centre (r^2 - |m_perp|^2) instead of b^2 - c, which cancels badly for rays that pass far
 /// away (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems
 /// 7). One division; the normal is the hit point over the radius, which is unit by
-/// construction. An origin in the closed ball, a zero-length ray and NaN all miss.
+/// construction. An origin in the closed ball, a zero-length ray and NaN all miss (every field
+/// zero). Without branches: the conditions are gathered into a mask that zeroes a miss's fields
+/// (random rays hit or miss at random; bench_ray_cast, circles visited in an order the branch
+/// predictor cannot learn: 14 -> 9 ns on the AMD EPYC host of stop 49).
 template <int D>
 [[nodiscard]] inline LocalHitN<D> ray_ball(VecN<D> m, VecN<D> d, float radius) noexcept {
   const float c = length_squared(m) - radius * radius;
   const float b = dot(m, d);
-  // Origin in the closed ball (no entry), or outside and not heading towards the centre.
-  if (!(c > 0.0f) || b >= 0.0f) return {};
   const float inv_dd = 1.0f / length_squared(d);
   const float tc = -b * inv_dd;        // parameter of the closest approach
   const VecN<D> closest = m + tc * d;  // centre to closest approach
   const float disc = radius * radius - length_squared(closest);
-  if (disc < 0.0f) return {};
-  const float t = tc - std::sqrt(disc * inv_dd);
-  if (!(t <= 1.0f)) return {};
+  const float t = tc - std::sqrt(std::max(disc, 0.0f) * inv_dd);
+  // Origin outside the closed ball and heading towards the centre, a line that reaches the
+  // ball, and an entry within the ray's length.
+  const bool hit = (c > 0.0f) & (b < 0.0f) & (disc >= 0.0f) & (t <= 1.0f);
   // A zero-radius ball hit dead on has no surface direction: face the ray.
   const VecN<D> n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
-  return {true, t > 0.0f ? t : 0.0f, n};
+  const std::uint32_t keep = mask_of(hit);
+  LocalHitN<D> h;
+  h.hit = hit;
+  h.fraction = keep_if(std::max(t, 0.0f), keep);
+  for (int k = 0; k < D; ++k) h.normal[k] = keep_if(n[k], keep);
+  return h;
 }
 
 }  // namespace collide::detail

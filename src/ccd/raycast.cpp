@@ -256,8 +256,11 @@ RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexc
 RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
   const Vec2 m = (ray.origin - xf.p) - rotate(xf.q, circle.center);
   const LocalHit h = ray_disc(m, ray.translation, circle.radius);  // zero length: b = 0, miss
-  if (!h.hit) return {};
-  return {true, h.fraction, ray.at(h.fraction), h.normal};
+  // A miss's fields are zero by a mask, not a branch (ray_ball's reason).
+  const std::uint32_t keep = detail::mask_of(h.hit);
+  const Vec2 point = ray.at(h.fraction);
+  return {h.hit, h.fraction, {detail::keep_if(point.x, keep), detail::keep_if(point.y, keep)},
+          h.normal};
 }
 
 }  // namespace
