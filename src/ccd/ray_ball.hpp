@@ -31,6 +31,13 @@ struct LocalHitN {
   return 0u - static_cast<std::uint32_t>(b);
 }
 
+/// `a` if `c`, else `b`, by masks: no branch.
+[[nodiscard]] inline float pick(bool c, float a, float b) noexcept {
+  const std::uint32_t m = mask_of(c);
+  return std::bit_cast<float>((std::bit_cast<std::uint32_t>(a) & m) |
+                              (std::bit_cast<std::uint32_t>(b) & ~m));
+}
+
 /// First entry of the ray m + t d, t in [0, 1], into the ball of `radius` about the origin
 /// (m is the ray's origin relative to the ball's centre), in D dimensions. Ericson, Real-Time
 /// Collision Detection, 5.3.2, with the discriminant computed from the ray's closest approach to
