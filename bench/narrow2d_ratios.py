@@ -36,6 +36,15 @@ LABELS = {
     "BM_Contact_CapsulePoly/1024":
         "manifold, capsule-6-gon, 1024 pairs (`b2CollidePolygonAndCapsule`)",
     "BM_Contact_CapsulePoly/64": "manifold, capsule-6-gon, 64 pairs",
+    "BM_Contact_Poly4_shuffled/1024":
+        "manifold, 4-gons, 1024 pairs, shuffled (an order no branch predictor learns)",
+    "BM_Contact_Poly4_shuffled/64": "manifold, 4-gons, 64 pairs, shuffled",
+    "BM_Contact_Poly8_shuffled/1024": "manifold, 8-gons, 1024 pairs, shuffled",
+    "BM_Contact_Poly8_shuffled/64": "manifold, 8-gons, 64 pairs, shuffled",
+    "BM_Contact_CirclePoly_shuffled/1024": "manifold, circle-6-gon, 1024 pairs, shuffled",
+    "BM_Contact_CirclePoly_shuffled/64": "manifold, circle-6-gon, 64 pairs, shuffled",
+    "BM_Contact_CapsulePoly_shuffled/1024": "manifold, capsule-6-gon, 1024 pairs, shuffled",
+    "BM_Contact_CapsulePoly_shuffled/64": "manifold, capsule-6-gon, 64 pairs, shuffled",
     "BM_Distance_Poly4": "distance, 4-gons, cold (`b2ShapeDistance`)",
     "BM_Distance_Poly8": "distance, 8-gons, cold",
     "BM_Distance_CirclePoly8": "distance, circle-8-gon, cold",

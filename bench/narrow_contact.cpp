@@ -8,6 +8,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "case_order.hpp"
+
 #include "box2d_v3/queries.hpp"
 #include "support/random.hpp"
 #include <box2d/box2d.h>
@@ -134,13 +136,17 @@ const CapsulePairs& capsule_pairs() {
 // state.range(0): how many of the pairs to cycle through. 1024 distinct pairs spread collide's
 // 192-byte polygons over 384 KiB (a world's worth of shapes, out of L1); 64 stay in L1 and show
 // the arithmetic alone.
+// `shuffled`: the pairs in CaseOrder instead (case_order.hpp), which no branch predictor learns;
+// replayed in the same order every batch, they are learnt (the *_shuffled rows, stop 49).
 template <class Pairs>
-void ours(benchmark::State& state, const Pairs& p) {
+void ours(benchmark::State& state, const Pairs& p, bool shuffled) {
   const int pairs = static_cast<int>(state.range(0));
   int touching = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs - 1));
   for (auto _ : state) {
     touching = 0;
-    for (int i = 0; i < pairs; ++i) {
+    for (int k = 0; k < pairs; ++k) {
+      const int i = shuffled ? static_cast<int>(order.next()) : k;
       const Manifold m = contact(p.a[i], p.xa[i], p.b[i], p.xb[i]);
       benchmark::DoNotOptimize(m);
       touching += m.count > 0 ? 1 : 0;
@@ -151,12 +157,14 @@ void ours(benchmark::State& state, const Pairs& p) {
 }
 
 template <class Pairs, class Collide>
-void box2d(benchmark::State& state, const Pairs& p, Collide collide) {
+void box2d(benchmark::State& state, const Pairs& p, Collide collide, bool shuffled = false) {
   const int pairs = static_cast<int>(state.range(0));
   int touching = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs - 1));
   for (auto _ : state) {
     touching = 0;
-    for (int i = 0; i < pairs; ++i) {
+    for (int k = 0; k < pairs; ++k) {
+      const int i = shuffled ? static_cast<int>(order.next()) : k;
       b2Manifold m;
       collide(&m, &p.a2[i], p.xa2[i], &p.b2[i], p.xb2[i]);
       b2WorldManifold wm;
@@ -170,14 +178,14 @@ void box2d(benchmark::State& state, const Pairs& p, Collide collide) {
 }
 
 template <class Pairs>
-void v3(benchmark::State& s, const Pairs& p) {
+void v3(benchmark::State& s, const Pairs& p, bool shuffled) {
   using B = typename decltype(p.b)::value_type;
   if constexpr (std::is_same_v<B, Polygon>) {
-    box2d_v3::contact_polygons(s, p.a, p.xa, p.b, p.xb);
+    box2d_v3::contact_polygons(s, p.a, p.xa, p.b, p.xb, shuffled);
   } else if constexpr (std::is_same_v<B, Circle>) {
-    box2d_v3::contact_polygon_circle(s, p.a, p.xa, p.b, p.xb);
+    box2d_v3::contact_polygon_circle(s, p.a, p.xa, p.b, p.xb, shuffled);
   } else {
-    box2d_v3::contact_polygon_capsule(s, p.a, p.xa, p.b, p.xb);
+    box2d_v3::contact_polygon_capsule(s, p.a, p.xa, p.b, p.xb, shuffled);
   }
 }
 
@@ -190,20 +198,32 @@ int main(int argc, char** argv) {
   const auto add = [](const std::string& name, auto fn) {
     benchmark::RegisterBenchmark(name.c_str(), fn)->Arg(kPairs)->Arg(64);
   };
-  add("BM_Contact_Poly4/collide", [](benchmark::State& s) { ours(s, polygon_pairs(4)); });
-  add("BM_Contact_Poly4/box2d_v3", [](benchmark::State& s) { v3(s, polygon_pairs(4)); });
-  add("BM_Contact_Poly4/box2d",
-      [](benchmark::State& s) { box2d(s, polygon_pairs(4), b2CollidePolygons); });
-  add("BM_Contact_Poly8/collide", [](benchmark::State& s) { ours(s, polygon_pairs(8)); });
-  add("BM_Contact_Poly8/box2d_v3", [](benchmark::State& s) { v3(s, polygon_pairs(8)); });
-  add("BM_Contact_Poly8/box2d",
-      [](benchmark::State& s) { box2d(s, polygon_pairs(8), b2CollidePolygons); });
-  add("BM_Contact_CirclePoly/collide", [](benchmark::State& s) { ours(s, circle_pairs()); });
-  add("BM_Contact_CirclePoly/box2d_v3", [](benchmark::State& s) { v3(s, circle_pairs()); });
-  add("BM_Contact_CirclePoly/box2d",
-      [](benchmark::State& s) { box2d(s, circle_pairs(), b2CollidePolygonAndCircle); });
-  add("BM_Contact_CapsulePoly/collide", [](benchmark::State& s) { ours(s, capsule_pairs()); });
-  add("BM_Contact_CapsulePoly/box2d_v3", [](benchmark::State& s) { v3(s, capsule_pairs()); });
+  for (const bool shuffled : {false, true}) {
+    const std::string order = shuffled ? "_shuffled" : "";
+    add("BM_Contact_Poly4" + order + "/collide",
+        [=](benchmark::State& s) { ours(s, polygon_pairs(4), shuffled); });
+    add("BM_Contact_Poly4" + order + "/box2d_v3",
+        [=](benchmark::State& s) { v3(s, polygon_pairs(4), shuffled); });
+    add("BM_Contact_Poly4" + order + "/box2d",
+        [=](benchmark::State& s) { box2d(s, polygon_pairs(4), b2CollidePolygons, shuffled); });
+    add("BM_Contact_Poly8" + order + "/collide",
+        [=](benchmark::State& s) { ours(s, polygon_pairs(8), shuffled); });
+    add("BM_Contact_Poly8" + order + "/box2d_v3",
+        [=](benchmark::State& s) { v3(s, polygon_pairs(8), shuffled); });
+    add("BM_Contact_Poly8" + order + "/box2d",
+        [=](benchmark::State& s) { box2d(s, polygon_pairs(8), b2CollidePolygons, shuffled); });
+    add("BM_Contact_CirclePoly" + order + "/collide",
+        [=](benchmark::State& s) { ours(s, circle_pairs(), shuffled); });
+    add("BM_Contact_CirclePoly" + order + "/box2d_v3",
+        [=](benchmark::State& s) { v3(s, circle_pairs(), shuffled); });
+    add("BM_Contact_CirclePoly" + order + "/box2d", [=](benchmark::State& s) {
+      box2d(s, circle_pairs(), b2CollidePolygonAndCircle, shuffled);
+    });
+    add("BM_Contact_CapsulePoly" + order + "/collide",
+        [=](benchmark::State& s) { ours(s, capsule_pairs(), shuffled); });
+    add("BM_Contact_CapsulePoly" + order + "/box2d_v3",
+        [=](benchmark::State& s) { v3(s, capsule_pairs(), shuffled); });
+  }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -56,12 +56,14 @@ struct WorldManifold {
 };
 
 template <class P, class Collide>
-void run(benchmark::State& state, const P& p, Collide collide) {
+void run(benchmark::State& state, const P& p, Collide collide, bool shuffled) {
   const int pairs = static_cast<int>(state.range(0));
   int touching = 0;
+  CaseOrder order(static_cast<std::uint32_t>(pairs - 1));
   for (auto _ : state) {
     touching = 0;
-    for (int i = 0; i < pairs; ++i) {
+    for (int k = 0; k < pairs; ++k) {
+      const int i = shuffled ? static_cast<int>(order.next()) : k;
       const b2Transform xa = p.xa[static_cast<size_t>(i)];
       const b2Transform rel = b2InvMulTransforms(xa, p.xb[static_cast<size_t>(i)]);
       const b2LocalManifold m =
@@ -94,20 +96,20 @@ void add_context() {
 
 void contact_polygons(benchmark::State& state, std::span<const Polygon> a,
                       std::span<const Transform> xa, std::span<const Polygon> b,
-                      std::span<const Transform> xb) {
-  run(state, convert(a, xa, b, xb), b2CollidePolygons);
+                      std::span<const Transform> xb, bool shuffled) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygons, shuffled);
 }
 
 void contact_polygon_circle(benchmark::State& state, std::span<const Polygon> a,
                             std::span<const Transform> xa, std::span<const Circle> b,
-                            std::span<const Transform> xb) {
-  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCircle);
+                            std::span<const Transform> xb, bool shuffled) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCircle, shuffled);
 }
 
 void contact_polygon_capsule(benchmark::State& state, std::span<const Polygon> a,
                              std::span<const Transform> xa, std::span<const Capsule> b,
-                             std::span<const Transform> xb) {
-  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCapsule);
+                             std::span<const Transform> xb, bool shuffled) {
+  run(state, convert(a, xa, b, xb), b2CollidePolygonAndCapsule, shuffled);
 }
 
 namespace {

@@ -29,19 +29,20 @@ namespace collide::bench::box2d_v3 {
 /// Box2D 2.4's instruction set (Debian's x86-64 package). Call after benchmark::Initialize.
 void add_context();
 
-/// Manifolds of pairs [0, state.range(0)) per iteration: `b2CollidePolygons` with the relative
-/// transform, then points and normal to world space. Counter "overlap": touching fraction.
+/// Manifolds of pairs [0, state.range(0)) per iteration (in that order, or `shuffled`: as many
+/// pairs in CaseOrder, case_order.hpp): `b2CollidePolygons` with the relative transform, then
+/// points and normal to world space. Counter "overlap": touching fraction.
 void contact_polygons(benchmark::State& state, std::span<const Polygon> a,
                       std::span<const Transform> xa, std::span<const Polygon> b,
-                      std::span<const Transform> xb);
+                      std::span<const Transform> xb, bool shuffled = false);
 /// As contact_polygons, `b2CollidePolygonAndCircle`.
 void contact_polygon_circle(benchmark::State& state, std::span<const Polygon> a,
                             std::span<const Transform> xa, std::span<const Circle> b,
-                            std::span<const Transform> xb);
+                            std::span<const Transform> xb, bool shuffled = false);
 /// As contact_polygons, `b2CollidePolygonAndCapsule`.
 void contact_polygon_capsule(benchmark::State& state, std::span<const Polygon> a,
                              std::span<const Transform> xa, std::span<const Capsule> b,
-                             std::span<const Transform> xb);
+                             std::span<const Transform> xb, bool shuffled = false);
 
 /// A moving pair as the continuous collision benches hold it (world space; velocities are the
 /// displacement over the step).
