@@ -47,7 +47,7 @@ struct LocalHitN {
 /// construction. An origin in the closed ball, a zero-length ray and NaN all miss (every field
 /// zero). Without branches: the conditions are gathered into a mask that zeroes a miss's fields
 /// (random rays hit or miss at random; bench_ray_cast, circles visited in an order the branch
-/// predictor cannot learn: 14 -> 9 ns on the AMD EPYC host of stop 49).
+/// predictor cannot learn: 14 -> 11 ns on the AMD EPYC host of stop 49).
 template <int D>
 [[nodiscard]] inline LocalHitN<D> ray_ball(VecN<D> m, VecN<D> d, float radius) noexcept {
   const float c = length_squared(m) - radius * radius;

@@ -101,10 +101,9 @@ LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
   const bool side_hit = above & reaches & (x_side >= 0.0f) & (x_side <= ll);
   // Otherwise the disc at the end on the side of where the ray meets the band (or of the origin,
   // level with it); none if it starts inside the band between the ends, or above it and never
-  // reaches its line.
-  // x_side < 0 without waiting for the division: -dy has the sign of `side` where the ray
-  // reaches the side (elsewhere the disc is not used above the band).
-  const float x_side_scaled = px * -dy + (py - side * rl) * dot(d, axis);  // x_side times -dy
+  // reaches its line. Which end, from the sign of x_side without waiting for the division:
+  // x_side times -dy, and -dy has the sign of `side` wherever the ray reaches the side.
+  const float x_side_scaled = px * -dy + (py - side * rl) * dot(d, axis);
   const bool at_a = above ? side * x_side_scaled < 0.0f : px < 0.0f;
   const Vec2 centre{pick(at_a, capsule.a.x, capsule.b.x), pick(at_a, capsule.a.y, capsule.b.y)};
   const LocalHit disc = ray_disc(p - centre, d, r);

@@ -372,6 +372,15 @@ bool translating(const Sweep& sweep_a, const Sweep& sweep_b) noexcept {
   return !PairMotion<2>::rotates(sweep_a) && !PairMotion<2>::rotates(sweep_b);
 }
 
+/// A circle or capsule A and a polygon B, validated: the grown cast when neither turns, else
+/// conservative advancement.
+template <class Rounded>
+ToiResult rounded_polygon_toi(const Rounded& a, const Sweep& sweep_a, const Polygon& b,
+                              const Sweep& sweep_b, float target) {
+  if (translating(sweep_a, sweep_b)) return toi_rounded_polygon(a, sweep_a, b, sweep_b, target);
+  return advance<2>(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+}
+
 /// The validation of every time_of_impact on shapes.
 void check_toi_input(const Sweep& sweep_a, const Sweep& sweep_b, float target) {
   check_sweep(sweep_a, "sweep_a");
@@ -405,25 +414,25 @@ ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Polygon& 
 ToiResult time_of_impact(const Circle& a, const Sweep& sweep_a, const Polygon& b,
                          const Sweep& sweep_b, float target) {
   check_toi_input(sweep_a, sweep_b, target);
-  if (translating(sweep_a, sweep_b)) return toi_rounded_polygon(a, sweep_a, b, sweep_b, target);
-  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+  return rounded_polygon_toi(a, sweep_a, b, sweep_b, target);
 }
 
 ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Circle& b,
                          const Sweep& sweep_b, float target) {
-  return seen_from_b(time_of_impact(b, sweep_b, a, sweep_a, target));
+  check_toi_input(sweep_a, sweep_b, target);
+  return seen_from_b(rounded_polygon_toi(b, sweep_b, a, sweep_a, target));
 }
 
 ToiResult time_of_impact(const Capsule& a, const Sweep& sweep_a, const Polygon& b,
                          const Sweep& sweep_b, float target) {
   check_toi_input(sweep_a, sweep_b, target);
-  if (translating(sweep_a, sweep_b)) return toi_rounded_polygon(a, sweep_a, b, sweep_b, target);
-  return time_of_impact(ConvexProxy(a), sweep_a, ConvexProxy(b), sweep_b, target);
+  return rounded_polygon_toi(a, sweep_a, b, sweep_b, target);
 }
 
 ToiResult time_of_impact(const Polygon& a, const Sweep& sweep_a, const Capsule& b,
                          const Sweep& sweep_b, float target) {
-  return seen_from_b(time_of_impact(b, sweep_b, a, sweep_a, target));
+  check_toi_input(sweep_a, sweep_b, target);
+  return seen_from_b(rounded_polygon_toi(b, sweep_b, a, sweep_a, target));
 }
 
 ToiResult time_of_impact(const Shape2D& a, const Sweep& sweep_a, const Shape2D& b,

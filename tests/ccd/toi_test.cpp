@@ -356,7 +356,6 @@ TEST(TimeOfImpact, TranslatingPolygonsTakeTheAxisCast) {
   EXPECT_GT(hits, total / 5);
   EXPECT_GT(axis_hits, hits * 3 / 4) << "the axis cast answers most translating hits";
   EXPECT_LE(disagree, total / 50);
-  (void)band;
 }
 
 // 5d. Face to face the axis cast's time is exact; corners meeting first are farther apart at
@@ -463,6 +462,19 @@ TEST(TimeOfImpact, RejectsBadInput) {
     EXPECT_STREQ(e.what(), "sweep_b c1: not finite");
   }
   EXPECT_THROW((void)time_of_impact(Shape2D(c), bad, Shape2D(c), s), InvalidInput);
+  // The typed overloads that answer from the other shape's side still name the caller's sweep.
+  const Polygon box = make_box({0.5f, 0.5f});
+  const Capsule cap = make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.2f);
+  for (int k = 0; k < 3; ++k) {
+    try {
+      if (k == 0) (void)time_of_impact(box, bad, c, s);
+      if (k == 1) (void)time_of_impact(box, bad, cap, s);
+      if (k == 2) (void)time_of_impact(box, bad, box, s);
+      FAIL() << "expected InvalidInput " << k;
+    } catch (const InvalidInput& e) {
+      EXPECT_STREQ(e.what(), "sweep_a c1: not finite") << k;
+    }
+  }
   EXPECT_THROW((void)time_of_impact(c, s, c, s, std::numeric_limits<float>::quiet_NaN()),
                InvalidInput);
 }
