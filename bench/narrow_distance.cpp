@@ -22,6 +22,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "case_order.hpp"
+
 #include "box2d_v3/queries.hpp"
 #include "support/random.hpp"
 #include <box2d/b2_distance.h>
@@ -144,15 +146,19 @@ DistanceResult query(const Pair& p, const Transform& xb, SimplexCache* cache, bo
   return distance(p.a.polygon, p.xa, p.b.polygon, xb, cache);
 }
 
+/// `shuffled` (cold rows only): the batch's pairs drawn in CaseOrder (case_order.hpp), which no
+/// branch predictor learns, instead of replayed in the same order every batch.
 void distance_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool warm,
-                      bool gjk_only) {
+                      bool gjk_only, bool shuffled) {
   std::vector<SimplexCache> caches(pairs->size());
   int frame = 0;
   int iterations = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     float sum = 0.0f;
     iterations = 0;
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       const Pair& p = (*pairs)[i];
       const DistanceResult r =
           query(p, p.xb[warm ? frame : 0], warm ? &caches[i] : nullptr, gjk_only);
@@ -166,7 +172,8 @@ void distance_collide(benchmark::State& state, const std::vector<Pair>* pairs, b
   state.counters["iters"] = static_cast<double>(iterations) / static_cast<double>(pairs->size());
 }
 
-void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool warm) {
+void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool warm,
+                    bool shuffled) {
   std::vector<b2DistanceInput> inputs(pairs->size());
   for (size_t i = 0; i < pairs->size(); ++i) {
     inputs[i].proxyA = b2_proxy((*pairs)[i].a);
@@ -177,9 +184,11 @@ void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, boo
   std::vector<b2SimplexCache> caches(pairs->size());
   for (b2SimplexCache& c : caches) c.count = 0;
   int frame = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     float sum = 0.0f;
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       b2DistanceInput& in = inputs[i];
       in.transformB = (*pairs)[i].xb_b2[warm ? frame : 0];
       b2SimplexCache cold;
@@ -194,22 +203,28 @@ void distance_box2d(benchmark::State& state, const std::vector<Pair>* pairs, boo
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
 }
 
-void overlap_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
+void overlap_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   int hits = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     hits = 0;
-    for (const Pair& p : *pairs) hits += overlap(p.a.polygon, p.xa, p.b.polygon, p.xb[0]) ? 1 : 0;
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const Pair& p = (*pairs)[shuffled ? order.next() : k];
+      hits += overlap(p.a.polygon, p.xa, p.b.polygon, p.xb[0]) ? 1 : 0;
+    }
     benchmark::DoNotOptimize(hits);
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(pairs->size()));
   state.counters["overlap"] = static_cast<double>(hits) / static_cast<double>(pairs->size());
 }
 
-void overlap_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
+void overlap_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   int hits = 0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     hits = 0;
-    for (const Pair& p : *pairs) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const Pair& p = (*pairs)[shuffled ? order.next() : k];
       hits += b2TestOverlap(&p.a.b2_polygon, 0, &p.b.b2_polygon, 0, p.xa_b2, p.xb_b2[0]) ? 1 : 0;
     }
     benchmark::DoNotOptimize(hits);
@@ -256,12 +271,13 @@ std::vector<collide::bench::box2d_v3::DistancePair> v3_pairs(const std::vector<P
   return out;
 }
 
-void distance_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool warm) {
-  collide::bench::box2d_v3::distance(state, v3_pairs(*pairs), warm);
+void distance_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool warm,
+                       bool shuffled) {
+  collide::bench::box2d_v3::distance(state, v3_pairs(*pairs), warm, shuffled);
 }
 
-void overlap_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
-  collide::bench::box2d_v3::overlap(state, v3_pairs(*pairs));
+void overlap_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
+  collide::bench::box2d_v3::overlap(state, v3_pairs(*pairs), shuffled);
 }
 
 bool fits_v3(const std::vector<Pair>& pairs) {
@@ -294,27 +310,35 @@ int main(int argc, char** argv) {
       {"BM_DistanceWarm_Poly8", &poly8, true},    {"BM_DistanceWarm_Poly64Poly8", &poly64, true},
   };
   for (const Case& c : cases) {
-    benchmark::RegisterBenchmark((std::string(c.name) + "/collide").c_str(), distance_collide,
-                                 c.pairs, c.warm, false);
-    benchmark::RegisterBenchmark((std::string(c.name) + "/gjk").c_str(), distance_collide,
-                                 c.pairs, c.warm, true);
-    if (fits_v3(*c.pairs)) {
-      benchmark::RegisterBenchmark((std::string(c.name) + "/box2d_v3").c_str(), distance_box2d_v3,
-                                   c.pairs, c.warm);
+    // Cold rows also with the pairs shuffled (the name's _shuffled), side by side.
+    for (const bool shuffled : {false, true}) {
+      if (shuffled && c.warm) continue;
+      const std::string name = std::string(c.name) + (shuffled ? "_shuffled" : "");
+      benchmark::RegisterBenchmark((name + "/collide").c_str(), distance_collide, c.pairs, c.warm,
+                                   false, shuffled);
+      benchmark::RegisterBenchmark((name + "/gjk").c_str(), distance_collide, c.pairs, c.warm,
+                                   true, shuffled);
+      if (fits_v3(*c.pairs)) {
+        benchmark::RegisterBenchmark((name + "/box2d_v3").c_str(), distance_box2d_v3, c.pairs,
+                                     c.warm, shuffled);
+      }
+      benchmark::RegisterBenchmark((name + "/box2d").c_str(), distance_box2d, c.pairs, c.warm,
+                                   shuffled);
     }
-    benchmark::RegisterBenchmark((std::string(c.name) + "/box2d").c_str(), distance_box2d,
-                                 c.pairs, c.warm);
   }
   const std::pair<const char*, const std::vector<Pair>*> overlaps[] = {
       {"BM_Overlap_Poly4", &poly4},
       {"BM_Overlap_Poly8", &poly8},
       {"BM_Overlap_Poly4Touching", &poly4_touching},
       {"BM_Overlap_Poly8Touching", &poly8_touching}};
-  for (const auto& [name, pairs] : overlaps) {
-    benchmark::RegisterBenchmark((std::string(name) + "/collide").c_str(), overlap_collide, pairs);
-    benchmark::RegisterBenchmark((std::string(name) + "/box2d_v3").c_str(), overlap_box2d_v3,
-                                 pairs);
-    benchmark::RegisterBenchmark((std::string(name) + "/box2d").c_str(), overlap_box2d, pairs);
+  for (const auto& [base, pairs] : overlaps) {
+    for (const bool shuffled : {false, true}) {
+      const std::string name = std::string(base) + (shuffled ? "_shuffled" : "");
+      benchmark::RegisterBenchmark((name + "/collide").c_str(), overlap_collide, pairs, shuffled);
+      benchmark::RegisterBenchmark((name + "/box2d_v3").c_str(), overlap_box2d_v3, pairs,
+                                   shuffled);
+      benchmark::RegisterBenchmark((name + "/box2d").c_str(), overlap_box2d, pairs, shuffled);
+    }
   }
   benchmark::RegisterBenchmark("BM_Overlap_Poly4/sat_alternative", overlap_sat_alternative, &poly4);
   benchmark::RegisterBenchmark("BM_Overlap_Poly8/sat_alternative", overlap_sat_alternative, &poly8);

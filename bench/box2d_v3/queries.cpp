@@ -208,16 +208,19 @@ DistanceInputs distance_inputs(std::span<const DistancePair> pairs) {
 
 }  // namespace
 
-void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm) {
+void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm,
+              bool shuffled) {
   DistanceInputs d = distance_inputs(pairs);
   std::vector<b2SimplexCache> caches(pairs.size(), b2SimplexCache{});
   const size_t frames = pairs.empty() ? 1 : pairs[0].xb.size();
   size_t frame = 0;
   int iterations = 0;
+  CaseOrder order(static_cast<std::uint32_t>(d.inputs.size() - 1));
   for (auto _ : state) {
     float sum = 0.0f;
     iterations = 0;
-    for (size_t i = 0; i < d.inputs.size(); ++i) {
+    for (size_t k = 0; k < d.inputs.size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       b2DistanceInput& in = d.inputs[i];
       in.transform = b2InvMulTransforms(d.xa[i], d.xb[i][warm ? frame : 0]);
       b2SimplexCache cold{};
@@ -237,12 +240,14 @@ void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool
   state.counters["iters"] = static_cast<double>(iterations) / static_cast<double>(pairs.size());
 }
 
-void overlap(benchmark::State& state, std::span<const DistancePair> pairs) {
+void overlap(benchmark::State& state, std::span<const DistancePair> pairs, bool shuffled) {
   DistanceInputs d = distance_inputs(pairs);
   int hits = 0;
+  CaseOrder order(static_cast<std::uint32_t>(d.inputs.size() - 1));
   for (auto _ : state) {
     hits = 0;
-    for (size_t i = 0; i < d.inputs.size(); ++i) {
+    for (size_t k = 0; k < d.inputs.size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       b2DistanceInput& in = d.inputs[i];
       in.transform = b2InvMulTransforms(d.xa[i], d.xb[i][0]);
       b2SimplexCache cache{};

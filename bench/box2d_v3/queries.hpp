@@ -82,12 +82,14 @@ inline constexpr int kMaxProxyPoints = 8;
 
 /// `b2ShapeDistance` (radii included) over every pair per iteration, B's pose put in A's frame
 /// and the frame-A points and normal put back in world space (both timed). Warm: each pair
-/// keeps its simplex cache and B advances one frame per iteration.
-void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm);
+/// keeps its simplex cache and B advances one frame per iteration. `shuffled`: as many pairs
+/// per iteration drawn in CaseOrder (case_order.hpp) instead of in order.
+void distance(benchmark::State& state, std::span<const DistancePair> pairs, bool warm,
+              bool shuffled = false);
 
 /// Overlap as v3 answers it (it has no boolean test): `b2ShapeDistance` below 10 FLT_EPSILON,
-/// cold, frame 0. Counter "overlap": the overlapping fraction.
-void overlap(benchmark::State& state, std::span<const DistancePair> pairs);
+/// cold, frame 0. Counter "overlap": the overlapping fraction. `shuffled` as for distance.
+void overlap(benchmark::State& state, std::span<const DistancePair> pairs, bool shuffled = false);
 
 /// One ray cast: the shape's placement and the ray, world space.
 struct RayCase {
