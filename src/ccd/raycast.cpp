@@ -246,10 +246,8 @@ RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) 
   // branch on t and the clip for boxes: 4-gons 38 -> 20 ns, 8-gons 21.7 -> 22.5-23 (Intel Xeon,
   // one A/B). Hosts differ here: on the AMD host of stop 39 a wholly branch-free end (no early
   // return for a missed line either) lost, 10.4 -> 15 ns; the missed line keeps its return.
-  const std::uint32_t keep = 0u - static_cast<std::uint32_t>(cast.hit);
-  const auto masked = [keep](float x) {
-    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(x) & keep);
-  };
+  const std::uint32_t keep = detail::mask_of(cast.hit);
+  const auto masked = [keep](float x) { return detail::keep_if(x, keep); };
   const float t = masked(cast.fraction);
   const Vec2 point = ray.at(t);
   const Vec2 normal = rotate(xf.q, poly.normals[cast.edge]);
@@ -300,8 +298,7 @@ LocalHit ray_rounded_outline(const OutlineView& o, float radius, Vec2 p, Vec2 d,
   // straight on (collinear edges: an upright capsule's segment beside a box's side in B - S;
   // or nearly, where the clip's choice between equal pushed lines is rounding) the entry can
   // lie in a later edge's band, or beyond it too: walk along until the band or the kite.
-  const auto next = [&o](int k) { return k + 1 < o.count ? k + 1 : 0; };
-  const auto previous = [&o](int k) { return k == 0 ? o.count - 1 : k - 1; };
+  const auto next = [&o](int k) { return next_vertex(k, o.count); };
   int i = clip.plane;
   for (int step = 0; step < o.count; ++step) {
     const Vec2 v0 = o.vertices[i];
@@ -310,7 +307,7 @@ LocalHit ray_rounded_outline(const OutlineView& o, float radius, Vec2 p, Vec2 d,
     const float ee = length_squared(e);
     if (s >= 0.0f && s <= ee) return {true, clip.fraction, o.normals[i]};
     const bool forwards = s > ee;
-    const int j = forwards ? next(i) : previous(i);
+    const int j = forwards ? next(i) : previous_vertex(i, o.count);
     const Vec2 w0 = o.vertices[j];
     const Vec2 f = o.vertices[next(j)] - w0;
     const float sj = dot(entry - w0, f);

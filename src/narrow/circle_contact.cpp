@@ -60,7 +60,7 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
       if (s > radius) return m;  // a separating axis
     }
   }
-  const int next = edge + 1 == a.count ? 0 : edge + 1;
+  const int next = next_vertex(edge, a.count);
   const Vec2 v1 = a.vertices[edge];
   const Vec2 v2 = a.vertices[next];
 

@@ -159,11 +159,6 @@ struct PolygonPair {
   float gap = 0.0f;        ///< distance between the cores, > 0
 };
 
-[[nodiscard]] constexpr int next_vertex(int i, int n) noexcept { return i + 1 == n ? 0 : i + 1; }
-[[nodiscard]] constexpr int previous_vertex(int i, int n) noexcept {
-  return i == 0 ? n - 1 : i - 1;
-}
-
 /// Features of two polygons' cores on the way to their closest pair: a corner of each (A's
 /// vertex `first`, B's vertex `second`), or an edge of one (the "first": A's when `a_first`) and
 /// a corner of the other.

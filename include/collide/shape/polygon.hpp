@@ -94,6 +94,14 @@ struct alignas(64) Polygon {
   [[nodiscard]] Vec2 vertex(int i) const noexcept { return vertices[static_cast<size_t>(i % count)]; }
 };
 
+/// Index of the vertex after vertex `i` of a closed outline of `n` vertices (counter-clockwise:
+/// edge i runs from vertex i to vertex next_vertex(i, n)), wrapping to 0.
+[[nodiscard]] constexpr int next_vertex(int i, int n) noexcept { return i + 1 == n ? 0 : i + 1; }
+/// Index of the vertex before vertex `i` of a closed outline of `n` vertices, wrapping to n - 1.
+[[nodiscard]] constexpr int previous_vertex(int i, int n) noexcept {
+  return i == 0 ? n - 1 : i - 1;
+}
+
 /// The convex hull of `points` as a polygon, with rounding `radius`. Points may come in any
 /// order; duplicates (within kWeldTolerance of the point set's size) and collinear points are
 /// dropped. Throws InvalidInput naming the problem if: a coordinate is not finite; the radius
