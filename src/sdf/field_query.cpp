@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <variant>
 
@@ -47,9 +48,11 @@ std::size_t local_index(IVec<D> l) noexcept {
 /// Most surface samples a contact takes of one shape (spacing grows beyond it).
 constexpr int kMaxContactSamples = 256;
 
-/// step_particles asks for the node of the particle this many places on before it needs it
-/// (about the reads a core keeps in flight, ~ memory latency / time per particle).
-constexpr std::size_t kParticlePrefetchAhead = 64;
+/// step_particles works through the particles this many at a time: every node of a chunk is
+/// asked for before the first is read, so the reads overlap (a core keeps about 20 misses in
+/// flight; a chunk takes longer to locate than one miss takes to arrive), and the chunk's
+/// scratch (about 7 KiB in 3D) stays on the stack and in L1.
+constexpr std::size_t kParticleChunk = 256;
 
 /// A hint to bring the cache line at `address` in (and its page's translation); nothing where the
 /// compiler has no such hint.
@@ -402,6 +405,190 @@ float soft_shadow(const F& field, const RayN<F::kDim>& ray, float sharpness) noe
   return std::clamp(light, 0.0f, 1.0f);
 }
 
+/// step_particles' scratch for one chunk of particles (see there), on the stack.
+template <int D>
+struct ParticleChunk {
+  std::array<IVec<D>, kParticleChunk> node;         ///< nearest node (the scalar pass)
+  std::array<std::uint32_t, kParticleChunk> index;  ///< its key (the lane pass; 0 when out):
+                                                    ///< dense, the node's memory index;
+                                                    ///< sparse, its brick region's index
+  std::array<std::uint32_t, kParticleChunk> local;  ///< sparse: the node's place in its brick
+  std::array<std::uint8_t, kParticleChunk> in;      ///< within half a voxel of the grid
+};
+
+/// Pass 1, one particle at a time (fields whose keys need more than 32 bits, and machines
+/// without SSE2): each particle moved, its nearest node found and, for a dense field, asked for.
+template <DistanceFieldType F>
+void move_and_locate(const F& field, const FieldGridN<F::kDim>& grid, VecN<F::kDim>* position,
+                     const VecN<F::kDim>* velocity, float dt, std::size_t first, std::size_t count,
+                     ParticleChunk<F::kDim>& chunk) noexcept {
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t i = first + j;
+    const VecN<F::kDim> p = position[i] + velocity[i] * dt;
+    position[i] = p;
+    chunk.in[j] = grid.nearest_node(p, chunk.node[j]);
+    if constexpr (requires { field.distances; }) {
+      if (chunk.in[j]) prefetch(field.distances.data() + grid.index(chunk.node[j]));
+    }
+  }
+}
+
+#if defined(__SSE2__) || defined(_M_X64)
+/// `v * s` in every 32-bit lane (the low 32 bits of the product), SSE2 (which has no 32-bit
+/// lane multiply): the even lanes, then the odd ones, through the 64-bit multiply.
+inline __m128i mul_lanes(__m128i v, __m128i s) noexcept {
+  const __m128i even = _mm_mul_epu32(v, s);
+  const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(v, 32), s);
+  return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                            _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+}
+
+/// x + dims.x * (y + dims.y * z) in every lane (FieldGridN::index's order), 32 bits.
+template <int D>
+__m128i row_major(const __m128i (&i)[D], glm::vec<D, int> dims) noexcept {
+  __m128i at = i[D - 1];
+  for (int k = D - 2; k >= 0; --k) at = _mm_add_epi32(mul_lanes(at, _mm_set1_epi32(dims[k])), i[k]);
+  return at;
+}
+
+/// Pass 1 four particles at a time in SSE2 lanes: the positions moved as packed floats (the
+/// same float operations as VecN's p + v * dt), transposed to x, y (and z) lanes, and the
+/// nearest nodes found with FieldGridN::nearest_node's float operations (so the same nodes);
+/// then `keys(j, node, in)` stores the four particles' keys from the node lanes and the
+/// inside mask. The last count % 4 particles go through the lanes from a padded copy.
+template <int D, class Keys>
+void move_and_locate_lanes(const FieldGridN<D>& grid, VecN<D>* position, const VecN<D>* velocity,
+                           float dt, std::size_t first, std::size_t count, ParticleChunk<D>& chunk,
+                           Keys&& keys) noexcept {
+  // The particle arrays are read and written as packed floats (glm's vectors hold D floats and
+  // nothing else, as glm::value_ptr relies on).
+  static_assert(sizeof(VecN<D>) == D * sizeof(float), "particles packed as floats");
+  const __m128 step = _mm_set1_ps(dt);
+  const __m128 inv = _mm_set1_ps(1.0f / grid.voxel);
+  const __m128 half = _mm_set1_ps(0.5f);
+  const __m128 zero = _mm_setzero_ps();
+  __m128 origin[D], size[D];
+  for (int k = 0; k < D; ++k) {
+    origin[k] = _mm_set1_ps(grid.origin[k]);
+    size[k] = _mm_set1_ps(float(grid.dims[k]));
+  }
+  const auto four = [&](std::size_t j, float* p, const float* v) {
+    __m128 r[D];  // four particles' packed floats, moved and stored back
+    for (int k = 0; k < D; ++k) {
+      r[k] = _mm_add_ps(_mm_loadu_ps(p + 4 * k), _mm_mul_ps(_mm_loadu_ps(v + 4 * k), step));
+      _mm_storeu_ps(p + 4 * k, r[k]);
+    }
+    __m128 axis[D];  // x, y (, z) of the four particles
+    if constexpr (D == 2) {  // x0 y0 x1 y1 | x2 y2 x3 y3
+      axis[0] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(2, 0, 2, 0));
+      axis[1] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(3, 1, 3, 1));
+    } else {  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+      const __m128 x23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(1, 1, 2, 2));  // x2 x2 x3 x3
+      axis[0] = _mm_shuffle_ps(r[0], x23, _MM_SHUFFLE(2, 0, 3, 0));
+      const __m128 y01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(0, 0, 1, 1));  // y0 y0 y1 y1
+      const __m128 y23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(2, 2, 3, 3));  // y2 y2 y3 y3
+      axis[1] = _mm_shuffle_ps(y01, y23, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 z01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(1, 1, 2, 2));  // z0 z0 z1 z1
+      const __m128 z23 = _mm_shuffle_ps(r[2], r[2], _MM_SHUFFLE(3, 3, 0, 0));  // z2 z2 z3 z3
+      axis[2] = _mm_shuffle_ps(z01, z23, _MM_SHUFFLE(2, 0, 2, 0));
+    }
+    __m128 in = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    __m128i node[D];
+    for (int k = 0; k < D; ++k) {
+      const __m128 u = _mm_add_ps(_mm_mul_ps(_mm_sub_ps(axis[k], origin[k]), inv), half);
+      in = _mm_and_ps(in, _mm_and_ps(_mm_cmpge_ps(u, zero), _mm_cmplt_ps(u, size[k])));
+      node[k] = _mm_cvttps_epi32(u);  // u >= 0 where it counts: the floor
+    }
+    const int inside = _mm_movemask_ps(in);
+    for (int l = 0; l < 4; ++l) chunk.in[j + l] = static_cast<std::uint8_t>((inside >> l) & 1);
+    keys(j, node, _mm_castps_si128(in));
+  };
+  std::size_t j = 0;
+  for (; j + 4 <= count; j += 4) four(j, &position[first + j].x, &velocity[first + j].x);
+  if (j < count) {  // the last one to three: padded with zeros, moved, copied back
+    float p[4 * D] = {}, v[4 * D] = {};
+    const std::size_t rest = count - j;
+    std::copy_n(&position[first + j].x, rest * D, p);
+    std::copy_n(&velocity[first + j].x, rest * D, v);
+    four(j, p, v);
+    std::copy_n(p, rest * D, &position[first + j].x);
+  }
+}
+#endif
+
+/// Pass 2: the particles of the chunk whose nearest node is not farther out than `clear`, or
+/// that lie outside the grid, into `list` (places in the chunk); returns how many. `keyed`:
+/// pass 1 left keys (the lane pass), else nodes.
+template <DistanceFieldType F>
+std::size_t list_near(const F& field, float clear, std::size_t count, bool keyed,
+                      const ParticleChunk<F::kDim>& chunk,
+                      std::array<std::uint32_t, kParticleChunk>& list) noexcept {
+  constexpr int D = F::kDim;
+  std::size_t near = 0;
+  for (std::size_t j = 0; j < count; ++j) {
+    bool far;
+    if (!keyed) {
+      far = chunk.in[j] && field.node_value(chunk.node[j]) > clear;
+    } else if constexpr (requires { field.distances; }) {
+      // An outside particle's key is 0: a read of node 0, not used.
+      far = chunk.in[j] & (field.distances[chunk.index[j]] > clear);
+    } else {
+      const std::uint32_t brick = field.table[chunk.index[j]];
+      float value = brick == F::kNoBrick ? field.band_distance : -field.band_distance;
+      if (brick < F::kNoBrickInside) value = field.bricks[brick * kBrickNodes<D> + chunk.local[j]];
+      far = chunk.in[j] & (value > clear);
+    }
+    list[near] = static_cast<std::uint32_t>(j);
+    near += far ? 0 : 1;
+  }
+  return near;
+}
+
+/// Pass 1 for particles [first, first + count) into `chunk`; returns whether it left keys.
+template <DistanceFieldType F>
+bool move_and_locate_chunk(const F& field, const FieldGridN<F::kDim>& grid, VecN<F::kDim>* position,
+                           const VecN<F::kDim>* velocity, float dt, std::size_t first,
+                           std::size_t count, ParticleChunk<F::kDim>& chunk) noexcept {
+  constexpr int D = F::kDim;
+#if defined(__SSE2__) || defined(_M_X64)
+  if constexpr (requires { field.distances; }) {
+    if (grid.count() <= std::size_t{std::numeric_limits<std::uint32_t>::max()}) {
+      const float* distances = field.distances.data();
+      move_and_locate_lanes(grid, position, velocity, dt, first, count, chunk,
+                            [&](std::size_t j, const __m128i (&node)[D], __m128i in) {
+                              const __m128i at = _mm_and_si128(row_major<D>(node, grid.dims), in);
+                              _mm_storeu_si128(reinterpret_cast<__m128i*>(&chunk.index[j]), at);
+                              for (int l = 0; l < 4; ++l) prefetch(distances + chunk.index[j + l]);
+                            });
+      return true;
+    }
+  } else {
+    // The brick table is a word per brick region: small and cached; the bricks are read in
+    // pass 2 (asking for them here measured slower: the table read and the branch on the
+    // region's kind cost more than the misses they hide).
+    if (field.table.size() <= std::size_t{std::numeric_limits<std::uint32_t>::max()}) {
+      move_and_locate_lanes(grid, position, velocity, dt, first, count, chunk,
+                            [&](std::size_t j, const __m128i (&node)[D], __m128i in) {
+                              __m128i region[D], local[D];
+                              for (int k = 0; k < D; ++k) {
+                                region[k] = _mm_srai_epi32(node[k], kBrickShift);
+                                local[k] = _mm_and_si128(node[k], _mm_set1_epi32(kFieldBrickSize - 1));
+                              }
+                              const __m128i at = _mm_and_si128(row_major<D>(region, field.bricks_per_axis), in);
+                              __m128i place = local[D - 1];
+                              for (int k = D - 2; k >= 0; --k)
+                                place = _mm_or_si128(_mm_slli_epi32(place, kBrickShift), local[k]);
+                              _mm_storeu_si128(reinterpret_cast<__m128i*>(&chunk.index[j]), at);
+                              _mm_storeu_si128(reinterpret_cast<__m128i*>(&chunk.local[j]), place);
+                            });
+      return true;
+    }
+  }
+#endif
+  move_and_locate(field, grid, position, velocity, dt, first, count, chunk);
+  return false;
+}
+
 template <DistanceFieldType F>
 ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles, float dt, float restitution) noexcept {
   constexpr int D = F::kDim;
@@ -412,65 +599,58 @@ ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles,
   VecN<D>* position = particles.positions.data();
   VecN<D>* velocity = particles.velocities.data();
   // A copy of the grid: the stores to the particles (floats) could alias the field's own, so the
-  // loop would reload it (and divide by the voxel) at every particle.
+  // loops would reload it (and divide by the voxel) at every particle.
   const FieldGridN<D> grid = field.grid;
-  // Each particle's next position and node are worked out kParticlePrefetchAhead particles
-  // before its turn, and its node asked for then; half way there, the node (arrived by then)
-  // tells whether the particle is near the solid, and a near particle's cell is asked for.
-  // Particles sit anywhere, so each read misses the caches (and the TLB) and would otherwise
-  // wait alone.
-  struct Ahead {
-    VecN<D> p;
-    glm::vec<D, int> node;
-    bool in;   ///< p within half a voxel of the grid: `node` is its nearest node
-    bool far;  ///< the nearest node is farther out than `clear`: nothing to do
-  };
-  constexpr std::size_t kAhead = kParticlePrefetchAhead, kHalf = kAhead / 2, kMask = kAhead - 1;
-  static_assert((kAhead & kMask) == 0, "a power of two");
-  Ahead ring[kAhead];
-  const auto plan = [&](std::size_t j) noexcept {
-    Ahead& a = ring[j & kMask];
-    a.p = position[j] + velocity[j] * dt;
-    a.in = grid.nearest_node(a.p, a.node);
-    if constexpr (requires { field.distances; }) {
-      if (a.in) prefetch(field.distances.data() + grid.index(a.node));
-    }
-  };
-  const auto check = [&](std::size_t j) noexcept {
-    Ahead& a = ring[j & kMask];
-    a.far = a.in && field.node_value(a.node) > clear;
-    if constexpr (requires { field.distances; }) {
-      if (a.far || !a.in) return;
-      const float* d = field.distances.data() + grid.index(grid.locate(a.p).node);
-      const auto nx = static_cast<std::size_t>(grid.dims[0]);
-      prefetch(d);
-      prefetch(d + nx + 1);
-      if constexpr (D == 3) {
-        const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims[1]);
-        prefetch(d + nxy);
-        prefetch(d + nxy + nx + 1);
+  // Particles sit anywhere, so each node read misses the caches (and the TLB) and would wait
+  // alone: a chunk's reads are all asked for in pass 1 and made in pass 2, hundreds in flight.
+  ParticleChunk<D> chunk;
+  std::array<std::uint32_t, kParticleChunk> near_list;
+  std::array<IVec<D>, kParticleChunk> near_cell;
+  for (std::size_t first = 0; first < n; first += kParticleChunk) {
+    const std::size_t count = std::min(kParticleChunk, n - first);
+    // 1: move, find the nearest node, ask for it.
+    const bool keyed = move_and_locate_chunk(field, grid, position, velocity, dt, first, count, chunk);
+    // 2: read the nodes (arrived by now), list the particles near the solid, find their cells
+    // and ask for them.
+    const std::size_t near = list_near(field, clear, count, keyed, chunk, near_list);
+    stats.near += near;
+    for (std::size_t k = 0; k < near; ++k) {
+      near_cell[k] = grid.locate(position[first + near_list[k]]).node;
+      if constexpr (requires { field.distances; }) {
+        const float* d = field.distances.data() + grid.index(near_cell[k]);
+        const auto row = static_cast<std::size_t>(grid.dims[0]);
+        prefetch(d);
+        prefetch(d + row + 1);
+        if constexpr (D == 3) {
+          const std::size_t slab = row * static_cast<std::size_t>(grid.dims[1]);
+          prefetch(d + slab);
+          prefetch(d + slab + row + 1);
+        }
       }
     }
-  };
-  for (std::size_t j = 0; j < std::min(n, kAhead); ++j) plan(j);
-  for (std::size_t j = 0; j < std::min(n, kHalf); ++j) check(j);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Ahead a = ring[i & kMask];
-    if (i + kAhead < n) plan(i + kAhead);
-    if (i + kHalf < n) check(i + kHalf);
-    const VecN<D> p = a.p;
-    position[i] = p;
-    if (a.far) continue;  // the one read: far from the solid
-    ++stats.near;
-    VecN<D> g;
-    const float d = field.sample(p, g);
-    const float gl = glm::length(g);
-    if (!(d < 0.0f) || !(gl > 0.0f)) continue;
-    const VecN<D> normal = g / gl;
-    position[i] = p - d * normal;
-    const float vn = glm::dot(velocity[i], normal);
-    if (vn < 0.0f) velocity[i] -= (1.0f + restitution) * vn * normal;
-    ++stats.bounced;
+    // 3: the near ones whose cell has a corner inside are sampled; those inside are pushed back
+    // to the surface and their velocity reflected. A cell whose corners are all >= 0 samples
+    // >= 0 everywhere (each interpolation step a + (b - a) f, f in [0, 1], of non-negative
+    // values rounds to a non-negative value, and outside the box a non-negative distance is
+    // added), so its particle is not inside: the sample is skipped, the result the same.
+    for (std::size_t k = 0; k < near; ++k) {
+      float corner[1 << D];
+      field.cell_values(near_cell[k], corner);
+      float lowest = corner[0];
+      for (int c = 1; c < (1 << D); ++c) lowest = std::min(lowest, corner[c]);
+      if (lowest >= 0.0f) continue;
+      const std::size_t i = first + near_list[k];
+      const VecN<D> p = position[i];
+      VecN<D> g;
+      const float d = field.sample(p, g);
+      const float gl = glm::length(g);
+      if (!(d < 0.0f) || !(gl > 0.0f)) continue;
+      const VecN<D> normal = g / gl;
+      position[i] = p - d * normal;
+      const float vn = glm::dot(velocity[i], normal);
+      if (vn < 0.0f) velocity[i] -= (1.0f + restitution) * vn * normal;
+      ++stats.bounced;
+    }
   }
   return stats;
 }
