@@ -357,7 +357,7 @@ int report_field(const SdfOptions& o, const SdfInput& in, const Field& field, do
                  static_cast<double>(o.gravity));
     std::fprintf(report, "  step time         %.3g ns per particle step (%.3f ms in step_particles)\n",
                  steps > 0 ? 1e9 * p.seconds / steps : 0.0, 1e3 * p.seconds);
-    std::fprintf(report, "  bounces           %zu (%zu particle steps sampled near the surface)\n", p.bounced, p.near);
+    std::fprintf(report, "  bounces           %zu (%zu particle steps near the surface: their cell read)\n", p.bounced, p.near);
     std::fprintf(report, "  ended inside      %d (the field below -%g voxels there at the end)\n", p.inside_at_end,
                  static_cast<double>(kParticleInsideVoxels));
   }
