@@ -79,7 +79,6 @@
 #include "instruction_set.hpp"
 #include "world_step_timing.hpp"
 #include "support/jolt/jolt_scale_world.hpp"
-#include "support/jolt/jolt_world.hpp"  // make_sphere
 
 #include <chrono>
 #include <cmath>

@@ -23,6 +23,7 @@
 #include <Jolt/Physics/Collision/Shape/CapsuleShape.h>
 #include <Jolt/Physics/Collision/Shape/ConvexHullShape.h>
 #include <Jolt/Physics/Collision/Shape/MeshShape.h>
+#include <Jolt/Physics/Collision/Shape/SphereShape.h>
 #include <Jolt/Physics/PhysicsSettings.h>
 #include <Jolt/RegisterTypes.h>
 
@@ -287,10 +288,17 @@ float cast_ray(const Mesh& mesh, Vec origin, Vec translation) {
   return mesh.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
 }
 
-ConvexPtr make_box(Vec half) {
+ConvexPtr make_box(Vec half, float radius) {
   const ClearUpperOnReturn clear_upper;
   ConvexPtr c(new Convex);
-  c->shape = new JPH::BoxShape(to_jolt(half), 0.0f);
+  c->shape = new JPH::BoxShape(to_jolt(half), radius);
+  return c;
+}
+
+ConvexPtr make_sphere(float radius) {
+  const ClearUpperOnReturn clear_upper;
+  ConvexPtr c(new Convex);
+  c->shape = new JPH::SphereShape(radius);
   return c;
 }
 
@@ -369,6 +377,18 @@ CastOut mesh_cast(const Convex& convex, const Pose& pose, Vec translation, const
       JPH::SubShapeIDCreator(), JPH::SubShapeIDCreator(), collector);
   if (!collector.HadHit()) return {};
   return {true, collector.mHit.mFraction};
+}
+
+float cast_ray(const Convex& convex, const Pose& pose, Vec origin, Vec translation) {
+  const ClearUpperOnReturn clear_upper;
+  // TransformedShape::CastRay: the ray into the centre-of-mass frame (its inverse transform made
+  // from the rotation and the centre of mass's position, as TransformedShape holds them).
+  const JPH::Quat q = to_jolt(pose.q);
+  const Vec3 com = to_jolt(pose.p) + q * convex.shape->GetCenterOfMass();
+  const JPH::RayCast ray =
+      JPH::RayCast{to_jolt(origin), to_jolt(translation)}.Transformed(Mat44::sInverseRotationTranslation(q, com));
+  JPH::RayCastResult hit;
+  return convex.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
 }
 
 const char* instruction_set() { return JPH::GetConfigurationString(); }

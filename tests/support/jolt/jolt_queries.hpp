@@ -136,8 +136,11 @@ struct ConvexDeleter {
   void operator()(Convex* c) const;
 };
 using ConvexPtr = std::unique_ptr<Convex, ConvexDeleter>;
-/// JPH::BoxShape of half extents `half`.
-ConvexPtr make_box(Vec half);
+/// JPH::BoxShape of half extents `half`; with `radius` > 0 its edges and corners rounded by
+/// that convex radius (`half` the outer extents, radius <= the smallest of them).
+ConvexPtr make_box(Vec half, float radius = 0.0f);
+/// JPH::SphereShape of `radius` (a sphere's radius is its convex radius: exact).
+ConvexPtr make_sphere(float radius);
 /// JPH::CapsuleShape along y: segment from (0, -half_height, 0) to (0, half_height, 0).
 ConvexPtr make_capsule(float half_height, float radius);
 /// JPH::ConvexHullShape of `points` (hull tolerance 0); nullptr if Jolt rejects them.
@@ -159,6 +162,13 @@ MeshContactOut mesh_contact(const Convex& convex, const Pose& pose, const Mesh& 
 /// `pose`, moving by `translation`, against the mesh at the origin; ShapeCastSettings with back
 /// faces collided with (two-sided, as collide's triangles), closest hit.
 CastOut mesh_cast(const Convex& convex, const Pose& pose, Vec translation, const Mesh& mesh);
+
+/// Shape::CastRay of the convex shape whose local frame is `pose`, as TransformedShape::CastRay
+/// makes it: the world-space ray (origin, translation) taken into the shape's centre-of-mass
+/// frame, closest hit. The fraction of `translation` at the hit, or -1 for none; a ray that
+/// starts inside the shape hits at 0 (Jolt's convention). No normal (Jolt asks the shape for it
+/// separately, GetSurfaceNormal).
+float cast_ray(const Convex& convex, const Pose& pose, Vec origin, Vec translation);
 
 /// Jolt's build as JPH::GetConfigurationString() gives it: precision, CPU and instruction set,
 /// e.g. "Single precision x86 64-bit with instructions: SSE2 SSE4.1 SSE4.2 AVX AVX2 F16C LZCNT

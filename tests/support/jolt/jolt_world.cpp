@@ -121,13 +121,6 @@ class ReducingCollector final : public JPH::CollideShapeCollector {
 
 }  // namespace
 
-ConvexPtr make_sphere(float radius) {
-  const ClearUpperOnReturn clear_upper;
-  ConvexPtr c(new Convex);
-  c->shape = new JPH::SphereShape(radius);
-  return c;
-}
-
 // ---- the collision work of a physics step -------------------------------------------------------
 
 class StepWorld {

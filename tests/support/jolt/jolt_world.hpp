@@ -13,9 +13,6 @@
 
 namespace jolt_queries {
 
-/// JPH::SphereShape of `radius` (a sphere's radius is its convex radius: exact).
-ConvexPtr make_sphere(float radius);
-
 // ---- the collision work of a physics step (bench_world3d) --------------------------------------
 
 /// Jolt's own pieces of a PhysicsSystem that find contacts, used without the rest (no solver, no
