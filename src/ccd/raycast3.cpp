@@ -273,12 +273,20 @@ LocalHit3 raycast_local(const Box& box, Vec3 p, Vec3 d) noexcept {
   return slab_cast(box.half, p, d);
 }
 
-/// Cyrus-Beck clipping of the ray by the hull's face planes pushed out by `offset`.
+/// Cyrus-Beck clipping of the ray by the hull's face planes pushed out by `offset`: four faces
+/// at a time over `face_blocks` where the machine has SSE2 (rays in an order no branch
+/// predictor learns, bench_ray_cast3, AMD EPYC: 111 -> 42 ns a cast on 16-point hulls, 298 -> 81
+/// on 64-point ones), else one at a time.
 detail::ClipResult clip_ray_hull(const ConvexHull& hull, Vec3 p, Vec3 d, float offset) noexcept {
+#if defined(__SSE2__) || defined(_M_X64)
+  return detail::clip_ray_blocks(hull.face_blocks.data(), hull.face_blocks.size() / 16, p.x, p.y,
+                                 p.z, d.x, d.y, d.z, offset);
+#else
   return detail::clip_ray(static_cast<int>(hull.faces.size()), [&](int i) {
     const HullFace& f = hull.faces[i];
     return detail::PlaneCrossing{f.offset + offset - dot(f.normal, p), dot(f.normal, d)};
   });
+#endif
 }
 
 /// True when `x`, on the plane of face `f`, lies within the face's polygon (closed): behind
