@@ -12,6 +12,9 @@
 #include "ray_ball.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <array>
 #include <cmath>
 
@@ -30,21 +33,34 @@ LocalRay3 to_local(const Transform3& xf, const Ray3& ray) noexcept {
   return {inv_transform_point(xf, ray.origin), inv_rotate(xf.q, ray.translation)};
 }
 
-RayHit3 to_world(const LocalHit3& h, const Transform3& xf, const Ray3& ray) noexcept {
-  if (!h.hit) return {};
+/// The hit of `h` on `ray` with the world-space normal `normal`. Without a branch on whether it
+/// hit (random rays hit or miss at random): a miss's fields are zero (its point masked).
+RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec3 normal) noexcept {
+  const std::uint32_t keep = detail::mask_of(h.hit);
+  const Vec3 at = ray.at(h.fraction);
   RayHit3 out;
-  out.hit = true;
+  out.hit = h.hit;
   out.fraction = h.fraction;
-  out.point = ray.at(h.fraction);
-  out.normal = rotate(xf.q, h.normal);
+  out.point = {detail::keep_if(at.x, keep), detail::keep_if(at.y, keep), detail::keep_if(at.z, keep)};
+  out.normal = normal;
   return out;
+}
+
+/// The world-space hit of a hit in the frame of `xf`.
+RayHit3 to_world(const LocalHit3& h, const Transform3& xf, const Ray3& ray) noexcept {
+  return world_hit(h, ray, rotate(xf.q, h.normal));
 }
 
 /// A ball hit with its normal made unit: ray_ball divides the offset by the radius, and a ray
 /// from far away (relative to the radius) rounds that offset by more than the radius' float
 /// precision, so the quotient can be off unit length by eps * distance / radius.
+/// normalize_or_zero's arithmetic without its branch (a miss's zero normal stays zero).
 LocalHit3 unit_normal(LocalHit3 h) noexcept {
-  if (h.hit) h.normal = normalize_or_zero(h.normal);
+  const float len = length(h.normal);
+  const float inv = 1.0f / len;
+  const std::uint32_t keep = detail::mask_of(len > 1e-30f);
+  h.normal = {detail::keep_if(h.normal.x * inv, keep), detail::keep_if(h.normal.y * inv, keep),
+              detail::keep_if(h.normal.z * inv, keep)};
   return h;
 }
 
@@ -132,10 +148,49 @@ LocalHit3 raycast_local(const Segment3& seg, Vec3 p, Vec3 d) noexcept {
 
 /// Box (no radius): the slab test (Kay & Kajiya 1986; Williams et al., JGT 2005). On axis k
 /// the ray is between the box's faces for t between (-h - p) / d and (h - p) / d; the entry is
-/// the largest lower bound (its axis names the face), the box is missed if it exceeds the
-/// smallest upper bound. The lower bound starts at 0 and is raised only by an entry strictly
-/// after the origin, so an origin in the closed box (entries <= 0) reports no hit.
+/// the largest lower bound (its axis names the face; the first axis on a tie), the box is
+/// missed if it exceeds the smallest upper bound. The lower bound starts at 0 and is raised
+/// only by an entry strictly after the origin, so an origin in the closed box (entries <= 0)
+/// reports no hit. A ray parallel to a slab (d = 0 there) is outside for good unless the origin
+/// is within it. With SSE2 the three axes go in lanes and the miss is a mask, without branches
+/// (random rays decide which axis enters and whether the box is hit at random: 40 -> 25 ns a
+/// cast, bench_ray_cast3, AMD EPYC).
 LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
+#if defined(__SSE2__) || defined(_M_X64)
+  // Lane 3 is a slab of half width 0 around 0 that the ray runs along: it never decides.
+  const __m128 h = _mm_setr_ps(half.x, half.y, half.z, 0.0f);
+  const __m128 vp = _mm_setr_ps(p.x, p.y, p.z, 0.0f);
+  const __m128 vd = _mm_setr_ps(d.x, d.y, d.z, 0.0f);
+  const __m128 sign_bit = _mm_set1_ps(-0.0f);
+  const __m128 infinity = _mm_set1_ps(std::numeric_limits<float>::infinity());
+  const __m128 near_face = _mm_or_ps(h, _mm_and_ps(sign_bit, _mm_xor_ps(vd, sign_bit)));  // -copysign(h, d)
+  const __m128 far_face = _mm_xor_ps(near_face, sign_bit);                                   // copysign(h, d)
+  const __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), vd);
+  const __m128 parallel = _mm_cmpeq_ps(vd, _mm_setzero_ps());
+  __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face, vp), inv);
+  __m128 t_far = _mm_mul_ps(_mm_sub_ps(far_face, vp), inv);
+  // Parallel: outside the slab (or NaN) misses; else no bound. Otherwise a NaN bound misses.
+  const __m128 out_of_slab = _mm_cmpnle_ps(_mm_andnot_ps(sign_bit, vp), h);
+  const __m128 miss = _mm_or_ps(_mm_and_ps(parallel, out_of_slab),
+                                _mm_andnot_ps(parallel, _mm_cmpnle_ps(t_near, t_far)));
+  t_near = _mm_or_ps(_mm_and_ps(parallel, _mm_xor_ps(infinity, sign_bit)), _mm_andnot_ps(parallel, t_near));
+  t_far = _mm_or_ps(_mm_and_ps(parallel, infinity), _mm_andnot_ps(parallel, t_far));
+  __m128 entry = _mm_max_ps(t_near, _mm_shuffle_ps(t_near, t_near, _MM_SHUFFLE(1, 0, 3, 2)));
+  entry = _mm_max_ps(entry, _mm_shuffle_ps(entry, entry, _MM_SHUFFLE(2, 3, 0, 1)));
+  __m128 exit = _mm_min_ps(t_far, _mm_shuffle_ps(t_far, t_far, _MM_SHUFFLE(1, 0, 3, 2)));
+  exit = _mm_min_ps(exit, _mm_shuffle_ps(exit, exit, _MM_SHUFFLE(2, 3, 0, 1)));
+  const float t_in = _mm_cvtss_f32(entry);
+  const float t_out = std::min(_mm_cvtss_f32(exit), 1.0f);
+  const bool hit = (_mm_movemask_ps(miss) == 0) & (t_in > 0.0f) & (t_in <= t_out);
+  // The first axis holding the entry (lane 3 never does: its bound is -inf).
+  const int axis = std::countr_zero(static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(t_near, entry))) | 8u) & 3;
+  const float direction[4] = {d.x, d.y, d.z, 1.0f};
+  float n[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  n[axis] = -std::copysign(1.0f, direction[axis]);  // against the ray
+  const std::uint32_t keep = detail::mask_of(hit);
+  return {hit, detail::keep_if(t_in, keep),
+          Vec3{detail::keep_if(n[0], keep), detail::keep_if(n[1], keep), detail::keep_if(n[2], keep)}};
+#else
   float t_in = 0.0f;
   float t_out = 1.0f;
   int axis = -1;
@@ -158,6 +213,7 @@ LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
   Vec3 n(0.0f);
   n[axis] = d[axis] > 0.0f ? -1.0f : 1.0f;
   return {true, t_in, n};
+#endif
 }
 
 /// The first fraction in [t0, t1] at which the ray is within r of the core feature that is
@@ -377,19 +433,25 @@ RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) no
   return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
 }
 
+/// A capsule is cast in a frame turned as the world and centred on its placement: its ends are
+/// rotated there (two rotations) instead of the ray into its frame and the normal back out
+/// (three), and the origin is made relative as (origin - p) so that large coordinates cancel
+/// first (bench_ray_cast3, AMD EPYC: 59 -> 43 ns a cast; the cases chosen by selects instead of
+/// branches, both the cylinder's and an end sphere's entry worked out, measured 86 ns).
+RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
+  const Capsule3 turned{rotate(xf.q, capsule.a), rotate(xf.q, capsule.b), capsule.radius};
+  if (!(length_squared(ray.translation) > 0.0f)) return {};
+  const LocalHit3 h = raycast_local(turned, ray.origin - xf.p, ray.translation);
+  return world_hit(h, ray, h.normal);
+}
+
 /// A ball looks the same in every frame: only the origin is made relative to the centre, as
 /// (origin - p) - R c so that large coordinates cancel first. No rotation of the ray or the
 /// normal.
 RayHit3 raycast_placed(const Sphere& sphere, const Transform3& xf, const Ray3& ray) noexcept {
   const Vec3 m = (ray.origin - xf.p) - rotate(xf.q, sphere.center);
   const LocalHit3 h = unit_normal(detail::ray_ball<3>(m, ray.translation, sphere.radius));
-  if (!h.hit) return {};
-  RayHit3 out;
-  out.hit = true;
-  out.fraction = h.fraction;
-  out.point = ray.at(h.fraction);
-  out.normal = h.normal;
-  return out;
+  return world_hit(h, ray, h.normal);
 }
 
 }  // namespace
