@@ -13,6 +13,10 @@
 //    limit) vs b2TimeOfImpact; collide at Box2D's target (b2_linearSlop, 2.4's and v3's
 //    linear slop alike: 0.005) and at its own default (1e-3 of the smaller size: tighter, more
 //    accurate).
+//  - BM_ShapeCast_shuffled, BM_ToiTranslation_shuffled, BM_ToiRotation_shuffled (stop 50): the
+//    same calls with the pairs drawn in CaseOrder's pseudo-random order (case_order.hpp) on
+//    every side, as many per iteration: replayed in order, a batch's branch outcomes are learnt
+//    by the branch predictor (the manifold rows showed it).
 // Counters (computed once, outside the timing): hits, and sep_at_t, the mean distance between
 // the shapes at the reported time of hits (by Box2D's b2Distance): the accuracy.
 //
@@ -23,6 +27,8 @@
 #include <collide/ccd/time_of_impact.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "case_order.hpp"
 
 #include "box2d_v3/queries.hpp"
 #include "support/random.hpp"
@@ -175,13 +181,15 @@ std::vector<collide::bench::box2d_v3::MovingPair> moving_pairs(const std::vector
 
 /// The public call on the shapes as a game holds them (validation, the variant's dispatch, and
 /// for sharp polygons of up to 8 vertices the separating-axis cast into A - B).
-void cast_collide(benchmark::State& state, const std::vector<Pair>* pairs) {
+void cast_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   const auto inputs = moving_pairs(*pairs);  // the poses and motions, prepared once
   std::vector<float> times(pairs->size(), -1.0f);
   double iterations = 0.0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     int iters = 0;
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       const Pair& p = (*pairs)[i];
       const collide::bench::box2d_v3::MovingPair& in = inputs[i];
       const ShapeCastResult r = shape_cast(p.a.shape, in.xa, in.va, p.b.shape, in.xb, in.vb);
@@ -230,7 +238,7 @@ void cast_explicit(benchmark::State& state, const std::vector<Pair>* pairs) {
   report(state, *pairs, times);
 }
 
-void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
+void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   std::vector<b2ShapeCastInput> inputs(pairs->size());
   for (size_t i = 0; i < pairs->size(); ++i) {
     const Pair& p = (*pairs)[i];
@@ -243,9 +251,11 @@ void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
   }
   std::vector<float> times(pairs->size(), -1.0f);
   double iterations = 0.0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     int iters = 0;
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       b2ShapeCastOutput out;
       times[i] = b2ShapeCast(&out, &inputs[i]) ? out.lambda : -1.0f;
       iters += out.iterations;
@@ -257,15 +267,15 @@ void cast_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
   report(state, *pairs, times);
 }
 
-void cast_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
+void cast_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   std::vector<float> times;
-  collide::bench::box2d_v3::shape_cast(state, moving_pairs(*pairs), times);
+  collide::bench::box2d_v3::shape_cast(state, moving_pairs(*pairs), times, shuffled);
   report(state, *pairs, times);
 }
 
-void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
+void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   std::vector<float> times;
-  collide::bench::box2d_v3::time_of_impact(state, moving_pairs(*pairs), times);
+  collide::bench::box2d_v3::time_of_impact(state, moving_pairs(*pairs), times, shuffled);
   report(state, *pairs, times);
 }
 
@@ -275,7 +285,7 @@ void toi_box2d_v3(benchmark::State& state, const std::vector<Pair>* pairs) {
 /// translating sharp polygons of up to 8 vertices the separating-axis cast into A - B), or
 /// (`on_proxies`) on proxies prepared once, the GJK path for every pair.
 void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool box2d_target,
-                 bool on_proxies) {
+                 bool on_proxies, bool shuffled) {
   std::vector<ConvexProxy> pa;
   std::vector<ConvexProxy> pb;
   for (const Pair& p : *pairs) {
@@ -285,9 +295,11 @@ void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool b
   const float target = box2d_target ? b2_linearSlop : -1.0f;
   std::vector<float> times(pairs->size(), -1.0f);
   double iterations = 0.0;
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
     int iters = 0;
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       const Pair& p = (*pairs)[i];
       const ToiResult r = on_proxies ? time_of_impact(pa[i], p.sa, pb[i], p.sb, target)
                                      : time_of_impact(p.a.shape, p.sa, p.b.shape, p.sb, target);
@@ -301,7 +313,7 @@ void toi_collide(benchmark::State& state, const std::vector<Pair>* pairs, bool b
   report(state, *pairs, times);
 }
 
-void toi_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
+void toi_box2d(benchmark::State& state, const std::vector<Pair>* pairs, bool shuffled) {
   std::vector<b2TOIInput> inputs(pairs->size());
   for (size_t i = 0; i < pairs->size(); ++i) {
     const Pair& p = (*pairs)[i];
@@ -312,8 +324,10 @@ void toi_box2d(benchmark::State& state, const std::vector<Pair>* pairs) {
     inputs[i].tMax = 1.0f;
   }
   std::vector<float> times(pairs->size(), -1.0f);
+  collide::bench::CaseOrder order(static_cast<std::uint32_t>(pairs->size() - 1));
   for (auto _ : state) {
-    for (size_t i = 0; i < pairs->size(); ++i) {
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       b2TOIOutput out;
       b2TimeOfImpact(&out, &inputs[i]);
       times[i] = out.state == b2TOIOutput::e_touching && out.t > 0.0f ? out.t : -1.0f;
@@ -348,26 +362,30 @@ int main(int argc, char** argv) {
     const std::string n = cases[i].name;
     const std::vector<Pair>* tr = &translating[i];
     const std::vector<Pair>* rot = &rotating[i];
-    benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/collide").c_str(), cast_collide, tr);
-    benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/gjk").c_str(), cast_gjk, tr);
-    benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/box2d_v3").c_str(), cast_box2d_v3, tr);
-    benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/box2d").c_str(), cast_box2d, tr);
-    if (cases[i].ka >= 3 && cases[i].kb >= 3) {
-      benchmark::RegisterBenchmark(("BM_ShapeCast/" + n + "/explicit").c_str(), cast_explicit, tr);
+    const auto add = [](const std::string& name, auto fn, auto... args) {
+      benchmark::RegisterBenchmark(name.c_str(), fn, args...);
+    };
+    for (const bool shuffled : {false, true}) {
+      // shuffled: the pairs drawn in CaseOrder (case_order.hpp) on every side, as the manifold,
+      // distance and ray cast rows; the /gjk and /explicit rows only replay.
+      const std::string order = shuffled ? "_shuffled" : "";
+      add("BM_ShapeCast" + order + "/" + n + "/collide", cast_collide, tr, shuffled);
+      if (!shuffled) add("BM_ShapeCast/" + n + "/gjk", cast_gjk, tr);
+      add("BM_ShapeCast" + order + "/" + n + "/box2d_v3", cast_box2d_v3, tr, shuffled);
+      add("BM_ShapeCast" + order + "/" + n + "/box2d", cast_box2d, tr, shuffled);
+      if (!shuffled && cases[i].ka >= 3 && cases[i].kb >= 3) {
+        add("BM_ShapeCast/" + n + "/explicit", cast_explicit, tr);
+      }
+      add("BM_ToiTranslation" + order + "/" + n + "/collide", toi_collide, tr, true, false, shuffled);
+      if (!shuffled) add("BM_ToiTranslation/" + n + "/gjk", toi_collide, tr, true, true, false);
+      add("BM_ToiTranslation" + order + "/" + n + "/box2d_v3", toi_box2d_v3, tr, shuffled);
+      add("BM_ToiTranslation" + order + "/" + n + "/box2d", toi_box2d, tr, shuffled);
+      add("BM_ToiRotation" + order + "/" + n + "/collide_box2d_target", toi_collide, rot, true, false,
+          shuffled);
+      if (!shuffled) add("BM_ToiRotation/" + n + "/collide", toi_collide, rot, false, false, false);
+      add("BM_ToiRotation" + order + "/" + n + "/box2d_v3", toi_box2d_v3, rot, shuffled);
+      add("BM_ToiRotation" + order + "/" + n + "/box2d", toi_box2d, rot, shuffled);
     }
-    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/collide").c_str(), toi_collide, tr,
-                                 true, false);
-    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/gjk").c_str(), toi_collide, tr,
-                                 true, true);
-    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d_v3").c_str(), toi_box2d_v3,
-                                 tr);
-    benchmark::RegisterBenchmark(("BM_ToiTranslation/" + n + "/box2d").c_str(), toi_box2d, tr);
-    benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide_box2d_target").c_str(),
-                                 toi_collide, rot, true, false);
-    benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/collide").c_str(), toi_collide, rot,
-                                 false, false);
-    benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d_v3").c_str(), toi_box2d_v3, rot);
-    benchmark::RegisterBenchmark(("BM_ToiRotation/" + n + "/box2d").c_str(), toi_box2d, rot);
   }
   benchmark::Initialize(&argc, argv);
   collide::bench::box2d_v3::add_context();

@@ -84,6 +84,18 @@ LABELS = {
     "BM_ToiRotation/poly8_poly8": "time of impact, turning, 8-gons",
     "BM_ToiRotation/circle_poly8": "time of impact, turning, circle-8-gon",
     "BM_ToiRotation/capsule_poly8": "time of impact, turning, capsule-8-gon",
+    "BM_ShapeCast_shuffled/box_box": "shape cast, box-box, shuffled",
+    "BM_ShapeCast_shuffled/poly8_poly8": "shape cast, 8-gons, shuffled",
+    "BM_ShapeCast_shuffled/circle_poly8": "shape cast, circle-8-gon, shuffled",
+    "BM_ShapeCast_shuffled/capsule_poly8": "shape cast, capsule-8-gon, shuffled",
+    "BM_ToiTranslation_shuffled/box_box": "time of impact, translating, box-box, shuffled",
+    "BM_ToiTranslation_shuffled/poly8_poly8": "time of impact, translating, 8-gons, shuffled",
+    "BM_ToiTranslation_shuffled/circle_poly8": "time of impact, translating, circle-8-gon, shuffled",
+    "BM_ToiTranslation_shuffled/capsule_poly8": "time of impact, translating, capsule-8-gon, shuffled",
+    "BM_ToiRotation_shuffled/box_box": "time of impact, turning, box-box, shuffled",
+    "BM_ToiRotation_shuffled/poly8_poly8": "time of impact, turning, 8-gons, shuffled",
+    "BM_ToiRotation_shuffled/circle_poly8": "time of impact, turning, circle-8-gon, shuffled",
+    "BM_ToiRotation_shuffled/capsule_poly8": "time of impact, turning, capsule-8-gon, shuffled",
 }
 ACCURACY = ("sep_at_t", "overlap", "hit_rate")
 

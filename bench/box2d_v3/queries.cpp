@@ -127,7 +127,7 @@ b2Sweep to_v3(const Sweep& s) {
 }  // namespace
 
 void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
-                std::vector<float>& fractions) {
+                std::vector<float>& fractions, bool shuffled) {
   struct Input {
     b2ShapeProxy a, b;
     b2Transform xa, xb;
@@ -139,9 +139,11 @@ void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
   }
   fractions.assign(pairs.size(), -1.0f);
   double iterations = 0.0;
+  CaseOrder order(static_cast<std::uint32_t>(inputs.size() - 1));
   for (auto _ : state) {
     int iters = 0;
-    for (size_t i = 0; i < inputs.size(); ++i) {
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       const Input& in = inputs[i];
       b2ShapeCastPairInput cast{};
       cast.proxyA = in.a;
@@ -161,7 +163,7 @@ void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
 }
 
 void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
-                    std::vector<float>& fractions) {
+                    std::vector<float>& fractions, bool shuffled) {
   std::vector<b2TOIInput> inputs;
   for (const MovingPair& p : pairs) {
     b2TOIInput in{};
@@ -173,8 +175,10 @@ void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
     inputs.push_back(in);
   }
   fractions.assign(pairs.size(), -1.0f);
+  CaseOrder order(static_cast<std::uint32_t>(inputs.size() - 1));
   for (auto _ : state) {
-    for (size_t i = 0; i < inputs.size(); ++i) {
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      const size_t i = shuffled ? order.next() : k;
       const b2TOIOutput out = b2TimeOfImpact(&inputs[i]);
       fractions[i] = out.state == b2_toiStateHit && out.fraction > 0.0f ? out.fraction : -1.0f;
     }

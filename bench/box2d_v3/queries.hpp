@@ -59,15 +59,17 @@ struct MovingPair {
 
 /// `b2ShapeCast` over every pair per iteration: B's pose and the relative motion put in A's
 /// frame (timed, as collide takes world space). `fractions[i]`: the hit fraction, -1 for a
-/// miss. Counter "iters": mean GJK iterations.
+/// miss. Counter "iters": mean GJK iterations. `shuffled`: as many casts per iteration, pairs
+/// drawn in CaseOrder (a power-of-two count of pairs) instead of in order.
 void shape_cast(benchmark::State& state, std::span<const MovingPair> pairs,
-                std::vector<float>& fractions);
+                std::vector<float>& fractions, bool shuffled = false);
 
 /// `b2TimeOfImpact` over every pair per iteration (v3 turns a sweep by normalised linear
 /// interpolation of its rotations, collide by its angle: for turning pairs the motions differ
 /// slightly between the start and end poses). `fractions[i]`: the time of a hit, -1 otherwise.
+/// `shuffled` as for shape_cast.
 void time_of_impact(benchmark::State& state, std::span<const MovingPair> pairs,
-                    std::vector<float>& fractions);
+                    std::vector<float>& fractions, bool shuffled = false);
 
 /// A pair for distance and overlap: B at one pose per frame (frame 0 for cold runs).
 struct DistancePair {
