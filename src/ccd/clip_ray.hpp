@@ -76,9 +76,9 @@ template <class Crossing>
 /// rounding (an edge or corner) either face may be named. The first face holding the largest
 /// entering bound is named (lowest index). An entering bound that rounds to 0 (an origin on a
 /// plane within the smallest float) does not count as entering.
-[[nodiscard]] inline ClipResult clip_ray_blocks(const float* blocks, std::size_t block_count, float px,
-                                                float py, float pz, float dx, float dy, float dz,
-                                                float extra) noexcept {
+[[nodiscard]] inline ClipResult clip_ray_blocks(const float* blocks, std::size_t block_count,
+                                                float px, float py, float pz, float dx, float dy,
+                                                float dz, float extra) noexcept {
   const __m128 vpx = _mm_set1_ps(px), vpy = _mm_set1_ps(py), vpz = _mm_set1_ps(pz);
   const __m128 vdx = _mm_set1_ps(dx), vdy = _mm_set1_ps(dy), vdz = _mm_set1_ps(dz);
   const __m128 vextra = _mm_set1_ps(extra);
@@ -120,11 +120,11 @@ template <class Crossing>
   if (_mm_movemask_ps(miss) != 0 || _mm_cvtss_f32(low_upper) < entry) return {};
   if (!(entry > 0.0f)) return {-1, 0.0f, true};
   // The lowest index among the lanes holding the largest bound.
+  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, lower));
   alignas(16) int lanes[4];
   _mm_store_si128(reinterpret_cast<__m128i*>(lanes),
-                  _mm_or_si128(_mm_and_si128(_mm_castps_si128(_mm_cmpeq_ps(best, lower)), best_index),
-                               _mm_andnot_si128(_mm_castps_si128(_mm_cmpeq_ps(best, lower)),
-                                                _mm_set1_epi32(std::numeric_limits<int>::max()))));
+                  _mm_or_si128(_mm_and_si128(holds, best_index),
+                               _mm_andnot_si128(holds, _mm_set1_epi32(std::numeric_limits<int>::max()))));
   const int plane = std::min(std::min(lanes[0], lanes[1]), std::min(lanes[2], lanes[3]));
   return {plane, entry, false};
 }

@@ -12,11 +12,11 @@
 #include "ray_ball.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
-#include <array>
-#include <cmath>
 
 namespace collide {
 namespace {
@@ -41,7 +41,8 @@ RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec3 normal) noexcept {
   RayHit3 out;
   out.hit = h.hit;
   out.fraction = h.fraction;
-  out.point = {detail::keep_if(at.x, keep), detail::keep_if(at.y, keep), detail::keep_if(at.z, keep)};
+  out.point = {detail::keep_if(at.x, keep), detail::keep_if(at.y, keep),
+               detail::keep_if(at.z, keep)};
   out.normal = normal;
   return out;
 }
@@ -54,7 +55,7 @@ RayHit3 to_world(const LocalHit3& h, const Transform3& xf, const Ray3& ray) noex
 /// A ball hit with its normal made unit: ray_ball divides the offset by the radius, and a ray
 /// from far away (relative to the radius) rounds that offset by more than the radius' float
 /// precision, so the quotient can be off unit length by eps * distance / radius.
-/// normalize_or_zero's arithmetic without its branch (a miss's zero normal stays zero).
+/// normalize_or_zero's arithmetic, without its branch: a miss's zero normal stays zero.
 LocalHit3 unit_normal(LocalHit3 h) noexcept {
   const float len = length(h.normal);
   const float inv = 1.0f / len;
@@ -163,8 +164,9 @@ LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
   const __m128 vd = _mm_setr_ps(d.x, d.y, d.z, 0.0f);
   const __m128 sign_bit = _mm_set1_ps(-0.0f);
   const __m128 infinity = _mm_set1_ps(std::numeric_limits<float>::infinity());
-  const __m128 near_face = _mm_or_ps(h, _mm_and_ps(sign_bit, _mm_xor_ps(vd, sign_bit)));  // -copysign(h, d)
-  const __m128 far_face = _mm_xor_ps(near_face, sign_bit);                                   // copysign(h, d)
+  // The face the ray meets first on each axis, -copysign(h, d), and the other, copysign(h, d).
+  const __m128 near_face = _mm_or_ps(h, _mm_and_ps(sign_bit, _mm_xor_ps(vd, sign_bit)));
+  const __m128 far_face = _mm_xor_ps(near_face, sign_bit);
   const __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), vd);
   const __m128 parallel = _mm_cmpeq_ps(vd, _mm_setzero_ps());
   __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face, vp), inv);
@@ -173,7 +175,8 @@ LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
   const __m128 out_of_slab = _mm_cmpnle_ps(_mm_andnot_ps(sign_bit, vp), h);
   const __m128 miss = _mm_or_ps(_mm_and_ps(parallel, out_of_slab),
                                 _mm_andnot_ps(parallel, _mm_cmpnle_ps(t_near, t_far)));
-  t_near = _mm_or_ps(_mm_and_ps(parallel, _mm_xor_ps(infinity, sign_bit)), _mm_andnot_ps(parallel, t_near));
+  const __m128 minus_infinity = _mm_xor_ps(infinity, sign_bit);
+  t_near = _mm_or_ps(_mm_and_ps(parallel, minus_infinity), _mm_andnot_ps(parallel, t_near));
   t_far = _mm_or_ps(_mm_and_ps(parallel, infinity), _mm_andnot_ps(parallel, t_far));
   __m128 entry = _mm_max_ps(t_near, _mm_shuffle_ps(t_near, t_near, _MM_SHUFFLE(1, 0, 3, 2)));
   entry = _mm_max_ps(entry, _mm_shuffle_ps(entry, entry, _MM_SHUFFLE(2, 3, 0, 1)));
@@ -183,13 +186,15 @@ LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
   const float t_out = std::min(_mm_cvtss_f32(exit), 1.0f);
   const bool hit = (_mm_movemask_ps(miss) == 0) & (t_in > 0.0f) & (t_in <= t_out);
   // The first axis holding the entry (lane 3 never does: its bound is -inf).
-  const int axis = std::countr_zero(static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(t_near, entry))) | 8u) & 3;
+  const auto holds = static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(t_near, entry)));
+  const int axis = std::countr_zero(holds | 8u) & 3;
   const float direction[4] = {d.x, d.y, d.z, 1.0f};
   float n[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   n[axis] = -std::copysign(1.0f, direction[axis]);  // against the ray
   const std::uint32_t keep = detail::mask_of(hit);
   return {hit, detail::keep_if(t_in, keep),
-          Vec3{detail::keep_if(n[0], keep), detail::keep_if(n[1], keep), detail::keep_if(n[2], keep)}};
+          Vec3{detail::keep_if(n[0], keep), detail::keep_if(n[1], keep),
+               detail::keep_if(n[2], keep)}};
 #else
   float t_in = 0.0f;
   float t_out = 1.0f;

@@ -8,6 +8,7 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/narrow/closest_point.hpp>
 
+#include "clip_ray.hpp"
 #include "support/brute_query3.hpp"
 #include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
@@ -682,6 +683,55 @@ TEST(Raycast3, LaserInCornerCube) {
     EXPECT_VEC3_NEAR(normalize_or_zero(ray.translation), rotate(xf.q, -dir), 1e-4f);
   }
 }
+
+#if defined(__SSE2__) || defined(_M_X64)
+/// The hull ray cast clips four faces at a time (clip_ray_blocks over face_blocks); the scalar
+/// Cyrus-Beck loop (clip_ray over faces) is what it replaced. On random rays, including rays
+/// from inside, parallel to faces, through the planes' own points and NaN, both must agree on miss,
+/// inside and hit, on the entry fraction to rounding, and on the entered face unless another face
+/// is entered at the same fraction within rounding (an edge or a corner): then the hit point
+/// must lie on both faces' planes.
+TEST(Raycast3, HullLaneClipIsTheScalarClip) {
+  std::mt19937 rng(77);
+  int hits = 0, inside = 0, other_face = 0;
+  for (int h = 0; h < 40; ++h) {
+    const ConvexHull hull = test::random_hull(rng, 4 + h, 2.0f, 0.0f);
+    const float offset = h % 3 == 0 ? 0.25f : 0.0f;  // as the rounded hull's pushed faces
+    for (int i = 0; i < 500; ++i) {
+      Vec3 p = test::random_point3(rng, 4.0f);
+      Vec3 d = (test::random_point3(rng, 1.0f) - p) * uniform(rng, 0.3f, 2.0f);  // at the hull
+      if (i % 7 == 0) p = 0.2f * p;                        // often inside
+      if (i % 11 == 0) d -= dot(d, hull.faces[i % hull.faces.size()].normal) *
+                              hull.faces[i % hull.faces.size()].normal;  // parallel to a face
+      if (i % 13 == 0) p = hull.vertices[i % hull.vertices.size()];      // on the surface
+      if (i % 17 == 0) p.y = std::numeric_limits<float>::quiet_NaN();    // no bound moves
+      const detail::ClipResult lanes = detail::clip_ray_blocks(hull.face_blocks.data(), hull.face_blocks.size() / 16,
+                                                               p.x, p.y, p.z, d.x, d.y, d.z, offset);
+      const detail::ClipResult scalar = detail::clip_ray(static_cast<int>(hull.faces.size()), [&](int k) {
+        const HullFace& f = hull.faces[k];
+        return detail::PlaneCrossing{f.offset + offset - dot(f.normal, p), dot(f.normal, d)};
+      });
+      ASSERT_EQ(lanes.plane >= 0, scalar.plane >= 0) << "hull " << h << " ray " << i;
+      ASSERT_EQ(lanes.inside, scalar.inside) << "hull " << h << " ray " << i;
+      if (scalar.inside) ++inside;
+      if (scalar.plane < 0) continue;
+      ++hits;
+      ASSERT_NEAR(lanes.fraction, scalar.fraction, 1e-6f * (1.0f + scalar.fraction)) << "hull " << h << " ray " << i;
+      if (lanes.plane != scalar.plane) {
+        ++other_face;
+        const Vec3 x = p + lanes.fraction * d;
+        for (const int k : {lanes.plane, scalar.plane}) {
+          const HullFace& f = hull.faces[k];
+          EXPECT_NEAR(dot(f.normal, x), f.offset + offset, 1e-4f) << "hull " << h << " ray " << i;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, 5000);
+  EXPECT_GT(inside, 500);
+  EXPECT_LT(other_face, hits / 100);
+}
+#endif
 
 }  // namespace
 }  // namespace collide
