@@ -29,8 +29,10 @@ struct LocalRay3 {
   Vec3 translation;
 };
 
-LocalRay3 to_local(const Transform3& xf, const Ray3& ray) noexcept {
-  return {inv_transform_point(xf, ray.origin), inv_rotate(xf.q, ray.translation)};
+/// The ray in the frame `f` (the placement's matrix form: its rotation made once, then three
+/// dot products a vector, where a quaternion rotates each vector by two cross products).
+LocalRay3 to_local(const Frame3& f, const Ray3& ray) noexcept {
+  return {inv_transform_point(f, ray.origin), inv_rotate(f, ray.translation)};
 }
 
 /// The hit of `h` on `ray` with the world-space normal `normal`. Without a branch on whether it
@@ -47,9 +49,9 @@ RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec3 normal) noexcept {
   return out;
 }
 
-/// The world-space hit of a hit in the frame of `xf`.
-RayHit3 to_world(const LocalHit3& h, const Transform3& xf, const Ray3& ray) noexcept {
-  return world_hit(h, ray, rotate(xf.q, h.normal));
+/// The world-space hit of a hit in the frame `f`.
+RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept {
+  return world_hit(h, ray, rotate(f, h.normal));
 }
 
 /// A ball hit with its normal made unit: ray_ball divides the offset by the radius, and a ray
@@ -433,9 +435,10 @@ LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
 /// Shapes with a frame: cast in the local frame, rotate the normal back.
 template <class S>
 RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
-  const LocalRay3 local = to_local(xf, ray);
+  const Frame3 f = Frame3::from(xf);
+  const LocalRay3 local = to_local(f, ray);
   if (!(length_squared(local.translation) > 0.0f)) return {};
-  return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
+  return to_world(raycast_local(shape, local.origin, local.translation), f, ray);
 }
 
 /// A capsule is cast in a frame turned as the world and centred on its placement: its ends are
