@@ -9,6 +9,7 @@
 
 #include <collide/ccd/raycast.hpp>
 
+#include <collide/core/config.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
@@ -64,11 +65,16 @@ using Clip = detail::ClipResult;
 /// Cyrus-Beck clipping of p + t d, t in [0, 1], against the half-planes
 /// n_i . (x - v_i) <= offset of a convex outline (clip_ray.hpp). offset r is the outline with
 /// every edge pushed out by r (used for rounded polygons).
-Clip clip_ray_outline(const detail::OutlineView& o, Vec2 p, Vec2 d, float offset) noexcept {
+COLLIDE_ALWAYS_INLINE Clip clip_ray_outline(const detail::OutlineView& o, Vec2 p, Vec2 d,
+                                            float offset) noexcept {
+#if defined(__SSE2__) || defined(_M_X64)
+  return detail::clip_ray_outline_lanes(o.vertices, o.normals, o.count, p, d, offset);
+#else
   return detail::clip_ray(o.count, [&](int i) {
     const Vec2 normal = o.normals[i];
     return detail::PlaneCrossing{offset - dot(normal, p - o.vertices[i]), dot(normal, d)};
   });
+#endif
 }
 
 /// Capsule: the union of the band |y| <= r over 0 <= x <= L along its axis (x from a towards b,

@@ -6,6 +6,7 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/narrow/closest_point.hpp>
 
+#include "clip_ray.hpp"
 #include "support/brute_convex.hpp"
 #include "support/test_util.hpp"
 
@@ -514,6 +515,56 @@ TEST(Raycast, LaserBetweenBoxMirrors) {
   const Polygon mirror = make_box({100.0f, 0.5f});
   bounce_between(mirror, mirror, -0.5f, 2.5f);
 }
+
+#if defined(__SSE2__) || defined(_M_X64)
+/// The rounded polygon ray casts (and the circle and capsule shape casts through them) clip an
+/// outline four edges at a time (clip_ray_outline_lanes); the scalar Cyrus-Beck loop is what it
+/// replaced. As for hulls (Raycast3.HullLaneClipIsTheScalarClip): the same miss, inside and
+/// hit, the fraction to rounding, another edge only where the entry lies on both edges' lines.
+TEST(Raycast, OutlineLaneClipIsTheScalarClip) {
+  std::mt19937 rng(78);
+  int hits = 0, inside = 0, other_edge = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = 3 + trial % 14;
+    std::vector<Vec2> pts;
+    for (int i = 0; i < n; ++i) {
+      const float a = 2.0f * test::kPi * (static_cast<float>(i) + uniform(rng, -0.3f, 0.3f)) / n;
+      pts.push_back({2.0f * std::cos(a), 1.2f * std::sin(a)});
+    }
+    const Polygon poly = make_convex_polygon(pts);
+    const float offset = trial % 2 ? 0.3f : 0.0f;
+    for (int i = 0; i < 300; ++i) {
+      Vec2 p = test::random_point(rng, 4.0f);
+      Vec2 d = (test::random_point(rng, 1.0f) - p) * uniform(rng, 0.3f, 2.0f);
+      if (i % 7 == 0) p = 0.2f * p;                                  // often inside
+      if (i % 11 == 0) d = 2.0f * left_perp(poly.normals[i % poly.count]);  // along an edge
+      if (i % 13 == 0) p = poly.vertices[i % poly.count];             // on the outline
+      if (i % 17 == 0) p.y = std::numeric_limits<float>::quiet_NaN();  // no bound moves
+      const detail::ClipResult lanes =
+          detail::clip_ray_outline_lanes(poly.vertices.data(), poly.normals.data(), poly.count, p, d, offset);
+      const detail::ClipResult scalar = detail::clip_ray(poly.count, [&](int k) {
+        return detail::PlaneCrossing{offset - dot(poly.normals[k], p - poly.vertices[k]), dot(poly.normals[k], d)};
+      });
+      ASSERT_EQ(lanes.plane >= 0, scalar.plane >= 0) << "polygon " << trial << " ray " << i;
+      ASSERT_EQ(lanes.inside, scalar.inside) << "polygon " << trial << " ray " << i;
+      if (scalar.inside) ++inside;
+      if (scalar.plane < 0) continue;
+      ++hits;
+      ASSERT_NEAR(lanes.fraction, scalar.fraction, 1e-6f * (1.0f + scalar.fraction)) << "polygon " << trial;
+      if (lanes.plane != scalar.plane) {
+        ++other_edge;
+        const Vec2 x = p + lanes.fraction * d;
+        for (const int k : {lanes.plane, scalar.plane}) {
+          EXPECT_NEAR(dot(poly.normals[k], x - poly.vertices[k]), offset, 1e-4f) << "polygon " << trial;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, 5000);
+  EXPECT_GT(inside, 1000);
+  EXPECT_LT(other_edge, hits / 100);
+}
+#endif
 
 }  // namespace
 }  // namespace collide
