@@ -2,8 +2,8 @@
 // Jolt Physics (../shared/peers/jolt) as a benchmark rival and test oracle, behind plain types:
 // the target `collide_jolt_queries` (cmake/peers.cmake) is the only code compiled with Jolt's
 // headers and instruction set (Jolt's own -mavx2 -mfma ... options), so the benchmarks and
-// tests that link it (bench_narrow3, bench_ray_cast3, bench_convex_hull, bench_mesh_raycast, test_oracles) keep
-// collide's. Each function is one query as a Jolt user makes it, called once per pair or ray (a
+// tests that link it (bench_narrow3, bench_ray_cast3, bench_convex_hull, bench_mesh_raycast,
+// test_oracles) keep collide's. Each function is one query as a Jolt user makes it, called once per pair or ray (a
 // plain function call costs a few ns against queries of 0.1 to 10 us); where a query is a few
 // ns itself (support points) the loop runs here.
 
