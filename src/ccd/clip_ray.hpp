@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// Cyrus-Beck clipping of a ray by the half-spaces of a convex polytope, shared by the 2D
-/// polygon and the 3D hull ray casts. Internal to ccd.
+/// polygon and the 3D hull ray casts: one half-space at a time (clip_ray), and four at a time in
+/// SSE2 lanes (ClipLanes) where random rays would mispredict the scalar loop. Internal to ccd.
 
 #include <collide/core/math.hpp>
 
@@ -78,7 +79,8 @@ template <class Crossing>
 /// on a plane within the smallest float) does not count as entering.
 class ClipLanes {
  public:
-  /// Half-spaces first..first + 3: their crossings num and den in lanes.
+  /// The next four half-spaces (0..3 at the first call, then 4..7, ...): their crossings num
+  /// and den in lanes.
   void add(__m128 num, __m128 den) noexcept {
     const __m128 zero = _mm_setzero_ps();
     const __m128 t = _mm_div_ps(num, den);
