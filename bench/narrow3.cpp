@@ -63,6 +63,7 @@
 #include "instruction_set.hpp"
 #include "support/brute_query3.hpp"
 #include "support/hull_pairs.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_queries.hpp"
 
 #include <benchmark/benchmark.h>
@@ -91,6 +92,7 @@
 namespace {
 
 using namespace collide;
+using test::jolt_pose;  // support/jolt/jolt_convert.hpp
 using collide::test::DVec3;
 
 constexpr int kPairs = 1024;
@@ -180,10 +182,6 @@ struct Pair {
   double touch = -1.0;    ///< approaching pairs: first touch fraction, < 0 for a miss
   collide::test::MinkowskiReference k;
 };
-
-jolt_queries::Pose jolt_pose(const Transform3& xf) {
-  return {{xf.p.x, xf.p.y, xf.p.z}, {xf.q.x, xf.q.y, xf.q.z, xf.q.w}};
-}
 
 btTransform bullet_transform(const Transform3& xf) {
   return btTransform(btQuaternion(xf.q.x, xf.q.y, xf.q.z, xf.q.w),

@@ -25,6 +25,7 @@
 #include <benchmark/benchmark.h>
 
 #include "instruction_set.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_queries.hpp"
 
 #include <algorithm>
@@ -40,6 +41,8 @@
 namespace {
 
 using namespace collide;
+using test::jolt_vec;  // support/jolt/jolt_convert.hpp
+using test::jolt_pose;  // support/jolt/jolt_convert.hpp
 
 constexpr int kQueries = 1024;
 
@@ -63,7 +66,6 @@ const TriangleMesh& dungeon() {
   return mesh;
 }
 
-jolt_queries::Vec jv(Vec3 v) { return {v.x, v.y, v.z}; }
 
 /// Jolt's MeshShape of the same level.
 const jolt_queries::Mesh& jolt_dungeon() {
@@ -71,7 +73,7 @@ const jolt_queries::Mesh& jolt_dungeon() {
     jolt_queries::init();
     const TriangleSoup soup = io::load_obj(std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj");
     std::vector<jolt_queries::Vec> positions;
-    for (const Vec3& p : soup.positions) positions.push_back(jv(p));
+    for (const Vec3& p : soup.positions) positions.push_back(jolt_vec(p));
     std::vector<std::array<std::uint32_t, 3>> triangles;
     for (const glm::uvec3& t : soup.triangles) triangles.push_back({t.x, t.y, t.z});
     return jolt_queries::make_mesh(positions, triangles);
@@ -93,7 +95,7 @@ struct Convex {
 Convex make_shape(std::mt19937& rng, int kind) {
   if (kind == 0) {
     const Vec3 half(uniform(rng, 0.3f, 0.6f), uniform(rng, 0.3f, 0.6f), uniform(rng, 0.3f, 0.6f));
-    return {make_box(half), jolt_queries::make_box(jv(half))};
+    return {make_box(half), jolt_queries::make_box(jolt_vec(half))};
   }
   if (kind == 1) {
     const float h = uniform(rng, 0.3f, 0.6f);
@@ -108,7 +110,7 @@ Convex make_shape(std::mt19937& rng, int kind) {
   const ConvexHull hull = make_convex_hull(points);
   // Jolt gets the hull's own vertices, so both sides have the same solid.
   std::vector<jolt_queries::Vec> corners;
-  for (const Vec3& v : hull.vertices) corners.push_back(jv(v));
+  for (const Vec3& v : hull.vertices) corners.push_back(jolt_vec(v));
   return {hull, jolt_queries::make_convex(corners)};
 }
 
@@ -128,7 +130,7 @@ std::vector<Query> make_queries(int kind) {
     const Vec3 c = mesh.origin + (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)) / 3.0f;
     Convex convex = make_shape(rng, kind);
     const Transform3 xf{c + random_point(rng, 0.5f), random_rotation(rng)};
-    const jolt_queries::Pose pose{jv(xf.p), {xf.q.x, xf.q.y, xf.q.z, xf.q.w}};
+    const jolt_queries::Pose pose = jolt_pose(xf);
     q.push_back({std::move(convex), xf, pose, random_point(rng, 3.0f)});
   }
   return q;
@@ -208,7 +210,7 @@ void cast_counters(benchmark::State& state, int kind) {
   double max_diff = 0.0;
   for (const Query& q : queries(kind)) {
     const ShapeCastResult3 r = shape_cast(q.convex.shape, q.xf, q.translation, mesh, Transform3{}, Vec3(0.0f));
-    const jolt_queries::CastOut j = jolt_queries::mesh_cast(*q.convex.jolt, q.pose, jv(q.translation), jmesh);
+    const jolt_queries::CastOut j = jolt_queries::mesh_cast(*q.convex.jolt, q.pose, jolt_vec(q.translation), jmesh);
     hits += r.hit;
     jolt_hits += j.hit;
     if (r.hit != j.hit) {
@@ -243,7 +245,7 @@ void BM_ShapeCastJolt(benchmark::State& state) {
   const std::vector<Query>& qs = queries(kind);
   for (auto _ : state) {
     for (const Query& q : qs) {
-      benchmark::DoNotOptimize(jolt_queries::mesh_cast(*q.convex.jolt, q.pose, jv(q.translation), jmesh));
+      benchmark::DoNotOptimize(jolt_queries::mesh_cast(*q.convex.jolt, q.pose, jolt_vec(q.translation), jmesh));
     }
   }
   state.SetLabel(kind_name(kind));

@@ -24,6 +24,7 @@
 
 #include "case_order.hpp"
 #include "instruction_set.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_queries.hpp"
 #include "support/random.hpp"
 
@@ -66,8 +67,6 @@ struct Set {
   float max_fraction_gap = 0.0f;
 };
 
-jq::Vec jolt_vec(Vec3 v) { return {v.x, v.y, v.z}; }
-
 template <class Make>
 auto make_set(unsigned seed, float reach, Make make) {
   std::mt19937 rng(seed);
@@ -81,9 +80,7 @@ auto make_set(unsigned seed, float reach, Make make) {
     const Vec3 origin = c.xf.p + random_point3(rng, reach);
     const Vec3 target = c.xf.p + random_point3(rng, 0.5f * reach);
     c.ray = Ray3{origin, (target - origin) * uniform(rng, 0.5f, 2.0f)};
-    const Transform3& local = set.shapes[i & (kShapes - 1)].jolt_frame;
-    const Quat q = c.xf.q * local.q;
-    c.jolt = {jolt_vec(c.xf.p + rotate(c.xf.q, local.p)), {q.x, q.y, q.z, q.w}};
+    c.jolt = jolt_pose(mul(c.xf, set.shapes[i & (kShapes - 1)].jolt_frame));
   }
   // The two sides' answers, once: the fractions where both hit from outside.
   for (int i = 0; i < kCases; ++i) {

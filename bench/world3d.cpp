@@ -66,6 +66,7 @@
 #include <benchmark/benchmark.h>
 
 #include "instruction_set.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_queries.hpp"
 #include "support/jolt/jolt_world.hpp"
 #include "support/random.hpp"
@@ -86,6 +87,9 @@
 namespace {
 
 using namespace collide;
+using test::jolt_vec;  // support/jolt/jolt_convert.hpp
+using test::jolt_pose;  // support/jolt/jolt_convert.hpp
+using test::from_jolt;  // support/jolt/jolt_convert.hpp
 using test::uniform;
 
 // ---- the workload ----------------------------------------------------------------------------------
@@ -129,9 +133,6 @@ constexpr int kTurnFrames = 120;
 
 std::string dungeon_path() { return std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj"; }
 
-jolt_queries::Vec jv(Vec3 v) { return {v.x, v.y, v.z}; }
-Vec3 cv(jolt_queries::Vec v) { return {v.x, v.y, v.z}; }
-jolt_queries::Pose jolt_pose(const Transform3& xf) { return {jv(xf.p), {xf.q.x, xf.q.y, xf.q.z, xf.q.w}}; }
 
 /// The level on both sides.
 struct Level {
@@ -150,7 +151,7 @@ const Level& level() {
     out.diagonal = length(out.box.max - out.box.min);
     const TriangleSoup soup = io::load_obj(dungeon_path());
     std::vector<jolt_queries::Vec> positions;
-    for (const Vec3& p : soup.positions) positions.push_back(jv(p));
+    for (const Vec3& p : soup.positions) positions.push_back(jolt_vec(p));
     std::vector<std::array<std::uint32_t, 3>> triangles;
     for (const glm::uvec3& t : soup.triangles) triangles.push_back({t.x, t.y, t.z});
     out.jolt = jolt_queries::make_mesh(positions, triangles);
@@ -202,10 +203,10 @@ Shape3D random_shape(std::mt19937& rng, float size) {
 jolt_queries::ConvexPtr jolt_shape(const Shape3D& shape) {
   if (const auto* s = std::get_if<Sphere>(&shape)) return jolt_queries::make_sphere(s->radius);
   if (const auto* c = std::get_if<Capsule3>(&shape)) return jolt_queries::make_capsule(c->b.y, c->radius);
-  if (const auto* b = std::get_if<Box>(&shape)) return jolt_queries::make_box(jv(b->half));
+  if (const auto* b = std::get_if<Box>(&shape)) return jolt_queries::make_box(jolt_vec(b->half));
   const auto& hull = std::get<ConvexHull>(shape);
   std::vector<jolt_queries::Vec> corners;
-  for (const Vec3& v : hull.vertices) corners.push_back(jv(v));
+  for (const Vec3& v : hull.vertices) corners.push_back(jolt_vec(v));
   jolt_queries::ConvexPtr c = jolt_queries::make_convex(corners);
   if (!c) {
     std::fprintf(stderr, "Jolt refused a hull\n");
@@ -291,7 +292,7 @@ StepRun make_step_run(int count) {
       run.bodies.push_back(def);
       run.jolt_shapes.push_back(jolt_shape(shape));
       run.jolt_shape_ptrs.push_back(run.jolt_shapes.back().get());
-      run.spins.push_back(jv(def.angular_velocity));
+      run.spins.push_back(jolt_vec(def.angular_velocity));
     }
   }
   run.spawned = static_cast<int>(run.bodies.size());
@@ -305,7 +306,7 @@ StepRun make_step_run(int count) {
     std::vector<jolt_queries::Vec> velocities;
     for (const BodyId id : ids) {
       poses.push_back(jolt_pose(world.transform(id)));
-      velocities.push_back(jv(world.velocity(id)));
+      velocities.push_back(jolt_vec(world.velocity(id)));
     }
     run.poses.push_back(std::move(poses));
     run.velocities.push_back(std::move(velocities));
@@ -337,8 +338,8 @@ StepRun make_step_run(int count) {
     const jolt_queries::StepCounts j = jolt_step(*jolt, run, s);
     if (s < kWarmupSteps) continue;
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      const Vec3 p = s + 1 < kWarmupSteps + kTimedSteps ? cv(run.poses[s + 1][i].p) : world.transform(ids[i]).p;
-      c.jolt_pose_off += length(cv(jolt_queries::pose(*jolt, static_cast<int>(i)).p) - p) > off;
+      const Vec3 p = s + 1 < kWarmupSteps + kTimedSteps ? from_jolt(run.poses[s + 1][i].p) : world.transform(ids[i]).p;
+      c.jolt_pose_off += length(from_jolt(jolt_queries::pose(*jolt, static_cast<int>(i)).p) - p) > off;
     }
     c.jolt_body_pairs += j.body_pairs;
     c.jolt_level_pairs += j.level_pairs;
@@ -529,11 +530,11 @@ void jolt_frame(std::vector<jolt_queries::CharacterPtr>& characters, int frame, 
     w.vy = next_vertical(w.vy, w.grounded);
     const jolt_queries::CharacterOut out =
         jolt_queries::move(*characters[k], {desired[k].x, w.vy, desired[k].z}, kDt, gravity);
-    w.p = cv(out.position);
+    w.p = from_jolt(out.position);
     w.grounded = out.grounded;
     if (fell_off(w)) {
       w = {walk().start[k], 0.0f, true, w.fell + 1};
-      jolt_queries::place(*characters[k], jv(w.p));
+      jolt_queries::place(*characters[k], jolt_vec(w.p));
     }
   }
 }
@@ -547,7 +548,7 @@ std::vector<Walker> start_walkers() {
 std::vector<jolt_queries::CharacterPtr> jolt_characters(jolt_queries::CharacterWorld& world) {
   std::vector<jolt_queries::CharacterPtr> characters;
   for (const Vec3& p : walk().start) {
-    characters.push_back(jolt_queries::make_character(world, jolt_character_settings(), jv(p)));
+    characters.push_back(jolt_queries::make_character(world, jolt_character_settings(), jolt_vec(p)));
   }
   return characters;
 }

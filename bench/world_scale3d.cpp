@@ -78,6 +78,7 @@
 
 #include "instruction_set.hpp"
 #include "world_step_timing.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_scale_world.hpp"
 
 #include <chrono>
@@ -94,6 +95,8 @@
 namespace {
 
 using namespace collide;
+using test::jolt_vec;  // support/jolt/jolt_convert.hpp
+using test::jolt_pose;  // support/jolt/jolt_convert.hpp
 using bench::ns_per;
 namespace jq = jolt_queries;
 using Clock = std::chrono::steady_clock;
@@ -126,8 +129,6 @@ cli::RunOptions scene_options(int n, int threads) {
 
 // ---- the collide scene as Jolt shapes -------------------------------------------------------------
 
-jq::Vec jolt_vec(Vec3 v) { return {v.x, v.y, v.z}; }
-jq::Pose jolt_pose(const Transform3& xf) { return {jolt_vec(xf.p), {xf.q.x, xf.q.y, xf.q.z, xf.q.w}}; }
 
 /// `local` placed by `xf`: the transform of a shape's own frame in the world.
 Transform3 compose(const Transform3& xf, const Transform3& local) { return {xf.p + xf.q * local.p, xf.q * local.q}; }

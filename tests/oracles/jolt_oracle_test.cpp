@@ -24,6 +24,7 @@
 
 #include "support/brute_query3.hpp"
 #include "support/hull_pairs.hpp"
+#include "support/jolt/jolt_convert.hpp"
 #include "support/jolt/jolt_queries.hpp"
 #include "support/test_util.hpp"
 
@@ -65,10 +66,6 @@ bool jolt_runs_here() {
 #endif
 }
 
-jolt_queries::Pose pose(const Transform3& xf) {
-  return {{xf.p.x, xf.p.y, xf.p.z}, {xf.q.x, xf.q.y, xf.q.z, xf.q.w}};
-}
-
 glm::dvec3 dvec(const jolt_queries::Vec& v) { return {v.x, v.y, v.z}; }
 glm::dvec3 unit(glm::dvec3 v) { return v / glm::length(v); }
 
@@ -104,10 +101,10 @@ class JoltOracle : public ::testing::Test {
   static const ConvexHull& a(const test::HullPair& p) { return (*hulls_)[p.a]; }
   static const ConvexHull& b(const test::HullPair& p) { return (*hulls_)[p.b]; }
   static jolt_queries::Body ja(const test::HullPair& p) {
-    return jolt_queries::place(*(*jolt_)[p.a], pose(p.xa));
+    return jolt_queries::place(*(*jolt_)[p.a], test::jolt_pose(p.xa));
   }
   static jolt_queries::Body jb(const test::HullPair& p) {
-    return jolt_queries::place(*(*jolt_)[p.b], pose(p.xb));
+    return jolt_queries::place(*(*jolt_)[p.b], test::jolt_pose(p.xb));
   }
   static test::MinkowskiReference reference(const test::HullPair& p) {
     return test::minkowski_reference(a(p), p.xa, b(p), p.xb);
