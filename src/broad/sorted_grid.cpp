@@ -289,9 +289,51 @@ void SortedGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
     }
     return;
   }
-  for_each_cell<D>(lo, hi, [&](const CellN<D>& cell) {
-    const std::uint64_t key = grid_.linear_index(cell);
-    return visit_cell(key, entries_of(key));
+  bool inverted = false;  // a box with min above max on some axis (not a valid box)
+  for (int k = 0; k < D; ++k) inverted |= hi[k] < lo[k];
+  if (inverted) {
+    for_each_cell<D>(lo, hi, [&](const CellN<D>& cell) {
+      const std::uint64_t key = grid_.linear_index(cell);
+      return visit_cell(key, entries_of(key));
+    });
+    return;
+  }
+  // Row by row along x, whose cells have consecutive keys. An entry is reported by the cell
+  // holding the min corner of the intersection (the owner rule above): along axis k that is
+  // the query's first cell lo[k] or the entry's own first cell (its first_axes bit k), since
+  // cell_of is monotone; so a cell needs bit k of an entry for each axis where it is past
+  // lo[k], and no cell of an entry needs computing. Same entries, same order as cell by cell.
+  const auto visit_span = [&](const CellEntry* first, const CellEntry* last, std::uint32_t need) {
+    for (; first != last; ++first) {
+      if ((first->first_axes & need) == need && overlap(box, first->box) && !callback(first->id)) return false;
+    }
+    return true;
+  };
+  const auto row_key_count = static_cast<std::uint64_t>(hi[0] - lo[0]);  // cells after the first
+  CellN<D> row_hi = hi;
+  row_hi[0] = lo[0];
+  std::size_t cursor = 0;  // sparse: rows ascend in key, so each search starts where the last ended
+  for_each_cell<D>(lo, row_hi, [&](const CellN<D>& row) {
+    std::uint32_t need = 0;
+    for (int k = 1; k < D; ++k) need |= row[k] != lo[k] ? 1u << k : 0u;
+    const std::uint64_t key_lo = grid_.linear_index(row);
+    const std::uint64_t key_hi = key_lo + row_key_count;
+    if (dense_) {
+      // offsets_[c] is the end of cell c's entries: the row's cells are one span of entries.
+      const CellEntry* base = entries_.data();
+      const std::uint32_t begin = key_lo == 0 ? 0 : offsets_[key_lo - 1];
+      return visit_span(base + begin, base + offsets_[key_lo], need) &&
+             visit_span(base + offsets_[key_lo], base + offsets_[key_hi], need | 1u);
+    }
+    const auto last = runs_.end() - 1;  // the sentinel is not a cell
+    auto it = std::lower_bound(runs_.begin() + static_cast<std::ptrdiff_t>(cursor), last, key_lo,
+                               [](const Run& r, std::uint64_t k) { return r.key < k; });
+    for (; it != last && it->key <= key_hi; ++it) {
+      const CellEntry* base = entries_.data();
+      if (!visit_span(base + it->begin, base + (it + 1)->begin, it->key == key_lo ? need : need | 1u)) return false;
+    }
+    cursor = static_cast<std::size_t>(it - runs_.begin());
+    return true;
   });
 }
 
