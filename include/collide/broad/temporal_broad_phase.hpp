@@ -152,9 +152,9 @@ class TemporalBroadPhaseN {
   /// its worker's share; then the shares' pairs appended to `pairs` and their counters added.
   template <class Task>
   void on_workers(TaskScheduler* scheduler, int count, int min_range, PairList& pairs, Task&& task);
-  /// The candidate check of candidate c (wake time, overlap, next wake time).
-  template <class Emit>
-  void check_candidate(std::size_t c, Emit&& emit, std::int64_t& checks, std::int64_t& skipped);
+  /// The candidate checks of candidates [begin, end) (wake time, overlap, next wake time): the
+  /// overlapping pairs appended to `out` in candidate order, checks and sleepers counted.
+  void check_candidates(int begin, int end, PairList& out, std::int64_t& checks, std::int64_t& skipped);
   /// The fast objects' pairs (grid queries, on the scheduler's workers when given; sort and sweep).
   void find_fast_pairs(PairList& pairs, TaskScheduler* scheduler);
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
