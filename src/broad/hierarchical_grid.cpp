@@ -176,17 +176,13 @@ void HierarchicalGridN<D>::piece_pairs(const Piece& piece, PairList& pairs) cons
     level.grid.append_cell_range_pairs(pairs, piece.begin, piece.end);
     return;
   }
+  // Each box of the finer level against the coarser one: the coarse grid's query (each
+  // overlapping box once, in cell order; a coarse level holds no oversized boxes).
   const SortedGridN<D>& coarse = levels_[static_cast<std::size_t>(piece.coarse)].grid;
-  const GridMapping<D>& g = coarse.grid();
   for (int i = piece.begin; i < piece.end; ++i) {
     const int a = level.ids[static_cast<std::size_t>(i)];
-    const AabbN<D> box = boxes_[a];
-    for_each_cell<D>(g.cell_of(box.min), g.cell_of(box.max), [&](const CellN<D>& cell) {
-      for (const auto& entry : coarse.cell_entries(cell)) {
-        if (overlap(box, entry.box) && g.owner_cell(box, entry.box) == cell) {
-          pairs.emplace_back(std::min(a, entry.id), std::max(a, entry.id));
-        }
-      }
+    coarse.query(boxes_[a], [&](int b) {
+      pairs.emplace_back(std::min(a, b), std::max(a, b));
       return true;
     });
   }
