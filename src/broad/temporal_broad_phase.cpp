@@ -100,6 +100,9 @@ namespace {
 constexpr int kObjectsPerTask = 2048;
 /// Smallest range of fast objects per task (each a grid query of a few microseconds).
 constexpr int kFastObjectsPerTask = 64;
+/// From this many fast objects on, their pairs among themselves come from a grid of their own
+/// instead of a sort and sweep along x.
+constexpr std::size_t kFastGridFrom = 256;
 
 /// update's verdict on an object: bound kept, bound broken, or bound kept but out of its grown
 /// box (it may still pair with candidates it was not grown towards).
@@ -364,6 +367,21 @@ void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs, TaskScheduler* sch
     on_workers(scheduler, fast_count, kFastObjectsPerTask, pairs,
                [&](int begin, int end, WorkerOutput& out) { query_fast(begin, end, out.pairs, out.checks); });
   }
+  if (fast_.size() >= kFastGridFrom) {
+    // Many fast objects: a sweep along x checks each against every other whose box spans the
+    // same x (3D bullets crossing 20 body sizes a frame: a quarter of the 3D broad phase at 1e5
+    // bodies, on one thread). A grid of their own boxes finds the same pairs.
+    fast_boxes_.resize(fast_.size());
+    for (std::size_t k = 0; k < fast_.size(); ++k) fast_boxes_[k] = boxes_[std::size_t(fast_[k])];
+    fast_grid_.build(fast_boxes_);
+    fast_grid_.find_pairs(fast_pairs_);
+    stats_.checks += static_cast<std::int64_t>(fast_pairs_.size());
+    for (const auto& [k, m] : fast_pairs_) {
+      const int f = fast_[std::size_t(k)], g = fast_[std::size_t(m)];
+      pairs.emplace_back(std::min(f, g), std::max(f, g));
+    }
+    return;
+  }
   fast_order_.assign(fast_.begin(), fast_.end());
   std::sort(fast_order_.begin(), fast_order_.end(), [&](int a, int b) {
     const float xa = boxes_[std::size_t(a)].min[0], xb = boxes_[std::size_t(b)].min[0];
@@ -445,7 +463,8 @@ std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
   return (boxes_.capacity() + grown_.capacity()) * sizeof(AabbN<D>) +
          (speeds_.capacity() + scratch_.capacity()) * sizeof(float) +
          candidates_.capacity() * sizeof(BroadPair) + wake_.capacity() * sizeof(double) +
-         slow_grown_.capacity() * sizeof(AabbN<D>) +
+         (slow_grown_.capacity() + fast_boxes_.capacity()) * sizeof(AabbN<D>) +
+         fast_pairs_.capacity() * sizeof(BroadPair) + fast_grid_.memory_bytes() +
          (slow_ids_.capacity() + fast_.capacity() + fast_order_.capacity()) * sizeof(int) + is_fast_.capacity() +
          raised_.capacity() + grid_.memory_bytes();
 }

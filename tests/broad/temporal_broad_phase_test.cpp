@@ -220,6 +220,35 @@ TYPED_TEST(TemporalTest, FastObjectsAmongSlowOnesAreFoundEveryFrame) {
   EXPECT_LT(temporal.stats().candidate_pairs, 5000);  // grown bullets would pair with most
 }
 
+// Hundreds of fast objects (a third of the world): their pairs among themselves come from a
+// grid of their own rather than a sweep along x. Brute force's pairs every frame, on one
+// worker and on several.
+TYPED_TEST(TemporalTest, ManyFastObjectsFindTheirPairsAmongThemselvesEveryFrame) {
+  constexpr int D = TypeParam::value;
+  for (const int workers : {1, 3}) {
+    std::mt19937 rng(41 + D);
+    auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, 1800, 30.0f, 0.2f, 1.0f),
+                                       30.0f, 0.02f);
+    for (std::size_t i = 0; i < world.velocity.size(); i += 3) world.velocity[i] *= 100.0f;
+    test::ThreadScheduler scheduler(workers);
+    TemporalBroadPhaseN<D> temporal;
+    temporal.build(world.boxes, bounds_of_world(world), 0.0);
+    PairList pairs;
+    std::size_t fast_fast = 0;
+    for (int frame = 1; frame <= 40; ++frame) {
+      world.step();
+      temporal.update(world.boxes, static_cast<double>(frame), &scheduler);
+      temporal.find_pairs(pairs, &scheduler);
+      sort_pairs(pairs);
+      const PairList expected = brute_pairs<D>(world.boxes);
+      ASSERT_EQ(pairs, expected) << "frame " << frame << ", " << workers << " workers";
+      for (const auto& [a, b] : expected) fast_fast += a % 3 == 0 && b % 3 == 0;
+    }
+    EXPECT_GT(fast_fast, 400u) << workers << " workers";
+    EXPECT_GE(temporal.stats().fast_objects, 256) << workers << " workers";
+  }
+}
+
 // The named static worlds (uniform, clustered, mixed sizes, huge objects, touching on cell
 // boundaries, negative, far from the origin, points, one box, empty) held still for a few
 // frames under small speed bounds: every frame brute force's pairs, and the separated

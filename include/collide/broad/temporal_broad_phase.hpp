@@ -20,7 +20,9 @@
 ///     Skipped checks are counted (stats().skipped_checks).
 ///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
 ///     are not grown, which would make them candidates with everything they could reach; each
-///     frame a grid query finds their pairs directly (stats().fast_objects).
+///     frame a grid query finds their pairs with the others directly (stats().fast_objects),
+///     and their pairs among themselves come from a sort and sweep along x or, when there are
+///     many, from a uniform grid of their own built each frame.
 ///  4. An object that breaks its bound (a bounce, a push, a teleport) or leaves its grown box
 ///     joins the fast objects until the next rebuild: its candidate pairs are ignored and a
 ///     grid query finds its pairs every frame (stats().bound_violations, demoted). Only when
@@ -36,6 +38,7 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
+#include <collide/broad/sorted_grid.hpp>
 #include <collide/core/task_scheduler.hpp>
 
 #include <cstdint>
@@ -87,7 +90,8 @@ class TemporalBroadPhaseN {
   /// sleeping candidate pairs (their wake times assumed the old bound); a lowered one keeps
   /// the wake times, which stay conservative. Throws InvalidInput for a bad bound or count.
   void set_speed_bounds(std::span<const float> speed_bounds);
-  /// Every pair overlapping at the current time, once, i < j; order: candidate order.
+  /// Every pair overlapping at the current time, once, i < j; order: the candidates' pairs in
+  /// candidate order, then the fast objects'.
   void find_pairs(PairList& pairs);
 
   /// update, set_speed_bounds and find_pairs with their per-object and per-candidate loops
@@ -141,6 +145,9 @@ class TemporalBroadPhaseN {
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
   std::size_t demoted_since_rebuild_ = 0;
   std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
+  std::vector<AabbN<D>> fast_boxes_;   // find_pairs' scratch: the fast objects' boxes, by place in fast_
+  SortedGridN<D> fast_grid_;           // over fast_boxes_, when there are many fast objects
+  PairList fast_pairs_;                // fast_grid_'s pairs (places in fast_)
   std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box
   struct WorkerOutput {                // a worker's share of find_pairs
     PairList pairs;
@@ -155,7 +162,8 @@ class TemporalBroadPhaseN {
   /// The candidate checks of candidates [begin, end) (wake time, overlap, next wake time): the
   /// overlapping pairs appended to `out` in candidate order, checks and sleepers counted.
   void check_candidates(int begin, int end, PairList& out, std::int64_t& checks, std::int64_t& skipped);
-  /// The fast objects' pairs (grid queries, on the scheduler's workers when given; sort and sweep).
+  /// The fast objects' pairs: with the slow ones by grid queries (on the scheduler's workers
+  /// when given), among themselves by sort and sweep or, when many, a grid of their own.
   void find_fast_pairs(PairList& pairs, TaskScheduler* scheduler);
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
   std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
