@@ -62,7 +62,9 @@ class TemporalBroadPhaseN {
 
   /// Counters since build.
   struct Stats {
-    std::int64_t checks = 0;            ///< candidate pairs tested exactly
+    /// Box tests made: awake candidates, and the fast objects' tests against the slow ones and
+    /// among themselves (each tested pair of the sweep, or each pair their own grid found).
+    std::int64_t checks = 0;
     std::int64_t skipped_checks = 0;    ///< candidate pair tests skipped: gap not closable yet
     std::int64_t rebuilds = 0;          ///< candidate sets built
     std::int64_t bound_violations = 0;  ///< object updates that broke their speed bound
