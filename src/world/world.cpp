@@ -122,6 +122,19 @@ void prefetch_shapes(const Body& b) noexcept {
   __builtin_prefetch(first + sizeof(b.shapes[0]) - 1);
 }
 
+/// Body pairs ahead of the one being tested whose bodies are prefetched: pairs are in proxy
+/// order, so the second body of each is a random one (a miss to memory at 1e5 bodies: perf
+/// gave the load of its pose 65% of the pair loop's own time).
+constexpr int kPairPrefetchAhead = 4;
+
+/// Asks the cache for the lines of `b` a pair's test reads first: its pose and first piece's
+/// state (circle, box) at the front, its filter and shapes further on.
+template <class Body>
+void prefetch_body(const Body& b) noexcept {
+  const auto* at = reinterpret_cast<const char*>(&b);
+  for (std::size_t offset = 0; offset < sizeof(Body); offset += 64) __builtin_prefetch(at + offset);
+}
+
 /// `v` shortened to at most `max_length`.
 template <class V>
 V clamp_length(V v, float max_length) {
@@ -702,6 +715,11 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
     detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
     detail::WorldCheckChain& chain = body_chain_of(w);
     for (int i = begin; i < end; ++i) {
+      if (i + kPairPrefetchAhead < end) {
+        const auto [p_ahead, q_ahead] = pairs[static_cast<std::size_t>(i + kPairPrefetchAhead)];
+        prefetch_body(bodies[proxies[p_ahead].body]);
+        prefetch_body(bodies[proxies[q_ahead].body]);
+      }
       const auto [p, q] = pairs[static_cast<std::size_t>(i)];
       const detail::Proxy pa = proxies[p];
       const detail::Proxy pb = proxies[q];
