@@ -113,13 +113,15 @@ constexpr int kPairsPerTask = 512;
 constexpr int kShapePrefetchAhead = 4;
 
 /// Asks the cache for the first shape of `b` (both ends of it: the variant's kind is stored
-/// after its largest alternative).
+/// after its largest alternative) and for the state of its second piece, if any (the pieces
+/// after the first live in a heap block of their own).
 template <class Body>
 void prefetch_shapes(const Body& b) noexcept {
   if (b.shapes.empty()) return;
   const auto* first = reinterpret_cast<const char*>(b.shapes.data());
   __builtin_prefetch(first);
   __builtin_prefetch(first + sizeof(b.shapes[0]) - 1);
+  if (!b.more_pieces.empty()) __builtin_prefetch(b.more_pieces.data());
 }
 
 /// Body pairs ahead of the one being tested whose bodies are prefetched: pairs are in proxy
