@@ -108,35 +108,6 @@ constexpr std::array<bool, 3> kChainPretests = {false, false, true};
 constexpr int kBodiesPerTask = 128;
 constexpr int kPairsPerTask = 512;
 
-/// Bodies ahead of the one being moved whose shapes are prefetched (a body's motion takes
-/// about 100 ns, a miss to memory about as long).
-constexpr int kShapePrefetchAhead = 4;
-
-/// Asks the cache for the first shape of `b` (both ends of it: the variant's kind is stored
-/// after its largest alternative) and for the state of its second piece, if any (the pieces
-/// after the first live in a heap block of their own).
-template <class Body>
-void prefetch_shapes(const Body& b) noexcept {
-  if (b.shapes.empty()) return;
-  const auto* first = reinterpret_cast<const char*>(b.shapes.data());
-  __builtin_prefetch(first);
-  __builtin_prefetch(first + sizeof(b.shapes[0]) - 1);
-  if (!b.more_pieces.empty()) __builtin_prefetch(b.more_pieces.data());
-}
-
-/// Body pairs ahead of the one being tested whose bodies are prefetched: pairs are in proxy
-/// order, so the second body of each is a random one (a miss to memory at 1e5 bodies: perf
-/// gave the load of its pose 65% of the pair loop's own time).
-constexpr int kPairPrefetchAhead = 4;
-
-/// Asks the cache for the lines of `b` a pair's test reads first: its pose and first piece's
-/// state (circle, box) at the front, its filter and shapes further on.
-template <class Body>
-void prefetch_body(const Body& b) noexcept {
-  const auto* at = reinterpret_cast<const char*>(&b);
-  for (std::size_t offset = 0; offset < sizeof(Body); offset += 64) __builtin_prefetch(at + offset);
-}
-
 /// `v` shortened to at most `max_length`.
 template <class V>
 V clamp_length(V v, float max_length) {
@@ -385,7 +356,7 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
     for (int i = begin; i < end; ++i) {
       // The shapes of a body a few ahead: its new boxes read them, from a heap block apart from
       // the body (at 1e6 bodies a cache miss a body, most of the box computation's time).
-      if (i + kShapePrefetchAhead < end) prefetch_shapes(bodies[static_cast<std::size_t>(i + kShapePrefetchAhead)]);
+      if (i + detail::kShapePrefetchAhead < end) detail::prefetch_shapes(bodies[static_cast<std::size_t>(i + detail::kShapePrefetchAhead)]);
       integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
     }
   });
@@ -717,10 +688,10 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
     detail::StepWorkerN<D>& wk = workers[static_cast<std::size_t>(w)];
     detail::WorldCheckChain& chain = body_chain_of(w);
     for (int i = begin; i < end; ++i) {
-      if (i + kPairPrefetchAhead < end) {
-        const auto [p_ahead, q_ahead] = pairs[static_cast<std::size_t>(i + kPairPrefetchAhead)];
-        prefetch_body(bodies[proxies[p_ahead].body]);
-        prefetch_body(bodies[proxies[q_ahead].body]);
+      if (i + detail::kPairPrefetchAhead < end) {
+        const auto [p_ahead, q_ahead] = pairs[static_cast<std::size_t>(i + detail::kPairPrefetchAhead)];
+        detail::prefetch_body(bodies[proxies[p_ahead].body]);
+        detail::prefetch_body(bodies[proxies[q_ahead].body]);
       }
       const auto [p, q] = pairs[static_cast<std::size_t>(i)];
       const detail::Proxy pa = proxies[p];
