@@ -178,8 +178,8 @@ void prefetch_shapes(const Body& b) noexcept {
 /// gave the load of its pose 65% of the pair loop's own time).
 constexpr int kPairPrefetchAhead = 4;
 
-/// Asks the cache for the lines of `b` a pair's test reads first: its pose and first piece's
-/// state (circle, box) at the front, its filter and shapes further on.
+/// Asks the cache for every line of `b`: a pair's test reads its pose and first piece's state
+/// (circle, box) at the front, its filter and its shapes' pointer further on.
 template <class Body>
 void prefetch_body(const Body& b) noexcept {
   const auto* at = reinterpret_cast<const char*>(&b);
