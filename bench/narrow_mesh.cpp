@@ -66,7 +66,6 @@ const TriangleMesh& dungeon() {
   return mesh;
 }
 
-
 /// Jolt's MeshShape of the same level.
 const jolt_queries::Mesh& jolt_dungeon() {
   static const jolt_queries::MeshPtr mesh = [] {

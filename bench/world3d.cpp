@@ -133,7 +133,6 @@ constexpr int kTurnFrames = 120;
 
 std::string dungeon_path() { return std::string(COLLIDE_DATA_DIR) + "/meshes/recast/dungeon.obj"; }
 
-
 /// The level on both sides.
 struct Level {
   std::shared_ptr<const TriangleMesh> mesh;

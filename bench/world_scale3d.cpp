@@ -129,10 +129,6 @@ cli::RunOptions scene_options(int n, int threads) {
 
 // ---- the collide scene as Jolt shapes -------------------------------------------------------------
 
-
-/// `local` placed by `xf`: the transform of a shape's own frame in the world.
-Transform3 compose(const Transform3& xf, const Transform3& local) { return {xf.p + xf.q * local.p, xf.q * local.q}; }
-
 /// The rotation that turns +y onto the unit vector `to` (Jolt's capsules lie along y).
 Quat y_onto(Vec3 to) {
   const Vec3 y(0.0f, 1.0f, 0.0f);
@@ -214,7 +210,7 @@ struct JoltScene {
   void read_bodies(const World3D& world) {
     for (std::size_t i = 0; i < ids.size(); ++i) {
       jq::ScaleBody& b = bodies[i];
-      b.pose = jolt_pose(compose(world.transform(ids[i]), body_local[i]));
+      b.pose = jolt_pose(mul(world.transform(ids[i]), body_local[i]));
       b.velocity = jolt_vec(world.velocity(ids[i]));
       b.angular = jolt_vec(world.angular_velocity(ids[i]));
     }
@@ -247,7 +243,7 @@ JoltScene jolt_scene(const World3D& world) {
             },
             piece);
         out.convexes.push_back(std::move(c.shape));
-        out.statics.push_back({nullptr, out.convexes.back().get(), jolt_pose(compose(def.transform, c.local))});
+        out.statics.push_back({nullptr, out.convexes.back().get(), jolt_pose(mul(def.transform, c.local))});
       }
     }
   }
