@@ -54,11 +54,13 @@ Manifold contact_polygon_circle(const Polygon& a, const Transform& xa, const Cir
   float separation = -std::numeric_limits<float>::infinity();
   for (int i = 0; i < a.count; ++i) {
     const float s = dot(a.normals[i], c - a.vertices[i]);
-    if (s > separation) {
-      separation = s;
-      edge = i;
-      if (s > radius) return m;  // a separating axis
-    }
+    if (s > radius) return m;  // a separating axis
+    // The running maximum by selects, not a branch: which edge leads is a coin toss for pairs
+    // met in an order the branch predictor has not learnt (bench_narrow_contact, shuffled
+    // circle-polygon pairs, AMD EPYC: 33.4 -> 23.1 ns a pair; replayed in a learnt order
+    // 7.9 -> 9.9 ns, the selects' chain).
+    edge = s > separation ? i : edge;
+    separation = s > separation ? s : separation;
   }
   const int next = next_vertex(edge, a.count);
   const Vec2 v1 = a.vertices[edge];
