@@ -356,7 +356,7 @@ void WorldN<D>::Impl::integrate(float dt, StepStats& stats) {
     for (int i = begin; i < end; ++i) {
       // The shapes of a body a few ahead: its new boxes read them, from a heap block apart from
       // the body (at 1e6 bodies a cache miss a body, most of the box computation's time).
-      if (i + detail::kShapePrefetchAhead < end) detail::prefetch_shapes(bodies[static_cast<std::size_t>(i + detail::kShapePrefetchAhead)]);
+      detail::prefetch_shapes_ahead(bodies, i, end);
       integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
     }
   });

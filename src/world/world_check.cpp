@@ -67,7 +67,7 @@ void WorldN<D>::Impl::check(StepStats& stats) {
   parallel(static_cast<int>(bodies.size()), kCheckBodiesPerTask, [&](int begin, int end, int w) {
     for (int i = begin; i < end; ++i) {
       // The shapes and further pieces of a body a few ahead (heap blocks apart from the body).
-      if (i + detail::kShapePrefetchAhead < end) detail::prefetch_shapes(bodies[static_cast<std::size_t>(i + detail::kShapePrefetchAhead)]);
+      detail::prefetch_shapes_ahead(bodies, i, end);
       check_body(static_cast<std::uint32_t>(i), w);
     }
   });
