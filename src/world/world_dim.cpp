@@ -57,8 +57,11 @@ float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3,
   const float d0 = dot(n, from - c[0]);
   const float d1 = d0 + dot(n, motion);
   if (std::fabs(d0) > reach && (d0 > 0.0f) == (d1 > 0.0f) && std::fabs(d1) > reach) return kNeverEntered;
-  // Already within reach at the start.
-  if (distance_squared(from, closest_point_on_triangle(from, c[0], c[1], c[2]).point) <= reach * reach) return 0.0f;
+  // Already within reach at the start (only possible within the slab).
+  if (std::fabs(d0) <= reach &&
+      distance_squared(from, closest_point_on_triangle(from, c[0], c[1], c[2]).point) <= reach * reach) {
+    return 0.0f;
+  }
   const Ray3 ray{from, motion};
   float entry = kNeverEntered;
   // The prism top on the start's side, if the centre reaches it within the step.
@@ -72,8 +75,16 @@ float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3,
       if (inside) return std::max(enter, std::max(s, 0.0f));  // the face is met before any edge
     }
   }
+  // The edges' capsules, each after a test of its bounding ball (the edge's middle, radius half
+  // its length plus the reach) against the centre's path.
+  const float inv_mm = 1.0f / length_squared(motion);
   for (int k = 0; k < 3; ++k) {
-    const RayHit3 h = raycast(Capsule3{c[k], c[(k + 1) % 3], reach}, Transform3{}, ray);
+    const Vec3 a = c[k], b = c[(k + 1) % 3];
+    const Vec3 middle = 0.5f * (a + b);
+    const float s = std::clamp(dot(middle - from, motion) * inv_mm, 0.0f, 1.0f);
+    const float ball = 0.5f * length(b - a) + reach;
+    if (distance_squared(from + s * motion, middle) > ball * ball) continue;
+    const RayHit3 h = raycast(Capsule3{a, b, reach}, Transform3{}, ray);
     if (h.hit) entry = std::min(entry, h.fraction);
   }
   return entry == kNeverEntered ? entry : std::max(enter, entry);
