@@ -428,6 +428,8 @@ void WorldN<D>::Impl::move_with_ccd(std::uint32_t index, VecN<D> d, AngularN<D> 
       const StaticPiece& sp = static_pieces[id];
       const StaticDefN<D>& st = statics[sp.owner];
       if (st.sensor || !should_collide(b.filter, st.filter)) continue;
+      // The centre's path never within the body's reach of the static's bounding ball.
+      if (!detail::path_reaches<D>(sweep.c0, sweep.c1, sp.circle_center, b.bounding_radius + sp.circle_radius)) continue;
       const detail::StaticPieceRefN<D> static_shape = static_piece(sp.owner, sp.piece);  // a shape or a field
       for (std::size_t k = 0; k < b.shapes.size(); ++k) {
         const Box piece_sweep = b.shapes.size() > 1 ? swept_aabb(b.shapes[k], sweep) : box;  // one piece: the body's box

@@ -22,11 +22,6 @@ namespace {
 /// A sweep against a level shape sorts at most this many of the triangles its box meets by
 /// their entry fraction (triangle_entry) on the stack; the rest are queried as they come.
 constexpr int kSortedTriangles = 64;
-/// triangle_entry's reach is grown by this fraction of itself (room for the time of impact's
-/// target separation, 1e-3 of the smaller size, and its tolerance: a query calls a hit a little
-/// before contact) and by kTriangleEntryRounding of the coordinates' magnitude.
-constexpr float kTriangleEntrySlack = 0.01f;
-constexpr float kTriangleEntryRounding = 1e-5f;
 /// triangle_entry's answer for a triangle the piece never comes near: beyond every fraction.
 constexpr float kNeverEntered = 2.0f;
 
@@ -330,8 +325,8 @@ ToiResult3 level_impact(const Shape3D& a, const ConvexProxy3& proxy_a, const Swe
   const Transform3 at_start = sweep.at(0.0f);
   float reach = 0.0f;
   for (int i = 0; i < proxy_a.count(); ++i) reach = std::max(reach, distance(proxy_a.point(i), sweep.local_center));
-  reach = (reach + proxy_a.radius()) * (1.0f + kTriangleEntrySlack) +
-          kTriangleEntryRounding * (max_abs(sweep.c0) + max_abs(sweep.c1) + reach);
+  reach = (reach + proxy_a.radius()) * (1.0f + kReachSlack) +
+          kReachRounding * (max_abs(sweep.c0) + max_abs(sweep.c1) + reach);
   ToiResult3 best;
   best.status = QueryStatus::separated;
   best.fraction = 1.0f;

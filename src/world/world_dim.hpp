@@ -11,6 +11,7 @@
 #include <collide/narrow/contact.hpp>
 #include <collide/world/world.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
@@ -32,6 +33,27 @@ struct PieceInfoN {
   /// shape): how far the piece can move in one step before it could pass through a thin wall.
   float inner_size = 0.0f;
 };
+
+/// A reach measured for a cull of time of impact queries (a piece's points about its centre of
+/// rotation, plus what it may meet) is grown by this fraction of itself (room for the time of
+/// impact's target separation, 1e-3 of the smaller size, and its tolerance: a query calls a hit
+/// a little before contact) and by kReachRounding of the coordinates' magnitude.
+inline constexpr float kReachSlack = 0.01f;
+inline constexpr float kReachRounding = 1e-5f;
+
+/// Whether a body's centre of rotation, moving from `c0` to `c1` over the step, comes within
+/// `reach` (grown by kReachSlack and kReachRounding) of `center`: when it does not, no point
+/// within `reach` - kReachSlack of the centre meets the ball about `center` that the reach's
+/// other part covers, so a time of impact query of the pair is separated (the pretest of
+/// move_with_ccd: a bullet's swept box holds statics its path passes far from).
+template <int D>
+[[nodiscard]] bool path_reaches(VecN<D> c0, VecN<D> c1, VecN<D> center, float reach) noexcept {
+  const VecN<D> m = c1 - c0;
+  const float mm = dot(m, m);
+  const float s = mm > 0.0f ? std::clamp(dot(center - c0, m) / mm, 0.0f, 1.0f) : 0.0f;
+  const float grown = reach * (1.0f + kReachSlack) + kReachRounding * (max_abs(c0) + max_abs(c1) + reach);
+  return !(length_squared(c0 + s * m - center) > grown * grown);
+}
 
 /// Facts about a shape: bounding circle or sphere and inner size (local space).
 PieceInfoN<2> piece_info(const Shape2D& shape);
