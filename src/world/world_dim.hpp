@@ -42,10 +42,11 @@ inline constexpr float kReachSlack = 0.01f;
 inline constexpr float kReachRounding = 1e-5f;
 
 /// Whether a body's centre of rotation, moving from `c0` to `c1` over the step, comes within
-/// `reach` (grown by kReachSlack and kReachRounding) of `center`: when it does not, no point
-/// within `reach` - kReachSlack of the centre meets the ball about `center` that the reach's
-/// other part covers, so a time of impact query of the pair is separated (the pretest of
-/// move_with_ccd: a bullet's swept box holds statics its path passes far from).
+/// `reach` of `center` (reach grown by kReachSlack of itself and kReachRounding of the
+/// coordinates). With `reach` the body's reach about its centre plus the bounding radius of a
+/// static about `center`, a pair whose centre never comes that near cannot touch within the
+/// step, and its time of impact query would say separated: move_with_ccd's pretest (a
+/// bullet's swept box holds statics its path passes far from).
 template <int D>
 [[nodiscard]] bool path_reaches(VecN<D> c0, VecN<D> c1, VecN<D> center, float reach) noexcept {
   const VecN<D> m = c1 - c0;
