@@ -72,13 +72,9 @@ float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3,
   }
   // The edges' capsules, each after a test of its bounding ball (the edge's middle, radius half
   // its length plus the reach) against the centre's path.
-  const float mm = length_squared(motion);
   for (int k = 0; k < 3; ++k) {
     const Vec3 a = c[k], b = c[(k + 1) % 3];
-    const Vec3 middle = 0.5f * (a + b);
-    const float s = mm > 0.0f ? std::clamp(dot(middle - from, motion) / mm, 0.0f, 1.0f) : 0.0f;
-    const float ball = 0.5f * length(b - a) + reach;
-    if (distance_squared(from + s * motion, middle) > ball * ball) continue;
+    if (!path_reaches<3>(from, from + motion, 0.5f * (a + b), 0.5f * length(b - a) + reach)) continue;
     const RayHit3 h = raycast(Capsule3{a, b, reach}, Transform3{}, ray);
     if (h.hit) entry = std::min(entry, h.fraction);
   }
