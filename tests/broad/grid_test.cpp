@@ -23,8 +23,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <vector>
 #include <random>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -49,7 +49,6 @@ PairList pairs_of_update(BP& bp, std::span<const AabbN<D>> boxes) {
   return pairs;
 }
 
-// Regression for the lesson's exercise: two boxes sharing 25 cells were reported 25 times.
 // cell_of clamps before it truncates (no floor): the cell must be floor-then-clamp's for every
 // input, including the ones a floor treats differently from truncation (negatives, -0, values
 // just below a cell boundary) and the ones no cell holds (NaN and the infinities land on a
@@ -87,6 +86,7 @@ TEST(GridMapping, CellOfIsFloorThenClampForEveryInput) {
   EXPECT_GT(on_border, 100);  // the clamps were reached
 }
 
+// Regression for the lesson's exercise: two boxes sharing 25 cells were reported 25 times.
 TEST(HashGrid, PairSharingManyCellsIsReportedOnce) {
   const std::vector<Aabb> boxes = {{{0.0f, 0.0f}, {5.0f, 5.0f}}, {{0.5f, 0.5f}, {4.5f, 4.5f}}};
   HashGrid grid({.cell_size = 1.0f});

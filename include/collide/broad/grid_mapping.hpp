@@ -66,7 +66,7 @@ struct GridMapping {
       const float v = (p[k] - origin[k]) * inv_cell_size;
       // Clamped into [0, dims - 1] before the conversion, where truncation is the floor: the
       // cell of floor then clamp, for every input, without a floor (which SSE2, having no round
-      // instruction, does in a dozen instructions: 4% of a world step's, in grid queries).
+      // instruction, does in a dozen instructions: about 5% of a world step's, in grid queries).
       // max(0, v) is v > 0 ? v : 0, so NaN lands on 0 rather than in an undefined float-to-int
       // conversion; both clamps are one instruction each, no branch.
       const float clamped = std::min(std::max(0.0f, v), static_cast<float>(dims[k] - 1));
