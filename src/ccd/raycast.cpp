@@ -54,6 +54,15 @@ RayHit to_world(const LocalHit& h, const Transform& xf, const Ray& ray) noexcept
   return {true, h.fraction, ray.at(h.fraction), rotate(xf.q, h.normal)};
 }
 
+/// The hit of `h` on `ray` when its normal is already in world space (raycast3.cpp's world_hit
+/// in 2D). Without a branch on whether it hit (random rays hit or miss at random; ray_ball's
+/// reason): a miss's point is zeroed by a mask, its other fields are zero already.
+RayHit world_hit(const LocalHit& h, const Ray& ray) noexcept {
+  const std::uint32_t keep = detail::mask_of(h.hit);
+  const Vec2 point = ray.at(h.fraction);
+  return {h.hit, h.fraction, {detail::keep_if(point.x, keep), detail::keep_if(point.y, keep)}, h.normal};
+}
+
 /// First entry into the disc of `radius` about the origin: the ball entry of ray_ball.hpp.
 inline LocalHit ray_disc(Vec2 m, Vec2 d, float radius) noexcept {
   return detail::ray_ball<2>(m, d, radius);
@@ -274,12 +283,9 @@ RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexc
 /// large coordinates cancel first. The normal comes out in world space (bench_ray_cast, capsules
 /// visited in an unlearnable order, AMD EPYC: 41 -> 33 ns a cast).
 RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
-  const Capsule turned{rotate(xf.q, capsule.a), rotate(xf.q, capsule.b), capsule.radius};
   if (!(length_squared(ray.translation) > 0.0f)) return {};
-  const LocalHit h = raycast_local(turned, ray.origin - xf.p, ray.translation);
-  const std::uint32_t keep = detail::mask_of(h.hit);
-  const Vec2 point = ray.at(h.fraction);
-  return {h.hit, h.fraction, {detail::keep_if(point.x, keep), detail::keep_if(point.y, keep)}, h.normal};
+  const Capsule turned{rotate(xf.q, capsule.a), rotate(xf.q, capsule.b), capsule.radius};
+  return world_hit(raycast_local(turned, ray.origin - xf.p, ray.translation), ray);
 }
 
 /// A disc looks the same in every frame: only the origin needs to be made relative to the
@@ -287,12 +293,7 @@ RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ra
 /// ray or the normal.
 RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
   const Vec2 m = (ray.origin - xf.p) - rotate(xf.q, circle.center);
-  const LocalHit h = ray_disc(m, ray.translation, circle.radius);  // zero length: b = 0, miss
-  // A miss's fields are zero by a mask, not a branch (ray_ball's reason).
-  const std::uint32_t keep = detail::mask_of(h.hit);
-  const Vec2 point = ray.at(h.fraction);
-  return {h.hit, h.fraction, {detail::keep_if(point.x, keep), detail::keep_if(point.y, keep)},
-          h.normal};
+  return world_hit(ray_disc(m, ray.translation, circle.radius), ray);  // zero length: b = 0, miss
 }
 
 }  // namespace
