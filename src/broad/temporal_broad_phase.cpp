@@ -237,11 +237,15 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
   std::atomic<unsigned> found{0};  // bit 0: a bound raised, bit 1: a bad bound
   const auto n = static_cast<int>(speeds_.size());
   parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
+    // (arrays in locals: the flags are byte stores, which may alias any member read through this)
+    const float* const bounds = speed_bounds.data();
+    const float* const speeds = speeds_.data();
+    unsigned char* const raised = raised_.data();
     unsigned any = 0;
     for (int i = begin; i < end; ++i) {
-      const float v = speed_bounds[std::size_t(i)];
-      const unsigned char flag = !is_valid_speed_bound(v) ? 2 : v > speeds_[std::size_t(i)] ? 1 : 0;
-      raised_[std::size_t(i)] = flag;
+      const float v = bounds[i];
+      const unsigned flag = unsigned{!is_valid_speed_bound(v)} * 2u | unsigned{v > speeds[i]};
+      raised[i] = static_cast<unsigned char>(flag == 3u ? 2u : flag);
       any |= flag;
     }
     if (any != 0) found.fetch_or(any, std::memory_order_relaxed);
