@@ -130,32 +130,36 @@ void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes) {
 template <int D>
 void SortedGridN<D>::fill_counting(std::span<const AabbN<D>> boxes, std::uint64_t total_cells) {
   // Count the entries of each cell, turn counts into first positions, then write each entry at
-  // its cell's next position: boxes in ascending id order, so ids ascend within a cell.
+  // its cell's next position: boxes in ascending id order, so ids ascend within a cell. (The
+  // grid and the arrays in locals: the stores of counts and entries may alias the members.)
   offsets_.assign(total_cells + 1, 0);
+  const GridMapping<D> grid = grid_;
+  std::uint32_t* const offsets = offsets_.data();
   for (const CellRange& r : ranges_) {
     for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t) {
-      ++offsets_[key_of(cell) + 1];
+      ++offsets[grid.linear_index(cell) + 1];
     });
   }
-  for (std::size_t c = 1; c <= total_cells; ++c) offsets_[c] += offsets_[c - 1];
+  // Prefix sums into first positions, and the runs (occupied cells) at the same time.
+  runs_.clear();
+  std::uint32_t sum = 0;
+  for (std::uint64_t c = 0; c < total_cells; ++c) {
+    const std::uint32_t count = offsets[c + 1];
+    if (count != 0) runs_.push_back({c, static_cast<int>(sum)});
+    sum += count;
+    offsets[c + 1] = sum;
+  }
+  runs_.push_back({~std::uint64_t{0}, static_cast<int>(entry_total_)});
   entries_.resize(entry_total_);
+  CellEntry* const entries = entries_.data();
   for (const CellRange& r : ranges_) {
     const AabbN<D> box = boxes[r.id];
+    const int id = r.id;
     for_each_cell_of_range<D>(r.lo, r.hi, [&](const CellN<D>& cell, std::uint32_t first_axes) {
-      entries_[offsets_[key_of(cell)]++] = {box, r.id, first_axes};
+      entries[offsets[grid.linear_index(cell)]++] = {box, id, first_axes};
     });
   }
   // offsets_[c] is now the end of cell c, the start of cell c + 1.
-  runs_.clear();
-  std::uint32_t begin = 0;
-  for (std::uint64_t c = 0; c < total_cells; ++c) {
-    const std::uint32_t end = offsets_[c];
-    if (end != begin) {
-      runs_.push_back({c, static_cast<int>(begin)});
-      begin = end;
-    }
-  }
-  runs_.push_back({~std::uint64_t{0}, static_cast<int>(entry_total_)});
 }
 
 template <int D>
