@@ -2,11 +2,13 @@
 
 #include "watertight_ray.hpp"
 
+#include <collide/core/config.hpp>
 #include <collide/core/error.hpp>
 #include <collide/shape/triangle_bvh.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -20,6 +22,14 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 /// and the ray's) before a ray is said to pass above or below it: the ray's height at the block's
 /// entry and exit is rounded, and a skipped block must really be missed.
 constexpr float kHeightRangeSlack = 0x1p-20f;
+
+/// The two triangles of cell (i, j), corners relative to the origin (grid space), as
+/// HeightField::grid_corners orders them: even (p00, p01, p11), odd (p00, p11, p10). Four
+/// sample reads for both, where grid_corners per triangle takes three each and a division.
+COLLIDE_ALWAYS_INLINE std::array<std::array<Vec3, 3>, 2> cell_triangles(const HeightField& f, int i, int j) noexcept {
+  const Vec3 p00 = f.grid_point(i, j), p11 = f.grid_point(i + 1, j + 1);
+  return {{{p00, f.grid_point(i, j + 1), p11}, {p00, p11, f.grid_point(i + 1, j)}}};
+}
 
 /// Walks the cells of a grid (cells of `size`, corner 0 at the origin of grid space, cell indices
 /// limited to [lo, hi] per axis) that the 2D path o + t d passes over, from t = t_in on, in
@@ -159,8 +169,9 @@ void cast(const HeightField& f, const Ray3& local_ray, float max_fraction, OnHit
     walk_grid(o2, d2, f.spacing, lo, hi, still_cell, std::max(t_in, t0), limit, [&](int i, int j) {
       const std::uint32_t c = static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(f.cells_x()) + static_cast<std::uint32_t>(i);
       if (f.is_hole(c)) return true;
+      const std::array<std::array<Vec3, 3>, 2> corners = cell_triangles(f, i, j);
       for (std::uint32_t t = 2 * c; t < 2 * c + 2; ++t) {
-        const std::array<Vec3, 3> p = f.grid_corners(t);
+        const std::array<Vec3, 3>& p = corners[t - 2 * c];
         const float hit = watertight.fraction(p[0], p[1], p[2], max_t);
         if (hit < 0.0f) continue;
         max_t = on_hit(t, hit, max_t);
@@ -182,9 +193,7 @@ std::array<Vec3, 3> HeightField::grid_corners(std::uint32_t t) const noexcept {
   const std::uint32_t c = t / 2;
   const int i = static_cast<int>(c % static_cast<std::uint32_t>(cells_x()));
   const int j = static_cast<int>(c / static_cast<std::uint32_t>(cells_x()));
-  const Vec3 p00 = grid_point(i, j), p11 = grid_point(i + 1, j + 1);
-  if (t % 2 == 0) return {p00, grid_point(i, j + 1), p11};
-  return {p00, p11, grid_point(i + 1, j)};
+  return cell_triangles(*this, i, j)[t % 2];
 }
 
 std::uint32_t HeightField::corner_sample(std::uint32_t t, int k) const noexcept {
@@ -243,11 +252,18 @@ Triangle HeightField::triangle(std::uint32_t t) const noexcept {
   return Triangle{{origin + p[0], origin + p[1], origin + p[2]}};
 }
 
-void HeightField::query(const Aabb3& local_box, TriangleQueryCallback visit) const {
+namespace {
+
+/// HeightField::query's walk, handing `visit` each triangle with its corners (grid space), so
+/// that a caller who needs them does not find them again (grid_corners' division, three reads).
+template <class Visit>
+void query_triangles(const HeightField& f, const Aabb3& local_box, Visit&& visit) {
+  const Vec3 origin = f.origin;
+  const Vec2 spacing = f.spacing;
   const Aabb3 box{local_box.min - origin, local_box.max - origin};
-  if (!(box.min.x <= static_cast<float>(cells_x()) * spacing.x && box.max.x >= 0.0f &&
-        box.min.z <= static_cast<float>(cells_z()) * spacing.y && box.max.z >= 0.0f && box.min.y <= max_height &&
-        box.max.y >= min_height)) {
+  if (!(box.min.x <= static_cast<float>(f.cells_x()) * spacing.x && box.max.x >= 0.0f &&
+        box.min.z <= static_cast<float>(f.cells_z()) * spacing.y && box.max.z >= 0.0f && box.min.y <= f.max_height &&
+        box.max.y >= f.min_height)) {
     return;
   }
   // Cells whose squares the box's xz rectangle may touch: one more on each side than the cells
@@ -258,26 +274,34 @@ void HeightField::query(const Aabb3& local_box, TriangleQueryCallback visit) con
     return glm::ivec2(a < 0.0f ? 0 : a > static_cast<float>(count - 1) ? count - 1 : static_cast<int>(a),
                       b < 0.0f ? 0 : b > static_cast<float>(count - 1) ? count - 1 : static_cast<int>(b));
   };
-  const glm::ivec2 is = cell_range(box.min.x, box.max.x, spacing.x, cells_x());
-  const glm::ivec2 js = cell_range(box.min.z, box.max.z, spacing.y, cells_z());
+  const glm::ivec2 is = cell_range(box.min.x, box.max.x, spacing.x, f.cells_x());
+  const glm::ivec2 js = cell_range(box.min.z, box.max.z, spacing.y, f.cells_z());
   const int i0 = is.x, i1 = is.y, j0 = js.x, j1 = js.y;
   const int b = kHeightFieldBlockCells;
   for (int bz = j0 / b; bz <= j1 / b; ++bz) {
     for (int bx = i0 / b; bx <= i1 / b; ++bx) {
-      const std::array<float, 2> range = block_range[static_cast<std::size_t>(bz) * blocks_x + bx];
+      const std::array<float, 2> range = f.block_range[static_cast<std::size_t>(bz) * f.blocks_x + bx];
       if (!(range[0] <= box.max.y && box.min.y <= range[1])) continue;
       for (int j = std::max(j0, bz * b); j <= std::min(j1, bz * b + b - 1); ++j) {
         for (int i = std::max(i0, bx * b); i <= std::min(i1, bx * b + b - 1); ++i) {
-          const std::uint32_t c = static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(cells_x()) + static_cast<std::uint32_t>(i);
-          if (is_hole(c)) continue;
-          for (std::uint32_t t = 2 * c; t < 2 * c + 2; ++t) {
-            const std::array<Vec3, 3> p = grid_corners(t);
-            if (overlap(Aabb3{glm::min(glm::min(p[0], p[1]), p[2]), glm::max(glm::max(p[0], p[1]), p[2])}, box) && !visit(t)) return;
-          }
+          const std::uint32_t c = static_cast<std::uint32_t>(j) * static_cast<std::uint32_t>(f.cells_x()) + static_cast<std::uint32_t>(i);
+          if (f.is_hole(c)) continue;
+          // The cell's four samples once, for both triangles.
+          const std::array<std::array<Vec3, 3>, 2> corners = cell_triangles(f, i, j);
+          // Each triangle's box: the diagonal p00 p11 is shared, and the third corner added.
+          const Vec3 lo = glm::min(corners[0][0], corners[0][2]), hi = glm::max(corners[0][0], corners[0][2]);
+          if (overlap(Aabb3{glm::min(lo, corners[0][1]), glm::max(hi, corners[0][1])}, box) && !visit(2 * c, corners[0])) return;
+          if (overlap(Aabb3{glm::min(lo, corners[1][2]), glm::max(hi, corners[1][2])}, box) && !visit(2 * c + 1, corners[1])) return;
         }
       }
     }
   }
+}
+
+}  // namespace
+
+void HeightField::query(const Aabb3& local_box, TriangleQueryCallback visit) const {
+  query_triangles(*this, local_box, [&](std::uint32_t t, const std::array<Vec3, 3>&) { return visit(t); });
 }
 
 void HeightField::ray_cast(const Ray3& local_ray, TriangleRayCallback visit, float max_fraction) const {
@@ -378,8 +402,7 @@ void for_each_triangle(const HeightField& field, const Transform3& xf, const Aab
   Transform3 grid_to_world = xf;
   grid_to_world.p += rotate(xf.q, field.origin);
   const Frame3 f = Frame3::from(grid_to_world);
-  field.query(local, [&](std::uint32_t t) -> bool {
-    const std::array<Vec3, 3> c = field.grid_corners(t);
+  query_triangles(field, local, [&](std::uint32_t t, const std::array<Vec3, 3>& c) -> bool {
     return visit(t, {transform_point(f, c[0]), transform_point(f, c[1]), transform_point(f, c[2])});
   });
 }
