@@ -23,6 +23,11 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 /// entry and exit is rounded, and a skipped block must really be missed.
 constexpr float kHeightRangeSlack = 0x1p-20f;
 
+/// A box query takes the cells within this fraction of a cell (relative to the cell coordinate,
+/// plus as much absolute) beyond the ones its corners fall in: above the rounding of a division
+/// and of a grid coordinate's product (a few 2^-24), far below a cell.
+constexpr float kCellRangeSlack = 0x1p-20f;
+
 /// The two triangles of cell (i, j), corners relative to the origin (grid space), as
 /// HeightField::grid_corners orders them: even (p00, p01, p11), odd (p00, p11, p10). Four
 /// sample reads for both, where grid_corners per triangle takes three each and a division.
@@ -266,11 +271,16 @@ void query_triangles(const HeightField& f, const Aabb3& local_box, Visit&& visit
         box.max.y >= f.min_height)) {
     return;
   }
-  // Cells whose squares the box's xz rectangle may touch: one more on each side than the cells
-  // holding its corners (a box on a grid line touches both cells; division rounds), then each
-  // triangle's own box decides.
+  // Cells whose squares the box's xz rectangle may touch, then each triangle's own box decides:
+  // the cells holding its corners, widened by kCellRangeSlack (relative, in cells) so that a
+  // box on a grid line takes both cells beside it, which its closed box touches, and so that
+  // the rounding of the division and of the corners' coordinates (float(i) * size, within a
+  // few parts in 1e7) never drops a cell whose triangles reach the box. (It was a whole cell on
+  // each side: for the few cells a body's box covers, most of the cells walked.)
   auto cell_range = [](float lo, float hi, float size, int count) {
-    const float a = std::floor(lo / size) - 1.0f, b = std::floor(hi / size) + 1.0f;
+    const float u = lo / size, v = hi / size;
+    const float a = std::floor(u - kCellRangeSlack * (std::abs(u) + 1.0f));
+    const float b = std::floor(v + kCellRangeSlack * (std::abs(v) + 1.0f));
     return glm::ivec2(a < 0.0f ? 0 : a > static_cast<float>(count - 1) ? count - 1 : static_cast<int>(a),
                       b < 0.0f ? 0 : b > static_cast<float>(count - 1) ? count - 1 : static_cast<int>(b));
   };

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -261,6 +262,12 @@ TEST(HeightField, QueryFindsExactlyTheTrianglesWhoseBoxesOverlap) {
     if (i % 10 == 0) {  // on grid lines exactly
       box.min.x = f.origin.x + 0.8f * 5.0f;
       box.max.z = f.origin.z + 1.2f * 7.0f;
+    }
+    if (i % 10 == 5) {  // the other sides on grid lines, anywhere in the grid
+      box.max.x = f.origin.x + 0.8f * static_cast<float>(i % 41);
+      box.min.z = f.origin.z + 1.2f * static_cast<float>(i % 29);
+      box.min.x = std::min(box.min.x, box.max.x);
+      box.max.z = std::max(box.max.z, box.min.z);
     }
     std::set<std::uint32_t> found, truth;
     f.query(box, [&](std::uint32_t t) {
