@@ -244,8 +244,9 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
     unsigned any = 0;
     for (int i = begin; i < end; ++i) {
       const float v = bounds[i];
+      // (a bad bound that is also higher sets both bits: it throws below either way)
       const unsigned flag = unsigned{!is_valid_speed_bound(v)} * 2u | unsigned{v > speeds[i]};
-      raised[i] = static_cast<unsigned char>(flag == 3u ? 2u : flag);
+      raised[i] = static_cast<unsigned char>(flag);
       any |= flag;
     }
     if (any != 0) found.fetch_or(any, std::memory_order_relaxed);
