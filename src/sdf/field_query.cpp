@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <type_traits>
 #include <variant>
 
 namespace collide {
@@ -53,6 +55,10 @@ constexpr int kMaxContactSamples = 256;
 /// flight; a chunk takes longer to locate than one miss takes to arrive), and the chunk's
 /// scratch (about 7 KiB in 3D) stays on the stack and in L1.
 constexpr std::size_t kParticleChunk = 256;
+
+/// sample(field, points, out) on a dense 3D field locates this many points, asking for their
+/// cells, before it reads the first (as step_particles' chunks): a multiple of 4.
+constexpr std::size_t kSampleChunk = 64;
 
 /// A hint to bring the cache line at `address` in (and its page's translation); nothing where the
 /// compiler has no such hint.
@@ -451,6 +457,25 @@ __m128i row_major(const __m128i (&i)[D], glm::vec<D, int> dims) noexcept {
   return at;
 }
 
+/// Four points' packed floats (D registers: x0 y0 x1 y1 | x2 y2 x3 y3 in 2D, x0 y0 z0 x1 |
+/// y1 z1 x2 y2 | z2 x3 y3 z3 in 3D) as one register per axis, a point per lane.
+template <int D>
+COLLIDE_ALWAYS_INLINE void to_lanes(const __m128 (&r)[D], __m128 (&axis)[D]) noexcept {
+  if constexpr (D == 2) {
+    axis[0] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(2, 0, 2, 0));
+    axis[1] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(3, 1, 3, 1));
+  } else {
+    const __m128 x23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(1, 1, 2, 2));  // x2 x2 x3 x3
+    axis[0] = _mm_shuffle_ps(r[0], x23, _MM_SHUFFLE(2, 0, 3, 0));
+    const __m128 y01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(0, 0, 1, 1));  // y0 y0 y1 y1
+    const __m128 y23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(2, 2, 3, 3));  // y2 y2 y3 y3
+    axis[1] = _mm_shuffle_ps(y01, y23, _MM_SHUFFLE(2, 0, 2, 0));
+    const __m128 z01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(1, 1, 2, 2));  // z0 z0 z1 z1
+    const __m128 z23 = _mm_shuffle_ps(r[2], r[2], _MM_SHUFFLE(3, 3, 0, 0));  // z2 z2 z3 z3
+    axis[2] = _mm_shuffle_ps(z01, z23, _MM_SHUFFLE(2, 0, 2, 0));
+  }
+}
+
 /// Pass 1 four particles at a time in SSE2 lanes: the positions moved as packed floats (the
 /// same float operations as VecN's p + v * dt), transposed to x, y (and z) lanes, and the
 /// nearest nodes found with FieldGridN::nearest_node's float operations (so the same nodes);
@@ -479,19 +504,7 @@ void move_and_locate_lanes(const FieldGridN<D>& grid, VecN<D>* position, const V
       _mm_storeu_ps(p + 4 * k, r[k]);
     }
     __m128 axis[D];  // x, y (, z) of the four particles
-    if constexpr (D == 2) {  // x0 y0 x1 y1 | x2 y2 x3 y3
-      axis[0] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(2, 0, 2, 0));
-      axis[1] = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(3, 1, 3, 1));
-    } else {  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
-      const __m128 x23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(1, 1, 2, 2));  // x2 x2 x3 x3
-      axis[0] = _mm_shuffle_ps(r[0], x23, _MM_SHUFFLE(2, 0, 3, 0));
-      const __m128 y01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(0, 0, 1, 1));  // y0 y0 y1 y1
-      const __m128 y23 = _mm_shuffle_ps(r[1], r[2], _MM_SHUFFLE(2, 2, 3, 3));  // y2 y2 y3 y3
-      axis[1] = _mm_shuffle_ps(y01, y23, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m128 z01 = _mm_shuffle_ps(r[0], r[1], _MM_SHUFFLE(1, 1, 2, 2));  // z0 z0 z1 z1
-      const __m128 z23 = _mm_shuffle_ps(r[2], r[2], _MM_SHUFFLE(3, 3, 0, 0));  // z2 z2 z3 z3
-      axis[2] = _mm_shuffle_ps(z01, z23, _MM_SHUFFLE(2, 0, 2, 0));
-    }
+    to_lanes<D>(r, axis);
     __m128 in = _mm_castsi128_ps(_mm_set1_epi32(-1));
     __m128i node[D];
     for (int k = 0; k < D; ++k) {
@@ -658,11 +671,120 @@ ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles,
   return stats;
 }
 
+// ---- many samples ---------------------------------------------------------------------------
+
+#if defined(__SSE2__) || defined(_M_X64)
+namespace {
+
+/// sample() of a dense 3D field at `count` points (a multiple of 4), four at a time in SSE2
+/// lanes with sample_inside_sse's float operations in its order (so its values), in chunks of
+/// kSampleChunk points: pass 1 locates a chunk's points (transposed to x, y, z lanes, each
+/// located in its cell, the cells' memory indices in 32 bits, which the caller checked they
+/// fit) and asks for the four cache lines of each cell; pass 2 reads each cell's 8 corners as
+/// four pairs, by then arriving, transposes them to a corner per register and interpolates
+/// along x, y and z for four points at once. (In one pass a group of four points is about 170
+/// instructions, so the CPU's window held the reads of one or two groups at a time.) A point
+/// outside the grid's box (or with a NaN) is sampled alone afterwards.
+void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t count, float* out) noexcept {
+  const FieldGridN<3> grid = field.grid;  // in registers: the stores to `out` could alias it
+  const float* distances = field.distances.data();
+  const auto nx = static_cast<std::size_t>(grid.dims.x);
+  const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
+  const __m128 inv = _mm_set1_ps(1.0f / grid.voxel);
+  __m128 origin[3], last[3];
+  __m128i top[3];
+  for (int k = 0; k < 3; ++k) {
+    origin[k] = _mm_set1_ps(grid.origin[k]);
+    last[k] = _mm_set1_ps(static_cast<float>(grid.dims[k] - 1));
+    top[k] = _mm_set1_epi32(grid.dims[k] - 2);
+  }
+  const auto pair = [](const float* at) {
+    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at)));
+  };
+  const auto lerp = [](__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); };
+  constexpr std::size_t kGroups = kSampleChunk / 4;
+  alignas(16) std::uint32_t at[kSampleChunk];  // each point's cell, memory index (0 when outside)
+  __m128 fraction[kGroups][3];                   // per group of four: the fractions along x, y, z
+  int inside[kGroups];                           // per group: the lanes inside the grid's box
+  for (std::size_t first = 0; first < count; first += kSampleChunk) {
+    const std::size_t groups = std::min(kSampleChunk, count - first) / 4;
+    for (std::size_t g = 0; g < groups; ++g) {  // 1: locate, ask for the cells
+      const float* p = &points[first + 4 * g].x;
+      const __m128 r[3] = {_mm_loadu_ps(p), _mm_loadu_ps(p + 4), _mm_loadu_ps(p + 8)};
+      __m128 axis[3];
+      to_lanes<3>(r, axis);
+      __m128 in = _mm_castsi128_ps(_mm_set1_epi32(-1));
+      __m128i node[3];
+      for (int k = 0; k < 3; ++k) {
+        const __m128 u = _mm_mul_ps(_mm_sub_ps(axis[k], origin[k]), inv);
+        in = _mm_and_ps(in, _mm_and_ps(_mm_cmpge_ps(u, _mm_setzero_ps()), _mm_cmple_ps(u, last[k])));
+        __m128i i = _mm_cvttps_epi32(u);  // u >= 0 where it counts: the floor
+        const __m128i over = _mm_cmpgt_epi32(i, top[k]);  // the last node: the cell below it
+        i = _mm_or_si128(_mm_andnot_si128(over, i), _mm_and_si128(over, top[k]));
+        fraction[g][k] = _mm_sub_ps(u, _mm_cvtepi32_ps(i));
+        node[k] = i;
+      }
+      inside[g] = _mm_movemask_ps(in);
+      // An outside lane reads node 0's cell (the grid has at least 2 nodes an axis) and is
+      // sampled again below.
+      _mm_store_si128(reinterpret_cast<__m128i*>(at + 4 * g),
+                      _mm_and_si128(row_major<3>(node, grid.dims), _mm_castps_si128(in)));
+      for (int l = 0; l < 4; ++l) {
+        const float* d = distances + at[4 * g + l];
+        prefetch(d);
+        prefetch(d + nx + 1);
+        prefetch(d + nxy);
+        prefetch(d + nxy + nx + 1);
+      }
+    }
+    for (std::size_t g = 0; g < groups; ++g) {  // 2: read the corners, interpolate
+      __m128 lo[4], hi[4];  // per point: corners 0-3 (z = 0) and 4-7 (z = 1), as cell_values
+      for (int l = 0; l < 4; ++l) {
+        const float* d = distances + at[4 * g + l];
+        lo[l] = _mm_movelh_ps(pair(d), pair(d + nx));
+        hi[l] = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
+      }
+      _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);  // lo[c]: corner c of the four points
+      _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
+      const __m128* f = fraction[g];
+      const __m128 x00 = lerp(lo[0], lo[1], f[0]), x10 = lerp(lo[2], lo[3], f[0]);
+      const __m128 x01 = lerp(hi[0], hi[1], f[0]), x11 = lerp(hi[2], hi[3], f[0]);
+      const __m128 y0 = lerp(x00, x10, f[1]), y1 = lerp(x01, x11, f[1]);
+      const std::size_t j = first + 4 * g;
+      _mm_storeu_ps(out + j, lerp(y0, y1, f[2]));
+      if (inside[g] != 0xf) {
+        for (int l = 0; l < 4; ++l) {
+          if (((inside[g] >> l) & 1) == 0) out[j + l] = field.sample(points[j + l]);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+#endif
+
+template <DistanceFieldType F>
+void sample(const F& field, std::span<const VecN<F::kDim>> points, std::span<float> out) noexcept {
+  const std::size_t n = std::min(points.size(), out.size());
+  std::size_t j = 0;
+#if defined(__SSE2__) || defined(_M_X64)
+  if constexpr (std::is_same_v<F, DistanceField3>) {
+    if (field.grid.count() <= std::size_t{std::numeric_limits<std::uint32_t>::max()}) {
+      j = n & ~std::size_t{3};
+      sample_lanes(field, points.data(), j, out.data());
+    }
+  }
+#endif
+  for (; j < n; ++j) out[j] = field.sample(points[j]);
+}
+
 #define COLLIDE_FIELD_QUERIES(F)                                                                  \
   template ManifoldN<F::kDim> contact<F>(VecN<F::kDim>, const F&) noexcept;                       \
   template RayHitN<F::kDim> raymarch<F>(const F&, const RayN<F::kDim>&) noexcept;                 \
   template float soft_shadow<F>(const F&, const RayN<F::kDim>&, float) noexcept;                  \
-  template ParticleStepStats step_particles<F>(const F&, ParticlesN<F::kDim>&, float, float) noexcept;
+  template ParticleStepStats step_particles<F>(const F&, ParticlesN<F::kDim>&, float, float) noexcept; \
+  template void sample<F>(const F&, std::span<const VecN<F::kDim>>, std::span<float>) noexcept;
 COLLIDE_FIELD_QUERIES(DistanceField)
 COLLIDE_FIELD_QUERIES(DistanceField3)
 COLLIDE_FIELD_QUERIES(SparseDistanceField)

@@ -18,6 +18,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,65 @@ TEST(DistanceField3D, SampleFastPathGivesTheGeneralPathsValueBitForBit) {
     ASSERT_EQ(g.y, general_gradient.y);
     ASSERT_EQ(g.z, general_gradient.z);
   }
+}
+
+/// Points for the batched sample: inside the grid's box, on its faces and last nodes, beyond it
+/// on one axis or all, and a few NaN / infinite coordinates.
+template <int D>
+std::vector<VecN<D>> batch_points(const AabbN<D>& box, const FieldGridN<D>& grid, std::size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<VecN<D>> points(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    VecN<D> p = random_in<D>(rng, box);
+    const int k = static_cast<int>(i % D);
+    if (i % 7 == 1) p[k] = box.max[k];
+    if (i % 7 == 2) p[k] = box.min[k];
+    if (i % 7 == 3) p[k] += (i % 2 ? 0.5f : -0.5f);
+    if (i % 7 == 4) p = grid.node(grid.dims - 1);
+    if (i % 97 == 5) p[k] = std::numeric_limits<float>::quiet_NaN();
+    if (i % 101 == 6) p[k] = std::numeric_limits<float>::infinity();
+    if (i % 11 == 0) p = box.max + VecN<D>(1.0f);
+    points[i] = p;
+  }
+  return points;
+}
+
+/// sample(field, points, out) against field.sample one point at a time, bit for bit (NaN as
+/// NaN), for every batch length around the lane width, and `out` shorter than the points.
+template <class Field>
+void expect_batch_is_one_at_a_time(const Field& field, unsigned seed) {
+  constexpr int D = Field::kDim;
+  const std::vector<VecN<D>> points = batch_points<D>(field.grid.bounds(), field.grid, 4099, seed);
+  const auto same = [](float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); };
+  std::vector<float> out(points.size() + 1, -7.0f);
+  sample(field, std::span<const VecN<D>>(points), std::span<float>(out));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ASSERT_TRUE(same(out[i], field.sample(points[i]))) << "point " << i << ": " << out[i] << " vs " << field.sample(points[i]);
+  }
+  EXPECT_EQ(out.back(), -7.0f);  // past the points: untouched
+  for (std::size_t n = 0; n <= 9; ++n) {  // short batches, from an offset that is not a multiple of 4
+    std::vector<float> few(n, -7.0f);
+    sample(field, std::span<const VecN<D>>(points.data() + 3, n), std::span<float>(few));
+    for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same(few[i], field.sample(points[3 + i]))) << n << " " << i;
+  }
+  std::vector<float> shorter(5, -7.0f);  // fewer outputs than points: only those sampled
+  sample(field, std::span<const VecN<D>>(points), std::span<float>(shorter));
+  for (std::size_t i = 0; i < shorter.size(); ++i) ASSERT_TRUE(same(shorter[i], field.sample(points[i])));
+}
+
+TEST(DistanceField, BatchedSampleIsOneAtATimeBitForBit) {
+  // The dense 3D field's lane path (four points at a time) against the single sample; the other
+  // fields take the loop, checked the same way.
+  const std::vector<PlacedShape3> scene{{make_sphere({0, 0, 0}, 1.0f), Transform3{{0.1f, 0.2f, -0.3f}, Quat{1, 0, 0, 0}}},
+                                        {make_box({0.5f, 0.3f, 0.4f}), Transform3{{0.9f, -0.6f, 0.2f}, Quat{1, 0, 0, 0}}}};
+  expect_batch_is_one_at_a_time(make_distance_field(scene, options(0.07f)), 41);
+  expect_batch_is_one_at_a_time(make_sparse_distance_field(scene, options(0.07f)), 42);
+  const std::vector<PlacedShape> flat{{make_circle({0, 0}, 1.0f), Transform{{0.3f, -0.1f}, Rot2{}}}};
+  expect_batch_is_one_at_a_time(make_distance_field(flat, options(0.05f)), 43);
+  expect_batch_is_one_at_a_time(make_sparse_distance_field(flat, options(0.05f)), 44);
+  // Far from the origin (large coordinates: the rounding of (p - origin) / voxel matters).
+  const std::vector<PlacedShape3> far{{make_sphere({0, 0, 0}, 2.0f), Transform3{{3.0e4f, -1.5e4f, 7.0e3f}, Quat{1, 0, 0, 0}}}};
+  expect_batch_is_one_at_a_time(make_distance_field(far, options(0.11f)), 45);
 }
 
 TEST(DistanceField, RefusesBadOptionsAndNamesTheMemoryItWouldNeed) {

@@ -439,6 +439,17 @@ struct ParticleStepStats {
 template <DistanceFieldType F>
 ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles, float dt, float restitution) noexcept;
 
+/// `field.sample` at many points (world space): out[k] = field.sample(points[k]), the same
+/// values bit for bit, for k below min(points.size(), out.size()) (the rest of `out` is left
+/// as it was). What a batch of queries gains over one at a time: a dense 3D field takes the
+/// points four at a time in SSE2 lanes (located together, each cell's 8 corners read as four
+/// pairs, interpolated for the four at once), so the reads of several points are in flight
+/// together and the arithmetic is shared; a point outside the grid's box is sampled alone.
+/// Other fields (2D, sparse, or more than 2^32 nodes), and machines without SSE2, sample one
+/// point at a time. No allocation.
+template <DistanceFieldType F>
+void sample(const F& field, std::span<const VecN<F::kDim>> points, std::span<float> out) noexcept;
+
 #if defined(__SSE2__) || defined(_M_X64)
 /// sample_cells' fast path for a 3D dense field (DistanceField3), SSE2: when `p` lies within the
 /// grid's box, its trilinear sample into `value` (and its gradient into `gradient` when not
