@@ -412,7 +412,19 @@ void for_each_triangle(const HeightField& field, const Transform3& xf, const Aab
   Transform3 grid_to_world = xf;
   grid_to_world.p += rotate(xf.q, field.origin);
   const Frame3 f = Frame3::from(grid_to_world);
+  // A cell's two triangles share their diagonal p00 p11 (corners 0 and 2 of the even one,
+  // 0 and 1 of the odd one): when both meet the box, as they mostly do, the odd one takes the
+  // even one's transformed corners (the same values) instead of transforming them again.
+  std::uint32_t even = 1;  // the last even triangle transformed (never odd: none yet)
+  Vec3 w00{0.0f}, w11{0.0f};
   query_triangles(field, local, [&](std::uint32_t t, const std::array<Vec3, 3>& c) -> bool {
+    if ((t & 1u) == 0u) {
+      even = t;
+      w00 = transform_point(f, c[0]);
+      w11 = transform_point(f, c[2]);
+      return visit(t, {w00, transform_point(f, c[1]), w11});
+    }
+    if (t == even + 1u) return visit(t, {w00, w11, transform_point(f, c[2])});
     return visit(t, {transform_point(f, c[0]), transform_point(f, c[1]), transform_point(f, c[2])});
   });
 }
