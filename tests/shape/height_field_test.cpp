@@ -292,5 +292,43 @@ TEST(HeightField, QueryFindsExactlyTheTrianglesWhoseBoxesOverlap) {
   EXPECT_EQ(calls, 3);
 }
 
+TEST(HeightField, ForEachTriangleGivesQuerysTrianglesPlacedInTheWorld) {
+  // for_each_triangle on a turned and moved field: the triangles the field's own query finds
+  // for the box taken into the field's frame, each once, in the query's order, with its
+  // corners placed by the transform (a cell's two triangles share two transformed corners; the
+  // boxes cut between them too, so one of a cell's triangles is often visited alone).
+  std::mt19937 rng(93);
+  const HeightField f = random_field(rng, 23, 19, {0.7f, 1.1f}, Vec3(-4, 1, 3), 0.1f);
+  const Transform3 xf = Transform3::from_axis_angle({30.0f, -2.0f, 12.0f}, glm::normalize(Vec3{0.3f, 1.0f, -0.2f}), 0.8f);
+  int odd_alone = 0, pairs = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 c = transform_point(xf, f.origin + Vec3(uniform(rng, -2, 17), uniform(rng, -5, 6), uniform(rng, -2, 21)));
+    const Vec3 h(uniform(rng, 0, 2.5f), uniform(rng, 0, 2), uniform(rng, 0, 2.5f));
+    const Aabb3 box{c - h, c + h};
+    std::vector<std::uint32_t> expected;
+    f.query(transform_aabb(box, inv_mul(xf, Transform3{})), [&](std::uint32_t t) {
+      expected.push_back(t);
+      return true;
+    });
+    std::vector<std::uint32_t> visited;
+    for_each_triangle(f, xf, box, [&](std::uint32_t t, const std::array<Vec3, 3>& w) {
+      visited.push_back(t);
+      const Triangle local = f.triangle(t);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 want = transform_point(xf, local.vertices[k]);
+        EXPECT_LT(glm::length(w[k] - want), 1e-4f) << "triangle " << t << " corner " << k;
+      }
+      return true;
+    });
+    EXPECT_EQ(visited, expected) << i;
+    for (std::size_t k = 0; k < visited.size(); ++k) {
+      if (visited[k] % 2 == 0) continue;
+      (k > 0 && visited[k - 1] + 1 == visited[k] ? pairs : odd_alone)++;
+    }
+  }
+  EXPECT_GT(pairs, 100);
+  EXPECT_GT(odd_alone, 10);
+}
+
 }  // namespace
 }  // namespace collide
