@@ -375,14 +375,49 @@ void shapes_band(std::span<const PlacedShapeN<D>> shapes, const std::vector<Aabb
   }
 }
 
-/// x clamped to [0, 1] by selects.
-inline float clamp01(float x) {
-  x = x > 0.0f ? x : 0.0f;
-  return x < 1.0f ? x : 1.0f;
-}
-
 /// Nodes of a row a triangle's band kernel handles at once (its results sit in arrays this long).
 constexpr int kBandChunk = 64;
+
+/// The band kernel's numbers for one node (`float`) or four nodes in SSE2 lanes (`Lanes4`), so
+/// that the kernel below is written once: the arithmetic, comparisons giving a mask, and a
+/// select by mask. Lanes4 does every lane's operation as float does it, in the same order: the
+/// same values.
+inline float select(bool mask, float a, float b) { return mask ? a : b; }
+inline float broadcast(float x, float) { return x; }
+inline bool broadcast(bool x, float) { return x; }
+
+#if defined(__SSE2__) || defined(_M_X64)
+struct Lanes4 {
+  __m128 v;
+  friend Lanes4 operator+(Lanes4 a, Lanes4 b) { return {_mm_add_ps(a.v, b.v)}; }
+  friend Lanes4 operator-(Lanes4 a, Lanes4 b) { return {_mm_sub_ps(a.v, b.v)}; }
+  friend Lanes4 operator*(Lanes4 a, Lanes4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+  friend Lanes4 operator<(Lanes4 a, Lanes4 b) { return {_mm_cmplt_ps(a.v, b.v)}; }
+  friend Lanes4 operator>(Lanes4 a, Lanes4 b) { return {_mm_cmpgt_ps(a.v, b.v)}; }
+  friend Lanes4 operator>=(Lanes4 a, Lanes4 b) { return {_mm_cmpge_ps(a.v, b.v)}; }
+  friend Lanes4 operator&(Lanes4 a, Lanes4 b) { return {_mm_and_ps(a.v, b.v)}; }
+};
+inline Lanes4 select(Lanes4 mask, Lanes4 a, Lanes4 b) {
+  return {_mm_or_ps(_mm_and_ps(mask.v, a.v), _mm_andnot_ps(mask.v, b.v))};
+}
+inline Lanes4 broadcast(float x, Lanes4) { return {_mm_set1_ps(x)}; }
+inline Lanes4 broadcast(bool x, Lanes4) { return {_mm_castsi128_ps(_mm_set1_epi32(x ? -1 : 0))}; }
+/// The lane type of the band kernel on this machine, and how many nodes it takes at once.
+using BandLanes = Lanes4;
+constexpr int kBandLanes = 4;
+#else
+using BandLanes = float;
+constexpr int kBandLanes = 1;
+#endif
+static_assert(kBandChunk % kBandLanes == 0);
+
+/// x clamped to [0, 1] by selects.
+template <class F>
+F clamp01(F x) {
+  const F zero = broadcast(0.0f, F{}), one = broadcast(1.0f, F{});
+  x = select(x > zero, x, zero);
+  return select(x < one, x, one);
+}
 
 /// A triangle prepared for the distances of many nodes: its edges, their reciprocal squared
 /// lengths, its normal and the in-plane inward normals of its edges.
@@ -410,52 +445,101 @@ struct BandTriangle {
       edge_inward[e] = length > 0.0f ? inward[e] / length : Vec3(0.0f);
     }
   }
+};
 
-  /// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
-  /// [0, count): the closest point of a triangle is its projection onto the plane when that lies
-  /// inside all three edges, else the nearest of the three edges' closest points (Ericson, RTCD
-  /// 5.1.5 and 5.1.2, every region evaluated and the answer picked by selects: no branch on the
-  /// region, which Ericson's order mispredicts from node to node).
-  void row(float ox, float voxel, int x0, int count, float py, float pz, float* d2, float* qx, float* qy,
-           float* qz) const {
-    const float apy = py - a.y, apz = pz - a.z, bpy = py - b.y, bpz = pz - b.z, cpy = py - c.y, cpz = pz - c.z;
-    for (int l = 0; l < count; ++l) {
-      const float px = ox + float(x0 + l) * voxel;
-      const float apx = px - a.x, bpx = px - b.x, cpx = px - c.x;
-      // Edge ab: parameter clamped to the segment, then the offset from the closest point.
-      const float t1 = clamp01((apx * ab.x + apy * ab.y + apz * ab.z) * inv_ab);
-      const float e1x = apx - t1 * ab.x, e1y = apy - t1 * ab.y, e1z = apz - t1 * ab.z;
-      const float t2 = clamp01((bpx * bc.x + bpy * bc.y + bpz * bc.z) * inv_bc);
-      const float e2x = bpx - t2 * bc.x, e2y = bpy - t2 * bc.y, e2z = bpz - t2 * bc.z;
-      const float t3 = clamp01((cpx * ca.x + cpy * ca.y + cpz * ca.z) * inv_ca);
-      const float e3x = cpx - t3 * ca.x, e3y = cpy - t3 * ca.y, e3z = cpz - t3 * ca.z;
-      const float s1 = e1x * e1x + e1y * e1y + e1z * e1z, s2 = e2x * e2x + e2y * e2y + e2z * e2z,
-                  s3 = e3x * e3x + e3y * e3y + e3z * e3z;
-      float best = s1, ex = e1x, ey = e1y, ez = e1z;
-      ex = s2 < best ? e2x : ex;
-      ey = s2 < best ? e2y : ey;
-      ez = s2 < best ? e2z : ez;
-      best = s2 < best ? s2 : best;
-      ex = s3 < best ? e3x : ex;
-      ey = s3 < best ? e3y : ey;
-      ez = s3 < best ? e3z : ez;
-      best = s3 < best ? s3 : best;
-      // The face: the projection lies inside every edge.
-      const float h = (apx * n.x + apy * n.y + apz * n.z) * inv_nn;
-      const bool inside = has_face & (apx * in_ab.x + apy * in_ab.y + apz * in_ab.z >= 0.0f) &
-                          (bpx * in_bc.x + bpy * in_bc.y + bpz * in_bc.z >= 0.0f) &
-                          (cpx * in_ca.x + cpy * in_ca.y + cpz * in_ca.z >= 0.0f);
-      ex = inside ? h * n.x : ex;
-      ey = inside ? h * n.y : ey;
-      ez = inside ? h * n.z : ez;
-      const float face = ex * ex + ey * ey + ez * ez;
-      d2[l] = inside ? face : best;
-      qx[l] = px - ex;
-      qy[l] = py - ey;
-      qz[l] = pz - ez;
-    }
+/// A BandTriangle's numbers as kernel operands of type F (each in every lane), made once per
+/// triangle: the kernel runs row after row, and broadcasting them at every row (as the
+/// compiler's own vectorisation of the per-node loop did, 290 instructions a row) cost more than
+/// a short row's distances.
+template <class F>
+struct BandKernel {
+  using Mask = decltype(F{} < F{});
+  F ax, ay, az, bx, by, bz, cx, cy, cz;
+  F abx, aby, abz, bcx, bcy, bcz, cax, cay, caz;
+  F nx, ny, nz, iabx, iaby, iabz, ibcx, ibcy, ibcz, icax, icay, icaz;
+  F inv_ab, inv_bc, inv_ca, inv_nn, zero;
+  Mask has_face;
+
+  explicit BandKernel(const BandTriangle& t) {
+    const auto all = [](float x) { return broadcast(x, F{}); };
+    ax = all(t.a.x), ay = all(t.a.y), az = all(t.a.z), bx = all(t.b.x), by = all(t.b.y), bz = all(t.b.z);
+    cx = all(t.c.x), cy = all(t.c.y), cz = all(t.c.z);
+    abx = all(t.ab.x), aby = all(t.ab.y), abz = all(t.ab.z), bcx = all(t.bc.x), bcy = all(t.bc.y), bcz = all(t.bc.z);
+    cax = all(t.ca.x), cay = all(t.ca.y), caz = all(t.ca.z);
+    nx = all(t.n.x), ny = all(t.n.y), nz = all(t.n.z);
+    iabx = all(t.in_ab.x), iaby = all(t.in_ab.y), iabz = all(t.in_ab.z);
+    ibcx = all(t.in_bc.x), ibcy = all(t.in_bc.y), ibcz = all(t.in_bc.z);
+    icax = all(t.in_ca.x), icay = all(t.in_ca.y), icaz = all(t.in_ca.z);
+    inv_ab = all(t.inv_ab), inv_bc = all(t.inv_bc), inv_ca = all(t.inv_ca), inv_nn = all(t.inv_nn);
+    zero = all(0.0f);
+    has_face = broadcast(t.has_face, F{});
+  }
+
+  /// Squared distance and closest point of the node(s) at (px, py, pz): the closest point of a
+  /// triangle is its projection onto the plane when that lies inside all three edges, else the
+  /// nearest of the three edges' closest points (Ericson, RTCD 5.1.5 and 5.1.2, every region
+  /// evaluated and the answer picked by selects: no branch on the region, which Ericson's order
+  /// mispredicts from node to node).
+  void node(F px, F py, F pz, F& d2, F& qx, F& qy, F& qz) const {
+    const F apx = px - ax, apy = py - ay, apz = pz - az, bpx = px - bx, bpy = py - by, bpz = pz - bz;
+    const F cpx = px - cx, cpy = py - cy, cpz = pz - cz;
+    // Edge ab: parameter clamped to the segment, then the offset from the closest point.
+    const F t1 = clamp01((apx * abx + apy * aby + apz * abz) * inv_ab);
+    const F e1x = apx - t1 * abx, e1y = apy - t1 * aby, e1z = apz - t1 * abz;
+    const F t2 = clamp01((bpx * bcx + bpy * bcy + bpz * bcz) * inv_bc);
+    const F e2x = bpx - t2 * bcx, e2y = bpy - t2 * bcy, e2z = bpz - t2 * bcz;
+    const F t3 = clamp01((cpx * cax + cpy * cay + cpz * caz) * inv_ca);
+    const F e3x = cpx - t3 * cax, e3y = cpy - t3 * cay, e3z = cpz - t3 * caz;
+    const F s1 = e1x * e1x + e1y * e1y + e1z * e1z, s2 = e2x * e2x + e2y * e2y + e2z * e2z,
+            s3 = e3x * e3x + e3y * e3y + e3z * e3z;
+    F best = s1, ex = e1x, ey = e1y, ez = e1z;
+    const Mask take2 = s2 < best;
+    ex = select(take2, e2x, ex);
+    ey = select(take2, e2y, ey);
+    ez = select(take2, e2z, ez);
+    best = select(take2, s2, best);
+    const Mask take3 = s3 < best;
+    ex = select(take3, e3x, ex);
+    ey = select(take3, e3y, ey);
+    ez = select(take3, e3z, ez);
+    best = select(take3, s3, best);
+    // The face: the projection lies inside every edge.
+    const F h = (apx * nx + apy * ny + apz * nz) * inv_nn;
+    const Mask inside = has_face & (apx * iabx + apy * iaby + apz * iabz >= zero) &
+                        (bpx * ibcx + bpy * ibcy + bpz * ibcz >= zero) & (cpx * icax + cpy * icay + cpz * icaz >= zero);
+    ex = select(inside, h * nx, ex);
+    ey = select(inside, h * ny, ey);
+    ez = select(inside, h * nz, ez);
+    const F face = ex * ex + ey * ey + ez * ez;
+    d2 = select(inside, face, best);
+    qx = px - ex;
+    qy = py - ey;
+    qz = pz - ez;
   }
 };
+
+/// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
+/// [0, count) (count <= kBandChunk), into arrays of kBandChunk: kBandLanes nodes at a time, the
+/// last group padded with nodes past the row (their results written, not to be read).
+inline void band_row(const BandKernel<BandLanes>& k, float ox, float voxel, int x0, int count, float py, float pz,
+                     float* d2, float* qx, float* qy, float* qz) {
+  const BandLanes y = broadcast(py, BandLanes{}), z = broadcast(pz, BandLanes{});
+  for (int l = 0; l < count; l += kBandLanes) {
+#if defined(__SSE2__) || defined(_M_X64)
+    // float(x0 + l + lane) * voxel + ox, per lane as the scalar form computes it.
+    const __m128 index = _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x0 + l), _mm_setr_epi32(0, 1, 2, 3)));
+    const Lanes4 x{_mm_add_ps(_mm_set1_ps(ox), _mm_mul_ps(index, _mm_set1_ps(voxel)))};
+    Lanes4 d, px, py_, pz_;
+    k.node(x, y, z, d, px, py_, pz_);
+    _mm_store_ps(d2 + l, d.v);
+    _mm_store_ps(qx + l, px.v);
+    _mm_store_ps(qy + l, py_.v);
+    _mm_store_ps(qz + l, pz_.v);
+#else
+    k.node(ox + float(x0 + l) * voxel, y, z, d2[l], qx[l], qy[l], qz[l]);
+#endif
+  }
+}
 
 /// A mesh's exact band, scattered per triangle (as OpenVDB's meshToVolume (Museth 2013) scatters
 /// each triangle into the voxels near it): each triangle visits, row by row, the nodes within the
@@ -477,6 +561,7 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
     node_range(local, box, lo, hi);
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) continue;
     const BandTriangle tri(a, b, c);
+    const BandKernel<BandLanes> kernel(tri);
     Vec3 n = tri.n;
     const float length = glm::length(n);
     n = length > 0.0f ? n / length : Vec3(0.0f);
@@ -514,7 +599,7 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
         }
         for (int first = x0; first <= x1; first += kBandChunk) {
           const int count = std::min(kBandChunk, x1 - first + 1);
-          tri.row(local_origin.x, grid.voxel, first, count, py, pz, d2.data(), qx.data(), qy.data(), qz.data());
+          band_row(kernel, local_origin.x, grid.voxel, first, count, py, pz, d2.data(), qx.data(), qy.data(), qz.data());
           for (int l = 0; l < count; ++l) {
             if (d2[l] > band_squared) continue;
             const std::size_t at = store.slot({first + l, y, z});
