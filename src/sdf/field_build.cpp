@@ -541,6 +541,25 @@ inline void band_row(const BandKernel<BandLanes>& k, float ox, float voxel, int 
   }
 }
 
+/// floor(x) and ceil(x) as ints for a row's node bounds, x first clamped to [lo - 2, hi + 2]
+/// (a bound beyond the row's nodes cuts nothing more; NaN goes to lo - 2): no conversion
+/// overflows, and no library floor or ceiling (SSE2 has no rounding instruction).
+inline float node_clamp(float x, int lo, int hi) {
+  const float a = static_cast<float>(lo - 2), b = static_cast<float>(hi + 2);
+  x = x > a ? x : a;
+  return x < b ? x : b;
+}
+inline int node_floor(float x, int lo, int hi) {
+  x = node_clamp(x, lo, hi);
+  const int i = static_cast<int>(x);  // towards zero
+  return i - (static_cast<float>(i) > x ? 1 : 0);
+}
+inline int node_ceil(float x, int lo, int hi) {
+  x = node_clamp(x, lo, hi);
+  const int i = static_cast<int>(x);
+  return i + (static_cast<float>(i) < x ? 1 : 0);
+}
+
 /// A mesh's exact band, scattered per triangle (as OpenVDB's meshToVolume (Museth 2013) scatters
 /// each triangle into the voxels near it): each triangle visits, row by row, the nodes within the
 /// band of its plane and inside its box grown by the band, and keeps the nearer of its distance
@@ -549,6 +568,7 @@ template <class Store>
 void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance, Store& store) {
   const FieldGrid3& grid = store.grid;
   const float band_squared = band_distance * band_distance;
+  const float inv_voxel = 1.0f / grid.voxel;
   alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
@@ -565,17 +585,29 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
     Vec3 n = tri.n;
     const float length = glm::length(n);
     n = length > 0.0f ? n / length : Vec3(0.0f);
+    // The row bounds below take reciprocals made once per triangle (a division each, and the
+    // floor or ceiling, at every row was most of a short row's cost); their rounding differs
+    // from the divisions' by an ulp or two, which the node of slack on each side covers.
+    const bool slab = std::abs(n.x) > 1e-6f;
+    const float inv_nx = slab ? 1.0f / n.x : 0.0f;
+    std::array<float, 3> inv_slope{};
+    std::array<bool, 3> sloped{};
+    for (int e = 0; e < 3; ++e) {
+      const float slope = tri.edge_inward[e].x * grid.voxel;  // m . (p - v) = at0 + slope * x
+      sloped[e] = std::abs(slope) > 1e-6f * grid.voxel;
+      inv_slope[e] = sloped[e] ? 1.0f / slope : 0.0f;
+    }
     for (int z = lo.z; z <= hi.z; ++z) {
       for (int y = lo.y; y <= hi.y; ++y) {
         // Nodes of this row within the band of the triangle's plane: |n . (p - a)| <= band.
         const float py = local_origin.y + float(y) * grid.voxel, pz = local_origin.z + float(z) * grid.voxel;
         const float offset = n.y * (py - a.y) + n.z * (pz - a.z) - n.x * a.x;
         int x0 = lo.x, x1 = hi.x;
-        if (std::abs(n.x) > 1e-6f) {
-          float u = (-band_distance - offset) / n.x, v = (band_distance - offset) / n.x;
+        if (slab) {
+          float u = (-band_distance - offset) * inv_nx, v = (band_distance - offset) * inv_nx;
           if (u > v) std::swap(u, v);
-          x0 = std::max(x0, static_cast<int>(std::ceil((u - local_origin.x) / grid.voxel)) - 1);
-          x1 = std::min(x1, static_cast<int>(std::floor((v - local_origin.x) / grid.voxel)) + 1);
+          x0 = std::max(x0, node_ceil((u - local_origin.x) * inv_voxel, lo.x, hi.x) - 1);
+          x1 = std::min(x1, node_floor((v - local_origin.x) * inv_voxel, lo.x, hi.x) + 1);
         } else if (std::abs(offset) > band_distance) {
           continue;
         }
@@ -587,11 +619,10 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
             const Vec3 m = tri.edge_inward[e];
             const Vec3 v = e == 0 ? a : (e == 1 ? b : c);
             const float at0 = m.x * (local_origin.x - v.x) + m.y * (py - v.y) + m.z * (pz - v.z);
-            const float slope = m.x * grid.voxel;  // m . (p - v) = at0 + slope * x >= -band
-            if (std::abs(slope) > 1e-6f * grid.voxel) {
-              const float bound = (-band_distance - at0) / slope;
-              if (slope > 0.0f) x0 = std::max(x0, static_cast<int>(std::ceil(bound)) - 1);
-              else x1 = std::min(x1, static_cast<int>(std::floor(bound)) + 1);
+            if (sloped[e]) {  // m . (p - v) >= -band
+              const float bound = (-band_distance - at0) * inv_slope[e];
+              if (inv_slope[e] > 0.0f) x0 = std::max(x0, node_ceil(bound, lo.x, hi.x) - 1);
+              else x1 = std::min(x1, node_floor(bound, lo.x, hi.x) + 1);
             } else if (at0 < -band_distance) {
               x1 = x0 - 1;  // the whole row is beyond the band
             }

@@ -137,5 +137,28 @@ TEST(FieldBuild, OpenTerrainHasNoSignFlipsUnderIt) {
   EXPECT_LT(worst, 0.5f * std::sqrt(3.0f) * voxel);
 }
 
+TEST(FieldBuild, LongSliverWithANearlyAxisAlignedEdgeKeepsItsWholeBand) {
+  // A floor triangle 200 units long (4000 voxels) whose short edge is turned 1.5e-6 rad off the x
+  // axis: that edge's bound on a row's nodes, (band + offset) / slope with a slope of 1e-7 of a
+  // voxel, is beyond the range of int far along the triangle. Converted unclamped it overflowed
+  // and emptied those rows: the band nodes above most of the triangle were missing (a sparse
+  // field there read the band's clamp value, 0.08 off at 0.07 above the floor).
+  const std::vector<Vec3> v{{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 1.5e-6f}, {0.5f, 0.0f, 200.0f}};
+  const std::vector<glm::uvec3> t{{0, 1, 2}};
+  const TriangleMesh mesh = make_triangle_mesh(v, t);
+  FieldOptions o = options(0.05f);
+  o.keep_closest_points = false;
+  const SparseDistanceField3 sparse = make_sparse_distance_field(mesh, o);
+  const DistanceField3 dense = make_distance_field(mesh, o);
+  float worst_sparse = 0.0f, worst_dense = 0.0f;
+  for (int k = 0; k <= 400; ++k) {
+    const Vec3 p{0.5f, 0.07f, 1.0f + 198.0f * float(k) / 400.0f};  // above the triangle's middle line
+    worst_sparse = std::max(worst_sparse, std::abs(sparse.sample(p) - p.y));
+    worst_dense = std::max(worst_dense, std::abs(dense.sample(p) - p.y));
+  }
+  EXPECT_LT(worst_sparse, 1e-3f * o.voxel);
+  EXPECT_LT(worst_dense, 1e-3f * o.voxel);
+}
+
 }  // namespace
 }  // namespace collide
