@@ -382,10 +382,6 @@ constexpr int kBandChunk = 64;
 /// that the kernel below is written once: the arithmetic, comparisons giving a mask, and a
 /// select by mask. Lanes4 does every lane's operation as float does it, in the same order: the
 /// same values.
-inline float select(bool mask, float a, float b) { return mask ? a : b; }
-inline float broadcast(float x, float) { return x; }
-inline bool broadcast(bool x, float) { return x; }
-
 #if defined(__SSE2__) || defined(_M_X64)
 struct Lanes4 {
   __m128 v;
@@ -406,6 +402,9 @@ inline Lanes4 broadcast(bool x, Lanes4) { return {_mm_castsi128_ps(_mm_set1_epi3
 using BandLanes = Lanes4;
 constexpr int kBandLanes = 4;
 #else
+inline float select(bool mask, float a, float b) { return mask ? a : b; }
+inline float broadcast(float x, float) { return x; }
+inline bool broadcast(bool x, float) { return x; }
 using BandLanes = float;
 constexpr int kBandLanes = 1;
 #endif
