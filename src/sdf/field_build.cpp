@@ -3,6 +3,7 @@
 // both storages (dense grid, sparse bricks): the stages write through a store.
 
 #include <collide/core/error.hpp>
+#include <collide/core/lanes.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/sdf/distance_field.hpp>
 #include <collide/shape/triangle.hpp>
@@ -378,42 +379,18 @@ void shapes_band(std::span<const PlacedShapeN<D>> shapes, const std::vector<Aabb
 /// Nodes of a row a triangle's band kernel handles at once (its results sit in arrays this long).
 constexpr int kBandChunk = 64;
 
-/// The band kernel's numbers for one node (`float`) or four nodes in SSE2 lanes (`Lanes4`), so
-/// that the kernel below is written once: the arithmetic, comparisons giving a mask, and a
-/// select by mask. Lanes4 does every lane's operation as float does it, in the same order: the
-/// same values.
-#if defined(__SSE2__) || defined(_M_X64)
-struct Lanes4 {
-  __m128 v;
-  friend Lanes4 operator+(Lanes4 a, Lanes4 b) { return {_mm_add_ps(a.v, b.v)}; }
-  friend Lanes4 operator-(Lanes4 a, Lanes4 b) { return {_mm_sub_ps(a.v, b.v)}; }
-  friend Lanes4 operator*(Lanes4 a, Lanes4 b) { return {_mm_mul_ps(a.v, b.v)}; }
-  friend Lanes4 operator<(Lanes4 a, Lanes4 b) { return {_mm_cmplt_ps(a.v, b.v)}; }
-  friend Lanes4 operator>(Lanes4 a, Lanes4 b) { return {_mm_cmpgt_ps(a.v, b.v)}; }
-  friend Lanes4 operator>=(Lanes4 a, Lanes4 b) { return {_mm_cmpge_ps(a.v, b.v)}; }
-  friend Lanes4 operator&(Lanes4 a, Lanes4 b) { return {_mm_and_ps(a.v, b.v)}; }
-};
-inline Lanes4 select(Lanes4 mask, Lanes4 a, Lanes4 b) {
-  return {_mm_or_ps(_mm_and_ps(mask.v, a.v), _mm_andnot_ps(mask.v, b.v))};
-}
-inline Lanes4 broadcast(float x, Lanes4) { return {_mm_set1_ps(x)}; }
-inline Lanes4 broadcast(bool x, Lanes4) { return {_mm_castsi128_ps(_mm_set1_epi32(x ? -1 : 0))}; }
-/// The lane type of the band kernel on this machine, and how many nodes it takes at once.
-using BandLanes = Lanes4;
+/// The band kernel takes four nodes of a row at once, in lanes (collide/core/lanes.hpp: SSE2
+/// on x86-64), every lane's operation as the float expression does it, in the same order.
+using simd::Lanes;
+using simd::LaneMask;
+using simd::select;
+using simd::splat;
 constexpr int kBandLanes = 4;
-#else
-inline float select(bool mask, float a, float b) { return mask ? a : b; }
-inline float broadcast(float x, float) { return x; }
-inline bool broadcast(bool x, float) { return x; }
-using BandLanes = float;
-constexpr int kBandLanes = 1;
-#endif
 static_assert(kBandChunk % kBandLanes == 0);
 
 /// x clamped to [0, 1] by selects.
-template <class F>
-F clamp01(F x) {
-  const F zero = broadcast(0.0f, F{}), one = broadcast(1.0f, F{});
+inline Lanes clamp01(Lanes x) {
+  const Lanes zero = splat(0.0f), one = splat(1.0f);
   x = select(x > zero, x, zero);
   return select(x < one, x, one);
 }
@@ -446,13 +423,12 @@ struct BandTriangle {
   }
 };
 
-/// A BandTriangle's numbers as kernel operands of type F (each in every lane), made once per
-/// triangle: the kernel runs row after row, and broadcasting them at every row (as the
-/// compiler's own vectorisation of the per-node loop did, 290 instructions a row) cost more than
-/// a short row's distances.
-template <class F>
+/// A BandTriangle's numbers in lanes (each in every lane), made once per triangle: the kernel
+/// runs row after row, and broadcasting them at every row (as the compiler's own vectorisation
+/// of the per-node loop did, 290 instructions a row) cost more than a short row's distances.
 struct BandKernel {
-  using Mask = decltype(F{} < F{});
+  using F = Lanes;
+  using Mask = LaneMask;
   F ax, ay, az, bx, by, bz, cx, cy, cz;
   F abx, aby, abz, bcx, bcy, bcz, cax, cay, caz;
   F nx, ny, nz, iabx, iaby, iabz, ibcx, ibcy, ibcz, icax, icay, icaz;
@@ -460,7 +436,7 @@ struct BandKernel {
   Mask has_face;
 
   explicit BandKernel(const BandTriangle& t) {
-    const auto all = [](float x) { return broadcast(x, F{}); };
+    const auto all = [](float x) { return splat(x); };
     ax = all(t.a.x), ay = all(t.a.y), az = all(t.a.z), bx = all(t.b.x), by = all(t.b.y), bz = all(t.b.z);
     cx = all(t.c.x), cy = all(t.c.y), cz = all(t.c.z);
     abx = all(t.ab.x), aby = all(t.ab.y), abz = all(t.ab.z), bcx = all(t.bc.x), bcy = all(t.bc.y), bcz = all(t.bc.z);
@@ -471,7 +447,7 @@ struct BandKernel {
     icax = all(t.in_ca.x), icay = all(t.in_ca.y), icaz = all(t.in_ca.z);
     inv_ab = all(t.inv_ab), inv_bc = all(t.inv_bc), inv_ca = all(t.inv_ca), inv_nn = all(t.inv_nn);
     zero = all(0.0f);
-    has_face = broadcast(t.has_face, F{});
+    has_face = simd::mask(t.has_face);
   }
 
   /// Squared distance and closest point of the node(s) at (px, py, pz): the closest point of a
@@ -520,23 +496,18 @@ struct BandKernel {
 /// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
 /// [0, count) (count <= kBandChunk), into arrays of kBandChunk: kBandLanes nodes at a time, the
 /// last group padded with nodes past the row (their results written, not to be read).
-inline void band_row(const BandKernel<BandLanes>& k, float ox, float voxel, int x0, int count, float py, float pz,
-                     float* d2, float* qx, float* qy, float* qz) {
-  const BandLanes y = broadcast(py, BandLanes{}), z = broadcast(pz, BandLanes{});
+inline void band_row(const BandKernel& k, float ox, float voxel, int x0, int count, float py, float pz, float* d2,
+                     float* qx, float* qy, float* qz) {
+  const Lanes y = splat(py), z = splat(pz), origin = splat(ox), step = splat(voxel);
   for (int l = 0; l < count; l += kBandLanes) {
-#if defined(__SSE2__) || defined(_M_X64)
     // float(x0 + l + lane) * voxel + ox, per lane as the scalar form computes it.
-    const __m128 index = _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x0 + l), _mm_setr_epi32(0, 1, 2, 3)));
-    const Lanes4 x{_mm_add_ps(_mm_set1_ps(ox), _mm_mul_ps(index, _mm_set1_ps(voxel)))};
-    Lanes4 d, px, py_, pz_;
+    const Lanes x = simd::iota(x0 + l) * step + origin;
+    Lanes d, px, py_, pz_;
     k.node(x, y, z, d, px, py_, pz_);
-    _mm_store_ps(d2 + l, d.v);
-    _mm_store_ps(qx + l, px.v);
-    _mm_store_ps(qy + l, py_.v);
-    _mm_store_ps(qz + l, pz_.v);
-#else
-    k.node(ox + float(x0 + l) * voxel, y, z, d2[l], qx[l], qy[l], qz[l]);
-#endif
+    simd::store(d2 + l, d);
+    simd::store(qx + l, px);
+    simd::store(qy + l, py_);
+    simd::store(qz + l, pz_);
   }
 }
 
@@ -580,7 +551,7 @@ void mesh_band(const TriangleMesh& mesh, Vec3 local_origin, float band_distance,
     node_range(local, box, lo, hi);
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) continue;
     const BandTriangle tri(a, b, c);
-    const BandKernel<BandLanes> kernel(tri);
+    const BandKernel kernel(tri);
     Vec3 n = tri.n;
     const float length = glm::length(n);
     n = length > 0.0f ? n / length : Vec3(0.0f);

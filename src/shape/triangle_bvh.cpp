@@ -4,6 +4,7 @@
 
 #include <collide/core/config.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/lanes.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -11,9 +12,6 @@
 #include <cstring>
 #include <numeric>
 #include <string>
-#if defined(__SSE__)
-#include <immintrin.h>
-#endif
 
 namespace collide {
 namespace {
@@ -145,81 +143,8 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
   return nodes;
 }
 
-// Four lanes of float: one SIMD register with GCC and Clang (generic vector extension: SSE on
-// x86, NEON on ARM), a plain array with lane loops elsewhere. Only what the queries below use.
-// min(a, b) and max(a, b) return b when a is NaN (as SSE minps / maxps do): the ray slab test
-// relies on it to ignore the NaN of an axis the ray does not move along.
-#if defined(__GNUC__) || defined(__clang__)
-using Lanes = float __attribute__((vector_size(16)));
-using LaneMask = std::int32_t __attribute__((vector_size(16)));
-inline Lanes load(const std::array<float, 4>& a) noexcept {
-  Lanes v;
-  __builtin_memcpy(&v, a.data(), sizeof(Lanes));
-  return v;
-}
-inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
-inline Lanes lanes(float a, float b, float c, float d) noexcept { return Lanes{a, b, c, d}; }
-inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
-inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
-inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
-/// Bit k set where lane k of the mask is.
-inline unsigned lane_bits(LaneMask m) noexcept {
-#if defined(__SSE__)
-  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
-#else
-  return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
-#endif
-}
-/// The smallest lane, in every lane.
-inline Lanes horizontal_min(Lanes a) noexcept {
-  const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
-  return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
-}
-#else
-struct Lanes {
-  std::array<float, 4> v;
-  float operator[](int k) const noexcept { return v[k]; }
-};
-struct LaneMask {
-  std::array<bool, 4> v;
-};
-template <class F>
-inline Lanes lanewise(F f) noexcept {
-  return {{f(0), f(1), f(2), f(3)}};
-}
-inline Lanes load(const std::array<float, 4>& a) noexcept { return {a}; }
-inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
-inline Lanes lanes(float a, float b, float c, float d) noexcept { return {{a, b, c, d}}; }
-inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] + b.v[k]; }); }
-inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
-inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
-inline Lanes operator/(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] / b.v[k]; }); }
-inline LaneMask operator>=(Lanes a, Lanes b) noexcept {
-  return {{a.v[0] >= b.v[0], a.v[1] >= b.v[1], a.v[2] >= b.v[2], a.v[3] >= b.v[3]}};
-}
-inline LaneMask operator>(Lanes a, Lanes b) noexcept {
-  return {{a.v[0] > b.v[0], a.v[1] > b.v[1], a.v[2] > b.v[2], a.v[3] > b.v[3]}};
-}
-inline LaneMask operator&(LaneMask a, LaneMask b) noexcept {
-  return {{a.v[0] && b.v[0], a.v[1] && b.v[1], a.v[2] && b.v[2], a.v[3] && b.v[3]}};
-}
-inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
-inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] < b.v[k] ? a.v[k] : b.v[k]; }); }
-inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] > b.v[k] ? a.v[k] : b.v[k]; }); }
-inline LaneMask operator<(Lanes a, Lanes b) noexcept { return b > a; }
-inline LaneMask operator<=(Lanes a, Lanes b) noexcept { return b >= a; }
-inline LaneMask operator|(LaneMask a, LaneMask b) noexcept {
-  return {{a.v[0] || b.v[0], a.v[1] || b.v[1], a.v[2] || b.v[2], a.v[3] || b.v[3]}};
-}
-inline LaneMask operator==(Lanes a, Lanes b) noexcept {
-  return {{a.v[0] == b.v[0], a.v[1] == b.v[1], a.v[2] == b.v[2], a.v[3] == b.v[3]}};
-}
-inline unsigned lane_bits(LaneMask m) noexcept { return m.v[0] | m.v[1] << 1 | m.v[2] << 2 | m.v[3] << 3; }
-inline Lanes horizontal_min(Lanes a) noexcept {
-  const float m = std::min(std::min(a.v[0], a.v[1]), std::min(a.v[2], a.v[3]));
-  return splat(m);
-}
-#endif
+// Four lanes of float (collide/core/lanes.hpp): the packets below are four triangles or boxes.
+using namespace simd;
 
 /// A 3D vector of lanes: four points or directions at once.
 struct Vec3Lanes {

@@ -1,0 +1,133 @@
+#pragma once
+/// @file
+/// Four floats in one SIMD register, for code that does the same arithmetic on four points,
+/// nodes or triangles at once (the triangle BVH's packets, the distance field's band kernel).
+/// With GCC and Clang, `Lanes` is the compiler's generic vector type (SSE on x86-64, NEON on
+/// ARM): `+ - * /` and the comparisons work lane by lane, a comparison giving a `LaneMask` of
+/// all-ones or zero lanes. Elsewhere it is a plain array with the same operators and loops, so
+/// code written on `Lanes` builds everywhere and gives the same values, lane for lane, as the
+/// scalar float expression it mirrors (the same operations in the same order).
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+
+#if defined(__SSE__) && (defined(__GNUC__) || defined(__clang__))
+#include <xmmintrin.h>
+#endif
+
+namespace collide::simd {
+
+#if defined(__GNUC__) || defined(__clang__)
+/// Four floats, one per lane.
+using Lanes = float __attribute__((vector_size(16)));
+/// Four lanes of all ones (true) or zero (false), as comparisons of `Lanes` give them.
+using LaneMask = std::int32_t __attribute__((vector_size(16)));
+#else
+/// Four floats, one per lane.
+struct Lanes {
+  std::array<float, 4> v;
+  float operator[](int k) const noexcept { return v[k]; }
+};
+/// Four lanes of true or false, as comparisons of `Lanes` give them.
+struct LaneMask {
+  std::array<bool, 4> v;
+};
+#endif
+
+/// The four floats of `a` (any alignment).
+[[nodiscard]] inline Lanes load(const float* a) noexcept {
+  Lanes v;
+  std::memcpy(&v, a, sizeof(Lanes));
+  return v;
+}
+/// The four floats of `a`.
+[[nodiscard]] inline Lanes load(const std::array<float, 4>& a) noexcept { return load(a.data()); }
+/// Writes the four lanes of `v` to a[0..3] (any alignment).
+inline void store(float* a, Lanes v) noexcept { std::memcpy(a, &v, sizeof(Lanes)); }
+/// `x` in every lane.
+[[nodiscard]] inline Lanes splat(float x) noexcept;
+/// The lanes a, b, c, d in that order.
+[[nodiscard]] inline Lanes lanes(float a, float b, float c, float d) noexcept;
+/// All ones in every lane if `b`, else zero.
+[[nodiscard]] inline LaneMask mask(bool b) noexcept;
+/// first, first + 1, first + 2, first + 3 as floats (each as float(int) gives it: exact below
+/// 2^24).
+[[nodiscard]] inline Lanes iota(int first) noexcept;
+/// `a` where `m` is set, `b` elsewhere.
+[[nodiscard]] inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept;
+/// Lane-wise minimum and maximum; `b` where `a` is NaN (as SSE minps / maxps do: a ray's slab
+/// test relies on it to ignore the NaN of an axis the ray does not move along).
+[[nodiscard]] inline Lanes min(Lanes a, Lanes b) noexcept;
+[[nodiscard]] inline Lanes max(Lanes a, Lanes b) noexcept;
+/// Bit k set where lane k of `m` is.
+[[nodiscard]] inline unsigned lane_bits(LaneMask m) noexcept;
+/// The smallest lane, in every lane (NaN lanes as min gives them).
+[[nodiscard]] inline Lanes horizontal_min(Lanes a) noexcept;
+
+#if defined(__GNUC__) || defined(__clang__)
+inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
+inline Lanes lanes(float a, float b, float c, float d) noexcept { return Lanes{a, b, c, d}; }
+inline Lanes iota(int first) noexcept {
+  using Ints = std::int32_t __attribute__((vector_size(16)));
+  return __builtin_convertvector((Ints{first, first, first, first} + Ints{0, 1, 2, 3}), Lanes);
+}
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
+inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
+inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
+inline unsigned lane_bits(LaneMask m) noexcept {
+#if defined(__SSE__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+  return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
+#endif
+}
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
+  return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
+}
+#else
+/// The lanes f(0), f(1), f(2), f(3): the portable form's loop.
+template <class F>
+[[nodiscard]] inline Lanes lanewise(F f) noexcept {
+  return {{f(0), f(1), f(2), f(3)}};
+}
+/// The mask of pred(0..3): the portable form's comparisons.
+template <class F>
+[[nodiscard]] inline LaneMask maskwise(F f) noexcept {
+  return {{f(0), f(1), f(2), f(3)}};
+}
+/// Lane-wise arithmetic.
+inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] + b.v[k]; }); }
+inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
+inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
+inline Lanes operator/(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] / b.v[k]; }); }
+/// Lane-wise comparisons.
+inline LaneMask operator<(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] < b.v[k]; }); }
+inline LaneMask operator>(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] > b.v[k]; }); }
+inline LaneMask operator<=(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] <= b.v[k]; }); }
+inline LaneMask operator>=(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] >= b.v[k]; }); }
+inline LaneMask operator==(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] == b.v[k]; }); }
+/// Lane-wise and / or of masks.
+inline LaneMask operator&(LaneMask a, LaneMask b) noexcept { return maskwise([&](int k) { return a.v[k] && b.v[k]; }); }
+inline LaneMask operator|(LaneMask a, LaneMask b) noexcept { return maskwise([&](int k) { return a.v[k] || b.v[k]; }); }
+inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
+inline Lanes lanes(float a, float b, float c, float d) noexcept { return {{a, b, c, d}}; }
+inline Lanes iota(int first) noexcept {
+  return lanewise([&](int k) { return static_cast<float>(first + k); });
+}
+inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] < b.v[k] ? a.v[k] : b.v[k]; }); }
+inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] > b.v[k] ? a.v[k] : b.v[k]; }); }
+inline unsigned lane_bits(LaneMask m) noexcept {
+  return unsigned(m.v[0]) | unsigned(m.v[1]) << 1 | unsigned(m.v[2]) << 2 | unsigned(m.v[3]) << 3;
+}
+inline Lanes horizontal_min(Lanes a) noexcept {
+  const Lanes b = min(a, lanes(a.v[1], a.v[0], a.v[3], a.v[2]));
+  return min(b, lanes(b.v[2], b.v[3], b.v[0], b.v[1]));
+}
+#endif
+
+inline LaneMask mask(bool b) noexcept { return splat(b ? 1.0f : 0.0f) > splat(0.0f); }
+
+}  // namespace collide::simd
