@@ -10,6 +10,7 @@
 #include <collide/ccd/raycast.hpp>
 
 #include <collide/core/config.hpp>
+#include <collide/core/lanes.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
@@ -18,6 +19,7 @@
 #include "rounded_polygon_ray.hpp"
 
 #include <bit>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 
@@ -84,55 +86,6 @@ COLLIDE_ALWAYS_INLINE Clip clip_ray_outline(const detail::OutlineView& o, Vec2 p
     return detail::PlaneCrossing{offset - dot(normal, p - o.vertices[i]), dot(normal, d)};
   });
 #endif
-}
-
-/// Capsule: the union of the band |y| <= r over 0 <= x <= L along its axis (x from a towards b,
-/// y to the left) and the two end discs (Ericson, Real-Time Collision Detection, 5.3.7 in 2D).
-/// If the ray starts above or below the band, it can only enter through the flat side facing
-/// it or, when it crosses that side's line beyond an end, through that end's disc (to reach the
-/// band from there it has to pass through the disc). If it starts level with the band, only
-/// the disc on its side can be first. The axis coordinates are kept scaled by L (dot and cross
-/// products with b - a, bounds L r and L^2), so no square root or division stands between the
-/// ray and the first test, and the cases are chosen by selects rather than branches: random
-/// rays take each at random (bench_ray_cast, visited in an unlearnable order: 34 -> 31 ns). The
-/// disc is cast in the local frame.
-LocalHit raycast_local(const Capsule& capsule, Vec2 p, Vec2 d) noexcept {
-  using detail::pick;
-  const Vec2 axis = capsule.b - capsule.a;
-  const float ll = length_squared(axis);
-  const float length = std::sqrt(ll);  // off the critical path until the side's bound
-  const float r = capsule.radius;
-  const Vec2 rel = p - capsule.a;
-  const float px = dot(rel, axis);    // L x
-  const float py = cross(axis, rel);  // L y
-  const float rl = r * length;        // the band's half width, scaled
-  // The flat side facing the origin, y = side r: crossed at t_side, at x_side (scaled).
-  const bool above = std::fabs(py) > rl;
-  const float side = pick(py > 0.0f, 1.0f, -1.0f);
-  const float dy = cross(axis, d);
-  const float t_side = (py - side * rl) / -dy;
-  const float x_side = px + t_side * dot(d, axis);
-  const bool reaches = (side * dy < 0.0f) & (t_side <= 1.0f);  // towards the side, in time
-  const bool side_hit = above & reaches & (x_side >= 0.0f) & (x_side <= ll);
-  // Otherwise the disc at the end on the side of where the ray meets the band (or of the origin,
-  // level with it); none if it starts inside the band between the ends, or above it and never
-  // reaches its line. Which end, from the sign of x_side without waiting for the division:
-  // x_side times -dy, and -dy has the sign of `side` wherever the ray reaches the side.
-  const float x_side_scaled = px * -dy + (py - side * rl) * dot(d, axis);
-  const bool at_a = above ? side * x_side_scaled < 0.0f : px < 0.0f;
-  const Vec2 centre{pick(at_a, capsule.a.x, capsule.b.x), pick(at_a, capsule.a.y, capsule.b.y)};
-  const LocalHit disc = ray_disc(p - centre, d, r);
-  const bool inside_band = !above & (px >= 0.0f) & (px <= ll);
-  const bool disc_hit = disc.hit & !inside_band & !(above & !reaches);
-  const bool hit = side_hit | disc_hit;
-  const std::uint32_t keep = detail::mask_of(hit);
-  const Vec2 side_normal = left_perp(axis) * (side / length);
-  LocalHit h;
-  h.hit = hit;
-  h.fraction = detail::keep_if(pick(side_hit, t_side, disc.fraction), keep);
-  h.normal = {detail::keep_if(pick(side_hit, side_normal.x, disc.normal.x), keep),
-              detail::keep_if(pick(side_hit, side_normal.y, disc.normal.y), keep)};
-  return h;
 }
 
 /// cast_sides' answer: `edge` is -1 when the ray's line misses the polygon; otherwise the edge
@@ -277,15 +230,98 @@ RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexc
   return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
 }
 
-/// A capsule is cast in a frame turned as the world and centred on its placement, as in 3D
-/// (raycast3.cpp): its ends are rotated there (two rotations) instead of the ray into its frame
-/// and the normal back out (three), and the origin is made relative as (origin - p) so that
-/// large coordinates cancel first. The normal comes out in world space (bench_ray_cast, capsules
-/// visited in an unlearnable order, AMD EPYC: 41 -> 33 ns a cast).
+/// Capsule: the union of three convex pieces, the band |y| <= r over 0 <= x <= L along its axis
+/// (x from a towards b, y to the left) and the discs of radius r at a and b. A ray from outside
+/// enters a union where it first enters a piece, so the cast is the earliest of three entries,
+/// worked out side by side in SSE lanes (collide/core/lanes.hpp): lane 0 the flat side facing
+/// the origin (crossed beside the core: 0 <= x <= L there), lanes 1 and 2 the discs (ray_ball's
+/// entry); an origin in any piece is inside the capsule, no hit (the band is entered through its
+/// ends only inside a disc, so those need no test). Ericson, Real-Time Collision Detection,
+/// 5.3.7, in 2D. The axis coordinates are kept scaled by L (dot and cross products with b - a),
+/// one division serves the side (1 / -dy), the discs (1 / |d|^2) and the side's normal (1 / L),
+/// and hit or miss and the piece hit are masks and a lane index, not branches: random rays take
+/// each case at random. The capsule is cast in a frame turned as the world and centred on its
+/// placement, as in 3D (raycast3.cpp): its ends are rotated (two rotations) instead of the ray
+/// into its frame and the normal back out (three); (origin - p) first, so that large coordinates
+/// cancel. bench_ray_cast, capsules visited in an unlearnable order, AMD EPYC: 41 -> 33 ns a cast
+/// for the turned frame (stop 54); 32.9-36.4 -> 28.5-29.5 ns for the lanes (before, the disc was
+/// chosen by the side's x and the cases by bit-mask selects on scalars, each float moved through
+/// an integer register and back: 300 instructions). GCC's register allocation of this function
+/// is touchy: a sqrt in lanes for L, or the point masked in lanes, measured 33-45 ns.
+template <bool kRound>
+COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
+  using namespace simd;
+  const Vec2 a = rotate(xf.q, capsule.a);
+  const Vec2 axis = rotate(xf.q, capsule.b) - a;
+  const Vec2 rel = (ray.origin - xf.p) - a;
+  const float r = capsule.radius;
+  const Vec2 d = ray.translation;
+  // Lanes: 0 the flat side facing the origin, 1 the disc at a, 2 the disc at b, 3 spare.
+  const LaneMask side_lane = masks(true, false, false, false);
+  const LaneMask disc_lanes = masks(false, true, true, false);
+  const Lanes zero = splat(0.0f), one = splat(1.0f);
+  // Scalars first: the origin and the ray across and along the axis, scaled by L.
+  const float ll_s = length_squared(axis);
+  const float length_s = std::sqrt(ll_s);
+  const float px_s = dot(rel, axis), py_s = cross(axis, rel);
+  const float dpx_s = dot(d, axis), dpy_s = cross(axis, d);
+  const float rl_s = r * length_s;
+  // One division for three: the side's 1 / -dy (lane 0), the discs' 1 / |d|^2, 1 / L (lane 3).
+  const float dd_s = length_squared(d);
+  const Lanes inv = one / lanes(-dpy_s, dd_s, dd_s, length_s);
+  const Lanes inv_dd = splat(inv[1]);
+  // The discs: the origin relative to each end.
+  const Lanes dx = splat(d.x), dy = splat(d.y), rr = splat(r);
+  const Lanes mx = lanes(0.0f, rel.x, rel.x - axis.x, 0.0f), my = lanes(0.0f, rel.y, rel.y - axis.y, 0.0f);
+  const Lanes b = mx * dx + my * dy;
+  const Lanes c = mx * mx + my * my - rr * rr;
+  const Lanes tc = -b * inv_dd;
+  const Lanes cx = mx + tc * dx, cy = my + tc * dy;
+  const Lanes disc = rr * rr - (cx * cx + cy * cy);
+  const Lanes t_disc = simd::max(tc - simd::sqrt(simd::max(disc, zero) * inv_dd), zero);
+  const LaneMask disc_ok = disc_lanes & (c > zero) & (b < zero) & (disc >= zero) & (t_disc <= one);
+  // The side.
+  const Lanes py = splat(py_s), rl = splat(rl_s), px = splat(px_s), ll = splat(ll_s), dpy = splat(dpy_s);
+  const LaneMask above = (py > rl) | (py < -rl);
+  const Lanes side = select(py > zero, one, -one);
+  const Lanes t_side = (py - side * rl) * inv;
+  const Lanes x_side = px + t_side * splat(dpx_s);
+  const LaneMask side_ok = above & (side * dpy < zero) & (t_side <= one) & (x_side >= zero) & (x_side <= ll);
+  const LaneMask ok = (side_ok & side_lane) | disc_ok;
+  const Lanes t = select(side_lane, t_side, t_disc);
+  const Lanes first = horizontal_min(select(ok, t, splat(std::numeric_limits<float>::infinity())));
+  // An origin in the band between the ends or in a disc is inside: no hit.
+  const LaneMask inside = (~above & (px >= zero) & (px <= ll) & side_lane) | (disc_lanes & (c <= zero));
+  const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
+  const bool hit = lane_bits(keep) & 1u;
+  // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
+  const int k = std::countr_zero(lane_bits(ok & (t == first) & keep) | 16u);
+  // Normals: the side's across the axis, a disc's from its centre (facing the ray for r = 0).
+  alignas(16) float fractions[5], normal_x[5], normal_y[5];
+  store(fractions, t);
+  if constexpr (kRound) {
+    const Lanes inv_r = splat(1.0f / r);
+    store(normal_x, (mx + t * dx) * inv_r);
+    store(normal_y, (my + t * dy) * inv_r);
+  } else {
+    const Lanes face = -simd::sqrt(inv_dd);
+    store(normal_x, dx * face);
+    store(normal_y, dy * face);
+  }
+  const float side_scale = side[0] * inv[3];
+  normal_x[0] = -axis.y * side_scale;
+  normal_y[0] = axis.x * side_scale;
+  fractions[4] = normal_x[4] = normal_y[4] = 0.0f;
+  const float fraction = fractions[k];
+  const std::uint32_t hit_mask = detail::mask_of(hit);
+  const Vec2 point = ray.at(fraction);
+  return {hit, fraction, {detail::keep_if(point.x, hit_mask), detail::keep_if(point.y, hit_mask)},
+          {normal_x[k], normal_y[k]}};
+}
+
 RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
   if (!(length_squared(ray.translation) > 0.0f)) return {};
-  const Capsule turned{rotate(xf.q, capsule.a), rotate(xf.q, capsule.b), capsule.radius};
-  return world_hit(raycast_local(turned, ray.origin - xf.p, ray.translation), ray);
+  return capsule.radius > 0.0f ? capsule_cast<true>(capsule, xf, ray) : capsule_cast<false>(capsule, xf, ray);
 }
 
 /// A disc looks the same in every frame: only the origin needs to be made relative to the

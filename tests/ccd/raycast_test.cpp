@@ -268,6 +268,41 @@ TEST(Raycast, CapsuleMatchesUnionOfBox2DPieces) {
   compare_with_oracle(random_capsules(rng), rng, 4.0f, kFarAway, kFar);
 }
 
+// A capsule of radius 0 is its core segment: the same hits as the segment's cast (the capsule's
+// side lane crosses the core's line, its end discs have no area), normals facing the ray; and a
+// ray along the core's line hits the nearer end head on, normal back along the ray.
+TEST(Raycast, ZeroRadiusCapsuleIsItsSegment) {
+  std::mt19937 rng(41);
+  int hits = 0, total = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec2 a = test::random_point(rng, 2.0f), b = test::random_point(rng, 2.0f);
+    const Capsule capsule = make_capsule(a, b, 0.0f);
+    const Segment seg = make_segment(a, b);
+    const Transform xf = test::random_transform(rng, 10.0f);
+    for (int k = 0; k < 20; ++k) {
+      const Vec2 origin = transform_point(xf, test::random_point(rng, 4.0f));
+      const Ray ray{origin, (transform_point(xf, test::random_point(rng, 2.0f)) - origin) * uniform(rng, 0.5f, 2.0f)};
+      const RayHit h = raycast(capsule, xf, ray);
+      const RayHit s = raycast(seg, xf, ray);
+      ++total;
+      ASSERT_EQ(h.hit, s.hit) << i << " " << k;
+      if (!h.hit) continue;
+      ++hits;
+      EXPECT_NEAR(h.fraction, s.fraction, 1e-5f);
+      EXPECT_VEC2_NEAR(h.normal, s.normal, 1e-5f);
+      EXPECT_LT(dot(h.normal, ray.translation), 0.0f);
+    }
+  }
+  EXPECT_GT(hits, total / 5);
+  EXPECT_LT(hits, total * 4 / 5);
+  const Capsule capsule = make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.0f);
+  const RayHit head_on = raycast(capsule, Transform{}, Ray{{-3.0f, 0.0f}, {4.0f, 0.0f}});
+  ASSERT_TRUE(head_on.hit);
+  EXPECT_NEAR(head_on.fraction, 0.5f, 1e-6f);
+  EXPECT_VEC2_NEAR(head_on.normal, Vec2(-1.0f, 0.0f), 1e-6f);
+  EXPECT_FALSE(raycast(capsule, Transform{}, Ray{{0.5f, 0.0f}, {4.0f, 0.0f}}).hit);  // starts on it
+}
+
 TEST(Raycast, RoundedPolygonMatchesUnionOfBox2DPieces) {
   std::mt19937 rng(5);
   compare_with_oracle(random_polygons(rng, true), rng, 4.5f, {0.0f, 0.0f}, kNear);

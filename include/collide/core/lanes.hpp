@@ -9,6 +9,7 @@
 /// scalar float expression it mirrors (the same operations in the same order).
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -51,11 +52,16 @@ inline void store(float* a, Lanes v) noexcept { std::memcpy(a, &v, sizeof(Lanes)
 [[nodiscard]] inline Lanes lanes(float a, float b, float c, float d) noexcept;
 /// All ones in every lane if `b`, else zero.
 [[nodiscard]] inline LaneMask mask(bool b) noexcept;
+/// The mask of lanes a, b, c, d: all ones where true.
+[[nodiscard]] inline LaneMask masks(bool a, bool b, bool c, bool d) noexcept;
+/// Lane-wise square root (correctly rounded, as std::sqrt).
+[[nodiscard]] inline Lanes sqrt(Lanes a) noexcept;
 /// first, first + 1, first + 2, first + 3 as floats (each as float(int) gives it: exact below
 /// 2^24).
 [[nodiscard]] inline Lanes iota(int first) noexcept;
 /// `a` where `m` is set, `b` elsewhere.
 [[nodiscard]] inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept;
+[[nodiscard]] inline LaneMask select(LaneMask m, LaneMask a, LaneMask b) noexcept;
 /// Lane-wise minimum and maximum; `b` where `a` is NaN (as SSE minps / maxps do: a ray's slab
 /// test relies on it to ignore the NaN of an axis the ray does not move along).
 [[nodiscard]] inline Lanes min(Lanes a, Lanes b) noexcept;
@@ -72,7 +78,16 @@ inline Lanes iota(int first) noexcept {
   using Ints = std::int32_t __attribute__((vector_size(16)));
   return __builtin_convertvector((Ints{first, first, first, first} + Ints{0, 1, 2, 3}), Lanes);
 }
+inline LaneMask masks(bool a, bool b, bool c, bool d) noexcept { return LaneMask{-a, -b, -c, -d}; }
+inline Lanes sqrt(Lanes a) noexcept {
+#if defined(__SSE__)
+  return reinterpret_cast<Lanes>(_mm_sqrt_ps(reinterpret_cast<__m128>(a)));
+#else
+  return Lanes{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
+#endif
+}
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return m ? a : b; }
+inline LaneMask select(LaneMask m, LaneMask a, LaneMask b) noexcept { return m ? a : b; }
 inline Lanes min(Lanes a, Lanes b) noexcept { return a < b ? a : b; }
 inline Lanes max(Lanes a, Lanes b) noexcept { return a > b ? a : b; }
 inline unsigned lane_bits(LaneMask m) noexcept {
@@ -102,21 +117,26 @@ inline Lanes operator+(Lanes a, Lanes b) noexcept { return lanewise([&](int k) {
 inline Lanes operator-(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] - b.v[k]; }); }
 inline Lanes operator*(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] * b.v[k]; }); }
 inline Lanes operator/(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] / b.v[k]; }); }
+inline Lanes operator-(Lanes a) noexcept { return lanewise([&](int k) { return -a.v[k]; }); }
 /// Lane-wise comparisons.
 inline LaneMask operator<(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] < b.v[k]; }); }
 inline LaneMask operator>(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] > b.v[k]; }); }
 inline LaneMask operator<=(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] <= b.v[k]; }); }
 inline LaneMask operator>=(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] >= b.v[k]; }); }
 inline LaneMask operator==(Lanes a, Lanes b) noexcept { return maskwise([&](int k) { return a.v[k] == b.v[k]; }); }
-/// Lane-wise and / or of masks.
+/// Lane-wise and / or / not of masks.
 inline LaneMask operator&(LaneMask a, LaneMask b) noexcept { return maskwise([&](int k) { return a.v[k] && b.v[k]; }); }
 inline LaneMask operator|(LaneMask a, LaneMask b) noexcept { return maskwise([&](int k) { return a.v[k] || b.v[k]; }); }
+inline LaneMask operator~(LaneMask a) noexcept { return maskwise([&](int k) { return !a.v[k]; }); }
 inline Lanes splat(float x) noexcept { return {{x, x, x, x}}; }
 inline Lanes lanes(float a, float b, float c, float d) noexcept { return {{a, b, c, d}}; }
 inline Lanes iota(int first) noexcept {
   return lanewise([&](int k) { return static_cast<float>(first + k); });
 }
+inline LaneMask masks(bool a, bool b, bool c, bool d) noexcept { return {{a, b, c, d}}; }
+inline Lanes sqrt(Lanes a) noexcept { return lanewise([&](int k) { return std::sqrt(a.v[k]); }); }
 inline Lanes select(LaneMask m, Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
+inline LaneMask select(LaneMask m, LaneMask a, LaneMask b) noexcept { return maskwise([&](int k) { return m.v[k] ? a.v[k] : b.v[k]; }); }
 inline Lanes min(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] < b.v[k] ? a.v[k] : b.v[k]; }); }
 inline Lanes max(Lanes a, Lanes b) noexcept { return lanewise([&](int k) { return a.v[k] > b.v[k] ? a.v[k] : b.v[k]; }); }
 inline unsigned lane_bits(LaneMask m) noexcept {
