@@ -40,14 +40,19 @@ TEST(Lanes, ArithmeticAndSelectsAreTheScalarExpressionLaneByLane) {
     const auto r = unpack(simd::select(la > lb, la * lb - lc, (la + lc) / lb));
     const auto mn = unpack(simd::min(la, lc));
     const auto mx = unpack(simd::max(la, lc));
+    const auto root = unpack(simd::sqrt(-la));
     const unsigned bits = simd::lane_bits((la >= lb) & (lc < lb));
+    const unsigned either = simd::lane_bits(simd::select(la <= lb, ~(lc == lb), la == la) | (la < lc));
     for (int k = 0; k < 4; ++k) {
       const float want = a[k] > b[k] ? a[k] * b[k] - c[k] : (a[k] + c[k]) / b[k];
       EXPECT_TRUE(same_bits(r[k], want)) << r[k] << " vs " << want;
       // min and max give b where a is NaN, as SSE does (a < b, a > b false).
       EXPECT_TRUE(same_bits(mn[k], a[k] < c[k] ? a[k] : c[k]));
       EXPECT_TRUE(same_bits(mx[k], a[k] > c[k] ? a[k] : c[k]));
+      const float s = std::sqrt(-a[k]);
+      EXPECT_TRUE(same_bits(root[k], s) || (std::isnan(root[k]) && std::isnan(s)));
       EXPECT_EQ((bits >> k) & 1u, unsigned(a[k] >= b[k] && c[k] < b[k]));
+      EXPECT_EQ((either >> k) & 1u, unsigned((a[k] <= b[k] ? !(c[k] == b[k]) : a[k] == a[k]) || a[k] < c[k]));
     }
   }
 }
@@ -67,6 +72,8 @@ TEST(Lanes, IotaMaskAndHorizontalMin) {
   }
   EXPECT_EQ(simd::lane_bits(simd::mask(true)), 0xfu);
   EXPECT_EQ(simd::lane_bits(simd::mask(false)), 0u);
+  EXPECT_EQ(simd::lane_bits(simd::masks(true, false, true, true)), 0xdu);
+  EXPECT_EQ(simd::lane_bits(~simd::masks(true, false, true, true)), 0x2u);
   const auto m = unpack(simd::select(simd::mask(true), simd::splat(1.0f), simd::splat(2.0f)));
   EXPECT_EQ(m, (std::array<float, 4>{1.0f, 1.0f, 1.0f, 1.0f}));
   for (int at = 0; at < 4; ++at) {
