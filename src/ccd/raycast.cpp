@@ -289,13 +289,17 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
   const LaneMask side_ok = above & (side * dpy < zero) & (t_side <= one) & (x_side >= zero) & (x_side <= ll);
   const LaneMask ok = (side_ok & side_lane) | disc_ok;
   const Lanes t = select(side_lane, t_side, t_disc);
-  const Lanes first = horizontal_min(select(ok, t, splat(std::numeric_limits<float>::infinity())));
+  // A crossing of the side beside the core is the answer (the capsule lies inside the strip
+  // |y| <= r, so nothing of it is entered earlier): ranked first, so that a disc's entry within
+  // rounding of it cannot name the disc, whose normal is turned there.
+  const Lanes rank = select(side_lane, -one, t);
+  const Lanes first = horizontal_min(select(ok, rank, splat(std::numeric_limits<float>::infinity())));
   // An origin in the band between the ends or in a disc is inside: no hit.
   const LaneMask inside = (~above & (px >= zero) & (px <= ll) & side_lane) | (disc_lanes & (c <= zero));
   const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
   const bool hit = lane_bits(keep) & 1u;
   // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
-  const int k = std::countr_zero(lane_bits(ok & (t == first) & keep) | 16u);
+  const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
   // Normals: the side's across the axis, a disc's from its centre (facing the ray for r = 0).
   alignas(16) float fractions[5], normal_x[5], normal_y[5];
   store(fractions, t);

@@ -6,6 +6,7 @@
 #include <collide/ccd/raycast.hpp>
 
 #include <collide/core/config.hpp>
+#include <collide/core/lanes.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/closest_point.hpp>
 
@@ -68,57 +69,89 @@ LocalHit3 unit_normal(LocalHit3 h) noexcept {
   return h;
 }
 
-/// Capsule: every point within r of the core a-b. The capsule lies inside the infinite cylinder
-/// of radius r about the core's line, so its entry is never before the cylinder's. Along the
-/// axis (x from a towards b) the capsule is the cylinder's stretch 0 <= x <= L plus the two end
-/// spheres. If the ray enters the cylinder beside the core, that is the answer. If it enters
-/// beyond end a (x < 0), it is inside the cylinder from then on until it leaves, and to reach
-/// any capsule point with x >= 0 it must cross the disc x = 0, which lies in a's sphere: so
-/// only a's sphere can be entered first (likewise past b, and for an origin inside the cylinder
-/// beyond an end). Ericson, Real-Time Collision Detection, 5.3.7.
-LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+/// Capsule: every point within r of the core a-b, the union of three convex pieces: the stretch
+/// 0 <= x <= L of the infinite cylinder of radius r about the core's line (x along the axis from
+/// a towards b) and the balls of radius r at a and b. A ray from outside enters a union where it
+/// first enters a piece, so the cast is the earliest of three entries, worked out side by side
+/// in SSE lanes (collide/core/lanes.hpp) with one formula, ray_ball's entry: lanes 1 and 2 the
+/// balls; lane 0 the cylinder, whose entry is the entry of the ray's projection across the axis
+/// into the disc of radius r (the same closest-approach discriminant, Haines et al., Ray Tracing
+/// Gems 7), kept when it lands beside the core (0 <= x <= L). An origin in any piece is inside
+/// the capsule: no hit. (The cylinder's stretch is entered through its end discs only inside a
+/// ball, so those need no test.) Ericson, Real-Time Collision Detection, 5.3.7. Across the axis
+/// the vectors are scaled by L^2 (m L^2 - (m . axis) axis), so no division comes before the
+/// lanes' one, which serves all three; the squares grow as L^4 |m|^2, within float range for
+/// capsules and rays up to about 1e5 long. The piece hit is a lane index and a miss a zero slot:
+/// no branch on the data (random rays take each case at random). Normals are normalised rather
+/// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
+/// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
+/// on the cylinder). An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD
+/// EPYC, the builds alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches
+/// before: about 0.9 mispredictions and 350 instructions a cast).
+template <bool kRound>
+COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+  using namespace simd;
   const Vec3 axis = capsule.b - capsule.a;
   const float ll = length_squared(axis);  // x coordinates below are scaled by L^2
   const float r = capsule.radius;
   const Vec3 m = p - capsule.a;
   const float m_axis = dot(m, axis);
   const float d_axis = dot(d, axis);
-  // Across the axis (the cylinder's view), scaled by L^2 like the x coordinates: no division
-  // before the first test (the disc's radius scaled to match; bench_ray_cast3, AMD EPYC: 44 ->
-  // 42 ns a capsule, 197-211 -> 185 ns a rounded hull of 16 points, whose edges are capsules).
-  // The branches stay: the cases chosen by selects, every case's arithmetic done, measured
-  // slower (54 ns; the cylinder's and both end spheres' entries side by side in SSE lanes,
-  // 47-50). Scaled, the squares below grow as L^4 |m|^2: within float range for capsules and
-  // rays up to about 1e5 long.
   const Vec3 m_perp = ll * m - m_axis * axis;
   const Vec3 d_perp = ll * d - d_axis * axis;
-  const float rl = r * ll;
-  float x_entry = m_axis;  // where the ray meets the cylinder, or the origin if inside it
-  if (length_squared(m_perp) > rl * rl) {
-    // Outside the cylinder: the 2D disc entry in the plane across the axis (the same
-    // closest-approach discriminant as ray_ball).
-    const float b = dot(m_perp, d_perp);
-    if (!(b < 0.0f)) return {};  // moving away from the axis, along it, or NaN
-    const float inv_aa = 1.0f / length_squared(d_perp);
-    const float tc = -b * inv_aa;
-    const Vec3 closest = m_perp + tc * d_perp;
-    const float disc = rl * rl - length_squared(closest);
-    if (disc < 0.0f) return {};  // misses the cylinder, hence the capsule
-    const float t = tc - std::sqrt(disc * inv_aa);
-    if (!(t <= 1.0f)) return {};
-    x_entry = m_axis + t * d_axis;
-    if (x_entry >= 0.0f && x_entry <= ll) {
-      // Normalised rather than divided by r: a ray from far away (relative to r) rounds the
-      // offset by more than r's float precision. A zero radius is a segment, grazed dead on:
-      // face the ray across the axis.
-      const Vec3 n = r > 0.0f ? normalize_or_zero(m_perp + t * d_perp) : -d_perp * std::sqrt(inv_aa);
-      return {true, t > 0.0f ? t : 0.0f, n};
-    }
-  } else if (m_axis >= 0.0f && m_axis <= ll) {
-    return {};  // starts in the closed capsule
+  const Lanes zero = splat(0.0f), one = splat(1.0f);
+  // Lanes: 0 the cylinder (across the axis, scaled), 1 the ball at a, 2 the ball at b, 3 spare.
+  // Each ball's origin is p - its centre, one rounding (m - axis rounds three times: rays from
+  // 1e4 radii away turned the normal by twice its tolerance).
+  const Vec3 a = capsule.a, e = capsule.b;
+  Lanes mx = splat(p.x) - lanes(a.x, a.x, e.x, e.x);
+  Lanes my = splat(p.y) - lanes(a.y, a.y, e.y, e.y);
+  Lanes mz = splat(p.z) - lanes(a.z, a.z, e.z, e.z);
+  Lanes dx = splat(d.x), dy = splat(d.y), dz = splat(d.z), radius = splat(r);
+  mx[0] = m_perp.x, my[0] = m_perp.y, mz[0] = m_perp.z;
+  dx[0] = d_perp.x, dy[0] = d_perp.y, dz[0] = d_perp.z;
+  radius[0] = r * ll;
+  const Lanes b = mx * dx + my * dy + mz * dz;
+  const Lanes c = mx * mx + my * my + mz * mz - radius * radius;
+  const Lanes inv = one / (dx * dx + dy * dy + dz * dz);
+  const Lanes tc = -b * inv;
+  const Lanes cx = mx + tc * dx, cy = my + tc * dy, cz = mz + tc * dz;
+  const Lanes disc = radius * radius - (cx * cx + cy * cy + cz * cz);
+  const Lanes t = tc - simd::sqrt(simd::max(disc, zero) * inv);
+  // Along the axis (lane 0; the balls' lanes read 0, which is within [0, L^2]).
+  Lanes x0 = zero, x_rate = zero;
+  x0[0] = m_axis, x_rate[0] = d_axis;
+  const Lanes top = splat(ll);
+  const Lanes x = x0 + t * x_rate;
+  const LaneMask used = masks(true, true, true, false);
+  const LaneMask ok = used & (c > zero) & (b < zero) & (disc >= zero) & (t <= one) & (x >= zero) & (x <= top);
+  // An entry beside the core is the answer (the capsule lies inside the cylinder, so nothing of
+  // it is entered earlier): ranked first. The balls' entries are within rounding of it there,
+  // and the earliest of those alone could name a ball, whose normal is turned by up to
+  // sqrt(2 (L - x) / r) (rays from 1e4 radii away: 0.03 rad).
+  const Lanes rank = select(masks(true, false, false, false), -one, t);
+  const Lanes first = horizontal_min(select(ok, rank, splat(std::numeric_limits<float>::infinity())));
+  // An origin in the cylinder's stretch or in a ball is inside: no hit.
+  const LaneMask inside = used & (c <= zero) & (x0 >= zero) & (x0 <= top);
+  const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
+  // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
+  const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
+  alignas(16) float fraction[5], nx[5], ny[5], nz[5];
+  store(fraction, simd::max(t, zero));
+  if constexpr (kRound) {
+    const Lanes ox = mx + t * dx, oy = my + t * dy, oz = mz + t * dz;
+    const Lanes scale = one / simd::sqrt(ox * ox + oy * oy + oz * oz);
+    store(nx, ox * scale), store(ny, oy * scale), store(nz, oz * scale);
+  } else {
+    const Lanes face = -simd::sqrt(inv);
+    store(nx, dx * face), store(ny, dy * face), store(nz, dz * face);
   }
-  const Vec3 end = x_entry < 0.0f ? capsule.a : capsule.b;
-  return unit_normal(detail::ray_ball<3>(p - end, d, r));
+  fraction[4] = nx[4] = ny[4] = nz[4] = 0.0f;
+  return {k < 4, fraction[k], {nx[k], ny[k], nz[k]}};
+}
+
+LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+  return capsule.radius > 0.0f ? capsule_cast<true>(capsule, p, d) : capsule_cast<false>(capsule, p, d);
 }
 
 /// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general
@@ -451,14 +484,24 @@ RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) no
 }
 
 /// A capsule is cast in a frame turned as the world and centred on its placement: its ends are
-/// rotated there (two rotations) instead of the ray into its frame and the normal back out
-/// (three), and the origin is made relative as (origin - p) so that large coordinates cancel
-/// first (bench_ray_cast3, AMD EPYC: 59 -> 43 ns a cast; the cases chosen by selects instead of
-/// branches, both the cylinder's and an end sphere's entry worked out, measured 86 ns).
+/// rotated there (two rotations, side by side in lanes) instead of the ray into its frame and the
+/// normal back out (three), and the origin is made relative as (origin - p) so that large
+/// coordinates cancel first (bench_ray_cast3, AMD EPYC: 59 -> 43 ns a cast at stop 50).
 RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
-  const Capsule3 turned{rotate(xf.q, capsule.a), rotate(xf.q, capsule.b), capsule.radius};
   if (!(length_squared(ray.translation) > 0.0f)) return {};
-  const LocalHit3 h = raycast_local(turned, ray.origin - xf.p, ray.translation);
+  // Both ends turned at once, a in lane 0 and b in lane 1 (v + 2w (q x v) + 2 q x (q x v)).
+  using namespace simd;
+  const Lanes vx = lanes(capsule.a.x, capsule.b.x, 0.0f, 0.0f), vy = lanes(capsule.a.y, capsule.b.y, 0.0f, 0.0f),
+              vz = lanes(capsule.a.z, capsule.b.z, 0.0f, 0.0f);
+  const Lanes qx = splat(xf.q.x), qy = splat(xf.q.y), qz = splat(xf.q.z), qw = splat(xf.q.w);
+  Lanes tx = qy * vz - qz * vy, ty = qz * vx - qx * vz, tz = qx * vy - qy * vx;
+  tx = tx + tx, ty = ty + ty, tz = tz + tz;
+  const Lanes rx = vx + qw * tx + (qy * tz - qz * ty), ry = vy + qw * ty + (qz * tx - qx * tz),
+              rz = vz + qw * tz + (qx * ty - qy * tx);
+  const Capsule3 turned{{rx[0], ry[0], rz[0]}, {rx[1], ry[1], rz[1]}, capsule.radius};
+  const Vec3 m = ray.origin - xf.p;
+  const LocalHit3 h = turned.radius > 0.0f ? capsule_cast<true>(turned, m, ray.translation)
+                                           : capsule_cast<false>(turned, m, ray.translation);
   return world_hit(h, ray, h.normal);
 }
 

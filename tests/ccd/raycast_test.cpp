@@ -268,6 +268,36 @@ TEST(Raycast, CapsuleMatchesUnionOfBox2DPieces) {
   compare_with_oracle(random_capsules(rng), rng, 4.0f, kFarAway, kFar);
 }
 
+// Rays from 1e4 sizes away onto a capsule's flat side close to an end: the end disc is entered
+// within rounding of the side there, and must not be named (its normal is turned by
+// sqrt(2 (L - x) / r) from the side's).
+TEST(Raycast, FarRaysOntoTheSideNearAnEndKeepTheSidesNormal) {
+  std::mt19937 rng(43);
+  const Capsule capsule = make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 0.5f);
+  int checked = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Transform xf = test::random_transform(rng, 10.0f);
+    const float x = uniform(rng, 0.95f, 0.999f) * (i % 2 == 0 ? 1.0f : -1.0f);
+    const float side = i % 4 < 2 ? 1.0f : -1.0f;
+    const Vec2 target{x, 0.5f * side};
+    const float angle = uniform(rng, 0.3f, 2.8f);  // from above (below) the side, not grazing
+    const Vec2 from = target + 1.0e4f * Vec2{std::cos(angle), side * std::sin(angle)};
+    const Ray ray{transform_point(xf, from), rotate(xf.q, 1.5f * (target - from))};
+    const RayHit h = raycast(capsule, xf, ray);
+    ASSERT_TRUE(h.hit) << i;
+    EXPECT_NEAR(h.fraction, 1.0f / 1.5f, 1e-6f);
+    // Within rounding of the end (the side's crossing is placed to about 1e4 L float epsilons
+    // there: 1e-3) either piece may be named, as with the branches this replaced: only hits
+    // measurably beside the core must carry the side's normal.
+    const Vec2 local = inv_transform_point(xf, ray.at(h.fraction));
+    if (std::fabs(local.x) > 0.995f) continue;
+    ++checked;
+    SCOPED_TRACE(testing::Message() << "ray " << i << " at x " << x);
+    EXPECT_VEC2_NEAR(h.normal, rotate(xf.q, Vec2{0.0f, side}), 1e-5f);
+  }
+  EXPECT_GT(checked, 3000);
+}
+
 // A capsule of radius 0 is its core segment: the same hits as the segment's cast (the capsule's
 // side lane crosses the core's line, its end discs have no area), normals facing the ray; and a
 // ray along the core's line hits the nearer end head on, normal back along the ray.

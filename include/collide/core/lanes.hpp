@@ -29,6 +29,7 @@ using LaneMask = std::int32_t __attribute__((vector_size(16)));
 struct Lanes {
   std::array<float, 4> v;
   float operator[](int k) const noexcept { return v[k]; }
+  float& operator[](int k) noexcept { return v[k]; }
 };
 /// Four lanes of true or false, as comparisons of `Lanes` give them.
 struct LaneMask {
