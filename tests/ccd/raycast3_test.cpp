@@ -608,6 +608,24 @@ TEST(Raycast3, CapsuleAnalytic) {
   }
 }
 
+// A capsule of radius 0, or one too thin to square in float, is its core segment: head on along
+// the axis it is hit at the nearer end, the normal facing the ray; a ray through the core's
+// middle, across it, hits with the normal facing the ray across the axis.
+TEST(Raycast3, ZeroRadiusCapsuleFacesTheRay) {
+  for (const float r : {0.0f, 1e-30f}) {
+    const Capsule3 c = make_capsule({0.0f, -1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, r);
+    const RayHit3 head_on = raycast(c, Transform3{}, Ray3{{0.0f, 3.0f, 0.0f}, {0.0f, -4.0f, 0.0f}});
+    ASSERT_TRUE(head_on.hit) << r;
+    EXPECT_NEAR(head_on.fraction, 0.5f, 1e-6f);
+    EXPECT_VEC3_NEAR(head_on.normal, Vec3(0.0f, 1.0f, 0.0f), 1e-6f);
+    const RayHit3 across = raycast(c, Transform3{}, Ray3{{-2.0f, 0.5f, 0.0f}, {4.0f, 0.0f, 0.0f}});
+    ASSERT_TRUE(across.hit) << r;
+    EXPECT_NEAR(across.fraction, 0.5f, 1e-6f);
+    EXPECT_VEC3_NEAR(across.normal, Vec3(-1.0f, 0.0f, 0.0f), 1e-6f);
+    EXPECT_FALSE(raycast(c, Transform3{}, Ray3{{-2.0f, 0.5f, 0.1f}, {4.0f, 0.0f, 0.0f}}).hit);
+  }
+}
+
 TEST(Raycast3, SphereTangentAndCentreRays) {
   const Sphere s = make_sphere({1.0f, 2.0f, 3.0f}, 1.0f);
   const Transform3 id{};

@@ -331,6 +331,11 @@ TEST(Raycast, ZeroRadiusCapsuleIsItsSegment) {
   EXPECT_NEAR(head_on.fraction, 0.5f, 1e-6f);
   EXPECT_VEC2_NEAR(head_on.normal, Vec2(-1.0f, 0.0f), 1e-6f);
   EXPECT_FALSE(raycast(capsule, Transform{}, Ray{{0.5f, 0.0f}, {4.0f, 0.0f}}).hit);  // starts on it
+  // A radius too small to square in float is the segment too, with a unit normal.
+  const RayHit tiny = raycast(make_capsule({-1.0f, 0.0f}, {1.0f, 0.0f}, 1e-30f), Transform{},
+                              Ray{{-3.0f, 0.0f}, {4.0f, 0.0f}});
+  ASSERT_TRUE(tiny.hit);
+  EXPECT_VEC2_NEAR(tiny.normal, Vec2(-1.0f, 0.0f), 1e-6f);
 }
 
 TEST(Raycast, RoundedPolygonMatchesUnionOfBox2DPieces) {
