@@ -19,9 +19,9 @@
 #include "rounded_polygon_ray.hpp"
 
 #include <bit>
-#include <limits>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 // SSE2 is part of every x86-64 CPU; elsewhere the scalar loops run (define
 // COLLIDE_RAYCAST_SSE2=0 to run them on x86 too).

@@ -436,17 +436,17 @@ struct BandKernel {
   Mask has_face;
 
   explicit BandKernel(const BandTriangle& t) {
-    const auto all = [](float x) { return splat(x); };
-    ax = all(t.a.x), ay = all(t.a.y), az = all(t.a.z), bx = all(t.b.x), by = all(t.b.y), bz = all(t.b.z);
-    cx = all(t.c.x), cy = all(t.c.y), cz = all(t.c.z);
-    abx = all(t.ab.x), aby = all(t.ab.y), abz = all(t.ab.z), bcx = all(t.bc.x), bcy = all(t.bc.y), bcz = all(t.bc.z);
-    cax = all(t.ca.x), cay = all(t.ca.y), caz = all(t.ca.z);
-    nx = all(t.n.x), ny = all(t.n.y), nz = all(t.n.z);
-    iabx = all(t.in_ab.x), iaby = all(t.in_ab.y), iabz = all(t.in_ab.z);
-    ibcx = all(t.in_bc.x), ibcy = all(t.in_bc.y), ibcz = all(t.in_bc.z);
-    icax = all(t.in_ca.x), icay = all(t.in_ca.y), icaz = all(t.in_ca.z);
-    inv_ab = all(t.inv_ab), inv_bc = all(t.inv_bc), inv_ca = all(t.inv_ca), inv_nn = all(t.inv_nn);
-    zero = all(0.0f);
+    ax = splat(t.a.x), ay = splat(t.a.y), az = splat(t.a.z), bx = splat(t.b.x), by = splat(t.b.y), bz = splat(t.b.z);
+    cx = splat(t.c.x), cy = splat(t.c.y), cz = splat(t.c.z);
+    abx = splat(t.ab.x), aby = splat(t.ab.y), abz = splat(t.ab.z);
+    bcx = splat(t.bc.x), bcy = splat(t.bc.y), bcz = splat(t.bc.z);
+    cax = splat(t.ca.x), cay = splat(t.ca.y), caz = splat(t.ca.z);
+    nx = splat(t.n.x), ny = splat(t.n.y), nz = splat(t.n.z);
+    iabx = splat(t.in_ab.x), iaby = splat(t.in_ab.y), iabz = splat(t.in_ab.z);
+    ibcx = splat(t.in_bc.x), ibcy = splat(t.in_bc.y), ibcz = splat(t.in_bc.z);
+    icax = splat(t.in_ca.x), icay = splat(t.in_ca.y), icaz = splat(t.in_ca.z);
+    inv_ab = splat(t.inv_ab), inv_bc = splat(t.inv_bc), inv_ca = splat(t.inv_ca), inv_nn = splat(t.inv_nn);
+    zero = splat(0.0f);
     has_face = simd::mask(t.has_face);
   }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
 /// Four floats in one SIMD register, for code that does the same arithmetic on four points,
-/// nodes or triangles at once (the triangle BVH's packets, the distance field's band kernel).
+/// nodes, triangles or pieces of a shape at once (the triangle BVH's packets, the distance
+/// field's band kernel, the capsule ray casts' side and end pieces).
 /// With GCC and Clang, `Lanes` is the compiler's generic vector type (SSE on x86-64, NEON on
 /// ARM): `+ - * /` and the comparisons work lane by lane, a comparison giving a `LaneMask` of
 /// all-ones or zero lanes. Elsewhere it is a plain array with the same operators and loops, so
