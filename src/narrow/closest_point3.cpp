@@ -36,7 +36,7 @@ PointQuery3 finish(const CoreQuery3& q, float radius, const Transform3& xf) noex
 /// A unit vector across `axis` (nonzero): its cross product with the coordinate axis it is
 /// least aligned with, so the choice is stable under small changes of `axis`.
 Vec3 unit_across(Vec3 axis) noexcept {
-  const Vec3 a = glm::abs(axis);
+  const Vec3 a = collide::abs(axis);
   Vec3 e(0.0f);
   e[a.x <= a.y && a.x <= a.z ? 0 : (a.y <= a.z ? 1 : 2)] = 1.0f;
   return normalize_or_zero(cross(axis, e));

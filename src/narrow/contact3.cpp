@@ -999,7 +999,7 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
     n = normalize_or_zero(cross(da, db));             // across both segments
     if (n == Vec3(0.0f)) n = normalize_or_zero(centres);  // points: centre to centre
     if (n == Vec3(0.0f) && da != Vec3(0.0f)) {         // across A's segment
-      const Vec3 ad = glm::abs(da);
+      const Vec3 ad = collide::abs(da);
       Vec3 e(0.0f);
       e[ad.x <= ad.y && ad.x <= ad.z ? 0 : (ad.y <= ad.z ? 1 : 2)] = 1.0f;
       n = normalize_or_zero(cross(da, e));

@@ -260,7 +260,7 @@ void finish_contact(const LocalPolygon& pa, const EdgeSeparation& sep_a, const L
   // The size that the tolerances scale with: the longer of the two competing faces (largest
   // coordinate extent), found without a loop or a square root.
   const auto edge_extent = [](const LocalPolygon& p, int e) {
-    return glm::abs(p.vertex(p.next(e)) - p.vertex(e));
+    return collide::abs(p.vertex(p.next(e)) - p.vertex(e));
   };
   const Vec2 ea = edge_extent(pa, sep_a.edge);
   const Vec2 eb = edge_extent(pb, sep_b.edge);

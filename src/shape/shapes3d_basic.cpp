@@ -83,7 +83,7 @@ Aabb3 compute_aabb(const Box& box, const Transform3& xf) noexcept {
   const Mat3 r = glm::mat3_cast(xf.q);
   // World extent on axis i: sum over local axes k of |R[k][i]| half[k] (column k is local axis k).
   Vec3 e(box.radius);
-  for (int k = 0; k < 3; ++k) e += glm::abs(r[k]) * box.half[k];
+  for (int k = 0; k < 3; ++k) e += collide::abs(r[k]) * box.half[k];
   return {xf.p - e, xf.p + e};
 }
 

@@ -52,7 +52,7 @@ struct WatertightRay {
   explicit WatertightRay(const Ray3& ray) noexcept : origin(ray.origin), translation(ray.translation) {
     const Vec3 d = ray.translation;
     if (!is_finite(ray.origin) || !is_finite(d)) return;
-    const Vec3 a = glm::abs(d);
+    const Vec3 a = collide::abs(d);
     kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
     if (!(a[kz] > 0.0f)) return;  // zero translation
     kx = kz == 2 ? 0 : kz + 1;

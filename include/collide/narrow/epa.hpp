@@ -216,7 +216,7 @@ template <class PA, class PB>
       n = 6;
     } else {
       const Vec3 e = s.v[1].w - s.v[0].w;
-      const Vec3 ae = glm::abs(e);
+      const Vec3 ae = collide::abs(e);
       const Vec3 axis = ae.x <= ae.y && ae.x <= ae.z ? Vec3(1, 0, 0)
                         : ae.y <= ae.z               ? Vec3(0, 1, 0)
                                                      : Vec3(0, 0, 1);
