@@ -11,7 +11,7 @@
 namespace collide {
 namespace {
 
-enum class Routine : unsigned char { circles, polygon_circle, polygons };
+enum class Routine : unsigned char { circles, polygon_circle, polygons, polygon_segment };
 
 struct TableEntry {
   Routine routine;
@@ -22,16 +22,17 @@ constexpr TableEntry kCircles{Routine::circles, false};
 constexpr TableEntry kPolygonCircle{Routine::polygon_circle, false};
 constexpr TableEntry kCirclePolygon{Routine::polygon_circle, true};  // served reversed
 constexpr TableEntry kPolygons{Routine::polygons, false};
+constexpr TableEntry kPolygonSegment{Routine::polygon_segment, false};
 
 // Rows: A's type, columns: B's type, both in ShapeType2D order. Capsules and segments count as
-// 2-vertex polygons.
+// 2-vertex polygons; as B, they skip building one (contact_polygon_segment).
 // clang-format off
 constexpr TableEntry kContactTable[4][4] = {
-    // B: circle     capsule         polygon         segment
-    {kCircles,       kCirclePolygon, kCirclePolygon, kCirclePolygon},  // A: circle
-    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: capsule
-    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: polygon
-    {kPolygonCircle, kPolygons,      kPolygons,      kPolygons},       // A: segment
+    // B: circle     capsule          polygon         segment
+    {kCircles,       kCirclePolygon,  kCirclePolygon, kCirclePolygon},   // A: circle
+    {kPolygonCircle, kPolygonSegment, kPolygons,      kPolygonSegment},  // A: capsule
+    {kPolygonCircle, kPolygonSegment, kPolygons,      kPolygonSegment},  // A: polygon
+    {kPolygonCircle, kPolygonSegment, kPolygons,      kPolygonSegment},  // A: segment
 };
 // clang-format on
 
@@ -51,6 +52,12 @@ Polygon as_polygon(const Capsule& capsule) noexcept {
 Polygon as_polygon(const Segment& segment) noexcept {
   return detail::two_vertex_polygon(segment.a, segment.b, 0.0f);
 }
+detail::SegmentCore as_segment_core(const Capsule& capsule) noexcept {
+  return detail::segment_core(capsule.a, capsule.b, capsule.radius);
+}
+detail::SegmentCore as_segment_core(const Segment& segment) noexcept {
+  return detail::segment_core(segment.a, segment.b, 0.0f);
+}
 
 }  // namespace
 
@@ -66,6 +73,8 @@ Manifold contact(const A& a, const Transform& xa, const B& b, const Transform& x
     return detail::contact_circles(a, xa, b, xb);
   } else if constexpr (entry.routine == Routine::polygon_circle) {
     return detail::contact_polygon_circle(as_polygon(a), xa, b, xb);
+  } else if constexpr (entry.routine == Routine::polygon_segment) {
+    return detail::contact_polygon_segment(as_polygon(a), xa, as_segment_core(b), xb);
   } else {
     return detail::contact_polygons(as_polygon(a), xa, as_polygon(b), xb);
   }

@@ -1,5 +1,6 @@
 // Contact between two convex polygons, rounded or not (capsules and segments arrive as
-// 2-vertex polygons).
+// 2-vertex polygons, or as B through their own front end, contact_polygon_segment: the same
+// steps with B's separating axis pass reduced to one row of dot products).
 //
 // 1. Move B into A's local frame once, shifted so that A's vertex 0 is the origin: coordinates
 //    stay small however far from the world origin the pair is.
@@ -342,6 +343,35 @@ void contact_polygons_general(const Polygon& a, const Transform& xa, const Polyg
 }
 
 #if COLLIDE_SMALL_POLYGON_SSE2
+/// finish_contact on cores held in lanes: only the groups used are stored (no fill of the full
+/// capacity).
+template <int kGroupsA, int kGroupsB>
+void finish_from_lanes(const LanePoints<kGroupsA>& av, const LanePoints<kGroupsA>& an, int na,
+                       float ra, const EdgeSeparation& sep_a, const LanePoints<kGroupsB>& bv,
+                       const LanePoints<kGroupsB>& bn, int nb, float rb,
+                       const EdgeSeparation& sep_b, const Transform& xa, Vec2 origin,
+                       Manifold& m) noexcept {
+  SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond the groups used
+  SoaPolygon pb_soa;  // NOLINT
+  pa_soa.count = na;
+  pa_soa.padded = kGroupsA * kSatLanes;
+  pb_soa.count = nb;
+  pb_soa.padded = kGroupsB * kSatLanes;
+  for (int g = 0; g < kGroupsA; ++g) {
+    _mm_store_ps(pa_soa.x + kSatLanes * g, av.x[g]);
+    _mm_store_ps(pa_soa.y + kSatLanes * g, av.y[g]);
+    _mm_store_ps(pa_soa.nx + kSatLanes * g, an.x[g]);
+    _mm_store_ps(pa_soa.ny + kSatLanes * g, an.y[g]);
+  }
+  for (int g = 0; g < kGroupsB; ++g) {
+    _mm_store_ps(pb_soa.x + kSatLanes * g, bv.x[g]);
+    _mm_store_ps(pb_soa.y + kSatLanes * g, bv.y[g]);
+    _mm_store_ps(pb_soa.nx + kSatLanes * g, bn.x[g]);
+    _mm_store_ps(pb_soa.ny + kSatLanes * g, bn.y[g]);
+  }
+  finish_contact({&pa_soa, na, ra}, sep_a, {&pb_soa, nb, rb}, sep_b, xa, origin, m);
+}
+
 /// The register front end for polygons of up to kGroupsA (kGroupsB) groups of kSatLanes
 /// vertices. Writes into `m` (fresh, count 0).
 template <int kGroupsA, int kGroupsB>
@@ -361,26 +391,82 @@ void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon
   const EdgeSeparation& sep_b = p.sep_b;
   if (sep_a.separation > radius || sep_b.separation > radius) return;
 
-  // Only the first groups of each array are written (no fill of the full capacity).
-  SoaPolygon pa_soa;  // NOLINT: arrays deliberately left unset beyond the groups used
-  SoaPolygon pb_soa;  // NOLINT
-  pa_soa.count = na;
-  pa_soa.padded = kGroupsA * kSatLanes;
-  pb_soa.count = nb;
-  pb_soa.padded = kGroupsB * kSatLanes;
+  finish_from_lanes<kGroupsA, kGroupsB>(p.av, p.an, na, a.radius, sep_a, p.bv, p.bn, nb,
+                                         b.radius, sep_b, xa, origin, m);
+}
+
+/// The register front end for a polygon A (up to kGroupsA groups of kSatLanes vertices)
+/// against a 2-vertex B, a capsule's or segment's core b0 -> b1: B's edges are one line with
+/// normals m and -m, so B's separating axis pass is one row of dot products of m with A's
+/// vertices, their minimum giving edge 0's separation and their maximum edge 1's
+/// (min_j -(m . v_j) = -max_j (m . v_j), exactly), and A's pass needs B's two points only (B's
+/// padding repeats b1, and min(d0, d1, d1, d1) = min(d0, d1)). The same values as
+/// contact_polygons_lanes on B's 2-vertex polygon, so the manifold is bitwise the same (tests/
+/// narrow check it). Returns false (nothing written) on a NaN lane: the caller's general path
+/// decides.
+template <int kGroupsA>
+bool contact_polygon_segment_lanes(const Polygon& a, const Transform& xa, const SegmentCore& b,
+                                   const Transform& xb, Manifold& m) noexcept {
+  const int na = a.count;
+  const SharedFrame f = shared_frame(a, xa, xb);
+  const float radius = a.radius + b.radius;
+  LanePoints<kGroupsA> av;
+  LanePoints<kGroupsA> an;
+  load_reference(a, f.origin, av, an);
+  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
+  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
+  // B's lanes as load_points lays out a 2-vertex polygon (the last point repeated), set from
+  // registers: a 16-byte load of two 8-byte stores just made would stall on store forwarding.
+  LanePoints<1> bv;
+  bv.x[0] = _mm_setr_ps(b.b0.x, b.b1.x, b.b1.x, b.b1.x);
+  bv.y[0] = _mm_setr_ps(b.b0.y, b.b1.y, b.b1.y, b.b1.y);
+  rotate_lanes(bv, c, s, f.shift.x, f.shift.y);
+
+  // A's edges against B's two points.
+  const __m128 b0x = _mm_shuffle_ps(bv.x[0], bv.x[0], _MM_SHUFFLE(0, 0, 0, 0));
+  const __m128 b0y = _mm_shuffle_ps(bv.y[0], bv.y[0], _MM_SHUFFLE(0, 0, 0, 0));
+  const __m128 b1x = _mm_shuffle_ps(bv.x[0], bv.x[0], _MM_SHUFFLE(1, 1, 1, 1));
+  const __m128 b1y = _mm_shuffle_ps(bv.y[0], bv.y[0], _MM_SHUFFLE(1, 1, 1, 1));
+  __m128 sa[kGroupsA];
   for (int g = 0; g < kGroupsA; ++g) {
-    _mm_store_ps(pa_soa.x + kSatLanes * g, p.av.x[g]);
-    _mm_store_ps(pa_soa.y + kSatLanes * g, p.av.y[g]);
-    _mm_store_ps(pa_soa.nx + kSatLanes * g, p.an.x[g]);
-    _mm_store_ps(pa_soa.ny + kSatLanes * g, p.an.y[g]);
+    const __m128 d0 = _mm_add_ps(_mm_mul_ps(an.x[g], b0x), _mm_mul_ps(an.y[g], b0y));
+    const __m128 d1 = _mm_add_ps(_mm_mul_ps(an.x[g], b1x), _mm_mul_ps(an.y[g], b1y));
+    sa[g] = _mm_sub_ps(_mm_min_ps(d0, d1), _mm_add_ps(_mm_mul_ps(an.x[g], av.x[g]),
+                                                      _mm_mul_ps(an.y[g], av.y[g])));
   }
-  for (int g = 0; g < kGroupsB; ++g) {
-    _mm_store_ps(pb_soa.x + kSatLanes * g, p.bv.x[g]);
-    _mm_store_ps(pb_soa.y + kSatLanes * g, p.bv.y[g]);
-    _mm_store_ps(pb_soa.nx + kSatLanes * g, p.bn.x[g]);
-    _mm_store_ps(pb_soa.ny + kSatLanes * g, p.bn.y[g]);
+  EdgeSeparation sep_a;
+  if (!max_lane(sa, sep_a)) return false;
+  if (sep_a.separation > radius) return true;
+
+  // B's edges against A's vertices: d_j = m . v_j in lanes, then their minimum and maximum.
+  LanePoints<1> bn;  // m -m -m -m
+  bn.x[0] = _mm_setr_ps(b.normal.x, -b.normal.x, -b.normal.x, -b.normal.x);
+  bn.y[0] = _mm_setr_ps(b.normal.y, -b.normal.y, -b.normal.y, -b.normal.y);
+  rotate_lanes(bn, c, s);
+  const __m128 mx = _mm_shuffle_ps(bn.x[0], bn.x[0], _MM_SHUFFLE(0, 0, 0, 0));
+  const __m128 my = _mm_shuffle_ps(bn.y[0], bn.y[0], _MM_SHUFFLE(0, 0, 0, 0));
+  __m128 low = _mm_add_ps(_mm_mul_ps(mx, av.x[0]), _mm_mul_ps(my, av.y[0]));
+  __m128 high = low;
+  for (int g = 1; g < kGroupsA; ++g) {
+    const __m128 d = _mm_add_ps(_mm_mul_ps(mx, av.x[g]), _mm_mul_ps(my, av.y[g]));
+    low = _mm_min_ps(low, d);
+    high = _mm_max_ps(high, d);
   }
-  finish_contact({&pa_soa, na, a.radius}, sep_a, {&pb_soa, nb, b.radius}, sep_b, xa, origin, m);
+  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(1, 0, 3, 2)));
+  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(2, 3, 0, 1)));
+  high = _mm_max_ps(high, _mm_shuffle_ps(high, high, _MM_SHUFFLE(1, 0, 3, 2)));
+  high = _mm_max_ps(high, _mm_shuffle_ps(high, high, _MM_SHUFFLE(2, 3, 0, 1)));
+  // Lane 0: min_j (m . v_j) - m . b0; lanes 1-3: min_j (-m . v_j) - (-m . b1), written as
+  // -max_j (m . v_j) - (-m . b1).
+  const __m128 lowest = _mm_move_ss(_mm_xor_ps(high, _mm_set1_ps(-0.0f)), low);
+  __m128 sb[1] = {_mm_sub_ps(lowest, _mm_add_ps(_mm_mul_ps(bn.x[0], bv.x[0]),
+                                                _mm_mul_ps(bn.y[0], bv.y[0])))};
+  EdgeSeparation sep_b;
+  if (!max_lane(sb, sep_b)) return false;
+  if (sep_b.separation > radius) return true;
+  finish_from_lanes<kGroupsA, 1>(av, an, na, a.radius, sep_a, bv, bn, 2, b.radius, sep_b, xa,
+                                 f.origin, m);
+  return true;
 }
 #endif
 
@@ -409,6 +495,20 @@ Manifold contact_polygons(const Polygon& a, const Transform& xa, const Polygon& 
   if (small) return m;
 #endif
   contact_polygons_general(a, xa, b, xb, m);
+  return m;
+}
+
+Manifold contact_polygon_segment(const Polygon& a, const Transform& xa, const SegmentCore& b,
+                                 const Transform& xb) noexcept {
+  Manifold m;
+#if COLLIDE_SMALL_POLYGON_SSE2
+  if (a.count <= kSatLanes) {
+    if (contact_polygon_segment_lanes<1>(a, xa, b, xb, m)) return m;
+  } else if (a.count <= 2 * kSatLanes) {
+    if (contact_polygon_segment_lanes<2>(a, xa, b, xb, m)) return m;
+  }
+#endif
+  contact_polygons_general(a, xa, two_vertex_polygon(b.b0, b.b1, b.radius), xb, m);
   return m;
 }
 

@@ -129,21 +129,14 @@ COLLIDE_ALWAYS_INLINE void separation_lanes(const LanePoints<kEdgeGroups>& n,
   }
 }
 
-/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
-/// in registers: separation_lanes, then the largest. All groups are computed (no early exit
-/// between them: the caller's test of the maximum against the radius then rejects the same
-/// pairs). The winner is the first lane holding the maximum, found without branches. Returns
-/// false (and nothing) if a lane is NaN: the general path then decides, as it would.
-template <int kEdgeGroups, int kVertexGroups>
-inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
-                                 const LanePoints<kEdgeGroups>& v1,
-                                 const LanePoints<kVertexGroups>& v2,
-                                 EdgeSeparation& out) noexcept {
-  __m128 s[kEdgeGroups];
-  separation_lanes(n, v1, v2, s);
+/// The largest of the separations `s` (one per lane, kGroups * kSatLanes edges) and the first
+/// lane holding it, found without branches, into `out`. Returns false (and nothing) if a lane
+/// is NaN.
+template <int kGroups>
+COLLIDE_ALWAYS_INLINE bool max_lane(const __m128 (&s)[kGroups], EdgeSeparation& out) noexcept {
   __m128 ordered = _mm_cmpord_ps(s[0], s[0]);
   __m128 top = s[0];
-  for (int g = 1; g < kEdgeGroups; ++g) {
+  for (int g = 1; g < kGroups; ++g) {
     ordered = _mm_and_ps(ordered, _mm_cmpord_ps(s[g], s[g]));
     top = _mm_max_ps(top, s[g]);
   }
@@ -153,11 +146,26 @@ inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
   // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
   // before it.
   unsigned mask = 0;
-  for (int g = 0; g < kEdgeGroups; ++g) {
+  for (int g = 0; g < kGroups; ++g) {
     mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(s[g], top))) << (kSatLanes * g);
   }
   out = EdgeSeparation{std::countr_zero(mask), _mm_cvtss_f32(top), 0};
   return true;
+}
+
+/// find_max_separation_soa for the edges of one polygon against the vertices of the other, all
+/// in registers: separation_lanes, then the largest. All groups are computed (no early exit
+/// between them: the caller's test of the maximum against the radius then rejects the same
+/// pairs). Returns false (and nothing) if a lane is NaN: the general path then decides, as it
+/// would.
+template <int kEdgeGroups, int kVertexGroups>
+inline bool max_separation_lanes(const LanePoints<kEdgeGroups>& n,
+                                 const LanePoints<kEdgeGroups>& v1,
+                                 const LanePoints<kVertexGroups>& v2,
+                                 EdgeSeparation& out) noexcept {
+  __m128 s[kEdgeGroups];
+  separation_lanes(n, v1, v2, s);
+  return max_lane(s, out);
 }
 
 /// Index of the first of the points in `p` with the least dot product with `n`: the support
@@ -193,27 +201,49 @@ struct LanePair {
   EdgeSeparation sep_b;     ///< over B's edges (set only when sep_a.separation <= early_exit)
 };
 
+/// Directions rotated by the rotation whose cosine and sine fill `c` and `s`:
+/// x' = c x - s y, y' = s x + c y.
+template <int kGroups>
+COLLIDE_ALWAYS_INLINE void rotate_lanes(LanePoints<kGroups>& p, __m128 c, __m128 s) noexcept {
+  for (int g = 0; g < kGroups; ++g) {
+    const __m128 x = p.x[g];
+    const __m128 y = p.y[g];
+    p.x[g] = _mm_sub_ps(_mm_mul_ps(c, x), _mm_mul_ps(s, y));
+    p.y[g] = _mm_add_ps(_mm_mul_ps(s, x), _mm_mul_ps(c, y));
+  }
+}
+/// Points rotated so, then moved by (`dx`, `dy`).
+template <int kGroups>
+COLLIDE_ALWAYS_INLINE void rotate_lanes(LanePoints<kGroups>& p, __m128 c, __m128 s, float dx,
+                                        float dy) noexcept {
+  rotate_lanes(p, c, s);
+  for (int g = 0; g < kGroups; ++g) {
+    p.x[g] = _mm_add_ps(p.x[g], _mm_set1_ps(dx));
+    p.y[g] = _mm_add_ps(p.y[g], _mm_set1_ps(dy));
+  }
+}
+
+/// A's vertices minus the origin and A's normals, as lanes.
+template <int kGroups>
+COLLIDE_ALWAYS_INLINE void load_reference(const Polygon& a, Vec2 origin, LanePoints<kGroups>& v,
+                                          LanePoints<kGroups>& n) noexcept {
+  v = load_points<kGroups>(a.vertices.data(), a.count);
+  for (int g = 0; g < kGroups; ++g) {
+    v.x[g] = _mm_sub_ps(v.x[g], _mm_set1_ps(origin.x));
+    v.y[g] = _mm_sub_ps(v.y[g], _mm_set1_ps(origin.y));
+  }
+  n = load_points<kGroups>(a.normals.data(), a.count);
+}
+
 /// Loads A's vertices (minus the origin) and normals, and B's vertices rotated and shifted into
 /// frame `f`, into `p`.
 template <int kGroupsA, int kGroupsB>
 COLLIDE_ALWAYS_INLINE void load_pair(const Polygon& a, const Polygon& b, const SharedFrame& f,
                                      LanePair<kGroupsA, kGroupsB>& p) noexcept {
-  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
-  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
   // A: vertices - origin, normals as stored. B: rotate(q, v) + shift.
-  p.av = load_points<kGroupsA>(a.vertices.data(), a.count);
-  for (int g = 0; g < kGroupsA; ++g) {
-    p.av.x[g] = _mm_sub_ps(p.av.x[g], _mm_set1_ps(f.origin.x));
-    p.av.y[g] = _mm_sub_ps(p.av.y[g], _mm_set1_ps(f.origin.y));
-  }
-  p.an = load_points<kGroupsA>(a.normals.data(), a.count);
+  load_reference(a, f.origin, p.av, p.an);
   p.bv = load_points<kGroupsB>(b.vertices.data(), b.count);
-  for (int g = 0; g < kGroupsB; ++g) {
-    const __m128 vx = p.bv.x[g];
-    const __m128 vy = p.bv.y[g];
-    p.bv.x[g] = _mm_add_ps(_mm_sub_ps(_mm_mul_ps(c, vx), _mm_mul_ps(s, vy)), _mm_set1_ps(f.shift.x));
-    p.bv.y[g] = _mm_add_ps(_mm_add_ps(_mm_mul_ps(s, vx), _mm_mul_ps(c, vy)), _mm_set1_ps(f.shift.y));
-  }
+  rotate_lanes(p.bv, _mm_set1_ps(f.b_in_a.q.c), _mm_set1_ps(f.b_in_a.q.s), f.shift.x, f.shift.y);
 }
 
 /// The separating axis test of A's edges against B's vertices, then (unless that found an axis
@@ -228,15 +258,8 @@ COLLIDE_ALWAYS_INLINE bool separate_lanes(const Polygon& a, const Polygon& b, co
   load_pair(a, b, f, p);
   if (!max_separation_lanes(p.an, p.av, p.bv, p.sep_a)) return false;
   if (p.sep_a.separation > early_exit) return true;
-  const __m128 c = _mm_set1_ps(f.b_in_a.q.c);
-  const __m128 s = _mm_set1_ps(f.b_in_a.q.s);
   p.bn = load_points<kGroupsB>(b.normals.data(), b.count);
-  for (int g = 0; g < kGroupsB; ++g) {
-    const __m128 nx = p.bn.x[g];
-    const __m128 ny = p.bn.y[g];
-    p.bn.x[g] = _mm_sub_ps(_mm_mul_ps(c, nx), _mm_mul_ps(s, ny));
-    p.bn.y[g] = _mm_add_ps(_mm_mul_ps(s, nx), _mm_mul_ps(c, ny));
-  }
+  rotate_lanes(p.bn, _mm_set1_ps(f.b_in_a.q.c), _mm_set1_ps(f.b_in_a.q.s));
   return max_separation_lanes(p.bn, p.bv, p.av, p.sep_b);
 }
 
