@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <random>
+#include <utility>
 
 #include <collide/narrow/contact.hpp>
 #include <collide/shape/capsule.hpp>
@@ -40,6 +41,19 @@ Polygon random_small_polygon(std::mt19937& rng) {
   }
 }
 
+/// The frames of case `i`: A near the origin or (one case in five) 1e4 from it, B within 1.2;
+/// one case in seven turned as A (parallel edges, tied axes), one in eleven A's frame itself.
+std::pair<Transform, Transform> random_frames(std::mt19937& rng, int i) {
+  const Vec2 base = i % 5 == 0 ? test::random_point(rng, 1e4f) : Vec2{0.0f, 0.0f};
+  const Transform xa =
+      Transform::from(base + test::random_point(rng, 0.2f), test::uniform(rng, -3.0f, 3.0f));
+  Transform xb =
+      Transform::from(base + test::random_point(rng, 1.2f), test::uniform(rng, -3.0f, 3.0f));
+  if (i % 7 == 0) xb.q = xa.q;
+  if (i % 11 == 0) xb = xa;
+  return {xa, xb};
+}
+
 bool bitwise_equal(const Manifold& m, const Manifold& expected) {
   if (m.count != expected.count) return false;
   if (std::memcmp(&m.normal, &expected.normal, sizeof(Vec2)) != 0) return false;
@@ -62,13 +76,7 @@ TEST(PolygonContactPaths, SmallPolygonPathMatchesGeneralPathBitwise) {
   for (int i = 0; i < kCases; ++i) {
     const Polygon a = random_small_polygon(rng);
     const Polygon b = random_small_polygon(rng);
-    const Vec2 base = i % 5 == 0 ? test::random_point(rng, 1e4f) : Vec2{0.0f, 0.0f};
-    const Transform xa = Transform::from(base + test::random_point(rng, 0.2f),
-                                         test::uniform(rng, -3.0f, 3.0f));
-    Transform xb = Transform::from(base + test::random_point(rng, 1.2f),
-                                   test::uniform(rng, -3.0f, 3.0f));
-    if (i % 7 == 0) xb.q = xa.q;  // aligned frames: parallel edges, tied axes
-    if (i % 11 == 0) xb = xa;     // coincident frames
+    const auto [xa, xb] = random_frames(rng, i);
     const Manifold fast = detail::contact_polygons(a, xa, b, xb);
     const Manifold general = detail::contact_polygons_general_path(a, xa, b, xb);
     ASSERT_TRUE(bitwise_equal(fast, general))
@@ -97,13 +105,7 @@ TEST(PolygonContactPaths, SegmentFrontEndMatchesGeneralPathBitwise) {
     // Now and then a core a millionth long: its normal from a difference of nearby points.
     const Vec2 b1 = i % 17 == 0 ? b0 + Vec2{1e-6f, -2e-6f} : test::random_point(rng, 0.6f);
     const float radius = i % 3 == 0 ? 0.0f : test::uniform(rng, 0.01f, 0.3f);
-    const Vec2 base = i % 5 == 0 ? test::random_point(rng, 1e4f) : Vec2{0.0f, 0.0f};
-    const Transform xa = Transform::from(base + test::random_point(rng, 0.2f),
-                                         test::uniform(rng, -3.0f, 3.0f));
-    Transform xb = Transform::from(base + test::random_point(rng, 1.2f),
-                                   test::uniform(rng, -3.0f, 3.0f));
-    if (i % 7 == 0) xb.q = xa.q;  // aligned frames: parallel edges, tied axes
-    if (i % 11 == 0) xb = xa;     // coincident frames
+    const auto [xa, xb] = random_frames(rng, i);
     const Polygon b = two_vertex_polygon(b0, b1, radius);
     const Manifold general = detail::contact_polygons_general_path(a, xa, b, xb);
     const Manifold fast = radius > 0.0f ? contact(a, xa, make_capsule(b0, b1, radius), xb)
@@ -120,7 +122,8 @@ TEST(PolygonContactPaths, SegmentFrontEndMatchesGeneralPathBitwise) {
   EXPECT_GT(touching, kCases / 4);
   EXPECT_LT(touching, kCases * 3 / 4);
   EXPECT_GT(two_points, kCases / 10);
-  EXPECT_GT(apart_cores, kCases / 20);  // rounded pairs whose cores are apart: the closest features
+  // Rounded pairs whose cores are apart (the closest-feature walk) are exercised too.
+  EXPECT_GT(apart_cores, kCases / 20);
 }
 
 }  // namespace
