@@ -402,7 +402,8 @@ void contact_polygons_lanes(const Polygon& a, const Transform& xa, const Polygon
 /// (min_j -(m . v_j) = -max_j (m . v_j), exactly), and A's pass needs B's two points only (B's
 /// padding repeats b1, and min(d0, d1, d1, d1) = min(d0, d1)). The same values as
 /// contact_polygons_lanes on B's 2-vertex polygon, so the manifold is bitwise the same (tests/
-/// narrow check it). Returns false (nothing written) on a NaN lane: the caller's general path
+/// narrow check it; with finite products: a NaN can survive a minimum taken in one order and
+/// not in another). Returns false (nothing written) on a NaN lane: the caller's general path
 /// decides.
 template <int kGroupsA>
 bool contact_polygon_segment_lanes(const Polygon& a, const Transform& xa, const SegmentCore& b,

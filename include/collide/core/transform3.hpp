@@ -125,7 +125,8 @@ using FrameN = std::conditional_t<D == 2, Transform, Frame3>;
   const Frame3 f = Frame3::from(xf);
   const Vec3 center = transform_point(f, local.center());
   const Vec3 half = local.extents();
-  const Vec3 reach = collide::abs(f.r[0]) * half.x + collide::abs(f.r[1]) * half.y + collide::abs(f.r[2]) * half.z;
+  const Vec3 reach =
+      collide::abs(f.r[0]) * half.x + collide::abs(f.r[1]) * half.y + collide::abs(f.r[2]) * half.z;
   return {center - reach, center + reach};
 }
 
