@@ -424,10 +424,10 @@ bool contact_polygon_segment_lanes(const Polygon& a, const Transform& xa, const 
   rotate_lanes(bv, c, s, f.shift.x, f.shift.y);
 
   // A's edges against B's two points.
-  const __m128 b0x = _mm_shuffle_ps(bv.x[0], bv.x[0], _MM_SHUFFLE(0, 0, 0, 0));
-  const __m128 b0y = _mm_shuffle_ps(bv.y[0], bv.y[0], _MM_SHUFFLE(0, 0, 0, 0));
-  const __m128 b1x = _mm_shuffle_ps(bv.x[0], bv.x[0], _MM_SHUFFLE(1, 1, 1, 1));
-  const __m128 b1y = _mm_shuffle_ps(bv.y[0], bv.y[0], _MM_SHUFFLE(1, 1, 1, 1));
+  const __m128 b0x = broadcast_lane(bv.x[0], 0);
+  const __m128 b0y = broadcast_lane(bv.y[0], 0);
+  const __m128 b1x = broadcast_lane(bv.x[0], 1);
+  const __m128 b1y = broadcast_lane(bv.y[0], 1);
   __m128 sa[kGroupsA];
   for (int g = 0; g < kGroupsA; ++g) {
     const __m128 d0 = _mm_add_ps(_mm_mul_ps(an.x[g], b0x), _mm_mul_ps(an.y[g], b0y));
@@ -444,8 +444,8 @@ bool contact_polygon_segment_lanes(const Polygon& a, const Transform& xa, const 
   bn.x[0] = _mm_setr_ps(b.normal.x, -b.normal.x, -b.normal.x, -b.normal.x);
   bn.y[0] = _mm_setr_ps(b.normal.y, -b.normal.y, -b.normal.y, -b.normal.y);
   rotate_lanes(bn, c, s);
-  const __m128 mx = _mm_shuffle_ps(bn.x[0], bn.x[0], _MM_SHUFFLE(0, 0, 0, 0));
-  const __m128 my = _mm_shuffle_ps(bn.y[0], bn.y[0], _MM_SHUFFLE(0, 0, 0, 0));
+  const __m128 mx = broadcast_lane(bn.x[0], 0);
+  const __m128 my = broadcast_lane(bn.y[0], 0);
   __m128 low = _mm_add_ps(_mm_mul_ps(mx, av.x[0]), _mm_mul_ps(my, av.y[0]));
   __m128 high = low;
   for (int g = 1; g < kGroupsA; ++g) {
@@ -453,10 +453,8 @@ bool contact_polygon_segment_lanes(const Polygon& a, const Transform& xa, const 
     low = _mm_min_ps(low, d);
     high = _mm_max_ps(high, d);
   }
-  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(1, 0, 3, 2)));
-  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(2, 3, 0, 1)));
-  high = _mm_max_ps(high, _mm_shuffle_ps(high, high, _MM_SHUFFLE(1, 0, 3, 2)));
-  high = _mm_max_ps(high, _mm_shuffle_ps(high, high, _MM_SHUFFLE(2, 3, 0, 1)));
+  low = min_in_every_lane(low);
+  high = max_in_every_lane(high);
   // Lane 0: min_j (m . v_j) - m . b0; lanes 1-3: min_j (-m . v_j) - (-m . b1), written as
   // -max_j (m . v_j) - (-m . b1).
   const __m128 lowest = _mm_move_ss(_mm_xor_ps(high, _mm_set1_ps(-0.0f)), low);

@@ -94,6 +94,29 @@ inline LanePoints<kGroups> load_points(const Vec2* v, int count) noexcept {
   return p;
 }
 
+/// Lane `k` (0..3) of `v` in every lane.
+COLLIDE_ALWAYS_INLINE __m128 broadcast_lane(__m128 v, int k) noexcept {
+  switch (k) {
+    case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
+    case 1: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
+    case 2: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
+    default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
+  }
+}
+
+/// The least of the four lanes of `v`, in every lane: with the halves swapped, then the
+/// neighbours (one fixed order, so ties of signed zeros and NaNs fall the same way each call).
+COLLIDE_ALWAYS_INLINE __m128 min_in_every_lane(__m128 v) noexcept {
+  v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+}
+
+/// The greatest of the four lanes of `v`, in every lane (the same order as min_in_every_lane).
+COLLIDE_ALWAYS_INLINE __m128 max_in_every_lane(__m128 v) noexcept {
+  v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+}
+
 /// separation[i] = min_j dot(n_i, v2_j) - dot(n_i, v1_i) for every lane of the edge groups:
 /// the same products and sums as find_max_separation_soa, so the results are bitwise equal (a
 /// minimum is exact, so the pairwise order of the minima, shorter in latency than a chain,
@@ -104,19 +127,11 @@ COLLIDE_ALWAYS_INLINE void separation_lanes(const LanePoints<kEdgeGroups>& n,
                                             const LanePoints<kEdgeGroups>& v1,
                                             const LanePoints<kVertexGroups>& v2,
                                             __m128 (&s)[kEdgeGroups]) noexcept {
-  const auto lane = [](__m128 v, int k) {
-    switch (k) {
-      case 0: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(0, 0, 0, 0));
-      case 1: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 1, 1, 1));
-      case 2: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 2, 2, 2));
-      default: return _mm_shuffle_ps(v, v, _MM_SHUFFLE(3, 3, 3, 3));
-    }
-  };
   static_assert(kSatLanes == 4, "four lanes: one SSE register");
   for (int g = 0; g < kEdgeGroups; ++g) {
     const auto dots = [&](int h, int j) {
-      return _mm_add_ps(_mm_mul_ps(n.x[g], lane(v2.x[h], j)),
-                        _mm_mul_ps(n.y[g], lane(v2.y[h], j)));
+      return _mm_add_ps(_mm_mul_ps(n.x[g], broadcast_lane(v2.x[h], j)),
+                        _mm_mul_ps(n.y[g], broadcast_lane(v2.y[h], j)));
     };
     __m128 lowest = _mm_min_ps(_mm_min_ps(dots(0, 0), dots(0, 1)),
                                _mm_min_ps(dots(0, 2), dots(0, 3)));
@@ -141,8 +156,7 @@ COLLIDE_ALWAYS_INLINE bool max_lane(const __m128 (&s)[kGroups], EdgeSeparation& 
     top = _mm_max_ps(top, s[g]);
   }
   if (_mm_movemask_ps(ordered) != 0xF) return false;
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));  // max in every lane
+  top = max_in_every_lane(top);
   // First lane equal to the maximum: padded lanes repeat the last edge, so they never come
   // before it.
   unsigned mask = 0;
@@ -181,8 +195,7 @@ inline int lowest_point(const LanePoints<kGroups>& p, Vec2 n) noexcept {
     d[g] = _mm_add_ps(_mm_mul_ps(nx, p.x[g]), _mm_mul_ps(ny, p.y[g]));
     low = _mm_min_ps(d[g], low);  // a NaN dot keeps the other operand
   }
-  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(1, 0, 3, 2)));
-  low = _mm_min_ps(low, _mm_shuffle_ps(low, low, _MM_SHUFFLE(2, 3, 0, 1)));  // in every lane
+  low = min_in_every_lane(low);
   unsigned mask = 0;
   for (int g = 0; g < kGroups; ++g) {
     mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpeq_ps(d[g], low))) << (kSatLanes * g);
