@@ -4,6 +4,7 @@
 /// capsules, the corners of rounded polygons and boxes). Internal to ccd.
 
 #include <collide/core/aabb.hpp>
+#include <collide/core/tolerance.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -43,9 +44,12 @@ struct LocalHitN {
 /// Collision Detection, 5.3.2, with the discriminant computed from the ray's closest approach to
 /// the centre (r^2 - |m_perp|^2) instead of b^2 - c, which cancels badly for rays that pass far
 /// away (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems
-/// 7). One division; the normal is the hit point over the radius, which is unit by
-/// construction. An origin in the closed ball, a zero-length ray and NaN all miss (every field
-/// zero). Without branches: the conditions are gathered into a mask that zeroes a miss's fields
+/// 7). The normal is the hit point's offset from the centre made unit (not divided by the
+/// radius: a ray from far away, relative to the radius, rounds that offset by more than the
+/// radius' float precision, so the quotient can be off unit length by eps * distance / radius);
+/// where the offset has no direction (a zero radius, or an offset below
+/// kMinDirectionLengthSquared: the ray hits dead on within rounding) it faces the ray. An origin
+/// in the closed ball, a zero-length ray and NaN all miss (every field zero). Without branches: the conditions are gathered into a mask that zeroes a miss's fields
 /// (random rays hit or miss at random; bench_ray_cast, circles visited in an order the branch
 /// predictor cannot learn: 14 -> 11 ns on the AMD EPYC host of stop 49).
 template <int D>
@@ -60,13 +64,16 @@ template <int D>
   // Origin outside the closed ball and heading towards the centre, a line that reaches the
   // ball, and an entry within the ray's length.
   const bool hit = (c > 0.0f) & (b < 0.0f) & (disc >= 0.0f) & (t <= 1.0f);
-  // A zero-radius ball hit dead on has no surface direction: face the ray.
-  const VecN<D> n = radius > 0.0f ? (m + t * d) * (1.0f / radius) : -d * std::sqrt(inv_dd);
+  const VecN<D> offset = m + t * d;
+  const float offset_ll = length_squared(offset);
+  const bool towards_centre = (radius > 0.0f) & (offset_ll >= kMinDirectionLengthSquared);
+  const float scale = 1.0f / std::sqrt(offset_ll);
+  const float face = -std::sqrt(inv_dd);
   const std::uint32_t keep = mask_of(hit);
   LocalHitN<D> h;
   h.hit = hit;
   h.fraction = keep_if(std::max(t, 0.0f), keep);
-  for (int k = 0; k < D; ++k) h.normal[k] = keep_if(n[k], keep);
+  for (int k = 0; k < D; ++k) h.normal[k] = keep_if(pick(towards_centre, offset[k] * scale, d[k] * face), keep);
   return h;
 }
 

@@ -303,12 +303,18 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
   // Normals: the side's across the axis, a disc's from its centre (facing the ray for r = 0).
   alignas(16) float fractions[5], normal_x[5], normal_y[5];
   store(fractions, t);
+  const Lanes face = -simd::sqrt(inv_dd);
   if constexpr (kRound) {
-    const Lanes inv_r = splat(1.0f / r);
-    store(normal_x, (mx + t * dx) * inv_r);
-    store(normal_y, (my + t * dy) * inv_r);
+    // Made unit, not divided by r (a ray from far away rounds the offset by more than r's
+    // precision); an offset with no direction (dead on within rounding) faces the ray, as
+    // ray_ball.
+    const Lanes ox = mx + t * dx, oy = my + t * dy;
+    const Lanes oo = ox * ox + oy * oy;
+    const Lanes scale = one / simd::sqrt(oo);
+    const LaneMask towards_centre = oo >= splat(kMinDirectionLengthSquared);
+    store(normal_x, select(towards_centre, ox * scale, dx * face));
+    store(normal_y, select(towards_centre, oy * scale, dy * face));
   } else {
-    const Lanes face = -simd::sqrt(inv_dd);
     store(normal_x, dx * face);
     store(normal_y, dy * face);
   }

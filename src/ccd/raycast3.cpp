@@ -56,19 +56,6 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
   return world_hit(h, ray, rotate(f, h.normal));
 }
 
-/// A ball hit with its normal made unit: ray_ball divides the offset by the radius, and a ray
-/// from far away (relative to the radius) rounds that offset by more than the radius' float
-/// precision, so the quotient can be off unit length by eps * distance / radius.
-/// normalize_or_zero's arithmetic, without its branch: a miss's zero normal stays zero.
-LocalHit3 unit_normal(LocalHit3 h) noexcept {
-  const float len = length(h.normal);
-  const float inv = 1.0f / len;
-  const std::uint32_t keep = detail::mask_of(len > 1e-30f);
-  h.normal = {detail::keep_if(h.normal.x * inv, keep), detail::keep_if(h.normal.y * inv, keep),
-              detail::keep_if(h.normal.z * inv, keep)};
-  return h;
-}
-
 /// Capsule: every point within r of the core a-b, the union of three convex pieces: the stretch
 /// 0 <= x <= L of the infinite cylinder of radius r about the core's line (x along the axis from
 /// a towards b) and the balls of radius r at a and b. A ray from outside enters a union where it
@@ -85,7 +72,8 @@ LocalHit3 unit_normal(LocalHit3 h) noexcept {
 /// no branch on the data (random rays take each case at random). Normals are normalised rather
 /// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
 /// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
-/// on the cylinder). An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD
+/// on the cylinder); so is an offset too small to give a direction (kMinDirectionLengthSquared:
+/// a radius of 1e-20 hit dead on made it NaN, fuzz_shapes). An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD
 /// EPYC, the builds alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches
 /// before: about 0.9 mispredictions and 350 instructions a cast).
 template <bool kRound>
@@ -138,12 +126,18 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
   const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
   alignas(16) float fraction[5], nx[5], ny[5], nz[5];
   store(fraction, simd::max(t, zero));
+  const Lanes face = -simd::sqrt(inv);
   if constexpr (kRound) {
+    // An offset with no direction (the ray dead on within rounding of the axis or a centre)
+    // faces the ray, as ray_ball.
     const Lanes ox = mx + t * dx, oy = my + t * dy, oz = mz + t * dz;
-    const Lanes scale = one / simd::sqrt(ox * ox + oy * oy + oz * oz);
-    store(nx, ox * scale), store(ny, oy * scale), store(nz, oz * scale);
+    const Lanes oo = ox * ox + oy * oy + oz * oz;
+    const Lanes scale = one / simd::sqrt(oo);
+    const LaneMask towards_axis = oo >= splat(kMinDirectionLengthSquared);
+    store(nx, select(towards_axis, ox * scale, dx * face));
+    store(ny, select(towards_axis, oy * scale, dy * face));
+    store(nz, select(towards_axis, oz * scale, dz * face));
   } else {
-    const Lanes face = -simd::sqrt(inv);
     store(nx, dx * face), store(ny, dy * face), store(nz, dz * face);
   }
   fraction[4] = nx[4] = ny[4] = nz[4] = 0.0f;
@@ -514,7 +508,7 @@ RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3
 /// normal.
 RayHit3 raycast_placed(const Sphere& sphere, const Transform3& xf, const Ray3& ray) noexcept {
   const Vec3 m = (ray.origin - xf.p) - rotate(xf.q, sphere.center);
-  const LocalHit3 h = unit_normal(detail::ray_ball<3>(m, ray.translation, sphere.radius));
+  const LocalHit3 h = detail::ray_ball<3>(m, ray.translation, sphere.radius);
   return world_hit(h, ray, h.normal);
 }
 

@@ -626,6 +626,44 @@ TEST(Raycast3, ZeroRadiusCapsuleFacesTheRay) {
   }
 }
 
+// A round piece hit dead on from far away (relative to its radius): the hit point's offset from
+// the centre rounds to nothing (or to denormals), so it gives no direction; the normal faces the
+// ray. fuzz_shapes found a rounded hull of radius 1e-20 whose edge capsule made it NaN
+// (fuzz/regressions/shapes/rounded_hull_edge_radius_1e-20_normal_nan.bin); a sphere gave a zero
+// normal. Radii where the offset keeps its digits give the unit normal from the centre.
+TEST(Raycast3, DeadOnHitsOfTinyRoundPiecesFaceTheRay) {
+  const Vec3 x{1.0f, 0.0f, 0.0f};
+  const Ray3 ray{{-100.0f, 0.0f, 0.0f}, {200.0f, 0.0f, 0.0f}};
+  std::vector<Vec3> corners{{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  for (const float r : {1e-3f, 1e-6f, 1e-10f, 1e-20f, 1e-30f}) {
+    HullOptions rounded;
+    rounded.radius = r;
+    const Shape3D shapes[] = {make_sphere({0.0f, 0.0f, 0.0f}, r),
+                              make_capsule({0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, r),
+                              make_capsule({0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, r),
+                              make_convex_hull(corners, rounded)};
+    for (const Shape3D& shape : shapes) {
+      SCOPED_TRACE(testing::Message() << "radius " << r << ", shape " << shape.index());
+      const RayHit3 h = raycast(shape, Transform3{}, ray);
+      ASSERT_TRUE(h.hit) << r;
+      EXPECT_NEAR(h.fraction, 0.5f, 1e-5f) << r;
+      EXPECT_VEC3_NEAR(h.normal, -x, 1e-6f);
+    }
+  }
+  // The NaN the fuzzer found: a hull of 8 points with radius 1e-20 hit near an edge.
+  const std::vector<Vec3> points{{-1.0f, 5.16524007e-22f, 1e-20f}, {1e-20f, 1e-20f, 5.0f}, {5.0f, 5.0f, 1.75f},
+                                 {1.0f, -2.0f, 2.0f}, {5.0f, 5.0f, 5.0f}, {4.25f, 1.0f, 1.0f},
+                                 {-1.40129846e-45f, 1.0f, 2.0f}, {0.0f, 0.5f, 1e-20f}};
+  HullOptions tiny;
+  tiny.radius = 1e-20f;
+  const RayHit3 h = raycast(make_convex_hull(points, tiny), Transform3{},
+                            Ray3{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}});
+  ASSERT_TRUE(h.hit);
+  EXPECT_TRUE(is_finite(h.normal));
+  EXPECT_NEAR(length(h.normal), 1.0f, 1e-6f);
+  EXPECT_LT(dot(h.normal, x), 0.0f);
+}
+
 TEST(Raycast3, SphereTangentAndCentreRays) {
   const Sphere s = make_sphere({1.0f, 2.0f, 3.0f}, 1.0f);
   const Transform3 id{};

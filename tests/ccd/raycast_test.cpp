@@ -338,6 +338,35 @@ TEST(Raycast, ZeroRadiusCapsuleIsItsSegment) {
   EXPECT_VEC2_NEAR(tiny.normal, Vec2(-1.0f, 0.0f), 1e-6f);
 }
 
+// Round pieces hit from far away (relative to the radius): the normal is unit (it was the
+// offset over the radius, 0.99945 long for r = 1e-3 hit from 1e5 radii away), and where the
+// offset rounds to nothing (dead on, tiny radius: it was a zero normal) it faces the ray.
+TEST(Raycast, FarAndDeadOnHitsOfRoundPiecesGiveUnitNormals) {
+  const Ray ray{{-100.0f, 0.0f}, {200.0f, 0.0f}};
+  const std::vector<Vec2> triangle{{0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}};
+  for (const float r : {1e-3f, 1e-6f, 1e-10f, 1e-20f, 1e-30f}) {
+    const Shape2D shapes[] = {make_circle({0.0f, 0.0f}, r), make_capsule(Vec2{0.0f, 0.0f}, Vec2{1.0f, 0.0f}, r),
+                            make_capsule(Vec2{0.0f, 0.0f}, Vec2{0.0f, 1.0f}, r), make_polygon(triangle, r)};
+    for (const Shape2D& shape : shapes) {
+      SCOPED_TRACE(testing::Message() << "radius " << r << ", shape " << shape.index());
+      const RayHit h = raycast(shape, Transform{}, ray);
+      ASSERT_TRUE(h.hit) << r;
+      EXPECT_NEAR(h.fraction, 0.5f, 1e-5f) << r;
+      EXPECT_VEC2_NEAR(h.normal, Vec2(-1.0f, 0.0f), 1e-6f);
+    }
+  }
+  std::mt19937 rng(7);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec2 centre = test::random_point(rng, 1.0f);
+    const float r = 1e-3f;
+    const Vec2 origin = centre + 1000.0f * Vec2(std::cos(uniform(rng, 0.0f, 6.3f)), std::sin(uniform(rng, 0.0f, 6.3f)));
+    const Vec2 aim = centre + test::random_point(rng, 0.5f * r);
+    const RayHit h = raycast(make_circle(centre, r), Transform{}, Ray{origin, 2.0f * (aim - origin)});
+    ASSERT_TRUE(h.hit) << i;
+    EXPECT_NEAR(length(h.normal), 1.0f, 1e-6f) << i;
+  }
+}
+
 TEST(Raycast, RoundedPolygonMatchesUnionOfBox2DPieces) {
   std::mt19937 rng(5);
   compare_with_oracle(random_polygons(rng, true), rng, 4.5f, {0.0f, 0.0f}, kNear);

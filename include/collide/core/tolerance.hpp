@@ -3,6 +3,8 @@
 /// Named tolerances. Geometry in collide is in "world units" (metres or pixels, the caller's
 /// choice); tolerances that must scale with the scene are relative to a shape's size and say so.
 
+#include <limits>
+
 namespace collide {
 
 /// Relative tolerance of single-precision geometry: results are exact to about this fraction of
@@ -14,6 +16,12 @@ inline constexpr float kWeldTolerance = 1e-5f;
 
 /// A polygon whose area is below this fraction of its squared size is degenerate (collinear).
 inline constexpr float kDegenerateAreaTolerance = 1e-6f;
+
+/// Smallest squared length a direction is taken from: the smallest normal float. Below it the
+/// vector has underflowed to denormals (its digits lost) or to zero, and a unit vector made from
+/// it is noise, infinite or NaN. A ray cast that enters a round piece dead on within rounding of
+/// its centre (a tiny radius, or a ray from far away) faces the ray instead.
+inline constexpr float kMinDirectionLengthSquared = std::numeric_limits<float>::min();
 
 /// Contact points within this fraction of the shapes' size of each other are merged.
 inline constexpr float kContactMergeTolerance = 1e-4f;
