@@ -32,48 +32,51 @@ struct LocalHitN {
   return 0u - static_cast<std::uint32_t>(b);
 }
 
-/// `a` if `c`, else `b`, by masks: no branch.
-[[nodiscard]] inline float pick(bool c, float a, float b) noexcept {
-  const std::uint32_t m = mask_of(c);
-  return std::bit_cast<float>((std::bit_cast<std::uint32_t>(a) & m) |
-                              (std::bit_cast<std::uint32_t>(b) & ~m));
-}
-
 /// First entry of the ray m + t d, t in [0, 1], into the ball of `radius` about the origin
 /// (m is the ray's origin relative to the ball's centre), in D dimensions. Ericson, Real-Time
 /// Collision Detection, 5.3.2, with the discriminant computed from the ray's closest approach to
 /// the centre (r^2 - |m_perp|^2) instead of b^2 - c, which cancels badly for rays that pass far
 /// away (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems
-/// 7). The normal is the hit point's offset from the centre made unit (not divided by the
-/// radius: a ray from far away, relative to the radius, rounds that offset by more than the
-/// radius' float precision, so the quotient can be off unit length by eps * distance / radius);
-/// where the offset has no direction (a zero radius, or an offset below
-/// kMinDirectionLengthSquared: the ray hits dead on within rounding) it faces the ray. An origin
-/// in the closed ball, a zero-length ray and NaN all miss (every field zero). Without branches: the conditions are gathered into a mask that zeroes a miss's fields
-/// (random rays hit or miss at random; bench_ray_cast, circles visited in an order the branch
-/// predictor cannot learn: 14 -> 11 ns on the AMD EPYC host of stop 49).
+/// 7). The normal is the hit point's offset from the centre made unit: not divided by the
+/// radius, since a ray from far away (relative to the radius) rounds that offset by eps times
+/// the distance, and the quotient was off unit length by as much relative to r (0.9995 long for
+/// a ray from 1e5 radii away). Where the offset has no direction (its squared length below
+/// kMinDirectionLengthSquared: the ray hits dead on within rounding, as fuzz_shapes found with
+/// a radius of 1e-20, then NaN or zero) or the ball is a point (r^2 below it, r under about
+/// 1e-19), the normal faces the ray. An origin in the closed ball, a zero-length ray and NaN
+/// all miss (every field zero). Without branches on the data but that rare one: the conditions
+/// are gathered into a mask that zeroes a miss's fields (random rays hit or miss at random;
+/// bench_ray_cast, circles visited in an order the branch predictor cannot learn: 14 -> 11 ns
+/// on the AMD EPYC host of stop 49). The normalisation costs 1-2 ns a circle cast (stop 59,
+/// bench_ray_cast alternating: 15.1-17.5 -> 17.5-20 ns); neither a Newton step for 1 / sqrt
+/// nor an offset whose length is r to second order (closest approach made perpendicular to d
+/// again, then over r) measured faster.
 template <int D>
 [[nodiscard]] inline LocalHitN<D> ray_ball(VecN<D> m, VecN<D> d, float radius) noexcept {
-  const float c = length_squared(m) - radius * radius;
+  const float rr = radius * radius;
+  const float c = length_squared(m) - rr;
   const float b = dot(m, d);
   const float inv_dd = 1.0f / length_squared(d);
   const float tc = -b * inv_dd;        // parameter of the closest approach
   const VecN<D> closest = m + tc * d;  // centre to closest approach
-  const float disc = radius * radius - length_squared(closest);
+  const float disc = rr - length_squared(closest);
   const float t = tc - std::sqrt(std::max(disc, 0.0f) * inv_dd);
   // Origin outside the closed ball and heading towards the centre, a line that reaches the
   // ball, and an entry within the ray's length.
   const bool hit = (c > 0.0f) & (b < 0.0f) & (disc >= 0.0f) & (t <= 1.0f);
+  // The offset made unit; where it has no direction (or the ball is a point), face the ray.
   const VecN<D> offset = m + t * d;
-  const float offset_ll = length_squared(offset);
-  const bool towards_centre = (radius > 0.0f) & (offset_ll >= kMinDirectionLengthSquared);
-  const float scale = 1.0f / std::sqrt(offset_ll);
-  const float face = -std::sqrt(inv_dd);
+  const float ll = length_squared(offset);
+  VecN<D> n = offset * (1.0f / std::sqrt(ll));
   const std::uint32_t keep = mask_of(hit);
+  // One integer test, so that the compiler cannot branch on a miss's (random) length first.
+  const std::uint32_t no_direction = keep & (mask_of(!(rr >= kMinDirectionLengthSquared)) |
+                                             mask_of(!(ll >= kMinDirectionLengthSquared)));
+  if (no_direction != 0u) [[unlikely]] n = -d * std::sqrt(inv_dd);
   LocalHitN<D> h;
   h.hit = hit;
   h.fraction = keep_if(std::max(t, 0.0f), keep);
-  for (int k = 0; k < D; ++k) h.normal[k] = keep_if(pick(towards_centre, offset[k] * scale, d[k] * face), keep);
+  for (int k = 0; k < D; ++k) h.normal[k] = keep_if(n[k], keep);
   return h;
 }
 
