@@ -72,10 +72,11 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// no branch on the data (random rays take each case at random). Normals are normalised rather
 /// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
 /// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
-/// on the cylinder); so is an offset too small to give a direction (kMinDirectionLengthSquared:
-/// a radius of 1e-20 hit dead on made it NaN, fuzz_shapes). An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD
-/// EPYC, the builds alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches
-/// before: about 0.9 mispredictions and 350 instructions a cast).
+/// on the cylinder); so does an offset too small to give a direction (below
+/// kMinDirectionLengthSquared: a radius of 1e-20 hit dead on made the normal NaN, fuzz_shapes).
+/// An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD EPYC, the builds
+/// alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches before: about 0.9
+/// mispredictions and 350 instructions a cast).
 template <bool kRound>
 COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
   using namespace simd;
@@ -148,7 +149,8 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
 /// denormal in float) is a segment here: a ball's hit offset would be too small to normalise.
 LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
   const float r = capsule.radius;
-  return r * r >= kMinDirectionLengthSquared ? capsule_cast<true>(capsule, p, d) : capsule_cast<false>(capsule, p, d);
+  return r * r >= kMinDirectionLengthSquared ? capsule_cast<true>(capsule, p, d)
+                                             : capsule_cast<false>(capsule, p, d);
 }
 
 /// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general

@@ -346,7 +346,7 @@ TEST(Raycast, FarAndDeadOnHitsOfRoundPiecesGiveUnitNormals) {
   const std::vector<Vec2> triangle{{0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}};
   for (const float r : {1e-3f, 1e-6f, 1e-10f, 1e-20f, 1e-30f}) {
     const Shape2D shapes[] = {make_circle({0.0f, 0.0f}, r), make_capsule(Vec2{0.0f, 0.0f}, Vec2{1.0f, 0.0f}, r),
-                            make_capsule(Vec2{0.0f, 0.0f}, Vec2{0.0f, 1.0f}, r), make_polygon(triangle, r)};
+                              make_capsule(Vec2{0.0f, 0.0f}, Vec2{0.0f, 1.0f}, r), make_polygon(triangle, r)};
     for (const Shape2D& shape : shapes) {
       SCOPED_TRACE(testing::Message() << "radius " << r << ", shape " << shape.index());
       const RayHit h = raycast(shape, Transform{}, ray);
@@ -359,7 +359,8 @@ TEST(Raycast, FarAndDeadOnHitsOfRoundPiecesGiveUnitNormals) {
   for (int i = 0; i < 1000; ++i) {
     const Vec2 centre = test::random_point(rng, 1.0f);
     const float r = 1e-3f;
-    const Vec2 origin = centre + 1000.0f * Vec2(std::cos(uniform(rng, 0.0f, 6.3f)), std::sin(uniform(rng, 0.0f, 6.3f)));
+    const float angle = uniform(rng, 0.0f, 6.3f);
+    const Vec2 origin = centre + 1000.0f * Vec2(std::cos(angle), std::sin(angle));
     const Vec2 aim = centre + test::random_point(rng, 0.5f * r);
     const RayHit h = raycast(make_circle(centre, r), Transform{}, Ray{origin, 2.0f * (aim - origin)});
     ASSERT_TRUE(h.hit) << i;
