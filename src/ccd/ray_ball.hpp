@@ -32,6 +32,13 @@ struct LocalHitN {
   return 0u - static_cast<std::uint32_t>(b);
 }
 
+/// True when a ball (or a capsule's ends) of this radius has directions to give: r^2 at least
+/// kMinDirectionLengthSquared (r above about 1e-19). Below it r^2 is denormal or zero, the hit
+/// offset too small to normalise, and the piece is cast as a point (or segment), facing the ray.
+[[nodiscard]] inline bool is_round(float radius) noexcept {
+  return radius * radius >= kMinDirectionLengthSquared;
+}
+
 /// First entry of the ray m + t d, t in [0, 1], into the ball of `radius` about the origin
 /// (m is the ray's origin relative to the ball's centre), in D dimensions. Ericson, Real-Time
 /// Collision Detection, 5.3.2, with the discriminant computed from the ray's closest approach to
@@ -71,7 +78,7 @@ template <int D>
   VecN<D> n = offset * (1.0f / std::sqrt(ll));
   const std::uint32_t keep = mask_of(hit);
   // One integer test, so that the compiler cannot branch on a miss's (random) length first.
-  const std::uint32_t no_direction = keep & (mask_of(!(rr >= kMinDirectionLengthSquared)) |
+  const std::uint32_t no_direction = keep & (mask_of(!is_round(radius)) |
                                              mask_of(!(ll >= kMinDirectionLengthSquared)));
   if (no_direction != 0u) [[unlikely]] n = -d * std::sqrt(inv_dd);
   LocalHitN<D> h;

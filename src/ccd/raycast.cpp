@@ -331,11 +331,9 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
 
 RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
   if (!(length_squared(ray.translation) > 0.0f)) return {};
-  // A radius whose square is below kMinDirectionLengthSquared (r below about 1e-19) is a
-  // segment here, as in 3D.
-  const float r = capsule.radius;
-  return r * r >= kMinDirectionLengthSquared ? capsule_cast<true>(capsule, xf, ray)
-                                             : capsule_cast<false>(capsule, xf, ray);
+  // A radius too small to give directions (detail::is_round) is a segment here, as in 3D.
+  return detail::is_round(capsule.radius) ? capsule_cast<true>(capsule, xf, ray)
+                                          : capsule_cast<false>(capsule, xf, ray);
 }
 
 /// A disc looks the same in every frame: only the origin needs to be made relative to the
