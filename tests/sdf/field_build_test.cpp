@@ -86,6 +86,45 @@ TEST(FieldBuild, ClosedMeshEveryNodeAsTheExactBuildWithFewWindingNumbers) {
   EXPECT_LT(fast.stats.sign_evaluations * 4, fast.stats.band_nodes);
 }
 
+TEST(FieldBuild, BothWaysToTheBandGiveTheExactDistances) {
+  // The band is built the cheaper of two ways: triangles scattered into nodes (a grid fine beside
+  // the triangles) or each node's nearest point asked of the BVH (a coarse one). Both must give
+  // every band node the exact build's distance, and a closest point at that distance.
+  const TriangleMesh coarse = torus(3.0f, 1.0f, 24, 12);  // triangles about 0.8 by 0.5
+  const TriangleMesh fine = torus(3.0f, 1.0f, 160, 80);   // triangles about 0.12 by 0.08
+  for (const float voxel : {0.1f, 0.5f}) {
+    const TriangleMesh& mesh = voxel < 0.2f ? coarse : fine;
+    const DistanceField3 fast = make_distance_field(mesh, options(voxel));
+    const DistanceField3 exact = make_distance_field_exact(mesh, options(voxel));
+    const SparseDistanceField3 sparse = make_sparse_distance_field(mesh, options(voxel));
+    if (voxel < 0.2f) {
+      EXPECT_EQ(fast.stats.nearest_queries, 0u) << "a grid fine beside the triangles scatters them";
+    } else {
+      EXPECT_GT(fast.stats.nearest_queries, fast.stats.band_nodes) << "a grid coarse beside them asks the BVH";
+      EXPECT_EQ(sparse.stats.nearest_queries, fast.stats.nearest_queries);
+    }
+    ASSERT_EQ(fast.distances.size(), exact.distances.size());
+    std::size_t band = 0;
+    float worst = 0.0f, worst_closest = 0.0f, worst_sparse = 0.0f;
+    for (int z = 0; z < exact.grid.dims.z; ++z)
+      for (int y = 0; y < exact.grid.dims.y; ++y)
+        for (int x = 0; x < exact.grid.dims.x; ++x) {
+          const std::size_t i = exact.grid.index({x, y, z});
+          const float e = std::abs(exact.distances[i]);
+          if (e > kFieldDefaultBand * voxel) continue;
+          ++band;
+          const Vec3 p = exact.grid.node({x, y, z});
+          worst = std::max(worst, std::abs(std::abs(fast.distances[i]) - e));
+          worst_closest = std::max(worst_closest, std::abs(glm::length(fast.closest_points[i] - p) - e));
+          worst_sparse = std::max(worst_sparse, std::abs(std::abs(sparse.nearest_value(p)) - e));
+        }
+    EXPECT_GT(band, 1000u);
+    EXPECT_LT(worst, 1e-5f) << "voxel " << voxel;
+    EXPECT_LT(worst_closest, 1e-5f) << "voxel " << voxel;
+    EXPECT_LT(worst_sparse, 1e-5f) << "voxel " << voxel;
+  }
+}
+
 TEST(FieldBuild, SparseAgreesWithDenseOnAnOpenLevel) {
   // dungeon.obj is open: the sparse build signs its bricks as the dense build signs its blocks,
   // and keeps no value beyond the band.
