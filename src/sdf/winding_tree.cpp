@@ -49,46 +49,45 @@ float solid_angle(Vec3 a, Vec3 b, Vec3 c) noexcept {
 }
 
 WindingTree::WindingTree(std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles) {
+  // Each triangle's numbers worked out once and kept together, so that every level of the build
+  // reads them in order (read through an index and recomputed per level, the area's square
+  // root and the corners' loads were most of the build: 4.8 ms for dungeon.obj's 10k triangles).
   const auto n = static_cast<std::uint32_t>(triangles.size());
-  std::vector<Vec3> centroids(n);
-  std::vector<std::uint32_t> order(n);
+  std::vector<BuildTriangle> soup(n);
   for (std::uint32_t t = 0; t < n; ++t) {
     const glm::uvec3 tri = triangles[t];
-    centroids[t] = (vertices[tri[0]] + vertices[tri[1]] + vertices[tri[2]]) / 3.0f;
-    order[t] = t;
+    BuildTriangle& out = soup[t];
+    out.corners = {vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]};
+    out.centroid = (out.corners[0] + out.corners[1] + out.corners[2]) / 3.0f;
+    out.half_cross = 0.5f * glm::cross(out.corners[1] - out.corners[0], out.corners[2] - out.corners[0]);
+    out.area = glm::length(out.half_cross);
   }
   leaves_.reserve(n / kWindingLeafTriangles + 1);
   nodes_.reserve(std::size_t{2} * (n / kWindingLeafTriangles + 1));
-  if (n > 0) build(order, centroids, 0, n, vertices, triangles);
+  if (n > 0) build(soup, 0, n);
 }
 
-std::uint32_t WindingTree::build(std::vector<std::uint32_t>& order, std::span<const Vec3> centroids,
-                                 std::uint32_t first, std::uint32_t count, std::span<const Vec3> vertices,
-                                 std::span<const glm::uvec3> triangles) {
+std::uint32_t WindingTree::build(std::span<BuildTriangle> soup, std::uint32_t first, std::uint32_t count) {
   const auto at = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
+  const std::span<BuildTriangle> cluster = soup.subspan(first, count);
   // The cluster's dipole: area-weighted normal sum at the area centroid.
   Vec3 normal{0.0f}, weighted{0.0f}, mean{0.0f};
   float area = 0.0f;
   Vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
-  for (std::uint32_t i = first; i < first + count; ++i) {
-    const glm::uvec3 tri = triangles[order[i]];
-    const Vec3 a = vertices[tri[0]], b = vertices[tri[1]], c = vertices[tri[2]];
-    const Vec3 half_cross = 0.5f * glm::cross(b - a, c - a);
-    const float tri_area = glm::length(half_cross);
-    normal += half_cross;
-    area += tri_area;
-    weighted += tri_area * centroids[order[i]];
-    mean += centroids[order[i]];
-    lo = glm::min(lo, centroids[order[i]]);
-    hi = glm::max(hi, centroids[order[i]]);
+  for (const BuildTriangle& t : cluster) {
+    normal += t.half_cross;
+    area += t.area;
+    weighted += t.area * t.centroid;
+    mean += t.centroid;
+    lo = glm::min(lo, t.centroid);
+    hi = glm::max(hi, t.centroid);
   }
   const Vec3 centre = area > 0.0f ? weighted / area : mean / static_cast<float>(count);
   float radius_squared = 0.0f;
-  for (std::uint32_t i = first; i < first + count; ++i) {
-    const glm::uvec3 tri = triangles[order[i]];
+  for (const BuildTriangle& t : cluster) {
     for (int k = 0; k < 3; ++k) {
-      const Vec3 d = vertices[tri[k]] - centre;
+      const Vec3 d = t.corners[k] - centre;
       radius_squared = std::max(radius_squared, glm::dot(d, d));
     }
   }
@@ -100,9 +99,8 @@ std::uint32_t WindingTree::build(std::vector<std::uint32_t>& order, std::span<co
     nodes_[at].count = count;
     Leaf& leaf = leaves_.emplace_back();  // unused lanes: all corners at 0, no solid angle
     for (std::uint32_t i = 0; i < count; ++i) {
-      const glm::uvec3 tri = triangles[order[first + i]];
       for (int k = 0; k < 3; ++k)
-        for (int axis = 0; axis < 3; ++axis) leaf.corners[3 * k + axis][i] = vertices[tri[k]][axis];
+        for (int axis = 0; axis < 3; ++axis) leaf.corners[3 * k + axis][i] = cluster[i].corners[k][axis];
     }
     return at;
   }
@@ -110,10 +108,10 @@ std::uint32_t WindingTree::build(std::vector<std::uint32_t>& order, std::span<co
   const Vec3 extent = hi - lo;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const std::uint32_t half = count / 2;
-  std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
-                   [&](std::uint32_t p, std::uint32_t q) { return centroids[p][axis] < centroids[q][axis]; });
-  build(order, centroids, first, half, vertices, triangles);
-  const std::uint32_t right = build(order, centroids, first + half, count - half, vertices, triangles);
+  std::nth_element(cluster.begin(), cluster.begin() + half, cluster.end(),
+                   [axis](const BuildTriangle& p, const BuildTriangle& q) { return p.centroid[axis] < q.centroid[axis]; });
+  build(soup, first, half);
+  const std::uint32_t right = build(soup, first + half, count - half);
   nodes_[at].first = right;
   nodes_[at].count = 0;
   return at;

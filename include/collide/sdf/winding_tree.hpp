@@ -50,8 +50,15 @@ class WindingTree {
     std::uint32_t first = 0;  ///< leaf: index into `leaves_`; inner: index of the right child
     std::uint32_t count = 0;  ///< leaf: triangles; inner: 0 (the left child follows the node)
   };
-  std::uint32_t build(std::vector<std::uint32_t>& order, std::span<const Vec3> centroids, std::uint32_t first,
-                      std::uint32_t count, std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles);
+  /// A triangle as the build reads it at every level.
+  struct BuildTriangle {
+    std::array<Vec3, 3> corners;
+    Vec3 centroid;
+    Vec3 half_cross;  ///< area-weighted normal
+    float area;
+  };
+  /// Builds the node of soup[first, first + count), reordering it; returns the node's index.
+  std::uint32_t build(std::span<BuildTriangle> soup, std::uint32_t first, std::uint32_t count);
 
   /// A leaf's triangles as lanes per coordinate (a0.x, a0.y, a0.z, b0.x, ... c.z), so the
   /// solid angles of a leaf are computed side by side.
