@@ -316,6 +316,10 @@ int report_field(const SdfOptions& o, const SdfInput& in, const Field& field, do
   std::fprintf(report, "  band nodes        %zu (exact distances, within %g voxels of the surface)\n", st.band_nodes,
                static_cast<double>(o.band));
   std::fprintf(report, "  sign evaluations  %zu\n", st.sign_evaluations);
+  if (st.nearest_queries > 0) {
+    std::fprintf(report, "  nearest queries   %zu (the band node by node through the mesh's BVH: a grid coarse beside its triangles)\n",
+                 st.nearest_queries);
+  }
 
   float clamp_to = std::numeric_limits<float>::infinity();
   if constexpr (requires { field.band_distance; }) clamp_to = field.band_distance;

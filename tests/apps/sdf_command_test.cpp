@@ -217,6 +217,22 @@ TEST(SdfCommand, TheDungeonMeshsFieldIsWithinACellDiagonalAndItsSliceIsDrawn) {
   EXPECT_NE(bad.output.find("--slice y=500: outside the field's y range"), std::string::npos) << bad.output;
 }
 
+TEST(SdfCommand, ACoarseGridSaysItsBandWentNodeByNode) {
+  // dungeon.obj's triangles are mostly under 2 units: at a voxel of 2 each band node lies within
+  // the band of many of them, and the build asks the BVH node by node (FieldBuildStats).
+  const CommandRun coarse = run("sdf " + kDungeon + " --voxel 2 --check-points 100");
+  ASSERT_EQ(exit_code(coarse), 0) << coarse.output;
+  const Report rep = read_report(coarse.output);
+  const std::vector<double> queries = numbers_after(coarse.output, "nearest queries");
+  ASSERT_FALSE(queries.empty()) << coarse.output;
+  EXPECT_GE(queries[0], rep.band_nodes) << coarse.output;
+  EXPECT_LE(rep.max_error_voxels, std::sqrt(3.0)) << coarse.output;
+  // A map's field is built from shapes, never node by node: no such line.
+  const CommandRun map = run("sdf " + kMap + " --voxel 2 --check-points 100");
+  ASSERT_EQ(exit_code(map), 0) << map.output;
+  EXPECT_EQ(map.output.find("nearest queries"), std::string::npos) << map.output;
+}
+
 TEST(SdfCommand, TheSparseFieldOfAMapHoldsLessThanTheDenseOne) {
   const CommandRun dense = run("sdf " + kMap + " --voxel 2 --check-points 200");
   const CommandRun sparse = run("sdf " + kMap + " --voxel 2 --band 3 --check-points 200");
