@@ -8,9 +8,11 @@
 #include <collide/core/error.hpp>
 #include <collide/io/obj.hpp>
 #include <collide/narrow/distance.hpp>
+#include <collide/sdf/distance_field.hpp>
 #include <collide/shape/sphere.hpp>
 #include <collide/walkmesh/make_walk_mesh.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -19,6 +21,35 @@
 
 namespace collide::fuzz {
 
+/// Distance fields of an accepted mesh (what `collide sdf` builds), dense and sparse, at a sixth
+/// of its largest extent (a few thousand nodes, so either way to the band may run): built, or
+/// refused with InvalidInput (a flat mesh's voxel of 0); every value built is finite.
+inline std::string check_mesh_fields(const TriangleMesh& mesh) {
+  const Aabb3 box = compute_aabb(mesh, Transform3{});
+  const Vec3 size = box.max - box.min;
+  FieldOptions options;
+  options.voxel = std::max({size.x, size.y, size.z}) / 6.0f;
+  options.max_bytes = std::size_t{16} << 20;
+  try {
+    const DistanceField3 dense = make_distance_field(mesh, options);
+    for (const float d : dense.distances) {
+      if (!std::isfinite(d)) return "a distance field of an accepted mesh holds a value that is not finite";
+    }
+    for (const Vec3& c : dense.closest_points) {
+      if (!is_finite(c)) return "a distance field of an accepted mesh holds a closest point that is not finite";
+    }
+    const SparseDistanceField3 sparse = make_sparse_distance_field(mesh, options);
+    for (const float d : sparse.bricks) {
+      if (!std::isfinite(d)) return "a sparse distance field of an accepted mesh holds a value that is not finite";
+    }
+  } catch (const InvalidInput& e) {
+    if (std::string_view(e.what()).empty()) return "a distance field was refused without a message";
+  } catch (const std::exception& e) {
+    return std::string("a distance field build threw other than InvalidInput: ") + e.what();
+  }
+  return {};
+}
+
 /// "" when `input`, written to a file, is handled as collide/io/obj.hpp says, else what went
 /// wrong:
 ///  - io::load_obj throws nothing but InvalidInput naming the file; a soup it accepts has
@@ -26,7 +57,8 @@ namespace collide::fuzz {
 ///  - io::load_triangle_mesh on the same file throws nothing but InvalidInput naming the file; a
 ///    mesh it accepts has finite vertices, and fixed probes (a ray from (0, 1000, 0) to
 ///    (0, -1000, 0), a unit sphere at the origin within 1000) get finite answers when its bounds
-///    lie within kFiniteQueryRange (collide/core/finite_range.hpp);
+///    lie within kFiniteQueryRange (collide/core/finite_range.hpp), and so do its distance
+///    fields (check_mesh_fields);
 ///  - make_walk_mesh on the soup (what `collide walk` does) throws nothing but InvalidInput
 ///    naming the file;
 ///  - io::load_hulls_obj (what `collide decompose --hulls` reads) throws nothing but
@@ -70,6 +102,9 @@ inline std::string check_obj_mesh(std::string_view input) {
     }
     if (in_range && d.distance <= 1000.0f && (!std::isfinite(d.distance) || !is_finite(d.point_a) || !is_finite(d.point_b))) {
       return "a distance to an accepted mesh is not finite";
+    }
+    if (in_range) {
+      if (std::string problem = check_mesh_fields(mesh); !problem.empty()) return problem;
     }
   } catch (const InvalidInput& e) {
     if (std::string problem = check_message(e.what(), prefix); !problem.empty()) return problem;
