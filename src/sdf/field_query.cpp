@@ -698,9 +698,6 @@ void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t c
     last[k] = _mm_set1_ps(static_cast<float>(grid.dims[k] - 1));
     top[k] = _mm_set1_epi32(grid.dims[k] - 2);
   }
-  const auto pair = [](const float* at) {
-    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at)));
-  };
   const auto lerp = [](__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); };
   constexpr std::size_t kGroups = kSampleChunk / 4;
   alignas(16) std::uint32_t at[kSampleChunk];  // each point's cell, memory index (0 when outside)
@@ -740,9 +737,7 @@ void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t c
     for (std::size_t g = 0; g < groups; ++g) {  // 2: read the corners, interpolate
       __m128 lo[4], hi[4];  // per point: corners 0-3 (z = 0) and 4-7 (z = 1), as cell_values
       for (int l = 0; l < 4; ++l) {
-        const float* d = distances + at[4 * g + l];
-        lo[l] = _mm_movelh_ps(pair(d), pair(d + nx));
-        hi[l] = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
+        load_cell_corners_sse(distances + at[4 * g + l], nx, nxy, lo[l], hi[l]);
       }
       _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);  // lo[c]: corner c of the four points
       _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);

@@ -457,6 +457,19 @@ template <DistanceFieldType F>
 void sample(const F& field, std::span<const VecN<F::kDim>> points, std::span<float> out) noexcept;
 
 #if defined(__SSE2__) || defined(_M_X64)
+/// The 8 corner values of a dense 3D grid's cell whose first node is at `d` (rows `nx` floats
+/// apart, slabs `nxy`), in two registers as DistanceFieldN::cell_values orders them:
+/// lo = (v0, v1, v2, v3) at the lower z, hi = (v4, v5, v6, v7) at the upper; each pair of x
+/// neighbours is one 8-byte load (4-byte aligned only: _mm_loadl_epi64 reads it unaligned).
+COLLIDE_ALWAYS_INLINE void load_cell_corners_sse(const float* d, std::size_t nx, std::size_t nxy, __m128& lo,
+                                                 __m128& hi) noexcept {
+  const auto pair = [](const float* at) {
+    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at)));
+  };
+  lo = _mm_movelh_ps(pair(d), pair(d + nx));
+  hi = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
+}
+
 /// sample_cells' fast path for a 3D dense field (DistanceField3), SSE2: when `p` lies within the
 /// grid's box, its trilinear sample into `value` (and its gradient into `gradient` when not
 /// null) and true, with the same float operations in the same order as locate and
@@ -487,12 +500,8 @@ template <class F>
   const float* d = field.distances.data() + grid.index(glm::ivec3(node[0], node[1], node[2]));
   const auto nx = static_cast<std::size_t>(grid.dims.x);
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
-  // Two neighbouring floats (4-byte aligned only: _mm_loadl_epi64 reads them unaligned).
-  const auto pair = [](const float* at) {
-    return _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(at)));
-  };
-  const __m128 lo = _mm_movelh_ps(pair(d), pair(d + nx));
-  const __m128 hi = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
+  __m128 lo, hi;
+  load_cell_corners_sse(d, nx, nxy, lo, hi);
   // Along x: (x00, x10, x01, x11) = even + (odd - even) * fx.
   const __m128 even = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));  // v0 v2 v4 v6
   const __m128 odd = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));   // v1 v3 v5 v7
