@@ -666,8 +666,9 @@ inline constexpr float kNearestBoundSlack = 1e-4f;
 
 /// A mesh's exact band, node by node: each node of a marked block asks the mesh's BVH for its
 /// nearest point within the band (TriangleBvh::nearest, branch and bound), bounded further by
-/// the distance to the last nearest point found (a point of the surface, so no nearer than the
-/// node's own). Returns the queries made. Coordinates relative to the mesh's origin, as the BVH's.
+/// the node's distance to the last nearest point found (a point of the surface: the node's own
+/// nearest point is no farther). Returns the queries made. Coordinates relative to the mesh's
+/// origin, as the BVH's.
 template <class Store>
 std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, Vec3 local_origin,
                               float band_distance, Store& store) {
@@ -709,9 +710,9 @@ std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, 
   return queries;
 }
 
-/// How much dearer a node's nearest-point query is than a row of the scatter (bench_sdf on
-/// dungeon.obj and undulating.obj, 64k to 4M nodes, AMD EPYC: the two ways cost the same at
-/// about 2.2 queries a row).
+/// How many of the scatter's rows one nearest-point query is taken to cost: about 2.2 where the
+/// two ways took the same time (bench_sdf on dungeon.obj and undulating.obj, 64k to 4M nodes,
+/// AMD EPYC); 2.5 leans to the scatter, whose cost is the better known.
 inline constexpr double kNearestQueryRows = 2.5;
 
 /// A mesh's exact band, the cheaper of two ways: scattered per triangle (its work grows with the

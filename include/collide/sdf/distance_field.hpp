@@ -211,7 +211,7 @@ struct FieldOptions {
 struct FieldBuildStats {
   std::size_t nodes = 0;             ///< nodes of the grid (dense) or of its allocated bricks (sparse)
   std::size_t band_nodes = 0;        ///< nodes given an exact distance (stage 1)
-  /// Nodes whose exact distance was asked of the mesh's BVH one by one (a mesh's band on a grid
+  /// Nodes that asked the mesh's BVH for their nearest point one by one (a mesh's band on a grid
   /// coarse beside its triangles); 0 when the triangles were scattered into the band.
   std::size_t nearest_queries = 0;
   std::size_t sign_evaluations = 0;  ///< winding numbers (or containment tests) evaluated
