@@ -531,6 +531,19 @@ inline int node_ceil(float x, int lo, int hi) {
   return i + (static_cast<float>(i) < x ? 1 : 0);
 }
 
+/// The nodes [lo, hi] of the box of triangle `t` grown by the band, clamped to the grid; false
+/// when none. Coordinates relative to the mesh's origin (grid.origin = mesh.origin + local_origin).
+bool triangle_band_nodes(const TriangleMesh& mesh, std::uint32_t t, const FieldGrid3& grid, Vec3 local_origin,
+                         float band_distance, glm::ivec3& lo, glm::ivec3& hi) {
+  const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+  const Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance) - local_origin,
+                  glm::max(glm::max(a, b), c) + Vec3(band_distance) - local_origin};
+  FieldGrid3 local = grid;
+  local.origin = Vec3(0.0f);
+  node_range(local, box, lo, hi);
+  return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
+}
+
 /// A mesh's exact band, scattered per triangle (as OpenVDB's meshToVolume (Museth 2013) scatters
 /// each triangle into the voxels near it): each triangle visits, row by row, the nodes within the
 /// band of its plane and inside its box grown by the band, and keeps the nearer of its distance
@@ -542,15 +555,9 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
   const float inv_voxel = 1.0f / grid.voxel;
   alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
-    Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance), glm::max(glm::max(a, b), c) + Vec3(band_distance)};
-    box.min -= local_origin;  // node range in the grid's frame (grid.origin = mesh.origin + local_origin)
-    box.max -= local_origin;
-    FieldGrid3 local = grid;
-    local.origin = Vec3(0.0f);
     glm::ivec3 lo, hi;
-    node_range(local, box, lo, hi);
-    if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) continue;
+    if (!triangle_band_nodes(mesh, t, grid, local_origin, band_distance, lo, hi)) continue;
+    const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
     const BandTriangle tri(a, b, c);
     const BandKernel kernel(tri);
     Vec3 n = tri.n;
@@ -641,15 +648,9 @@ BandMarks mark_band(const TriangleMesh& mesh, const FieldGrid3& grid, Vec3 local
   BandMarks marks;
   marks.regions = (grid.dims + (kFieldBrickSize - 1)) / kFieldBrickSize;
   marks.masks.assign(std::size_t(marks.regions.x) * std::size_t(marks.regions.y) * std::size_t(marks.regions.z), 0);
-  FieldGrid3 local = grid;
-  local.origin = Vec3(0.0f);
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
-    const Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance) - local_origin,
-                    glm::max(glm::max(a, b), c) + Vec3(band_distance) - local_origin};
     glm::ivec3 lo, hi;
-    node_range(local, box, lo, hi);
-    if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) continue;
+    if (!triangle_band_nodes(mesh, t, grid, local_origin, band_distance, lo, hi)) continue;
     marks.rows += double(hi.y - lo.y + 1) * double(hi.z - lo.z + 1);
     for_each_node<3>(lo / BandMarks::kBlock, hi / BandMarks::kBlock, [&](glm::ivec3 block) {
       const glm::ivec3 r = block / BandMarks::kPerSide, in = block - r * BandMarks::kPerSide;

@@ -64,13 +64,13 @@ WindingTree::WindingTree(std::span<const Vec3> vertices, std::span<const glm::uv
   }
   leaves_.reserve(n / kWindingLeafTriangles + 1);
   nodes_.reserve(std::size_t{2} * (n / kWindingLeafTriangles + 1));
-  if (n > 0) build(soup, 0, n);
+  if (n > 0) build(soup);
 }
 
-std::uint32_t WindingTree::build(std::span<BuildTriangle> soup, std::uint32_t first, std::uint32_t count) {
+std::uint32_t WindingTree::build(std::span<BuildTriangle> cluster) {
   const auto at = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
-  const std::span<BuildTriangle> cluster = soup.subspan(first, count);
+  const auto count = static_cast<std::uint32_t>(cluster.size());
   // The cluster's dipole: area-weighted normal sum at the area centroid.
   Vec3 normal{0.0f}, weighted{0.0f}, mean{0.0f};
   float area = 0.0f;
@@ -110,8 +110,8 @@ std::uint32_t WindingTree::build(std::span<BuildTriangle> soup, std::uint32_t fi
   const std::uint32_t half = count / 2;
   std::nth_element(cluster.begin(), cluster.begin() + half, cluster.end(),
                    [axis](const BuildTriangle& p, const BuildTriangle& q) { return p.centroid[axis] < q.centroid[axis]; });
-  build(soup, first, half);
-  const std::uint32_t right = build(soup, first + half, count - half);
+  build(cluster.first(half));
+  const std::uint32_t right = build(cluster.subspan(half));
   nodes_[at].first = right;
   nodes_[at].count = 0;
   return at;

@@ -57,8 +57,8 @@ class WindingTree {
     Vec3 half_cross;  ///< area-weighted normal
     float area;
   };
-  /// Builds the node of soup[first, first + count), reordering it; returns the node's index.
-  std::uint32_t build(std::span<BuildTriangle> soup, std::uint32_t first, std::uint32_t count);
+  /// Builds the node of `cluster` (and its subtree), reordering it; returns the node's index.
+  std::uint32_t build(std::span<BuildTriangle> cluster);
 
   /// A leaf's triangles as lanes per coordinate (a0.x, a0.y, a0.z, b0.x, ... c.z), so the
   /// solid angles of a leaf are computed side by side.
