@@ -34,6 +34,7 @@
 
 #include <collide/core/config.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/lanes.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
@@ -145,17 +146,13 @@ FaceQuery hull_faces_against_triangle(const Polytope3& a, const PlacedPolytope& 
   const Vec3 t2 = b.p.vertex(2);
   FaceQuery q;
 #if COLLIDE_HULL_FACES_SSE2
-  constexpr int kNoLane = 0x7fff;
-  static_assert(kMaxSolidFaces + 4 < kNoLane);
+  static_assert(kMaxSolidFaces + 4 < simd::ArgMax4::kNone);
   // dot(n, t) = (n.x t.x + n.y t.y) + n.z t.z, as glm's dot.
   const auto height = [](__m128 nx, __m128 ny, __m128 nz, Vec3 t) {
     return _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, _mm_set1_ps(t.x)), _mm_mul_ps(ny, _mm_set1_ps(t.y))),
                       _mm_mul_ps(nz, _mm_set1_ps(t.z)));
   };
-  __m128 best = _mm_set1_ps(-kInf);
-  __m128i best_index = _mm_set1_epi32(kNoLane);
-  __m128i index = _mm_setr_epi32(0, 1, 2, 3);
-  const __m128i four = _mm_set1_epi32(4);
+  simd::ArgMax4 scan;
   const float* p = a.face_blocks;
   const float* end = p + 16 * ((a.face_count + 3) / 4);
   for (; p != end; p += 16) {
@@ -164,24 +161,13 @@ FaceQuery hull_faces_against_triangle(const Polytope3& a, const PlacedPolytope& 
     const __m128 nz = _mm_loadu_ps(p + 8);
     const __m128 low = _mm_min_ps(_mm_min_ps(height(nx, ny, nz, t0), height(nx, ny, nz, t1)),
                                   height(nx, ny, nz, t2));
-    const __m128 sep = _mm_sub_ps(low, _mm_loadu_ps(p + 12));
-    const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(sep, best));
-    best = _mm_max_ps(sep, best);
-    best_index = _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
-    index = _mm_add_epi32(index, four);
+    scan.add(_mm_sub_ps(low, _mm_loadu_ps(p + 12)));
   }
-  // The largest over the lanes, then the lowest face index holding it (support_index's merge).
-  __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
-  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
-  __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
-                                   _mm_andnot_si128(holds, _mm_set1_epi32(kNoLane)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
-  const int face = _mm_cvtsi128_si32(candidate) & kNoLane;
-  if (face != kNoLane) {
-    q.face = face;
-    q.separation = _mm_cvtss_f32(top);
+  // The largest over the lanes, then the lowest face index holding it.
+  const simd::ArgMax4::Result best = scan.result();
+  if (best.index != simd::ArgMax4::kNone) {
+    q.face = best.index;
+    q.separation = best.max;
   }
 #else
   for (int i = 0; i < a.face_count; ++i) {

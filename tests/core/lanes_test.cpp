@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -84,6 +85,47 @@ TEST(Lanes, IotaMaskAndHorizontalMin) {
     EXPECT_EQ(simd::lane_bits(simd::load(a) == simd::horizontal_min(simd::load(a))), 1u << at);
   }
 }
+
+#if defined(__SSE2__) || defined(_M_X64)
+// ArgMax4 is the scalar scan `if (v > best) { best = v; index = i; }` in index order: the first
+// index of the largest value, NaN never winning, kNone when nothing beat -infinity.
+TEST(Lanes, ArgMax4IsTheFirstIndexOfTheLargestValueAsTheScalarScan) {
+  std::mt19937 rng(7);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  int ties = 0;
+  int nans = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int groups = 1 + static_cast<int>(rng() % 6);
+    std::vector<float> v(static_cast<size_t>(4 * groups));
+    for (float& x : v) {
+      // Few distinct values so that ties across lanes are common; some NaN and -inf.
+      const unsigned kind = rng() % 16;
+      x = kind == 0 ? nan : kind == 1 ? -inf : static_cast<float>(static_cast<int>(rng() % 5) - 2);
+    }
+    if (trial % 97 == 0) std::fill(v.begin(), v.end(), nan);  // nothing beats -infinity
+    float best = -inf;
+    int index = simd::ArgMax4::kNone;
+    int holding = 0;
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (v[i] > best) {
+        best = v[i];
+        index = static_cast<int>(i);
+      }
+      nans += std::isnan(v[i]) ? 1 : 0;
+    }
+    simd::ArgMax4 scan;
+    for (int g = 0; g < groups; ++g) scan.add(_mm_loadu_ps(v.data() + 4 * g));
+    const simd::ArgMax4::Result r = scan.result();
+    for (const float x : v) holding += x == best ? 1 : 0;
+    ties += holding > 1 ? 1 : 0;
+    ASSERT_EQ(r.index, index) << "trial " << trial;
+    ASSERT_EQ(r.max, best) << "trial " << trial;
+  }
+  EXPECT_GT(ties, 1000);  // the lowest-index rule was exercised
+  EXPECT_GT(nans, 1000);
+}
+#endif
 
 }  // namespace
 }  // namespace collide

@@ -8,6 +8,7 @@
 /// radius. GJK works on cores and applies radii after convergence, which is exact for rounded
 /// shapes (van den Bergen, Collision Detection in Interactive 3D Environments, 2003, 4.3.6).
 
+#include <collide/core/lanes.hpp>
 #include <collide/core/math.hpp>
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
@@ -128,34 +129,18 @@ class ConvexProxyN<2> {
   [[nodiscard]] static int support_index_simd(const Vec2* p, int n, Vec2 direction) noexcept {
     const __m128 dx = _mm_set1_ps(direction.x);
     const __m128 dy = _mm_set1_ps(direction.y);
-    __m128 best = _mm_set1_ps(-std::numeric_limits<float>::infinity());
-    __m128i best_index = _mm_setzero_si128();
-    __m128i index = _mm_setr_epi32(0, 1, 2, 3);
-    const __m128i four = _mm_set1_epi32(4);
+    simd::ArgMax4 scan;
     int i = 0;
     for (; i + 4 <= n; i += 4) {
       const __m128 p01 = _mm_loadu_ps(&p[i].x);      // x0 y0 x1 y1
       const __m128 p23 = _mm_loadu_ps(&p[i + 2].x);  // x2 y2 x3 y3
       const __m128 xs = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(2, 0, 2, 0));
       const __m128 ys = _mm_shuffle_ps(p01, p23, _MM_SHUFFLE(3, 1, 3, 1));
-      const __m128 dots = _mm_add_ps(_mm_mul_ps(xs, dx), _mm_mul_ps(ys, dy));
-      const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(dots, best));
-      best = _mm_max_ps(dots, best);  // a NaN dot keeps the old best, as the scalar scan
-      best_index =
-          _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
-      index = _mm_add_epi32(index, four);
+      scan.add(_mm_add_ps(_mm_mul_ps(xs, dx), _mm_mul_ps(ys, dy)));
     }
-    // Maximum over the lanes, broadcast to all of them.
-    __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
-    top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
-    // Lowest index among the lanes holding it (indices < 64 fit the 16-bit minimum).
-    const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
-    __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
-                                     _mm_andnot_si128(holds, _mm_set1_epi32(0x7fff)));
-    candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
-    candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
-    int result = _mm_cvtsi128_si32(candidate) & 0x7fff;
-    float result_dot = _mm_cvtss_f32(top);
+    const simd::ArgMax4::Result merged = scan.result();
+    int result = merged.index;
+    float result_dot = merged.max;
     for (; i < n; ++i) {  // the last n % 4 points
       const float d = dot(p[i], direction);
       if (d > result_dot) {
@@ -164,7 +149,7 @@ class ConvexProxyN<2> {
       }
     }
     // All dots NaN: no lane improved on -infinity; the scalar scan answers 0 then too.
-    return result == 0x7fff ? 0 : result;
+    return result == simd::ArgMax4::kNone ? 0 : result;
   }
 #endif
 

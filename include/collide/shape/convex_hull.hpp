@@ -6,6 +6,7 @@
 /// hill-climbing support queries on big hulls.
 
 #include <collide/core/aabb.hpp>
+#include <collide/core/lanes.hpp>
 #include <collide/core/transform3.hpp>
 
 #include <cmath>
@@ -156,44 +157,22 @@ struct alignas(64) ConvexHull {
 #if defined(__SSE2__) || defined(_M_X64)
 inline int ConvexHull::support_index(Vec3 direction) const noexcept {
   // Plain meaning: the first i maximising dot(vertices[i], direction), scanned in order with
-  // a strict '>'. Each SIMD lane does that over its quarter of the vertices (so it keeps its
-  // lowest index on ties); the lanes are then merged without branches: the maximum, broadcast,
-  // then the lowest index among the lanes that hold it. (A scalar merge of the four lanes
-  // mispredicted about once per call and cost more than the scan: 22 -> 8 ns per call on the
-  // Jolt-cloud hulls, bench_convex_hull.) Lanes start from kNoLane, above any vertex index:
-  // it stays when no dot product beat -infinity (all NaN).
-  constexpr int kNoLane = 0x7fff;
-  static_assert(kMaxHullVertices + 4 < kNoLane);
+  // a strict '>'. Each SIMD lane does that over its quarter of the vertices, and the lanes are
+  // merged without branches (simd::ArgMax4). The padding lanes repeat vertex 0, which comes
+  // first. No dot product above -infinity (all NaN): vertex 0.
+  static_assert(kMaxHullVertices + 4 < simd::ArgMax4::kNone);
   const __m128 dx = _mm_set1_ps(direction.x);
   const __m128 dy = _mm_set1_ps(direction.y);
   const __m128 dz = _mm_set1_ps(direction.z);
-  __m128 best = _mm_set1_ps(-HUGE_VALF);
-  __m128i best_index = _mm_set1_epi32(kNoLane);
-  __m128i index = _mm_setr_epi32(0, 1, 2, 3);
-  const __m128i four = _mm_set1_epi32(4);
+  simd::ArgMax4 scan;
   const float* p = vertex_blocks.data();
   const float* end = p + vertex_blocks.size();
   for (; p != end; p += 12) {
-    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(p), dx),
-                                           _mm_mul_ps(_mm_loadu_ps(p + 4), dy)),
-                                _mm_mul_ps(_mm_loadu_ps(p + 8), dz));
-    const __m128i better = _mm_castps_si128(_mm_cmpgt_ps(d, best));  // false for NaN
-    best = _mm_max_ps(d, best);  // a NaN dot keeps the old best
-    best_index = _mm_or_si128(_mm_and_si128(better, index), _mm_andnot_si128(better, best_index));
-    index = _mm_add_epi32(index, four);
+    scan.add(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(p), dx), _mm_mul_ps(_mm_loadu_ps(p + 4), dy)),
+                        _mm_mul_ps(_mm_loadu_ps(p + 8), dz)));
   }
-  // Maximum over the lanes, broadcast to all of them.
-  __m128 top = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
-  top = _mm_max_ps(top, _mm_shuffle_ps(top, top, _MM_SHUFFLE(2, 3, 0, 1)));
-  // Lowest index among the lanes holding it (indices fit the 16-bit minimum; the padding lanes
-  // repeat vertex 0, which comes first).
-  const __m128i holds = _mm_castps_si128(_mm_cmpeq_ps(best, top));
-  __m128i candidate = _mm_or_si128(_mm_and_si128(holds, best_index),
-                                   _mm_andnot_si128(holds, _mm_set1_epi32(kNoLane)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(1, 0, 3, 2)));
-  candidate = _mm_min_epi16(candidate, _mm_shuffle_epi32(candidate, _MM_SHUFFLE(2, 3, 0, 1)));
-  const int result = _mm_cvtsi128_si32(candidate) & kNoLane;
-  return result == kNoLane ? 0 : result;
+  const int result = scan.result().index;
+  return result == simd::ArgMax4::kNone ? 0 : result;
 }
 #else
 inline int ConvexHull::support_index(Vec3 direction) const noexcept {
