@@ -29,6 +29,17 @@
 // of T threads, one task_group per enqueued task; the stepping thread waits in finishTask and
 // helps). BM_Box2DStepOwnScheduler/N/2: v3's built-in scheduler (workerCount 2, no callbacks),
 // the reference for what the oneTBB callbacks cost or save.
+// v3's size limit (found at stop 61): its solver cuts the bodies (and each colour's contacts)
+// into at most 4 blocks a worker, a block's length in 16 bits (solver.c b2InitBlocks, checked by
+// an assertion only), so above 4 x 65535 awake bodies a worker the lengths wrap and most bodies
+// are never moved: on one worker 37,864 of 300,000 bodies and 213,578 of 1e6 moved in a step.
+// Such a world does a fraction of the work. So v3 gets at least v3_workers(N) workers (4 at
+// 1e6), run on T threads: for T = 1 by callbacks that run each task at once (v3's serial
+// fallback forces one worker), for T = 2 on the same oneTBB arena (v3 guarantees progress with
+// fewer threads than workers: the stepping thread takes worker 0's part); its built-in scheduler
+// would start a thread a worker, so that row is skipped there. The counter `moved`: the share of
+// v3's bodies whose position changed in one untimed step after the timed ones (1 when v3 moves
+// them all; the scene's bodies all have speed).
 //   Counters from b2World_GetProfile, per body per frame:
 //    `ns_body`       the whole b2World_Step (our clock), solver included;
 //    `b2_collision`  pairs + collide + transforms + refit + bullets + sensors: the step without
@@ -291,6 +302,7 @@ class TbbTasks {
 
 struct V3World {
   b2WorldId id{};
+  std::vector<b2BodyId> bodies;  ///< the scene's bodies, in its order
   std::unique_ptr<TbbTasks> tasks;
   V3World() = default;
   V3World(const V3World&) = delete;
@@ -307,6 +319,26 @@ struct V3World {
   }
 };
 
+/// Blocks a worker and the longest block of v3's solver (solver.c: maxBlockCount = 4 *
+/// workerCount; a block's count is a uint16_t).
+constexpr std::size_t kV3BlocksPerWorker = 4;
+constexpr std::size_t kV3MaxBlockLength = 65535;
+
+/// The fewest workers with which v3 moves every one of `bodies` awake bodies (see the file
+/// comment), and never fewer than `threads`.
+int v3_workers(std::size_t bodies, int threads) {
+  const std::size_t per_worker = kV3BlocksPerWorker * kV3MaxBlockLength;
+  return std::max(threads, static_cast<int>((bodies + per_worker - 1) / per_worker));
+}
+
+/// v3's task callbacks for one thread with more than one worker: each task runs at once (a
+/// null handle tells v3 it is done), as v3's serial fallback does with its single worker.
+void* run_now(b2TaskCallback* task, void* task_context, void* /*user_context*/) {
+  task(task_context);
+  return nullptr;
+}
+void finish_nothing(void* /*handle*/, void* /*user_context*/) {}
+
 /// `own_scheduler`: v3's built-in scheduler for threads > 1 instead of the oneTBB callbacks.
 std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads, bool own_scheduler) {
   auto w = std::make_unique<V3World>();
@@ -314,12 +346,15 @@ std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads, bool o
   def.gravity = {0.0f, 0.0f};
   def.enableSleep = false;
   def.maximumLinearSpeed = 1000.0f;
-  def.workerCount = threads;
+  def.workerCount = v3_workers(scene.bodies.size(), threads);
   if (threads > 1 && !own_scheduler) {
     w->tasks = std::make_unique<TbbTasks>(threads);
     def.enqueueTask = &TbbTasks::enqueue;
     def.finishTask = &TbbTasks::finish;
     def.userTaskContext = w->tasks.get();
+  } else if (threads == 1 && def.workerCount > 1) {
+    def.enqueueTask = &run_now;
+    def.finishTask = &finish_nothing;
   }
   w->id = b2CreateWorld(&def);
 
@@ -346,6 +381,7 @@ std::unique_ptr<V3World> make_v3_world(const V3Scene& scene, int threads, bool o
     bd.isBullet = b.bullet;
     bd.enableSleep = false;
     const b2BodyId body = b2CreateBody(w->id, &bd);
+    w->bodies.push_back(body);
     b2ShapeDef sd = b2DefaultShapeDef();
     sd.density = 1.0f;
     sd.material.friction = 0.0f;
@@ -447,6 +483,10 @@ void box2d_step(benchmark::State& state, bool own_scheduler) {
     state.SkipWithError("Box2D v3: bodies faster than kBulletSpeed are not the scene's bullets");
     return;
   }
+  if (own_scheduler && v3_workers(description.bodies.size(), threads) > threads) {
+    state.SkipWithError("Box2D v3's built-in scheduler would need a thread for each of the workers this size needs");
+    return;
+  }
   const double heap0 = heap_bytes();
   const std::unique_ptr<V3World> w = make_v3_world(description, threads, own_scheduler);
   const double heap = heap_bytes() - heap0;
@@ -470,9 +510,21 @@ void box2d_step(benchmark::State& state, bool own_scheduler) {
     sum.constraints += p.constraints;
     contacts += b2World_GetCounters(w->id).contactCount;
   }
+  // Did v3 move its bodies? One more step, untimed, position by position.
+  std::vector<b2Vec2> before;
+  before.reserve(w->bodies.size());
+  for (const b2BodyId b : w->bodies) before.push_back(b2Body_GetPosition(b));
+  w->step();
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < w->bodies.size(); ++i) {
+    const b2Vec2 p = b2Body_GetPosition(w->bodies[i]);
+    moved += (p.x != before[i].x || p.y != before[i].y) ? 1u : 0u;
+  }
   const double frames = static_cast<double>(state.iterations());
   const double bodies = static_cast<double>(description.bodies.size());
   const auto ms = [](float milliseconds) { return 1e-3 * milliseconds; };
+  state.counters["moved"] = static_cast<double>(moved) / bodies;
+  state.counters["v3_workers"] = v3_workers(description.bodies.size(), threads);
   state.counters["bodies"] = bodies;
   state.counters["workers"] = threads;
   state.counters["heap_per_body"] = heap / bodies;
