@@ -531,11 +531,11 @@ inline int node_ceil(float x, int lo, int hi) {
   return i + (static_cast<float>(i) < x ? 1 : 0);
 }
 
-/// The nodes [lo, hi] of the box of triangle `t` grown by the band, clamped to the grid; false
-/// when none. Coordinates relative to the mesh's origin (grid.origin = mesh.origin + local_origin).
-bool triangle_band_nodes(const TriangleMesh& mesh, std::uint32_t t, const FieldGrid3& grid, Vec3 local_origin,
-                         float band_distance, glm::ivec3& lo, glm::ivec3& hi) {
-  const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+/// The nodes [lo, hi] of the box of triangle (a, b, c) grown by the band, clamped to the grid;
+/// false when none. Corners relative to the mesh's origin (grid.origin = mesh.origin +
+/// local_origin).
+bool triangle_band_nodes(Vec3 a, Vec3 b, Vec3 c, const FieldGrid3& grid, Vec3 local_origin, float band_distance,
+                         glm::ivec3& lo, glm::ivec3& hi) {
   const Aabb3 box{glm::min(glm::min(a, b), c) - Vec3(band_distance) - local_origin,
                   glm::max(glm::max(a, b), c) + Vec3(band_distance) - local_origin};
   FieldGrid3 local = grid;
@@ -555,9 +555,9 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
   const float inv_voxel = 1.0f / grid.voxel;
   alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-    glm::ivec3 lo, hi;
-    if (!triangle_band_nodes(mesh, t, grid, local_origin, band_distance, lo, hi)) continue;
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+    glm::ivec3 lo, hi;
+    if (!triangle_band_nodes(a, b, c, grid, local_origin, band_distance, lo, hi)) continue;
     const BandTriangle tri(a, b, c);
     const BandKernel kernel(tri);
     Vec3 n = tri.n;
@@ -650,7 +650,10 @@ BandMarks mark_band(const TriangleMesh& mesh, const FieldGrid3& grid, Vec3 local
   marks.masks.assign(std::size_t(marks.regions.x) * std::size_t(marks.regions.y) * std::size_t(marks.regions.z), 0);
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     glm::ivec3 lo, hi;
-    if (!triangle_band_nodes(mesh, t, grid, local_origin, band_distance, lo, hi)) continue;
+    if (!triangle_band_nodes(mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), grid, local_origin,
+                             band_distance, lo, hi)) {
+      continue;
+    }
     marks.rows += double(hi.y - lo.y + 1) * double(hi.z - lo.z + 1);
     for_each_node<3>(lo / BandMarks::kBlock, hi / BandMarks::kBlock, [&](glm::ivec3 block) {
       const glm::ivec3 r = block / BandMarks::kPerSide, in = block - r * BandMarks::kPerSide;
