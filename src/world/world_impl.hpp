@@ -312,13 +312,14 @@ struct WorldN<D>::Impl {
   [[nodiscard]] Manifold contact_with(const ColliderRef& a, const ColliderRef& b) const;
 
   // Step phases
-  void integrate(float dt, StepStats& stats);
+  /// Every body's motion (integrate_body), then its contacts with statics and push-outs
+  /// (resolve_body) and its proxies' swept boxes and speed bounds for the body broad phase
+  /// (finish_motion), block by block in one pass over the bodies on the workers. Sets the
+  /// step's time_integrate and time_statics (the pass's wall time, split as the workers spent it).
+  void move_bodies(float dt, StepStats& stats);
   /// One body's motion (worker w): gravity, then free or continuous motion against statics.
   void integrate_body(std::uint32_t index, float dt, bool have_statics, int w);
   void move_with_ccd(std::uint32_t index, VecN<D> translation, AngularN<D> rotation, int w);
-  /// Every body's contacts with statics and push-outs, then its proxies' swept boxes and speed
-  /// bounds for the body broad phase (finish_motion), in the same pass over the bodies.
-  void resolve_statics(float dt, StepStats& stats);
   /// One body's contacts with statics and its push-outs (worker w).
   void resolve_body(std::uint32_t index, int w);
   /// True when every piece of `b` stays within its static clearance (BodyN::clearance) over a
