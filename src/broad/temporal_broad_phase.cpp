@@ -270,7 +270,10 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
 }
 
 template <int D>
-void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler) {
+void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler, double until) {
+  // Each box grown by how far its bound lets it move by `until` (the horizon from now, or from
+  // the next update's time when built ahead of it).
+  const double window = until - time_;
   grown_.resize(boxes_.size());
   is_fast_.assign(boxes_.size(), 0);
   fast_.clear();
@@ -278,7 +281,7 @@ void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler) {
   slow_grown_.clear();
   for (std::size_t i = 0; i < boxes_.size(); ++i) {
     // The horizon is infinite only when every speed bound is 0.
-    const double margin = speeds_[i] > 0.0f ? speeds_[i] * horizon_ : 0.0;
+    const double margin = speeds_[i] > 0.0f ? speeds_[i] * window : 0.0;
     if (margin > kFastGrowthCells * cell_) {
       is_fast_[i] = 1;
       fast_.push_back(static_cast<int>(i));
@@ -296,7 +299,7 @@ void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler) {
     pair = {slow_ids_[std::size_t(pair.first)], slow_ids_[std::size_t(pair.second)]};
   }
   wake_.assign(candidates_.size(), time_);
-  built_at_ = time_;
+  expires_at_ = until;
   needs_rebuild_ = false;
   demoted_since_rebuild_ = 0;
   ++stats_.rebuilds;
@@ -377,6 +380,18 @@ void TemporalBroadPhaseN<D>::on_workers(TaskScheduler* scheduler, int count, int
 }
 
 template <int D>
+bool TemporalBroadPhaseN<D>::rebuild_due(double next_time) const noexcept {
+  if (boxes_.empty() || !(next_time >= time_)) return false;
+  return (needs_rebuild_ || next_time > expires_at_) && next_time - time_ <= horizon_;
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::rebuild_now(double next_time) {
+  if (!std::isfinite(next_time) || next_time < time_) throw InvalidInput("time: not finite or goes back");
+  rebuild(nullptr, next_time + horizon_);
+}
+
+template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
   find_pairs(pairs, nullptr);
 }
@@ -384,7 +399,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
 template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler) {
   pairs.clear();
-  if (needs_rebuild_ || time_ > built_at_ + horizon_) rebuild(scheduler);
+  if (needs_rebuild_ || time_ > expires_at_) rebuild(scheduler, time_ + horizon_);
   const auto count = static_cast<int>(candidates_.size());
   if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
     check_candidates(0, count, pairs, stats_.checks, stats_.skipped_checks);

@@ -60,6 +60,18 @@ class BodyBroadPhaseN {
     built_ = true;
   }
 
+  /// True when the temporal broad phase's next find_pairs, after set() to `next_time`, would
+  /// rebuild its candidate set and rebuild_now may do it ahead (false for the other kinds).
+  [[nodiscard]] bool rebuild_due(double next_time) const noexcept {
+    const auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_);
+    return t != nullptr && built_ && t->rebuild_due(next_time);
+  }
+  /// The temporal broad phase's candidate set rebuilt now for the set() to `next_time`, on the
+  /// calling thread (it touches nothing else: a worker may run it while the bodies move).
+  void rebuild_now(double next_time) {
+    if (auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_)) t->rebuild_now(next_time);
+  }
+
   /// Speed bounds from now on, after the collision response changed velocities (only the
   /// temporal broad phase uses them).
   void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler = nullptr) {

@@ -357,9 +357,20 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
   proxy_boxes.resize(proxies.size());        // filled by finish_motion
   proxy_speeds.resize(proxies.size());
   const bool have_statics = !static_pieces.empty();
+  // When the temporal broad phase's candidate set expires this step, it is rebuilt from the
+  // boxes of the last step as item 0 of this pass: on one worker while the others move bodies,
+  // rather than alone after them (the same pairs come out; its own state is all it touches).
+  const int ahead = !proxies_changed && body_broad.rebuild_due(time + dt) ? 1 : 0;
   const auto start = Clock::now();
-  parallel(static_cast<int>(bodies.size()), kBodiesPerTask, [&](int begin, int end, int w) {
+  parallel(static_cast<int>(bodies.size()) + ahead, kBodiesPerTask, [&](int begin, int end, int w) {
     StepStats& busy = workers[static_cast<std::size_t>(w)].stats;
+    if (begin < ahead) {
+      const auto t0 = Clock::now();
+      body_broad.rebuild_now(time + dt);
+      busy.time_broad += seconds(t0, Clock::now());
+    }
+    begin = std::max(begin - ahead, 0);
+    end -= ahead;
     // A body's static contacts need only its own motion: each block of bodies is moved, then
     // resolved against the statics while its bodies are still in the cache (one pass over the
     // bodies' memory, one wait for the workers). The clock is read per block, not per body.
@@ -384,11 +395,12 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
   const double wall = seconds(start, Clock::now());
   collect_workers(stats, &detail::StepWorkerN<D>::ccd_contacts, &ccd_contacts);
   collect_workers(stats, &detail::StepWorkerN<D>::contacts, &contacts);
-  // The pass's time, split between motion and statics as the workers spent it.
-  const double busy = stats.time_integrate + stats.time_statics;
-  const double motion_share = busy > 0.0 ? stats.time_integrate / busy : 1.0;
-  stats.time_integrate = wall * motion_share;
-  stats.time_statics = wall - stats.time_integrate;
+  // The pass's time, split between motion, statics and the rebuild as the workers spent it.
+  const double busy = stats.time_integrate + stats.time_statics + stats.time_broad;
+  const double scale = busy > 0.0 ? wall / busy : 0.0;
+  stats.time_integrate = busy > 0.0 ? stats.time_integrate * scale : wall;
+  stats.time_statics *= scale;
+  stats.time_broad *= scale;
 }
 
 template <int D>
@@ -693,7 +705,7 @@ void WorldN<D>::Impl::find_body_contacts(float dt, StepStats& stats) {
   last_rebuilds = rebuilds;
   stats.body_pairs = static_cast<std::int64_t>(pairs.size());
   const auto t1 = Clock::now();
-  stats.time_broad = seconds(t0, t1);
+  stats.time_broad += seconds(t0, t1);  // (after any rebuild move_bodies ran ahead)
 
   // The narrow phase, pair by pair on the workers (each writes only its own pair's slot), then
   // the response in pair order on this thread: it changes velocities that later pairs read.

@@ -314,8 +314,10 @@ struct WorldN<D>::Impl {
   // Step phases
   /// Every body's motion (integrate_body), then its contacts with statics and push-outs
   /// (resolve_body) and its proxies' swept boxes and speed bounds for the body broad phase
-  /// (finish_motion), block by block in one pass over the bodies on the workers. Sets the
-  /// step's time_integrate and time_statics (the pass's wall time, split as the workers spent it).
+  /// (finish_motion), block by block in one pass over the bodies on the workers; with them, as
+  /// one more item, the temporal broad phase's rebuild when it falls due this step. Sets the
+  /// step's time_integrate, time_statics and time_broad (the pass's wall time, split as the
+  /// workers spent it).
   void move_bodies(float dt, StepStats& stats);
   /// One body's motion (worker w): gravity, then free or continuous motion against statics.
   void integrate_body(std::uint32_t index, float dt, bool have_statics, int w);

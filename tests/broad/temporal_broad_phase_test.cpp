@@ -33,9 +33,13 @@ std::vector<float> bounds_of_world(const test::MovingWorld<D>& world) {
   return speeds;
 }
 
+/// How run_frames drives the candidate set's rebuilds.
+enum class Rebuilds { in_find_pairs, ahead };
+
 template <int D>
 void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::int64_t& violations,
-                TaskScheduler* scheduler = nullptr, int objects = 500, int frames = 150) {
+                TaskScheduler* scheduler = nullptr, int objects = 500, int frames = 150,
+                Rebuilds rebuilds = Rebuilds::in_find_pairs, std::int64_t* rebuild_count = nullptr) {
   std::mt19937 rng(11 + D);
   auto world = test::moving_world<D>(
       rng, test::uniform_world<D>(rng, objects, D == 2 ? 25.0f : 10.0f, 0.2f, 1.0f, offset),
@@ -45,7 +49,14 @@ void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::in
   temporal.build(world.boxes, bounds_of_world(world), 0.0);
   PairList pairs;
   std::size_t total = 0;
+  int ahead = 0;  // rebuilds made by rebuild_now before the frame's motion
   for (int frame = 1; frame <= frames; ++frame) {
+    const bool rebuilt_ahead = rebuilds == Rebuilds::ahead && temporal.rebuild_due(static_cast<double>(frame));
+    if (rebuilt_ahead) {
+      temporal.rebuild_now(static_cast<double>(frame));
+      ++ahead;
+    }
+    const std::int64_t rebuilds_before = temporal.stats().rebuilds;
     world.step();
     if (teleport_every > 0 && frame % teleport_every == 0) {
       // Object 1 jumps onto another object, breaking its bound.
@@ -60,10 +71,16 @@ void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::in
     const PairList expected = brute_pairs<D>(world.boxes);
     total += expected.size();
     ASSERT_EQ(pairs, expected) << "frame " << frame;
+    // A set built ahead holds through its frame: find_pairs rebuilds only for broken bounds.
+    if (rebuilt_ahead && temporal.stats().bound_violations == 0) {
+      EXPECT_EQ(temporal.stats().rebuilds, rebuilds_before) << "frame " << frame;
+    }
   }
+  if (rebuilds == Rebuilds::ahead) EXPECT_GT(ahead, 2);
   EXPECT_GT(total, 150u * 20u);
   skipped = temporal.stats().skipped_checks;
   violations = temporal.stats().bound_violations;
+  if (rebuild_count != nullptr) *rebuild_count = temporal.stats().rebuilds;
   // The candidate set is rebuilt only every few frames, and most checks are skipped.
   EXPECT_LT(temporal.stats().rebuilds, 150 / 2 + 150 / std::max(teleport_every, 1));
   EXPECT_GT(temporal.stats().skipped_checks, temporal.stats().checks);
@@ -80,6 +97,27 @@ TYPED_TEST(TemporalTest, MatchesBruteForceEveryFrameWithinSpeedBounds) {
     run_frames<TypeParam::value>(offset, 0, skipped, violations);
     EXPECT_GT(skipped, 1000) << offset;
     EXPECT_EQ(violations, 0) << offset;
+  }
+}
+
+TYPED_TEST(TemporalTest, RebuildsAheadOfTheUpdateFindTheSamePairs) {
+  // rebuild_now before the motion (as the world runs it beside the bodies' motion), with
+  // objects within their bounds and with one teleporting.
+  for (const int teleport_every : {0, 7}) {
+    for (const float offset : {0.0f, 1.0e4f}) {
+      std::int64_t skipped = 0, violations = 0, rebuilt = 0;
+      run_frames<TypeParam::value>(offset, teleport_every, skipped, violations, nullptr, 500, 150,
+                                   Rebuilds::ahead, &rebuilt);
+      EXPECT_GT(skipped, 1000) << offset;
+      EXPECT_EQ(violations > 0, teleport_every > 0) << offset;
+      // A set built ahead covers a horizon from the update it was built for, so it is rebuilt
+      // as often as one built in find_pairs (a set covering a horizon from its build would
+      // expire a frame sooner each time).
+      std::int64_t skipped_plain = 0, violations_plain = 0, rebuilt_plain = 0;
+      run_frames<TypeParam::value>(offset, teleport_every, skipped_plain, violations_plain, nullptr, 500, 150,
+                                   Rebuilds::in_find_pairs, &rebuilt_plain);
+      EXPECT_LE(rebuilt, rebuilt_plain) << offset << ", teleport every " << teleport_every;
+    }
   }
 }
 
@@ -387,6 +425,9 @@ TYPED_TEST(TemporalTest, RejectsBadSpeedsTimesAndCounts) {
   EXPECT_THROW(temporal.build(boxes, std::vector<float>{1.0f}), InvalidInput);
   temporal.build(boxes, std::vector<float>(4, 1.0f), 5.0);
   EXPECT_THROW(temporal.update(boxes, 4.0), InvalidInput);
+  EXPECT_THROW(temporal.rebuild_now(4.0), InvalidInput);
+  EXPECT_THROW(temporal.rebuild_now(std::numeric_limits<double>::quiet_NaN()), InvalidInput);
+  EXPECT_FALSE(temporal.rebuild_due(std::numeric_limits<double>::quiet_NaN()));
   // A different count is a new set of objects (each needs a speed bound): update says so.
   try {
     temporal.update(test::Boxes<D>(3, boxes[0]), 6.0);

@@ -103,6 +103,18 @@ class TemporalBroadPhaseN {
   void update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler);
   void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler);
   void find_pairs(PairList& pairs, TaskScheduler* scheduler);
+  /// True when the next find_pairs, after an update to `next_time` (within one horizon of
+  /// now), would build the candidate set anew: its window ends before then, or a build asked
+  /// for it.
+  [[nodiscard]] bool rebuild_due(double next_time) const noexcept;
+  /// Builds the candidate set now, ahead of the update to `next_time`: from the current boxes
+  /// and speed bounds (of the last update and set_speed_bounds), each box grown for the time
+  /// from now to a horizon after `next_time`, on the calling thread. It reads and writes only
+  /// this object, so a game may run it on a worker beside its own work while it moves the
+  /// objects for that update (a temporal pipeline); find_pairs then has no rebuild to do for a
+  /// horizon. The pairs are the same either way. Throws InvalidInput for a `next_time` that is
+  /// not finite or before the current time.
+  void rebuild_now(double next_time);
   /// Each id whose current box overlaps `box`, once.
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose current box contains `point`, once.
@@ -123,7 +135,7 @@ class TemporalBroadPhaseN {
  private:
   /// The grown boxes and the candidate pairs, anew (the grid's pairs on the scheduler's workers
   /// when given).
-  void rebuild(TaskScheduler* scheduler);
+  void rebuild(TaskScheduler* scheduler, double until);
   /// Object i broke its bound or left its grown box: handled with the fast objects until the
   /// next rebuild (or a rebuild is due when too many have).
   void demote(int i);
@@ -132,10 +144,10 @@ class TemporalBroadPhaseN {
   Options options_{};
   double horizon_ = 0.0;
   double time_ = 0.0;        // time of the current boxes
-  double built_at_ = 0.0;    // time of the candidate set
+  double expires_at_ = 0.0;  // the candidate set covers the boxes' motion up to this time
   bool needs_rebuild_ = true;
   std::vector<AabbN<D>> boxes_;
-  std::vector<AabbN<D>> grown_;   // boxes at built_at_ grown by v * horizon
+  std::vector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
   std::vector<float> speeds_;
   std::vector<BroadPair> candidates_;
   std::vector<double> wake_;      // earliest time each candidate can overlap
