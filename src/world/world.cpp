@@ -110,6 +110,12 @@ constexpr int kPairsPerTask = 512;
 /// Bodies moved, then resolved against the statics, at a time within a task (a few tens of
 /// kilobytes of bodies: still in the cache for the second half).
 constexpr int kBodiesPerBlock = 64;
+/// Most body proxies whose temporal candidate set is rebuilt ahead, beside the bodies' motion
+/// (move_bodies). A set built ahead covers one more frame, so its boxes grow more and it has
+/// more candidates: on one thread that is all it does (bench_world_scale, 1e6 bodies: 371 ->
+/// 386 ns a body), so it needs a second worker; on two it paid at 1e3 and 1e4 bodies (a frame
+/// 8% and 4% shorter) and not at 1e5, where the rebuild's own pair search on the workers serves.
+constexpr std::size_t kRebuildAheadMaxProxies = 32768;
 
 /// `v` shortened to at most `max_length`.
 template <class V>
@@ -360,7 +366,9 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
   // When the temporal broad phase's candidate set expires this step, it is rebuilt from the
   // boxes of the last step as item 0 of this pass: on one worker while the others move bodies,
   // rather than alone after them (the same pairs come out; its own state is all it touches).
-  const int ahead = !proxies_changed && body_broad.rebuild_due(time + dt) ? 1 : 0;
+  // Only where that hides it: with several workers and a set small enough to build on one.
+  const bool hidden = workers.size() >= 2 && proxies.size() <= kRebuildAheadMaxProxies;
+  const int ahead = hidden && !proxies_changed && body_broad.rebuild_due(time + dt) ? 1 : 0;
   const auto start = Clock::now();
   parallel(static_cast<int>(bodies.size()) + ahead, kBodiesPerTask, [&](int begin, int end, int w) {
     StepStats& busy = workers[static_cast<std::size_t>(w)].stats;
