@@ -30,6 +30,9 @@
 ///     from the current boxes (a crowd of bouncing bodies broke some bound every frame, and
 ///     rebuilt every frame). Nothing is missed either way. A different number of objects is a
 ///     new set, with a speed bound for each: update throws, build starts over.
+///  5. The rebuild of 1 may also run ahead of the update that would make it (rebuild_due,
+///     rebuild_now): from the boxes of now, grown for the frame to come as well, so it can run
+///     on a worker while the game moves the objects (the world does this with several workers).
 /// The result equals brute force at every frame while the contract holds, and also when it
 /// does not (thanks to 4).
 ///
