@@ -369,15 +369,16 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
   // boxes of the last step as item 0 of this pass: on one worker while the others move bodies,
   // rather than alone after them (the same pairs come out; its own state is all it touches).
   // Only where that hides it: with several workers and a set small enough to build on one.
+  const double next_time = time + dt;  // the body broad phase's time after this step
   const bool hidden = workers.size() >= 2 && proxies.size() <= kRebuildAheadMaxProxies;
-  const int ahead = hidden && !proxies_changed && body_broad.rebuild_due(time + dt) ? 1 : 0;
+  const int ahead = hidden && !proxies_changed && body_broad.rebuild_due(next_time) ? 1 : 0;
   const auto start = Clock::now();
   parallel(static_cast<int>(bodies.size()) + ahead, kBodiesPerTask, [&](int begin, int end, int w) {
-    StepStats& busy = workers[static_cast<std::size_t>(w)].stats;
+    StepStats& worker_stats = workers[static_cast<std::size_t>(w)].stats;
     if (begin < ahead) {
       const auto t0 = Clock::now();
-      body_broad.rebuild_now(time + dt);
-      busy.time_broad += seconds(t0, Clock::now());
+      body_broad.rebuild_now(next_time);
+      worker_stats.time_broad += seconds(t0, Clock::now());
     }
     begin = std::max(begin - ahead, 0);
     end -= ahead;
@@ -398,8 +399,8 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
         if (have_statics) resolve_body(static_cast<std::uint32_t>(i), w);
         finish_motion(static_cast<std::uint32_t>(i), dt);
       }
-      busy.time_integrate += seconds(t0, t1);
-      busy.time_statics += seconds(t1, Clock::now());
+      worker_stats.time_integrate += seconds(t0, t1);
+      worker_stats.time_statics += seconds(t1, Clock::now());
     }
   });
   const double wall = seconds(start, Clock::now());
@@ -407,8 +408,12 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
   collect_workers(stats, &detail::StepWorkerN<D>::contacts, &contacts);
   // The pass's time, split between motion, statics and the rebuild as the workers spent it.
   const double busy = stats.time_integrate + stats.time_statics + stats.time_broad;
-  const double scale = busy > 0.0 ? wall / busy : 0.0;
-  stats.time_integrate = busy > 0.0 ? stats.time_integrate * scale : wall;
+  if (!(busy > 0.0)) {
+    stats.time_integrate = wall;
+    return;
+  }
+  const double scale = wall / busy;
+  stats.time_integrate *= scale;
   stats.time_statics *= scale;
   stats.time_broad *= scale;
 }
