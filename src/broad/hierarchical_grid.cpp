@@ -154,17 +154,33 @@ constexpr int kPiecesPerWorker = 4;
 }  // namespace
 
 template <int D>
+bool HierarchicalGridN<D>::coarse_looks_up_fine(int fine, int coarse) const noexcept {
+  // A fine box covers at most 2 cells per axis of a coarser level; a coarse box, up to
+  // kLevelRatio^steps + 1 per axis of the finer one (its side is at most its own cell's).
+  // Cells visited either way, in double (no overflow for distant levels).
+  const int steps = levels_[static_cast<std::size_t>(coarse)].exponent - levels_[static_cast<std::size_t>(fine)].exponent;
+  const double per_axis = std::pow(static_cast<double>(kLevelRatio), steps) + 1.0;
+  const double fine_boxes = static_cast<double>(levels_[static_cast<std::size_t>(fine)].ids.size());
+  const double coarse_boxes = static_cast<double>(levels_[static_cast<std::size_t>(coarse)].ids.size());
+  return coarse_boxes * std::pow(per_axis, D) < fine_boxes * static_cast<double>(1 << D);
+}
+
+template <int D>
 template <class Visit>
 void HierarchicalGridN<D>::for_each_piece(int cells_per_piece, int boxes_per_piece, Visit&& visit) const {
   const auto level_total = static_cast<int>(levels_.size());
   for (int l = 0; l < level_total; ++l) {
     if (levels_[static_cast<std::size_t>(l)].ids.empty()) continue;
     const int cells = levels_[static_cast<std::size_t>(l)].grid.cell_count();
-    for (int c = 0; c < cells; c += cells_per_piece) visit(Piece{l, -1, c, std::min(cells, c + cells_per_piece)});
-    const auto boxes = static_cast<int>(levels_[static_cast<std::size_t>(l)].ids.size());
+    for (int c = 0; c < cells; c += cells_per_piece) visit(Piece{l, -1, c, std::min(cells, c + cells_per_piece), false});
     for (int m = l + 1; m < level_total; ++m) {
       if (levels_[static_cast<std::size_t>(m)].ids.empty()) continue;
-      for (int b = 0; b < boxes; b += boxes_per_piece) visit(Piece{l, m, b, std::min(boxes, b + boxes_per_piece)});
+      // The boxes of whichever level visits fewer cells look up the other's.
+      const bool from_coarse = coarse_looks_up_fine(l, m);
+      const auto boxes = static_cast<int>(levels_[static_cast<std::size_t>(from_coarse ? m : l)].ids.size());
+      for (int b = 0; b < boxes; b += boxes_per_piece) {
+        visit(Piece{l, m, b, std::min(boxes, b + boxes_per_piece), from_coarse});
+      }
     }
   }
 }
@@ -176,12 +192,14 @@ void HierarchicalGridN<D>::piece_pairs(const Piece& piece, PairList& pairs) cons
     level.grid.append_cell_range_pairs(pairs, piece.begin, piece.end);
     return;
   }
-  // Each box of the finer level against the coarser one: the coarse grid's query (each
-  // overlapping box once, in cell order; a coarse level holds no oversized boxes).
-  const SortedGridN<D>& coarse = levels_[static_cast<std::size_t>(piece.coarse)].grid;
+  // Each box of one level against the other: that level's grid query (each overlapping box
+  // once, in cell order; a level holds no oversized boxes, its grid is built from a subset).
+  const Level& coarse = levels_[static_cast<std::size_t>(piece.coarse)];
+  const Level& from = piece.from_coarse ? coarse : level;
+  const SortedGridN<D>& into = piece.from_coarse ? level.grid : coarse.grid;
   for (int i = piece.begin; i < piece.end; ++i) {
-    const int a = level.ids[static_cast<std::size_t>(i)];
-    coarse.query(boxes_[a], [&](int b) {
+    const int a = from.ids[static_cast<std::size_t>(i)];
+    into.query(boxes_[a], [&](int b) {
       pairs.emplace_back(std::min(a, b), std::max(a, b));
       return true;
     });

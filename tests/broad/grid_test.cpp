@@ -300,6 +300,41 @@ TEST(HierarchicalGrid, PairsOnWorkersAreTheSerialListInItsOrder) {
   }
 }
 
+// A few boxes one or two levels above thousands of small ones: there the coarse boxes look up
+// the fine level's cells (fewer cells visited than each small box looking up the coarse
+// level). The same pairs as brute force, in 2D and 3D, and the same list on the workers.
+template <int D>
+void check_few_coarse_boxes(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  const float extent = D == 2 ? 40.0f : 12.0f;
+  test::Boxes<D> boxes;
+  for (int i = 0; i < 3000; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 0.25f, 0.5f)));
+  for (int i = 0; i < 12; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 1.2f, 2.0f)));
+  for (int i = 0; i < 2; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 5.0f, 8.0f)));
+  std::shuffle(boxes.begin(), boxes.end(), rng);
+  HierarchicalGridN<D> grid;
+  grid.build(boxes);
+  ASSERT_GE(grid.level_count(), 3);
+  PairList serial;
+  grid.find_pairs(serial);
+  PairList sorted = serial;
+  sort_pairs(sorted);
+  const PairList want = brute_pairs<D>(boxes);
+  ASSERT_GT(want.size(), 1000u);
+  EXPECT_EQ(sorted, want);
+  for (const int workers : {2, 3}) {
+    test::ThreadScheduler scheduler(workers);
+    PairList parallel;
+    grid.find_pairs(parallel, &scheduler);
+    EXPECT_EQ(parallel, serial) << workers << " workers";
+  }
+}
+
+TEST(HierarchicalGrid, FewCoarseBoxesLookUpTheFineLevel) {
+  check_few_coarse_boxes<2>(37);
+  check_few_coarse_boxes<3>(41);
+}
+
 TEST(GridRayCast, AlongCellBoundariesAndThroughCorners) {
   std::mt19937 rng(31);
   const auto boxes = test::touching_world<2>(rng, 300, 10);

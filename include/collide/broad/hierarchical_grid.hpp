@@ -10,7 +10,10 @@
 /// Each level is a SortedGrid over its boxes. Pairs inside a level come from that level's
 /// cells; a box meets the boxes of every coarser level by looking up the at most 2^D cells it
 /// covers there, and the pair is reported only from the cell (of the coarser level) holding the
-/// min corner of the intersection, so each pair comes out once.
+/// min corner of the intersection, so each pair comes out once. Where a coarser level holds far
+/// fewer boxes (a few large ones over thousands of small), its boxes look up the finer level's
+/// cells instead: fewer cells visited in all (kLevelRatio^D fine cells a step, against 2^D
+/// coarse cells for each fine box).
 ///
 /// A box larger than the cells of the coarsest level (base * 4^24), or reaching beyond
 /// kGridCoordinateLimit (about 1.7e38) where no level lays cells, is in no level: it is tested
@@ -54,7 +57,8 @@ class HierarchicalGridN {
   void update(std::span<const AabbN<D>> boxes);
 
   /// Every overlapping pair once, i < j. Order: level by level (fine to coarse), in each level
-  /// its own pairs then its boxes against the coarser levels; the boxes in no level last.
+  /// its own pairs then its boxes against each coarser level (or that level's boxes against
+  /// it, where they visit fewer cells); the boxes in no level last.
   void find_pairs(PairList& pairs) const;
   /// find_pairs with its work cut into pieces (a level's cells, a level's boxes against a
   /// coarser level, in ranges: a few per worker, at most a few hundred microseconds each) that
@@ -86,13 +90,18 @@ class HierarchicalGridN {
   void rebuild(std::span<const AabbN<D>> boxes, const AabbN<D>& world);
 
   /// A piece of find_pairs' work: level `level`'s own pairs in its occupied cells
-  /// [begin, end) (coarse < 0), or its boxes ids[begin, end) against level `coarse`.
+  /// [begin, end) (coarse < 0), or its boxes ids[begin, end) against level `coarse`, or (when
+  /// `from_coarse`) level `coarse`'s boxes ids[begin, end) against level `level`.
   struct Piece {
     int level;
     int coarse;
     int begin;
     int end;
+    bool from_coarse = false;
   };
+  /// True when level `coarse`'s boxes should look up level `fine`'s cells, rather than the
+  /// other way round: fewer cells visited (the box counts and the levels' ratio decide).
+  [[nodiscard]] bool coarse_looks_up_fine(int fine, int coarse) const noexcept;
   /// Calls visit(piece) for find_pairs' pieces in its order, cells and boxes cut in ranges of
   /// at most `cells_per_piece` and `boxes_per_piece` (any sizes give the same pairs in the same
   /// order once the pieces' lists are joined).
