@@ -294,10 +294,13 @@ void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler, double until) {
   }
   grid_.build(slow_grown_);
   grid_.find_pairs(candidates_, scheduler);
-  // Grid ids are positions in slow_ids_, which is ascending: mapping keeps i < j.
+  // Grid ids are positions in slow_ids_, which is ascending: mapping keeps i < j. Sorted once
+  // here, the candidates give every frame's pairs in order (no sort of them per frame), and
+  // their checks read the boxes in ascending order of the first object.
   for (BroadPair& pair : candidates_) {
     pair = {slow_ids_[std::size_t(pair.first)], slow_ids_[std::size_t(pair.second)]};
   }
+  sort_pairs(candidates_, sort_scratch_);
   wake_.assign(candidates_.size(), time_);
   expires_at_ = until;
   needs_rebuild_ = false;
@@ -404,12 +407,42 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
   if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
     check_candidates(0, count, pairs, stats_.checks, stats_.skipped_checks);
   } else {
-    // Each candidate writes only its own wake time; pairs and counters go to the worker's share.
-    on_workers(scheduler, count, kObjectsPerTask, pairs, [&](int begin, int end, WorkerOutput& out) {
-      check_candidates(begin, end, out.pairs, out.checks, out.skipped);
+    // Ranges of candidates on the workers, each into its own share (a candidate writes only its
+    // own wake time), the shares joined in range order: the candidates' order, ascending.
+    const int ranges = (count + kObjectsPerTask - 1) / kObjectsPerTask;
+    if (range_out_.size() < static_cast<std::size_t>(ranges)) range_out_.resize(static_cast<std::size_t>(ranges));
+    parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
+      for (int r = begin; r < end; ++r) {
+        WorkerOutput& out = range_out_[static_cast<std::size_t>(r)];
+        out.pairs.clear();
+        out.checks = 0;
+        out.skipped = 0;
+        check_candidates(r * kObjectsPerTask, std::min(count, (r + 1) * kObjectsPerTask), out.pairs,
+                         out.checks, out.skipped);
+      }
     });
+    for (int r = 0; r < ranges; ++r) {
+      const WorkerOutput& out = range_out_[static_cast<std::size_t>(r)];
+      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
+      stats_.checks += out.checks;
+      stats_.skipped_checks += out.skipped;
+    }
   }
+  const std::size_t candidate_pairs = pairs.size();
   find_fast_pairs(pairs, scheduler);
+  merge_fast_pairs(pairs, candidate_pairs);
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::merge_fast_pairs(PairList& pairs, std::size_t sorted_end) {
+  if (pairs.size() == sorted_end) return;
+  const auto middle = pairs.begin() + static_cast<std::ptrdiff_t>(sorted_end);
+  fast_sorted_.assign(middle, pairs.end());
+  sort_pairs(fast_sorted_, sort_scratch_);
+  // (std::inplace_merge would allocate a buffer every frame; merged_ keeps its capacity)
+  merged_.resize(pairs.size());
+  std::merge(pairs.begin(), middle, fast_sorted_.begin(), fast_sorted_.end(), merged_.begin());
+  pairs.swap(merged_);
 }
 
 template <int D>

@@ -81,7 +81,7 @@ class BodyBroadPhaseN {
   }
 
   /// Every overlapping pair once, (i, j) with i < j, sorted (the temporal broad phase on the
-  /// scheduler's workers when there is one).
+  /// scheduler's workers when there is one, and sorted already).
   void find_pairs(PairList& pairs, TaskScheduler* scheduler = nullptr) {
     std::visit(
         [&](auto& bp) {
@@ -89,10 +89,10 @@ class BodyBroadPhaseN {
             bp.find_pairs(pairs, scheduler);
           } else {
             bp.find_pairs(pairs);
+            sort_pairs(pairs, sort_scratch_);
           }
         },
         bp_);
-    sort_pairs(pairs, sort_scratch_);
   }
 
   void query(const AabbN<D>& box, QueryCallback callback) const {

@@ -95,14 +95,14 @@ class TemporalBroadPhaseN {
   /// sleeping candidate pairs (their wake times assumed the old bound); a lowered one keeps
   /// the wake times, which stay conservative. Throws InvalidInput for a bad bound or count.
   void set_speed_bounds(std::span<const float> speed_bounds);
-  /// Every pair overlapping at the current time, once, i < j; order: the candidates' pairs in
-  /// candidate order, then the fast objects'.
+  /// Every pair overlapping at the current time, once, i < j, in ascending order (as
+  /// sort_pairs leaves them: the candidates are kept sorted, so only the fast objects' few
+  /// pairs are sorted, then merged in).
   void find_pairs(PairList& pairs);
 
   /// update, set_speed_bounds and find_pairs with their per-object and per-candidate loops
-  /// spread over a game's job system (null: the calls above). The same pairs and the same state
-  /// for any worker count; the pairs' order then depends on the schedule (sort_pairs for a
-  /// fixed one).
+  /// spread over a game's job system (null: the calls above). The same pairs in the same order
+  /// and the same state for any worker count.
   void update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler);
   void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler);
   void find_pairs(PairList& pairs, TaskScheduler* scheduler);
@@ -152,7 +152,7 @@ class TemporalBroadPhaseN {
   std::vector<AabbN<D>> boxes_;
   std::vector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
   std::vector<float> speeds_;
-  std::vector<BroadPair> candidates_;
+  std::vector<BroadPair> candidates_;  // ascending: checked in order, the pairs come out sorted
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
@@ -172,6 +172,10 @@ class TemporalBroadPhaseN {
     std::int64_t skipped = 0;
   };
   std::vector<WorkerOutput> worker_out_;
+  std::vector<WorkerOutput> range_out_;  // find_pairs on workers: each range of candidates' share
+  PairList fast_sorted_;                 // find_pairs' scratch: the fast objects' pairs, sorted
+  PairList merged_;                      // find_pairs' scratch: candidates' and fast pairs merged
+  PairList sort_scratch_;                // sort_pairs' storage (candidates at a rebuild, fast pairs)
   /// task(begin, end, share) over [0, count) on the scheduler's workers, each range writing
   /// its worker's share; then the shares' pairs appended to `pairs` and their counters added.
   template <class Task>
@@ -182,6 +186,9 @@ class TemporalBroadPhaseN {
   /// The fast objects' pairs: with the slow ones by grid queries (on the scheduler's workers
   /// when given), among themselves by sort and sweep or, when many, a grid of their own.
   void find_fast_pairs(PairList& pairs, TaskScheduler* scheduler);
+  /// pairs[0, sorted_end) is ascending, the rest (the fast objects' pairs, none among the first
+  /// part) in any order: sorts the rest and merges it in.
+  void merge_fast_pairs(PairList& pairs, std::size_t sorted_end);
   std::vector<int> slow_ids_;          // grid slot -> object id, ascending
   std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
