@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -167,9 +168,10 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
   const double dt = time - time_;
   const int n = size();
   broke_.resize(boxes_.size());
-  // Each object's verdict into its own slot (in parallel), then the demotions in id order. A
-  // box is_valid_box refuses makes validate_boxes name the first bad one before anything
-  // changes.
+  next_boxes_.resize(boxes_.size());
+  // Each object's verdict into its own slot and its box into next_boxes_ (in parallel), then
+  // the demotions in id order. A box is_valid_box refuses makes validate_boxes name the first
+  // bad one before anything changes; otherwise next_boxes_ becomes boxes_ (a swap, no copy).
   std::atomic<bool> any_bad{false};
   const bool grown_current = !needs_rebuild_;  // grown_ and is_fast_ are from a rebuild of these objects
   parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
@@ -182,6 +184,7 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
     const unsigned char* const is_fast = is_fast_.data();
     const AabbN<D>* const grown = grown_.data();
     unsigned char* const broke = broke_.data();
+    AabbN<D>* const next = next_boxes_.data();
     const bool check_grown = grown_current;
     unsigned bad = 0;
     for (int i = begin; i < end; ++i) {
@@ -189,27 +192,41 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
       // (before rebuilding, grown_ may be stale or short: the object's own box stands in)
       const unsigned tests = reach_and_inside<D>(before_all[i], now, check_grown ? grown[i] : now,
                                                  static_cast<double>(speeds[i]) * dt);
-      bad |= unsigned{!is_valid_box(now)};
+      // A NaN or infinite coordinate fails the reach test (the previous box is finite, the reach
+      // too), so only a box that failed it needs the whole is_valid_box (a few a frame, a branch
+      // that predicts well); min > max can pass it, so that comparison is made for every box.
+      unsigned ordered = 1;
+      for (int k = 0; k < D; ++k) ordered &= unsigned{now.min[k] <= now.max[k]};
+      bad |= ordered ^ 1u;
+      if ((tests & 1u) == 0) bad |= unsigned{!is_valid_box(now)};
       unsigned verdict = (tests & 1u) != 0 ? kKept : kBrokeBound;
       if (check_grown && tests == 1u && is_fast[i] == 0) verdict = kLeftGrownBox;  // (rare)
       broke[i] = static_cast<unsigned char>(verdict);
+      next[i] = now;
     }
     if (bad != 0) any_bad.store(true, std::memory_order_relaxed);
   });
   if (any_bad.load(std::memory_order_relaxed)) validate_boxes(boxes);
-  for (int i = 0; i < n; ++i) {
+  boxes_.swap(next_boxes_);
+  // The verdicts 8 at a time: nearly all objects keep their bounds, so most words are 0.
+  const auto demote_if_broke = [&](int i) {
     const unsigned char verdict = broke_[std::size_t(i)];
-    if (verdict == kKept) continue;
+    if (verdict == kKept) return;
     if (verdict == kBrokeBound) ++stats_.bound_violations;
     // Broke its bound, or left its grown box: the candidate set no longer covers it. It joins
     // the fast objects until the next rebuild (its pairs found by a grid query every frame, its
     // candidate pairs ignored), unless so many do that a rebuild is cheaper. A fast object is
     // checked every frame anyway.
     if (!needs_rebuild_ && !is_fast_[std::size_t(i)]) demote(i);
+  };
+  const int whole = n - n % 8;
+  for (int i = 0; i < whole; i += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, broke_.data() + i, sizeof word);
+    if (word == 0) continue;
+    for (int k = i; k < i + 8; ++k) demote_if_broke(k);
   }
-  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
-    std::copy(boxes.begin() + begin, boxes.begin() + end, boxes_.begin() + begin);
-  });
+  for (int i = whole; i < n; ++i) demote_if_broke(i);
   time_ = time;
 }
 
@@ -564,7 +581,11 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
 
 template <int D>
 std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
-  return (boxes_.capacity() + grown_.capacity()) * sizeof(AabbN<D>) +
+  std::size_t range_pairs = 0;
+  for (const WorkerOutput& out : range_out_) range_pairs += out.pairs.capacity();
+  return (boxes_.capacity() + next_boxes_.capacity() + grown_.capacity()) * sizeof(AabbN<D>) +
+         (range_pairs + fast_sorted_.capacity() + merged_.capacity() + sort_scratch_.capacity()) * sizeof(BroadPair) +
+         broke_.capacity() +
          (speeds_.capacity() + scratch_.capacity()) * sizeof(float) +
          candidates_.capacity() * sizeof(BroadPair) + wake_.capacity() * sizeof(double) +
          (slow_grown_.capacity() + fast_boxes_.capacity()) * sizeof(AabbN<D>) +

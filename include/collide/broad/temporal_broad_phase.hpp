@@ -166,6 +166,7 @@ class TemporalBroadPhaseN {
   SortedGridN<D> fast_grid_;           // over fast_boxes_, when there are many fast objects
   PairList fast_pairs_;                // fast_grid_'s pairs (places in fast_)
   std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box
+  std::vector<AabbN<D>> next_boxes_;   // update's scratch: the new boxes, swapped with boxes_ when all are valid
   struct WorkerOutput {                // a worker's share of find_pairs
     PairList pairs;
     std::int64_t checks = 0;
