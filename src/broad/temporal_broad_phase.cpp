@@ -248,40 +248,40 @@ void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bound
 template <int D>
 void TemporalBroadPhaseN<D>::set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler) {
   if (speed_bounds.size() != speeds_.size()) validate_speed_bounds(speed_bounds, speeds_.size());
-  // Per object (in parallel): raised (1), or a bad bound (2, named by validate_speed_bounds
-  // before anything changes); then the bounds stored.
-  raised_.resize(speeds_.size());
+  // One pass per object (in parallel): the new bound stored beside the old, whether any was
+  // raised and any is bad (named by validate_speed_bounds before anything changes); then the
+  // new bounds swapped in.
+  next_speeds_.resize(speeds_.size());
   std::atomic<unsigned> found{0};  // bit 0: a bound raised, bit 1: a bad bound
   const auto n = static_cast<int>(speeds_.size());
   parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
-    // (arrays in locals: the flags are byte stores, which may alias any member read through this)
     const float* const bounds = speed_bounds.data();
     const float* const speeds = speeds_.data();
-    unsigned char* const raised = raised_.data();
-    unsigned any = 0;
+    float* const next = next_speeds_.data();
+    unsigned raised = 0, bad = 0;
     for (int i = begin; i < end; ++i) {
       const float v = bounds[i];
-      // (a bad bound that is also higher sets both bits: it throws below either way)
-      const unsigned flag = unsigned{!is_valid_speed_bound(v)} * 2u | unsigned{v > speeds[i]};
-      raised[i] = static_cast<unsigned char>(flag);
-      any |= flag;
+      bad |= unsigned{!is_valid_speed_bound(v)};
+      raised |= unsigned{v > speeds[i]};
+      next[i] = v;
     }
-    if (any != 0) found.fetch_or(any, std::memory_order_relaxed);
+    if ((raised | bad) != 0) found.fetch_or(raised | bad << 1, std::memory_order_relaxed);
   });
   const unsigned any = found.load(std::memory_order_relaxed);
   if (any & 2u) validate_speed_bounds(speed_bounds, speeds_.size());
-  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
-    std::copy(speed_bounds.begin() + begin, speed_bounds.begin() + end, speeds_.begin() + begin);
-  });
+  speeds_.swap(next_speeds_);  // next_speeds_ holds the old bounds now
   if (!(any & 1u) || needs_rebuild_) return;
   // A sleeping pair with a faster object may meet sooner than its wake time: check it at the
   // next find_pairs. (Its grown box assumed the old bound, too; update() rebuilds when an
   // object leaves it.)
   const auto candidate_count = static_cast<int>(candidates_.size());
   parallel_for(scheduler, candidate_count, kObjectsPerTask, [&](int begin, int end, int) {
+    const float* const now = speeds_.data();
+    const float* const before = next_speeds_.data();
     for (int c = begin; c < end; ++c) {
       const auto [a, b] = candidates_[std::size_t(c)];
-      if (raised_[std::size_t(a)] | raised_[std::size_t(b)]) wake_[std::size_t(c)] = std::min(wake_[std::size_t(c)], time_);
+      const bool raised = (now[a] > before[a]) | (now[b] > before[b]);
+      if (raised) wake_[std::size_t(c)] = std::min(wake_[std::size_t(c)], time_);
     }
   });
 }
@@ -591,7 +591,7 @@ std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
          (slow_grown_.capacity() + fast_boxes_.capacity()) * sizeof(AabbN<D>) +
          fast_pairs_.capacity() * sizeof(BroadPair) + fast_grid_.memory_bytes() +
          (slow_ids_.capacity() + fast_.capacity() + fast_order_.capacity()) * sizeof(int) + is_fast_.capacity() +
-         raised_.capacity() + grid_.memory_bytes();
+         next_speeds_.capacity() * sizeof(float) + grid_.memory_bytes();
 }
 
 template class TemporalBroadPhaseN<2>;

@@ -156,7 +156,7 @@ class TemporalBroadPhaseN {
   std::vector<double> wake_;      // earliest time each candidate can overlap
   HierarchicalGridN<D> grid_;     // over grown_
   std::vector<float> scratch_;
-  std::vector<unsigned char> raised_;  // set_speed_bounds' scratch: per object, bound raised (1) / bad (2)
+  std::vector<float> next_speeds_;     // set_speed_bounds' scratch: the new bounds, then the old ones
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   std::vector<unsigned char> is_fast_; // per object, at the last rebuild
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
