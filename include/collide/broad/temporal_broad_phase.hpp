@@ -36,8 +36,9 @@
 /// The result equals brute force at every frame while the contract holds, and also when it
 /// does not (thanks to 4).
 ///
-/// Memory per object: current and previous box, grown box, speed (3 * 8*D + 4 bytes), the
-/// hierarchical grid over the grown boxes, and 16 bytes per candidate pair.
+/// Memory per object: the current box and update's next one, the grown box, the speed bound and
+/// set_speed_bounds' next one (3 * 8*D + 8 bytes, plus 2 flag bytes), the hierarchical grid over
+/// the grown boxes, and 16 bytes per candidate pair.
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/hierarchical_grid.hpp>
