@@ -13,6 +13,7 @@ target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
 # everything else as above. Built on request only (`--target bench_narrow3_avx2`): it compiles
 # the whole library a second time.
 set(COLLIDE_JOLT_ISA_FLAGS -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma)
+set(COLLIDE_JOLT_ISA_NAME "library compiled -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (Jolt's set)")
 add_library(collide_avx2 STATIC EXCLUDE_FROM_ALL ${COLLIDE_SOURCES})
 target_include_directories(collide_avx2 PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(collide_avx2 PUBLIC glm::glm)
@@ -21,4 +22,4 @@ add_executable(bench_narrow3_avx2 EXCLUDE_FROM_ALL ${CMAKE_CURRENT_SOURCE_DIR}/n
 target_link_libraries(bench_narrow3_avx2 PRIVATE collide_avx2 benchmark::benchmark ${narrow3_peers})
 target_include_directories(bench_narrow3_avx2 PRIVATE ${PROJECT_SOURCE_DIR}/tests)
 target_compile_definitions(bench_narrow3_avx2 PRIVATE COLLIDE_DATA_DIR="${COLLIDE_DATA_DIR}"
-  "COLLIDE_BENCH_ISA=\"library compiled -mavx2 -mbmi -mpopcnt -mlzcnt -mf16c -mfma (Jolt's set)\"")
+  "COLLIDE_BENCH_ISA=\"${COLLIDE_JOLT_ISA_NAME}\"")
