@@ -158,10 +158,11 @@ bool HierarchicalGridN<D>::coarse_looks_up_fine(int fine, int coarse) const noex
   // A fine box covers at most 2 cells per axis of a coarser level; a coarse box, up to
   // kLevelRatio^steps + 1 per axis of the finer one (its side is at most its own cell's).
   // Cells visited either way, in double (no overflow for distant levels).
-  const int steps = levels_[static_cast<std::size_t>(coarse)].exponent - levels_[static_cast<std::size_t>(fine)].exponent;
-  const double per_axis = std::pow(static_cast<double>(kLevelRatio), steps) + 1.0;
-  const double fine_boxes = static_cast<double>(levels_[static_cast<std::size_t>(fine)].ids.size());
-  const double coarse_boxes = static_cast<double>(levels_[static_cast<std::size_t>(coarse)].ids.size());
+  const Level& f = levels_[static_cast<std::size_t>(fine)];
+  const Level& c = levels_[static_cast<std::size_t>(coarse)];
+  const double per_axis = std::pow(static_cast<double>(kLevelRatio), c.exponent - f.exponent) + 1.0;
+  const auto fine_boxes = static_cast<double>(f.ids.size());
+  const auto coarse_boxes = static_cast<double>(c.ids.size());
   return coarse_boxes * std::pow(per_axis, D) < fine_boxes * static_cast<double>(1 << D);
 }
 
@@ -172,7 +173,9 @@ void HierarchicalGridN<D>::for_each_piece(int cells_per_piece, int boxes_per_pie
   for (int l = 0; l < level_total; ++l) {
     if (levels_[static_cast<std::size_t>(l)].ids.empty()) continue;
     const int cells = levels_[static_cast<std::size_t>(l)].grid.cell_count();
-    for (int c = 0; c < cells; c += cells_per_piece) visit(Piece{l, -1, c, std::min(cells, c + cells_per_piece), false});
+    for (int c = 0; c < cells; c += cells_per_piece) {
+      visit(Piece{l, -1, c, std::min(cells, c + cells_per_piece), false});
+    }
     for (int m = l + 1; m < level_total; ++m) {
       if (levels_[static_cast<std::size_t>(m)].ids.empty()) continue;
       // The boxes of whichever level visits fewer cells look up the other's.

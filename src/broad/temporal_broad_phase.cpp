@@ -382,17 +382,21 @@ void TemporalBroadPhaseN<D>::check_candidates(int begin, int end, PairList& out,
 
 template <int D>
 template <class Task>
-void TemporalBroadPhaseN<D>::on_workers(TaskScheduler* scheduler, int count, int min_range, PairList& pairs,
-                                        Task&& task) {
-  worker_out_.resize(static_cast<std::size_t>(scheduler->worker_count()));
-  for (WorkerOutput& out : worker_out_) {  // (capacities kept: no allocation in a steady state)
-    out.pairs.clear();
-    out.checks = 0;
-    out.skipped = 0;
-  }
-  parallel_for(scheduler, count, min_range,
-               [&](int begin, int end, int w) { task(begin, end, worker_out_[static_cast<std::size_t>(w)]); });
-  for (const WorkerOutput& out : worker_out_) {
+void TemporalBroadPhaseN<D>::on_ranges(TaskScheduler* scheduler, int count, int per_range, PairList& pairs,
+                                       Task&& task) {
+  const int ranges = (count + per_range - 1) / per_range;
+  if (range_out_.size() < static_cast<std::size_t>(ranges)) range_out_.resize(static_cast<std::size_t>(ranges));
+  parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
+    for (int r = begin; r < end; ++r) {
+      RangeOutput& out = range_out_[static_cast<std::size_t>(r)];  // (capacity kept: no allocation)
+      out.pairs.clear();
+      out.checks = 0;
+      out.skipped = 0;
+      task(r * per_range, std::min(count, (r + 1) * per_range), out);
+    }
+  });
+  for (int r = 0; r < ranges; ++r) {
+    const RangeOutput& out = range_out_[static_cast<std::size_t>(r)];
     pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
     stats_.checks += out.checks;
     stats_.skipped_checks += out.skipped;
@@ -424,26 +428,11 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
   if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
     check_candidates(0, count, pairs, stats_.checks, stats_.skipped_checks);
   } else {
-    // Ranges of candidates on the workers, each into its own share (a candidate writes only its
-    // own wake time), the shares joined in range order: the candidates' order, ascending.
-    const int ranges = (count + kObjectsPerTask - 1) / kObjectsPerTask;
-    if (range_out_.size() < static_cast<std::size_t>(ranges)) range_out_.resize(static_cast<std::size_t>(ranges));
-    parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
-      for (int r = begin; r < end; ++r) {
-        WorkerOutput& out = range_out_[static_cast<std::size_t>(r)];
-        out.pairs.clear();
-        out.checks = 0;
-        out.skipped = 0;
-        check_candidates(r * kObjectsPerTask, std::min(count, (r + 1) * kObjectsPerTask), out.pairs,
-                         out.checks, out.skipped);
-      }
+    // A candidate writes only its own wake time; the ranges' pairs are joined in range order:
+    // the candidates' order, ascending.
+    on_ranges(scheduler, count, kObjectsPerTask, pairs, [&](int begin, int end, RangeOutput& out) {
+      check_candidates(begin, end, out.pairs, out.checks, out.skipped);
     });
-    for (int r = 0; r < ranges; ++r) {
-      const WorkerOutput& out = range_out_[static_cast<std::size_t>(r)];
-      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
-      stats_.checks += out.checks;
-      stats_.skipped_checks += out.skipped;
-    }
   }
   const std::size_t candidate_pairs = pairs.size();
   find_fast_pairs(pairs, scheduler);
@@ -485,8 +474,8 @@ void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs, TaskScheduler* sch
   if (scheduler == nullptr || scheduler->worker_count() < 2 || fast_count <= kFastObjectsPerTask) {
     query_fast(0, fast_count, pairs, stats_.checks);
   } else {
-    on_workers(scheduler, fast_count, kFastObjectsPerTask, pairs,
-               [&](int begin, int end, WorkerOutput& out) { query_fast(begin, end, out.pairs, out.checks); });
+    on_ranges(scheduler, fast_count, kFastObjectsPerTask, pairs,
+              [&](int begin, int end, RangeOutput& out) { query_fast(begin, end, out.pairs, out.checks); });
   }
   if (fast_.size() >= kFastGridFrom) {
     // Many fast objects: a sweep along x checks each against every other whose box spans the
@@ -582,9 +571,10 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
 template <int D>
 std::size_t TemporalBroadPhaseN<D>::memory_bytes() const noexcept {
   std::size_t range_pairs = 0;
-  for (const WorkerOutput& out : range_out_) range_pairs += out.pairs.capacity();
+  for (const RangeOutput& out : range_out_) range_pairs += out.pairs.capacity();
   return (boxes_.capacity() + next_boxes_.capacity() + grown_.capacity()) * sizeof(AabbN<D>) +
-         (range_pairs + fast_sorted_.capacity() + merged_.capacity() + sort_scratch_.capacity()) * sizeof(BroadPair) +
+         (range_pairs + fast_sorted_.capacity() + merged_.capacity() + sort_scratch_.capacity()) *
+             sizeof(BroadPair) +
          broke_.capacity() +
          (speeds_.capacity() + scratch_.capacity()) * sizeof(float) +
          candidates_.capacity() * sizeof(BroadPair) + wake_.capacity() * sizeof(double) +

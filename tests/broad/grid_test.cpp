@@ -308,9 +308,15 @@ void check_few_coarse_boxes(std::uint32_t seed) {
   std::mt19937 rng(seed);
   const float extent = D == 2 ? 40.0f : 12.0f;
   test::Boxes<D> boxes;
-  for (int i = 0; i < 3000; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 0.25f, 0.5f)));
-  for (int i = 0; i < 12; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 1.2f, 2.0f)));
-  for (int i = 0; i < 2; ++i) boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, 5.0f, 8.0f)));
+  const auto add = [&](int count, float half_lo, float half_hi) {
+    for (int i = 0; i < count; ++i) {
+      boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent),
+                                      test::random_vec<D>(rng, half_lo, half_hi)));
+    }
+  };
+  add(3000, 0.25f, 0.5f);
+  add(12, 1.2f, 2.0f);
+  add(2, 5.0f, 8.0f);
   std::shuffle(boxes.begin(), boxes.end(), rng);
   HierarchicalGridN<D> grid;
   grid.build(boxes);

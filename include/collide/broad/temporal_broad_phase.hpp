@@ -168,20 +168,20 @@ class TemporalBroadPhaseN {
   PairList fast_pairs_;                // fast_grid_'s pairs (places in fast_)
   std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box
   std::vector<AabbN<D>> next_boxes_;   // update's scratch: the new boxes, swapped with boxes_ when all are valid
-  struct WorkerOutput {                // a worker's share of find_pairs
+  struct RangeOutput {                 // a range's share of find_pairs on the workers
     PairList pairs;
     std::int64_t checks = 0;
     std::int64_t skipped = 0;
   };
-  std::vector<WorkerOutput> worker_out_;
-  std::vector<WorkerOutput> range_out_;  // find_pairs on workers: each range of candidates' share
+  std::vector<RangeOutput> range_out_;
   PairList fast_sorted_;                 // find_pairs' scratch: the fast objects' pairs, sorted
   PairList merged_;                      // find_pairs' scratch: candidates' and fast pairs merged
   PairList sort_scratch_;                // sort_pairs' storage (candidates at a rebuild, fast pairs)
-  /// task(begin, end, share) over [0, count) on the scheduler's workers, each range writing
-  /// its worker's share; then the shares' pairs appended to `pairs` and their counters added.
+  /// task(begin, end, share) over [0, count) cut into ranges of `per_range`, on the scheduler's
+  /// workers, each range writing its own share; then the shares' pairs appended to `pairs` in
+  /// range order (the same list for any schedule) and their counters added.
   template <class Task>
-  void on_workers(TaskScheduler* scheduler, int count, int min_range, PairList& pairs, Task&& task);
+  void on_ranges(TaskScheduler* scheduler, int count, int per_range, PairList& pairs, Task&& task);
   /// The candidate checks of candidates [begin, end) (wake time, overlap, next wake time): the
   /// overlapping pairs appended to `out` in candidate order, checks and sleepers counted.
   void check_candidates(int begin, int end, PairList& out, std::int64_t& checks, std::int64_t& skipped);
