@@ -11,6 +11,7 @@
 #include <collide/ccd/raycast.hpp>
 #include <collide/core/error.hpp>
 #include <collide/core/finite_range.hpp>
+#include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/shape/box.hpp>
@@ -26,6 +27,7 @@
 #include <collide/shape/triangle.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -33,6 +35,7 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace collide::fuzz {
@@ -80,12 +83,47 @@ inline bool finite(float x) { return std::isfinite(x); }
 inline bool finite(Vec2 v) { return is_finite(v); }
 inline bool finite(Vec3 v) { return is_finite(v); }
 
+/// Equal floats, bit for bit, or both NaN (which NaN comes out of an operation with two may
+/// differ between a scalar and a packed instruction).
+inline bool same_float(float a, float b) {
+  return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// "" when the batched polygon-circle contact gives every pair the single call's manifold: five
+/// placements of `probe` around `polygon` (one group of four lanes, then the tail).
+inline std::string check_contact_batch(const Polygon& polygon, const Circle& probe) {
+  std::array<PolygonCirclePair, 5> pairs;
+  const std::array<Vec2, 5> offsets{Vec2{0.0f, 0.0f}, Vec2{1.5f, 0.0f}, Vec2{-0.75f, 2.0f}, Vec2{0.0f, -1e4f},
+                                    Vec2{1e-3f, 1e-3f}};
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    pairs[i] = {&polygon, Transform::from(Vec2{0.0f, 0.0f}, 0.3f * float(i)), &probe, Transform{offsets[i], Rot2{}}};
+  }
+  std::array<Manifold, 5> batch;
+  contact(pairs, batch);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Manifold one = contact(polygon, pairs[i].polygon_xf, probe, pairs[i].circle_xf);
+    const Manifold& m = batch[i];
+    bool same = m.count == one.count && same_float(m.normal.x, one.normal.x) && same_float(m.normal.y, one.normal.y);
+    for (int k = 0; same && k < one.count; ++k) {
+      const ManifoldPoint& p = m.points[k];
+      const ManifoldPoint& q = one.points[k];
+      same = same_float(p.point.x, q.point.x) && same_float(p.point.y, q.point.y) && same_float(p.depth, q.depth) &&
+             p.id == q.id;
+    }
+    if (!same) return "batched polygon-circle contact differs from the single call";
+  }
+  return {};
+}
+
 /// "" when the queries of a built 2D shape against the fixed probes give finite answers (asked
 /// of shapes within kFiniteQueryRange; beyond it the queries run for the sanitizers alone).
 template <class S>
 std::string probe2(const S& shape) {
   const Circle probe = make_circle({0.5f, 0.25f}, 1.0f);
   const Transform xf{};
+  if constexpr (std::is_same_v<S, Polygon>) {
+    if (std::string batch = check_contact_batch(shape, probe); !batch.empty()) return batch;
+  }
   (void)overlap(shape, xf, probe, xf);
   const DistanceResult d = distance(shape, xf, probe, xf);
   const RayHit hit = raycast(shape, xf, Ray{{-100.0f, 0.1f}, {200.0f, 0.0f}});

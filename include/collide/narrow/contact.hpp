@@ -28,6 +28,7 @@
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <cstdint>
+#include <span>
 
 namespace collide {
 
@@ -52,6 +53,31 @@ template <Shape2DType A, Shape2DType B>
 /// `contact` for shapes of types known only at run time.
 [[nodiscard]] Manifold contact(const Shape2D& a, const Transform& xa, const Shape2D& b,
                                const Transform& xb) noexcept;
+
+/// One pair of a batched polygon-circle `contact`: the shapes by pointer (not copied; they must
+/// outlive the call) and their placements. A is the polygon, B the circle.
+struct PolygonCirclePair {
+  const Polygon* polygon = nullptr;  ///< A (a valid polygon, as `contact` takes)
+  Transform polygon_xf{};            ///< A's placement, world space
+  const Circle* circle = nullptr;    ///< B
+  Transform circle_xf{};             ///< B's placement, world space
+};
+
+/// The manifolds of many polygon-circle pairs: `manifolds[i]` is `contact(*pairs[i].polygon,
+/// pairs[i].polygon_xf, *pairs[i].circle, pairs[i].circle_xf)`, bit for bit (normal from the
+/// polygon to the circle, world space, one point). For a game's many small shapes against
+/// level tiles (particles, bullets, debris): the same steps as the single call (the edge of
+/// greatest separation, then the Voronoi region of the centre; Ericson 5.2.7), worked for four
+/// pairs side by side in SIMD lanes, every branch of the single call a select, so a stream of
+/// unrelated pairs costs no mispredicted branches and one pair's long chain of dependent steps
+/// overlaps three others'. Pairs are taken four at a time; the rest (fewer than four) one by
+/// one. Any polygon size up to kMaxPolygonVertices (a group runs as many edge steps as its
+/// largest polygon has edges).
+///
+/// Writes min(pairs.size(), manifolds.size()) manifolds (a shorter output span is a caller's
+/// error, caught by COLLIDE_ASSERT in debug builds). Pointers must be non-null and shapes and
+/// transforms valid, as for `contact`. Allocates nothing, throws nothing.
+void contact(std::span<const PolygonCirclePair> pairs, std::span<Manifold> manifolds) noexcept;
 
 /// The contact manifold between 3D shape A placed by `xa` and shape B placed by `xb`: normal
 /// unit from A to B (world space), up to 4 world points midway between the surfaces, each with
