@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -15,24 +14,13 @@
 #include <collide/narrow/contact.hpp>
 
 #include "contact_routines.hpp"
+#include "support/manifold_bits.hpp"
 #include "support/test_util.hpp"
 
 namespace collide {
 namespace {
 
-bool bitwise_equal(const Manifold& m, const Manifold& expected) {
-  if (m.count != expected.count) return false;
-  if (std::memcmp(&m.normal, &expected.normal, sizeof(Vec2)) != 0) return false;
-  for (int i = 0; i < m.count; ++i) {
-    const ManifoldPoint& p = m.points[i];
-    const ManifoldPoint& q = expected.points[i];
-    if (std::memcmp(&p.point, &q.point, sizeof(Vec2)) != 0 ||
-        std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || !(p.id == q.id)) {
-      return false;
-    }
-  }
-  return true;
-}
+using test::bitwise_equal;
 
 /// Polygons of every size class the lanes see side by side: segments' two sides (2 vertices,
 /// built by hand as inside collide), boxes, 3- to 8-gons inline, and 9- to 64-gons on the heap;

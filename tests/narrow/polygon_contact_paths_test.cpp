@@ -7,7 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <random>
 #include <utility>
 
@@ -16,11 +15,13 @@
 #include <collide/shape/segment.hpp>
 
 #include "contact_routines.hpp"
+#include "support/manifold_bits.hpp"
 #include "support/test_util.hpp"
 
 namespace collide {
 namespace {
 
+using test::bitwise_equal;
 using detail::two_vertex_polygon;  // a capsule or segment as contact() sees it
 
 /// A polygon of 2..8 vertices, size about 1, rounded one time in three: every combination of
@@ -52,20 +53,6 @@ std::pair<Transform, Transform> random_frames(std::mt19937& rng, int i) {
   if (i % 7 == 0) xb.q = xa.q;
   if (i % 11 == 0) xb = xa;
   return {xa, xb};
-}
-
-bool bitwise_equal(const Manifold& m, const Manifold& expected) {
-  if (m.count != expected.count) return false;
-  if (std::memcmp(&m.normal, &expected.normal, sizeof(Vec2)) != 0) return false;
-  for (int i = 0; i < m.count; ++i) {
-    const ManifoldPoint& p = m.points[i];
-    const ManifoldPoint& q = expected.points[i];
-    if (std::memcmp(&p.point, &q.point, sizeof(Vec2)) != 0 ||
-        std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || !(p.id == q.id)) {
-      return false;
-    }
-  }
-  return true;
 }
 
 TEST(PolygonContactPaths, SmallPolygonPathMatchesGeneralPathBitwise) {
