@@ -109,10 +109,6 @@ using simd::Lanes;
 
 /// Pairs side by side in the batch's lanes.
 constexpr int kPairLanes = 4;
-/// The batch prefetches the shapes of the group this many groups ahead: a game's pairs point
-/// at shapes all over its memory, and each group's loads otherwise wait on the cache one after
-/// another (the edge scan's loop bound and loads need the polygon's count first).
-constexpr std::size_t kPrefetchGroupsAhead = 2;
 
 /// Lane k of `v`.
 std::array<float, kPairLanes> lane_values(Lanes v) noexcept {
@@ -127,9 +123,8 @@ struct PointLanes {
   Lanes y;
 };
 
-/// Four points (8 bytes each, anywhere) as x and y lanes. In SSE2, one 8-byte load each and four
-/// shuffles (a float at a time, the compiler's own gather took two loads and three shuffles
-/// more per lane pair).
+/// Four points (8 bytes each, anywhere) as x and y lanes: in SSE2, one 8-byte load a point and
+/// four shuffles in all (`simd::lanes` takes the floats one at a time, twice the loads).
 PointLanes point_lanes(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3) noexcept {
 #if defined(__SSE2__)
   const auto load = [](const Vec2& p) {  // x y 0 0 (__m128i may alias anything)
@@ -177,13 +172,16 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
                                                        pairs[2].polygon, pairs[3].polygon};
   const std::array<const Circle*, kPairLanes> circle{pairs[0].circle, pairs[1].circle,
                                                      pairs[2].circle, pairs[3].circle};
-  const TransformLanes xa =
-      transform_lanes(pairs[0].polygon_xf, pairs[1].polygon_xf, pairs[2].polygon_xf, pairs[3].polygon_xf);
-  const TransformLanes xb =
-      transform_lanes(pairs[0].circle_xf, pairs[1].circle_xf, pairs[2].circle_xf, pairs[3].circle_xf);
-  const PointLanes centre = point_lanes(circle[0]->center, circle[1]->center, circle[2]->center, circle[3]->center);
-  const Lanes ra = simd::lanes(polygon[0]->radius, polygon[1]->radius, polygon[2]->radius, polygon[3]->radius);
-  const Lanes rb = simd::lanes(circle[0]->radius, circle[1]->radius, circle[2]->radius, circle[3]->radius);
+  const TransformLanes xa = transform_lanes(pairs[0].polygon_xf, pairs[1].polygon_xf,
+                                            pairs[2].polygon_xf, pairs[3].polygon_xf);
+  const TransformLanes xb = transform_lanes(pairs[0].circle_xf, pairs[1].circle_xf,
+                                            pairs[2].circle_xf, pairs[3].circle_xf);
+  const PointLanes centre =
+      point_lanes(circle[0]->center, circle[1]->center, circle[2]->center, circle[3]->center);
+  const Lanes ra =
+      simd::lanes(polygon[0]->radius, polygon[1]->radius, polygon[2]->radius, polygon[3]->radius);
+  const Lanes rb =
+      simd::lanes(circle[0]->radius, circle[1]->radius, circle[2]->radius, circle[3]->radius);
   // B's centre in A's frame, as the single call forms it: the world offset
   // (xb.p - xa.p) + rotate(xb.q, centre), then inv_rotate(xa.q, offset).
   const Lanes wx = (xb.p.x - xa.p.x) + (xb.c * centre.x - xb.s * centre.y);
@@ -210,9 +208,10 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
   const auto scan = [&](auto same_counts) {
     for (int i = 0; i < steps; ++i) {
       // Polygons of one size (a level's tiles, all boxes) need no clamp of the index.
-      const int i0 = same_counts ? i : std::min(i, last[0]), i1 = same_counts ? i : std::min(i, last[1]);
-      const int i2 = same_counts ? i : std::min(i, last[2]), i3 = same_counts ? i : std::min(i, last[3]);
-      const PointLanes v = point_lanes(vertices[0][i0], vertices[1][i1], vertices[2][i2], vertices[3][i3]);
+      const auto at = [&](int k) { return same_counts ? i : std::min(i, last[k]); };
+      const int i0 = at(0), i1 = at(1), i2 = at(2), i3 = at(3);
+      const PointLanes v =
+          point_lanes(vertices[0][i0], vertices[1][i1], vertices[2][i2], vertices[3][i3]);
       const PointLanes n = point_lanes(normals[0][i0], normals[1][i1], normals[2][i2], normals[3][i3]);
       const Lanes s = n.x * (cx - v.x) + n.y * (cy - v.y);
       const LaneMask greater = s > separation;
@@ -233,15 +232,18 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
     const int after = e[k] + 1;
     next[k] = after * static_cast<int>(after != count[k]);  // next_vertex, as arithmetic (no branch)
   }
-  const PointLanes v1 = point_lanes(vertices[0][e[0]], vertices[1][e[1]], vertices[2][e[2]], vertices[3][e[3]]);
+  const PointLanes v1 =
+      point_lanes(vertices[0][e[0]], vertices[1][e[1]], vertices[2][e[2]], vertices[3][e[3]]);
   const PointLanes v2 =
       point_lanes(vertices[0][next[0]], vertices[1][next[1]], vertices[2][next[2]], vertices[3][next[3]]);
-  const PointLanes face = point_lanes(normals[0][e[0]], normals[1][e[1]], normals[2][e[2]], normals[3][e[3]]);
+  const PointLanes face =
+      point_lanes(normals[0][e[0]], normals[1][e[1]], normals[2][e[2]], normals[3][e[3]]);
 
   // The end regions (edge_end_region), tested where the centre is beyond the edge or the
   // polygon is a segment's two sides.
   const Lanes zero = simd::splat(0.0f);
-  const LaneMask two_vertex = simd::masks(count[0] == 2, count[1] == 2, count[2] == 2, count[3] == 2);
+  const LaneMask two_vertex =
+      simd::masks(count[0] == 2, count[1] == 2, count[2] == 2, count[3] == 2);
   const LaneMask test_ends = (separation > zero) | two_vertex;
   const LaneMask before_v1 = (cx - v1.x) * (v2.x - v1.x) + (cy - v1.y) * (v2.y - v1.y) < zero;
   const LaneMask after_v2 = (cx - v2.x) * (v1.x - v2.x) + (cy - v2.y) * (v1.y - v2.y) < zero;
@@ -255,7 +257,8 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
   const Lanes dist2 = dx * dx + dy * dy;
   const LaneMask end_too_far = at_end & ~(dist2 <= radius * radius);
   const Lanes dist = simd::sqrt(dist2);
-  const LaneMask use_end = at_end & (dist > zero);  // else c sits on the vertex: the face normal serves
+  // (else c sits on the vertex: the face normal serves)
+  const LaneMask use_end = at_end & (dist > zero);
   const Lanes inverse = simd::splat(1.0f) / dist;
   const Lanes nx = simd::select(use_end, dx * inverse, face.x);
   const Lanes ny = simd::select(use_end, dy * inverse, face.y);
@@ -279,12 +282,14 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
   const unsigned touches = simd::lane_bits(touching);
   const unsigned vertex_point = simd::lane_bits(use_end);
   const unsigned first_end = simd::lane_bits(at_v1);
-  static_assert(static_cast<unsigned>(FeatureType::vertex) == 0, "an empty manifold's id is all zero");
+  static_assert(static_cast<unsigned>(FeatureType::vertex) == 0,
+                "an empty manifold's id is all zero");
   for (int k = 0; k < kPairLanes; ++k) {
     const unsigned touch = (touches >> k) & 1u;
     const unsigned vertex = (vertex_point >> k) & 1u;
     const unsigned at_next = vertex & ~(first_end >> k) & 1u;  // the point is the edge's second end
-    const auto feature = static_cast<std::uint32_t>(e[k] + static_cast<int>(at_next) * (next[k] - e[k]));
+    const auto feature =
+        static_cast<std::uint32_t>(e[k] + static_cast<int>(at_next) * (next[k] - e[k]));
     const auto type = static_cast<unsigned>(FeatureType::edge) * (vertex ^ 1u);  // vertex is 0
     Manifold& m = manifolds[k];
     m = Manifold{};
@@ -297,20 +302,6 @@ void contact_polygon_circle_lanes(const PolygonCirclePair* pairs, Manifold* mani
   }
 }
 
-/// Brings the shapes of `pair` into the cache ahead of their group (the polygon's header,
-/// vertices and normals: its first three cache lines; the circle).
-void prefetch_shapes(const PolygonCirclePair& pair) noexcept {
-#if defined(__GNUC__) || defined(__clang__)
-  const char* polygon = reinterpret_cast<const char*>(pair.polygon);
-  __builtin_prefetch(polygon);
-  __builtin_prefetch(polygon + 64);
-  __builtin_prefetch(polygon + 128);
-  __builtin_prefetch(pair.circle);
-#else
-  (void)pair;
-#endif
-}
-
 }  // namespace
 
 }  // namespace collide::detail
@@ -321,11 +312,8 @@ void contact(std::span<const PolygonCirclePair> pairs, std::span<Manifold> manif
   COLLIDE_ASSERT(manifolds.size() >= pairs.size(), "contact: fewer manifolds than pairs");
   const std::size_t n = std::min(pairs.size(), manifolds.size());
   constexpr std::size_t kLanes = detail::kPairLanes;
-  constexpr std::size_t kAhead = detail::kPrefetchGroupsAhead * kLanes;
-  for (std::size_t i = 0; i < std::min(n, kAhead); ++i) detail::prefetch_shapes(pairs[i]);
   std::size_t i = 0;
   for (; i + kLanes <= n; i += kLanes) {
-    for (std::size_t k = i + kAhead; k < std::min(n, i + kAhead + kLanes); ++k) detail::prefetch_shapes(pairs[k]);
     detail::contact_polygon_circle_lanes(&pairs[i], &manifolds[i]);
   }
   for (; i < n; ++i) {
