@@ -68,11 +68,7 @@ Cases random_cases(std::mt19937& rng, int count) {
       xb = Transform{a.vertices[static_cast<std::size_t>(rng() % static_cast<unsigned>(a.count))], Rot2{}};
       c.circles.back().center = Vec2{0.0f, 0.0f};
     }
-    c.pairs.push_back({nullptr, xa, nullptr, xb});
-  }
-  for (int i = 0; i < count; ++i) {
-    c.pairs[static_cast<std::size_t>(i)].polygon = &c.polygons[static_cast<std::size_t>(i)];
-    c.pairs[static_cast<std::size_t>(i)].circle = &c.circles[static_cast<std::size_t>(i)];
+    c.pairs.push_back({&c.polygons.back(), xa, &c.circles.back(), xb});  // (reserved: addresses stay)
   }
   return c;
 }
