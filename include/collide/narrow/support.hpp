@@ -39,7 +39,7 @@ template <int D>
   for (int i = 1; i < static_cast<int>(points.size()); ++i) {
     const float d = dot(points[static_cast<std::size_t>(i)], direction);
     const bool further = d > best_dot;
-    best = further ? i : best;
+    best ^= (best ^ i) & -static_cast<int>(further);  // (a ternary: GCC made it a branch again)
     best_dot = further ? d : best_dot;
   }
   return best;
