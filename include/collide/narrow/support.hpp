@@ -28,21 +28,29 @@
 
 namespace collide {
 
-/// Index of the point of `points` (n >= 1) farthest along `direction`, ties to the lowest index:
-/// the support point of a point set by a full scan (Ericson, Real-Time Collision Detection,
-/// 3.8). Selects, not a branch per point: which point wins is the data's choice, and on pairs in
-/// no learnable order the branch missed about twice a distance query (cachegrind, 4-gons).
+/// The scan of support_point_index over points [first, size) of `points`, against a best so far
+/// (index `best`, whose dot product with `direction` is `best_dot`): the index of the farthest,
+/// ties to the earlier. Selects, not a branch per point: which point wins is the data's choice,
+/// and on pairs in no learnable order the branch missed about twice a distance query
+/// (cachegrind, 4-gons); the index by a mask, since GCC turned a ternary back into a branch.
 template <int D>
-[[nodiscard]] inline int support_point_index(std::span<const VecN<D>> points, VecN<D> direction) noexcept {
-  int best = 0;
-  float best_dot = dot(points[0], direction);
-  for (int i = 1; i < static_cast<int>(points.size()); ++i) {
+[[nodiscard]] inline int continue_support_scan(std::span<const VecN<D>> points, int first, int best, float best_dot,
+                                               VecN<D> direction) noexcept {
+  for (int i = first; i < static_cast<int>(points.size()); ++i) {
     const float d = dot(points[static_cast<std::size_t>(i)], direction);
     const bool further = d > best_dot;
-    best ^= (best ^ i) & -static_cast<int>(further);  // (a ternary: GCC made it a branch again)
+    best ^= (best ^ i) & -static_cast<int>(further);
     best_dot = further ? d : best_dot;
   }
   return best;
+}
+
+/// Index of the point of `points` (n >= 1) farthest along `direction`, ties to the lowest index:
+/// the support point of a point set by a full scan (Ericson, Real-Time Collision Detection,
+/// 3.8), continue_support_scan from point 0.
+template <int D>
+[[nodiscard]] inline int support_point_index(std::span<const VecN<D>> points, VecN<D> direction) noexcept {
+  return continue_support_scan<D>(points, 1, 0, dot(points[0], direction), direction);
 }
 
 /// A view of a convex shape's core points and radius, local space, in D dimensions: the
@@ -148,15 +156,8 @@ class ConvexProxyN<2> {
       scan.add(_mm_add_ps(_mm_mul_ps(xs, dx), _mm_mul_ps(ys, dy)));
     }
     const simd::ArgMax4::Result merged = scan.result();
-    int result = merged.index;
-    float result_dot = merged.max;
-    for (; i < n; ++i) {  // the last n % 4 points
-      const float d = dot(p[i], direction);
-      if (d > result_dot) {
-        result = i;
-        result_dot = d;
-      }
-    }
+    // The last n % 4 points (their number varies from shape to shape: selects, as above).
+    const int result = continue_support_scan<2>({p, static_cast<std::size_t>(n)}, i, merged.index, merged.max, direction);
     // All dots NaN: no lane improved on -infinity; the scalar scan answers 0 then too.
     return result == simd::ArgMax4::kNone ? 0 : result;
   }
