@@ -11,6 +11,7 @@
 /// small shapes fill inline buffers (the view is built in place, never copied).
 
 #include <collide/core/transform3.hpp>
+#include <collide/narrow/support.hpp>
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
 #include <collide/shape/convex_hull.hpp>
@@ -81,16 +82,7 @@ struct Polytope3 {
       case Kind::hull: return hull->support_index(d);
       default: break;
     }
-    int best = 0;
-    float best_dot = dot(vertices[0], d);
-    for (int i = 1; i < vertex_count; ++i) {
-      const float v = dot(vertices[i], d);
-      if (v > best_dot) {
-        best = i;
-        best_dot = v;
-      }
-    }
-    return best;
+    return support_point_index<3>({vertices, static_cast<std::size_t>(vertex_count)}, d);
   }
 };
 
