@@ -803,9 +803,10 @@ constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 /// rounding, which then swaps equally near points). Per row, the offers of the two upstream rows
 /// (independent along the row: four nodes a step in lanes, on one array per coordinate; on the
 /// Vec3s, 12 bytes apart, GCC made each node a branch), then the offers along the row,
-/// the upstream node's closest point carried in registers. The closest points are copied into
-/// those arrays and, when `keep_closest` (the field keeps them), back.
-void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, bool keep_closest) {
+/// the upstream node's closest point carried in registers. The closest points (the mesh's local
+/// frame) are copied into those arrays and, when `keep_closest` (the field keeps them), back in
+/// mesh space (plus `mesh_origin`).
+void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_origin, bool keep_closest) {
   const FieldGrid3& grid = store.grid;
   const std::size_t count = store.closest.size();
   std::vector<float> xs = detail::large_page_vector(count, 0.0f);
@@ -887,7 +888,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, bool keep_clo
     });
   }
   if (!keep_closest) return;
-  for (std::size_t i = 0; i < count; ++i) store.closest[i] = Vec3(xs[i], ys[i], zs[i]);
+  for (std::size_t i = 0; i < count; ++i) store.closest[i] = Vec3(xs[i], ys[i], zs[i]) + mesh_origin;
 }
 
 template <int D, class Store, class Position>
@@ -1207,11 +1208,6 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   return regions;
 }
 
-/// Closest points of a mesh build are kept in the mesh's local frame until the end.
-void closest_to_mesh_space(std::vector<Vec3>& closest, Vec3 origin) {
-  for (Vec3& c : closest) c += origin;
-}
-
 /// The sparse field from a store whose bricks hold the band: values beyond the band clamped,
 /// brick nodes signed (propagation or sign_blocks), each empty region's sign from a neighbour.
 template <int D>
@@ -1321,8 +1317,7 @@ DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions&
   const Vec3 local = local_grid_origin(mesh, options);
   const std::size_t queries = mesh_band(mesh, local, band_distance(options), store);
   const std::size_t signs = sign_blocks(mesh, local, band_distance(options), store);
-  propagate_mesh_dense(store, local, options.keep_closest_points);
-  if (options.keep_closest_points) closest_to_mesh_space(store.closest, mesh.origin);
+  propagate_mesh_dense(store, local, mesh.origin, options.keep_closest_points);
   DistanceField3 field = finish_dense(store, options);
   field.stats.sign_evaluations = signs;
   field.stats.nearest_queries = queries;

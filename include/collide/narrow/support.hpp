@@ -247,9 +247,9 @@ class ConvexProxyN<3> {
       case Kind::box:
         return int(direction.x > 0.0f) | (int(direction.y > 0.0f) << 1) |
                (int(direction.z > 0.0f) << 2);
-      case Kind::points: return scan(points_, count_, direction);
+      case Kind::points: return support_point_index<3>({points_, static_cast<std::size_t>(count_)}, direction);
       case Kind::hull: return hull_->support_index(direction);
-      case Kind::triangle: return scan(buffer_.data(), 3, direction);
+      case Kind::triangle: return support_point_index<3>(buffer_, direction);
       case Kind::inline_points: break;
     }
     return count_ == 2 && dot(buffer_[1], direction) > dot(buffer_[0], direction) ? 1 : 0;
@@ -264,10 +264,6 @@ class ConvexProxyN<3> {
 
  private:
   enum class Kind : unsigned char { inline_points, box, points, hull, triangle };
-
-  [[nodiscard]] static int scan(const Vec3* p, int n, Vec3 direction) noexcept {
-    return support_point_index<3>({p, static_cast<std::size_t>(n)}, direction);
-  }
 
   std::array<Vec3, 3> buffer_{};  ///< inline points; a box's half extents in [0]
   const Vec3* points_ = nullptr;
