@@ -506,6 +506,41 @@ TEST(PolygonDistance, WarmPairsAgreeWithColdAndBruteForce) {
   EXPECT_GT(checked_pairs, 60 * 40);  // most frames answered from the warm pair or the axes
 }
 
+TEST(PolygonDistance, OverlapsStartedFromTheCachedTriangleAgreeWithColdAndBruteForce) {
+  // B slides through A and out the other side, warm-started every frame: while the cores
+  // overlap the cache holds GJK's triangle around the origin, which the next frame checks
+  // first (cached_triangle_holds_origin); as B leaves, the triangle no longer holds the origin
+  // and the answer comes from the walk or GJK as on a cold start. Every frame against the cold
+  // answer and brute force.
+  std::mt19937 rng(20261130);
+  int from_triangle = 0;  // frames that began with a cached triangle and overlapped
+  int left_triangle = 0;  // frames that began with a cached triangle and came out apart
+  for (int run = 0; run < 80; ++run) {
+    test::Scene s = random_polygon_scene(rng);
+    const Polygon& a = std::get<Polygon>(s.a);
+    const Polygon& b = std::get<Polygon>(s.b);
+    const float angle = uniform(rng, -3.14f, 3.14f);
+    const Vec2 dir{std::cos(angle), std::sin(angle)};
+    const float turn = s.xb.q.angle();
+    SimplexCache cache;
+    for (int frame = 0; frame <= 60; ++frame) {
+      const float t = -3.0f + 0.1f * static_cast<float>(frame);  // from 3 units away to 3 beyond
+      s.xb = Transform::from(s.xa.p + t * dir, turn + 0.05f * t);
+      const bool had_triangle = cache.count == 3;
+      const DistanceResult warm = distance(a, s.xa, b, s.xb, &cache);
+      const DistanceResult cold = distance(a, s.xa, b, s.xb);
+      const std::string what = "run " + std::to_string(run) + " frame " + std::to_string(frame);
+      SCOPED_TRACE(what);
+      check_against_brute_force(s, warm, what);
+      EXPECT_EQ(warm.status, cold.status) << what;
+      EXPECT_NEAR(warm.distance, cold.distance, 1e-5f) << what;
+      if (had_triangle) (warm.status == QueryStatus::overlapped ? from_triangle : left_triangle) += 1;
+    }
+  }
+  EXPECT_GT(from_triangle, 80 * 5);
+  EXPECT_GT(left_triangle, 40);
+}
+
 TEST(PolygonDistance, WrongCachesAreCheckedNotTrusted) {
   // Two unit boxes 3 apart along x: the closest pair is A's right edge (1 -> 2) and B's left
   // edge. Caches naming other features, or indices these boxes do not have, must not change
