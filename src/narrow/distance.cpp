@@ -28,50 +28,58 @@ namespace {
   return length_squared(cross(e12, e13));
 }
 
-/// The starting simplex: the cached one if its indices are valid for these proxies and it is
-/// not degenerate now (the shapes may have moved since), else the seed vertex (gjk.hpp), which
-/// costs one support evaluation: `seeded` is then true.
+/// The cached simplex, if its indices are valid for these proxies: its vertices with B placed
+/// by `b_in_a`, cut to its first vertex when it is degenerate now (the shapes may have moved
+/// since). False (nothing meaningful in `s`) for an invalid cache.
+template <int D>
+COLLIDE_ALWAYS_INLINE bool cached_simplex(const ConvexProxyN<D>& a, const ConvexProxyN<D>& b,
+                                          const FrameN<D>& b_in_a, const SimplexCacheN<D>& cache,
+                                          GjkSimplexN<D>& s) noexcept {
+  const int cached = cache.count;
+  bool valid = cached >= 1 && cached <= D + 1;
+  for (int i = 0; i < cached && valid; ++i) {
+    valid = cache.index_a[i] < a.count() && cache.index_b[i] < b.count();
+  }
+  if (!valid) return false;
+  for (int i = 0; i < cached; ++i) {
+    s.v[i] = gjk_vertex<D>(a, b, b_in_a, cache.index_a[i], cache.index_b[i]);
+  }
+  s.count = cached;
+  // Degenerate now (or repeated vertices)? An edge shorter, or a triangle thinner, than
+  // rounding at this scale would give meaningless barycentric weights: keep its first vertex.
+  // (A cached tetrahedron is kept as its first triangle: the loop re-grows it if needed.)
+  const float tol = kRelativeTolerance * gjk_scale<D>(s.v[0], 0.0f);
+  const float tol2 = tol * tol;
+  if (cached >= 2) {
+    const VecN<D> e12 = s.v[1].w - s.v[0].w;
+    const float e12_2 = dot(e12, e12);
+    if (cached == 2) {
+      if (!(e12_2 > tol2)) s.count = 1;
+    } else {
+      const VecN<D> e13 = s.v[2].w - s.v[0].w;
+      // Height over the longer edge <= tol, squared: area^2 <= tol^2 |e|^2.
+      if (!(twice_area_squared(e12, e13) > tol2 * std::max(e12_2, dot(e13, e13)))) {
+        s.count = 1;
+      } else if (cached == 4) {
+        s.count = 3;
+      }
+    }
+  }
+  return true;
+}
+
+/// The starting simplex: the cached one (cached_simplex) if valid, else the seed vertex
+/// (gjk.hpp), which costs one support evaluation: `seeded` is then true.
 template <int D>
 COLLIDE_ALWAYS_INLINE GjkSimplexN<D> start_simplex(const ConvexProxyN<D>& a, const ConvexProxyN<D>& b,
                              const FrameN<D>& b_in_a, const SimplexCacheN<D>* cache,
                              bool& seeded) noexcept {
   GjkSimplexN<D> s;
-  const int cached = cache != nullptr ? cache->count : 0;
-  bool valid = cached >= 1 && cached <= D + 1;
-  for (int i = 0; i < cached && valid; ++i) {
-    valid = cache->index_a[i] < a.count() && cache->index_b[i] < b.count();
+  seeded = cache == nullptr || !cached_simplex<D>(a, b, b_in_a, *cache, s);
+  if (seeded) {
+    s.v[0] = gjk_seed_vertex<D>(a, b, b_in_a);
+    s.count = 1;
   }
-  if (valid) {
-    for (int i = 0; i < cached; ++i) {
-      s.v[i] = gjk_vertex<D>(a, b, b_in_a, cache->index_a[i], cache->index_b[i]);
-    }
-    s.count = cached;
-    // Degenerate now (or repeated vertices)? An edge shorter, or a triangle thinner, than
-    // rounding at this scale would give meaningless barycentric weights: keep its first vertex.
-    // (A cached tetrahedron is kept as its first triangle: the loop re-grows it if needed.)
-    const float tol = kRelativeTolerance * gjk_scale<D>(s.v[0], 0.0f);
-    const float tol2 = tol * tol;
-    if (cached >= 2) {
-      const VecN<D> e12 = s.v[1].w - s.v[0].w;
-      const float e12_2 = dot(e12, e12);
-      if (cached == 2) {
-        if (!(e12_2 > tol2)) s.count = 1;
-      } else {
-        const VecN<D> e13 = s.v[2].w - s.v[0].w;
-        // Height over the longer edge <= tol, squared: area^2 <= tol^2 |e|^2.
-        if (!(twice_area_squared(e12, e13) > tol2 * std::max(e12_2, dot(e13, e13)))) {
-          s.count = 1;
-        } else if (cached == 4) {
-          s.count = 3;
-        }
-      }
-    }
-    seeded = false;
-    return s;
-  }
-  s.v[0] = gjk_seed_vertex<D>(a, b, b_in_a);
-  s.count = 1;
-  seeded = true;
   return s;
 }
 
@@ -92,25 +100,15 @@ COLLIDE_ALWAYS_INLINE void set_apart(DistanceResultN<D>& out, VecN<D> pa, VecN<D
   out.normal = rotate(x.q, n);
 }
 
-}  // namespace
-
+/// The answer for the simplex GJK ended on (`end`, after `iterations` support points): the
+/// cache (if any) names its vertices, the witness points come from its barycentric weights,
+/// and the result is in world space (A's frame placed by `xa`).
 template <int D>
-DistanceResultN<D> gjk_distance(const ConvexProxyN<D>& a, const TransformN<D>& xa,
-                                const ConvexProxyN<D>& b, const TransformN<D>& xb,
-                                SimplexCacheN<D>* cache) noexcept {
-  COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "distance: proxies must hold points");
-  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
-  const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
-  const float ra = a.radius();
-  const float rb = b.radius();
-
-  bool seeded = false;
-  GjkSimplexN<D> s = start_simplex<D>(a, b, b_in_a, cache, seeded);
-  const float scale = gjk_scale<D>(s.v[0], ra + rb);
+COLLIDE_ALWAYS_INLINE DistanceResultN<D> gjk_answer(const GjkSimplexN<D>& s, GjkEnd end, int iterations,
+                                                    float ra, float rb, const TransformN<D>& xa,
+                                                    SimplexCacheN<D>* cache) noexcept {
   DistanceResultN<D> out;
-  const GjkEnd end = run_gjk<D>(a, b, b_in_a, s, scale, GjkRunToEnd{}, out.iterations);
-  if (seeded) ++out.iterations;  // the seed's support evaluation counts as an iteration
-
+  out.iterations = iterations;
   if (cache != nullptr) {
     cache->count = s.count;
     for (int i = 0; i < s.count; ++i) {
@@ -135,6 +133,27 @@ DistanceResultN<D> gjk_distance(const ConvexProxyN<D>& a, const TransformN<D>& x
                                              : QueryStatus::separated;
   set_apart<D>(out, pa, pb, delta * (1.0f / core_distance), core_distance, ra, rb, xa);
   return out;
+}
+
+}  // namespace
+
+template <int D>
+DistanceResultN<D> gjk_distance(const ConvexProxyN<D>& a, const TransformN<D>& xa,
+                                const ConvexProxyN<D>& b, const TransformN<D>& xb,
+                                SimplexCacheN<D>* cache) noexcept {
+  COLLIDE_ASSERT(a.count() >= 1 && b.count() >= 1, "distance: proxies must hold points");
+  COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
+  const FrameN<D> b_in_a = to_frame(inv_mul(xa, xb));
+  const float ra = a.radius();
+  const float rb = b.radius();
+
+  bool seeded = false;
+  GjkSimplexN<D> s = start_simplex<D>(a, b, b_in_a, cache, seeded);
+  const float scale = gjk_scale<D>(s.v[0], ra + rb);
+  int iterations = 0;
+  const GjkEnd end = run_gjk<D>(a, b, b_in_a, s, scale, GjkRunToEnd{}, iterations);
+  if (seeded) ++iterations;  // the seed's support evaluation counts as an iteration
+  return gjk_answer<D>(s, end, iterations, ra, rb, xa, cache);
 }
 
 template DistanceResultN<2> gjk_distance<2>(const ConvexProxyN<2>&, const Transform&,
@@ -288,31 +307,27 @@ bool cached_features(const SimplexCache& c, const Polygon& a, const Polygon& b,
   return false;
 }
 
-/// True when the cache names a triangle of A - B (GJK's last answer: the cores overlapped) that
-/// still holds the origin, farther than `on_core` inside each of its edges. The cores overlap
-/// then, so the walk and the separating axes could only fail before GJK, which, started on this
-/// triangle, ends on it at once: the caller goes to GJK directly (the same answer, without the
-/// cold walk and both polygons' axes: a tenth of a warm-started run's queries, each costing as
-/// much as four answered by the walk).
-bool cached_triangle_holds_origin(const SimplexCache& c, const Polygon& a, const Polygon& b,
-                                  const Transform& b_in_a, float on_core) noexcept {
-  std::array<Vec2, 3> w;
-  for (int i = 0; i < 3; ++i) {
-    const int ia = c.index_a[i];
-    const int ib = c.index_b[i];
-    if (ia >= a.count || ib >= b.count) return false;
-    w[i] = a.vertices[ia] - transform_point(b_in_a, b.vertices[ib]);
-  }
+/// For a cache naming a triangle of A - B (GJK's last answer: the cores overlapped): true with
+/// that triangle in `s` when it still holds the origin, farther than `on_core` inside each of
+/// its edges, and GJK's solver finds the origin inside it. The cores overlap then, so the walk
+/// and the separating axes could only fail before GJK, which, started on this triangle, would
+/// end on it at once; the caller answers from it (gjk_answer) as GJK would. A tenth of a
+/// warm-started run's queries (bench_narrow_distance), each costing as much as four answered
+/// by the walk.
+bool cached_triangle_holds_origin(const Polygon& a, const Polygon& b, const Transform& b_in_a,
+                                  const SimplexCache& c, float on_core, GjkSimplexN<2>& s) noexcept {
+  if (!cached_simplex<2>(ConvexProxy(a), ConvexProxy(b), b_in_a, c, s) || s.count != 3) return false;
   // Each edge's cross product with the origin, signed so that inside is positive.
-  const float orientation = cross(w[1] - w[0], w[2] - w[0]);
+  const float orientation = cross(s.v[1].w - s.v[0].w, s.v[2].w - s.v[0].w);
   const float sign = orientation > 0.0f ? 1.0f : -1.0f;
   bool inside = orientation != 0.0f;
   for (int i = 0; i < 3; ++i) {
-    const Vec2 e = w[i == 2 ? 0 : i + 1] - w[i];
-    const float side = sign * cross(e, -w[i]);  // the origin's distance from the edge's line times |e|
+    const Vec2 w = s.v[i].w;
+    const Vec2 e = s.v[i == 2 ? 0 : i + 1].w - w;
+    const float side = sign * cross(e, -w);  // the origin's distance from the edge's line times |e|
     inside &= side > 0.0f && side * side > on_core * on_core * dot(e, e);
   }
-  return inside;
+  return inside && gjk_reduce(s);
 }
 
 /// Writes the simplex GJK would end on for `pair` into `c`: its vertex pairs (A's, B's). Field
@@ -358,8 +373,11 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
       std::max(max_abs(a.vertices[0]), max_abs(transform_point(b_in_a, b.vertices[0]))) + ra + rb;
   const float on_core = kRelativeTolerance * scale;
 
-  if (cache != nullptr && cache->count == 3 && cached_triangle_holds_origin(*cache, a, b, b_in_a, on_core)) {
-    return gjk_distance<2>(ConvexProxy(a), xa, ConvexProxy(b), xb, cache);
+  if (cache != nullptr && cache->count == 3) {
+    GjkSimplexN<2> s;
+    if (cached_triangle_holds_origin(a, b, b_in_a, *cache, on_core, s)) {
+      return gjk_answer<2>(s, GjkEnd::overlapped, 0, ra, rb, xa, cache);
+    }
   }
 
   PolygonPair pair;
