@@ -203,7 +203,7 @@ inline constexpr int kMaxWalkSteps = 12;
 /// over, the corner an edge's foot falls beyond, the lower neighbour of a corner. False when a
 /// corner lies within `on_core` of an edge's line or behind it (the cores may overlap: the
 /// caller decides) or after kMaxWalkSteps.
-bool walk_to_closest(const Polygon& a, const Polygon& b, const Transform& b_in_a,
+COLLIDE_ALWAYS_INLINE bool walk_to_closest(const Polygon& a, const Polygon& b, const Transform& b_in_a,
                      const Transform& a_in_b, float on_core, Features f,
                      PolygonPair& out) noexcept {
   for (int step = 0; step < kMaxWalkSteps; ++step) {
