@@ -203,9 +203,9 @@ inline constexpr int kMaxWalkSteps = 12;
 /// over, the corner an edge's foot falls beyond, the lower neighbour of a corner. False when a
 /// corner lies within `on_core` of an edge's line or behind it (the cores may overlap: the
 /// caller decides) or after kMaxWalkSteps.
-COLLIDE_ALWAYS_INLINE bool walk_to_closest(const Polygon& a, const Polygon& b, const Transform& b_in_a,
-                     const Transform& a_in_b, float on_core, Features f,
-                     PolygonPair& out) noexcept {
+COLLIDE_ALWAYS_INLINE bool walk_to_closest(const Polygon& a, const Polygon& b, const Transform& xa,
+                                           const Transform& xb, const Transform& b_in_a, float on_core,
+                                           Features f, PolygonPair& out) noexcept {
   for (int step = 0; step < kMaxWalkSteps; ++step) {
     if (!f.face) {
       const Vec2 ak = a.vertices[f.first];
@@ -241,7 +241,8 @@ COLLIDE_ALWAYS_INLINE bool walk_to_closest(const Polygon& a, const Polygon& b, c
     // An edge of p (the first) and a corner of q, in p's frame.
     const Polygon& p = f.a_first ? a : b;
     const Polygon& q = f.a_first ? b : a;
-    const Transform& q_in_p = f.a_first ? b_in_a : a_in_b;
+    // (A in B's frame only when the edge is B's: most walks end on one of A's.)
+    const Transform q_in_p = f.a_first ? b_in_a : inv_mul(xb, xa);
     const int end = next_vertex(f.first, p.count);
     const Vec2 n = p.normals[f.first];
     const Vec2 v1 = p.vertices[f.first];
@@ -365,7 +366,6 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
                         const Transform& xb, SimplexCache* cache) noexcept {
   COLLIDE_ASSERT(is_valid(xa) && is_valid(xb), "distance: transforms must be finite rigid");
   const Transform b_in_a = inv_mul(xa, xb);
-  const Transform a_in_b = inv_mul(xb, xa);
   // GJK's overlap tolerance (gjk_scale): relative to the coordinates' size in A's frame.
   const float ra = a.radius;
   const float rb = b.radius;
@@ -393,7 +393,7 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
                            ConvexProxy(b).support_index(inv_rotate(b_in_a.q, -c))}
                 : Features{};
   }
-  if (walk_to_closest(a, b, b_in_a, a_in_b, on_core, start, pair)) return answer();
+  if (walk_to_closest(a, b, xa, xb, b_in_a, on_core, start, pair)) return answer();
 
   SimplexCache seed;  // GJK's start: the user's cache, or the best axis's features
   if (cache != nullptr) seed = *cache;
@@ -415,7 +415,7 @@ DistanceResult distance(const Polygon& a, const Transform& xa, const Polygon& b,
       axis = {true, false, p.sep_b.edge,
               detail::lowest_point(p.av, rotate(b_in_a.q, b.normals[p.sep_b.edge]))};
     }
-    found = walk_to_closest(a, b, b_in_a, a_in_b, on_core, axis, pair);
+    found = walk_to_closest(a, b, xa, xb, b_in_a, on_core, axis, pair);
     if (!found) {
       const int edge_end = next_vertex(axis.first, axis.a_first ? a.count : b.count);
       write_cache({axis.a_first, axis.first, edge_end, axis.second}, seed);
