@@ -473,6 +473,25 @@ TEST(PolygonDistance, EveryPathAgreesWithBruteForceAndGjk) {
   EXPECT_EQ(by_pair + with_gjk, trials);
 }
 
+/// The polygon pair of `s` warm-started from `cache` (updated), checked against brute force
+/// and against the same query without a cache: the same status and distance, and for cores
+/// apart the same points. Returns the warm answer.
+DistanceResult warm_agrees_with_cold(const test::Scene& s, SimplexCache& cache, const std::string& what) {
+  const Polygon& a = std::get<Polygon>(s.a);
+  const Polygon& b = std::get<Polygon>(s.b);
+  const DistanceResult warm = distance(a, s.xa, b, s.xb, &cache);
+  const DistanceResult cold = distance(a, s.xa, b, s.xb);
+  SCOPED_TRACE(what);
+  check_against_brute_force(s, warm, what);
+  EXPECT_EQ(warm.status, cold.status) << what;
+  EXPECT_NEAR(warm.distance, cold.distance, 1e-5f) << what;
+  if (cold.status == QueryStatus::separated && cold.distance > kTol) {
+    EXPECT_VEC2_NEAR(warm.point_a, cold.point_a, kTol);
+    EXPECT_VEC2_NEAR(warm.point_b, cold.point_b, kTol);
+  }
+  return warm;
+}
+
 TEST(PolygonDistance, WarmPairsAgreeWithColdAndBruteForce) {
   std::mt19937 rng(1127);
   int checked_pairs = 0;
@@ -489,17 +508,8 @@ TEST(PolygonDistance, WarmPairsAgreeWithColdAndBruteForce) {
       const float t = 0.02f * static_cast<float>(frame) + (frame % 20 == 19 ? 3.0f : 0.0f);
       s.xb = Transform::from(s.xa.p + rotate(Rot2::from_angle(t), offset), turn + 1.5f * t);
       const int cached_count = cache.count;
-      const DistanceResult warm = distance(a, s.xa, b, s.xb, &cache);
-      const DistanceResult cold = distance(a, s.xa, b, s.xb);
-      const std::string what = "run " + std::to_string(run) + " frame " + std::to_string(frame);
-      SCOPED_TRACE(what);
-      check_against_brute_force(s, warm, what);
-      EXPECT_EQ(warm.status, cold.status) << what;
-      EXPECT_NEAR(warm.distance, cold.distance, 1e-5f) << what;
-      if (cold.status == QueryStatus::separated && cold.distance > kTol) {
-        EXPECT_VEC2_NEAR(warm.point_a, cold.point_a, kTol);
-        EXPECT_VEC2_NEAR(warm.point_b, cold.point_b, kTol);
-      }
+      const DistanceResult warm =
+          warm_agrees_with_cold(s, cache, "run " + std::to_string(run) + " frame " + std::to_string(frame));
       if (cached_count > 0 && warm.iterations == 0) ++checked_pairs;
     }
   }
@@ -527,13 +537,8 @@ TEST(PolygonDistance, OverlapsStartedFromTheCachedTriangleAgreeWithColdAndBruteF
       const float t = -3.0f + 0.1f * static_cast<float>(frame);  // from 3 units away to 3 beyond
       s.xb = Transform::from(s.xa.p + t * dir, turn + 0.05f * t);
       const bool had_triangle = cache.count == 3;
-      const DistanceResult warm = distance(a, s.xa, b, s.xb, &cache);
-      const DistanceResult cold = distance(a, s.xa, b, s.xb);
-      const std::string what = "run " + std::to_string(run) + " frame " + std::to_string(frame);
-      SCOPED_TRACE(what);
-      check_against_brute_force(s, warm, what);
-      EXPECT_EQ(warm.status, cold.status) << what;
-      EXPECT_NEAR(warm.distance, cold.distance, 1e-5f) << what;
+      const DistanceResult warm =
+          warm_agrees_with_cold(s, cache, "run " + std::to_string(run) + " frame " + std::to_string(frame));
       if (had_triangle) (warm.status == QueryStatus::overlapped ? from_triangle : left_triangle) += 1;
     }
   }
