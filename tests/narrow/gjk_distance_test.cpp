@@ -497,8 +497,6 @@ TEST(PolygonDistance, WarmPairsAgreeWithColdAndBruteForce) {
   int checked_pairs = 0;
   for (int run = 0; run < 60; ++run) {
     test::Scene s = random_polygon_scene(rng);
-    const Polygon& a = std::get<Polygon>(s.a);
-    const Polygon& b = std::get<Polygon>(s.b);
     SimplexCache cache;
     const Vec2 offset = s.xb.p - s.xa.p;
     const float turn = s.xb.q.angle();
@@ -527,8 +525,6 @@ TEST(PolygonDistance, OverlapsStartedFromTheCachedTriangleAgreeWithColdAndBruteF
   int left_triangle = 0;  // frames that began with a cached triangle and came out apart
   for (int run = 0; run < 80; ++run) {
     test::Scene s = random_polygon_scene(rng);
-    const Polygon& a = std::get<Polygon>(s.a);
-    const Polygon& b = std::get<Polygon>(s.b);
     const float angle = uniform(rng, -3.14f, 3.14f);
     const Vec2 dir{std::cos(angle), std::sin(angle)};
     const float turn = s.xb.q.angle();
