@@ -253,7 +253,9 @@ COLLIDE_ALWAYS_INLINE bool walk_to_closest(const Polygon& a, const Polygon& b, c
     if (!(gap > on_core)) return false;
     const float t = dot(d, e);
     const float ee = dot(e, e);
-    if (!(t >= 0.0f) || !(t <= ee)) {  // the foot falls beyond an end: that corner
+    // The foot falls beyond an end, or the edge has no length (a box of zero height repeats
+    // its corners; t / ee would be 0 / 0): that corner.
+    if (!(t >= 0.0f) || !(t <= ee) || !(ee > 0.0f)) {
       const int corner = t < 0.0f ? f.first : end;
       f = f.a_first ? Features{false, true, corner, f.second}
                     : Features{false, true, f.second, corner};

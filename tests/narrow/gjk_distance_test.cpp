@@ -542,6 +542,29 @@ TEST(PolygonDistance, OverlapsStartedFromTheCachedTriangleAgreeWithColdAndBruteF
   EXPECT_GT(left_triangle, 40);
 }
 
+TEST(PolygonDistance, ZeroLengthEdgesGiveFiniteAnswers) {
+  // A box 2e-9 high, 5 units from the origin: its corners round onto each other in pairs, so
+  // two of its edges have no length (fuzz_shapes found the walk dividing 0 by 0 on one). Cold
+  // and warm-started, around it at several distances, against brute force.
+  const Polygon thin = make_box({0.5f, 1e-9f}, {5.0f, 1.0f}, 0.2877f, 5.0f);
+  ASSERT_EQ(thin.vertices[1], thin.vertices[2]) << "the test needs coinciding corners";
+  const Polygon box = make_box({0.75f, 0.5f});
+  for (int k = 0; k < 120; ++k) {
+    const float angle = 0.0523599f * static_cast<float>(k);  // every 3 degrees
+    for (const float reach : {1.0f, 3.0f, 4.5f, 6.0f}) {
+      for (const float turn : {0.0f, 0.3f, 1.0f}) {
+        const Transform xb = Transform::from(Vec2{5.0f, 1.0f} + reach * Vec2{std::cos(angle), std::sin(angle)}, turn);
+        const test::Scene s{thin, box, Transform{}, xb};
+        SimplexCache cache;
+        const std::string what = "angle step " + std::to_string(k) + " reach " + std::to_string(reach) +
+                                 " turn " + std::to_string(turn);
+        warm_agrees_with_cold(s, cache, what + " (cold start)");
+        warm_agrees_with_cold(s, cache, what + " (warm)");
+      }
+    }
+  }
+}
+
 TEST(PolygonDistance, WrongCachesAreCheckedNotTrusted) {
   // Two unit boxes 3 apart along x: the closest pair is A's right edge (1 -> 2) and B's left
   // edge. Caches naming other features, or indices these boxes do not have, must not change
