@@ -117,8 +117,9 @@ inline std::string check_contact_batch(const Polygon& polygon, const Circle& pro
 
 /// "" when a polygon's distance to a probe box, warm-started from the cache its cold call
 /// wrote (the closest-feature walk from the cached pair, or the cached triangle of an overlap),
-/// agrees with the cold call: the same distance within a thousandth of the pair's size (asked
-/// of polygons within kFiniteQueryRange; beyond it the calls run for the sanitizers alone).
+/// agrees with the cold call (the same distance within a thousandth of the pair's size), and
+/// their contact manifold is finite with a unit normal (asked of polygons within
+/// kFiniteQueryRange; beyond it the calls run for the sanitizers alone).
 inline std::string check_warm_distance(const Polygon& shape) {
   const Polygon box = make_box({0.75f, 0.5f});
   const Transform xf{};
@@ -135,6 +136,14 @@ inline std::string check_warm_distance(const Polygon& shape) {
   const float tolerance = 1e-3f * (2.0f + std::max(size.x, size.y));
   if (!(std::abs(warm.distance - cold.distance) <= tolerance)) {
     return "warm-started polygon distance differs from the cold call";
+  }
+  // The manifold against the same box: a unit normal and finite points when touching.
+  const Manifold m = contact(shape, xf, box, at);
+  if (m.count > 0 && !(finite(m.normal) && std::abs(length(m.normal) - 1.0f) <= 1e-3f)) {
+    return "polygon-box contact normal is not a finite unit vector";
+  }
+  for (int i = 0; i < m.count; ++i) {
+    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "polygon-box contact point is not finite";
   }
   return {};
 }
