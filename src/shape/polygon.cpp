@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,12 +39,25 @@ float extent_of(std::span<const Vec2> points) {
   return std::max(hi.x - lo.x, hi.y - lo.y);
 }
 
+/// The unit normal to the right of `edge` (non-zero). Its squared length underflows below
+/// float's normal range for edges shorter than about 1e-19 (a polygon of 1e-21 had an edge
+/// whose normal came out zero, and contact then gave a zero normal) and overflows above about
+/// 1e19: those edges are first scaled to a largest component of 1. Others take the plain
+/// formula, so ordinary polygons keep their normals to the bit.
+Vec2 edge_normal(Vec2 edge) {
+  const float length2 = length_squared(edge);
+  if (length2 >= std::numeric_limits<float>::min() && length2 <= std::numeric_limits<float>::max()) {
+    return normalize_or_zero(right_perp(edge));
+  }
+  const float largest = std::max(std::abs(edge.x), std::abs(edge.y));
+  return normalize_or_zero(right_perp(edge * (1.0f / largest)));
+}
+
 /// Fill normals and centroid of a polygon whose vertices and count are set and valid.
 void finish(Polygon& poly) {
   const int n = poly.count;
   for (int i = 0; i < n; ++i) {
-    const Vec2 edge = poly.vertices[(i + 1) % n] - poly.vertices[i];
-    poly.normals[i] = normalize_or_zero(right_perp(edge));
+    poly.normals[i] = edge_normal(poly.vertices[(i + 1) % n] - poly.vertices[i]);
   }
   // Area centroid relative to vertex 0 (keeps precision far from the origin).
   const Vec2 origin = poly.vertices[0];

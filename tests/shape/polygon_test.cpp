@@ -3,6 +3,7 @@
 
 #include "support/test_util.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace collide {
@@ -32,6 +33,30 @@ TEST(MakePolygon, HullOfShuffledPointsIsCounterClockwiseAndConvex) {
       for (int i = 0; i < p.count; ++i) {
         EXPECT_LE(dot(p.normals[i], q - p.vertices[i]), 1e-4f);
       }
+    }
+  }
+}
+
+TEST(MakePolygon, EveryEdgeHasAUnitNormalAtAnyScale) {
+  // A triangle and a box scaled from 1e-21 to 1e18: an edge's squared length leaves float's
+  // normal range below about 1e-19 and above about 1e19 (fuzz_shapes found a 4e-21 triangle
+  // with a zero normal, and a zero contact normal after it). Each normal is unit length and
+  // perpendicular to its edge, checked in double.
+  const std::vector<Vec2> shape = {{0.0f, 0.0f}, {1.0f, 0.1f}, {0.3f, 0.9f}, {-0.2f, 0.5f}};
+  for (const float scale : {4e-21f, 1e-19f, 1e-12f, 1.0f, 1e12f, 1e18f}) {
+    SCOPED_TRACE(scale);
+    std::vector<Vec2> pts;
+    for (const Vec2 q : shape) pts.push_back(q * scale);
+    const Polygon p = make_polygon(pts);
+    ASSERT_EQ(p.count, 4);
+    for (int i = 0; i < p.count; ++i) {
+      const Vec2 n = p.normals[i];
+      const double ex = double(p.vertex(i + 1).x) - p.vertex(i).x;
+      const double ey = double(p.vertex(i + 1).y) - p.vertex(i).y;
+      const double len = std::hypot(ex, ey);
+      EXPECT_NEAR(std::hypot(double(n.x), double(n.y)), 1.0, 1e-6) << "edge " << i;
+      EXPECT_NEAR((n.x * ex + n.y * ey) / len, 0.0, 1e-6) << "edge " << i;
+      EXPECT_GT(n.x * ey - n.y * ex, 0.0) << "edge " << i << ": the normal points inwards";
     }
   }
 }
