@@ -9,6 +9,9 @@
 #include "fuzz_check.hpp"
 
 #include <collide/ccd/raycast.hpp>
+#include <collide/ccd/shape_cast.hpp>
+#include <collide/ccd/sweep.hpp>
+#include <collide/ccd/time_of_impact.hpp>
 #include <collide/core/error.hpp>
 #include <collide/core/finite_range.hpp>
 #include <collide/narrow/contact.hpp>
@@ -117,8 +120,9 @@ inline std::string check_contact_batch(const Polygon& polygon, const Circle& pro
 
 /// "" when a polygon's distance to a probe box, warm-started from the cache its cold call
 /// wrote (the closest-feature walk from the cached pair, or the cached triangle of an overlap),
-/// agrees with the cold call (the same distance within a thousandth of the pair's size), and
-/// their contact manifold is finite with a unit normal (asked of polygons within
+/// agrees with the cold call (the same distance within a thousandth of the pair's size), their
+/// contact manifold is finite with a unit normal, and the box's shape cast and times of impact
+/// at the polygon are finite with fractions in [0, 1] (asked of polygons within
 /// kFiniteQueryRange; beyond it the calls run for the sanitizers alone).
 inline std::string check_warm_distance(const Polygon& shape) {
   const Polygon box = make_box({0.75f, 0.5f});
@@ -144,6 +148,22 @@ inline std::string check_warm_distance(const Polygon& shape) {
   }
   for (int i = 0; i < m.count; ++i) {
     if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "polygon-box contact point is not finite";
+  }
+  // The box swept at the polygon from 3 units away: a shape cast (the ray into A - B for sharp
+  // polygons) and times of impact, translating (the same ray) and turning (GJK advancement).
+  const Vec2 toward = Vec2{0.5f, 0.25f} - Vec2{3.5f, 2.25f};
+  const ShapeCastResult cast = shape_cast(shape, xf, Vec2{0.0f, 0.0f}, box, Transform::from({3.5f, 2.25f}, 0.3f), toward);
+  if (!(cast.fraction >= 0.0f && cast.fraction <= 1.0f) || !finite(cast.point) || !finite(cast.normal)) {
+    return "polygon-box shape cast is not finite or its fraction is outside [0, 1]";
+  }
+  const Sweep still = Sweep::from_motion(xf, Vec2{0.0f, 0.0f}, Vec2{0.0f, 0.0f}, 0.0f);
+  for (const float turn : {0.0f, 2.0f}) {
+    const Sweep sweep = Sweep::from_motion(Transform::from({3.5f, 2.25f}, 0.3f), Vec2{0.0f, 0.0f}, toward, turn);
+    const ToiResult toi = time_of_impact(shape, still, box, sweep);
+    if (!(toi.fraction >= 0.0f && toi.fraction <= 1.0f) || !finite(toi.separation) || !finite(toi.point) ||
+        !finite(toi.normal)) {
+      return "polygon-box time of impact is not finite or its fraction is outside [0, 1]";
+    }
   }
   return {};
 }
