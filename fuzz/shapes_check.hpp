@@ -118,13 +118,14 @@ inline std::string check_contact_batch(const Polygon& polygon, const Circle& pro
   return {};
 }
 
-/// "" when a polygon's distance to a probe box, warm-started from the cache its cold call
-/// wrote (the closest-feature walk from the cached pair, or the cached triangle of an overlap),
-/// agrees with the cold call (the same distance within a thousandth of the pair's size), their
-/// contact manifold is finite with a unit normal, and the box's shape cast and times of impact
-/// at the polygon are finite with fractions in [0, 1] (asked of polygons within
-/// kFiniteQueryRange; beyond it the calls run for the sanitizers alone).
-inline std::string check_warm_distance(const Polygon& shape) {
+/// "" when a polygon and a probe box answer the pair queries consistently: the polygon's
+/// distance to the box, warm-started from the cache its cold call wrote (the closest-feature
+/// walk from the cached pair, or the cached triangle of an overlap), agrees with the cold call
+/// (the same distance within a thousandth of the pair's size), their contact manifold is
+/// finite with a unit normal, and the box's shape cast and times of impact at the polygon are
+/// finite with fractions in [0, 1] (asked of polygons within kFiniteQueryRange; beyond it the
+/// calls run for the sanitizers alone).
+inline std::string check_polygon_against_box(const Polygon& shape) {
   const Polygon box = make_box({0.75f, 0.5f});
   const Transform xf{};
   const Transform at = Transform::from({0.5f, 0.25f}, 0.3f);
@@ -176,7 +177,7 @@ std::string probe2(const S& shape) {
   const Transform xf{};
   if constexpr (std::is_same_v<S, Polygon>) {
     if (std::string batch = check_contact_batch(shape, probe); !batch.empty()) return batch;
-    if (std::string warm = check_warm_distance(shape); !warm.empty()) return warm;
+    if (std::string pair = check_polygon_against_box(shape); !pair.empty()) return pair;
   }
   (void)overlap(shape, xf, probe, xf);
   const DistanceResult d = distance(shape, xf, probe, xf);
