@@ -152,14 +152,15 @@ inline std::string check_polygon_against_box(const Polygon& shape) {
   }
   // The box swept at the polygon from 3 units away: a shape cast (the ray into A - B for sharp
   // polygons) and times of impact, translating (the same ray) and turning (GJK advancement).
-  const Vec2 toward = Vec2{0.5f, 0.25f} - Vec2{3.5f, 2.25f};
-  const ShapeCastResult cast = shape_cast(shape, xf, Vec2{0.0f, 0.0f}, box, Transform::from({3.5f, 2.25f}, 0.3f), toward);
+  const Transform away = Transform::from({3.5f, 2.25f}, 0.3f);  // the box's start
+  const Vec2 toward = at.p - away.p;
+  const ShapeCastResult cast = shape_cast(shape, xf, Vec2{0.0f, 0.0f}, box, away, toward);
   if (!(cast.fraction >= 0.0f && cast.fraction <= 1.0f) || !finite(cast.point) || !finite(cast.normal)) {
     return "polygon-box shape cast is not finite or its fraction is outside [0, 1]";
   }
   const Sweep still = Sweep::from_motion(xf, Vec2{0.0f, 0.0f}, Vec2{0.0f, 0.0f}, 0.0f);
   for (const float turn : {0.0f, 2.0f}) {
-    const Sweep sweep = Sweep::from_motion(Transform::from({3.5f, 2.25f}, 0.3f), Vec2{0.0f, 0.0f}, toward, turn);
+    const Sweep sweep = Sweep::from_motion(away, Vec2{0.0f, 0.0f}, toward, turn);
     const ToiResult toi = time_of_impact(shape, still, box, sweep);
     if (!(toi.fraction >= 0.0f && toi.fraction <= 1.0f) || !finite(toi.separation) || !finite(toi.point) ||
         !finite(toi.normal)) {
