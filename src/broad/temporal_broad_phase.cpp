@@ -109,11 +109,12 @@ constexpr int kFastObjectsPerTask = 64;
 /// instead of a sort and sweep along x.
 constexpr std::size_t kFastGridFrom = 256;
 
-/// update's verdict on an object: bound kept, bound broken, or bound kept but out of its grown
-/// box (it may still pair with candidates it was not grown towards).
+/// update's verdict on an object: bound kept, bound broken, bound kept but out of its grown box
+/// (it may still pair with candidates it was not grown towards), or a box update refuses.
 constexpr unsigned char kKept = 0;
 constexpr unsigned char kBrokeBound = 1;
 constexpr unsigned char kLeftGrownBox = 2;
+constexpr unsigned char kBadBox = 3;  // NaN or infinite coordinates, or min > max: validate_boxes names it
 
 /// Bit 0: `now` is within `reach` of `before` (each min fell by at most reach, each max rose by
 /// at most reach, the differences in double: exact in sign, and a float difference could round
@@ -160,55 +161,79 @@ inline unsigned reach_and_inside(const AabbN<D>& before, const AabbN<D>& now, co
 
 template <int D>
 void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler) {
-  if (boxes.size() != boxes_.size()) {
-    throw InvalidInput("boxes: " + std::to_string(boxes.size()) + " given, " +
-                       std::to_string(boxes_.size()) + " built; call build for a new set");
+  // Each object's verdict into its own slot and its box into next_boxes_ (in parallel), then
+  // the demotions in id order.
+  begin_update(boxes.size(), time);
+  parallel_for(scheduler, size(), kObjectsPerTask, [&](int begin, int end, int) { update_range(begin, end, boxes); });
+  finish_update(boxes);
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::begin_update(std::size_t count, double time) {
+  if (count != boxes_.size()) {
+    throw InvalidInput("boxes: " + std::to_string(count) + " given, " + std::to_string(boxes_.size()) +
+                       " built; call build for a new set");
   }
   if (!std::isfinite(time) || time < time_) throw InvalidInput("time: not finite or goes back");
-  const double dt = time - time_;
-  const int n = size();
+  update_time_ = time;
+  update_checks_grown_ = !needs_rebuild_;  // grown_ and is_fast_ are from a rebuild of these objects
   broke_.resize(boxes_.size());
   next_boxes_.resize(boxes_.size());
-  // Each object's verdict into its own slot and its box into next_boxes_ (in parallel), then
-  // the demotions in id order. A box is_valid_box refuses makes validate_boxes name the first
-  // bad one before anything changes; otherwise next_boxes_ becomes boxes_ (a swap, no copy).
-  std::atomic<bool> any_bad{false};
-  const bool grown_current = !needs_rebuild_;  // grown_ and is_fast_ are from a rebuild of these objects
-  parallel_for(scheduler, n, kObjectsPerTask, [&](int begin, int end, int) {
-    // Plain pointers in locals and no branch on the outcome: the verdicts are byte stores, which
-    // may alias anything, so members read through `this` would be reloaded for every object
-    // (update: 119 instructions an object with them, 101 now, cachegrind).
-    const AabbN<D>* const before_all = boxes_.data();
-    const AabbN<D>* const now_all = boxes.data();
-    const float* const speeds = speeds_.data();
-    const unsigned char* const is_fast = is_fast_.data();
-    const AabbN<D>* const grown = grown_.data();
-    unsigned char* const broke = broke_.data();
-    AabbN<D>* const next = next_boxes_.data();
-    const bool check_grown = grown_current;
-    unsigned bad = 0;
-    for (int i = begin; i < end; ++i) {
-      const AabbN<D>& now = now_all[i];
-      // (before rebuilding, grown_ may be stale or short: the object's own box stands in)
-      const unsigned tests = reach_and_inside<D>(before_all[i], now, check_grown ? grown[i] : now,
-                                                 static_cast<double>(speeds[i]) * dt);
-      // A NaN or infinite coordinate fails the reach test (the previous box is finite, the reach
-      // too), so only a box that failed it needs the whole is_valid_box (a few a frame, a branch
-      // that predicts well); min > max can pass it, so that comparison is made for every box.
-      unsigned ordered = 1;
-      for (int k = 0; k < D; ++k) ordered &= unsigned{now.min[k] <= now.max[k]};
-      bad |= ordered ^ 1u;
-      if ((tests & 1u) == 0) bad |= unsigned{!is_valid_box(now)};
-      unsigned verdict = (tests & 1u) != 0 ? kKept : kBrokeBound;
-      if (check_grown && tests == 1u && is_fast[i] == 0) verdict = kLeftGrownBox;  // (rare)
-      broke[i] = static_cast<unsigned char>(verdict);
-      next[i] = now;
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::update_range(int begin, int end, std::span<const AabbN<D>> boxes) noexcept {
+  // Plain pointers in locals and no branch on the outcome: the verdicts are byte stores, which
+  // may alias anything, so members read through `this` would be reloaded for every object
+  // (update: 119 instructions an object with them, 101 now, cachegrind).
+  const AabbN<D>* const before_all = boxes_.data();
+  const AabbN<D>* const now_all = boxes.data();
+  const float* const speeds = speeds_.data();
+  const unsigned char* const is_fast = is_fast_.data();
+  const AabbN<D>* const grown = grown_.data();
+  unsigned char* const broke = broke_.data();
+  AabbN<D>* const next = next_boxes_.data();
+  const bool check_grown = update_checks_grown_;
+  const double dt = update_time_ - time_;
+  for (int i = begin; i < end; ++i) {
+    const AabbN<D>& now = now_all[i];
+    // (before rebuilding, grown_ may be stale or short: the object's own box stands in)
+    const unsigned tests = reach_and_inside<D>(before_all[i], now, check_grown ? grown[i] : now,
+                                               static_cast<double>(speeds[i]) * dt);
+    // A NaN or infinite coordinate fails the reach test (the previous box is finite, the reach
+    // too), so only a box that failed it needs the whole is_valid_box (a few a frame, a branch
+    // that predicts well); min > max can pass it, so that comparison is made for every box.
+    unsigned ordered = 1;
+    for (int k = 0; k < D; ++k) ordered &= unsigned{now.min[k] <= now.max[k]};
+    unsigned verdict = (tests & 1u) != 0 ? kKept : kBrokeBound;
+    if (check_grown && tests == 1u && is_fast[i] == 0) verdict = kLeftGrownBox;  // (rare)
+    if ((tests & 1u) == 0 && !is_valid_box(now)) ordered = 0;
+    broke[i] = static_cast<unsigned char>(ordered != 0 ? verdict : kBadBox);
+    next[i] = now;
+  }
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::finish_update(std::span<const AabbN<D>> boxes) {
+  // The verdicts 8 at a time: nearly all objects keep their bounds, so most words are 0. A bad
+  // box makes validate_boxes name the first one before anything changes; otherwise next_boxes_
+  // becomes boxes_ (a swap, no copy).
+  const int n = size();
+  const int whole = n - n % 8;
+  const auto any_bad = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      if (broke_[std::size_t(i)] == kBadBox) return true;
     }
-    if (bad != 0) any_bad.store(true, std::memory_order_relaxed);
-  });
-  if (any_bad.load(std::memory_order_relaxed)) validate_boxes(boxes);
+    return false;
+  };
+  bool bad = any_bad(whole, n);
+  for (int i = 0; i < whole && !bad; i += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, broke_.data() + i, sizeof word);
+    if (word != 0) bad = any_bad(i, i + 8);
+  }
+  if (bad) validate_boxes(boxes);
   boxes_.swap(next_boxes_);
-  // The verdicts 8 at a time: nearly all objects keep their bounds, so most words are 0.
   const auto demote_if_broke = [&](int i) {
     const unsigned char verdict = broke_[std::size_t(i)];
     if (verdict == kKept) return;
@@ -219,7 +244,6 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
     // checked every frame anyway.
     if (!needs_rebuild_ && !is_fast_[std::size_t(i)]) demote(i);
   };
-  const int whole = n - n % 8;
   for (int i = 0; i < whole; i += 8) {
     std::uint64_t word;
     std::memcpy(&word, broke_.data() + i, sizeof word);
@@ -227,7 +251,7 @@ void TemporalBroadPhaseN<D>::update(std::span<const AabbN<D>> boxes, double time
     for (int k = i; k < i + 8; ++k) demote_if_broke(k);
   }
   for (int i = whole; i < n; ++i) demote_if_broke(i);
-  time_ = time;
+  time_ = update_time_;
 }
 
 template <int D>

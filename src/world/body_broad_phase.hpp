@@ -43,7 +43,9 @@ class BodyBroadPhaseN {
         [&](auto& bp) {
           using T = std::decay_t<decltype(bp)>;
           if constexpr (std::is_same_v<T, TemporalBroadPhaseN<D>>) {
-            if (same_objects && built_) {
+            if (updating_) {
+              bp.finish_update(boxes);  // (begin_update had the same objects and time)
+            } else if (same_objects && built_) {
               bp.update(boxes, time, scheduler);
             } else {
               bp.build(boxes, speed_bounds, time);
@@ -58,6 +60,23 @@ class BodyBroadPhaseN {
         },
         bp_);
     built_ = true;
+    updating_ = false;
+  }
+
+  /// The temporal broad phase's update in parts (TemporalBroadPhaseN::begin_update): true when
+  /// it began one, for these `count` proxies at `time`; then the caller passes every proxy to
+  /// update_range, in ranges on any workers, and calls set() with the same boxes and time. False
+  /// (nothing begun) for the other kinds, before the first set(), and when the proxies changed.
+  bool begin_update(std::size_t count, double time, bool same_objects) {
+    auto* t = std::get_if<TemporalBroadPhaseN<D>>(&bp_);
+    if (t == nullptr || !built_ || !same_objects) return false;
+    t->begin_update(count, time);
+    updating_ = true;
+    return true;
+  }
+  /// Proxies [begin, end) of the update begun by begin_update (`boxes`: every proxy's box).
+  void update_range(int begin, int end, std::span<const AabbN<D>> boxes) noexcept {
+    std::get_if<TemporalBroadPhaseN<D>>(&bp_)->update_range(begin, end, boxes);
   }
 
   /// True when the temporal broad phase's next find_pairs, after set() to `next_time`, would
@@ -119,6 +138,7 @@ class BodyBroadPhaseN {
       bp_;
   PairList sort_scratch_;  ///< sort_pairs' storage, kept across frames
   bool built_ = false;
+  bool updating_ = false;  // begin_update began an update that set() finishes
 };
 
 }  // namespace collide::detail

@@ -40,7 +40,8 @@ enum class Rebuilds { in_find_pairs, ahead };
 template <int D>
 void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::int64_t& violations,
                 TaskScheduler* scheduler = nullptr, int objects = 500, int frames = 150,
-                Rebuilds rebuilds = Rebuilds::in_find_pairs, std::int64_t* rebuild_count = nullptr) {
+                Rebuilds rebuilds = Rebuilds::in_find_pairs, std::int64_t* rebuild_count = nullptr,
+                bool update_in_parts = false) {
   std::mt19937 rng(11 + D);
   auto world = test::moving_world<D>(
       rng, test::uniform_world<D>(rng, objects, D == 2 ? 25.0f : 10.0f, 0.2f, 1.0f, offset),
@@ -60,13 +61,29 @@ void run_frames(float offset, int teleport_every, std::int64_t& skipped, std::in
     const std::int64_t rebuilds_before = temporal.stats().rebuilds;
     world.step();
     if (teleport_every > 0 && frame % teleport_every == 0) {
-      // Object 1 jumps onto another object, breaking its bound.
-      const int target = 2 + frame % 50;
-      const VecN<D> shift = world.boxes[target].center() - world.boxes[1].center();
-      world.boxes[1].min += shift;
-      world.boxes[1].max += shift;
+      // Objects 1 and objects - 2 jump onto others, breaking their bounds.
+      for (const int jumper : {1, objects - 2}) {
+        const int target = 2 + (frame + jumper) % 50;
+        const VecN<D> shift = world.boxes[target].center() - world.boxes[jumper].center();
+        world.boxes[jumper].min += shift;
+        world.boxes[jumper].max += shift;
+      }
     }
-    temporal.update(world.boxes, static_cast<double>(frame), scheduler);
+    if (update_in_parts) {
+      // As the world's body pass does: ranges (object 0 alone, then 37 at a time), on the
+      // workers when given, in any order (here last range first).
+      temporal.begin_update(world.boxes.size(), static_cast<double>(frame));
+      const int ranges = 1 + (objects - 1 + 36) / 37;
+      parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
+        for (int r = end - 1; r >= begin; --r) {
+          const int first = r == 0 ? 0 : 1 + (r - 1) * 37;
+          temporal.update_range(first, r == 0 ? 1 : std::min(objects, first + 37), world.boxes);
+        }
+      });
+      temporal.finish_update(world.boxes);
+    } else {
+      temporal.update(world.boxes, static_cast<double>(frame), scheduler);
+    }
     temporal.find_pairs(pairs, scheduler);
     ASSERT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));  // (find_pairs sorts them)
     const PairList expected = brute_pairs<D>(world.boxes);
@@ -132,6 +149,27 @@ TYPED_TEST(TemporalTest, OnSeveralWorkersTheSamePairsAndCounters) {
     run_frames<TypeParam::value>(0.0f, 5, skipped_many, violations_many, &scheduler, 3000, 30);
     EXPECT_EQ(skipped_many, skipped) << workers << " workers";
     EXPECT_EQ(violations_many, violations) << workers << " workers";
+  }
+}
+
+TYPED_TEST(TemporalTest, UpdateInPartsMatchesTheWholeUpdate) {
+  // begin_update, update_range over ranges (on 1, 2 and 3 workers) and finish_update: brute
+  // force's pairs every frame (run_frames asserts them) and the counters of update(), with
+  // teleports breaking bounds and without.
+  for (const int teleport_every : {0, 5}) {
+    std::int64_t skipped = 0, violations = 0, rebuilt = 0;
+    run_frames<TypeParam::value>(0.0f, teleport_every, skipped, violations, nullptr, 700, 60,
+                                 Rebuilds::in_find_pairs, &rebuilt);
+    EXPECT_EQ(violations > 0, teleport_every > 0);
+    for (const int workers : {1, 2, 3}) {
+      test::ThreadScheduler scheduler(workers);
+      std::int64_t skipped_parts = 0, violations_parts = 0, rebuilt_parts = 0;
+      run_frames<TypeParam::value>(0.0f, teleport_every, skipped_parts, violations_parts, &scheduler, 700, 60,
+                                   Rebuilds::in_find_pairs, &rebuilt_parts, true);
+      EXPECT_EQ(skipped_parts, skipped) << workers << " workers, teleport every " << teleport_every;
+      EXPECT_EQ(violations_parts, violations) << workers << " workers";
+      EXPECT_EQ(rebuilt_parts, rebuilt) << workers << " workers";
+    }
   }
 }
 
@@ -405,6 +443,13 @@ TYPED_TEST(TemporalTest, RejectsBadBoxesNamingTheIndex) {
     temporal.build(good, speeds, time);
     time += 1.0;
     test::expect_rejects_naming_the_box(c, [&] { temporal.update(boxes, time); });
+    // The same in parts: finish_update names the box, and nothing has changed.
+    test::expect_rejects_naming_the_box(c, [&] {
+      temporal.begin_update(boxes.size(), time);
+      temporal.update_range(0, static_cast<int>(boxes.size()) / 2, boxes);
+      temporal.update_range(static_cast<int>(boxes.size()) / 2, static_cast<int>(boxes.size()), boxes);
+      temporal.finish_update(boxes);
+    });
     temporal.update(good, time);
     temporal.find_pairs(pairs);
     ASSERT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));  // (find_pairs sorts them)
@@ -426,6 +471,8 @@ TYPED_TEST(TemporalTest, RejectsBadSpeedsTimesAndCounts) {
   EXPECT_THROW(temporal.build(boxes, std::vector<float>{1.0f}), InvalidInput);
   temporal.build(boxes, std::vector<float>(4, 1.0f), 5.0);
   EXPECT_THROW(temporal.update(boxes, 4.0), InvalidInput);
+  EXPECT_THROW(temporal.begin_update(boxes.size(), 4.0), InvalidInput);
+  EXPECT_THROW(temporal.begin_update(3, 6.0), InvalidInput);
   EXPECT_THROW(temporal.rebuild_now(4.0), InvalidInput);
   EXPECT_THROW(temporal.rebuild_now(std::numeric_limits<double>::quiet_NaN()), InvalidInput);
   EXPECT_FALSE(temporal.rebuild_due(std::numeric_limits<double>::quiet_NaN()));

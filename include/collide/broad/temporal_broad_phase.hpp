@@ -107,6 +107,18 @@ class TemporalBroadPhaseN {
   void update(std::span<const AabbN<D>> boxes, double time, TaskScheduler* scheduler);
   void set_speed_bounds(std::span<const float> speed_bounds, TaskScheduler* scheduler);
   void find_pairs(PairList& pairs, TaskScheduler* scheduler);
+  /// update() in three parts, for a caller that makes the boxes in a parallel pass of its own
+  /// and checks each range of objects while their boxes are still in the cache (the world's
+  /// body pass does, where a separate update re-read every box and, with few objects, ran on
+  /// one thread): begin_update(boxes.size(), time); then update_range(begin, end, boxes) over
+  /// ranges that cover [0, size()) once each, from any threads at once (a range writes only its
+  /// own objects' slots; `boxes` is the whole span, read at [begin, end)); then
+  /// finish_update(boxes). The same state as update(boxes, time). begin_update throws as update
+  /// does for a count mismatch or a bad time, finish_update for a bad box (naming the first)
+  /// before anything changes. Not beside rebuild_now: a range reads what a rebuild writes.
+  void begin_update(std::size_t count, double time);
+  void update_range(int begin, int end, std::span<const AabbN<D>> boxes) noexcept;
+  void finish_update(std::span<const AabbN<D>> boxes);
   /// True when the next find_pairs, after an update to `next_time` (within one horizon of
   /// now), would build the candidate set anew: its window ends before then, or a build asked
   /// for it.
@@ -149,6 +161,8 @@ class TemporalBroadPhaseN {
   double horizon_ = 0.0;
   double time_ = 0.0;        // time of the current boxes
   double expires_at_ = 0.0;  // the candidate set covers the boxes' motion up to this time
+  double update_time_ = 0.0;          // begin_update's time, until finish_update
+  bool update_checks_grown_ = false;  // begin_update: grown_ is of these objects (no rebuild pending)
   bool needs_rebuild_ = true;
   std::vector<AabbN<D>> boxes_;
   std::vector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
@@ -166,7 +180,7 @@ class TemporalBroadPhaseN {
   std::vector<AabbN<D>> fast_boxes_;   // find_pairs' scratch: the fast objects' boxes, by place in fast_
   SortedGridN<D> fast_grid_;           // over fast_boxes_, when there are many fast objects
   PairList fast_pairs_;                // fast_grid_'s pairs (places in fast_)
-  std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box
+  std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box / bad
   std::vector<AabbN<D>> next_boxes_;   // update's scratch: the new boxes, swapped with boxes_ when all are valid
   struct RangeOutput {                 // a range's share of find_pairs on the workers
     PairList pairs;
