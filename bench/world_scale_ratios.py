@@ -153,15 +153,19 @@ def print_2d(runs, ctx):
                   f"| {fmt(get('BM_Box2DStep', n, t, 'ns_body'))} | {fmt(b)} "
                   f"| {fmt(get('BM_Box2DStep', n, t, 'b2_broad_narrow'))} | {fmt(ratio)} |")
 
-    print("\nSpeed-up on 2 threads (time on 1 / time on 2):\n")
-    print("| bodies | collide step | collide no check | v3 step | v3 collision |")
-    print("|---:|---:|---:|---:|---:|")
+    print("\nSpeed-up on 2 threads (time on 1 / time on 2; `paired`: BM_CollideSpeedup, the one-thread "
+          "time on each CPU and the two-thread time in alternating blocks of one process, their "
+          "harmonic mean over the two-thread time, and against each CPU):\n")
+    print("| bodies | collide step | collide no check | collide no check, paired | v3 step | v3 collision |")
+    print("|---:|---:|---:|---:|---:|---:|")
     for n in sizes:
         cells = []
         for name, field in (("BM_CollideStep", "ns_body"), ("BM_CollideStep", "ns_body_nocheck"),
                             ("BM_Box2DStep", "ns_body"), ("BM_Box2DStep", "b2_collision")):
             one, two = get(name, n, 1, field), get(name, n, 2, field)
             cells.append(fmt(one / two) if one and two else "-")
+        paired = [get("BM_CollideSpeedup", n, 1, f) for f in ("speedup", "speedup_cpu0", "speedup_cpu1")]
+        cells.insert(2, f"{fmt(paired[0])} ({fmt(paired[1])} / {fmt(paired[2])})" if paired[0] else "-")
         print(f"| {n:,} | " + " | ".join(cells) + " |")
 
     lo, hi = 10000, max(sizes) if sizes else 0
