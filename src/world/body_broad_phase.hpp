@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <variant>
 
 namespace collide::detail {
@@ -39,11 +40,12 @@ class BodyBroadPhaseN {
   /// the same proxies as last call, so incremental structures may update instead of rebuild.
   void set(std::span<const AabbN<D>> boxes, std::span<const float> speed_bounds, double time,
            bool same_objects, TaskScheduler* scheduler = nullptr) {
+    const bool finishing = std::exchange(updating_, false);  // (reset first: finish_update may throw)
     std::visit(
         [&](auto& bp) {
           using T = std::decay_t<decltype(bp)>;
           if constexpr (std::is_same_v<T, TemporalBroadPhaseN<D>>) {
-            if (updating_) {
+            if (finishing) {
               bp.finish_update(boxes);  // (begin_update had the same objects and time)
             } else if (same_objects && built_) {
               bp.update(boxes, time, scheduler);
@@ -60,7 +62,6 @@ class BodyBroadPhaseN {
         },
         bp_);
     built_ = true;
-    updating_ = false;
   }
 
   /// The temporal broad phase's update in parts (TemporalBroadPhaseN::begin_update): true when
