@@ -105,6 +105,14 @@ namespace {
 constexpr int kObjectsPerTask = 2048;
 /// Smallest range of fast objects per task (each a grid query of a few microseconds).
 constexpr int kFastObjectsPerTask = 64;
+/// find_pairs splits its work over the workers from this much on: candidates, each fast object
+/// counting as kFastQueryCandidates (a grid query of a few microseconds against a few
+/// nanoseconds a candidate; at 1e3 objects, 560 candidates and 11 fast objects took about 7 and
+/// 5.5 us). Below it one thread does it all: a wait for the workers costs a few microseconds.
+constexpr int kSplitFindFrom = 256;
+constexpr int kFastQueryCandidates = 50;
+/// Fewest candidates a range of find_pairs checks when it splits them.
+constexpr int kMinCandidatesPerTask = 128;
 /// From this many fast objects on, their pairs among themselves come from a grid of their own
 /// instead of a sort and sweep along x.
 constexpr std::size_t kFastGridFrom = 256;
@@ -405,29 +413,6 @@ void TemporalBroadPhaseN<D>::check_candidates(int begin, int end, PairList& out,
 }
 
 template <int D>
-template <class Task>
-void TemporalBroadPhaseN<D>::on_ranges(TaskScheduler* scheduler, int count, int per_range, PairList& pairs,
-                                       Task&& task) {
-  const int ranges = (count + per_range - 1) / per_range;
-  if (range_out_.size() < static_cast<std::size_t>(ranges)) range_out_.resize(static_cast<std::size_t>(ranges));
-  parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
-    for (int r = begin; r < end; ++r) {
-      RangeOutput& out = range_out_[static_cast<std::size_t>(r)];  // (capacity kept: no allocation)
-      out.pairs.clear();
-      out.checks = 0;
-      out.skipped = 0;
-      task(r * per_range, std::min(count, (r + 1) * per_range), out);
-    }
-  });
-  for (int r = 0; r < ranges; ++r) {
-    const RangeOutput& out = range_out_[static_cast<std::size_t>(r)];
-    pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
-    stats_.checks += out.checks;
-    stats_.skipped_checks += out.skipped;
-  }
-}
-
-template <int D>
 bool TemporalBroadPhaseN<D>::rebuild_due(double next_time) const noexcept {
   if (boxes_.empty() || !(next_time >= time_)) return false;
   return (needs_rebuild_ || next_time > expires_at_) && next_time - time_ <= horizon_;
@@ -449,17 +434,49 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
   pairs.clear();
   if (needs_rebuild_ || time_ > expires_at_) rebuild(scheduler, time_ + horizon_);
   const auto count = static_cast<int>(candidates_.size());
-  if (scheduler == nullptr || scheduler->worker_count() < 2 || count <= kObjectsPerTask) {
+  const auto fast_count = static_cast<int>(fast_.size());
+  const int workers = scheduler != nullptr ? scheduler->worker_count() : 1;
+  std::size_t candidate_pairs = 0;  // the candidates' pairs, ahead of the fast objects' in `pairs`
+  if (workers < 2 || count + kFastQueryCandidates * fast_count < kSplitFindFrom) {
     check_candidates(0, count, pairs, stats_.checks, stats_.skipped_checks);
+    candidate_pairs = pairs.size();
+    query_fast(0, fast_count, pairs, stats_.checks);
   } else {
-    // A candidate writes only its own wake time; the ranges' pairs are joined in range order:
-    // the candidates' order, ascending.
-    on_ranges(scheduler, count, kObjectsPerTask, pairs, [&](int begin, int end, RangeOutput& out) {
-      check_candidates(begin, end, out.pairs, out.checks, out.skipped);
+    // The candidates' checks and the fast objects' grid queries as the ranges of one parallel
+    // region (one wait for the workers, where two had been: at 1e3 objects on two threads they
+    // took 11-16 us a frame on one). Each range writes its own share; the candidates' shares
+    // are joined in range order, which is the candidates' order, ascending; the fast objects'
+    // pairs after them are sorted by merge_fast_pairs below, so the result is the same for any
+    // split. Small sets are cut in one range per worker, large ones in ranges of a fixed size.
+    const int per_candidates = std::max(kMinCandidatesPerTask, std::min(kObjectsPerTask, (count + workers - 1) / workers));
+    const int per_fast = std::max(1, std::min(kFastObjectsPerTask, (fast_count + workers - 1) / workers));
+    const int candidate_ranges = (count + per_candidates - 1) / per_candidates;
+    const int ranges = candidate_ranges + (fast_count + per_fast - 1) / per_fast;
+    if (range_out_.size() < static_cast<std::size_t>(ranges)) range_out_.resize(static_cast<std::size_t>(ranges));
+    parallel_for(scheduler, ranges, 1, [&](int begin, int end, int) {
+      for (int r = begin; r < end; ++r) {
+        RangeOutput& out = range_out_[static_cast<std::size_t>(r)];  // (capacity kept: no allocation)
+        out.pairs.clear();
+        out.checks = 0;
+        out.skipped = 0;
+        if (r < candidate_ranges) {
+          check_candidates(r * per_candidates, std::min(count, (r + 1) * per_candidates), out.pairs, out.checks,
+                           out.skipped);
+        } else {
+          const int first = (r - candidate_ranges) * per_fast;
+          query_fast(first, std::min(fast_count, first + per_fast), out.pairs, out.checks);
+        }
+      }
     });
+    for (int r = 0; r < ranges; ++r) {
+      const RangeOutput& out = range_out_[static_cast<std::size_t>(r)];
+      pairs.insert(pairs.end(), out.pairs.begin(), out.pairs.end());
+      stats_.checks += out.checks;
+      stats_.skipped_checks += out.skipped;
+      if (r + 1 == candidate_ranges) candidate_pairs = pairs.size();
+    }
   }
-  const std::size_t candidate_pairs = pairs.size();
-  find_fast_pairs(pairs, scheduler);
+  fast_among_themselves(pairs);
   merge_fast_pairs(pairs, candidate_pairs);
 }
 
@@ -476,31 +493,26 @@ void TemporalBroadPhaseN<D>::merge_fast_pairs(PairList& pairs, std::size_t sorte
 }
 
 template <int D>
-void TemporalBroadPhaseN<D>::find_fast_pairs(PairList& pairs, TaskScheduler* scheduler) {
-  // Fast objects, every frame: against the slow ones through the grid (a slow object's grown
-  // box contains its current box), and against each other by sort and sweep along x (1% of a
-  // million bodies are bullets: all pairs of them would be 5e7 checks a frame). The grid
-  // queries (a few microseconds each) run on the scheduler's workers, each into its own share.
-  const auto query_fast = [&](int begin, int end, PairList& out, std::int64_t& checks) {
-    for (int n = begin; n < end; ++n) {
-      const int f = fast_[std::size_t(n)];
-      const AabbN<D>& box_f = boxes_[std::size_t(f)];
-      grid_.query(box_f, [&](int slot) {
-        const int s = slow_ids_[std::size_t(slot)];
-        if (is_fast_[std::size_t(s)]) return true;  // demoted since the rebuild: a fast pair below
-        ++checks;
-        if (overlap(box_f, boxes_[std::size_t(s)])) out.emplace_back(std::min(f, s), std::max(f, s));
-        return true;
-      });
-    }
-  };
-  const auto fast_count = static_cast<int>(fast_.size());
-  if (scheduler == nullptr || scheduler->worker_count() < 2 || fast_count <= kFastObjectsPerTask) {
-    query_fast(0, fast_count, pairs, stats_.checks);
-  } else {
-    on_ranges(scheduler, fast_count, kFastObjectsPerTask, pairs,
-              [&](int begin, int end, RangeOutput& out) { query_fast(begin, end, out.pairs, out.checks); });
+void TemporalBroadPhaseN<D>::query_fast(int begin, int end, PairList& out, std::int64_t& checks) const {
+  // Fast objects, every frame, against the slow ones through the grid (a slow object's grown box
+  // contains its current box).
+  for (int n = begin; n < end; ++n) {
+    const int f = fast_[std::size_t(n)];
+    const AabbN<D>& box_f = boxes_[std::size_t(f)];
+    grid_.query(box_f, [&](int slot) {
+      const int s = slow_ids_[std::size_t(slot)];
+      if (is_fast_[std::size_t(s)]) return true;  // demoted since the rebuild: a fast pair below
+      ++checks;
+      if (overlap(box_f, boxes_[std::size_t(s)])) out.emplace_back(std::min(f, s), std::max(f, s));
+      return true;
+    });
   }
+}
+
+template <int D>
+void TemporalBroadPhaseN<D>::fast_among_themselves(PairList& pairs) {
+  // The fast objects against each other by sort and sweep along x (1% of a million bodies are
+  // bullets: all pairs of them would be 5e7 checks a frame).
   if (fast_.size() >= kFastGridFrom) {
     // Many fast objects: a sweep along x checks each against every other whose box spans the
     // same x (3D bullets crossing 20 body sizes a frame: a quarter of the 3D broad phase at 1e5

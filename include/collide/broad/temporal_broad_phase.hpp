@@ -191,17 +191,15 @@ class TemporalBroadPhaseN {
   PairList fast_sorted_;                 // find_pairs' scratch: the fast objects' pairs, sorted
   PairList merged_;                      // find_pairs' scratch: candidates' and fast pairs merged
   PairList sort_scratch_;                // sort_pairs' storage (candidates at a rebuild, fast pairs)
-  /// task(begin, end, share) over [0, count) cut into ranges of `per_range`, on the scheduler's
-  /// workers, each range writing its own share; then the shares' pairs appended to `pairs` in
-  /// range order (the same list for any schedule) and their counters added.
-  template <class Task>
-  void on_ranges(TaskScheduler* scheduler, int count, int per_range, PairList& pairs, Task&& task);
   /// The candidate checks of candidates [begin, end) (wake time, overlap, next wake time): the
   /// overlapping pairs appended to `out` in candidate order, checks and sleepers counted.
   void check_candidates(int begin, int end, PairList& out, std::int64_t& checks, std::int64_t& skipped);
-  /// The fast objects' pairs: with the slow ones by grid queries (on the scheduler's workers
-  /// when given), among themselves by sort and sweep or, when many, a grid of their own.
-  void find_fast_pairs(PairList& pairs, TaskScheduler* scheduler);
+  /// The pairs of fast objects [begin, end) of fast_ with the slow ones, by grid queries, appended
+  /// to `out` (any order); the checks counted. Reads only: ranges may run on several workers.
+  void query_fast(int begin, int end, PairList& out, std::int64_t& checks) const;
+  /// The fast objects' pairs among themselves, appended to `pairs` (any order): by sort and
+  /// sweep along x or, when many, a grid of their own.
+  void fast_among_themselves(PairList& pairs);
   /// pairs[0, sorted_end) is ascending, the rest (the fast objects' pairs, none among the first
   /// part) in any order: sorts the rest and merges it in.
   void merge_fast_pairs(PairList& pairs, std::size_t sorted_end);
