@@ -502,8 +502,8 @@ void BM_CollideSpeedup(benchmark::State& state) {
   // are not equally fast at a given moment (two one-thread runs at once, one pinned to each,
   // read 341 and 245 ns a body, later 307 and 303), and one thread runs on either, so the
   // one-thread time of a run, and the speed-up against it, depended on where the stepping
-  // thread happened to be: 1.34-1.46x in processes whose one-thread frames were fast, 1.63-1.69x
-  // where they were slow, each steady within its process. Counters: ns_body_nocheck_cpu0 /
+  // thread happened to be: 1.34-1.47x in processes whose one-thread frames were fast, 1.51-1.74x
+  // where they were slow, about steady within each process. Counters: ns_body_nocheck_cpu0 /
   // _cpu1 / _2t, the speed-up against each (speedup_cpu0, speedup_cpu1), and `speedup`: the
   // harmonic mean of the two one-thread times over the two-thread time, which is twice the
   // parallel efficiency (two cores of speeds s0 and s1 can at best do the work in 1 / (s0 + s1)

@@ -184,7 +184,6 @@ void TemporalBroadPhaseN<D>::begin_update(std::size_t count, double time) {
   }
   if (!std::isfinite(time) || time < time_) throw InvalidInput("time: not finite or goes back");
   update_time_ = time;
-  update_checks_grown_ = !needs_rebuild_;  // grown_ and is_fast_ are from a rebuild of these objects
   broke_.resize(boxes_.size());
   next_boxes_.resize(boxes_.size());
 }
@@ -201,7 +200,9 @@ void TemporalBroadPhaseN<D>::update_range(int begin, int end, std::span<const Aa
   const AabbN<D>* const grown = grown_.data();
   unsigned char* const broke = broke_.data();
   AabbN<D>* const next = next_boxes_.data();
-  const bool check_grown = update_checks_grown_;
+  // grown_ and is_fast_ are from a rebuild of these objects unless one is pending (only
+  // finish_update's demotions change that, after every range)
+  const bool check_grown = !needs_rebuild_;
   const double dt = update_time_ - time_;
   for (int i = begin; i < end; ++i) {
     const AabbN<D>& now = now_all[i];

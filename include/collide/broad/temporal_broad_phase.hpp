@@ -161,8 +161,7 @@ class TemporalBroadPhaseN {
   double horizon_ = 0.0;
   double time_ = 0.0;        // time of the current boxes
   double expires_at_ = 0.0;  // the candidate set covers the boxes' motion up to this time
-  double update_time_ = 0.0;          // begin_update's time, until finish_update
-  bool update_checks_grown_ = false;  // begin_update: grown_ is of these objects (no rebuild pending)
+  double update_time_ = 0.0;  // begin_update's time, until finish_update
   bool needs_rebuild_ = true;
   std::vector<AabbN<D>> boxes_;
   std::vector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
