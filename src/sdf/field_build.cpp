@@ -1004,6 +1004,36 @@ constexpr std::array<float, 4> kNeighbourLength = {0.0f, 1.0f, std::numbers::sqr
 constexpr std::size_t kSignBytesPerNode = sizeof(std::uint32_t);
 /// Nodes per block of sign_blocks (the sparse field's brick).
 constexpr int kSignBlockNodes = kFieldBrickSize * kFieldBrickSize * kFieldBrickSize;
+/// sign_blocks' flood fill works on a block inside a wall of one node on every side (its side
+/// kWalledBlock): a step to a neighbour lands on a wall cell instead of leaving the block.
+constexpr int kWalledBlock = kFieldBrickSize + 2;
+constexpr int kWalledBlockNodes = kWalledBlock * kWalledBlock * kWalledBlock;
+/// Place of block node (x, y, z) in the walled block.
+constexpr int walled_cell(int x, int y, int z) { return (x + 1) + kWalledBlock * ((y + 1) + kWalledBlock * (z + 1)); }
+/// Block node at place `c` of the walled block.
+inline glm::ivec3 walled_node(int c) {
+  return {c % kWalledBlock - 1, (c / kWalledBlock) % kWalledBlock - 1, c / (kWalledBlock * kWalledBlock) - 1};
+}
+/// The 26 neighbour steps in the walled block (dz, then dy, then dx ascending: the fill's
+/// order) and each one's squared length in voxels (an index of kNeighbourLength).
+constexpr auto kWalledSteps = [] {
+  std::array<int, 26> steps{};
+  int e = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dx != 0 || dy != 0 || dz != 0) steps[e++] = dx + kWalledBlock * (dy + kWalledBlock * dz);
+  return steps;
+}();
+constexpr auto kWalledStepLength = [] {
+  std::array<int, 26> lengths{};
+  int e = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dx != 0 || dy != 0 || dz != 0) lengths[e++] = dx * dx + dy * dy + dz * dz;
+  return lengths;
+}();
 
 /// Calls visit(lo, hi) for the node box of every block of kFieldBrickSize^3 nodes the store
 /// holds: the sparse store's bricks; the dense grid cut into blocks (partial at its far faces).
@@ -1052,14 +1082,16 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   const WindingTree winding(mesh.vertices, mesh.triangles);
   const float voxel = store.grid.voxel;
   const float join = voxel * (1.0f + kCrossingSlackVoxels);
-  constexpr std::uint16_t kUnlabelled = 0xffff;
+  constexpr std::uint16_t kUnlabelled = 0xffff, kWall = 0xfffe;
   // A node beyond the band is farther than the band from the surface: its distance's lower bound.
   const auto distance_at = [&](std::size_t at) {
     return (store.state[at] & kExact) ? std::sqrt(store.distance[at]) : band_distance;
   };
-  std::array<float, kSignBlockNodes> dist;
+  std::array<float, kWalledBlockNodes> dist;  // (wall cells are never read: their label stops the test first)
+  std::array<std::uint16_t, kWalledBlockNodes> label;
   std::array<std::size_t, kSignBlockNodes> slot;
-  std::array<std::uint16_t, kSignBlockNodes> label, stack;
+  std::array<std::uint16_t, kSignBlockNodes> cell;  // node k's place in the walled block
+  std::array<std::uint16_t, kSignBlockNodes> stack;  // (a node is pushed once)
   std::vector<std::uint32_t> region(store.state.size());  // node slot -> region
   std::vector<float> region_winding;
   std::vector<std::uint32_t> region_size;
@@ -1067,6 +1099,9 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   const std::size_t blocks_estimate = store.state.size() / kSignBlockNodes + 1;
   region_winding.reserve(4 * blocks_estimate);
   region_size.reserve(4 * blocks_estimate);
+  // The join test's bound for each of the 26 neighbour steps (kWalledSteps' order).
+  std::array<float, 26> reach;
+  for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = join * kNeighbourLength[kWalledStepLength[e]];
   // 1. Regions within each block.
   for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
     const glm::ivec3 n = hi - lo + 1;
@@ -1078,21 +1113,25 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
       for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x, ++k) {
           const std::size_t at = store.find({x, y, z});
+          const int c = walled_cell(x - lo.x, y - lo.y, z - lo.z);
           slot[k] = at;
-          dist[k] = distance_at(at);
+          cell[k] = static_cast<std::uint16_t>(c);
+          dist[c] = distance_at(at);
           any_band |= (store.state[at] & kExact) != 0;
         }
-    const auto node_of = [&](int at) { return lo + glm::ivec3(at % n.x, (at / n.x) % n.y, at / (n.x * n.y)); };
     if (!any_band) {  // no surface in the block: one region, its winding number at the centre
       region_winding.push_back(winding(local_origin + Vec3((lo + hi) / 2) * voxel));
       region_size.push_back(static_cast<std::uint32_t>(count));
       for (int i = 0; i < count; ++i) region[slot[i]] = first;
       return;
     }
-    std::fill_n(label.begin(), count, kUnlabelled);
-    const int sy = n.x, sz = n.x * n.y;
+    // The block's nodes unlabelled inside a wall (every other cell, also past a partial block's
+    // far faces), so a neighbour step needs no bounds check.
+    std::fill(label.begin(), label.end(), kWall);
+    for (int i = 0; i < count; ++i) label[cell[i]] = kUnlabelled;
     std::uint16_t regions = 0;
-    for (int seed = 0; seed < count; ++seed) {
+    for (int i = 0; i < count; ++i) {
+      const int seed = cell[i];
       if (label[seed] != kUnlabelled) continue;
       const std::uint16_t c = regions++;
       int top = 0, best = seed;
@@ -1100,31 +1139,29 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
       stack[top++] = static_cast<std::uint16_t>(seed);
       while (top > 0) {
         const int at = stack[--top];
-        if (dist[at] > dist[best]) best = at;
-        const int x = at % n.x, y = (at / n.x) % n.y, z = at / sz;
+        const float d = dist[at];
+        if (d > dist[best]) best = at;
         // The 26 neighbours, each with its own length: a node within a small fraction of a
         // voxel of an oblique surface has no axis neighbour passing the test, but one along
-        // a diagonal that points away from the surface.
-        for (int dz = -1; dz <= 1; ++dz) {
-          if (z + dz < 0 || z + dz >= n.z) continue;
-          for (int dy = -1; dy <= 1; ++dy) {
-            if (y + dy < 0 || y + dy >= n.y) continue;
-            for (int dx = -1; dx <= 1; ++dx) {
-              if (x + dx < 0 || x + dx >= n.x) continue;
-              const int to = at + dx + dy * sy + dz * sz;
-              if (label[to] != kUnlabelled) continue;
-              if (!(dist[at] + dist[to] > join * kNeighbourLength[dx * dx + dy * dy + dz * dz])) continue;
-              label[to] = c;
-              stack[top++] = static_cast<std::uint16_t>(to);
-            }
-          }
+        // a diagonal that points away from the surface. (Tried without branches, each neighbour
+        // written to the stack and kept if taken: half the mispredictions, twice the
+        // instructions.)
+        for (std::size_t e = 0; e < kWalledSteps.size(); ++e) {
+          const int to = at + kWalledSteps[e];
+          if (label[to] != kUnlabelled) continue;
+          if (!(d + dist[to] > reach[e])) continue;
+          label[to] = c;
+          stack[top++] = static_cast<std::uint16_t>(to);
         }
       }
-      region_winding.push_back(winding(local_origin + Vec3(node_of(best)) * voxel));
+      region_winding.push_back(winding(local_origin + Vec3(lo + walled_node(best)) * voxel));
       region_size.push_back(0);
     }
-    for (int i = 0; i < count; ++i) ++region_size[first + label[i]];
-    for (int i = 0; i < count; ++i) region[slot[i]] = first + label[i];
+    for (int i = 0; i < count; ++i) {
+      const std::uint32_t r = first + label[cell[i]];
+      ++region_size[r];
+      region[slot[i]] = r;
+    }
   });
   const std::size_t regions = region_winding.size();
   // 2. Joins across block faces (pairs of regions; repeats of the last pair skipped).
