@@ -1016,23 +1016,21 @@ inline glm::ivec3 walled_node(int c) {
 }
 /// The 26 neighbour steps in the walled block (dz, then dy, then dx ascending: the fill's
 /// order) and each one's squared length in voxels (an index of kNeighbourLength).
-constexpr auto kWalledSteps = [] {
-  std::array<int, 26> steps{};
+struct WalledNeighbours {
+  std::array<int, 26> step{};
+  std::array<int, 26> length{};
+};
+constexpr WalledNeighbours kWalledNeighbours = [] {
+  WalledNeighbours n;
   int e = 0;
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx)
-        if (dx != 0 || dy != 0 || dz != 0) steps[e++] = dx + kWalledBlock * (dy + kWalledBlock * dz);
-  return steps;
-}();
-constexpr auto kWalledStepLength = [] {
-  std::array<int, 26> lengths{};
-  int e = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (dx != 0 || dy != 0 || dz != 0) lengths[e++] = dx * dx + dy * dy + dz * dz;
-  return lengths;
+        if (dx != 0 || dy != 0 || dz != 0) {
+          n.step[e] = dx + kWalledBlock * (dy + kWalledBlock * dz);
+          n.length[e++] = dx * dx + dy * dy + dz * dz;
+        }
+  return n;
 }();
 
 /// Calls visit(lo, hi) for the node box of every block of kFieldBrickSize^3 nodes the store
@@ -1099,9 +1097,9 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   const std::size_t blocks_estimate = store.state.size() / kSignBlockNodes + 1;
   region_winding.reserve(4 * blocks_estimate);
   region_size.reserve(4 * blocks_estimate);
-  // The join test's bound for each of the 26 neighbour steps (kWalledSteps' order).
+  // The join test's bound for each of the 26 neighbour steps (kWalledNeighbours' order).
   std::array<float, 26> reach;
-  for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = join * kNeighbourLength[kWalledStepLength[e]];
+  for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = join * kNeighbourLength[kWalledNeighbours.length[e]];
   // 1. Regions within each block.
   for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
     const glm::ivec3 n = hi - lo + 1;
@@ -1146,8 +1144,8 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
         // a diagonal that points away from the surface. (Tried without branches, each neighbour
         // written to the stack and kept if taken: half the mispredictions, twice the
         // instructions.)
-        for (std::size_t e = 0; e < kWalledSteps.size(); ++e) {
-          const int to = at + kWalledSteps[e];
+        for (std::size_t e = 0; e < kWalledNeighbours.step.size(); ++e) {
+          const int to = at + kWalledNeighbours.step[e];
           if (label[to] != kUnlabelled) continue;
           if (!(d + dist[to] > reach[e])) continue;
           label[to] = c;
