@@ -1007,6 +1007,7 @@ constexpr int kSignBlockNodes = kFieldBrickSize * kFieldBrickSize * kFieldBrickS
 /// sign_blocks' flood fill works on a block inside a wall of one node on every side (its side
 /// kWalledBlock): a step to a neighbour lands on a wall cell instead of leaving the block.
 constexpr int kWalledBlock = kFieldBrickSize + 2;
+/// Cells of the walled block (its nodes and the wall).
 constexpr int kWalledBlockNodes = kWalledBlock * kWalledBlock * kWalledBlock;
 /// Place of block node (x, y, z) in the walled block.
 constexpr int walled_cell(int x, int y, int z) { return (x + 1) + kWalledBlock * ((y + 1) + kWalledBlock * (z + 1)); }
@@ -1018,7 +1019,7 @@ inline glm::ivec3 walled_node(int c) {
 /// order) and each one's squared length in voxels (an index of kNeighbourLength).
 struct WalledNeighbours {
   std::array<int, 26> step{};
-  std::array<int, 26> length{};
+  std::array<int, 26> squared_length{};
 };
 constexpr WalledNeighbours kWalledNeighbours = [] {
   WalledNeighbours n;
@@ -1028,7 +1029,7 @@ constexpr WalledNeighbours kWalledNeighbours = [] {
       for (int dx = -1; dx <= 1; ++dx)
         if (dx != 0 || dy != 0 || dz != 0) {
           n.step[e] = dx + kWalledBlock * (dy + kWalledBlock * dz);
-          n.length[e++] = dx * dx + dy * dy + dz * dz;
+          n.squared_length[e++] = dx * dx + dy * dy + dz * dz;
         }
   return n;
 }();
@@ -1099,7 +1100,7 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   region_size.reserve(4 * blocks_estimate);
   // The join test's bound for each of the 26 neighbour steps (kWalledNeighbours' order).
   std::array<float, 26> reach;
-  for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = join * kNeighbourLength[kWalledNeighbours.length[e]];
+  for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = join * kNeighbourLength[kWalledNeighbours.squared_length[e]];
   // 1. Regions within each block.
   for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
     const glm::ivec3 n = hi - lo + 1;
