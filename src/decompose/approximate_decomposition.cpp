@@ -793,7 +793,7 @@ DecompositionError measure_decomposition(const TriangleMesh& mesh, std::span<con
     }
   }
   sample_triangles(hull_triangles, samples, rng, points);
-  const WindingTree winding(mesh.vertices, mesh.triangles);
+  const WindingTree winding(mesh.bvh);
   for (const Vec3& p : points) {
     if (winding(p) > 0.5f) continue;
     error.hull_to_mesh = std::max(error.hull_to_mesh, std::sqrt(mesh.bvh.nearest(p).distance_squared));

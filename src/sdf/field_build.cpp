@@ -1078,7 +1078,7 @@ constexpr float kUnsureWinding = 0.3f;
 /// flood fill's; the rule on unsure regions is ours. Returns the winding numbers evaluated.
 template <class Store>
 std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_distance, Store& store) {
-  const WindingTree winding(mesh.vertices, mesh.triangles);
+  const WindingTree winding(mesh.bvh);
   const float voxel = store.grid.voxel;
   const float join = voxel * (1.0f + kCrossingSlackVoxels);
   constexpr std::uint16_t kUnlabelled = 0xffff, kWall = 0xfffe;
@@ -1385,7 +1385,7 @@ DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOp
   const Vec3 local = local_grid_origin(mesh, options);
   field.distances = detail::large_page_vector(field.grid.count(), 0.0f);
   if (options.keep_closest_points) field.closest_points = detail::large_page_vector(field.grid.count(), Vec3(0.0f));
-  const WindingTree winding(mesh.vertices, mesh.triangles);
+  const WindingTree winding(mesh.bvh);
   for_each_node<3>(glm::ivec3(0), field.grid.dims - 1, [&](glm::ivec3 i) {
     const Vec3 p = local + Vec3(i) * field.grid.voxel;
     const BvhNearest nearest = mesh.bvh.nearest(p);

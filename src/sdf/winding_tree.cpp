@@ -48,153 +48,239 @@ float solid_angle(Vec3 a, Vec3 b, Vec3 c) noexcept {
   return relative_solid_angle(a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z);
 }
 
-WindingTree::WindingTree(std::span<const Vec3> vertices, std::span<const glm::uvec3> triangles) {
-  // Each triangle's numbers worked out once and kept together, so that every level of the build
-  // reads them in order (read through an index and recomputed per level, the area's square
-  // root and the corners' loads were most of the build: 4.8 ms for dungeon.obj's 10k triangles).
-  const auto n = static_cast<std::uint32_t>(triangles.size());
-  std::vector<BuildTriangle> soup(n);
-  for (std::uint32_t t = 0; t < n; ++t) {
-    const glm::uvec3 tri = triangles[t];
-    BuildTriangle& out = soup[t];
-    out.corners = {vertices[tri[0]], vertices[tri[1]], vertices[tri[2]]};
-    out.centroid = (out.corners[0] + out.corners[1] + out.corners[2]) / 3.0f;
-    out.half_cross = 0.5f * glm::cross(out.corners[1] - out.corners[0], out.corners[2] - out.corners[0]);
-    out.area = glm::length(out.half_cross);
-  }
-  leaves_.reserve(n / kWindingLeafTriangles + 1);
-  nodes_.reserve(std::size_t{2} * (n / kWindingLeafTriangles + 1));
-  if (n > 0) build(soup);
-}
+namespace {
 
-std::uint32_t WindingTree::build(std::span<BuildTriangle> cluster) {
-  const auto at = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.emplace_back();
-  const auto count = static_cast<std::uint32_t>(cluster.size());
-  // The cluster's dipole: area-weighted normal sum at the area centroid.
-  Vec3 normal{0.0f}, weighted{0.0f}, mean{0.0f};
-  float area = 0.0f;
-  Vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
-  for (const BuildTriangle& t : cluster) {
-    normal += t.half_cross;
-    area += t.area;
-    weighted += t.area * t.centroid;
-    mean += t.centroid;
-    lo = glm::min(lo, t.centroid);
-    hi = glm::max(hi, t.centroid);
+/// Lane mask (all bits set) of each of a node's used slots, by TriangleBvh::used_slots.
+struct SlotMasks {
+  std::array<std::array<std::uint32_t, kBvhWidth>, 16> bits{};
+  constexpr SlotMasks() {
+    for (unsigned used = 0; used < 16; ++used)
+      for (int k = 0; k < kBvhWidth; ++k) bits[used][k] = (used >> k) & 1u ? 0xffffffffu : 0u;
   }
-  const Vec3 centre = area > 0.0f ? weighted / area : mean / static_cast<float>(count);
-  float radius_squared = 0.0f;
-  for (const BuildTriangle& t : cluster) {
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 d = t.corners[k] - centre;
-      radius_squared = std::max(radius_squared, glm::dot(d, d));
+};
+constexpr SlotMasks kSlotMasks;
+
+}  // namespace
+
+WindingTree::WindingTree(const TriangleBvh& bvh) : bvh_(&bvh) {
+  const std::span<const TriangleBvh::Node> nodes = bvh.nodes();
+  const std::span<const TriangleBvh::Packet> packets = bvh.packets();
+  // Each packet's triangles (its used lanes; the rest repeat the last one): area-weighted
+  // normal (half the cross product), area and centroid, worked out once.
+  std::vector<std::uint32_t> lanes_used(packets.size(), 0);
+  for (const TriangleBvh::Node& node : nodes) {
+    for (int k = 0; k < kBvhWidth; ++k) {
+      if (node.child[k] != TriangleBvh::kEmpty && TriangleBvh::is_leaf(node.child[k]))
+        lanes_used[TriangleBvh::packet_index(node.child[k])] = node.count[k];
     }
   }
-  nodes_[at].centre = centre;
-  nodes_[at].radius = std::sqrt(radius_squared);
-  nodes_[at].normal = normal;
-  if (count <= kWindingLeafTriangles) {
-    nodes_[at].first = static_cast<std::uint32_t>(leaves_.size());
-    nodes_[at].count = count;
-    Leaf& leaf = leaves_.emplace_back();  // unused lanes: all corners at 0, no solid angle
-    for (std::uint32_t i = 0; i < count; ++i) {
-      for (int k = 0; k < 3; ++k)
-        for (int axis = 0; axis < 3; ++axis) leaf.corners[3 * k + axis][i] = cluster[i].corners[k][axis];
+  struct Piece {
+    Vec3 half_cross, centroid;
+    float area;
+  };
+  std::vector<Piece> pieces(packets.size() * kBvhLeafTriangles);
+  for (std::size_t p = 0; p < packets.size(); ++p) {
+    for (std::uint32_t l = 0; l < lanes_used[p]; ++l) {
+      const Vec3 a = packets[p].corner(0, l), b = packets[p].corner(1, l), c = packets[p].corner(2, l);
+      Piece& piece = pieces[p * kBvhLeafTriangles + l];
+      piece.half_cross = 0.5f * glm::cross(b - a, c - a);
+      piece.area = glm::length(piece.half_cross);
+      piece.centroid = (a + b + c) / 3.0f;
     }
-    return at;
   }
-  // Median split on the longest axis of the centroids' box: depth stays log2(n).
-  const Vec3 extent = hi - lo;
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-  const std::uint32_t half = count / 2;
-  std::nth_element(cluster.begin(), cluster.begin() + half, cluster.end(),
-                   [axis](const BuildTriangle& p, const BuildTriangle& q) { return p.centroid[axis] < q.centroid[axis]; });
-  build(cluster.first(half));
-  const std::uint32_t right = build(cluster.subspan(half));
-  nodes_[at].first = right;
-  nodes_[at].count = 0;
-  return at;
+  // Each node's packets are one contiguous range (depth-first numbering); inner children have
+  // higher indices than their node, so a pass from the last node up sees children first.
+  struct Range {
+    std::uint32_t first = std::numeric_limits<std::uint32_t>::max(), end = 0;
+  };
+  std::vector<Range> node_range(nodes.size());
+  clusters_.resize(nodes.size());
+  for (std::size_t n = nodes.size(); n-- > 0;) {
+    const TriangleBvh::Node& node = nodes[n];
+    Clusters& out = clusters_[n];
+    for (int k = 0; k < kBvhWidth; ++k) {
+      const std::uint32_t child = node.child[k];
+      if (child == TriangleBvh::kEmpty) {  // never far (the query skips the slot), adds nothing
+        for (int axis = 0; axis < 3; ++axis) out.centre[axis][k] = out.normal[axis][k] = 0.0f;
+        for (int e = 0; e < 9; ++e) out.moment[e][k] = 0.0f;
+        out.far_squared[k] = std::numeric_limits<float>::infinity();
+        continue;
+      }
+      const Range range = TriangleBvh::is_leaf(child)
+                              ? Range{TriangleBvh::packet_index(child), TriangleBvh::packet_index(child) + 1}
+                              : node_range[child];
+      node_range[n].first = std::min(node_range[n].first, range.first);
+      node_range[n].end = std::max(node_range[n].end, range.end);
+      // The cluster's area centroid (the centroids' mean if it has no area), normal sum.
+      Vec3 normal{0.0f}, weighted{0.0f}, mean{0.0f};
+      float area = 0.0f;
+      std::uint32_t count = 0;
+      for (std::uint32_t p = range.first; p < range.end; ++p) {
+        for (std::uint32_t l = 0; l < lanes_used[p]; ++l) {
+          const Piece& piece = pieces[p * kBvhLeafTriangles + l];
+          normal += piece.half_cross;
+          area += piece.area;
+          weighted += piece.area * piece.centroid;
+          mean += piece.centroid;
+          ++count;
+        }
+      }
+      const Vec3 centre = area > 0.0f ? weighted / area : mean / static_cast<float>(std::max(count, 1u));
+      // Its radius (the farthest corner) and first moment about the centre.
+      float radius_squared = 0.0f;
+      std::array<float, 9> moment{};
+      for (std::uint32_t p = range.first; p < range.end; ++p) {
+        for (std::uint32_t l = 0; l < lanes_used[p]; ++l) {
+          for (int c = 0; c < 3; ++c) {
+            const Vec3 d = packets[p].corner(c, l) - centre;
+            radius_squared = std::max(radius_squared, glm::dot(d, d));
+          }
+          const Piece& piece = pieces[p * kBvhLeafTriangles + l];
+          const Vec3 offset = piece.centroid - centre;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) moment[3 * i + j] += piece.half_cross[i] * offset[j];
+        }
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        out.centre[axis][k] = centre[axis];
+        out.normal[axis][k] = normal[axis];
+      }
+      for (int e = 0; e < 9; ++e) out.moment[e][k] = moment[e];
+      out.far_squared[k] = kWindingFarRatio * kWindingFarRatio * radius_squared;
+    }
+  }
 }
 
-float WindingTree::leaf_solid_angle(const Leaf& leaf, Vec3 q) noexcept {
 #if defined(__SSE2__) || defined(_M_X64)
-  // relative_solid_angle four lanes at a time (SSE2), the same operations in the same order.
-  const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
+namespace {
+
+/// relative_solid_angle of a packet's four lanes (SSE2), the same operations in the same order,
+/// summed over the lanes in `used` (all bits set per lane).
+inline __m128 packet_solid_angles(const TriangleBvh::Packet& packet, __m128 qx, __m128 qy, __m128 qz,
+                                  __m128 used) noexcept {
   const __m128 sign_bit = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps();
   const __m128 pi = _mm_set1_ps(std::numbers::pi_v<float>), half_pi = _mm_set1_ps(0.5f * std::numbers::pi_v<float>);
-  __m128 total = zero;
-  for (std::uint32_t l = 0; l < kWindingLeafTriangles; l += 4) {
-    const auto& c = leaf.corners;
-    const __m128 ax = _mm_sub_ps(_mm_loadu_ps(&c[0][l]), qx), ay = _mm_sub_ps(_mm_loadu_ps(&c[1][l]), qy),
-                 az = _mm_sub_ps(_mm_loadu_ps(&c[2][l]), qz), bx = _mm_sub_ps(_mm_loadu_ps(&c[3][l]), qx),
-                 by = _mm_sub_ps(_mm_loadu_ps(&c[4][l]), qy), bz = _mm_sub_ps(_mm_loadu_ps(&c[5][l]), qz),
-                 cx = _mm_sub_ps(_mm_loadu_ps(&c[6][l]), qx), cy = _mm_sub_ps(_mm_loadu_ps(&c[7][l]), qy),
-                 cz = _mm_sub_ps(_mm_loadu_ps(&c[8][l]), qz);
-    auto dot = [](__m128 x0, __m128 y0, __m128 z0, __m128 x1, __m128 y1, __m128 z1) {
-      return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x0, x1), _mm_mul_ps(y0, y1)), _mm_mul_ps(z0, z1));
-    };
-    const __m128 la = _mm_sqrt_ps(dot(ax, ay, az, ax, ay, az)), lb = _mm_sqrt_ps(dot(bx, by, bz, bx, by, bz)),
-                 lc = _mm_sqrt_ps(dot(cx, cy, cz, cx, cy, cz));
-    const __m128 y = dot(ax, ay, az, _mm_sub_ps(_mm_mul_ps(by, cz), _mm_mul_ps(bz, cy)),
-                         _mm_sub_ps(_mm_mul_ps(bz, cx), _mm_mul_ps(bx, cz)), _mm_sub_ps(_mm_mul_ps(bx, cy), _mm_mul_ps(by, cx)));
-    const __m128 x = _mm_add_ps(
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(la, lb), lc), _mm_mul_ps(dot(ax, ay, az, bx, by, bz), lc)),
-                   _mm_mul_ps(dot(ax, ay, az, cx, cy, cz), lb)),
-        _mm_mul_ps(dot(bx, by, bz, cx, cy, cz), la));
-    // fast_atan2(y, x), with masks for its selects.
-    const __m128 fx = _mm_andnot_ps(sign_bit, x), fy = _mm_andnot_ps(sign_bit, y);
-    const __m128 big = _mm_max_ps(fx, fy), small = _mm_min_ps(fx, fy);
-    const __m128 a = _mm_div_ps(small, _mm_max_ps(big, _mm_set1_ps(std::numeric_limits<float>::min())));
-    const __m128 s = _mm_mul_ps(a, a);
-    __m128 r = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(-0.0464964749f), s),
-                                                                                  _mm_set1_ps(0.15931422f)), s),
-                                                          _mm_set1_ps(0.327622764f)), s), a), a);
-    const __m128 steep = _mm_cmpgt_ps(fy, fx);
-    r = _mm_or_ps(_mm_and_ps(steep, _mm_sub_ps(half_pi, r)), _mm_andnot_ps(steep, r));
-    const __m128 behind = _mm_cmplt_ps(x, zero);
-    r = _mm_or_ps(_mm_and_ps(behind, _mm_sub_ps(pi, r)), _mm_andnot_ps(behind, r));
-    r = _mm_xor_ps(r, _mm_and_ps(_mm_cmplt_ps(y, zero), sign_bit));
-    total = _mm_add_ps(total, r);
-  }
-  alignas(16) float lanes[4];
-  _mm_store_ps(lanes, total);
-  return 2.0f * ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]));
-#else
-  float omega = 0.0f;
-  for (std::uint32_t l = 0; l < kWindingLeafTriangles; ++l) {
-    const auto& c = leaf.corners;
-    omega += relative_solid_angle(c[0][l] - q.x, c[1][l] - q.y, c[2][l] - q.z, c[3][l] - q.x, c[4][l] - q.y,
-                                  c[5][l] - q.z, c[6][l] - q.x, c[7][l] - q.y, c[8][l] - q.z);
-  }
-  return omega;
-#endif
+  const auto& c = packet.corners;
+  const __m128 ax = _mm_sub_ps(_mm_load_ps(c[0][0].data()), qx), ay = _mm_sub_ps(_mm_load_ps(c[0][1].data()), qy),
+               az = _mm_sub_ps(_mm_load_ps(c[0][2].data()), qz), bx = _mm_sub_ps(_mm_load_ps(c[1][0].data()), qx),
+               by = _mm_sub_ps(_mm_load_ps(c[1][1].data()), qy), bz = _mm_sub_ps(_mm_load_ps(c[1][2].data()), qz),
+               cx = _mm_sub_ps(_mm_load_ps(c[2][0].data()), qx), cy = _mm_sub_ps(_mm_load_ps(c[2][1].data()), qy),
+               cz = _mm_sub_ps(_mm_load_ps(c[2][2].data()), qz);
+  auto dot = [](__m128 x0, __m128 y0, __m128 z0, __m128 x1, __m128 y1, __m128 z1) {
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(x0, x1), _mm_mul_ps(y0, y1)), _mm_mul_ps(z0, z1));
+  };
+  const __m128 la = _mm_sqrt_ps(dot(ax, ay, az, ax, ay, az)), lb = _mm_sqrt_ps(dot(bx, by, bz, bx, by, bz)),
+               lc = _mm_sqrt_ps(dot(cx, cy, cz, cx, cy, cz));
+  const __m128 y = dot(ax, ay, az, _mm_sub_ps(_mm_mul_ps(by, cz), _mm_mul_ps(bz, cy)),
+                       _mm_sub_ps(_mm_mul_ps(bz, cx), _mm_mul_ps(bx, cz)), _mm_sub_ps(_mm_mul_ps(bx, cy), _mm_mul_ps(by, cx)));
+  const __m128 x = _mm_add_ps(
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(la, lb), lc), _mm_mul_ps(dot(ax, ay, az, bx, by, bz), lc)),
+                 _mm_mul_ps(dot(ax, ay, az, cx, cy, cz), lb)),
+      _mm_mul_ps(dot(bx, by, bz, cx, cy, cz), la));
+  // fast_atan2(y, x), with masks for its selects.
+  const __m128 fx = _mm_andnot_ps(sign_bit, x), fy = _mm_andnot_ps(sign_bit, y);
+  const __m128 big = _mm_max_ps(fx, fy), small = _mm_min_ps(fx, fy);
+  const __m128 a = _mm_div_ps(small, _mm_max_ps(big, _mm_set1_ps(std::numeric_limits<float>::min())));
+  const __m128 s = _mm_mul_ps(a, a);
+  __m128 r = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(-0.0464964749f), s),
+                                                                                _mm_set1_ps(0.15931422f)), s),
+                                                        _mm_set1_ps(0.327622764f)), s), a), a);
+  const __m128 steep = _mm_cmpgt_ps(fy, fx);
+  r = _mm_or_ps(_mm_and_ps(steep, _mm_sub_ps(half_pi, r)), _mm_andnot_ps(steep, r));
+  const __m128 behind = _mm_cmplt_ps(x, zero);
+  r = _mm_or_ps(_mm_and_ps(behind, _mm_sub_ps(pi, r)), _mm_andnot_ps(behind, r));
+  r = _mm_xor_ps(r, _mm_and_ps(_mm_cmplt_ps(y, zero), sign_bit));
+  return _mm_and_ps(_mm_add_ps(r, r), used);
 }
 
+}  // namespace
+#endif
+
+// Depth first over the BVH. At each node the four clusters' distances to q are taken at once;
+// a cluster farther than its far bound adds the second-order expansion of its solid angles
+// (the winding number of a point dipole A at c, seen from q, is A . r / (4 pi |r|^3) with
+// r = c - q; its derivative along the triangles' offsets from the centre gives the moment's
+// term (tr M |r|^2 - 3 r^T M r) / (4 pi |r|^5); Barill et al. 2018, section 3.2), the rest are
+// opened: a leaf's triangles add their exact solid angles.
 float WindingTree::operator()(Vec3 q) const noexcept {
-  if (nodes_.empty()) return 0.0f;
-  constexpr float kFar = kWindingFarRatio * kWindingFarRatio;
-  // Depth is at most log2(triangles) + 1 (median splits), far below 64 for any mesh in memory.
-  std::array<std::uint32_t, 64> stack;
+  const std::span<const TriangleBvh::Node> nodes = bvh_->nodes();
+  if (nodes.empty()) return 0.0f;
+  const std::span<const TriangleBvh::Packet> packets = bvh_->packets();
+  // A visit leaves at most kBvhWidth - 1 nodes pending per level of the tree (kBvhStackSize).
+  std::array<std::uint32_t, kBvhStackSize> stack;
   int top = 0;
   stack[top++] = 0;
+#if defined(__SSE2__) || defined(_M_X64)
+  const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
+  __m128 far_sum = _mm_setzero_ps(), near_sum = _mm_setzero_ps();
+  while (top > 0) {
+    const std::uint32_t n = stack[--top];
+    const TriangleBvh::Node& node = nodes[n];
+    const Clusters& c = clusters_[n];
+    const auto lane = [](const std::array<float, kBvhWidth>& v) { return _mm_load_ps(v.data()); };
+    const __m128 dx = _mm_sub_ps(lane(c.centre[0]), qx), dy = _mm_sub_ps(lane(c.centre[1]), qy),
+                 dz = _mm_sub_ps(lane(c.centre[2]), qz);
+    const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+    const __m128 far = _mm_cmpgt_ps(d2, lane(c.far_squared));
+    const unsigned far_bits = static_cast<unsigned>(_mm_movemask_ps(far));
+    if (far_bits != 0) {
+      const __m128 inv3 = _mm_div_ps(_mm_set1_ps(1.0f), _mm_mul_ps(d2, _mm_sqrt_ps(d2)));  // 1 / |r|^3
+      const __m128 inv5 = _mm_div_ps(inv3, d2);
+      const __m128 dipole = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, lane(c.normal[0])), _mm_mul_ps(dy, lane(c.normal[1]))),
+                                       _mm_mul_ps(dz, lane(c.normal[2])));
+      const auto row = [&](int i) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(lane(c.moment[3 * i]), dx), _mm_mul_ps(lane(c.moment[3 * i + 1]), dy)),
+                          _mm_mul_ps(lane(c.moment[3 * i + 2]), dz));
+      };
+      const __m128 rmr = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, row(0)), _mm_mul_ps(dy, row(1))), _mm_mul_ps(dz, row(2)));
+      const __m128 trace = _mm_add_ps(_mm_add_ps(lane(c.moment[0]), lane(c.moment[4])), lane(c.moment[8]));
+      const __m128 term = _mm_sub_ps(_mm_mul_ps(_mm_add_ps(dipole, trace), inv3),
+                                     _mm_mul_ps(_mm_set1_ps(3.0f), _mm_mul_ps(rmr, inv5)));
+      far_sum = _mm_add_ps(far_sum, _mm_and_ps(far, term));
+    }
+    for (unsigned open = ~far_bits & TriangleBvh::used_slots(node); open != 0; open &= open - 1) {
+      const int k = std::countr_zero(open);
+      const std::uint32_t child = node.child[k];
+      if (!TriangleBvh::is_leaf(child)) {
+        stack[top++] = child;
+        continue;
+      }
+      const __m128 used = _mm_castsi128_ps(
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(kSlotMasks.bits[(1u << node.count[k]) - 1].data())));
+      near_sum = _mm_add_ps(near_sum, packet_solid_angles(packets[TriangleBvh::packet_index(child)], qx, qy, qz, used));
+    }
+  }
+  alignas(16) float f[4], e[4];
+  _mm_store_ps(f, far_sum);
+  _mm_store_ps(e, near_sum);
+  const float omega = ((e[0] + e[1]) + (e[2] + e[3])) + ((f[0] + f[1]) + (f[2] + f[3]));
+#else
   float omega = 0.0f;
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    const Vec3 d = node.centre - q;
-    const float d2 = glm::dot(d, d);
-    if (d2 > kFar * node.radius * node.radius) {
-      omega += glm::dot(d, node.normal) / (d2 * std::sqrt(d2));  // the cluster's dipole
-      continue;
+    const std::uint32_t n = stack[--top];
+    const TriangleBvh::Node& node = nodes[n];
+    const Clusters& c = clusters_[n];
+    for (int k = 0; k < kBvhWidth; ++k) {
+      const std::uint32_t child = node.child[k];
+      if (child == TriangleBvh::kEmpty) continue;
+      const Vec3 r{c.centre[0][k] - q.x, c.centre[1][k] - q.y, c.centre[2][k] - q.z};
+      const float d2 = glm::dot(r, r);
+      if (d2 > c.far_squared[k]) {
+        const float inv3 = 1.0f / (d2 * std::sqrt(d2)), inv5 = inv3 / d2;
+        float rmr = 0.0f;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) rmr += r[i] * c.moment[3 * i + j][k] * r[j];
+        const float dipole = r.x * c.normal[0][k] + r.y * c.normal[1][k] + r.z * c.normal[2][k];
+        omega += (dipole + c.moment[0][k] + c.moment[4][k] + c.moment[8][k]) * inv3 - 3.0f * rmr * inv5;
+      } else if (!TriangleBvh::is_leaf(child)) {
+        stack[top++] = child;
+      } else {
+        const TriangleBvh::Packet& p = packets[TriangleBvh::packet_index(child)];
+        for (std::uint32_t l = 0; l < node.count[k]; ++l) omega += solid_angle(p.corner(0, l) - q, p.corner(1, l) - q, p.corner(2, l) - q);
+      }
     }
-    if (node.count > 0) {
-      const Leaf& leaf = leaves_[node.first];
-      omega += leaf_solid_angle(leaf, q);
-      continue;
-    }
-    stack[top++] = node.first;                                      // right child
-    stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;  // left child, next
   }
+#endif
   return omega / (4.0f * std::numbers::pi_v<float>);
 }
 

@@ -140,6 +140,48 @@ TEST(TriangleBvh, BoundedNearestFindsExactlyTheTrianglesWithinTheBound) {
   EXPECT_EQ(bvh.nearest(corner_point, 0.0f).distance_squared, 0.0f);
 }
 
+TEST(TriangleBvh, LayoutIsDepthFirstWithEachSubtreesPacketsContiguous) {
+  // What walkers of the public layout rely on (sdf/winding_tree.cpp): inner children come after
+  // their node, each subtree's packets are one range, and every triangle is in exactly one
+  // used lane of one leaf (unused lanes repeat the last one).
+  std::mt19937 rng(29);
+  for (const int n : {1, 3, 4, 5, 17, 300}) {
+    const TriangleSoup s = random_soup(rng, n, Vec3(0.0f), 20.0f, 2.0f);
+    const TriangleBvh bvh(s.positions, s.triangles);
+    const auto nodes = bvh.nodes();
+    const auto packets = bvh.packets();
+    ASSERT_FALSE(nodes.empty());
+    std::vector<int> seen(s.triangles.size(), 0);
+    // Packet range of each node's subtree, from the last node up.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> range(nodes.size(), {~0u, 0u});
+    for (std::size_t i = nodes.size(); i-- > 0;) {
+      std::uint32_t packets_below = 0;
+      for (int k = 0; k < kBvhWidth; ++k) {
+        const std::uint32_t child = nodes[i].child[k];
+        if (!((TriangleBvh::used_slots(nodes[i]) >> k) & 1u)) continue;
+        std::pair<std::uint32_t, std::uint32_t> r;
+        if (TriangleBvh::is_leaf(child)) {
+          const std::uint32_t p = TriangleBvh::packet_index(child);
+          ASSERT_LT(p, packets.size());
+          r = {p, p + 1};
+          ++packets_below;
+          for (std::uint32_t l = 0; l < nodes[i].count[k]; ++l) ++seen[packets[p].id[l]];
+        } else {
+          ASSERT_GT(child, i);
+          ASSERT_LT(child, nodes.size());
+          r = range[child];
+          packets_below += r.second - r.first;
+        }
+        range[i] = {std::min(range[i].first, r.first), std::max(range[i].second, r.second)};
+      }
+      EXPECT_EQ(range[i].second - range[i].first, packets_below) << "node " << i << " of " << n << " triangles";
+    }
+    EXPECT_EQ(range[0].first, 0u);
+    EXPECT_EQ(range[0].second, packets.size());
+    for (std::size_t t = 0; t < seen.size(); ++t) EXPECT_EQ(seen[t], 1) << "triangle " << t;
+  }
+}
+
 TEST(TriangleBvh, NearestOfAnEmptyTreeIsEmpty) {
   const TriangleBvh bvh;
   EXPECT_EQ(bvh.nearest(Vec3(1.0f)).triangle, std::numeric_limits<std::uint32_t>::max());

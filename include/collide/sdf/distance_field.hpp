@@ -21,8 +21,9 @@
 ///     their exact distances sum to more than the distance between them, so the surface cannot
 ///     pass between them), one generalised winding number per region (Jacobson, Kavan &
 ///     Sorkine-Hornung, "Robust Inside-Outside Segmentation using Generalized Winding Numbers",
-///     SIGGRAPH 2013), evaluated fast with a tree of dipoles (Barill, Dickson, Schmidt, Levin &
-///     Jacobson, "Fast Winding Numbers for Soups and Clouds", SIGGRAPH 2018), so open meshes
+///     SIGGRAPH 2013), evaluated fast over the mesh's BVH, far clusters by their second-order
+///     expansion (Barill, Dickson, Schmidt, Levin & Jacobson, "Fast Winding Numbers for Soups
+///     and Clouds", SIGGRAPH 2018; sdf/winding_tree.hpp), so open meshes
 ///     (real levels) get a sensible inside. A region whose winding number lies within 0.3 of 1/2
 ///     (unsure: under an open terrain, by a hole) takes the side of the surest region that
 ///     reaches it without crossing the surface;
@@ -343,8 +344,9 @@ concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>&
 [[nodiscard]] DistanceField3 make_distance_field(const TriangleMesh& mesh, const FieldOptions& options);
 
 /// The reference build: the exact distance of every node through the mesh BVH
-/// (`TriangleBvh::nearest`) and the winding number of every node. Slow (the benchmark's and the
-/// tests' yardstick for `make_distance_field`); the same errors.
+/// (`TriangleBvh::nearest`) and the winding number of every node (WindingTree, as the fast
+/// build's regions). Slow (the benchmark's and the tests' yardstick for `make_distance_field`);
+/// the same errors.
 [[nodiscard]] DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOptions& options);
 
 /// Sparse narrow-band field of the union of `shapes` (see SparseDistanceFieldN). The same

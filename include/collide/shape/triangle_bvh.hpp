@@ -171,7 +171,10 @@ class TriangleBvh {
   /// Box of everything; a zero box when empty.
   [[nodiscard]] Aabb3 bounds() const noexcept { return bounds_; }
 
- private:
+
+  // ---- The layout, for algorithms that walk the tree with data of their own per child box
+  // (the fast winding number of sdf/winding_tree.hpp keeps a cluster's dipole per child). ----
+
   /// Set in a child reference that names a leaf packet rather than a node. A leaf reference
   /// is kLeaf | slivers << kSliverShift | packet index, `slivers` bit k set when lane k's
   /// triangle is a sliver (longer than detail::kSliverAspect times its width), whose ray
@@ -203,6 +206,15 @@ class TriangleBvh {
     }
   };
 
+  /// The four-wide nodes, root first. Numbered depth first: a node's inner children come after
+  /// it, and the packets of a subtree are one contiguous range.
+  [[nodiscard]] std::span<const Node> nodes() const noexcept { return nodes_; }
+  /// The leaf packets, in the order the depth-first numbering meets them.
+  [[nodiscard]] std::span<const Packet> packets() const noexcept { return packets_; }
+  /// Whether a child reference names a leaf packet (else a node, or kEmpty: test that first).
+  [[nodiscard]] static constexpr bool is_leaf(std::uint32_t ref) noexcept { return (ref & kLeaf) != 0; }
+  /// The packet index of a leaf reference.
+  [[nodiscard]] static constexpr std::uint32_t packet_index(std::uint32_t ref) noexcept { return ref & kPacketMask; }
   /// Bit k set where slot k of the node is used.
   [[nodiscard]] static unsigned used_slots(const Node& node) noexcept {
     unsigned bits = 0;
@@ -210,6 +222,8 @@ class TriangleBvh {
     return bits;
   }
 
+
+ private:
   /// The fixed-stack slab walk behind ray_cast and box_cast: from `origin` along `translation`
   /// within `max_fraction`, nearer children first, through the node boxes (grown by `half` on
   /// each side when Grow). `on_leaf(packet, slivers, max)` handles one packet (`slivers`: its
