@@ -88,12 +88,22 @@ WindingTree::WindingTree(const TriangleBvh& bvh) : bvh_(&bvh) {
       piece.centroid = (a + b + c) / 3.0f;
     }
   }
-  // Each node's packets are one contiguous range (depth-first numbering); inner children have
-  // higher indices than their node, so a pass from the last node up sees children first.
-  struct Range {
-    std::uint32_t first = std::numeric_limits<std::uint32_t>::max(), end = 0;
+  // One pass from the last node up (inner children have higher indices than their node, so it
+  // sees children first): each cluster's sums from its children's, in double (the moment about
+  // the centre is the moment about the origin minus N centre^T, a difference of larger terms).
+  struct Sums {
+    double area = 0.0;
+    glm::dvec3 weighted{0.0}, normal{0.0}, mean{0.0};  // area-weighted centroids, normals, centroids
+    std::array<double, 9> moment{};                     // sum of A_t c_t^T about the origin
+    std::uint32_t count = 0;
+    std::uint32_t first = std::numeric_limits<std::uint32_t>::max(), end = 0;  // packets (contiguous)
+    void add(const Sums& o) {
+      area += o.area, weighted += o.weighted, normal += o.normal, mean += o.mean, count += o.count;
+      for (int e = 0; e < 9; ++e) moment[e] += o.moment[e];
+      first = std::min(first, o.first), end = std::max(end, o.end);
+    }
   };
-  std::vector<Range> node_range(nodes.size());
+  std::vector<Sums> node_sums(nodes.size());
   clusters_.resize(nodes.size());
   for (std::size_t n = nodes.size(); n-- > 0;) {
     const TriangleBvh::Node& node = nodes[n];
@@ -106,46 +116,41 @@ WindingTree::WindingTree(const TriangleBvh& bvh) : bvh_(&bvh) {
         out.far_squared[k] = std::numeric_limits<float>::infinity();
         continue;
       }
-      const Range range = TriangleBvh::is_leaf(child)
-                              ? Range{TriangleBvh::packet_index(child), TriangleBvh::packet_index(child) + 1}
-                              : node_range[child];
-      node_range[n].first = std::min(node_range[n].first, range.first);
-      node_range[n].end = std::max(node_range[n].end, range.end);
-      // The cluster's area centroid (the centroids' mean if it has no area), normal sum.
-      Vec3 normal{0.0f}, weighted{0.0f}, mean{0.0f};
-      float area = 0.0f;
-      std::uint32_t count = 0;
-      for (std::uint32_t p = range.first; p < range.end; ++p) {
+      Sums sums;
+      if (TriangleBvh::is_leaf(child)) {
+        const std::uint32_t p = TriangleBvh::packet_index(child);
+        sums.first = p, sums.end = p + 1;
         for (std::uint32_t l = 0; l < lanes_used[p]; ++l) {
           const Piece& piece = pieces[p * kBvhLeafTriangles + l];
-          normal += piece.half_cross;
-          area += piece.area;
-          weighted += piece.area * piece.centroid;
-          mean += piece.centroid;
-          ++count;
+          const glm::dvec3 a(piece.half_cross), c(piece.centroid);
+          sums.area += piece.area, sums.weighted += double(piece.area) * c, sums.normal += a, sums.mean += c;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) sums.moment[3 * i + j] += a[i] * c[j];
+          ++sums.count;
         }
+      } else {
+        sums = node_sums[child];
       }
-      const Vec3 centre = area > 0.0f ? weighted / area : mean / static_cast<float>(std::max(count, 1u));
-      // Its radius (the farthest corner) and first moment about the centre.
+      node_sums[n].add(sums);
+      // The area centroid (the centroids' mean if the cluster has no area), and the radius about
+      // it: the farthest corner of the cluster's packets (their unused lanes repeat a used one).
+      const glm::dvec3 centre = sums.area > 0.0 ? sums.weighted / sums.area : sums.mean / double(std::max(sums.count, 1u));
+      const Vec3 c(centre);
       float radius_squared = 0.0f;
-      std::array<float, 9> moment{};
-      for (std::uint32_t p = range.first; p < range.end; ++p) {
-        for (std::uint32_t l = 0; l < lanes_used[p]; ++l) {
-          for (int c = 0; c < 3; ++c) {
-            const Vec3 d = packets[p].corner(c, l) - centre;
+      for (std::uint32_t p = sums.first; p < sums.end; ++p) {
+        for (int v = 0; v < 3; ++v)
+          for (std::uint32_t l = 0; l < kBvhLeafTriangles; ++l) {
+            const Vec3 d = packets[p].corner(v, l) - c;
             radius_squared = std::max(radius_squared, glm::dot(d, d));
           }
-          const Piece& piece = pieces[p * kBvhLeafTriangles + l];
-          const Vec3 offset = piece.centroid - centre;
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) moment[3 * i + j] += piece.half_cross[i] * offset[j];
-        }
       }
       for (int axis = 0; axis < 3; ++axis) {
-        out.centre[axis][k] = centre[axis];
-        out.normal[axis][k] = normal[axis];
+        out.centre[axis][k] = c[axis];
+        out.normal[axis][k] = static_cast<float>(sums.normal[axis]);
       }
-      for (int e = 0; e < 9; ++e) out.moment[e][k] = moment[e];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          out.moment[3 * i + j][k] = static_cast<float>(sums.moment[3 * i + j] - sums.normal[i] * centre[j]);
       out.far_squared[k] = kWindingFarRatio * kWindingFarRatio * radius_squared;
     }
   }
