@@ -157,7 +157,7 @@ struct ApproximateDecomposition {
 /// Measures how well `hulls` (mesh space) approximate `mesh` (see DecompositionError):
 /// `samples` points spread by area over the mesh's triangles and as many over the hulls' faces
 /// (seeded by `seed`, deterministic), plus every hull and mesh vertex; the inside of the mesh by
-/// its generalised winding number (exact solid angles; sdf/winding_number), distances by the
+/// its generalised winding number (WindingTree, sdf/winding_tree.hpp), distances by the
 /// mesh BVH and `closest_point`. Independent of how the hulls were made (the benchmark measures
 /// peers' hulls with it). Throws InvalidInput for a mesh without triangles, no hulls or
 /// samples outside [1, kDecompositionMaxSamples].
