@@ -171,7 +171,6 @@ class TriangleBvh {
   /// Box of everything; a zero box when empty.
   [[nodiscard]] Aabb3 bounds() const noexcept { return bounds_; }
 
-
   // ---- The layout, for algorithms that walk the tree with data of their own per child box
   // (the fast winding number of sdf/winding_tree.hpp keeps a cluster's dipole per child). ----
 
@@ -181,7 +180,9 @@ class TriangleBvh {
   /// crossings are measured from its plane (src/shape/watertight_ray.hpp): kept here rather
   /// than in the packet, whose 160 bytes a ray reads at every leaf (176 cost short rays 3-5%).
   static constexpr std::uint32_t kLeaf = 0x80000000u;
+  /// Position of the sliver bits in a leaf reference.
   static constexpr int kSliverShift = 27;
+  /// The packet index bits of a leaf reference (packet_index).
   static constexpr std::uint32_t kPacketMask = (1u << kSliverShift) - 1;
   /// The child reference of an unused slot (packets number fewer than kPacketMask).
   static constexpr std::uint32_t kEmpty = 0xffffffffu;
@@ -221,7 +222,6 @@ class TriangleBvh {
     for (int k = 0; k < kBvhWidth; ++k) bits |= static_cast<unsigned>(node.child[k] != kEmpty) << k;
     return bits;
   }
-
 
  private:
   /// The fixed-stack slab walk behind ray_cast and box_cast: from `origin` along `translation`
