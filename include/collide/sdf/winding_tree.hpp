@@ -40,6 +40,8 @@ class WindingTree {
  public:
   /// Builds over `bvh`'s clusters (positions finite: make_triangle_mesh validates). Allocates.
   explicit WindingTree(const TriangleBvh& bvh);
+  /// Not from a temporary BVH: the tree keeps a reference to it.
+  explicit WindingTree(const TriangleBvh&& bvh) = delete;
   /// Generalised winding number of `q` (the BVH's coordinates): 1 inside a closed outward-wound
   /// surface, 0 outside, in between near an open surface's holes. Far clusters add their
   /// expansion, so it approximates the exact sum of solid angles (winding_number in
@@ -48,8 +50,8 @@ class WindingTree {
 
  private:
   /// The four children of one BVH node as lanes per number: each cluster's area centroid, its
-  /// far bound (kWindingFarRatio times its radius, squared; -1 in an unused slot, which counts
-  /// as far and adds nothing), the sum of its triangles' area-weighted normals N = sum of A_t,
+  /// far bound (kWindingFarRatio times its radius, squared; +inf in an unused slot, which is
+  /// never far, and the query skips it as TriangleBvh::used_slots says), the sum of its triangles' area-weighted normals N = sum of A_t,
   /// and the first moment M = sum of A_t (c_t - centre)^T over its triangles' centroids c_t.
   struct alignas(16) Clusters {
     std::array<std::array<float, kBvhWidth>, 3> centre;
