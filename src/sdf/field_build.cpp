@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -796,16 +797,24 @@ void propagate_dense(DenseStore<D>& store, IVec<D> step, Position& position) {
 /// per coordinate.
 constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 
-/// `propagate` for a mesh's dense build, whose every node is signed already (sign_blocks): the
-/// same 8 sweeps of closest-point propagation (Danielsson 1980; sweep orders of Zhao 2005), with
-/// distances only and no state: an offer from a node without a closest point has an infinite
-/// distance (kNoClosestPoint), and one to a band node cannot beat its exact distance (beyond
-/// rounding, which then swaps equally near points). Per row, the offers of the two upstream rows
-/// (independent along the row: four nodes a step in lanes, on one array per coordinate; on the
-/// Vec3s, 12 bytes apart, GCC made each node a branch), then the offers along the row,
-/// the upstream node's closest point carried in registers. The closest points (the mesh's local
-/// frame) are copied into those arrays and, when `keep_closest` (the field keeps them), back in
-/// mesh space (plus `mesh_origin`).
+/// `propagate` for a mesh's dense build, whose every node is signed already (sign_blocks):
+/// closest-point propagation (Danielsson 1980) with distances only and no state: an offer from a
+/// node without a closest point has an infinite distance (kNoClosestPoint), and one to a band
+/// node cannot beat its exact distance (beyond rounding, which then swaps equally near points).
+/// Two passes over the planes (z up, then down), each plane as Danielsson's two-dimensional
+/// 4SED: its rows in y order, each taking the offers of the row upstream in y (and, in the y
+/// pass up, of the same row in the plane upstream in z), then scanned along x both ways; then
+/// the rows again in the opposite y order. An upstream row offers three nodes to each node: the
+/// one in line and its two neighbours along x (with the one in line alone the mean error was
+/// 2-5% above the octant sweeps' of the generic `propagate`). Against the exact build on
+/// dungeon.obj, undulating.obj and bench_sdf's torus, 64k to 4M nodes: mean error 25-40% below
+/// the octant sweeps', the largest never above theirs. A pass reads the grid from memory once
+/// (the plane and the one before it stay in the cache) where the 8 octant sweeps read it eight
+/// times. The upstream offers are independent along a row: four nodes a step in lanes, on one
+/// array per coordinate (on the Vec3s, 12 bytes apart, GCC made each node a branch), each node
+/// loaded and stored once for all its offers; the scans carry the upstream node's closest point
+/// in registers. The closest points (the mesh's local frame) are copied into those arrays and,
+/// when `keep_closest` (the field keeps them), back in mesh space (plus `mesh_origin`).
 void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_origin, bool keep_closest) {
   const FieldGrid3& grid = store.grid;
   const std::size_t count = store.closest.size();
@@ -821,71 +830,102 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
   float* const closest_x = xs.data();
   float* const closest_y = ys.data();
   float* const closest_z = zs.data();
-  const int nx = grid.dims[0];
+  const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
   const float voxel = grid.voxel;
-  const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * grid.dims[1];
-  for (int order = 0; order < 8; ++order) {
-    const glm::ivec3 step((order & 1) ? -1 : 1, (order & 2) ? -1 : 1, (order & 4) ? -1 : 1);
-    sweep_box<3>(glm::ivec3(0), glm::ivec3(0, grid.dims.y - 1, grid.dims.z - 1), step, [&](glm::ivec3 row) {
-      const std::ptrdiff_t base = static_cast<std::ptrdiff_t>(grid.index(row));
-      const float py = local_origin.y + float(row.y) * voxel, pz = local_origin.z + float(row.z) * voxel;
-      float* __restrict d = distance + base;
-      float* __restrict cx = closest_x + base;
-      float* __restrict cy = closest_y + base;
-      float* __restrict cz = closest_z + base;
-      // Upstream rows along y and z (none at the grid's first row in the sweep's direction).
-      for (int k = 1; k < 3; ++k) {
-        const bool edge = step[k] > 0 ? row[k] == 0 : row[k] == grid.dims[k] - 1;
-        if (edge) continue;
-        const std::ptrdiff_t up = (k == 1 ? sy : sz) * step[k];
-        const float* __restrict fx = cx - up;
-        const float* __restrict fy = cy - up;
-        const float* __restrict fz = cz - up;
-        int x = 0;
-        for (; x + 4 <= nx; x += 4) {  // four nodes a step, in lanes (the same arithmetic)
-          const simd::Lanes px = simd::splat(local_origin.x) + simd::iota(x) * simd::splat(voxel);
-          const simd::Lanes from_x = simd::load(fx + x), from_y = simd::load(fy + x), from_z = simd::load(fz + x);
-          const simd::Lanes dx = px - from_x, dy = simd::splat(py) - from_y, dz = simd::splat(pz) - from_z;
-          const simd::Lanes d2 = dx * dx + dy * dy + dz * dz;
-          const simd::Lanes before = simd::load(d + x);
-          const simd::LaneMask nearer = d2 < before;
-          simd::store(d + x, simd::select(nearer, d2, before));
-          simd::store(cx + x, simd::select(nearer, from_x, simd::load(cx + x)));
-          simd::store(cy + x, simd::select(nearer, from_y, simd::load(cy + x)));
-          simd::store(cz + x, simd::select(nearer, from_z, simd::load(cz + x)));
-        }
-        for (; x < nx; ++x) {
-          const float px = local_origin.x + float(x) * voxel;
-          const float dx = px - fx[x], dy = py - fy[x], dz = pz - fz[x];
+  const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * ny;
+  // The row at `base` takes the offers of three nodes of each upstream row (`ups`: offsets of
+  // the rows, nodes before `base`): the node in line and its two neighbours along x. Lanes of
+  // four nodes, each loaded and stored once for all offers; the row's two end nodes alone.
+  const auto from_rows = [&](std::ptrdiff_t base, std::span<const std::ptrdiff_t> ups, float py, float pz) {
+    float* __restrict d = distance + base;
+    float* __restrict cx = closest_x + base;
+    float* __restrict cy = closest_y + base;
+    float* __restrict cz = closest_z + base;
+    const auto one = [&](int x) {
+      const float px = local_origin.x + float(x) * voxel;
+      for (const std::ptrdiff_t up : ups)
+        for (int from = std::max(x - 1, 0); from <= std::min(x + 1, nx - 1); ++from) {
+          const float fx = cx[from - up], fy = cy[from - up], fz = cz[from - up];
+          const float dx = px - fx, dy = py - fy, dz = pz - fz;
           const float d2 = dx * dx + dy * dy + dz * dz;
           if (d2 < d[x]) {
             d[x] = d2;
-            cx[x] = fx[x];
-            cy[x] = fy[x];
-            cz[x] = fz[x];
+            cx[x] = fx;
+            cy[x] = fy;
+            cz[x] = fz;
           }
         }
+    };
+    one(0);
+    int x = 1;
+    for (; x + 4 <= nx - 1; x += 4) {
+      const simd::Lanes px = simd::splat(local_origin.x) + simd::iota(x) * simd::splat(voxel);
+      const simd::Lanes qy = simd::splat(py), qz = simd::splat(pz);
+      simd::Lanes best = simd::load(d + x), bx = simd::load(cx + x), by = simd::load(cy + x), bz = simd::load(cz + x);
+      for (const std::ptrdiff_t up : ups)
+        for (int shift = -1; shift <= 1; ++shift) {
+          const std::ptrdiff_t from = x + shift - up;
+          const simd::Lanes fx = simd::load(cx + from), fy = simd::load(cy + from), fz = simd::load(cz + from);
+          const simd::Lanes dx = px - fx, dy = qy - fy, dz = qz - fz;
+          const simd::Lanes d2 = dx * dx + dy * dy + dz * dz;
+          const simd::LaneMask nearer = d2 < best;
+          best = simd::select(nearer, d2, best);
+          bx = simd::select(nearer, fx, bx);
+          by = simd::select(nearer, fy, by);
+          bz = simd::select(nearer, fz, bz);
+        }
+      simd::store(d + x, best);
+      simd::store(cx + x, bx);
+      simd::store(cy + x, by);
+      simd::store(cz + x, bz);
+    }
+    for (; x < nx; ++x) one(x);
+  };
+  // The row at `base` scanned along x in direction `dir`, each node offered its upstream
+  // neighbour's closest point.
+  const auto scan = [&](std::ptrdiff_t base, int dir, float py, float pz) {
+    float* __restrict d = distance + base;
+    float* __restrict cx = closest_x + base;
+    float* __restrict cy = closest_y + base;
+    float* __restrict cz = closest_z + base;
+    const int x0 = dir > 0 ? 1 : nx - 2, x_end = dir > 0 ? nx : -1;
+    if (x0 < 0 || x0 >= nx) return;
+    float ax = cx[x0 - dir], ay = cy[x0 - dir], az = cz[x0 - dir];
+    for (int x = x0; x != x_end; x += dir) {
+      const float px = local_origin.x + float(x) * voxel;
+      const float dx = px - ax, dy = py - ay, dz = pz - az;
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < d[x]) {
+        d[x] = d2;
+        cx[x] = ax;
+        cy[x] = ay;
+        cz[x] = az;
+      } else {
+        ax = cx[x];
+        ay = cy[x];
+        az = cz[x];
       }
-      // Along the row, in the sweep's direction.
-      const int x0 = step.x > 0 ? 1 : nx - 2, x_end = step.x > 0 ? nx : -1;
-      if (x0 < 0 || x0 >= nx) return;
-      float ax = cx[x0 - step.x], ay = cy[x0 - step.x], az = cz[x0 - step.x];
-      for (int x = x0; x != x_end; x += step.x) {
-        const float px = local_origin.x + float(x) * voxel;
-        const float dx = px - ax, dy = py - ay, dz = pz - az;
-        const float d2 = dx * dx + dy * dy + dz * dz;
-        if (d2 < d[x]) {
-          d[x] = d2;
-          cx[x] = ax;
-          cy[x] = ay;
-          cz[x] = az;
-        } else {
-          ax = cx[x];
-          ay = cy[x];
-          az = cz[x];
+    }
+  };
+  for (const int z_dir : {1, -1}) {
+    for (int k = 0; k < nz; ++k) {
+      const int z = z_dir > 0 ? k : nz - 1 - k;
+      const float pz = local_origin.z + float(z) * voxel;
+      for (const int y_dir : {1, -1}) {
+        for (int j = 0; j < ny; ++j) {
+          const int y = y_dir > 0 ? j : ny - 1 - j;
+          const float py = local_origin.y + float(y) * voxel;
+          const std::ptrdiff_t base = sy * y + sz * z;
+          const std::array<std::ptrdiff_t, 2> ups{y_dir * sy, z_dir * sz};
+          const bool plane = y_dir > 0 && k > 0;
+          if (j > 0) from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
+          else if (plane) from_rows(base, std::span(ups).last(1), py, pz);
+          else if (y_dir < 0) continue;  // unchanged since its scans in the pass up
+          scan(base, 1, py, pz);
+          scan(base, -1, py, pz);
         }
       }
-    });
+    }
   }
   if (!keep_closest) return;
   for (std::size_t i = 0; i < count; ++i) store.closest[i] = Vec3(xs[i], ys[i], zs[i]) + mesh_origin;

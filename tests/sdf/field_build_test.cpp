@@ -125,6 +125,30 @@ TEST(FieldBuild, BothWaysToTheBandGiveTheExactDistances) {
   }
 }
 
+TEST(FieldBuild, PropagationBeyondTheBandStaysNearTheExactDistance) {
+  // Beyond the band each node takes a closest point offered by its neighbours (Danielsson's
+  // propagation), which can miss the true nearest one by a little: on dungeon.obj the exact
+  // build's distances measure how little. Each node is offered its neighbours' points along
+  // the axis and the two diagonals beside it; with the axis neighbours alone (the octant sweeps
+  // up to stop 71) the mean error here was 5.0e-3 voxels and the largest 0.17 (now 3.2e-3 and
+  // 0.12).
+  const TriangleMesh mesh = load("dungeon.obj");
+  const float voxel = 2.0f;
+  const DistanceField3 fast = make_distance_field(mesh, options(voxel));
+  const DistanceField3 exact = make_distance_field_exact(mesh, options(voxel));
+  ASSERT_EQ(fast.distances.size(), exact.distances.size());
+  double sum = 0.0;
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < exact.distances.size(); ++i) {
+    const float error = std::abs(std::abs(fast.distances[i]) - std::abs(exact.distances[i]));
+    sum += error;
+    worst = std::max(worst, error);
+  }
+  const double mean = sum / double(exact.distances.size());
+  EXPECT_LT(mean, 4e-3 * voxel);
+  EXPECT_LT(worst, 0.14f * voxel);
+}
+
 TEST(FieldBuild, SparseAgreesWithDenseOnAnOpenLevel) {
   // dungeon.obj is open: the sparse build signs its bricks as the dense build signs its blocks,
   // and keeps no value beyond the band.

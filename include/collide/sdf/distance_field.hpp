@@ -27,9 +27,11 @@
 ///     (real levels) get a sensible inside. A region whose winding number lies within 0.3 of 1/2
 ///     (unsure: under an open terrain, by a hole) takes the side of the surest region that
 ///     reaches it without crossing the surface;
-///  3. the rest by closest-point propagation: 2^D sweeps over the grid in which each node takes
-///     a neighbour's closest point when it is nearer (Danielsson, "Euclidean distance mapping",
-///     CGIP 1980, with the sweep orders of fast sweeping, Zhao, Math. Comp. 2005).
+///  3. the rest by closest-point propagation: sweeps over the grid in which each node takes a
+///     neighbour's closest point when it is nearer (Danielsson, "Euclidean distance mapping",
+///     CGIP 1980): for shapes 2^D sweeps in the orders of fast sweeping (Zhao, Math. Comp.
+///     2005); for a mesh's dense field two passes over the planes, each plane as Danielsson's
+///     4SED, with the upstream row's diagonal neighbours offered too.
 
 #include <collide/core/aabb.hpp>
 #include <collide/core/config.hpp>
