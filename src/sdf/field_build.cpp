@@ -435,6 +435,7 @@ struct BandKernel {
   F abx, aby, abz, bcx, bcy, bcz, cax, cay, caz;
   F nx, ny, nz, iabx, iaby, iabz, ibcx, ibcy, ibcz, icax, icay, icaz;
   F inv_ab, inv_bc, inv_ca, inv_nn, zero;
+  F ux, uy, uz, mabx, maby, mabz, mbcx, mbcy, mbcz, mcax, mcay, mcaz;  ///< unit normal, unit inward edge normals
   Mask has_face;
 
   explicit BandKernel(const BandTriangle& t) {
@@ -450,6 +451,26 @@ struct BandKernel {
     inv_ab = splat(t.inv_ab), inv_bc = splat(t.inv_bc), inv_ca = splat(t.inv_ca), inv_nn = splat(t.inv_nn);
     zero = splat(0.0f);
     has_face = simd::mask(t.has_face);
+    const Vec3 u = t.has_face ? t.n * std::sqrt(t.inv_nn) : Vec3(0.0f);  // no face: a bound of 0
+    const std::array<Vec3, 3> m = t.has_face ? t.edge_inward : std::array<Vec3, 3>{};
+    ux = splat(u.x), uy = splat(u.y), uz = splat(u.z);
+    mabx = splat(m[0].x), maby = splat(m[0].y), mabz = splat(m[0].z);
+    mbcx = splat(m[1].x), mbcy = splat(m[1].y), mbcz = splat(m[1].z);
+    mcax = splat(m[2].x), mcay = splat(m[2].y), mcaz = splat(m[2].z);
+  }
+
+  /// A lower bound of the squared distance from the node(s) at (px, py, pz) to the triangle:
+  /// the plane's distance squared plus the square of the farthest the node's projection lies
+  /// outside an edge's line (the triangle lies inside all three). About a fifth of `node`'s
+  /// arithmetic; 0 for a triangle without a face.
+  F lower_bound(F px, F py, F pz) const {
+    const F apx = px - ax, apy = py - ay, apz = pz - az;
+    const F h = apx * ux + apy * uy + apz * uz;
+    const F out_ab = -(apx * mabx + apy * maby + apz * mabz);
+    const F out_bc = -((px - bx) * mbcx + (py - by) * mbcy + (pz - bz) * mbcz);
+    const F out_ca = -((px - cx) * mcax + (py - cy) * mcay + (pz - cz) * mcaz);
+    const F out = simd::max(simd::max(zero, out_ab), simd::max(out_bc, out_ca));
+    return h * h + out * out;
   }
 
   /// Squared distance and closest point of the node(s) at (px, py, pz): the closest point of a
@@ -495,22 +516,44 @@ struct BandKernel {
   }
 };
 
+/// band_row skips a group of nodes when the triangle's lower bound, less this fraction of it
+/// and kBandBoundSlackVoxels^2 voxels^2, is no nearer than any node's distance so far: the bound and the
+/// kernel's distance round differently (a few ulps), and a skipped node must be one the kernel
+/// would not have written.
+constexpr float kBandBoundSlack = 1e-5f;
+constexpr float kBandBoundSlackVoxels = 1e-3f;
+
 /// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
 /// [0, count) (count <= kBandChunk), into arrays of kBandChunk: kBandLanes nodes at a time, the
-/// last group padded with nodes past the row (their results written, not to be read).
-inline void band_row(const BandKernel& k, float ox, float voxel, int x0, int count, float py, float pz, float* d2,
-                     float* qx, float* qy, float* qz) {
+/// last group padded with nodes past the row. Returns the nodes to write as bits (bit l: node
+/// l within `band_squared` and, with `current` (each node's squared distance so far, the
+/// padding's 0), nearer than that). With `current`, a group whose every node the triangle's
+/// lower bound puts no nearer than its distance so far (or the band) is not worked out.
+inline std::uint64_t band_row(const BandKernel& k, float ox, float voxel, int x0, int count, float py, float pz,
+                              float band_squared, const float* current, float* d2, float* qx, float* qy, float* qz) {
   const Lanes y = splat(py), z = splat(pz), origin = splat(ox), step = splat(voxel);
+  const Lanes band = splat(band_squared);
+  const Lanes keep_fraction = splat(1.0f - kBandBoundSlack);
+  const Lanes slack = splat(kBandBoundSlackVoxels * kBandBoundSlackVoxels * voxel * voxel);
+  std::uint64_t write = 0;
   for (int l = 0; l < count; l += kBandLanes) {
     // float(x0 + l + lane) * voxel + ox, per lane as the scalar form computes it.
     const Lanes x = simd::iota(x0 + l) * step + origin;
+    Lanes so_far = splat(std::numeric_limits<float>::infinity());
+    if (current != nullptr) {
+      so_far = simd::load(current + l);
+      const Lanes limit = simd::min(so_far, band);
+      if (simd::lane_bits(k.lower_bound(x, y, z) * keep_fraction - slack < limit) == 0) continue;
+    }
     Lanes d, px, py_, pz_;
     k.node(x, y, z, d, px, py_, pz_);
     simd::store(d2 + l, d);
     simd::store(qx + l, px);
     simd::store(qy + l, py_);
     simd::store(qz + l, pz_);
+    write |= std::uint64_t{simd::lane_bits((d <= band) & (d < so_far))} << l;
   }
+  return count >= 64 ? write : write & ((std::uint64_t{1} << count) - 1);
 }
 
 /// floor(x) and ceil(x) as ints for a row's node bounds, x first clamped to [lo - 2, hi + 2]
@@ -555,6 +598,7 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
   const float band_squared = band_distance * band_distance;
   const float inv_voxel = 1.0f / grid.voxel;
   alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
+  alignas(32) std::array<float, kBandChunk> so_far{};  // dense: each node's squared distance so far
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
     glm::ivec3 lo, hi;
@@ -609,11 +653,26 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
         }
         for (int first = x0; first <= x1; first += kBandChunk) {
           const int count = std::min(kBandChunk, x1 - first + 1);
-          band_row(kernel, local_origin.x, grid.voxel, first, count, py, pz, d2.data(), qx.data(), qy.data(), qz.data());
-          for (int l = 0; l < count; ++l) {
-            if (d2[l] > band_squared) continue;
-            const std::size_t at = store.slot({first + l, y, z});
-            if (d2[l] >= store.distance[at]) continue;
+          // A dense row's nodes are consecutive: their distances so far let band_row skip
+          // groups and pick the nodes to write without a branch per node.
+          const float* current = nullptr;
+          std::size_t at0 = 0;
+          if constexpr (!Store::kSparse) {
+            at0 = store.slot({first, y, z});
+            const float* row = &store.distance[at0];
+            const int padded = (count + kBandLanes - 1) / kBandLanes * kBandLanes;
+            for (int l = 0; l < padded; ++l) so_far[l] = l < count ? row[l] : 0.0f;
+            current = so_far.data();
+          }
+          for (std::uint64_t write = band_row(kernel, local_origin.x, grid.voxel, first, count, py, pz, band_squared, current,
+                                              d2.data(), qx.data(), qy.data(), qz.data());
+               write != 0; write &= write - 1) {
+            const int l = std::countr_zero(write);
+            std::size_t at = at0 + static_cast<std::size_t>(l);
+            if constexpr (Store::kSparse) {
+              at = store.slot({first + l, y, z});
+              if (d2[l] >= store.distance[at]) continue;
+            }
             store.distance[at] = d2[l];
             if (store.keeps_closest()) store.closest[at] = Vec3(qx[l], qy[l], qz[l]);
             store.state[at] |= kExact | kHasValue;
