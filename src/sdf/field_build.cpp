@@ -892,10 +892,21 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
   const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
   const float voxel = grid.voxel;
   const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * ny;
+  // The nodes of a row that took an offer: [first, last], empty when first > last.
+  struct Span {
+    int first = std::numeric_limits<int>::max(), last = -1;
+    void add(int x) {
+      first = std::min(first, x);
+      last = std::max(last, x);
+    }
+    bool empty() const { return first > last; }
+  };
   // The row at `base` takes the offers of three nodes of each upstream row (`ups`: offsets of
   // the rows, nodes before `base`): the node in line and its two neighbours along x. Lanes of
   // four nodes, each loaded and stored once for all offers; the row's two end nodes alone.
+  // Returns the nodes that took an offer.
   const auto from_rows = [&](std::ptrdiff_t base, std::span<const std::ptrdiff_t> ups, float py, float pz) {
+    Span taken;
     float* __restrict d = distance + base;
     float* __restrict cx = closest_x + base;
     float* __restrict cy = closest_y + base;
@@ -912,6 +923,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
             cx[x] = fx;
             cy[x] = fy;
             cz[x] = fz;
+            taken.add(x);
           }
         }
     };
@@ -921,6 +933,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
       const simd::Lanes px = simd::splat(local_origin.x) + simd::iota(x) * simd::splat(voxel);
       const simd::Lanes qy = simd::splat(py), qz = simd::splat(pz);
       simd::Lanes best = simd::load(d + x), bx = simd::load(cx + x), by = simd::load(cy + x), bz = simd::load(cz + x);
+      simd::LaneMask any = simd::mask(false);
       for (const std::ptrdiff_t up : ups)
         for (int shift = -1; shift <= 1; ++shift) {
           const std::ptrdiff_t from = x + shift - up;
@@ -928,6 +941,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
           const simd::Lanes dx = px - fx, dy = qy - fy, dz = qz - fz;
           const simd::Lanes d2 = dx * dx + dy * dy + dz * dz;
           const simd::LaneMask nearer = d2 < best;
+          any = any | nearer;
           best = simd::select(nearer, d2, best);
           bx = simd::select(nearer, fx, bx);
           by = simd::select(nearer, fy, by);
@@ -937,20 +951,29 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
       simd::store(cx + x, bx);
       simd::store(cy + x, by);
       simd::store(cz + x, bz);
+      if (const unsigned bits = simd::lane_bits(any); bits != 0) {
+        taken.add(x + std::countr_zero(bits));
+        taken.add(x + std::bit_width(bits) - 1);
+      }
     }
     for (; x < nx; ++x) one(x);
+    return taken;
   };
   // The row at `base` scanned along x in direction `dir`, each node offered its upstream
-  // neighbour's closest point.
-  const auto scan = [&](std::ptrdiff_t base, int dir, float py, float pz) {
+  // neighbour's closest point, over the nodes `changed` (what changed since the row was last
+  // scanned both ways; all its nodes on its first scan) and on until a node past them declines
+  // the offer: after a scan both ways each node already beats its neighbours' offers (beyond
+  // rounding, see above), so from there on nothing would change. Returns `changed` grown by
+  // the nodes this scan changed.
+  const auto scan = [&](std::ptrdiff_t base, int dir, float py, float pz, Span changed) {
     float* __restrict d = distance + base;
     float* __restrict cx = closest_x + base;
     float* __restrict cy = closest_y + base;
     float* __restrict cz = closest_z + base;
-    const int x0 = dir > 0 ? 1 : nx - 2, x_end = dir > 0 ? nx : -1;
-    if (x0 < 0 || x0 >= nx) return;
-    float ax = cx[x0 - dir], ay = cy[x0 - dir], az = cz[x0 - dir];
-    for (int x = x0; x != x_end; x += dir) {
+    const int from = dir > 0 ? changed.first : changed.last;  // the first node offering
+    const int x_end = dir > 0 ? nx : -1;
+    float ax = cx[from], ay = cy[from], az = cz[from];
+    for (int x = from + dir; x != x_end; x += dir) {
       const float px = local_origin.x + float(x) * voxel;
       const float dx = px - ax, dy = py - ay, dz = pz - az;
       const float d2 = dx * dx + dy * dy + dz * dz;
@@ -959,12 +982,15 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
         cx[x] = ax;
         cy[x] = ay;
         cz[x] = az;
+        changed.add(x);
       } else {
+        if (dir > 0 ? x > changed.last : x < changed.first) break;
         ax = cx[x];
         ay = cy[x];
         az = cz[x];
       }
     }
+    return changed;
   };
   for (const int z_dir : {1, -1}) {
     for (int k = 0; k < nz; ++k) {
@@ -977,11 +1003,12 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
           const std::ptrdiff_t base = sy * y + sz * z;
           const std::array<std::ptrdiff_t, 2> ups{y_dir * sy, z_dir * sz};
           const bool plane = y_dir > 0 && k > 0;
-          if (j > 0) from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
-          else if (plane) from_rows(base, std::span(ups).last(1), py, pz);
-          else if (y_dir < 0) continue;  // unchanged since its scans in the pass up
-          scan(base, 1, py, pz);
-          scan(base, -1, py, pz);
+          Span changed;
+          if (j > 0) changed = from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
+          else if (plane) changed = from_rows(base, std::span(ups).last(1), py, pz);
+          if (z_dir > 0 && y_dir > 0) changed = {0, nx - 1};  // its first visit: never scanned
+          if (changed.empty()) continue;
+          scan(base, -1, py, pz, scan(base, 1, py, pz, changed));
         }
       }
     }
