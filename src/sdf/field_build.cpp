@@ -526,9 +526,10 @@ constexpr float kBandBoundSlackVoxels = 1e-3f;
 /// Squared distances and closest points of the nodes (x0 + l) * voxel + ox, y, z of a row, l in
 /// [0, count) (count <= kBandChunk), into arrays of kBandChunk: kBandLanes nodes at a time, the
 /// last group padded with nodes past the row. Returns the nodes to write as bits (bit l: node
-/// l within `band_squared` and, with `current` (each node's squared distance so far, the
-/// padding's 0), nearer than that). With `current`, a group whose every node the triangle's
-/// lower bound puts no nearer than its distance so far (or the band) is not worked out.
+/// l within `band_squared` and, with `current` (each node's squared distance so far, and
+/// readable up to the last group's end), nearer than that). With `current`, a group whose every
+/// node the triangle's lower bound puts no nearer than its distance so far (or the band) is not
+/// worked out.
 inline std::uint64_t band_row(const BandKernel& k, float ox, float voxel, int x0, int count, float py, float pz,
                               float band_squared, const float* current, float* d2, float* qx, float* qy, float* qz) {
   const Lanes y = splat(py), z = splat(pz), origin = splat(ox), step = splat(voxel);
@@ -598,7 +599,7 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
   const float band_squared = band_distance * band_distance;
   const float inv_voxel = 1.0f / grid.voxel;
   alignas(32) std::array<float, kBandChunk> d2, qx, qy, qz;
-  alignas(32) std::array<float, kBandChunk> so_far{};  // dense: each node's squared distance so far
+  alignas(32) std::array<float, kBandChunk> so_far{};  // dense, at the grid's end: the row's distances so far, padded
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
     glm::ivec3 lo, hi;
@@ -659,10 +660,15 @@ void mesh_band_scatter(const TriangleMesh& mesh, Vec3 local_origin, float band_d
           std::size_t at0 = 0;
           if constexpr (!Store::kSparse) {
             at0 = store.slot({first, y, z});
-            const float* row = &store.distance[at0];
-            const int padded = (count + kBandLanes - 1) / kBandLanes * kBandLanes;
-            for (int l = 0; l < padded; ++l) so_far[l] = l < count ? row[l] : 0.0f;
-            current = so_far.data();
+            current = &store.distance[at0];
+            // The last group reads up to kBandLanes - 1 nodes past the row (the next row's:
+            // they only keep a group from being skipped, and are never written); at the end
+            // of the grid a copy padded with 0 instead.
+            const std::size_t padded = static_cast<std::size_t>((count + kBandLanes - 1) / kBandLanes * kBandLanes);
+            if (at0 + padded > store.distance.size()) {
+              for (std::size_t l = 0; l < padded; ++l) so_far[l] = l < static_cast<std::size_t>(count) ? current[l] : 0.0f;
+              current = so_far.data();
+            }
           }
           for (std::uint64_t write = band_row(kernel, local_origin.x, grid.voxel, first, count, py, pz, band_squared, current,
                                               d2.data(), qx.data(), qy.data(), qz.data());
@@ -1242,12 +1248,19 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
     bool any_band = false;
     for (int z = 0; z < n.z; ++z)
       for (int y = 0; y < n.y; ++y) {
+        // A row's nodes are consecutive in either store (a dense row; a brick's row).
+        const std::size_t row = store.find(lo + glm::ivec3(0, y, z));
+        float* const out = &dist[walled_cell(0, y, z)];
+        std::uint8_t exact = 0;
         for (int x = 0; x < n.x; ++x) {
-          const std::size_t at = store.find(lo + glm::ivec3(x, y, z));
+          const std::size_t at = row + static_cast<std::size_t>(x);
           slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x] = at;
-          dist[walled_cell(x, y, z)] = distance_at(at);
-          any_band |= (store.state[at] & kExact) != 0;
+          const std::uint8_t here = store.state[at] & kExact;
+          const float d = std::sqrt(store.distance[at]);
+          out[x] = here != 0 ? d : band_distance;
+          exact |= here;
         }
+        any_band |= exact != 0;
         valid[z] |= ((std::uint64_t{1} << n.x) - 1) << (y * kFieldBrickSize);
       }
     if (!any_band) {  // no surface in the block: one region, its winding number at the centre
