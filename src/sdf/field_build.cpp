@@ -780,10 +780,12 @@ std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, 
   return queries;
 }
 
-/// How many of the scatter's rows one nearest-point query is taken to cost: about 2.2 where the
-/// two ways took the same time (bench_sdf on dungeon.obj and undulating.obj, 64k to 4M nodes,
-/// AMD EPYC); 2.5 leans to the scatter, whose cost is the better known.
-inline constexpr double kNearestQueryRows = 2.5;
+/// How many of the scatter's rows one nearest-point query is taken to cost. Where the two ways
+/// took the same time (each forced, alternating in one process, 64k to 1.2M nodes, AMD EPYC):
+/// at 3.5 rows a query on dungeon.obj, 4.3 on the torus of bench_sdf, above 3.2 on
+/// undulating.obj (the scatter won at every size there). It was 2.2 before the scatter's
+/// groups were skipped by a lower bound (stop 72).
+inline constexpr double kNearestQueryRows = 3.5;
 
 /// A mesh's exact band, the cheaper of two ways: scattered per triangle (its work grows with the
 /// rows each triangle's box visits) or node by node through the BVH (its work grows with the
