@@ -900,6 +900,20 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
   const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
   const float voxel = grid.voxel;
   const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * ny;
+  // Node x of the row whose arrays start at d, cx, cy, cz (its y and z at py, pz) offered the
+  // point (fx, fy, fz): taken when nearer. The scalar form of the lanes below.
+  const auto offer = [&](float* __restrict d, float* __restrict cx, float* __restrict cy, float* __restrict cz, int x,
+                         float py, float pz, float fx, float fy, float fz) {
+    const float px = local_origin.x + float(x) * voxel;
+    const float dx = px - fx, dy = py - fy, dz = pz - fz;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    if (!(d2 < d[x])) return false;
+    d[x] = d2;
+    cx[x] = fx;
+    cy[x] = fy;
+    cz[x] = fz;
+    return true;
+  };
   // The nodes of a row that took an offer: [first, last], empty when first > last.
   struct Span {
     int first = std::numeric_limits<int>::max(), last = -1;
@@ -920,20 +934,9 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
     float* __restrict cy = closest_y + base;
     float* __restrict cz = closest_z + base;
     const auto one = [&](int x) {
-      const float px = local_origin.x + float(x) * voxel;
       for (const std::ptrdiff_t up : ups)
-        for (int from = std::max(x - 1, 0); from <= std::min(x + 1, nx - 1); ++from) {
-          const float fx = cx[from - up], fy = cy[from - up], fz = cz[from - up];
-          const float dx = px - fx, dy = py - fy, dz = pz - fz;
-          const float d2 = dx * dx + dy * dy + dz * dz;
-          if (d2 < d[x]) {
-            d[x] = d2;
-            cx[x] = fx;
-            cy[x] = fy;
-            cz[x] = fz;
-            taken.add(x);
-          }
-        }
+        for (int from = std::max(x - 1, 0); from <= std::min(x + 1, nx - 1); ++from)
+          if (offer(d, cx, cy, cz, x, py, pz, cx[from - up], cy[from - up], cz[from - up])) taken.add(x);
     };
     one(0);
     int x = 1;
@@ -982,14 +985,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
     const int x_end = dir > 0 ? nx : -1;
     float ax = cx[from], ay = cy[from], az = cz[from];
     for (int x = from + dir; x != x_end; x += dir) {
-      const float px = local_origin.x + float(x) * voxel;
-      const float dx = px - ax, dy = py - ay, dz = pz - az;
-      const float d2 = dx * dx + dy * dy + dz * dz;
-      if (d2 < d[x]) {
-        d[x] = d2;
-        cx[x] = ax;
-        cy[x] = ay;
-        cz[x] = az;
+      if (offer(d, cx, cy, cz, x, py, pz, ax, ay, az)) {
         changed.add(x);
       } else {
         if (dir > 0 ? x > changed.last : x < changed.first) break;
