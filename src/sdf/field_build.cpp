@@ -1268,10 +1268,8 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
         for (int x = 0; x < n.x; ++x) {
           const std::size_t at = row + static_cast<std::size_t>(x);
           slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x] = at;
-          const std::uint8_t here = store.state[at] & kExact;
-          const float d = std::sqrt(store.distance[at]);
-          out[x] = here != 0 ? d : band_distance;
-          exact |= here;
+          out[x] = distance_at(at);
+          exact |= store.state[at] & kExact;
         }
         any_band |= exact != 0;
         valid[z] |= ((std::uint64_t{1} << n.x) - 1) << (y * kFieldBrickSize);

@@ -51,8 +51,9 @@ class WindingTree {
  private:
   /// The four children of one BVH node as lanes per number: each cluster's area centroid, its
   /// far bound (kWindingFarRatio times its radius, squared; +inf in an unused slot, which is
-  /// never far, and the query skips it as TriangleBvh::used_slots says), the sum of its triangles' area-weighted normals N = sum of A_t,
-  /// and the first moment M = sum of A_t (c_t - centre)^T over its triangles' centroids c_t.
+  /// never far, and the query skips it as TriangleBvh::used_slots says), the sum of its
+  /// triangles' area-weighted normals N = sum of A_t, and the first moment
+  /// M = sum of A_t (c_t - centre)^T over its triangles' centroids c_t.
   struct alignas(16) Clusters {
     std::array<std::array<float, kBvhWidth>, 3> centre;
     std::array<float, kBvhWidth> far_squared;
