@@ -735,13 +735,15 @@ BandMarks mark_band(const TriangleMesh& mesh, const FieldGrid3& grid, Vec3 local
 inline constexpr float kNearestBoundSlack = 1e-4f;
 
 /// A mesh's exact band, node by node: each node of a marked block asks the mesh's BVH for its
-/// nearest point within the band (TriangleBvh::nearest, branch and bound), bounded further by
-/// the node's distance to the last nearest point found (a point of the surface: the node's own
-/// nearest point is no farther). Returns the queries made. Coordinates relative to the mesh's
-/// origin, as the BVH's.
+/// nearest point within the band (TriangleBvh::nearest, branch and bound; a block's nodes in one
+/// batch, one descent of the tree), bounded further by the node's distance to the last nearest
+/// point found (a point of the surface: the node's own nearest point is no farther). Returns the
+/// queries made. Coordinates relative to the mesh's origin, as the BVH's.
 template <class Store>
 std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, Vec3 local_origin,
                               float band_distance, Store& store) {
+  constexpr int kBlockNodes = BandMarks::kBlock * BandMarks::kBlock * BandMarks::kBlock;
+  static_assert(kBlockNodes <= kBvhNearestBatch);
   const FieldGrid3& grid = store.grid;
   const float band_squared = band_distance * band_distance;
   const Vec3 far_corner = local_origin + Vec3(grid.dims - 1) * grid.voxel;
@@ -750,42 +752,51 @@ std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, 
   std::size_t queries = 0;
   bool seeded = false;  // a node has found its nearest point: `seed`
   Vec3 seed{0.0f};
-  const auto query = [&](glm::ivec3 i) {
-    const Vec3 p = local_origin + Vec3(i) * grid.voxel;
-    float bound = band_squared;
-    if (seeded) {
-      const float reach = glm::length(p - seed) * (1.0f + kNearestBoundSlack) + slack;
-      bound = std::min(bound, reach * reach);
-    }
-    ++queries;
-    const BvhNearest nearest = mesh.bvh.nearest(p, bound);
-    const float d2 = nearest.distance_squared;
-    if (nearest.triangle == std::numeric_limits<std::uint32_t>::max() || !(d2 <= band_squared)) return;
-    seeded = true;
-    seed = nearest.closest.point;
-    const std::size_t at = store.slot(i);
-    store.distance[at] = d2;
-    if (store.keeps_closest()) store.closest[at] = nearest.closest.point;
-    store.state[at] |= kExact | kHasValue;
-  };
+  std::array<glm::ivec3, kBlockNodes> nodes;
+  std::array<Vec3, kBlockNodes> points;
+  std::array<float, kBlockNodes> bounds;
+  std::array<BvhNearest, kBlockNodes> nearest;
   for_each_node<3>(glm::ivec3(0), marks.regions - 1, [&](glm::ivec3 r) {
     for (std::uint64_t m = marks.masks[marks.region_index(r)]; m != 0; m &= m - 1) {
       const int bit = std::countr_zero(m);
       const glm::ivec3 in{bit % BandMarks::kPerSide, (bit / BandMarks::kPerSide) % BandMarks::kPerSide,
                           bit / (BandMarks::kPerSide * BandMarks::kPerSide)};
       const glm::ivec3 first = r * kFieldBrickSize + in * BandMarks::kBlock;
-      for_each_node<3>(first, glm::min(first + (BandMarks::kBlock - 1), grid.dims - 1), query);
+      std::size_t n = 0;
+      for_each_node<3>(first, glm::min(first + (BandMarks::kBlock - 1), grid.dims - 1), [&](glm::ivec3 i) {
+        const Vec3 p = local_origin + Vec3(i) * grid.voxel;
+        float bound = band_squared;
+        if (seeded) {
+          const float reach = glm::length(p - seed) * (1.0f + kNearestBoundSlack) + slack;
+          bound = std::min(bound, reach * reach);
+        }
+        nodes[n] = i;
+        points[n] = p;
+        bounds[n++] = bound;
+      });
+      queries += n;
+      mesh.bvh.nearest(std::span(points.data(), n), std::span(bounds.data(), n), std::span(nearest.data(), n));
+      for (std::size_t k = 0; k < n; ++k) {
+        const float d2 = nearest[k].distance_squared;
+        if (nearest[k].triangle == std::numeric_limits<std::uint32_t>::max() || !(d2 <= band_squared)) continue;
+        seeded = true;
+        seed = nearest[k].closest.point;
+        const std::size_t at = store.slot(nodes[k]);
+        store.distance[at] = d2;
+        if (store.keeps_closest()) store.closest[at] = nearest[k].closest.point;
+        store.state[at] |= kExact | kHasValue;
+      }
     }
   });
   return queries;
 }
 
 /// How many of the scatter's rows one nearest-point query is taken to cost. Where the two ways
-/// took the same time (each forced, alternating in one process, 64k to 1.2M nodes, AMD EPYC):
-/// at 3.5 rows a query on dungeon.obj, 4.3 on the torus of bench_sdf, above 3.2 on
-/// undulating.obj (the scatter won at every size there). It was 2.2 before the scatter's
-/// groups were skipped by a lower bound (stop 72).
-inline constexpr double kNearestQueryRows = 3.5;
+/// took the same time (each forced, alternating in one process, 64k to 4.7M nodes, AMD EPYC):
+/// at 2.0 rows a query on dungeon.obj, 2.0 on the torus of bench_sdf, 1.9 on undulating.obj.
+/// It was 3.5 before a block's queries shared one descent of the BVH (stop 73), 2.2 before the
+/// scatter's groups were skipped by a lower bound (stop 72).
+inline constexpr double kNearestQueryRows = 2.0;
 
 /// A mesh's exact band, the cheaper of two ways: scattered per triangle (its work grows with the
 /// rows each triangle's box visits) or node by node through the BVH (its work grows with the

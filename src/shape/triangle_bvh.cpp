@@ -319,97 +319,194 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
   }
 }
 
-// Branch and bound over the four-wide tree, depth first. A node's four child boxes get their
-// squared distances to p at once (Ericson 5.1.3.1 per lane:
-//   d = max(min - p, p - max, 0) per axis,  distance^2 = dx^2 + dy^2 + dz^2;
-// unused slots are +inf away). The search goes on into the nearest child (which most tightens
-// the bound); the other children nearer than the best so far wait on the stack, and are dropped
-// when popped if the bound has passed them meanwhile. A leaf's four triangles get their exact
-// squared distances at once (triangle_distance_squared above); the nearest point and weights of
-// the winner come from the same region test on its one lane at the end.
-BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
-  BvhNearest best;
-  if (nodes_.empty()) return best;
-  const Lanes px = splat(p.x), py = splat(p.y), pz = splat(p.z);
-  const Vec3Lanes pl{px, py, pz};
-  // Candidates must be strictly nearer than best_d2: the next float above the bound admits
-  // exactly the distances at or below it (std::nextafter(bound, inf) for bounds >= 0, without
-  // the library call; +inf and NaN stay as they are, -0 counts as 0).
+namespace {
+
+/// A search's nearest triangle so far: its squared distance (strictly below which a candidate
+/// must be) and where it is.
+struct NearestSoFar {
+  float distance_squared;
+  std::uint32_t packet = 0;
+  int lane = -1;  ///< -1: none yet
+};
+
+/// The first NearestSoFar of a search bounded by `max_distance_squared` (inclusive): the next
+/// float above the bound admits exactly the distances at or below it (std::nextafter(bound,
+/// inf) for bounds >= 0, without the library call; +inf and NaN stay as they are, -0 counts as 0).
+inline NearestSoFar nearest_start(float max_distance_squared) noexcept {
   const float bound = max_distance_squared + 0.0f;
-  float best_d2 = bound < kInfinity ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(bound) + 1u) : bound;
-  std::uint32_t best_packet = 0;
-  int best_lane = -1;
-  struct Entry {
-    std::uint32_t ref;       // node index, or packet index | kLeaf
-    float distance_squared;  // from p to its box, computed when pushed
-  };
-  std::array<Entry, kBvhStackSize> stack;
+  return {bound < kInfinity ? std::bit_cast<float>(std::bit_cast<std::uint32_t>(bound) + 1u) : bound};
+}
+
+/// A leaf packet's four squared distances `d2` offered to `best`: the lowest lane at the minimum
+/// wins (as a scan in lane order) when strictly nearer.
+inline void offer_packet(Lanes d2, std::uint32_t packet, NearestSoFar& best) noexcept {
+  const Lanes nearest = horizontal_min(d2);
+  const unsigned at_minimum = lane_bits(d2 == nearest);
+  if (at_minimum != 0 && nearest[0] < best.distance_squared) {
+    best = {nearest[0], packet, std::countr_zero(at_minimum)};
+  } else if (at_minimum == 0) {
+    // A NaN distance (corners beyond kFiniteQueryRange overflow) makes the minimum disagree
+    // with every lane, and countr_zero(0) = 32 read past the packet (found by fuzz_shapes):
+    // scan the lanes instead, NaN never winning.
+    std::array<float, kBvhWidth> d;
+    std::memcpy(d.data(), &d2, sizeof d);
+    for (int k = 0; k < kBvhWidth; ++k) {
+      if (d[k] < best.distance_squared) best = {d[k], packet, k};  // (unused lanes repeat the last triangle)
+    }
+  }
+}
+
+/// Squared distances from the box [lo, hi] (lanes of one point each, or of a box) to four boxes
+/// (Ericson 5.1.3.1 per axis: d = max(min - hi, lo - max, 0); distance^2 = dx^2 + dy^2 + dz^2;
+/// for a point lo = hi = p).
+inline Lanes box_distance_squared(const TriangleBvh::Node& node, const Vec3Lanes& lo, const Vec3Lanes& hi) noexcept {
+  using B = TriangleBvh;
+  const Lanes zero = splat(0.0f);
+  const Lanes dx = max(max(load(node.box[B::kMinX]) - hi.x, lo.x - load(node.box[B::kMaxX])), zero);
+  const Lanes dy = max(max(load(node.box[B::kMinY]) - hi.y, lo.y - load(node.box[B::kMaxY])), zero);
+  const Lanes dz = max(max(load(node.box[B::kMinZ]) - hi.z, lo.z - load(node.box[B::kMaxZ])), zero);
+  return dx * dx + dy * dy + dz * dz;
+}
+
+/// The nearest child among `open` by `d2` (lowest slot among equals) is returned, to be searched
+/// next; the other open children are pushed with their distances without branches: each slot is
+/// written, and kept if its bit is set. (A NaN distance, from non-finite corners, can leave no
+/// open lane at the minimum: then the lowest open slot, never an out-of-range one.)
+template <class Entry, std::size_t N>
+inline std::uint32_t descend(const TriangleBvh::Node& node, Lanes d2, unsigned open, std::array<Entry, N>& stack,
+                             int& top) noexcept {
+  const unsigned at_minimum = lane_bits(d2 == horizontal_min(d2)) & open;
+  const int nearest = std::countr_zero(at_minimum != 0 ? at_minimum : open);
+  const unsigned rest = open & ~(1u << nearest);
+  std::array<float, kBvhWidth> d;
+  std::memcpy(d.data(), &d2, sizeof d);
+  for (int k = 0; k < kBvhWidth; ++k) {
+    stack[top] = {node.child[k], d[k]};
+    top += static_cast<int>((rest >> k) & 1u);
+  }
+  return node.child[nearest];
+}
+
+/// A search's result from its nearest triangle so far: the nearest point and weights by the
+/// region test, the distance recomputed from that point.
+COLLIDE_ALWAYS_INLINE BvhNearest nearest_result(const TriangleBvh::Packet& packet, int lane, Vec3 p) noexcept {
+  BvhNearest out;
+  const auto l = static_cast<std::uint32_t>(lane);
+  out.triangle = packet.id[l];
+  out.closest = closest_point_by_projection_or_edges(p, packet.corner(0, l), packet.corner(1, l), packet.corner(2, l));
+  const Vec3 d = out.closest.point - p;
+  out.distance_squared = glm::dot(d, d);
+  return out;
+}
+
+/// An entry of a nearest-point search's stack: a subtree and its squared distance from the query
+/// (computed when pushed).
+struct NearestEntry {
+  std::uint32_t ref;  ///< node index, or packet index | kLeaf
+  float distance_squared;
+};
+
+}  // namespace
+
+// Branch and bound over the four-wide tree, depth first. A node's four child boxes get their
+// squared distances to p at once (box_distance_squared; unused slots are never opened). The
+// search goes on into the nearest child (which most tightens the bound); the other children
+// nearer than the best so far wait on the stack, and are dropped when popped if the bound has
+// passed them meanwhile. A leaf's four triangles get their exact squared distances at once
+// (triangle_distance_squared above); the nearest point and weights of the winner come from the
+// same region test on its one lane at the end.
+BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
+  if (nodes_.empty()) return {};
+  const Vec3Lanes pl{splat(p.x), splat(p.y), splat(p.z)};
+  NearestSoFar best = nearest_start(max_distance_squared);
+  std::array<NearestEntry, kBvhStackSize> stack;
   int top = 0;
   std::uint32_t ref = 0;  // the node or packet being searched: the root first
   for (;;) {
     if (ref & kLeaf) {
-      const Packet& packet = packets_[ref & kPacketMask];
-      const Lanes d2 = triangle_distance_squared(packet.corners, pl);
-      const Lanes nearest = horizontal_min(d2);
-      const unsigned at_minimum = lane_bits(d2 == nearest);
-      if (at_minimum != 0 && nearest[0] < best_d2) {  // the lowest lane at the minimum wins (as a scan in lane order)
-        best_d2 = nearest[0];
-        best_lane = std::countr_zero(at_minimum);
-        best_packet = ref & kPacketMask;
-      } else if (at_minimum == 0) {
-        // A NaN distance (corners beyond kFiniteQueryRange overflow) makes the minimum disagree
-        // with every lane, and countr_zero(0) = 32 read past the packet (found by fuzz_shapes):
-        // scan the lanes instead, NaN never winning.
-        std::array<float, kBvhWidth> d;
-        std::memcpy(d.data(), &d2, sizeof d);
-        for (int k = 0; k < kBvhWidth; ++k) {
-          if (d[k] < best_d2) {  // (unused lanes repeat the last triangle)
-            best_d2 = d[k];
-            best_lane = k;
-            best_packet = ref & kPacketMask;
-          }
-        }
-      }
+      offer_packet(triangle_distance_squared(packets_[ref & kPacketMask].corners, pl), ref & kPacketMask, best);
     } else {
       const Node& node = nodes_[ref];
-      const Lanes zero = splat(0.0f);
-      const Lanes dx = max(max(load(node.box[kMinX]) - px, px - load(node.box[kMaxX])), zero);
-      const Lanes dy = max(max(load(node.box[kMinY]) - py, py - load(node.box[kMaxY])), zero);
-      const Lanes dz = max(max(load(node.box[kMinZ]) - pz, pz - load(node.box[kMaxZ])), zero);
-      const Lanes d2 = dx * dx + dy * dy + dz * dz;
+      const Lanes d2 = box_distance_squared(node, pl, pl);
       // Children that may hold a nearer point (never an unused slot, whatever p is).
-      const unsigned open = lane_bits(d2 < splat(best_d2)) & used_slots(node);
+      const unsigned open = lane_bits(d2 < splat(best.distance_squared)) & used_slots(node);
       if (open != 0) {
-        // The nearest open child (lowest slot among equals) is searched next; the others are
-        // pushed without branches: each slot is written, and kept if its bit is set.
-        // (A NaN distance, from non-finite corners, can leave no open lane at the minimum:
-        // then the lowest open slot, never an out-of-range one.)
-        const unsigned at_minimum = lane_bits(d2 == horizontal_min(d2)) & open;
-        const int nearest = std::countr_zero(at_minimum != 0 ? at_minimum : open);
-        const unsigned rest = open & ~(1u << nearest);
-        std::array<float, kBvhWidth> d;
-        std::memcpy(d.data(), &d2, sizeof d);
-        for (int k = 0; k < kBvhWidth; ++k) {
-          stack[top] = {node.child[k], d[k]};
-          top += static_cast<int>((rest >> k) & 1u);
-        }
-        ref = node.child[nearest];
+        ref = descend(node, d2, open, stack, top);
         continue;
       }
     }
     // Next: the most recently pushed subtree that may still hold a nearer point.
-    while (top > 0 && !(stack[top - 1].distance_squared < best_d2)) --top;
+    while (top > 0 && !(stack[top - 1].distance_squared < best.distance_squared)) --top;
     if (top == 0) break;
     ref = stack[--top].ref;
   }
-  if (best_lane < 0) return best;
-  const Packet& packet = packets_[best_packet];
-  const auto lane = static_cast<std::uint32_t>(best_lane);
-  best.triangle = packet.id[lane];
-  best.closest = closest_point_by_projection_or_edges(p, packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
-  const Vec3 d = best.closest.point - p;
-  best.distance_squared = glm::dot(d, d);
-  return best;
+  if (best.lane < 0) return {};
+  return nearest_result(packets_[best.packet], best.lane, p);
+}
+
+// The same branch and bound for a batch of points: the boxes' distances are taken from the
+// batch's bounding box (a lower bound of every point's), against the largest of the points'
+// bests. A node's leaf children are searched when the node is entered, each for the points whose
+// own distance to its box is below their best (the points' distances to the four child boxes in
+// lanes, one point at a time); its inner children are searched as a single query's, nearest
+// first.
+void TriangleBvh::nearest(std::span<const Vec3> points, std::span<const float> max_distance_squared,
+                          std::span<BvhNearest> out) const noexcept {
+  const std::size_t count = std::min({points.size(), max_distance_squared.size(), out.size()});
+  for (std::size_t first = 0; first < count; first += kBvhNearestBatch) {
+    const int n = static_cast<int>(std::min<std::size_t>(kBvhNearestBatch, count - first));
+    const Vec3* p = points.data() + first;
+    std::array<NearestSoFar, kBvhNearestBatch> best;
+    std::array<Vec3Lanes, kBvhNearestBatch> pl;
+    Vec3 lo = p[0], hi = p[0];
+    float widest = -kInfinity;  // the largest best: a subtree farther than it helps no point
+    for (int i = 0; i < n; ++i) {
+      best[i] = nearest_start(max_distance_squared[first + i]);
+      pl[i] = {splat(p[i].x), splat(p[i].y), splat(p[i].z)};
+      lo = glm::min(lo, p[i]);
+      hi = glm::max(hi, p[i]);
+      widest = std::max(widest, best[i].distance_squared);
+    }
+    const Vec3Lanes lo_lanes{splat(lo.x), splat(lo.y), splat(lo.z)}, hi_lanes{splat(hi.x), splat(hi.y), splat(hi.z)};
+    std::array<NearestEntry, kBvhStackSize> stack;
+    int top = 0;
+    std::uint32_t ref = 0;
+    while (!nodes_.empty()) {
+      const Node& node = nodes_[ref];
+      const Lanes d2 = box_distance_squared(node, lo_lanes, hi_lanes);
+      unsigned open = lane_bits(d2 < splat(widest)) & used_slots(node);
+      unsigned leaves = 0;
+      for (int k = 0; k < kBvhWidth; ++k) leaves |= static_cast<unsigned>(is_leaf(node.child[k])) << k;
+      if ((open & leaves) != 0) {
+        std::array<unsigned, kBvhNearestBatch> wanted;  // per point: the open leaves its best may gain from
+        for (int i = 0; i < n; ++i) {
+          wanted[i] = lane_bits(box_distance_squared(node, pl[i], pl[i]) < splat(best[i].distance_squared)) & open & leaves;
+        }
+        for (unsigned m = open & leaves; m != 0; m &= m - 1) {
+          const int k = std::countr_zero(m);
+          const std::uint32_t packet = node.child[k] & kPacketMask;
+          for (int i = 0; i < n; ++i) {
+            if ((wanted[i] >> k) & 1u) offer_packet(triangle_distance_squared(packets_[packet].corners, pl[i]), packet, best[i]);
+          }
+        }
+        widest = best[0].distance_squared;
+        for (int i = 1; i < n; ++i) widest = std::max(widest, best[i].distance_squared);
+        open &= ~leaves & lane_bits(d2 < splat(widest));
+      }
+      if (open != 0) {
+        // (the leaves' lanes out of the nearest child's choice)
+        const LaneMask leaf_lanes = masks((leaves & 1u) != 0, (leaves & 2u) != 0, (leaves & 4u) != 0, (leaves & 8u) != 0);
+        ref = descend(node, select(leaf_lanes, splat(kInfinity), d2), open, stack, top);
+        continue;
+      }
+      while (top > 0 && !(stack[top - 1].distance_squared < widest)) --top;
+      if (top == 0) break;
+      ref = stack[--top].ref;
+    }
+    for (int i = 0; i < n; ++i) {
+      out[first + i] = best[i].lane < 0 ? BvhNearest{} : nearest_result(packets_[best[i].packet], best[i].lane, p[i]);
+    }
+  }
 }
 
 // ---- ray casts ---------------------------------------------------------------------------

@@ -1,6 +1,7 @@
-// TriangleBvh against brute force: the nearest triangle of random soups (with degenerate
-// triangles, which the BVH takes as given), the box query, and ray casts against every triangle
-// tested one by one with the same crossing test; closed meshes with rays exactly through their
+// TriangleBvh against brute force: the nearest triangle of random soups (one point at a time
+// and in batches; with degenerate triangles, which the BVH takes as given), the box query, and
+// ray casts against every triangle tested one by one with the same crossing test; closed meshes
+// with rays exactly through their
 // edges and vertices; and coordinates near the float limit (issue 15).
 #include "support/brute_triangle.hpp"
 #include "support/test_util.hpp"
@@ -138,6 +139,69 @@ TEST(TriangleBvh, BoundedNearestFindsExactlyTheTrianglesWithinTheBound) {
   // The bound is inclusive: a query exactly on a triangle is found with a zero bound.
   const Vec3 corner_point = soup.positions[soup.triangles[5].x];
   EXPECT_EQ(bvh.nearest(corner_point, 0.0f).distance_squared, 0.0f);
+}
+
+TEST(TriangleBvh, BatchedNearestGivesEachPointItsOwnNearestWithinItsBound) {
+  std::mt19937 rng(73);
+  for (int trial = 0; trial < 4; ++trial) {
+    const float extent = trial % 2 ? 40.0f : 4.0f;
+    const TriangleSoup soup = random_soup(rng, 60 + 200 * trial, Vec3(0.0f), extent, trial < 2 ? 1.0f : 3.0f);
+    const TriangleBvh bvh(soup.positions, soup.triangles);
+    int found = 0, none = 0;
+    for (int batch = 0; batch < 150; ++batch) {
+      // 1 to 20 points (more than one descent's worth), as a block of grid nodes a voxel apart
+      // about a random point, or scattered over the soup; bounds unbounded, loose or tight.
+      const int n = 1 + static_cast<int>(rng() % 20);
+      const bool block = batch % 3 != 0;
+      const Vec3 centre(uniform(rng, -extent, extent), uniform(rng, -extent, extent), uniform(rng, -extent, extent));
+      const float voxel = uniform(rng, 0.01f, 0.5f) * (1.0f + 0.1f * extent);
+      std::vector<Vec3> points(n);
+      std::vector<float> bounds(n);
+      for (int i = 0; i < n; ++i) {
+        points[i] = block ? centre + voxel * Vec3(float(i & 1), float((i >> 1) & 1), float((i >> 2) & 3))
+                          : Vec3(uniform(rng, -extent, extent), uniform(rng, -extent, extent), uniform(rng, -extent, extent));
+        const int kind = static_cast<int>(rng() % 3);
+        const float reach = uniform(rng, 0.0f, 0.3f * extent);
+        bounds[i] = kind == 0 ? kInf : reach * reach;
+      }
+      std::vector<BvhNearest> out(n);
+      bvh.nearest(points, bounds, out);
+      for (int i = 0; i < n; ++i) {
+        const BvhNearest one = bvh.nearest(points[i], bounds[i]);
+        const double truth = brute_distance(soup, points[i]);
+        const double tol = 1e-5 * (1.0 + extent);
+        if (std::abs(truth - std::sqrt(double(bounds[i]))) < 1e-4) continue;  // too close to call in float
+        if (truth * truth > bounds[i]) {
+          EXPECT_EQ(out[i].triangle, std::numeric_limits<std::uint32_t>::max()) << trial << " " << batch << " " << i;
+          EXPECT_EQ(one.triangle, std::numeric_limits<std::uint32_t>::max());
+          ++none;
+          continue;
+        }
+        ASSERT_LT(out[i].triangle, soup.triangles.size()) << trial << " " << batch << " " << i;
+        ++found;
+        EXPECT_NEAR(std::sqrt(double(out[i].distance_squared)), truth, tol) << trial << " " << batch << " " << i;
+        EXPECT_NEAR(std::sqrt(double(out[i].distance_squared)), std::sqrt(double(one.distance_squared)), tol);
+        // The point is on the reported triangle, at its weights, at the reported distance.
+        const Vec3 w = out[i].closest.weights;
+        EXPECT_GE(std::min({w.x, w.y, w.z}), 0.0f);
+        const glm::dvec3 at = corner(soup, out[i].triangle, 0) * double(w.x) + corner(soup, out[i].triangle, 1) * double(w.y) +
+                              corner(soup, out[i].triangle, 2) * double(w.z);
+        EXPECT_LT(glm::length(at - glm::dvec3(out[i].closest.point)), tol);
+        EXPECT_NEAR(glm::length(glm::dvec3(out[i].closest.point) - glm::dvec3(points[i])), truth, tol);
+      }
+    }
+    EXPECT_GT(found, 200);  // both outcomes really happen
+    EXPECT_GT(none, 50);
+  }
+  // An empty tree finds nothing; empty spans are no work.
+  const TriangleBvh empty;
+  const std::vector<Vec3> points{Vec3(1.0f), Vec3(2.0f)};
+  const std::vector<float> bounds{kInf, kInf};
+  std::vector<BvhNearest> out(2);
+  empty.nearest(points, bounds, out);
+  EXPECT_EQ(out[0].triangle, std::numeric_limits<std::uint32_t>::max());
+  EXPECT_EQ(out[1].triangle, std::numeric_limits<std::uint32_t>::max());
+  empty.nearest(std::span<const Vec3>{}, std::span<const float>{}, std::span<BvhNearest>{});
 }
 
 TEST(TriangleBvh, LayoutIsDepthFirstWithEachSubtreesPacketsContiguous) {
@@ -513,6 +577,10 @@ TEST(TriangleBvh, CoordinatesNearTheFloatLimitNeitherOverflowTheStackNorLoseTria
   // Nearest and ray casts run to the end (results on such input are not asserted beyond that).
   (void)bvh.nearest(Vec3(0.0f));
   (void)bvh.nearest(Vec3(big));
+  const std::vector<Vec3> points{Vec3(0.0f), Vec3(big), Vec3(-big, 0.0f, big), Vec3(std::numeric_limits<float>::quiet_NaN())};
+  const std::vector<float> bounds(points.size(), kInf);
+  std::vector<BvhNearest> batch(points.size());
+  bvh.nearest(points, bounds, batch);
   (void)bvh.ray_cast(Ray3{Vec3(0.0f), Vec3(big, big * 0.5f, big * 0.25f)});
   int calls = 0;
   bvh.ray_cast(Ray3{Vec3(-big, 0, 0), Vec3(big, 0, 0)}, [&](std::uint32_t, float) { return ++calls, 1.0f; });

@@ -27,6 +27,9 @@ namespace collide {
 inline constexpr int kBvhWidth = 4;
 /// Most triangles in one BVH leaf: a leaf is one packet of four triangles tested together.
 inline constexpr int kBvhLeafTriangles = 4;
+/// Points one descent of `TriangleBvh::nearest` for many points serves: a 2x2x2 block of grid
+/// nodes (a distance field's band).
+inline constexpr int kBvhNearestBatch = 8;
 /// Candidate split planes per axis for the binned surface area heuristic (32: among FCL's
 /// env.obj's long triangles 16 found planes that cost 20% more instructions per ray; 64 gained
 /// nothing over 32).
@@ -85,6 +88,19 @@ class TriangleBvh {
   /// Empty (triangle == max()) when no triangle is within the bound, when the tree is empty, or
   /// when squared distances from `p` overflow float (|p| beyond about 1e18).
   [[nodiscard]] BvhNearest nearest(Vec3 p, float max_distance_squared = std::numeric_limits<float>::infinity()) const noexcept;
+
+  /// The nearest point of all triangles to each of `points`, each within its own bound: out[i]
+  /// as nearest(points[i], max_distance_squared[i]) gives it (the same distance; among
+  /// triangles at exactly the same distance another may win, as the search order differs). For
+  /// points close together, as a block of grid nodes: the points are taken kBvhNearestBatch at
+  /// a time, and each batch descends the tree once, entering a node when its box is nearer the
+  /// batch's bounding box than the largest bound still open; a leaf's triangles are measured
+  /// only for the points its box may bring nearer (the descent is most of a single query's
+  /// cost: on recast's dungeon.obj, 2x2x2 nodes a voxel apart, one batch entered 11.7 nodes
+  /// where eight single queries entered 58). Points far apart are answered right, only
+  /// slower. The spans must be equally long. No allocation.
+  void nearest(std::span<const Vec3> points, std::span<const float> max_distance_squared,
+               std::span<BvhNearest> out) const noexcept;
 
   /// Calls `visit(triangle index)` for every triangle whose bounding box overlaps `box`. A
   /// `visit` that returns bool stops the query by returning false.
