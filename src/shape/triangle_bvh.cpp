@@ -478,15 +478,13 @@ void TriangleBvh::nearest(std::span<const Vec3> points, std::span<const float> m
       unsigned leaves = 0;
       for (int k = 0; k < kBvhWidth; ++k) leaves |= static_cast<unsigned>(is_leaf(node.child[k])) << k;
       if ((open & leaves) != 0) {
-        std::array<unsigned, kBvhNearestBatch> wanted;  // per point: the open leaves its best may gain from
-        for (int i = 0; i < n; ++i) {
-          wanted[i] = lane_bits(box_distance_squared(node, pl[i], pl[i]) < splat(best[i].distance_squared)) & open & leaves;
-        }
+        std::array<std::array<float, kBvhWidth>, kBvhNearestBatch> reach;  // per point: its distances to the four boxes
+        for (int i = 0; i < n; ++i) store(reach[i].data(), box_distance_squared(node, pl[i], pl[i]));
         for (unsigned m = open & leaves; m != 0; m &= m - 1) {
           const int k = std::countr_zero(m);
           const std::uint32_t packet = node.child[k] & kPacketMask;
           for (int i = 0; i < n; ++i) {
-            if ((wanted[i] >> k) & 1u) offer_packet(triangle_distance_squared(packets_[packet].corners, pl[i]), packet, best[i]);
+            if (reach[i][k] < best[i].distance_squared) offer_packet(triangle_distance_squared(packets_[packet].corners, pl[i]), packet, best[i]);
           }
         }
         widest = best[0].distance_squared;
