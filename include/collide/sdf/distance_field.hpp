@@ -15,7 +15,8 @@
 ///     visits the nodes of each grid row that lie within the band of its plane). On a grid
 ///     coarse beside a mesh's triangles, where each band node lies within the band of tens of
 ///     them, the nodes near the mesh instead each ask its BVH for their nearest point within the
-///     band: the same distances, chosen by an estimate of the two ways' work;
+///     band (a 2x2x2 block's nodes in one batch, one descent of the tree): the same distances,
+///     chosen by an estimate of the two ways' work;
 ///  2. sign: 2D and convex shapes by containment (exact); a triangle mesh per region that no
 ///     surface crosses (the grid cut into 8^D blocks; two neighbouring nodes are joined when
 ///     their exact distances sum to more than the distance between them, so the surface cannot
@@ -214,8 +215,8 @@ struct FieldOptions {
 struct FieldBuildStats {
   std::size_t nodes = 0;             ///< nodes of the grid (dense) or of its allocated bricks (sparse)
   std::size_t band_nodes = 0;        ///< nodes given an exact distance (stage 1)
-  /// Nodes that asked the mesh's BVH for their nearest point one by one (a mesh's band on a grid
-  /// coarse beside its triangles); 0 when the triangles were scattered into the band.
+  /// Nodes that asked the mesh's BVH for their nearest point (a mesh's band on a grid coarse
+  /// beside its triangles; eight nodes a batch); 0 when the triangles were scattered into the band.
   std::size_t nearest_queries = 0;
   std::size_t sign_evaluations = 0;  ///< winding numbers (or containment tests) evaluated
   std::size_t bytes = 0;             ///< memory the field holds after the build
