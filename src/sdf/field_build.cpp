@@ -721,9 +721,18 @@ BandMarks mark_band(const TriangleMesh& mesh, const FieldGrid3& grid, Vec3 local
       continue;
     }
     marks.rows += double(hi.y - lo.y + 1) * double(hi.z - lo.z + 1);
-    for_each_node<3>(lo / BandMarks::kBlock, hi / BandMarks::kBlock, [&](glm::ivec3 block) {
-      const glm::ivec3 r = block / BandMarks::kPerSide, in = block - r * BandMarks::kPerSide;
-      marks.masks[marks.region_index(r)] |= std::uint64_t{1} << ((in.z * BandMarks::kPerSide + in.y) * BandMarks::kPerSide + in.x);
+    // The box's blocks, a region's at once: a row of blocks is a run of bits, a slice of rows
+    // and the box copies of it (bit by bit, a coarse grid's large boxes took 12% of dungeon's
+    // build at 64k nodes).
+    const glm::ivec3 first = lo / BandMarks::kBlock, last = hi / BandMarks::kBlock;
+    for_each_node<3>(first / BandMarks::kPerSide, last / BandMarks::kPerSide, [&](glm::ivec3 r) {
+      const glm::ivec3 a = glm::max(first - r * BandMarks::kPerSide, 0);
+      const glm::ivec3 b = glm::min(last - r * BandMarks::kPerSide, BandMarks::kPerSide - 1);
+      const std::uint64_t row = ((std::uint64_t{1} << (b.x - a.x + 1)) - 1) << a.x;
+      std::uint64_t slice = 0, box = 0;
+      for (int y = a.y; y <= b.y; ++y) slice |= row << (y * BandMarks::kPerSide);
+      for (int z = a.z; z <= b.z; ++z) box |= slice << (z * BandMarks::kPerSide * BandMarks::kPerSide);
+      marks.masks[marks.region_index(r)] |= box;
     });
   }
   for (const std::uint64_t m : marks.masks) marks.blocks += static_cast<std::size_t>(std::popcount(m));
