@@ -72,11 +72,31 @@ double brute_distance(const TriangleSoup& s, Vec3 q) {
   return best;
 }
 
+/// The extent of the soup of trial 0 to 3 (small or wide, in turn).
+float trial_extent(int trial) { return trial % 2 ? 40.0f : 4.0f; }
+
+/// The soup of trial 0 to 3: `count` triangles in a cube of trial_extent, small ones in the first
+/// two trials, larger ones in the last two.
+TriangleSoup trial_soup(std::mt19937& rng, int trial, int count) {
+  return random_soup(rng, count, Vec3(0.0f), trial_extent(trial), trial < 2 ? 1.0f : 3.0f);
+}
+
+/// `hit`'s point lies on its triangle at its weights, `truth` (the brute-force distance) from `q`.
+void expect_on_its_triangle(const TriangleSoup& soup, const BvhNearest& hit, Vec3 q, double truth, double tol) {
+  const Vec3 w = hit.closest.weights;
+  EXPECT_GE(std::min({w.x, w.y, w.z}), 0.0f);
+  EXPECT_NEAR(w.x + w.y + w.z, 1.0f, 1e-5f);
+  const glm::dvec3 at = corner(soup, hit.triangle, 0) * double(w.x) + corner(soup, hit.triangle, 1) * double(w.y) +
+                        corner(soup, hit.triangle, 2) * double(w.z);
+  EXPECT_LT(glm::length(at - glm::dvec3(hit.closest.point)), tol);
+  EXPECT_NEAR(glm::length(glm::dvec3(hit.closest.point) - glm::dvec3(q)), truth, tol);
+}
+
 TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
   std::mt19937 rng(61);
   for (int trial = 0; trial < 4; ++trial) {
-    const float extent = trial % 2 ? 40.0f : 4.0f;
-    const TriangleSoup soup = random_soup(rng, 50 + 150 * trial, Vec3(0.0f), extent, trial < 2 ? 1.0f : 3.0f);
+    const float extent = trial_extent(trial);
+    const TriangleSoup soup = trial_soup(rng, trial, 50 + 150 * trial);
     const TriangleBvh bvh(soup.positions, soup.triangles);
     ASSERT_EQ(bvh.triangle_count(), soup.triangles.size());
     int near = 0, far = 0;
@@ -98,14 +118,7 @@ TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
       const double truth = brute_distance(soup, q);
       const double tol = 1e-5 * (1.0 + extent);
       EXPECT_NEAR(std::sqrt(double(hit.distance_squared)), truth, tol) << "trial " << trial << " query " << i;
-      // The point is on the reported triangle, at its weights, at the reported distance.
-      const Vec3 w = hit.closest.weights;
-      EXPECT_GE(std::min({w.x, w.y, w.z}), 0.0f);
-      EXPECT_NEAR(w.x + w.y + w.z, 1.0f, 1e-5f);
-      const glm::dvec3 at = corner(soup, hit.triangle, 0) * double(w.x) + corner(soup, hit.triangle, 1) * double(w.y) +
-                            corner(soup, hit.triangle, 2) * double(w.z);
-      EXPECT_LT(glm::length(at - glm::dvec3(hit.closest.point)), tol);
-      EXPECT_NEAR(glm::length(glm::dvec3(hit.closest.point) - glm::dvec3(q)), truth, tol);
+      expect_on_its_triangle(soup, hit, q, truth, tol);
       (truth < 0.3 ? near : far)++;
     }
     EXPECT_GT(near, 300);  // both kinds of query really happen
@@ -144,8 +157,8 @@ TEST(TriangleBvh, BoundedNearestFindsExactlyTheTrianglesWithinTheBound) {
 TEST(TriangleBvh, BatchedNearestGivesEachPointItsOwnNearestWithinItsBound) {
   std::mt19937 rng(73);
   for (int trial = 0; trial < 4; ++trial) {
-    const float extent = trial % 2 ? 40.0f : 4.0f;
-    const TriangleSoup soup = random_soup(rng, 60 + 200 * trial, Vec3(0.0f), extent, trial < 2 ? 1.0f : 3.0f);
+    const float extent = trial_extent(trial);
+    const TriangleSoup soup = trial_soup(rng, trial, 60 + 200 * trial);
     const TriangleBvh bvh(soup.positions, soup.triangles);
     int found = 0, none = 0;
     for (int batch = 0; batch < 150; ++batch) {
@@ -181,13 +194,7 @@ TEST(TriangleBvh, BatchedNearestGivesEachPointItsOwnNearestWithinItsBound) {
         ++found;
         EXPECT_NEAR(std::sqrt(double(out[i].distance_squared)), truth, tol) << trial << " " << batch << " " << i;
         EXPECT_NEAR(std::sqrt(double(out[i].distance_squared)), std::sqrt(double(one.distance_squared)), tol);
-        // The point is on the reported triangle, at its weights, at the reported distance.
-        const Vec3 w = out[i].closest.weights;
-        EXPECT_GE(std::min({w.x, w.y, w.z}), 0.0f);
-        const glm::dvec3 at = corner(soup, out[i].triangle, 0) * double(w.x) + corner(soup, out[i].triangle, 1) * double(w.y) +
-                              corner(soup, out[i].triangle, 2) * double(w.z);
-        EXPECT_LT(glm::length(at - glm::dvec3(out[i].closest.point)), tol);
-        EXPECT_NEAR(glm::length(glm::dvec3(out[i].closest.point) - glm::dvec3(points[i])), truth, tol);
+        expect_on_its_triangle(soup, out[i], points[i], truth, tol);
       }
     }
     EXPECT_GT(found, 200);  // both outcomes really happen
