@@ -98,7 +98,8 @@ class TriangleBvh {
   /// only for the points its box may bring nearer (the descent is most of a single query's
   /// cost: on recast's dungeon.obj, 2x2x2 nodes a voxel apart, one batch entered 11.7 nodes
   /// where eight single queries entered 58). Points far apart are answered right, only
-  /// slower. The spans must be equally long. No allocation.
+  /// slower. The spans should be equally long: only as many points as the shortest holds are
+  /// answered. No allocation.
   void nearest(std::span<const Vec3> points, std::span<const float> max_distance_squared,
                std::span<BvhNearest> out) const noexcept;
 
