@@ -1284,7 +1284,7 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
         // A row's nodes are consecutive in either store (a dense row; a brick's row).
         const std::size_t row = store.find(lo + glm::ivec3(0, y, z));
         float* const out = &dist[walled_cell(0, y, z)];
-        std::uint8_t exact = 0;
+        unsigned exact = 0;  // (the states' kExact bits, or-ed: no branch a node)
         for (int x = 0; x < n.x; ++x) {
           const std::size_t at = row + static_cast<std::size_t>(x);
           slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x] = at;
