@@ -317,7 +317,7 @@ int report_field(const SdfOptions& o, const SdfInput& in, const Field& field, do
                static_cast<double>(o.band));
   std::fprintf(report, "  sign evaluations  %zu\n", st.sign_evaluations);
   if (st.nearest_queries > 0) {
-    std::fprintf(report, "  nearest queries   %zu (the band node by node through the mesh's BVH: a grid coarse beside its triangles)\n",
+    std::fprintf(report, "  nearest queries   %zu (the band through the mesh's BVH, a block of eight nodes a descent: a grid coarse beside its triangles)\n",
                  st.nearest_queries);
   }
 
