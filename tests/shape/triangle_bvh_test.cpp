@@ -1,8 +1,8 @@
 // TriangleBvh against brute force: the nearest triangle of random soups (one point at a time
 // and in batches; with degenerate triangles, which the BVH takes as given), the box query, and
 // ray casts against every triangle tested one by one with the same crossing test; closed meshes
-// with rays exactly through their
-// edges and vertices; and coordinates near the float limit (issue 15).
+// with rays exactly through their edges and vertices; and coordinates near the float limit
+// (issue 15).
 #include "support/brute_triangle.hpp"
 #include "support/test_util.hpp"
 
