@@ -125,6 +125,65 @@ TEST(FieldBuild, BothWaysToTheBandGiveTheExactDistances) {
   }
 }
 
+TEST(FieldBuild, ScatteredBandMissesNoNodeOfAnyTriangle) {
+  // The scatter visits, row by row, only the nodes a triangle's plane and edges allow (each limit
+  // worked out as a bound on the row's node index). Triangles of every kind, apart so that each
+  // band is its own: turned at random, with their plane along the rows (normal across x), with
+  // an edge along the rows, nearly so (1e-7 rad off), needles and tiny ones. Every node within
+  // the band must get the exact distance to its nearest triangle (brute force over the soup).
+  std::mt19937 rng(1729);
+  std::vector<Vec3> v;
+  std::vector<glm::uvec3> t;
+  const auto add = [&](Vec3 a, Vec3 b, Vec3 c) {
+    const auto first = static_cast<unsigned>(v.size());
+    v.insert(v.end(), {a, b, c});
+    t.push_back({first, first + 1, first + 2});
+  };
+  for (int k = 0; k < 27; ++k) {
+    const Vec3 at{float(k % 3) * 4.0f, float((k / 3) % 3) * 4.0f, float(k / 9) * 4.0f};
+    const float size = test::uniform(rng, 0.05f, 1.6f);
+    Vec3 a = test::random_point3(rng, size), b = test::random_point3(rng, size), c = test::random_point3(rng, size);
+    switch (k % 6) {
+      case 1: a.y = b.y = c.y = 0.0f; break;                       // plane across y: its normal across x
+      case 2: b = a + Vec3(size, 0.0f, 0.0f); break;                // an edge along the rows
+      case 3: b = a + Vec3(size, size * 1e-7f, 0.0f); break;        // an edge nearly along them
+      case 4: c = a + (b - a) * 0.5f + Vec3(0.0f, 0.0f, 1e-3f); break;  // a needle
+      case 5: b = a + (b - a) * 1e-3f, c = a + (c - a) * 1e-3f; break;  // tiny
+      default: break;
+    }
+    add(at + a, at + b, at + c);
+  }
+  const TriangleMesh mesh = make_triangle_mesh(v, t);
+  const float voxel = 0.125f;
+  const DistanceField3 field = make_distance_field(mesh, options(voxel));
+  ASSERT_EQ(field.stats.nearest_queries, 0u) << "a grid fine beside the triangles scatters them";
+  const float band = kFieldDefaultBand * voxel;
+  std::size_t inner = 0, outer = 0;  // nodes surely in the band, and perhaps in it (rounding)
+  float worst = 0.0f;
+  for (int z = 0; z < field.grid.dims.z; ++z)
+    for (int y = 0; y < field.grid.dims.y; ++y)
+      for (int x = 0; x < field.grid.dims.x; ++x) {
+        const Vec3 p = field.grid.node({x, y, z});
+        float nearest = std::numeric_limits<float>::infinity();
+        for (std::size_t i = 0; i < t.size(); ++i) {
+          const Vec3 q = closest_point_on_triangle(p, v[t[i].x], v[t[i].y], v[t[i].z]).point;
+          nearest = std::min(nearest, glm::length(p - q));
+        }
+        outer += nearest <= 1.001f * band;
+        if (nearest > 0.999f * band) continue;
+        ++inner;
+        worst = std::max(worst, std::abs(std::abs(field.distances[field.grid.index({x, y, z})]) - nearest));
+      }
+  EXPECT_GT(inner, 10000u);
+  // Each band node its exact distance (to the rounding of a needle's closest point, where the two
+  // formulas differ by up to about 2e-5; a node the scatter skipped would take a neighbour's
+  // closest point, off by up to voxel^2 / 2d, 0.03 voxels at the band's edge, or none at all)...
+  EXPECT_LT(worst, 5e-5f);
+  // ...and every node surely in the band counted as given its exact distance.
+  EXPECT_GE(field.stats.band_nodes, inner);
+  EXPECT_LE(field.stats.band_nodes, outer);
+}
+
 TEST(FieldBuild, PropagationBeyondTheBandStaysNearTheExactDistance) {
   // Beyond the band each node takes a closest point offered by its neighbours (Danielsson's
   // propagation), which can miss the true nearest one by a little: on dungeon.obj the exact
