@@ -1292,6 +1292,7 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
   // The join test's bound for each forward step.
   std::array<simd::Lanes, kForwardSteps.step.size()> reach;
   for (std::size_t e = 0; e < reach.size(); ++e) reach[e] = simd::splat(join * kNeighbourLength[kForwardSteps.squared_length[e]]);
+  const float reach_longest = join * kNeighbourLength.back();
   // 1. Regions within each block.
   for_each_sign_block(store, [&](glm::ivec3 lo, glm::ivec3 hi) {
     const glm::ivec3 n = hi - lo + 1;
@@ -1301,6 +1302,7 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
         for (int y = 0; y < kFieldBrickSize; ++y) std::fill_n(&dist[walled_cell(0, y, z)], kFieldBrickSize, kNoJoin);
     BlockBits valid{};
     bool any_band = false;
+    float nearest = std::numeric_limits<float>::infinity();  // the block's least distance
     for (int z = 0; z < n.z; ++z)
       for (int y = 0; y < n.y; ++y) {
         // A row's nodes are consecutive in either store (a dense row; a brick's row).
@@ -1311,18 +1313,39 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
           const std::size_t at = row + static_cast<std::size_t>(x);
           slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x] = at;
           out[x] = distance_at(at);
+          nearest = std::min(nearest, out[x]);
           exact |= store.state[at] & kExact;
         }
         any_band |= exact != 0;
         valid[z] |= ((std::uint64_t{1} << n.x) - 1) << (y * kFieldBrickSize);
       }
-    if (!any_band) {  // no surface in the block: one region, its winding number at the centre
-      region_probe.push_back(local_origin + Vec3((lo + hi) / 2) * voxel);
-      region_winding.push_back(winding(region_probe.back()));
+    // The whole block one region, its winding number at `probe`.
+    const auto one_region = [&](Vec3 probe) {
+      region_probe.push_back(probe);
+      region_winding.push_back(winding(probe));
       region_size.push_back(static_cast<std::uint32_t>(n.x * n.y * n.z));
       for (int z = 0; z < n.z; ++z)
         for (int y = 0; y < n.y; ++y)
           for (int x = 0; x < n.x; ++x) region[slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x]] = first;
+    };
+    if (!any_band) {  // no surface in the block: one region, its winding number at the centre
+      one_region(local_origin + Vec3((lo + hi) / 2) * voxel);
+      return;
+    }
+    // Every node farther from the surface than half the longest link's reach: every link passes
+    // the join test, so the block is one region (the growth below would find it link by link),
+    // its winding number at its farthest node, the last in scan order of equally far ones.
+    if (nearest + nearest > reach_longest) {
+      float best = -1.0f;
+      glm::ivec3 best_node{0};
+      for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+          for (int x = 0; x < n.x; ++x)
+            if (const float d = dist[walled_cell(x, y, z)]; d >= best) {
+              best = d;
+              best_node = {x, y, z};
+            }
+      one_region(local_origin + Vec3(lo + best_node) * voxel);
       return;
     }
     // The links: bit (x, y) of link[e][z] when node (x, y, z) and its neighbour a step e on
