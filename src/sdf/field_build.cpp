@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <span>
@@ -913,7 +914,10 @@ constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 /// Two passes over the planes (z up, then down), each plane as Danielsson's two-dimensional
 /// 4SED: its rows in y order, each taking the offers of the row upstream in y (and, in the y
 /// pass up, of the same row in the plane upstream in z), then scanned along x both ways; then
-/// the rows again in the opposite y order. An upstream row offers three nodes to each node: the
+/// the rows again in the opposite y order. Four band nodes side by side take no offers at all
+/// (their states read as one word): on undulating.obj at 822k nodes 4.7% fewer instructions in
+/// the whole build, the torus 3.3%, dungeon.obj 0.8-1.3%; the error against the exact build the
+/// same (band nodes no longer swap to an equally near point by rounding). An upstream row offers three nodes to each node: the
 /// one in line and its two neighbours along x (with the one in line alone the mean error was
 /// 2-5% above the octant sweeps' of the generic `propagate`). Against the exact build on
 /// dungeon.obj, undulating.obj and bench_sdf's torus, 64k to 4M nodes: mean error 25-40% below
@@ -982,7 +986,11 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
     };
     one(0);
     int x = 1;
+    const std::uint8_t* const exact_at = store.state.data() + base;
     for (; x + 4 <= nx - 1; x += 4) {
+      std::uint32_t states;
+      std::memcpy(&states, exact_at + x, sizeof states);
+      if ((states & (0x01010101u * kExact)) == 0x01010101u * kExact) continue;  // four band nodes: exact already
       const simd::Lanes px = simd::splat(local_origin.x) + simd::iota(x) * simd::splat(voxel);
       const simd::Lanes qy = simd::splat(py), qz = simd::splat(pz);
       simd::Lanes best = simd::load(d + x), bx = simd::load(cx + x), by = simd::load(cy + x), bz = simd::load(cz + x);
