@@ -824,11 +824,12 @@ std::size_t mesh_band_nearest(const TriangleMesh& mesh, const BandMarks& marks, 
 }
 
 /// How many of the scatter's rows one nearest-point query is taken to cost. Where the two ways
-/// took the same time (each forced, alternating in one process, 64k to 4.7M nodes, AMD EPYC):
-/// at 2.0 rows a query on dungeon.obj, 2.0 on the torus of bench_sdf, 1.9 on undulating.obj.
-/// It was 3.5 before a block's queries shared one descent of the BVH (stop 73), 2.2 before the
-/// scatter's groups were skipped by a lower bound (stop 72).
-inline constexpr double kNearestQueryRows = 2.0;
+/// take the same time (each forced, alternating in one process, 9 repetitions, AMD EPYC, stop
+/// 74): queries 0-15% slower at 2.2-2.6 rows a query on dungeon.obj, the torus of bench_sdf and
+/// undulating.obj, even at 2.8 (dungeon), 4-12% faster at 3.2-4.7. It was 2.0 before a row's
+/// limits went into lanes (stop 74), 3.5 before a block's queries shared one descent of the BVH
+/// (stop 73), 2.2 before the scatter's groups were skipped by a lower bound (stop 72).
+inline constexpr double kNearestQueryRows = 2.75;
 
 /// A mesh's exact band, the cheaper of two ways: scattered per triangle (its work grows with the
 /// rows each triangle's box visits) or node by node through the BVH (its work grows with the
