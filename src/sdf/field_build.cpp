@@ -961,21 +961,40 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
     cz[x] = fz;
     return true;
   };
-  // The nodes of a row that took an offer: [first, last], empty when first > last.
-  struct Span {
-    int first = std::numeric_limits<int>::max(), last = -1;
-    void add(int x) {
-      first = std::min(first, x);
-      last = std::max(last, x);
+  // The nodes of the row being worked on that changed (took an offer) since it was last scanned
+  // both ways, as bits (node x: bit x % 64 of word x / 64; one word of padding for a group of
+  // four that straddles a word).
+  const std::size_t words = static_cast<std::size_t>(nx) / 64 + 2;
+  std::vector<std::uint64_t> changed(words, 0);
+  const auto mark = [&](int x) { changed[static_cast<std::size_t>(x) / 64] |= std::uint64_t{1} << (x % 64); };
+  const auto marked = [&](int x) { return (changed[static_cast<std::size_t>(x) / 64] >> (x % 64)) & 1u; };
+  // The first changed node at or after x going `dir` (nx or -1 when none).
+  const auto next_marked = [&](int x, int dir) {
+    if (dir > 0) {
+      if (x >= nx) return nx;
+      std::size_t w = static_cast<std::size_t>(x) / 64;
+      std::uint64_t bits = changed[w] & (~std::uint64_t{0} << (x % 64));
+      while (bits == 0) {
+        if (++w * 64 >= static_cast<std::size_t>(nx)) return nx;
+        bits = changed[w];
+      }
+      return std::min(nx, static_cast<int>(w * 64) + std::countr_zero(bits));
     }
-    bool empty() const { return first > last; }
+    if (x < 0) return -1;
+    std::size_t w = static_cast<std::size_t>(x) / 64;
+    std::uint64_t bits = changed[w] & (~std::uint64_t{0} >> (63 - x % 64));
+    while (bits == 0) {
+      if (w == 0) return -1;
+      bits = changed[--w];
+    }
+    return static_cast<int>(w * 64) + 63 - std::countl_zero(bits);
   };
   // The row at `base` takes the offers of three nodes of each upstream row (`ups`: offsets of
   // the rows, nodes before `base`): the node in line and its two neighbours along x. Lanes of
   // four nodes, each loaded and stored once for all offers; the row's two end nodes alone.
-  // Returns the nodes that took an offer.
+  // Marks the nodes that took an offer; returns whether any did.
   const auto from_rows = [&](std::ptrdiff_t base, std::span<const std::ptrdiff_t> ups, float py, float pz) {
-    Span taken;
+    bool taken = false;
     float* __restrict d = distance + base;
     float* __restrict cx = closest_x + base;
     float* __restrict cy = closest_y + base;
@@ -983,7 +1002,10 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
     const auto one = [&](int x) {
       for (const std::ptrdiff_t up : ups)
         for (int from = std::max(x - 1, 0); from <= std::min(x + 1, nx - 1); ++from)
-          if (offer(d, cx, cy, cz, x, py, pz, cx[from - up], cy[from - up], cz[from - up])) taken.add(x);
+          if (offer(d, cx, cy, cz, x, py, pz, cx[from - up], cy[from - up], cz[from - up])) {
+            mark(x);
+            taken = true;
+          }
     };
     one(0);
     int x = 1;
@@ -1013,39 +1035,48 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
       simd::store(cx + x, bx);
       simd::store(cy + x, by);
       simd::store(cz + x, bz);
-      if (const unsigned bits = simd::lane_bits(any); bits != 0) {
-        taken.add(x + std::countr_zero(bits));
-        taken.add(x + std::bit_width(bits) - 1);
+      if (const std::uint64_t bits = simd::lane_bits(any); bits != 0) {
+        const std::size_t w = static_cast<std::size_t>(x) / 64;
+        const int at = x % 64;
+        changed[w] |= bits << at;
+        if (at > 60) changed[w + 1] |= bits >> (64 - at);
+        taken = true;
       }
     }
     for (; x < nx; ++x) one(x);
     return taken;
   };
   // The row at `base` scanned along x in direction `dir`, each node offered its upstream
-  // neighbour's closest point, over the nodes `changed` (what changed since the row was last
-  // scanned both ways; all its nodes on its first scan) and on until a node past them declines
-  // the offer: after a scan both ways each node already beats its neighbours' offers (beyond
-  // rounding, see above), so from there on nothing would change. Returns `changed` grown by
-  // the nodes this scan changed.
-  const auto scan = [&](std::ptrdiff_t base, int dir, float py, float pz, Span changed) {
+  // neighbour's closest point where that neighbour is marked (changed since the row was last
+  // scanned both ways; all its nodes on its first scan), on from each marked node until a node
+  // declines: after a scan both ways each node already beats its neighbours' offers (beyond
+  // rounding, see above), so an unmarked node's offer would change nothing, and the scan jumps
+  // to the next marked node. Marks the nodes this scan changed (for the scan the other way).
+  // (With the changed nodes as one span instead, the scans went over whole rows on every pass:
+  // a row's few changes lie spread along it.)
+  const auto scan = [&](std::ptrdiff_t base, int dir, float py, float pz) {
     float* __restrict d = distance + base;
     float* __restrict cx = closest_x + base;
     float* __restrict cy = closest_y + base;
     float* __restrict cz = closest_z + base;
-    const int from = dir > 0 ? changed.first : changed.last;  // the first node offering
     const int x_end = dir > 0 ? nx : -1;
-    float ax = cx[from], ay = cy[from], az = cz[from];
-    for (int x = from + dir; x != x_end; x += dir) {
-      if (offer(d, cx, cy, cz, x, py, pz, ax, ay, az)) {
-        changed.add(x);
-      } else {
-        if (dir > 0 ? x > changed.last : x < changed.first) break;
-        ax = cx[x];
-        ay = cy[x];
-        az = cz[x];
+    for (int from = next_marked(dir > 0 ? 0 : nx - 1, dir); from != x_end;) {
+      float ax = cx[from], ay = cy[from], az = cz[from];
+      int x = from + dir;
+      for (; x != x_end; x += dir) {
+        if (offer(d, cx, cy, cz, x, py, pz, ax, ay, az)) {
+          mark(x);
+        } else if (marked(x)) {
+          ax = cx[x];
+          ay = cy[x];
+          az = cz[x];
+        } else {
+          break;
+        }
       }
+      if (x == x_end) break;
+      from = next_marked(x + dir, dir);
     }
-    return changed;
   };
   for (const int z_dir : {1, -1}) {
     for (int k = 0; k < nz; ++k) {
@@ -1058,12 +1089,17 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
           const std::ptrdiff_t base = sy * y + sz * z;
           const std::array<std::ptrdiff_t, 2> ups{y_dir * sy, z_dir * sz};
           const bool plane = y_dir > 0 && k > 0;
-          Span changed;
-          if (j > 0) changed = from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
-          else if (plane) changed = from_rows(base, std::span(ups).last(1), py, pz);
-          if (z_dir > 0 && y_dir > 0) changed = {0, nx - 1};  // its first visit: never scanned
-          if (changed.empty()) continue;
-          scan(base, -1, py, pz, scan(base, 1, py, pz, changed));
+          std::fill(changed.begin(), changed.end(), std::uint64_t{0});
+          bool any = false;
+          if (j > 0) any = from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
+          else if (plane) any = from_rows(base, std::span(ups).last(1), py, pz);
+          if (z_dir > 0 && y_dir > 0) {  // its first visit: never scanned
+            for (int x = 0; x < nx; ++x) mark(x);
+            any = true;
+          }
+          if (!any) continue;
+          scan(base, 1, py, pz);
+          scan(base, -1, py, pz);
         }
       }
     }
