@@ -949,9 +949,14 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
   const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * ny;
   // Node x of the row whose arrays start at d, cx, cy, cz (its y and z at py, pz) offered the
   // point (fx, fy, fz): taken when nearer. The scalar form of the lanes below.
+  // The nodes' x coordinates along a row (the same in every row), made once: a load where each
+  // offer converted, multiplied and added (callgrind: 2% of the build at 4.7M nodes). Padded to
+  // whole groups of four.
+  std::vector<float> node_x(static_cast<std::size_t>(nx) + 4);
+  for (std::size_t x = 0; x < node_x.size(); ++x) node_x[x] = local_origin.x + float(x) * voxel;
   const auto offer = [&](float* __restrict d, float* __restrict cx, float* __restrict cy, float* __restrict cz, int x,
                          float py, float pz, float fx, float fy, float fz) {
-    const float px = local_origin.x + float(x) * voxel;
+    const float px = node_x[static_cast<std::size_t>(x)];
     const float dx = px - fx, dy = py - fy, dz = pz - fz;
     const float d2 = dx * dx + dy * dy + dz * dz;
     if (!(d2 < d[x])) return false;
@@ -1014,7 +1019,7 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
       std::uint32_t states;
       std::memcpy(&states, exact_at + x, sizeof states);
       if ((states & (0x01010101u * kExact)) == 0x01010101u * kExact) continue;  // four band nodes: exact already
-      const simd::Lanes px = simd::splat(local_origin.x) + simd::iota(x) * simd::splat(voxel);
+      const simd::Lanes px = simd::load(node_x.data() + x);
       const simd::Lanes qy = simd::splat(py), qz = simd::splat(pz);
       simd::Lanes best = simd::load(d + x), bx = simd::load(cx + x), by = simd::load(cy + x), bz = simd::load(cz + x);
       simd::LaneMask any = simd::mask(false);
