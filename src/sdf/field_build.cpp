@@ -918,11 +918,11 @@ constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 /// the rows again in the opposite y order. Four band nodes side by side take no offers at all
 /// (their states read as one word): on undulating.obj at 822k nodes 4.7% fewer instructions in
 /// the whole build, the torus 3.3%, dungeon.obj 0.8-1.3%; the error against the exact build the
-/// same (band nodes no longer swap to an equally near point by rounding). An upstream row offers three nodes to each node: the
-/// one in line and its two neighbours along x (with the one in line alone the mean error was
-/// 2-5% above the octant sweeps' of the generic `propagate`). Against the exact build on
-/// dungeon.obj, undulating.obj and bench_sdf's torus, 64k to 4M nodes: mean error 25-40% below
-/// the octant sweeps', the largest never above theirs. A pass reads the grid from memory once
+/// same (band nodes no longer swap to an equally near point by rounding). An upstream row
+/// offers three nodes to each node: the one in line and its two neighbours along x (with the
+/// one in line alone the mean error was 2-5% above the octant sweeps' of the generic
+/// `propagate`). Against the exact build on dungeon.obj, undulating.obj and bench_sdf's torus,
+/// 64k to 4M nodes: mean error 25-40% below the octant sweeps', the largest never above theirs. A pass reads the grid from memory once
 /// (the plane and the one before it stay in the cache) where the 8 octant sweeps read it eight
 /// times. The upstream offers are independent along a row: four nodes a step in lanes, on one
 /// array per coordinate (on the Vec3s, 12 bytes apart, GCC made each node a branch), each node
@@ -947,13 +947,13 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
   const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
   const float voxel = grid.voxel;
   const std::ptrdiff_t sy = nx, sz = std::ptrdiff_t{nx} * ny;
-  // Node x of the row whose arrays start at d, cx, cy, cz (its y and z at py, pz) offered the
-  // point (fx, fy, fz): taken when nearer. The scalar form of the lanes below.
   // The nodes' x coordinates along a row (the same in every row), made once: a load where each
   // offer converted, multiplied and added (callgrind: 2% of the build at 4.7M nodes). Padded to
   // whole groups of four.
   std::vector<float> node_x(static_cast<std::size_t>(nx) + 4);
   for (std::size_t x = 0; x < node_x.size(); ++x) node_x[x] = local_origin.x + float(x) * voxel;
+  // Node x of the row whose arrays start at d, cx, cy, cz (its y and z at py, pz) offered the
+  // point (fx, fy, fz): taken when nearer. The scalar form of the lanes below.
   const auto offer = [&](float* __restrict d, float* __restrict cx, float* __restrict cy, float* __restrict cz, int x,
                          float py, float pz, float fx, float fy, float fz) {
     const float px = node_x[static_cast<std::size_t>(x)];
