@@ -922,9 +922,9 @@ constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 /// offers three nodes to each node: the one in line and its two neighbours along x (with the
 /// one in line alone the mean error was 2-5% above the octant sweeps' of the generic
 /// `propagate`). Against the exact build on dungeon.obj, undulating.obj and bench_sdf's torus,
-/// 64k to 4M nodes: mean error 25-40% below the octant sweeps', the largest never above theirs. A pass reads the grid from memory once
-/// (the plane and the one before it stay in the cache) where the 8 octant sweeps read it eight
-/// times. The upstream offers are independent along a row: four nodes a step in lanes, on one
+/// 64k to 4M nodes: mean error 25-40% below the octant sweeps', the largest never above theirs.
+/// A pass reads the grid from memory once (the plane and the one before it stay in the cache)
+/// where the 8 octant sweeps read it eight times. The upstream offers are independent along a row: four nodes a step in lanes, on one
 /// array per coordinate (on the Vec3s, 12 bytes apart, GCC made each node a branch), each node
 /// loaded and stored once for all its offers; the scans carry the upstream node's closest point
 /// in registers. The closest points (the mesh's local frame) are copied into those arrays and,
