@@ -1369,33 +1369,48 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
         any_band |= exact != 0;
         valid[z] |= ((std::uint64_t{1} << n.x) - 1) << (y * kFieldBrickSize);
       }
-    // The whole block one region, its winding number at `probe`.
-    const auto one_region = [&](Vec3 probe) {
+    // A region of the block: its nodes (bits of slices z_lo..z_hi) numbered, its winding number
+    // at its node farthest from the surface (the last in scan order of equally far ones, as all
+    // nodes beyond the band are: against the flood fill's first one in its order, on
+    // undulating.obj at 4M nodes 69 nodes took the other side, the exact winding number siding
+    // with this choice at 44).
+    const auto add_region = [&](const BlockBits& nodes, int z_lo, int z_hi) {
+      const auto r = static_cast<std::uint32_t>(region_winding.size());
+      std::uint32_t size = 0;
+      float best = -1.0f;
+      glm::ivec3 best_node{0};
+      for (int z = z_lo; z <= z_hi; ++z)
+        for (std::uint64_t w = nodes[z]; w != 0; w &= w - 1) {
+          const int bit = std::countr_zero(w);
+          const int x = bit % kFieldBrickSize, y = bit / kFieldBrickSize;
+          region[slot[z * kFieldBrickSize * kFieldBrickSize + bit]] = r;
+          ++size;
+          const float d = dist[walled_cell(x, y, z)];
+          if (d >= best) {
+            best = d;
+            best_node = {x, y, z};
+          }
+        }
+      const Vec3 probe = local_origin + Vec3(lo + best_node) * voxel;
       region_probe.push_back(probe);
-      region_winding.push_back(winding(probe));
+      region_winding.push_back(best < kNearSurfaceRegionVoxels * voxel ? kDeferredWinding : winding(probe));
+      region_size.push_back(size);
+    };
+    if (!any_band) {  // no surface in the block: one region, its winding number at the centre
+      region_probe.push_back(local_origin + Vec3((lo + hi) / 2) * voxel);
+      region_winding.push_back(winding(region_probe.back()));
       region_size.push_back(static_cast<std::uint32_t>(n.x * n.y * n.z));
       for (int z = 0; z < n.z; ++z)
         for (int y = 0; y < n.y; ++y)
           for (int x = 0; x < n.x; ++x) region[slot[(z * kFieldBrickSize + y) * kFieldBrickSize + x]] = first;
-    };
-    if (!any_band) {  // no surface in the block: one region, its winding number at the centre
-      one_region(local_origin + Vec3((lo + hi) / 2) * voxel);
       return;
     }
-    // Every node farther from the surface than half the longest link's reach: every link passes
-    // the join test, so the block is one region (the growth below would find it link by link),
-    // its winding number at its farthest node, the last in scan order of equally far ones.
+    // Every node farther from the surface than half the longest link's reach (so farther than
+    // kNearSurfaceRegionVoxels): every link passes the join test, so the block is one region
+    // (the growth below would find it link by link).
+    static_assert((1.0f + kCrossingSlackVoxels) * kNeighbourLength.back() / 2.0f > kNearSurfaceRegionVoxels);
     if (nearest + nearest > reach_longest) {
-      float best = -1.0f;
-      glm::ivec3 best_node{0};
-      for (int z = 0; z < n.z; ++z)
-        for (int y = 0; y < n.y; ++y)
-          for (int x = 0; x < n.x; ++x)
-            if (const float d = dist[walled_cell(x, y, z)]; d >= best) {
-              best = d;
-              best_node = {x, y, z};
-            }
-      one_region(local_origin + Vec3(lo + best_node) * voxel);
+      add_region(valid, 0, n.z - 1);
       return;
     }
     // The links: bit (x, y) of link[e][z] when node (x, y, z) and its neighbour a step e on
@@ -1440,32 +1455,8 @@ std::size_t sign_blocks(const TriangleMesh& mesh, Vec3 local_origin, float band_
           }
           if (grown == before) break;
         }
-        // The region's nodes; its winding number at its node farthest from the surface (the
-        // last in scan order of equally far ones, as all nodes beyond the band are: against
-        // the flood fill's first one in its order, on undulating.obj at 4M nodes 69 nodes took
-        // the other side, the exact winding number siding with this choice at 44).
-        const auto r = static_cast<std::uint32_t>(region_winding.size());
-        std::uint32_t size = 0;
-        float best = -1.0f;
-        glm::ivec3 best_node{0};
-        for (int z = z_lo; z <= z_hi; ++z) {
-          todo[z] &= ~grown[z];
-          for (std::uint64_t w = grown[z]; w != 0; w &= w - 1) {
-            const int bit = std::countr_zero(w);
-            const int x = bit % kFieldBrickSize, y = bit / kFieldBrickSize;
-            region[slot[z * kFieldBrickSize * kFieldBrickSize + bit]] = r;
-            ++size;
-            const float d = dist[walled_cell(x, y, z)];
-            if (d >= best) {
-              best = d;
-              best_node = {x, y, z};
-            }
-          }
-        }
-        const Vec3 probe = local_origin + Vec3(lo + best_node) * voxel;
-        region_probe.push_back(probe);
-        region_winding.push_back(best < kNearSurfaceRegionVoxels * voxel ? kDeferredWinding : winding(probe));
-        region_size.push_back(size);
+        for (int z = z_lo; z <= z_hi; ++z) todo[z] &= ~grown[z];
+        add_region(grown, z_lo, z_hi);
       }
     }
   });
