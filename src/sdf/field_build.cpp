@@ -1098,8 +1098,9 @@ void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_ori
           bool any = false;
           if (j > 0) any = from_rows(base, std::span(ups).first(plane ? 2 : 1), py, pz);
           else if (plane) any = from_rows(base, std::span(ups).last(1), py, pz);
-          if (z_dir > 0 && y_dir > 0) {  // its first visit: never scanned
-            for (int x = 0; x < nx; ++x) mark(x);
+          if (z_dir > 0 && y_dir > 0) {  // its first visit: never scanned, every node marked
+            std::fill_n(changed.begin(), nx / 64, ~std::uint64_t{0});
+            if (nx % 64 != 0) changed[static_cast<std::size_t>(nx / 64)] = (std::uint64_t{1} << (nx % 64)) - 1;
             any = true;
           }
           if (!any) continue;
