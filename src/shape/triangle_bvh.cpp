@@ -161,58 +161,80 @@ inline Vec3Lanes cross(const Vec3Lanes& a, const Vec3Lanes& b) noexcept {
 /// along a zero-length edge is then 0: the distance to its one point). The smallest normal float.
 constexpr float kMinEdgeLengthSquared = std::numeric_limits<float>::min();
 
-/// Squared distance from p to the closed segment u + t e, t in [0, 1], for w = p - u.
-inline Lanes segment_distance_squared(const Vec3Lanes& w, const Vec3Lanes& e) noexcept {
-  const Lanes t = min(max(dot(w, e) / max(dot(e, e), splat(kMinEdgeLengthSquared)), splat(0.0f)), splat(1.0f));
-  const Vec3Lanes d = w - t * e;
-  return dot(d, d);
-}
-
-
 /// Corners of four triangles as lanes: [corner][axis][lane].
 using CornerLanes = std::array<std::array<std::array<float, 4>, 3>, 3>;
 
-/// Exact squared distance from p to each of four closed triangles, without branches. Per lane,
-/// for the triangle (a, b, c) with normal n = (b - a) x (c - a):
-///   if n != 0 and p projects into the triangle (for every edge u -> v:
-///       dot(n, (v - u) x (p - u)) >= 0),   the distance is to the plane:
-///       d^2 = dot(p - a, n)^2 / dot(n, n);
-///   otherwise the nearest point lies on the boundary:
-///       d^2 = min over the three edges of the squared distance to the segment.
-/// (The Voronoi regions of Ericson 5.1.5 in another grouping: the face region is where all three
-/// edge tests pass; every other region's nearest point is on an edge or at a vertex, and the
-/// nearest of the three clamped segment points is it.)
-inline Lanes triangle_distance_squared(const CornerLanes& t, const Vec3Lanes& p) noexcept {
-  const Vec3Lanes a{load(t[0][0]), load(t[0][1]), load(t[0][2])};
-  const Vec3Lanes b{load(t[1][0]), load(t[1][1]), load(t[1][2])};
-  const Vec3Lanes c{load(t[2][0]), load(t[2][1]), load(t[2][2])};
-  const Vec3Lanes ab = b - a, bc = c - b, ca = a - c;
-  const Vec3Lanes ap = p - a, bp = p - b, cp = p - c;
-  const Vec3Lanes n = cross(ab, c - a);
-  const Lanes nn = dot(n, n);
-  const Lanes zero = splat(0.0f);
-  const auto inside = (nn > zero) & (dot(n, cross(ab, ap)) >= zero) & (dot(n, cross(bc, bp)) >= zero) &
-                      (dot(n, cross(ca, cp)) >= zero);
-  const Lanes height = dot(ap, n);
-  const Lanes plane = height * (height / nn);  // (used only where nn > 0)
-  const Lanes edges = min(min(segment_distance_squared(ap, ab), segment_distance_squared(bp, bc)),
-                          segment_distance_squared(cp, ca));
-  return select(inside, plane, edges);
-}
+/// Four triangles prepared for the squared distances of points (a leaf packet): what depends on
+/// the triangles alone, worked out once for all the points of a batch that reach the leaf (up to
+/// kBvhNearestBatch): per triangle (a, b, c) its edges, their reciprocal squared lengths, the
+/// normal n = (b - a) x (c - a), 1 / |n|^2, and the in-plane inward normals of the edges
+/// (n x (v - u) for the edge u -> v). A point's distance then needs no division and no cross
+/// product; before, each point made them again (four divisions and four cross products a point
+/// and packet).
+struct TriangleLanes {
+  Vec3Lanes a, b, c, ab, bc, ca, n, in_ab, in_bc, in_ca;
+  Lanes inv_ab, inv_bc, inv_ca, inv_nn;
+  LaneMask has_face;
+
+  explicit TriangleLanes(const CornerLanes& t) noexcept
+      : a{load(t[0][0]), load(t[0][1]), load(t[0][2])},
+        b{load(t[1][0]), load(t[1][1]), load(t[1][2])},
+        c{load(t[2][0]), load(t[2][1]), load(t[2][2])} {
+    ab = b - a, bc = c - b, ca = a - c;
+    n = cross(ab, c - a);
+    const Lanes nn = dot(n, n), zero = splat(0.0f), one = splat(1.0f);
+    // A face where 1 / |n|^2 is finite (a triangle of area below about 1e-19 has none: its
+    // nearest point lies on an edge within rounding).
+    inv_nn = one / select(nn > zero, nn, one);
+    has_face = (nn > zero) & (inv_nn < splat(kInfinity));
+    // Edge lengths squared at or below kMinEdgeLengthSquared count as zero: the parameter along
+    // a zero-length edge is then 0, the distance to its one point.
+    const Lanes min_edge = splat(kMinEdgeLengthSquared);
+    inv_ab = one / max(dot(ab, ab), min_edge);
+    inv_bc = one / max(dot(bc, bc), min_edge);
+    inv_ca = one / max(dot(ca, ca), min_edge);
+    in_ab = cross(n, ab), in_bc = cross(n, bc), in_ca = cross(n, ca);
+  }
+
+  /// Exact squared distance from p to each of the four closed triangles, without branches. Per
+  /// lane: if n != 0 and p projects into the triangle (p - u . (n x (v - u)) >= 0 for every
+  /// edge u -> v), the distance is to the plane, d^2 = (p - a . n)^2 / |n|^2; otherwise the
+  /// nearest point lies on the boundary, d^2 = the least over the three edges of the squared
+  /// distance to the segment (the parameter clamped to [0, 1]). (The Voronoi regions of Ericson
+  /// 5.1.5 in another grouping: the face region is where all three edge tests pass; every other
+  /// region's nearest point is on an edge or at a vertex, and the nearest of the three clamped
+  /// segment points is it.)
+  [[nodiscard]] Lanes distance_squared(const Vec3Lanes& p) const noexcept {
+    const Vec3Lanes ap = p - a, bp = p - b, cp = p - c;
+    const Lanes zero = splat(0.0f), one = splat(1.0f);
+    const LaneMask inside = has_face & (dot(ap, in_ab) >= zero) & (dot(bp, in_bc) >= zero) & (dot(cp, in_ca) >= zero);
+    const Lanes height = dot(ap, n);
+    const Lanes plane = height * height * inv_nn;
+    const auto segment = [&](const Vec3Lanes& w, const Vec3Lanes& e, Lanes inv_ee) {
+      const Lanes t = min(max(dot(w, e) * inv_ee, zero), one);
+      const Vec3Lanes d = w - t * e;
+      return dot(d, d);
+    };
+    const Lanes edges = min(min(segment(ap, ab, inv_ab), segment(bp, bc, inv_bc)), segment(cp, ca, inv_ca));
+    return select(inside, plane, edges);
+  }
+};
 
 /// The nearest point of the closed triangle (a, b, c) to p and its weights, by the same region
-/// test as triangle_distance_squared (one lane of it): the plane projection when p projects
+/// test as TriangleLanes::distance_squared (one lane of it): the plane projection when p projects
 /// into the triangle, else the nearest of the three clamped edge points. Its squared distance is
-/// the one the search compared, so the winner's reported distance is the one that won.
+/// the one the search compared (within rounding), so the winner's reported distance is the one that won.
 TrianglePoint closest_point_by_projection_or_edges(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
   const Vec3 ap = p - a, bp = p - b, cp = p - c;
   const Vec3 n = glm::cross(ab, c - a);
   const float nn = glm::dot(n, n);
-  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection.
-  const float wa = glm::dot(n, glm::cross(bc, bp)), wb = glm::dot(n, glm::cross(ca, cp)),
-              wc = glm::dot(n, glm::cross(ab, ap));
-  if (nn > 0.0f && wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) {
+  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection:
+  // each the point's offset along its edge's in-plane inward normal, as TriangleLanes has them.
+  const float wa = glm::dot(bp, glm::cross(n, bc)), wb = glm::dot(cp, glm::cross(n, ca)),
+              wc = glm::dot(ap, glm::cross(n, ab));
+  const bool has_face = nn > 0.0f && 1.0f / nn < kInfinity;
+  if (has_face && wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) {
     return {p - n * (glm::dot(ap, n) / nn), Vec3(wa, wb, wc) / (wa + wb + wc)};
   }
   auto parameter = [](Vec3 w, Vec3 e) {
@@ -413,7 +435,7 @@ struct NearestEntry {
 // search goes on into the nearest child (which most tightens the bound); the other children
 // nearer than the best so far wait on the stack, and are dropped when popped if the bound has
 // passed them meanwhile. A leaf's four triangles get their exact squared distances at once
-// (triangle_distance_squared above); the nearest point and weights of the winner come from the
+// (TriangleLanes::distance_squared above); the nearest point and weights of the winner come from the
 // same region test on its one lane at the end.
 BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
   if (nodes_.empty()) return {};
@@ -424,7 +446,7 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
   std::uint32_t ref = 0;  // the node or packet being searched: the root first
   for (;;) {
     if (ref & kLeaf) {
-      offer_packet(triangle_distance_squared(packets_[ref & kPacketMask].corners, pl), ref & kPacketMask, best);
+      offer_packet(TriangleLanes(packets_[ref & kPacketMask].corners).distance_squared(pl), ref & kPacketMask, best);
     } else {
       const Node& node = nodes_[ref];
       const Lanes d2 = box_distance_squared(node, pl, pl);
@@ -483,8 +505,9 @@ void TriangleBvh::nearest(std::span<const Vec3> points, std::span<const float> m
         for (unsigned m = open & leaves; m != 0; m &= m - 1) {
           const int k = std::countr_zero(m);
           const std::uint32_t packet = node.child[k] & kPacketMask;
+          const TriangleLanes triangles(packets_[packet].corners);  // once for every point reaching the leaf
           for (int i = 0; i < n; ++i) {
-            if (reach[i][k] < best[i].distance_squared) offer_packet(triangle_distance_squared(packets_[packet].corners, pl[i]), packet, best[i]);
+            if (reach[i][k] < best[i].distance_squared) offer_packet(triangles.distance_squared(pl[i]), packet, best[i]);
           }
         }
         widest = best[0].distance_squared;

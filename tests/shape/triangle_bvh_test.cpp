@@ -126,6 +126,34 @@ TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
   }
 }
 
+// Triangles so small that |n|^2 (n the cross product of two edges) is subnormal or zero in
+// float, 1 / |n|^2 infinite: the face test must not divide by it (a NaN distance would lose the
+// triangle), and the edges give the distance. Each is checked alone (single and batched queries)
+// against brute force in double, from points above, beside and on it.
+TEST(TriangleBvh, TrianglesTooSmallForTheirPlaneAreStillFound) {
+  for (const float side : {3e-10f, 1e-10f, 3e-11f, 1e-12f}) {  // |n|^2 = side^4: 8e-39 (1 / it finite) to 0
+    TriangleSoup soup;
+    const Vec3 a(0.0f);  // (at the origin: a corner offset by `side` from 0.25 would round onto it)
+    soup.positions = {a, a + Vec3(side, 0.0f, 0.0f), a + Vec3(0.0f, side, 0.0f), Vec3(5.0f), Vec3(5.0f, 6.0f, 5.0f),
+                      Vec3(6.0f, 5.0f, 5.0f)};
+    soup.triangles = {{0, 1, 2}, {3, 4, 5}};
+    const TriangleBvh bvh(soup.positions, soup.triangles);
+    const std::vector<Vec3> queries = {a + Vec3(0.0f, 0.0f, 1.0f), a + Vec3(0.3f * side, 0.3f * side, -0.5f), a,
+                                       a + Vec3(-2.0f, 0.5f, 0.0f), a + Vec3(side, side, 0.0f)};
+    std::vector<BvhNearest> batch(queries.size());
+    const std::vector<float> unbounded(queries.size(), kInf);
+    bvh.nearest(queries, unbounded, batch);
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const double truth = brute_distance(soup, queries[i]);
+      for (const BvhNearest& hit : {bvh.nearest(queries[i]), batch[i]}) {
+        ASSERT_EQ(hit.triangle, 0u) << "side " << side << " query " << i;
+        EXPECT_NEAR(std::sqrt(double(hit.distance_squared)), truth, 1e-6 * (1.0 + truth)) << "side " << side << " query " << i;
+        expect_on_its_triangle(soup, hit, queries[i], truth, 1e-6 * (1.0 + truth));
+      }
+    }
+  }
+}
+
 TEST(TriangleBvh, BoundedNearestFindsExactlyTheTrianglesWithinTheBound) {
   std::mt19937 rng(64);
   const TriangleSoup soup = random_soup(rng, 400, Vec3(0.0f), 30.0f, 2.0f);
