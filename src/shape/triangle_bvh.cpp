@@ -197,13 +197,13 @@ struct TriangleLanes {
   }
 
   /// Exact squared distance from p to each of the four closed triangles, without branches. Per
-  /// lane: if n != 0 and p projects into the triangle (p - u . (n x (v - u)) >= 0 for every
-  /// edge u -> v), the distance is to the plane, d^2 = (p - a . n)^2 / |n|^2; otherwise the
-  /// nearest point lies on the boundary, d^2 = the least over the three edges of the squared
-  /// distance to the segment (the parameter clamped to [0, 1]). (The Voronoi regions of Ericson
-  /// 5.1.5 in another grouping: the face region is where all three edge tests pass; every other
-  /// region's nearest point is on an edge or at a vertex, and the nearest of the three clamped
-  /// segment points is it.)
+  /// lane: if the triangle has a face (1 / |n|^2 finite) and p projects into it, (p - u) .
+  /// (n x (v - u)) >= 0 for every edge u -> v, the distance is to the plane, d^2 = ((p - a) .
+  /// n)^2 / |n|^2; otherwise the nearest point lies on the boundary, d^2 = the least over the
+  /// three edges of the squared distance to the segment (the parameter clamped to [0, 1]). (The
+  /// Voronoi regions of Ericson 5.1.5 in another grouping: the face region is where all three
+  /// edge tests pass; every other region's nearest point is on an edge or at a vertex, and the
+  /// nearest of the three clamped segment points is it.)
   [[nodiscard]] Lanes distance_squared(const Vec3Lanes& p) const noexcept {
     const Vec3Lanes ap = p - a, bp = p - b, cp = p - c;
     const Lanes zero = splat(0.0f), one = splat(1.0f);
@@ -223,7 +223,8 @@ struct TriangleLanes {
 /// The nearest point of the closed triangle (a, b, c) to p and its weights, by the same region
 /// test as TriangleLanes::distance_squared (one lane of it): the plane projection when p projects
 /// into the triangle, else the nearest of the three clamped edge points. Its squared distance is
-/// the one the search compared (within rounding), so the winner's reported distance is the one that won.
+/// the one the search compared (within rounding), so the winner's reported distance is the one
+/// that won.
 TrianglePoint closest_point_by_projection_or_edges(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
   const Vec3 ap = p - a, bp = p - b, cp = p - c;
@@ -435,8 +436,8 @@ struct NearestEntry {
 // search goes on into the nearest child (which most tightens the bound); the other children
 // nearer than the best so far wait on the stack, and are dropped when popped if the bound has
 // passed them meanwhile. A leaf's four triangles get their exact squared distances at once
-// (TriangleLanes::distance_squared above); the nearest point and weights of the winner come from the
-// same region test on its one lane at the end.
+// (TriangleLanes::distance_squared above); the nearest point and weights of the winner come from
+// the same region test on its one lane at the end.
 BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexcept {
   if (nodes_.empty()) return {};
   const Vec3Lanes pl{splat(p.x), splat(p.y), splat(p.z)};
