@@ -32,6 +32,12 @@ struct LocalHitN {
   return 0u - static_cast<std::uint32_t>(b);
 }
 
+/// The capsule casts' early out (2D and 3D) takes a ray for a miss only when it stays farther
+/// than (1 + this) r from the capsule's core line (3D: its line passes farther than
+/// sqrt(1 + this) r; squared distances are compared there): a grazing ray goes on to the full
+/// cast, whose own rounding decides as it did without the early out.
+inline constexpr float kCapsuleMissSlack = 0.01f;
+
 /// True when a ball (or a capsule's ends) of this radius has directions to give: r^2 at least
 /// kMinDirectionLengthSquared (r above about 1e-19). Below it r^2 is denormal or zero, the hit
 /// offset too small to normalise, and the piece is cast as a point (or segment), facing the ray.

@@ -266,6 +266,16 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
   const float px_s = dot(rel, axis), py_s = cross(axis, rel);
   const float dpx_s = dot(d, axis), dpy_s = cross(axis, d);
   const float rl_s = r * length_s;
+  {
+    // Early out: a ray that stays on one side of the strip |y| <= r about the core's line,
+    // which holds the capsule, misses (its ends' y, scaled by L as py_s). Only clear misses,
+    // beyond kCapsuleMissSlack: a grazing ray goes on to the lanes. Misses are most random
+    // rays, and one here costs a fraction of the lanes. (A test along the axis as well, beyond
+    // the ends, measured no faster.)
+    const float y_lo = std::min(py_s, py_s + dpy_s), y_hi = std::max(py_s, py_s + dpy_s);
+    const float reach = (1.0f + detail::kCapsuleMissSlack) * rl_s;
+    if ((y_lo > reach) | (y_hi < -reach)) return {};
+  }
   // One division for three: the side's 1 / -dy (lane 0), the discs' 1 / |d|^2, 1 / L (lane 3).
   const float dd_s = length_squared(d);
   const Lanes inv = one / lanes(-dpy_s, dd_s, dd_s, length_s);

@@ -88,6 +88,21 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
   const float d_axis = dot(d, axis);
   const Vec3 m_perp = ll * m - m_axis * axis;
   const Vec3 d_perp = ll * d - d_axis * axis;
+  if constexpr (kRound) {
+    // Early out: a ray whose line passes farther than r from the core's line misses the
+    // cylinder about it, which holds the capsule (line to line distance |m' x d'| / |d'|, here
+    // squared and scaled as m_perp and d_perp are: no division). Only clear misses, beyond
+    // kCapsuleMissSlack: a grazing line goes on to the lanes, whose rounding decides as before.
+    // Misses are most random rays (71% of bench_ray_cast3's), and a miss here costs a fifth of
+    // the lanes. (Overflowing squares, at the range's far end, go on to the lanes too.)
+    const Vec3 w = cross(m_perp, d_perp);
+    const float apart = dot(w, w);
+    const float rl = r * ll;
+    if (apart < std::numeric_limits<float>::infinity() &&
+        apart > (1.0f + detail::kCapsuleMissSlack) * (rl * rl) * length_squared(d_perp)) {
+      return {};
+    }
+  }
   const Lanes zero = splat(0.0f), one = splat(1.0f);
   // Lanes: 0 the cylinder (across the axis, scaled), 1 the ball at a, 2 the ball at b, 3 spare.
   // Each ball's origin is p - its centre, one rounding (m - axis rounds three times: rays from

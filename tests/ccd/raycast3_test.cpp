@@ -608,6 +608,50 @@ TEST(Raycast3, CapsuleAnalytic) {
   }
 }
 
+// Rays across a capsule's side whose line passes r (1 + delta) from the core's line, at a point
+// beside the core and at any tilt towards the axis: inside (delta < 0) they hit before that
+// point, on the surface; outside they miss, whether the cast's early out on the line's distance
+// takes them (delta well above its slack) or the full cast does (grazing, within it). Placed
+// near the origin and 1e4 away, where the rays' rounding (about 6e-4) stays below delta r.
+TEST(Raycast3, CapsuleSideRaysHitInsideTheRadiusAndMissOutside) {
+  std::mt19937 rng(31);
+  int hits = 0, misses = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const bool far = trial % 2 == 1;
+    const float r = uniform(rng, 0.3f, 1.0f);
+    const Capsule3 c = make_capsule(test::random_point3(rng, 1.0f), test::random_point3(rng, 1.0f) + Vec3(2.0f, 0.0f, 0.0f), r);
+    const Transform3 xf = test::random_transform3(rng, far ? 1.0e4f : 10.0f);
+    const Vec3 axis = normalize(c.b - c.a);
+    // u across the axis, v across both: a line through q along v (tilted towards the axis)
+    // keeps its distance to the core's line along u.
+    Vec3 u = cross(axis, test::random_point3(rng, 1.0f));
+    if (length(u) < 1e-3f) u = cross(axis, Vec3(0.0f, 0.0f, 1.0f));
+    u = normalize(u);
+    const float tilt = uniform(rng, -1.0f, 1.0f);
+    const Vec3 v = normalize(cross(axis, u) + tilt * axis);
+    const std::array<float, 8> deltas{-0.5f, -0.05f, -0.01f, 0.01f, 0.02f, 0.05f, 0.5f, 5.0f};
+    const float delta = far ? deltas[static_cast<std::size_t>(trial / 2) % deltas.size()]
+                            : std::array<float, 10>{-0.5f, -0.05f, -0.01f, -2e-3f, 2e-3f, 4e-3f, 0.01f, 0.05f, 0.5f, 5.0f}[static_cast<std::size_t>(trial / 2) % 10];
+    const Vec3 q = c.a + uniform(rng, 0.35f, 0.65f) * (c.b - c.a) + (r * (1.0f + delta)) * u;
+    const Ray3 local{q - 4.0f * v, 8.0f * v};
+    const Ray3 ray{transform_point(xf, local.origin), rotate(xf.q, local.translation)};
+    const RayHit3 hit = raycast(c, xf, ray);
+    if (delta < 0.0f) {
+      ASSERT_TRUE(hit.hit) << "trial " << trial << " delta " << delta;
+      EXPECT_LT(hit.fraction, 0.5f);
+      // The hit point lies on the surface: r from the core.
+      const float rounding = far ? 2e-3f : 1e-4f;
+      EXPECT_NEAR(closest_point(c, xf, hit.point).distance, 0.0f, rounding) << "trial " << trial;
+      ++hits;
+    } else {
+      EXPECT_FALSE(hit.hit) << "trial " << trial << " delta " << delta;
+      ++misses;
+    }
+  }
+  EXPECT_GT(hits, 100);
+  EXPECT_GT(misses, 100);
+}
+
 // A capsule of radius 0, or one too thin to square in float, is its core segment: head on along
 // the axis it is hit at the nearer end, the normal facing the ray; a ray through the core's
 // middle, across it, hits with the normal facing the ray across the axis.

@@ -298,6 +298,43 @@ TEST(Raycast, FarRaysOntoTheSideNearAnEndKeepTheSidesNormal) {
   EXPECT_GT(checked, 3000);
 }
 
+// Rays towards a capsule's flat side that end r (1 + delta) from the core's line, beside the
+// core: ending inside (delta < 0) they hit the side where they cross y = r, at the fraction
+// that crossing gives; ending short they miss, whether the cast's early out takes them (beyond
+// its slack) or the full cast does (within it). Near the origin and 1e4 away (the rays' rounding
+// there, about 6e-4, stays below delta r).
+TEST(Raycast, CapsuleRaysEndingNearTheSideHitOnlyPastIt) {
+  std::mt19937 rng(47);
+  int hits = 0, misses = 0;
+  const std::array<float, 10> near_deltas{-0.5f, -0.05f, -0.01f, -2e-3f, 2e-3f, 4e-3f, 0.01f, 0.05f, 0.5f, 5.0f};
+  const std::array<float, 8> far_deltas{-0.5f, -0.05f, -0.02f, 0.02f, 0.05f, 0.2f, 0.5f, 5.0f};
+  for (int i = 0; i < 400; ++i) {
+    const bool far = i % 2 == 1;
+    const float r = uniform(rng, 0.2f, 1.0f), half = uniform(rng, 0.5f, 2.0f);
+    const Capsule capsule = make_capsule({-half, 0.0f}, {half, 0.0f}, r);
+    const Transform xf = test::random_transform(rng, far ? 1.0e4f : 10.0f);
+    const float delta = far ? far_deltas[static_cast<std::size_t>(i / 2) % far_deltas.size()]
+                            : near_deltas[static_cast<std::size_t>(i / 2) % near_deltas.size()];
+    const float side = i % 4 < 2 ? 1.0f : -1.0f;
+    const Vec2 from{uniform(rng, -0.6f, 0.6f) * half, 3.0f * r * side};
+    const Vec2 to{uniform(rng, -0.6f, 0.6f) * half, r * (1.0f + delta) * side};
+    const Ray ray{transform_point(xf, from), rotate(xf.q, to - from)};
+    const RayHit h = raycast(capsule, xf, ray);
+    SCOPED_TRACE(testing::Message() << "ray " << i << " delta " << delta);
+    if (delta < 0.0f) {
+      ASSERT_TRUE(h.hit);
+      EXPECT_NEAR(h.fraction, 2.0f / (2.0f - delta), far ? 2e-3f : 1e-5f);
+      EXPECT_VEC2_NEAR(h.normal, rotate(xf.q, Vec2{0.0f, side}), far ? 1e-3f : 1e-5f);
+      ++hits;
+    } else {
+      EXPECT_FALSE(h.hit);
+      ++misses;
+    }
+  }
+  EXPECT_GT(hits, 100);
+  EXPECT_GT(misses, 100);
+}
+
 // A capsule of radius 0 is its core segment: the same hits as the segment's cast (the capsule's
 // side lane crosses the core's line, its end discs have no area), normals facing the ray; and a
 // ray along the core's line hits the nearer end head on, normal back along the ray.
