@@ -270,8 +270,8 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
     // Early out: a ray that stays on one side of the strip |y| <= r about the core's line,
     // which holds the capsule, misses (its ends' y, scaled by L as py_s). Only clear misses,
     // beyond kCapsuleMissSlack: a grazing ray goes on to the lanes. Misses are most random
-    // rays, and one here costs a fraction of the lanes. (A test along the axis as well, beyond
-    // the ends, measured no faster.)
+    // rays, and one taken here skips the lanes. (A test along the axis as well, beyond the
+    // ends, measured no faster.)
     const float y_lo = std::min(py_s, py_s + dpy_s), y_hi = std::max(py_s, py_s + dpy_s);
     const float reach = (1.0f + detail::kCapsuleMissSlack) * rl_s;
     if ((y_lo > reach) | (y_hi < -reach)) return {};

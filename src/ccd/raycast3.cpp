@@ -93,8 +93,8 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
     // cylinder about it, which holds the capsule (line to line distance |m' x d'| / |d'|, here
     // squared and scaled as m_perp and d_perp are: no division). Only clear misses, beyond
     // kCapsuleMissSlack: a grazing line goes on to the lanes, whose rounding decides as before.
-    // Misses are most random rays (71% of bench_ray_cast3's), and a miss here costs a fifth of
-    // the lanes. (Overflowing squares, at the range's far end, go on to the lanes too.)
+    // Misses are most random rays (71% of bench_ray_cast3's), and one taken here skips the
+    // lanes. (Overflowing squares, at the range's far end, go on to the lanes too.)
     const Vec3 w = cross(m_perp, d_perp);
     const float apart = dot(w, w);
     const float rl = r * ll;
