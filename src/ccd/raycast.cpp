@@ -240,7 +240,8 @@ RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexc
 /// 5.3.7, in 2D. The axis coordinates are kept scaled by L (dot and cross products with b - a),
 /// one division serves the side (1 / -dy), the discs (1 / |d|^2) and the side's normal (1 / L),
 /// and hit or miss and the piece hit are masks and a lane index, not branches: random rays take
-/// each case at random. The capsule is cast in a frame turned as the world and centred on its
+/// each case at random (the one branch: a ray clear of the strip |y| <= r is a miss before the
+/// lanes, below). The capsule is cast in a frame turned as the world and centred on its
 /// placement, as in 3D (raycast3.cpp): its ends are rotated (two rotations) instead of the ray
 /// into its frame and the normal back out (three); (origin - p) first, so that large coordinates
 /// cancel. bench_ray_cast, capsules visited in an unlearnable order, AMD EPYC: 41 -> 33 ns a cast

@@ -69,7 +69,8 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// the vectors are scaled by L^2 (m L^2 - (m . axis) axis), so no division comes before the
 /// lanes' one, which serves all three; the squares grow as L^4 |m|^2, within float range for
 /// capsules and rays up to about 1e5 long. The piece hit is a lane index and a miss a zero slot:
-/// no branch on the data (random rays take each case at random). Normals are normalised rather
+/// no branch on the data (random rays take each case at random) but one: a line that passes
+/// clear of the cylinder is a miss before the lanes (below). Normals are normalised rather
 /// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
 /// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
 /// on the cylinder); so does an offset too small to give a direction (below
