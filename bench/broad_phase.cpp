@@ -47,6 +47,8 @@
 #include "box2d_v3/queries.hpp"
 
 #include <benchmark/benchmark.h>
+
+#include "instruction_set.hpp"
 #include <box2d/b2_broad_phase.h>
 #include <box2d/b2_dynamic_tree.h>
 #include <btBulletCollisionCommon.h>
@@ -583,6 +585,10 @@ int main(int argc, char** argv) {
     add_rebuild<3, HierarchicalGridN<3>>("collide_hierarchical_grid", n);
   }
   benchmark::Initialize(&argc, argv);
+  collide::bench::box2d_v3::add_context();
+  for (const char* peer : {"bullet", "chipmunk", "fcl"}) {
+    collide::bench::add_instruction_sets(peer, collide::bench::kDebianPackageIsa);
+  }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

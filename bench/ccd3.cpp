@@ -15,6 +15,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "instruction_set.hpp"
+
 #include "support/random_shapes3.hpp"
 
 #include <cmath>
@@ -112,6 +114,7 @@ int main(int argc, char** argv) {
     }
   }
   benchmark::Initialize(&argc, argv);
+  collide::bench::add_collide_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -11,6 +11,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "instruction_set.hpp"
+
 #include <array>
 #include <cmath>
 #include <random>
@@ -93,4 +95,11 @@ BENCHMARK(BM_CheckChain)->Arg(1)->Arg(16)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_collide_context();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

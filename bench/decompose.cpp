@@ -10,6 +10,8 @@
 #include <collide/decompose/convex_decomposition.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include "instruction_set.hpp"
 #include <chipmunk/chipmunk.h>
 extern "C" {  // cpPolyline.h, unlike chipmunk.h, has no C++ guard
 #include <chipmunk/cpPolyline.h>
@@ -103,4 +105,11 @@ BENCHMARK(BM_Chipmunk)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMicr
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("chipmunk", collide::bench::kDebianPackageIsa);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -14,6 +14,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "instruction_set.hpp"
+
 #include "support/random_shapes3.hpp"
 
 #include <cmath>
@@ -104,6 +106,7 @@ int main(int argc, char** argv) {
                                  penetration_contact, &overlapping.back());
   }
   benchmark::Initialize(&argc, argv);
+  collide::bench::add_collide_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -23,6 +23,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "instruction_set.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -299,4 +301,11 @@ BENCHMARK(BM_NearestPoint_Detour);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  collide::bench::add_instruction_sets("recast/detour", collide::bench::kDebianPackageIsa);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -91,7 +91,7 @@ void add_context() {
   benchmark::AddCustomContext("box2d v3 version", std::to_string(v.major) + "." +
                                                       std::to_string(v.minor) + "." +
                                                       std::to_string(v.revision));
-  benchmark::AddCustomContext("box2d 2.4 instruction set", "SSE2 (Debian's x86-64 package)");
+  benchmark::AddCustomContext("box2d 2.4 instruction set", kDebianPackageIsa);
 }
 
 void contact_polygons(benchmark::State& state, std::span<const Polygon> a,
