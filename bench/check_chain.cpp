@@ -96,10 +96,5 @@ BENCHMARK(BM_CheckChain)->Arg(1)->Arg(16)->Unit(benchmark::kMicrosecond);
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  collide::bench::add_collide_context();
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return collide::bench::run_benchmarks(argc, argv, [] { collide::bench::add_collide_context(); });
 }

@@ -106,10 +106,7 @@ BENCHMARK(BM_Chipmunk)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMicr
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  collide::bench::add_instruction_sets("chipmunk", collide::bench::kDebianPackageIsa);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return collide::bench::run_benchmarks(argc, argv, [] {
+    collide::bench::add_instruction_sets("chipmunk", collide::bench::kDebianPackageIsa);
+  });
 }

@@ -128,4 +128,17 @@ inline void add_instruction_sets(const std::string& peer, const std::string& pee
   benchmark::AddCustomContext(peer + " instruction set", peer_isa);
 }
 
+/// A benchmark binary's main: benchmark::Initialize (unknown flags rejected), then
+/// `add_context()` (the run's context block: instruction sets, versions), then every benchmark
+/// the flags select. Returns the process's exit status.
+template <class AddContext>
+int run_benchmarks(int argc, char** argv, AddContext add_context) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  add_context();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
 }  // namespace collide::bench

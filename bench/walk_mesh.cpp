@@ -302,10 +302,7 @@ BENCHMARK(BM_NearestPoint_Detour);
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  collide::bench::add_instruction_sets("recast/detour", collide::bench::kDebianPackageIsa);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return collide::bench::run_benchmarks(argc, argv, [] {
+    collide::bench::add_instruction_sets("recast/detour", collide::bench::kDebianPackageIsa);
+  });
 }
