@@ -214,8 +214,13 @@ void reference_face_manifold(const LocalPolygon& p1, const EdgeSeparation& refer
     const float r1 = p1.radius;
     const float r2 = p2.radius;
     if (!(best.distance2 <= (r1 + r2) * (r1 + r2))) return;
-    const float dist = std::sqrt(best.distance2);
-    const Vec2 n = (best.points.point2 - best.points.point1) * (1.0f / dist);  // dist > apart
+    // The corners' offset gives the normal. Rounding can put the two corners together although
+    // the separating axis holds the cores apart (a polygon 2.7e7 long, whose far corner touches a
+    // small box: 2 units a float step in the shared frame, fuzz_shapes): then the axis and its
+    // separation serve, the cores being at least that far apart.
+    const bool offset = best.distance2 >= kMinDirectionLengthSquared;
+    const float dist = offset ? std::sqrt(best.distance2) : reference.separation;
+    const Vec2 n = offset ? (best.points.point2 - best.points.point1) * (1.0f / dist) : p1.normal(i11);
     // Midway between A's surface point1 + r1 n and B's point2 - r2 n.
     const Vec2 mid = best.points.point1 + (0.5f * (r1 + dist - r2)) * n;
     const int v1 = f1 == 0.0f ? best.e1 : p1.next(best.e1);

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -60,6 +61,35 @@ TEST(ContactLongWall, SmallPolygonOnLongWall) {
     }
   }
   EXPECT_GT(touching, 10000);
+}
+
+// fuzz_shapes (fuzz/regressions/shapes/polygon_far_corner_rounds_onto_box_normal_nan.bin): a
+// rounded polygon 2.7e7 long whose corner at the origin touches a small box. The contact works
+// in a frame at the polygon's vertex 0, 2.7e7 away, where a float step is 2 units: the box's
+// face separated the cores by 2 there, the closest-feature walk then found the two corners
+// rounded onto one point, and the normal was their offset over its zero length (NaN). Within
+// kFiniteQueryRange the answer must be finite: a unit normal from the polygon towards the box
+// (+x), one point, a depth within the radius sum.
+TEST(ContactLongWall, HugePolygonsCornerAgainstSmallBoxHasUnitNormal) {
+  const std::vector<Vec2> outline{{-26738582.0f, -6677989.5f}, {-26711958.0f, -26711958.0f},
+                                  {-26646422.0f, -26711958.0f}, {-2.86848396e-16f, -720.84729f},
+                                  {1.17549435e-38f, 1.17549435e-38f}};
+  const float radius = 5.25f;
+  const Polygon huge = make_convex_polygon(outline, radius);
+  const Polygon box = make_box({0.75f, 0.5f});
+  const Transform box_xf = Transform::from({0.5f, 0.25f}, 0.3f);
+  for (const bool swap : {false, true}) {
+    const Manifold m = swap ? contact(box, box_xf, huge, Transform{}) : contact(huge, Transform{}, box, box_xf);
+    ASSERT_GE(m.count, 1) << "swap " << swap;
+    ASSERT_TRUE(std::isfinite(m.normal.x) && std::isfinite(m.normal.y)) << "swap " << swap;
+    EXPECT_NEAR(length(m.normal), 1.0f, 1e-5f) << "swap " << swap;
+    EXPECT_GT((swap ? -1.0f : 1.0f) * m.normal.x, 0.7f) << "swap " << swap;  // A to B: the box lies at +x
+    for (int k = 0; k < m.count; ++k) {
+      EXPECT_TRUE(std::isfinite(m.points[k].point.x) && std::isfinite(m.points[k].point.y));
+      EXPECT_GT(m.points[k].depth, 0.0f);
+      EXPECT_LE(m.points[k].depth, radius + 1.0f);
+    }
+  }
 }
 
 }  // namespace
