@@ -7,11 +7,17 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
 namespace collide {
 namespace {
+
+/// make_box keeps its exact normals while each rounded edge runs along its normal's
+/// perpendicular within this (the tangent of the angle between them); beyond it the edge's own
+/// direction gives its normal.
+constexpr float kBoxEdgeTurnTolerance = 0.1f;
 
 void check_radius(float radius, const char* what) {
   if (!std::isfinite(radius)) throw InvalidInput(std::string(what) + " radius: not finite");
@@ -245,6 +251,20 @@ Polygon make_box(Vec2 half, Vec2 center, float angle, float radius) {
   poly.normals[3] = rotate(xf.q, {-1.0f, 0.0f});
   poly.centroid = center;
   poly.radius = radius;
+  // Far from the origin, extents near the float step there no longer make the box once its
+  // corners are rounded: an edge turns away from its normal (fuzz_shapes: a box 1.5e-37 wide at
+  // x = 2.16e8, whose corners fell onto two points of a vertical line while its normals stayed
+  // the rotated axes, so the closest-feature walk of `distance` followed the normal of an edge
+  // that was not there). Such an edge takes the normal of the edge it has become. An edge that
+  // vanished (corners rounded onto each other: a box of no height) or overflowed keeps its axis,
+  // as every other box keeps its exact normals.
+  for (int i = 0; i < 4; ++i) {
+    const Vec2 edge = poly.vertices[next_vertex(i, 4)] - poly.vertices[i];
+    if (!is_finite(edge) || (edge.x == 0.0f && edge.y == 0.0f)) continue;
+    const float along = dot(edge, left_perp(poly.normals[i]));
+    if (along > 0.0f && std::abs(dot(edge, poly.normals[i])) <= kBoxEdgeTurnTolerance * along) continue;
+    poly.normals[i] = edge_normal(edge);
+  }
   return poly;
 }
 

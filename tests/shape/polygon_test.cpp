@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 namespace collide {
 namespace {
@@ -199,6 +200,53 @@ TEST(MakeBox, RotatedBoxAabbMatchesCorners) {
   EXPECT_NEAR(aabb.max.y, 3.0f, 1e-5f);
   EXPECT_THROW((void)make_box({0.0f, 1.0f}), InvalidInput);
   EXPECT_NEAR(signed_area(std::span(box.vertices.data(), 4)), 8.0f, 1e-4f);
+}
+
+// fuzz_shapes (fuzz/regressions/shapes/box_corners_round_together_at_far_centre.bin): a box
+// 1.5e-37 wide at x = 2.16e8, whose four corners rounded onto two points of a vertical line
+// while its normals stayed the rotated axes; `distance` warm-started from a corner then followed
+// the normal of an edge that was not there (3.5e7 against the cold call's 2.1e8). Every edge
+// with a length now runs along its normal's perpendicular (below), this box's included.
+TEST(MakeBox, CornersRoundedOntoALineTakeTheLinesNormals) {
+  const Polygon box = make_box({7.49377593e-38f, 6.5f}, {216006640.0f, 2.39807434e-35f}, -2.48292005e+38f, 1e7f);
+  int sides = 0;
+  for (int i = 0; i < 4; ++i) {
+    const Vec2 edge = box.vertices[static_cast<std::size_t>(next_vertex(i, 4))] - box.vertices[static_cast<std::size_t>(i)];
+    if (edge == Vec2{0.0f, 0.0f}) continue;
+    ++sides;
+    EXPECT_EQ(box.normals[static_cast<std::size_t>(i)].y, 0.0f) << "edge " << i;  // the line is vertical
+    EXPECT_EQ(std::abs(box.normals[static_cast<std::size_t>(i)].x), 1.0f) << "edge " << i;
+  }
+  EXPECT_EQ(sides, 2);
+}
+
+TEST(MakeBox, EveryEdgeRunsAlongItsNormalsPerpendicularAtAnyCentre) {
+  int built = 0;
+  for (const float centre : {0.0f, 1.0f, 1e4f, 3e6f, 2e8f}) {
+    for (const float half : {1e-3f, 0.1f, 1.0f, 7.0f, 40.0f, 1e3f}) {
+      for (const float angle : {0.0f, 0.3f, 1.0f, 2.5f}) {
+        const Polygon box = make_box({half, 0.5f * half}, {centre, -0.5f * centre}, angle);
+        for (int i = 0; i < 4; ++i) {
+          const Vec2 n = box.normals[static_cast<std::size_t>(i)];
+          const Vec2 edge = box.vertices[static_cast<std::size_t>(next_vertex(i, box.count))] -
+                            box.vertices[static_cast<std::size_t>(i)];
+          if (edge == Vec2{0.0f, 0.0f}) continue;  // corners rounded together: the axis stays
+          ++built;
+          const float along = dot(edge, left_perp(n));
+          EXPECT_NEAR(length(n), 1.0f, 1e-5f);
+          EXPECT_GT(along, 0.0f) << "centre " << centre << " half " << half << " angle " << angle << " edge " << i;
+          EXPECT_LE(std::abs(dot(edge, n)), 0.1f * along)
+              << "centre " << centre << " half " << half << " angle " << angle << " edge " << i;
+        }
+      }
+    }
+  }
+  EXPECT_GT(built, 400);  // edges with a length, of 480
+  // An ordinary box keeps the rotated axes as its normals, to the bit.
+  const Polygon box = make_box({0.5f, 0.25f}, {1e4f, -1e4f}, 0.3f);
+  const Rot2 q = Transform::from({1e4f, -1e4f}, 0.3f).q;
+  EXPECT_EQ(box.normals[1].x, rotate(q, Vec2{1.0f, 0.0f}).x);
+  EXPECT_EQ(box.normals[1].y, rotate(q, Vec2{1.0f, 0.0f}).y);
 }
 
 }  // namespace

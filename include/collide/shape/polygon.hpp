@@ -122,7 +122,9 @@ struct alignas(64) Polygon {
 [[nodiscard]] Polygon make_box(Vec2 half, float radius = 0.0f);
 
 /// Box with half extents `half`, rotated by `angle` (radians, counter-clockwise) about its
-/// centre, then centred on `center` (local space). Throws as `make_box`.
+/// centre, then centred on `center` (local space). Throws as `make_box`. Far from the origin,
+/// where extents near the float step there round its corners onto a different outline, an edge
+/// turned markedly from its axis (by more than about 0.1 rad) takes its own direction's normal.
 [[nodiscard]] Polygon make_box(Vec2 half, Vec2 center, float angle, float radius = 0.0f);
 
 /// Bounding box of the polygon (including its radius) placed by `xf`, world space.
