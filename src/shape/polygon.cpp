@@ -256,11 +256,11 @@ Polygon make_box(Vec2 half, Vec2 center, float angle, float radius) {
   // x = 2.16e8, whose corners fell onto two points of a vertical line while its normals stayed
   // the rotated axes, so the closest-feature walk of `distance` followed the normal of an edge
   // that was not there). Such an edge takes the normal of the edge it has become. An edge that
-  // vanished (corners rounded onto each other: a box of no height) or overflowed keeps its axis,
-  // as every other box keeps its exact normals.
+  // vanished (corners rounded onto each other, or too close to give a direction: a box of no
+  // height) or overflowed keeps its axis, as every other box keeps its exact normals.
   for (int i = 0; i < 4; ++i) {
     const Vec2 edge = poly.vertices[next_vertex(i, 4)] - poly.vertices[i];
-    if (!is_finite(edge) || (edge.x == 0.0f && edge.y == 0.0f)) continue;
+    if (!is_finite(edge) || !(length_squared(edge) >= kMinDirectionLengthSquared)) continue;
     const float along = dot(edge, left_perp(poly.normals[i]));
     if (along > 0.0f && std::abs(dot(edge, poly.normals[i])) <= kBoxEdgeTurnTolerance * along) continue;
     poly.normals[i] = edge_normal(edge);
