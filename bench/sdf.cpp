@@ -22,9 +22,11 @@
 //                    collide's dense grid (the dense build's rival; one thread; up to 4M).
 //   Counters: bytes (collide: bytes(); OpenVDB: memUsage()), distance_bytes (dense: the
 //   distances alone, 4 bytes a node, as OpenVDB keeps), nodes (dense: grid nodes; sparse: brick
-//   nodes; OpenVDB: active voxels), voxel; errors against the exact unsigned distance
-//   (TriangleBvh::nearest) in world units on 4096 seeded points uniform in the band
-//   (|d| < 3 voxels: band_max_err, band_mean_err) and, for the fields defined everywhere
+//   nodes; OpenVDB: active voxels), voxel; for collide's dense and exact builds what the build
+//   did (FieldBuildStats): band_nodes, nearest_queries (the band's BVH queries; 0 when the
+//   triangles were scattered), sign_evaluations (winding numbers); errors against the exact
+//   unsigned distance (TriangleBvh::nearest) in world units on 4096 seeded points uniform in
+//   the band (|d| < 3 voxels: band_max_err, band_mean_err) and, for the fields defined everywhere
 //   (dense, exact, openvdb_wide), on 4096 points uniform in collide's grid box (all_max_err,
 //   all_mean_err); sign_agree: the share of the box points farther than a voxel from the
 //   surface whose sign agrees with the generalised winding number (> 1/2 inside: collide's
@@ -283,7 +285,10 @@ void register_build(Res* r, Lib lib) {
       }
       measured = {{"bytes", double(field.bytes())},
                   {"distance_bytes", double(field.distances.size() * sizeof(float))},
-                  {"nodes", double(field.grid.count())}};
+                  {"nodes", double(field.grid.count())},
+                  {"band_nodes", double(field.stats.band_nodes)},
+                  {"nearest_queries", double(field.stats.nearest_queries)},
+                  {"sign_evaluations", double(field.stats.sign_evaluations)}};
       if (!acc) acc = accuracy(*r, true, [&](Vec3 p) { return field.sample(p); });
     } else if (lib == kSparse) {
       SparseDistanceField3 field;
