@@ -45,11 +45,13 @@ float extent_of(std::span<const Vec2> points) {
   return std::max(hi.x - lo.x, hi.y - lo.y);
 }
 
-/// The unit normal to the right of `edge` (non-zero). Its squared length underflows below
-/// float's normal range for edges shorter than about 1e-19 (a polygon of 1e-21 had an edge
-/// whose normal came out zero, and contact then gave a zero normal) and overflows above about
-/// 1e19: those edges are first scaled to a largest component of 1. Others take the plain
-/// formula, so ordinary polygons keep their normals to the bit.
+/// The unit normal to the right of `edge`. Its squared length underflows below float's normal
+/// range for edges shorter than about 1e-19 (a polygon of 1e-21 had an edge whose normal came
+/// out zero, and contact then gave a zero normal) and overflows above about 1e19: those edges
+/// are first scaled to a largest component of 1. Others take the plain formula, so ordinary
+/// polygons keep their normals to the bit. Zero for an edge whose largest component is itself
+/// denormal (below about 1.2e-38: the scale 1 / largest overflows), so callers keep such edges
+/// out: make_convex_polygon refuses them as repeated vertices, make_box keeps the axis.
 Vec2 edge_normal(Vec2 edge) {
   const float length2 = length_squared(edge);
   if (length2 >= std::numeric_limits<float>::min() && length2 <= std::numeric_limits<float>::max()) {
