@@ -14,6 +14,8 @@
 #include "support/test_util.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <vector>
@@ -835,6 +837,50 @@ TEST(Raycast3, HullLaneClipIsTheScalarClip) {
   EXPECT_LT(other_face, hits / 100);
 }
 #endif
+
+/// raycast_fraction against raycast (3D) on the same shape, placement and ray: the same hit, the
+/// same fraction bit for bit, fraction 0 on a miss; through the template and through Shape3D.
+/// Returns whether it hit.
+bool expect_fraction_is_raycasts(const Shape3D& shape, const Transform3& xf, const Ray3& ray) {
+  const RayHit3 full = raycast(shape, xf, ray);
+  const RayFraction typed = std::visit([&](const auto& s) { return raycast_fraction(s, xf, ray); }, shape);
+  for (const RayFraction f : {typed, raycast_fraction(shape, xf, ray)}) {
+    EXPECT_EQ(f.hit, full.hit);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction))
+        << f.fraction << " against " << full.fraction;
+    if (!f.hit) EXPECT_EQ(f.fraction, 0.0f);
+  }
+  return full.hit;
+}
+
+// Every 3D convex shape kind (spheres, capsules, segments, boxes and hulls sharp and rounded),
+// near the origin and 1e4 away, rays from outside, inside and of zero length.
+TEST(Raycast3, FractionIsRaycastsBitForBit) {
+  std::mt19937 rng(43);
+  int hits = 0, casts = 0;
+  for (const Vec3 far : {Vec3{0.0f}, kFarAway}) {
+    for (const ShapeType3D type : {ShapeType3D::sphere, ShapeType3D::capsule, ShapeType3D::segment,
+                                   ShapeType3D::box, ShapeType3D::hull}) {
+      for (const bool rounded : {false, true}) {
+        for (const Shape3D& shape : random_shapes(rng, type, 1.0f, rounded)) {
+          for (int i = 0; i < 100; ++i) {
+            const Transform3 xf{far + test::random_point3(rng, 2.0f), test::random_rotation(rng)};
+            const Vec3 origin = xf.p + test::random_point3(rng, 5.0f);
+            const Vec3 target = xf.p + test::random_point3(rng, 1.5f);
+            const float scale = i % 50 == 0 ? 0.0f : uniform(rng, 0.3f, 2.0f);  // some of zero length
+            hits += expect_fraction_is_raycasts(shape, xf, Ray3{origin, scale * (target - origin)});
+            ++casts;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, casts / 5);
+  EXPECT_LT(hits, casts * 4 / 5);
+  // A segment hit: only a crossing ray meets it.
+  EXPECT_TRUE(expect_fraction_is_raycasts(make_segment(Vec3{-1.0f, 0.0f, 0.0f}, Vec3{1.0f, 0.0f, 0.0f}),
+                                          Transform3{}, Ray3{{0.25f, 2.0f, 0.0f}, {0.0f, -4.0f, 0.0f}}));
+}
 
 }  // namespace
 }  // namespace collide

@@ -13,6 +13,8 @@
 #include <box2d/box2d.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <limits>
@@ -702,6 +704,52 @@ TEST(Raycast, OutlineLaneClipIsTheScalarClip) {
   EXPECT_LT(other_edge, hits / 100);
 }
 #endif
+
+/// raycast_fraction against raycast on the same shape, placement and ray: the same hit, the
+/// same fraction bit for bit, fraction 0 on a miss; through the template and through Shape2D.
+/// Returns whether it hit.
+template <class S>
+bool expect_fraction_is_raycasts(const S& shape, const Transform& xf, const Ray& ray) {
+  const RayHit full = raycast(shape, xf, ray);
+  for (const RayFraction f : {raycast_fraction(shape, xf, ray), raycast_fraction(Shape2D(shape), xf, ray)}) {
+    EXPECT_EQ(f.hit, full.hit);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction))
+        << f.fraction << " against " << full.fraction;
+    if (!f.hit) EXPECT_EQ(f.fraction, 0.0f);
+  }
+  return full.hit;
+}
+
+// Every 2D shape kind (polygons sharp and rounded, capsules, circles, segments hit only by
+// crossing rays), near the origin and 1e4 away, rays from outside, inside and of zero length.
+TEST(Raycast, FractionIsRaycastsBitForBit) {
+  std::mt19937 rng(41);
+  int hits = 0, casts = 0;
+  const auto check_all = [&](const auto& shapes, Vec2 far) {
+    for (const auto& shape : shapes) {
+      for (int i = 0; i < 200; ++i) {
+        const Transform xf = Transform::from(far + test::random_point(rng, 2.0f), uniform(rng, -3.2f, 3.2f));
+        const Vec2 origin = xf.p + test::random_point(rng, 5.0f);
+        const Vec2 target = xf.p + test::random_point(rng, 1.5f);
+        const float scale = i % 50 == 0 ? 0.0f : uniform(rng, 0.3f, 2.0f);  // some of zero length
+        hits += expect_fraction_is_raycasts(shape, xf, Ray{origin, scale * (target - origin)});
+        ++casts;
+      }
+    }
+  };
+  for (const Vec2 far : {Vec2{0.0f}, kFarAway}) {
+    check_all(random_circles(rng), far);
+    check_all(random_capsules(rng), far);
+    check_all(random_polygons(rng, false), far);
+    check_all(random_polygons(rng, true), far);
+    check_all(random_segments(rng), far);
+  }
+  EXPECT_GT(hits, casts / 5);
+  EXPECT_LT(hits, casts * 4 / 5);
+  // A segment hit: only a crossing ray meets it.
+  EXPECT_TRUE(expect_fraction_is_raycasts(make_segment({-1.0f, 0.0f}, {1.0f, 0.0f}), Transform{},
+                                          Ray{{0.25f, 2.0f}, {0.0f, -4.0f}}));
+}
 
 }  // namespace
 }  // namespace collide

@@ -34,6 +34,13 @@ struct RayHitN {
 using RayHit = RayHitN<2>;   ///< 2D ray hit
 using RayHit3 = RayHitN<3>;  ///< 3D ray hit
 
+/// Where a ray first enters a shape, the fraction alone (`raycast_fraction`), in 2D and 3D. On a
+/// miss: hit false, fraction zero.
+struct RayFraction {
+  bool hit = false;
+  float fraction = 0.0f;  ///< along the ray's translation, [0, 1]: point = origin + fraction * translation
+};
+
 /// First entry of `ray` (world space) into the shape placed by `xf`. A ray must enter to hit:
 /// one that starts in the closed shape (inside, or exactly on its surface whichever way it
 /// heads) reports no hit, and so do a ray of zero length and a ray with a NaN coordinate. Shapes
@@ -58,6 +65,17 @@ template <Shape2DType S>
 
 /// `raycast` for a shape whose type is known only at run time.
 [[nodiscard]] RayHit raycast(const Shape2D& shape, const Transform& xf, const Ray& ray) noexcept;
+
+/// `raycast`'s hit and fraction alone, for the questions that need no point or normal: line of
+/// sight, a sensor ray, whether anything lies within a distance. The same hit and the same
+/// fraction as `raycast`, bit for bit (one code makes both; the point and normal are left
+/// unmade, which saves a ball's or a rounded corner's square root and division). The rules of
+/// `raycast` hold: a ray must enter to hit, and a miss is hit false with fraction 0.
+template <Shape2DType S>
+[[nodiscard]] RayFraction raycast_fraction(const S& shape, const Transform& xf, const Ray& ray) noexcept;
+
+/// `raycast_fraction` for a shape whose type is known only at run time.
+[[nodiscard]] RayFraction raycast_fraction(const Shape2D& shape, const Transform& xf, const Ray& ray) noexcept;
 
 /// First entry of `ray` (world space) into the 3D shape placed by `xf`, under the same rules as
 /// the 2D `raycast`: the ray must enter to hit (an origin in the closed shape, a zero-length ray
@@ -96,6 +114,15 @@ template <Shape3DType S>
 /// `raycast` for a 3D shape whose type is known only at run time.
 [[nodiscard]] RayHit3 raycast(const Shape3D& shape, const Transform3& xf,
                               const Ray3& ray) noexcept;
+
+/// The 3D `raycast`'s hit and fraction alone (see the 2D `raycast_fraction`): bit for bit
+/// `raycast`'s, without the point and the world-space normal (a sphere's cast then skips the
+/// normal's square root and division, a box's and a hull's the normal's turn into the world).
+template <Shape3DType S>
+[[nodiscard]] RayFraction raycast_fraction(const S& shape, const Transform3& xf, const Ray3& ray) noexcept;
+
+/// `raycast_fraction` for a 3D shape whose type is known only at run time.
+[[nodiscard]] RayFraction raycast_fraction(const Shape3D& shape, const Transform3& xf, const Ray3& ray) noexcept;
 
 // ---- 3D: triangles, meshes, height fields ------------------------------------------------
 
