@@ -5,13 +5,18 @@
 // hit rate), visited in the same pseudo-random order on both sides (case_order.hpp: replayed in
 // order, a few thousand cases are learnt by the branch predictor).
 //
-// Both sides answer in world space from a world-space placement and ray: collide's `raycast`
-// returns fraction, point and unit normal; Jolt's side is TransformedShape::CastRay's work (the
-// ray taken into the shape's centre-of-mass frame, Shape::CastRay, closest hit: the fraction
-// only; a Jolt user asks for the normal separately). A ray that starts inside a shape is a hit
+// Both sides answer in world space from a world-space placement and ray, like with like in two
+// pairs of rows: the fraction alone (`collide_fraction`, raycast_fraction, against `jolt`,
+// TransformedShape::CastRay's work: the ray taken into the shape's centre-of-mass frame,
+// Shape::CastRay, closest hit), and the fraction with the point and unit normal (`collide`,
+// raycast, against `jolt_normal`: CastRay, then the point on the ray and
+// TransformedShape::GetWorldSpaceSurfaceNormal, as Jolt's documentation tells a user who wants
+// the normal to ask for it). Until stop 79 only `collide` against `jolt` was run: collide's
+// answer held the point and normal, Jolt's the fraction alone. A ray that starts inside a shape is a hit
 // at fraction 0 for Jolt and a miss for collide (the first entry), so Jolt's hit rate is a
 // little higher. `max_fraction_gap`: the largest difference between the two sides' fractions
-// over the cases both hit from outside (computed once, untimed).
+// over the cases both hit from outside; `max_normal_gap` (jolt_normal rows): the largest length
+// of the difference of the two unit normals there (both computed once, untimed).
 //
 // Instruction sets: collide SSE2 (plain x86-64), Jolt its own (AVX2, FMA, ...: jolt_queries);
 // both in the context block.
@@ -65,6 +70,7 @@ struct Set {
   std::vector<Shape<S>> shapes;
   std::vector<Case> cases;
   float max_fraction_gap = 0.0f;
+  float max_normal_gap = 0.0f;  ///< largest |n_collide - n_jolt| (jolt_normal) where both hit from outside
 };
 
 template <class Make>
@@ -90,6 +96,11 @@ auto make_set(unsigned seed, float reach, Make make) {
     const RayHit3 h = raycast(s.collide, c.xf, c.ray);
     const float f = jq::cast_ray(*s.jolt, c.jolt, jolt_vec(c.ray.origin), jolt_vec(c.ray.translation));
     if (h.hit && f > 0.0f) set.max_fraction_gap = std::max(set.max_fraction_gap, std::abs(h.fraction - f));
+    const jq::RayOut j = jq::cast_ray_normal(*s.jolt, c.jolt, jolt_vec(c.ray.origin), jolt_vec(c.ray.translation));
+    if (h.hit && j.fraction > 0.0f) {
+      const Vec3 gap = h.normal - Vec3{j.normal.x, j.normal.y, j.normal.z};
+      set.max_normal_gap = std::max(set.max_normal_gap, glm::length(gap));
+    }
   }
   return set;
 }
@@ -117,6 +128,39 @@ void run_collide(benchmark::State& state, const Set<S>& set) {
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
   state.counters["max_fraction_gap"] = set.max_fraction_gap;
+}
+
+template <class S>
+void run_collide_fraction(benchmark::State& state, const Set<S>& set) {
+  collide::bench::CaseOrder order(kCases - 1);
+  int64_t hits = 0, casts = 0;
+  for (auto _ : state) {
+    const std::uint32_t i = order.next();
+    const Case& c = set.cases[i];
+    const RayFraction h = raycast_fraction(set.shapes[i & (kShapes - 1)].collide, c.xf, c.ray);
+    benchmark::DoNotOptimize(h);
+    hits += h.hit;
+    ++casts;
+  }
+  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+  state.counters["max_fraction_gap"] = set.max_fraction_gap;
+}
+
+template <class S>
+void run_jolt_normal(benchmark::State& state, const Set<S>& set) {
+  collide::bench::CaseOrder order(kCases - 1);
+  int64_t hits = 0, casts = 0;
+  for (auto _ : state) {
+    const std::uint32_t i = order.next();
+    const Case& c = set.cases[i];
+    const jq::RayOut h = jq::cast_ray_normal(*set.shapes[i & (kShapes - 1)].jolt, c.jolt, jolt_vec(c.ray.origin),
+                                             jolt_vec(c.ray.translation));
+    benchmark::DoNotOptimize(h);
+    hits += h.fraction >= 0.0f;
+    ++casts;
+  }
+  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+  state.counters["max_normal_gap"] = set.max_normal_gap;
 }
 
 template <class S>
@@ -202,7 +246,11 @@ const Set<ConvexHull>& hulls(int points, bool rounded) {
 template <class Get>
 void add(const std::string& name, Get get, bool jolt = true) {
   benchmark::RegisterBenchmark((name + "/collide").c_str(), [get](benchmark::State& s) { run_collide(s, get()); });
-  if (jolt) benchmark::RegisterBenchmark((name + "/jolt").c_str(), [get](benchmark::State& s) { run_jolt(s, get()); });
+  benchmark::RegisterBenchmark((name + "/collide_fraction").c_str(),
+                               [get](benchmark::State& s) { run_collide_fraction(s, get()); });
+  if (!jolt) return;
+  benchmark::RegisterBenchmark((name + "/jolt").c_str(), [get](benchmark::State& s) { run_jolt(s, get()); });
+  benchmark::RegisterBenchmark((name + "/jolt_normal").c_str(), [get](benchmark::State& s) { run_jolt_normal(s, get()); });
 }
 
 }  // namespace

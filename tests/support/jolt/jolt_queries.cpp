@@ -391,6 +391,22 @@ float cast_ray(const Convex& convex, const Pose& pose, Vec origin, Vec translati
   return convex.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit) ? hit.mFraction : -1.0f;
 }
 
+RayOut cast_ray_normal(const Convex& convex, const Pose& pose, Vec origin, Vec translation) {
+  const ClearUpperOnReturn clear_upper;
+  const JPH::Quat q = to_jolt(pose.q);
+  const Vec3 com = to_jolt(pose.p) + q * convex.shape->GetCenterOfMass();
+  const JPH::RayCast world{to_jolt(origin), to_jolt(translation)};
+  const JPH::RayCast ray = world.Transformed(Mat44::sInverseRotationTranslation(q, com));
+  JPH::RayCastResult hit;
+  if (!convex.shape->CastRay(ray, JPH::SubShapeIDCreator(), hit)) return {};
+  // GetWorldSpaceSurfaceNormal with unit scale: its own inverse transform, the point into it.
+  const Vec3 point = world.GetPointOnRay(hit.mFraction);
+  const Mat44 inverse = Mat44::sInverseRotationTranslation(q, com);
+  const Vec3 normal =
+      inverse.Multiply3x3Transposed(convex.shape->GetSurfaceNormal(hit.mSubShapeID2, inverse * point)).Normalized();
+  return {hit.mFraction, from_jolt(point), from_jolt(normal)};
+}
+
 const char* instruction_set() { return JPH::GetConfigurationString(); }
 
 }  // namespace jolt_queries

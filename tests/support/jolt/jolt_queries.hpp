@@ -170,6 +170,17 @@ CastOut mesh_cast(const Convex& convex, const Pose& pose, Vec translation, const
 /// separately, GetSurfaceNormal).
 float cast_ray(const Convex& convex, const Pose& pose, Vec origin, Vec translation);
 
+/// A ray cast's answer with its world-space point and unit normal.
+struct RayOut {
+  float fraction = -1.0f;  ///< -1: no hit
+  Vec point, normal;
+};
+/// cast_ray, then the hit's point and normal as a Jolt user asks for them (TransformedShape's
+/// documented way): RRayCast::GetPointOnRay(fraction), then
+/// TransformedShape::GetWorldSpaceSurfaceNormal(sub shape id, point), which takes the point into
+/// the centre-of-mass frame, asks Shape::GetSurfaceNormal and turns the normal back, normalised.
+RayOut cast_ray_normal(const Convex& convex, const Pose& pose, Vec origin, Vec translation);
+
 /// Jolt's build as JPH::GetConfigurationString() gives it: precision, CPU and instruction set,
 /// e.g. "Single precision x86 64-bit with instructions: SSE2 SSE4.1 SSE4.2 AVX AVX2 F16C LZCNT
 /// TZCNT FMADD ...".
