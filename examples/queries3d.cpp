@@ -64,6 +64,10 @@ int main() {
   const Sweep3 still = Sweep3::from_motion(rock_at, Vec3{0.0f}, Vec3{0.0f}, Vec3{0.0f});
   const ToiResult3 toi = time_of_impact(ball, spin, rock, still);
   std::printf("with spin: time of impact %.3f (%s)\n", toi.fraction, to_string(toi.status));
+  // Line of sight from the ball to a point behind the rock: the fraction alone is enough.
+  const Vec3 eye = ball_at.p, behind{9.0f, 1.0f, 0.5f};
+  const RayFraction sight = raycast_fraction(rock, rock_at, Ray3{eye, behind - eye});
+  std::printf("the rock %s the view (at %.3f of the way)\n", sight.hit ? "blocks" : "leaves", sight.fraction);
 
   // A mouse pick against a level mesh: two triangles making a ramp.
   const std::vector<Vec3> level_vertices = {
