@@ -199,7 +199,7 @@ LocalHit raycast_local(const Segment& seg, Vec2 p, Vec2 d) noexcept {
   return {true, t, side < 0.0f ? right : -right};
 }
 
-COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) noexcept {
+RayHit raycast_placed(const Polygon& poly, const Transform& xf, const Ray& ray) noexcept {
   const LocalRay local = to_local(xf, ray);
   if (poly.radius > 0.0f) {
     if (!(length_squared(local.translation) > 0.0f)) return {};
@@ -224,7 +224,7 @@ COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const Polygon& poly, const Transform
 
 /// Shapes with corners: cast in the local frame, rotate the normal back.
 template <class S>
-COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexcept {
+RayHit raycast_placed(const S& shape, const Transform& xf, const Ray& ray) noexcept {
   const LocalRay local = to_local(xf, ray);
   if (!(length_squared(local.translation) > 0.0f)) return {};
   return to_world(raycast_local(shape, local.origin, local.translation), xf, ray);
@@ -340,7 +340,7 @@ COLLIDE_ALWAYS_INLINE RayHit capsule_cast(const Capsule& capsule, const Transfor
           {normal_x[k], normal_y[k]}};
 }
 
-COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
+RayHit raycast_placed(const Capsule& capsule, const Transform& xf, const Ray& ray) noexcept {
   if (!(length_squared(ray.translation) > 0.0f)) return {};
   // A radius too small to give directions (detail::is_round) is a segment here, as in 3D.
   return detail::is_round(capsule.radius) ? capsule_cast<true>(capsule, xf, ray)
@@ -350,7 +350,7 @@ COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const Capsule& capsule, const Transf
 /// A disc looks the same in every frame: only the origin needs to be made relative to the
 /// centre, as (origin - p) - R c so that large coordinates cancel first. No rotation of the
 /// ray or the normal.
-COLLIDE_ALWAYS_INLINE RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
+RayHit raycast_placed(const Circle& circle, const Transform& xf, const Ray& ray) noexcept {
   const Vec2 m = (ray.origin - xf.p) - rotate(xf.q, circle.center);
   return world_hit(ray_disc(m, ray.translation, circle.radius), ray);  // zero length: b = 0, miss
 }
@@ -431,11 +431,11 @@ RayHit raycast(const Shape2D& shape, const Transform& xf, const Ray& ray) noexce
   return std::visit([&](const auto& s) { return raycast(s, xf, ray); }, shape);
 }
 
-// raycast_placed inlined into each: the point and normal it would build are dead code, and the
+// raycast_placed flattened into each: the point and normal it would build are dead code, and the
 // hit and fraction are made by the same instructions as raycast's (this file is compiled
 // without fused multiply-adds, so no contraction can round one form differently).
 template <Shape2DType S>
-RayFraction raycast_fraction(const S& shape, const Transform& xf, const Ray& ray) noexcept {
+COLLIDE_FLATTEN RayFraction raycast_fraction(const S& shape, const Transform& xf, const Ray& ray) noexcept {
   const RayHit h = raycast_placed(shape, xf, ray);
   return {h.hit, h.fraction};
 }

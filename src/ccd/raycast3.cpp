@@ -33,13 +33,13 @@ struct LocalRay3 {
 
 /// The ray in the frame `f` (the placement's matrix form: its rotation made once, then three
 /// dot products a vector, where a quaternion rotates each vector by two cross products).
-COLLIDE_ALWAYS_INLINE LocalRay3 to_local(const Frame3& f, const Ray3& ray) noexcept {
+LocalRay3 to_local(const Frame3& f, const Ray3& ray) noexcept {
   return {inv_transform_point(f, ray.origin), inv_rotate(f, ray.translation)};
 }
 
 /// The hit of `h` on `ray` with the world-space normal `normal`. Without a branch on whether it
 /// hit (random rays hit or miss at random): a miss's fields are zero (its point masked).
-COLLIDE_ALWAYS_INLINE RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec3 normal) noexcept {
+RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec3 normal) noexcept {
   const std::uint32_t keep = detail::mask_of(h.hit);
   const Vec3 at = ray.at(h.fraction);
   RayHit3 out;
@@ -52,7 +52,7 @@ COLLIDE_ALWAYS_INLINE RayHit3 world_hit(const LocalHit3& h, const Ray3& ray, Vec
 }
 
 /// The world-space hit of a hit in the frame `f`.
-COLLIDE_ALWAYS_INLINE RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept {
+RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept {
   return world_hit(h, ray, rotate(f, h.normal));
 }
 
@@ -163,7 +163,7 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
 
 /// A radius too small to give directions (detail::is_round: r below about 1e-19) is a segment
 /// here: a ball's hit offset would be too small to normalise.
-COLLIDE_ALWAYS_INLINE LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
   return detail::is_round(capsule.radius) ? capsule_cast<true>(capsule, p, d)
                                           : capsule_cast<false>(capsule, p, d);
 }
@@ -213,7 +213,7 @@ LocalHit3 raycast_local(const Segment3& seg, Vec3 p, Vec3 d) noexcept {
 /// is within it. With SSE2 the three axes go in lanes and the miss is a mask, without branches
 /// (random rays decide which axis enters and whether the box is hit at random: 40 -> 25 ns a
 /// cast, bench_ray_cast3, AMD EPYC).
-COLLIDE_ALWAYS_INLINE LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
+LocalHit3 slab_cast(Vec3 half, Vec3 p, Vec3 d) noexcept {
 #if defined(__SSE2__) || defined(_M_X64)
   // Lane 3 is a slab of half width 0 around 0 that the ray runs along: it never decides.
   const __m128 h = _mm_setr_ps(half.x, half.y, half.z, 0.0f);
@@ -386,7 +386,7 @@ LocalHit3 rounded_box_cast(Vec3 half, float r, Vec3 p, Vec3 d) noexcept {
   return {};
 }
 
-COLLIDE_ALWAYS_INLINE LocalHit3 raycast_local(const Box& box, Vec3 p, Vec3 d) noexcept {
+LocalHit3 raycast_local(const Box& box, Vec3 p, Vec3 d) noexcept {
   if (box.radius > 0.0f) return rounded_box_cast(box.half, box.radius, p, d);
   return slab_cast(box.half, p, d);
 }
@@ -481,7 +481,7 @@ LocalHit3 rounded_hull_cast(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
 }
 
 /// Hull (no radius): Cyrus-Beck clipping by its face planes; the entering face's normal.
-COLLIDE_ALWAYS_INLINE LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
+LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Vec3 d) noexcept {
   if (hull.radius > 0.0f) return rounded_hull_cast(hull, p, d);
   const detail::ClipResult clip = clip_ray_hull(hull, p, d, 0.0f);
   if (clip.plane < 0) return {};
@@ -490,7 +490,7 @@ COLLIDE_ALWAYS_INLINE LocalHit3 raycast_local(const ConvexHull& hull, Vec3 p, Ve
 
 /// Shapes with a frame: cast in the local frame, rotate the normal back.
 template <class S>
-COLLIDE_ALWAYS_INLINE RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
+RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
   const Frame3 f = Frame3::from(xf);
   const LocalRay3 local = to_local(f, ray);
   if (!(length_squared(local.translation) > 0.0f)) return {};
@@ -501,7 +501,7 @@ COLLIDE_ALWAYS_INLINE RayHit3 raycast_placed(const S& shape, const Transform3& x
 /// rotated there (two rotations, side by side in lanes) instead of the ray into its frame and the
 /// normal back out (three), and the origin is made relative as (origin - p) so that large
 /// coordinates cancel first (bench_ray_cast3, AMD EPYC: 59 -> 43 ns a cast at stop 50).
-COLLIDE_ALWAYS_INLINE RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
+RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
   if (!(length_squared(ray.translation) > 0.0f)) return {};
   // Both ends turned at once, a in lane 0 and b in lane 1 (v + 2w (q x v) + 2 q x (q x v)).
   using namespace simd;
@@ -525,7 +525,7 @@ COLLIDE_ALWAYS_INLINE RayHit3 raycast_placed(const Capsule3& capsule, const Tran
 /// A ball looks the same in every frame: only the origin is made relative to the centre, as
 /// (origin - p) - R c so that large coordinates cancel first. No rotation of the ray or the
 /// normal.
-COLLIDE_ALWAYS_INLINE RayHit3 raycast_placed(const Sphere& sphere, const Transform3& xf, const Ray3& ray) noexcept {
+RayHit3 raycast_placed(const Sphere& sphere, const Transform3& xf, const Ray3& ray) noexcept {
   const Vec3 m = (ray.origin - xf.p) - rotate(xf.q, sphere.center);
   const LocalHit3 h = detail::ray_ball<3>(m, ray.translation, sphere.radius);
   return world_hit(h, ray, h.normal);
@@ -548,10 +548,10 @@ RayHit3 raycast(const Shape3D& shape, const Transform3& xf, const Ray3& ray) noe
   return std::visit([&](const auto& s) { return raycast(s, xf, ray); }, shape);
 }
 
-// As in 2D (raycast.cpp): raycast_placed inlined into each, the point and normal dead code, the
+// As in 2D (raycast.cpp): raycast_placed flattened into each, the point and normal dead code, the
 // hit and fraction raycast's own instructions (no fused multiply-adds in this file either).
 template <Shape3DType S>
-RayFraction raycast_fraction(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
+COLLIDE_FLATTEN RayFraction raycast_fraction(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
   const RayHit3 h = raycast_placed(shape, xf, ray);
   return {h.hit, h.fraction};
 }

@@ -20,3 +20,13 @@
 #else
 #define COLLIDE_COLD
 #endif
+
+/// Inlines every call in the function's body, recursively, into it alone (its callees keep
+/// their own out-of-line copies for other callers): for a variant of a routine that drops part
+/// of its result, so that the dropped work is dead code there without the routine being forced
+/// inline everywhere (raycast_fraction).
+#if defined(__GNUC__) || defined(__clang__)
+#define COLLIDE_FLATTEN __attribute__((flatten))
+#else
+#define COLLIDE_FLATTEN
+#endif
