@@ -31,6 +31,7 @@
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -170,6 +171,12 @@ inline std::string check_polygon_against_box(const Polygon& shape) {
   return {};
 }
 
+/// raycast_fraction's promise: raycast's hit and fraction, bit for bit (NaN bits included).
+template <int D>
+bool same_fraction(const RayFraction& f, const RayHitN<D>& h) {
+  return f.hit == h.hit && std::bit_cast<std::uint32_t>(f.fraction) == std::bit_cast<std::uint32_t>(h.fraction);
+}
+
 /// "" when the queries of a built 2D shape against the fixed probes give finite answers (asked
 /// of shapes within kFiniteQueryRange; beyond it the queries run for the sanitizers alone).
 template <class S>
@@ -182,7 +189,9 @@ std::string probe2(const S& shape) {
   }
   (void)overlap(shape, xf, probe, xf);
   const DistanceResult d = distance(shape, xf, probe, xf);
-  const RayHit hit = raycast(shape, xf, Ray{{-100.0f, 0.1f}, {200.0f, 0.0f}});
+  const Ray ray{{-100.0f, 0.1f}, {200.0f, 0.0f}};
+  const RayHit hit = raycast(shape, xf, ray);
+  if (!same_fraction(raycast_fraction(shape, xf, ray), hit)) return "raycast_fraction differs from raycast";
   if (!within_finite_range(compute_aabb(shape, xf))) return {};
   if (!finite(d.distance) || !finite(d.point_a) || !finite(d.point_b) || !finite(d.normal)) {
     return "distance to the probe circle is not finite";
@@ -199,7 +208,11 @@ std::string probe3(const S& shape) {
   const Transform3 xf{};
   (void)overlap(shape, xf, probe, xf);
   const DistanceResult3 d = distance(shape, xf, probe, xf);
-  const RayHit3 hit = raycast(shape, xf, Ray3{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}});
+  const Ray3 ray{{-100.0f, 0.1f, 0.2f}, {200.0f, 0.0f, 0.0f}};
+  const RayHit3 hit = raycast(shape, xf, ray);
+  if constexpr (Shape3DType<S>) {  // (a Triangle has no raycast_fraction)
+    if (!same_fraction(raycast_fraction(shape, xf, ray), hit)) return "raycast_fraction differs from raycast";
+  }
   if (!within_finite_range(compute_aabb(shape, xf))) return {};
   if (!finite(d.distance) || !finite(d.point_a) || !finite(d.point_b) || !finite(d.normal)) {
     return "distance to the probe sphere is not finite";

@@ -55,6 +55,26 @@ RayHit3 raycast(const HeightField& field, const Transform3& xf, const Ray3& ray)
   return to_world(xf, ray, local, hit.fraction, hit.normal, hit.triangle);
 }
 
+// The same crossings as the three casts above, the hit and fraction alone.
+RayFraction raycast_fraction(const Triangle& triangle, const Transform3& xf, const Ray3& ray) noexcept {
+  const auto& v = triangle.vertices;
+  const float fraction = ray_triangle_fraction(to_local(xf, ray, Vec3(0.0f)), v[0], v[1], v[2]);
+  if (fraction < 0.0f) return {};
+  return {true, fraction};
+}
+
+RayFraction raycast_fraction(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray) noexcept {
+  const TriangleRayHit hit = mesh.bvh.ray_cast(to_local(xf, ray, mesh.origin));
+  if (hit.triangle == std::numeric_limits<std::uint32_t>::max()) return {};
+  return {true, hit.fraction};
+}
+
+RayFraction raycast_fraction(const HeightField& field, const Transform3& xf, const Ray3& ray) noexcept {
+  const TriangleRayHit hit = field.ray_cast(to_local(xf, ray, Vec3(0.0f)));
+  if (hit.triangle == std::numeric_limits<std::uint32_t>::max()) return {};
+  return {true, hit.fraction};
+}
+
 void raycast(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray, RayHitCallback visit) {
   const Ray3 local = to_local(xf, ray, mesh.origin);
   mesh.bvh.ray_cast(local, [&](std::uint32_t t, float fraction) {

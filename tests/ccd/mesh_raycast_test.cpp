@@ -16,7 +16,9 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <optional>
@@ -87,6 +89,12 @@ Ray3 random_ray(std::mt19937& rng, const Aabb3& box, const std::vector<WorldTria
   return {o, near_box() - o};
 }
 
+/// raycast_fraction's promise: raycast's hit and fraction, bit for bit.
+void expect_fraction_is_raycasts(const RayFraction& f, const RayHit3& full, int ray) {
+  EXPECT_EQ(f.hit, full.hit) << "ray " << ray;
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction)) << "ray " << ray;
+}
+
 TEST(MeshRaycast, SharedMeshesAgreeWithBruteForceUnderRandomTransforms) {
   std::mt19937 rng(100);
   for (const char* file : {"recast/dungeon.obj", "recast/undulating.obj", "fcl/env.obj", "fcl/rob.obj"}) {
@@ -107,6 +115,7 @@ TEST(MeshRaycast, SharedMeshesAgreeWithBruteForceUnderRandomTransforms) {
         const Ray3 ray = random_ray(rng, box, tris);
         const Truth truth = test::brute_ray_truth(tris, ray, eps, eps_fraction);
         (check(raycast(mesh, xf, ray), truth, tris, ray, eps, file, i) ? hits : misses)++;
+        expect_fraction_is_raycasts(raycast_fraction(mesh, xf, ray), raycast(mesh, xf, ray), i);
         // Every crossing by the callback: at least the clear ones, at most the possible ones.
         std::size_t count = 0;
         float nearest = 2.0f;
@@ -149,6 +158,7 @@ TEST(MeshRaycast, HeightFieldsAgreeWithBruteForceUnderRandomTransforms) {
       const Ray3 ray = random_ray(rng, box, tris);
       const Truth truth = test::brute_ray_truth(tris, ray, eps, eps_fraction, &hole);
       (check(raycast(field, xf, ray), truth, tris, ray, eps, "height field", i) ? hits : misses)++;
+      expect_fraction_is_raycasts(raycast_fraction(field, xf, ray), raycast(field, xf, ray), i);
       std::size_t count = 0;
       raycast(field, xf, ray, [&](const RayHit3& hit) {
         EXPECT_FALSE(field.is_hole(hit.sub_shape / 2));
@@ -175,6 +185,7 @@ TEST(MeshRaycast, TriangleAgreesWithBruteForce) {
     const Ray3 ray = random_ray(rng, fatten(box, 1.0f), tris);
     const double eps = 1e-5 * 25.0, eps_fraction = 1e-5;
     (check(raycast(tri, xf, ray), test::brute_ray_truth(tris, ray, eps, eps_fraction), tris, ray, eps, "triangle", i) ? hits : misses)++;
+    expect_fraction_is_raycasts(raycast_fraction(tri, xf, ray), raycast(tri, xf, ray), i);
   }
   EXPECT_GT(hits, 600);
   EXPECT_GT(misses, 500);

@@ -150,6 +150,13 @@ template <Shape3DType S>
 [[nodiscard]] RayHit3 raycast(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray) noexcept;
 [[nodiscard]] RayHit3 raycast(const HeightField& field, const Transform3& xf, const Ray3& ray) noexcept;
 
+/// `raycast`'s hit and fraction alone for the triangle shapes (see the 2D `raycast_fraction`),
+/// bit for bit `raycast`'s: the nearest crossing, without turning its triangle's normal to face
+/// the ray and into the world.
+[[nodiscard]] RayFraction raycast_fraction(const Triangle& triangle, const Transform3& xf, const Ray3& ray) noexcept;
+[[nodiscard]] RayFraction raycast_fraction(const TriangleMesh& mesh, const Transform3& xf, const Ray3& ray) noexcept;
+[[nodiscard]] RayFraction raycast_fraction(const HeightField& field, const Transform3& xf, const Ray3& ray) noexcept;
+
 /// Called by the callback ray casts below with each crossing (a full world-space RayHit3 as
 /// `raycast` returns it: hit true, fraction, point, normal facing the ray's origin, sub_shape =
 /// triangle). Returns the new maximum fraction (TriangleRayCallback's convention): `hit.fraction`
