@@ -114,69 +114,55 @@ ConvexHull random_hull(std::mt19937& rng, int n, float radius) {
   return make_convex_hull(points, HullOptions{radius});
 }
 
-template <class S>
-void run_collide(benchmark::State& state, const Set<S>& set) {
+/// The timed loop of every row: `cast(shape, case)` on the cases in CaseOrder's order, its
+/// answer kept from the optimiser; `hit(answer)` counts the hit rate.
+template <class S, class Cast, class Hit>
+void run_cases(benchmark::State& state, const Set<S>& set, Cast cast, Hit hit) {
   collide::bench::CaseOrder order(kCases - 1);
   int64_t hits = 0, casts = 0;
   for (auto _ : state) {
     const std::uint32_t i = order.next();
-    const Case& c = set.cases[i];
-    const RayHit3 h = raycast(set.shapes[i & (kShapes - 1)].collide, c.xf, c.ray);
-    benchmark::DoNotOptimize(h);
-    hits += h.hit;
+    const auto answer = cast(set.shapes[i & (kShapes - 1)], set.cases[i]);
+    benchmark::DoNotOptimize(answer);
+    hits += hit(answer);
     ++casts;
   }
   state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+}
+
+template <class S>
+void run_collide(benchmark::State& state, const Set<S>& set) {
+  run_cases(state, set, [](const Shape<S>& s, const Case& c) { return raycast(s.collide, c.xf, c.ray); },
+            [](const RayHit3& h) { return h.hit; });
   state.counters["max_fraction_gap"] = set.max_fraction_gap;
 }
 
 template <class S>
 void run_collide_fraction(benchmark::State& state, const Set<S>& set) {
-  collide::bench::CaseOrder order(kCases - 1);
-  int64_t hits = 0, casts = 0;
-  for (auto _ : state) {
-    const std::uint32_t i = order.next();
-    const Case& c = set.cases[i];
-    const RayFraction h = raycast_fraction(set.shapes[i & (kShapes - 1)].collide, c.xf, c.ray);
-    benchmark::DoNotOptimize(h);
-    hits += h.hit;
-    ++casts;
-  }
-  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+  run_cases(state, set, [](const Shape<S>& s, const Case& c) { return raycast_fraction(s.collide, c.xf, c.ray); },
+            [](const RayFraction& h) { return h.hit; });
   state.counters["max_fraction_gap"] = set.max_fraction_gap;
 }
 
 template <class S>
-void run_jolt_normal(benchmark::State& state, const Set<S>& set) {
-  collide::bench::CaseOrder order(kCases - 1);
-  int64_t hits = 0, casts = 0;
-  for (auto _ : state) {
-    const std::uint32_t i = order.next();
-    const Case& c = set.cases[i];
-    const jq::RayOut h = jq::cast_ray_normal(*set.shapes[i & (kShapes - 1)].jolt, c.jolt, jolt_vec(c.ray.origin),
-                                             jolt_vec(c.ray.translation));
-    benchmark::DoNotOptimize(h);
-    hits += h.fraction >= 0.0f;
-    ++casts;
-  }
-  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
-  state.counters["max_normal_gap"] = set.max_normal_gap;
+void run_jolt(benchmark::State& state, const Set<S>& set) {
+  run_cases(
+      state, set,
+      [](const Shape<S>& s, const Case& c) {
+        return jq::cast_ray(*s.jolt, c.jolt, jolt_vec(c.ray.origin), jolt_vec(c.ray.translation));
+      },
+      [](float f) { return f >= 0.0f; });
 }
 
 template <class S>
-void run_jolt(benchmark::State& state, const Set<S>& set) {
-  collide::bench::CaseOrder order(kCases - 1);
-  int64_t hits = 0, casts = 0;
-  for (auto _ : state) {
-    const std::uint32_t i = order.next();
-    const Case& c = set.cases[i];
-    const float f = jq::cast_ray(*set.shapes[i & (kShapes - 1)].jolt, c.jolt, jolt_vec(c.ray.origin),
-                                 jolt_vec(c.ray.translation));
-    benchmark::DoNotOptimize(f);
-    hits += f >= 0.0f;
-    ++casts;
-  }
-  state.counters["hit_rate"] = static_cast<double>(hits) / static_cast<double>(casts);
+void run_jolt_normal(benchmark::State& state, const Set<S>& set) {
+  run_cases(
+      state, set,
+      [](const Shape<S>& s, const Case& c) {
+        return jq::cast_ray_normal(*s.jolt, c.jolt, jolt_vec(c.ray.origin), jolt_vec(c.ray.translation));
+      },
+      [](const jq::RayOut& h) { return h.fraction >= 0.0f; });
+  state.counters["max_normal_gap"] = set.max_normal_gap;
 }
 
 /// The rotation taking +y to unit `d` (Jolt's capsule axis to collide's).
