@@ -9,6 +9,7 @@
 
 #include "support/brute_ray_mesh.hpp"
 #include "support/brute_triangle.hpp"
+#include "support/bitwise_equal.hpp"
 #include "support/test_util.hpp"
 
 #include <gtest/gtest.h>
@@ -16,9 +17,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <map>
 #include <optional>
@@ -91,8 +90,7 @@ Ray3 random_ray(std::mt19937& rng, const Aabb3& box, const std::vector<WorldTria
 
 /// raycast_fraction's promise: raycast's hit and fraction, bit for bit.
 void expect_fraction_is_raycasts(const RayFraction& f, const RayHit3& full, int ray) {
-  EXPECT_EQ(f.hit, full.hit) << "ray " << ray;
-  EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction)) << "ray " << ray;
+  EXPECT_TRUE(test::bitwise_equal(f, full)) << "ray " << ray << ": " << f.fraction << " against " << full.fraction;
 }
 
 TEST(MeshRaycast, SharedMeshesAgreeWithBruteForceUnderRandomTransforms) {

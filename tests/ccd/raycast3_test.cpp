@@ -11,11 +11,10 @@
 #include "clip_ray.hpp"
 #include "support/brute_query3.hpp"
 #include "support/random_shapes3.hpp"
+#include "support/bitwise_equal.hpp"
 #include "support/test_util.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <vector>
@@ -845,9 +844,7 @@ bool expect_fraction_is_raycasts(const Shape3D& shape, const Transform3& xf, con
   const RayHit3 full = raycast(shape, xf, ray);
   const RayFraction typed = std::visit([&](const auto& s) { return raycast_fraction(s, xf, ray); }, shape);
   for (const RayFraction f : {typed, raycast_fraction(shape, xf, ray)}) {
-    EXPECT_EQ(f.hit, full.hit);
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction))
-        << f.fraction << " against " << full.fraction;
+    EXPECT_TRUE(test::bitwise_equal(f, full)) << f.hit << " " << f.fraction << " against " << full.hit << " " << full.fraction;
     if (!f.hit) EXPECT_EQ(f.fraction, 0.0f);
   }
   return full.hit;

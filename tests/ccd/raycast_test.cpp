@@ -8,13 +8,12 @@
 
 #include "clip_ray.hpp"
 #include "support/brute_convex.hpp"
+#include "support/bitwise_equal.hpp"
 #include "support/test_util.hpp"
 
 #include <box2d/box2d.h>
 
 #include <algorithm>
-#include <bit>
-#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <limits>
@@ -712,9 +711,7 @@ template <class S>
 bool expect_fraction_is_raycasts(const S& shape, const Transform& xf, const Ray& ray) {
   const RayHit full = raycast(shape, xf, ray);
   for (const RayFraction f : {raycast_fraction(shape, xf, ray), raycast_fraction(Shape2D(shape), xf, ray)}) {
-    EXPECT_EQ(f.hit, full.hit);
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(f.fraction), std::bit_cast<std::uint32_t>(full.fraction))
-        << f.fraction << " against " << full.fraction;
+    EXPECT_TRUE(test::bitwise_equal(f, full)) << f.hit << " " << f.fraction << " against " << full.hit << " " << full.fraction;
     if (!f.hit) EXPECT_EQ(f.fraction, 0.0f);
   }
   return full.hit;

@@ -14,7 +14,7 @@
 #include <collide/narrow/contact.hpp>
 
 #include "contact_routines.hpp"
-#include "support/manifold_bits.hpp"
+#include "support/bitwise_equal.hpp"
 #include "support/test_util.hpp"
 
 namespace collide {

@@ -15,7 +15,7 @@
 #include <collide/shape/segment.hpp>
 
 #include "contact_routines.hpp"
-#include "support/manifold_bits.hpp"
+#include "support/bitwise_equal.hpp"
 #include "support/test_util.hpp"
 
 namespace collide {

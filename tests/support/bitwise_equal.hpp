@@ -1,9 +1,12 @@
 #pragma once
-// Bit-for-bit comparison of 2D manifolds, for tests that hold a fast path to the path it
-// promises to equal (the small-polygon front end, the batched polygon-circle contact).
+// Bit-for-bit comparisons, for tests that hold a fast path to the path it promises to equal
+// (the small-polygon front end, the batched polygon-circle contact, raycast_fraction).
 
+#include <collide/ccd/raycast.hpp>
 #include <collide/narrow/manifold.hpp>
 
+#include <bit>
+#include <cstdint>
 #include <cstring>
 
 namespace collide::test {
@@ -22,6 +25,13 @@ inline bool bitwise_equal(const Manifold& m, const Manifold& expected) {
     }
   }
   return true;
+}
+
+/// True when `f` has the hit and the bits of the fraction of `expected` (raycast_fraction's
+/// promise to equal raycast).
+template <int D>
+bool bitwise_equal(const RayFraction& f, const RayHitN<D>& expected) {
+  return f.hit == expected.hit && std::bit_cast<std::uint32_t>(f.fraction) == std::bit_cast<std::uint32_t>(expected.fraction);
 }
 
 }  // namespace collide::test
