@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace collide {
 namespace {
@@ -66,66 +67,83 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// Gems 7), kept when it lands beside the core (0 <= x <= L). An origin in any piece is inside
 /// the capsule: no hit. (The cylinder's stretch is entered through its end discs only inside a
 /// ball, so those need no test.) Ericson, Real-Time Collision Detection, 5.3.7. Across the axis
-/// the vectors are scaled by L^2 (m L^2 - (m . axis) axis), so no division comes before the
-/// lanes' one, which serves all three; the squares grow as L^4 |m|^2, within float range for
-/// capsules and rays up to about 1e5 long. The piece hit is a lane index and a miss a zero slot:
-/// no branch on the data (random rays take each case at random) but one: a line that passes
-/// clear of the cylinder is a miss before the lanes (below). Normals are normalised rather
+/// the vectors are crossed with it (m x axis: turned a right angle about the axis and scaled by
+/// L, the disc's radius r L), so no division comes before the lanes' one, which serves all
+/// three; the lanes' squares grow as L^2 |m|^2, within float range for capsules and rays up to
+/// about 1e9 long (the early out's as L^4 |m|^2 |d|^2: where those overflow, beyond about 1e4,
+/// the ray goes on to the lanes). The piece hit is a lane index and a miss a zero slot: no
+/// branch on the data (random rays take each case at random) but one: a line that passes clear
+/// of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
+/// fraction alone: the same value, taken from the lanes by a shorter chain than the piece's
+/// index (stop 80, below). Normals are normalised rather
 /// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
 /// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
 /// on the cylinder); so does an offset too small to give a direction (below
 /// kMinDirectionLengthSquared: a radius of 1e-20 hit dead on made the normal NaN, fuzz_shapes).
 /// An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD EPYC, the builds
 /// alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches before: about 0.9
-/// mispredictions and 350 instructions a cast).
-template <bool kRound>
+/// mispredictions and 350 instructions a cast). Stop 80 (the vectors across the axis by cross
+/// products, which the early out needs without the dot products m_perp = m L^2 - (m . axis)
+/// axis waited for; the fraction alone by selects): the fraction alone 38.4 -> 33.2 ns, the full
+/// cast 42.8 -> 43.7 (three interleaved runs each, builds alternating; Jolt 64.3 / 79.9).
+template <bool kRound, bool kNormal>
 COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
   using namespace simd;
   const Vec3 axis = capsule.b - capsule.a;
-  const float ll = length_squared(axis);  // x coordinates below are scaled by L^2
   const float r = capsule.radius;
   const Vec3 m = p - capsule.a;
-  const float m_axis = dot(m, axis);
-  const float d_axis = dot(d, axis);
-  const Vec3 m_perp = ll * m - m_axis * axis;
-  const Vec3 d_perp = ll * d - d_axis * axis;
+  // Across the axis: the origin and the translation crossed with it (turned a right angle about
+  // the axis and scaled by L), so the cylinder is the disc of radius r L there.
+  const Vec3 m_across = cross(m, axis);
+  const Vec3 d_across = cross(d, axis);
+  const float ll = length_squared(axis);  // x coordinates below are scaled by L^2
+  const float rr_ll = (r * r) * ll;
   if constexpr (kRound) {
     // Early out: a ray whose line passes farther than r from the core's line misses the
-    // cylinder about it, which holds the capsule (line to line distance |m' x d'| / |d'|, here
-    // squared and scaled as m_perp and d_perp are: no division). Only clear misses, beyond
-    // kCapsuleMissSlack: a grazing line goes on to the lanes, whose rounding decides as before.
-    // Misses are most random rays (71% of bench_ray_cast3's), and one taken here skips the
-    // lanes. (Overflowing squares, at the range's far end, go on to the lanes too.)
-    const Vec3 w = cross(m_perp, d_perp);
+    // cylinder about it, which holds the capsule (line to line distance |m' x d'| / |d'| across
+    // the axis, here squared and scaled by L as m' and d' are: no division; at most the origin's
+    // distance from the axis, so a ray along the axis, whose d' is rounding, cannot leave here
+    // wrongly). Only clear misses, beyond kCapsuleMissSlack: a grazing line goes on to the lanes,
+    // whose rounding decides as before. Misses are most random rays (52% of bench_ray_cast3's
+    // leave here), and one taken here skips the lanes. (Overflowing squares, at the range's far
+    // end, go on to the lanes too.)
+    const Vec3 w = cross(m_across, d_across);
     const float apart = dot(w, w);
-    const float rl = r * ll;
     if (apart < std::numeric_limits<float>::infinity() &&
-        apart > (1.0f + detail::kCapsuleMissSlack) * (rl * rl) * length_squared(d_perp)) {
+        apart > (1.0f + detail::kCapsuleMissSlack) * rr_ll * length_squared(d_across)) {
       return {};
     }
   }
   const Lanes zero = splat(0.0f), one = splat(1.0f);
-  // Lanes: 0 the cylinder (across the axis, scaled), 1 the ball at a, 2 the ball at b, 3 spare.
+  // Lanes: 0 the cylinder (across the axis), 1 the ball at a, 2 the ball at b, 3 spare.
   // Each ball's origin is p - its centre, one rounding (m - axis rounds three times: rays from
   // 1e4 radii away turned the normal by twice its tolerance).
   const Vec3 a = capsule.a, e = capsule.b;
   Lanes mx = splat(p.x) - lanes(a.x, a.x, e.x, e.x);
   Lanes my = splat(p.y) - lanes(a.y, a.y, e.y, e.y);
   Lanes mz = splat(p.z) - lanes(a.z, a.z, e.z, e.z);
-  Lanes dx = splat(d.x), dy = splat(d.y), dz = splat(d.z), radius = splat(r);
-  mx[0] = m_perp.x, my[0] = m_perp.y, mz[0] = m_perp.z;
-  dx[0] = d_perp.x, dy[0] = d_perp.y, dz[0] = d_perp.z;
-  radius[0] = r * ll;
+  Lanes dx = splat(d.x), dy = splat(d.y), dz = splat(d.z), rr = splat(r * r);
+  mx[0] = m_across.x, my[0] = m_across.y, mz[0] = m_across.z;
+  dx[0] = d_across.x, dy[0] = d_across.y, dz[0] = d_across.z;
+  rr[0] = rr_ll;
+  // For the normals (the full cast only): the offsets and translations in space, lane 0's turned
+  // back from across the axis (axis x m' = m L^2 - (m . axis) axis, pointing from the axis).
+  Lanes ex = mx, ey = my, ez = mz, fx = dx, fy = dy, fz = dz;
+  if constexpr (kNormal) {
+    const Vec3 m_back = cross(axis, m_across), d_back = cross(axis, d_across);
+    ex[0] = m_back.x, ey[0] = m_back.y, ez[0] = m_back.z;
+    fx[0] = d_back.x, fy[0] = d_back.y, fz[0] = d_back.z;
+  }
   const Lanes b = mx * dx + my * dy + mz * dz;
-  const Lanes c = mx * mx + my * my + mz * mz - radius * radius;
+  const Lanes c = mx * mx + my * my + mz * mz - rr;
   const Lanes inv = one / (dx * dx + dy * dy + dz * dz);
   const Lanes tc = -b * inv;
   const Lanes cx = mx + tc * dx, cy = my + tc * dy, cz = mz + tc * dz;
-  const Lanes disc = radius * radius - (cx * cx + cy * cy + cz * cz);
+  const Lanes disc = rr - (cx * cx + cy * cy + cz * cz);
   const Lanes t = tc - simd::sqrt(simd::max(disc, zero) * inv);
   // Along the axis (lane 0; the balls' lanes read 0, which is within [0, L^2]).
   Lanes x0 = zero, x_rate = zero;
-  x0[0] = m_axis, x_rate[0] = d_axis;
+  x0[0] = dot(m, axis), x_rate[0] = dot(d, axis);
   const Lanes top = splat(ll);
   const Lanes x = x0 + t * x_rate;
   const LaneMask used = masks(true, true, true, false);
@@ -134,38 +152,49 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
   // it is entered earlier): ranked first. The balls' entries are within rounding of it there,
   // and the earliest of those alone could name a ball, whose normal is turned by up to
   // sqrt(2 (L - x) / r) (rays from 1e4 radii away: 0.03 rad).
-  const Lanes rank = select(masks(true, false, false, false), -one, t);
-  const Lanes first = horizontal_min(select(ok, rank, splat(std::numeric_limits<float>::infinity())));
   // An origin in the cylinder's stretch or in a ball is inside: no hit.
   const LaneMask inside = used & (c <= zero) & (x0 >= zero) & (x0 <= top);
-  const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
-  // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
-  const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
-  alignas(16) float fraction[5], nx[5], ny[5], nz[5];
-  store(fraction, simd::max(t, zero));
-  const Lanes face = -simd::sqrt(inv);
-  if constexpr (kRound) {
-    // An offset with no direction (the ray dead on within rounding of the axis or a centre)
-    // faces the ray, as ray_ball.
-    const Lanes ox = mx + t * dx, oy = my + t * dy, oz = mz + t * dz;
-    const Lanes oo = ox * ox + oy * oy + oz * oz;
-    const Lanes scale = one / simd::sqrt(oo);
-    const LaneMask towards_axis = oo >= splat(kMinDirectionLengthSquared);
-    store(nx, select(towards_axis, ox * scale, dx * face));
-    store(ny, select(towards_axis, oy * scale, dy * face));
-    store(nz, select(towards_axis, oz * scale, dz * face));
+  const Lanes inf = splat(std::numeric_limits<float>::infinity());
+  if constexpr (!kNormal) {
+    // The fraction alone: lane 0's entry where that is one, else the earlier of the balls' (the
+    // value the piece's index below picks, by a shorter chain of selects).
+    const bool hit = (lane_bits(ok) != 0u) & (lane_bits(inside) == 0u);
+    const Lanes entries = select(ok, t, inf);
+    const Lanes balls = simd::min(broadcast<1>(entries), broadcast<2>(entries));
+    const float fraction = simd::max(select(ok, entries, balls), zero)[0];
+    return {hit, detail::keep_if(fraction, detail::mask_of(hit)), Vec3{0.0f}};
   } else {
-    store(nx, dx * face), store(ny, dy * face), store(nz, dz * face);
+    const Lanes rank = select(masks(true, false, false, false), -one, t);
+    const Lanes first = horizontal_min(select(ok, rank, inf));
+    const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
+    // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
+    const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
+    alignas(16) float fraction[5], nx[5], ny[5], nz[5];
+    store(fraction, simd::max(t, zero));
+    const Lanes face = -one / simd::sqrt(fx * fx + fy * fy + fz * fz);
+    if constexpr (kRound) {
+      // An offset with no direction (the ray dead on within rounding of the axis or a centre)
+      // faces the ray, as ray_ball.
+      const Lanes ox = ex + t * fx, oy = ey + t * fy, oz = ez + t * fz;
+      const Lanes oo = ox * ox + oy * oy + oz * oz;
+      const Lanes scale = one / simd::sqrt(oo);
+      const LaneMask towards_axis = oo >= splat(kMinDirectionLengthSquared);
+      store(nx, select(towards_axis, ox * scale, fx * face));
+      store(ny, select(towards_axis, oy * scale, fy * face));
+      store(nz, select(towards_axis, oz * scale, fz * face));
+    } else {
+      store(nx, fx * face), store(ny, fy * face), store(nz, fz * face);
+    }
+    fraction[4] = nx[4] = ny[4] = nz[4] = 0.0f;
+    return {k < 4, fraction[k], {nx[k], ny[k], nz[k]}};
   }
-  fraction[4] = nx[4] = ny[4] = nz[4] = 0.0f;
-  return {k < 4, fraction[k], {nx[k], ny[k], nz[k]}};
 }
 
 /// A radius too small to give directions (detail::is_round: r below about 1e-19) is a segment
 /// here: a ball's hit offset would be too small to normalise.
 LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
-  return detail::is_round(capsule.radius) ? capsule_cast<true>(capsule, p, d)
-                                          : capsule_cast<false>(capsule, p, d);
+  return detail::is_round(capsule.radius) ? capsule_cast<true, true>(capsule, p, d)
+                                          : capsule_cast<false, true>(capsule, p, d);
 }
 
 /// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general
@@ -501,8 +530,11 @@ RayHit3 raycast_placed(const S& shape, const Transform3& xf, const Ray3& ray) no
 /// rotated there (two rotations, side by side in lanes) instead of the ray into its frame and the
 /// normal back out (three), and the origin is made relative as (origin - p) so that large
 /// coordinates cancel first (bench_ray_cast3, AMD EPYC: 59 -> 43 ns a cast at stop 50).
-RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
-  if (!(length_squared(ray.translation) > 0.0f)) return {};
+/// `kNormal` false: the hit and fraction alone (raycast_fraction's), bit for bit the full cast's.
+template <bool kNormal>
+RayHit3 capsule_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
+  // (A zero or NaN translation needs no test of its own: no lane heads towards a centre or
+  // across the axis, so every lane misses.)
   // Both ends turned at once, a in lane 0 and b in lane 1 (v + 2w (q x v) + 2 q x (q x v)).
   using namespace simd;
   const Lanes vx = lanes(capsule.a.x, capsule.b.x, 0.0f, 0.0f), vy = lanes(capsule.a.y, capsule.b.y, 0.0f, 0.0f),
@@ -517,9 +549,13 @@ RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3
   // 53-54 ns (bench_ray_cast3, stop 59): GCC lays the inlined lanes out worse there.
   const Vec3 m = ray.origin - xf.p;
   const Vec3 d = ray.translation;
-  const LocalHit3 h = detail::is_round(turned.radius) ? capsule_cast<true>(turned, m, d)
-                                                      : capsule_cast<false>(turned, m, d);
+  const LocalHit3 h = detail::is_round(turned.radius) ? capsule_cast<true, kNormal>(turned, m, d)
+                                                      : capsule_cast<false, kNormal>(turned, m, d);
   return world_hit(h, ray, h.normal);
+}
+
+RayHit3 raycast_placed(const Capsule3& capsule, const Transform3& xf, const Ray3& ray) noexcept {
+  return capsule_placed<true>(capsule, xf, ray);
 }
 
 /// A ball looks the same in every frame: only the origin is made relative to the centre, as
@@ -552,7 +588,14 @@ RayHit3 raycast(const Shape3D& shape, const Transform3& xf, const Ray3& ray) noe
 // hit and fraction raycast's own instructions (no fused multiply-adds in this file either).
 template <Shape3DType S>
 COLLIDE_FLATTEN RayFraction raycast_fraction(const S& shape, const Transform3& xf, const Ray3& ray) noexcept {
-  const RayHit3 h = raycast_placed(shape, xf, ray);
+  // The capsule's fraction comes from its lanes by a shorter path than the normal's piece index
+  // (capsule_cast): the same value, picked otherwise.
+  RayHit3 h;
+  if constexpr (std::is_same_v<S, Capsule3>) {
+    h = capsule_placed<false>(shape, xf, ray);
+  } else {
+    h = raycast_placed(shape, xf, ray);
+  }
   return {h.hit, h.fraction};
 }
 

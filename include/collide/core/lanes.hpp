@@ -75,6 +75,9 @@ inline void store(float* a, Lanes v) noexcept { std::memcpy(a, &v, sizeof(Lanes)
 [[nodiscard]] inline unsigned lane_bits(LaneMask m) noexcept;
 /// The smallest lane, in every lane (NaN lanes as min gives them).
 [[nodiscard]] inline Lanes horizontal_min(Lanes a) noexcept;
+/// Lane `k` of `a` in every lane.
+template <int k>
+[[nodiscard]] inline Lanes broadcast(Lanes a) noexcept;
 
 #if defined(__GNUC__) || defined(__clang__)
 inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
@@ -105,6 +108,10 @@ inline unsigned lane_bits(LaneMask m) noexcept {
 inline Lanes horizontal_min(Lanes a) noexcept {
   const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
   return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
+}
+template <int k>
+inline Lanes broadcast(Lanes a) noexcept {
+  return __builtin_shufflevector(a, a, k, k, k, k);
 }
 #else
 /// The lanes f(0), f(1), f(2), f(3): the portable form's loop.
@@ -150,6 +157,10 @@ inline unsigned lane_bits(LaneMask m) noexcept {
 inline Lanes horizontal_min(Lanes a) noexcept {
   const Lanes b = min(a, lanes(a.v[1], a.v[0], a.v[3], a.v[2]));
   return min(b, lanes(b.v[2], b.v[3], b.v[0], b.v[1]));
+}
+template <int k>
+inline Lanes broadcast(Lanes a) noexcept {
+  return splat(a.v[k]);
 }
 #endif
 
