@@ -87,17 +87,30 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// axis waited for; the fraction alone by selects): the fraction alone 38.4 -> 33.2 ns, the full
 /// cast 42.8 -> 43.7 (three interleaved runs each, builds alternating; Jolt 64.3 / 79.9).
 template <bool kRound, bool kNormal>
-COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
+COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes ends_y, simd::Lanes ends_z, float r,
+                                             Vec3 p, Vec3 d) noexcept {
   using namespace simd;
-  const Vec3 axis = capsule.b - capsule.a;
-  const float r = capsule.radius;
-  const Vec3 m = p - capsule.a;
-  // Across the axis: the origin and the translation crossed with it (turned a right angle about
-  // the axis and scaled by L), so the cylinder is the disc of radius r L there.
-  const Vec3 m_across = cross(m, axis);
-  const Vec3 d_across = cross(d, axis);
-  const float ll = length_squared(axis);  // x coordinates below are scaled by L^2
-  const float rr_ll = (r * r) * ll;
+  // Every step is done in lanes, the cylinder's in lane 0 beside the balls' (the scalar form
+  // kept more vectors live than SSE has registers: they went to the stack and back).
+  // The axis b - a in every lane.
+  const Lanes ax = broadcast<1>(ends_x) - broadcast<0>(ends_x), ay = broadcast<1>(ends_y) - broadcast<0>(ends_y),
+              az = broadcast<1>(ends_z) - broadcast<0>(ends_z);
+  // Lanes: 0 the cylinder, 1 the ball at a, 2 the ball at b, 3 spare. Each ball's origin is
+  // p - its centre, one rounding (m - axis rounds three times: rays from 1e4 radii away turned
+  // the normal by twice its tolerance); lane 0 starts as the ball at a's.
+  const Lanes px = splat(p.x) - shuffle<0, 0, 1, 1>(ends_x),
+              py = splat(p.y) - shuffle<0, 0, 1, 1>(ends_y),
+              pz = splat(p.z) - shuffle<0, 0, 1, 1>(ends_z);
+  const Lanes dx = splat(d.x), dy = splat(d.y), dz = splat(d.z);
+  // Across the axis (lane 0): the origin and the translation crossed with it, turned a right
+  // angle about the axis and scaled by L, so the cylinder is the disc of radius r L there.
+  const Lanes mx = with_lane0(px, py * az - pz * ay), my = with_lane0(py, pz * ax - px * az),
+              mz = with_lane0(pz, px * ay - py * ax);
+  const Lanes ux = with_lane0(dx, dy * az - dz * ay), uy = with_lane0(dy, dz * ax - dx * az),
+              uz = with_lane0(dz, dx * ay - dy * ax);
+  const Lanes ll = ax * ax + ay * ay + az * az;  // x coordinates below are scaled by L^2
+  const float rr_ll = (r * r) * ll[0];
+  const Lanes dd = ux * ux + uy * uy + uz * uz;
   if constexpr (kRound) {
     // Early out: a ray whose line passes farther than r from the core's line misses the
     // cylinder about it, which holds the capsule (line to line distance |m' x d'| / |d'| across
@@ -107,44 +120,33 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
     // whose rounding decides as before. Misses are most random rays (52% of bench_ray_cast3's
     // leave here), and one taken here skips the lanes. (Overflowing squares, at the range's far
     // end, go on to the lanes too.)
-    const Vec3 w = cross(m_across, d_across);
-    const float apart = dot(w, w);
+    const Lanes wx = my * uz - mz * uy, wy = mz * ux - mx * uz, wz = mx * uy - my * ux;
+    const float apart = (wx * wx + wy * wy + wz * wz)[0];
     if (apart < std::numeric_limits<float>::infinity() &&
-        apart > (1.0f + detail::kCapsuleMissSlack) * rr_ll * length_squared(d_across)) {
+        apart > (1.0f + detail::kCapsuleMissSlack) * rr_ll * dd[0]) {
       return {};
     }
   }
   const Lanes zero = splat(0.0f), one = splat(1.0f);
-  // Lanes: 0 the cylinder (across the axis), 1 the ball at a, 2 the ball at b, 3 spare.
-  // Each ball's origin is p - its centre, one rounding (m - axis rounds three times: rays from
-  // 1e4 radii away turned the normal by twice its tolerance).
-  const Vec3 a = capsule.a, e = capsule.b;
-  Lanes mx = splat(p.x) - lanes(a.x, a.x, e.x, e.x);
-  Lanes my = splat(p.y) - lanes(a.y, a.y, e.y, e.y);
-  Lanes mz = splat(p.z) - lanes(a.z, a.z, e.z, e.z);
-  Lanes dx = splat(d.x), dy = splat(d.y), dz = splat(d.z), rr = splat(r * r);
-  mx[0] = m_across.x, my[0] = m_across.y, mz[0] = m_across.z;
-  dx[0] = d_across.x, dy[0] = d_across.y, dz[0] = d_across.z;
-  rr[0] = rr_ll;
+  const Lanes rr = with_lane0(splat(r * r), splat(rr_ll));
   // For the normals (the full cast only): the offsets and translations in space, lane 0's turned
   // back from across the axis (axis x m' = m L^2 - (m . axis) axis, pointing from the axis).
-  Lanes ex = mx, ey = my, ez = mz, fx = dx, fy = dy, fz = dz;
+  Lanes ex = mx, ey = my, ez = mz, fx = ux, fy = uy, fz = uz;
   if constexpr (kNormal) {
-    const Vec3 m_back = cross(axis, m_across), d_back = cross(axis, d_across);
-    ex[0] = m_back.x, ey[0] = m_back.y, ez[0] = m_back.z;
-    fx[0] = d_back.x, fy[0] = d_back.y, fz[0] = d_back.z;
+    ex = with_lane0(mx, ay * mz - my * az), ey = with_lane0(my, mx * az - ax * mz), ez = with_lane0(mz, ax * my - mx * ay);
+    fx = with_lane0(ux, ay * uz - uy * az), fy = with_lane0(uy, ux * az - ax * uz), fz = with_lane0(uz, ax * uy - ux * ay);
   }
-  const Lanes b = mx * dx + my * dy + mz * dz;
+  const Lanes b = mx * ux + my * uy + mz * uz;
   const Lanes c = mx * mx + my * my + mz * mz - rr;
-  const Lanes inv = one / (dx * dx + dy * dy + dz * dz);
+  const Lanes inv = one / dd;
   const Lanes tc = -b * inv;
-  const Lanes cx = mx + tc * dx, cy = my + tc * dy, cz = mz + tc * dz;
+  const Lanes cx = mx + tc * ux, cy = my + tc * uy, cz = mz + tc * uz;
   const Lanes disc = rr - (cx * cx + cy * cy + cz * cz);
   const Lanes t = tc - simd::sqrt(simd::max(disc, zero) * inv);
   // Along the axis (lane 0; the balls' lanes read 0, which is within [0, L^2]).
-  Lanes x0 = zero, x_rate = zero;
-  x0[0] = dot(m, axis), x_rate[0] = dot(d, axis);
-  const Lanes top = splat(ll);
+  const Lanes x0 = with_lane0(zero, px * ax + py * ay + pz * az);
+  const Lanes x_rate = with_lane0(zero, dx * ax + dy * ay + dz * az);
+  const Lanes top = ll;
   const Lanes x = x0 + t * x_rate;
   const LaneMask used = masks(true, true, true, false);
   const LaneMask ok = used & (c > zero) & (b < zero) & (disc >= zero) & (t <= one) & (x >= zero) & (x <= top);
@@ -193,8 +195,11 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(const Capsule3& capsule, Vec3 p, Ve
 /// A radius too small to give directions (detail::is_round: r below about 1e-19) is a segment
 /// here: a ball's hit offset would be too small to normalise.
 LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
-  return detail::is_round(capsule.radius) ? capsule_cast<true, true>(capsule, p, d)
-                                          : capsule_cast<false, true>(capsule, p, d);
+  const Vec3 a = capsule.a, b = capsule.b;
+  const simd::Lanes x = simd::lanes(a.x, b.x, 0.0f, 0.0f), y = simd::lanes(a.y, b.y, 0.0f, 0.0f),
+                    z = simd::lanes(a.z, b.z, 0.0f, 0.0f);
+  return detail::is_round(capsule.radius) ? capsule_cast<true, true>(x, y, z, capsule.radius, p, d)
+                                          : capsule_cast<false, true>(x, y, z, capsule.radius, p, d);
 }
 
 /// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general
@@ -544,13 +549,12 @@ RayHit3 capsule_placed(const Capsule3& capsule, const Transform3& xf, const Ray3
   tx = tx + tx, ty = ty + ty, tz = tz + tz;
   const Lanes rx = vx + qw * tx + (qy * tz - qz * ty), ry = vy + qw * ty + (qz * tx - qx * tz),
               rz = vz + qw * tz + (qx * ty - qy * tx);
-  const Capsule3 turned{{rx[0], ry[0], rz[0]}, {rx[1], ry[1], rz[1]}, capsule.radius};
   // raycast_local(turned, ...) makes the same choice, but through it the cast measured 44-46 ->
   // 53-54 ns (bench_ray_cast3, stop 59): GCC lays the inlined lanes out worse there.
   const Vec3 m = ray.origin - xf.p;
   const Vec3 d = ray.translation;
-  const LocalHit3 h = detail::is_round(turned.radius) ? capsule_cast<true, kNormal>(turned, m, d)
-                                                      : capsule_cast<false, kNormal>(turned, m, d);
+  const LocalHit3 h = detail::is_round(capsule.radius) ? capsule_cast<true, kNormal>(rx, ry, rz, capsule.radius, m, d)
+                                                       : capsule_cast<false, kNormal>(rx, ry, rz, capsule.radius, m, d);
   return world_hit(h, ray, h.normal);
 }
 

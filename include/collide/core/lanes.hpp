@@ -75,9 +75,16 @@ inline void store(float* a, Lanes v) noexcept { std::memcpy(a, &v, sizeof(Lanes)
 [[nodiscard]] inline unsigned lane_bits(LaneMask m) noexcept;
 /// The smallest lane, in every lane (NaN lanes as min gives them).
 [[nodiscard]] inline Lanes horizontal_min(Lanes a) noexcept;
+/// The lanes a[i0], a[i1], a[i2], a[i3].
+template <int i0, int i1, int i2, int i3>
+[[nodiscard]] inline Lanes shuffle(Lanes a) noexcept;
 /// Lane `k` of `a` in every lane.
 template <int k>
-[[nodiscard]] inline Lanes broadcast(Lanes a) noexcept;
+[[nodiscard]] inline Lanes broadcast(Lanes a) noexcept {
+  return shuffle<k, k, k, k>(a);
+}
+/// `b`'s lane 0 with `a`'s lanes 1 to 3 (SSE's movss between registers).
+[[nodiscard]] inline Lanes with_lane0(Lanes a, Lanes b) noexcept;
 
 #if defined(__GNUC__) || defined(__clang__)
 inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
@@ -109,10 +116,11 @@ inline Lanes horizontal_min(Lanes a) noexcept {
   const Lanes b = min(a, __builtin_shufflevector(a, a, 1, 0, 3, 2));
   return min(b, __builtin_shufflevector(b, b, 2, 3, 0, 1));
 }
-template <int k>
-inline Lanes broadcast(Lanes a) noexcept {
-  return __builtin_shufflevector(a, a, k, k, k, k);
+template <int i0, int i1, int i2, int i3>
+inline Lanes shuffle(Lanes a) noexcept {
+  return __builtin_shufflevector(a, a, i0, i1, i2, i3);
 }
+inline Lanes with_lane0(Lanes a, Lanes b) noexcept { return __builtin_shufflevector(a, b, 4, 1, 2, 3); }
 #else
 /// The lanes f(0), f(1), f(2), f(3): the portable form's loop.
 template <class F>
@@ -158,9 +166,13 @@ inline Lanes horizontal_min(Lanes a) noexcept {
   const Lanes b = min(a, lanes(a.v[1], a.v[0], a.v[3], a.v[2]));
   return min(b, lanes(b.v[2], b.v[3], b.v[0], b.v[1]));
 }
-template <int k>
-inline Lanes broadcast(Lanes a) noexcept {
-  return splat(a.v[k]);
+template <int i0, int i1, int i2, int i3>
+inline Lanes shuffle(Lanes a) noexcept {
+  return lanes(a.v[i0], a.v[i1], a.v[i2], a.v[i3]);
+}
+inline Lanes with_lane0(Lanes a, Lanes b) noexcept {
+  a.v[0] = b.v[0];
+  return a;
 }
 #endif
 
