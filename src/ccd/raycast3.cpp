@@ -84,8 +84,10 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches before: about 0.9
 /// mispredictions and 350 instructions a cast). Stop 80 (the vectors across the axis by cross
 /// products, which the early out needs without the dot products m_perp = m L^2 - (m . axis)
-/// axis waited for; the fraction alone by selects): the fraction alone 38.4 -> 33.2 ns, the full
-/// cast 42.8 -> 43.7 (three interleaved runs each, builds alternating; Jolt 64.3 / 79.9).
+/// axis waited for; the fraction alone by selects; then every step in lanes, the scalar form
+/// having spilled registers): the fraction alone 38.4 -> 30.3-32.2 ns, the full cast 41.9-42.8
+/// -> 39.7-42.2 (interleaved runs, builds alternating, the host's fast phase; Jolt 63-65 /
+/// 78-81).
 template <bool kRound, bool kNormal>
 COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes ends_y, simd::Lanes ends_z, float r,
                                              Vec3 p, Vec3 d) noexcept {
