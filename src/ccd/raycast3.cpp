@@ -70,14 +70,13 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// the vectors are crossed with it (m x axis: turned a right angle about the axis and scaled by
 /// L, the disc's radius r L), so no division comes before the lanes' one, which serves all
 /// three; the lanes' squares grow as L^2 |m|^2, within float range for capsules and rays up to
-/// about 1e9 long (the early out's as L^4 |m|^2 |d|^2: where those overflow, beyond about 1e4,
+/// about 1e9 long (the early out's as L^4 |m|^2 |d|^2: where those overflow, beyond about 5e4,
 /// the ray goes on to the lanes). The piece hit is a lane index and a miss a zero slot: no
 /// branch on the data (random rays take each case at random) but one: a line that passes clear
 /// of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
 /// fraction alone: the same value, taken from the lanes by a shorter chain than the piece's
-/// index (stop 80, below). Normals are normalised rather
-/// than divided by r: a ray from far away (relative to r) rounds the offset by more than r's
-/// float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
+/// index (stop 80, below). Normals are normalised rather than divided by r: a ray from far away
+/// (relative to r) rounds the offset by more than r's float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
 /// on the cylinder); so does an offset too small to give a direction (below
 /// kMinDirectionLengthSquared: a radius of 1e-20 hit dead on made the normal NaN, fuzz_shapes).
 /// An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD EPYC, the builds
@@ -88,6 +87,9 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// having spilled registers): the fraction alone 38.4 -> 30.3-32.2 ns, the full cast 41.9-42.8
 /// -> 39.7-42.2 (interleaved runs, builds alternating, the host's fast phase; Jolt 63-65 /
 /// 78-81).
+///
+/// `ends_x`, `ends_y`, `ends_z`: lanes 0 and 1 the ends a and b in the ray's frame (as the placed
+/// cast turns them); `p` the ray's origin relative to that frame's origin, `d` its translation.
 template <bool kRound, bool kNormal>
 COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes ends_y, simd::Lanes ends_z, float r,
                                              Vec3 p, Vec3 d) noexcept {
