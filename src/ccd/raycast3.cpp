@@ -76,9 +76,10 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
 /// fraction alone: the same value, taken from the lanes by a shorter chain than the piece's
 /// index (stop 80, below). Normals are normalised rather than divided by r: a ray from far away
-/// (relative to r) rounds the offset by more than r's float precision. A zero radius is a segment, grazed dead on: face the ray (across the axis
-/// on the cylinder); so does an offset too small to give a direction (below
-/// kMinDirectionLengthSquared: a radius of 1e-20 hit dead on made the normal NaN, fuzz_shapes).
+/// (relative to r) rounds the offset by more than r's float precision. A zero radius is a
+/// segment, grazed dead on: face the ray (across the axis on the cylinder); so does an offset too
+/// small to give a direction (below kMinDirectionLengthSquared: a radius of 1e-20 hit dead on made
+/// the normal NaN, fuzz_shapes).
 /// An entry beside the core outranks the balls' (below). bench_ray_cast3, AMD EPYC, the builds
 /// alternating: 52-62 -> 37-39 ns a cast, Jolt 62-65 (the cases by branches before: about 0.9
 /// mispredictions and 350 instructions a cast). Stop 80 (the vectors across the axis by cross
@@ -133,13 +134,6 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
   }
   const Lanes zero = splat(0.0f), one = splat(1.0f);
   const Lanes rr = with_lane0(splat(r * r), splat(rr_ll));
-  // For the normals (the full cast only): the offsets and translations in space, lane 0's turned
-  // back from across the axis (axis x m' = m L^2 - (m . axis) axis, pointing from the axis).
-  Lanes ex = mx, ey = my, ez = mz, fx = ux, fy = uy, fz = uz;
-  if constexpr (kNormal) {
-    ex = with_lane0(mx, ay * mz - my * az), ey = with_lane0(my, mx * az - ax * mz), ez = with_lane0(mz, ax * my - mx * ay);
-    fx = with_lane0(ux, ay * uz - uy * az), fy = with_lane0(uy, ux * az - ax * uz), fz = with_lane0(uz, ax * uy - ux * ay);
-  }
   const Lanes b = mx * ux + my * uy + mz * uz;
   const Lanes c = mx * mx + my * my + mz * mz - rr;
   const Lanes inv = one / dd;
@@ -177,6 +171,12 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
     const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
     alignas(16) float fraction[5], nx[5], ny[5], nz[5];
     store(fraction, simd::max(t, zero));
+    // The offsets and translations in space: lane 0's turned back from across the axis
+    // (axis x m' = m L^2 - (m . axis) axis, pointing from the axis).
+    const Lanes ex = with_lane0(mx, ay * mz - my * az), ey = with_lane0(my, mx * az - ax * mz),
+                ez = with_lane0(mz, ax * my - mx * ay);
+    const Lanes fx = with_lane0(ux, ay * uz - uy * az), fy = with_lane0(uy, ux * az - ax * uz),
+                fz = with_lane0(uz, ax * uy - ux * ay);
     const Lanes face = -one / simd::sqrt(fx * fx + fy * fy + fz * fz);
     if constexpr (kRound) {
       // An offset with no direction (the ray dead on within rounding of the axis or a centre)
@@ -196,14 +196,21 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
   }
 }
 
+/// The capsule's ends as capsule_cast takes them: a in lane 0, b in lane 1.
+struct EndLanes {
+  simd::Lanes x, y, z;
+};
+EndLanes end_lanes(const Capsule3& capsule) noexcept {
+  const Vec3 a = capsule.a, b = capsule.b;
+  return {simd::lanes(a.x, b.x, 0.0f, 0.0f), simd::lanes(a.y, b.y, 0.0f, 0.0f), simd::lanes(a.z, b.z, 0.0f, 0.0f)};
+}
+
 /// A radius too small to give directions (detail::is_round: r below about 1e-19) is a segment
 /// here: a ball's hit offset would be too small to normalise.
 LocalHit3 raycast_local(const Capsule3& capsule, Vec3 p, Vec3 d) noexcept {
-  const Vec3 a = capsule.a, b = capsule.b;
-  const simd::Lanes x = simd::lanes(a.x, b.x, 0.0f, 0.0f), y = simd::lanes(a.y, b.y, 0.0f, 0.0f),
-                    z = simd::lanes(a.z, b.z, 0.0f, 0.0f);
-  return detail::is_round(capsule.radius) ? capsule_cast<true, true>(x, y, z, capsule.radius, p, d)
-                                          : capsule_cast<false, true>(x, y, z, capsule.radius, p, d);
+  const EndLanes e = end_lanes(capsule);
+  return detail::is_round(capsule.radius) ? capsule_cast<true, true>(e.x, e.y, e.z, capsule.radius, p, d)
+                                          : capsule_cast<false, true>(e.x, e.y, e.z, capsule.radius, p, d);
 }
 
 /// Segment: see the header for the rule. The ray p + t d and the segment a + s e: in general
@@ -546,15 +553,16 @@ RayHit3 capsule_placed(const Capsule3& capsule, const Transform3& xf, const Ray3
   // across the axis, so every lane misses.)
   // Both ends turned at once, a in lane 0 and b in lane 1 (v + 2w (q x v) + 2 q x (q x v)).
   using namespace simd;
-  const Lanes vx = lanes(capsule.a.x, capsule.b.x, 0.0f, 0.0f), vy = lanes(capsule.a.y, capsule.b.y, 0.0f, 0.0f),
-              vz = lanes(capsule.a.z, capsule.b.z, 0.0f, 0.0f);
+  const EndLanes v = end_lanes(capsule);
+  const Lanes vx = v.x, vy = v.y, vz = v.z;
   const Lanes qx = splat(xf.q.x), qy = splat(xf.q.y), qz = splat(xf.q.z), qw = splat(xf.q.w);
   Lanes tx = qy * vz - qz * vy, ty = qz * vx - qx * vz, tz = qx * vy - qy * vx;
   tx = tx + tx, ty = ty + ty, tz = tz + tz;
   const Lanes rx = vx + qw * tx + (qy * tz - qz * ty), ry = vy + qw * ty + (qz * tx - qx * tz),
               rz = vz + qw * tz + (qx * ty - qy * tx);
-  // raycast_local(turned, ...) makes the same choice, but through it the cast measured 44-46 ->
-  // 53-54 ns (bench_ray_cast3, stop 59): GCC lays the inlined lanes out worse there.
+  // raycast_local on a capsule with the turned ends makes the same choice, but through it the
+  // cast measured 44-46 -> 53-54 ns (bench_ray_cast3, stop 59): GCC lays the inlined lanes out
+  // worse there.
   const Vec3 m = ray.origin - xf.p;
   const Vec3 d = ray.translation;
   const LocalHit3 h = detail::is_round(capsule.radius) ? capsule_cast<true, kNormal>(rx, ry, rz, capsule.radius, m, d)
