@@ -6,7 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -107,15 +110,74 @@ inline std::string host_processor() {
 #endif
 }
 
+/// Picoseconds per operation of a wide loop of independent register operations (two shuffles,
+/// two address computations, a move and an add per group: up to six a cycle), the fastest of
+/// five runs of about 2 ms (an interruption slows one run, a shared core all five): how much of
+/// the core's dispatch width this thread gets. On the project's 2-vCPU AMD VM (a Zen 3 core) it
+/// reads 52-56 ps most of the time and 70-85 in stretches of minutes when collide's branch-free
+/// SIMD queries run 30-70% slower and the rivals' branchy code 5-15%: another hardware thread
+/// busy on the host's core (SMT), sharing the dispatch slots; FP multiplies at two a cycle, L1
+/// and L2 load latency and the divider's throughput stay within 10% there (stop 81,
+/// docs/performance.md). A figure to read ratios by, not a correction. 0 where it cannot run
+/// (not x86-64 with GCC or Clang).
+inline double host_dispatch_probe_ps() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// One group: six operations that read only registers nothing in the loop writes.
+#define COLLIDE_PROBE_GROUP(from_a, from_b, to_a, to_b)                                     \
+  "pshufd $0x1b, %%xmm" from_a ", %%xmm" to_a "\n\t"                                       \
+  "pshufd $0x4e, %%xmm" from_b ", %%xmm" to_b "\n\t"                                       \
+  "lea 8(%%rsi,%%rdi), %%r8\n\t"                                                           \
+  "lea 16(%%rdi,%%rsi), %%r9\n\t"                                                          \
+  "mov %%rsi, %%r10\n\t"                                                                   \
+  "add $1, %%r11\n\t"
+#define COLLIDE_PROBE_FOUR                                                                  \
+  COLLIDE_PROBE_GROUP("0", "1", "8", "9") COLLIDE_PROBE_GROUP("2", "3", "10", "11")        \
+  COLLIDE_PROBE_GROUP("4", "5", "12", "13") COLLIDE_PROBE_GROUP("6", "7", "14", "15")
+  constexpr long kLoops = 400000;  // 96 operations a loop: 38.4M a run, about 2 ms
+  double runs[5];
+  for (double& run : runs) {
+    const auto start = std::chrono::steady_clock::now();
+    for (long i = 0; i < kLoops; ++i) {
+      asm volatile(COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR::
+                       : "xmm8", "xmm9", "xmm10", "xmm11", "xmm12", "xmm13", "xmm14", "xmm15", "r8", "r9",
+                         "r10", "r11");
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run = seconds * 1e12 / (static_cast<double>(kLoops) * 96.0);
+  }
+#undef COLLIDE_PROBE_FOUR
+#undef COLLIDE_PROBE_GROUP
+  return *std::min_element(runs, runs + 5);
+#else
+  return 0.0;
+#endif
+}
+
+/// host_dispatch_probe_ps as a context line: the figure and how to read it.
+inline std::string host_dispatch_probe_text() {
+  const double ps = host_dispatch_probe_ps();
+  if (!(ps > 0.0)) return "not measured (x86-64 only)";
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "%.1f ps an operation (project's Zen 3 VM: 52-56 with its core to itself, 70-85 when "
+                "another hardware thread shares it: then collide's rows read slower)",
+                ps);
+  return text;
+}
+
 /// Instruction set of a peer from Debian's x86-64 packages (built for the x86-64 baseline).
 inline constexpr const char* kDebianPackageIsa = "SSE2 (Debian's x86-64 package)";
 
-/// Adds collide's instruction set and the host processor to the benchmark context (once per
-/// run), after benchmark::Initialize.
+/// Adds collide's instruction set, the host processor and the host dispatch probe to the
+/// benchmark context (once per run), after benchmark::Initialize; the probe again at exit.
 inline void add_collide_context() {
   static const bool added = [] {
     benchmark::AddCustomContext("collide instruction set", compiled_instruction_set());
     benchmark::AddCustomContext("host processor", host_processor());
+    benchmark::AddCustomContext("host dispatch probe at start", host_dispatch_probe_text());
+    // Again as the process ends, after the rows (the context block is printed before them), on
+    // stderr: a run whose two probes differ crossed a change in the core's sharing.
+    std::atexit([] { std::fprintf(stderr, "host dispatch probe at end: %s\n", host_dispatch_probe_text().c_str()); });
     return true;
   }();
   static_cast<void>(added);
