@@ -52,6 +52,20 @@
 // side, the characters stuck in place at the end (`stuck`: see kStuckFraction) and the mean
 // distance between the two sides' final positions.
 //
+// BM_RayCast / BM_RayCastJolt (1e3 and 1e4 bodies, rays of L units): a game's ray casts into
+// that world (a laser, a line of sight, a pick): World3D::raycast (the level through its
+// TriangleMesh BVH, the bodies through the body broad phase, each candidate's exact cast, the
+// nearest hit with point and normal) against Jolt's NarrowPhaseQuery::CastRay over the same
+// BroadPhaseQuadTree and bodies, with the hit body's GetWorldSpaceSurfaceNormal
+// (jolt_queries::cast_ray). Both worlds at the same poses: collide's after kWarmupSteps steps
+// of BM_Step's run, Jolt's bodies put at those recorded poses (a step of dt 0: the quad tree
+// updated). kRays rays, the same on both sides: origins uniform in the level's box, directions
+// uniform, L = 5 (a pick, a ground probe: 2.4 character heights) and 50 units (a line of sight
+// across rooms; the level's diagonal is 130); each iteration casts the next. Counters, once,
+// outside the timing: `hit_rate`, `j_hit_rate` and `agree` (both hit within kRayAgreeUnits of
+// each other, or both miss; Jolt's hit at fraction 0 for a ray starting inside a body is where
+// the two differ: collide's world skips a collider the ray starts in).
+//
 // Counters are computed once, outside the timing, and the same on both sides' rows. Instruction
 // sets are in the context block (collide's build, Jolt's own).
 //
@@ -81,6 +95,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -180,6 +195,13 @@ bool free_at(const World3D& world, const Shape3D& shape, const Transform3& xf) {
   world.collide_shape(shape, xf, QueryFilter{}, [&](const ColliderRef&, const Manifold3&) { return clear = false; });
   return clear;
 }
+
+// ---- ray casts into the world -----------------------------------------------------------------------
+
+/// Rays a set (more than the caches and the branch predictor learn), and how close two hit
+/// points must be to agree (world units; the level's box is 130 across).
+constexpr int kRays = 4096;
+constexpr float kRayAgreeUnits = 1e-3f;
 
 // ---- the step -------------------------------------------------------------------------------------
 
@@ -665,9 +687,88 @@ void BM_CharacterMoveJolt(benchmark::State& state) {
 
 }  // namespace
 
+/// Both worlds of the ray casts at the same poses, the rays and the counters.
+struct RayWorlds {
+  std::optional<World3D> world;
+  jolt_queries::StepWorldPtr jolt;
+  std::map<int, std::vector<Ray3>> rays;               // by length
+  std::map<int, std::array<double, 3>> counters;  // by length: hit_rate, j_hit_rate, agree
+};
+
+RayWorlds& ray_worlds(const benchmark::State& state) {
+  static std::map<int, RayWorlds> all;
+  const StepRun& run = step_run(state);
+  RayWorlds& r = all[static_cast<int>(state.range(0))];
+  if (!r.world) {
+    r.world.emplace(step_world(run));
+    for (int s = 0; s < kWarmupSteps; ++s) r.world->step(kDt);
+    r.jolt = jolt_step_world(run);
+    jolt_queries::step(*r.jolt, run.poses[kWarmupSteps], run.velocities[kWarmupSteps], run.spins, 0.0f, 0.0f);
+  }
+  const int ray_length = static_cast<int>(state.range(1));
+  if (r.rays.count(ray_length) == 0) {
+    std::mt19937 rng(0x5eed0000u + static_cast<std::uint32_t>(ray_length));
+    const Aabb3& box = level().box;
+    std::vector<Ray3> rays;
+    std::size_t hits = 0, j_hits = 0, agree = 0;
+    for (int i = 0; i < kRays; ++i) {
+      const Vec3 origin(uniform(rng, box.min.x, box.max.x), uniform(rng, box.min.y, box.max.y),
+                        uniform(rng, box.min.z, box.max.z));
+      const Ray3 ray{origin, static_cast<float>(ray_length) * test::random_unit3(rng)};
+      rays.push_back(ray);
+      const auto h = r.world->raycast(ray);
+      const jolt_queries::WorldRayHit j = jolt_queries::cast_ray(*r.jolt, jolt_vec(ray.origin), jolt_vec(ray.translation));
+      hits += h ? 1u : 0u;
+      j_hits += j.hit ? 1u : 0u;
+      if (h.has_value() == j.hit && (!h || length(h->hit.point - from_jolt(j.point)) <= kRayAgreeUnits)) ++agree;
+    }
+    const double count = static_cast<double>(rays.size());
+    r.counters[ray_length] = {hits / count, j_hits / count, agree / count};
+    r.rays.emplace(ray_length, std::move(rays));
+  }
+  return r;
+}
+
+void ray_counters(benchmark::State& state, const RayWorlds& r) {
+  const std::array<double, 3>& c = r.counters.at(static_cast<int>(state.range(1)));
+  state.counters["hit_rate"] = c[0];
+  state.counters["j_hit_rate"] = c[1];
+  state.counters["agree"] = c[2];
+  state.counters["bodies"] = static_cast<double>(r.world->body_count());
+}
+
+void BM_RayCast(benchmark::State& state) {
+  RayWorlds& r = ray_worlds(state);
+  const std::vector<Ray3>& rays = r.rays.at(static_cast<int>(state.range(1)));
+  const World3D& world = *r.world;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    auto h = world.raycast(rays[i]);
+    benchmark::DoNotOptimize(h);
+    i = (i + 1) % rays.size();
+  }
+  ray_counters(state, r);
+}
+
+void BM_RayCastJolt(benchmark::State& state) {
+  RayWorlds& r = ray_worlds(state);
+  const std::vector<Ray3>& rays = r.rays.at(static_cast<int>(state.range(1)));
+  const jolt_queries::StepWorld& jolt = *r.jolt;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const Ray3& ray = rays[i];
+    auto h = jolt_queries::cast_ray(jolt, jolt_vec(ray.origin), jolt_vec(ray.translation));
+    benchmark::DoNotOptimize(h);
+    i = (i + 1) % rays.size();
+  }
+  ray_counters(state, r);
+}
+
 // Fixed iteration counts: every run walks the same recorded steps and frames.
 BENCHMARK(BM_Step)->Arg(1000)->Arg(10000)->Iterations(kTimedSteps)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepJolt)->Arg(1000)->Arg(10000)->Iterations(kTimedSteps)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RayCast)->ArgsProduct({{1000, 10000}, {5, 50}})->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_RayCastJolt)->ArgsProduct({{1000, 10000}, {5, 50}})->Unit(benchmark::kNanosecond);
 BENCHMARK(BM_CharacterMove)->Iterations(kCharacterFrames)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CharacterMoveJolt)->Iterations(kCharacterFrames)->Unit(benchmark::kMicrosecond);
 

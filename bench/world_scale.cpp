@@ -66,6 +66,20 @@
 //   (collide: touching pairs incl. sensors; v3: contact pairs whose fat boxes overlap,
 //   b2Counters::contactCount) say how much pair work each side saw.
 //
+// BM_CollideRayCast/N/L and BM_Box2DRayCast/N/L: a game's ray casts into the world (lasers, line
+// of sight, picks): World2D::raycast (statics through their tree, bodies through the body broad
+// phase, the exact cast of each candidate, the nearest hit with point and normal) against v3's
+// b2World_CastRay with the closest-hit callback v3's b2World_CastRayClosest uses (sensors skipped
+// in it: collide's default filter skips them too). Both worlds at the same poses: the collide
+// scene stepped kRayWarmupFrames (so that its broad phase holds every body's box, as in a game
+// between steps), then v3's world built from it, which casts against its trees as created (its
+// bodies' boxes enlarged by its margin, as its step leaves them). kRays rays, the same on both
+// sides: origins uniform in the scene's bounds, directions uniform, length L world units (10: a
+// pick or a ground probe; 100: a laser or line of sight, a third of a 320 x 180 tile); each
+// iteration casts the next ray. Counters, computed once outside the timing and the same on both
+// rows: `hit_rate` (collide's), `v3_hit_rate`, and `agree`, the share of rays where both sides
+// hit the same collider position within kRayAgreeUnits (or both miss).
+//
 // Memory: `heap_per_body` (glibc's heap in use, before and after building the world: collide's
 // whole scene in BM_Spawn, v3's world from the same description in BM_Box2DStep), bytes.
 //
@@ -105,6 +119,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <random>
+#include <utility>
 #include <stdexcept>
 #include <memory>
 #include <string>
@@ -449,6 +465,125 @@ SizeCache& cache() {
   return c;
 }
 
+// ---- World ray casts ------------------------------------------------------------------------------
+
+/// Frames the ray casts' collide scene is stepped before casting (one makes the broad phase
+/// current; more let the bodies leave their spawn places).
+constexpr int kRayWarmupFrames = 3;
+/// Rays a set: more than the branch predictor and the caches learn.
+constexpr int kRays = 4096;
+/// Two hits agree when their points are this close (world units; the scene's bodies are 1-4
+/// units across).
+constexpr float kRayAgreeUnits = 1e-3f;
+
+/// Both worlds of the ray casts at the same poses, and the rays.
+struct RayWorlds {
+  std::unique_ptr<cli::Scene> scene;
+  std::unique_ptr<V3World> v3;
+  std::map<int, std::vector<Ray>> rays;  // by length
+  std::map<int, std::array<double, 3>> counters;  // by length: hit_rate, v3_hit_rate, agree
+};
+
+/// v3's closest-hit callback (b2RayCastClosestFcn: an initial overlap, fraction 0, is skipped),
+/// skipping sensors as collide's default QueryFilter does.
+struct V3Closest {
+  b2Pos point{};
+  float fraction = 1.0f;
+  bool hit = false;
+  static float report(b2ShapeId shape, b2Pos point, b2Vec2 /*normal*/, float fraction, void* context) {
+    if (fraction == 0.0f || b2Shape_IsSensor(shape)) return -1.0f;
+    auto& self = *static_cast<V3Closest*>(context);
+    self.point = point;
+    self.fraction = fraction;
+    self.hit = true;
+    return fraction;
+  }
+};
+
+V3Closest v3_cast(const V3World& w, const Ray& ray) {
+  V3Closest closest;
+  b2World_CastRay(w.id, v3(ray.origin), v3(ray.translation), b2DefaultQueryFilter(), &V3Closest::report, &closest);
+  return closest;
+}
+
+RayWorlds& ray_worlds(int n) {
+  static RayWorlds r;
+  static int size = -1;
+  if (size != n) {
+    r = RayWorlds{};
+    r.scene = std::make_unique<cli::Scene>(cli::make_scene(scene_options(n, 1)));
+    for (int f = 0; f < kRayWarmupFrames; ++f) r.scene->world.step(kDt);
+    r.v3 = make_v3_world(v3_scene(r.scene->world), 1, false);
+    size = n;
+  }
+  return r;
+}
+
+const std::vector<Ray>& ray_set(RayWorlds& r, int length) {
+  auto it = r.rays.find(length);
+  if (it != r.rays.end()) return it->second;
+  std::mt19937 rng(0x5eed0000u + static_cast<std::uint32_t>(length));
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const Aabb& b = r.scene->bounds;
+  std::vector<Ray> rays;
+  rays.reserve(kRays);
+  for (int i = 0; i < kRays; ++i) {
+    const Vec2 origin{b.min.x + unit(rng) * (b.max.x - b.min.x), b.min.y + unit(rng) * (b.max.y - b.min.y)};
+    const float angle = 6.2831853f * unit(rng);
+    rays.push_back(Ray{origin, static_cast<float>(length) * Vec2{std::cos(angle), std::sin(angle)}});
+  }
+  // The counters, once: both sides cast every ray.
+  std::size_t hits = 0, v3_hits = 0, agree = 0;
+  for (const Ray& ray : rays) {
+    const auto h = r.scene->world.raycast(ray);
+    const V3Closest v = v3_cast(*r.v3, ray);
+    hits += h ? 1u : 0u;
+    v3_hits += v.hit ? 1u : 0u;
+    if (h.has_value() != v.hit) continue;
+    if (!h || std::hypot(h->hit.point.x - v.point.x, h->hit.point.y - v.point.y) <= kRayAgreeUnits) ++agree;
+  }
+  const double count = static_cast<double>(rays.size());
+  r.counters[length] = {hits / count, v3_hits / count, agree / count};
+  return r.rays.emplace(length, std::move(rays)).first->second;
+}
+
+void ray_counters(benchmark::State& state, const RayWorlds& r, int length) {
+  const std::array<double, 3>& c = r.counters.at(length);
+  state.counters["hit_rate"] = c[0];
+  state.counters["v3_hit_rate"] = c[1];
+  state.counters["agree"] = c[2];
+  state.counters["bodies"] = r.scene->world.body_count();
+}
+
+void BM_CollideRayCast(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int length = static_cast<int>(state.range(1));
+  RayWorlds& r = ray_worlds(n);
+  const std::vector<Ray>& rays = ray_set(r, length);
+  const World2D& world = r.scene->world;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    auto h = world.raycast(rays[i]);
+    benchmark::DoNotOptimize(h);
+    i = (i + 1) % rays.size();
+  }
+  ray_counters(state, r, length);
+}
+
+void BM_Box2DRayCast(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int length = static_cast<int>(state.range(1));
+  RayWorlds& r = ray_worlds(n);
+  const std::vector<Ray>& rays = ray_set(r, length);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    V3Closest h = v3_cast(*r.v3, rays[i]);
+    benchmark::DoNotOptimize(h);
+    i = (i + 1) % rays.size();
+  }
+  ray_counters(state, r, length);
+}
+
 // ---- Benchmarks ---------------------------------------------------------------------------------
 
 void BM_Spawn(benchmark::State& state) {
@@ -676,6 +811,14 @@ void register_all() {
         ->Repetitions(repetitions(n))
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
+    if (n <= 100000) {
+      for (const int length : {10, 100}) {
+        for (const auto& [name, fn] : {std::pair{"BM_CollideRayCast", &BM_CollideRayCast},
+                                       std::pair{"BM_Box2DRayCast", &BM_Box2DRayCast}}) {
+          benchmark::RegisterBenchmark(name, fn)->Args({n, length})->Unit(benchmark::kNanosecond);
+        }
+      }
+    }
     if (n <= 10000) {  // (from 1e4 up the unpaired rows read 1.8x or more; 1e3 is the question)
       benchmark::RegisterBenchmark("BM_CollideSpeedup", BM_CollideSpeedup)
           ->Arg(n)

@@ -16,6 +16,10 @@
 #include <Jolt/Physics/Collision/CollisionDispatch.h>
 #include <Jolt/Physics/Collision/ContactListener.h>
 #include <Jolt/Physics/Collision/ManifoldBetweenTwoFaces.h>
+#include <Jolt/Physics/Collision/NarrowPhaseQuery.h>
+#include <Jolt/Physics/Collision/CastResult.h>
+#include <Jolt/Physics/Collision/RayCast.h>
+#include <Jolt/Physics/Body/BodyLockInterface.h>
 #include <Jolt/Physics/Collision/Shape/CapsuleShape.h>
 #include <Jolt/Physics/Collision/Shape/SphereShape.h>
 #include <Jolt/Physics/PhysicsSettings.h>
@@ -135,6 +139,8 @@ class StepWorld {
   PairCollector pairs;
   JPH::PhysicsSettings settings;  ///< defaults: manifold tolerance, normal merge angle
   ReducingCollector collector;
+  JPH::BodyLockInterfaceNoLock lock{bodies};  ///< single-threaded queries: no locking
+  JPH::NarrowPhaseQuery query;                ///< ray casts over broad_phase and bodies
 
   JPH::BodyID level;
 };
@@ -172,6 +178,7 @@ StepWorldPtr make_step_world(const Mesh& level, std::span<const Convex* const> s
   w->broad_phase.AddBodiesFinalize(all.data(), static_cast<int>(all.size()), state);
   w->bodies.ActivateBodies(w->moving.data(), static_cast<int>(w->moving.size()));
   w->broad_phase.Optimize();
+  w->query.Init(w->lock, w->broad_phase);
   w->find_buffer.resize(w->moving.size());
   w->pairs.pairs.reserve(4 * w->moving.size());
   return w;
@@ -249,6 +256,17 @@ Pose pose(const StepWorld& w, int body) {
   const JPH::Body& b = *w.bodies.GetBodies()[w.moving[static_cast<std::size_t>(body)].GetIndex()];
   const JPH::Quat q = b.GetRotation();
   return {from_jolt(JPH::Vec3(b.GetPosition())), {q.GetX(), q.GetY(), q.GetZ(), q.GetW()}};
+}
+
+WorldRayHit cast_ray(const StepWorld& w, Vec origin, Vec translation) {
+  const ClearUpperOnReturn clear_upper;
+  const JPH::RRayCast ray{to_jolt(origin), to_jolt(translation)};
+  JPH::RayCastResult hit;
+  if (!w.query.CastRay(ray, hit)) return {};
+  const JPH::Body& body = *w.bodies.GetBodies()[hit.mBodyID.GetIndex()];
+  const JPH::RVec3 point = ray.GetPointOnRay(hit.mFraction);
+  const Vec3 normal = body.GetWorldSpaceSurfaceNormal(hit.mSubShapeID2, point);
+  return {true, hit.mFraction, from_jolt(Vec3(point)), from_jolt(normal)};
 }
 
 // ---- a character walking a level ------------------------------------------------------------------

@@ -63,6 +63,21 @@ StepCounts step(StepWorld& world, std::span<const Pose> from, std::span<const Ve
 /// Where body i is: the pose of its shape's own frame (as `from` takes it).
 Pose pose(const StepWorld& world, int body);
 
+/// The closest hit of a ray cast into the world (bench_world3d's rival of World3D::raycast).
+struct WorldRayHit {
+  bool hit = false;
+  float fraction = 0.0f;  ///< along the translation
+  Vec point;              ///< world space
+  Vec normal;             ///< world space, unit
+};
+
+/// NarrowPhaseQuery::CastRay over the world's bodies and level (the broad phase's quad tree, then
+/// each body's shape, the closest hit; convex shapes solid: a ray starting inside one hits it at
+/// fraction 0), and the hit body's GetWorldSpaceSurfaceNormal at the hit: the closest hit with
+/// point and normal, as a game's laser or line of sight asks. The bodies where the last `step`
+/// left them.
+WorldRayHit cast_ray(const StepWorld& world, Vec origin, Vec translation);
+
 // ---- a character walking a level (bench_world3d) -----------------------------------------------
 
 /// A PhysicsSystem holding the level (a static body of `level`'s MeshShape), where
