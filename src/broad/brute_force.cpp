@@ -36,8 +36,9 @@ void BruteForceN<D>::query_point(const VecN<D>& point, QueryCallback callback) c
 template <int D>
 void BruteForceN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = 1.0f;
+  const SlabRayN<D> slab(ray);
   for (int i = 0; i < size(); ++i) {
-    if (ray_box_fraction(ray, boxes_[i], limit) < 0.0f) continue;
+    if (slab.fraction(boxes_[i], limit) < 0.0f) continue;
     const float r = callback(i, limit);
     if (r < limit) limit = r;
     if (limit <= 0.0f) return;

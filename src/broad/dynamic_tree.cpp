@@ -335,9 +335,10 @@ void DynamicTreeN<D>::query_point(const VecN<D>& point, QueryCallback callback) 
 template <int D>
 void DynamicTreeN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = 1.0f;
-  traverse([&](const AabbN<D>& node_box) { return ray_box_fraction(ray, node_box, limit) >= 0.0f; },
+  const SlabRayN<D> slab(ray);
+  traverse([&](const AabbN<D>& node_box) { return slab.fraction(node_box, limit) >= 0.0f; },
            [&](int id) {
-             if (ray_box_fraction(ray, tight_[id], limit) < 0.0f) return true;
+             if (slab.fraction(tight_[id], limit) < 0.0f) return true;
              const float r = callback(id, limit);
              if (r < limit) limit = r;
              return limit > 0.0f;

@@ -231,12 +231,13 @@ template <int D>
 void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
   if (limit <= 0.0f || cells_.empty()) return;
+  const SlabRayN<D> slab(ray);
   if (walk_length(grid_, ray, limit) > static_cast<double>(cells_.size())) {
     // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
     // box once, in id order, instead.
     const int n = size();
     for (int id = 0; id < n && limit > 0.0f; ++id) {
-      if (is_oversized_[static_cast<std::size_t>(id)] || ray_box_fraction(ray, boxes_[id], limit) < 0.0f) continue;
+      if (is_oversized_[static_cast<std::size_t>(id)] || slab.fraction(boxes_[id], limit) < 0.0f) continue;
       const float r = callback(id, limit);
       if (r < limit) limit = r;
     }
@@ -256,7 +257,7 @@ void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
         if (!first && cell_in_range<D>(previous, grid_.cell_of(b.min), grid_.cell_of(b.max))) {
           continue;
         }
-        if (ray_box_fraction(ray, b, max_fraction) < 0.0f) continue;
+        if (slab.fraction(b, max_fraction) < 0.0f) continue;
         const float r = callback(id, max_fraction);
         if (r < max_fraction) max_fraction = r;
       }

@@ -1394,9 +1394,10 @@ void LooseGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) co
 template <int D>
 void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = 1.0f;
+  const SlabRayN<D> slab(ray);
   for (const Entry& b : big_) {
     if (limit <= 0.0f) return;
-    if (ray_box_fraction(ray, b.box, limit) < 0.0f) continue;
+    if (slab.fraction(b.box, limit) < 0.0f) continue;
     const float r = callback(b.id, limit);
     if (r < limit) limit = r;
   }
@@ -1413,7 +1414,7 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
       const std::uint32_t key = key_of(from);
       for (std::uint32_t f = starts_[key]; f < starts_[key + 1] && max_fraction > 0.0f; ++f) {
         if (!first && cell_in_range<D>(previous, from, from + 1)) continue;
-        if (ray_box_fraction(ray, entry_box(f), max_fraction) < 0.0f) continue;
+        if (slab.fraction(entry_box(f), max_fraction) < 0.0f) continue;
         const float r = callback(records_[f].id, max_fraction);
         if (r < max_fraction) max_fraction = r;
       }

@@ -38,9 +38,10 @@ bool oversized_query(std::span<const int> oversized, std::span<const AabbN<D>> b
 template <int D>
 float oversized_ray_cast(std::span<const int> oversized, std::span<const AabbN<D>> boxes,
                          const RayN<D>& ray, float limit, RayCallback callback) {
+  const SlabRayN<D> slab(ray);
   for (const int o : oversized) {
     if (limit <= 0.0f) break;
-    if (ray_box_fraction(ray, boxes[o], limit) < 0.0f) continue;
+    if (slab.fraction(boxes[o], limit) < 0.0f) continue;
     const float r = callback(o, limit);
     if (r < limit) limit = r;
   }

@@ -122,9 +122,60 @@ void SortedGridN<D>::fill(std::span<const AabbN<D>> boxes) {
   dense_ = total_cells <= kDenseCellsPerBox * (ranges_.size() + 256);
   if (dense_) {
     fill_counting(boxes, total_cells);
+    block_bits_.clear();
   } else {
     fill_radix(boxes, total_cells);
+    mark_blocks();
   }
+}
+
+template <int D>
+void SortedGridN<D>::mark_blocks() {
+  // The finest blocks whose bitmap fits the budget (found by shift 30 at the latest: the grid
+  // has fewer than 2^31 cells per axis, so at most 2 blocks per axis there).
+  const std::uint64_t budget = kBlockBitsPerBox * (ranges_.size() + 64);
+  std::uint64_t blocks = 1;
+  for (block_shift_ = kMinBlockShift; block_shift_ < 31; ++block_shift_) {
+    blocks = 1;
+    for (int k = 0; k < D; ++k) {
+      block_dims_[k] = static_cast<int>(((static_cast<std::uint64_t>(grid_.dims[k]) - 1) >> block_shift_) + 1);
+      blocks *= static_cast<std::uint64_t>(block_dims_[k]);  // (at most budget * 2^29 < 2^64)
+      if (blocks > budget) break;
+    }
+    if (blocks <= budget) break;
+  }
+  block_bits_.assign(static_cast<std::size_t>((blocks + 63) / 64), 0);
+  if (block_shift_ == 0) {
+    // A block is a cell: the bit is the cell's key, one per occupied cell (the runs).
+    for (int r = 0; r < cell_count(); ++r) {
+      const std::uint64_t key = runs_[static_cast<std::size_t>(r)].key;
+      block_bits_[key >> 6] |= std::uint64_t{1} << (key & 63);
+    }
+    return;
+  }
+  for (const CellRange& r : ranges_) {
+    CellN<D> lo, hi;
+    for (int k = 0; k < D; ++k) {
+      lo[k] = r.lo[k] >> block_shift_;
+      hi[k] = r.hi[k] >> block_shift_;
+    }
+    for_each_cell<D>(lo, hi, [&](const CellN<D>& b) {
+      std::uint64_t index = 0;
+      for (int k = D - 1; k >= 0; --k) index = index * static_cast<std::uint64_t>(block_dims_[k]) + static_cast<std::uint64_t>(b[k]);
+      block_bits_[index >> 6] |= std::uint64_t{1} << (index & 63);
+      return true;
+    });
+  }
+}
+
+template <int D>
+bool SortedGridN<D>::block_occupied(const CellN<D>& cell) const noexcept {
+  if (block_bits_.empty()) return true;
+  std::uint64_t index = 0;
+  for (int k = D - 1; k >= 0; --k) {
+    index = index * static_cast<std::uint64_t>(block_dims_[k]) + static_cast<std::uint64_t>(cell[k] >> block_shift_);
+  }
+  return (block_bits_[index >> 6] >> (index & 63)) & 1u;
 }
 
 template <int D>
@@ -247,6 +298,7 @@ std::span<const typename SortedGridN<D>::CellEntry> SortedGridN<D>::cell_entries
   for (int k = 0; k < D; ++k) {
     if (cell[k] < 0 || cell[k] >= grid_.dims[k]) return {};  // no cell of this grid
   }
+  if (!block_occupied(cell)) return {};  // (a sparse grid's empty block: no binary search)
   return entries_of(grid_.linear_index(cell));
 }
 
@@ -356,12 +408,14 @@ template <int D>
 void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
-  if (walk_length(grid_, ray, limit) > static_cast<double>(cell_count())) {
-    // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
-    // box once, at the entry of its min-corner cell, in cell order, instead.
+  const SlabRayN<D> slab(ray);
+  if (walk_length(grid_, ray, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {
+    // A walk dearer than testing every entry (a grid widened for far-apart boxes, or a sparse
+    // level of a hierarchical grid): each binned box once, at the entry of its min-corner
+    // cell, in cell order, instead.
     for (const CellEntry& entry : entries_) {
       if (limit <= 0.0f) return;
-      if (entry.first_axes != kAllAxes<D> || ray_box_fraction(ray, entry.box, limit) < 0.0f) continue;
+      if (entry.first_axes != kAllAxes<D> || slab.fraction(entry.box, limit) < 0.0f) continue;
       const float r = callback(entry.id, limit);
       if (r < limit) limit = r;
     }
@@ -373,11 +427,13 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   walk_cells(grid_, ray, limit, [&](const CellN<D>& cell, float max_fraction) {
     for (const CellEntry& entry : cell_entries(cell)) {
       if (max_fraction <= 0.0f) break;
+      // The box test first: most entries of a crowded cell miss the ray, and the test of the
+      // previous cell (two cell_of a box) is then made only for those it meets.
+      if (slab.fraction(entry.box, max_fraction) < 0.0f) continue;
       if (!first && cell_in_range<D>(previous, grid_.cell_of(entry.box.min),
                                      grid_.cell_of(entry.box.max))) {
         continue;
       }
-      if (ray_box_fraction(ray, entry.box, max_fraction) < 0.0f) continue;
       const float r = callback(entry.id, max_fraction);
       if (r < max_fraction) max_fraction = r;
     }
@@ -395,6 +451,7 @@ std::size_t SortedGridN<D>::memory_bytes() const noexcept {
          (wide_.capacity() + wide_scratch_.capacity()) * sizeof(WideKey) +
          entries_.capacity() * sizeof(CellEntry) + runs_.capacity() * sizeof(Run) +
          oversized_.capacity() * sizeof(int) + is_oversized_.capacity() +
+         block_bits_.capacity() * sizeof(std::uint64_t) +
          scratch_.capacity() * sizeof(float);
 }
 

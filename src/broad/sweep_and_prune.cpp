@@ -115,8 +115,9 @@ void SweepAndPruneN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const
   // 1e31). Look ahead by the same relative slack as the look-back (an infinite slack when the
   // sum overflows: then every box is a candidate, still exact).
   const float ahead = kSweepLookBackSlack * (std::abs(a) + std::abs(ray.translation[axis_]));
+  const SlabRayN<D> slab(ray);
   scan(std::min(a, b), std::max(a, b) + ahead, [&](const Item& item) {
-    if (ray_box_fraction(ray, item.box, limit) < 0.0f) return true;
+    if (slab.fraction(item.box, limit) < 0.0f) return true;
     const float r = callback(item.id, limit);
     if (r < limit) limit = r;
     return limit > 0.0f;

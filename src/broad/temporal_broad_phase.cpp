@@ -75,6 +75,7 @@ void TemporalBroadPhaseN<D>::build(std::span<const AabbN<D>> boxes,
   time_ = time;
   stats_ = Stats{};
   needs_rebuild_ = true;
+  fast_index_ = FastIndex::none;
 
   horizon_ = options_.horizon;
   // Half the median box size over the median positive speed bound.
@@ -116,6 +117,10 @@ constexpr int kMinCandidatesPerTask = 128;
 /// From this many fast objects on, their pairs among themselves come from a grid of their own
 /// instead of a sort and sweep along x.
 constexpr std::size_t kFastGridFrom = 256;
+/// The queries' x interval over the fast objects sorted by min x is loosened by this much
+/// relative to its coordinates, for the rounding of the ray's end (as sweep_and_prune.cpp's
+/// look-back slack).
+constexpr float kFastRangeSlack = 1e-5f;
 
 /// update's verdict on an object: bound kept, bound broken, bound kept but out of its grown box
 /// (it may still pair with candidates it was not grown towards), or a box update refuses.
@@ -184,6 +189,7 @@ void TemporalBroadPhaseN<D>::begin_update(std::size_t count, double time) {
   }
   if (!std::isfinite(time) || time < time_) throw InvalidInput("time: not finite or goes back");
   update_time_ = time;
+  fast_index_ = FastIndex::none;  // the boxes change
   broke_.resize(boxes_.size());
   next_boxes_.resize(boxes_.size());
 }
@@ -267,6 +273,7 @@ template <int D>
 void TemporalBroadPhaseN<D>::demote(int i) {
   is_fast_[std::size_t(i)] = 1;
   fast_.push_back(i);
+  fast_index_ = FastIndex::none;
   ++stats_.demoted;
   if (++demoted_since_rebuild_ > std::max<std::size_t>(kMinDemotionsBeforeRebuild, boxes_.size() / kDemotedFractionForRebuild)) {
     needs_rebuild_ = true;
@@ -327,6 +334,7 @@ void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler, double until) {
   grown_.resize(boxes_.size());
   is_fast_.assign(boxes_.size(), 0);
   fast_.clear();
+  fast_index_ = FastIndex::none;
   slow_ids_.clear();
   slow_grown_.clear();
   for (std::size_t i = 0; i < boxes_.size(); ++i) {
@@ -521,6 +529,7 @@ void TemporalBroadPhaseN<D>::fast_among_themselves(PairList& pairs) {
     fast_boxes_.resize(fast_.size());
     for (std::size_t k = 0; k < fast_.size(); ++k) fast_boxes_[k] = boxes_[std::size_t(fast_[k])];
     fast_grid_.build(fast_boxes_);
+    fast_index_ = FastIndex::grid;  // until the boxes or the fast objects change
     fast_grid_.find_pairs(fast_pairs_);
     stats_.checks += static_cast<std::int64_t>(fast_pairs_.size());
     for (const auto& [k, m] : fast_pairs_) {
@@ -534,9 +543,11 @@ void TemporalBroadPhaseN<D>::fast_among_themselves(PairList& pairs) {
     const float xa = boxes_[std::size_t(a)].min[0], xb = boxes_[std::size_t(b)].min[0];
     return xa < xb || (xa == xb && a < b);
   });
+  float widest = 0.0f;
   for (std::size_t k = 0; k < fast_order_.size(); ++k) {
     const int f = fast_order_[k];
     const AabbN<D>& box_f = boxes_[std::size_t(f)];
+    widest = std::max(widest, box_f.max[0] - box_f.min[0]);
     for (std::size_t m = k + 1; m < fast_order_.size(); ++m) {
       const int g = fast_order_[m];
       const AabbN<D>& box_g = boxes_[std::size_t(g)];
@@ -545,6 +556,29 @@ void TemporalBroadPhaseN<D>::fast_among_themselves(PairList& pairs) {
       if (overlap(box_f, box_g)) pairs.emplace_back(std::min(f, g), std::max(f, g));
     }
   }
+  fast_max_width_ = widest;
+  fast_index_ = FastIndex::sorted;  // until the boxes or the fast objects change
+}
+
+template <int D>
+template <class Visit>
+bool TemporalBroadPhaseN<D>::visit_fast_in_x(float lo, float hi, Visit&& visit) const {
+  if (fast_index_ != FastIndex::sorted) {
+    for (const int f : fast_) {
+      if (!visit(f)) return false;
+    }
+    return true;
+  }
+  // A box reaching [lo, hi] has min x in [lo - widest, hi]; the bounds are loosened by a
+  // relative slack for the rounding of the callers' intervals (the box tests decide).
+  const float slack = kFastRangeSlack * (std::abs(lo) + std::abs(hi) + fast_max_width_);
+  const float from = lo - fast_max_width_ - slack, to = hi + slack;
+  auto it = std::lower_bound(fast_order_.begin(), fast_order_.end(), from,
+                             [&](int id, float x) { return boxes_[std::size_t(id)].min[0] < x; });
+  for (; it != fast_order_.end() && boxes_[std::size_t(*it)].min[0] <= to; ++it) {
+    if (!visit(*it)) return false;
+  }
+  return true;
 }
 
 template <int D>
@@ -561,9 +595,12 @@ void TemporalBroadPhaseN<D>::query(const AabbN<D>& box, QueryCallback callback) 
     go_on = is_fast_[std::size_t(id)] || !overlap(box, boxes_[std::size_t(id)]) || callback(id);
     return go_on;
   });
-  for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
-    if (overlap(box, boxes_[std::size_t(fast_[k])])) go_on = callback(fast_[k]);
+  if (!go_on) return;
+  if (fast_index_ == FastIndex::grid) {
+    fast_grid_.query(box, [&](int k) { return callback(fast_[std::size_t(k)]); });
+    return;
   }
+  visit_fast_in_x(box.min[0], box.max[0], [&](int f) { return !overlap(box, boxes_[std::size_t(f)]) || callback(f); });
 }
 
 template <int D>
@@ -580,16 +617,20 @@ void TemporalBroadPhaseN<D>::query_point(const VecN<D>& point, QueryCallback cal
     go_on = is_fast_[std::size_t(id)] || !contains(boxes_[std::size_t(id)], point) || callback(id);
     return go_on;
   });
-  for (std::size_t k = 0; k < fast_.size() && go_on; ++k) {
-    if (contains(boxes_[std::size_t(fast_[k])], point)) go_on = callback(fast_[k]);
+  if (!go_on) return;
+  if (fast_index_ == FastIndex::grid) {
+    fast_grid_.query_point(point, [&](int k) { return callback(fast_[std::size_t(k)]); });
+    return;
   }
+  visit_fast_in_x(point[0], point[0], [&](int f) { return !contains(boxes_[std::size_t(f)], point) || callback(f); });
 }
 
 template <int D>
 void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   float limit = 1.0f;
+  const SlabRayN<D> slab(ray);
   const auto visit = [&](int id) {
-    if (ray_box_fraction(ray, boxes_[id], limit) < 0.0f) return limit;
+    if (slab.fraction(boxes_[id], limit) < 0.0f) return limit;
     const float r = callback(id, limit);
     if (r < limit) limit = r;
     return limit;
@@ -602,7 +643,17 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
     const int id = slow_ids_[std::size_t(slot)];
     return is_fast_[std::size_t(id)] ? limit : visit(id);  // demoted: visited with the fast ones
   });
-  for (std::size_t k = 0; k < fast_.size() && limit > 0.0f; ++k) visit(fast_[k]);
+  if (limit <= 0.0f) return;
+  if (fast_index_ == FastIndex::grid) {
+    fast_grid_.ray_cast(ray, [&](int k, float) { return visit(fast_[std::size_t(k)]); });
+    return;
+  }
+  // Along x the ray reaches [x0, x1] within the clip so far (which only shrinks).
+  const float x_end = ray.origin[0] + limit * ray.translation[0];
+  visit_fast_in_x(std::min(ray.origin[0], x_end), std::max(ray.origin[0], x_end), [&](int f) {
+    visit(f);
+    return limit > 0.0f;
+  });
 }
 
 template <int D>

@@ -12,7 +12,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <random>
 #include <string>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -422,6 +424,69 @@ TYPED_TEST(TemporalTest, QueriesSeeCurrentBoxes) {
     EXPECT_EQ(got, want) << frame;
   }
   EXPECT_EQ(hits, 20);
+}
+
+// The queries take the fast objects from the index the last find_pairs left (a grid of their
+// own from 256 on, else their order by min x) and test each one after an update drops it:
+// every query's ids are brute force's, with a few fast objects and with hundreds, on rays
+// along an axis, diagonal and long, and on boxes and points at fast objects.
+TYPED_TEST(TemporalTest, QueriesFindFastObjectsWithAndWithoutTheirIndex) {
+  constexpr int D = TypeParam::value;
+  for (const int every : {60, 3}) {  // 10 fast objects of 600, or 200 of 600 (x 3 for the grid)
+    const int objects = every == 60 ? 600 : 1800;
+    std::mt19937 rng(53 + D + every);
+    auto world = test::moving_world<D>(rng, test::uniform_world<D>(rng, objects, 30.0f, 0.2f, 1.0f),
+                                       30.0f, 0.02f);
+    for (std::size_t i = 0; i < world.velocity.size(); i += static_cast<std::size_t>(every)) {
+      world.velocity[i] *= 200.0f;
+    }
+    TemporalBroadPhaseN<D> temporal;
+    temporal.build(world.boxes, bounds_of_world(world), 0.0);
+    BruteForceN<D> brute;
+    PairList pairs;
+    int fast_hits = 0;
+    const auto same = [&](auto&& ours, auto&& theirs, const std::string& what) {
+      std::vector<int> got, want;
+      ours(got);
+      theirs(want);
+      std::sort(got.begin(), got.end());
+      std::sort(want.begin(), want.end());
+      EXPECT_EQ(got, want) << what;
+      for (const int id : want) fast_hits += id % every == 0;
+    };
+    for (int frame = 1; frame <= 12; ++frame) {
+      world.step();
+      temporal.update(world.boxes, static_cast<double>(frame));
+      if (frame % 3 != 0) temporal.find_pairs(pairs);  // every third frame: no index
+      brute.build(world.boxes);
+      for (int probe = 0; probe < 40; ++probe) {
+        const int at = ((probe + frame) * every) % objects;  // a fast object
+        const std::string what = std::to_string(every) + " frame " + std::to_string(frame) + " probe " +
+                                 std::to_string(probe);
+        VecN<D> d(0.0f);
+        d[probe % D] = probe % 2 == 0 ? 12.0f : -12.0f;  // along an axis
+        if (probe % 3 == 0) d = VecN<D>(probe % 4 == 0 ? 40.0f : -7.0f);  // diagonal
+        const RayN<D> ray{world.boxes[static_cast<std::size_t>(at)].center() - 0.5f * d, d};
+        same([&](std::vector<int>& out) { temporal.ray_cast(ray, [&](int id, float f) { out.push_back(id); return f; }); },
+             [&](std::vector<int>& out) { brute.ray_cast(ray, [&](int id, float f) { out.push_back(id); return f; }); },
+             "ray " + what);
+        const AabbN<D> q = test::box_at<D>(world.boxes[static_cast<std::size_t>(at)].center(), VecN<D>(1.5f));
+        same([&](std::vector<int>& out) { temporal.query(q, [&](int id) { out.push_back(id); return true; }); },
+             [&](std::vector<int>& out) { brute.query(q, [&](int id) { out.push_back(id); return true; }); },
+             "box " + what);
+        const VecN<D> p = world.boxes[static_cast<std::size_t>(at)].min;
+        same([&](std::vector<int>& out) { temporal.query_point(p, [&](int id) { out.push_back(id); return true; }); },
+             [&](std::vector<int>& out) { brute.query_point(p, [&](int id) { out.push_back(id); return true; }); },
+             "point " + what);
+      }
+    }
+    EXPECT_GE(fast_hits, 3 * 12 * 40) << every;  // each query found the fast object it was made at
+    if (every == 3) {
+      EXPECT_GE(temporal.stats().fast_objects, 256);
+    } else {
+      EXPECT_GE(temporal.stats().fast_objects, 10);
+    }
+  }
 }
 
 // build and update reject a NaN, an infinity or min > max naming the box, and a rejected

@@ -14,6 +14,7 @@
 #include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
 
+#include <array>
 #include <concepts>
 #include <cstddef>
 #include <functional>
@@ -81,31 +82,54 @@ template <int D>
 template <int D>
 void validate_boxes(std::span<const AabbN<D>> boxes);
 
-/// Fraction in [0, max_fraction] at which the ray (point = origin + fraction * translation)
-/// first touches the closed box; 0 when it starts inside; a negative value on a miss. Slab
-/// method (Kay & Kajiya 1986; Ericson, Real-Time Collision Detection, 5.3.3), written so an axis
-/// the ray does not move along (translation 0) needs the origin inside that slab, with no NaN.
+/// A ray (point = origin + fraction * translation) prepared for many box tests: the slab
+/// method's reciprocals of the translation made once, so a broad phase's walk over its boxes
+/// divides once per ray instead of once per box and axis. `fraction` gives exactly
+/// ray_box_fraction's value.
+template <int D>
+class SlabRayN {
+ public:
+  explicit SlabRayN(const RayN<D>& ray) noexcept : origin_(ray.origin) {
+    for (int k = 0; k < D; ++k) {
+      parallel_[k] = ray.translation[k] == 0.0f;
+      inverse_[k] = parallel_[k] ? 0.0f : 1.0f / ray.translation[k];
+    }
+  }
+  /// Fraction in [0, max_fraction] at which the ray first touches the closed box; 0 when it
+  /// starts inside; a negative value on a miss. Slab method (Kay & Kajiya 1986; Ericson,
+  /// Real-Time Collision Detection, 5.3.3), written so an axis the ray does not move along
+  /// (translation 0) needs the origin inside that slab, with no NaN.
+  [[nodiscard]] float fraction(const AabbN<D>& box, float max_fraction) const noexcept {
+    float t_enter = 0.0f;
+    float t_exit = max_fraction;
+    for (int k = 0; k < D; ++k) {
+      const float o = origin_[k];
+      if (parallel_[k]) {
+        if (o < box.min[k] || o > box.max[k]) return -1.0f;
+        continue;
+      }
+      float t0 = (box.min[k] - o) * inverse_[k];
+      float t1 = (box.max[k] - o) * inverse_[k];
+      if (t0 > t1) std::swap(t0, t1);
+      if (t0 > t_enter) t_enter = t0;
+      if (t1 < t_exit) t_exit = t1;
+      if (!(t_enter <= t_exit)) return -1.0f;
+    }
+    return t_enter;
+  }
+
+ private:
+  VecN<D> origin_;
+  VecN<D> inverse_{0.0f};  // 1 / translation, 0 on the axes it does not move along
+  std::array<bool, D> parallel_{};
+};
+
+/// Fraction in [0, max_fraction] at which the ray first touches the closed box (SlabRayN's
+/// `fraction`, for one box: a loop over many boxes prepares the ray once instead).
 template <int D>
 [[nodiscard]] float ray_box_fraction(const RayN<D>& ray, const AabbN<D>& box,
                                      float max_fraction) noexcept {
-  float t_enter = 0.0f;
-  float t_exit = max_fraction;
-  for (int k = 0; k < D; ++k) {
-    const float o = ray.origin[k];
-    const float d = ray.translation[k];
-    if (d == 0.0f) {
-      if (o < box.min[k] || o > box.max[k]) return -1.0f;
-      continue;
-    }
-    const float inv = 1.0f / d;
-    float t0 = (box.min[k] - o) * inv;
-    float t1 = (box.max[k] - o) * inv;
-    if (t0 > t1) std::swap(t0, t1);
-    if (t0 > t_enter) t_enter = t0;
-    if (t1 < t_exit) t_exit = t1;
-    if (!(t_enter <= t_exit)) return -1.0f;
-  }
-  return t_enter;
+  return SlabRayN<D>(ray).fraction(box, max_fraction);
 }
 
 /// Sorts pairs lexicographically: the canonical order of the registry, the world and the tests.

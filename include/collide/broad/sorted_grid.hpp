@@ -49,6 +49,15 @@ class SortedGridN {
   /// Most grid cells per binned box for which the entries are put in order by a counting sort
   /// over every cell (one pass, an array of 4 bytes per cell); sparser grids use a radix sort.
   static constexpr std::uint64_t kDenseCellsPerBox = 4;
+  /// Sparse grids keep a bitmap of occupied blocks (2^k cells a side, k >= kMinBlockShift) in
+  /// at most this many bits per binned box, so that a ray's walk passes empty cells without a
+  /// binary search over the runs.
+  static constexpr std::uint64_t kBlockBitsPerBox = 64;
+  static constexpr int kMinBlockShift = 0;
+  /// A ray cast tests every entry instead of walking the cells when the walk would visit more
+  /// than entries / kWalkedCellCost cells (a cell of the walk costs about as much as this many
+  /// entry tests).
+  static constexpr double kWalkedCellCost = 4.0;
 
   SortedGridN() = default;
   /// Throws InvalidInput for a negative or non-finite cell size or max_cells_per_box < 1.
@@ -141,6 +150,10 @@ class SortedGridN {
   /// The entries of the cell with linear index `key` (< the grid's cell total): read from the
   /// counting sort's offsets when the grid is dense, else found by binary search over the runs.
   [[nodiscard]] std::span<const CellEntry> entries_of(std::uint64_t key) const noexcept;
+  /// The occupied-block bitmap of a sparse grid, from ranges_ (none for a dense grid).
+  void mark_blocks();
+  /// False when no binned box covers the block holding `cell` (a cell of the grid).
+  [[nodiscard]] bool block_occupied(const CellN<D>& cell) const noexcept;
 
   Options options_{};
   GridMapping<D> grid_{};
@@ -157,6 +170,9 @@ class SortedGridN {
   std::vector<WideKey> wide_scratch_;
   std::vector<CellEntry> entries_;    // boxes in key order
   std::vector<Run> runs_;             // first entry of each cell, plus an end sentinel
+  int block_shift_ = 0;               // a block is 2^block_shift_ cells a side
+  CellN<D> block_dims_{0};            // blocks per axis
+  std::vector<std::uint64_t> block_bits_;  // one bit per block, set where a box is binned; empty when dense
   std::vector<int> oversized_;
   std::vector<std::uint8_t> is_oversized_;
   std::vector<float> scratch_;
