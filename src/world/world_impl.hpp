@@ -216,8 +216,9 @@ struct WorldN<D>::Impl {
   std::vector<StaticDefN<D>> statics;
   std::vector<StaticPiece> static_pieces;
   /// The static pieces' boxes for ray casts (a dynamic tree: a ray finds its first hits
-  /// without walking the cells between them)...
-  DynamicTreeN<D> static_tree;
+  /// without walking the cells between them), with no fat margin: statics do not move, and a
+  /// margin only loosened the ray's pruning...
+  DynamicTreeN<D> static_tree{typename DynamicTreeN<D>::Options{0.0f, 0.0f}};
   /// ... and for box queries: the step's (swept bodies, push-outs, clearance), which a uniform
   /// grid answers from the one to four cells a body covers instead of a descent through the
   /// tree (at 1e6 bodies over 26k static pieces the tree's descent was a fifth of the step).

@@ -12,6 +12,7 @@
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/overlap.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -22,6 +23,9 @@ namespace {
 
 /// Smallest range of rays one task of raycast_batch casts.
 constexpr int kRaysPerTask = 64;
+/// A ray cut at a hit for the bodies' broad phase reaches this much further (relative), so
+/// that the rounding of the cut ray's box tests never drops a body hit at the same fraction.
+constexpr float kRayCutSlack = 1e-4f;
 
 bool visible(const QueryFilter& f, CollisionFilter cf, bool sensor) {
   return (cf.layer & f.mask) != 0u && (f.sensors || !sensor);
@@ -95,11 +99,23 @@ std::optional<WorldRayHitN<D>> cast_ray(const typename WorldN<D>::Impl& w, const
     }
     return true;
   };
-  // The structures clip the ray to `limit` through their callback's return value.
+  // The structures clip the ray to `limit` through their callback's return value. The bodies'
+  // broad phase gets the ray cut at the nearest hit so far (a static's): its grid walk then
+  // stops there instead of at the ray's end (the cut is loosened by kRayCutSlack for rounding,
+  // and its fractions scaled back; the exact casts, on the whole ray, decide).
+  const auto padded = [](float fraction) { return std::min(1.0f, fraction * (1.0f + kRayCutSlack)); };
   for_candidates<D>(
       w, filter,
       [&](auto&& each) { w.static_tree.ray_cast(ray, [&](int id, float) { each(id); return limit; }); },
-      [&](auto&& each) { w.body_broad.ray_cast(ray, [&](int id, float) { each(id); return limit; }); },
+      [&](auto&& each) {
+        const float reach = padded(limit);
+        if (!(reach > 0.0f && reach < 1.0f)) {
+          w.body_broad.ray_cast(ray, [&](int id, float) { each(id); return limit; });
+          return;
+        }
+        const RayN<D> cut{ray.origin, ray.translation * reach};
+        w.body_broad.ray_cast(cut, [&](int id, float) { each(id); return padded(limit) / reach; });
+      },
       [&](const AabbN<D>& box) { return ray_box_fraction(ray, box, limit) >= 0.0f; }, visit);
   return best;
 }
