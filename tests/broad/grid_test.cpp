@@ -201,19 +201,28 @@ TEST(SortedGrid, WorldsFarFromTheOriginWidenTheCells) {
 // A cell's entries come from the counting sort's offsets when the grid is dense and from a
 // binary search over the runs when it is sparse: both answer box queries as brute force does,
 // and a cell holds exactly the boxes whose cell range covers it (none outside the grid).
+// A sparse grid's cells are found by binary search behind a bitmap of occupied blocks: a cell a
+// bit when the grid has at most kBlockBitsPerBox cells a box (`sparse`), else blocks of 2^k
+// cells a side (`finest`); every cell's entries, box queries and rays as the dense grid's.
 TEST(SortedGrid, DenseAndSparseGridsFindTheSameCellsAndQueries) {
   std::mt19937 rng(23);
   const auto boxes = test::uniform_world<2>(rng, 500, 100.0f, 0.5f, 4.0f);
   SortedGrid dense({.cell_size = 5.0f});
-  SortedGrid sparse({.cell_size = 0.25f, .max_cells_per_box = 1 << 20});  // none oversized
+  SortedGrid sparse({.cell_size = 1.5f});
+  SortedGrid finest({.cell_size = 0.25f, .max_cells_per_box = 1 << 20});  // none oversized
   dense.build(boxes);
   sparse.build(boxes);
+  finest.build(boxes);
   const auto total_cells = [](const SortedGrid& g) {
     return static_cast<std::uint64_t>(g.grid().dims[0]) * static_cast<std::uint64_t>(g.grid().dims[1]);
   };
   ASSERT_LE(total_cells(dense), SortedGrid::kDenseCellsPerBox * boxes.size());  // counting sort
-  ASSERT_GT(total_cells(sparse), SortedGrid::kDenseCellsPerBox * (boxes.size() + 256));  // radix sort
-  for (const SortedGrid* g : {&dense, &sparse}) {
+  for (const SortedGrid* g : {&sparse, &finest}) {
+    ASSERT_GT(total_cells(*g), SortedGrid::kDenseCellsPerBox * (boxes.size() + 256));  // radix sort
+  }
+  ASSERT_LE(total_cells(sparse), SortedGrid::kBlockBitsPerBox * boxes.size());  // a bit a cell
+  ASSERT_GT(total_cells(finest), SortedGrid::kBlockBitsPerBox * (boxes.size() + 64));  // blocks
+  for (const SortedGrid* g : {&dense, &sparse, &finest}) {
     const GridMapping<2>& m = g->grid();
     for (int y = -1; y <= m.dims[1]; y += (y < 3 || y > m.dims[1] - 4) ? 1 : 7) {
       for (int x = -1; x <= m.dims[0]; x += (x < 3 || x > m.dims[0] - 4) ? 1 : 5) {
@@ -231,7 +240,7 @@ TEST(SortedGrid, DenseAndSparseGridsFindTheSameCellsAndQueries) {
     }
   }
   std::uniform_real_distribution<float> at(-110.0f, 110.0f), size(0.0f, 12.0f);
-  int hits = 0;
+  int hits = 0, ray_hits = 0;
   for (int q = 0; q < 300; ++q) {
     const Vec2 lo{at(rng), at(rng)};
     const Aabb box{lo, lo + Vec2(size(rng), size(rng))};
@@ -240,7 +249,14 @@ TEST(SortedGrid, DenseAndSparseGridsFindTheSameCellsAndQueries) {
       if (overlap(box, boxes[i])) want.push_back(i);
     }
     hits += want.empty() ? 0 : 1;
-    for (const SortedGrid* g : {&dense, &sparse}) {
+    // A ray from the box's corner, up to 40 units long, and every box it meets.
+    const RayN<2> ray{lo, Vec2(at(rng), at(rng)) * (40.0f / 110.0f)};
+    std::vector<int> want_ray;
+    for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
+      if (ray_box_fraction(ray, boxes[i], 1.0f) >= 0.0f) want_ray.push_back(i);
+    }
+    ray_hits += want_ray.empty() ? 0 : 1;
+    for (const SortedGrid* g : {&dense, &sparse, &finest}) {
       std::vector<int> got;
       g->query(box, [&](int id) {
         got.push_back(id);
@@ -248,10 +264,19 @@ TEST(SortedGrid, DenseAndSparseGridsFindTheSameCellsAndQueries) {
       });
       std::sort(got.begin(), got.end());
       ASSERT_EQ(got, want) << "query " << q << ", cell size " << g->grid().cell_size;
+      got.clear();
+      g->ray_cast(ray, [&](int id, float f) {
+        got.push_back(id);
+        return f;
+      });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, want_ray) << "ray " << q << ", cell size " << g->grid().cell_size;
     }
   }
   EXPECT_GT(hits, 100);
   EXPECT_LT(hits, 300);
+  EXPECT_GT(ray_hits, 100);
+  EXPECT_LT(ray_hits, 300);
 }
 
 TEST(HierarchicalGrid, MixedSizesGetTheirOwnLevels) {
