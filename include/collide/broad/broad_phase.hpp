@@ -92,6 +92,7 @@ class SlabRayN {
   explicit SlabRayN(const RayN<D>& ray) noexcept : origin_(ray.origin) {
     for (int k = 0; k < D; ++k) {
       parallel_[k] = ray.translation[k] == 0.0f;
+      any_parallel_ = any_parallel_ || parallel_[k];
       inverse_[k] = parallel_[k] ? 0.0f : 1.0f / ray.translation[k];
     }
   }
@@ -102,6 +103,19 @@ class SlabRayN {
   [[nodiscard]] float fraction(const AabbN<D>& box, float max_fraction) const noexcept {
     float t_enter = 0.0f;
     float t_exit = max_fraction;
+    if (!any_parallel_) {
+      // Every axis by selects and one test at the end (the same value: t_enter only grows and
+      // t_exit only shrinks, so a test failing at some axis fails at the last): the early
+      // exits below mispredicted on the crowded cells of a grid, where most boxes miss.
+      for (int k = 0; k < D; ++k) {
+        const float t0 = (box.min[k] - origin_[k]) * inverse_[k];
+        const float t1 = (box.max[k] - origin_[k]) * inverse_[k];
+        const float near = t0 > t1 ? t1 : t0, far = t0 > t1 ? t0 : t1;
+        t_enter = near > t_enter ? near : t_enter;
+        t_exit = far < t_exit ? far : t_exit;
+      }
+      return t_enter <= t_exit ? t_enter : -1.0f;
+    }
     for (int k = 0; k < D; ++k) {
       const float o = origin_[k];
       if (parallel_[k]) {
@@ -122,6 +136,7 @@ class SlabRayN {
   VecN<D> origin_;
   VecN<D> inverse_{0.0f};  // 1 / translation, 0 on the axes it does not move along
   std::array<bool, D> parallel_{};
+  bool any_parallel_ = false;
 };
 
 /// Fraction in [0, max_fraction] at which the ray first touches the closed box (SlabRayN's
