@@ -478,6 +478,7 @@ constexpr float kRayAgreeUnits = 1e-3f;
 
 /// Both worlds of the ray casts at the same poses, and the rays.
 struct RayWorlds {
+  int size = -1;  // the bodies asked for
   std::unique_ptr<cli::Scene> scene;
   std::unique_ptr<V3World> v3;
   std::map<int, std::vector<Ray>> rays;  // by length
@@ -508,13 +509,11 @@ V3Closest v3_cast(const V3World& w, const Ray& ray) {
 
 RayWorlds& ray_worlds(int n) {
   static RayWorlds r;
-  static int size = -1;
-  if (size != n) {
-    r = RayWorlds{};
+  if (r.size != n) {
+    r = RayWorlds{.size = n};
     r.scene = std::make_unique<cli::Scene>(cli::make_scene(scene_options(n, 1)));
     for (int f = 0; f < kRayWarmupFrames; ++f) r.scene->world.step(kDt);
     r.v3 = make_v3_world(v3_scene(r.scene->world), 1, false);
-    size = n;
   }
   return r;
 }

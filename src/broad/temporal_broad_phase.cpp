@@ -645,6 +645,8 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
   });
   if (limit <= 0.0f) return;
   if (fast_index_ == FastIndex::grid) {
+    // (visit tests the box again: the fast grid's walk starts at fraction 1, not at the clip
+    // the slow objects left.)
     fast_grid_.ray_cast(ray, [&](int k, float) { return visit(fast_[std::size_t(k)]); });
     return;
   }
