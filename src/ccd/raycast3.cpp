@@ -71,8 +71,8 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// L, the disc's radius r L), so no division comes before the lanes' one, which serves all
 /// three; the lanes' squares grow as L^2 |m|^2, within float range for capsules and rays up to
 /// about 1e9 long (the early out's as L^4 |m|^2 |d|^2: where those overflow, beyond about 5e4,
-/// the ray goes on to the lanes). The piece hit is a lane index and a miss a zero slot: no
-/// branch on the data (random rays take each case at random) but one: a line that passes clear
+/// the ray goes on to the lanes). The piece hit is a lane index (a miss reads lane 0, masked at
+/// the end): no branch on the data (random rays take each case at random) but one: a line that passes clear
 /// of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
 /// fraction alone: the same value, taken from the lanes by a shorter chain than the piece's
 /// index (stop 80, below). Normals are normalised rather than divided by r: a ray from far away
@@ -87,7 +87,10 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// axis waited for; the fraction alone by selects; then every step in lanes, the scalar form
 /// having spilled registers): the fraction alone 38.4 -> 30.3-32.2 ns, the full cast 41.9-42.8
 /// -> 39.7-42.2 (interleaved runs, builds alternating, the host's fast phase; Jolt 63-65 /
-/// 78-81).
+/// 78-81). Stop 84 (the normal of the piece hit alone, in scalars, where every lane's was
+/// normalised): the full cast 29.7 -> 28.1 ns, the fraction alone 22.4, Jolt with its normal
+/// 57.9 (AMD EPYC Zen 5, interleaved, builds alternating; bringing the piece's offset to lane 0
+/// by selects instead of a store and an indexed load measured 29.9).
 ///
 /// `ends_x`, `ends_y`, `ends_z`: lanes 0 and 1 the ends a and b in the ray's frame (as the placed
 /// cast turns them); `p` the ray's origin relative to that frame's origin, `d` its translation.
@@ -167,32 +170,33 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
     const Lanes rank = select(masks(true, false, false, false), -one, t);
     const Lanes first = horizontal_min(select(ok, rank, inf));
     const LaneMask keep = (first <= one) & (horizontal_min(select(inside, -one, zero)) >= zero);
-    // The piece hit (the first of equal entries), or slot 4, which holds a miss's zeros.
-    const int k = std::countr_zero(lane_bits(ok & (rank == first) & keep) | 16u);
-    alignas(16) float fraction[5], nx[5], ny[5], nz[5];
+    // The piece hit (the first of equal entries); a miss reads lane 0 and is masked at the end.
+    const unsigned hits = lane_bits(ok & (rank == first) & keep);
+    const bool hit = hits != 0u;
+    const int k = std::countr_zero(hits | 16u) & 3;
+    // The normal for that piece alone, in scalars: the entry's offset from the piece, (p - c) +
+    // t d with c the ball's centre or, on the cylinder, less its part along the axis (x / L^2 of
+    // the axis; the balls' lanes read x = 0). Four lanes of it cost one store each; the piece's
+    // normalisation alone is then one square root (the lanes' form, every piece's offset turned
+    // back from across the axis and normalised, measured 13 ns over the fraction alone).
+    const float inv_ll = 1.0f / ll[0];
+    const Lanes along = x * splat(inv_ll);
+    alignas(16) float fraction[4], ox[4], oy[4], oz[4];
     store(fraction, simd::max(t, zero));
-    // The offsets and translations in space: lane 0's turned back from across the axis
-    // (axis x m' = m L^2 - (m . axis) axis, pointing from the axis).
-    const Lanes ex = with_lane0(mx, ay * mz - my * az), ey = with_lane0(my, mx * az - ax * mz),
-                ez = with_lane0(mz, ax * my - mx * ay);
-    const Lanes fx = with_lane0(ux, ay * uz - uy * az), fy = with_lane0(uy, ux * az - ax * uz),
-                fz = with_lane0(uz, ax * uy - ux * ay);
-    const Lanes face = -one / simd::sqrt(fx * fx + fy * fy + fz * fz);
-    if constexpr (kRound) {
-      // An offset with no direction (the ray dead on within rounding of the axis or a centre)
-      // faces the ray, as ray_ball.
-      const Lanes ox = ex + t * fx, oy = ey + t * fy, oz = ez + t * fz;
-      const Lanes oo = ox * ox + oy * oy + oz * oz;
-      const Lanes scale = one / simd::sqrt(oo);
-      const LaneMask towards_axis = oo >= splat(kMinDirectionLengthSquared);
-      store(nx, select(towards_axis, ox * scale, fx * face));
-      store(ny, select(towards_axis, oy * scale, fy * face));
-      store(nz, select(towards_axis, oz * scale, fz * face));
-    } else {
-      store(nx, fx * face), store(ny, fy * face), store(nz, fz * face);
+    store(ox, px + t * dx - along * ax), store(oy, py + t * dy - along * ay), store(oz, pz + t * dz - along * az);
+    Vec3 o{ox[k], oy[k], oz[k]};
+    const float oo = dot(o, o);
+    if (!kRound || (hit & !(oo >= kMinDirectionLengthSquared))) [[unlikely]] {
+      // An offset with no direction (the ray dead on within rounding of the axis or a centre;
+      // every offset of a capsule too thin to be round) faces the ray, as ray_ball: the
+      // translation, less its part along the axis on the cylinder.
+      const float rate = k == 0 ? x_rate[0] * inv_ll : 0.0f;
+      o = -(d - rate * Vec3{ax[0], ay[0], az[0]});
     }
-    fraction[4] = nx[4] = ny[4] = nz[4] = 0.0f;
-    return {k < 4, fraction[k], {nx[k], ny[k], nz[k]}};
+    const Vec3 n = o * (1.0f / std::sqrt(dot(o, o)));
+    const std::uint32_t mask = detail::mask_of(hit);
+    return {hit, detail::keep_if(fraction[k], mask),
+            {detail::keep_if(n.x, mask), detail::keep_if(n.y, mask), detail::keep_if(n.z, mask)}};
   }
 }
 
