@@ -72,8 +72,8 @@ RayHit3 to_world(const LocalHit3& h, const Frame3& f, const Ray3& ray) noexcept 
 /// three; the lanes' squares grow as L^2 |m|^2, within float range for capsules and rays up to
 /// about 1e9 long (the early out's as L^4 |m|^2 |d|^2: where those overflow, beyond about 5e4,
 /// the ray goes on to the lanes). The piece hit is a lane index (a miss reads lane 0, masked at
-/// the end): no branch on the data (random rays take each case at random) but one: a line that passes clear
-/// of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
+/// the end): no branch on the data (random rays take each case at random) but one: a line that
+/// passes clear of the cylinder is a miss before the lanes (below). `kNormal` false gives the hit and
 /// fraction alone: the same value, taken from the lanes by a shorter chain than the piece's
 /// index (stop 80, below). Normals are normalised rather than divided by r: a ray from far away
 /// (relative to r) rounds the offset by more than r's float precision. A zero radius is a
@@ -176,7 +176,7 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
     const int k = std::countr_zero(hits | 16u) & 3;
     // The normal for that piece alone, in scalars: the entry's offset from the piece, (p - c) +
     // t d with c the ball's centre or, on the cylinder, less its part along the axis (x / L^2 of
-    // the axis; the balls' lanes read x = 0). Four lanes of it cost one store each; the piece's
+    // the axis; the balls' lanes read x = 0), for every lane in three stores; the piece's
     // normalisation alone is then one square root (the lanes' form, every piece's offset turned
     // back from across the axis and normalised, measured 13 ns over the fraction alone).
     const float inv_ll = 1.0f / ll[0];
@@ -185,15 +185,16 @@ COLLIDE_ALWAYS_INLINE LocalHit3 capsule_cast(simd::Lanes ends_x, simd::Lanes end
     store(fraction, simd::max(t, zero));
     store(ox, px + t * dx - along * ax), store(oy, py + t * dy - along * ay), store(oz, pz + t * dz - along * az);
     Vec3 o{ox[k], oy[k], oz[k]};
-    const float oo = dot(o, o);
+    float oo = dot(o, o);
     if (!kRound || (hit & !(oo >= kMinDirectionLengthSquared))) [[unlikely]] {
       // An offset with no direction (the ray dead on within rounding of the axis or a centre;
       // every offset of a capsule too thin to be round) faces the ray, as ray_ball: the
       // translation, less its part along the axis on the cylinder.
       const float rate = k == 0 ? x_rate[0] * inv_ll : 0.0f;
       o = -(d - rate * Vec3{ax[0], ay[0], az[0]});
+      oo = dot(o, o);
     }
-    const Vec3 n = o * (1.0f / std::sqrt(dot(o, o)));
+    const Vec3 n = o * (1.0f / std::sqrt(oo));
     const std::uint32_t mask = detail::mask_of(hit);
     return {hit, detail::keep_if(fraction[k], mask),
             {detail::keep_if(n.x, mask), detail::keep_if(n.y, mask), detail::keep_if(n.z, mask)}};
