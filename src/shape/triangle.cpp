@@ -34,33 +34,6 @@ Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept {
   return {glm::min(glm::min(a, b), c), glm::max(glm::max(a, b), c)};
 }
 
-namespace {
-/// The squared lengths of a cross product that triangle_normal normalises directly: squares of
-/// components far below the length underflow harmlessly above the low end, and the square root
-/// and reciprocal are exact to rounding below the high end; outside, the cross product is scaled
-/// first.
-constexpr float kDirectNormalMinSquared = 1e-30f;
-constexpr float kDirectNormalMaxSquared = 1e30f;
-}  // namespace
-
-Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
-  const Vec3 n = cross(b - a, c - a);
-  // Most triangles: one square root and one reciprocal (the hit's normal is the tail of every
-  // mesh ray cast; the scaled form below chains two more operations before them).
-  const float nn = dot(n, n);
-  if (nn >= kDirectNormalMinSquared && nn <= kDirectNormalMaxSquared) [[likely]] {
-    return n * (1.0f / std::sqrt(nn));
-  }
-  const float largest = max_abs(n);
-  if (!(largest > 0.0f) || !std::isfinite(largest)) return Vec3(0.0f);
-  // Largest coordinate +-1 (within rounding): the length neither underflows nor overflows.
-  // Reciprocals, as the normal of a ray's hit is a fixed cost of every cast; a subnormal
-  // `largest` has no finite reciprocal and is divided by.
-  const float scale = 1.0f / largest;
-  const Vec3 m = std::isfinite(scale) ? n * scale : n / largest;
-  return m * (1.0f / length(m));
-}
-
 float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c, float max_fraction) noexcept {
   const detail::WatertightRay r(ray);
   return r.valid ? r.fraction(a, b, c, max_fraction) : -1.0f;
