@@ -89,7 +89,10 @@ struct PlacedPolytope {
   Frame3 f;  ///< B's local -> A's frame
   bool identity = false;
 
-  [[nodiscard]] Vec3 vertex(int i) const noexcept {
+  /// Always inlined: kept out of line, its Vec3 came back as two registers that the contact's
+  /// loops put back together through the stack by loads that cannot be store-forwarded
+  /// (scripts/store-forward-scan: a dozen in contact_cores).
+  [[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 vertex(int i) const noexcept {
     return identity ? p.vertex(i) : transform_point(f, p.vertex(i));
   }
   /// Support vertex along `d` given in A's frame.

@@ -10,6 +10,7 @@
 /// loops counter-clockwise seen from outside), so a hull is viewed without copying and the
 /// small shapes fill inline buffers (the view is built in place, never copied).
 
+#include <collide/core/config.hpp>
 #include <collide/core/transform3.hpp>
 #include <collide/narrow/support.hpp>
 #include <collide/shape/box.hpp>
@@ -166,8 +167,10 @@ inline void make_polytope(Polytope3& p, const Box& box) noexcept {
 }
 
 /// A triangle (corners a, b, c, counter-clockwise seen from its front) as a flat polytope.
-/// The triangle must not be degenerate.
-inline void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float radius) noexcept {
+/// The triangle must not be degenerate. Always inlined: GCC kept it out of line for a mesh's
+/// contacts, and its corners then came in as register pairs put back together through the
+/// stack by loads that cannot be store-forwarded (scripts/store-forward-scan).
+COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float radius) noexcept {
   p.kind = Polytope3::Kind::triangle;
   p.vertex_buffer[0] = a;
   p.vertex_buffer[1] = b;
