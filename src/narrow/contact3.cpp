@@ -89,9 +89,9 @@ struct PlacedPolytope {
   Frame3 f;  ///< B's local -> A's frame
   bool identity = false;
 
-  /// Always inlined: kept out of line, its Vec3 came back as two registers that the contact's
-  /// loops put back together through the stack by loads that cannot be store-forwarded
-  /// (scripts/store-forward-scan: a dozen in contact_cores).
+  /// Always inlined: kept out of line, its Vec3 came back as two registers that contact_cores
+  /// put back together through the stack by loads that cannot be store-forwarded (two of the
+  /// twelve such reloads scripts/store-forward-scan finds there; the rest have other sources).
   [[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 vertex(int i) const noexcept {
     return identity ? p.vertex(i) : transform_point(f, p.vertex(i));
   }
