@@ -175,7 +175,7 @@ COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, 
   p.vertex_buffer[0] = a;
   p.vertex_buffer[1] = b;
   p.vertex_buffer[2] = c;
-  const Vec3 n = normalize_or_zero(cross(b - a, c - a));
+  const Vec3 n = triangle_normal(a, b, c);
   const float offset = dot(n, a);
   p.face_buffer[0] = HullFace{n, offset, 0, 3};
   p.face_buffer[1] = HullFace{-n, -offset, 3, 3};
