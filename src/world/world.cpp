@@ -106,8 +106,12 @@ constexpr std::array<bool, 3> kChainPretests = {false, false, true};
 /// a task (a body's motion and static contacts take a microsecond or more, a pair's early out
 /// and contact 50-100 ns on average: 64 pairs are a few microseconds, and the 150 pairs of a
 /// frame at 1e3 bodies split in two took 12-13 us a frame where one range took 15, collide run
-/// on two threads, builds alternating; 512 pairs a range left them on one thread).
-constexpr int kBodiesPerTask = 128;
+/// on two threads, builds alternating; 512 pairs a range left them on one thread). 64 bodies
+/// (128 until stop 86): at 1e3 bodies a frame's motion pass is about eight ranges of 15 us, one
+/// of them carrying the candidate rebuild ahead, and the pass's end waited on the last range
+/// (BM_CollideSpeedup at 1e3, five alternating runs: 1.78-1.80x -> 1.81-1.82x; 32 no better;
+/// the step at 1e5 and 1e6 unchanged).
+constexpr int kBodiesPerTask = 64;
 constexpr int kPairsPerTask = 64;
 /// Bodies moved, then resolved against the statics, at a time within a task (a few tens of
 /// kilobytes of bodies: still in the cache for the second half).
