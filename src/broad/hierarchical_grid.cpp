@@ -272,13 +272,17 @@ void HierarchicalGridN<D>::query_point(const VecN<D>& point, QueryCallback callb
 
 template <int D>
 void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  float limit = detail::oversized_ray_cast<D>(big_, boxes_, ray, 1.0f, callback);
-  const SlabRayN<D> slab(ray);
+  ray_cast(ray, SlabRayN<D>(ray), callback);
+}
+
+template <int D>
+void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const {
+  float limit = detail::oversized_ray_cast<D>(big_, boxes_, slab, 1.0f, callback);
   for (const Level& level : levels_) {
     if (limit <= 0.0f) return;
     // A level's walk starts at fraction 1; boxes beyond the clip of earlier levels are skipped
     // here, and returning `limit` clips the level's walk.
-    level.grid.ray_cast(ray, [&](int id, float) {
+    level.grid.ray_cast(ray, slab, [&](int id, float) {
       if (slab.fraction(boxes_[id], limit) < 0.0f) return limit;
       const float r = callback(id, limit);
       if (r < limit) limit = r;

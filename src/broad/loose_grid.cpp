@@ -1407,7 +1407,7 @@ void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   // inside its [L, L + 1] (the walk never re-enters a box of cells it left).
   bool first = true;
   CellN<D> previous{0};
-  walk_cells(grid_, ray, limit, [&](const CellN<D>& cell, float max_fraction) {
+  walk_cells(grid_, ray, slab, limit, [&](const CellN<D>& cell, float max_fraction) {
     for (int corner = 0; corner < (1 << D) && max_fraction > 0.0f; ++corner) {
       CellN<D> from = cell;
       for (int k = 0; k < D; ++k) from[k] -= (corner >> k) & 1;

@@ -34,11 +34,11 @@ bool oversized_query(std::span<const int> oversized, std::span<const AabbN<D>> b
   return true;
 }
 
-/// The oversized boxes the ray meets; returns the ray's max fraction after clipping.
+/// The oversized boxes the ray (prepared as `slab`) meets; returns the ray's max fraction
+/// after clipping.
 template <int D>
 float oversized_ray_cast(std::span<const int> oversized, std::span<const AabbN<D>> boxes,
-                         const RayN<D>& ray, float limit, RayCallback callback) {
-  const SlabRayN<D> slab(ray);
+                         const SlabRayN<D>& slab, float limit, RayCallback callback) {
   for (const int o : oversized) {
     if (limit <= 0.0f) break;
     if (slab.fraction(boxes[o], limit) < 0.0f) continue;

@@ -406,10 +406,14 @@ void SortedGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) c
 
 template <int D>
 void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
-  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, ray, 1.0f, callback);
+  ray_cast(ray, SlabRayN<D>(ray), callback);
+}
+
+template <int D>
+void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const {
+  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, slab, 1.0f, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
-  const SlabRayN<D> slab(ray);
-  if (walk_length(grid_, ray, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {
+  if (walk_length(grid_, ray, slab, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {
     // A walk dearer than testing every entry (a grid widened for far-apart boxes, or a sparse
     // level of a hierarchical grid): each binned box once, at the entry of its min-corner
     // cell, in cell order, instead.
@@ -424,7 +428,7 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   // As in HashGrid: a box is tested in the first cell of the walk inside its cell range.
   bool first = true;
   CellN<D> previous{0};
-  walk_cells(grid_, ray, limit, [&](const CellN<D>& cell, float max_fraction) {
+  walk_cells(grid_, ray, slab, limit, [&](const CellN<D>& cell, float max_fraction) {
     for (const CellEntry& entry : cell_entries(cell)) {
       if (max_fraction <= 0.0f) break;
       // The box test first: most entries of a crowded cell miss the ray, and the test of the

@@ -639,7 +639,7 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
     for (int i = 0; i < size() && limit > 0.0f; ++i) visit(i);
     return;
   }
-  grid_.ray_cast(ray, [&](int slot, float) {
+  grid_.ray_cast(ray, slab, [&](int slot, float) {
     const int id = slow_ids_[std::size_t(slot)];
     return is_fast_[std::size_t(id)] ? limit : visit(id);  // demoted: visited with the fast ones
   });
@@ -647,7 +647,7 @@ void TemporalBroadPhaseN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) 
   if (fast_index_ == FastIndex::grid) {
     // (visit tests the box again: the fast grid's walk starts at fraction 1, not at the clip
     // the slow objects left.)
-    fast_grid_.ray_cast(ray, [&](int k, float) { return visit(fast_[std::size_t(k)]); });
+    fast_grid_.ray_cast(ray, slab, [&](int k, float) { return visit(fast_[std::size_t(k)]); });
     return;
   }
   // Along x the ray reaches [x0, x1] within the clip so far (which only shrinks).

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace collide {
@@ -295,10 +296,11 @@ void sample_largest_sides(std::span<const AabbN<D>> boxes, std::vector<float>& o
 /// cell of its end (clamped to the grid); 0 when it misses the bounds. A grid widened to 2^30
 /// cells per axis (boxes 1e38 apart) can make this a billion: the grids then test their boxes
 /// one by one instead of walking (as their AABB queries do for a range wider than the occupied
-/// cells).
+/// cells). `slab` is `ray` prepared for box tests (SlabRayN), as walk_cells takes it.
 template <int D>
-[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction) noexcept {
-  const float t_start = ray_box_fraction(ray, g.bounds, max_fraction);
+[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab,
+                                 float max_fraction) noexcept {
+  const float t_start = slab.fraction(g.bounds, max_fraction);
   if (t_start < 0.0f) return 0.0;
   // The cell along each axis never goes back as the fraction grows (cell_of is monotone).
   const CellN<D> from = g.cell_of(ray.at(t_start)), to = g.cell_of(ray.at(max_fraction));
@@ -306,15 +308,22 @@ template <int D>
   for (int k = 0; k < D; ++k) steps += std::abs(static_cast<double>(to[k]) - static_cast<double>(from[k]));
   return steps;
 }
+/// walk_length for a ray not prepared as a SlabRayN.
+template <int D>
+[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction) noexcept {
+  return walk_length(g, ray, SlabRayN<D>(ray), max_fraction);
+}
 
 /// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
 /// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,
 /// max_fraction)` returns the new max_fraction (smaller clips the walk, 0 stops it). At a tie
 /// (the ray through a cell corner) it steps one axis at a time, so no cell the ray touches is
-/// skipped.
+/// skipped. `slab` is `ray` prepared for box tests (SlabRayN): the grid's bounds are one, and a
+/// caller that tests boxes along the walk made it already (walk_cells(g, ray, ...) makes one).
 template <int D, class Visit>
-void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction, Visit&& visit) {
-  const float t_start = ray_box_fraction(ray, g.bounds, max_fraction);
+void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab, float max_fraction,
+                Visit&& visit) {
+  const float t_start = slab.fraction(g.bounds, max_fraction);
   if (t_start < 0.0f) return;
   CellN<D> cell = g.cell_of(ray.at(t_start));
   CellN<D> step{0};
@@ -352,6 +361,11 @@ void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction,
     if (cell[axis] < 0 || cell[axis] >= g.dims[axis]) return;
     t_next[axis] += t_delta[axis];
   }
+}
+/// walk_cells for a ray not prepared as a SlabRayN.
+template <int D, class Visit>
+void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction, Visit&& visit) {
+  walk_cells(g, ray, SlabRayN<D>(ray), max_fraction, std::forward<Visit>(visit));
 }
 
 }  // namespace collide

@@ -72,6 +72,9 @@ class HierarchicalGridN {
   void query_point(const VecN<D>& point, QueryCallback callback) const;
   /// Each level in turn, fine to coarse (not sorted by distance along the ray).
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
+  /// ray_cast with `slab`, the same ray prepared for box tests (SlabRayN(ray)) by a caller that
+  /// tests boxes of its own with it: one preparation serves every level.
+  void ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const;
 
   /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return static_cast<int>(boxes_.size()); }

@@ -90,6 +90,10 @@ class SortedGridN {
   /// a ray crossing more cells than are occupied (walk_length) tests the binned boxes in cell
   /// order instead.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
+  /// ray_cast with `slab`, the same ray prepared for box tests (SlabRayN(ray)), made once by a
+  /// caller that casts it through several grids (a hierarchical grid's levels): its three
+  /// divisions are not made again for each.
+  void ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const;
 
   /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return count_; }
