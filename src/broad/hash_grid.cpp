@@ -232,7 +232,8 @@ void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   const SlabRayN<D> slab(ray);  // (one for every box test, the grid's bounds among them)
   float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, slab, 1.0f, callback);
   if (limit <= 0.0f || cells_.empty()) return;
-  if (walk_length(grid_, ray, slab, limit) > static_cast<double>(cells_.size())) {
+  const RayGridEntry<D> start = ray_grid_entry(grid_, ray, slab, limit);
+  if (walk_length(grid_, ray, start, limit) > static_cast<double>(cells_.size())) {
     // A walk longer than the occupied cells (a grid widened for far-apart boxes): each binned
     // box once, in id order, instead.
     const int n = size();
@@ -248,7 +249,7 @@ void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   // walk was outside its range, and tested only there.
   bool first = true;
   CellN<D> previous{0};
-  walk_cells(grid_, ray, slab, limit, [&](const CellN<D>& cell, float max_fraction) {
+  walk_cells(grid_, ray, start, limit, [&](const CellN<D>& cell, float max_fraction) {
     const int c = find_cell(cell);
     if (c >= 0) {
       for (int e = cell_start_[c]; e < cell_start_[c + 1] && max_fraction > 0.0f; ++e) {

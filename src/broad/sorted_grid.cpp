@@ -413,7 +413,8 @@ template <int D>
 void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const {
   float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, slab, 1.0f, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
-  if (walk_length(grid_, ray, slab, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {
+  const RayGridEntry<D> start = ray_grid_entry(grid_, ray, slab, limit);
+  if (walk_length(grid_, ray, start, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {
     // A walk dearer than testing every entry (a grid widened for far-apart boxes, or a sparse
     // level of a hierarchical grid): each binned box once, at the entry of its min-corner
     // cell, in cell order, instead.
@@ -428,7 +429,7 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCa
   // As in HashGrid: a box is tested in the first cell of the walk inside its cell range.
   bool first = true;
   CellN<D> previous{0};
-  walk_cells(grid_, ray, slab, limit, [&](const CellN<D>& cell, float max_fraction) {
+  walk_cells(grid_, ray, start, limit, [&](const CellN<D>& cell, float max_fraction) {
     for (const CellEntry& entry : cell_entries(cell)) {
       if (max_fraction <= 0.0f) break;
       // The box test first: most entries of a crowded cell miss the ray, and the test of the

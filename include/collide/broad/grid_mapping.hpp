@@ -291,41 +291,58 @@ template <int D>
 template <int D>
 void sample_largest_sides(std::span<const AabbN<D>> boxes, std::vector<float>& out);
 
-/// At most how many cells walk_cells visits for this ray within [0, max_fraction]: one plus the
-/// cells stepped over on each axis between the cell where it enters the grid's bounds and the
-/// cell of its end (clamped to the grid); 0 when it misses the bounds. A grid widened to 2^30
-/// cells per axis (boxes 1e38 apart) can make this a billion: the grids then test their boxes
-/// one by one instead of walking (as their AABB queries do for a range wider than the occupied
-/// cells). `slab` is `ray` prepared for box tests (SlabRayN), as walk_cells takes it.
+/// Where a ray enters a grid's bounds: the fraction (negative when it misses them within the
+/// walk's max fraction) and the cell there. walk_length finds it and walk_cells starts from it.
 template <int D>
-[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab,
+struct RayGridEntry {
+  float fraction = -1.0f;
+  CellN<D> cell{0};
+};
+
+/// Where `ray` (prepared for box tests as `slab`) enters the bounds of `g` within [0,
+/// max_fraction] (RayGridEntry).
+template <int D>
+[[nodiscard]] RayGridEntry<D> ray_grid_entry(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab,
+                                             float max_fraction) noexcept {
+  RayGridEntry<D> entry;
+  entry.fraction = slab.fraction(g.bounds, max_fraction);
+  if (entry.fraction >= 0.0f) entry.cell = g.cell_of(ray.at(entry.fraction));
+  return entry;
+}
+
+/// At most how many cells walk_cells visits for this ray within [0, max_fraction]: one plus the
+/// cells stepped over on each axis between the cell where it enters the grid's bounds (`entry`,
+/// from ray_grid_entry with the same max fraction) and the cell of its end (clamped to the
+/// grid); 0 when it misses the bounds. A grid widened to 2^30 cells per axis (boxes 1e38 apart)
+/// can make this a billion: the grids then test their boxes one by one instead of walking (as
+/// their AABB queries do for a range wider than the occupied cells).
+template <int D>
+[[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, const RayGridEntry<D>& entry,
                                  float max_fraction) noexcept {
-  const float t_start = slab.fraction(g.bounds, max_fraction);
-  if (t_start < 0.0f) return 0.0;
+  if (entry.fraction < 0.0f) return 0.0;
   // The cell along each axis never goes back as the fraction grows (cell_of is monotone).
-  const CellN<D> from = g.cell_of(ray.at(t_start)), to = g.cell_of(ray.at(max_fraction));
+  const CellN<D> to = g.cell_of(ray.at(max_fraction));
   double steps = 1.0;
-  for (int k = 0; k < D; ++k) steps += std::abs(static_cast<double>(to[k]) - static_cast<double>(from[k]));
+  for (int k = 0; k < D; ++k) steps += std::abs(static_cast<double>(to[k]) - static_cast<double>(entry.cell[k]));
   return steps;
 }
 /// walk_length for a ray not prepared as a SlabRayN.
 template <int D>
 [[nodiscard]] double walk_length(const GridMapping<D>& g, const RayN<D>& ray, float max_fraction) noexcept {
-  return walk_length(g, ray, SlabRayN<D>(ray), max_fraction);
+  return walk_length(g, ray, ray_grid_entry(g, ray, SlabRayN<D>(ray), max_fraction), max_fraction);
 }
 
 /// Walks the cells the ray crosses, in order along the ray, within [0, max_fraction], clipped to
 /// the grid bounds: 3D-DDA (Amanatides & Woo 1987), the same code for 2D and 3D. `visit(cell,
 /// max_fraction)` returns the new max_fraction (smaller clips the walk, 0 stops it). At a tie
 /// (the ray through a cell corner) it steps one axis at a time, so no cell the ray touches is
-/// skipped. `slab` is `ray` prepared for box tests (SlabRayN): the grid's bounds are one, and a
-/// caller that tests boxes along the walk made it already (walk_cells(g, ray, ...) makes one).
+/// skipped. `entry` is where the ray enters the grid's bounds (ray_grid_entry with the same max
+/// fraction: a caller that asked walk_length first has it already).
 template <int D, class Visit>
-void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab, float max_fraction,
+void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, const RayGridEntry<D>& entry, float max_fraction,
                 Visit&& visit) {
-  const float t_start = slab.fraction(g.bounds, max_fraction);
-  if (t_start < 0.0f) return;
-  CellN<D> cell = g.cell_of(ray.at(t_start));
+  if (entry.fraction < 0.0f) return;
+  CellN<D> cell = entry.cell;
   CellN<D> step{0};
   double t_next[D];   // fraction at which the ray crosses the next boundary on each axis
   double t_delta[D];  // fraction to cross one whole cell on each axis
@@ -361,6 +378,12 @@ void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& 
     if (cell[axis] < 0 || cell[axis] >= g.dims[axis]) return;
     t_next[axis] += t_delta[axis];
   }
+}
+/// walk_cells for a ray prepared for box tests as `slab` (SlabRayN).
+template <int D, class Visit>
+void walk_cells(const GridMapping<D>& g, const RayN<D>& ray, const SlabRayN<D>& slab, float max_fraction,
+                Visit&& visit) {
+  walk_cells(g, ray, ray_grid_entry(g, ray, slab, max_fraction), max_fraction, std::forward<Visit>(visit));
 }
 /// walk_cells for a ray not prepared as a SlabRayN.
 template <int D, class Visit>
