@@ -86,6 +86,154 @@ TEST(GridMapping, CellOfIsFloorThenClampForEveryInput) {
   EXPECT_GT(on_border, 100);  // the clamps were reached
 }
 
+/// The slab method in double, written out per axis (Ericson 5.3.3): the fraction in [0,
+/// max_fraction] where the ray enters the closed box, or -1 on a miss; an axis the ray does not
+/// move along needs the origin inside that slab.
+template <int D>
+double slab_fraction_reference(const RayN<D>& ray, const AabbN<D>& box, double max_fraction) {
+  double enter = 0.0, exit = max_fraction;
+  for (int k = 0; k < D; ++k) {
+    const double o = ray.origin[k], d = ray.translation[k];
+    if (d == 0.0) {
+      if (o < box.min[k] || o > box.max[k]) return -1.0;
+      continue;
+    }
+    double t0 = (box.min[k] - o) / d, t1 = (box.max[k] - o) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    exit = std::min(exit, t1);
+  }
+  return enter <= exit ? enter : -1.0;
+}
+
+// SlabRayN (every grid's and tree's ray test) against the slab method in double, on rays along
+// no axis, along one or two axes, starting inside boxes and grazing them: the same hit or miss
+// except where the ray passes within rounding of a box's edge, and the same fraction.
+TEST(SlabRay, FractionMatchesTheSlabMethodInDouble) {
+  std::mt19937 rng(86);
+  std::uniform_real_distribution<float> coord(-10.0f, 10.0f), size(0.01f, 4.0f), frac(0.0f, 1.0f);
+  int hits = 0, misses = 0, inside = 0, grazing = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Aabb3 box;
+    for (int k = 0; k < 3; ++k) {
+      box.min[k] = coord(rng);
+      box.max[k] = box.min[k] + size(rng);
+    }
+    Ray3 ray{{coord(rng), coord(rng), coord(rng)}, {coord(rng), coord(rng), coord(rng)}};
+    if (i % 2 == 0) {  // aimed past a point near the box: about half of these hit
+      const Vec3 near_box = box.min + (box.max - box.min) * Vec3(frac(rng), frac(rng), frac(rng)) * 1.6f - 0.3f * (box.max - box.min);
+      ray.translation = 1.5f * (near_box - ray.origin);
+    }
+    if (i % 4 == 1) ray.translation[i % 3] = 0.0f;  // along a plane
+    if (i % 8 == 3) ray.translation[(i + 1) % 3] = ray.translation[(i + 2) % 3] = 0.0f;  // along an axis
+    if (i % 16 == 5) ray.origin = 0.5f * (box.min + box.max);  // from inside
+    const float max_fraction = i % 2 == 0 ? 1.0f : frac(rng);
+    const float got = SlabRayN<3>(ray).fraction(box, max_fraction);
+    const double want = slab_fraction_reference(ray, box, max_fraction);
+    if ((got >= 0.0f) != (want >= 0.0)) {
+      // Only a ray within rounding of the box's boundary may be judged differently: grow and
+      // shrink the box by a hair and the double test must disagree with itself.
+      Aabb3 grown = box, shrunk = box;
+      for (int k = 0; k < 3; ++k) {
+        const float pad = 1e-4f * (1.0f + std::abs(box.min[k]) + std::abs(box.max[k]));
+        grown.min[k] -= pad;
+        grown.max[k] += pad;
+        shrunk.min[k] += pad;
+        shrunk.max[k] -= pad;
+      }
+      EXPECT_GE(slab_fraction_reference(ray, grown, max_fraction), 0.0) << i;
+      EXPECT_LT(slab_fraction_reference(ray, shrunk, max_fraction), 0.0) << i;
+      ++grazing;
+      continue;
+    }
+    if (want < 0.0) {
+      ++misses;
+      continue;
+    }
+    ++hits;
+    inside += want == 0.0;
+    EXPECT_NEAR(got, want, 1e-5 * (1.0 + std::abs(want)) + 1e-6) << i;
+  }
+  EXPECT_GT(hits, 2000);
+  EXPECT_GT(misses, 2000);
+  EXPECT_GT(inside, 500);
+  EXPECT_LT(grazing, 20);
+}
+
+// walk_cells (every grid's ray walk) against the cells' own boxes: it visits each cell the ray
+// crosses with some length inside, once, in order along the ray, and no cell the ray passes far
+// from; walk_length bounds the count. Rays along no axis and along planes, inside and beyond the
+// grid, with a walk clipped by max_fraction.
+TEST(GridMapping, WalkCellsVisitsTheCellsTheRayCrossesInOrder) {
+  const GridMapping<3> g = make_grid_mapping<3>(Aabb3{{-4.0f, -3.0f, -2.0f}, {6.0f, 5.0f, 3.5f}}, 0.7f);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> coord(-8.0f, 9.0f), frac(0.2f, 1.0f);
+  const auto cell_box = [&](const CellN<3>& c) {
+    Aabb3 b;
+    for (int k = 0; k < 3; ++k) {
+      b.min[k] = g.origin[k] + static_cast<float>(c[k]) * g.cell_size;
+      b.max[k] = b.min[k] + g.cell_size;
+    }
+    return b;
+  };
+  // The length of the ray's part inside box b, in fractions (-1 if it misses).
+  const auto inside_length = [](const Ray3& ray, const Aabb3& b, double max_fraction) {
+    const double enter = slab_fraction_reference(ray, b, max_fraction);
+    if (enter < 0.0) return -1.0;
+    Ray3 back{ray.at(static_cast<float>(max_fraction)), -ray.translation};  // exit = max - entry of the reversed ray
+    const double from_end = slab_fraction_reference(back, b, max_fraction);
+    return from_end < 0.0 ? 0.0 : (max_fraction - from_end) - enter;
+  };
+  int walked = 0;
+  for (int i = 0; i < 400; ++i) {
+    Ray3 ray{{coord(rng), coord(rng), coord(rng)}, {coord(rng), coord(rng), coord(rng)}};
+    if (i % 2 == 0) {  // aimed through a point of the grid
+      const Vec3 target = g.bounds.min + (g.bounds.max - g.bounds.min) * Vec3(frac(rng), frac(rng), frac(rng));
+      ray.translation = 1.5f * (target - ray.origin);
+    }
+    if (i % 5 == 2) ray.translation[i % 3] = 0.0f;
+    const float max_fraction = i % 3 == 0 ? frac(rng) : 1.0f;
+    std::vector<CellN<3>> visited;
+    std::vector<double> entered;
+    walk_cells(g, ray, max_fraction, [&](const CellN<3>& c, float limit) {
+      visited.push_back(c);
+      entered.push_back(std::max(0.0, slab_fraction_reference(ray, cell_box(c), max_fraction)));
+      return limit;
+    });
+    const double bound = walk_length(g, ray, max_fraction);
+    EXPECT_LE(static_cast<double>(visited.size()), bound) << i;
+    walked += !visited.empty();
+    for (std::size_t v = 0; v < visited.size(); ++v) {
+      // Touched (within rounding), in order, once.
+      Aabb3 grown = cell_box(visited[v]);
+      grown.min -= Vec3(1e-4f);
+      grown.max += Vec3(1e-4f);
+      EXPECT_GE(slab_fraction_reference(ray, grown, max_fraction), 0.0) << i << " cell " << v;
+      if (v > 0) EXPECT_GE(entered[v], entered[v - 1] - 1e-6) << i << " cell " << v;
+      for (std::size_t u = 0; u < v; ++u) EXPECT_NE(visited[u], visited[v]) << i;
+    }
+    // Every cell the ray crosses with some length (away from rounding) is visited.
+    for (int x = 0; x < g.dims.x; ++x) {
+      for (int y = 0; y < g.dims.y; ++y) {
+        for (int z = 0; z < g.dims.z; ++z) {
+          const CellN<3> c{x, y, z};
+          // (the part of the cell inside the grid's bounds: the walk starts where the ray enters them)
+          Aabb3 part = cell_box(c);
+          part.min = glm::max(part.min, g.bounds.min);
+          part.max = glm::min(part.max, g.bounds.max);
+          if (!(part.min.x <= part.max.x && part.min.y <= part.max.y && part.min.z <= part.max.z)) continue;
+          const double length = inside_length(ray, part, max_fraction) * glm::length(glm::dvec3(ray.translation));
+          if (length > 1e-3) {
+            EXPECT_NE(std::find(visited.begin(), visited.end(), c), visited.end())
+                << i << " misses cell " << x << "," << y << "," << z;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(walked, 200);
+}
+
 // Regression for the lesson's exercise: two boxes sharing 25 cells were reported 25 times.
 TEST(HashGrid, PairSharingManyCellsIsReportedOnce) {
   const std::vector<Aabb> boxes = {{{0.0f, 0.0f}, {5.0f, 5.0f}}, {{0.5f, 0.5f}, {4.5f, 4.5f}}};
