@@ -24,6 +24,7 @@
 #include <limits>
 #include <numeric>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace collide {
@@ -86,24 +87,31 @@ TEST(GridMapping, CellOfIsFloorThenClampForEveryInput) {
   EXPECT_GT(on_border, 100);  // the clamps were reached
 }
 
-/// The slab method in double, written out per axis (Ericson 5.3.3): the fraction in [0,
-/// max_fraction] where the ray enters the closed box, or -1 on a miss; an axis the ray does not
-/// move along needs the origin inside that slab.
+/// The slab method in double, written out per axis (Ericson 5.3.3): the fractions in [0,
+/// max_fraction] where the ray enters and leaves the closed box (enter > leave on a miss); an
+/// axis the ray does not move along needs the origin inside that slab.
 template <int D>
-double slab_fraction_reference(const RayN<D>& ray, const AabbN<D>& box, double max_fraction) {
-  double enter = 0.0, exit = max_fraction;
+std::pair<double, double> slab_interval_reference(const RayN<D>& ray, const AabbN<D>& box, double max_fraction) {
+  double enter = 0.0, leave = max_fraction;
   for (int k = 0; k < D; ++k) {
     const double o = ray.origin[k], d = ray.translation[k];
     if (d == 0.0) {
-      if (o < box.min[k] || o > box.max[k]) return -1.0;
+      if (o < box.min[k] || o > box.max[k]) return {1.0, -1.0};
       continue;
     }
     double t0 = (box.min[k] - o) / d, t1 = (box.max[k] - o) / d;
     if (t0 > t1) std::swap(t0, t1);
     enter = std::max(enter, t0);
-    exit = std::min(exit, t1);
+    leave = std::min(leave, t1);
   }
-  return enter <= exit ? enter : -1.0;
+  return {enter, leave};
+}
+
+/// The entry fraction of slab_interval_reference, or -1 on a miss (ray_box_fraction's contract).
+template <int D>
+double slab_fraction_reference(const RayN<D>& ray, const AabbN<D>& box, double max_fraction) {
+  const auto [enter, leave] = slab_interval_reference(ray, box, max_fraction);
+  return enter <= leave ? enter : -1.0;
 }
 
 // SlabRayN (every grid's and tree's ray test) against the slab method in double, on rays along
@@ -176,13 +184,10 @@ TEST(GridMapping, WalkCellsVisitsTheCellsTheRayCrossesInOrder) {
     }
     return b;
   };
-  // The length of the ray's part inside box b, in fractions (-1 if it misses).
+  // The length of the ray's part inside box b, in fractions (negative if it misses).
   const auto inside_length = [](const Ray3& ray, const Aabb3& b, double max_fraction) {
-    const double enter = slab_fraction_reference(ray, b, max_fraction);
-    if (enter < 0.0) return -1.0;
-    Ray3 back{ray.at(static_cast<float>(max_fraction)), -ray.translation};  // exit = max - entry of the reversed ray
-    const double from_end = slab_fraction_reference(back, b, max_fraction);
-    return from_end < 0.0 ? 0.0 : (max_fraction - from_end) - enter;
+    const auto [enter, leave] = slab_interval_reference(ray, b, max_fraction);
+    return leave - enter;
   };
   int walked = 0;
   for (int i = 0; i < 400; ++i) {
