@@ -555,5 +555,125 @@ TEST(DistanceField, ParticleStepIsTheOneAtATimeRuleBitForBit) {
   expect_step_matches_reference(make_sparse_distance_field(flat, options(0.05f)), 34);
 }
 
+/// Every query of the cell-by-cell layout against the dense field it was made from, bit for
+/// bit: sample (with and without gradient), gradient, is_inside, nearest_value at points in
+/// the box, on its faces, beyond it and NaN / infinite; node_value at every node; the batched
+/// sample; point and shape contacts and ray marches; and a particle step (also against the
+/// one-at-a-time rule).
+template <class Dense>
+void expect_cell_layout_is_the_dense_field(const Dense& dense, unsigned seed) {
+  constexpr int D = Dense::kDim;
+  const auto cells = make_cell_distance_field(dense);
+  const auto same = [](float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); };
+  std::size_t cell_count = 1;
+  for (int k = 0; k < D; ++k) cell_count *= static_cast<std::size_t>(dense.grid.dims[k] - 1);
+  ASSERT_EQ(cells.corners.size(), cell_count << D);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(cells.corners.data()) % kCacheLineBytes, 0u);  // no cell straddles a line
+  EXPECT_GE(cells.bytes(), cell_count * (sizeof(float) << D));
+  // Every node from whichever cell holds it.
+  std::size_t node = 0;
+  glm::vec<D, int> i(0);
+  while (true) {
+    ASSERT_TRUE(same(cells.node_value(i), dense.node_value(i))) << "node " << node;
+    ++node;
+    int k = 0;
+    while (k < D && ++i[k] == dense.grid.dims[k]) i[k++] = 0;
+    if (k == D) break;
+  }
+  ASSERT_EQ(node, dense.grid.count());
+  const std::vector<VecN<D>> points = batch_points<D>(dense.grid.bounds(), dense.grid, 6000, seed);
+  for (const VecN<D>& p : points) {
+    VecN<D> g_dense, g_cells;
+    ASSERT_TRUE(same(cells.sample(p), dense.sample(p)));
+    ASSERT_TRUE(same(cells.sample(p, g_cells), dense.sample(p, g_dense)));
+    ASSERT_TRUE(same_bits<D>(g_cells, g_dense));
+    ASSERT_TRUE(same_bits<D>(cells.gradient(p), dense.gradient(p)));
+    ASSERT_EQ(cells.is_inside(p), dense.is_inside(p));
+    ASSERT_TRUE(same(cells.nearest_value(p), dense.nearest_value(p)));
+    const ManifoldN<D> a = contact(p, cells), b = contact(p, dense);
+    ASSERT_EQ(a.count, b.count);
+    if (a.count > 0) {
+      ASSERT_TRUE(same_bits<D>(a.normal, b.normal));
+      ASSERT_TRUE(same(a.points[0].depth, b.points[0].depth));
+    }
+  }
+  expect_batch_is_one_at_a_time(cells, seed + 1);
+  std::vector<float> from_cells(points.size()), from_dense(points.size());
+  sample(cells, std::span<const VecN<D>>(points), std::span<float>(from_cells));
+  sample(dense, std::span<const VecN<D>>(points), std::span<float>(from_dense));
+  for (std::size_t k = 0; k < points.size(); ++k) ASSERT_TRUE(same(from_cells[k], from_dense[k])) << k;
+  // Ray marches from points in the box towards others.
+  std::mt19937 rng(seed + 2);
+  const AabbN<D> box = dense.grid.bounds();
+  int hits = 0;
+  for (int k = 0; k < 300; ++k) {
+    const RayN<D> ray{random_in<D>(rng, box), random_in<D>(rng, box) - random_in<D>(rng, box)};
+    const RayHitN<D> a = raymarch(cells, ray), b = raymarch(dense, ray);
+    ASSERT_EQ(a.hit, b.hit);
+    if (!a.hit) continue;
+    ++hits;
+    ASSERT_TRUE(same(a.fraction, b.fraction));
+    ASSERT_TRUE(same_bits<D>(a.point, b.point));
+    ASSERT_TRUE(same_bits<D>(a.normal, b.normal));
+  }
+  EXPECT_GT(hits, 0);
+  // Particles: the one-at-a-time rule, and where the dense field's step puts them.
+  expect_step_matches_reference(cells, seed + 3);
+  ParticlesN<D> on_cells = mixed_particles<D>(box, 700, seed + 4), on_dense = on_cells;
+  for (int frame = 0; frame < 10; ++frame) {
+    const ParticleStepStats a = step_particles(cells, on_cells, 0.05f, 0.5f);
+    const ParticleStepStats b = step_particles(dense, on_dense, 0.05f, 0.5f);
+    ASSERT_EQ(a.bounced, b.bounced);
+    for (std::size_t k = 0; k < on_cells.positions.size(); ++k)
+      ASSERT_TRUE(same_bits<D>(on_cells.positions[k], on_dense.positions[k])) << k;
+  }
+}
+
+TEST(CellDistanceField, EveryQueryIsTheDenseFieldsBitForBit) {
+  const std::vector<PlacedShape3> scene{{make_sphere({0, 0, 0}, 1.0f), Transform3{{0.1f, 0.2f, -0.3f}, Quat{1, 0, 0, 0}}},
+                                        {make_box({0.5f, 0.3f, 0.4f}), Transform3{{0.9f, -0.6f, 0.2f}, Quat{1, 0, 0, 0}}}};
+  expect_cell_layout_is_the_dense_field(make_distance_field(scene, options(0.07f)), 51);
+  const std::vector<PlacedShape> flat{{make_circle({0, 0}, 1.0f), Transform{{0.3f, -0.1f}, Rot2{}}},
+                                      {make_box({0.8f, 0.4f}), Transform{{-1.2f, 0.6f}, Rot2{}}}};
+  expect_cell_layout_is_the_dense_field(make_distance_field(flat, options(0.05f)), 52);
+  // Shape contacts: the same manifolds.
+  const DistanceField3 dense = make_distance_field(scene, options(0.07f));
+  const CellDistanceField3 cells = make_cell_distance_field(dense);
+  std::mt19937 rng(53);
+  int touching = 0;
+  for (const Shape3D& shape : {Shape3D{make_sphere({0, 0, 0}, 0.4f)},
+                               Shape3D{make_capsule(Vec3{-0.4f, 0, 0}, Vec3{0.4f, 0, 0}, 0.2f)},
+                               Shape3D{make_box({0.3f, 0.2f, 0.25f})}}) {
+    for (int k = 0; k < 60; ++k) {
+      const Transform3 xf{random_in<3>(rng, dense.grid.bounds()), test::random_rotation(rng)};
+      const Manifold3 a = contact(shape, xf, cells), b = contact(shape, xf, dense);
+      ASSERT_EQ(a.count, b.count);
+      touching += a.count > 0;
+      for (int c = 0; c < a.count; ++c) {
+        ASSERT_TRUE(same_bits<3>(a.points[c].point, b.points[c].point));
+        ASSERT_EQ(a.points[c].depth, b.points[c].depth);
+      }
+    }
+  }
+  EXPECT_GT(touching, 0);
+}
+
+TEST(CellDistanceField, RefusesAFieldOverTheMemoryLimitAndNamesWhatItNeeds) {
+  const std::vector<PlacedShape3> scene{{make_sphere({0, 0, 0}, 1.0f), Transform3{}}};
+  const DistanceField3 dense = make_distance_field(scene, options(0.1f));
+  const std::size_t cells = static_cast<std::size_t>(dense.grid.dims.x - 1) * (dense.grid.dims.y - 1) * (dense.grid.dims.z - 1);
+  EXPECT_NO_THROW((void)make_cell_distance_field(dense, cells * 32));
+  try {
+    (void)make_cell_distance_field(dense, cells * 32 - 1);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("memory limit"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::to_string(cells)), std::string::npos) << e.what();
+  }
+  DistanceField3 broken = dense;
+  broken.distances.pop_back();  // not one distance a node
+  EXPECT_THROW((void)make_cell_distance_field(broken), InvalidInput);
+}
+
 }  // namespace
 }  // namespace collide
