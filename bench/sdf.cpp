@@ -41,9 +41,6 @@
 //                    sample(p, gradient);
 //   dense_sample_batch: sample(field, points, out), the 4096 points as one batch (four at a
 //                    time in SSE2 lanes) into a buffer, the same values as dense_sample;
-//   cell_inside / cell_sample / cell_gradient: the same queries on the dense field laid out
-//                    cell by cell (CellDistanceField3: a cell's 8 corners on one cache line;
-//                    MiB = its size, 8x the dense distances), the same values;
 //   sparse_inside / sparse_sample: the same on SparseDistanceField3;
 //   openvdb_point / openvdb_box: tools::GridSampler with PointSampler (nearest voxel; its
 //                    "< 0" is the rival of is_inside) and BoxSampler (trilinear) over a cached
@@ -134,7 +131,6 @@ struct Res {
   std::optional<Points> band, all;
   std::optional<DistanceField3> dense;
   std::optional<SparseDistanceField3> sparse;
-  std::optional<CellDistanceField3> cells;  ///< the dense field laid out cell by cell
   VdbGrid::Ptr vdb;
   float wide_band = 0.0f;  ///< OpenVDB's bands (voxels) covering the dense grid; 0 until known
   std::array<std::optional<Counters>, 6> accuracy;
@@ -233,10 +229,6 @@ const DistanceField3& dense(Res& r) {
 const SparseDistanceField3& sparse(Res& r) {
   if (!r.sparse) r.sparse = make_sparse_distance_field(r.level->mesh, r.options);
   return *r.sparse;
-}
-const CellDistanceField3& cells(Res& r) {
-  if (!r.cells) r.cells = make_cell_distance_field(dense(r));
-  return *r.cells;
 }
 const VdbGrid& vdb(Res& r) {
   if (!r.vdb) {
@@ -338,11 +330,10 @@ void register_build(Res* r, Lib lib) {
 
 // ---- queries ------------------------------------------------------------------------------------
 
-enum Method { kBareRead, kBareLookup, kDenseInside, kDenseSample, kDenseSampleBatch, kDenseGradient, kCellInside,
-              kCellSample, kCellGradient, kSparseInside, kSparseSample, kVdbPoint, kVdbBox };
-const char* const kMethodNames[] = {"bare_read",     "bare_lookup",   "dense_inside", "dense_sample", "dense_sample_batch",
-                                    "dense_gradient", "cell_inside",  "cell_sample",  "cell_gradient", "sparse_inside",
-                                    "sparse_sample", "openvdb_point", "openvdb_box"};
+enum Method { kBareRead, kBareLookup, kDenseInside, kDenseSample, kDenseSampleBatch, kDenseGradient, kSparseInside,
+              kSparseSample, kVdbPoint, kVdbBox };
+const char* const kMethodNames[] = {"bare_read", "bare_lookup", "dense_inside", "dense_sample", "dense_sample_batch",
+                                    "dense_gradient", "sparse_inside", "sparse_sample", "openvdb_point", "openvdb_box"};
 
 void register_sample(Res* r, bool in_band, Method method) {
   const std::string name = std::string("BM_SdfSample/") + r->level->name + "/" + r->scale->name + "/" +
@@ -352,8 +343,6 @@ void register_sample(Res* r, bool in_band, Method method) {
     const std::size_t n = pts.size();
     const DistanceField3& d = dense(*r);
     const SparseDistanceField3& s = sparse(*r);
-    const bool cell_method = method == kCellInside || method == kCellSample || method == kCellGradient;
-    const CellDistanceField3* c = cell_method ? &cells(*r) : nullptr;  // 8x the dense field's bytes: on demand
     const VdbGrid& g = vdb(*r);
     const FieldGrid3& grid = d.grid;
     if (glm::length(grid.origin - r->box.min) > 1e-2f * grid.voxel) {
@@ -408,19 +397,6 @@ void register_sample(Res* r, bool in_band, Method method) {
             sum += gradient.x;
           }
           break;
-        case kCellInside:
-          for (const Vec3& p : pts) inside += c->is_inside(p);
-          break;
-        case kCellSample:
-          for (const Vec3& p : pts) sum += c->sample(p);
-          break;
-        case kCellGradient:
-          for (const Vec3& p : pts) {
-            Vec3 gradient;
-            sum += c->sample(p, gradient);
-            sum += gradient.x;
-          }
-          break;
         case kSparseInside:
           for (const Vec3& p : pts) inside += s.is_inside(p);
           break;
@@ -439,7 +415,6 @@ void register_sample(Res* r, bool in_band, Method method) {
     }
     state.counters["per_point"] =
         benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-    if (c != nullptr) state.counters["MiB"] = double(c->bytes()) / double(1 << 20);
   })->Unit(benchmark::kMicrosecond);
 }
 

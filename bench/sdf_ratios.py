@@ -19,8 +19,8 @@ from collections import defaultdict
 MAIN = "4M"
 SCALES = ["64k", "512k", "4M", "32M"]
 BUILDS = ["collide_dense", "collide_sparse", "collide_exact", "openvdb", "openvdb_2t", "openvdb_wide"]
-SAMPLES = ["bare_read", "bare_lookup", "dense_inside", "dense_sample", "dense_sample_batch", "dense_gradient", "cell_inside",
-           "cell_sample", "cell_gradient", "sparse_inside", "sparse_sample", "openvdb_point", "openvdb_box"]
+SAMPLES = ["bare_read", "bare_lookup", "dense_inside", "dense_sample", "dense_sample_batch", "dense_gradient", "sparse_inside",
+           "sparse_sample", "openvdb_point", "openvdb_box"]
 TO_NS = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}
 
 
@@ -155,17 +155,16 @@ def main():
     print()
 
     print(f"### Queries against a bare read at a point (bare_lookup: the index computed from the point)\n")
-    print("| mesh / points | bare_lookup ns | dense_inside | dense_sample | dense_sample_batch | cell_inside | cell_sample "
-          "| sparse_inside | sparse_sample |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| mesh / points | bare_lookup ns | dense_inside | dense_sample | dense_sample_batch | sparse_inside | sparse_sample |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     for m in meshes:
         for pts in ["box", "band"]:
             ns = {s: get(f"BM_SdfSample/{m}/{MAIN}/{pts}/{s}", "per_point") for s in SAMPLES}
             base = ns["bare_lookup"]
             if base is None:
                 continue
-            cells = [ratio(ns[s], base) for s in ["dense_inside", "dense_sample", "dense_sample_batch", "cell_inside",
-                                                  "cell_sample", "sparse_inside", "sparse_sample"]]
+            cells = [ratio(ns[s], base) for s in ["dense_inside", "dense_sample", "dense_sample_batch", "sparse_inside",
+                                                  "sparse_sample"]]
             print(f"| {m} / {pts} | {base * 1e9:.2f} | " + " | ".join(cells) + " |")
     print()
 

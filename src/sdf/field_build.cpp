@@ -1714,45 +1714,6 @@ DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOp
   return field;
 }
 
-namespace {
-
-template <int D>
-CellDistanceFieldN<D> cell_field(const DistanceFieldN<D>& field, std::size_t max_bytes) {
-  CellDistanceFieldN<D> cells;
-  cells.grid = field.grid;
-  bool valid = field.distances.size() == field.grid.count();
-  for (int k = 0; k < D; ++k) valid &= field.grid.dims[k] >= 2;
-  if (!valid) throw InvalidInput("cell distance field: the dense field has fewer than 2 nodes on an axis or not one distance a node");
-  double count = 1.0;
-  for (int k = 0; k < D; ++k) count *= double(field.grid.dims[k] - 1);
-  const double bytes = count * double(CellDistanceFieldN<D>::kCorners * sizeof(float));
-  if (!(bytes <= double(max_bytes))) {
-    std::ostringstream out;
-    out << "cell distance field: " << count << " cells of " << CellDistanceFieldN<D>::kCorners * sizeof(float)
-        << " bytes need " << format_bytes(bytes) << ", over the memory limit of " << format_bytes(double(max_bytes));
-    throw InvalidInput(out.str());
-  }
-  cells.corners = detail::large_page_vector<float, LineAllocator<float>>(
-      static_cast<std::size_t>(count) * CellDistanceFieldN<D>::kCorners, 0.0f);
-  float* out = cells.corners.data();
-  for_each_node<D>(glm::vec<D, int>(0), field.grid.dims - 2, [&](glm::vec<D, int> i) {
-    float v[1 << D];
-    field.cell_values(i, v);
-    float* c = out + cells.cell_index(i) * CellDistanceFieldN<D>::kCorners;
-    for (int k = 0; k < CellDistanceFieldN<D>::kCorners; ++k) c[k] = v[k];
-  });
-  return cells;
-}
-
-}  // namespace
-
-CellDistanceField make_cell_distance_field(const DistanceField& field, std::size_t max_bytes) {
-  return cell_field<2>(field, max_bytes);
-}
-CellDistanceField3 make_cell_distance_field(const DistanceField3& field, std::size_t max_bytes) {
-  return cell_field<3>(field, max_bytes);
-}
-
 float winding_number(const TriangleMesh& mesh, Vec3 p) noexcept {
   const Vec3 q = p - mesh.origin;
   float omega = 0.0f;

@@ -318,8 +318,6 @@ template struct DistanceFieldN<2>;
 template struct DistanceFieldN<3>;
 template struct SparseDistanceFieldN<2>;
 template struct SparseDistanceFieldN<3>;
-template struct CellDistanceFieldN<2>;
-template struct CellDistanceFieldN<3>;
 
 // ---- free functions --------------------------------------------------------------------------
 
@@ -437,8 +435,6 @@ void move_and_locate(const F& field, const FieldGridN<F::kDim>& grid, VecN<F::kD
     chunk.in[j] = grid.nearest_node(p, chunk.node[j]);
     if constexpr (requires { field.distances; }) {
       if (chunk.in[j]) prefetch(field.distances.data() + grid.index(chunk.node[j]));
-    } else if constexpr (requires { field.corners; }) {
-      if (chunk.in[j]) prefetch(field.node_pointer(chunk.node[j]));
     }
   }
 }
@@ -549,7 +545,7 @@ std::size_t list_near(const F& field, float clear, std::size_t count, bool keyed
     } else if constexpr (requires { field.distances; }) {
       // An outside particle's key is 0: a read of node 0, not used.
       far = chunk.in[j] & (field.distances[chunk.index[j]] > clear);
-    } else if constexpr (requires { field.table; }) {
+    } else {
       // A branch on the region's kind: most particles sit in empty regions and read no brick
       // (reading one from a safe place always, the kind picked without a branch, measured
       // slower: dungeon 4.4-4.7 -> 6.5 ns a step).
@@ -557,8 +553,6 @@ std::size_t list_near(const F& field, float clear, std::size_t count, bool keyed
       float value = brick == F::kNoBrick ? field.band_distance : -field.band_distance;
       if (brick < F::kNoBrickInside) value = field.bricks[brick * kBrickNodes<D> + chunk.local[j]];
       far = chunk.in[j] & (value > clear);
-    } else {
-      far = false;  // not reached: pass 1 leaves keys for dense and sparse fields only
     }
     list[near] = static_cast<std::uint32_t>(j);
     near += far ? 0 : 1;
@@ -584,7 +578,7 @@ bool move_and_locate_chunk(const F& field, const FieldGridN<F::kDim>& grid, VecN
                             });
       return true;
     }
-  } else if constexpr (requires { field.table; }) {
+  } else {
     // The brick table is a word per brick region: small and cached; the bricks are read in
     // pass 2 without being asked for first (asking for every listed brick node after this pass
     // measured slower, stop 50, AMD EPYC: dungeon 4.5 -> 5.9 ns a step, torus 8.6 -> 11.8).
@@ -648,8 +642,6 @@ ParticleStepStats step_particles(const F& field, ParticlesN<F::kDim>& particles,
           prefetch(d + slab);
           prefetch(d + slab + row + 1);
         }
-      } else if constexpr (requires { field.corners; }) {
-        prefetch(field.corners.data() + field.cell_index(near_cell[k]) * F::kCorners);  // one line
       }
     }
     // 3: the near ones whose cell has a corner inside are sampled; those inside are pushed back
@@ -792,14 +784,10 @@ COLLIDE_FIELD_QUERIES(DistanceField)
 COLLIDE_FIELD_QUERIES(DistanceField3)
 COLLIDE_FIELD_QUERIES(SparseDistanceField)
 COLLIDE_FIELD_QUERIES(SparseDistanceField3)
-COLLIDE_FIELD_QUERIES(CellDistanceField)
-COLLIDE_FIELD_QUERIES(CellDistanceField3)
 #undef COLLIDE_FIELD_QUERIES
 template Manifold contact<DistanceField>(const Shape2D&, const Transform&, const DistanceField&) noexcept;
 template Manifold contact<SparseDistanceField>(const Shape2D&, const Transform&, const SparseDistanceField&) noexcept;
 template Manifold3 contact<DistanceField3>(const Shape3D&, const Transform3&, const DistanceField3&) noexcept;
 template Manifold3 contact<SparseDistanceField3>(const Shape3D&, const Transform3&, const SparseDistanceField3&) noexcept;
-template Manifold contact<CellDistanceField>(const Shape2D&, const Transform&, const CellDistanceField&) noexcept;
-template Manifold3 contact<CellDistanceField3>(const Shape3D&, const Transform3&, const CellDistanceField3&) noexcept;
 
 }  // namespace collide

@@ -5,7 +5,6 @@
 // hundreds of cycles. On 2 MiB pages the whole table fits the TLB's reach.
 
 #include <cstddef>
-#include <memory>
 #include <vector>
 
 namespace collide::detail {
@@ -20,9 +19,9 @@ void advise_large_pages(void* data, std::size_t bytes) noexcept;
 
 /// A vector of `count` copies of `value`, its storage advised onto large pages (above) before
 /// it is filled.
-template <class T, class Allocator = std::allocator<T>>
-std::vector<T, Allocator> large_page_vector(std::size_t count, const T& value) {
-  std::vector<T, Allocator> v;
+template <class T>
+std::vector<T> large_page_vector(std::size_t count, const T& value) {
+  std::vector<T> v;
   v.reserve(count);
   if (count * sizeof(T) >= kLargePageMinBytes) advise_large_pages(v.data(), count * sizeof(T));
   v.resize(count, value);

@@ -64,7 +64,6 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
-#include <collide/core/line_allocator.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -262,6 +261,20 @@ class LooseGridN {
   void find_big_in_band(std::uint32_t b, std::uint32_t first_cell, std::uint32_t last_cell);
   // 3D: entries grouped by crossing class a chunk of this many at a time (see append_pairs).
   static constexpr std::uint32_t kPairChunk = 256;
+  // Allocates on 64-byte boundaries (cache lines), for the full-line streaming stores of the
+  // distribution by band.
+  template <class T>
+  struct LineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlign{64};
+    LineAllocator() = default;
+    template <class U>
+    LineAllocator(const LineAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlign); }
+    template <class U>
+    bool operator==(const LineAllocator<U>&) const noexcept { return true; }
+  };
   // staged_ as large as records_ (and its capacity at least records_'s).
   void stage_like_records() {
     staged_.reserve(records_.capacity());
@@ -321,8 +334,7 @@ class LooseGridN {
   // The entries sorted by key, count_ + kPad of them: binned boxes (ids ascending in a cell),
   // then the big boxes. Their boxes are in coords_, one array per coordinate: coordinate k of
   // the min corner of entry e is coords_[k * stride_ + e], of the max corner
-  // coords_[(D + k) * stride_ + e]. On cache-line boundaries (LineAllocator), as staged_ and
-  // band_lines_, for the full-line streaming stores of the distribution by band.
+  // coords_[(D + k) * stride_ + e].
   std::vector<Record, LineAllocator<Record>> records_;
   std::size_t stride_ = 0;
   std::vector<float> coords_;

@@ -36,7 +36,6 @@
 
 #include <collide/core/aabb.hpp>
 #include <collide/core/config.hpp>
-#include <collide/core/line_allocator.hpp>
 #include <collide/core/ray.hpp>
 #include <collide/core/transform.hpp>
 #include <collide/core/transform3.hpp>
@@ -322,55 +321,6 @@ struct SparseDistanceFieldN {
 using SparseDistanceField = SparseDistanceFieldN<2>;   ///< 2D sparse field
 using SparseDistanceField3 = SparseDistanceFieldN<3>;  ///< 3D sparse field
 
-/// A dense field laid out cell by cell for samples that read one cache line: the 2^D corner
-/// distances of every cell side by side (16 bytes a 2D cell, 32 a 3D one, on 64-byte lines, so
-/// no cell straddles two), where the node-by-node layout of DistanceFieldN puts a 3D cell's
-/// corners on four rows, four cache lines apart. The lesson's trade-off in the other direction:
-/// 2^D times the dense field's memory for the distances (each node stored once per cell that
-/// has it) to make `sample` one memory access, as `is_inside` is on any layout. Made from a
-/// dense field by `make_cell_distance_field`; the same values bit for bit as that field's
-/// queries (the same corners, the same float operations). Not kept: closest points.
-template <int D>
-struct CellDistanceFieldN {
-  static constexpr int kDim = D;                ///< dimension
-  static constexpr int kCorners = 1 << D;       ///< corners per cell
-  FieldGridN<D> grid;                           ///< the dense field's grid (nodes, not cells)
-  /// Cell c's corners at corners[c * kCorners + k], k as DistanceFieldN::cell_values orders
-  /// them, c = cell_index(first node); cache-line aligned.
-  std::vector<float, LineAllocator<float>> corners;
-
-  /// The index of the cell whose first node is `i` (each axis in [0, dims - 2]), x fastest.
-  [[nodiscard]] std::size_t cell_index(glm::vec<D, int> i) const noexcept {
-    std::size_t at = static_cast<std::size_t>(i[D - 1]);
-    for (int k = D - 2; k >= 0; --k) at = at * static_cast<std::size_t>(grid.dims[k] - 1) + static_cast<std::size_t>(i[k]);
-    return at;
-  }
-  /// As DistanceFieldN::sample: one cell read (one cache line).
-  [[nodiscard]] float sample(VecN<D> p) const noexcept;
-  /// As DistanceFieldN::gradient.
-  [[nodiscard]] VecN<D> gradient(VecN<D> p) const noexcept;
-  /// As DistanceFieldN::sample with the gradient.
-  [[nodiscard]] float sample(VecN<D> p, VecN<D>& gradient_out) const noexcept;
-  /// As DistanceFieldN::is_inside: the nearest node's value is negative (one read).
-  [[nodiscard]] bool is_inside(VecN<D> p) const noexcept;
-  /// The stored distance of the node nearest to `p` (one read; +inf outside the grid).
-  [[nodiscard]] float nearest_value(VecN<D> p) const noexcept;
-  /// The distance of node `i` (each axis in [0, dims)), read from a cell that has it.
-  [[nodiscard]] float node_value(glm::vec<D, int> i) const noexcept { return *node_pointer(i); }
-  /// Where node_value(i) reads: corner (i - c) of cell c = min(i, dims - 2) per axis.
-  [[nodiscard]] const float* node_pointer(glm::vec<D, int> i) const noexcept;
-  /// As DistanceFieldN::cell_values: the cell's 2^D floats, one after the other.
-  void cell_values(glm::vec<D, int> i, float (&v)[1 << D]) const noexcept {
-    const float* c = corners.data() + cell_index(i) * kCorners;
-    for (int k = 0; k < kCorners; ++k) v[k] = c[k];
-  }
-  /// Bytes held by the field.
-  [[nodiscard]] std::size_t bytes() const noexcept { return corners.capacity() * sizeof(float); }
-};
-
-using CellDistanceField = CellDistanceFieldN<2>;   ///< 2D field laid out cell by cell
-using CellDistanceField3 = CellDistanceFieldN<3>;  ///< 3D field laid out cell by cell
-
 /// The field types the queries below take.
 template <class F>
 concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>& g, glm::vec<F::kDim, int> i) {
@@ -410,15 +360,6 @@ concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>&
 /// Sparse narrow-band field of a triangle mesh, signed as the dense one.
 [[nodiscard]] SparseDistanceField3 make_sparse_distance_field(const TriangleMesh& mesh, const FieldOptions& options);
 
-/// `field` laid out cell by cell (see CellDistanceFieldN): each cell's 2^D corners copied side
-/// by side. Throws InvalidInput when that would need more than `max_bytes` (the message gives
-/// the bytes it needs); the dense field is left as it was.
-[[nodiscard]] CellDistanceField make_cell_distance_field(const DistanceField& field,
-                                                         std::size_t max_bytes = kFieldDefaultMaxBytes);
-/// 3D version of the above.
-[[nodiscard]] CellDistanceField3 make_cell_distance_field(const DistanceField3& field,
-                                                          std::size_t max_bytes = kFieldDefaultMaxBytes);
-
 /// The generalised winding number of `p` with respect to the mesh (mesh space): 1 inside a
 /// closed outward-wound mesh, 0 outside, in between near an open mesh's holes. Exact solid
 /// angles summed over every triangle (Van Oosterom & Strackee, IEEE Trans. Biomed. Eng. 1983).
@@ -439,8 +380,8 @@ concept DistanceFieldType = requires(const F& f, VecN<F::kDim> p, VecN<F::kDim>&
 /// 3D version of the above.
 [[nodiscard]] PointQuery3 closest_point_by_gradient(const DistanceField3& field, Vec3 p, int steps = 2) noexcept;
 
-// The templates below are instantiated in the library for the six field types (dense, sparse
-// and cell by cell, 2D and 3D).
+// The templates below are instantiated in the library for the four field types (dense and
+// sparse, 2D and 3D).
 
 /// Contact of a point (shape A, no extent) with the field's solid (B): one manifold point at
 /// `p` when the field there is <= 0, depth = -distance, normal from A into B (minus the field's
@@ -534,8 +475,7 @@ COLLIDE_ALWAYS_INLINE void load_cell_corners_sse(const float* d, std::size_t nx,
   hi = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
 }
 
-/// sample_cells' fast path for a 3D dense field (DistanceField3 or CellDistanceField3), SSE2:
-/// when `p` lies within the
+/// sample_cells' fast path for a 3D dense field (DistanceField3), SSE2: when `p` lies within the
 /// grid's box, its trilinear sample into `value` (and its gradient into `gradient` when not
 /// null) and true, with the same float operations in the same order as locate and
 /// interpolate_cell, so the same values; else false (then the general path, which adds the
@@ -562,17 +502,11 @@ template <class F>
   alignas(16) int node[4];
   _mm_store_si128(reinterpret_cast<__m128i*>(node), i);
   // The corners: lo = (v0, v1, v2, v3) (z = 0), hi = (v4, v5, v6, v7) (z = 1), as cell_values.
+  const float* d = field.distances.data() + grid.index(glm::ivec3(node[0], node[1], node[2]));
+  const auto nx = static_cast<std::size_t>(grid.dims.x);
+  const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
   __m128 lo, hi;
-  if constexpr (requires { field.corners; }) {  // cell by cell: two aligned loads, one line
-    const float* c = field.corners.data() + field.cell_index(glm::ivec3(node[0], node[1], node[2])) * 8;
-    lo = _mm_load_ps(c);
-    hi = _mm_load_ps(c + 4);
-  } else {
-    const float* d = field.distances.data() + grid.index(glm::ivec3(node[0], node[1], node[2]));
-    const auto nx = static_cast<std::size_t>(grid.dims.x);
-    const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
-    load_cell_corners_sse(d, nx, nxy, lo, hi);
-  }
+  load_cell_corners_sse(d, nx, nxy, lo, hi);
   // Along x: (x00, x10, x01, x11) = even + (odd - even) * fx.
   const __m128 even = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));  // v0 v2 v4 v6
   const __m128 odd = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));   // v1 v3 v5 v7
@@ -615,7 +549,7 @@ template <class F>
 [[nodiscard]] COLLIDE_ALWAYS_INLINE float sample_cells(const F& field, VecN<F::kDim> p, VecN<F::kDim>* gradient) noexcept {
   constexpr int D = F::kDim;
 #if defined(__SSE2__) || defined(_M_X64)
-  if constexpr (D == 3 && (requires { field.distances; } || requires { field.corners; })) {
+  if constexpr (D == 3 && requires { field.distances; }) {
     float value;
     if (sample_inside_sse(field, p, value, gradient)) return value;
   }
@@ -667,44 +601,6 @@ template <int D>
 inline float DistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
   glm::vec<D, int> i;
   return grid.nearest_node(p, i) ? distances[grid.index(i)] : std::numeric_limits<float>::infinity();
-}
-
-// ---- the cell-by-cell field's queries, inline as the dense field's ---------------------------
-
-template <int D>
-COLLIDE_ALWAYS_INLINE float CellDistanceFieldN<D>::sample(VecN<D> p) const noexcept {
-  return sample_cells(*this, p, nullptr);
-}
-template <int D>
-inline float CellDistanceFieldN<D>::sample(VecN<D> p, VecN<D>& gradient_out) const noexcept {
-  return sample_cells(*this, p, &gradient_out);
-}
-template <int D>
-inline VecN<D> CellDistanceFieldN<D>::gradient(VecN<D> p) const noexcept {
-  VecN<D> g;
-  (void)sample(p, g);
-  return g;
-}
-template <int D>
-COLLIDE_ALWAYS_INLINE const float* CellDistanceFieldN<D>::node_pointer(glm::vec<D, int> i) const noexcept {
-  // The cell below the node on an axis where it is the last node.
-  int corner = 0;
-  for (int k = 0; k < D; ++k) {
-    const int last = i[k] == grid.dims[k] - 1 ? 1 : 0;
-    i[k] -= last;
-    corner |= last << k;
-  }
-  return corners.data() + cell_index(i) * kCorners + static_cast<std::size_t>(corner);
-}
-template <int D>
-inline bool CellDistanceFieldN<D>::is_inside(VecN<D> p) const noexcept {
-  glm::vec<D, int> i;
-  return grid.nearest_node(p, i) && node_value(i) < 0.0f;
-}
-template <int D>
-inline float CellDistanceFieldN<D>::nearest_value(VecN<D> p) const noexcept {
-  glm::vec<D, int> i;
-  return grid.nearest_node(p, i) ? node_value(i) : std::numeric_limits<float>::infinity();
 }
 
 }  // namespace collide
