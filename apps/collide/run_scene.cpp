@@ -61,13 +61,13 @@ void add_boundary(World2D& world, const Aabb& box, float t) {
 /// A random convex polygon of 5 to 8 vertices on a jittered circle of radius r.
 Polygon random_polygon(Rng& rng, float r) {
   const int n = 5 + static_cast<int>(rng() % 4u);
-  std::vector<Vec2> points;
+  std::array<Vec2, 8> points;
   for (int i = 0; i < n; ++i) {
     const float a = (static_cast<float>(i) + uniform(rng, -0.3f, 0.3f)) * 2.0f * kPi / static_cast<float>(n);
     const float rr = r * uniform(rng, 0.7f, 1.0f);
-    points.push_back({rr * std::cos(a), rr * std::sin(a)});
+    points[static_cast<std::size_t>(i)] = {rr * std::cos(a), rr * std::sin(a)};
   }
-  return make_polygon(points);
+  return make_polygon(std::span<const Vec2>(points.data(), static_cast<std::size_t>(n)));
 }
 
 /// An L-shaped concave body outline of size s, as convex pieces.
@@ -76,23 +76,26 @@ std::vector<Shape2D> l_body(float s) {
   return convex_pieces(outline, "L body");
 }
 
-/// A random body of size ~s: the mix every scene uses.
-BodyDef random_body(Rng& rng, float s) {
-  BodyDef def;
+/// A random body of size ~s into `def`'s shapes and filter: the mix every scene uses. The
+/// shapes are written into the vector `def` already holds (a 2D shape is about 1 KiB: a fresh
+/// vector a try, freed after add_body copied it, made the heap's free lists a fifth of a
+/// million-body spawn).
+void random_body(Rng& rng, float s, BodyDef& def) {
+  def.shapes.clear();
   const float pick = uniform(rng, 0.0f, 1.0f);
   if (pick < 0.35f) {
-    def.shapes = {make_circle({0.0f, 0.0f}, s)};
+    def.shapes.push_back(make_circle({0.0f, 0.0f}, s));
   } else if (pick < 0.6f) {
-    def.shapes = {make_box({s, uniform(rng, 0.4f, 1.0f) * s})};
+    def.shapes.push_back(make_box({s, uniform(rng, 0.4f, 1.0f) * s}));
   } else if (pick < 0.8f) {
-    def.shapes = {make_capsule({-0.6f * s, 0.0f}, {0.6f * s, 0.0f}, 0.45f * s)};
+    def.shapes.push_back(make_capsule({-0.6f * s, 0.0f}, {0.6f * s, 0.0f}, 0.45f * s));
   } else if (pick < 0.9f) {
-    def.shapes = {random_polygon(rng, s)};
+    def.shapes.push_back(random_polygon(rng, s));
   } else {
-    def.shapes = l_body(s);
+    const std::vector<Shape2D> pieces = l_body(s);
+    def.shapes.assign(pieces.begin(), pieces.end());
   }
   def.filter = {kLayerBodies, 0xffffffffu};
-  return def;
 }
 
 /// Spawns up to `count` bodies of size [min_size, max_size] and speed [min_speed, max_speed]
@@ -107,17 +110,18 @@ int spawn_bodies(World2D& world, Rng& rng, const Aabb& box, int count, float min
   std::optional<SpawnSpace<2>> own;
   SpawnSpace<2>& space = shared != nullptr ? *shared : own.emplace(world);
   const long attempts = static_cast<long>(count) * kSpawnAttemptsPerBody;
+  BodyDef def;  // one for every try: its shapes' storage is reused
   for (long attempt = 0; attempt < attempts && placed < count && misses < kSpawnMissesInARow; ++attempt) {
     const bool bullet = placed < bullets;
-    BodyDef def;
+    def.bullet = bullet;
     if (bullet) {
-      def.shapes = {rng() % 2u == 0u ? Shape2D{make_circle({0.0f, 0.0f}, 0.5f * min_size)}
-                                     : Shape2D{make_capsule({-0.5f * min_size, 0.0f}, {0.5f * min_size, 0.0f},
-                                                            0.3f * min_size)}};
+      def.shapes.clear();
+      def.shapes.push_back(rng() % 2u == 0u ? Shape2D{make_circle({0.0f, 0.0f}, 0.5f * min_size)}
+                                            : Shape2D{make_capsule({-0.5f * min_size, 0.0f},
+                                                                   {0.5f * min_size, 0.0f}, 0.3f * min_size)});
       def.filter = {kLayerGhosts, kLayerWorld};  // bullets hit the world, fly through bodies
-      def.bullet = true;
     } else {
-      def = random_body(rng, uniform(rng, min_size, max_size));
+      random_body(rng, uniform(rng, min_size, max_size), def);
     }
     const float margin = bullet ? min_size : max_size;
     def.transform = Transform::from({uniform(rng, box.min.x + margin, box.max.x - margin),
