@@ -78,8 +78,8 @@ std::vector<Shape2D> l_body(float s) {
 
 /// A random body of size ~s into `def`'s shapes and filter: the mix every scene uses. The
 /// shapes are written into the vector `def` already holds (a 2D shape is about 1 KiB: a fresh
-/// vector a try, freed after add_body copied it, made the heap's free lists a fifth of a
-/// million-body spawn).
+/// vector a try, freed once add_body had copied it, kept the allocator's free lists busy: about
+/// a sixth of a million-body spawn in perf).
 void random_body(Rng& rng, float s, BodyDef& def) {
   def.shapes.clear();
   const float pick = uniform(rng, 0.0f, 1.0f);
