@@ -742,11 +742,12 @@ void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t c
       _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);  // lo[c]: corner c of the four points
       _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
       const __m128* f = fraction[g];
-      const __m128 x00 = lerp(lo[0], lo[1], f[0]), x10 = lerp(lo[2], lo[3], f[0]);
-      const __m128 x01 = lerp(hi[0], hi[1], f[0]), x11 = lerp(hi[2], hi[3], f[0]);
-      const __m128 y0 = lerp(x00, x10, f[1]), y1 = lerp(x01, x11, f[1]);
+      // interpolate_cell's order: along z, then y, then x.
+      const __m128 c00 = lerp(lo[0], hi[0], f[2]), c10 = lerp(lo[1], hi[1], f[2]);
+      const __m128 c01 = lerp(lo[2], hi[2], f[2]), c11 = lerp(lo[3], hi[3], f[2]);
+      const __m128 x0 = lerp(c00, c01, f[1]), x1 = lerp(c10, c11, f[1]);
       const std::size_t j = first + 4 * g;
-      _mm_storeu_ps(out + j, lerp(y0, y1, f[2]));
+      _mm_storeu_ps(out + j, lerp(x0, x1, f[0]));
       if (inside[g] != 0xf) {
         for (int l = 0; l < 4; ++l) {
           if (((inside[g] >> l) & 1) == 0) out[j + l] = field.sample(points[j + l]);

@@ -183,16 +183,18 @@ template <int D>
     }
     return bottom + (top - bottom) * f.y;
   } else {
-    const float x00 = v[0] + (v[1] - v[0]) * f.x, x10 = v[2] + (v[3] - v[2]) * f.x;
-    const float x01 = v[4] + (v[5] - v[4]) * f.x, x11 = v[6] + (v[7] - v[6]) * f.x;
-    const float y0 = x00 + (x10 - x00) * f.y, y1 = x01 + (x11 - x01) * f.y;
+    // Along z first (the cell's two z layers are the halves of the corner array: in SIMD one
+    // lerp of two registers, no shuffle), then y, then x; c_xy = the edge along z at (x, y).
+    const float dz00 = v[4] - v[0], dz10 = v[5] - v[1], dz01 = v[6] - v[2], dz11 = v[7] - v[3];
+    const float c00 = v[0] + dz00 * f.z, c10 = v[1] + dz10 * f.z;
+    const float c01 = v[2] + dz01 * f.z, c11 = v[3] + dz11 * f.z;
+    const float dy0 = c01 - c00, dy1 = c11 - c10;
+    const float x0 = c00 + dy0 * f.y, x1 = c10 + dy1 * f.y;
     if (gradient) {
-      const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
-      const float dx0 = dx00 + (dx10 - dx00) * f.y, dx1 = dx01 + (dx11 - dx01) * f.y;
-      const float dy0 = x10 - x00, dy1 = x11 - x01;
-      *gradient = Vec3{dx0 + (dx1 - dx0) * f.z, dy0 + (dy1 - dy0) * f.z, y1 - y0} / voxel;
+      const float dz0 = dz00 + (dz01 - dz00) * f.y, dz1 = dz10 + (dz11 - dz10) * f.y;
+      *gradient = Vec3{x1 - x0, dy0 + (dy1 - dy0) * f.x, dz0 + (dz1 - dz0) * f.x} / voxel;
     }
-    return y0 + (y1 - y0) * f.z;
+    return x0 + (x1 - x0) * f.x;
   }
 }
 
@@ -507,36 +509,32 @@ template <class F>
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
   __m128 lo, hi;
   load_cell_corners_sse(d, nx, nxy, lo, hi);
-  // Along x: (x00, x10, x01, x11) = even + (odd - even) * fx.
-  const __m128 even = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(2, 0, 2, 0));  // v0 v2 v4 v6
-  const __m128 odd = _mm_shuffle_ps(lo, hi, _MM_SHUFFLE(3, 1, 3, 1));   // v1 v3 v5 v7
-  const __m128 dx = _mm_sub_ps(odd, even);                              // dx00 dx10 dx01 dx11
-  const __m128 x = _mm_add_ps(even, _mm_mul_ps(dx, _mm_shuffle_ps(f, f, _MM_SHUFFLE(0, 0, 0, 0))));
+  // Along z: (c00, c10, c01, c11) = lo + (hi - lo) * fz, the corners' z layers as loaded.
+  const __m128 dz = _mm_sub_ps(hi, lo);  // dz00 dz10 dz01 dz11
+  const __m128 c = _mm_add_ps(lo, _mm_mul_ps(dz, _mm_shuffle_ps(f, f, _MM_SHUFFLE(2, 2, 2, 2))));
   const __m128 fy = _mm_shuffle_ps(f, f, _MM_SHUFFLE(1, 1, 1, 1));
-  const __m128 fz = _mm_movehl_ps(f, f);
   if (gradient == nullptr) {
-    // Along y: (y0, y1) = (x00, x01) + ((x10, x11) - (x00, x01)) * fy; then along z.
-    const __m128 a = _mm_shuffle_ps(x, x, _MM_SHUFFLE(2, 0, 2, 0));  // x00 x01
-    const __m128 b = _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 1, 3, 1));  // x10 x11
-    const __m128 y = _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), fy));
-    const __m128 y1 = _mm_shuffle_ps(y, y, _MM_SHUFFLE(1, 1, 1, 1));
-    value = _mm_cvtss_f32(_mm_add_ss(y, _mm_mul_ss(_mm_sub_ss(y1, y), fz)));
+    // Along y: (x0, x1) = (c00, c10) + ((c01, c11) - (c00, c10)) * fy; then along x.
+    const __m128 y = _mm_add_ps(c, _mm_mul_ps(_mm_sub_ps(_mm_movehl_ps(c, c), c), fy));
+    const __m128 x1 = _mm_shuffle_ps(y, y, _MM_SHUFFLE(1, 1, 1, 1));
+    value = _mm_cvtss_f32(_mm_add_ss(y, _mm_mul_ss(_mm_sub_ss(x1, y), f)));
     return true;
   }
-  // With the gradient (interpolate_cell's terms): the x slopes are lerped along y beside the
-  // values, (y0, y1, dx0, dx1); then value, x slope and y slope along z at once.
-  const __m128 a = _mm_shuffle_ps(x, dx, _MM_SHUFFLE(2, 0, 2, 0));  // x00 x01 dx00 dx01
-  const __m128 b = _mm_shuffle_ps(x, dx, _MM_SHUFFLE(3, 1, 3, 1));  // x10 x11 dx10 dx11
-  const __m128 dy = _mm_sub_ps(b, a);                                // dy0 dy1 . .
-  const __m128 y = _mm_add_ps(a, _mm_mul_ps(dy, fy));                // y0 y1 dx0 dx1
-  const __m128 near = _mm_shuffle_ps(y, dy, _MM_SHUFFLE(0, 0, 2, 0));  // y0 dx0 dy0 dy0
-  const __m128 far = _mm_shuffle_ps(y, dy, _MM_SHUFFLE(1, 1, 3, 1));   // y1 dx1 dy1 dy1
-  const __m128 z = _mm_add_ps(near, _mm_mul_ps(_mm_sub_ps(far, near), _mm_shuffle_ps(fz, fz, 0)));
+  // With the gradient (interpolate_cell's terms): the z slopes are lerped along y beside the
+  // values, (x0, x1, dz0, dz1); then value, y slope and z slope along x at once.
+  const __m128 a = _mm_movelh_ps(c, dz);                              // c00 c10 dz00 dz10
+  const __m128 b = _mm_movehl_ps(dz, c);                              // c01 c11 dz01 dz11
+  const __m128 dy = _mm_sub_ps(b, a);                                 // dy0 dy1 . .
+  const __m128 y = _mm_add_ps(a, _mm_mul_ps(dy, fy));                 // x0 x1 dz0 dz1
+  const __m128 t = _mm_unpacklo_ps(y, dy);                            // x0 dy0 x1 dy1
+  const __m128 near = _mm_shuffle_ps(t, y, _MM_SHUFFLE(2, 2, 1, 0));  // x0 dy0 dz0 dz0
+  const __m128 far = _mm_shuffle_ps(t, y, _MM_SHUFFLE(3, 3, 3, 2));   // x1 dy1 dz1 dz1
+  const __m128 z = _mm_add_ps(near, _mm_mul_ps(_mm_sub_ps(far, near), _mm_shuffle_ps(f, f, 0)));
   alignas(16) float out[4];
   _mm_store_ps(out, z);
   value = out[0];
-  const float dz = _mm_cvtss_f32(_mm_sub_ss(far, near));  // y1 - y0
-  *gradient = Vec3{out[1], out[2], dz} / grid.voxel;
+  const float dx = _mm_cvtss_f32(_mm_sub_ss(far, near));  // x1 - x0
+  *gradient = Vec3{dx, out[1], out[2]} / grid.voxel;
   return true;
 }
 #endif
