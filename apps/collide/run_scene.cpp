@@ -19,6 +19,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -92,8 +93,7 @@ void random_body(Rng& rng, float s, BodyDef& def) {
   } else if (pick < 0.9f) {
     def.shapes.push_back(random_polygon(rng, s));
   } else {
-    const std::vector<Shape2D> pieces = l_body(s);
-    def.shapes.assign(pieces.begin(), pieces.end());
+    def.shapes = l_body(s);  // moved in: its pieces were allocated by the decomposition anyway
   }
   def.filter = {kLayerBodies, 0xffffffffu};
 }
