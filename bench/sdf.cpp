@@ -33,7 +33,8 @@
 //   definition, exact for the closed torus; OpenVDB signs an open mesh by flood fill, so it is
 //   expected to differ on dungeon and undulating, and the errors compare magnitudes only).
 // BM_SdfSample/<mesh>/4M/<points>/<method>: 4096 precomputed points per iteration, `box` (uniform
-//   in the grid's box) or `band` (the band points above); per_point = time per query.
+//   in the grid's box) or `band` (the band points above); per_point = time per query; the
+//   collide rows (bare_read to dense_gradient) also at 64k nodes, a field that fits the caches.
 //   bare_read:       distances[i] at each point's nearest node, the index precomputed (the
 //                    floor: one memory access);
 //   bare_lookup:     the same with the index computed from the point (bounds check, round);
@@ -599,6 +600,11 @@ void register_all() {
     Res* r = &l->res[kMainScale];
     for (bool in_band : {false, true}) {
       for (int m = kBareRead; m <= kVdbBox; ++m) register_sample(r, in_band, static_cast<Method>(m));
+    }
+    // The same reads in a field that fits the caches (64k nodes, 256 KiB): what a query costs
+    // when its cache lines are not what it waits for.
+    for (bool in_band : {false, true}) {
+      for (int m = kBareRead; m <= kDenseGradient; ++m) register_sample(&l->res[0], in_band, static_cast<Method>(m));
     }
     for (bool in_band : {false, true}) {
       for (int m = kStored; m <= kBvhNearest; ++m) register_closest(r, in_band, static_cast<ClosestMethod>(m));

@@ -142,6 +142,38 @@ TEST(DistanceField3D, SampleFastPathGivesTheGeneralPathsValueBitForBit) {
   }
 }
 
+TEST(DistanceField3D, SampleFastPathEdgeCoordinatesGiveTheGeneralPathsBits) {
+  // The fast path tests "inside the box" on the floats' bits: -0 (a point at -0 over a grid at
+  // origin 0), NaN of either sign, infinities, the last node and the next float past it must
+  // give what the general path gives, bit for bit (NaN as NaN).
+  const std::vector<PlacedShape3> scene{{make_sphere({0.5f, 0.5f, 0.5f}, 0.3f), Transform3{}}};
+  DistanceField3 field = make_distance_field(scene, options(0.1f));
+  field.grid.origin = Vec3(0.0f);  // the same values, now over a grid whose box starts at 0
+  const Vec3 last = field.grid.node(field.grid.dims - 1);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const auto bits = [](float v) { return std::bit_cast<std::uint32_t>(v); };
+  for (int axis = 0; axis < 3; ++axis) {
+    const float specials[] = {-0.0f, 0.0f, nan, -nan, inf, -inf, last[axis], std::nextafter(last[axis], inf),
+                              std::nextafter(0.0f, -inf), 0.3f};
+    for (float s : specials) {
+      Vec3 p(0.31f, 0.42f, 0.27f);
+      p[axis] = s;
+      const FieldCellN<3> at = field.grid.locate(p);
+      float v[8];
+      field.cell_values(at.node, v);
+      Vec3 inner_gradient;
+      const float inner = interpolate_cell<3>(v, at.fraction, field.grid.voxel, &inner_gradient);
+      Vec3 general_gradient;
+      const float general = at.add_outside(inner, inner_gradient, &general_gradient);
+      Vec3 g;
+      EXPECT_EQ(bits(field.sample(p)), bits(general)) << "axis " << axis << " coordinate " << s;
+      EXPECT_EQ(bits(field.sample(p, g)), bits(general)) << "axis " << axis << " coordinate " << s;
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(bits(g[k]), bits(general_gradient[k])) << "axis " << axis << " coordinate " << s;
+    }
+  }
+}
+
 /// Points for the batched sample: inside the grid's box, on its faces and last nodes, beyond it
 /// on one axis or all, and a few NaN / infinite coordinates.
 template <int D>

@@ -464,6 +464,28 @@ template <DistanceFieldType F>
 void sample(const F& field, std::span<const VecN<F::kDim>> points, std::span<float> out) noexcept;
 
 #if defined(__SSE2__) || defined(_M_X64)
+/// The memory index x + y * nx + z * nxy of the node whose (x, y, z) are lanes 0-2 of `i` (each
+/// >= 0, the grid's x-fastest order): on x86-64 the y and z terms as two 32 x 32 -> 64-bit
+/// products in one register (pmuludq) when nx and nxy fit 32 bits, no round trip through memory;
+/// else in scalars. The same integer either way.
+COLLIDE_ALWAYS_INLINE std::size_t dense_node_index_sse(__m128i i, std::size_t nx, std::size_t nxy) noexcept {
+#if defined(__x86_64__) || defined(_M_X64)
+  if (nxy <= 0xffffffffu) {
+    const __m128i yz = _mm_shuffle_epi32(i, _MM_SHUFFLE(3, 2, 3, 1));  // y . z .
+    const __m128i scale = _mm_set_epi32(0, static_cast<int>(static_cast<std::uint32_t>(nxy)), 0,
+                                        static_cast<int>(static_cast<std::uint32_t>(nx)));
+    const __m128i terms = _mm_mul_epu32(yz, scale);  // y * nx, z * nxy (64 bits each)
+    const __m128i sum = _mm_add_epi64(terms, _mm_unpackhi_epi64(terms, terms));
+    return static_cast<std::size_t>(_mm_cvtsi128_si64(sum)) +
+           static_cast<std::size_t>(static_cast<std::uint32_t>(_mm_cvtsi128_si32(i)));
+  }
+#endif
+  alignas(16) int node[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(node), i);
+  return static_cast<std::size_t>(node[0]) + static_cast<std::size_t>(node[1]) * nx +
+         static_cast<std::size_t>(node[2]) * nxy;
+}
+
 /// The 8 corner values of a dense 3D grid's cell whose first node is at `d` (rows `nx` floats
 /// apart, slabs `nxy`), in two registers as DistanceFieldN::cell_values orders them:
 /// lo = (v0, v1, v2, v3) at the lower z, hi = (v4, v5, v6, v7) at the upper; each pair of x
@@ -477,36 +499,38 @@ COLLIDE_ALWAYS_INLINE void load_cell_corners_sse(const float* d, std::size_t nx,
   hi = _mm_movelh_ps(pair(d + nxy), pair(d + nxy + nx));
 }
 
-/// sample_cells' fast path for a 3D dense field (DistanceField3), SSE2: when `p` lies within the
-/// grid's box, its trilinear sample into `value` (and its gradient into `gradient` when not
-/// null) and true, with the same float operations in the same order as locate and
+/// sample_cells' fast path for a 3D dense field (DistanceField3), SSE2: when the point `xyz`
+/// (world space: x, y, z, z in lanes 0-3; lane 3 repeats z, so its test is z's again) lies
+/// within the grid's box, its trilinear sample into `value` (and its gradient into `gradient`
+/// when not null) and true, with the same float operations in the same order as locate and
 /// interpolate_cell, so the same values; else false (then the general path, which adds the
 /// distance to the box). The three axes are located at once and the cell's 8 corners
 /// interpolated 4, then 2, then 1 at a time.
 template <class F>
-[[nodiscard]] COLLIDE_ALWAYS_INLINE bool sample_inside_sse(const F& field, Vec3 p, float& value, Vec3* gradient) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE bool sample_inside_sse(const F& field, __m128 xyz, float& value, Vec3* gradient) noexcept {
   const FieldGridN<3>& grid = field.grid;
   const __m128 inv = _mm_set1_ps(1.0f / grid.voxel);
-  const __m128 u = _mm_mul_ps(_mm_sub_ps(_mm_setr_ps(p.x, p.y, p.z, 0.0f),
-                                         _mm_setr_ps(grid.origin.x, grid.origin.y, grid.origin.z, 0.0f)),
+  const __m128 u = _mm_mul_ps(_mm_sub_ps(xyz,
+                                         _mm_setr_ps(grid.origin.x, grid.origin.y, grid.origin.z, grid.origin.z)),
                               inv);
-  const __m128i dims = _mm_setr_epi32(grid.dims.x, grid.dims.y, grid.dims.z, 2);
-  const __m128i one = _mm_set1_epi32(1);
-  const __m128 last = _mm_cvtepi32_ps(_mm_sub_epi32(dims, one));  // dims - 1 per axis
-  // Inside the box: 0 <= u <= dims - 1 on every axis (false for NaN).
-  const __m128 in = _mm_and_ps(_mm_cmpge_ps(u, _mm_setzero_ps()), _mm_cmple_ps(u, last));
-  if ((_mm_movemask_ps(in) & 7) != 7) return false;
-  __m128i i = _mm_cvttps_epi32(u);  // u >= 0: the floor
-  const __m128i top = _mm_sub_epi32(dims, _mm_set1_epi32(2));
-  const __m128i over = _mm_cmpgt_epi32(i, top);  // the last node: the cell below it
-  i = _mm_or_si128(_mm_andnot_si128(over, i), _mm_and_si128(over, top));
+  const __m128i dims = _mm_setr_epi32(grid.dims.x, grid.dims.y, grid.dims.z, grid.dims.z);
+  const __m128 last = _mm_cvtepi32_ps(_mm_sub_epi32(dims, _mm_set1_epi32(1)));  // dims - 1 per axis
+  const __m128 top = _mm_cvtepi32_ps(_mm_sub_epi32(dims, _mm_set1_epi32(2)));   // dims - 2
+  // Inside the box: 0 <= u <= dims - 1 on every axis. On the floats' bits as signed integers
+  // (dims - 1 > 0): a negative u (and -0, and a NaN with its sign set) has its sign bit set, and
+  // u <= dims - 1 is bits(u) <= bits(dims - 1) (false for +inf and every other NaN); so one
+  // integer compare and the sign bits. -0 takes the general path, which gives it the same value.
+  const __m128i bits = _mm_castps_si128(u);
+  const __m128i outside = _mm_or_si128(bits, _mm_cmpgt_epi32(bits, _mm_castps_si128(last)));
+  if (_mm_movemask_ps(_mm_castsi128_ps(outside)) != 0) return false;
+  // The cell: floor(u) (u >= 0, so truncation), the last node taking the cell below it; as
+  // min(floor(u), dims - 2) = floor(min(u, dims - 2)), the clamp is one float min.
+  const __m128i i = _mm_cvttps_epi32(_mm_min_ps(u, top));
   const __m128 f = _mm_sub_ps(u, _mm_cvtepi32_ps(i));
-  alignas(16) int node[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(node), i);
-  // The corners: lo = (v0, v1, v2, v3) (z = 0), hi = (v4, v5, v6, v7) (z = 1), as cell_values.
-  const float* d = field.distances.data() + grid.index(glm::ivec3(node[0], node[1], node[2]));
   const auto nx = static_cast<std::size_t>(grid.dims.x);
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
+  // The corners: lo = (v0, v1, v2, v3) (z = 0), hi = (v4, v5, v6, v7) (z = 1), as cell_values.
+  const float* d = field.distances.data() + dense_node_index_sse(i, nx, nxy);
   __m128 lo, hi;
   load_cell_corners_sse(d, nx, nxy, lo, hi);
   // Along z: (c00, c10, c01, c11) = lo + (hi - lo) * fz, the corners' z layers as loaded.
@@ -539,25 +563,47 @@ template <class F>
 }
 #endif
 
-/// The multilinear sample of `field` at `p` (world space; any field with a `grid` and
-/// `cell_values`, as DistanceFieldN): the cell's corners interpolated, plus the distance to the
-/// grid's box beyond it; the gradient per world unit into `gradient` when not null. What the
-/// fields' `sample` members call.
+/// sample_cells' general path: locate, the cell's corners, interpolate_cell, the distance to
+/// the grid's box added beyond it.
 template <class F>
-[[nodiscard]] COLLIDE_ALWAYS_INLINE float sample_cells(const F& field, VecN<F::kDim> p, VecN<F::kDim>* gradient) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE float sample_cells_located(const F& field, VecN<F::kDim> p,
+                                                             VecN<F::kDim>* gradient) noexcept {
   constexpr int D = F::kDim;
-#if defined(__SSE2__) || defined(_M_X64)
-  if constexpr (D == 3 && requires { field.distances; }) {
-    float value;
-    if (sample_inside_sse(field, p, value, gradient)) return value;
-  }
-#endif
   const FieldCellN<D> at = field.grid.locate(p);
   float v[1 << D];
   field.cell_values(at.node, v);
   VecN<D> g{0.0f};
   const float inner = interpolate_cell<D>(v, at.fraction, field.grid.voxel, gradient ? &g : nullptr);
   return at.add_outside(inner, g, gradient);
+}
+
+/// sample_cells' path for a point outside the grid's box (or NaN) when the fast path handles the
+/// rest: rare in a caller's loop, so out of line, its code and registers apart from the loop's.
+/// The point comes as lanes 0-2 of `xyz`, which stays in a register; a Vec3 argument made GCC 12
+/// keep a copy of every point in memory for the call that seldom happens.
+template <class F>
+[[nodiscard]] COLLIDE_COLD float sample_cells_outside(const F& field, __m128 xyz, Vec3* gradient) noexcept {
+  alignas(16) float p[4];
+  _mm_store_ps(p, xyz);
+  return sample_cells_located(field, Vec3(p[0], p[1], p[2]), gradient);
+}
+
+/// The multilinear sample of `field` at `p` (world space; any field with a `grid` and
+/// `cell_values`, as DistanceFieldN): the cell's corners interpolated, plus the distance to the
+/// grid's box beyond it; the gradient per world unit into `gradient` when not null. What the
+/// fields' `sample` members call.
+template <class F>
+[[nodiscard]] COLLIDE_ALWAYS_INLINE float sample_cells(const F& field, VecN<F::kDim> p, VecN<F::kDim>* gradient) noexcept {
+#if defined(__SSE2__) || defined(_M_X64)
+  if constexpr (F::kDim == 3 && requires { field.distances; }) {
+    float value;
+    const __m128 xyz = _mm_movelh_ps(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&p.x))),
+                                     _mm_set1_ps(p.z));
+    if (sample_inside_sse(field, xyz, value, gradient)) return value;
+    return sample_cells_outside(field, xyz, gradient);
+  }
+#endif
+  return sample_cells_located(field, p, gradient);
 }
 
 // ---- the dense field's queries, inline: a caller's loop keeps the grid in registers ----------
