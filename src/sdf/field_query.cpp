@@ -691,12 +691,11 @@ void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t c
   const auto nx = static_cast<std::size_t>(grid.dims.x);
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
   const __m128 inv = _mm_set1_ps(1.0f / grid.voxel);
-  __m128 origin[3], last[3];
-  __m128i top[3];
+  __m128 origin[3], last[3], top[3];
   for (int k = 0; k < 3; ++k) {
     origin[k] = _mm_set1_ps(grid.origin[k]);
     last[k] = _mm_set1_ps(static_cast<float>(grid.dims[k] - 1));
-    top[k] = _mm_set1_epi32(grid.dims[k] - 2);
+    top[k] = _mm_set1_ps(static_cast<float>(grid.dims[k] - 2));
   }
   const auto lerp = [](__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); };
   constexpr std::size_t kGroups = kSampleChunk / 4;
@@ -715,11 +714,8 @@ void sample_lanes(const DistanceField3& field, const Vec3* points, std::size_t c
       for (int k = 0; k < 3; ++k) {
         const __m128 u = _mm_mul_ps(_mm_sub_ps(axis[k], origin[k]), inv);
         in = _mm_and_ps(in, _mm_and_ps(_mm_cmpge_ps(u, _mm_setzero_ps()), _mm_cmple_ps(u, last[k])));
-        __m128i i = _mm_cvttps_epi32(u);  // u >= 0 where it counts: the floor
-        const __m128i over = _mm_cmpgt_epi32(i, top[k]);  // the last node: the cell below it
-        i = _mm_or_si128(_mm_andnot_si128(over, i), _mm_and_si128(over, top[k]));
-        fraction[g][k] = _mm_sub_ps(u, _mm_cvtepi32_ps(i));
-        node[k] = i;
+        // (A lane outside the box gets some cell; its index is masked to 0 below.)
+        fraction[g][k] = cell_fraction_sse(u, top[k], node[k]);
       }
       inside[g] = _mm_movemask_ps(in);
       // An outside lane reads node 0's cell (the grid has at least 2 nodes an axis) and is

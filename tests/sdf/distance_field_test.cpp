@@ -112,17 +112,6 @@ TEST(DistanceField3D, SphereBoxCapsuleWithinHalfAVoxelDiagonal) {
   }
 }
 
-/// sample_cells' general path spelled out (locate, the cell's corners, interpolate_cell, the
-/// distance to the box): the reference for the SSE2 fast path.
-float general_sample(const DistanceField3& field, Vec3 p, Vec3& gradient) {
-  const FieldCellN<3> at = field.grid.locate(p);
-  float v[8];
-  field.cell_values(at.node, v);
-  Vec3 inner_gradient;
-  const float inner = interpolate_cell<3>(v, at.fraction, field.grid.voxel, &inner_gradient);
-  return at.add_outside(inner, inner_gradient, &gradient);
-}
-
 TEST(DistanceField3D, SampleFastPathGivesTheGeneralPathsValueBitForBit) {
   // sample takes an SSE2 path inside the grid's box; sample_cells' general path (locate, then
   // interpolate_cell) is the reference. They must agree exactly, value and gradient, on the
@@ -138,7 +127,7 @@ TEST(DistanceField3D, SampleFastPathGivesTheGeneralPathsValueBitForBit) {
     if (i % 5 == 3) p[i % 3] += (i % 2 ? 0.5f : -0.5f);  // beyond the box on one axis
     if (i % 5 == 4) p = field.grid.node(glm::ivec3(p[0] > 0, 1, 2) * (field.grid.dims - 1) / glm::ivec3(1, 2, 2));
     Vec3 general_gradient;
-    const float general = general_sample(field, p, general_gradient);
+    const float general = sample_cells_located(field, p, &general_gradient);
     Vec3 g;
     ASSERT_EQ(field.sample(p), general) << p.x << " " << p.y << " " << p.z;
     ASSERT_EQ(field.sample(p, g), general) << p.x << " " << p.y << " " << p.z;
@@ -166,7 +155,7 @@ TEST(DistanceField3D, SampleFastPathEdgeCoordinatesGiveTheGeneralPathsBits) {
       Vec3 p(0.31f, 0.42f, 0.27f);
       p[axis] = s;
       Vec3 general_gradient;
-      const float general = general_sample(field, p, general_gradient);
+      const float general = sample_cells_located(field, p, &general_gradient);
       Vec3 g;
       EXPECT_EQ(bits(field.sample(p)), bits(general)) << "axis " << axis << " coordinate " << s;
       EXPECT_EQ(bits(field.sample(p, g)), bits(general)) << "axis " << axis << " coordinate " << s;

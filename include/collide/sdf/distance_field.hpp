@@ -486,6 +486,17 @@ COLLIDE_ALWAYS_INLINE std::size_t dense_node_index_sse(__m128i i, std::size_t nx
          static_cast<std::size_t>(node[2]) * nxy;
 }
 
+/// Locates grid coordinates u (per lane, in node units from the origin, 0 <= u <= dims - 1,
+/// which the caller has checked) in their cells: the cell's first node into `cell`, floor(u)
+/// with the last node taking the cell below it, and the fraction u - cell returned, as
+/// FieldGridN::locate does inside the box. min(floor(u), dims - 2) = floor(min(u, dims - 2)),
+/// so the clamp is one float min against `top` = dims - 2 (and u >= 0 makes truncation the
+/// floor).
+COLLIDE_ALWAYS_INLINE __m128 cell_fraction_sse(__m128 u, __m128 top, __m128i& cell) noexcept {
+  cell = _mm_cvttps_epi32(_mm_min_ps(u, top));
+  return _mm_sub_ps(u, _mm_cvtepi32_ps(cell));
+}
+
 /// The 8 corner values of a dense 3D grid's cell whose first node is at `d` (rows `nx` floats
 /// apart, slabs `nxy`), in two registers as DistanceFieldN::cell_values orders them:
 /// lo = (v0, v1, v2, v3) at the lower z, hi = (v4, v5, v6, v7) at the upper; each pair of x
@@ -523,10 +534,8 @@ template <class F>
   const __m128i bits = _mm_castps_si128(u);
   const __m128i outside = _mm_or_si128(bits, _mm_cmpgt_epi32(bits, _mm_castps_si128(last)));
   if (_mm_movemask_ps(_mm_castsi128_ps(outside)) != 0) return false;
-  // The cell: floor(u) (u >= 0, so truncation), the last node taking the cell below it; as
-  // min(floor(u), dims - 2) = floor(min(u, dims - 2)), the clamp is one float min.
-  const __m128i i = _mm_cvttps_epi32(_mm_min_ps(u, top));
-  const __m128 f = _mm_sub_ps(u, _mm_cvtepi32_ps(i));
+  __m128i i;
+  const __m128 f = cell_fraction_sse(u, top, i);
   const auto nx = static_cast<std::size_t>(grid.dims.x);
   const std::size_t nxy = nx * static_cast<std::size_t>(grid.dims.y);
   // The corners: lo = (v0, v1, v2, v3) (z = 0), hi = (v4, v5, v6, v7) (z = 1), as cell_values.
