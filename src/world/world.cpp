@@ -814,19 +814,25 @@ void WorldN<D>::Impl::make_events(StepStats& stats) {
   // Impacts during the motion count as contacts of this step unless the pair also touches at
   // the end (then the end-of-step manifold wins). Both lists hold each pair at most once, so a
   // sort of each and one merge does it (std::stable_sort of the union would allocate every step).
-  std::sort(contacts.begin(), contacts.end(), contact_less<D>);
-  std::sort(ccd_contacts.begin(), ccd_contacts.end(), contact_less<D>);
+  // The lists' keys are sorted, not the contacts, and the merge copies each contact once (at
+  // 1e4 bodies, ~300 contacts a frame, the sort of the contacts took 13 of the events' 30 us).
+  const auto sort_keys = [](const std::vector<Contact>& list, std::vector<detail::ContactSortKey>& keys) {
+    keys.resize(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      keys[i] = {list[i].a.key(), list[i].b.key(), static_cast<std::uint32_t>(i)};
+    }
+    std::sort(keys.begin(), keys.end());
+  };
+  sort_keys(contacts, contact_keys);
+  sort_keys(ccd_contacts, ccd_keys);
   merged_contacts.clear();
   std::size_t k = 0;
-  for (const Contact& c : contacts) {
-    for (; k < ccd_contacts.size() && contact_less(ccd_contacts[k], c); ++k) {
-      merged_contacts.push_back(ccd_contacts[k]);
-    }
-    if (k < ccd_contacts.size() && !contact_less(c, ccd_contacts[k])) ++k;  // same pair: c wins
-    merged_contacts.push_back(c);
+  for (const detail::ContactSortKey& key : contact_keys) {
+    for (; k < ccd_keys.size() && ccd_keys[k] < key; ++k) merged_contacts.push_back(ccd_contacts[ccd_keys[k].place]);
+    if (k < ccd_keys.size() && !(key < ccd_keys[k])) ++k;  // same pair: the end-of-step contact wins
+    merged_contacts.push_back(contacts[key.place]);
   }
-  merged_contacts.insert(merged_contacts.end(), ccd_contacts.begin() + static_cast<std::ptrdiff_t>(k),
-                         ccd_contacts.end());
+  for (; k < ccd_keys.size(); ++k) merged_contacts.push_back(ccd_contacts[ccd_keys[k].place]);
   ccd_contacts.clear();
   std::swap(contacts, merged_contacts);
   events.clear();

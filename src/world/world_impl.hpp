@@ -110,6 +110,19 @@ struct BodyN {
   float bounding_radius = 0.0f;   ///< reach of the pieces from local_center
 };
 
+/// A contact's place in make_events' order: its colliders' keys (ColliderRef::key, A then B)
+/// and its place in its list. Sorting these instead of the contacts (about 100 bytes each)
+/// moves each contact once.
+struct ContactSortKey {
+  std::uint64_t a = 0;
+  std::uint64_t b = 0;
+  std::uint32_t place = 0;
+
+  friend bool operator<(const ContactSortKey& x, const ContactSortKey& y) noexcept {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  }
+};
+
 /// A body piece in the body broad phase.
 struct Proxy {
   std::uint32_t body = 0;
@@ -257,6 +270,9 @@ struct WorldN<D>::Impl {
   /// time of impact); merged into `contacts` unless the pair touches at the end, too.
   std::vector<Contact> ccd_contacts;
   std::vector<Contact> merged_contacts;  ///< make_events' buffer, reused every step
+  /// make_events' sort keys of `contacts` and `ccd_contacts` (their colliders' keys and places),
+  /// reused every step.
+  std::vector<detail::ContactSortKey> contact_keys, ccd_keys;
   std::vector<Contact> previous_contacts;
   std::vector<ContactEventN<D>> events;
   StepStats last{};
