@@ -5,6 +5,7 @@
 #include <collide/core/error.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace collide {
@@ -14,6 +15,16 @@ namespace {
 /// Levels below and above the base: cells from base / 4^8 to base * 4^24.
 constexpr int kFinestLevel = -8;
 constexpr int kCoarsestLevel = 24;
+
+/// A level holding fewer boxes than 1 / kMinorityRatio of the next occupied coarser level's
+/// joins that level (its boxes fit its cells too). Its own fine cells would be nearly empty: a
+/// ray's walk through them visits kLevelRatio times the cells of the coarser walk for few
+/// boxes (a world's temporal broad phase at 1e4 bodies: 29 cells a ray at the fine level for
+/// 0.08 occupied, against 5.4 at the level holding 95% of the boxes), while its boxes' pairs
+/// cost about what they did: a fine box looked up the coarser cells anyway.
+constexpr std::size_t kMinorityRatio = 8;
+/// level_of_ for a box in no level (a big one).
+constexpr std::int8_t kNoLevel = -128;
 
 /// The first level whose cells are at least `largest_side` wide.
 int level_for(float largest_side, float base) noexcept {
@@ -85,52 +96,63 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   double world_side = 0.0;
   for (int k = 0; k < D; ++k) world_side = std::max(world_side, static_cast<double>(world.max[k]) - world.min[k]);
   const bool may_be_big = partial || world_side > coarsest;
-  const int n = size();
-  for (int i = 0; i < n; ++i) {
+  const auto is_big = [&](int i) {
     const VecN<D> s = boxes[i].size();
     float largest = s[0];
     for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
-    const int exponent = level_for(largest, base);
-    auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
-                               [](const Level& l, int e) { return l.exponent < e; });
-    if (it == levels_.end() || it->exponent != exponent) {
-      it = levels_.insert(it, Level{});
-      it->exponent = exponent;
+    return static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]));
+  };
+  // Each box's level in two passes: count the boxes of each level (levels finer than `finest`
+  // raised to it; big boxes in none), choose where minority levels go (kMinorityRatio), then
+  // place the ids in ascending order.
+  const int n = size();
+  level_of_.resize(boxes.size());
+  std::array<int, kCoarsestLevel - kFinestLevel + 1> count{};
+  for (int i = 0; i < n; ++i) {
+    if (may_be_big && is_big(i)) {  // (skipped for every ordinary world, see may_be_big)
+      big_.push_back(i);
+      is_big_[static_cast<std::size_t>(i)] = 1;
+      level_of_[static_cast<std::size_t>(i)] = kNoLevel;
+      continue;
     }
-    it->ids.push_back(i);
+    const VecN<D> s = boxes[i].size();
+    float largest = s[0];
+    for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
+    const int exponent = std::max(level_for(largest, base), finest);
+    level_of_[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(exponent);
+    ++count[static_cast<std::size_t>(exponent - kFinestLevel)];
   }
-  // The rare cases after the loop, so that the loop of an ordinary world is what it was: levels
-  // finer than `finest` merged into it; big boxes taken out of their level.
-  if (finest > kFinestLevel && !levels_.empty() && levels_.front().exponent < finest) {
-    auto it = std::lower_bound(levels_.begin(), levels_.end(), finest,
-                               [](const Level& l, int e) { return l.exponent < e; });
-    if (it == levels_.end() || it->exponent != finest) {
-      it = levels_.insert(it, Level{});
-      it->exponent = finest;
+  std::array<std::int8_t, kCoarsestLevel - kFinestLevel + 1> into{};
+  for (int e = kFinestLevel; e <= kCoarsestLevel; ++e) into[static_cast<std::size_t>(e - kFinestLevel)] = static_cast<std::int8_t>(e);
+  for (int e = kFinestLevel; e <= kCoarsestLevel; ++e) {
+    const int fine = count[static_cast<std::size_t>(e - kFinestLevel)];
+    if (fine == 0) continue;
+    int c = e + 1;
+    while (c <= kCoarsestLevel && count[static_cast<std::size_t>(c - kFinestLevel)] == 0) ++c;
+    if (c > kCoarsestLevel) break;
+    int& coarse = count[static_cast<std::size_t>(c - kFinestLevel)];
+    if (static_cast<std::size_t>(fine) * kMinorityRatio >= static_cast<std::size_t>(coarse)) continue;
+    coarse += fine;  // (a level joined by finer ones may then join the next in turn)
+    for (int f = kFinestLevel; f <= e; ++f) {
+      std::int8_t& to = into[static_cast<std::size_t>(f - kFinestLevel)];
+      if (to == e) to = static_cast<std::int8_t>(c);
     }
-    Level& into = *it;
-    for (auto fine = levels_.begin(); fine->exponent < finest; ++fine) {
-      into.ids.insert(into.ids.end(), fine->ids.begin(), fine->ids.end());
-      fine->ids.clear();
-    }
-    std::sort(into.ids.begin(), into.ids.end());
   }
-  if (may_be_big) {
-    const auto is_big = [&](int i) {
-      const VecN<D> s = boxes[i].size();
-      float largest = s[0];
-      for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
-      return static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]));
-    };
-    for (Level& level : levels_) {
-      std::erase_if(level.ids, [&](int i) {
-        if (!is_big(i)) return false;
-        big_.push_back(i);
-        is_big_[static_cast<std::size_t>(i)] = 1;
-        return true;
-      });
+  Level* last = nullptr;  // the level of the previous box: runs of one level skip the search
+  for (int i = 0; i < n; ++i) {
+    const int from = level_of_[static_cast<std::size_t>(i)];
+    if (from == kNoLevel) continue;
+    const int exponent = into[static_cast<std::size_t>(from - kFinestLevel)];
+    if (last == nullptr || last->exponent != exponent) {
+      auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
+                                 [](const Level& l, int e) { return l.exponent < e; });
+      if (it == levels_.end() || it->exponent != exponent) {
+        it = levels_.insert(it, Level{});
+        it->exponent = exponent;
+      }
+      last = &*it;
     }
-    std::sort(big_.begin(), big_.end());
+    last->ids.push_back(i);
   }
   for (Level& level : levels_) {
     const float cell = base * std::pow(kLevelRatio, static_cast<float>(level.exponent));
@@ -280,14 +302,13 @@ void HierarchicalGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab,
   float limit = detail::oversized_ray_cast<D>(big_, boxes_, slab, 1.0f, callback);
   for (const Level& level : levels_) {
     if (limit <= 0.0f) return;
-    // A level's walk starts at fraction 1; boxes beyond the clip of earlier levels are skipped
-    // here, and returning `limit` clips the level's walk.
+    // A level's walk starts at the clip of earlier levels: the boxes it gives met the ray
+    // within it (each grid entry holds its box), and returning `limit` clips the walk.
     level.grid.ray_cast(ray, slab, [&](int id, float) {
-      if (slab.fraction(boxes_[id], limit) < 0.0f) return limit;
       const float r = callback(id, limit);
       if (r < limit) limit = r;
       return limit;
-    });
+    }, limit);
   }
 }
 
@@ -301,7 +322,7 @@ template <int D>
 std::size_t HierarchicalGridN<D>::memory_bytes() const noexcept {
   std::size_t bytes = boxes_.capacity() * sizeof(AabbN<D>) + scratch_.capacity() * sizeof(float) +
                       levels_.capacity() * sizeof(Level) + big_.capacity() * sizeof(int) +
-                      is_big_.capacity();
+                      is_big_.capacity() + level_of_.capacity();
   for (const Level& level : levels_) {
     bytes += level.ids.capacity() * sizeof(int) + level.grid.memory_bytes();
   }

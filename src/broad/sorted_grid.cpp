@@ -410,8 +410,9 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
 }
 
 template <int D>
-void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const {
-  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, slab, 1.0f, callback);
+void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback,
+                              float clip) const {
+  float limit = detail::oversized_ray_cast<D>(oversized_, boxes_, slab, clip, callback);
   if (limit <= 0.0f || cell_count() <= 0) return;
   const RayGridEntry<D> start = ray_grid_entry(grid_, ray, slab, limit);
   if (walk_length(grid_, ray, start, limit) * kWalkedCellCost > static_cast<double>(entries_.size())) {

@@ -519,6 +519,69 @@ TEST(HierarchicalGrid, FewCoarseBoxesLookUpTheFineLevel) {
   check_few_coarse_boxes<3>(41);
 }
 
+// A level far smaller than the next coarser one (kMinorityRatio: under an eighth of its boxes)
+// joins it: a ray would walk its fine, nearly empty cells for few boxes. 3000 boxes of 0.5-1
+// units, 100 of 3-5 and either 100 boxes of 0.04-0.08 units (they join the 3000) or 1000.
+// Pairs as brute force; a ray gives the boxes it meets, and, clipped at each hit, the nearest.
+template <int D>
+void check_minority_level(std::uint32_t seed) {
+  for (const int tiny : {100, 1000}) {
+    std::mt19937 rng(seed);
+    const float extent = D == 2 ? 40.0f : 12.0f;
+    test::Boxes<D> boxes;
+    const auto add = [&](int count, float half_lo, float half_hi) {
+      for (int i = 0; i < count; ++i) {
+        boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent),
+                                        test::random_vec<D>(rng, half_lo, half_hi)));
+      }
+    };
+    add(3000, 0.25f, 0.5f);
+    add(tiny, 0.02f, 0.04f);
+    add(100, 1.5f, 2.5f);  // (a coarser minority keeps its level: a ray walks few of its cells)
+    std::shuffle(boxes.begin(), boxes.end(), rng);
+    HierarchicalGridN<D> grid;
+    EXPECT_EQ((pairs_of<HierarchicalGridN<D>, D>(grid, boxes)), brute_pairs<D>(boxes)) << tiny;
+    EXPECT_EQ(grid.level_count(), tiny == 100 ? 2 : 3) << tiny;
+    int hits = 0;
+    for (int q = 0; q < 200; ++q) {
+      const RayN<D> ray{test::random_vec<D>(rng, -extent, extent), test::random_vec<D>(rng, -2.0f * extent, 2.0f * extent)};
+      std::vector<int> want, got;
+      float nearest = 2.0f;
+      for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
+        const float f = ray_box_fraction(ray, boxes[static_cast<std::size_t>(i)], 1.0f);
+        if (f < 0.0f) continue;
+        want.push_back(i);
+        nearest = std::min(nearest, f);
+      }
+      grid.ray_cast(ray, [&](int id, float f) {
+        got.push_back(id);
+        return f;
+      });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, want) << tiny << " ray " << q;
+      // Clipped at each hit: no box met only beyond the clip so far is given.
+      float clipped = 2.0f, clip = 1.0f;
+      int beyond = 0;
+      grid.ray_cast(ray, [&](int id, float) {
+        const float f = ray_box_fraction(ray, boxes[static_cast<std::size_t>(id)], 1.0f);
+        beyond += f > clip ? 1 : 0;
+        clipped = std::min(clipped, f);
+        clip = std::min(clip, f);
+        return f;
+      });
+      if (!want.empty()) EXPECT_EQ(clipped, nearest) << tiny << " ray " << q;
+      EXPECT_EQ(beyond, 0) << tiny << " ray " << q;
+      hits += want.empty() ? 0 : 1;
+    }
+    EXPECT_GT(hits, 50) << tiny;
+  }
+}
+
+TEST(HierarchicalGrid, MinorityLevelJoinsTheNextCoarser) {
+  check_minority_level<2>(43);
+  check_minority_level<3>(47);
+}
+
 TEST(GridRayCast, AlongCellBoundariesAndThroughCorners) {
   std::mt19937 rng(31);
   const auto boxes = test::touching_world<2>(rng, 300, 10);

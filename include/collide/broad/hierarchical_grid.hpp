@@ -5,7 +5,10 @@
 /// cells are at least as large as the box, so it covers at most 2 cells per axis; small boxes
 /// do not share cells with (and get tested against everything in) the cells of big ones, and a
 /// big box does not fill thousands of small cells. (Ericson, Real-Time Collision Detection,
-/// 7.2.2; Mirtich, "Efficient Algorithms for Two-Phase Collision Detection", 1997.)
+/// 7.2.2; Mirtich, "Efficient Algorithms for Two-Phase Collision Detection", 1997.) A level
+/// that would hold under an eighth of the boxes of the next occupied coarser level joins that
+/// level instead: a ray would walk its fine cells, nearly all empty, for few boxes, while its
+/// boxes' pairs cost about as much in the coarser cells (they looked those up anyway).
 ///
 /// Each level is a SortedGrid over its boxes. Pairs inside a level come from that level's
 /// cells; a box meets the boxes of every coarser level by looking up the at most 2^D cells it
@@ -70,7 +73,8 @@ class HierarchicalGridN {
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose box contains `point` (boundary included), once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
-  /// Each level in turn, fine to coarse (not sorted by distance along the ray).
+  /// Each level in turn, fine to coarse (not sorted by distance along the ray), each walked
+  /// only up to the clip the hits so far left.
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
   /// ray_cast with `slab`, the same ray prepared for box tests (SlabRayN(ray)) by a caller that
   /// tests boxes of its own with it: one preparation serves every level.
@@ -121,6 +125,7 @@ class HierarchicalGridN {
   // ascending, tested against every box; and a flag per box.
   std::vector<int> big_;
   std::vector<std::uint8_t> is_big_;
+  std::vector<std::int8_t> level_of_;  // each box's level exponent while rebuilding (scratch)
   std::vector<float> scratch_;
   std::vector<Piece> pieces_;           // find_pairs with a scheduler: its pieces...
   std::vector<PairList> piece_pairs_;   // ... and the pairs of each

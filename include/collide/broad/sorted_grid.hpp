@@ -92,8 +92,10 @@ class SortedGridN {
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
   /// ray_cast with `slab`, the same ray prepared for box tests (SlabRayN(ray)), made once by a
   /// caller that casts it through several grids (a hierarchical grid's levels): its three
-  /// divisions are not made again for each.
-  void ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const;
+  /// divisions are not made again for each. `clip` (a fraction in [0, 1]) clips the ray from the
+  /// start: a box met only beyond it is not given (a caller whose earlier grids clipped it).
+  void ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback,
+                float clip = 1.0f) const;
 
   /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return count_; }
