@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -481,21 +482,31 @@ TEST(HierarchicalGrid, PairsOnWorkersAreTheSerialListInItsOrder) {
 // A few boxes one or two levels above thousands of small ones: there the coarse boxes look up
 // the fine level's cells (fewer cells visited than each small box looking up the coarse
 // level). The same pairs as brute force, in 2D and 3D, and the same list on the workers.
+/// A group of `count` boxes of half sizes in [half_lo, half_hi] for sized_world.
+struct BoxGroup {
+  int count;
+  float half_lo;
+  float half_hi;
+};
+
+/// Boxes of the groups' sizes centred uniformly in [-extent, extent]^D, shuffled.
+template <int D>
+test::Boxes<D> sized_world(std::mt19937& rng, float extent, std::initializer_list<BoxGroup> groups) {
+  test::Boxes<D> boxes;
+  for (const BoxGroup& g : groups) {
+    for (int i = 0; i < g.count; ++i) {
+      boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent),
+                                      test::random_vec<D>(rng, g.half_lo, g.half_hi)));
+    }
+  }
+  std::shuffle(boxes.begin(), boxes.end(), rng);
+  return boxes;
+}
+
 template <int D>
 void check_few_coarse_boxes(std::uint32_t seed) {
   std::mt19937 rng(seed);
-  const float extent = D == 2 ? 40.0f : 12.0f;
-  test::Boxes<D> boxes;
-  const auto add = [&](int count, float half_lo, float half_hi) {
-    for (int i = 0; i < count; ++i) {
-      boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent),
-                                      test::random_vec<D>(rng, half_lo, half_hi)));
-    }
-  };
-  add(3000, 0.25f, 0.5f);
-  add(12, 1.2f, 2.0f);
-  add(2, 5.0f, 8.0f);
-  std::shuffle(boxes.begin(), boxes.end(), rng);
+  const auto boxes = sized_world<D>(rng, D == 2 ? 40.0f : 12.0f, {{3000, 0.25f, 0.5f}, {12, 1.2f, 2.0f}, {2, 5.0f, 8.0f}});
   HierarchicalGridN<D> grid;
   grid.build(boxes);
   ASSERT_GE(grid.level_count(), 3);
@@ -528,17 +539,8 @@ void check_minority_level(std::uint32_t seed) {
   for (const int tiny : {100, 1000}) {
     std::mt19937 rng(seed);
     const float extent = D == 2 ? 40.0f : 12.0f;
-    test::Boxes<D> boxes;
-    const auto add = [&](int count, float half_lo, float half_hi) {
-      for (int i = 0; i < count; ++i) {
-        boxes.push_back(test::box_at<D>(test::random_vec<D>(rng, -extent, extent),
-                                        test::random_vec<D>(rng, half_lo, half_hi)));
-      }
-    };
-    add(3000, 0.25f, 0.5f);
-    add(tiny, 0.02f, 0.04f);
-    add(100, 1.5f, 2.5f);  // (a coarser minority keeps its level: a ray walks few of its cells)
-    std::shuffle(boxes.begin(), boxes.end(), rng);
+    // (the 100 coarser boxes keep their level: a ray walks few of its cells)
+    const auto boxes = sized_world<D>(rng, extent, {{3000, 0.25f, 0.5f}, {tiny, 0.02f, 0.04f}, {100, 1.5f, 2.5f}});
     HierarchicalGridN<D> grid;
     EXPECT_EQ((pairs_of<HierarchicalGridN<D>, D>(grid, boxes)), brute_pairs<D>(boxes)) << tiny;
     EXPECT_EQ(grid.level_count(), tiny == 100 ? 2 : 3) << tiny;
