@@ -96,53 +96,47 @@ void HierarchicalGridN<D>::rebuild(std::span<const AabbN<D>> boxes, const AabbN<
   double world_side = 0.0;
   for (int k = 0; k < D; ++k) world_side = std::max(world_side, static_cast<double>(world.max[k]) - world.min[k]);
   const bool may_be_big = partial || world_side > coarsest;
-  const auto is_big = [&](int i) {
-    const VecN<D> s = boxes[i].size();
-    float largest = s[0];
-    for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
-    return static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i]));
-  };
   // Each box's level in two passes: count the boxes of each level (levels finer than `finest`
   // raised to it; big boxes in none), choose where minority levels go (kMinorityRatio), then
   // place the ids in ascending order.
+  const auto slot = [](int exponent) { return static_cast<std::size_t>(exponent - kFinestLevel); };
   const int n = size();
   level_of_.resize(boxes.size());
   std::array<int, kCoarsestLevel - kFinestLevel + 1> count{};
   for (int i = 0; i < n; ++i) {
-    if (may_be_big && is_big(i)) {  // (skipped for every ordinary world, see may_be_big)
+    const VecN<D> s = boxes[i].size();
+    float largest = s[0];
+    for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
+    if (may_be_big && (static_cast<double>(largest) > coarsest || (partial && !contains(region, boxes[i])))) {
       big_.push_back(i);
       is_big_[static_cast<std::size_t>(i)] = 1;
       level_of_[static_cast<std::size_t>(i)] = kNoLevel;
       continue;
     }
-    const VecN<D> s = boxes[i].size();
-    float largest = s[0];
-    for (int k = 1; k < D; ++k) largest = std::max(largest, s[k]);
     const int exponent = std::max(level_for(largest, base), finest);
     level_of_[static_cast<std::size_t>(i)] = static_cast<std::int8_t>(exponent);
-    ++count[static_cast<std::size_t>(exponent - kFinestLevel)];
+    ++count[slot(exponent)];
   }
-  std::array<std::int8_t, kCoarsestLevel - kFinestLevel + 1> into{};
-  for (int e = kFinestLevel; e <= kCoarsestLevel; ++e) into[static_cast<std::size_t>(e - kFinestLevel)] = static_cast<std::int8_t>(e);
+  std::array<std::int8_t, kCoarsestLevel - kFinestLevel + 1> into{};  // the level each joins
+  for (int e = kFinestLevel; e <= kCoarsestLevel; ++e) into[slot(e)] = static_cast<std::int8_t>(e);
   for (int e = kFinestLevel; e <= kCoarsestLevel; ++e) {
-    const int fine = count[static_cast<std::size_t>(e - kFinestLevel)];
+    const int fine = count[slot(e)];
     if (fine == 0) continue;
     int c = e + 1;
-    while (c <= kCoarsestLevel && count[static_cast<std::size_t>(c - kFinestLevel)] == 0) ++c;
+    while (c <= kCoarsestLevel && count[slot(c)] == 0) ++c;
     if (c > kCoarsestLevel) break;
-    int& coarse = count[static_cast<std::size_t>(c - kFinestLevel)];
-    if (static_cast<std::size_t>(fine) * kMinorityRatio >= static_cast<std::size_t>(coarse)) continue;
-    coarse += fine;  // (a level joined by finer ones may then join the next in turn)
-    for (int f = kFinestLevel; f <= e; ++f) {
-      std::int8_t& to = into[static_cast<std::size_t>(f - kFinestLevel)];
-      if (to == e) to = static_cast<std::int8_t>(c);
-    }
+    if (static_cast<std::size_t>(fine) * kMinorityRatio >= static_cast<std::size_t>(count[slot(c)])) continue;
+    count[slot(c)] += fine;  // (and it may then join the next in turn)
+    into[slot(e)] = static_cast<std::int8_t>(c);
   }
+  // A level that joined one which joined another goes to the last: resolved coarse to fine,
+  // each pointing at a coarser level already resolved.
+  for (int e = kCoarsestLevel; e >= kFinestLevel; --e) into[slot(e)] = into[slot(into[slot(e)])];
   Level* last = nullptr;  // the level of the previous box: runs of one level skip the search
   for (int i = 0; i < n; ++i) {
     const int from = level_of_[static_cast<std::size_t>(i)];
     if (from == kNoLevel) continue;
-    const int exponent = into[static_cast<std::size_t>(from - kFinestLevel)];
+    const int exponent = into[slot(from)];
     if (last == nullptr || last->exponent != exponent) {
       auto it = std::lower_bound(levels_.begin(), levels_.end(), exponent,
                                  [](const Level& l, int e) { return l.exponent < e; });
