@@ -479,9 +479,6 @@ TEST(HierarchicalGrid, PairsOnWorkersAreTheSerialListInItsOrder) {
   }
 }
 
-// A few boxes one or two levels above thousands of small ones: there the coarse boxes look up
-// the fine level's cells (fewer cells visited than each small box looking up the coarse
-// level). The same pairs as brute force, in 2D and 3D, and the same list on the workers.
 /// A group of `count` boxes of half sizes in [half_lo, half_hi] for sized_world.
 struct BoxGroup {
   int count;
@@ -503,6 +500,9 @@ test::Boxes<D> sized_world(std::mt19937& rng, float extent, std::initializer_lis
   return boxes;
 }
 
+// A few boxes one or two levels above thousands of small ones: there the coarse boxes look up
+// the fine level's cells (fewer cells visited than each small box looking up the coarse
+// level). The same pairs as brute force, in 2D and 3D, and the same list on the workers.
 template <int D>
 void check_few_coarse_boxes(std::uint32_t seed) {
   std::mt19937 rng(seed);
