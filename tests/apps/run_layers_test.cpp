@@ -119,11 +119,13 @@ TEST(RunLayers, SharedMapsKeepTheirStaticsButMelonJsKeepsItsCollisionLayerOnly) 
       << r.output;
 }
 
-// Issue 15's standing rule: the default scene's state hash does not move.
+// Issue 15's standing rule: the default scene's state hash does not move with the map loader's
+// layer rules. (It moved once since, at stop 91, by a change of the step itself: a fast body
+// clear of statics ends its motion composed as a slow body's, 3fa9a3fc4584e765 before.)
 TEST(RunLayers, DefaultSceneStateHashIsUnchanged) {
   const test::CommandRun r = test::run_cli("run --no-progress");
   ASSERT_EQ(test::exit_code(r), 0) << r.output;
-  EXPECT_NE(r.output.find("state hash       3fa9a3fc4584e765"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("state hash       7f86a2aecc4de4d7"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("layers ("), std::string::npos) << "only maps have layers";
 }
 

@@ -316,6 +316,29 @@ TEST(World2DStep, FreeBodiesMoveAndTurnByVelocityTimesDt) {
   EXPECT_EQ(world.total_stats().steps, 30);
 }
 
+// A fast body that does not turn keeps its rotation bit for bit and moves by exactly
+// velocity * dt, whether continuous collision swept it (no hit) or its clearance from the
+// statics let it skip the query: its end pose is composed as a slow body's is, not rebuilt
+// through its angle (atan2, then sin and cos, which moved the rotation by an ulp a step).
+TEST(World2DStep, FastBodiesThatDoNotTurnKeepTheirRotationExactly) {
+  World2D world;
+  add_room(world, 10.0f);
+  BodyDef def = box_body({-2.0f, 1.0f}, {0.5f, 0.25f}, {1.5f, -0.5f}, 0.3f);
+  def.bullet = true;  // always fast: swept by continuous collision or cleared by the clearance
+  const BodyId id = world.add_body(def);
+  Transform expected = world.transform(id);
+  for (int k = 0; k < 30; ++k) {
+    world.step(kDt);
+    expected.p = expected.p + def.velocity * kDt;
+    const Transform xf = world.transform(id);
+    ASSERT_EQ(xf.q.c, expected.q.c) << "step " << k;
+    ASSERT_EQ(xf.q.s, expected.q.s) << "step " << k;
+    ASSERT_EQ(xf.p, expected.p) << "step " << k;
+  }
+  EXPECT_GE(world.total_stats().ccd_bodies, 1);       // swept with no hit
+  EXPECT_GE(world.total_stats().ccd_clear_skips, 20);  // cleared without a query
+}
+
 TEST(World2DStep, BallBouncesOffFloorWithBeginAndEndEvents) {
   World2D world;
   world.add_static(box_static({0, -1}, {10, 1}, 7));  // top face at y = 0
