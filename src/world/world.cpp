@@ -472,8 +472,8 @@ void WorldN<D>::Impl::integrate_body(std::uint32_t i, float dt, bool have_static
   // A fast body whose motion stays within its static clearance can hit no static: the pose its
   // continuous motion reaches at its end, without the query, composed as a slow body's is
   // (`moved`). Not the sweep's pose at t = 1: in 2D that rebuilds the rotation from its angle
-  // (an atan2, then a sine and cosine: a tenth of a 1e4-body step's time, and an ulp of drift
-  // a step for a body that does not turn, which `moved` keeps exactly).
+  // (an atan2, then a sine and cosine: about a tenth of a 1e4-body step's time, and up to an
+  // ulp of drift a step for a body that does not turn, whose rotation `moved` keeps exactly).
   const TransformN<D> end = detail::moved(b.xf, b.local_center, d, rot);
   if (clear_of_statics(b, end, detail::turn_size(rot), detail::kClearanceToiMargin)) {
     b.place(end);

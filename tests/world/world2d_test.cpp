@@ -319,7 +319,7 @@ TEST(World2DStep, FreeBodiesMoveAndTurnByVelocityTimesDt) {
 // A fast body that does not turn keeps its rotation bit for bit and moves by exactly
 // velocity * dt, whether continuous collision swept it (no hit) or its clearance from the
 // statics let it skip the query: its end pose is composed as a slow body's is, not rebuilt
-// through its angle (atan2, then sin and cos, which moved the rotation by an ulp a step).
+// through its angle (atan2, then sin and cos, which could move the rotation by an ulp a step).
 TEST(World2DStep, FastBodiesThatDoNotTurnKeepTheirRotationExactly) {
   World2D world;
   add_room(world, 10.0f);
