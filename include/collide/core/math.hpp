@@ -8,6 +8,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <collide/core/config.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -42,12 +44,15 @@ using Vec3 = glm::vec3;
 }
 
 // ---- 3D: the same names for Vec3 (glm's functions, under the names 2D code uses) ----------
+// dot and cross always inline: called out of line from a large function (the 3D time of
+// impact, 12 calls), their Vec3 arguments go through the stack and come back by loads that
+// cannot be forwarded from the stores just made (as triangle_normal's did, stop 85).
 
-[[nodiscard]] constexpr float dot(Vec3 a, Vec3 b) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE constexpr float dot(Vec3 a, Vec3 b) noexcept {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 /// Right-handed cross product a x b.
-[[nodiscard]] constexpr Vec3 cross(Vec3 a, Vec3 b) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE constexpr Vec3 cross(Vec3 a, Vec3 b) noexcept {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 [[nodiscard]] constexpr float length_squared(Vec3 a) noexcept { return dot(a, a); }

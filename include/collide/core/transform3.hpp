@@ -50,12 +50,14 @@ struct Transform3 {
   return glm::conjugate(q) * v;
 }
 
-/// A local point placed in the world by `xf`.
-[[nodiscard]] inline Vec3 transform_point(const Transform3& xf, Vec3 local) noexcept {
+/// A local point placed in the world by `xf`. (Always inline, as the point helpers below: the
+/// 3D contacts call them from large functions, where an out-of-line call passed its Vec3 through
+/// the stack: math.hpp.)
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 transform_point(const Transform3& xf, Vec3 local) noexcept {
   return xf.p + xf.q * local;
 }
 /// A world point expressed in the local frame of `xf`.
-[[nodiscard]] inline Vec3 inv_transform_point(const Transform3& xf, Vec3 world) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 inv_transform_point(const Transform3& xf, Vec3 world) noexcept {
   return inv_rotate(xf.q, world - xf.p);
 }
 /// The composition a * b: first b, then a.
@@ -90,17 +92,17 @@ struct Frame3 {
 };
 
 /// `v` rotated by the frame's rotation.
-[[nodiscard]] inline Vec3 rotate(const Frame3& f, Vec3 v) noexcept { return f.r * v; }
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 rotate(const Frame3& f, Vec3 v) noexcept { return f.r * v; }
 /// `v` rotated by the inverse of the frame's rotation (the transpose).
-[[nodiscard]] inline Vec3 inv_rotate(const Frame3& f, Vec3 v) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 inv_rotate(const Frame3& f, Vec3 v) noexcept {
   return {glm::dot(f.r[0], v), glm::dot(f.r[1], v), glm::dot(f.r[2], v)};
 }
 /// A local point placed by the frame.
-[[nodiscard]] inline Vec3 transform_point(const Frame3& f, Vec3 local) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 transform_point(const Frame3& f, Vec3 local) noexcept {
   return f.r * local + f.p;
 }
 /// A point expressed in the frame's local space.
-[[nodiscard]] inline Vec3 inv_transform_point(const Frame3& f, Vec3 world) noexcept {
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 inv_transform_point(const Frame3& f, Vec3 world) noexcept {
   return inv_rotate(f, world - f.p);
 }
 
