@@ -215,6 +215,43 @@ TYPED_TEST(TemporalTest, ChangingSpeedsAreSafeWithoutRebuilds) {
   EXPECT_THROW(temporal.set_speed_bounds(bad), InvalidInput);
 }
 
+// A raised bound wakes the object's sleeping pairs at the next find_pairs only: resting boxes
+// with small bounds sleep apart for a long time; raising a few bounds makes the next frame check
+// their sleeping pairs (fewer checks skipped), the frame after skips as many as before (they
+// sleep again), and lowered bounds wake nothing. The pairs are brute force's every frame.
+TYPED_TEST(TemporalTest, RaisedBoundsWakeTheirPairsOnce) {
+  constexpr int D = TypeParam::value;
+  constexpr int kObjects = 400;
+  std::mt19937 rng(29 + D);
+  const test::Boxes<D> boxes = test::uniform_world<D>(rng, kObjects, D == 2 ? 20.0f : 8.0f, 0.2f, 1.0f);
+  std::vector<float> bounds(kObjects, 1e-6f);
+  TemporalBroadPhaseN<D> temporal;
+  temporal.build(boxes, bounds, 0.0);
+  PairList pairs;
+  std::int64_t last_skipped = 0;
+  // One frame: the bounds (as a game sets them after its response), then the boxes (unmoved),
+  // then the pairs; returns the checks skipped in the frame.
+  const auto frame = [&](int f) {
+    temporal.set_speed_bounds(bounds);
+    temporal.update(boxes, static_cast<double>(f));
+    temporal.find_pairs(pairs);
+    EXPECT_EQ(pairs, brute_pairs<D>(boxes)) << "frame " << f;
+    const std::int64_t skipped = temporal.stats().skipped_checks - last_skipped;
+    last_skipped = temporal.stats().skipped_checks;
+    return skipped;
+  };
+  frame(1);  // (the rebuild: every candidate checked)
+  const std::int64_t resting = frame(2);
+  ASSERT_GT(resting, 0);
+  ASSERT_EQ(frame(3), resting);
+  for (int i = 0; i < kObjects; i += 20) bounds[std::size_t(i)] = 2e-6f;  // raised
+  EXPECT_LT(frame(4), resting);
+  EXPECT_EQ(frame(5), resting);
+  for (int i = 1; i < kObjects; i += 20) bounds[std::size_t(i)] = 5e-7f;  // lowered
+  EXPECT_EQ(frame(6), resting);
+  EXPECT_EQ(temporal.stats().rebuilds, 1);
+}
+
 // The same speed changes on a world large enough for several ranges a worker (update's and
 // set_speed_bounds' per-object loops, the wake-up of the raised objects' candidates): every
 // frame's pairs and the counters as without workers, and at least one frame's pairs non-empty

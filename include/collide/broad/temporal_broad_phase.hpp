@@ -17,7 +17,8 @@
 ///     among them cannot touch before the horizon ends, so it is never checked.
 ///  2. Each frame, a candidate is checked only when its wake time has come; a separated pair
 ///     (gap g, the largest per-axis separation of the boxes) sleeps until t + g / (v_a + v_b).
-///     Skipped checks are counted (stats().skipped_checks).
+///     Skipped checks are counted (stats().skipped_checks). An object whose speed bound rises
+///     (set_speed_bounds) is flagged, and its sleeping pairs are checked at the next frame.
 ///  3. Fast objects (a bullet among walkers: growth over the horizon above a few grid cells)
 ///     are not grown, which would make them candidates with everything they could reach; each
 ///     frame a grid query finds their pairs with the others directly (stats().fast_objects),
@@ -155,6 +156,8 @@ class TemporalBroadPhaseN {
   /// Object i broke its bound or left its grown box: handled with the fast objects until the
   /// next rebuild (or a rebuild is due when too many have).
   void demote(int i);
+  /// Every object's kRaisedFlag cleared (find_pairs has woken their pairs).
+  void clear_raised_flags() noexcept;
   [[nodiscard]] bool grid_is_current() const noexcept { return !needs_rebuild_; }
 
   Options options_{};
@@ -172,7 +175,13 @@ class TemporalBroadPhaseN {
   std::vector<float> scratch_;
   std::vector<float> next_speeds_;     // set_speed_bounds' scratch: the new bounds, then the old ones
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
-  std::vector<unsigned char> is_fast_; // per object, at the last rebuild
+  /// Per object: kFastFlag (fast at the last rebuild, or demoted since) and kRaisedFlag (its
+  /// speed bound rose since the last find_pairs: its sleeping candidates are checked anyway).
+  std::vector<unsigned char> flags_;
+  static constexpr unsigned char kFastFlag = 1;
+  static constexpr unsigned char kRaisedFlag = 2;
+  bool raised_pending_ = false;        // some object's kRaisedFlag is set
+  [[nodiscard]] bool is_fast(int i) const noexcept { return (flags_[std::size_t(i)] & kFastFlag) != 0; }
   std::vector<int> fast_;              // ids of the fast objects (ascending, then the demoted)
   std::size_t demoted_since_rebuild_ = 0;
   std::vector<int> fast_order_;        // find_pairs' scratch: the fast objects by box min x
