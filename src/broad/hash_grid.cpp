@@ -252,16 +252,16 @@ void HashGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
   walk_cells(grid_, ray, start, limit, [&](const CellN<D>& cell, float max_fraction) {
     const int c = find_cell(cell);
     if (c >= 0) {
-      for (int e = cell_start_[c]; e < cell_start_[c + 1] && max_fraction > 0.0f; ++e) {
-        const int id = ids_[e];
-        const AabbN<D>& b = boxes_[id];
-        if (!first && cell_in_range<D>(previous, grid_.cell_of(b.min), grid_.cell_of(b.max))) {
-          continue;
-        }
-        if (slab.fraction(b, max_fraction) < 0.0f) continue;
-        const float r = callback(id, max_fraction);
-        if (r < max_fraction) max_fraction = r;
-      }
+      // The box test first, four boxes at a time, then the test of the previous cell.
+      const int* ids = ids_.data() + cell_start_[c];
+      const auto count = static_cast<std::size_t>(cell_start_[c + 1] - cell_start_[c]);
+      max_fraction = for_each_touched<D>(
+          slab, count, max_fraction, [&](std::size_t e) -> const AabbN<D>& { return boxes_[ids[e]]; },
+          [&](std::size_t e, float fraction) {
+            const AabbN<D>& b = boxes_[ids[e]];
+            if (!first && cell_in_range<D>(previous, grid_.cell_of(b.min), grid_.cell_of(b.max))) return fraction;
+            return callback(ids[e], fraction);
+          });
     }
     first = false;
     previous = cell;

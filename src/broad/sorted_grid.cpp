@@ -431,18 +431,18 @@ void SortedGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCa
   bool first = true;
   CellN<D> previous{0};
   walk_cells(grid_, ray, start, limit, [&](const CellN<D>& cell, float max_fraction) {
-    for (const CellEntry& entry : cell_entries(cell)) {
-      if (max_fraction <= 0.0f) break;
-      // The box test first: most entries of a crowded cell miss the ray, and the test of the
-      // previous cell (two cell_of a box) is then made only for those it meets.
-      if (slab.fraction(entry.box, max_fraction) < 0.0f) continue;
-      if (!first && cell_in_range<D>(previous, grid_.cell_of(entry.box.min),
-                                     grid_.cell_of(entry.box.max))) {
-        continue;
-      }
-      const float r = callback(entry.id, max_fraction);
-      if (r < max_fraction) max_fraction = r;
-    }
+    const std::span<const CellEntry> entries = cell_entries(cell);
+    // The box test first (four at a time): most entries of a crowded cell miss the ray, and
+    // the test of the previous cell (two cell_of a box) is then made only for those it meets.
+    max_fraction = for_each_touched<D>(
+        slab, entries.size(), max_fraction, [&](std::size_t e) -> const AabbN<D>& { return entries[e].box; },
+        [&](std::size_t e, float fraction) {
+          const CellEntry& entry = entries[e];
+          if (!first && cell_in_range<D>(previous, grid_.cell_of(entry.box.min), grid_.cell_of(entry.box.max))) {
+            return fraction;
+          }
+          return callback(entry.id, fraction);
+        });
     first = false;
     previous = cell;
     return max_fraction;

@@ -396,5 +396,60 @@ TEST(SortPairs, SameOrderAsStdSortForEverySizeAndIdRange) {
   EXPECT_EQ(one_call, (PairList{{1, 3}, {1, 9}, {5, 2}}));
 }
 
+// SlabRayN::touches4 (four boxes in SSE2 lanes) decides as fraction() >= 0 box by box, and
+// for_each_touched visits what a loop of fraction() tests visits, while the visits
+// shrink the fraction: random rays (some along an axis, some with a tiny translation whose
+// reciprocal overflows), boxes that are points, that touch the origin exactly, that hold it.
+template <int D>
+void check_four_box_slab_test() {
+  std::mt19937 rng(31 + D);
+  std::uniform_real_distribution<float> coordinate(-4.0f, 4.0f), size(0.0f, 2.0f), unit(0.0f, 1.0f);
+  for (int trial = 0; trial < 4000; ++trial) {
+    RayN<D> ray;
+    for (int k = 0; k < D; ++k) {
+      ray.origin[k] = trial % 7 == 0 ? 0.0f : coordinate(rng);
+      ray.translation[k] = 3.0f * coordinate(rng);
+    }
+    if (trial % 5 == 1) ray.translation[trial % D] = 0.0f;       // along the other axes
+    if (trial % 11 == 2) ray.translation[0] = 1e-40f;             // 1 / t overflows
+    std::vector<AabbN<D>> boxes(1 + trial % 9);
+    for (AabbN<D>& b : boxes) {
+      for (int k = 0; k < D; ++k) {
+        b.min[k] = trial % 13 == 3 ? ray.origin[k] : coordinate(rng);  // the origin on a corner
+        b.max[k] = b.min[k] + (trial % 17 == 4 ? 0.0f : size(rng));     // a point
+      }
+    }
+    const SlabRayN<D> slab(ray);
+    const float start = trial % 3 == 0 ? 1.0f : unit(rng);
+    for (std::size_t g = 0; g + 4 <= boxes.size(); ++g) {
+      unsigned want = 0;
+      for (unsigned i = 0; i < 4; ++i) want |= unsigned{slab.fraction(boxes[g + i], start) >= 0.0f} << i;
+      ASSERT_EQ(slab.touches4({&boxes[g], &boxes[g + 1], &boxes[g + 2], &boxes[g + 3]}, start), want) << trial;
+    }
+    // Each visit shrinks the fraction to the box's entry fraction (as a hit would).
+    std::vector<std::size_t> want, got;
+    float limit = start;
+    for (std::size_t i = 0; i < boxes.size() && limit > 0.0f; ++i) {
+      const float f = slab.fraction(boxes[i], limit);
+      if (f < 0.0f) continue;
+      want.push_back(i);
+      limit = std::min(limit, 0.5f * (f + limit));
+    }
+    const float end = for_each_touched<D>(
+        slab, boxes.size(), start, [&](std::size_t i) -> const AabbN<D>& { return boxes[i]; },
+        [&](std::size_t i, float fraction) {
+          got.push_back(i);
+          return 0.5f * (slab.fraction(boxes[i], fraction) + fraction);
+        });
+    ASSERT_EQ(got, want) << trial;
+    EXPECT_EQ(end, limit) << trial;
+  }
+}
+
+TEST(SlabRay, FourBoxTestDecidesAsOneAtATime) {
+  check_four_box_slab_test<2>();
+  check_four_box_slab_test<3>();
+}
+
 }  // namespace
 }  // namespace collide

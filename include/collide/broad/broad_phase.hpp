@@ -14,7 +14,9 @@
 #include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <concepts>
 #include <cstddef>
 #include <functional>
@@ -24,6 +26,11 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define COLLIDE_SLAB_LANES 1
+#endif
 
 namespace collide {
 
@@ -136,6 +143,52 @@ class SlabRayN {
     return t_enter;
   }
 
+  /// Which of four boxes the ray touches within [0, max_fraction]: bit i set when
+  /// fraction(*box[i], max_fraction) >= 0, the same decision (each box in a lane of SSE2, the
+  /// axes in fraction's order with its selects as min / max, so the same values). A grid's walk
+  /// tests the boxes of a cell four at a time this way: a quarter of the scalar test's
+  /// instructions a box, or more (world ray casts at 1e4 bodies test about 60 boxes a ray).
+  [[nodiscard]] unsigned touches4(const std::array<const AabbN<D>*, 4>& box, float max_fraction) const noexcept {
+#if defined(COLLIDE_SLAB_LANES)
+    if (!any_parallel_) {
+      static_assert(sizeof(AabbN<D>) == 2 * D * sizeof(float), "a box is D min floats, then D max floats");
+      // The boxes' floats as a lane per box: lo[k] / hi[k] hold min[k] / max[k] of the four.
+      __m128 lo[D], hi[D];
+      if constexpr (D == 2) {
+        __m128 r0 = _mm_loadu_ps(&box[0]->min.x), r1 = _mm_loadu_ps(&box[1]->min.x);
+        __m128 r2 = _mm_loadu_ps(&box[2]->min.x), r3 = _mm_loadu_ps(&box[3]->min.x);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        lo[0] = r0, lo[1] = r1, hi[0] = r2, hi[1] = r3;
+      } else {
+        // min.x min.y min.z max.x, then min.z max.x max.y max.z (both within the 24 bytes)
+        __m128 r0 = _mm_loadu_ps(&box[0]->min.x), r1 = _mm_loadu_ps(&box[1]->min.x);
+        __m128 r2 = _mm_loadu_ps(&box[2]->min.x), r3 = _mm_loadu_ps(&box[3]->min.x);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        const __m128 u01 = _mm_unpackhi_ps(_mm_loadu_ps(&box[0]->min.z), _mm_loadu_ps(&box[1]->min.z));
+        const __m128 u23 = _mm_unpackhi_ps(_mm_loadu_ps(&box[2]->min.z), _mm_loadu_ps(&box[3]->min.z));
+        lo[0] = r0, lo[1] = r1, lo[2] = r2, hi[0] = r3;
+        hi[1] = _mm_movelh_ps(u01, u23);
+        hi[2] = _mm_movehl_ps(u23, u01);
+      }
+      __m128 t_enter = _mm_set1_ps(start_);
+      __m128 t_exit = _mm_set1_ps(max_fraction);
+      for (int k = 0; k < D; ++k) {
+        const __m128 o = _mm_set1_ps(origin_[k]), inv = _mm_set1_ps(inverse_[k]);
+        const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo[k], o), inv);
+        const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi[k], o), inv);
+        // minps(a, b) is a < b ? a : b and maxps(a, b) a > b ? a : b: fraction's selects
+        const __m128 near = _mm_min_ps(t1, t0), far = _mm_max_ps(t0, t1);
+        t_enter = _mm_max_ps(near, t_enter);
+        t_exit = _mm_min_ps(far, t_exit);
+      }
+      return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t_enter, t_exit)));
+    }
+#endif
+    unsigned hits = 0;
+    for (unsigned i = 0; i < 4; ++i) hits |= unsigned{fraction(*box[i], max_fraction) >= 0.0f} << i;
+    return hits;
+  }
+
  private:
   VecN<D> origin_;
   VecN<D> inverse_{0.0f};  // 1 / translation, 0 on the axes it does not move along
@@ -143,6 +196,30 @@ class SlabRayN {
   bool any_parallel_ = false;
   float start_ = 0.0f;  // the fraction a ray starts at (see fraction)
 };
+
+/// A ray's walk over a list of boxes (a grid cell's, a leaf's): for i in [0, n), in order, while
+/// max_fraction > 0, when the ray touches box_of(i) (an AabbN reference) within the current max
+/// fraction, max_fraction = min(max_fraction, visit(i, max_fraction)); returns the final max
+/// fraction. The boxes are tested four at a time (SlabRayN::touches4); one met after a visit
+/// shrank the fraction is tested again against the new one, so the visits are exactly those of
+/// a loop testing one box at a time with SlabRayN::fraction.
+template <int D, class BoxOf, class Visit>
+float for_each_touched(const SlabRayN<D>& slab, std::size_t n, float max_fraction, BoxOf&& box_of, Visit&& visit) {
+  for (std::size_t g = 0; g < n && max_fraction > 0.0f; g += 4) {
+    const std::size_t last = std::min(n, g + 4) - 1;  // (a short group repeats its last box)
+    const std::array<const AabbN<D>*, 4> group{&box_of(g), &box_of(std::min(g + 1, last)),
+                                               &box_of(std::min(g + 2, last)), &box_of(std::min(g + 3, last))};
+    const float tested = max_fraction;
+    for (unsigned hits = slab.touches4(group, tested) & ((2u << (last - g)) - 1u); hits != 0; hits &= hits - 1) {
+      if (max_fraction <= 0.0f) break;
+      const std::size_t i = g + static_cast<std::size_t>(std::countr_zero(hits));
+      if (max_fraction != tested && slab.fraction(*group[i - g], max_fraction) < 0.0f) continue;
+      const float r = visit(i, max_fraction);
+      if (r < max_fraction) max_fraction = r;
+    }
+  }
+  return max_fraction;
+}
 
 /// Fraction in [0, max_fraction] at which the ray first touches the closed box (SlabRayN's
 /// `fraction`, for one box: a loop over many boxes prepares the ray once instead).
