@@ -48,6 +48,7 @@ using Vec3 = glm::vec3;
 // impact, 12 calls), their Vec3 arguments go through the stack and come back by loads that
 // cannot be forwarded from the stores just made (as triangle_normal's did, stop 85).
 
+/// Dot product a . b (x, y, z in that order: the same rounding everywhere).
 [[nodiscard]] COLLIDE_ALWAYS_INLINE constexpr float dot(Vec3 a, Vec3 b) noexcept {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
