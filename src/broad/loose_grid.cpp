@@ -2,6 +2,8 @@
 
 #include <collide/core/error.hpp>
 
+#include "x_sorted.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -17,14 +19,14 @@ namespace collide {
 
 namespace {
 
-/// The kLooseCellQuantile quantile of `sides` (the largest sides of a sample of the boxes, see
+/// The `fraction` quantile of `sides` (the largest sides of a sample of the boxes, see
 /// sample_largest_sides), kept above the float resolution of the world; points-only input falls
 /// back to suggest_cell_size.
 template <int D>
-float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds,
+float loose_cell_size(std::span<const AabbN<D>> boxes, const AabbN<D>& bounds, float fraction,
                       std::vector<float>& sides) {
   if (sides.empty()) return 1.0f;
-  const auto at = static_cast<std::ptrdiff_t>(kLooseCellQuantile * static_cast<float>(sides.size() - 1));
+  const auto at = static_cast<std::ptrdiff_t>(fraction * static_cast<float>(sides.size() - 1));
   std::nth_element(sides.begin(), sides.begin() + at, sides.end());
   const float quantile = sides[static_cast<std::size_t>(at)];
   if (!(quantile > 0.0f)) return suggest_cell_size(boxes, bounds, sides);  // points only
@@ -281,6 +283,9 @@ LooseGridN<D>::LooseGridN(Options options) : options_(options) {
   if (!(options_.cell_size >= 0.0f) || !std::isfinite(options_.cell_size)) {
     throw InvalidInput("LooseGrid: cell_size must be finite and >= 0 (0 chooses from the data)");
   }
+  if (!(options_.cell_quantile > 0.0f && options_.cell_quantile <= 1.0f)) {
+    throw InvalidInput("LooseGrid: cell_quantile must be in (0, 1]");
+  }
   if (options_.band_bits < 0 || options_.band_bits > 31) {
     throw InvalidInput("LooseGrid: band_bits must be in [0, 31]");
   }
@@ -352,7 +357,7 @@ void LooseGridN<D>::build_with(std::span<const AabbN<D>> boxes, PairSink* sink) 
   try {
     const AabbN<D> sampled = sample_boxes(boxes, scratch_);
     chosen_cell_size_ = options_.cell_size > 0.0f ? options_.cell_size
-                                                  : loose_cell_size(boxes, sampled, scratch_);
+                                                  : loose_cell_size(boxes, sampled, options_.cell_quantile, scratch_);
     set_grid(sampled, boxes.size());
     if (!bin(boxes, sink)) {
       // Over the exact bounds, a box is outside only beyond kGridCoordinateLimit: keep them all.
@@ -394,6 +399,7 @@ void LooseGridN<D>::clear() noexcept {
   small_pairs_done_ = false;
   big_.clear();
   big_by_x_.clear();
+  big_max_width_ = 0.0f;
   band_counts_.clear();
   std::fill(starts_.begin(), starts_.end(), 0u);
 }
@@ -793,6 +799,8 @@ bool LooseGridN<D>::bin(std::span<const AabbN<D>> boxes, PairSink* sink, bool ev
   std::sort(big_by_x_.begin(), big_by_x_.end(), [](const Entry& a, const Entry& b) {
     return a.box.min.x < b.box.min.x || (a.box.min.x == b.box.min.x && a.id < b.id);
   });
+  big_max_width_ = 0.0f;
+  for (const Entry& b : big_) big_max_width_ = std::max(big_max_width_, b.box.max.x - b.box.min.x);
   return true;
 }
 
@@ -1374,8 +1382,10 @@ bool LooseGridN<D>::for_each_run(const CellN<D>& lo, const CellN<D>& hi, Visit&&
 
 template <int D>
 void LooseGridN<D>::query(const AabbN<D>& box, QueryCallback callback) const {
-  for (const Entry& b : big_) {
-    if (overlap(b.box, box) && !callback(b.id)) return;
+  const auto min_x = [](const Entry& e) { return e.box.min.x; };
+  if (!detail::visit_in_x_range(big_by_x_.begin(), big_by_x_.end(), box.min.x, box.max.x, big_max_width_, min_x,
+                                [&](const Entry& b) { return !overlap(b.box, box) || callback(b.id); })) {
+    return;
   }
   if (small_ == 0 || !overlap(box, grid_.bounds)) return;
   // cell_of clamps to the grid, and every binned box's cell is inside it.
@@ -1393,34 +1403,52 @@ void LooseGridN<D>::query_point(const VecN<D>& point, QueryCallback callback) co
 
 template <int D>
 void LooseGridN<D>::ray_cast(const RayN<D>& ray, RayCallback callback) const {
+  ray_cast(ray, SlabRayN<D>(ray), callback);
+}
+
+template <int D>
+void LooseGridN<D>::ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const {
   float limit = 1.0f;
-  const SlabRayN<D> slab(ray);
-  for (const Entry& b : big_) {
-    if (limit <= 0.0f) return;
-    if (slab.fraction(b.box, limit) < 0.0f) continue;
-    const float r = callback(b.id, limit);
-    if (r < limit) limit = r;
-  }
+  const float x_end = ray.origin.x + ray.translation.x;
+  detail::visit_in_x_range(big_by_x_.begin(), big_by_x_.end(), std::min(ray.origin.x, x_end),
+                           std::max(ray.origin.x, x_end), big_max_width_,
+                           [](const Entry& e) { return e.box.min.x; }, [&](const Entry& b) {
+                             if (slab.fraction(b.box, limit) >= 0.0f) {
+                               const float r = callback(b.id, limit);
+                               if (r < limit) limit = r;
+                             }
+                             return limit > 0.0f;
+                           });
   if (limit <= 0.0f || small_ == 0) return;
   // A small box with min-corner cell L lies within cells [L, L + 1]. Walking cell c, the boxes
-  // that may cover it are those of cells c - {0,1}^D; each is tested at the first walked cell
-  // inside its [L, L + 1] (the walk never re-enters a box of cells it left).
+  // that may cover it are those of the lists of cells c - {0,1}^D; each list is tested at the
+  // first walked cell inside its [L, L + 1] (the walk never re-enters a box of cells it left):
+  // all of them at the first cell, then, after a step along axis a (the walk steps one axis at
+  // a time), those whose L[a] is the layer the step entered (2 lists in 2D, 4 in 3D). The lists
+  // of two x-neighbour cells are neighbours in memory: both new, they are tested as one run.
+  // The boxes are tested four at a time from the coordinate arrays (for_each_touched).
   bool first = true;
   CellN<D> previous{0};
+  const auto visit = [&](std::size_t f, float max_fraction) { return callback(records_[f].id, max_fraction); };
   walk_cells(grid_, ray, slab, limit, [&](const CellN<D>& cell, float max_fraction) {
-    for (int corner = 0; corner < (1 << D) && max_fraction > 0.0f; ++corner) {
-      CellN<D> from = cell;
-      for (int k = 0; k < D; ++k) from[k] -= (corner >> k) & 1;
-      const std::uint32_t key = key_of(from);
-      for (std::uint32_t f = starts_[key]; f < starts_[key + 1] && max_fraction > 0.0f; ++f) {
-        if (!first && cell_in_range<D>(previous, from, from + 1)) continue;
-        if (slab.fraction(entry_box(f), max_fraction) < 0.0f) continue;
-        const float r = callback(records_[f].id, max_fraction);
-        if (r < max_fraction) max_fraction = r;
+    int axis = -1, new_bit = 0;  // the step's axis, and the corner bit along it of the new lists
+    if (!first) {
+      for (int k = 0; k < D; ++k) {
+        if (cell[k] != previous[k]) axis = k, new_bit = cell[k] > previous[k] ? 0 : 1;
       }
     }
     first = false;
     previous = cell;
+    const bool near = axis != 0 || new_bit == 0, left = axis != 0 || new_bit == 1;  // x corner 0 / 1
+    for (int rest = 0; rest < (1 << (D - 1)) && max_fraction > 0.0f; ++rest) {
+      if (axis > 0 && ((rest >> (axis - 1)) & 1) != new_bit) continue;
+      CellN<D> from = cell;  // the list of corner (0, rest); (-1, rest) is the one before it
+      for (int k = 1; k < D; ++k) from[k] -= (rest >> (k - 1)) & 1;
+      const std::uint32_t key = key_of(from);
+      const std::uint32_t begin = starts_[left ? key - 1 : key], end = starts_[near ? key + 1 : key];
+      if (begin == end) continue;  // (most cells of a sparse world are empty)
+      max_fraction = for_each_touched(slab, coords_.data(), stride_, begin, end, max_fraction, visit);
+    }
     return max_fraction;
   });
 }

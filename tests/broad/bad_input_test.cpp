@@ -62,6 +62,9 @@ std::vector<Rejected> bad_options() {
     cases.push_back({"max_cells_per_box", [=] { (void)Hash({.max_cells_per_box = bad}); }});
     cases.push_back({"max_cells_per_box", [=] { (void)Sorted({.max_cells_per_box = bad}); }});
   }
+  for (const float bad : {0.0f, -0.5f, 1.01f, kNaN, kInf}) {
+    cases.push_back({"cell_quantile", [=] { (void)Loose({.cell_quantile = bad}); }});
+  }
   for (const int bad : {-1, 32}) {
     cases.push_back({"one_step_bits", [=] { (void)Loose({.one_step_bits = bad}); }});
     cases.push_back({"band_bits", [=] { (void)Loose({.band_bits = bad}); }});
@@ -79,6 +82,7 @@ TEST(BadOptions, TheEdgesOfTheRangesAreAccepted) {
   EXPECT_NO_THROW((void)HierarchicalGrid({.base_cell_size = 0.0f}));
   EXPECT_NO_THROW((void)DynamicTree3({.margin = 0.0f, .margin_fraction = 0.0f}));
   EXPECT_NO_THROW((void)LooseGrid({.cell_size = 0.0f, .one_step_bits = 0, .band_bits = 31}));
+  EXPECT_NO_THROW((void)LooseGrid3({.cell_quantile = 1.0f}));
   EXPECT_NO_THROW((void)TemporalBroadPhase({.horizon = 0.0}));
 }
 

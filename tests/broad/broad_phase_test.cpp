@@ -396,8 +396,9 @@ TEST(SortPairs, SameOrderAsStdSortForEverySizeAndIdRange) {
   EXPECT_EQ(one_call, (PairList{{1, 3}, {1, 9}, {5, 2}}));
 }
 
-// SlabRayN::touches4 (four boxes in SSE2 lanes) decides as fraction() >= 0 box by box, and
-// for_each_touched visits what a loop of fraction() tests visits, while the visits
+// SlabRayN::touches4 (four boxes in SSE2 lanes, from boxes or from a structure of arrays)
+// decides as fraction() >= 0 box by box, and for_each_touched (both stores) visits what a loop
+// of fraction() tests visits, while the visits
 // shrink the fraction: random rays (some along an axis, some with a tiny translation whose
 // reciprocal overflows), boxes that are points, that touch the origin exactly, that hold it.
 template <int D>
@@ -443,6 +444,39 @@ void check_four_box_slab_test() {
         });
     ASSERT_EQ(got, want) << trial;
     EXPECT_EQ(end, limit) << trial;
+
+    // The same boxes as a structure of arrays (a loose grid's store: coordinate k of the min
+    // corner at coords[k * stride + e], of the max at coords[(D + k) * stride + e], three
+    // readable entries past the last): the same decisions, and the same visits from any first box.
+    const std::size_t stride = boxes.size() + 3;
+    std::vector<float> coords(2 * D * stride, std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t e = 0; e < boxes.size(); ++e) {
+      for (int k = 0; k < D; ++k) {
+        coords[std::size_t(k) * stride + e] = boxes[e].min[k];
+        coords[std::size_t(D + k) * stride + e] = boxes[e].max[k];
+      }
+    }
+    for (std::size_t g = 0; g + 4 <= boxes.size(); ++g) {
+      ASSERT_EQ(slab.touches4(coords.data() + g, stride, start),
+                slab.touches4({&boxes[g], &boxes[g + 1], &boxes[g + 2], &boxes[g + 3]}, start))
+          << trial;
+    }
+    const std::size_t first = std::size_t(trial) % boxes.size();
+    std::vector<std::size_t> want_from, got_from;
+    limit = start;
+    for (std::size_t i = first; i < boxes.size() && limit > 0.0f; ++i) {
+      const float f = slab.fraction(boxes[i], limit);
+      if (f < 0.0f) continue;
+      want_from.push_back(i);
+      limit = std::min(limit, 0.5f * (f + limit));
+    }
+    const float end_from = for_each_touched<D>(slab, coords.data(), stride, first, boxes.size(), start,
+                                               [&](std::size_t e, float fraction) {
+                                                 got_from.push_back(e);
+                                                 return 0.5f * (slab.fraction(boxes[e], fraction) + fraction);
+                                               });
+    ASSERT_EQ(got_from, want_from) << trial;
+    EXPECT_EQ(end_from, limit) << trial;
   }
 }
 

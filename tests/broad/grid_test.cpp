@@ -701,6 +701,76 @@ TEST(LooseGrid, MixedSizesSparseClustersAndFarWorlds) {
   }
 }
 
+// The cell quantile decides how many boxes are big (kept out of the cells): at 0.05 most are,
+// at 1 none but the outliers. Queries and rays find the big ones by a search along x over them
+// sorted by min x (the widest among them bounding how far back a box can start): every box a
+// query box, a point or a segment meets, once, and the nearest entry of a clipped ray, as brute
+// force finds them, with one box as wide as the world among them.
+TEST(LooseGrid, BigBoxesAreFoundByQueriesAndRaysAtEveryCellQuantile) {
+  const auto check = []<int D>(float quantile) -> int {
+    std::mt19937 rng(47 + D);
+    test::Boxes<D> boxes = test::uniform_world<D>(rng, 500, D == 2 ? 20.0f : 8.0f, 0.1f, 1.5f);
+    for (const AabbN<D>& b : test::mixed_size_world<D>(rng, 100, 60.0f)) boxes.push_back(b);
+    AabbN<D> world = boxes[0];
+    for (const AabbN<D>& b : boxes) world = merge(world, b);
+    boxes[17] = {world.min, world.min + VecN<D>(1.0f)};
+    boxes[17].max[0] = world.max[0];  // as wide as the world
+    LooseGridN<D> grid({.cell_quantile = quantile});
+    grid.build(boxes);
+    BruteForceN<D> brute;
+    brute.build(boxes);
+    const auto sorted = [](std::vector<int> ids) {
+      std::sort(ids.begin(), ids.end());
+      return ids;
+    };
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const auto random_point = [&] {
+      VecN<D> p;
+      for (int k = 0; k < D; ++k) p[k] = world.min[k] + (world.max[k] - world.min[k]) * (1.2f * unit(rng) - 0.1f);
+      return p;
+    };
+    for (int q = 0; q < 300; ++q) {
+      const VecN<D> a = q % 2 == 0 ? boxes[rng() % boxes.size()].center() : random_point();
+      const VecN<D> b = random_point();
+      const AabbN<D> box{glm::min(a, a + 0.05f * (b - a)), glm::max(a, a + 0.05f * (b - a))};
+      std::vector<int> got, want;
+      grid.query(box, [&](int id) { got.push_back(id); return true; });
+      brute.query(box, [&](int id) { want.push_back(id); return true; });
+      EXPECT_EQ(sorted(got), sorted(want)) << D << " q " << quantile << " query " << q;
+      got.clear(), want.clear();
+      grid.query_point(a, [&](int id) { got.push_back(id); return true; });
+      brute.query_point(a, [&](int id) { want.push_back(id); return true; });
+      EXPECT_EQ(sorted(got), sorted(want)) << D << " q " << quantile << " point " << q;
+      const RayN<D> ray{a, (q % 3 == 0 ? 0.1f : 1.0f) * (b - a)};
+      got.clear(), want.clear();
+      grid.ray_cast(ray, [&](int id, float f) { got.push_back(id); return f; });
+      brute.ray_cast(ray, [&](int id, float f) { want.push_back(id); return f; });
+      EXPECT_EQ(sorted(got), sorted(want)) << D << " q " << quantile << " ray " << q;
+      float best = 2.0f, want_best = 2.0f;
+      const auto clip = [&](float& out) {
+        return [&](int id, float limit) {
+          const float f = ray_box_fraction(ray, boxes[std::size_t(id)], limit);
+          if (f >= 0.0f && f < out) out = f;
+          return f >= 0.0f ? f : limit;
+        };
+      };
+      grid.ray_cast(ray, clip(best));
+      brute.ray_cast(ray, clip(want_best));
+      EXPECT_EQ(best, want_best) << D << " q " << quantile << " closest ray " << q;
+    }
+    return grid.big_count();
+  };
+  // (The counts of big boxes: the search over them is exercised at every quantile but 1.)
+  EXPECT_GT(check.operator()<2>(0.05f), 200);
+  EXPECT_GE(check.operator()<3>(0.05f), 2);
+  EXPECT_GT(check.operator()<2>(0.5f), 50);
+  EXPECT_GE(check.operator()<3>(0.5f), 2);
+  EXPECT_GE(check.operator()<2>(0.9f), 2);
+  EXPECT_GE(check.operator()<3>(0.9f), 2);
+  EXPECT_EQ(check.operator()<2>(1.0f), 0);
+  EXPECT_EQ(check.operator()<3>(1.0f), 0);
+}
+
 // Large grids are counting-sorted band by band; one_step_bits = 0 and small bands force that
 // path on small worlds and must give the same pairs (and order) as the one-step sort.
 TEST(LooseGrid, BandedSortMatchesTheOneStepSort) {

@@ -11,6 +11,7 @@
 /// Callbacks are `FunctionRef`s: non-owning, no allocation, valid only during the call.
 
 #include <collide/core/aabb.hpp>
+#include <collide/core/config.hpp>
 #include <collide/core/function_ref.hpp>
 #include <collide/core/ray.hpp>
 
@@ -170,18 +171,7 @@ class SlabRayN {
         hi[1] = _mm_movelh_ps(u01, u23);
         hi[2] = _mm_movehl_ps(u23, u01);
       }
-      __m128 t_enter = _mm_set1_ps(start_);
-      __m128 t_exit = _mm_set1_ps(max_fraction);
-      for (int k = 0; k < D; ++k) {
-        const __m128 o = _mm_set1_ps(origin_[k]), inv = _mm_set1_ps(inverse_[k]);
-        const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo[k], o), inv);
-        const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi[k], o), inv);
-        // minps(a, b) is a < b ? a : b and maxps(a, b) a > b ? a : b: fraction's selects
-        const __m128 near = _mm_min_ps(t1, t0), far = _mm_max_ps(t0, t1);
-        t_enter = _mm_max_ps(near, t_enter);
-        t_exit = _mm_min_ps(far, t_exit);
-      }
-      return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t_enter, t_exit)));
+      return touch_lanes(lo, hi, max_fraction);
     }
 #endif
     unsigned hits = 0;
@@ -189,13 +179,78 @@ class SlabRayN {
     return hits;
   }
 
+  /// touches4 for four consecutive boxes of a structure-of-arrays store (a grid's entries):
+  /// min[k] of box i at coords[k * stride + i], max[k] at coords[(D + k) * stride + i], i in
+  /// [0, 4). The same decisions; the lanes load straight from the store, no transpose.
+  [[nodiscard]] unsigned touches4(const float* coords, std::size_t stride, float max_fraction) const noexcept {
+#if defined(COLLIDE_SLAB_LANES)
+    if (!any_parallel_) {
+      __m128 lo[D], hi[D];
+      for (int k = 0; k < D; ++k) {
+        lo[k] = _mm_loadu_ps(coords + std::size_t(k) * stride);
+        hi[k] = _mm_loadu_ps(coords + std::size_t(D + k) * stride);
+      }
+      return touch_lanes(lo, hi, max_fraction);
+    }
+#endif
+    unsigned hits = 0;
+    for (unsigned i = 0; i < 4; ++i) {
+      AabbN<D> box;
+      for (int k = 0; k < D; ++k) {
+        box.min[k] = coords[std::size_t(k) * stride + i];
+        box.max[k] = coords[std::size_t(D + k) * stride + i];
+      }
+      hits |= unsigned{fraction(box, max_fraction) >= 0.0f} << i;
+    }
+    return hits;
+  }
+
  private:
+#if defined(COLLIDE_SLAB_LANES)
+  /// The slab test of four boxes in lanes (lo[k] / hi[k]: min[k] / max[k] of the four), for a
+  /// ray that moves along every axis: fraction's selects as min / max, so the same values.
+  [[nodiscard]] unsigned touch_lanes(const __m128 (&lo)[D], const __m128 (&hi)[D], float max_fraction) const noexcept {
+    __m128 t_enter = _mm_set1_ps(start_);
+    __m128 t_exit = _mm_set1_ps(max_fraction);
+    for (int k = 0; k < D; ++k) {
+      const __m128 o = _mm_set1_ps(origin_[k]), inv = _mm_set1_ps(inverse_[k]);
+      const __m128 t0 = _mm_mul_ps(_mm_sub_ps(lo[k], o), inv);
+      const __m128 t1 = _mm_mul_ps(_mm_sub_ps(hi[k], o), inv);
+      // minps(a, b) is a < b ? a : b and maxps(a, b) a > b ? a : b: fraction's selects
+      const __m128 near = _mm_min_ps(t1, t0), far = _mm_max_ps(t0, t1);
+      t_enter = _mm_max_ps(near, t_enter);
+      t_exit = _mm_min_ps(far, t_exit);
+    }
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t_enter, t_exit)));
+  }
+#endif
   VecN<D> origin_;
   VecN<D> inverse_{0.0f};  // 1 / translation, 0 on the axes it does not move along
   std::array<bool, D> parallel_{};
   bool any_parallel_ = false;
   float start_ = 0.0f;  // the fraction a ray starts at (see fraction)
 };
+
+/// The loop of for_each_touched, for any store of boxes: over i in [0, n) in groups of four,
+/// test4(g, max_fraction) the bits of the boxes g .. g + 3 the ray touches (bits at or past n
+/// are ignored), box_of(i) box i (an AabbN) to test again one met after a visit shrank the
+/// fraction, visit(i, max_fraction) as for_each_touched's.
+template <int D, class Test4, class BoxOf, class Visit>
+COLLIDE_ALWAYS_INLINE float for_each_touched_by_fours(const SlabRayN<D>& slab, std::size_t n, float max_fraction, Test4&& test4,
+                                BoxOf&& box_of, Visit&& visit) {
+  for (std::size_t g = 0; g < n && max_fraction > 0.0f; g += 4) {
+    const std::size_t left = std::min<std::size_t>(n - g, 4);
+    const float tested = max_fraction;
+    for (unsigned hits = test4(g, tested) & ((1u << left) - 1u); hits != 0; hits &= hits - 1) {
+      if (max_fraction <= 0.0f) break;
+      const std::size_t i = g + static_cast<std::size_t>(std::countr_zero(hits));
+      if (max_fraction != tested && slab.fraction(box_of(i), max_fraction) < 0.0f) continue;
+      const float r = visit(i, max_fraction);
+      if (r < max_fraction) max_fraction = r;
+    }
+  }
+  return max_fraction;
+}
 
 /// A ray's walk over a list of boxes (a grid cell's, a leaf's): for i in [0, n), in order, while
 /// max_fraction > 0, when the ray touches box_of(i) (an AabbN reference) within the current max
@@ -205,20 +260,34 @@ class SlabRayN {
 /// a loop testing one box at a time with SlabRayN::fraction.
 template <int D, class BoxOf, class Visit>
 float for_each_touched(const SlabRayN<D>& slab, std::size_t n, float max_fraction, BoxOf&& box_of, Visit&& visit) {
-  for (std::size_t g = 0; g < n && max_fraction > 0.0f; g += 4) {
+  const auto test4 = [&](std::size_t g, float tested) {
     const std::size_t last = std::min(n, g + 4) - 1;  // (a short group repeats its last box)
     const std::array<const AabbN<D>*, 4> group{&box_of(g), &box_of(std::min(g + 1, last)),
                                                &box_of(std::min(g + 2, last)), &box_of(std::min(g + 3, last))};
-    const float tested = max_fraction;
-    for (unsigned hits = slab.touches4(group, tested) & ((2u << (last - g)) - 1u); hits != 0; hits &= hits - 1) {
-      if (max_fraction <= 0.0f) break;
-      const std::size_t i = g + static_cast<std::size_t>(std::countr_zero(hits));
-      if (max_fraction != tested && slab.fraction(*group[i - g], max_fraction) < 0.0f) continue;
-      const float r = visit(i, max_fraction);
-      if (r < max_fraction) max_fraction = r;
+    return slab.touches4(group, tested);
+  };
+  return for_each_touched_by_fours(slab, n, max_fraction, test4, box_of, visit);
+}
+
+/// for_each_touched over the boxes [first, last) of a structure-of-arrays store (as
+/// SlabRayN::touches4's: coordinate k of box e's min corner at coords[k * stride + e], of its
+/// max corner at coords[(D + k) * stride + e]); visit(e, max_fraction) gets the box's index in
+/// the store. Up to three boxes past `last` are read (and ignored): the store must hold them.
+template <int D, class Visit>
+COLLIDE_ALWAYS_INLINE float for_each_touched(const SlabRayN<D>& slab, const float* coords, std::size_t stride, std::size_t first,
+                       std::size_t last, float max_fraction, Visit&& visit) {
+  const auto box_of = [&](std::size_t i) {
+    AabbN<D> box;
+    for (int k = 0; k < D; ++k) {
+      box.min[k] = coords[std::size_t(k) * stride + first + i];
+      box.max[k] = coords[std::size_t(D + k) * stride + first + i];
     }
-  }
-  return max_fraction;
+    return box;
+  };
+  return for_each_touched_by_fours(
+      slab, last - first, max_fraction,
+      [&](std::size_t g, float tested) { return slab.touches4(coords + first + g, stride, tested); }, box_of,
+      [&](std::size_t i, float max_fraction_now) { return visit(first + i, max_fraction_now); });
 }
 
 /// Fraction in [0, max_fraction] at which the ray first touches the closed box (SlabRayN's

@@ -73,14 +73,24 @@
 
 namespace collide {
 
+/// Fraction of the boxes (by largest side) that the default LooseGrid cell is at least as large
+/// as (LooseGridN::Options::cell_quantile): those span at most two cells per axis and are
+/// binned; a larger cell would put more boxes in every neighbour scan.
+inline constexpr float kLooseCellQuantile = 0.9f;
+
 /// Loose uniform grid over boxes in D dimensions, rebuilt from scratch by a counting sort.
 template <int D>
 class LooseGridN {
  public:
   struct Options {
     /// Side of a cell in world units; 0 (the default) chooses one from the data at build: the
-    /// kLooseCellQuantile quantile of the boxes' largest sides.
+    /// cell_quantile quantile of the boxes' largest sides.
     float cell_size = 0.0f;
+    /// With cell_size 0, the fraction of the boxes (by largest side) the cell is at least as
+    /// large as, in (0, 1]. Higher: fewer big boxes (each query tests those whose x extent
+    /// reaches its own) and more boxes a cell; boxes of nearly one size (the temporal broad
+    /// phase's grown boxes) want nearly 1.
+    float cell_quantile = kLooseCellQuantile;
     /// Grids of at most 2^one_step_bits cells (with the border) are counting-sorted in one
     /// step; larger ones band by band, bands of 2^band_bits consecutive cells, so the counting
     /// sort's random accesses stay in cache (measured on the bench worlds: one step is faster
@@ -117,8 +127,8 @@ class LooseGridN {
   static constexpr std::uint64_t kMinCells = 4096;
 
   LooseGridN() = default;
-  /// Throws InvalidInput for a negative or non-finite cell size, or one_step_bits or band_bits
-  /// outside [0, 31].
+  /// Throws InvalidInput for a negative or non-finite cell size, a cell quantile outside
+  /// (0, 1], or one_step_bits or band_bits outside [0, 31].
   explicit LooseGridN(Options options);
 
   /// Rebuilds the grid from the boxes. Throws InvalidInput for a non-finite box or min > max,
@@ -146,12 +156,17 @@ class LooseGridN {
   void find_pairs(PairList& pairs) const;
   /// find_pairs without clearing `pairs` first: appends.
   void append_pairs(PairList& pairs) const;
-  /// Each id whose box overlaps `box` once: big boxes first, then by cell.
+  /// Each id whose box overlaps `box` once: big boxes first (those whose x extent can reach the
+  /// box's, by a binary search of them sorted by min x), then by cell.
   void query(const AabbN<D>& box, QueryCallback callback) const;
   /// Each id whose box contains `point` once.
   void query_point(const VecN<D>& point, QueryCallback callback) const;
-  /// Each id whose box the ray meets once: big boxes first, then along the ray (3D-DDA).
+  /// Each id whose box the ray meets once: big boxes first (those whose x extent can reach the
+  /// ray's), then along the ray (3D-DDA).
   void ray_cast(const RayN<D>& ray, RayCallback callback) const;
+  /// ray_cast with `slab`, the same ray prepared for box tests (SlabRayN(ray)) by a caller that
+  /// tests boxes of its own with it.
+  void ray_cast(const RayN<D>& ray, const SlabRayN<D>& slab, RayCallback callback) const;
 
   /// Number of objects given to the last build or update.
   [[nodiscard]] int size() const noexcept { return count_; }
@@ -382,13 +397,9 @@ class LooseGridN {
   std::vector<std::uint32_t> big_found_starts_;    // and its per-big-box starts
   std::vector<Entry> big_;             // big boxes, ids ascending
   std::vector<Entry> big_by_x_;        // big boxes by min x, for their sweep
+  float big_max_width_ = 0.0f;         // the widest big box along x: queries search big_by_x_
   std::vector<float> scratch_;
 };
-
-/// Fraction of the boxes (by largest side) that the default LooseGrid cell is at least as large
-/// as: those span at most two cells per axis and are binned; a larger cell would put more
-/// boxes in every neighbour scan.
-inline constexpr float kLooseCellQuantile = 0.9f;
 
 using LooseGrid = LooseGridN<2>;
 using LooseGrid3 = LooseGridN<3>;
