@@ -2,6 +2,8 @@
 
 #include <collide/core/error.hpp>
 
+#include "x_sorted.hpp"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -117,10 +119,6 @@ constexpr int kMinCandidatesPerTask = 128;
 /// From this many fast objects on, their pairs among themselves come from a grid of their own
 /// instead of a sort and sweep along x.
 constexpr std::size_t kFastGridFrom = 256;
-/// The queries' x interval over the fast objects sorted by min x is loosened by this much
-/// relative to its coordinates, for the rounding of the ray's end (as sweep_and_prune.cpp's
-/// look-back slack).
-constexpr float kFastRangeSlack = 1e-5f;
 
 /// update's verdict on an object: bound kept, bound broken, bound kept but out of its grown box
 /// (it may still pair with candidates it was not grown towards), or a box update refuses.
@@ -337,7 +335,7 @@ void TemporalBroadPhaseN<D>::clear_raised_flags() noexcept {
 }
 
 template <int D>
-void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler, double until) {
+void TemporalBroadPhaseN<D>::rebuild(double until) {
   // Each box grown by how far its bound lets it move by `until` (the horizon from now, or from
   // the next update's time when built ahead of it).
   const double window = until - time_;
@@ -361,8 +359,7 @@ void TemporalBroadPhaseN<D>::rebuild(TaskScheduler* scheduler, double until) {
     slow_ids_.push_back(static_cast<int>(i));
     slow_grown_.push_back(grown_[i]);
   }
-  grid_.build(slow_grown_);
-  grid_.find_pairs(candidates_, scheduler);
+  grid_.build_and_find_pairs(slow_grown_, candidates_);
   // Grid ids are positions in slow_ids_, which is ascending: mapping keeps i < j. Sorted once
   // here, the candidates give every frame's pairs in order (no sort of them per frame), and
   // their checks read the boxes in ascending order of the first object.
@@ -443,7 +440,7 @@ bool TemporalBroadPhaseN<D>::rebuild_due(double next_time) const noexcept {
 template <int D>
 void TemporalBroadPhaseN<D>::rebuild_now(double next_time) {
   if (!std::isfinite(next_time) || next_time < time_) throw InvalidInput("time: not finite or goes back");
-  rebuild(nullptr, next_time + horizon_);
+  rebuild(next_time + horizon_);
 }
 
 template <int D>
@@ -454,7 +451,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs) {
 template <int D>
 void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* scheduler) {
   pairs.clear();
-  if (needs_rebuild_ || time_ > expires_at_) rebuild(scheduler, time_ + horizon_);
+  if (needs_rebuild_ || time_ > expires_at_) rebuild(time_ + horizon_);
   const auto count = static_cast<int>(candidates_.size());
   const auto fast_count = static_cast<int>(fast_.size());
   const int workers = scheduler != nullptr ? scheduler->worker_count() : 1;
@@ -583,16 +580,8 @@ bool TemporalBroadPhaseN<D>::visit_fast_in_x(float lo, float hi, Visit&& visit) 
     }
     return true;
   }
-  // A box reaching [lo, hi] has min x in [lo - widest, hi]; the bounds are loosened by a
-  // relative slack for the rounding of the callers' intervals (the box tests decide).
-  const float slack = kFastRangeSlack * (std::abs(lo) + std::abs(hi) + fast_max_width_);
-  const float from = lo - fast_max_width_ - slack, to = hi + slack;
-  auto it = std::lower_bound(fast_order_.begin(), fast_order_.end(), from,
-                             [&](int id, float x) { return boxes_[std::size_t(id)].min[0] < x; });
-  for (; it != fast_order_.end() && boxes_[std::size_t(*it)].min[0] <= to; ++it) {
-    if (!visit(*it)) return false;
-  }
-  return true;
+  return detail::visit_in_x_range(fast_order_.begin(), fast_order_.end(), lo, hi, fast_max_width_,
+                                  [&](int id) { return boxes_[std::size_t(id)].min[0]; }, visit);
 }
 
 template <int D>
