@@ -119,8 +119,9 @@ inline std::string host_processor() {
 /// busy on the host's core (SMT), sharing the dispatch slots; FP multiplies at two a cycle, L1
 /// and L2 load latency and the divider's throughput stay within 10% there (stop 81,
 /// docs/performance.md). A figure to read ratios by, not a correction. 0 where it cannot run
-/// (not x86-64 with GCC or Clang).
-inline double host_dispatch_probe_ps() {
+/// (not x86-64 with GCC or Clang). `runs` (1 to 5) trades the figure's noise for time: a
+/// benchmark that probes between its own timed blocks takes one run.
+inline double host_dispatch_probe_ps(int runs = 5) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // One group: six operations that read only registers nothing in the loop writes.
 #define COLLIDE_PROBE_GROUP(from_a, from_b, to_a, to_b)                                     \
@@ -134,8 +135,10 @@ inline double host_dispatch_probe_ps() {
   COLLIDE_PROBE_GROUP("0", "1", "8", "9") COLLIDE_PROBE_GROUP("2", "3", "10", "11")        \
   COLLIDE_PROBE_GROUP("4", "5", "12", "13") COLLIDE_PROBE_GROUP("6", "7", "14", "15")
   constexpr long kLoops = 400000;  // 96 operations a loop: 38.4M a run, about 2 ms
-  double runs[5];
-  for (double& run : runs) {
+  double times[5];
+  const int count = std::clamp(runs, 1, 5);
+  for (int r = 0; r < count; ++r) {
+    double& run = times[r];
     const auto start = std::chrono::steady_clock::now();
     for (long i = 0; i < kLoops; ++i) {
       asm volatile(COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR COLLIDE_PROBE_FOUR::
@@ -147,8 +150,9 @@ inline double host_dispatch_probe_ps() {
   }
 #undef COLLIDE_PROBE_FOUR
 #undef COLLIDE_PROBE_GROUP
-  return *std::min_element(runs, runs + 5);
+  return *std::min_element(times, times + count);
 #else
+  static_cast<void>(runs);
   return 0.0;
 #endif
 }

@@ -22,7 +22,10 @@
 // each of the first two CPUs and one on two threads. Counters: ns_body_nocheck_cpu0 / _cpu1 /
 // _2t, speedup_cpu0 / _cpu1 (each one-thread time over the two-thread time) and `speedup`, the
 // harmonic mean of the one-thread times over the two-thread time (twice the parallel
-// efficiency: the plain speed-up on two equal cores). The unpaired rows put BM_CollideStep/N/1
+// efficiency: the plain speed-up on two equal cores); probe_ps_cpu0 / _cpu1, each CPU's dispatch
+// probe (instruction_set.hpp) before its one-thread block, averaged: above about 55 ps on the
+// Zen 5 VM another tenant shares that CPU's core, and the row reads slow, the two-thread time
+// most. The unpaired rows put BM_CollideStep/N/1
 // and /N/2 seconds apart, on whichever CPU the stepping thread had, and the VM's two vCPUs are
 // not equally fast at a given moment (see the function).
 //
@@ -677,11 +680,18 @@ void BM_CollideSpeedup(benchmark::State& state) {
     nocheck += std::chrono::duration<double>(Clock::now() - t0).count() - check;
   };
   double a_nocheck = 0.0, b_nocheck = 0.0, two_nocheck = 0.0;
+  // Each CPU's dispatch probe (one 2 ms run) before its block: the host's other tenants come
+  // and go on either vCPU's core within minutes, and a shared CPU slows every side of a row
+  // that runs on it (the two-thread world most: its serial parts and its last range wait on
+  // whichever CPU is slow). Outside the blocks' clocks.
+  double a_probe = 0.0, b_probe = 0.0;
   bool pinned = true;
   for (auto _ : state) {
     pinned &= pin_this_thread(single[0]);
+    a_probe += bench::host_dispatch_probe_ps(1);
     block(one_a, a_nocheck);
     pinned &= pin_this_thread(single[1]);
+    b_probe += bench::host_dispatch_probe_ps(1);
     block(one_b, b_nocheck);
     pinned &= pin_this_thread(all);
     block(two, two_nocheck);
@@ -694,6 +704,8 @@ void BM_CollideSpeedup(benchmark::State& state) {
   state.counters["ns_body_nocheck_cpu0"] = ns_per(a_nocheck, frames, bodies);
   state.counters["ns_body_nocheck_cpu1"] = ns_per(b_nocheck, frames, bodies);
   state.counters["ns_body_nocheck_2t"] = ns_per(two_nocheck, frames, bodies);
+  state.counters["probe_ps_cpu0"] = a_probe / static_cast<double>(state.iterations());
+  state.counters["probe_ps_cpu1"] = b_probe / static_cast<double>(state.iterations());
   if (two_nocheck > 0.0) {
     state.counters["speedup_cpu0"] = a_nocheck / two_nocheck;
     state.counters["speedup_cpu1"] = b_nocheck / two_nocheck;
