@@ -1,5 +1,6 @@
 #include <collide/ccd/sweep.hpp>
 
+#include <collide/core/config.hpp>
 #include <collide/core/error.hpp>
 
 #include <algorithm>
@@ -55,15 +56,36 @@ AabbN<D> rotating_swept_aabb(const ConvexProxyN<D>& proxy, const SweepT& sweep, 
   return fatten(box, proxy.radius());
 }
 
-}  // namespace
-
-void check_sweep(const Sweep& sweep, const char* name) {
+/// check_sweep's failure: throws InvalidInput naming the first field that is not finite.
+[[noreturn]] COLLIDE_COLD void throw_bad_sweep(const Sweep& sweep, const char* name) {
   const std::string n(name);
   if (!is_finite(sweep.local_center)) throw InvalidInput(n + " local_center: not finite");
   if (!is_finite(sweep.c0)) throw InvalidInput(n + " c0: not finite");
   if (!is_finite(sweep.c1)) throw InvalidInput(n + " c1: not finite");
   if (!std::isfinite(sweep.a0)) throw InvalidInput(n + " a0: not finite");
-  if (!std::isfinite(sweep.a1)) throw InvalidInput(n + " a1: not finite");
+  throw InvalidInput(n + " a1: not finite");
+}
+
+/// The 3D check's failure, as throw_bad_sweep above.
+[[noreturn]] COLLIDE_COLD void throw_bad_sweep(const Sweep3& sweep, const char* name) {
+  const std::string n(name);
+  if (!is_finite(sweep.local_center)) throw InvalidInput(n + " local_center: not finite");
+  if (!is_finite(sweep.c0)) throw InvalidInput(n + " c0: not finite");
+  if (!is_finite(sweep.c1)) throw InvalidInput(n + " c1: not finite");
+  if (!is_valid(Transform3{Vec3(0.0f), sweep.q0})) throw InvalidInput(n + " q0: not finite or not unit length");
+  throw InvalidInput(n + " rotation: not finite");
+}
+
+}  // namespace
+
+void check_sweep(const Sweep& sweep, const char* name) {
+  // Every time-of-impact query checks two sweeps: the message is built only on failure (the
+  // name's string alone was 3% of a turning box-box query's instructions).
+  if (is_finite(sweep.local_center) && is_finite(sweep.c0) && is_finite(sweep.c1) && std::isfinite(sweep.a0) &&
+      std::isfinite(sweep.a1)) [[likely]] {
+    return;
+  }
+  throw_bad_sweep(sweep, name);
 }
 
 Aabb swept_aabb(const Shape2D& shape, const Transform& xf, Vec2 translation) noexcept {
@@ -81,14 +103,12 @@ Aabb swept_aabb(const ConvexProxy& proxy, const Sweep& sweep) noexcept {
 }
 
 void check_sweep(const Sweep3& sweep, const char* name) {
-  const std::string n(name);
-  if (!is_finite(sweep.local_center)) throw InvalidInput(n + " local_center: not finite");
-  if (!is_finite(sweep.c0)) throw InvalidInput(n + " c0: not finite");
-  if (!is_finite(sweep.c1)) throw InvalidInput(n + " c1: not finite");
-  if (!is_valid(Transform3{Vec3(0.0f), sweep.q0})) {
-    throw InvalidInput(n + " q0: not finite or not unit length");
+  // As the 2D check: the message only on failure.
+  if (is_finite(sweep.local_center) && is_finite(sweep.c0) && is_finite(sweep.c1) &&
+      is_valid(Transform3{Vec3(0.0f), sweep.q0}) && is_finite(sweep.rotation)) [[likely]] {
+    return;
   }
-  if (!is_finite(sweep.rotation)) throw InvalidInput(n + " rotation: not finite");
+  throw_bad_sweep(sweep, name);
 }
 
 Aabb3 swept_aabb(const Shape3D& shape, const Transform3& xf, Vec3 translation) noexcept {

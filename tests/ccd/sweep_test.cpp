@@ -114,17 +114,43 @@ TEST(Sweep, RotatingBoxIsConservativeAndTight) {
   EXPECT_GT(small_turns, 50);
 }
 
-// 4. Non-finite sweeps are rejected naming the field.
+// 4. Non-finite sweeps are rejected naming the field, each field alone (the check's fast test
+// and its message are separate code).
 TEST(Sweep, CheckRejectsNonFinite) {
   Sweep s;
+  s.local_center = {0.25f, -0.5f};
+  s.c0 = {1.0f, 2.0f};
+  s.c1 = {3.0f, -4.0f};
+  s.a0 = 0.5f;
+  s.a1 = -2.0f;
   EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
-  s.a1 = std::numeric_limits<float>::quiet_NaN();
-  try {
-    check_sweep(s, "sweep_a");
-    FAIL() << "expected InvalidInput";
-  } catch (const InvalidInput& e) {
-    EXPECT_STREQ(e.what(), "sweep_a a1: not finite");
-  }
+  const auto message = [](const Sweep& bad) {
+    try {
+      check_sweep(bad, "sweep_a");
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no throw");
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  Sweep bad = s;
+  bad.a1 = nan;
+  EXPECT_EQ(message(bad), "sweep_a a1: not finite");
+  bad = s;
+  bad.a0 = -inf;
+  EXPECT_EQ(message(bad), "sweep_a a0: not finite");
+  bad = s;
+  bad.c0.y = nan;
+  EXPECT_EQ(message(bad), "sweep_a c0: not finite");
+  bad = s;
+  bad.c1.x = inf;
+  EXPECT_EQ(message(bad), "sweep_a c1: not finite");
+  bad = s;
+  bad.local_center.x = nan;
+  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
+  bad.a1 = nan;  // two bad fields: the first in the order above is named
+  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
 }
 
 
@@ -266,6 +292,9 @@ TEST(Sweep3, CheckRejectsBadNumbers) {
   bad = s;
   bad.local_center.y = std::numeric_limits<float>::infinity();
   EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
+  bad = s;
+  bad.c0.x = -std::numeric_limits<float>::infinity();
+  EXPECT_EQ(message(bad), "sweep_a c0: not finite");
 }
 
 }  // namespace
