@@ -18,6 +18,17 @@ namespace {
 using test::kPi;
 using test::uniform;
 
+/// check_sweep's message for `sweep` (2D or 3D) named "sweep_a", or "no throw".
+template <class SweepT>
+std::string check_message(const SweepT& sweep) {
+  try {
+    check_sweep(sweep, "sweep_a");
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "no throw";
+}
+
 /// Union of the shape's boxes at `samples` + 1 evenly spaced times of the sweep.
 Aabb sampled_union(const Shape2D& shape, const Sweep& sweep, int samples) {
   Aabb box = compute_aabb(shape, sweep.at(0.0f));
@@ -124,33 +135,26 @@ TEST(Sweep, CheckRejectsNonFinite) {
   s.a0 = 0.5f;
   s.a1 = -2.0f;
   EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
-  const auto message = [](const Sweep& bad) {
-    try {
-      check_sweep(bad, "sweep_a");
-    } catch (const InvalidInput& e) {
-      return std::string(e.what());
-    }
-    return std::string("no throw");
-  };
+  const auto message = [](const Sweep& bad) { return check_message(bad); };
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   Sweep bad = s;
   bad.a1 = nan;
-  EXPECT_EQ(message(bad), "sweep_a a1: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a a1: not finite");
   bad = s;
   bad.a0 = -inf;
-  EXPECT_EQ(message(bad), "sweep_a a0: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a a0: not finite");
   bad = s;
   bad.c0.y = nan;
-  EXPECT_EQ(message(bad), "sweep_a c0: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a c0: not finite");
   bad = s;
   bad.c1.x = inf;
-  EXPECT_EQ(message(bad), "sweep_a c1: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a c1: not finite");
   bad = s;
   bad.local_center.x = nan;
-  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a local_center: not finite");
   bad.a1 = nan;  // two bad fields: the first in the order above is named
-  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a local_center: not finite");
 }
 
 
@@ -272,29 +276,22 @@ TEST(Sweep3, SweptBoxesAreExactOrConservative) {
 TEST(Sweep3, CheckRejectsBadNumbers) {
   Sweep3 s;
   EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
-  const auto message = [](const Sweep3& bad) {
-    try {
-      check_sweep(bad, "sweep_a");
-    } catch (const InvalidInput& e) {
-      return std::string(e.what());
-    }
-    return std::string("no throw");
-  };
+  const auto message = [](const Sweep3& bad) { return check_message(bad); };
   Sweep3 bad = s;
   bad.c1.z = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(message(bad), "sweep_a c1: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a c1: not finite");
   bad = s;
   bad.q0 = Quat{0.5f, 0.0f, 0.0f, 0.0f};
-  EXPECT_EQ(message(bad), "sweep_a q0: not finite or not unit length");
+  EXPECT_EQ(check_message(bad), "sweep_a q0: not finite or not unit length");
   bad = s;
   bad.rotation.x = std::numeric_limits<float>::infinity();
-  EXPECT_EQ(message(bad), "sweep_a rotation: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a rotation: not finite");
   bad = s;
   bad.local_center.y = std::numeric_limits<float>::infinity();
-  EXPECT_EQ(message(bad), "sweep_a local_center: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a local_center: not finite");
   bad = s;
   bad.c0.x = -std::numeric_limits<float>::infinity();
-  EXPECT_EQ(message(bad), "sweep_a c0: not finite");
+  EXPECT_EQ(check_message(bad), "sweep_a c0: not finite");
 }
 
 }  // namespace
