@@ -25,7 +25,8 @@
 // efficiency: the plain speed-up on two equal cores); probe_ps_cpu0 / _cpu1, each CPU's dispatch
 // probe (instruction_set.hpp) before its one-thread block, averaged: above about 55 ps on the
 // Zen 5 VM another tenant shares that CPU's core, and the row reads slow, the two-thread time
-// most. The unpaired rows put BM_CollideStep/N/1
+// most (rows with clean probes can read slow too: docs/performance.md, stop 94). The unpaired
+// rows put BM_CollideStep/N/1
 // and /N/2 seconds apart, on whichever CPU the stepping thread had, and the VM's two vCPUs are
 // not equally fast at a given moment (see the function).
 //

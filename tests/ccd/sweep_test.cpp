@@ -135,7 +135,6 @@ TEST(Sweep, CheckRejectsNonFinite) {
   s.a0 = 0.5f;
   s.a1 = -2.0f;
   EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
-  const auto message = [](const Sweep& bad) { return check_message(bad); };
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   Sweep bad = s;
@@ -276,7 +275,6 @@ TEST(Sweep3, SweptBoxesAreExactOrConservative) {
 TEST(Sweep3, CheckRejectsBadNumbers) {
   Sweep3 s;
   EXPECT_NO_THROW(check_sweep(s, "sweep_a"));
-  const auto message = [](const Sweep3& bad) { return check_message(bad); };
   Sweep3 bad = s;
   bad.c1.z = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(check_message(bad), "sweep_a c1: not finite");
