@@ -117,10 +117,12 @@ constexpr int kFastQueryCandidates = 50;
 /// Fewest candidates a range of find_pairs checks when it splits them.
 constexpr int kMinCandidatesPerTask = 128;
 /// Candidates ahead of the one being checked whose two objects' boxes, speed bounds and flags
-/// are prefetched. A check takes 7-10 ns and reads two random objects; in a stepping world with
-/// two workers about half the boxes were just written by the other core's share of the motion
-/// pass, and on the Zen 5 VM (stop 95) a line from the other core takes some 200-300 ns, so
-/// without it a check took 15-31 ns on two threads against 7-10 on one.
+/// are prefetched when find_pairs splits the checks over workers. A check takes 7-10 ns and
+/// reads two random objects; in a stepping world with two workers about half the boxes were
+/// just written by the other core's share of the motion pass, and on the Zen 5 VM (stop 95) a
+/// line from the other core takes some 200-300 ns: without it a check took 15-31 ns on two
+/// threads against 7-10 on one, with it 9-17. On one thread the loop is as it was (on the
+/// Intel host at stop 93 a prefetch there made the one-thread pair search 2-4% slower).
 constexpr int kCandidatePrefetchAhead = 32;
 /// From this many fast objects on, their pairs among themselves come from a grid of their own
 /// instead of a sort and sweep along x.
@@ -383,6 +385,7 @@ void TemporalBroadPhaseN<D>::rebuild(double until) {
 }
 
 template <int D>
+template <bool kPrefetch>
 void TemporalBroadPhaseN<D>::check_candidates(int begin, int end, PairList& out, std::int64_t& checks,
                                               std::int64_t& skipped) {
   // Without branches on the outcome: whether a candidate sleeps, overlaps or is apart is as
@@ -407,7 +410,7 @@ void TemporalBroadPhaseN<D>::check_candidates(int begin, int end, PairList& out,
     const int last = std::min(end, first + kChunk);
     int count = 0;
     for (int c = first; c < last; ++c) {
-      if (c + kCandidatePrefetchAhead < end) {
+      if (kPrefetch && c + kCandidatePrefetchAhead < end) {
         const BroadPair ahead = candidates_[std::size_t(c + kCandidatePrefetchAhead)];
         for (const int id : {ahead.first, ahead.second}) {
           __builtin_prefetch(&boxes_[std::size_t(id)]);
@@ -471,7 +474,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
   const int workers = scheduler != nullptr ? scheduler->worker_count() : 1;
   std::size_t candidate_pairs = 0;  // the candidates' pairs, ahead of the fast objects' in `pairs`
   if (workers < 2 || count + kFastQueryCandidates * fast_count < kSplitFindFrom) {
-    check_candidates(0, count, pairs, stats_.checks, stats_.skipped_checks);
+    check_candidates<false>(0, count, pairs, stats_.checks, stats_.skipped_checks);
     candidate_pairs = pairs.size();
     query_fast(0, fast_count, pairs, stats_.checks);
   } else {
@@ -493,7 +496,7 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
         out.checks = 0;
         out.skipped = 0;
         if (r < candidate_ranges) {
-          check_candidates(r * per_candidates, std::min(count, (r + 1) * per_candidates), out.pairs, out.checks,
+          check_candidates<true>(r * per_candidates, std::min(count, (r + 1) * per_candidates), out.pairs, out.checks,
                            out.skipped);
         } else {
           const int first = (r - candidate_ranges) * per_fast;
