@@ -111,13 +111,18 @@ constexpr int kFastObjectsPerTask = 64;
 /// find_pairs splits its work over the workers from this much on: candidates, each fast object
 /// counting as kFastQueryCandidates (a grid query of a few microseconds against a few
 /// nanoseconds a candidate; at 1e3 objects, 560 candidates and 11 fast objects took about 7 and
-/// 5.5 us). Below it one thread does it all: a wait for the workers costs a few microseconds.
-constexpr int kSplitFindFrom = 256;
+/// 5.5 us). Below it one thread does it all: a wait for the workers costs a few microseconds,
+/// and each worker's share reads boxes the other cores just wrote. It was 256 until the serial
+/// checks prefetched (kCandidatePrefetchAhead) in a world stepped on several workers: then, on
+/// the Zen 5 VM at stop 95, two threads, collide run's default scene: at 1e3 bodies (about 1.1e3
+/// units) find_pairs took 7.0-7.2 us a frame on the stepping thread against 10.8-14.1 split, at 2e3
+/// 24-27 against 27-35.
+constexpr int kSplitFindFrom = 4096;
 constexpr int kFastQueryCandidates = 50;
 /// Fewest candidates a range of find_pairs checks when it splits them.
 constexpr int kMinCandidatesPerTask = 128;
 /// Candidates ahead of the one being checked whose two objects' boxes, speed bounds and flags
-/// are prefetched when find_pairs splits the checks over workers. A check takes 7-10 ns and
+/// are prefetched when the scheduler has several workers. A check takes 7-10 ns and
 /// reads two random objects; in a stepping world with two workers about half the boxes were
 /// just written by the other core's share of the motion pass, and on the Zen 5 VM (stop 95) a
 /// line from the other core takes some 200-300 ns: without it a check took 15-31 ns on two
@@ -474,7 +479,12 @@ void TemporalBroadPhaseN<D>::find_pairs(PairList& pairs, TaskScheduler* schedule
   const int workers = scheduler != nullptr ? scheduler->worker_count() : 1;
   std::size_t candidate_pairs = 0;  // the candidates' pairs, ahead of the fast objects' in `pairs`
   if (workers < 2 || count + kFastQueryCandidates * fast_count < kSplitFindFrom) {
-    check_candidates<false>(0, count, pairs, stats_.checks, stats_.skipped_checks);
+    // (in a world on several workers the boxes were just written on other cores: prefetched)
+    if (workers >= 2) {
+      check_candidates<true>(0, count, pairs, stats_.checks, stats_.skipped_checks);
+    } else {
+      check_candidates<false>(0, count, pairs, stats_.checks, stats_.skipped_checks);
+    }
     candidate_pairs = pairs.size();
     query_fast(0, fast_count, pairs, stats_.checks);
   } else {

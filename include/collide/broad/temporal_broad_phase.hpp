@@ -220,7 +220,7 @@ class TemporalBroadPhaseN {
   PairList sort_scratch_;                // sort_pairs' storage (candidates at a rebuild, fast pairs)
   /// The candidate checks of candidates [begin, end) (wake time, overlap, next wake time): the
   /// overlapping pairs appended to `out` in candidate order, checks and sleepers counted.
-  /// kPrefetch: ask for the objects of candidates ahead (when the work is split over workers).
+  /// kPrefetch: ask for the objects of candidates ahead (when the scheduler has several workers).
   template <bool kPrefetch>
   void check_candidates(int begin, int end, PairList& out, std::int64_t& checks, std::int64_t& skipped);
   /// The pairs of fast objects [begin, end) of fast_ with the slow ones, by grid queries, appended
