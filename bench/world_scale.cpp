@@ -26,9 +26,8 @@
 // probe (instruction_set.hpp) before its one-thread block, averaged: above about 55 ps on the
 // Zen 5 VM another tenant shares that CPU's core, and the row reads slow, the two-thread time
 // most (rows with clean probes can read slow too: docs/performance.md, stop 94). The unpaired
-// rows put BM_CollideStep/N/1
-// and /N/2 seconds apart, on whichever CPU the stepping thread had, and the VM's two vCPUs are
-// not equally fast at a given moment (see the function).
+// rows put BM_CollideStep/N/1 and /N/2 seconds apart, on whichever CPU the stepping thread had,
+// and the VM's two vCPUs are not equally fast at a given moment (see the function).
 //
 // BM_Box2DStep/N/T: Box2D v3's b2World_Step(1/60, 4 substeps) on a world built from the same
 // collide scene (its statics via static_def, its bodies via body_ids / shapes / transform /

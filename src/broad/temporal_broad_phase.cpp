@@ -113,21 +113,21 @@ constexpr int kFastObjectsPerTask = 64;
 /// nanoseconds a candidate; at 1e3 objects, 560 candidates and 11 fast objects took about 7 and
 /// 5.5 us). Below it one thread does it all: a wait for the workers costs a few microseconds,
 /// and each worker's share reads boxes the other cores just wrote. It was 256 until the serial
-/// checks prefetched (kCandidatePrefetchAhead) in a world stepped on several workers: then, on
-/// the Zen 5 VM at stop 95, two threads, collide run's default scene: at 1e3 bodies (about 1.1e3
-/// units) find_pairs took 7.0-7.2 us a frame on the stepping thread against 10.8-14.1 split, at 2e3
-/// 24-27 against 27-35.
+/// checks prefetched (kCandidatePrefetchAhead) in a world stepped on several workers; then, on
+/// the Zen 5 VM at stop 95 (two threads, collide run's default scene), find_pairs took 7.0-7.2
+/// us a frame on the stepping thread against 10.8-14.1 split at 1e3 bodies (about 1.1e3
+/// units), 24-27 against 27-35 at 2e3.
 constexpr int kSplitFindFrom = 4096;
 constexpr int kFastQueryCandidates = 50;
 /// Fewest candidates a range of find_pairs checks when it splits them.
 constexpr int kMinCandidatesPerTask = 128;
 /// Candidates ahead of the one being checked whose two objects' boxes, speed bounds and flags
-/// are prefetched when the scheduler has several workers. A check takes 7-10 ns and
-/// reads two random objects; in a stepping world with two workers about half the boxes were
-/// just written by the other core's share of the motion pass, and on the Zen 5 VM (stop 95) a
-/// line from the other core takes some 200-300 ns: without it a check took 15-31 ns on two
-/// threads against 7-10 on one, with it 9-17. On one thread the loop is as it was (on the
-/// Intel host at stop 93 a prefetch there made the one-thread pair search 2-4% slower).
+/// are prefetched when the scheduler has several workers. A check takes 7-10 ns and reads two
+/// random objects; in a stepping world with two workers about half the boxes were just written
+/// by the other core's share of the motion pass, and on the Zen 5 VM (stop 95) a line from the
+/// other core takes some 200-300 ns: without it a check took 15-31 ns on two threads against
+/// 7-10 on one, with it 9-17. On one thread the loop is as it was (on the Intel host at stop 93
+/// a prefetch there made the one-thread pair search 2-4% slower).
 constexpr int kCandidatePrefetchAhead = 32;
 /// From this many fast objects on, their pairs among themselves come from a grid of their own
 /// instead of a sort and sweep along x.
