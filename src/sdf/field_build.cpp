@@ -3,12 +3,12 @@
 // both storages (dense grid, sparse bricks): the stages write through a store.
 
 #include <collide/core/error.hpp>
+#include <collide/core/large_pages.hpp>
 #include <collide/core/lanes.hpp>
 #include <collide/narrow/closest_point.hpp>
 #include <collide/sdf/distance_field.hpp>
 #include <collide/shape/triangle.hpp>
 
-#include "large_pages.hpp"
 #include <collide/sdf/winding_tree.hpp>
 
 #include <glm/geometric.hpp>
@@ -171,8 +171,8 @@ struct DenseStore {
 
   explicit DenseStore(const FieldGridN<D>& g)
       : grid(g),
-        distance(detail::large_page_vector(g.count(), std::numeric_limits<float>::infinity())),
-        closest(detail::large_page_vector(g.count(), VecN<D>(kNoClosestPoint))),
+        distance(large_page_vector(g.count(), std::numeric_limits<float>::infinity())),
+        closest(large_page_vector(g.count(), VecN<D>(kNoClosestPoint))),
         state(g.count(), 0) {}
   COLLIDE_ALWAYS_INLINE std::size_t slot(IVec<D> i) { return grid.index(i); }
   /// The slot of a node that may have none (dense: always one).
@@ -932,9 +932,9 @@ constexpr std::size_t kPropagateBytesPerNode = 3 * sizeof(float);
 void propagate_mesh_dense(DenseStore<3>& store, Vec3 local_origin, Vec3 mesh_origin, bool keep_closest) {
   const FieldGrid3& grid = store.grid;
   const std::size_t count = store.closest.size();
-  std::vector<float> xs = detail::large_page_vector(count, 0.0f);
-  std::vector<float> ys = detail::large_page_vector(count, 0.0f);
-  std::vector<float> zs = detail::large_page_vector(count, 0.0f);
+  std::vector<float> xs = large_page_vector(count, 0.0f);
+  std::vector<float> ys = large_page_vector(count, 0.0f);
+  std::vector<float> zs = large_page_vector(count, 0.0f);
   for (std::size_t i = 0; i < count; ++i) {
     xs[i] = store.closest[i].x;
     ys[i] = store.closest[i].y;
@@ -1614,7 +1614,7 @@ SparseDistanceFieldN<D> finish_sparse(SparseStore<D>& store, const FieldOptions&
   for (std::size_t at = 0; at < table.size(); ++at)
     if (table[at] == SparseStore<D>::kNone && region_inside[at]) table[at] = SparseDistanceFieldN<D>::kNoBrickInside;
   field.table = std::move(table);
-  field.bricks = detail::large_page_vector(store.distance.size(), 0.0f);
+  field.bricks = large_page_vector(store.distance.size(), 0.0f);
   for (std::size_t i = 0; i < store.distance.size(); ++i) {
     const float d = std::min(std::sqrt(store.distance[i]), band);
     field.bricks[i] = (store.state[i] & kInside) ? -d : d;
@@ -1697,8 +1697,8 @@ DistanceField3 make_distance_field_exact(const TriangleMesh& mesh, const FieldOp
   DistanceField3 field;
   field.grid = make_grid<3>(mesh_bounds(mesh), options, sizeof(float) + sizeof(Vec3), 1);
   const Vec3 local = local_grid_origin(mesh, options);
-  field.distances = detail::large_page_vector(field.grid.count(), 0.0f);
-  if (options.keep_closest_points) field.closest_points = detail::large_page_vector(field.grid.count(), Vec3(0.0f));
+  field.distances = large_page_vector(field.grid.count(), 0.0f);
+  if (options.keep_closest_points) field.closest_points = large_page_vector(field.grid.count(), Vec3(0.0f));
   const WindingTree winding(mesh.bvh);
   for_each_node<3>(glm::ivec3(0), field.grid.dims - 1, [&](glm::ivec3 i) {
     const Vec3 p = local + Vec3(i) * field.grid.voxel;

@@ -6,6 +6,7 @@
 #include <collide/ccd/sweep.hpp>
 #include <collide/ccd/time_of_impact.hpp>
 #include <collide/core/error.hpp>
+#include <collide/core/large_pages.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/decompose/convex_decomposition.hpp>
 #include <collide/narrow/contact.hpp>
@@ -1050,6 +1051,10 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
     impl_->free_slots.pop_back();
   } else {
     index = static_cast<std::uint32_t>(impl_->bodies.size());
+    // Grown as a vector grows (twice the size), on large pages once the array is big.
+    if (impl_->bodies.size() == impl_->bodies.capacity()) {
+      reserve_on_large_pages(impl_->bodies, std::max<std::size_t>(16, 2 * impl_->bodies.size()));
+    }
     impl_->bodies.emplace_back();
   }
   detail::BodyN<D>& b = impl_->bodies[index];
@@ -1094,7 +1099,7 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
 template <int D>
 void WorldN<D>::reserve(int bodies) {
   if (bodies < 0) throw InvalidInput("World reserve bodies: negative (" + std::to_string(bodies) + ")");
-  impl_->bodies.reserve(static_cast<std::size_t>(bodies));
+  reserve_on_large_pages(impl_->bodies, static_cast<std::size_t>(bodies));
 }
 
 template <int D>

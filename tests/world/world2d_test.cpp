@@ -267,11 +267,12 @@ TEST(World2DInput, RejectsBadDefinitionsAndSteps) {
 TEST(World2DInput, ReserveRefusesANegativeCountAndChangesNoResult) {
   World2D w;
   EXPECT_THROW(w.reserve(-1), InvalidInput);
-  // The same bodies with and without room reserved: the same state after the same steps.
-  std::uint64_t hashes[2] = {};
-  for (const bool reserve : {false, true}) {
+  // The same bodies with and without room reserved (a little, and enough for the array to go
+  // on large pages, above 4 MiB): the same state after the same steps.
+  std::uint64_t hashes[3] = {};
+  for (const int reserve : {0, 100, 30000}) {
     World2D world;
-    if (reserve) world.reserve(100);
+    if (reserve > 0) world.reserve(reserve);
     world.add_static({.shapes = {make_box({10.0f, 0.5f})}, .transform = Transform::from({0.0f, -6.0f}, 0.0f)});
     for (int i = 0; i < 100; ++i) {
       const float x = static_cast<float>(i % 10) - 4.5f, y = static_cast<float>(i / 10) * 0.6f - 3.0f;
@@ -279,9 +280,37 @@ TEST(World2DInput, ReserveRefusesANegativeCountAndChangesNoResult) {
                       .velocity = {0.5f * x, -2.0f}});
     }
     for (int f = 0; f < 30; ++f) world.step(1.0f / 60.0f);
-    hashes[reserve] = world.state_hash();
+    hashes[reserve == 0 ? 0 : reserve == 100 ? 1 : 2] = world.state_hash();
   }
   EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_EQ(hashes[0], hashes[2]);
+}
+
+TEST(World2DInput, BodiesAddedPastTheLargePageSizeKeepTheirState) {
+  // 25,000 bodies added one by one: the body array grows past 4 MiB, where each growth moves
+  // the bodies into a block advised onto large pages. Every body keeps its pose and velocity,
+  // and the world steps as one given the room up front.
+  constexpr int kBodies = 25000;
+  const auto def = [](int i) {
+    const float x = static_cast<float>(i % 500) * 0.5f, y = static_cast<float>(i / 500) * 0.5f;
+    return BodyDef{.shapes = {make_circle({0.0f, 0.0f}, 0.2f)}, .transform = Transform::from({x, y}, 0.1f * x),
+                   .velocity = {1.0f, -0.5f * y}};
+  };
+  World2D grown, reserved;
+  reserved.reserve(kBodies);
+  std::vector<BodyId> ids;
+  for (int i = 0; i < kBodies; ++i) {
+    ids.push_back(grown.add_body(def(i)));
+    (void)reserved.add_body(def(i));
+  }
+  for (int i = 0; i < kBodies; i += 997) {
+    const BodyDef d = def(i);
+    EXPECT_EQ(grown.transform(ids[static_cast<std::size_t>(i)]).p, d.transform.p) << "body " << i;
+    EXPECT_EQ(grown.velocity(ids[static_cast<std::size_t>(i)]), d.velocity) << "body " << i;
+  }
+  grown.step(1.0f / 60.0f);
+  reserved.step(1.0f / 60.0f);
+  EXPECT_EQ(grown.state_hash(), reserved.state_hash());
 }
 
 TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {

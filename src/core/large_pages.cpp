@@ -1,5 +1,5 @@
-// Large pages for a dense field's arrays (large_pages.hpp).
-#include "large_pages.hpp"
+// Large pages for big arrays read at random (large_pages.hpp).
+#include <collide/core/large_pages.hpp>
 
 #include <cstdint>
 
@@ -7,7 +7,7 @@
 #include <sys/mman.h>
 #endif
 
-namespace collide::detail {
+namespace collide {
 
 void advise_large_pages(void* data, std::size_t bytes) noexcept {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -22,4 +22,4 @@ void advise_large_pages(void* data, std::size_t bytes) noexcept {
 #endif
 }
 
-}  // namespace collide::detail
+}  // namespace collide
