@@ -269,10 +269,11 @@ TEST(World2DInput, ReserveRefusesANegativeCountAndChangesNoResult) {
   EXPECT_THROW(w.reserve(-1), InvalidInput);
   // The same bodies with and without room reserved (a little, and enough for the array to go
   // on large pages, above 4 MiB): the same state after the same steps.
-  std::uint64_t hashes[3] = {};
-  for (const int reserve : {0, 100, 30000}) {
+  constexpr int kReserves[] = {0, 100, 30000};
+  std::uint64_t hashes[std::size(kReserves)] = {};
+  for (std::size_t k = 0; k < std::size(kReserves); ++k) {
     World2D world;
-    if (reserve > 0) world.reserve(reserve);
+    if (kReserves[k] > 0) world.reserve(kReserves[k]);
     world.add_static({.shapes = {make_box({10.0f, 0.5f})}, .transform = Transform::from({0.0f, -6.0f}, 0.0f)});
     for (int i = 0; i < 100; ++i) {
       const float x = static_cast<float>(i % 10) - 4.5f, y = static_cast<float>(i / 10) * 0.6f - 3.0f;
@@ -280,7 +281,7 @@ TEST(World2DInput, ReserveRefusesANegativeCountAndChangesNoResult) {
                       .velocity = {0.5f * x, -2.0f}});
     }
     for (int f = 0; f < 30; ++f) world.step(1.0f / 60.0f);
-    hashes[reserve == 0 ? 0 : reserve == 100 ? 1 : 2] = world.state_hash();
+    hashes[k] = world.state_hash();
   }
   EXPECT_EQ(hashes[0], hashes[1]);
   EXPECT_EQ(hashes[0], hashes[2]);

@@ -22,17 +22,6 @@ inline constexpr std::size_t kLargePageMinBytes = std::size_t{4} << 20;
 /// pages are "always" or "madvise"; elsewhere nothing). Best effort: never fails.
 void advise_large_pages(void* data, std::size_t bytes) noexcept;
 
-/// A vector of `count` copies of `value`, its storage advised onto large pages (above) before
-/// it is filled.
-template <class T>
-std::vector<T> large_page_vector(std::size_t count, const T& value) {
-  std::vector<T> v;
-  v.reserve(count);
-  if (count * sizeof(T) >= kLargePageMinBytes) advise_large_pages(v.data(), count * sizeof(T));
-  v.resize(count, value);
-  return v;
-}
-
 /// Makes room for `count` elements in `v` (nothing when it has it), its new storage advised onto
 /// large pages (above) before anything is written there: the elements are moved into a fresh
 /// block rather than reallocated by `reserve`, which would touch the block's first pages before
@@ -49,6 +38,16 @@ void reserve_on_large_pages(std::vector<T>& v, std::size_t count) {
   advise_large_pages(grown.data(), count * sizeof(T));
   grown.insert(grown.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
   v.swap(grown);
+}
+
+/// A vector of `count` copies of `value`, its storage advised onto large pages (above) before
+/// it is filled.
+template <class T>
+std::vector<T> large_page_vector(std::size_t count, const T& value) {
+  std::vector<T> v;
+  reserve_on_large_pages(v, count);
+  v.resize(count, value);
+  return v;
 }
 
 }  // namespace collide
