@@ -11,7 +11,7 @@ namespace collide {
 
 void advise_large_pages(void* data, std::size_t bytes) noexcept {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kLargePage = std::uintptr_t{2} << 20;
+  constexpr std::uintptr_t kLargePage = kLargePageBytes;
   const auto begin = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t first = (begin + kLargePage - 1) & ~(kLargePage - 1);
   const std::uintptr_t last = (begin + bytes) & ~(kLargePage - 1);

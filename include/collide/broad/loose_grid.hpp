@@ -64,6 +64,7 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
+#include <collide/core/large_pages.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -276,20 +277,11 @@ class LooseGridN {
   void find_big_in_band(std::uint32_t b, std::uint32_t first_cell, std::uint32_t last_cell);
   // 3D: entries grouped by crossing class a chunk of this many at a time (see append_pairs).
   static constexpr std::uint32_t kPairChunk = 256;
-  // Allocates on 64-byte boundaries (cache lines), for the full-line streaming stores of the
-  // distribution by band.
+  // On 64-byte boundaries (cache lines), for the full-line streaming stores of the
+  // distribution by band, and on large pages when big (the arrays below are read at random: at
+  // 1e6 objects a 4 KiB page a read missed the TLB).
   template <class T>
-  struct LineAllocator {
-    using value_type = T;
-    static constexpr std::align_val_t kAlign{64};
-    LineAllocator() = default;
-    template <class U>
-    LineAllocator(const LineAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
-    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlign); }
-    template <class U>
-    bool operator==(const LineAllocator<U>&) const noexcept { return true; }
-  };
+  using LineVector = LargePageVector<T, 64>;
   // staged_ as large as records_ (and its capacity at least records_'s).
   void stage_like_records() {
     staged_.reserve(records_.capacity());
@@ -344,15 +336,15 @@ class LooseGridN {
   float chosen_cell_size_ = 0.0f;   // from the data at build; kept by update
   int count_ = 0;
   std::uint32_t small_ = 0;         // binned boxes: entries [0, small_) of the sorted arrays
-  std::vector<std::uint32_t> keys_;    // per box: its cell's key, or the big bucket
-  std::vector<std::uint32_t> starts_;  // per cell: first entry; starts_[c + 1] ends cell c
+  LargePageVector<std::uint32_t> keys_;    // per box: its cell's key, or the big bucket
+  LargePageVector<std::uint32_t> starts_;  // per cell: first entry; starts_[c + 1] ends cell c
   // The entries sorted by key, count_ + kPad of them: binned boxes (ids ascending in a cell),
   // then the big boxes. Their boxes are in coords_, one array per coordinate: coordinate k of
   // the min corner of entry e is coords_[k * stride_ + e], of the max corner
   // coords_[(D + k) * stride_ + e].
-  std::vector<Record, LineAllocator<Record>> records_;
+  LineVector<Record> records_;
   std::size_t stride_ = 0;
-  std::vector<float> coords_;
+  LargePageVector<float> coords_;
   // On grids sorted band by band: where each band's records are distributed, the next free
   // slot of each, and the boxes of each band (the big bucket last) in the last call, kept
   // while the grid is (update sizes the regions from them).
@@ -362,7 +354,7 @@ class LooseGridN {
   // On grids sorted band by band: each box at the slot of its record while the records are
   // distributed by band, so that sort_band reads a band's boxes in one sequential sweep
   // (not from the span, where they are scattered among the other bands' boxes).
-  std::vector<AabbN<D>, LineAllocator<AabbN<D>>> staged_;
+  LineVector<AabbN<D>> staged_;
   // Slots per line buffer of a distribution by band (see bin): records and boxes of kLineSlots
   // slots fill whole cache lines (8 lines of records and 16 or 24 of boxes: a buffer is written
   // out in one burst of consecutive lines). Measured per frame at 1e6 objects
@@ -374,7 +366,7 @@ class LooseGridN {
     Record records[kLineSlots];
     AabbN<D> boxes[kLineSlots];
   };
-  std::vector<BandLine, LineAllocator<BandLine>> band_lines_;
+  LineVector<BandLine> band_lines_;
   // On grids sorted band by band, one band at a time: its records and boxes by cell.
   std::vector<AabbN<D>> band_boxes_;
   std::vector<Record> band_records_;

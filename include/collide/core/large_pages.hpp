@@ -8,8 +8,10 @@
 /// a page fault per 2 MiB instead of one per 4 KiB. The one place the library asks the
 /// operating system for anything.
 
+#include <algorithm>
 #include <cstddef>
 #include <iterator>
+#include <new>
 #include <vector>
 
 namespace collide {
@@ -21,6 +23,50 @@ inline constexpr std::size_t kLargePageMinBytes = std::size_t{4} << 20;
 /// pages before it is first touched (Linux: madvise MADV_HUGEPAGE, used when transparent huge
 /// pages are "always" or "madvise"; elsewhere nothing). Best effort: never fails.
 void advise_large_pages(void* data, std::size_t bytes) noexcept;
+
+/// The size of a large page where `advise_large_pages` asks for them (x86-64 Linux: 2 MiB).
+inline constexpr std::size_t kLargePageBytes = std::size_t{2} << 20;
+
+/// An allocator for arrays that may grow big and are read at random (a broad phase's boxes and
+/// candidate pairs, a world's bodies): a block of kLargePageMinBytes or more is aligned to
+/// kLargePageBytes and advised onto large pages before its owner writes it, whichever way the
+/// vector grows (reserve, resize, push_back); smaller blocks are aligned to `Align` bytes (64:
+/// a cache line) and left as they are. Stateless: all instances are equal.
+template <class T, std::size_t Align = alignof(T)>
+struct LargePageAllocator {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = LargePageAllocator<U, Align>;
+  };
+  LargePageAllocator() = default;
+  template <class U>
+  LargePageAllocator(const LargePageAllocator<U, Align>&) noexcept {}  // NOLINT: as std::allocator
+
+  [[nodiscard]] T* allocate(std::size_t n) {
+    if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();
+    const std::size_t bytes = n * sizeof(T);
+    void* p = ::operator new(bytes, alignment(bytes));
+    if (bytes >= kLargePageMinBytes) advise_large_pages(p, bytes);
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t n) noexcept { ::operator delete(p, alignment(n * sizeof(T))); }
+
+  template <class U>
+  bool operator==(const LargePageAllocator<U, Align>&) const noexcept {
+    return true;
+  }
+
+ private:
+  static std::align_val_t alignment(std::size_t bytes) noexcept {
+    constexpr std::size_t small = std::max(Align, alignof(T));
+    return std::align_val_t{bytes >= kLargePageMinBytes ? std::max(kLargePageBytes, small) : small};
+  }
+};
+
+/// A vector on LargePageAllocator (above).
+template <class T, std::size_t Align = alignof(T)>
+using LargePageVector = std::vector<T, LargePageAllocator<T, Align>>;
 
 /// Makes room for `count` elements in `v` (nothing when it has it), its new storage advised onto
 /// large pages (above) before anything is written there: the elements are moved into a fresh
