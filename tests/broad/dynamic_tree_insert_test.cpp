@@ -73,6 +73,50 @@ void check_inserts() {
 TEST(DynamicTreeInsert, MatchesBruteForce2D) { check_inserts<2>(); }
 TEST(DynamicTreeInsert, MatchesBruteForce3D) { check_inserts<3>(); }
 
+TEST(DynamicTreeInsert, InsertsPastTheLargePageSizeKeepEveryBox) {
+  // 300 x 250 boxes of size 1.2 on a lattice of spacing 1, inserted one at a time: the node
+  // array (two nodes an object) grows past 4 MiB, where each growth moves the nodes into a block
+  // advised onto large pages. Each box overlaps exactly its eight lattice neighbours, so the
+  // pairs are known without a brute-force pass over 75,000 boxes.
+  constexpr int kColumns = 300, kRows = 250;
+  const auto box_at = [](int column, int row) {
+    const Vec2 corner{static_cast<float>(column), static_cast<float>(row)};
+    return Aabb{corner, corner + Vec2{1.2f, 1.2f}};
+  };
+  DynamicTreeN<2> tree;
+  for (int row = 0; row < kRows; ++row) {
+    for (int column = 0; column < kColumns; ++column) {
+      ASSERT_EQ(tree.insert(box_at(column, row)), row * kColumns + column);
+    }
+  }
+  PairList expected;
+  for (int row = 0; row < kRows; ++row) {
+    for (int column = 0; column < kColumns; ++column) {
+      const int id = row * kColumns + column;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int c = column + dx, r = row + dy;
+          if (c < 0 || c >= kColumns || r < 0 || r >= kRows) continue;
+          const int other = r * kColumns + c;
+          if (other > id) expected.push_back({id, other});
+        }
+      }
+    }
+  }
+  sort_pairs(expected);
+  PairList pairs;
+  tree.find_pairs(pairs);
+  sort_pairs(pairs);
+  EXPECT_EQ(pairs.size(), expected.size());
+  EXPECT_TRUE(pairs == expected);
+  // A small box near the lattice point (150, 120) lies in the boxes of columns 149 and 150 of
+  // rows 119 and 120, and in no other.
+  const std::vector<int> ids = query_ids(tree, Aabb{{150.1f, 120.1f}, {150.15f, 120.15f}});
+  const std::vector<int> four{119 * kColumns + 149, 119 * kColumns + 150, 120 * kColumns + 149,
+                              120 * kColumns + 150};
+  EXPECT_EQ(ids, four);
+}
+
 TEST(DynamicTreeInsert, RejectsBadBoxes) {
   DynamicTreeN<2> tree;
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -44,6 +44,7 @@
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/loose_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
+#include <collide/core/large_pages.hpp>
 #include <collide/core/task_scheduler.hpp>
 
 #include <cstdint>
@@ -172,20 +173,20 @@ class TemporalBroadPhaseN {
   double expires_at_ = 0.0;  // the candidate set covers the boxes' motion up to this time
   double update_time_ = 0.0;  // begin_update's time, until finish_update
   bool needs_rebuild_ = true;
-  std::vector<AabbN<D>> boxes_;
-  std::vector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
-  std::vector<float> speeds_;
-  std::vector<BroadPair> candidates_;  // ascending: checked in order, the pairs come out sorted
-  std::vector<double> wake_;      // earliest time each candidate can overlap
+  LargePageVector<AabbN<D>> boxes_;
+  LargePageVector<AabbN<D>> grown_;   // boxes at the rebuild grown by v * (expires_at_ - then)
+  LargePageVector<float> speeds_;
+  PairList candidates_;  // ascending: checked in order, the pairs come out sorted
+  LargePageVector<double> wake_;      // earliest time each candidate can overlap
   /// Over slow_grown_: the candidates at a rebuild (a loose grid's full rebuild and pair pass
   /// took a quarter of a hierarchical grid's build and pairs), the queries and rays.
   LooseGridN<D> grid_{typename LooseGridN<D>::Options{.cell_quantile = kTemporalCellQuantile}};
   std::vector<float> scratch_;
-  std::vector<float> next_speeds_;     // set_speed_bounds' scratch: the new bounds, then the old ones
+  LargePageVector<float> next_speeds_;     // set_speed_bounds' scratch: the new bounds, then the old ones
   double cell_ = 0.0;                  // suggested grid cell at build: the yardstick of "fast"
   /// Per object: kFastFlag (fast at the last rebuild, or demoted since) and kRaisedFlag (its
   /// speed bound rose since the last find_pairs: its sleeping candidates are checked anyway).
-  std::vector<unsigned char> flags_;
+  LargePageVector<unsigned char> flags_;
   static constexpr unsigned char kFastFlag = 1;
   static constexpr unsigned char kRaisedFlag = 2;
   bool raised_pending_ = false;        // some object's kRaisedFlag is set
@@ -207,8 +208,8 @@ class TemporalBroadPhaseN {
   template <class Visit>
   bool visit_fast_in_x(float lo, float hi, Visit&& visit) const;
   PairList fast_pairs_;                // fast_grid_'s pairs (places in fast_)
-  std::vector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box / bad
-  std::vector<AabbN<D>> next_boxes_;   // update's scratch: the new boxes, swapped with boxes_ when all are valid
+  LargePageVector<unsigned char> broke_;   // update's scratch: per object, kept / broke its bound / left its grown box / bad
+  LargePageVector<AabbN<D>> next_boxes_;   // update's scratch: the new boxes, swapped with boxes_ when all are valid
   struct RangeOutput {                 // a range's share of find_pairs on the workers
     PairList pairs;
     std::int64_t checks = 0;
@@ -232,8 +233,8 @@ class TemporalBroadPhaseN {
   /// pairs[0, sorted_end) is ascending, the rest (the fast objects' pairs, none among the first
   /// part) in any order: sorts the rest and merges it in.
   void merge_fast_pairs(PairList& pairs, std::size_t sorted_end);
-  std::vector<int> slow_ids_;          // grid slot -> object id, ascending
-  std::vector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
+  LargePageVector<int> slow_ids_;          // grid slot -> object id, ascending
+  LargePageVector<AabbN<D>> slow_grown_;   // grown boxes of the slow objects, by grid slot
   Stats stats_{};
 };
 
