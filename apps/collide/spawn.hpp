@@ -6,6 +6,7 @@
 // try: a million bodies spawn in seconds.
 
 #include <collide/broad/dynamic_tree.hpp>
+#include <collide/core/large_pages.hpp>
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/world/world.hpp>
@@ -89,7 +90,7 @@ class SpawnSpace {
 
   const WorldN<D>& world_;
   DynamicTreeN<D> tree_;
-  std::vector<std::pair<BodyId, std::size_t>> pieces_;  // (body, piece) by tree id
+  LargePageVector<std::pair<BodyId, std::size_t>> pieces_;  // (body, piece) by tree id; 16 MB at 1e6
 };
 
 }  // namespace collide::cli

@@ -6,7 +6,6 @@
 #include <collide/ccd/sweep.hpp>
 #include <collide/ccd/time_of_impact.hpp>
 #include <collide/core/error.hpp>
-#include <collide/core/large_pages.hpp>
 #include <collide/core/tolerance.hpp>
 #include <collide/decompose/convex_decomposition.hpp>
 #include <collide/narrow/contact.hpp>
@@ -1051,17 +1050,13 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
     impl_->free_slots.pop_back();
   } else {
     index = static_cast<std::uint32_t>(impl_->bodies.size());
-    // Grown as a vector grows (twice the size), on large pages once the array is big.
-    if (impl_->bodies.size() == impl_->bodies.capacity()) {
-      reserve_on_large_pages(impl_->bodies, std::max<std::size_t>(16, 2 * impl_->bodies.size()));
-    }
     impl_->bodies.emplace_back();
   }
   detail::BodyN<D>& b = impl_->bodies[index];
   const std::uint32_t generation = b.generation;
   b = detail::BodyN<D>{};
   b.generation = generation;
-  b.shapes = def.shapes;
+  b.shapes = impl_->shape_pool.allocate(def.shapes);
   b.more_pieces.resize(b.shapes.size() - 1);  // check_shapes: at least one
   b.place(detail::unit_pose(def.transform));
   b.velocity = def.velocity;
@@ -1099,14 +1094,15 @@ BodyId WorldN<D>::add_body(const BodyDefN<D>& def) {
 template <int D>
 void WorldN<D>::reserve(int bodies) {
   if (bodies < 0) throw InvalidInput("World reserve bodies: negative (" + std::to_string(bodies) + ")");
-  reserve_on_large_pages(impl_->bodies, static_cast<std::size_t>(bodies));
+  impl_->bodies.reserve(static_cast<std::size_t>(bodies));
 }
 
 template <int D>
 void WorldN<D>::remove_body(BodyId id) {
   detail::BodyN<D>& b = impl_->body(id);
   b.alive = false;
-  b.shapes.clear();
+  impl_->shape_pool.release(b.shapes);
+  b.shapes = {};
   b.more_pieces.clear();
   ++b.generation;
   impl_->free_slots.push_back(id.index);

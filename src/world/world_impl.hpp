@@ -5,18 +5,21 @@
 // Dimension-specific geometry is in world_dim.hpp; fields as static pieces in world_field.hpp.
 
 #include "body_broad_phase.hpp"
+#include "shape_pool.hpp"
 #include "world_dim.hpp"
 #include "world_field.hpp"
 
 #include <collide/broad/dynamic_tree.hpp>
 #include <collide/broad/hash_grid.hpp>
 #include <collide/broad/sorted_grid.hpp>
+#include <collide/core/large_pages.hpp>
 #include <collide/early_out/check_chain.hpp>
 #include <collide/world/world.hpp>
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -88,7 +91,7 @@ struct BodyN {
   /// which in heap blocks of their own cost a cache miss each per body at 1e6 bodies.
   PieceState first_piece;
   std::vector<PieceState> more_pieces;  ///< pieces 1, 2, ... (shapes.size() - 1 of them)
-  std::vector<BodyShapeN<D>> shapes;
+  std::span<BodyShapeN<D>> shapes;  ///< local space, in the world's shape_pool
   TransformN<D> start_xf;  ///< the pose at the start of the step (a jammed body goes back to it)
   VecN<D> velocity{0.0f};
   AngularN<D> angular_velocity{0.0f};
@@ -242,18 +245,20 @@ struct WorldN<D>::Impl {
   detail::CheckGridN<D> check_grid;
   bool check_grid_dirty = true;
 
-  // Bodies
-  std::vector<Body> bodies;
+  // Bodies. The arrays a step reads per body or per pair are on large pages once big
+  // (core/large_pages.hpp): at 1e6 bodies they are read at random over hundreds of MiB.
+  LargePageVector<Body> bodies;
+  detail::ShapePool<BodyShapeN<D>> shape_pool;  ///< every body's shapes (Body::shapes)
   std::vector<std::uint32_t> free_slots;
   int alive_bodies = 0;
 
   // Body broad phase
   detail::BodyBroadPhaseN<D> body_broad;
-  std::vector<detail::Proxy> proxies;
-  std::vector<std::uint32_t> first_proxy;  ///< per body slot: index of its first proxy
-  std::vector<Box> proxy_boxes;        ///< swept boxes over the last step
-  std::vector<Box> proxy_start_boxes;  ///< tight boxes at the start of the step
-  std::vector<float> proxy_speeds;
+  LargePageVector<detail::Proxy> proxies;
+  LargePageVector<std::uint32_t> first_proxy;  ///< per body slot: index of its first proxy
+  LargePageVector<Box> proxy_boxes;        ///< swept boxes over the last step
+  LargePageVector<Box> proxy_start_boxes;  ///< tight boxes at the start of the step
+  LargePageVector<float> proxy_speeds;
   bool proxies_changed = true;          ///< bodies added or removed since the broad phase was set
   bool body_boxes_current = false;      ///< the broad phase holds every body's current box
   double time = 0.0;
@@ -280,8 +285,8 @@ struct WorldN<D>::Impl {
 
   // Scratch, reused every step
   PairList pairs;
-  std::vector<Manifold> pair_manifolds;  ///< per body pair: its manifold when it passed
-  std::vector<std::uint8_t> pair_passed;
+  LargePageVector<Manifold> pair_manifolds;  ///< per body pair: its manifold when it passed
+  LargePageVector<std::uint8_t> pair_passed;
   std::vector<detail::StepWorkerN<D>> workers;  ///< one per scheduler worker
 
   /// collide::parallel_for on the world's scheduler (prepare_workers has sized `workers`).

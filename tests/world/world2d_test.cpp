@@ -314,6 +314,76 @@ TEST(World2DInput, BodiesAddedPastTheLargePageSizeKeepTheirState) {
   EXPECT_EQ(grown.state_hash(), reserved.state_hash());
 }
 
+// Shape `a` equals `b`: same type and the same numbers (polygons: every vertex and normal).
+bool same_shape(const Shape2D& a, const Shape2D& b) {
+  if (a.index() != b.index()) return false;
+  if (const auto* pa = std::get_if<Polygon>(&a)) {
+    const auto& pb = std::get<Polygon>(b);
+    if (pa->count != pb.count || pa->radius != pb.radius) return false;
+    for (int i = 0; i < pa->count; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (pa->vertices[k] != pb.vertices[k] || pa->normals[k] != pb.normals[k]) return false;
+    }
+    return true;
+  }
+  if (const auto* ca = std::get_if<Circle>(&a)) {
+    return ca->center == std::get<Circle>(b).center && ca->radius == std::get<Circle>(b).radius;
+  }
+  if (const auto* ka = std::get_if<Capsule>(&a)) {
+    const auto& kb = std::get<Capsule>(b);
+    return ka->a == kb.a && ka->b == kb.b && ka->radius == kb.radius;
+  }
+  const auto& sa = std::get<Segment>(a);
+  const auto& sb = std::get<Segment>(b);
+  return sa.a == sb.a && sa.b == sb.b;
+}
+
+TEST(World2DInput, RemovedBodiesShapeSlotsServeNewBodiesWithTheirOwnShapes) {
+  // The world keeps every body's shapes in one pool; a removed body's slots serve the next body
+  // with as many shapes. Bodies of one, two and three pieces (a 12-gon holds its vertices on
+  // the heap, a circle inline) are added, a third removed, more added: every live body reads
+  // back exactly the shapes it was given, and removed ones are gone.
+  std::vector<Vec2> ring;
+  for (int i = 0; i < 12; ++i) {
+    const float a = 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / 12.0f;
+    ring.push_back({0.4f * std::cos(a), 0.4f * std::sin(a)});
+  }
+  const Polygon twelve = make_polygon(ring);
+  const auto def = [&](int i) {
+    BodyDef d;
+    d.transform = Transform::from({static_cast<float>(i % 20) * 3.0f, static_cast<float>(i / 20) * 3.0f}, 0.0f);
+    const float s = 0.2f + 0.01f * static_cast<float>(i % 7);
+    switch (i % 4) {
+      case 0: d.shapes = {make_circle({0.0f, 0.0f}, s)}; break;
+      case 1: d.shapes = {twelve}; break;
+      case 2: d.shapes = {make_box({s, s}), make_circle({0.5f, 0.0f}, s)}; break;
+      default: d.shapes = {make_capsule({-s, 0.0f}, {s, 0.0f}, 0.5f * s), twelve, make_box({s, 0.5f * s})}; break;
+    }
+    return d;
+  };
+  World2D world;
+  std::vector<std::pair<BodyId, int>> live;  // id, def index
+  std::vector<BodyId> removed;
+  for (int i = 0; i < 60; ++i) live.emplace_back(world.add_body(def(i)), i);
+  for (std::size_t k = 0; k < live.size(); k += 3) {
+    world.remove_body(live[k].first);
+    removed.push_back(live[k].first);
+  }
+  std::erase_if(live, [&](const auto& l) { return std::ranges::find(removed, l.first) != removed.end(); });
+  for (int i = 60; i < 100; ++i) live.emplace_back(world.add_body(def(i)), i);  // 20 reuse slots
+  for (const BodyId id : removed) EXPECT_FALSE(world.contains(id));
+  for (const auto& [id, i] : live) {
+    const BodyDef d = def(i);
+    const std::span<const Shape2D> shapes = world.shapes(id);
+    ASSERT_EQ(shapes.size(), d.shapes.size()) << "body of def " << i;
+    for (std::size_t k = 0; k < shapes.size(); ++k) {
+      EXPECT_TRUE(same_shape(shapes[k], d.shapes[k])) << "body of def " << i << " shape " << k;
+    }
+  }
+  world.step(1.0f / 60.0f);  // and the world steps with them
+  EXPECT_EQ(world.body_count(), 80);
+}
+
 TEST(World2DInput, StaleBodyIdsAreRecognisedAfterSlotReuse) {
   World2D world;
   const BodyId a = world.add_body(circle_body({0, 0}, 1.0f, {0, 0}));
