@@ -39,13 +39,14 @@ class ShapePool {
   }
 
   /// Copies of `shapes` in adjacent slots (empty for none). Throws what T's copy or the
-  /// allocation throws; the pool is unchanged then.
+  /// allocation throws: fresh slots are then given back unconstructed, and released slots stay
+  /// released (some of them holding copies).
   std::span<T> allocate(std::span<const T> shapes) {
     const std::size_t n = shapes.size();
     if (n == 0) return {};
     if (auto it = free_.find(n); it != free_.end() && !it->second.empty()) {
       T* slots = it->second.back();
-      std::copy(shapes.begin(), shapes.end(), slots);  // T's copy assignment: strong for one slot
+      std::copy(shapes.begin(), shapes.end(), slots);  // into the constructed default Ts
       it->second.pop_back();
       return {slots, n};
     }

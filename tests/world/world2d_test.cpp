@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/body_churn.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -362,24 +364,8 @@ TEST(World2DInput, RemovedBodiesShapeSlotsServeNewBodiesWithTheirOwnShapes) {
     return d;
   };
   World2D world;
-  std::vector<std::pair<BodyId, int>> live;  // id, def index
-  std::vector<BodyId> removed;
-  for (int i = 0; i < 60; ++i) live.emplace_back(world.add_body(def(i)), i);
-  for (std::size_t k = 0; k < live.size(); k += 3) {
-    world.remove_body(live[k].first);
-    removed.push_back(live[k].first);
-  }
-  std::erase_if(live, [&](const auto& l) { return std::ranges::find(removed, l.first) != removed.end(); });
-  for (int i = 60; i < 100; ++i) live.emplace_back(world.add_body(def(i)), i);  // 20 reuse slots
-  for (const BodyId id : removed) EXPECT_FALSE(world.contains(id));
-  for (const auto& [id, i] : live) {
-    const BodyDef d = def(i);
-    const std::span<const Shape2D> shapes = world.shapes(id);
-    ASSERT_EQ(shapes.size(), d.shapes.size()) << "body of def " << i;
-    for (std::size_t k = 0; k < shapes.size(); ++k) {
-      EXPECT_TRUE(same_shape(shapes[k], d.shapes[k])) << "body of def " << i << " shape " << k;
-    }
-  }
+  const test::BodyChurn churn = test::churn_bodies(world, def, 60, 3, 100);  // 20 slots reused
+  test::expect_churned_shapes(world, churn, def, same_shape);
   world.step(1.0f / 60.0f);  // and the world steps with them
   EXPECT_EQ(world.body_count(), 80);
 }

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/body_churn.hpp"
 #include "support/random.hpp"
 
 #include <algorithm>
@@ -165,6 +166,46 @@ TEST(World3DInput, RejectsBadDefinitionsNamingTheField) {
   EXPECT_NO_THROW(world.add_body(bad));
   EXPECT_THROW(world.step(-1.0f), InvalidInput);
   EXPECT_THROW(World3D(WorldOptions3{.gravity = Vec3(0, std::numeric_limits<float>::infinity(), 0)}), InvalidInput);
+}
+
+TEST(World3DInput, RemovedBodiesShapeSlotsServeNewBodiesWithTheirOwnShapes) {
+  // The world keeps every body's shapes in one pool, a removed body's slots serving the next
+  // body with as many shapes. Hulls hold their vertices, faces and edges in heap arrays: each
+  // live body reads back exactly its own (and the sanitize preset sees no leak or double free
+  // when the slots are released and reused).
+  const auto hull = [](int i) {
+    const float s = 0.3f + 0.05f * static_cast<float>(i % 5);
+    std::vector<Vec3> points;
+    for (int k = 0; k < 8; ++k) {
+      points.push_back({(k & 1) != 0 ? s : -s, (k & 2) != 0 ? 0.5f * s : -0.5f * s, (k & 4) != 0 ? s : -0.7f * s});
+    }
+    points.push_back({0.0f, s + 0.1f * static_cast<float>(i % 3), 0.0f});  // a roof: 9 vertices
+    return make_convex_hull(points);
+  };
+  const auto def = [&](int i) {
+    BodyDef3 d;
+    d.transform = Transform3{Vec3(static_cast<float>(i % 10) * 3.0f, 0.0f, static_cast<float>(i / 10) * 3.0f)};
+    switch (i % 3) {
+      case 0: d.shapes = {hull(i)}; break;
+      case 1: d.shapes = {make_sphere(Vec3(0.0f), 0.2f + 0.01f * static_cast<float>(i))}; break;
+      default: d.shapes = {hull(i), make_sphere(Vec3(0.0f, 0.8f, 0.0f), 0.3f)}; break;
+    }
+    return d;
+  };
+  World3D world;
+  const test::BodyChurn churn = test::churn_bodies(world, def, 45, 2, 80);  // 23 slots reused
+  test::expect_churned_shapes(world, churn, def, [](const Shape3D& a, const Shape3D& b) {
+    if (a.index() != b.index()) return false;
+    if (const auto* h = std::get_if<ConvexHull>(&a)) {
+      const auto& g = std::get<ConvexHull>(b);
+      return h->vertices == g.vertices && h->faces.size() == g.faces.size() && h->edges.size() == g.edges.size();
+    }
+    const auto& sa = std::get<Sphere>(a);
+    const auto& sb = std::get<Sphere>(b);
+    return sa.center == sb.center && sa.radius == sb.radius;
+  });
+  world.step(1.0f / 60.0f);
+  EXPECT_EQ(world.body_count(), 57);
 }
 
 // ---- the step --------------------------------------------------------------------------------
