@@ -408,8 +408,9 @@ void WorldN<D>::Impl::move_bodies(float dt, StepStats& stats) {
       const int block_end = std::min(end, first + kBodiesPerBlock);
       const auto t0 = Clock::now();
       for (int i = first; i < block_end; ++i) {
-        // The shapes of a body a few ahead: its new boxes read them, from a heap block apart
-        // from the body (at 1e6 bodies a cache miss a body, most of the box computation's time).
+        // The shapes of a body a few ahead: its new boxes read them, from the world's shape pool
+        // apart from the body (at 1e6 bodies a cache miss a body, most of the box computation's
+        // time).
         detail::prefetch_shapes_ahead(bodies, i, end);
         integrate_body(static_cast<std::uint32_t>(i), dt, have_statics, w);
       }

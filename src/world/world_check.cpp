@@ -33,7 +33,7 @@ void WorldN<D>::Impl::check(StepStats& stats) {
     grid.triangles.clear();
     grid.triangle_piece.clear();
     // Items: the convex static pieces, and each triangle of the level shapes.
-    std::vector<AabbN<D>> boxes;
+    LargePageVector<AabbN<D>> boxes;
     for (std::uint32_t i = 0; i < piece_items; ++i) {
       const StaticPiece& sp = static_pieces[i];
       if (statics[sp.owner].sensor) continue;
@@ -66,7 +66,8 @@ void WorldN<D>::Impl::check(StepStats& stats) {
   }
   parallel(static_cast<int>(bodies.size()), kCheckBodiesPerTask, [&](int begin, int end, int w) {
     for (int i = begin; i < end; ++i) {
-      // The shapes and further pieces of a body a few ahead (heap blocks apart from the body).
+      // The shapes and further pieces of a body a few ahead (in the shape pool and a heap block,
+      // apart from the body).
       detail::prefetch_shapes_ahead(bodies, i, end);
       check_body(static_cast<std::uint32_t>(i), w);
     }

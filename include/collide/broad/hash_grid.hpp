@@ -25,6 +25,7 @@
 
 #include <collide/broad/broad_phase.hpp>
 #include <collide/broad/grid_mapping.hpp>
+#include <collide/core/large_pages.hpp>
 
 #include <cstdint>
 #include <span>
@@ -93,14 +94,16 @@ class HashGridN {
   Options options_{};
   GridMapping<D> grid_{};
   float chosen_cell_size_ = 0.0f;        // from the data at build; kept by update
-  std::vector<AabbN<D>> boxes_;
-  std::vector<CellN<D>> cells_;          // coordinates of each occupied cell, in order of first use
-  std::vector<int> cell_start_;          // ids of cell c: ids_[cell_start_[c] .. cell_start_[c+1])
-  std::vector<int> ids_;                 // ids of all cells, ascending within a cell
-  std::vector<int> table_;               // hash slots: -1 empty, else a cell index
-  std::vector<int> entry_cell_;          // build scratch: cell index of each (cell, id) entry
-  std::vector<int> entry_id_;            // build scratch: id of each entry
-  std::vector<int> cursor_;             // build scratch: fill position of each cell
+  // The arrays of a big grid (a 3D level's millions of triangles in the world's check) on large
+  // pages: built one push at a time, they took half the page faults of a 2e5-body 3D run.
+  LargePageVector<AabbN<D>> boxes_;
+  LargePageVector<CellN<D>> cells_;          // coordinates of each occupied cell, in order of first use
+  LargePageVector<int> cell_start_;          // ids of cell c: ids_[cell_start_[c] .. cell_start_[c+1])
+  LargePageVector<int> ids_;                 // ids of all cells, ascending within a cell
+  LargePageVector<int> table_;               // hash slots: -1 empty, else a cell index
+  LargePageVector<int> entry_cell_;          // build scratch: cell index of each (cell, id) entry
+  LargePageVector<int> entry_id_;            // build scratch: id of each entry
+  LargePageVector<int> cursor_;             // build scratch: fill position of each cell
   std::vector<int> oversized_;           // ids kept out of the grid, ascending
   std::vector<std::uint8_t> is_oversized_;
   std::vector<float> scratch_;
