@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <map>
 #include <memory>
-#include <new>
 #include <span>
 #include <vector>
 
@@ -16,8 +15,8 @@ namespace collide::detail {
 
 /// Storage for the shapes of a world's bodies. A body's `count` shapes are `count` adjacent
 /// slots of one block; blocks never move, so the body keeps a span into its block for its life.
-/// Blocks double from kFirstBlockSlots slots up to kMaxBlockBytes; a block of kLargePageMinBytes
-/// or more is aligned to and advised onto large pages before its first touch (large_pages.hpp).
+/// Blocks double from kFirstBlockSlots slots up to kMaxBlockBytes, from LargePageAllocator: a
+/// block of kLargePageMinBytes or more is on large pages before its first touch.
 /// A removed body's slots go to a free list for their count and serve the next body with as many
 /// shapes. Every slot ever handed out holds a constructed T (a released one a default T, which
 /// frees what the shape held), so the pool's destructor destroys them all.
@@ -34,7 +33,7 @@ class ShapePool {
   ~ShapePool() {
     for (const Block& b : blocks_) {
       std::destroy_n(b.data, b.used);
-      ::operator delete(b.data, b.alignment);
+      Allocator{}.deallocate(b.data, b.capacity);
     }
   }
 
@@ -69,12 +68,13 @@ class ShapePool {
  private:
   static constexpr std::size_t kFirstBlockSlots = 16;
   static constexpr std::size_t kMaxBlockBytes = std::size_t{16} << 20;
+  /// Big blocks on large pages, small ones aligned for T.
+  using Allocator = LargePageAllocator<T>;
 
   struct Block {
     T* data = nullptr;
     std::size_t capacity = 0;  ///< slots
     std::size_t used = 0;      ///< slots constructed, from the front
-    std::align_val_t alignment{alignof(T)};
   };
 
   /// A new block of at least `n` slots, twice the last one's up to kMaxBlockBytes.
@@ -82,13 +82,8 @@ class ShapePool {
     std::size_t slots = blocks_.empty() ? kFirstBlockSlots : 2 * blocks_.back().capacity;
     slots = std::min(slots, std::max<std::size_t>(kMaxBlockBytes / sizeof(T), 1));
     slots = std::max(slots, n);
-    const std::size_t bytes = slots * sizeof(T);
-    const bool large = bytes >= kLargePageMinBytes;
-    const std::align_val_t alignment{large ? std::max(kLargePageBytes, alignof(T)) : alignof(T)};
     blocks_.reserve(blocks_.size() + 1);  // so that the push_back below cannot throw
-    T* data = static_cast<T*>(::operator new(bytes, alignment));
-    if (large) advise_large_pages(data, bytes);
-    blocks_.push_back(Block{data, slots, 0, alignment});
+    blocks_.push_back(Block{Allocator{}.allocate(slots), slots, 0});
   }
 
   std::vector<Block> blocks_;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// Big arrays read at random, on large pages: a dense distance field's tables, the world's
-/// bodies. A query reads a node anywhere in tables of tens of MiB, a body pair two bodies
+/// Big arrays read at random, on large pages: a dense distance field's tables (std::vector, by
+/// reserve_on_large_pages), the world's bodies and a broad phase's arrays (LargePageVector). A query reads a node anywhere in tables of tens of MiB, a body pair two bodies
 /// anywhere in hundreds; with 4 KiB pages nearly every such read also misses the TLB (its 3072
 /// entries reach 12 MiB on the machine measured), and in a virtual machine a page walk costs
 /// hundreds of cycles. On 2 MiB pages the whole table fits the TLB's reach, and filling it takes
@@ -19,16 +19,16 @@ namespace collide {
 /// Arrays smaller than this stay as they are (a large page would not pay).
 inline constexpr std::size_t kLargePageMinBytes = std::size_t{4} << 20;
 
+/// The size of a large page where `advise_large_pages` asks for them (x86-64 Linux: 2 MiB).
+inline constexpr std::size_t kLargePageBytes = std::size_t{2} << 20;
+
 /// Asks the operating system to back the 2 MiB-aligned part of [data, data + bytes) with large
 /// pages before it is first touched (Linux: madvise MADV_HUGEPAGE, used when transparent huge
 /// pages are "always" or "madvise"; elsewhere nothing). Best effort: never fails.
 void advise_large_pages(void* data, std::size_t bytes) noexcept;
 
-/// The size of a large page where `advise_large_pages` asks for them (x86-64 Linux: 2 MiB).
-inline constexpr std::size_t kLargePageBytes = std::size_t{2} << 20;
-
-/// An allocator for arrays that may grow big and are read at random (a broad phase's boxes and
-/// candidate pairs, a world's bodies): a block of kLargePageMinBytes or more is aligned to
+/// An allocator for arrays that may grow big and are read at random (a broad phase's boxes, a
+/// world's bodies and shapes): a block of kLargePageMinBytes or more is aligned to
 /// kLargePageBytes and advised onto large pages before its owner writes it, whichever way the
 /// vector grows (reserve, resize, push_back); smaller blocks are aligned to `Align` bytes (64:
 /// a cache line) and left as they are. Stateless: all instances are equal.
