@@ -81,7 +81,10 @@ struct BuildFace {
   bool visible = false;  ///< seen by the current eye point (valid when mark == stamp)
   bool queued = false;   ///< in the merge work list
   int mark = 0;          ///< stamp of the last visibility test
-  std::vector<int> outside;  ///< conflict list: points above this face by more than tolerance
+  /// Conflict list: the points above this face by more than the tolerance, in the order they
+  /// were added, linked through QuickHull::next_outside_ (a point is in one list at a time).
+  int first_outside = -1;
+  int last_outside = -1;
   int furthest = -1;         ///< the outside point farthest above the plane (see furthest_)
 };
 
@@ -100,7 +103,8 @@ class QuickHull {
         pts_(std::move(points)),
         origin_(origin),
         tol_(tolerance),
-        vertex_mark_(pts_.size(), 0) {
+        vertex_mark_(pts_.size(), 0),
+        next_outside_(pts_.size(), -1) {
     // A hull of V vertices has at most 2V - 4 faces and 6V - 12 half-edges; a few spare for
     // the cone being built while the visible faces still exist.
     const size_t v = std::min(pts_.size(), static_cast<size_t>(max_vertices));
@@ -128,6 +132,22 @@ class QuickHull {
     return glm::dot(faces_[f].normal, p) - faces_[f].offset;
   }
   [[nodiscard]] int end_of(int h) const { return edges_[edges_[h].twin].origin; }
+  /// Appends `point` to face f's conflict list.
+  void push_outside(int f, int point) {
+    next_outside_[point] = -1;
+    if (faces_[f].last_outside < 0) {
+      faces_[f].first_outside = point;
+    } else {
+      next_outside_[faces_[f].last_outside] = point;
+    }
+    faces_[f].last_outside = point;
+  }
+  /// Calls visit(point) for each point of face f's conflict list, in order.
+  template <class Visit>
+  void for_each_outside(int f, Visit&& visit) const {
+    for (int p = faces_[f].first_outside; p >= 0; p = next_outside_[p]) visit(p);
+  }
+  void clear_outside(int f) { faces_[f].first_outside = faces_[f].last_outside = -1; }
   int new_edge(int origin, int face);
   int new_face();
   void free_edge(int h);
@@ -163,6 +183,7 @@ class QuickHull {
                                   ///< when it has none or is dead (dense: scanned per point)
   std::vector<int> free_faces_;
   std::vector<int> vertex_mark_;
+  std::vector<int> next_outside_;  ///< per point: the next point of its conflict list, or -1
   int stamp_ = 0;
   int vertex_stamp_ = 0;
   int added_ = 0;  ///< points added after the initial tetrahedron
@@ -206,7 +227,7 @@ int QuickHull::new_face() {
   face.visible = false;
   face.queued = false;
   face.mark = 0;
-  face.outside.clear();
+  clear_outside(f);
   face.furthest = -1;
   furthest_[f] = 0.0;
   return f;
@@ -385,7 +406,7 @@ void QuickHull::assign(int point, std::span<const int> candidates) {
   }
   if (best_face < 0) return;
   BuildFace& face = faces_[best_face];
-  face.outside.push_back(point);
+  push_outside(best_face, point);
   if (best > furthest_[best_face]) {
     furthest_[best_face] = best;
     face.furthest = point;
@@ -517,7 +538,7 @@ bool QuickHull::sweep_outside_points() {
     if (best_face >= 0) {
       any = true;
       BuildFace& face = faces_[best_face];
-      face.outside.push_back(i);
+      push_outside(best_face, i);
       if (best > furthest_[best_face]) {
         furthest_[best_face] = best;
         face.furthest = i;
@@ -584,16 +605,21 @@ void QuickHull::add_point(int eye, int seed) {
   if (!horizon_is_loop()) {
     // Never seen on the test clouds; dropping the eye keeps the topology valid and leaves the
     // point outside by at most a few tolerances (it was seen ambiguously by a coplanar face).
-    std::vector<int>& out = faces_[seed].outside;
-    out.erase(std::remove(out.begin(), out.end(), eye), out.end());
+    const int first = faces_[seed].first_outside;
+    clear_outside(seed);
     faces_[seed].furthest = -1;
     furthest_[seed] = 0.0;
-    for (int p : out) {
-      const double d = distance(seed, pts_[p]);
-      if (d > furthest_[seed]) {
-        furthest_[seed] = d;
-        faces_[seed].furthest = p;
+    for (int p = first; p >= 0;) {
+      const int next = next_outside_[p];
+      if (p != eye) {
+        push_outside(seed, p);
+        const double d = distance(seed, pts_[p]);
+        if (d > furthest_[seed]) {
+          furthest_[seed] = d;
+          faces_[seed].furthest = p;
+        }
       }
+      p = next;
     }
     return;
   }
@@ -632,9 +658,9 @@ void QuickHull::add_point(int eye, int seed) {
   // Remove the visible faces; their outside points are orphans until reassigned.
   orphans_.clear();
   for (int f : visible_) {
-    for (int p : faces_[f].outside) {
+    for_each_outside(f, [&](int p) {
       if (p != eye) orphans_.push_back(p);
-    }
+    });
     int h = faces_[f].edge;
     do {
       const int next = edges_[h].next;
@@ -665,8 +691,8 @@ void QuickHull::add_point(int eye, int seed) {
     faces_[f].queued = false;
     if (!faces_[f].alive) continue;
     changed.push_back(f);
-    for (int p : faces_[f].outside) orphans_.push_back(p);
-    faces_[f].outside.clear();
+    for_each_outside(f, [&](int p) { orphans_.push_back(p); });
+    clear_outside(f);
     faces_[f].furthest = -1;
     furthest_[f] = 0.0;
   }
@@ -866,8 +892,8 @@ void QuickHull::merge(int f, int h) {
   edges_[n].prev = q;
   faces_[f].edge = p;
 
-  for (int pt : faces_[g].outside) orphans_.push_back(pt);
-  faces_[g].outside.clear();
+  for_each_outside(g, [&](int pt) { orphans_.push_back(pt); });
+  clear_outside(g);
   faces_[g].queued = false;  // stays in work_ but is skipped as dead
   free_face(g);
 
