@@ -183,7 +183,8 @@ class QuickHull {
   void add_point(int eye, int seed);
   void find_horizon(int eye, int f, int entry);
   [[nodiscard]] bool horizon_is_loop();
-  [[nodiscard]] double union_spread(int f, int g, double limit = HUGE_VAL) const;
+  [[nodiscard]] double union_spread(int f, int g) const;
+  [[nodiscard]] bool union_within(int f, int g, double limit) const;
   [[nodiscard]] bool should_merge(int f, int h) const;
   [[nodiscard]] SharedRun shared_run(int f, int h) const;
   [[nodiscard]] bool shares_one_run(int f, int h) const;
@@ -737,8 +738,8 @@ void QuickHull::add_point(int eye, int seed) {
 }
 
 // Corners of faces f and g spread along the normal of their union (Newell's area vector of
-// the union is the sum of theirs: the shared edges cancel). Stops early once past `limit`.
-double QuickHull::union_spread(int f, int g, double limit) const {
+// the union is the sum of theirs: the shared edges cancel).
+double QuickHull::union_spread(int f, int g) const {
   const DVec3 sum = faces_[f].area_vector + faces_[g].area_vector;
   const double len = glm::length(sum);
   if (!(len > 0.0)) return HUGE_VAL;
@@ -751,11 +752,34 @@ double QuickHull::union_spread(int f, int g, double limit) const {
       const double d = glm::dot(n, pts_[edges_[h].origin]);
       lo = std::min(lo, d);
       hi = std::max(hi, d);
-      if (hi - lo > limit) return hi - lo;
       h = edges_[h].next;
     } while (h != faces_[face].edge);
   }
   return hi - lo;
+}
+
+// Whether union_spread(f, g) <= limit, without its square root and division: along the
+// unnormalised area vector S every height is |S| times the unit one, so the spread is compared
+// squared against limit^2 |S|^2; stops at the first corner past it. (The merge test's most
+// frequent question: a fifth of a build on Jolt's clouds went to the normalisation.)
+bool QuickHull::union_within(int f, int g, double limit) const {
+  const DVec3 sum = faces_[f].area_vector + faces_[g].area_vector;
+  const double length2 = glm::dot(sum, sum);
+  if (!(length2 > 0.0)) return false;
+  const double bound = limit * limit * length2;
+  double lo = HUGE_VAL;
+  double hi = -HUGE_VAL;
+  for (int face : {f, g}) {
+    int h = faces_[face].edge;
+    do {
+      const double d = glm::dot(sum, pts_[edges_[h].origin]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+      if ((hi - lo) * (hi - lo) > bound) return false;
+      h = edges_[h].next;
+    } while (h != faces_[face].edge);
+  }
+  return true;
 }
 
 SharedRun QuickHull::shared_run(int f, int h) const {
@@ -809,7 +833,7 @@ double QuickHull::corner_turn(int a, int b, int c, const DVec3& normal) const {
 bool QuickHull::should_merge(int f, int h) const {
   const int g = edges_[edges_[h].twin].face;
   const double limit = kCoplanarFraction * tol_;
-  if (union_spread(f, g, limit) <= limit) {
+  if (union_within(f, g, limit)) {
     if (!shares_one_run(f, h)) return false;
     // The union's corners at the ends of the shared run: p -> m at its start, q -> n at its end.
     // A reflex one is fine when only one other face touches that vertex: it then lies on an
