@@ -90,7 +90,13 @@ struct BuildFace {
   int first_outside = -1;
   int last_outside = -1;
   int furthest = -1;         ///< the outside point farthest above the plane (see furthest_)
+  /// QuickHull::changes_ when merge_step last found this face to merge with none of its
+  /// neighbours (kNeverClean: not since it was made).
+  std::uint64_t clean_at = 0;
 };
+
+/// BuildFace::clean_at of a face not yet found clean.
+constexpr std::uint64_t kNeverClean = ~std::uint64_t{0};
 
 /// The run of consecutive edges two faces share, as seen from face f: half-edges first..last
 /// of f (whose twins lie in g), the edge p of f before the run and n after it, and the edges
@@ -121,6 +127,7 @@ class QuickHull {
     free_faces_.clear();
     stamp_ = 0;
     vertex_stamp_ = 0;
+    changes_ = 0;
     added_ = 0;
     swept_offset_.clear();
     swept_ = false;
@@ -211,6 +218,9 @@ class QuickHull {
   std::vector<int> next_outside_;  ///< per point: the next point of its conflict list, or -1
   int stamp_ = 0;
   int vertex_stamp_ = 0;
+  /// Counts the changes to the hull's faces (a plane worked out, a face merged or freed):
+  /// merge_step's answers hold until it moves.
+  std::uint64_t changes_ = 0;
   int added_ = 0;  ///< points added after the initial tetrahedron
   /// Per face slot: the stored plane's offset (through the farthest vertex, input coordinates)
   /// as the last sweep computed it; valid for extract() when that sweep found nothing.
@@ -262,6 +272,7 @@ int QuickHull::new_face() {
   face.visible = false;
   face.queued = false;
   face.mark = 0;
+  face.clean_at = kNeverClean;
   clear_outside(f);
   face.furthest = -1;
   furthest_[f] = 0.0;
@@ -274,6 +285,7 @@ void QuickHull::free_edge(int h) {
 }
 
 void QuickHull::free_face(int f) {
+  ++changes_;
   faces_[f].alive = false;
   furthest_[f] = 0.0;
   faces_[f].edge = -1;
@@ -308,6 +320,7 @@ int QuickHull::edge_count(int f) const {
 // Plane of a polygon by Newell's method (the area vector, exact for planar polygons and a
 // least-squares-like average otherwise), through the average of its corners.
 void QuickHull::compute_plane(int f) {
+  ++changes_;
   BuildFace& face = faces_[f];
   const DVec3 ref = pts_[edges_[face.edge].origin];
   DVec3 n{0.0};
@@ -890,7 +903,13 @@ bool QuickHull::is_thin(int f) const {
   return false;
 }
 
+// Once a face merges with none of its neighbours, it stays so until the hull changes
+// (changes_ moves): the repeated passes of add_point's merge loop skip it, and its neighbours
+// skip the question of merging with it (should_merge answers a pair the same from either side:
+// its planarity and concavity tests are symmetric). On Jolt's clouds that leaves out about a
+// third of the merge tests, the hulls bit for bit the same.
 bool QuickHull::merge_step(int f) {
+  if (faces_[f].clean_at == changes_) return false;
   if (is_thin(f)) {
     // Into the neighbour it is most nearly coplanar with.
     int best = -1;
@@ -911,12 +930,13 @@ bool QuickHull::merge_step(int f) {
   }
   int h = faces_[f].edge;
   do {
-    if (should_merge(f, h)) {
+    if (faces_[edges_[edges_[h].twin].face].clean_at != changes_ && should_merge(f, h)) {
       merge(f, h);
       return true;
     }
     h = edges_[h].next;
   } while (h != faces_[f].edge);
+  faces_[f].clean_at = changes_;
   return false;
 }
 
