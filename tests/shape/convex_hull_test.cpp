@@ -9,11 +9,13 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -720,6 +722,90 @@ TEST(MakeConvexHull, ANeedleTheMergesFoldFlatIsNamedTooThin) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("convex hull points: too thin"), std::string::npos) << e.what();
   }
+}
+
+/// The bytes of `v`'s elements (for comparing hulls field by field, bit for bit).
+template <class T>
+std::vector<unsigned char> bytes_of(const std::vector<T>& v) {
+  std::vector<unsigned char> out(v.size() * sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), v.data(), out.size());
+  return out;
+}
+
+/// Every field of two hulls, bit for bit.
+void expect_same_hull(const ConvexHull& a, const ConvexHull& b, const std::string& what) {
+  EXPECT_EQ(bytes_of(a.vertices), bytes_of(b.vertices)) << what;
+  EXPECT_EQ(bytes_of(a.vertex_blocks), bytes_of(b.vertex_blocks)) << what;
+  EXPECT_EQ(bytes_of(a.faces), bytes_of(b.faces)) << what;
+  EXPECT_EQ(bytes_of(a.face_vertices), bytes_of(b.face_vertices)) << what;
+  EXPECT_EQ(bytes_of(a.face_edges), bytes_of(b.face_edges)) << what;
+  EXPECT_EQ(bytes_of(a.edges), bytes_of(b.edges)) << what;
+  EXPECT_EQ(bytes_of(a.neighbour_offsets), bytes_of(b.neighbour_offsets)) << what;
+  EXPECT_EQ(bytes_of(a.neighbours), bytes_of(b.neighbours)) << what;
+  EXPECT_EQ(bytes_of(a.face_blocks), bytes_of(b.face_blocks)) << what;
+  EXPECT_EQ(std::memcmp(&a.volume, &b.volume, sizeof(float)), 0) << what;
+  EXPECT_EQ(std::memcmp(&a.centroid, &b.centroid, sizeof(Vec3)), 0) << what;
+  EXPECT_EQ(std::memcmp(&a.tolerance, &b.tolerance, sizeof(float)), 0) << what;
+}
+
+// make_convex_hull keeps one builder per thread between builds (its arrays' capacity): a build
+// must not depend on what that builder did before. Hulls built on a fresh thread (a fresh
+// builder) are compared with the same hulls built here after builds that threw midway (a
+// needle the merges fold flat, coincident points) and after one large enough (70,000 points)
+// that the builder gives its arrays back.
+TEST(MakeConvexHull, ABuildDoesNotDependOnTheBuildsBeforeIt) {
+  const std::vector<Cloud> all = load_jolt_clouds();
+  ASSERT_GE(all.size(), 600u);
+  std::vector<Cloud> clouds;
+  for (std::size_t i = 0; i < all.size(); i += 97) clouds.push_back(all[i]);
+  std::vector<ConvexHull> fresh(clouds.size());
+  std::vector<std::string> fresh_errors(clouds.size());
+  std::thread([&] {
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+      try {
+        fresh[i] = make_convex_hull(clouds[i]);
+      } catch (const InvalidInput& e) {
+        fresh_errors[i] = e.what();
+      }
+    }
+  }).join();
+
+  std::mt19937 rng(98);
+  Cloud large;
+  for (int i = 0; i < 70000; ++i) large.push_back(test::uniform(rng, 1.0f, 2.0f) * random_unit(rng));
+  const Cloud needle = {{-8.0f, -8.0f, -8.0f}, {-2.0f, 0.0f, 3.0f},  {2.0f, 4.75f, 6.0f},
+                        {-5.0f, -7.0f, 0.0f},  {0.0f, 0.0f, -7.75f}, {5.5f, -7.0f, -8.0f},
+                        {5.25f, 2.0f, -7.0f},  {0.0f, 0.0f, 0.0f},   {-4.25f, -8.0f, -8.0f},
+                        {-8.0f, -7.75f, -8.0f}, {-8.0f, -5.5f, 2.0f}, {0.0f, 3.0f, -6.0f},
+                        {-8.0f, 3.75f, -6.5f}, {-184528.8125f, 5.0f, 1.0f}, {-2.0f, 2.0f, 5.0f},
+                        {5.0f, 5.0f, 7.75f},   {6.0f, 5.0f, 5.0f},   {5.0f, -7.75f, -8.0f},
+                        {-8.0f, 5.0f, 5.0f}};
+  const Cloud coincident(10, Vec3{1.0f, 2.0f, 3.0f});
+  HullOptions needle_options;
+  needle_options.max_vertices = 54;
+  int compared = 0;
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    switch (i % 3) {  // what the builder did just before
+      case 0:
+        EXPECT_THROW((void)make_convex_hull(needle, needle_options), InvalidInput);
+        break;
+      case 1:
+        EXPECT_THROW((void)make_convex_hull(coincident), InvalidInput);
+        break;
+      default:
+        EXPECT_EQ(make_convex_hull(large).vertices.size() > 100, true);
+        break;
+    }
+    try {
+      const ConvexHull again = make_convex_hull(clouds[i]);
+      EXPECT_TRUE(fresh_errors[i].empty()) << "cloud " << i << " failed on the fresh thread: " << fresh_errors[i];
+      expect_same_hull(again, fresh[i], "cloud " + std::to_string(i));
+      ++compared;
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(fresh_errors[i], std::string(e.what())) << "cloud " << i;
+    }
+  }
+  EXPECT_GE(compared, static_cast<int>(clouds.size()) - 2);
 }
 
 TEST(ConvexHullSupport, SupportIndexIsTheLowestFarthestVertex) {
