@@ -190,6 +190,8 @@ class QuickHull {
   void add_point(int eye, int seed);
   void find_horizon(int eye, int f, int entry);
   [[nodiscard]] bool horizon_is_loop();
+  template <class Stop>
+  [[nodiscard]] std::pair<double, double> union_heights(int f, int g, const DVec3& direction, Stop&& stop) const;
   [[nodiscard]] double union_spread(int f, int g) const;
   [[nodiscard]] bool union_within(int f, int g, double limit) const;
   [[nodiscard]] bool should_merge(int f, int h) const;
@@ -750,24 +752,32 @@ void QuickHull::add_point(int eye, int seed) {
   for (int p : orphans_) assign(p, changed);
 }
 
+// The lowest and highest of the corners of faces f and g along `direction`, stopping early
+// (with what it has) once stop(lo, hi) holds.
+template <class Stop>
+std::pair<double, double> QuickHull::union_heights(int f, int g, const DVec3& direction, Stop&& stop) const {
+  double lo = HUGE_VAL;
+  double hi = -HUGE_VAL;
+  for (int face : {f, g}) {
+    int h = faces_[face].edge;
+    do {
+      const double d = glm::dot(direction, pts_[edges_[h].origin]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+      if (stop(lo, hi)) return {lo, hi};
+      h = edges_[h].next;
+    } while (h != faces_[face].edge);
+  }
+  return {lo, hi};
+}
+
 // Corners of faces f and g spread along the normal of their union (Newell's area vector of
 // the union is the sum of theirs: the shared edges cancel).
 double QuickHull::union_spread(int f, int g) const {
   const DVec3 sum = faces_[f].area_vector + faces_[g].area_vector;
   const double len = glm::length(sum);
   if (!(len > 0.0)) return HUGE_VAL;
-  const DVec3 n = sum / len;
-  double lo = HUGE_VAL;
-  double hi = -HUGE_VAL;
-  for (int face : {f, g}) {
-    int h = faces_[face].edge;
-    do {
-      const double d = glm::dot(n, pts_[edges_[h].origin]);
-      lo = std::min(lo, d);
-      hi = std::max(hi, d);
-      h = edges_[h].next;
-    } while (h != faces_[face].edge);
-  }
+  const auto [lo, hi] = union_heights(f, g, sum / len, [](double, double) { return false; });
   return hi - lo;
 }
 
@@ -780,19 +790,9 @@ bool QuickHull::union_within(int f, int g, double limit) const {
   const double length2 = glm::dot(sum, sum);
   if (!(length2 > 0.0)) return false;
   const double bound = limit * limit * length2;
-  double lo = HUGE_VAL;
-  double hi = -HUGE_VAL;
-  for (int face : {f, g}) {
-    int h = faces_[face].edge;
-    do {
-      const double d = glm::dot(sum, pts_[edges_[h].origin]);
-      lo = std::min(lo, d);
-      hi = std::max(hi, d);
-      if ((hi - lo) * (hi - lo) > bound) return false;
-      h = edges_[h].next;
-    } while (h != faces_[face].edge);
-  }
-  return true;
+  const auto past = [bound](double lo, double hi) { return (hi - lo) * (hi - lo) > bound; };
+  const auto [lo, hi] = union_heights(f, g, sum, past);
+  return !past(lo, hi);
 }
 
 SharedRun QuickHull::shared_run(int f, int h) const {

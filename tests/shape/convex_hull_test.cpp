@@ -701,18 +701,23 @@ TEST(MakeConvexHull, RejectsBadInputNamingTheField) {
   EXPECT_EQ(make_convex_hull(tetra, o).radius, 0.5f);
 }
 
-// fuzz_shapes (fuzz/regressions/shapes/hull_needle_merges_folded_flat.bin): a needle 184,536
-// long and about 16 wide, whose tolerance (1e-5 of the extent) is 1.8. It passes the thickness
-// test, but merging faces within the tolerance folded it down to two triangles, and the merges
-// went on through freed half-edges (UBSan: faces_[-1]). Such a fold is now refused by name.
+/// fuzz_shapes (fuzz/regressions/shapes/hull_needle_merges_folded_flat.bin): a needle 184,536
+/// long and about 16 wide, whose tolerance (1e-5 of the extent) is 1.8. It passes the thickness
+/// test, but merging faces within the tolerance folded it down to two triangles, and the merges
+/// went on through freed half-edges (UBSan: faces_[-1]). Such a fold is now refused by name
+/// (with max_vertices 54).
+Cloud folding_needle() {
+  return {{-8.0f, -8.0f, -8.0f}, {-2.0f, 0.0f, 3.0f},  {2.0f, 4.75f, 6.0f},
+          {-5.0f, -7.0f, 0.0f},  {0.0f, 0.0f, -7.75f}, {5.5f, -7.0f, -8.0f},
+          {5.25f, 2.0f, -7.0f},  {0.0f, 0.0f, 0.0f},   {-4.25f, -8.0f, -8.0f},
+          {-8.0f, -7.75f, -8.0f}, {-8.0f, -5.5f, 2.0f}, {0.0f, 3.0f, -6.0f},
+          {-8.0f, 3.75f, -6.5f}, {-184528.8125f, 5.0f, 1.0f}, {-2.0f, 2.0f, 5.0f},
+          {5.0f, 5.0f, 7.75f},   {6.0f, 5.0f, 5.0f},   {5.0f, -7.75f, -8.0f},
+          {-8.0f, 5.0f, 5.0f}};
+}
+
 TEST(MakeConvexHull, ANeedleTheMergesFoldFlatIsNamedTooThin) {
-  const Cloud needle = {{-8.0f, -8.0f, -8.0f}, {-2.0f, 0.0f, 3.0f},  {2.0f, 4.75f, 6.0f},
-                        {-5.0f, -7.0f, 0.0f},  {0.0f, 0.0f, -7.75f}, {5.5f, -7.0f, -8.0f},
-                        {5.25f, 2.0f, -7.0f},  {0.0f, 0.0f, 0.0f},   {-4.25f, -8.0f, -8.0f},
-                        {-8.0f, -7.75f, -8.0f}, {-8.0f, -5.5f, 2.0f}, {0.0f, 3.0f, -6.0f},
-                        {-8.0f, 3.75f, -6.5f}, {-184528.8125f, 5.0f, 1.0f}, {-2.0f, 2.0f, 5.0f},
-                        {5.0f, 5.0f, 7.75f},   {6.0f, 5.0f, 5.0f},   {5.0f, -7.75f, -8.0f},
-                        {-8.0f, 5.0f, 5.0f}};
+  const Cloud needle = folding_needle();
   HullOptions options;
   options.radius = 5.0f;
   options.max_vertices = 54;
@@ -773,13 +778,7 @@ TEST(MakeConvexHull, ABuildDoesNotDependOnTheBuildsBeforeIt) {
   std::mt19937 rng(98);
   Cloud large;
   for (int i = 0; i < 70000; ++i) large.push_back(test::uniform(rng, 1.0f, 2.0f) * random_unit(rng));
-  const Cloud needle = {{-8.0f, -8.0f, -8.0f}, {-2.0f, 0.0f, 3.0f},  {2.0f, 4.75f, 6.0f},
-                        {-5.0f, -7.0f, 0.0f},  {0.0f, 0.0f, -7.75f}, {5.5f, -7.0f, -8.0f},
-                        {5.25f, 2.0f, -7.0f},  {0.0f, 0.0f, 0.0f},   {-4.25f, -8.0f, -8.0f},
-                        {-8.0f, -7.75f, -8.0f}, {-8.0f, -5.5f, 2.0f}, {0.0f, 3.0f, -6.0f},
-                        {-8.0f, 3.75f, -6.5f}, {-184528.8125f, 5.0f, 1.0f}, {-2.0f, 2.0f, 5.0f},
-                        {5.0f, 5.0f, 7.75f},   {6.0f, 5.0f, 5.0f},   {5.0f, -7.75f, -8.0f},
-                        {-8.0f, 5.0f, 5.0f}};
+  const Cloud needle = folding_needle();
   const Cloud coincident(10, Vec3{1.0f, 2.0f, 3.0f});
   HullOptions needle_options;
   needle_options.max_vertices = 54;
