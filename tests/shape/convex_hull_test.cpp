@@ -754,10 +754,10 @@ void expect_same_hull(const ConvexHull& a, const ConvexHull& b, const std::strin
 }
 
 // make_convex_hull keeps one builder per thread between builds (its arrays' capacity): a build
-// must not depend on what that builder did before. Hulls built on a fresh thread (a fresh
-// builder) are compared with the same hulls built here after builds that threw midway (a
-// needle the merges fold flat, coincident points) and after one large enough (70,000 points)
-// that the builder gives its arrays back.
+// must not depend on what that builder did before. Hulls built one after another on a new
+// thread (its builder new, then used by these builds alone) are compared with the same hulls
+// built here, each after a build that threw midway (a needle the merges fold flat, coincident
+// points) or after one large enough (70,000 points) that the builder gives its arrays back.
 TEST(MakeConvexHull, ABuildDoesNotDependOnTheBuildsBeforeIt) {
   const std::vector<Cloud> all = load_jolt_clouds();
   ASSERT_GE(all.size(), 600u);
