@@ -156,7 +156,7 @@ class QuickHull {
   Outcome run(int max_vertices);
   /// Writes the result into `hull`. `contain_inputs`: raise each face's offset so that every
   /// input point lies within the tolerance below it.
-  void extract(bool contain_inputs, ConvexHull& hull) const;
+  void extract(bool contain_inputs, ConvexHull& hull);
 
  private:
   [[nodiscard]] double distance(int f, const DVec3& p) const {
@@ -238,12 +238,12 @@ class QuickHull {
   std::vector<int> sweep_vertices_;
   std::vector<int> sweep_faces_;
   std::vector<DVec3> sweep_normals_;
-  mutable std::vector<int> index_of_;
-  mutable std::vector<int> point_of_;
-  mutable std::vector<int> face_of_;
-  mutable std::vector<int> live_;
-  mutable std::vector<int> edge_of_;
-  mutable std::vector<int> fill_;
+  std::vector<int> index_of_;
+  std::vector<int> point_of_;
+  std::vector<int> face_of_;
+  std::vector<int> live_;
+  std::vector<int> edge_of_;
+  std::vector<int> fill_;
 };
 
 int QuickHull::new_edge(int origin, int face) {
@@ -1027,7 +1027,7 @@ void QuickHull::fix_degree_two_vertices(int f) {
   }
 }
 
-void QuickHull::extract(bool contain_inputs, ConvexHull& hull) const {
+void QuickHull::extract(bool contain_inputs, ConvexHull& hull) {
   const std::span<const Vec3> input = input_;
   // Vertices in input order. (The arrays are sized before they are filled: a hull of 17
   // vertices grew each of them through five allocations.)
