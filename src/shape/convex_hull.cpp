@@ -349,11 +349,22 @@ void QuickHull::compute_plane(int f) {
 const char* QuickHull::build_initial() {
   const int n = static_cast<int>(pts_.size());
   // The extreme points along the axes; the farthest pair of them spans the first edge.
+  // (The extremes' coordinates are kept beside their indices: read back through the index,
+  // each comparison waited on the load the last new extreme started.)
   int extreme[6] = {0, 0, 0, 0, 0, 0};
+  DVec3 least = pts_[0];
+  DVec3 most = pts_[0];
   for (int i = 1; i < n; ++i) {
     for (int k = 0; k < 3; ++k) {
-      if (pts_[i][k] < pts_[extreme[2 * k]][k]) extreme[2 * k] = i;
-      if (pts_[i][k] > pts_[extreme[2 * k + 1]][k]) extreme[2 * k + 1] = i;
+      const double c = pts_[i][k];
+      if (c < least[k]) {
+        least[k] = c;
+        extreme[2 * k] = i;
+      }
+      if (c > most[k]) {
+        most[k] = c;
+        extreme[2 * k + 1] = i;
+      }
     }
   }
   int i0 = extreme[0];
