@@ -41,10 +41,13 @@ struct BinaryNode {
 /// strict weak one and the median split always halves, whatever the input.
 std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
   const std::size_t n = corners.size();
+  // Each triangle's box once: every level's bounds and bins read them (made again from the
+  // corners there, four times a level, they were a fifth of the build).
+  std::vector<Aabb3> boxes(n);
   std::vector<Vec3> centroids(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Aabb3 box = triangle_box(corners[i]);
-    centroids[i] = 0.5f * box.min + 0.5f * box.max;
+    boxes[i] = triangle_box(corners[i]);
+    centroids[i] = 0.5f * boxes[i].min + 0.5f * boxes[i].max;
     for (int axis = 0; axis < 3; ++axis) {
       if (std::isnan(centroids[i][axis])) centroids[i][axis] = kInfinity;
     }
@@ -56,6 +59,10 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
     std::uint32_t node, begin, end;
     int depth;
   };
+  struct Bin {
+    Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
+    std::uint32_t count = 0;
+  };
   std::vector<BinaryNode> nodes;
   std::vector<Work> work;
   nodes.reserve(2 * n);
@@ -64,10 +71,10 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
   while (!work.empty()) {
     const Work w = work.back();
     work.pop_back();
-    Aabb3 box = triangle_box(corners[order[w.begin]]);
+    Aabb3 box = boxes[order[w.begin]];
     Aabb3 centroid_box{centroids[order[w.begin]], centroids[order[w.begin]]};
     for (std::uint32_t i = w.begin + 1; i < w.end; ++i) {
-      box = merge(box, triangle_box(corners[order[i]]));
+      box = merge(box, boxes[order[i]]);
       centroid_box = merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
     }
     nodes[w.node].bounds = box;
@@ -78,45 +85,54 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
       continue;
     }
     const Vec3 spread = centroid_box.size();
-    struct Bin {
-      Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
-      std::uint32_t count = 0;
-    };
     // A leaf's triangles are tested four at a time, so a side costs its count in packets.
     auto packets = [](std::uint32_t c) { return static_cast<float>((c + kBvhLeafTriangles - 1) / kBvhLeafTriangles); };
     float best_cost = std::numeric_limits<float>::max();
     int best_axis = -1;
     float best_plane = 0.0f;
-    for (int axis = 0; axis < 3 && w.depth < kBvhMaxSahDepth; ++axis) {
-      if (!(spread[axis] > 0.0f)) continue;
-      std::array<Bin, kBvhBins> bins{};
-      const float scale = static_cast<float>(kBvhBins) / spread[axis];
-      auto bin_of = [&](std::uint32_t tri) {
-        const float b = (centroids[tri][axis] - centroid_box.min[axis]) * scale;  // NaN goes to bin 0
-        return b >= 1.0f ? (b < static_cast<float>(kBvhBins) ? static_cast<int>(b) : kBvhBins - 1) : 0;
-      };
+    // The three axes' bins filled in one pass over the node's triangles.
+    std::array<std::array<Bin, kBvhBins>, 3> bins{};
+    std::array<bool, 3> binned{};
+    std::array<float, 3> scale{};
+    for (int axis = 0; axis < 3; ++axis) {
+      binned[axis] = w.depth < kBvhMaxSahDepth && spread[axis] > 0.0f;
+      scale[axis] = binned[axis] ? static_cast<float>(kBvhBins) / spread[axis] : 0.0f;
+    }
+    auto bin_of = [&](std::uint32_t tri, int axis) {
+      const float b = (centroids[tri][axis] - centroid_box.min[axis]) * scale[axis];  // NaN goes to bin 0
+      return b >= 1.0f ? (b < static_cast<float>(kBvhBins) ? static_cast<int>(b) : kBvhBins - 1) : 0;
+    };
+    if (binned[0] || binned[1] || binned[2]) {
       for (std::uint32_t i = w.begin; i < w.end; ++i) {
-        Bin& bin = bins[bin_of(order[i])];
-        bin.box = merge(bin.box, triangle_box(corners[order[i]]));
-        ++bin.count;
+        const std::uint32_t tri = order[i];
+        for (int axis = 0; axis < 3; ++axis) {
+          if (!binned[axis]) continue;
+          Bin& bin = bins[axis][bin_of(tri, axis)];
+          bin.box = merge(bin.box, boxes[tri]);
+          ++bin.count;
+        }
       }
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!binned[axis]) continue;
+      const std::array<Bin, kBvhBins>& axis_bins = bins[axis];
       std::array<float, kBvhBins> right_cost{};
       Bin right;
       for (int b = kBvhBins - 1; b > 0; --b) {
-        right.box = merge(right.box, bins[b].box);
-        right.count += bins[b].count;
+        right.box = merge(right.box, axis_bins[b].box);
+        right.count += axis_bins[b].count;
         right_cost[b] = right.count ? surface_metric(right.box) * packets(right.count) : 0.0f;
       }
       Bin left;
       for (int b = 0; b < kBvhBins - 1; ++b) {
-        left.box = merge(left.box, bins[b].box);
-        left.count += bins[b].count;
+        left.box = merge(left.box, axis_bins[b].box);
+        left.count += axis_bins[b].count;
         if (left.count == 0 || left.count == count) continue;
         const float cost = surface_metric(left.box) * packets(left.count) + right_cost[b + 1];
         if (cost < best_cost) {
           best_cost = cost;
           best_axis = axis;
-          best_plane = centroid_box.min[axis] + static_cast<float>(b + 1) / scale;
+          best_plane = centroid_box.min[axis] + static_cast<float>(b + 1) / scale[axis];
         }
       }
     }
