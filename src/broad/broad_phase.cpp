@@ -1,8 +1,7 @@
 #include <collide/broad/broad_phase.hpp>
 
 #include <collide/core/error.hpp>
-
-#include "radix_sort.hpp"
+#include <collide/core/radix_sort.hpp>
 
 #include <algorithm>
 #include <bit>

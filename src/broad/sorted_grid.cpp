@@ -1,9 +1,9 @@
 #include <collide/broad/sorted_grid.hpp>
 
 #include "oversized_boxes.hpp"
-#include "radix_sort.hpp"
 
 #include <collide/core/error.hpp>
+#include <collide/core/radix_sort.hpp>
 
 #include <algorithm>
 #include <bit>

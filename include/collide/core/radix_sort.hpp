@@ -1,7 +1,10 @@
 #pragma once
-// Least-significant-digit radix sort of records by an unsigned 64-bit key: stable,
-// O(n) per 11-bit digit, one read pass for all digit histograms, and passes whose digit is the
-// same for every record skipped. (Knuth, TAOCP vol. 3, 5.2.5.)
+/// @file
+/// Least-significant-digit radix sort of records by an unsigned 64-bit key: stable,
+/// O(n) per 11-bit digit, one read pass for all digit histograms, and passes whose digit is the
+/// same for every record skipped. (Knuth, TAOCP vol. 3, 5.2.5.) Shared by the broad phases'
+/// pair lists and grids and the walk mesh build's edge list; in `detail`: not part of the API
+/// a game uses.
 
 #include <array>
 #include <cstdint>
