@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 
 namespace collide {
 namespace {
@@ -39,26 +38,39 @@ constexpr float kTJunctionPieceSlack = 1e-5f;
 
 std::string where(const TriangleSoup& soup) { return soup.name.empty() ? "walk mesh" : soup.name; }
 
-/// Integer cell of a hash grid, hashed for unordered_map.
+/// Integer cell of a hash grid.
 struct Cell {
   std::int64_t x, y, z;
   friend bool operator==(const Cell&, const Cell&) = default;
 };
-struct CellHash {
-  std::size_t operator()(const Cell& c) const noexcept {
-    return static_cast<std::size_t>(c.x * 73856093LL ^ c.y * 19349663LL ^ c.z * 83492791LL);
-  }
-};
+[[nodiscard]] std::size_t hash_cell(const Cell& c) noexcept {
+  return static_cast<std::size_t>(c.x * 73856093LL ^ c.y * 19349663LL ^ c.z * 83492791LL);
+}
 
 /// Welds positions closer than `radius` (the first one seen wins) with a hash grid of cell size
-/// `radius`, searching the 27 cells around each point. Returns the representative of each input.
+/// `radius`, searching the 27 cells around each point, each cell's points in the order they were
+/// added. Returns the representative of each input. The grid is one open-addressed table (linear
+/// probing) of cells, each the head and tail of a list through `next`: no allocation per cell
+/// (a std::unordered_map of vectors was 7% of the walk mesh build on dungeon.obj).
 std::vector<std::uint32_t> weld(const std::vector<Vec3>& local, const std::vector<bool>& used,
                                 float radius, std::size_t& welded) {
   std::vector<std::uint32_t> rep(local.size(), kUnset);
   const float cell = radius > 0.0f ? radius : 1.0f;
   const float r2 = radius * radius;
-  std::unordered_map<Cell, std::vector<std::uint32_t>, CellHash> grid;
-  grid.reserve(local.size());
+  struct Slot {
+    Cell cell;
+    std::uint32_t head = kUnset, tail = kUnset;  // head kUnset: an empty slot
+  };
+  std::size_t count = 0;
+  for (std::uint32_t i = 0; i < local.size(); ++i) count += used[i] ? 1 : 0;
+  const std::size_t mask = std::bit_ceil(2 * count + 2) - 1;  // at most half full
+  std::vector<Slot> table(mask + 1);
+  std::vector<std::uint32_t> next(local.size(), kUnset);
+  auto slot_of = [&](const Cell& c) -> Slot& {
+    std::size_t at = hash_cell(c) & mask;
+    while (table[at].head != kUnset && !(table[at].cell == c)) at = (at + 1) & mask;
+    return table[at];
+  };
   for (std::uint32_t i = 0; i < local.size(); ++i) {
     if (!used[i]) continue;
     const Vec3 p = local[i];
@@ -69,9 +81,7 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3>& local, const std::vecto
     for (std::int64_t dx = -1; dx <= 1 && found == kUnset; ++dx) {
       for (std::int64_t dy = -1; dy <= 1 && found == kUnset; ++dy) {
         for (std::int64_t dz = -1; dz <= 1 && found == kUnset; ++dz) {
-          const auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == grid.end()) continue;
-          for (std::uint32_t j : it->second) {
+          for (std::uint32_t j = slot_of({c.x + dx, c.y + dy, c.z + dz}).head; j != kUnset; j = next[j]) {
             const Vec3 d = local[j] - p;
             if (glm::dot(d, d) <= r2) {
               found = j;
@@ -83,7 +93,14 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3>& local, const std::vecto
     }
     if (found == kUnset) {
       rep[i] = i;
-      grid[c].push_back(i);
+      Slot& slot = slot_of(c);
+      if (slot.head == kUnset) {
+        slot.cell = c;
+        slot.head = i;
+      } else {
+        next[slot.tail] = i;
+      }
+      slot.tail = i;
     } else {
       rep[i] = found;
       ++welded;
