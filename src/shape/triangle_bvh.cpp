@@ -39,15 +39,42 @@ struct BinaryNode {
 /// three corners near 3.4e38 overflows), a NaN coordinate (from non-finite input) counts as
 /// +inf, and bins are chosen without converting a NaN or infinity to int: so the sort order is a
 /// strict weak one and the median split always halves, whatever the input.
+/// A box as two lanes (x, y, z and a copy of x), for the build's merges: simd::min(b, a) and
+/// simd::max(b, a) are glm::min(a, b) and glm::max(a, b) lane by lane (the same comparisons,
+/// the same operand on ties and NaN), so merge() here gives merge()'s floats.
+struct BoxLanes {
+  simd::Lanes lo, hi;
+};
+inline BoxLanes box_lanes(const Aabb3& b) noexcept {
+  return {simd::lanes(b.min.x, b.min.y, b.min.z, b.min.x), simd::lanes(b.max.x, b.max.y, b.max.z, b.max.x)};
+}
+inline BoxLanes merge(const BoxLanes& a, const BoxLanes& b) noexcept {
+  return {simd::min(b.lo, a.lo), simd::max(b.hi, a.hi)};
+}
+inline Aabb3 to_aabb(const BoxLanes& b) noexcept {
+  std::array<float, 4> lo, hi;
+  simd::store(lo.data(), b.lo);
+  simd::store(hi.data(), b.hi);
+  return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])};
+}
+/// surface_metric() of the box, the same floats.
+inline float surface_metric(const BoxLanes& b) noexcept {
+  std::array<float, 4> d;
+  simd::store(d.data(), b.hi - b.lo);
+  return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
 std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
   const std::size_t n = corners.size();
-  // Each triangle's box once: every level's bounds and bins read them (made again from the
-  // corners there, four times a level, they were a fifth of the build).
-  std::vector<Aabb3> boxes(n);
+  // Each triangle's box once, in lanes: every level's bounds and bins merge them (made again
+  // from the corners there, four times a level, they were a fifth of the build; merged as
+  // Vec3s, the bins' and sweeps' merges were a third of the rest).
+  std::vector<BoxLanes> boxes(n);
   std::vector<Vec3> centroids(n);
   for (std::size_t i = 0; i < n; ++i) {
-    boxes[i] = triangle_box(corners[i]);
-    centroids[i] = 0.5f * boxes[i].min + 0.5f * boxes[i].max;
+    const Aabb3 box = triangle_box(corners[i]);
+    boxes[i] = box_lanes(box);
+    centroids[i] = 0.5f * box.min + 0.5f * box.max;
     for (int axis = 0; axis < 3; ++axis) {
       if (std::isnan(centroids[i][axis])) centroids[i][axis] = kInfinity;
     }
@@ -60,7 +87,7 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
     int depth;
   };
   struct Bin {
-    Aabb3 box{Vec3(std::numeric_limits<float>::max()), Vec3(-std::numeric_limits<float>::max())};
+    BoxLanes box{simd::splat(std::numeric_limits<float>::max()), simd::splat(-std::numeric_limits<float>::max())};
     std::uint32_t count = 0;
   };
   std::vector<BinaryNode> nodes;
@@ -71,13 +98,13 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
   while (!work.empty()) {
     const Work w = work.back();
     work.pop_back();
-    Aabb3 box = boxes[order[w.begin]];
+    BoxLanes box = boxes[order[w.begin]];
     Aabb3 centroid_box{centroids[order[w.begin]], centroids[order[w.begin]]};
     for (std::uint32_t i = w.begin + 1; i < w.end; ++i) {
       box = merge(box, boxes[order[i]]);
-      centroid_box = merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
+      centroid_box = collide::merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
     }
-    nodes[w.node].bounds = box;
+    nodes[w.node].bounds = to_aabb(box);
     const std::uint32_t count = w.end - w.begin;
     if (count <= kBvhLeafTriangles) {
       nodes[w.node].first = w.begin;
