@@ -27,6 +27,16 @@
 //   wrong_fraction: a hit outside those bounds (a farther triangle, or a wrong fraction);
 //   max_err:     the largest |hit point - exact nearest crossing| along the ray, world units;
 //   hit_rate:    the share of the set's rays that hit (the reference's).
+// BM_MeshBuild/<mesh>/<library>: building the ray-castable mesh from the level's positions and
+// triangles in memory, one build per iteration, one thread each (what a game pays per level at
+// load time; no accuracy counters: each build's casts are the rows above):
+//   collide:      make_triangle_mesh (validation, degenerate triangles dropped, active edges,
+//                 the four-wide BVH);
+//   collide_bvh:  the TriangleBvh alone;
+//   jolt:         MeshShapeSettings(vertices, triangles) and Create() (its sanitizing, active
+//                 edges and tree);
+//   embree:       rtcNewScene, one triangle geometry, rtcCommitScene (its default build quality)
+//                 on a device made with "threads=1", the scene released after.
 // Instruction sets are in the context block: collide's from its build (x86-64 baseline by
 // default), Jolt's from its configuration string (AVX2/FMA by default, cmake/peers.cmake), and
 // Embree's kernels, chosen at run time for the CPU.
@@ -76,6 +86,12 @@ RTCDevice embree_device() {
   return device;
 }
 
+/// A device whose builds run on one thread (BM_MeshBuild: every library builds on one).
+RTCDevice embree_device_one_thread() {
+  static RTCDevice device = rtcNewDevice("threads=1");
+  return device;
+}
+
 /// One level in every library, with its rays and their reference answers.
 struct Level {
   std::string name;
@@ -83,6 +99,9 @@ struct Level {
   Transform3 xf;  ///< the mesh's placement (identity), stored as a world keeps a static's
   RTCScene embree = nullptr;
   jolt_queries::MeshPtr jolt;
+  TriangleSoup soup;  ///< the file's positions and triangles, as every library gets them
+  std::vector<jolt_queries::Vec> jolt_positions;
+  std::vector<std::array<std::uint32_t, 3>> jolt_triangles;
   Aabb3 box;
   double diagonal = 0.0;
   double eps = 0.0;  ///< rounding of world coordinates
@@ -91,9 +110,9 @@ struct Level {
   std::array<std::optional<std::vector<test::RayTruth>>, kSets> truth;  ///< made when needed
 };
 
-RTCScene make_embree_scene(const TriangleSoup& soup) {
-  RTCScene scene = rtcNewScene(embree_device());
-  RTCGeometry geometry = rtcNewGeometry(embree_device(), RTC_GEOMETRY_TYPE_TRIANGLE);
+RTCScene make_embree_scene(const TriangleSoup& soup, RTCDevice device = embree_device()) {
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), soup.positions.size()));
   for (std::size_t i = 0; i < soup.positions.size(); ++i) {
@@ -144,13 +163,11 @@ Level load_level(const std::string& name, const std::string& file) {
   Level l;
   l.name = name;
   l.mesh = io::load_triangle_mesh(path);
-  const TriangleSoup soup = io::load_obj(path);
-  l.embree = make_embree_scene(soup);
-  std::vector<jolt_queries::Vec> positions;
-  for (const Vec3& p : soup.positions) positions.push_back({p.x, p.y, p.z});
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  for (const glm::uvec3& t : soup.triangles) triangles.push_back({t.x, t.y, t.z});
-  l.jolt = jolt_queries::make_mesh(positions, triangles);
+  l.soup = io::load_obj(path);
+  l.embree = make_embree_scene(l.soup);
+  for (const Vec3& p : l.soup.positions) l.jolt_positions.push_back({p.x, p.y, p.z});
+  for (const glm::uvec3& t : l.soup.triangles) l.jolt_triangles.push_back({t.x, t.y, t.z});
+  l.jolt = jolt_queries::make_mesh(l.jolt_positions, l.jolt_triangles);
   if (!l.jolt) std::fprintf(stderr, "Jolt refused %s\n", file.c_str());
   l.box = compute_aabb(l.mesh, Transform3{});
   l.diagonal = glm::length(glm::dvec3(l.box.max) - glm::dvec3(l.box.min));
@@ -282,6 +299,15 @@ void register_cast(Level* l, int set, const char* library, Cast cast) {
   })->Unit(benchmark::kMicrosecond);
 }
 
+template <class Build>
+void register_build(const Level* l, const char* library, Build build) {
+  const std::string name = std::string("BM_MeshBuild/") + l->name + "/" + library;
+  benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+    for (auto _ : state) build(*l);
+    state.counters["triangles"] = static_cast<double>(l->soup.triangles.size());
+  })->Unit(benchmark::kMillisecond);
+}
+
 void register_all() {
   for (Level& l : levels()) {
     for (int set = 0; set < kSets; ++set) {
@@ -290,6 +316,25 @@ void register_all() {
       register_cast(&l, set, "jolt", cast_jolt);
       register_cast(&l, set, "embree", cast_embree);
     }
+  }
+  for (const Level& l : levels()) {
+    register_build(&l, "collide", [](const Level& level) {
+      const TriangleMesh mesh = make_triangle_mesh(level.soup.positions, level.soup.triangles);
+      benchmark::DoNotOptimize(mesh.bvh.node_count());
+    });
+    register_build(&l, "collide_bvh", [](const Level& level) {
+      const TriangleBvh bvh(level.soup.positions, level.soup.triangles);
+      benchmark::DoNotOptimize(bvh.node_count());
+    });
+    register_build(&l, "jolt", [](const Level& level) {
+      const jolt_queries::MeshPtr mesh = jolt_queries::make_mesh(level.jolt_positions, level.jolt_triangles);
+      benchmark::DoNotOptimize(mesh.get());
+    });
+    register_build(&l, "embree", [](const Level& level) {
+      const RTCScene scene = make_embree_scene(level.soup, embree_device_one_thread());
+      benchmark::DoNotOptimize(scene);
+      rtcReleaseScene(scene);
+    });
   }
 }
 

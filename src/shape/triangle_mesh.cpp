@@ -1,6 +1,7 @@
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <collide/core/error.hpp>
+#include <collide/core/radix_sort.hpp>
 
 #include <algorithm>
 #include <array>
@@ -124,17 +125,16 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
 
   // Active edges: group the triangles' edges by their welded end points.
   const std::vector<std::uint32_t> canonical = weld_equal_positions(mesh.vertices);
+  // Ordered by (lo, hi), then triangle and corner (detail::sort_edge_uses keeps use order).
   std::vector<EdgeSide> sides;
   sides.reserve(3 * mesh.triangles.size());
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = canonical[mesh.triangles[t][k]], v = canonical[mesh.triangles[t][(k + 1) % 3]];
-      sides.push_back({std::min(u, v), std::max(u, v), t, static_cast<std::uint8_t>(k), u < v});
-    }
+  for (const detail::EdgeUse& e :
+       detail::sort_edge_uses(mesh.triangles, mesh.vertices.size(), [&](std::uint32_t v) { return canonical[v]; })) {
+    const std::uint32_t t = e.use / 3;
+    const int k = static_cast<int>(e.use % 3);
+    const std::uint32_t u = canonical[mesh.triangles[t][k]], v = canonical[mesh.triangles[t][(k + 1) % 3]];
+    sides.push_back({std::min(u, v), std::max(u, v), t, static_cast<std::uint8_t>(k), u < v});
   }
-  std::sort(sides.begin(), sides.end(), [](const EdgeSide& a, const EdgeSide& b) {
-    return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.triangle != b.triangle ? a.triangle < b.triangle : a.k < b.k;
-  });
   mesh.active_edges.assign(mesh.triangles.size(), 0);
   for (std::size_t i = 0; i < sides.size();) {
     std::size_t j = i;

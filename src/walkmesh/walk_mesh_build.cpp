@@ -242,46 +242,10 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
     }
   }
   std::size_t splits = 0;
-  // Each edge use keyed by its vertex pair (lower index in the high bits): one integer to sort.
-  struct Use {
-    std::uint64_t key;
-    std::uint32_t triangle;
-    int edge;
-  };
-  std::vector<Use> edge_uses, edge_uses_scratch;
-  std::vector<std::uint64_t> packed_uses, packed_scratch;
   for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
-    // The key packs the pair into 2 key_half bits (the bits of the largest vertex index, twice). Sorted by
-    // radix (std::sort was a tenth of the walk mesh build on dungeon.obj), as one 64-bit word a
-    // use, the key above the use's number (3 t + e), when both fit: half the bytes to move as
-    // key and use side by side. The order of equal keys does not matter: only the size of each
-    // run of them is read.
-    const int key_half = static_cast<int>(std::bit_width(std::max<std::size_t>(local.size(), 2) - 1));  // at most 32
-    const int use_bits = static_cast<int>(std::bit_width(std::max<std::size_t>(3 * tris.size(), 2) - 1));
-    std::vector<Use>& uses = edge_uses;
-    uses.resize(3 * tris.size());
-    auto key_of = [&](std::size_t use) {
-      const glm::uvec3& t = tris[use / 3];
-      const int e = static_cast<int>(use % 3);
-      const std::uint32_t u = t[e], v = t[(e + 1) % 3];
-      return (std::uint64_t{std::min(u, v)} << key_half) | std::max(u, v);
-    };
-    if (2 * key_half + use_bits <= 64) {
-      std::vector<std::uint64_t>& packed = packed_uses;
-      packed.resize(uses.size());
-      for (std::size_t i = 0; i < packed.size(); ++i) packed[i] = key_of(i) << use_bits | i;
-      detail::radix_sort(packed, packed_scratch, use_bits, 2 * key_half, [](std::uint64_t p) { return p; });
-      const std::uint64_t mask = (std::uint64_t{1} << use_bits) - 1;
-      for (std::size_t i = 0; i < packed.size(); ++i) {
-        const std::uint64_t use = packed[i] & mask;
-        uses[i] = {packed[i] >> use_bits, static_cast<std::uint32_t>(use / 3), static_cast<int>(use % 3)};
-      }
-    } else {
-      for (std::size_t i = 0; i < uses.size(); ++i) {
-        uses[i] = {key_of(i), static_cast<std::uint32_t>(i / 3), static_cast<int>(i % 3)};
-      }
-      detail::radix_sort_by_key(uses, edge_uses_scratch, 0, 2 * key_half);
-    }
+    // Edge uses by their vertex pair (detail::sort_edge_uses): a run of one is an unshared edge.
+    const std::vector<detail::EdgeUse> uses =
+        detail::sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; });
     // Triangles around each vertex, to check that a vertex found on an edge really belongs to the
     // other side of it (and not to geometry overlapping this triangle).
     std::vector<std::uint32_t> around_start(local.size() + 1, 0), around;
@@ -302,9 +266,9 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
     for (std::size_t i = 0; i < uses.size();) {
       std::size_t j = i + 1;
       while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-      if (j - i == 1 && !split_this_pass[uses[i].triangle]) {
-        const std::uint32_t t = uses[i].triangle;
-        const int e = uses[i].edge;
+      if (j - i == 1 && !split_this_pass[uses[i].use / 3]) {
+        const std::uint32_t t = uses[i].use / 3;
+        const int e = static_cast<int>(uses[i].use % 3);
         const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
         const Vec3 a = local[u], d = local[v] - a;
         const float dd = glm::dot(d, d);
@@ -573,17 +537,15 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
 
   // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the
   //    pairs that continue each other most flatly (their thirds on opposite sides of the edge).
+  //    Uses by (lo, hi), then triangle (detail::sort_edge_uses keeps use order).
   std::vector<EdgeUse> uses;
   uses.reserve(3 * tris.size());
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3];
-      uses.push_back({std::min(u, v), std::max(u, v), t, tris[t][(e + 2) % 3]});
-    }
+  for (const detail::EdgeUse& e : detail::sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; })) {
+    const std::uint32_t t = e.use / 3;
+    const int k = static_cast<int>(e.use % 3);
+    const std::uint32_t u = tris[t][k], v = tris[t][(k + 1) % 3];
+    uses.push_back({std::min(u, v), std::max(u, v), t, tris[t][(k + 2) % 3]});
   }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
-    return a.lo != b.lo ? a.lo < b.lo : (a.hi != b.hi ? a.hi < b.hi : a.triangle < b.triangle);
-  });
   std::vector<Link> links;
   links.reserve(3 * tris.size() / 2);
   for (std::size_t i = 0; i < uses.size();) {
