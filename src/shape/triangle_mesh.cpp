@@ -130,7 +130,7 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
   sides.reserve(3 * mesh.triangles.size());
   for (const detail::EdgeUse& e :
        detail::sort_edge_uses(mesh.triangles, mesh.vertices.size(), [&](std::uint32_t v) { return canonical[v]; })) {
-    const std::uint32_t t = e.use / 3;
+    const auto t = static_cast<std::uint32_t>(e.use / 3);
     const int k = static_cast<int>(e.use % 3);
     const std::uint32_t u = canonical[mesh.triangles[t][k]], v = canonical[mesh.triangles[t][(k + 1) % 3]];
     sides.push_back({std::min(u, v), std::max(u, v), t, static_cast<std::uint8_t>(k), u < v});

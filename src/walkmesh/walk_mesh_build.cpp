@@ -110,7 +110,7 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3>& local, const std::vecto
 }
 
 /// One side of a link between two triangles over an edge.
-struct EdgeUse {
+struct EdgeSide {
   std::uint32_t lo, hi;  ///< the edge's vertices, lo < hi
   std::uint32_t triangle;
   std::uint32_t third;   ///< the triangle's vertex opposite the edge
@@ -267,7 +267,7 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
       std::size_t j = i + 1;
       while (j < uses.size() && uses[j].key == uses[i].key) ++j;
       if (j - i == 1 && !split_this_pass[uses[i].use / 3]) {
-        const std::uint32_t t = uses[i].use / 3;
+        const auto t = static_cast<std::uint32_t>(uses[i].use / 3);
         const int e = static_cast<int>(uses[i].use % 3);
         const std::uint32_t u = tris[t][e], v = tris[t][(e + 1) % 3], x = tris[t][(e + 2) % 3];
         const Vec3 a = local[u], d = local[v] - a;
@@ -538,10 +538,10 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
   // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the
   //    pairs that continue each other most flatly (their thirds on opposite sides of the edge).
   //    Uses by (lo, hi), then triangle (detail::sort_edge_uses keeps use order).
-  std::vector<EdgeUse> uses;
+  std::vector<EdgeSide> uses;
   uses.reserve(3 * tris.size());
   for (const detail::EdgeUse& e : detail::sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; })) {
-    const std::uint32_t t = e.use / 3;
+    const auto t = static_cast<std::uint32_t>(e.use / 3);
     const int k = static_cast<int>(e.use % 3);
     const std::uint32_t u = tris[t][k], v = tris[t][(k + 1) % 3];
     uses.push_back({std::min(u, v), std::max(u, v), t, tris[t][(k + 2) % 3]});

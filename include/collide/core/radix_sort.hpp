@@ -3,8 +3,8 @@
 /// Least-significant-digit radix sort of records by an unsigned 64-bit key: stable,
 /// O(n) per 11-bit digit, one read pass for all digit histograms, and passes whose digit is the
 /// same for every record skipped. (Knuth, TAOCP vol. 3, 5.2.5.) Shared by the broad phases'
-/// pair lists and grids and the walk mesh build's edge list; in `detail`: not part of the API
-/// a game uses.
+/// pair lists and grids and, through sort_edge_uses, by TriangleMesh's active edges and the walk
+/// mesh build; in `detail`: not part of the API a game uses.
 
 #include <glm/vec3.hpp>
 
@@ -61,7 +61,7 @@ void radix_sort_by_key(std::vector<Record>& data, std::vector<Record>& scratch, 
 /// k + 1 of triangle t; `key` orders the unordered pair of its end vertices.
 struct EdgeUse {
   std::uint64_t key;
-  std::uint32_t use;
+  std::uint64_t use;  ///< 64 bits: three uses a triangle overflow 32 bits past 1.4e9 triangles
 };
 
 /// The edge uses of `triangles` sorted by the unordered pair of their end vertices, uses of one
@@ -89,10 +89,10 @@ template <class VertexOf>
     for (std::size_t i = 0; i < count; ++i) packed[i] = key_of(i) << use_bits | i;
     radix_sort(packed, scratch, use_bits, 2 * half, [](std::uint64_t p) { return p; });
     const std::uint64_t mask = (std::uint64_t{1} << use_bits) - 1;
-    for (std::size_t i = 0; i < count; ++i) uses[i] = {packed[i] >> use_bits, static_cast<std::uint32_t>(packed[i] & mask)};
+    for (std::size_t i = 0; i < count; ++i) uses[i] = {packed[i] >> use_bits, packed[i] & mask};
   } else {
     std::vector<EdgeUse> scratch;
-    for (std::size_t i = 0; i < count; ++i) uses[i] = {key_of(i), static_cast<std::uint32_t>(i)};
+    for (std::size_t i = 0; i < count; ++i) uses[i] = {key_of(i), i};
     radix_sort_by_key(uses, scratch, 0, 2 * half);
   }
   return uses;
