@@ -47,7 +47,6 @@ struct PrismAxes {
   glm::dvec3 other_min, other_max;  ///< the other triangle's box
 };
 
-
 /// Bounding box of the prism over `piece` (the triangle swept by `lift`).
 std::pair<glm::dvec3, glm::dvec3> prism_bounds(const std::array<glm::dvec3, 3>& piece, glm::dvec3 lift) noexcept {
   const glm::dvec3 lo = glm::min(glm::min(piece[0], piece[1]), piece[2]);
@@ -62,16 +61,6 @@ enum class Headroom {
   covered,  ///< blocked, and so is the prism over every point of the piece: every refined piece too
 };
 
-/// Whether the prism over `piece` (the triangle `axes` were made for, or a refined piece of it)
-/// and the other triangle overlap by more than the tolerance on every axis. In double, on world
-/// coordinates: float corners are exact there, so the answer does not depend on the local
-/// origin's rounding (borderline contacts decided one way for every origin).
-///
-/// `covered` bounds every sub-piece at once: a point of the piece projects inside the piece's
-/// interval [p_lo, p_hi], so its lifted segment reaches at least p_lo + max(0, rise) and starts at
-/// most at p_hi + min(0, rise). When those bounds overlap the other triangle by more than the
-/// tolerance on every axis, no refinement can find headroom (with a doubled margin, so that the
-/// rounding of a sub-piece's own projections cannot decide it).
 /// One axis' test (axis k of `axes`, the piece projected on it to [p_lo, p_hi]): whether it
 /// parts the prism from the other triangle by the margin; else `covered` drops to false unless
 /// every point of the piece is blocked along it.
@@ -84,6 +73,16 @@ inline bool axis_clears(const PrismAxes& axes, int k, double p_lo, double p_hi, 
   return false;
 }
 
+/// Whether the prism over `piece` (the triangle `axes` were made for, or a refined piece of it)
+/// and the other triangle overlap by more than the tolerance on every axis. In double, on world
+/// coordinates: float corners are exact there, so the answer does not depend on the local
+/// origin's rounding (borderline contacts decided one way for every origin).
+///
+/// `covered` bounds every sub-piece at once: a point of the piece projects inside the piece's
+/// interval [p_lo, p_hi], so its lifted segment reaches at least p_lo + max(0, rise) and starts at
+/// most at p_hi + min(0, rise). When those bounds overlap the other triangle by more than the
+/// tolerance on every axis, no refinement can find headroom (with a doubled margin, so that the
+/// rounding of a sub-piece's own projections cannot decide it).
 Headroom headroom(const PrismAxes& axes, const std::array<glm::dvec3, 3>& piece) noexcept {
 #if defined(__SSE2__) || defined(_M_X64)
   // Two axes at a time in SSE2 lanes, each lane the scalar steps of axis_clears on the same
