@@ -62,7 +62,7 @@ void sort_pairs(PairList& pairs, PairList& scratch) {
   // Lexicographic order of non-negative (first, second) is the order of first * 2^w + second,
   // w the bits of the largest id.
   const int w = std::bit_width(static_cast<unsigned>(largest));
-  detail::radix_sort(pairs, scratch, 0, 2 * w, [w](const BroadPair& p) {
+  radix_sort(pairs, scratch, 0, 2 * w, [w](const BroadPair& p) {
     return static_cast<std::uint64_t>(p.first) << w | static_cast<std::uint64_t>(p.second);
   });
 }

@@ -218,7 +218,7 @@ template <class Record, class Split>
 void SortedGridN<D>::sort_and_gather(std::vector<Record>& keys, std::vector<Record>& scratch,
                                      int first_bit, int key_bits,
                                      std::span<const AabbN<D>> boxes, Split&& split) {
-  detail::radix_sort_by_key(keys, scratch, first_bit, key_bits);
+  radix_sort_by_key(keys, scratch, first_bit, key_bits);
   entries_.resize(keys.size());
   runs_.clear();
   std::uint64_t previous = ~std::uint64_t{0};

@@ -125,11 +125,11 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
 
   // Active edges: group the triangles' edges by their welded end points.
   const std::vector<std::uint32_t> canonical = weld_equal_positions(mesh.vertices);
-  // Ordered by (lo, hi), then triangle and corner (detail::sort_edge_uses keeps use order).
+  // Ordered by (lo, hi), then triangle and corner (sort_edge_uses keeps use order).
   std::vector<EdgeSide> sides;
   sides.reserve(3 * mesh.triangles.size());
-  for (const detail::EdgeUse& e :
-       detail::sort_edge_uses(mesh.triangles, mesh.vertices.size(), [&](std::uint32_t v) { return canonical[v]; })) {
+  for (const EdgeUse& e :
+       sort_edge_uses(mesh.triangles, mesh.vertices.size(), [&](std::uint32_t v) { return canonical[v]; })) {
     const auto t = static_cast<std::uint32_t>(e.use / 3);
     const int k = static_cast<int>(e.use % 3);
     const std::uint32_t u = canonical[mesh.triangles[t][k]], v = canonical[mesh.triangles[t][(k + 1) % 3]];

@@ -243,9 +243,9 @@ std::size_t split_t_junctions(std::vector<glm::uvec3>& tris, const std::vector<V
   }
   std::size_t splits = 0;
   for (int pass = 0; pass < kMaxTJunctionPasses; ++pass) {
-    // Edge uses by their vertex pair (detail::sort_edge_uses): a run of one is an unshared edge.
-    const std::vector<detail::EdgeUse> uses =
-        detail::sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; });
+    // Edge uses by their vertex pair (sort_edge_uses): a run of one is an unshared edge.
+    const std::vector<EdgeUse> uses =
+        sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; });
     // Triangles around each vertex, to check that a vertex found on an edge really belongs to the
     // other side of it (and not to geometry overlapping this triangle).
     std::vector<std::uint32_t> around_start(local.size() + 1, 0), around;
@@ -537,10 +537,10 @@ WalkMesh build_walk_mesh(const TriangleSoup& soup, const WalkMeshOptions& option
 
   // 4. Pair triangles over edges. An edge with more than two triangles links, greedily, the
   //    pairs that continue each other most flatly (their thirds on opposite sides of the edge).
-  //    Uses by (lo, hi), then triangle (detail::sort_edge_uses keeps use order).
+  //    Uses by (lo, hi), then triangle (sort_edge_uses keeps use order).
   std::vector<EdgeSide> uses;
   uses.reserve(3 * tris.size());
-  for (const detail::EdgeUse& e : detail::sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; })) {
+  for (const EdgeUse& e : sort_edge_uses(tris, local.size(), [](std::uint32_t v) { return v; })) {
     const auto t = static_cast<std::uint32_t>(e.use / 3);
     const int k = static_cast<int>(e.use % 3);
     const std::uint32_t u = tris[t][k], v = tris[t][(k + 1) % 3];

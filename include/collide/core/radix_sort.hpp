@@ -4,7 +4,7 @@
 /// O(n) per 11-bit digit, one read pass for all digit histograms, and passes whose digit is the
 /// same for every record skipped. (Knuth, TAOCP vol. 3, 5.2.5.) Shared by the broad phases'
 /// pair lists and grids and, through sort_edge_uses, by TriangleMesh's active edges and the walk
-/// mesh build; in `detail`: not part of the API a game uses.
+/// mesh build; a game building its own adjacency or sorting keyed records may call them too.
 
 #include <glm/vec3.hpp>
 
@@ -16,41 +16,50 @@
 #include <utility>
 #include <vector>
 
-namespace collide::detail {
+namespace collide {
 
+/// Bits of the key sorted per pass (2048 buckets: the counts of all passes fit the L1 cache).
 inline constexpr int kRadixDigitBits = 11;
 
 /// Sorts `data` by bits [first_bit, first_bit + key_bits) of `key_of(record)` (an unsigned
-/// 64-bit value); `scratch` is reused storage.
+/// 64-bit value; first_bit + key_bits <= 64), stably: records of equal bits keep their order.
+/// `scratch` is reused storage. Allocates only when `scratch` must grow; reports no errors.
 template <class Record, class KeyOf>
 void radix_sort(std::vector<Record>& data, std::vector<Record>& scratch, int first_bit, int key_bits,
                 KeyOf&& key_of) {
   constexpr std::size_t kBuckets = std::size_t{1} << kRadixDigitBits;
-  constexpr std::uint64_t kMask = kBuckets - 1;
   constexpr int kMaxPasses = (64 + kRadixDigitBits - 1) / kRadixDigitBits;
   const int passes = (key_bits + kRadixDigitBits - 1) / kRadixDigitBits;
   const std::size_t n = data.size();
   if (passes == 0 || n < 2) return;
 
+  // Each pass's digit: kRadixDigitBits bits, the last one only what is left of the range (bits
+  // above it do not count).
+  std::array<std::uint64_t, kMaxPasses> digit_mask{};
+  for (int p = 0; p < passes; ++p) {
+    const int bits = std::min(kRadixDigitBits, key_bits - p * kRadixDigitBits);
+    digit_mask[p] = (std::uint64_t{1} << bits) - 1;
+  }
   std::array<std::array<std::uint32_t, kBuckets>, kMaxPasses> counts{};
   for (const Record& r : data) {
     for (int p = 0; p < passes; ++p) {
-      ++counts[p][(key_of(r) >> (first_bit + p * kRadixDigitBits)) & kMask];
+      ++counts[p][(key_of(r) >> (first_bit + p * kRadixDigitBits)) & digit_mask[p]];
     }
   }
   scratch.resize(n);
   for (int p = 0; p < passes; ++p) {
     std::array<std::uint32_t, kBuckets>& offset = counts[p];
     const int shift = first_bit + p * kRadixDigitBits;
-    if (offset[(key_of(data[0]) >> shift) & kMask] == n) continue;  // one digit value: nothing moves
+    const std::uint64_t mask = digit_mask[p];
+    if (offset[(key_of(data[0]) >> shift) & mask] == n) continue;  // one digit value: nothing moves
     std::uint32_t sum = 0;
     for (std::uint32_t& c : offset) sum += std::exchange(c, sum);
-    for (const Record& r : data) scratch[offset[(key_of(r) >> shift) & kMask]++] = r;
+    for (const Record& r : data) scratch[offset[(key_of(r) >> shift) & mask]++] = r;
     data.swap(scratch);
   }
 }
 
-/// Sorts `data` by bits [first_bit, first_bit + key_bits) of `record.key`.
+/// Sorts `data` by bits [first_bit, first_bit + key_bits) of `record.key`, stably (radix_sort).
 template <class Record>
 void radix_sort_by_key(std::vector<Record>& data, std::vector<Record>& scratch, int first_bit,
                        int key_bits) {
@@ -71,6 +80,7 @@ struct EdgeUse {
 /// Radix sorted (stable) as one 64-bit word a use, the pair above the use number, when both fit
 /// (half the bytes of records to move), else as records. Shared by TriangleMesh's active edges
 /// and the walk mesh build's T-junction pass (std::sort was a sixth and a tenth of them).
+/// Allocates the result and its scratch; reports no errors.
 template <class VertexOf>
 [[nodiscard]] std::vector<EdgeUse> sort_edge_uses(std::span<const glm::uvec3> triangles, std::size_t vertex_count,
                                                   VertexOf&& vertex_of) {
@@ -98,4 +108,4 @@ template <class VertexOf>
   return uses;
 }
 
-}  // namespace collide::detail
+}  // namespace collide
