@@ -29,16 +29,6 @@ struct BinaryNode {
   std::uint32_t count = 0;  ///< leaf: number of triangles (1..kBvhLeafTriangles); inner: 0
 };
 
-/// Top-down binary build. Every node of more than kBvhLeafTriangles triangles is split: at the
-/// best of kBvhBins - 1 planes per axis by the binned surface area heuristic (Wald 2007), cost
-///   area(left) * count(left) + area(right) * count(right),
-/// or at the median of the longest centroid axis when SAH has no valid plane (all centroids in
-/// one bin, equal centroids) or the node is kBvhMaxSahDepth deep (which bounds the depth).
-/// `order` comes out permuted so that each leaf's triangles are a contiguous range.
-/// Centroids are box centres (halves added: finite for any finite corners, where the mean of
-/// three corners near 3.4e38 overflows), a NaN coordinate (from non-finite input) counts as
-/// +inf, and bins are chosen without converting a NaN or infinity to int: so the sort order is a
-/// strict weak one and the median split always halves, whatever the input.
 /// A box as two lanes (x, y, z and a copy of x), for the build's merges: simd::min(b, a) and
 /// simd::max(b, a) are glm::min(a, b) and glm::max(a, b) lane by lane (the same comparisons,
 /// the same operand on ties and NaN), so merge() here gives merge()'s floats.
@@ -64,6 +54,16 @@ inline float surface_metric(const BoxLanes& b) noexcept {
   return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
+/// Top-down binary build. Every node of more than kBvhLeafTriangles triangles is split: at the
+/// best of kBvhBins - 1 planes per axis by the binned surface area heuristic (Wald 2007), cost
+///   area(left) * count(left) + area(right) * count(right),
+/// or at the median of the longest centroid axis when SAH has no valid plane (all centroids in
+/// one bin, equal centroids) or the node is kBvhMaxSahDepth deep (which bounds the depth).
+/// `order` comes out permuted so that each leaf's triangles are a contiguous range.
+/// Centroids are box centres (halves added: finite for any finite corners, where the mean of
+/// three corners near 3.4e38 overflows), a NaN coordinate (from non-finite input) counts as
+/// +inf, and bins are chosen without converting a NaN or infinity to int: so the sort order is a
+/// strict weak one and the median split always halves, whatever the input.
 std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& corners, std::vector<std::uint32_t>& order) {
   const std::size_t n = corners.size();
   // Each triangle's box once, in lanes: every level's bounds and bins merge them (made again
