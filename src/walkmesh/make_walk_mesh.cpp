@@ -161,15 +161,10 @@ Headroom prism_headroom(const std::array<glm::dvec3, 3>& base, glm::dvec3 lift, 
     if (axis_clears(out, k, p_lo, p_hi, covered)) return Headroom::clear;
   }
   if (out.count % 2 != 0) {  // the pad: a copy of the first axis
-    const int k = out.count;
-    out.x[k] = out.x[0];
-    out.y[k] = out.y[0];
-    out.z[k] = out.z[0];
-    out.other_lo[k] = out.other_lo[0];
-    out.other_hi[k] = out.other_hi[0];
-    out.margin[k] = out.margin[0];
-    out.down[k] = out.down[0];
-    out.up[k] = out.up[0];
+    for (auto field : {&PrismAxes::x, &PrismAxes::y, &PrismAxes::z, &PrismAxes::other_lo, &PrismAxes::other_hi,
+                       &PrismAxes::margin, &PrismAxes::down, &PrismAxes::up}) {
+      (out.*field)[out.count] = (out.*field)[0];
+    }
   }
   out.other_min = glm::min(glm::min(other[0], other[1]), other[2]);
   out.other_max = glm::max(glm::max(other[0], other[1]), other[2]);

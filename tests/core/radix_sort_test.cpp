@@ -82,10 +82,12 @@ TEST(SortEdgeUses, GroupsEveryUseOfAPairInUseOrder) {
 
     std::size_t i = 0;
     for (const auto& [pair, list] : expected) {  // std::map: pairs in ascending order
+      ASSERT_LT(i, uses.size());
+      const std::uint64_t run_key = uses[i].key;  // every use of the pair carries one key
       for (const std::uint64_t u : list) {
         ASSERT_LT(i, uses.size());
         EXPECT_EQ(uses[i].use, u) << "vertices " << vertices << ", position " << i;
-        EXPECT_EQ(uses[i].key, uses[i - (i > 0 && uses[i - 1].key == uses[i].key ? 1 : 0)].key);
+        EXPECT_EQ(uses[i].key, run_key) << "vertices " << vertices << ", position " << i;
         ++i;
       }
       // The run ends where the pair does.
