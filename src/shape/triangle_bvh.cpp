@@ -47,11 +47,23 @@ inline Aabb3 to_aabb(const BoxLanes& b) noexcept {
   simd::store(hi.data(), b.hi);
   return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])};
 }
-/// surface_metric() of the box, the same floats.
-inline float surface_metric(const BoxLanes& b) noexcept {
-  std::array<float, 4> d;
-  simd::store(d.data(), b.hi - b.lo);
-  return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+
+/// Lanes of bin positions b (a centroid's offset from the node's least centroid times the bins
+/// per unit) as bin indices: b >= 1 ? (b < kBvhBins ? int(b) : kBvhBins - 1) : 0, a NaN to 0.
+inline std::array<int, 4> bin_indices(simd::Lanes b) noexcept {
+  const simd::Lanes last = simd::splat(static_cast<float>(kBvhBins - 1));
+  const simd::Lanes clamped = simd::select(b >= simd::splat(1.0f),
+                                           simd::select(b < simd::splat(static_cast<float>(kBvhBins)), b, last),
+                                           simd::splat(0.0f));
+  std::array<int, 4> out;
+#if defined(__GNUC__) || defined(__clang__)
+  using Ints = std::int32_t __attribute__((vector_size(16)));
+  const Ints whole = __builtin_convertvector(clamped, Ints);  // truncation, as static_cast<int>
+  std::memcpy(out.data(), &whole, sizeof out);
+#else
+  for (int k = 0; k < 4; ++k) out[k] = static_cast<int>(clamped[k]);
+#endif
+  return out;
 }
 
 /// Top-down binary build. Every node of more than kBvhLeafTriangles triangles is split: at the
@@ -69,15 +81,18 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
   // Each triangle's box once, in lanes: every level's bounds and bins merge them (made again
   // from the corners there, four times a level, they were a fifth of the build; merged as
   // Vec3s, the bins' and sweeps' merges were a third of the rest).
+  // The centroids in lanes too (x, y, z and x again): a node's centroid bounds and all three
+  // axes' bins are worked out a triangle at a time in lanes.
   std::vector<BoxLanes> boxes(n);
-  std::vector<Vec3> centroids(n);
+  std::vector<simd::Lanes> centroids(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Aabb3 box = triangle_box(corners[i]);
     boxes[i] = box_lanes(box);
-    centroids[i] = 0.5f * box.min + 0.5f * box.max;
+    Vec3 centroid = 0.5f * box.min + 0.5f * box.max;
     for (int axis = 0; axis < 3; ++axis) {
-      if (std::isnan(centroids[i][axis])) centroids[i][axis] = kInfinity;
+      if (std::isnan(centroid[axis])) centroid[axis] = kInfinity;
     }
+    centroids[i] = simd::lanes(centroid.x, centroid.y, centroid.z, centroid.x);
   }
   order.resize(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -90,6 +105,25 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
     BoxLanes box{simd::splat(std::numeric_limits<float>::max()), simd::splat(-std::numeric_limits<float>::max())};
     std::uint32_t count = 0;
   };
+  // An axis's swept boxes by bin (bins b..last on the right, 0..b on the left): their extents
+  // (x, y, z and x again, as BoxLanes) and their costs' factor, packets(count) (0 for no
+  // triangle), a slot per bin; the slot a side has no box for (the right's first, the left's
+  // last) and the slots past the last bin are empty (`clear`), so the costs are worked out
+  // four bins at a time.
+  struct Sweep {
+    std::array<simd::Lanes, kBvhBins + 4> extent;
+    std::array<float, kBvhBins + 4> packets;
+    void clear(int b) noexcept {
+      extent[static_cast<std::size_t>(b)] = simd::splat(0.0f);
+      packets[static_cast<std::size_t>(b)] = 0.0f;
+    }
+  };
+  // surface_metric() of the swept boxes at bins b..b+3, the same floats as of each one's Aabb3.
+  auto sweep_metrics = [](const Sweep& sweep, int b) noexcept {
+    simd::Lanes x = sweep.extent[b], y = sweep.extent[b + 1], z = sweep.extent[b + 2], x_again = sweep.extent[b + 3];
+    simd::transpose(x, y, z, x_again);
+    return simd::splat(2.0f) * (x * y + y * z + z * x);
+  };
   std::vector<BinaryNode> nodes;
   std::vector<Work> work;
   nodes.reserve(2 * n);
@@ -99,12 +133,13 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
     const Work w = work.back();
     work.pop_back();
     BoxLanes box = boxes[order[w.begin]];
-    Aabb3 centroid_box{centroids[order[w.begin]], centroids[order[w.begin]]};
+    BoxLanes centroid_lanes{centroids[order[w.begin]], centroids[order[w.begin]]};
     for (std::uint32_t i = w.begin + 1; i < w.end; ++i) {
       box = merge(box, boxes[order[i]]);
-      centroid_box = collide::merge(centroid_box, Aabb3{centroids[order[i]], centroids[order[i]]});
+      centroid_lanes = merge(centroid_lanes, BoxLanes{centroids[order[i]], centroids[order[i]]});
     }
     nodes[w.node].bounds = to_aabb(box);
+    const Aabb3 centroid_box = to_aabb(centroid_lanes);
     const std::uint32_t count = w.end - w.begin;
     if (count <= kBvhLeafTriangles) {
       nodes[w.node].first = w.begin;
@@ -125,16 +160,17 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
       binned[axis] = w.depth < kBvhMaxSahDepth && spread[axis] > 0.0f;
       scale[axis] = binned[axis] ? static_cast<float>(kBvhBins) / spread[axis] : 0.0f;
     }
-    auto bin_of = [&](std::uint32_t tri, int axis) {
-      const float b = (centroids[tri][axis] - centroid_box.min[axis]) * scale[axis];  // NaN goes to bin 0
-      return b >= 1.0f ? (b < static_cast<float>(kBvhBins) ? static_cast<int>(b) : kBvhBins - 1) : 0;
-    };
+    // A triangle's bin on each axis: b = (centroid - min) * scale, then b >= 1 ? (b < kBvhBins ?
+    // int(b) : kBvhBins - 1) : 0 (NaN goes to bin 0), the three axes in lanes.
+    const simd::Lanes bin_origin = centroid_lanes.lo;
+    const simd::Lanes bin_scale = simd::lanes(scale[0], scale[1], scale[2], 0.0f);
     if (binned[0] || binned[1] || binned[2]) {
       for (std::uint32_t i = w.begin; i < w.end; ++i) {
         const std::uint32_t tri = order[i];
+        const std::array<int, 4> bin_of = bin_indices((centroids[tri] - bin_origin) * bin_scale);
         for (int axis = 0; axis < 3; ++axis) {
           if (!binned[axis]) continue;
-          Bin& bin = bins[axis][bin_of(tri, axis)];
+          Bin& bin = bins[axis][bin_of[axis]];
           bin.box = merge(bin.box, boxes[tri]);
           ++bin.count;
         }
@@ -143,21 +179,44 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
     for (int axis = 0; axis < 3; ++axis) {
       if (!binned[axis]) continue;
       const std::array<Bin, kBvhBins>& axis_bins = bins[axis];
-      std::array<float, kBvhBins> right_cost{};
+      // The swept boxes are merged one bin at a time; their costs are worked out after, four
+      // bins at a time in lanes (one after each merge, the metric's scalar steps and the count's
+      // conversion were half the sweeps' time): surface_metric(to_aabb(box)) * packets(count),
+      // the same floats. A left side of every triangle leaves the right side empty.
+      Sweep right_sweep, left_sweep;
       Bin right;
       for (int b = kBvhBins - 1; b > 0; --b) {
         right.box = merge(right.box, axis_bins[b].box);
         right.count += axis_bins[b].count;
-        right_cost[b] = right.count ? surface_metric(right.box) * packets(right.count) : 0.0f;
+        right_sweep.extent[b] = right.box.hi - right.box.lo;
+        right_sweep.packets[b] = packets(right.count);
       }
       Bin left;
       for (int b = 0; b < kBvhBins - 1; ++b) {
         left.box = merge(left.box, axis_bins[b].box);
         left.count += axis_bins[b].count;
-        if (left.count == 0 || left.count == count) continue;
-        const float cost = surface_metric(left.box) * packets(left.count) + right_cost[b + 1];
-        if (cost < best_cost) {
-          best_cost = cost;
+        left_sweep.extent[b] = left.box.hi - left.box.lo;
+        left_sweep.packets[b] = packets(left.count);
+      }
+      right_sweep.clear(0);
+      left_sweep.clear(kBvhBins - 1);
+      for (int b = kBvhBins; b < kBvhBins + 4; ++b) right_sweep.clear(b), left_sweep.clear(b);
+      std::array<float, kBvhBins + 4> right_cost;
+      std::array<float, kBvhBins> cost;
+      const simd::Lanes zero = simd::splat(0.0f);
+      for (int b = 0; b < kBvhBins; b += 4) {
+        const simd::Lanes p = simd::load(&right_sweep.packets[b]);
+        simd::store(&right_cost[b], simd::select(p > zero, sweep_metrics(right_sweep, b) * p, zero));
+      }
+      for (int b = 0; b < kBvhBins; b += 4) {  // a side with no triangle is no split: never below best_cost
+        const simd::Lanes p = simd::load(&left_sweep.packets[b]);
+        const simd::LaneMask split = (p > zero) & (simd::load(&right_sweep.packets[b + 1]) > zero);
+        simd::store(&cost[b], simd::select(split, sweep_metrics(left_sweep, b) * p + simd::load(&right_cost[b + 1]),
+                                           simd::splat(kInfinity)));
+      }
+      for (int b = 0; b < kBvhBins - 1; ++b) {
+        if (cost[b] < best_cost) {
+          best_cost = cost[b];
           best_axis = axis;
           best_plane = centroid_box.min[axis] + static_cast<float>(b + 1) / scale[axis];
         }

@@ -86,6 +86,21 @@ TEST(Lanes, IotaMaskAndHorizontalMin) {
   }
 }
 
+// transpose turns four rows into four columns, every float moved as it is (bits, NaN included).
+TEST(Lanes, TransposeMakesRowsColumns) {
+  std::array<std::array<float, 4>, 4> rows{};
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k) rows[r][k] = static_cast<float>(10 * r + k) - 0.5f;
+  rows[2][1] = -0.0f;
+  rows[3][0] = std::numeric_limits<float>::quiet_NaN();
+  Lanes a = simd::load(rows[0]), b = simd::load(rows[1]), c = simd::load(rows[2]), d = simd::load(rows[3]);
+  simd::transpose(a, b, c, d);
+  const std::array<std::array<float, 4>, 4> columns{unpack(a), unpack(b), unpack(c), unpack(d)};
+  for (int r = 0; r < 4; ++r) {
+    for (int k = 0; k < 4; ++k) EXPECT_TRUE(same_bits(columns[k][r], rows[r][k])) << "row " << r << " lane " << k;
+  }
+}
+
 #if defined(__SSE2__) || defined(_M_X64)
 // ArgMax4 is the scalar scan `if (v > best) { best = v; index = i; }` in index order: the first
 // index of the largest value, NaN never winning, kNone when nothing beat -infinity.

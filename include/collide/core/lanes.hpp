@@ -85,6 +85,10 @@ template <int k>
 }
 /// `b`'s lane 0 with `a`'s lanes 1 to 3 (SSE's movss between registers).
 [[nodiscard]] inline Lanes with_lane0(Lanes a, Lanes b) noexcept;
+/// Rows a, b, c, d of a 4 x 4 matrix become its columns: lane k of `a` after is lane 0 of the
+/// k-th row before, and so on (SSE's _MM_TRANSPOSE4_PS): four records stored one per `Lanes`
+/// (a box's extents x, y, z) turned into one `Lanes` per field.
+inline void transpose(Lanes& a, Lanes& b, Lanes& c, Lanes& d) noexcept;
 
 #if defined(__GNUC__) || defined(__clang__)
 inline Lanes splat(float x) noexcept { return Lanes{x, x, x, x}; }
@@ -121,6 +125,14 @@ inline Lanes shuffle(Lanes a) noexcept {
   return __builtin_shufflevector(a, a, i0, i1, i2, i3);
 }
 inline Lanes with_lane0(Lanes a, Lanes b) noexcept { return __builtin_shufflevector(a, b, 4, 1, 2, 3); }
+inline void transpose(Lanes& a, Lanes& b, Lanes& c, Lanes& d) noexcept {
+  const Lanes ab_low = __builtin_shufflevector(a, b, 0, 4, 1, 5), cd_low = __builtin_shufflevector(c, d, 0, 4, 1, 5);
+  const Lanes ab_high = __builtin_shufflevector(a, b, 2, 6, 3, 7), cd_high = __builtin_shufflevector(c, d, 2, 6, 3, 7);
+  a = __builtin_shufflevector(ab_low, cd_low, 0, 1, 4, 5);
+  b = __builtin_shufflevector(ab_low, cd_low, 2, 3, 6, 7);
+  c = __builtin_shufflevector(ab_high, cd_high, 0, 1, 4, 5);
+  d = __builtin_shufflevector(ab_high, cd_high, 2, 3, 6, 7);
+}
 #else
 /// The lanes f(0), f(1), f(2), f(3): the portable form's loop.
 template <class F>
@@ -173,6 +185,13 @@ inline Lanes shuffle(Lanes a) noexcept {
 inline Lanes with_lane0(Lanes a, Lanes b) noexcept {
   a.v[0] = b.v[0];
   return a;
+}
+inline void transpose(Lanes& a, Lanes& b, Lanes& c, Lanes& d) noexcept {
+  const Lanes r0 = a, r1 = b, r2 = c, r3 = d;
+  a = lanes(r0.v[0], r1.v[0], r2.v[0], r3.v[0]);
+  b = lanes(r0.v[1], r1.v[1], r2.v[1], r3.v[1]);
+  c = lanes(r0.v[2], r1.v[2], r2.v[2], r3.v[2]);
+  d = lanes(r0.v[3], r1.v[3], r2.v[3], r3.v[3]);
 }
 #endif
 
