@@ -5,32 +5,33 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
-#include <numeric>
+#include <limits>
 #include <string>
 
 namespace collide {
 namespace {
 
-/// Lexicographic order of positions (x, then y, then z); -0 equals +0.
-bool position_less(Vec3 a, Vec3 b) noexcept {
-  if (a.x != b.x) return a.x < b.x;
-  if (a.y != b.y) return a.y < b.y;
-  return a.z < b.z;
-}
-
-/// For each vertex, the smallest index of a vertex at exactly the same position.
+/// For each vertex, the smallest index of a vertex at exactly the same position (float equality:
+/// -0 equals +0). One pass in index order over an open-addressed table (linear probing, at most
+/// half full) of the first index seen at each position, keyed by the position's bits with -0 read
+/// as +0 (the weld sorted the positions before: on FCL's env.obj, a soup of 6,540 vertices for
+/// 2,180 triangles, the sort was a fifth of the mesh's build). Positions must be finite.
 std::vector<std::uint32_t> weld_equal_positions(const std::vector<Vec3>& positions) {
-  std::vector<std::uint32_t> order(positions.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return position_less(positions[a], positions[b]); });
+  constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+  const std::size_t mask = std::bit_ceil(2 * positions.size() + 2) - 1;
+  std::vector<std::uint32_t> table(mask + 1, kEmpty);
   std::vector<std::uint32_t> canonical(positions.size());
-  for (std::size_t i = 0; i < order.size();) {
-    std::size_t j = i;
-    while (j < order.size() && positions[order[j]] == positions[order[i]]) ++j;
-    for (std::size_t k = i; k < j; ++k) canonical[order[k]] = order[i];  // stable: order[i] is the smallest index
-    i = j;
+  for (std::uint32_t i = 0; i < positions.size(); ++i) {
+    const Vec3 p = positions[i] + Vec3(0.0f);  // -0 + 0 = +0: equal positions, equal bits
+    const std::uint64_t x = std::bit_cast<std::uint32_t>(p.x), y = std::bit_cast<std::uint32_t>(p.y),
+                        z = std::bit_cast<std::uint32_t>(p.z);
+    std::uint64_t h = x * 0x9E3779B97F4A7C15ull ^ y * 0xC2B2AE3D27D4EB4Full ^ z * 0x165667B19E3779F9ull;
+    std::size_t at = static_cast<std::size_t>(h ^ (h >> 29)) & mask;
+    while (table[at] != kEmpty && !(positions[table[at]] == positions[i])) at = (at + 1) & mask;
+    if (table[at] == kEmpty) table[at] = i;
+    canonical[i] = table[at];
   }
   return canonical;
 }
