@@ -61,6 +61,7 @@ inline float box_metric(const BoxLanes& b) noexcept {
 /// undulating.obj 7% (8 and 32 measured too: 16 the best on all three).
 constexpr std::uint32_t kFewTriangles = 16;
 static_assert(kBvhBins <= 32, "a node's full bins are the bits of one 32-bit word");
+static_assert(kBvhBins % 4 == 0, "the sweeps' costs are worked out four bins at a time");
 
 /// Lanes of bin positions b (a centroid's offset from the node's least centroid times the bins
 /// per unit) as bin indices: b >= 1 ? (b < kBvhBins ? int(b) : kBvhBins - 1) : 0, a NaN to 0.
