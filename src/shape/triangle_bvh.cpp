@@ -123,11 +123,11 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
   // An axis's swept boxes by bin (bins b..last on the right, 0..b on the left): their extents
   // (x, y, z and x again, as BoxLanes) and their costs' factor, packets(count) (0 for no
   // triangle), a slot per bin; the slot a side has no box for (the right's first, the left's
-  // last) and the slots past the last bin are empty (`clear`), so the costs are worked out
-  // four bins at a time.
+  // last) is empty (`clear`), and so is the right's slot past the last bin, which the left's
+  // last group of four reads.
   struct Sweep {
-    std::array<simd::Lanes, kBvhBins + 4> extent;
-    std::array<float, kBvhBins + 4> packets;
+    std::array<simd::Lanes, kBvhBins> extent;
+    std::array<float, kBvhBins + 1> packets;
     void clear(int b) noexcept {
       extent[static_cast<std::size_t>(b)] = simd::splat(0.0f);
       packets[static_cast<std::size_t>(b)] = 0.0f;
@@ -198,7 +198,7 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
       }
       for (int axis = 0; axis < 3; ++axis) {
         if (!binned[axis]) continue;
-        std::array<Bin, kBvhBins> axis_bins;  // only the bins of `full` are filled and read
+        std::array<Bin, kBvhBins> axis_bins;  // only the bins of `full` are merged into and read
         std::uint32_t full = 0;
         for (std::uint32_t i = 0; i < count; ++i) {
           const BoxLanes& tri_box = boxes[order[w.begin + i]];
@@ -268,15 +268,16 @@ std::vector<BinaryNode> build_binary(const std::vector<std::array<Vec3, 3>>& cor
           left_sweep.packets[b] = packets(left.count);
         }
         right_sweep.clear(0);
+        right_sweep.packets[kBvhBins] = 0.0f;
         left_sweep.clear(kBvhBins - 1);
-        for (int b = kBvhBins; b < kBvhBins + 4; ++b) right_sweep.clear(b), left_sweep.clear(b);
-        std::array<float, kBvhBins + 4> right_cost;
+        std::array<float, kBvhBins + 1> right_cost;  // the last: no bin past the last one
         std::array<float, kBvhBins> cost;
         const simd::Lanes zero = simd::splat(0.0f);
         for (int b = 0; b < kBvhBins; b += 4) {
           const simd::Lanes p = simd::load(&right_sweep.packets[b]);
           simd::store(&right_cost[b], simd::select(p > zero, sweep_metrics(right_sweep, b) * p, zero));
         }
+        right_cost[kBvhBins] = 0.0f;
         for (int b = 0; b < kBvhBins; b += 4) {  // a side with no triangle is no split: never below best_cost
           const simd::Lanes p = simd::load(&left_sweep.packets[b]);
           const simd::LaneMask split = (p > zero) & (simd::load(&right_sweep.packets[b + 1]) > zero);
