@@ -38,6 +38,13 @@ constexpr double kSweepFloatErrorUlps = 4.0;
 /// overflow a float); points farther out take the exact loop alone.
 constexpr double kSweepFloatRange = 1e30;
 
+/// Bound on the length of a stored (float) unit normal: each component within half a float ulp
+/// of the double one's (1 + 2^-24 at most; this leaves room).
+constexpr double kSweepNormalLength = 1.0 + 1e-6;
+/// Bound, in DBL_EPSILON units of |q|1 + |c|1 + max |offset|, on the rounding of the sweep's
+/// inner-ball test and of the exact heights it stands in for (a few ulps each; far more here).
+constexpr double kSweepBallRoundingUlps = 1e4;
+
 /// Two neighbouring faces merge when the corners of their union spread less than this fraction
 /// of the tolerance about its plane. Below 1 so that the merges a concave edge forces (after
 /// another merge tilted a plane) still leave every face planar within the tolerance: with 1,
@@ -238,6 +245,7 @@ class QuickHull {
   std::vector<int> sweep_vertices_;
   std::vector<int> sweep_faces_;
   std::vector<DVec3> sweep_normals_;
+  std::vector<double> sweep_vertex_coords_;  ///< the hull's vertices, x then y then z arrays
   std::vector<int> index_of_;
   std::vector<int> point_of_;
   std::vector<int> face_of_;
@@ -532,15 +540,56 @@ bool QuickHull::sweep_outside_points() {
   std::vector<DVec3>& normal = sweep_normals_;
   normal.clear();
   swept_offset_.assign(faces_.size(), 0.0);
+  // The vertices in double, one array per coordinate (padded to pairs by repeating the first),
+  // so that each plane's farthest vertex is found two vertices at a time: the same products and
+  // sums, in the same order, as glm::dot (n.x v.x + n.y v.y) + n.z v.z.
+  const size_t pairs = (vertices.size() + 1) / 2 * 2;
+  std::vector<double>& vx = sweep_vertex_coords_;
+  vx.resize(3 * pairs);
+  double* vy = vx.data() + pairs;
+  double* vz = vy + pairs;
+  for (size_t k = 0; k < pairs; ++k) {
+    const DVec3 v(input_[vertices[k < vertices.size() ? k : 0]]);
+    vx[k] = v.x;
+    vy[k] = v.y;
+    vz[k] = v.z;
+  }
   for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
     if (!faces_[f].alive) continue;
     alive.push_back(f);
     const DVec3 n(faces_[f].stored_normal);
-    double top = -HUGE_VAL;
-    for (int v : vertices) top = std::max(top, glm::dot(n, DVec3(input_[v])));
+    const __m128d nx2 = _mm_set1_pd(n.x), ny2 = _mm_set1_pd(n.y), nz2 = _mm_set1_pd(n.z);
+    __m128d top2 = _mm_set1_pd(-HUGE_VAL);
+    for (size_t k = 0; k < pairs; k += 2) {
+      const __m128d d = _mm_add_pd(_mm_add_pd(_mm_mul_pd(nx2, _mm_loadu_pd(vx.data() + k)),
+                                              _mm_mul_pd(ny2, _mm_loadu_pd(vy + k))),
+                                   _mm_mul_pd(nz2, _mm_loadu_pd(vz + k)));
+      top2 = _mm_max_pd(d, top2);  // d only when greater: std::max(top, d)
+    }
+    double top = std::max(_mm_cvtsd_f64(top2), _mm_cvtsd_f64(_mm_unpackhi_pd(top2, top2)));
+    if (top == 0.0) {
+      // Equal non-zero doubles have equal bits, so the order the pairs were taken in cannot
+      // change a non-zero maximum; at zero it picks the sign: the first vertex's, as one pass
+      // in order takes it.
+      top = -HUGE_VAL;
+      for (int v : vertices) top = std::max(top, glm::dot(n, DVec3(input_[v])));
+    }
     normal.push_back(n);
     swept_offset_[f] = top;
   }
+  // An inner ball settles the points deep inside at once: from the vertices' mean c, every
+  // stored plane is at least r = min (offset - n . c) away, so a point p has a height of at most
+  // |n| |p - c| - r above each. Where that bound, with the exact loop's rounding
+  // (kSweepBallRoundingUlps double ulps of the magnitudes), stays within the tolerance, the exact
+  // loop below would find no height above it: the point is skipped with the same outcome.
+  DVec3 centre{0.0};
+  for (int v : vertices) centre += DVec3(input_[v]);
+  centre /= static_cast<double>(vertices.size());
+  double clearance = HUGE_VAL;
+  for (size_t k = 0; k < alive.size(); ++k) {
+    clearance = std::min(clearance, swept_offset_[alive[k]] - glm::dot(normal[k], centre));
+  }
+  const double centre_magnitude = std::abs(centre.x) + std::abs(centre.y) + std::abs(centre.z);
   // A float pre-pass, four planes at a time, settles most points: the largest height above the
   // planes in float, when below the tolerance by more than its rounding error, proves the
   // exact (double) heights are too. Planes padded to a multiple of four never win.
@@ -574,6 +623,12 @@ bool QuickHull::sweep_outside_points() {
     // kSweepFloatRange (nothing a hull of a game's shapes holds) float could overflow: exact only.
     const double magnitude = std::abs(static_cast<double>(q.x)) + std::abs(static_cast<double>(q.y)) +
                              std::abs(static_cast<double>(q.z)) + max_offset;
+    {
+      const DVec3 away = DVec3(q) - centre;
+      const double rounding = kSweepBallRoundingUlps * DBL_EPSILON * (magnitude + centre_magnitude);
+      const double reach = (clearance + tol_ - rounding) / kSweepNormalLength;
+      if (reach > 0.0 && glm::dot(away, away) <= reach * reach) continue;
+    }
     if (magnitude <= kSweepFloatRange) {
       const __m128 qx = _mm_set1_ps(q.x), qy = _mm_set1_ps(q.y), qz = _mm_set1_ps(q.z);
       __m128 top4 = _mm_set1_ps(-FLT_MAX);
