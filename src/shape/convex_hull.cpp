@@ -211,6 +211,9 @@ class QuickHull {
   void fix_degree_two_vertices(int f);
   void enqueue(int f);
   [[nodiscard]] int vertex_count();
+  /// The face whose farthest outside point is farthest above it (the first such slot), or -1
+  /// when no face has one.
+  [[nodiscard]] int farthest_face() const;
   bool sweep_outside_points();
 
   std::span<const Vec3> input_;  ///< the points as given
@@ -495,17 +498,32 @@ int QuickHull::vertex_count() {
   return count;
 }
 
+// The largest of furthest_ in lanes (two pairs at a time), then its first slot: the first face
+// with the farthest outside point, as one pass keeping the first strictly larger value finds it
+// (a pass with a branch on every slot, a tenth of a 1000-point build).
+int QuickHull::farthest_face() const {
+  const double* value = furthest_.data();
+  const size_t n = furthest_.size();
+  __m128d low = _mm_set1_pd(tol_);
+  __m128d high = low;
+  size_t k = 0;
+  for (; k + 4 <= n; k += 4) {
+    low = _mm_max_pd(low, _mm_loadu_pd(value + k));
+    high = _mm_max_pd(high, _mm_loadu_pd(value + k + 2));
+  }
+  low = _mm_max_pd(low, high);
+  double best = std::max(_mm_cvtsd_f64(low), _mm_cvtsd_f64(_mm_unpackhi_pd(low, low)));
+  for (; k < n; ++k) best = std::max(best, value[k]);
+  if (!(best > tol_)) return -1;
+  k = 0;
+  while (value[k] != best) ++k;
+  return static_cast<int>(k);
+}
+
 QuickHull::Outcome QuickHull::run(int max_vertices) {
   for (int sweep = 0;; ++sweep) {
     for (;;) {
-      int seed = -1;
-      double best = tol_;
-      for (int f = 0; f < static_cast<int>(furthest_.size()); ++f) {
-        if (furthest_[f] > best) {
-          best = furthest_[f];
-          seed = f;
-        }
-      }
+      const int seed = farthest_face();
       if (seed < 0) break;
       // Counting vertices walks all edges: only once the cap is within reach.
       if (added_ + 4 >= max_vertices && vertex_count() >= max_vertices) return Outcome::capped;
