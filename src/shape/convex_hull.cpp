@@ -601,7 +601,7 @@ bool QuickHull::sweep_outside_points() {
   // (kSweepBallRoundingUlps double ulps of the magnitudes), stays within the tolerance, the exact
   // loop below would find no height above it: the point is skipped with the same outcome.
   DVec3 centre{0.0};
-  for (int v : vertices) centre += DVec3(input_[v]);
+  for (size_t k = 0; k < vertices.size(); ++k) centre += DVec3(vx[k], vy[k], vz[k]);
   centre /= static_cast<double>(vertices.size());
   double clearance = HUGE_VAL;
   for (size_t k = 0; k < alive.size(); ++k) {
