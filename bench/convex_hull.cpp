@@ -7,7 +7,12 @@
 //
 // Builds: every cloud of Jolt's convex_hulls.bin (the 6729 that are not flat) per iteration, and
 // balls of 100..10000 points; both libraries get the same tolerance (collide's, per cloud) and
-// the same cap of 256 vertices. Counters give the faces and vertices each library made.
+// the same cap of 256 vertices. Counters give the faces and vertices each library made. Jolt
+// three ways: "jolt" its ConvexHullBuilder alone (no check that the points lie inside, no
+// queryable hull), "jolt_verified" the builder then its check of every point against every face
+// (DetermineMaxError; make_convex_hull's final sweep is that check), "jolt_shape" the
+// ConvexHullShape a game queries (the builder, the check, then the shape's tables and mass
+// properties), the counterpart of make_convex_hull, which returns a checked, queryable hull.
 // Supports: 1024 random directions per iteration over hulls of 8..256 vertices (points on a
 // sphere, capped) and over all Jolt-cloud hulls; the climb follows a slowly turning direction
 // from its previous answer, as GJK does between iterations.
@@ -123,7 +128,10 @@ void BM_BuildJoltClouds_collide(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildJoltClouds_collide)->Name("BM_BuildJoltClouds/collide")->Unit(benchmark::kMillisecond);
 
-void BM_BuildJoltClouds_jolt(benchmark::State& state) {
+/// Jolt's builder alone (`verify` false) or followed by its check of every point against every
+/// face (DetermineMaxError, which ConvexHullShape runs before it keeps a hull: the counterpart of
+/// make_convex_hull's final sweep, which the builder alone skips).
+void build_jolt_clouds(benchmark::State& state, bool verify) {
   jolt_queries::init();
   const std::vector<Cloud>& clouds = jolt_clouds();
   std::vector<jolt_queries::CloudPtr> points;
@@ -138,7 +146,7 @@ void BM_BuildJoltClouds_jolt(benchmark::State& state) {
     faces = failed = 0;
     for (size_t i = 0; i < points.size(); ++i) {
       const jolt_queries::HullBuild b =
-          jolt_queries::build_hull(*points[i], kMaxHullVertices, tolerance[i]);
+          jolt_queries::build_hull(*points[i], kMaxHullVertices, tolerance[i], verify);
       failed += !b.ok;
       faces += b.faces;
     }
@@ -147,7 +155,39 @@ void BM_BuildJoltClouds_jolt(benchmark::State& state) {
   state.counters["faces"] = static_cast<double>(faces);
   state.counters["failed"] = static_cast<double>(failed);
 }
+void BM_BuildJoltClouds_jolt(benchmark::State& state) { build_jolt_clouds(state, false); }
+void BM_BuildJoltClouds_jolt_verified(benchmark::State& state) { build_jolt_clouds(state, true); }
 BENCHMARK(BM_BuildJoltClouds_jolt)->Name("BM_BuildJoltClouds/jolt")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuildJoltClouds_jolt_verified)->Name("BM_BuildJoltClouds/jolt_verified")->Unit(benchmark::kMillisecond);
+
+/// Jolt's hull as a game gets a queryable one: ConvexHullShapeSettings::Create (the builder, then
+/// the shape's planes, faces, vertex faces, inner radius and mass properties; convex radius 0),
+/// the counterpart of make_convex_hull, which also returns a queryable hull (its planes, faces,
+/// edges, adjacency, SIMD blocks, volume and centroid; no inertia).
+void BM_BuildJoltClouds_jolt_shape(benchmark::State& state) {
+  jolt_queries::init();
+  const std::vector<Cloud>& clouds = jolt_clouds();
+  std::vector<std::vector<jolt_queries::Vec>> points;
+  std::vector<float> tolerance;
+  for (const Cloud& c : clouds) {
+    points.push_back(to_jolt(c));
+    tolerance.push_back(make_convex_hull(c).tolerance);
+  }
+  std::int64_t vertices = 0;
+  std::int64_t failed = 0;
+  for (auto _ : state) {
+    vertices = failed = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const jolt_queries::HullPtr h = jolt_queries::make_hull(points[i], tolerance[i]);
+      failed += h == nullptr;
+      if (h != nullptr) vertices += jolt_queries::vertex_count(*h);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
+  state.counters["vertices"] = static_cast<double>(vertices);
+  state.counters["failed"] = static_cast<double>(failed);
+}
+BENCHMARK(BM_BuildJoltClouds_jolt_shape)->Name("BM_BuildJoltClouds/jolt_shape")->Unit(benchmark::kMillisecond);
 
 void BM_BuildBall_collide(benchmark::State& state) {
   const Cloud c = ball(static_cast<int>(state.range(0)), 7);
@@ -162,20 +202,42 @@ void BM_BuildBall_collide(benchmark::State& state) {
 BENCHMARK(BM_BuildBall_collide)->Name("BM_BuildBall/collide")->Arg(100)->Arg(1000)->Arg(10000)
     ->Unit(benchmark::kMicrosecond);
 
-void BM_BuildBall_jolt(benchmark::State& state) {
+/// As build_jolt_clouds, on one ball.
+void build_jolt_ball(benchmark::State& state, bool verify) {
   jolt_queries::init();
   const Cloud c = ball(static_cast<int>(state.range(0)), 7);
   const jolt_queries::CloudPtr points = jolt_cloud(c);
   const float tolerance = make_convex_hull(c).tolerance;
   int vertices = 0;
   for (auto _ : state) {
-    const jolt_queries::HullBuild b = jolt_queries::build_hull(*points, kMaxHullVertices, tolerance);
+    const jolt_queries::HullBuild b = jolt_queries::build_hull(*points, kMaxHullVertices, tolerance, verify);
     vertices = b.vertices;
     benchmark::DoNotOptimize(b);
   }
   state.counters["vertices"] = vertices;
 }
+void BM_BuildBall_jolt(benchmark::State& state) { build_jolt_ball(state, false); }
+void BM_BuildBall_jolt_verified(benchmark::State& state) { build_jolt_ball(state, true); }
 BENCHMARK(BM_BuildBall_jolt)->Name("BM_BuildBall/jolt")->Arg(100)->Arg(1000)->Arg(10000)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BuildBall_jolt_verified)->Name("BM_BuildBall/jolt_verified")->Arg(100)->Arg(1000)->Arg(10000)
+    ->Unit(benchmark::kMicrosecond);
+
+/// As BM_BuildJoltClouds/jolt_shape: Jolt's ConvexHullShape made from the ball.
+void BM_BuildBall_jolt_shape(benchmark::State& state) {
+  jolt_queries::init();
+  const Cloud c = ball(static_cast<int>(state.range(0)), 7);
+  const std::vector<jolt_queries::Vec> points = to_jolt(c);
+  const float tolerance = make_convex_hull(c).tolerance;
+  int vertices = 0;
+  for (auto _ : state) {
+    const jolt_queries::HullPtr h = jolt_queries::make_hull(points, tolerance);
+    vertices = h != nullptr ? jolt_queries::vertex_count(*h) : -1;
+    benchmark::DoNotOptimize(h.get());
+  }
+  state.counters["vertices"] = vertices;
+}
+BENCHMARK(BM_BuildBall_jolt_shape)->Name("BM_BuildBall/jolt_shape")->Arg(100)->Arg(1000)->Arg(10000)
     ->Unit(benchmark::kMicrosecond);
 
 // ---- support queries ---------------------------------------------------------------------------

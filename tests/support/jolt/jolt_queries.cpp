@@ -242,7 +242,7 @@ CloudPtr make_cloud(std::span<const Vec> points) {
   return cloud;
 }
 
-HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance) {
+HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance, bool verify) {
   const ClearUpperOnReturn clear_upper;
   JPH::ConvexHullBuilder builder(cloud.points);
   const char* error = nullptr;
@@ -251,6 +251,12 @@ HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance) {
            JPH::ConvexHullBuilder::EResult::Success;
   out.faces = static_cast<int>(builder.GetFaces().size());
   out.vertices = builder.GetNumVerticesUsed();
+  if (verify && out.ok) {
+    JPH::ConvexHullBuilder::Face* face = nullptr;
+    int index = -1;
+    float coplanar = 0.0f;
+    builder.DetermineMaxError(face, out.max_error, index, coplanar);
+  }
   return out;
 }
 
