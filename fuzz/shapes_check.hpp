@@ -30,13 +30,17 @@
 #include <collide/shape/triangle.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <array>
 #include <bit>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -221,6 +225,31 @@ std::string probe3(const S& shape) {
   return {};
 }
 
+/// make_convex_hull's planes hold what convex_hull.hpp promises: every vertex behind every face
+/// plane exactly (the offsets are the vertices' maximum, rounded up to float), and every input
+/// point at most the tolerance above one when the vertex cap cannot have cut the build short (no
+/// more points than the cap). Heights in double, as the build's final sweep takes them: float
+/// products are exact there, so only the sums round, the same way in both. The tolerance is
+/// stored as float: half a float ulp of slack for its rounding.
+inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec3> points, int max_vertices) {
+  const double tolerance = static_cast<double>(hull.tolerance) * (1.0 + 0.5 * FLT_EPSILON);
+  const bool uncapped = points.size() <= static_cast<std::size_t>(max_vertices);
+  for (const HullFace& face : hull.faces) {
+    const glm::dvec3 n(face.normal);
+    const double offset = face.offset;
+    for (const Vec3& v : hull.vertices) {
+      if (glm::dot(n, glm::dvec3(v)) > offset) return "convex hull: a vertex lies above a face plane";
+    }
+    if (!uncapped) continue;
+    for (const Vec3& p : points) {
+      if (glm::dot(n, glm::dvec3(p)) - offset > tolerance) {
+        return "convex hull: an input point lies more than the tolerance above a face plane";
+      }
+    }
+  }
+  return {};
+}
+
 /// The same for a mesh or height field (the probe first, as the overloads take them); a
 /// distance beyond the 1000 bound is "none within it" (+infinity by contract).
 template <class S>
@@ -274,7 +303,9 @@ inline std::string check_shapes(std::string_view input) {
         HullOptions options;
         options.radius = in.number();
         options.max_vertices = in.count(2, kMaxHullVertices + 2);
-        return probe3(make_convex_hull(points, options));
+        const ConvexHull hull = make_convex_hull(points, options);
+        if (std::string planes = check_hull_planes(hull, points, options.max_vertices); !planes.empty()) return planes;
+        return probe3(hull);
       }
       case 12: {
         std::vector<Vec3> vertices(static_cast<std::size_t>(in.count(0, 40)));

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -36,6 +37,32 @@ TEST(ShapesFuzzRegressions, RecipesDecodeAsDocumented) {
   EXPECT_TRUE(std::isnan(in.number()));  // special value 2
   EXPECT_EQ(in.number(), 1.0f);    // raw 0x3f800000
   EXPECT_EQ(in.number(), -8.0f);   // past the end: byte 0
+}
+
+// The hull recipe's plane check (check_hull_planes) passes a built hull and catches a plane moved
+// in: a face offset lowered below a vertex, and, with the cap above the point count, one lowered
+// by more than the tolerance below an input point.
+TEST(ShapesFuzzRegressions, HullPlaneCheckCatchesPlanesMovedIn) {
+  std::vector<Vec3> points;
+  for (int i = 0; i < 8; ++i) points.push_back({i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f});
+  points.push_back({0.2f, 0.1f, -0.3f});
+  const ConvexHull hull = make_convex_hull(points);
+  ASSERT_EQ(hull.faces.size(), 6u);
+  EXPECT_EQ(fuzz::check_hull_planes(hull, points, kMaxHullVertices), "");
+  ConvexHull moved = hull;
+  moved.faces[2].offset -= 0.5f;  // below the face's own vertices
+  EXPECT_EQ(fuzz::check_hull_planes(moved, points, kMaxHullVertices), "convex hull: a vertex lies above a face plane");
+  // Only input points above the plane: an extra point beyond the face, not a vertex.
+  std::vector<Vec3> beyond = points;
+  const Vec3 n = hull.faces[2].normal;
+  beyond.push_back(n * (hull.faces[2].offset + 3.0f * hull.tolerance));
+  EXPECT_EQ(fuzz::check_hull_planes(hull, beyond, kMaxHullVertices),
+            "convex hull: an input point lies more than the tolerance above a face plane");
+  // The same point within the tolerance passes; past the cap nothing is promised of it.
+  beyond.back() = n * (hull.faces[2].offset + 0.5f * hull.tolerance);
+  EXPECT_EQ(fuzz::check_hull_planes(hull, beyond, kMaxHullVertices), "");
+  beyond.back() = n * (hull.faces[2].offset + 3.0f * hull.tolerance);
+  EXPECT_EQ(fuzz::check_hull_planes(hull, beyond, 4), "");
 }
 
 // Found by fuzz_shapes: ends 5e-32 apart passed "a and b coincide" (a == b), but their squared
