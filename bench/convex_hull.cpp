@@ -34,6 +34,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -128,32 +129,48 @@ void BM_BuildJoltClouds_collide(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildJoltClouds_collide)->Name("BM_BuildJoltClouds/collide")->Unit(benchmark::kMillisecond);
 
+/// collide's tolerance for each of jolt_clouds(): Jolt builds each cloud to the same one.
+const std::vector<float>& cloud_tolerances() {
+  static const std::vector<float> tolerances = [] {
+    std::vector<float> out;
+    for (const Cloud& c : jolt_clouds()) out.push_back(make_convex_hull(c).tolerance);
+    return out;
+  }();
+  return tolerances;
+}
+
+/// Times `build(i)` (Jolt on cloud i, returning whether it succeeded and the count it makes)
+/// over every cloud per iteration; `counted` names the count's counter.
+template <class Build>
+void time_jolt_clouds(benchmark::State& state, const char* counted, Build&& build) {
+  const std::size_t clouds = jolt_clouds().size();
+  std::int64_t count = 0;
+  std::int64_t failed = 0;
+  for (auto _ : state) {
+    count = failed = 0;
+    for (std::size_t i = 0; i < clouds; ++i) {
+      const auto [ok, made] = build(i);
+      failed += !ok;
+      count += made;
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds));
+  state.counters[counted] = static_cast<double>(count);
+  state.counters["failed"] = static_cast<double>(failed);
+}
+
 /// Jolt's builder alone (`verify` false) or followed by its check of every point against every
 /// face (DetermineMaxError, which ConvexHullShape runs before it keeps a hull: the counterpart of
 /// make_convex_hull's final sweep, which the builder alone skips).
 void build_jolt_clouds(benchmark::State& state, bool verify) {
   jolt_queries::init();
-  const std::vector<Cloud>& clouds = jolt_clouds();
+  const std::vector<float>& tolerance = cloud_tolerances();
   std::vector<jolt_queries::CloudPtr> points;
-  std::vector<float> tolerance;
-  for (const Cloud& c : clouds) {
-    points.push_back(jolt_cloud(c));
-    tolerance.push_back(make_convex_hull(c).tolerance);
-  }
-  std::int64_t faces = 0;
-  std::int64_t failed = 0;
-  for (auto _ : state) {
-    faces = failed = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-      const jolt_queries::HullBuild b =
-          jolt_queries::build_hull(*points[i], kMaxHullVertices, tolerance[i], verify);
-      failed += !b.ok;
-      faces += b.faces;
-    }
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
-  state.counters["faces"] = static_cast<double>(faces);
-  state.counters["failed"] = static_cast<double>(failed);
+  for (const Cloud& c : jolt_clouds()) points.push_back(jolt_cloud(c));
+  time_jolt_clouds(state, "faces", [&](std::size_t i) {
+    const jolt_queries::HullBuild b = jolt_queries::build_hull(*points[i], kMaxHullVertices, tolerance[i], verify);
+    return std::pair{b.ok, b.faces};
+  });
 }
 void BM_BuildJoltClouds_jolt(benchmark::State& state) { build_jolt_clouds(state, false); }
 void BM_BuildJoltClouds_jolt_verified(benchmark::State& state) { build_jolt_clouds(state, true); }
@@ -166,26 +183,13 @@ BENCHMARK(BM_BuildJoltClouds_jolt_verified)->Name("BM_BuildJoltClouds/jolt_verif
 /// edges, adjacency, SIMD blocks, volume and centroid; no inertia).
 void BM_BuildJoltClouds_jolt_shape(benchmark::State& state) {
   jolt_queries::init();
-  const std::vector<Cloud>& clouds = jolt_clouds();
+  const std::vector<float>& tolerance = cloud_tolerances();
   std::vector<std::vector<jolt_queries::Vec>> points;
-  std::vector<float> tolerance;
-  for (const Cloud& c : clouds) {
-    points.push_back(to_jolt(c));
-    tolerance.push_back(make_convex_hull(c).tolerance);
-  }
-  std::int64_t vertices = 0;
-  std::int64_t failed = 0;
-  for (auto _ : state) {
-    vertices = failed = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-      const jolt_queries::HullPtr h = jolt_queries::make_hull(points[i], tolerance[i]);
-      failed += h == nullptr;
-      if (h != nullptr) vertices += jolt_queries::vertex_count(*h);
-    }
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(clouds.size()));
-  state.counters["vertices"] = static_cast<double>(vertices);
-  state.counters["failed"] = static_cast<double>(failed);
+  for (const Cloud& c : jolt_clouds()) points.push_back(to_jolt(c));
+  time_jolt_clouds(state, "vertices", [&](std::size_t i) {
+    const jolt_queries::HullPtr h = jolt_queries::make_hull(points[i], tolerance[i]);
+    return std::pair{h != nullptr, h != nullptr ? jolt_queries::vertex_count(*h) : 0};
+  });
 }
 BENCHMARK(BM_BuildJoltClouds_jolt_shape)->Name("BM_BuildJoltClouds/jolt_shape")->Unit(benchmark::kMillisecond);
 
