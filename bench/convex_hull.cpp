@@ -206,19 +206,28 @@ void BM_BuildBall_collide(benchmark::State& state) {
 BENCHMARK(BM_BuildBall_collide)->Name("BM_BuildBall/collide")->Arg(100)->Arg(1000)->Arg(10000)
     ->Unit(benchmark::kMicrosecond);
 
-/// As build_jolt_clouds, on one ball.
-void build_jolt_ball(benchmark::State& state, bool verify) {
+/// Times `build(input, tolerance)` per iteration: Jolt on the ball of state.range(0) points,
+/// given as `prepare` makes it before the timing, at collide's tolerance for it, returning the
+/// vertices it made.
+template <class Prepare, class Build>
+void time_jolt_ball(benchmark::State& state, Prepare&& prepare, Build&& build) {
   jolt_queries::init();
   const Cloud c = ball(static_cast<int>(state.range(0)), 7);
-  const jolt_queries::CloudPtr points = jolt_cloud(c);
+  const auto input = prepare(c);
   const float tolerance = make_convex_hull(c).tolerance;
   int vertices = 0;
   for (auto _ : state) {
-    const jolt_queries::HullBuild b = jolt_queries::build_hull(*points, kMaxHullVertices, tolerance, verify);
-    vertices = b.vertices;
-    benchmark::DoNotOptimize(b);
+    vertices = build(input, tolerance);
+    benchmark::DoNotOptimize(vertices);
   }
   state.counters["vertices"] = vertices;
+}
+
+/// As build_jolt_clouds, on one ball.
+void build_jolt_ball(benchmark::State& state, bool verify) {
+  time_jolt_ball(state, jolt_cloud, [&](const jolt_queries::CloudPtr& points, float tolerance) {
+    return jolt_queries::build_hull(*points, kMaxHullVertices, tolerance, verify).vertices;
+  });
 }
 void BM_BuildBall_jolt(benchmark::State& state) { build_jolt_ball(state, false); }
 void BM_BuildBall_jolt_verified(benchmark::State& state) { build_jolt_ball(state, true); }
@@ -229,17 +238,10 @@ BENCHMARK(BM_BuildBall_jolt_verified)->Name("BM_BuildBall/jolt_verified")->Arg(1
 
 /// As BM_BuildJoltClouds/jolt_shape: Jolt's ConvexHullShape made from the ball.
 void BM_BuildBall_jolt_shape(benchmark::State& state) {
-  jolt_queries::init();
-  const Cloud c = ball(static_cast<int>(state.range(0)), 7);
-  const std::vector<jolt_queries::Vec> points = to_jolt(c);
-  const float tolerance = make_convex_hull(c).tolerance;
-  int vertices = 0;
-  for (auto _ : state) {
+  time_jolt_ball(state, to_jolt, [](const std::vector<jolt_queries::Vec>& points, float tolerance) {
     const jolt_queries::HullPtr h = jolt_queries::make_hull(points, tolerance);
-    vertices = h != nullptr ? jolt_queries::vertex_count(*h) : -1;
-    benchmark::DoNotOptimize(h.get());
-  }
-  state.counters["vertices"] = vertices;
+    return h != nullptr ? jolt_queries::vertex_count(*h) : -1;
+  });
 }
 BENCHMARK(BM_BuildBall_jolt_shape)->Name("BM_BuildBall/jolt_shape")->Arg(100)->Arg(1000)->Arg(10000)
     ->Unit(benchmark::kMicrosecond);

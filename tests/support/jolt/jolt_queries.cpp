@@ -253,9 +253,10 @@ HullBuild build_hull(const Cloud& cloud, int max_vertices, float tolerance, bool
   out.vertices = builder.GetNumVerticesUsed();
   if (verify && out.ok) {
     JPH::ConvexHullBuilder::Face* face = nullptr;
+    float error = 0.0f;
     int index = -1;
     float coplanar = 0.0f;
-    builder.DetermineMaxError(face, out.max_error, index, coplanar);
+    builder.DetermineMaxError(face, error, index, coplanar);
   }
   return out;
 }

@@ -102,7 +102,6 @@ struct HullBuild {
   bool ok = false;   ///< ConvexHullBuilder::Initialize returned Success
   int faces = 0;     ///< faces of the builder's hull (triangles merged into polygons)
   int vertices = 0;  ///< GetNumVerticesUsed
-  float max_error = 0.0f;  ///< DetermineMaxError's farthest point outside the hull (verify only)
 };
 /// JPH::ConvexHullBuilder on the cloud: Initialize(max_vertices, tolerance); with `verify`, then
 /// DetermineMaxError (every point against every face, as ConvexHullShape checks its hull before
