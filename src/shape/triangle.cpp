@@ -39,60 +39,39 @@ float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c, float max_f
   return r.valid ? r.fraction(a, b, c, max_fraction) : -1.0f;
 }
 
-// Ericson 5.1.5: test the Voronoi regions of a, b, c, then of the three edges, and otherwise
-// project onto the face. Each region test reuses the dot products of the previous ones.
+// The Voronoi regions of Ericson 5.1.5 in another grouping: p projects into the face when it is
+// inside all three edges' in-plane normals (the face region); every other region's nearest
+// point lies on an edge or at a vertex, and the nearest of the three clamped edge points is it.
+// In double: the differences of float corners are exact there, and nothing overflows for any
+// float input. In float, Ericson's region tests (differences of products of dot products) and
+// the normal (from two nearly parallel edges) both cancel on slivers: on a triangle 2 units
+// long and 1e-8 wide the answers were off by more than a unit. Scalar double costs about what
+// scalar float does.
 TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 ap = p - a;
-  const float d1 = glm::dot(ab, ap);
-  const float d2 = glm::dot(ac, ap);
-  if (d1 <= 0.0f && d2 <= 0.0f) return {a, {1.0f, 0.0f, 0.0f}};  // vertex region a
-
-  const Vec3 bp = p - b;
-  const float d3 = glm::dot(ab, bp);
-  const float d4 = glm::dot(ac, bp);
-  if (d3 >= 0.0f && d4 <= d3) return {b, {0.0f, 1.0f, 0.0f}};  // vertex region b
-
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {  // edge region ab
-    const float v = d1 / (d1 - d3);
-    return {a + v * ab, {1.0f - v, v, 0.0f}};
+  const glm::dvec3 dp(p), da(a), db(b), dc(c);
+  const glm::dvec3 ab = db - da, bc = dc - db, ca = da - dc;
+  const glm::dvec3 ap = dp - da, bp = dp - db, cp = dp - dc;
+  const glm::dvec3 n = glm::cross(ab, -ca);  // (b - a) x (c - a), as detail::precise_normal
+  const double nn = glm::dot(n, n);
+  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection:
+  // each the point's offset along its edge's in-plane inward normal.
+  const double wa = glm::dot(bp, glm::cross(n, bc)), wb = glm::dot(cp, glm::cross(n, ca)),
+               wc = glm::dot(ap, glm::cross(n, ab));
+  if (nn > 0.0 && wa >= 0.0 && wb >= 0.0 && wc >= 0.0) {
+    return {Vec3(dp - n * (glm::dot(ap, n) / nn)), Vec3(glm::dvec3(wa, wb, wc) / (wa + wb + wc))};
   }
-
-  const Vec3 cp = p - c;
-  const float d5 = glm::dot(ab, cp);
-  const float d6 = glm::dot(ac, cp);
-  if (d6 >= 0.0f && d5 <= d6) return {c, {0.0f, 0.0f, 1.0f}};  // vertex region c
-
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {  // edge region ac
-    const float w = d2 / (d2 - d6);
-    return {a + w * ac, {1.0f - w, 0.0f, w}};
-  }
-
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {  // edge region bc
-    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {b + w * (c - b), {0.0f, 1.0f - w, w}};
-  }
-
-  // Face region. Ericson's weights vb / sum, vc / sum are differences of products of dot
-  // products, which cancel badly on slivers; project onto the plane instead and take the weights
-  // as signed sub-areas against the normal (better conditioned, same answer in exact arithmetic).
-  const Vec3 n = glm::cross(ab, ac);
-  const float nn = glm::dot(n, n);
-  if (!(nn > 0.0f)) {
-    // Degenerate (zero-area) triangle that fell through every region test: take vertex a,
-    // the only answer that is always on the triangle.
-    return {a, {1.0f, 0.0f, 0.0f}};
-  }
-  const Vec3 q = p - n * (glm::dot(ap, n) / nn);
-  const float inv = 1.0f / nn;
-  // q - a = v ab + w ac, so (q - a) x ac = v n and ab x (q - a) = w n.
-  const float v = std::clamp(glm::dot(n, glm::cross(q - a, ac)) * inv, 0.0f, 1.0f);
-  const float w = std::clamp(glm::dot(n, glm::cross(ab, q - a)) * inv, 0.0f, 1.0f - v);
-  return {q, {1.0f - v - w, v, w}};
+  // (a zero-length edge: its parameter 0, the distance to its one point)
+  auto parameter = [](const glm::dvec3& w, const glm::dvec3& e) {
+    const double ee = glm::dot(e, e);
+    return ee > 0.0 ? std::clamp(glm::dot(w, e) / ee, 0.0, 1.0) : 0.0;
+  };
+  const double t_ab = parameter(ap, ab), t_bc = parameter(bp, bc), t_ca = parameter(cp, ca);
+  const glm::dvec3 on_ab = ap - t_ab * ab, on_bc = bp - t_bc * bc, on_ca = cp - t_ca * ca;  // p minus each edge point
+  const double d_ab = glm::dot(on_ab, on_ab), d_bc = glm::dot(on_bc, on_bc), d_ca = glm::dot(on_ca, on_ca);
+  const auto t = [](double x) { return static_cast<float>(x); };
+  if (d_ab <= d_bc && d_ab <= d_ca) return {Vec3(da + t_ab * ab), {t(1.0 - t_ab), t(t_ab), 0.0f}};
+  if (d_bc <= d_ca) return {Vec3(db + t_bc * bc), {0.0f, t(1.0 - t_bc), t(t_bc)}};
+  return {Vec3(dc + t_ca * ca), {t(t_ca), 0.0f, t(1.0 - t_ca)}};
 }
 
 bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {

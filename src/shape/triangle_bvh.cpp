@@ -330,6 +330,8 @@ constexpr float kMinEdgeLengthSquared = std::numeric_limits<float>::min();
 
 /// Corners of four triangles as lanes: [corner][axis][lane].
 using CornerLanes = std::array<std::array<std::array<float, 4>, 3>, 3>;
+/// Four triangles' normals as lanes: [axis][lane] (TriangleBvh's normals_).
+using NormalLanes = std::array<std::array<float, 4>, 3>;
 
 /// Four triangles prepared for the squared distances of points (a leaf packet): what depends on
 /// the triangles alone, worked out once for all the points of a batch that reach the leaf (up to
@@ -337,18 +339,21 @@ using CornerLanes = std::array<std::array<std::array<float, 4>, 3>, 3>;
 /// normal n = (b - a) x (c - a), 1 / |n|^2, and the in-plane inward normals of the edges
 /// (n x (v - u) for the edge u -> v). A point's distance then needs no division and no cross
 /// product; before, each point made them again (four divisions and four cross products a point
-/// and packet).
+/// and packet). The normals come made (TriangleBvh's normals_, in double and rounded): made
+/// here in float, a sliver's turned by FLT_EPSILON times its length over width and the search
+/// took it for nearer or farther than it is. closest_point_on_triangle, which gives the winner's
+/// point, makes its normal in double too, so the two agree within rounding on any triangle.
 struct TriangleLanes {
   Vec3Lanes a, b, c, ab, bc, ca, n, in_ab, in_bc, in_ca;
   Lanes inv_ab, inv_bc, inv_ca, inv_nn;
   LaneMask has_face;
 
-  explicit TriangleLanes(const CornerLanes& t) noexcept
+  TriangleLanes(const CornerLanes& t, const NormalLanes& normal) noexcept
       : a{load(t[0][0]), load(t[0][1]), load(t[0][2])},
         b{load(t[1][0]), load(t[1][1]), load(t[1][2])},
-        c{load(t[2][0]), load(t[2][1]), load(t[2][2])} {
+        c{load(t[2][0]), load(t[2][1]), load(t[2][2])},
+        n{load(normal[0]), load(normal[1]), load(normal[2])} {
     ab = b - a, bc = c - b, ca = a - c;
-    n = cross(ab, c - a);
     const Lanes nn = dot(n, n), zero = splat(0.0f), one = splat(1.0f);
     // A face where 1 / |n|^2 is finite (a triangle of area below about 1e-19 has none: its
     // nearest point lies on an edge within rounding).
@@ -387,35 +392,6 @@ struct TriangleLanes {
   }
 };
 
-/// The nearest point of the closed triangle (a, b, c) to p and its weights, by the same region
-/// test as TriangleLanes::distance_squared (one lane of it): the plane projection when p projects
-/// into the triangle, else the nearest of the three clamped edge points. Its squared distance is
-/// the one the search compared (within rounding), so the winner's reported distance is the one
-/// that won.
-TrianglePoint closest_point_by_projection_or_edges(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept {
-  const Vec3 ab = b - a, bc = c - b, ca = a - c;
-  const Vec3 ap = p - a, bp = p - b, cp = p - c;
-  const Vec3 n = glm::cross(ab, c - a);
-  const float nn = glm::dot(n, n);
-  // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection:
-  // each the point's offset along its edge's in-plane inward normal, as TriangleLanes has them.
-  const float wa = glm::dot(bp, glm::cross(n, bc)), wb = glm::dot(cp, glm::cross(n, ca)),
-              wc = glm::dot(ap, glm::cross(n, ab));
-  const bool has_face = nn > 0.0f && 1.0f / nn < kInfinity;
-  if (has_face && wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) {
-    return {p - n * (glm::dot(ap, n) / nn), Vec3(wa, wb, wc) / (wa + wb + wc)};
-  }
-  auto parameter = [](Vec3 w, Vec3 e) {
-    return std::clamp(glm::dot(w, e) / std::max(glm::dot(e, e), kMinEdgeLengthSquared), 0.0f, 1.0f);
-  };
-  const float t_ab = parameter(ap, ab), t_bc = parameter(bp, bc), t_ca = parameter(cp, ca);
-  const Vec3 on_ab = ap - t_ab * ab, on_bc = bp - t_bc * bc, on_ca = cp - t_ca * ca;  // p minus each edge point
-  const float d_ab = glm::dot(on_ab, on_ab), d_bc = glm::dot(on_bc, on_bc), d_ca = glm::dot(on_ca, on_ca);
-  if (d_ab <= d_bc && d_ab <= d_ca) return {a + t_ab * ab, {1.0f - t_ab, t_ab, 0.0f}};
-  if (d_bc <= d_ca) return {b + t_bc * bc, {0.0f, 1.0f - t_bc, t_bc}};
-  return {c + t_ca * ca, {t_ca, 0.0f, 1.0f - t_ca}};
-}
-
 }  // namespace
 
 TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::uvec3> triangles) {
@@ -435,6 +411,7 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
   // Nodes and packets are numbered depth first, so a subtree is contiguous in memory.
   nodes_.reserve(binary.size() / 2 + 1);
   packets_.reserve(binary.size() / 2 + 1);
+  normals_.reserve(binary.size() / 2 + 1);
   struct Work {
     std::uint32_t binary, node;  // binary node to collapse into wide node `node`
   };
@@ -496,6 +473,11 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
         node.child[k] = kLeaf | slivers << kSliverShift | static_cast<std::uint32_t>(packets_.size());
         node.count[k] = c.count;
         packets_.push_back(packet);
+        PacketNormals& normal = normals_.emplace_back();
+        for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
+          const Vec3 m(detail::precise_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane)));
+          for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = m[axis];
+        }
       } else {
         node.child[k] = static_cast<std::uint32_t>(nodes_.size() + pending_count);
         pending[pending_count++] = children[k];
@@ -583,7 +565,7 @@ COLLIDE_ALWAYS_INLINE BvhNearest nearest_result(const TriangleBvh::Packet& packe
   BvhNearest out;
   const auto l = static_cast<std::uint32_t>(lane);
   out.triangle = packet.id[l];
-  out.closest = closest_point_by_projection_or_edges(p, packet.corner(0, l), packet.corner(1, l), packet.corner(2, l));
+  out.closest = closest_point_on_triangle(p, packet.corner(0, l), packet.corner(1, l), packet.corner(2, l));
   const Vec3 d = out.closest.point - p;
   out.distance_squared = glm::dot(d, d);
   return out;
@@ -614,7 +596,8 @@ BvhNearest TriangleBvh::nearest(Vec3 p, float max_distance_squared) const noexce
   std::uint32_t ref = 0;  // the node or packet being searched: the root first
   for (;;) {
     if (ref & kLeaf) {
-      offer_packet(TriangleLanes(packets_[ref & kPacketMask].corners).distance_squared(pl), ref & kPacketMask, best);
+      const std::uint32_t packet = ref & kPacketMask;
+      offer_packet(TriangleLanes(packets_[packet].corners, normals_[packet]).distance_squared(pl), packet, best);
     } else {
       const Node& node = nodes_[ref];
       const Lanes d2 = box_distance_squared(node, pl, pl);
@@ -673,7 +656,7 @@ void TriangleBvh::nearest(std::span<const Vec3> points, std::span<const float> m
         for (unsigned m = open & leaves; m != 0; m &= m - 1) {
           const int k = std::countr_zero(m);
           const std::uint32_t packet = node.child[k] & kPacketMask;
-          const TriangleLanes triangles(packets_[packet].corners);  // once for every point reaching the leaf
+          const TriangleLanes triangles(packets_[packet].corners, normals_[packet]);  // once for every point reaching the leaf
           for (int i = 0; i < n; ++i) {
             if (reach[i][k] < best[i].distance_squared) offer_packet(triangles.distance_squared(pl[i]), packet, best[i]);
           }

@@ -72,6 +72,31 @@ TEST(Triangle, ClosestPointEqualsBruteForce) {
   }
 }
 
+// Slivers 2 units long and 2^-3 to 2^-29 wide, caps and needles in turn, in any direction,
+// with points about the middle of the long edge and anywhere near. Made in float, the plane of
+// such a triangle turns by about FLT_EPSILON times its length over width, and Ericson's region
+// tests cancel: the nearest point was off by more than a unit (2026-12-07, 1.75 units at a
+// width of 1.5e-8). Against the double brute force: the distance within float rounding of the
+// coordinates (up to about 6), the point on the triangle, the weights giving the point back.
+TEST(Triangle, ClosestPointOnSliversIsWithinRounding) {
+  std::mt19937 rng(74);
+  constexpr double kTolerance = 2e-6;  // a few float spacings at coordinates up to 8
+  for (int i = 0; i < 20000; ++i) {
+    const float width = std::ldexp(1.0f, -3 - static_cast<int>(rng() % 27));
+    const auto [a, b, c] = test::random_sliver(rng, 2.0f, 2.0f, width, i % 2 == 1);
+    const Vec3 p = i % 4 < 2 ? 0.5f * (a + b) + test::random_point3(rng, 0.01f) : test::random_point3(rng, 4.0f);
+    const TrianglePoint q = closest_point_on_triangle(p, a, b, c);
+    const glm::dvec3 da(a), db(b), dc(c), dp(p), dq(q.point);
+    const glm::dvec3 truth = test::brute_closest_on_triangle(dp, da, db, dc);
+    ASSERT_NEAR(glm::length(dq - dp), glm::length(truth - dp), kTolerance) << i << " width " << width;
+    ASSERT_LE(glm::length(test::brute_closest_on_triangle(dq, da, db, dc) - dq), kTolerance) << i << " off the triangle";
+    const glm::dvec3 w(q.weights);
+    ASSERT_GE(std::min({w.x, w.y, w.z}), 0.0) << i;
+    ASSERT_NEAR(w.x + w.y + w.z, 1.0, 1e-6) << i;
+    ASSERT_LE(glm::length(w.x * da + w.y * db + w.z * dc - dq), kTolerance) << i << " weights";
+  }
+}
+
 TEST(Triangle, NormalIsUnitRightHandedAndSurvivesTinyTriangles) {
   EXPECT_EQ(triangle_normal({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), Vec3(0, 0, 1));
   EXPECT_EQ(triangle_normal({0, 0, 0}, {0, 1, 0}, {1, 0, 0}), Vec3(0, 0, -1));

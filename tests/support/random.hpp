@@ -7,6 +7,7 @@
 #include <collide/core/transform3.hpp>
 #include <collide/shape/polygon.hpp>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -52,6 +53,18 @@ inline Vec3 random_unit3(std::mt19937& rng) {
     const float l = length(v);
     if (l > 0.1f && l <= 1.0f) return v / l;
   }
+}
+
+/// A sliver: corners a, b `length` apart in a random direction from a random a within `extent`,
+/// and c `width` to the side of the line ab (the float nearest to it, so the width is about
+/// that): a cap (c beside ab between its ends) or a needle (c beside a, within 2% of the length).
+inline std::array<Vec3, 3> random_sliver(std::mt19937& rng, float extent, float length, float width, bool needle) {
+  const Vec3 a = random_point3(rng, extent);
+  const Vec3 along = random_unit3(rng) * length;
+  Vec3 side = random_unit3(rng);
+  side = normalize(side - (dot(side, along) / dot(along, along)) * along);
+  const float t = needle ? uniform(rng, 0.0f, 0.02f) : uniform(rng, 0.1f, 0.9f);
+  return {a, a + along, a + t * along + width * side};
 }
 
 inline Transform3 random_transform3(std::mt19937& rng, float extent) {

@@ -77,12 +77,16 @@ struct TrianglePoint {
   Vec3 weights{1.0f, 0.0f, 0.0f};    ///< barycentric weights of a, b, c: >= 0, sum 1
 };
 
-/// The point of the closed triangle (a, b, c) nearest to `p`, found by testing which Voronoi
-/// region (vertex, edge or face) of the triangle holds `p` (Ericson, Real-Time Collision
-/// Detection, 5.1.5). Any winding; a degenerate triangle yields a nearest point of its edges.
+/// The point of the closed triangle (a, b, c) nearest to `p`, found by which Voronoi region
+/// (vertex, edge or face) of the triangle holds `p` (Ericson, Real-Time Collision Detection,
+/// 5.1.5), grouped as: the face when `p` projects inside all three edges, else the nearest of
+/// the three edges' clamped points. Computed in double, so slivers (nearly collinear corners,
+/// whose plane float cannot hold) get their nearest point within float rounding as any
+/// triangle does, and weights that give that point back; any winding; a degenerate triangle
+/// yields a nearest point of its edges.
 /// Inputs should be finite and expressed near the origin (shift large coordinates first).
-/// (`TriangleBvh::nearest` tests four triangles at once with a branch-free grouping of the same
-/// regions instead.)
+/// (`TriangleBvh::nearest` tests four triangles at once with the same grouping in float lanes,
+/// slivers' normals in double, then asks this function for the winner's point.)
 [[nodiscard]] TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept;
 
 /// Fraction in (0, max_fraction] at which `ray` (point = origin + fraction * translation)
