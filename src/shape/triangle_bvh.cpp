@@ -335,17 +335,18 @@ using NormalLanes = std::array<std::array<float, 4>, 3>;
 
 /// Four triangles prepared for the squared distances of points (a leaf packet): what depends on
 /// the triangles alone, worked out once for all the points of a batch that reach the leaf (up to
-/// kBvhNearestBatch): per triangle (a, b, c) its edges, their reciprocal squared lengths, the
-/// normal n = (b - a) x (c - a), 1 / |n|^2, and the in-plane inward normals of the edges
-/// (n x (v - u) for the edge u -> v). A point's distance then needs no division and no cross
-/// product; before, each point made them again (four divisions and four cross products a point
-/// and packet). The normals come made (TriangleBvh's normals_, in double and rounded): made
-/// here in float, a sliver's turned by FLT_EPSILON times its length over width and the search
-/// took it for nearer or farther than it is. closest_point_on_triangle, which gives the winner's
-/// point, makes its normal in double too, so the two agree within rounding on any triangle.
+/// kBvhNearestBatch): per triangle (a, b, c) its edges, their reciprocal squared lengths, its
+/// unit normal n, and the in-plane inward normals of the edges (n x (v - u) for the edge
+/// u -> v). A point's distance then needs no division and no cross product; before, each point
+/// made them again (four divisions and four cross products a point and packet). The unit
+/// normals come made (TriangleBvh's normals_, in double, then rounded): made here in float, a
+/// sliver's turned by FLT_EPSILON times its length over width and the search took it for
+/// nearer or farther than it is, and a triangle of area below about 1e-19 (|n|^2 below the
+/// smallest float) had no face. closest_point_on_triangle, which gives the winner's point,
+/// works in double too, so the two agree within rounding on any triangle.
 struct TriangleLanes {
   Vec3Lanes a, b, c, ab, bc, ca, n, in_ab, in_bc, in_ca;
-  Lanes inv_ab, inv_bc, inv_ca, inv_nn;
+  Lanes inv_ab, inv_bc, inv_ca;
   LaneMask has_face;
 
   TriangleLanes(const CornerLanes& t, const NormalLanes& normal) noexcept
@@ -354,11 +355,9 @@ struct TriangleLanes {
         c{load(t[2][0]), load(t[2][1]), load(t[2][2])},
         n{load(normal[0]), load(normal[1]), load(normal[2])} {
     ab = b - a, bc = c - b, ca = a - c;
-    const Lanes nn = dot(n, n), zero = splat(0.0f), one = splat(1.0f);
-    // A face where 1 / |n|^2 is finite (a triangle of area below about 1e-19 has none: its
-    // nearest point lies on an edge within rounding).
-    inv_nn = one / select(nn > zero, nn, one);
-    has_face = (nn > zero) & (inv_nn < splat(kInfinity));
+    const Lanes one = splat(1.0f);
+    // A face where the normal is a unit vector (zero: corners collinear or equal, no face).
+    has_face = dot(n, n) > splat(0.5f);
     // Edge lengths squared at or below kMinEdgeLengthSquared count as zero: the parameter along
     // a zero-length edge is then 0, the distance to its one point.
     const Lanes min_edge = splat(kMinEdgeLengthSquared);
@@ -369,9 +368,9 @@ struct TriangleLanes {
   }
 
   /// Exact squared distance from p to each of the four closed triangles, without branches. Per
-  /// lane: if the triangle has a face (1 / |n|^2 finite) and p projects into it, (p - u) .
+  /// lane: if the triangle has a face (a unit normal n) and p projects into it, (p - u) .
   /// (n x (v - u)) >= 0 for every edge u -> v, the distance is to the plane, d^2 = ((p - a) .
-  /// n)^2 / |n|^2; otherwise the nearest point lies on the boundary, d^2 = the least over the
+  /// n)^2; otherwise the nearest point lies on the boundary, d^2 = the least over the
   /// three edges of the squared distance to the segment (the parameter clamped to [0, 1]). (The
   /// Voronoi regions of Ericson 5.1.5 in another grouping: the face region is where all three
   /// edge tests pass; every other region's nearest point is on an edge or at a vertex, and the
@@ -381,7 +380,7 @@ struct TriangleLanes {
     const Lanes zero = splat(0.0f), one = splat(1.0f);
     const LaneMask inside = has_face & (dot(ap, in_ab) >= zero) & (dot(bp, in_bc) >= zero) & (dot(cp, in_ca) >= zero);
     const Lanes height = dot(ap, n);
-    const Lanes plane = height * height * inv_nn;
+    const Lanes plane = height * height;
     const auto segment = [&](const Vec3Lanes& w, const Vec3Lanes& e, Lanes inv_ee) {
       const Lanes t = min(max(dot(w, e) * inv_ee, zero), one);
       const Vec3Lanes d = w - t * e;
@@ -475,8 +474,10 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
         packets_.push_back(packet);
         PacketNormals& normal = normals_.emplace_back();
         for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
-          const Vec3 m(detail::precise_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane)));
-          for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = m[axis];
+          const glm::dvec3 m = detail::precise_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
+          const double length = glm::length(m);  // (finite and normal in double for any float corners)
+          const Vec3 unit = length > 0.0 ? Vec3(m / length) : Vec3(0.0f);
+          for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = unit[axis];
         }
       } else {
         node.child[k] = static_cast<std::uint32_t>(nodes_.size() + pending_count);
