@@ -474,9 +474,13 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
         packets_.push_back(packet);
         PacketNormals& normal = normals_.emplace_back();
         for (std::uint32_t lane = 0; lane < kBvhLeafTriangles; ++lane) {
+          if (lane >= c.count) {  // (an unused lane repeats the last triangle)
+            for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = normal[axis][lane - 1];
+            continue;
+          }
           const glm::dvec3 m = detail::precise_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
-          const double length = glm::length(m);  // (finite and normal in double for any float corners)
-          const Vec3 unit = length > 0.0 ? Vec3(m / length) : Vec3(0.0f);
+          const double length_squared = glm::dot(m, m);  // (finite and normal in double for any float corners)
+          const Vec3 unit = length_squared > 0.0 ? Vec3(m * (1.0 / std::sqrt(length_squared))) : Vec3(0.0f);
           for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = unit[axis];
         }
       } else {
