@@ -28,6 +28,7 @@
 #include <collide/shape/segment3.hpp>
 #include <collide/shape/sphere.hpp>
 #include <collide/shape/triangle.hpp>
+#include <collide/shape/triangle_bvh.hpp>
 #include <collide/shape/triangle_mesh.hpp>
 
 #include <glm/geometric.hpp>
@@ -250,6 +251,59 @@ inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec
   return {};
 }
 
+/// check_mesh_nearest's allowance, in float spacings (FLT_EPSILON) of the largest coordinate:
+/// each of the search's float steps (a corner's offset, a dot product, the winner's point and
+/// its distance) rounds by a few, and a wrong winner costs at most its lane's error.
+inline constexpr double kMeshNearestRounding = 64.0;
+
+/// "" when a triangle mesh's BVH gives each probe point the distance of its nearest triangle:
+/// the least over every triangle of closest_point_on_triangle's distance (brute force), for one
+/// point at a time and in a batch, to within kMeshNearestRounding float spacings of the largest
+/// coordinate (the search's lanes and the winner's float distance round) or 1e-18 (squared
+/// distances below about 1e-38 lose their bits in float). Probes, in the mesh's local
+/// coordinates (the BVH's): up to 24 triangles' corners, centroids and points beyond their
+/// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange.
+inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
+  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+  if (count == 0) return {};
+  float magnitude = 0.0f;
+  for (std::uint32_t t = 0; t < count; ++t) {
+    for (int k = 0; k < 3; ++k) magnitude = std::max(magnitude, max_abs(mesh.corner(t, k)));
+  }
+  if (!(magnitude <= kFiniteQueryRange)) return {};
+  std::vector<Vec3> probes{Vec3(0.0f)};
+  const std::uint32_t step = count / 24 + 1;
+  for (std::uint32_t t = 0; t < count; t += step) {
+    const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+    const Vec3 centroid = (a + b + c) / 3.0f;
+    const Vec3 up = cross(b - a, c - a);
+    const float up_length = length(up);
+    const Vec3 off = up_length > 0.0f ? up * (0.25f * length(b - a) / up_length) : Vec3(0.0f);
+    probes.insert(probes.end(), {a, centroid, centroid + off, a + 1.25f * (b - a) + 0.5f * (c - b) - off,
+                                 centroid + 0.6f * (c - centroid) + off});
+  }
+  std::vector<BvhNearest> batch(probes.size());
+  mesh.bvh.nearest(probes, std::vector<float>(probes.size(), std::numeric_limits<float>::infinity()), batch);
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Vec3 p = probes[i];
+    if (!(max_abs(p) <= kFiniteQueryRange)) continue;
+    double truth = std::numeric_limits<double>::infinity();
+    for (std::uint32_t t = 0; t < count; ++t) {
+      const Vec3 q = closest_point_on_triangle(p, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)).point;
+      truth = std::min(truth, glm::length(glm::dvec3(q) - glm::dvec3(p)));
+    }
+    const double allowance =
+        kMeshNearestRounding * FLT_EPSILON * static_cast<double>(std::max(magnitude, max_abs(p))) + 1e-18;
+    for (const BvhNearest& hit : {mesh.bvh.nearest(p), batch[i]}) {
+      if (hit.triangle >= count) return "triangle mesh: the BVH found no nearest triangle";
+      if (!(std::abs(std::sqrt(static_cast<double>(hit.distance_squared)) - truth) <= allowance)) {
+        return "triangle mesh: the BVH's nearest distance differs from the nearest triangle's";
+      }
+    }
+  }
+  return {};
+}
+
 /// The same for a mesh or height field (the probe first, as the overloads take them); a
 /// distance beyond the 1000 bound is "none within it" (+infinity by contract).
 template <class S>
@@ -312,7 +366,9 @@ inline std::string check_shapes(std::string_view input) {
         for (Vec3& v : vertices) v = in.vec3();
         std::vector<glm::uvec3> triangles(static_cast<std::size_t>(in.count(0, 60)));
         for (glm::uvec3& t : triangles) t = {in.byte() % 48u, in.byte() % 48u, in.byte() % 48u};
-        return probe_level(make_triangle_mesh(vertices, triangles));
+        const TriangleMesh mesh = make_triangle_mesh(vertices, triangles);
+        if (std::string nearest = check_mesh_nearest(mesh); !nearest.empty()) return nearest;
+        return probe_level(mesh);
       }
       default: {
         const int sx = in.count(0, 10), sz = in.count(0, 10);

@@ -65,6 +65,17 @@ TEST(ShapesFuzzRegressions, HullPlaneCheckCatchesPlanesMovedIn) {
   EXPECT_EQ(fuzz::check_hull_planes(hull, beyond, 4), "");
 }
 
+// The mesh recipe's oracle fails on a tree that answers for other triangles: a corner moved
+// after the build (the BVH still holds the old one) is nearer a probe than the tree's answer.
+TEST(ShapesFuzzRegressions, MeshNearestCheckCatchesAWrongTree) {
+  const std::vector<Vec3> vertices{{0.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f},
+                                   {5.0f, 0.0f, 1.0f}, {7.0f, 0.0f, 1.0f}, {5.0f, 2.0f, 1.0f}};
+  TriangleMesh mesh = make_triangle_mesh(vertices, std::vector<glm::uvec3>{{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(fuzz::check_mesh_nearest(mesh), "");
+  mesh.vertices[mesh.triangles[1].x] += Vec3(0.0f, 0.0f, 0.5f);  // (the tree keeps the corner where it was)
+  EXPECT_EQ(fuzz::check_mesh_nearest(mesh), "triangle mesh: the BVH's nearest distance differs from the nearest triangle's");
+}
+
 // Found by fuzz_shapes: ends 5e-32 apart passed "a and b coincide" (a == b), but their squared
 // distance underflows to 0, and a ray cast divided by it (a hit with a NaN fraction). Such ends
 // now coincide, in 2D and 3D, for segments and capsules; 1e-18 apart still builds.
