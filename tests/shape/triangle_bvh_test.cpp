@@ -126,9 +126,10 @@ TEST(TriangleBvh, NearestEqualsBruteForceWithDegenerateTriangles) {
 }
 
 // Triangles so small that |n|^2 (n the cross product of two edges) is subnormal or zero in
-// float, 1 / |n|^2 infinite: the face test must not use it (the plane's distance came out
-// infinite and lost the triangle), and the edges give the distance. Each is checked alone (single and batched queries)
-// against brute force in double, from points above, beside and on it.
+// float, 1 / |n|^2 infinite: a face test dividing by it made the plane's distance infinite and
+// lost the triangle (the edges gave the distance after that fix; since stop 103 the search's
+// unit normals are made in double, so these have a face too). Each is checked alone (single
+// and batched queries) against brute force in double, from points above, beside and on it.
 TEST(TriangleBvh, TrianglesTooSmallForTheirPlaneAreStillFound) {
   for (const float side : {3e-10f, 1e-10f, 3e-11f, 1e-12f}) {  // |n|^2 = side^4: 8e-39 (1 / it finite) to 0
     TriangleSoup soup;
