@@ -3,8 +3,8 @@
 // its scalar test, shared by single triangles, the BVH (which runs the same steps four
 // triangles at a time) and height fields. One ray, one setup: the shear constants must be the
 // same for every triangle the ray meets, or two triangles sharing an edge could both miss.
-// Also what makes slivers safe beyond rays: their test (is_sliver) and their normal in double
-// (precise_normal), which the nearest-point queries share.
+// Also a triangle's normal in double (precise_normal), which keeps slivers exact for the rays'
+// planes and for the nearest-point queries alike.
 
 #include <collide/core/ray.hpp>
 

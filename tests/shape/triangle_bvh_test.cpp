@@ -158,8 +158,8 @@ TEST(TriangleBvh, TrianglesTooSmallForTheirPlaneAreStillFound) {
 // test::random_sliver) among ordinary triangles, with points beside the slivers' long edges and
 // anywhere. A sliver's plane made in float turns by about FLT_EPSILON times its length over
 // width: the search then took a sliver for nearer or farther than it is (0.008 units off beside
-// one 1e-5 wide, 2026-12-07). The leaf packets make slivers' normals in double. Single and
-// batched queries against the double brute force.
+// one 1e-5 wide, 2026-12-07). The BVH keeps each triangle's unit normal, made in double.
+// Single and batched queries against the double brute force.
 TEST(TriangleBvh, NearestAmongSliversIsWithinRounding) {
   std::mt19937 rng(66);
   TriangleSoup soup = random_soup(rng, 100, Vec3(0.0f), 6.0f, 1.0f);

@@ -86,7 +86,7 @@ struct TrianglePoint {
 /// yields a nearest point of its edges.
 /// Inputs should be finite and expressed near the origin (shift large coordinates first).
 /// (`TriangleBvh::nearest` tests four triangles at once with the same grouping in float lanes,
-/// slivers' normals in double, then asks this function for the winner's point.)
+/// on unit normals made in double, then asks this function for the winner's point.)
 [[nodiscard]] TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept;
 
 /// Fraction in (0, max_fraction] at which `ray` (point = origin + fraction * translation)
