@@ -51,7 +51,7 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
   const glm::dvec3 dp(p), da(a), db(b), dc(c);
   const glm::dvec3 ab = db - da, bc = dc - db, ca = da - dc;
   const glm::dvec3 ap = dp - da, bp = dp - db, cp = dp - dc;
-  const glm::dvec3 n = detail::precise_normal(a, b, c);
+  const glm::dvec3 n = triangle_area_normal(a, b, c);
   const double nn = glm::dot(n, n);
   // Twice the signed areas of (p', b, c), (a, p', c), (a, b, p') times |n|, p' the projection:
   // each the point's offset along its edge's in-plane inward normal.

@@ -478,9 +478,7 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const glm::u
             for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = normal[axis][lane - 1];
             continue;
           }
-          const glm::dvec3 m = detail::precise_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
-          const double length_squared = glm::dot(m, m);  // (finite and normal in double for any float corners)
-          const Vec3 unit = length_squared > 0.0 ? Vec3(m * (1.0 / std::sqrt(length_squared))) : Vec3(0.0f);
+          const Vec3 unit = triangle_normal(packet.corner(0, lane), packet.corner(1, lane), packet.corner(2, lane));
           for (int axis = 0; axis < 3; ++axis) normal[axis][lane] = unit[axis];
         }
       } else {
@@ -946,10 +944,11 @@ TriangleRayHit TriangleBvh::ray_cast(const Ray3& ray, float max_fraction) const 
   TriangleRayHit hit;
   if (best_packet == nullptr) return hit;
   const auto lane = static_cast<std::uint32_t>(best_lane);
-  const Vec3 a = best_packet->corner(0, lane), b = best_packet->corner(1, lane), c = best_packet->corner(2, lane);
   hit.triangle = best_packet->id[lane];
   hit.fraction = best;
-  hit.normal = triangle_normal(a, b, c);
+  // The unit normal the build made (triangle_normal, in double): read, not made again per cast.
+  const PacketNormals& normal = normals_[static_cast<std::size_t>(best_packet - packets_.data())];
+  hit.normal = Vec3(normal[0][lane], normal[1][lane], normal[2][lane]);
   return hit;
 }
 

@@ -3,10 +3,11 @@
 // its scalar test, shared by single triangles, the BVH (which runs the same steps four
 // triangles at a time) and height fields. One ray, one setup: the shear constants must be the
 // same for every triangle the ray meets, or two triangles sharing an edge could both miss.
-// Also a triangle's normal in double (precise_normal), which keeps slivers exact for the rays'
-// planes and for the nearest-point queries alike.
+// Also the plane of a triangle for a ray, its normal in double (triangle_area_normal, in
+// <collide/shape/triangle.hpp>), which keeps slivers exact.
 
 #include <collide/core/ray.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -31,20 +32,10 @@ inline constexpr float kSliverAspect = 8.0f;
   return longest > kSliverAspect * std::sqrt(dot(n, n));
 }
 
-/// The normal (b - a) x (c - a) of triangle (a, b, c), not normalised, in double: the
-/// differences of float corners are exact there, so a sliver's normal (from two nearly parallel
-/// edges) keeps about 29 more bits than its length over width can cost. Made in float it turns
-/// by about FLT_EPSILON times that ratio: on a triangle 2 units long and 1e-8 wide a plane
-/// distance or a projection off by a whole unit (closest_point_on_triangle, TriangleBvh::nearest).
-[[nodiscard]] inline glm::dvec3 precise_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
-  const glm::dvec3 da(a);
-  return glm::cross(glm::dvec3(b) - da, glm::dvec3(c) - da);
-}
-
 /// Where the ray (origin + fraction * translation) meets the plane of triangle (a, b, c), its
-/// normal in double (precise_normal). NaN or infinite for a ray parallel to the plane.
+/// normal in double (triangle_area_normal). NaN or infinite for a ray parallel to the plane.
 [[nodiscard]] inline float plane_fraction(Vec3 a, Vec3 b, Vec3 c, Vec3 origin, Vec3 translation) noexcept {
-  const glm::dvec3 n = precise_normal(a, b, c);
+  const glm::dvec3 n = triangle_area_normal(a, b, c);
   return static_cast<float>(glm::dot(n, glm::dvec3(a) - glm::dvec3(origin)) / glm::dot(n, glm::dvec3(translation)));
 }
 

@@ -34,35 +34,47 @@ struct Triangle {
 /// Bounding box of the triangle placed by `xf`, world space.
 [[nodiscard]] Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept;
 
-/// The squared lengths of a cross product that `triangle_normal` normalises directly: squares
-/// of components far below the length underflow harmlessly above the low end, and the square
-/// root and reciprocal are exact to rounding below the high end; outside, the cross product is
-/// scaled first.
+/// The normal (b - a) x (c - a) of triangle (a, b, c), not normalised (its length is twice the
+/// triangle's area), in double: the differences of float corners are exact there (or within
+/// double's rounding when their magnitudes are far apart), and so are their products, so a
+/// sliver's normal (from two nearly parallel edges) keeps about 29 more bits than its length
+/// over width can cost. Made in float it turns by about FLT_EPSILON times that ratio: on a
+/// triangle 2 units long and 1e-8 wide, a plane distance or a projection off by a whole unit.
+/// Finite for any finite float corners, and zero only when they are collinear.
+[[nodiscard]] COLLIDE_ALWAYS_INLINE glm::dvec3 triangle_area_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const glm::dvec3 da(a);
+  return glm::cross(glm::dvec3(b) - da, glm::dvec3(c) - da);
+}
+
+/// The squared lengths of a float normal that `triangle_normal` normalises in float: squares of
+/// components far below the length underflow harmlessly above the low end, and the square root
+/// and reciprocal are exact to rounding below the high end; outside (edges below about 1e-15
+/// or above 1e15 units), it normalises in double.
 inline constexpr float kTriangleNormalDirectMinSquared = 1e-30f;
-/// The high end of the squared lengths `triangle_normal` normalises directly.
+/// The high end of the squared lengths `triangle_normal` normalises in float.
 inline constexpr float kTriangleNormalDirectMaxSquared = 1e30f;
 
-/// Unit normal of triangle (a, b, c) by the right-hand rule, (b - a) x (c - a) normalised
-/// (scaled first, so tiny triangles keep their direction); zero when the corners are collinear
-/// in float. Inline: called out of line, its arguments (each Vec3 in two registers) were put
-/// back together through the stack by loads spanning two stores, which the processor cannot
-/// forward; that stall was a fifth of a mesh ray cast's time (bench_mesh_raycast).
-[[nodiscard]] inline Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
-  const Vec3 n = cross(b - a, c - a);
-  // Most triangles: one square root and one reciprocal (the hit's normal is the tail of every
-  // mesh ray cast; the scaled form below chains two more operations before them).
+/// Unit normal of triangle (a, b, c) by the right-hand rule, (b - a) x (c - a) normalised;
+/// zero when the corners are collinear. The cross product is made in double
+/// (triangle_area_normal), so that a sliver's normal is right to float rounding whatever its
+/// length over width; rounded to float, its direction stays right to float rounding, and most
+/// triangles are normalised there (one float square root and reciprocal: a level contact makes
+/// a normal per candidate triangle, and double's cost 8% of a capsule's); a tiny or huge one in
+/// double, where its length neither underflows nor overflows. Inlined by force: called out of
+/// line, its arguments (each Vec3 in two registers) were put back together through the stack by
+/// loads spanning two stores, which the processor cannot forward; that stall was a fifth of a
+/// mesh ray cast's time (bench_mesh_raycast), and a tenth of a capsule's level contact once the
+/// double cross product made it too long for the compiler to inline unasked.
+[[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const glm::dvec3 exact = triangle_area_normal(a, b, c);
+  const Vec3 n(exact);
   const float nn = dot(n, n);
   if (nn >= kTriangleNormalDirectMinSquared && nn <= kTriangleNormalDirectMaxSquared) [[likely]] {
     return n * (1.0f / std::sqrt(nn));
   }
-  const float largest = max_abs(n);
-  if (!(largest > 0.0f) || !std::isfinite(largest)) return Vec3(0.0f);
-  // Largest coordinate +-1 (within rounding): the length neither underflows nor overflows.
-  // Reciprocals, as the normal of a ray's hit is a fixed cost of every cast; a subnormal
-  // `largest` has no finite reciprocal and is divided by.
-  const float scale = 1.0f / largest;
-  const Vec3 m = std::isfinite(scale) ? n * scale : n / largest;
-  return m * (1.0f / length(m));
+  // (finite and in double's normal range for any finite float corners)
+  const double squared = glm::dot(exact, exact);
+  return squared > 0.0 ? Vec3(exact * (1.0 / std::sqrt(squared))) : Vec3(0.0f);
 }
 
 /// Called with each triangle a level query finds (`for_each_triangle` of a TriangleMesh or a

@@ -254,11 +254,12 @@ class TriangleBvh {
   void traverse_ray(const Ray3& ray, float max_fraction, OnLeaf&& on_leaf) const;
 
   std::vector<Node> nodes_;      ///< root first
-  /// A packet's four triangles' unit normals along (b - a) x (c - a) (zero for collinear or
-  /// equal corners) as lanes per coordinate ([axis][lane]), for `nearest`: made in double (exact
-  /// differences of the corners), then rounded, as a sliver's normal made in float turns by
-  /// FLT_EPSILON times its length over width (39% of dungeon.obj's packets hold a triangle longer
-  /// than 8 times its width). Apart from the packets, which rays read at every leaf without them.
+  /// A packet's four triangles' unit normals (triangle_normal: zero for collinear or equal
+  /// corners) as lanes per coordinate ([axis][lane]), for `nearest` and a ray's hit: made in
+  /// double, then rounded, as a sliver's normal made in float turns by FLT_EPSILON times its
+  /// length over width (39% of dungeon.obj's packets hold a triangle longer than 8 times its
+  /// width). Apart from the packets, which rays read at every leaf without them; a ray cast
+  /// reads its hit's normal here once instead of making it.
   using PacketNormals = std::array<std::array<float, kBvhLeafTriangles>, 3>;
 
   std::vector<Packet> packets_;  ///< in traversal order of the build
