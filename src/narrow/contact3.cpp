@@ -1165,7 +1165,7 @@ void contact_along(const Polytope3& a, const PlacedPolytope& b, Vec3 n, Vec3 poi
 /// inward normals in the plane are made once, and each point costs three dot products.
 struct TriangleSides {
   const std::array<Vec3, 3>& t;
-  float nn;  ///< squared length of the triangle's normal n = cross(t1 - t0, t2 - t0)
+  float nn;  ///< squared length of the triangle's normal n (1 within rounding, or 0)
   std::array<Vec3, 3> inward;
 
   struct At {
@@ -1187,8 +1187,9 @@ struct TriangleSides {
 /// of an endpoint and the triangle or of the segment and a triangle edge (Ericson, Real-Time
 /// Collision Detection, 5.1.10). Cores closer than `touch` count as overlapping, as in GJK. The
 /// result is gjk_distance's for the two proxies (A's frame; radii applied). `n` is the
-/// triangle's normal as cross(t1 - t0, t2 - t0) gives it. False when the pair is not one of
-/// these (then GJK answers).
+/// triangle's unit normal as triangle_normal makes it (in double, so right on slivers too;
+/// zero for a triangle without area). False when the pair is not one of these (then GJK
+/// answers).
 bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, Vec3 n, float t_radius,
                          float touch, DistanceResult3& d) noexcept {
   using Kind = Polytope3::Kind;
@@ -1315,7 +1316,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
       d = *flat_closest;
     } else if (b.p.kind != Polytope3::Kind::triangle ||
                !closest_to_triangle(a, {b.vertex(0), b.vertex(1), b.vertex(2)},
-                                    cross(b.vertex(1) - b.vertex(0), b.vertex(2) - b.vertex(0)),
+                                    triangle_normal(b.vertex(0), b.vertex(1), b.vertex(2)),
                                     b.p.radius, touch, d)) {
       d = closest();
     }
@@ -1389,7 +1390,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
 
 namespace {
 
-/// triangle_beyond's box axes: the triangle's bounds apart from A's by more than `reach`.
+/// contact_level_triangle's box axes: the triangle's bounds apart from A's by more than `reach`.
 [[nodiscard]] bool box_beyond(const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
                               float reach) noexcept {
   const Vec3 lo = glm::min(glm::min(corners[0], corners[1]), corners[2]);
@@ -1398,13 +1399,12 @@ namespace {
   return gap.x > reach || gap.y > reach || gap.z > reach;
 }
 
-/// triangle_beyond's plane axis: A apart from the triangle's plane by more than `reach`, for
-/// the plane's normal `n` (unnormalised, of length `scale` > 0: every distance along it is
-/// scaled by that length) through `corner`. A's extent along n, the support queries' values: a
+/// contact_level_triangle's plane axis: A apart from the triangle's plane by more than `reach`, for
+/// the plane's unit normal `n` (triangle_normal's, in double: a sliver's plane made in float
+/// turned far enough to drop spheres a unit deep in it) through `corner`. A's extent along n, the support queries' values: a
 /// point's or a segment's ends and a box's corner by the signs of n directly (called per
 /// candidate triangle; Polytope3::support is not inlined for its hull scan).
-[[nodiscard]] bool plane_beyond(const Polytope3& a, Vec3 n, float scale, Vec3 corner,
-                                float reach) noexcept {
+[[nodiscard]] bool plane_beyond(const Polytope3& a, Vec3 n, Vec3 corner, float reach) noexcept {
   const float plane = dot(n, corner);
   const float grown = reach + a.radius;
   float top;
@@ -1425,29 +1425,21 @@ namespace {
   }
   const float above = plane - top;
   const float below = bottom - plane;
-  return above > grown * scale || below > grown * scale;
+  return above > grown || below > grown;
 }
 
 }  // namespace
 
-bool detail::triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
-                             const std::array<Vec3, 3>& corners, float reach) noexcept {
-  if (box_beyond(a_bounds, corners, reach)) return true;
-  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
-  const float scale = length(n);
-  return scale > 0.0f && plane_beyond(a, n, scale, corners[0], reach);
-}
-
 namespace {
 
 /// A triangle as the reference face of a core without faces: its corners (A's frame), unit
-/// normal `n` (the front's, corners counter-clockwise; zero for a degenerate triangle) and the
-/// front's plane offset, as make_triangle_polytope makes its two faces.
+/// normal `n` (the front's, corners counter-clockwise, triangle_normal's; zero for a
+/// degenerate triangle) and the front's plane offset, as make_triangle_polytope makes its two
+/// faces.
 struct TriangleFaces {
   const std::array<Vec3, 3>& corners;
   Vec3 n;
   float offset;
-  Vec3 cross;  ///< cross(t1 - t0, t2 - t0), n before normalisation
 };
 
 /// face_contact for a core without faces (a point or a segment: A, the incident core) and the
@@ -1482,7 +1474,7 @@ void core_on_triangle_face(const Polytope3& a, const TriangleFaces& t, int face,
   return 2.0f * std::sqrt(r);
 }
 
-/// contact_triangle for a core without faces (a sphere's point, a capsule's or a segment's
+/// contact_level_triangle for a core without faces (a sphere's point, a capsule's or a segment's
 /// segment) whose closest points to the triangle are apart: contact_cores' answer for the pair
 /// (the closest points in closed form; a face contact when their normal is within
 /// kFaceContactSine of the triangle's, else one point), without the triangle's polytope, which
@@ -1497,7 +1489,7 @@ bool core_triangle_contact(const Polytope3& a, const TriangleFaces& t, float mar
   if (!(radii + margin > 0.0f)) return false;
   // contact_cores' tolerances: the smaller core's size (the triangle is in A's frame).
   const float size = std::max(std::min(a.size, triangle_size(t.corners)), kRelativeTolerance);
-  closest_to_triangle(a, t.corners, t.cross, 0.0f, kRelativeTolerance * size, d);
+  closest_to_triangle(a, t.corners, t.n, 0.0f, kRelativeTolerance * size, d);
   found = true;
   if (d.status == QueryStatus::overlapped) return false;
   // contact_along with the triangle as B: its side most anti-parallel to the normal is the
@@ -1531,7 +1523,7 @@ bool core_triangle_contact(const Polytope3& a, const TriangleFaces& t, float mar
   return true;
 }
 
-/// The active-edge correction of contact_triangle (see contact3_triangle.hpp) for manifold
+/// The active-edge correction of contact_level_triangle (see contact3_triangle.hpp) for manifold
 /// `m` of A (its `centroid` and `size`) against the triangle of corners `corners` and unit
 /// normal `n`: `face_clip(face, keep, out)` makes the face contact with the triangle's side
 /// `face` as the reference.
@@ -1604,32 +1596,31 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
 
 namespace {
 
-/// contact_triangle through the triangle's polytope (contact_cores), `closest` the closest
-/// points of a core without faces when already found.
+/// contact_level_triangle's contact through the triangle's polytope (contact_cores), `n` the
+/// triangle's unit normal (triangle_normal), `closest` the closest points of a core without
+/// faces when already found.
 void contact_triangle_polytope(const Polytope3& a, const ConvexProxy3& proxy_a,
-                               const std::array<Vec3, 3>& corners,
+                               const std::array<Vec3, 3>& corners, Vec3 n,
                                FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m,
                                const DistanceResult3* closest) noexcept {
   Polytope3 tri;
-  detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f);
+  detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f, n);
   static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
   const PlacedPolytope placed{tri, kIdentity, true};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m, closest);
-  use_active_edges(corners, tri.faces[0].normal, a.centroid, a.size, edges, margin, m,
+  use_active_edges(corners, n, a.centroid, a.size, edges, margin, m,
                    [&](int face, float keep, Manifold3& out) {
                      face_contact(a, placed, false, face, keep, out);
                    });
 }
 
-/// contact_triangle for a core without faces, with the triangle's normal `cross` as
-/// cross(t1 - t0, t2 - t0) and its length `scale` (> 0).
+/// contact_level_triangle's contact for a core without faces, with the triangle's unit normal `n` as
+/// triangle_normal makes it (and make_triangle_polytope its face; zero without area).
 void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                           const std::array<Vec3, 3>& corners, Vec3 cross, float scale,
+                           const std::array<Vec3, 3>& corners, Vec3 n,
                            FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept {
-  // normalize_or_zero(cross), as make_triangle_polytope makes the face normal.
-  const Vec3 n = scale > 1e-30f ? cross * (1.0f / scale) : Vec3(0.0f);
-  const TriangleFaces t{corners, n, dot(n, corners[0]), cross};
+  const TriangleFaces t{corners, n, dot(n, corners[0])};
   DistanceResult3 closest;
   bool found = false;
   if (core_triangle_contact(a, t, margin, m, closest, found)) {
@@ -1639,35 +1630,26 @@ void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                      });
     return;
   }
-  contact_triangle_polytope(a, proxy_a, corners, edges, margin, m, found ? &closest : nullptr);
+  contact_triangle_polytope(a, proxy_a, corners, n, edges, margin, m, found ? &closest : nullptr);
 }
 
 }  // namespace
 
-void detail::contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                              const std::array<Vec3, 3>& corners,
-                              FunctionRef<std::uint8_t()> edges, float margin,
-                              Manifold3& m) noexcept {
+void detail::contact_level_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
+                                    const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
+                                    float reach, FunctionRef<std::uint8_t()> edges, float margin,
+                                    Manifold3& m) noexcept {
+  m.count = 0;
+  if (box_beyond(a_bounds, corners, reach)) return;
+  const Vec3 n = triangle_normal(corners[0], corners[1], corners[2]);
+  if (n != Vec3(0.0f) && plane_beyond(a, n, corners[0], reach)) return;
   if (a.face_count == 0) {
     // A sphere, capsule or segment: most triangles of a level it meets are answered without
     // the triangle's polytope.
-    const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
-    core_contact_triangle(a, proxy_a, corners, n, length(n), edges, margin, m);
+    core_contact_triangle(a, proxy_a, corners, n, edges, margin, m);
     return;
   }
-  contact_triangle_polytope(a, proxy_a, corners, edges, margin, m, nullptr);
-}
-
-void detail::contact_core_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                                   const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
-                                   float reach, FunctionRef<std::uint8_t()> edges, float margin,
-                                   Manifold3& m) noexcept {
-  m.count = 0;
-  if (box_beyond(a_bounds, corners, reach)) return;
-  const Vec3 n = cross(corners[1] - corners[0], corners[2] - corners[0]);
-  const float scale = length(n);
-  if (scale > 0.0f && plane_beyond(a, n, scale, corners[0], reach)) return;
-  core_contact_triangle(a, proxy_a, corners, n, scale, edges, margin, m);
+  contact_triangle_polytope(a, proxy_a, corners, n, edges, margin, m, nullptr);
 }
 
 template <Shape3DType A, Shape3DType B>

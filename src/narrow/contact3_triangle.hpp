@@ -15,9 +15,19 @@
 
 namespace collide::detail {
 
-/// Contact of convex core `a` (its polytope and support map, in A's local frame) with the
-/// triangle whose corners `corners` are given in A's frame; `m` in A's frame, normal from A to
-/// the triangle, B's features numbered as a single Triangle's (vertex k, edge k, face 0).
+/// Contact of convex core `a` (its polytope and support map, in A's local frame; `a_bounds`
+/// its local bounding box, the rounding radius included) with the triangle whose corners
+/// `corners` are given in A's frame; `m` in A's frame, normal from A to the triangle, B's
+/// features numbered as a single Triangle's (vertex k, edge k, face 0).
+///
+/// First an early out, which leaves `m` empty: A and the triangle apart by more than `reach`
+/// along one of four cheap separating axes, the three of A's bounding box and the triangle's
+/// normal (A's extent along it from two support queries). Conservative: the axes are separating
+/// axes of the pair, so a caller whose `reach` exceeds the contact's margin plus its rounding
+/// allowance drops no contact (Ericson, Real-Time Collision Detection, 5.2.9: the box and plane
+/// axes of the triangle-box test, here for any core). The triangle's normal is made once, in
+/// double (triangle_normal), for the early out and the contact: a sliver's plane made in float
+/// turns by FLT_EPSILON times its length over width.
 ///
 /// `edges()` gives the triangle's active edges (bit k: edge k, as TriangleMesh::active_edges);
 /// it is asked only when they matter (a height field computes them from its neighbours). When
@@ -29,27 +39,9 @@ namespace collide::detail {
 /// the face normal, and the triangle behind the seam gives no point (Jolt's
 /// ActiveEdges::FixNormal idea, done by clipping so the depth is measured along the normal
 /// reported).
-void contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
-                      const std::array<Vec3, 3>& corners, FunctionRef<std::uint8_t()> edges,
-                      float margin, Manifold3& m) noexcept;
-
-/// The early out before `contact_triangle`: true when convex core `a` (A's frame; `a_bounds`
-/// its local bounding box, the rounding radius included) and the triangle with corners
-/// `corners` (A's frame) are apart by more than `reach` along one of four cheap separating
-/// axes: the three of A's bounding box and the triangle's normal (A's extent along it from two
-/// support queries). False says nothing (the full test decides). Conservative: the axes are
-/// separating axes of the pair, so a caller whose `reach` exceeds the contact's margin plus its
-/// rounding allowance drops no contact (Ericson, Real-Time Collision Detection, 5.2.9: the box
-/// and plane axes of the triangle-box test, here for any core).
-[[nodiscard]] bool triangle_beyond(const Polytope3& a, const Aabb3& a_bounds,
-                                   const std::array<Vec3, 3>& corners, float reach) noexcept;
-
-/// `triangle_beyond` and then `contact_triangle` for a core without faces (a sphere's point, a
-/// capsule's or a segment's segment), in one: the triangle's normal is made once for both.
-/// Leaves `m` empty when the early out drops the triangle.
-void contact_core_triangle(const Polytope3& a, const ConvexProxy3& proxy_a, const Aabb3& a_bounds,
-                           const std::array<Vec3, 3>& corners, float reach,
-                           FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept;
+void contact_level_triangle(const Polytope3& a, const ConvexProxy3& proxy_a, const Aabb3& a_bounds,
+                            const std::array<Vec3, 3>& corners, float reach,
+                            FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept;
 
 /// Keeps at most 4 of `count` contact points sharing `normal` (world or A's frame alike): the
 /// deepest, the farthest from it, then the two that span the largest area with them (the idea

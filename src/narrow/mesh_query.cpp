@@ -185,11 +185,6 @@ DistanceResult3 distance_level(const A& a, const Transform3& xa, const Level& le
 
 // ---- contact -------------------------------------------------------------------------------
 
-/// A shape whose core has no faces: a sphere's point, a capsule's or a segment's segment.
-template <class A>
-inline constexpr bool kCoreWithoutFaces =
-    std::is_same_v<A, Sphere> || std::is_same_v<A, Capsule3> || std::is_same_v<A, Segment3>;
-
 /// Each triangle's manifold (A's frame, B's ids named by the level) to `visit(t, m)`; stops when
 /// it returns false.
 template <Shape3DType A, class Level, class Visit>
@@ -222,12 +217,7 @@ void contact_each(const A& a, const Transform3& xa, const Level& level, const Tr
     const std::array<Vec3, 3> corners = pl.to_a(level.corners(t));
     const float triangle_reach = reach + kRelativeTolerance * max_abs(corners[0]);
     const auto edges = [&]() -> std::uint8_t { return level.active_edges(t); };
-    if constexpr (kCoreWithoutFaces<A>) {
-      detail::contact_core_triangle(pa, proxy, local, corners, triangle_reach, edges, margin, m);
-    } else {
-      if (detail::triangle_beyond(pa, local, corners, triangle_reach)) return true;
-      detail::contact_triangle(pa, proxy, corners, edges, margin, m);
-    }
+    detail::contact_level_triangle(pa, proxy, local, corners, triangle_reach, edges, margin, m);
     if (m.count == 0) return true;
     for (int i = 0; i < m.count; ++i) {
       ContactId& id = m.points[i].id;

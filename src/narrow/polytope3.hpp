@@ -166,16 +166,16 @@ inline void make_polytope(Polytope3& p, const Box& box) noexcept {
   set_size(p);
 }
 
-/// A triangle (corners a, b, c, counter-clockwise seen from its front) as a flat polytope.
-/// The triangle must not be degenerate. Always inlined: GCC kept it out of line for a mesh's
+/// A triangle (corners a, b, c, counter-clockwise seen from its front) as a flat polytope, `n`
+/// its unit normal as triangle_normal makes it. The triangle must not be degenerate. Always inlined: GCC kept it out of line for a mesh's
 /// contacts, and its corners then came in as register pairs put back together through the
 /// stack by loads that cannot be store-forwarded (scripts/store-forward-scan).
-COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float radius) noexcept {
+COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float radius,
+                                                  Vec3 n) noexcept {
   p.kind = Polytope3::Kind::triangle;
   p.vertex_buffer[0] = a;
   p.vertex_buffer[1] = b;
   p.vertex_buffer[2] = c;
-  const Vec3 n = triangle_normal(a, b, c);
   const float offset = dot(n, a);
   p.face_buffer[0] = HullFace{n, offset, 0, 3};
   p.face_buffer[1] = HullFace{-n, -offset, 3, 3};
@@ -190,6 +190,11 @@ COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, 
   p.centroid = (a + b + c) * (1.0f / 3.0f);
   p.radius = radius;
   set_size(p);
+}
+
+/// make_triangle_polytope with the normal made here (triangle_normal).
+COLLIDE_ALWAYS_INLINE void make_triangle_polytope(Polytope3& p, Vec3 a, Vec3 b, Vec3 c, float radius) noexcept {
+  make_triangle_polytope(p, a, b, c, radius, triangle_normal(a, b, c));
 }
 
 inline void make_polytope(Polytope3& p, const Triangle& t) noexcept {

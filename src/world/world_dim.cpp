@@ -7,6 +7,7 @@
 #include <collide/narrow/closest_point.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/shape/polygon.hpp>
+#include <collide/shape/triangle.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -45,10 +46,10 @@ float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3,
   const Aabb3 grown{glm::min(glm::min(c[0], c[1]), c[2]) - Vec3(reach), glm::max(glm::max(c[0], c[1]), c[2]) + Vec3(reach)};
   const float enter = ray_box_fraction(Ray3{from, motion}, grown, 1.0f);
   if (enter < 0.0f) return kNeverEntered;
-  const Vec3 nn = cross(c[1] - c[0], c[2] - c[0]);
-  const float n_length = length(nn);
-  if (!(n_length > 0.0f)) return enter;  // a degenerate triangle: its box's entry
-  const Vec3 n = nn / n_length;
+  // (in double, triangle_normal: a sliver's plane made in float turns by FLT_EPSILON times its
+  // length over width, enough to cull a triangle the centre does reach)
+  const Vec3 n = triangle_normal(c[0], c[1], c[2]);
+  if (n == Vec3(0.0f)) return enter;  // a degenerate triangle: its box's entry
   const float d0 = dot(n, from - c[0]);
   const float d1 = d0 + dot(n, motion);
   if (std::fabs(d0) > reach && (d0 > 0.0f) == (d1 > 0.0f) && std::fabs(d1) > reach) return kNeverEntered;
@@ -66,7 +67,7 @@ float triangle_entry(Vec3 from, Vec3 motion, float reach, const std::array<Vec3,
     if (s <= 1.0f) {
       const Vec3 q = from + s * motion - side * reach * n;  // below the entry point, in the plane
       bool inside = true;
-      for (int k = 0; k < 3 && inside; ++k) inside = dot(cross(c[(k + 1) % 3] - c[k], q - c[k]), nn) >= 0.0f;
+      for (int k = 0; k < 3 && inside; ++k) inside = dot(cross(c[(k + 1) % 3] - c[k], q - c[k]), n) >= 0.0f;
       if (inside) return std::max(enter, std::max(s, 0.0f));  // the face is met before any edge
     }
   }

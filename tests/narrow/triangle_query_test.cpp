@@ -10,6 +10,7 @@
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/epa.hpp>
 #include <collide/narrow/overlap.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include "support/brute_triangle.hpp"
 #include "support/random_shapes3.hpp"
@@ -23,6 +24,7 @@
 #include <cstdio>
 #include <random>
 #include <variant>
+#include <vector>
 
 namespace collide {
 namespace {
@@ -287,6 +289,64 @@ TEST(TriangleQuery, CapsuleAndSegmentAgainstBruteSegmentTriangleDistance) {
   EXPECT_GT(touching, 1000);
   EXPECT_GT(over, 1000);
   EXPECT_GT(crossing, 1000);
+}
+
+// Spheres and lying capsules over slivers 2 units long and 2^-3 to 2^-21 wide (wider than the
+// float spacing of their coordinates, below which rounding a corner makes another triangle):
+// a single Triangle (down to make_triangle's limit) and a one-triangle mesh, the depth against
+// the nearest point found in double. With the normals made in float, a sliver's plane turned
+// by FLT_EPSILON times its length over width: depths were 0.003 off at 2^-17, and the mesh's
+// early out dropped contacts up to 0.05 deep at 2^-19 and 2^-21.
+TEST(TriangleQuery, SpheresAndCapsulesOverSliversTouchAtTheirNearestPoint) {
+  std::mt19937 rng(104);
+  constexpr double kTolerance = 2e-6;  // a few float spacings at coordinates up to 4
+  int triangles = 0, meshes = 0;
+  for (int i = 0; i < 8000; ++i) {
+    const int e = 3 + static_cast<int>(rng() % 19);
+    const float width = std::ldexp(1.0f, -e);
+    const std::array<Vec3, 3> t = test::random_sliver(rng, 2.0f, 2.0f, width, i % 2 == 1);
+    const float radius = test::uniform(rng, 0.1f, 1.0f);
+    const double height = test::uniform(rng, -0.9f, 0.9f) * radius;
+    if (std::fabs(height) < 0.01) continue;
+    const bool capsule = i % 3 == 2;
+    const Vec3 p = test::random_point_over(rng, t, height);
+    const Vec3 q = capsule ? test::random_point_over(rng, t, height) : p;
+    // Over the face on one side: the nearest point of the triangle is an end's.
+    const std::array<glm::dvec3, 3> dt{glm::dvec3(t[0]), glm::dvec3(t[1]), glm::dvec3(t[2])};
+    const auto nearest = [&](Vec3 x) { return test::brute_closest_on_triangle(glm::dvec3(x), dt[0], dt[1], dt[2]); };
+    const glm::dvec3 np = nearest(p), nq = nearest(q);
+    const double dp = glm::length(np - glm::dvec3(p)), dq = glm::length(nq - glm::dvec3(q));
+    const double gap = std::min(dp, dq);
+    const glm::dvec3 direction = dp <= dq ? (np - glm::dvec3(p)) / dp : (nq - glm::dvec3(q)) / dq;
+    const auto check = [&](const Manifold3& m, double normal_slack, const char* what) {
+      ASSERT_GT(m.count, 0) << what << " " << i << " width 2^-" << e;
+      float deepest = -1e30f;
+      for (int k = 0; k < m.count; ++k) deepest = std::max(deepest, m.points[k].depth);
+      ASSERT_NEAR(deepest, radius - gap, kTolerance) << what << " " << i << " width 2^-" << e;
+      // The normal's sideways error times the distance: how far off the nearest point it aims.
+      const double off = glm::length(glm::cross(glm::normalize(glm::dvec3(m.normal)), direction)) * gap;
+      ASSERT_LE(off, kTolerance + normal_slack) << what << " " << i << " width 2^-" << e;
+    };
+    const auto contact_with = [&](const auto& b, const Transform3& xb) {
+      return capsule ? contact(make_capsule(p, q, radius), Transform3{}, b, xb)
+                     : contact(make_sphere(Vec3(0.0f), radius), Transform3{p, Quat{1, 0, 0, 0}}, b, xb);
+    };
+    const std::vector<Vec3> corners{t[0], t[1], t[2]};
+    const std::vector<glm::uvec3> one{{0, 1, 2}};
+    const TriangleMesh mesh = make_triangle_mesh(corners, one);
+    // The mesh holds its corners about a vertex of its own: rounded there, a sliver turns about
+    // its long edge by up to a float spacing over its width, and so does its face normal.
+    check(contact_with(mesh, Transform3{}), 2.0 * width, "mesh");
+    ++meshes;
+    // make_triangle's limit: twice the area (length times width) above 2 kDegenerateAreaTolerance
+    // times the length squared.
+    if (width > 2.0f * kDegenerateAreaTolerance * 2.0f * 1.1f) {
+      check(contact_with(make_triangle(t[0], t[1], t[2]), Transform3{}), 0.0, "triangle");
+      ++triangles;
+    }
+  }
+  EXPECT_GT(meshes, 7000);
+  EXPECT_GT(triangles, 3500);
 }
 
 TEST(TriangleQuery, ClosestPointVoronoiFeatures) {

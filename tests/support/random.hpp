@@ -67,6 +67,17 @@ inline std::array<Vec3, 3> random_sliver(std::mt19937& rng, float extent, float 
   return {a, a + along, a + t * along + width * side};
 }
 
+/// A point `height` off the plane of triangle `t` (along its unit normal, made in double),
+/// above a random point well inside it (each barycentric weight at least 0.05): over the face,
+/// so the nearest point of the triangle is that inside point, |height| away.
+inline Vec3 random_point_over(std::mt19937& rng, const std::array<Vec3, 3>& t, double height) {
+  const glm::dvec3 a(t[0]), b(t[1]), c(t[2]);
+  double u = uniform(rng, 0.05f, 0.9f), v = uniform(rng, 0.05f, 0.9f);
+  if (u + v > 0.95) u = 0.95 - u, v = 0.95 - v;  // (then both in [0.05, 0.9] again)
+  const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+  return Vec3(a + u * (b - a) + v * (c - a) + height * n);
+}
+
 inline Transform3 random_transform3(std::mt19937& rng, float extent) {
   return Transform3::from(random_point3(rng, extent), random_rotation(rng));
 }
