@@ -256,13 +256,34 @@ inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec
 /// its distance) rounds by a few, and a wrong winner costs at most its lane's error.
 inline constexpr double kMeshNearestRounding = 64.0;
 
+/// "" when a sphere at `p` (the mesh's local coordinates) reaching `allowance` past the mesh's
+/// nearest distance `nearest` (found by brute force) plus half of it touches the mesh: its
+/// contact is not empty, and finite, with a unit normal. A contact the level query, its early
+/// out or the closed form of a sphere against a triangle drops fails (stop 104: slivers' planes
+/// made in float dropped contacts 0.05 deep).
+inline std::string check_mesh_sphere_contact(const TriangleMesh& mesh, Vec3 p, double nearest, double allowance) {
+  const Vec3 centre = mesh.origin + p;
+  if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
+  const auto radius = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(max_abs(mesh.origin))));
+  if (!(radius > 0.0f) || !finite(radius)) return {};
+  const Manifold3 m = contact(make_sphere(Vec3(0.0f), radius), Transform3{centre, Quat{1, 0, 0, 0}}, mesh, Transform3{});
+  if (m.count == 0) return "triangle mesh: a sphere reaching past the nearest triangle has no contact";
+  if (!finite(m.normal) || !(std::abs(length(m.normal) - 1.0f) <= 1e-3f)) return "triangle mesh: a sphere's contact normal is not unit";
+  for (int i = 0; i < m.count; ++i) {
+    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "triangle mesh: a sphere's contact is not finite";
+  }
+  return {};
+}
+
 /// "" when a triangle mesh's BVH gives each probe point the distance of its nearest triangle:
 /// the least over every triangle of closest_point_on_triangle's distance (brute force), for one
 /// point at a time and in a batch, to within kMeshNearestRounding float spacings of the largest
 /// coordinate (the search's lanes and the winner's float distance round) or 1e-18 (squared
 /// distances below about 1e-38 lose their bits in float). Probes, in the mesh's local
 /// coordinates (the BVH's): up to 24 triangles' corners, centroids and points beyond their
-/// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange.
+/// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange. At
+/// each probe, a sphere reaching past that distance must touch the mesh
+/// (check_mesh_sphere_contact).
 inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   if (count == 0) return {};
@@ -300,6 +321,7 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
         return "triangle mesh: the BVH's nearest distance differs from the nearest triangle's";
       }
     }
+    if (std::string touch = check_mesh_sphere_contact(mesh, p, truth, allowance); !touch.empty()) return touch;
   }
   return {};
 }
