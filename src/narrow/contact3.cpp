@@ -979,19 +979,25 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
   if (s > kRelativeTolerance * (max_abs(c.point1) + max_abs(c.point2) + radii)) {
     n = (c.point2 - c.point1) * (1.0f / s);
   } else {
-    // The cores cross: any direction across both will do; take the one across both segments,
-    // else across A's, else from A's centre to B's, else up.
+    // The cores cross: any direction across both will do (one along a segment would not part
+    // them: a sphere centred on a segment was pushed along it). Take the one across both
+    // segments; else from A's centre to B's, less its part along the segment (a point and a
+    // segment, or parallel segments; points: centre to centre); else across the segment; else up.
     s = 0.0f;
     const Vec3 da = a1 - a0;
     const Vec3 db = b1 - b0;
     const Vec3 centres = b.vertex(0) + 0.5f * db - (a0 + 0.5f * da);
+    const Vec3 line = da != Vec3(0.0f) ? da : db;  // a segment's direction (zero for two points)
     n = normalize_or_zero(cross(da, db));             // across both segments
-    if (n == Vec3(0.0f)) n = normalize_or_zero(centres);  // points: centre to centre
-    if (n == Vec3(0.0f) && da != Vec3(0.0f)) {         // across A's segment
-      const Vec3 ad = collide::abs(da);
+    if (n == Vec3(0.0f)) {
+      const float ll = dot(line, line);
+      n = normalize_or_zero(ll > 0.0f ? centres - line * (dot(centres, line) / ll) : centres);
+    }
+    if (n == Vec3(0.0f) && line != Vec3(0.0f)) {  // across the segment
+      const Vec3 ad = collide::abs(line);
       Vec3 e(0.0f);
       e[ad.x <= ad.y && ad.x <= ad.z ? 0 : (ad.y <= ad.z ? 1 : 2)] = 1.0f;
-      n = normalize_or_zero(cross(da, e));
+      n = normalize_or_zero(cross(line, e));
     }
     if (n == Vec3(0.0f)) n = Vec3(0.0f, 1.0f, 0.0f);
     if (dot(n, centres) < 0.0f) n = -n;
@@ -1635,6 +1641,38 @@ void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
 
 }  // namespace
 
+/// contact_level_triangle for a triangle whose corners are collinear in A's frame (a needle
+/// whose short side rounds away there: the fuzzer's mesh probes found a sphere on such a needle
+/// without a contact, the triangle's polytope having no face normal): the segment between its
+/// two farthest corners, which holds the third, through contact_cores, B's features renamed
+/// to the triangle's (the segment's ends its corners, its edge the triangle's edge between them).
+void collinear_triangle_contact(const Polytope3& a, const ConvexProxy3& proxy_a,
+                                const std::array<Vec3, 3>& corners, float margin, Manifold3& m) noexcept {
+  // Edge k runs from corner k to corner k + 1 (mod 3): the longest holds the third corner.
+  int edge = 0;
+  float longest = distance_squared(corners[0], corners[1]);
+  for (int k = 1; k < 3; ++k) {
+    const float d = distance_squared(corners[std::size_t(k)], corners[std::size_t((k + 1) % 3)]);
+    if (d > longest) {
+      longest = d;
+      edge = k;
+    }
+  }
+  const auto from = static_cast<std::uint32_t>(edge);
+  const auto to = static_cast<std::uint32_t>((edge + 1) % 3);
+  Polytope3 segment;
+  detail::make_segment_polytope(segment, corners[from], corners[to], 0.0f);
+  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
+  const PlacedPolytope placed{segment, kIdentity, true};
+  const ConvexProxy3 proxy_b(Segment3{corners[from], corners[to]});
+  contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
+  for (int i = 0; i < m.count; ++i) {
+    ContactId& id = m.points[i].id;
+    if (id.type_b == FeatureType::vertex) id.index_b = id.index_b == 0 ? from : to;
+    if (id.type_b == FeatureType::edge) id.index_b = from;
+  }
+}
+
 void detail::contact_level_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                                     const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,
                                     float reach, FunctionRef<std::uint8_t()> edges, float margin,
@@ -1642,7 +1680,11 @@ void detail::contact_level_triangle(const Polytope3& a, const ConvexProxy3& prox
   m.count = 0;
   if (box_beyond(a_bounds, corners, reach)) return;
   const Vec3 n = triangle_normal(corners[0], corners[1], corners[2]);
-  if (n != Vec3(0.0f) && plane_beyond(a, n, corners[0], reach)) return;
+  if (n == Vec3(0.0f)) {
+    collinear_triangle_contact(a, proxy_a, corners, margin, m);
+    return;
+  }
+  if (plane_beyond(a, n, corners[0], reach)) return;
   if (a.face_count == 0) {
     // A sphere, capsule or segment: most triangles of a level it meets are answered without
     // the triangle's polytope.

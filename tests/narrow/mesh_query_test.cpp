@@ -153,6 +153,38 @@ TEST(MeshQuery, ShapeOnAVertexWithoutActiveEdgesTouches) {
   }
 }
 
+// Found by fuzz_shapes' sphere contact check: a needle whose short side (2e-24) rounds away in
+// a body's frame is a segment there, and its polytope had no face normal: a sphere on it, or a
+// box, got no contact. Its two farthest corners now stand for it.
+TEST(MeshQuery, ANeedleThatIsASegmentInTheBodysFrameIsTouched) {
+  const std::vector<Vec3> corners{{-2.06917407e-24f, -4.75551373e-38f, 0.0f}, {2.0f, 3.0f, -0.75f}, {0.0f, 0.0f, 0.0f}};
+  const TriangleMesh mesh = make_triangle_mesh(corners, std::vector<glm::uvec3>{{0, 1, 2}});
+  const Vec3 on = 0.75f * corners[1];  // on the long side, (1.5, 2.25, -0.5625)
+  const Vec3 along = glm::normalize(corners[1]);
+  for (const float radius : {1e-4f, 0.5f}) {
+    const Manifold3 m = contact(make_sphere(Vec3(0.0f), radius), Transform3{on, Quat{1, 0, 0, 0}}, mesh, Transform3{});
+    ASSERT_EQ(m.count, 1) << radius;
+    EXPECT_NEAR(m.points[0].depth, radius, 1e-5f * (1.0f + radius));
+    EXPECT_NEAR(length(m.normal), 1.0f, 1e-5f);
+    EXPECT_NEAR(dot(m.normal, along), 0.0f, 1e-4f);  // across the segment
+    // Beside it by 0.3: the depth is the radius less that, the normal towards it.
+    const Vec3 side = glm::normalize(cross(along, Vec3(0.0f, 0.0f, 1.0f)));
+    const Manifold3 b = contact(make_sphere(Vec3(0.0f), radius), Transform3{on + 0.3f * side, Quat{1, 0, 0, 0}}, mesh,
+                                Transform3{}, 0.5f);
+    ASSERT_EQ(b.count, 1) << radius;
+    EXPECT_NEAR(b.points[0].depth, radius - 0.3f, 1e-5f);
+    EXPECT_VEC3_NEAR(b.normal, -side, 1e-5f);
+  }
+  const Manifold3 box = contact(make_box(Vec3(0.25f)), Transform3{on + Vec3(0.0f, 0.0f, 0.2f), Quat{1, 0, 0, 0}}, mesh,
+                                Transform3{});
+  // The line runs through the box's lower part, 0.05 above its bottom face at `on` and rising
+  // 0.0626 to where it leaves the box's side: lifting the box 0.113 frees it.
+  ASSERT_GT(box.count, 0);
+  EXPECT_GT(box.max_depth(), 0.05f);
+  EXPECT_LT(box.max_depth(), 0.1127f);
+  EXPECT_NEAR(length(box.normal), 1.0f, 1e-5f);
+}
+
 TEST(MeshQuery, BoxSlidingOverSeamsOfAHeightFieldGetsFaceNormal) {
   const Terrain flat = make_terrain(21, 0.5f, [](float, float) { return 1.0f; });
   const Box box = make_box({0.3f, 0.3f, 0.3f});
