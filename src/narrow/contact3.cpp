@@ -1405,11 +1405,11 @@ namespace {
   return gap.x > reach || gap.y > reach || gap.z > reach;
 }
 
-/// contact_level_triangle's plane axis: A apart from the triangle's plane by more than `reach`, for
-/// the plane's unit normal `n` (triangle_normal's, in double: a sliver's plane made in float
-/// turned far enough to drop spheres a unit deep in it) through `corner`. A's extent along n, the support queries' values: a
-/// point's or a segment's ends and a box's corner by the signs of n directly (called per
-/// candidate triangle; Polytope3::support is not inlined for its hull scan).
+/// contact_level_triangle's plane axis: A apart from the triangle's plane by more than `reach`,
+/// for the plane's unit normal `n` (triangle_normal's, in double: a sliver's plane made in float
+/// turned far enough to drop contacts 0.05 deep) through `corner`. A's extent along n, the
+/// support queries' values: a point's or a segment's ends and a box's corner by the signs of n
+/// directly (called per candidate triangle; Polytope3::support is not inlined for its hull scan).
 [[nodiscard]] bool plane_beyond(const Polytope3& a, Vec3 n, Vec3 corner, float reach) noexcept {
   const float plane = dot(n, corner);
   const float grown = reach + a.radius;
@@ -1621,8 +1621,8 @@ void contact_triangle_polytope(const Polytope3& a, const ConvexProxy3& proxy_a,
                    });
 }
 
-/// contact_level_triangle's contact for a core without faces, with the triangle's unit normal `n` as
-/// triangle_normal makes it (and make_triangle_polytope its face; zero without area).
+/// contact_level_triangle's contact for a core without faces, with the triangle's unit normal
+/// `n` as triangle_normal makes it (and make_triangle_polytope its face; zero without area).
 void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                            const std::array<Vec3, 3>& corners, Vec3 n,
                            FunctionRef<std::uint8_t()> edges, float margin, Manifold3& m) noexcept {
@@ -1638,8 +1638,6 @@ void core_contact_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
   }
   contact_triangle_polytope(a, proxy_a, corners, n, edges, margin, m, found ? &closest : nullptr);
 }
-
-}  // namespace
 
 /// contact_level_triangle for a triangle whose corners are collinear in A's frame (a needle
 /// whose short side rounds away there: the fuzzer's mesh probes found a sphere on such a needle
@@ -1672,6 +1670,8 @@ void collinear_triangle_contact(const Polytope3& a, const ConvexProxy3& proxy_a,
     if (id.type_b == FeatureType::edge) id.index_b = from;
   }
 }
+
+}  // namespace
 
 void detail::contact_level_triangle(const Polytope3& a, const ConvexProxy3& proxy_a,
                                     const Aabb3& a_bounds, const std::array<Vec3, 3>& corners,

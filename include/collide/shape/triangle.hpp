@@ -58,13 +58,12 @@ inline constexpr float kTriangleNormalDirectMaxSquared = 1e30f;
 /// zero when the corners are collinear. The cross product is made in double
 /// (triangle_area_normal), so that a sliver's normal is right to float rounding whatever its
 /// length over width; rounded to float, its direction stays right to float rounding, and most
-/// triangles are normalised there (one float square root and reciprocal: a level contact makes
-/// a normal per candidate triangle, and double's cost 8% of a capsule's); a tiny or huge one in
-/// double, where its length neither underflows nor overflows. Inlined by force: called out of
-/// line, its arguments (each Vec3 in two registers) were put back together through the stack by
-/// loads spanning two stores, which the processor cannot forward; that stall was a fifth of a
-/// mesh ray cast's time (bench_mesh_raycast), and a tenth of a capsule's level contact once the
-/// double cross product made it too long for the compiler to inline unasked.
+/// triangles are normalised there (one float square root and reciprocal, as before stop 104: a
+/// level contact makes a normal per candidate triangle); a tiny or huge one in double, where its
+/// length neither underflows nor overflows. Inlined by force: called out of line, its arguments
+/// (each Vec3 in two registers) were put back together through the stack by loads spanning two
+/// stores, which the processor cannot forward; that stall was a fifth of a mesh ray cast's time
+/// (bench_mesh_raycast), and with the double cross product GCC no longer inlined it unasked.
 [[nodiscard]] COLLIDE_ALWAYS_INLINE Vec3 triangle_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
   const glm::dvec3 exact = triangle_area_normal(a, b, c);
   const Vec3 n(exact);
