@@ -1568,7 +1568,13 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
     case 3u: active = (active_edges & 0b001u) != 0; break;  // edge 0
     case 6u: active = (active_edges & 0b010u) != 0; break;  // edge 1
     case 5u: active = (active_edges & 0b100u) != 0; break;  // edge 2
-    default: break;                                         // the whole face (a tiny triangle)
+    default:
+      // All three corners level along the normal, which is not the face's: a tiny triangle, or
+      // a needle seen across its length (the fuzzer's mesh probes found a sphere beside a needle
+      // 1e8 long and 14 wide, touching its active long sides, whose contact the face clip below
+      // dropped). The normal stands when any of its edges is active.
+      active = (active_edges & 7u) != 0;
+      break;
   }
   if (active) return;
   // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
