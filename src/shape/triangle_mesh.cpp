@@ -105,13 +105,19 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
     }
   }
 
-  // Drop triangles without a normal in the stored coordinates (what every query computes with).
+  // Drop triangles without a normal in float in the stored coordinates (their cross product
+  // zero or beyond float range), as before stop 104 made triangle_normal in double: a needle
+  // whose sides' cross product rounds to zero in float (a short side of 1e-14 at 1e-10 from the
+  // origin) has a double normal, but the contact's clip and separating axes, in float, lose it
+  // (the fuzzer's sphere check found one without a contact).
   std::vector<Vec3> normals;
   mesh.triangles.reserve(triangles.size());
   normals.reserve(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const glm::uvec3 v = triangles[t];
-    const Vec3 n = triangle_normal(mesh.vertices[v.x], mesh.vertices[v.y], mesh.vertices[v.z]);
+    const Vec3 a = mesh.vertices[v.x], b = mesh.vertices[v.y], c = mesh.vertices[v.z];
+    const float float_area = max_abs(cross(b - a, c - a));
+    const Vec3 n = float_area > 0.0f && std::isfinite(float_area) ? triangle_normal(a, b, c) : Vec3(0.0f);
     if (n == Vec3(0.0f)) {
       mesh.dropped_triangles.push_back(static_cast<std::uint32_t>(t));
       continue;

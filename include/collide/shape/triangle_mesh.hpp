@@ -77,8 +77,8 @@ struct TriangleMesh {
 /// A triangle mesh from indexed triangles (any winding; each triangle's own winding fixes its
 /// geometric normal). Vertices are welded where their positions are exactly equal to find the
 /// triangles that share an edge (so a soup with three vertices per triangle gets its adjacency),
-/// without changing `vertices` or the indices. Triangles without area (repeated or collinear
-/// corners in the stored coordinates: triangle_normal, in double, has no direction) are dropped,
+/// without changing `vertices` or the indices. Triangles with no area in float (the cross product
+/// of their local edges has no direction in float: repeated or collinear corners) are dropped,
 /// counted in `stats` and listed in `dropped_triangles`, not refused: real levels have them.
 /// Active edges: pairs over each edge compare normals; convex means the second normal turns
 /// away about the edge direction of the first, (n1 x n2) . e > 0 (the idea of Jolt's
