@@ -1608,6 +1608,9 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
 
 namespace {
 
+/// The frame of a polytope made in A's frame: PlacedPolytope's `identity` is set, so it is not read.
+const Frame3 kIdentityFrame = Frame3::from(Transform3{});
+
 /// contact_level_triangle's contact through the triangle's polytope (contact_cores), `n` the
 /// triangle's unit normal (triangle_normal), `closest` the closest points of a core without
 /// faces when already found.
@@ -1617,8 +1620,7 @@ void contact_triangle_polytope(const Polytope3& a, const ConvexProxy3& proxy_a,
                                const DistanceResult3* closest) noexcept {
   Polytope3 tri;
   detail::make_triangle_polytope(tri, corners[0], corners[1], corners[2], 0.0f, n);
-  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
-  const PlacedPolytope placed{tri, kIdentity, true};
+  const PlacedPolytope placed{tri, kIdentityFrame, true};
   const ConvexProxy3 proxy_b(Triangle{corners});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m, closest);
   use_active_edges(corners, n, a.centroid, a.size, edges, margin, m,
@@ -1666,8 +1668,7 @@ void collinear_triangle_contact(const Polytope3& a, const ConvexProxy3& proxy_a,
   const auto to = static_cast<std::uint32_t>((edge + 1) % 3);
   Polytope3 segment;
   detail::make_segment_polytope(segment, corners[from], corners[to], 0.0f);
-  static const Frame3 kIdentity = Frame3::from(Transform3{});  // not read: `identity` is set
-  const PlacedPolytope placed{segment, kIdentity, true};
+  const PlacedPolytope placed{segment, kIdentityFrame, true};
   const ConvexProxy3 proxy_b(Segment3{corners[from], corners[to]});
   contact_cores(a, proxy_a, placed, proxy_b, Transform3{}, margin, m);
   for (int i = 0; i < m.count; ++i) {
