@@ -256,23 +256,62 @@ inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec
 /// its distance) rounds by a few, and a wrong winner costs at most its lane's error.
 inline constexpr double kMeshNearestRounding = 64.0;
 
-/// "" when a sphere at `p` (the mesh's local coordinates) reaching `allowance` past the mesh's
-/// nearest distance `nearest` (found by brute force) plus half of it touches the mesh: its
-/// contact is not empty, and finite, with a unit normal. A contact the level query, its early
-/// out or the closed form of a sphere against a triangle drops fails (stop 104: slivers' planes
-/// made in float dropped contacts 0.05 deep).
-inline std::string check_mesh_sphere_contact(const TriangleMesh& mesh, Vec3 p, double nearest, double allowance) {
-  const Vec3 centre = mesh.origin + p;
-  if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
-  const auto radius = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(max_abs(mesh.origin))));
-  if (!(radius > 0.0f) || !finite(radius)) return {};
-  const Manifold3 m = contact(make_sphere(Vec3(0.0f), radius), Transform3{centre, Quat{1, 0, 0, 0}}, mesh, Transform3{});
-  if (m.count == 0) return "triangle mesh: a sphere reaching past the nearest triangle has no contact";
-  if (!finite(m.normal) || !(std::abs(length(m.normal) - 1.0f) <= 1e-3f)) return "triangle mesh: a sphere's contact normal is not unit";
+/// "" when `body` at `xf` (world space; the mesh stands at the identity) touches the mesh: its
+/// contact is not empty, and finite, with a unit normal; else what went wrong, naming the body
+/// by `what`. Asked of bodies known to reach past the mesh's nearest triangle. Bodies whose
+/// bounds leave kFiniteQueryRange are not asked.
+template <class Body>
+std::string check_mesh_touch(const TriangleMesh& mesh, const Body& body, const Transform3& xf, std::string_view what) {
+  if (!within_finite_range(compute_aabb(body, xf))) return {};
+  const Manifold3 m = contact(body, xf, mesh, Transform3{});
+  const std::string name(what);
+  if (m.count == 0) return "triangle mesh: a " + name + " reaching past the nearest triangle has no contact";
+  if (!finite(m.normal) || !(std::abs(length(m.normal) - 1.0f) <= 1e-3f)) {
+    return "triangle mesh: a " + name + "'s contact normal is not unit";
+  }
   for (int i = 0; i < m.count; ++i) {
-    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "triangle mesh: a sphere's contact is not finite";
+    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "triangle mesh: a " + name + "'s contact is not finite";
   }
   return {};
+}
+
+/// "" when every body of each kind that holds a ball at `p` (the mesh's local coordinates)
+/// reaching `allowance` past the mesh's nearest distance `nearest` (found by brute force) plus
+/// half of it touches the mesh (check_mesh_touch): a sphere of that radius r, and turned by a
+/// fixed rotation off the mesh's axes a capsule (core 2r long, radius r), a box (half extents
+/// r, 1.25r, 1.5r) and a convex hull (the octahedron of corners 2r out, whose faces lie 1.15r
+/// from its centre). A contact the level query, its early out or the closed form of a body
+/// against a triangle drops fails (stop 104: slivers' planes made in float dropped contacts 0.05
+/// deep). A body whose constructor refuses its size is skipped.
+inline std::string check_mesh_contact(const TriangleMesh& mesh, Vec3 p, double nearest, double allowance) {
+  const Vec3 centre = mesh.origin + p;
+  if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
+  const auto r = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(max_abs(mesh.origin))));
+  if (!(r > 0.0f) || !finite(r)) return {};
+  if (std::string touch = check_mesh_touch(mesh, make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, "sphere");
+      !touch.empty()) {
+    return touch;
+  }
+  const Transform3 turned{centre, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
+  auto made = [&](auto make, std::string_view what) -> std::string {
+    try {
+      return check_mesh_touch(mesh, make(), turned, what);
+    } catch (const InvalidInput&) {
+      return {};
+    }
+  };
+  if (std::string touch = made([&] { return make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r); }, "capsule");
+      !touch.empty()) {
+    return touch;
+  }
+  if (std::string touch = made([&] { return make_box(Vec3(r, 1.25f * r, 1.5f * r)); }, "box"); !touch.empty()) return touch;
+  return made(
+      [&] {
+        const float c = 2.0f * r;
+        const std::array<Vec3, 6> corners{Vec3(c, 0, 0), Vec3(-c, 0, 0), Vec3(0, c, 0), Vec3(0, -c, 0), Vec3(0, 0, c), Vec3(0, 0, -c)};
+        return make_convex_hull(corners);
+      },
+      "hull");
 }
 
 /// "" when a triangle mesh's BVH gives each probe point the distance of its nearest triangle:
@@ -282,8 +321,8 @@ inline std::string check_mesh_sphere_contact(const TriangleMesh& mesh, Vec3 p, d
 /// distances below about 1e-38 lose their bits in float). Probes, in the mesh's local
 /// coordinates (the BVH's): up to 24 triangles' corners, centroids and points beyond their
 /// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange. At
-/// each probe, a sphere reaching past that distance must touch the mesh
-/// (check_mesh_sphere_contact).
+/// each probe, each body holding a ball reaching past that distance must touch the mesh
+/// (check_mesh_contact).
 inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   if (count == 0) return {};
@@ -321,7 +360,7 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
         return "triangle mesh: the BVH's nearest distance differs from the nearest triangle's";
       }
     }
-    if (std::string touch = check_mesh_sphere_contact(mesh, p, truth, allowance); !touch.empty()) return touch;
+    if (std::string touch = check_mesh_contact(mesh, p, truth, allowance); !touch.empty()) return touch;
   }
   return {};
 }

@@ -76,19 +76,27 @@ TEST(ShapesFuzzRegressions, MeshNearestCheckCatchesAWrongTree) {
   EXPECT_EQ(fuzz::check_mesh_nearest(mesh), "triangle mesh: the BVH's nearest distance differs from the nearest triangle's");
 }
 
-// The sphere contact oracle fails where the level query misses a triangle: a corner moved
-// towards the probe after the build (the BVH's box is where it was) is touched by the sphere,
-// and the contact, which finds triangles through the tree, has none.
-TEST(ShapesFuzzRegressions, MeshSphereContactCheckCatchesADroppedContact) {
+// The contact oracle fails where the level query misses a triangle: a corner moved towards the
+// probe after the build (the BVH's box is where it was) is touched by each body, and the
+// contact, which finds triangles through the tree, has none. Each body kind is asked on its own.
+TEST(ShapesFuzzRegressions, MeshContactCheckCatchesADroppedContact) {
   const std::vector<Vec3> vertices{{0.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}};
   TriangleMesh mesh = make_triangle_mesh(vertices, std::vector<glm::uvec3>{{0, 1, 2}});
   const Vec3 probe = mesh.corner(0, 0) + Vec3(0.5f, 0.5f, 3.0f);  // 3 above the triangle
-  EXPECT_EQ(fuzz::check_mesh_sphere_contact(mesh, probe, 3.0, 1e-6), "");
+  EXPECT_EQ(fuzz::check_mesh_contact(mesh, probe, 3.0, 1e-6), "");
   for (const std::uint32_t v : {mesh.triangles[0].x, mesh.triangles[0].y, mesh.triangles[0].z}) {
     mesh.vertices[v] += Vec3(0.0f, 0.0f, 2.9f);  // 0.1 below the probe now, the tree's box 3 below
   }
-  EXPECT_EQ(fuzz::check_mesh_sphere_contact(mesh, probe, 0.1, 1e-6),
+  EXPECT_EQ(fuzz::check_mesh_contact(mesh, probe, 0.1, 1e-6),
             "triangle mesh: a sphere reaching past the nearest triangle has no contact");
+  const Transform3 at{mesh.origin + probe, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
+  const std::vector<Vec3> octahedron{{0.4f, 0, 0}, {-0.4f, 0, 0}, {0, 0.4f, 0}, {0, -0.4f, 0}, {0, 0, 0.4f}, {0, 0, -0.4f}};
+  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_capsule(Vec3(0, -0.2f, 0), Vec3(0, 0.2f, 0), 0.2f), at, "capsule"),
+            "triangle mesh: a capsule reaching past the nearest triangle has no contact");
+  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_box(Vec3(0.2f, 0.25f, 0.3f)), at, "box"),
+            "triangle mesh: a box reaching past the nearest triangle has no contact");
+  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_convex_hull(octahedron), at, "hull"),
+            "triangle mesh: a hull reaching past the nearest triangle has no contact");
 }
 
 // Found by fuzz_shapes: ends 5e-32 apart passed "a and b coincide" (a == b), but their squared
