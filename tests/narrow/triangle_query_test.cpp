@@ -13,6 +13,7 @@
 #include <collide/shape/triangle_mesh.hpp>
 
 #include "support/brute_triangle.hpp"
+#include "support/hull_pairs.hpp"
 #include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
 
@@ -347,6 +348,66 @@ TEST(TriangleQuery, SpheresAndCapsulesOverSliversTouchAtTheirNearestPoint) {
   }
   EXPECT_GT(meshes, 7000);
   EXPECT_GT(triangles, 3500);
+}
+
+// Boxes and hulls through slivers 2 units long and 2^-3 to 2^-21 wide (stop 104 made the
+// triangle's face normal in double for them too), a single Triangle and a one-triangle mesh,
+// against the exact Minkowski difference in double (hull_pairs.hpp: the separating axes of a
+// hull and a triangle): never shallower than the penetration depth, and the reported normal
+// within the face preference (kEdgeContactTolerance, kReferenceFaceTolerance of the smaller
+// shape's size) of the best axis, and no point deeper than that normal says. (Between the
+// penetration depth and that normal's: a face preferred within the tolerance clips away the
+// deepest vertex when it lies beyond the face's sides.)
+TEST(TriangleQuery, BoxesAndHullsThroughSliversMatchTheSeparatingAxes) {
+  std::mt19937 rng(105);
+  constexpr double kTolerance = 4e-6;  // float spacings at coordinates up to about 4
+  int triangles = 0, meshes = 0;
+  for (int i = 0; i < 6000; ++i) {
+    const int e = 3 + static_cast<int>(rng() % 19);
+    const float width = std::ldexp(1.0f, -e);
+    const std::array<Vec3, 3> t = test::random_sliver(rng, 2.0f, 2.0f, width, i % 2 == 1);
+    const std::array<test::DVec3, 3> dt{test::DVec3(t[0]), test::DVec3(t[1]), test::DVec3(t[2])};
+    const bool box = i % 2 == 0;
+    const Vec3 half(test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f), test::uniform(rng, 0.1f, 1.0f));
+    std::vector<Vec3> box_corners;
+    for (int k = 0; k < 8; ++k) box_corners.emplace_back(k & 1 ? half.x : -half.x, k & 2 ? half.y : -half.y, k & 4 ? half.z : -half.z);
+    const ConvexHull hull = box ? make_convex_hull(box_corners) : test::random_hull(rng, 12, 0.6f);
+    float reach = 0.0f;
+    for (const Vec3& v : hull.vertices) reach = std::max(reach, length(v));
+    const Transform3 xa{test::random_point_over(rng, t, test::uniform(rng, -1.0f, 1.0f) * reach), test::random_rotation(rng)};
+    const test::MinkowskiReference k = test::minkowski_reference(hull, xa, dt);
+    const double depth = k.depth();
+    if (depth < 1e-3) continue;
+    // The smaller shape's size as the tolerances take it (twice the farthest vertex from the
+    // centroid), a bound on both preferences.
+    const test::DVec3 centroid = (dt[0] + dt[1] + dt[2]) / 3.0;
+    double triangle_size = 0.0;
+    for (const test::DVec3& c : dt) triangle_size = std::max(triangle_size, 2.0 * glm::length(c - centroid));
+    const double preference =
+        std::max(kEdgeContactTolerance, kReferenceFaceTolerance) * std::min(2.0 * double(reach), triangle_size);
+    const auto check = [&](const Manifold3& m, const char* what) {
+      ASSERT_GT(m.count, 0) << what << " " << i << " width 2^-" << e;
+      double deepest = -1e30;
+      for (int p = 0; p < m.count; ++p) deepest = std::max(deepest, double(m.points[p].depth));
+      const test::DVec3 n = glm::normalize(test::DVec3(m.normal));
+      ASSERT_GE(deepest, depth - kTolerance) << what << " " << i << " width 2^-" << e;
+      ASSERT_LE(k.depth_along(n), depth + preference + kTolerance) << what << " " << i << " width 2^-" << e;
+      ASSERT_LE(deepest, k.depth_along(n) + kTolerance) << what << " " << i << " width 2^-" << e;
+    };
+    const auto contact_with = [&](const auto& b) {
+      return box ? contact(make_box(half), xa, b, Transform3{}) : contact(hull, xa, b, Transform3{});
+    };
+    const std::vector<Vec3> corners{t[0], t[1], t[2]};
+    const std::vector<glm::uvec3> one{{0, 1, 2}};
+    check(contact_with(make_triangle_mesh(corners, one)), "mesh");
+    ++meshes;
+    if (width > 2.0f * kDegenerateAreaTolerance * 2.0f * 1.1f) {  // make_triangle's limit, as above
+      check(contact_with(make_triangle(t[0], t[1], t[2])), "triangle");
+      ++triangles;
+    }
+  }
+  EXPECT_GT(meshes, 3000);
+  EXPECT_GT(triangles, 1500);
 }
 
 TEST(TriangleQuery, ClosestPointVoronoiFeatures) {

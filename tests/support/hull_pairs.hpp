@@ -13,7 +13,8 @@
 //    minimising n, from A to B (moving B by depth n separates the pair);
 //  - a translation of A by t va meets B first at the t where the ray -t va enters K.
 // Distances of separated pairs come from brute_convex3.hpp (element pairs), not from K.
-// Used by bench/narrow3.cpp and tests/narrow/jolt_oracle_test.cpp.
+// Also a hull against a triangle. Used by bench/narrow3.cpp, tests/narrow/jolt_oracle_test.cpp
+// and tests/narrow/triangle_query_test.cpp.
 
 #include <collide/core/error.hpp>
 #include <collide/core/transform3.hpp>
@@ -24,6 +25,7 @@
 #include "support/test_util.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -139,6 +141,34 @@ inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transfo
     const DVec3 da = k.a[ea.v1] - k.a[ea.v0];
     for (const HullEdge& eb : b.edges) {
       const DVec3 db = k.b[eb.v1] - k.b[eb.v0];
+      const DVec3 n = glm::cross(da, db);
+      const double len2 = glm::dot(n, n);
+      if (len2 > 1e-24 * glm::dot(da, da) * glm::dot(db, db)) add(n / std::sqrt(len2));
+    }
+  }
+  k.supports.reserve(k.normals.size());
+  for (const DVec3& n : k.normals) k.supports.push_back(k.support(n));
+  return k;
+}
+
+/// K = A - T for a placed hull A and a triangle T (world space, double): T's two face
+/// directions and the cross products of A's edges with T's three edges stand in for B's face
+/// normals and edges (a triangle is a flat polytope: its faces are its plane's two sides).
+inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transform3& xa,
+                                              const std::array<DVec3, 3>& triangle) {
+  MinkowskiReference k;
+  for (const Vec3& v : a.vertices) k.a.push_back(to_world(xa, v));
+  k.b.assign(triangle.begin(), triangle.end());
+  const auto add = [&](DVec3 n) {
+    k.normals.push_back(n);
+    k.normals.push_back(-n);
+  };
+  for (const HullFace& f : a.faces) add(face_normal(a, f, xa));
+  add(glm::normalize(glm::cross(triangle[1] - triangle[0], triangle[2] - triangle[0])));
+  for (const HullEdge& ea : a.edges) {
+    const DVec3 da = k.a[ea.v1] - k.a[ea.v0];
+    for (int e = 0; e < 3; ++e) {
+      const DVec3 db = triangle[(e + 1) % 3] - triangle[e];
       const DVec3 n = glm::cross(da, db);
       const double len2 = glm::dot(n, n);
       if (len2 > 1e-24 * glm::dot(da, da) * glm::dot(db, db)) add(n / std::sqrt(len2));
