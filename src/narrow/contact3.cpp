@@ -256,6 +256,33 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
 }
 
+/// Below this squared length an edge pair's axis da x db is taken again by rescaled_edge_axis:
+/// its squares and the parallel test's bound (kParallelTolerance^2 |da|^2 |db|^2, which it
+/// bounds from above) would reach float's subnormal range, where they keep few bits. 2^-96
+/// leaves the bound normal above it.
+constexpr float kEdgeAxisRescale = 0x1p-96f;
+
+/// The edge pair's axis l = da x db and its squared length `ll` made again of the directions
+/// scaled by powers of two to a largest component in [1, 2) (exact), for an axis whose first
+/// `ll` was below kEdgeAxisRescale: edges so short, or so nearly parallel, that the squares
+/// lose their bits (a needle's side 1e-19 long against a capsule's core gave an axis 1.5% off
+/// unit length: the fuzzer's contact check found it). Then the separation and the unit axis
+/// come from this l as from any other. False when the edges are parallel within
+/// kParallelTolerance or one has no direction (zero, or not finite). Rare, so out of line.
+[[gnu::noinline, gnu::cold]] bool rescaled_edge_axis(Vec3 da, Vec3 db, Vec3& l, float& ll) noexcept {
+  const auto unit_scale = [](Vec3 d) {
+    const float m = max_abs(d);
+    if (!(m > 0.0f) || !std::isfinite(m)) return Vec3(std::numeric_limits<float>::quiet_NaN());
+    const int e = -std::ilogb(m);
+    return Vec3(std::scalbn(d.x, e), std::scalbn(d.y, e), std::scalbn(d.z, e));
+  };
+  da = unit_scale(da);
+  db = unit_scale(db);
+  l = cross(da, db);
+  ll = dot(l, l);
+  return ll > kParallelTolerance * kParallelTolerance * dot(da, da) * dot(db, db);
+}
+
 /// Largest support value of A along `l` (A's frame).
 [[nodiscard]] float support_value(const Polytope3& a, Vec3 l) noexcept {
   return dot(a.vertex(a.support(l)), l);
@@ -305,8 +332,14 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
     for (int k = 0; k < 3; ++k) {
       // e_k x db, e_k the box's k-th axis.
       Vec3 l = k == 0 ? Vec3(0.0f, -db.z, db.y) : k == 1 ? Vec3(db.z, 0.0f, -db.x) : Vec3(-db.y, db.x, 0.0f);
-      const float ll = dot(l, l);
-      if (!(ll > min_ll)) continue;  // parallel: a face axis covers it
+      float ll = dot(l, l);
+      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
+        Vec3 axis(0.0f);
+        axis[k] = 1.0f;
+        if (!rescaled_edge_axis(axis, db, l, ll)) continue;
+      } else if (!(ll > min_ll)) {
+        continue;  // parallel: a face axis covers it
+      }
       if (dot(l, u) > 0.0f) l = -l;  // on -B's half circle: B's edge supports B along -l
       const int corner = (l.x > 0.0f ? 1 : 0) | (l.y > 0.0f ? 2 : 0) | (l.z > 0.0f ? 4 : 0);
       const int from = corner & ~(1 << k);
@@ -421,8 +454,12 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
       if ((across & (1u << j)) == 0) continue;
       const TriangleEdge& e = te[std::size_t(j)];
       Vec3 l = cross(da, e.d);
-      const float ll = dot(l, l);
-      if (!(ll > e.min_ll * da2)) continue;
+      float ll = dot(l, l);
+      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
+        if (!rescaled_edge_axis(da, e.d, l, ll)) continue;
+      } else if (!(ll > e.min_ll * da2)) {
+        continue;
+      }
       // The crossing, on A's arc (between its two normals): there l is A's outward normal.
       if (dot(l, mid) < 0.0f) l = -l;
       if (dot(l, e.u) > 0.0f) continue;  // on the other half of the circle: not B's edge
@@ -472,9 +509,13 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
         continue;
       }
       Vec3 l = cross(da, db);
-      const float ll = dot(l, l);
+      float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
-      if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) continue;
+      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
+        if (!rescaled_edge_axis(da, db, l, ll)) continue;
+      } else if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) {
+        continue;
+      }
       float s;
       if (solids) {
         // The axis points out of A at its edge (away from A's centre), and A - B's face

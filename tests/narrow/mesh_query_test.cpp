@@ -7,6 +7,9 @@
 #include <collide/narrow/contact.hpp>
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/overlap.hpp>
+#include <collide/shape/box.hpp>
+#include <collide/shape/capsule3.hpp>
+#include <collide/shape/convex_hull.hpp>
 #include <collide/io/obj.hpp>
 
 #include "support/random_shapes3.hpp"
@@ -183,6 +186,38 @@ TEST(MeshQuery, ANeedleThatIsASegmentInTheBodysFrameIsTouched) {
   EXPECT_GT(box.max_depth(), 0.05f);
   EXPECT_LT(box.max_depth(), 0.1127f);
   EXPECT_NEAR(length(box.normal), 1.0f, 1e-5f);
+}
+
+// Found by fuzz_shapes' contact check (finding 18): a capsule through a needle whose short side
+// is 1.4e-19 long got a normal 1.5% off unit length. The edge pair's axis, its core against that
+// side, is a cross product about 1e-23 long, whose squared length is subnormal in float and
+// kept 3 bits. Now such an axis is made again of the edges' directions scaled to unit size.
+// Capsules, boxes and hulls at the short side of needles 2^-40 down to 2^-126 wide (before:
+// capsules at six widths from 2^-60 to 2^-72, normals 0.965-1.015 long).
+TEST(MeshQuery, BodiesAtANeedlesTinySideGetAUnitNormal) {
+  const Quat turned = glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f});
+  for (int e = 40; e <= 126; e += 2) {
+    const float side = std::ldexp(1.3f, -e);
+    const std::vector<Vec3> corners{{0.0f, 0.0f, side}, {0.0f, 0.0f, 0.0f}, {4.0f, -2.0f, 4.0f}};
+    const TriangleMesh mesh = make_triangle_mesh(corners, std::vector<glm::uvec3>{{0, 1, 2}});
+    for (const float r : {2.13623047e-4f, 0.1f}) {
+      const std::vector<Vec3> octahedron{{2 * r, 0, 0}, {-2 * r, 0, 0}, {0, 2 * r, 0}, {0, -2 * r, 0}, {0, 0, 2 * r}, {0, 0, -2 * r}};
+      for (const Vec3 centre : {corners[1], mesh.origin}) {
+        const Transform3 at{centre, turned};
+        const auto check = [&](const Manifold3& m, const char* what) {
+          ASSERT_GT(m.count, 0) << what << " side " << side << " r " << r;
+          EXPECT_NEAR(length(m.normal), 1.0f, 1e-5f) << what << " side " << side << " r " << r;
+          for (int i = 0; i < m.count; ++i) {
+            EXPECT_TRUE(std::isfinite(m.points[i].depth)) << what;
+            EXPECT_LE(m.points[i].depth, 4.0f * r) << what << " side " << side << " r " << r;
+          }
+        };
+        check(contact(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), at, mesh, Transform3{}), "capsule");
+        check(contact(make_box(Vec3(r, 1.25f * r, 1.5f * r)), at, mesh, Transform3{}), "box");
+        check(contact(make_convex_hull(octahedron), at, mesh, Transform3{}), "hull");
+      }
+    }
+  }
 }
 
 TEST(MeshQuery, BoxSlidingOverSeamsOfAHeightFieldGetsFaceNormal) {
