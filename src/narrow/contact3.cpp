@@ -256,31 +256,33 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
 }
 
-/// Below this squared length an edge pair's axis da x db is taken again by rescaled_edge_axis:
-/// its squares and the parallel test's bound (kParallelTolerance^2 |da|^2 |db|^2, which it
-/// bounds from above) would reach float's subnormal range, where they keep few bits. 2^-96
-/// leaves the bound normal above it.
-constexpr float kEdgeAxisRescale = 0x1p-96f;
+/// Edges with a squared length below this (shorter than 2^-24) are taken by their direction
+/// scaled to unit size (scale_tiny_edge) for the edge pairs' axes: then both squares are at
+/// least 2^-48 and the parallel test's bound kParallelTolerance^2 |da|^2 |db|^2, below which
+/// an axis counts as parallel, stays in float's normal range, and so does the squared length
+/// of every axis that passes it.
+constexpr float kTinyEdgeSquared = 0x1p-48f;
 
-/// The edge pair's axis l = da x db and its squared length `ll` made again of the directions
-/// scaled by powers of two to a largest component in [1, 2) (exact), for an axis whose first
-/// `ll` was below kEdgeAxisRescale: edges so short, or so nearly parallel, that the squares
-/// lose their bits (a needle's side 1e-19 long against a capsule's core gave an axis 1.5% off
-/// unit length: the fuzzer's contact check found it). Then the separation and the unit axis
-/// come from this l as from any other. False when the edges are parallel within
-/// kParallelTolerance or one has no direction (zero, or not finite). Rare, so out of line.
-[[gnu::noinline, gnu::cold]] bool rescaled_edge_axis(Vec3 da, Vec3 db, Vec3& l, float& ll) noexcept {
-  const auto unit_scale = [](Vec3 d) {
-    const float m = max_abs(d);
-    if (!(m > 0.0f) || !std::isfinite(m)) return Vec3(std::numeric_limits<float>::quiet_NaN());
-    const int e = -std::ilogb(m);
-    return Vec3(std::scalbn(d.x, e), std::scalbn(d.y, e), std::scalbn(d.z, e));
-  };
-  da = unit_scale(da);
-  db = unit_scale(db);
-  l = cross(da, db);
-  ll = dot(l, l);
-  return ll > kParallelTolerance * kParallelTolerance * dot(da, da) * dot(db, db);
+/// `d` scaled by a power of two (exactly) to a largest component in [1, 2); NaN without a
+/// direction (zero, or not finite). Rare, so out of line.
+[[gnu::noinline, gnu::cold]] Vec3 unit_scaled(Vec3 d) noexcept {
+  const float m = max_abs(d);
+  if (!(m > 0.0f) || !std::isfinite(m)) return Vec3(std::numeric_limits<float>::quiet_NaN());
+  const int e = -std::ilogb(m);
+  return {std::scalbn(d.x, e), std::scalbn(d.y, e), std::scalbn(d.z, e)};
+}
+
+/// An edge direction `d` with its squared length `d2`, for the edge pairs' axes (their cross
+/// products): a tiny edge's (below kTinyEdgeSquared) scaled to unit size. A needle's side 1.4e-19
+/// long against a capsule's core gave an axis whose squared length, about 1e-46, is subnormal:
+/// the normal came out 1.5% off unit length (the fuzzer's contact check, finding 18), and the
+/// parallel test's bound had underflowed to zero. The axis' direction is the same; the
+/// separation and the unit axis are made from it as from any other.
+COLLIDE_ALWAYS_INLINE void scale_tiny_edge(Vec3& d, float& d2) noexcept {
+  if (!(d2 >= kTinyEdgeSquared)) [[unlikely]] {
+    d = unit_scaled(d);
+    d2 = dot(d, d);
+  }
 }
 
 /// Largest support value of A along `l` (A's frame).
@@ -324,22 +326,18 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
   for (int j = 0; j < b.p.edge_count; ++j) {
     const HullEdge& eb = b.p.edges[j];
     const Vec3 pb = b.vertex(eb.v0);
-    const Vec3 db = b.vertex(eb.v1) - pb;
-    const float min_ll = kParallelTolerance * kParallelTolerance * dot(db, db);
+    Vec3 db = b.vertex(eb.v1) - pb;
+    float db2 = dot(db, db);
+    scale_tiny_edge(db, db2);
+    const float min_ll = kParallelTolerance * kParallelTolerance * db2;
     // The edge's outward direction in the triangle's plane (its length does not matter).
     Vec3 u = cross(db, n);
     if (dot(u, b.vertex(3 - eb.v0 - eb.v1) - pb) > 0.0f) u = -u;
     for (int k = 0; k < 3; ++k) {
       // e_k x db, e_k the box's k-th axis.
       Vec3 l = k == 0 ? Vec3(0.0f, -db.z, db.y) : k == 1 ? Vec3(db.z, 0.0f, -db.x) : Vec3(-db.y, db.x, 0.0f);
-      float ll = dot(l, l);
-      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
-        Vec3 axis(0.0f);
-        axis[k] = 1.0f;
-        if (!rescaled_edge_axis(axis, db, l, ll)) continue;
-      } else if (!(ll > min_ll)) {
-        continue;  // parallel: a face axis covers it
-      }
+      const float ll = dot(l, l);
+      if (!(ll > min_ll)) continue;  // parallel: a face axis covers it
       if (dot(l, u) > 0.0f) l = -l;  // on -B's half circle: B's edge supports B along -l
       const int corner = (l.x > 0.0f ? 1 : 0) | (l.y > 0.0f ? 2 : 0) | (l.z > 0.0f ? 4 : 0);
       const int from = corner & ~(1 << k);
@@ -377,9 +375,11 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     TriangleEdge& e = te[std::size_t(j)];
     e.p = v[eb.v0];
     e.d = v[eb.v1] - e.p;
+    float d2 = dot(e.d, e.d);
+    scale_tiny_edge(e.d, d2);
     e.u = cross(e.d, n);
     if (dot(e.u, v[3u - eb.v0 - eb.v1] - e.p) > 0.0f) e.u = -e.u;
-    e.min_ll = kParallelTolerance * kParallelTolerance * dot(e.d, e.d);
+    e.min_ll = kParallelTolerance * kParallelTolerance * d2;
   }
   // Each face's side of the three great circles: bit j when dot(normal, d_j) > 0, bit 4 + j
   // when < 0 (on the circle: neither); and bit 8 + j when the normal leans to the outer side
@@ -447,19 +447,16 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     const unsigned across = ((s0 & (s1 >> 4)) | (s1 & (s0 >> 4))) & ~((s0 & s1) >> 8) & 7u;
     if (across == 0) continue;
     const Vec3 pa = a.vertex(ea.v0);
-    const Vec3 da = a.vertex(ea.v1) - pa;
-    const float da2 = dot(da, da);
+    Vec3 da = a.vertex(ea.v1) - pa;
+    float da2 = dot(da, da);
+    scale_tiny_edge(da, da2);
     const Vec3 mid = a.faces[ea.face0].normal + a.faces[ea.face1].normal;  // inside A's arc
     for (int j = 0; j < 3; ++j) {
       if ((across & (1u << j)) == 0) continue;
       const TriangleEdge& e = te[std::size_t(j)];
       Vec3 l = cross(da, e.d);
-      float ll = dot(l, l);
-      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
-        if (!rescaled_edge_axis(da, e.d, l, ll)) continue;
-      } else if (!(ll > e.min_ll * da2)) {
-        continue;
-      }
+      const float ll = dot(l, l);
+      if (!(ll > e.min_ll * da2)) continue;
       // The crossing, on A's arc (between its two normals): there l is A's outward normal.
       if (dot(l, mid) < 0.0f) l = -l;
       if (dot(l, e.u) > 0.0f) continue;  // on the other half of the circle: not B's edge
@@ -489,8 +486,9 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
   for (int j = 0; j < b.p.edge_count; ++j) {
     const HullEdge& eb = b.p.edges[j];
     const Vec3 pb = b.vertex(eb.v0);
-    const Vec3 db = b.vertex(eb.v1) - pb;
-    const float db2 = dot(db, db);
+    Vec3 db = b.vertex(eb.v1) - pb;
+    float db2 = dot(db, db);
+    scale_tiny_edge(db, db2);
     // The arcs' axes (b x a, d x c) are taken from the edge directions, which point the same
     // way (v0 - v1: face0 lies left of v0 -> v1, so n0 x n1 runs along v1 - v0): on nearly
     // coplanar faces the cross product of the float normals can get the sign wrong.
@@ -503,19 +501,17 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
     for (int i = 0; i < a.edge_count; ++i) {
       const HullEdge& ea = a.edges[i];
       const Vec3 pa = a.vertex(ea.v0);
-      const Vec3 da = a.vertex(ea.v1) - pa;
+      Vec3 da = a.vertex(ea.v1) - pa;
       if (solids && !is_minkowski_face(a.faces[ea.face0].normal, a.faces[ea.face1].normal, -da, c,
                                        d, -db)) {
         continue;
       }
+      float da2 = dot(da, da);
+      scale_tiny_edge(da, da2);
       Vec3 l = cross(da, db);
-      float ll = dot(l, l);
+      const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
-      if (!(ll >= kEdgeAxisRescale)) [[unlikely]] {
-        if (!rescaled_edge_axis(da, db, l, ll)) continue;
-      } else if (!(ll > kParallelTolerance * kParallelTolerance * dot(da, da) * db2)) {
-        continue;
-      }
+      if (!(ll > kParallelTolerance * kParallelTolerance * da2 * db2)) continue;
       float s;
       if (solids) {
         // The axis points out of A at its edge (away from A's centre), and A - B's face
