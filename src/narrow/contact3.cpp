@@ -285,6 +285,29 @@ COLLIDE_ALWAYS_INLINE void scale_tiny_edge(Vec3& d, float& d2) noexcept {
   }
 }
 
+/// False when none of A's edges can be tiny (below kTinyEdgeSquared), so the edge pair loops
+/// need not scale A's edges (their template flag: a test per edge in the inner loops cost the
+/// hull level contact 5%). A hull's vertices lie pairwise farther apart than its tolerance
+/// (convex_hull.hpp), a box's edges are its sides, a segment's and a triangle's are checked.
+[[nodiscard]] bool may_have_tiny_edges(const Polytope3& a) noexcept {
+  switch (a.kind) {
+    case Polytope3::Kind::point:
+      return false;
+    case Polytope3::Kind::hull:
+      return !(a.hull != nullptr && a.hull->tolerance * a.hull->tolerance >= kTinyEdgeSquared);
+    case Polytope3::Kind::box: {
+      const float half = std::min({a.faces[1].offset, a.faces[3].offset, a.faces[5].offset});
+      return !(4.0f * half * half >= kTinyEdgeSquared);
+    }
+    default:
+      for (int i = 0; i < a.edge_count; ++i) {
+        const Vec3 d = a.vertex(a.edges[i].v1) - a.vertex(a.edges[i].v0);
+        if (!(dot(d, d) >= kTinyEdgeSquared)) return true;
+      }
+      return false;
+  }
+}
+
 /// Largest support value of A along `l` (A's frame).
 [[nodiscard]] float support_value(const Polytope3& a, Vec3 l) noexcept {
   return dot(a.vertex(a.support(l)), l);
@@ -323,13 +346,21 @@ constexpr std::array<std::array<int, 8>, 3> kBoxEdgeFrom = [] {
 EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
   EdgeQuery q;
   const Vec3 n = b.face_normal(0);
-  for (int j = 0; j < b.p.edge_count; ++j) {
+  std::array<Vec3, 3> dbs;
+  std::array<float, 3> db2s;
+  for (int j = 0; j < 3; ++j) {
+    const HullEdge& eb = b.p.edges[j];
+    dbs[std::size_t(j)] = b.vertex(eb.v1) - b.vertex(eb.v0);
+    db2s[std::size_t(j)] = dot(dbs[std::size_t(j)], dbs[std::size_t(j)]);
+  }
+  if (!(std::min({db2s[0], db2s[1], db2s[2]}) >= kTinyEdgeSquared)) [[unlikely]] {
+    for (int j = 0; j < 3; ++j) scale_tiny_edge(dbs[std::size_t(j)], db2s[std::size_t(j)]);
+  }
+  for (int j = 0; j < 3; ++j) {
     const HullEdge& eb = b.p.edges[j];
     const Vec3 pb = b.vertex(eb.v0);
-    Vec3 db = b.vertex(eb.v1) - pb;
-    float db2 = dot(db, db);
-    scale_tiny_edge(db, db2);
-    const float min_ll = kParallelTolerance * kParallelTolerance * db2;
+    const Vec3 db = dbs[std::size_t(j)];
+    const float min_ll = kParallelTolerance * kParallelTolerance * db2s[std::size_t(j)];
     // The edge's outward direction in the triangle's plane (its length does not matter).
     Vec3 u = cross(db, n);
     if (dot(u, b.vertex(3 - eb.v0 - eb.v1) - pb) > 0.0f) u = -u;
@@ -362,6 +393,7 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
 /// when the crossing lies on the half circle (Gregorius 2013). Each face's products with the
 /// three edge directions are taken once, so an edge of A costs a comparison of stored signs
 /// per triangle edge, where the arc-against-arc test takes four products.
+template <bool kScaleA>
 EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
   struct TriangleEdge {
     Vec3 p, d, u;    ///< start, direction, outward direction in the plane (unnormalised)
@@ -370,16 +402,23 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
   const Vec3 n = b.face_normal(0);
   const std::array<Vec3, 3> v{b.vertex(0), b.vertex(1), b.vertex(2)};
   std::array<TriangleEdge, 3> te;
+  std::array<float, 3> d2;
   for (int j = 0; j < 3; ++j) {
     const HullEdge& eb = b.p.edges[j];
     TriangleEdge& e = te[std::size_t(j)];
     e.p = v[eb.v0];
     e.d = v[eb.v1] - e.p;
-    float d2 = dot(e.d, e.d);
-    scale_tiny_edge(e.d, d2);
+    d2[std::size_t(j)] = dot(e.d, e.d);
+  }
+  if (!(std::min({d2[0], d2[1], d2[2]}) >= kTinyEdgeSquared)) [[unlikely]] {
+    for (int j = 0; j < 3; ++j) scale_tiny_edge(te[std::size_t(j)].d, d2[std::size_t(j)]);
+  }
+  for (int j = 0; j < 3; ++j) {
+    const HullEdge& eb = b.p.edges[j];
+    TriangleEdge& e = te[std::size_t(j)];
     e.u = cross(e.d, n);
     if (dot(e.u, v[3u - eb.v0 - eb.v1] - e.p) > 0.0f) e.u = -e.u;
-    e.min_ll = kParallelTolerance * kParallelTolerance * d2;
+    e.min_ll = kParallelTolerance * kParallelTolerance * d2[std::size_t(j)];
   }
   // Each face's side of the three great circles: bit j when dot(normal, d_j) > 0, bit 4 + j
   // when < 0 (on the circle: neither); and bit 8 + j when the normal leans to the outer side
@@ -449,7 +488,7 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     const Vec3 pa = a.vertex(ea.v0);
     Vec3 da = a.vertex(ea.v1) - pa;
     float da2 = dot(da, da);
-    scale_tiny_edge(da, da2);
+    if constexpr (kScaleA) scale_tiny_edge(da, da2);
     const Vec3 mid = a.faces[ea.face0].normal + a.faces[ea.face1].normal;  // inside A's arc
     for (int j = 0; j < 3; ++j) {
       if ((across & (1u << j)) == 0) continue;
@@ -476,11 +515,8 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
 /// Separation of A and B along the edge pairs' axes (see the file comment). B's edge (its
 /// ends, direction and face normals turned into A's frame) is prepared once in the outer loop;
 /// the inner loop over A's edges reads A's local data as it is.
-EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
-  if (triangle_against_solid(a, b)) {
-    return a.kind == Polytope3::Kind::box ? query_box_triangle_edges(a, b, reach)
-                                          : query_solid_triangle_edges(a, b, reach);
-  }
+template <bool kScaleA>
+EdgeQuery query_edges_between(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
   EdgeQuery q;
   const bool solids = a.solid && b.p.solid;
   for (int j = 0; j < b.p.edge_count; ++j) {
@@ -507,7 +543,7 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
         continue;
       }
       float da2 = dot(da, da);
-      scale_tiny_edge(da, da2);
+      if constexpr (kScaleA) scale_tiny_edge(da, da2);
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
@@ -546,6 +582,18 @@ EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) 
     }
   }
   return q;
+}
+
+/// Separation of A and B along their edge pairs' axes: the best pair and its axis (A's frame,
+/// out of A). A solid against a triangle by its own queries; A's edges scaled in the loops only
+/// when one may be tiny (may_have_tiny_edges).
+EdgeQuery query_edges(const Polytope3& a, const PlacedPolytope& b, float reach) noexcept {
+  if (triangle_against_solid(a, b)) {
+    if (a.kind == Polytope3::Kind::box) return query_box_triangle_edges(a, b, reach);
+    return may_have_tiny_edges(a) ? query_solid_triangle_edges<true>(a, b, reach)
+                                  : query_solid_triangle_edges<false>(a, b, reach);
+  }
+  return may_have_tiny_edges(a) ? query_edges_between<true>(a, b, reach) : query_edges_between<false>(a, b, reach);
 }
 
 // ---- manifold assembly -------------------------------------------------------------------
