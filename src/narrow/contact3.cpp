@@ -1679,8 +1679,21 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
   // dropping it let shapes sink through such vertices.
   // A normal across the face (a shape entering the triangle sideways over an inactive seam)
   // has no depth along it: the neighbour beyond the seam holds the contact, and this one goes.
-  const Vec3 face_normal = face == 0 ? -n : n;  // from A to the triangle, as face_contact's
-  const float turn = dot(m.normal, face_normal);
+  Vec3 face_normal = face == 0 ? -n : n;  // from A to the triangle, as face_contact's
+  float turn = dot(m.normal, face_normal);
+  if (turn < -kParallelTolerance) {
+    // The replaced normal goes through the triangle from the other side than A's centre: A
+    // reaches across the triangle's plane beyond its edges and touches it from behind (a
+    // capsule at a thin crease, touching both its sides beyond their shared inactive edge,
+    // lost both contacts here: the fuzzer's capsule check, finding 19). That side's face then.
+    face_clip(1 - face, margin + touch, fixed);
+    if (fixed.count > 0) {
+      m = fixed;
+      return;
+    }
+    face_normal = -face_normal;
+    turn = -turn;
+  }
   if (!(turn > kParallelTolerance)) {
     m = fixed;
     return;
