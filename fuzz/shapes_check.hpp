@@ -256,46 +256,50 @@ inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec
 /// its distance) rounds by a few, and a wrong winner costs at most its lane's error.
 inline constexpr double kMeshNearestRounding = 64.0;
 
-/// "" when `body` at `xf` (world space; the mesh stands at the identity) touches the mesh: its
-/// contact is not empty, and finite, with a unit normal; else what went wrong, naming the body
-/// by `what`. Asked of bodies known to reach past the mesh's nearest triangle. Bodies whose
-/// bounds leave kFiniteQueryRange are not asked.
-template <class Body>
-std::string check_mesh_touch(const TriangleMesh& mesh, const Body& body, const Transform3& xf, std::string_view what) {
+/// The name a level's messages start with.
+inline std::string level_name(const TriangleMesh&) { return "triangle mesh"; }
+inline std::string level_name(const HeightField&) { return "height field"; }
+
+/// "" when `body` at `xf` (world space; the level, a TriangleMesh or a HeightField, stands at
+/// the identity) touches the level: its contact is not empty, and finite, with a unit normal;
+/// else what went wrong, naming the body by `what`. Asked of bodies known to reach past the
+/// level's nearest triangle. Bodies whose bounds leave kFiniteQueryRange are not asked.
+template <class Level, class Body>
+std::string check_level_touch(const Level& level, const Body& body, const Transform3& xf, std::string_view what) {
   if (!within_finite_range(compute_aabb(body, xf))) return {};
-  const Manifold3 m = contact(body, xf, mesh, Transform3{});
-  const std::string name(what);
-  if (m.count == 0) return "triangle mesh: a " + name + " reaching past the nearest triangle has no contact";
-  if (!finite(m.normal) || !(std::abs(length(m.normal) - 1.0f) <= 1e-3f)) {
-    return "triangle mesh: a " + name + "'s contact normal is not unit";
-  }
+  const Manifold3 m = contact(body, xf, level, Transform3{});
+  const std::string name = level_name(level) + ": a " + std::string(what);
+  if (m.count == 0) return name + " reaching past the nearest triangle has no contact";
+  if (!finite(m.normal) || !(std::abs(length(m.normal) - 1.0f) <= 1e-3f)) return name + "'s contact normal is not unit";
   for (int i = 0; i < m.count; ++i) {
-    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return "triangle mesh: a " + name + "'s contact is not finite";
+    if (!finite(m.points[i].point) || !finite(m.points[i].depth)) return name + "'s contact is not finite";
   }
   return {};
 }
 
-/// "" when every body of each kind that holds a ball at `p` (the mesh's local coordinates)
-/// reaching `allowance` past the mesh's nearest distance `nearest` (found by brute force) plus
-/// half of it touches the mesh (check_mesh_touch): a sphere of that radius r, and turned by a
-/// fixed rotation off the mesh's axes a capsule (core 2r long, radius r), a box (half extents
-/// r, 1.25r, 1.5r) and a convex hull (the octahedron of corners 2r out, whose faces lie 1.15r
-/// from its centre). A contact the level query, its early out or the closed form of a body
-/// against a triangle drops fails (stop 104: slivers' planes made in float dropped contacts 0.05
-/// deep). A body whose constructor refuses its size is skipped.
-inline std::string check_mesh_contact(const TriangleMesh& mesh, Vec3 p, double nearest, double allowance) {
-  const Vec3 centre = mesh.origin + p;
+/// "" when every body of each kind that holds a ball at `centre` (world space; the level stands
+/// at the identity) reaching `allowance` past the level's nearest distance `nearest` (found by
+/// brute force) plus half of it touches the level (check_level_touch): a sphere of that radius
+/// r, and turned by a fixed rotation off the level's axes a capsule (core 2r long, radius r), a
+/// box (half extents r, 1.25r, 1.5r) and a convex hull (the octahedron of corners 2r out, whose
+/// faces lie 1.15r from its centre). A contact the level query, its early out, the closed form
+/// of a body against a triangle or the active-edge correction drops fails (stop 104: slivers'
+/// planes made in float dropped contacts 0.05 deep; stop 105: a capsule behind a thin crease).
+/// `offset` is the size of the coordinates the level rounds its own at (a mesh's origin). A
+/// body whose constructor refuses its size is skipped.
+template <class Level>
+std::string check_level_contact(const Level& level, Vec3 centre, double nearest, double allowance, float offset) {
   if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
-  const auto r = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(max_abs(mesh.origin))));
+  const auto r = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(offset)));
   if (!(r > 0.0f) || !finite(r)) return {};
-  if (std::string touch = check_mesh_touch(mesh, make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, "sphere");
+  if (std::string touch = check_level_touch(level, make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, "sphere");
       !touch.empty()) {
     return touch;
   }
   const Transform3 turned{centre, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
   auto made = [&](auto make, std::string_view what) -> std::string {
     try {
-      return check_mesh_touch(mesh, make(), turned, what);
+      return check_level_touch(level, make(), turned, what);
     } catch (const InvalidInput&) {
       return {};
     }
@@ -314,6 +318,50 @@ inline std::string check_mesh_contact(const TriangleMesh& mesh, Vec3 p, double n
       "hull");
 }
 
+/// Probe points about triangles (a, b, c): up to 24 triangles' corners, centroids, and points
+/// beyond their edges and off their planes, added to `probes`.
+inline void add_triangle_probes(Vec3 a, Vec3 b, Vec3 c, std::vector<Vec3>& probes) {
+  const Vec3 centroid = (a + b + c) / 3.0f;
+  const Vec3 up = cross(b - a, c - a);
+  const float up_length = length(up);
+  const Vec3 off = up_length > 0.0f ? up * (0.25f * length(b - a) / up_length) : Vec3(0.0f);
+  probes.insert(probes.end(), {a, centroid, centroid + off, a + 1.25f * (b - a) + 0.5f * (c - b) - off,
+                               centroid + 0.6f * (c - centroid) + off});
+}
+
+/// "" when bodies reaching past a height field's nearest triangle touch it, at probe points
+/// about up to 24 of its triangles (add_triangle_probes), the nearest distance by brute force
+/// over every triangle of a cell that is not a hole (closest_point_on_triangle, in double), with check_mesh_nearest's
+/// allowance: check_level_contact. Asked of fields within kFiniteQueryRange.
+inline std::string check_height_field_contact(const HeightField& field) {
+  if (!within_finite_range(compute_aabb(field, Transform3{}))) return {};
+  // Every triangle of a cell that is not a hole, read from the samples (not through the field's
+  // own query, whose block culling is under test).
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (std::uint32_t t = 0; t < field.triangle_count(); ++t) {
+    if (!field.is_hole(t / 2)) triangles.push_back(field.triangle(t).vertices);
+  }
+  if (triangles.empty()) return {};
+  float magnitude = 0.0f;
+  for (const auto& t : triangles) {
+    for (const Vec3& v : t) magnitude = std::max(magnitude, max_abs(v));
+  }
+  std::vector<Vec3> probes;
+  const std::size_t step = triangles.size() / 24 + 1;
+  for (std::size_t i = 0; i < triangles.size(); i += step) add_triangle_probes(triangles[i][0], triangles[i][1], triangles[i][2], probes);
+  for (const Vec3& p : probes) {
+    if (!(max_abs(p) <= kFiniteQueryRange)) continue;
+    double truth = std::numeric_limits<double>::infinity();
+    for (const auto& t : triangles) {
+      const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]).point;
+      truth = std::min(truth, glm::length(glm::dvec3(q) - glm::dvec3(p)));
+    }
+    const double allowance = kMeshNearestRounding * FLT_EPSILON * static_cast<double>(std::max(magnitude, max_abs(p))) + 1e-18;
+    if (std::string touch = check_level_contact(field, p, truth, allowance, magnitude); !touch.empty()) return touch;
+  }
+  return {};
+}
+
 /// "" when a triangle mesh's BVH gives each probe point the distance of its nearest triangle:
 /// the least over every triangle of closest_point_on_triangle's distance (brute force), for one
 /// point at a time and in a batch, to within kMeshNearestRounding float spacings of the largest
@@ -322,7 +370,7 @@ inline std::string check_mesh_contact(const TriangleMesh& mesh, Vec3 p, double n
 /// coordinates (the BVH's): up to 24 triangles' corners, centroids and points beyond their
 /// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange. At
 /// each probe, each body holding a ball reaching past that distance must touch the mesh
-/// (check_mesh_contact).
+/// (check_level_contact).
 inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   if (count == 0) return {};
@@ -333,15 +381,7 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
   if (!(magnitude <= kFiniteQueryRange)) return {};
   std::vector<Vec3> probes{Vec3(0.0f)};
   const std::uint32_t step = count / 24 + 1;
-  for (std::uint32_t t = 0; t < count; t += step) {
-    const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
-    const Vec3 centroid = (a + b + c) / 3.0f;
-    const Vec3 up = cross(b - a, c - a);
-    const float up_length = length(up);
-    const Vec3 off = up_length > 0.0f ? up * (0.25f * length(b - a) / up_length) : Vec3(0.0f);
-    probes.insert(probes.end(), {a, centroid, centroid + off, a + 1.25f * (b - a) + 0.5f * (c - b) - off,
-                                 centroid + 0.6f * (c - centroid) + off});
-  }
+  for (std::uint32_t t = 0; t < count; t += step) add_triangle_probes(mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), probes);
   std::vector<BvhNearest> batch(probes.size());
   mesh.bvh.nearest(probes, std::vector<float>(probes.size(), std::numeric_limits<float>::infinity()), batch);
   for (std::size_t i = 0; i < probes.size(); ++i) {
@@ -360,7 +400,9 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
         return "triangle mesh: the BVH's nearest distance differs from the nearest triangle's";
       }
     }
-    if (std::string touch = check_mesh_contact(mesh, p, truth, allowance); !touch.empty()) return touch;
+    if (std::string touch = check_level_contact(mesh, mesh.origin + p, truth, allowance, max_abs(mesh.origin)); !touch.empty()) {
+      return touch;
+    }
   }
   return {};
 }
@@ -442,7 +484,9 @@ inline std::string check_shapes(std::string_view input) {
           holes.resize(static_cast<std::size_t>((sx - 1) * (sz - 1)));
           for (std::uint8_t& h : holes) h = in.byte() % 2;
         }
-        return probe_level(make_height_field(sx, sz, heights, spacing, origin, holes));
+        const HeightField field = make_height_field(sx, sz, heights, spacing, origin, holes);
+        if (std::string touch = check_height_field_contact(field); !touch.empty()) return touch;
+        return probe_level(field);
       }
     }
   } catch (const InvalidInput& e) {

@@ -82,21 +82,32 @@ TEST(ShapesFuzzRegressions, MeshNearestCheckCatchesAWrongTree) {
 TEST(ShapesFuzzRegressions, MeshContactCheckCatchesADroppedContact) {
   const std::vector<Vec3> vertices{{0.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}};
   TriangleMesh mesh = make_triangle_mesh(vertices, std::vector<glm::uvec3>{{0, 1, 2}});
-  const Vec3 probe = mesh.corner(0, 0) + Vec3(0.5f, 0.5f, 3.0f);  // 3 above the triangle
-  EXPECT_EQ(fuzz::check_mesh_contact(mesh, probe, 3.0, 1e-6), "");
+  const Vec3 probe = mesh.origin + mesh.corner(0, 0) + Vec3(0.5f, 0.5f, 3.0f);  // 3 above the triangle
+  EXPECT_EQ(fuzz::check_level_contact(mesh, probe, 3.0, 1e-6, 0.0f), "");
   for (const std::uint32_t v : {mesh.triangles[0].x, mesh.triangles[0].y, mesh.triangles[0].z}) {
     mesh.vertices[v] += Vec3(0.0f, 0.0f, 2.9f);  // 0.1 below the probe now, the tree's box 3 below
   }
-  EXPECT_EQ(fuzz::check_mesh_contact(mesh, probe, 0.1, 1e-6),
+  EXPECT_EQ(fuzz::check_level_contact(mesh, probe, 0.1, 1e-6, 0.0f),
             "triangle mesh: a sphere reaching past the nearest triangle has no contact");
-  const Transform3 at{mesh.origin + probe, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
+  const Transform3 at{probe, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
   const std::vector<Vec3> octahedron{{0.4f, 0, 0}, {-0.4f, 0, 0}, {0, 0.4f, 0}, {0, -0.4f, 0}, {0, 0, 0.4f}, {0, 0, -0.4f}};
-  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_capsule(Vec3(0, -0.2f, 0), Vec3(0, 0.2f, 0), 0.2f), at, "capsule"),
+  EXPECT_EQ(fuzz::check_level_touch(mesh, make_capsule(Vec3(0, -0.2f, 0), Vec3(0, 0.2f, 0), 0.2f), at, "capsule"),
             "triangle mesh: a capsule reaching past the nearest triangle has no contact");
-  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_box(Vec3(0.2f, 0.25f, 0.3f)), at, "box"),
+  EXPECT_EQ(fuzz::check_level_touch(mesh, make_box(Vec3(0.2f, 0.25f, 0.3f)), at, "box"),
             "triangle mesh: a box reaching past the nearest triangle has no contact");
-  EXPECT_EQ(fuzz::check_mesh_touch(mesh, make_convex_hull(octahedron), at, "hull"),
+  EXPECT_EQ(fuzz::check_level_touch(mesh, make_convex_hull(octahedron), at, "hull"),
             "triangle mesh: a hull reaching past the nearest triangle has no contact");
+}
+
+// The same oracle on a height field (since stop 105): heights raised after the build leave the
+// blocks' height ranges where they were, so the query skips the block, and the check, which
+// measures the triangles as they are, finds the dropped contacts.
+TEST(ShapesFuzzRegressions, HeightFieldContactCheckCatchesADroppedContact) {
+  const std::vector<float> heights(16, 0.0f);
+  HeightField field = make_height_field(4, 4, heights, Vec2(1.0f), Vec3(-1.5f, 0.0f, -1.5f));
+  EXPECT_EQ(fuzz::check_height_field_contact(field), "");
+  for (float& h : field.heights) h += 5.0f;
+  EXPECT_EQ(fuzz::check_height_field_contact(field), "height field: a sphere reaching past the nearest triangle has no contact");
 }
 
 // Found by fuzz_shapes: ends 5e-32 apart passed "a and b coincide" (a == b), but their squared
