@@ -263,15 +263,6 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
 /// of every axis that passes it.
 constexpr float kTinyEdgeSquared = 0x1p-48f;
 
-/// `d` scaled by a power of two (exactly) to a largest component in [1, 2); NaN without a
-/// direction (zero, or not finite). Rare, so out of line.
-[[gnu::noinline, gnu::cold]] Vec3 unit_scaled(Vec3 d) noexcept {
-  const float m = max_abs(d);
-  if (!(m > 0.0f) || !std::isfinite(m)) return Vec3(std::numeric_limits<float>::quiet_NaN());
-  const int e = -std::ilogb(m);
-  return {std::scalbn(d.x, e), std::scalbn(d.y, e), std::scalbn(d.z, e)};
-}
-
 /// An edge direction `d` with its squared length `d2`, for the edge pairs' axes (their cross
 /// products): a tiny edge's (below kTinyEdgeSquared) scaled to unit size. A needle's side 1.4e-19
 /// long against a capsule's core gave an axis whose squared length, about 1e-46, is subnormal:
@@ -280,7 +271,7 @@ constexpr float kTinyEdgeSquared = 0x1p-48f;
 /// separation and the unit axis are made from it as from any other.
 COLLIDE_ALWAYS_INLINE void scale_tiny_edge(Vec3& d, float& d2) noexcept {
   if (!(d2 >= kTinyEdgeSquared)) [[unlikely]] {
-    d = unit_scaled(d);
+    d = scaled_to_unit_magnitude(d);
     d2 = dot(d, d);
   }
 }

@@ -82,6 +82,14 @@ using Vec3 = glm::vec3;
   return std::max(std::max(std::abs(a.x), std::abs(a.y)), std::abs(a.z));
 }
 
+/// `a` scaled by a power of two (exactly: its direction kept to the bit) to a largest
+/// component in [1, 2); NaN components when `a` has no direction (zero, or not finite). For
+/// vectors whose squares would leave float's normal range (an edge 1e-19 long, GJK's search
+/// direction of a simplex 1e8 across): only their direction is used, and a product of them
+/// then neither underflows nor overflows. Out of line: callers take it on rare branches.
+[[nodiscard]] Vec2 scaled_to_unit_magnitude(Vec2 a) noexcept;
+[[nodiscard]] Vec3 scaled_to_unit_magnitude(Vec3 a) noexcept;
+
 /// Both components finite (not NaN, not infinite).
 [[nodiscard]] inline bool is_finite(Vec2 a) noexcept {
   return std::isfinite(a.x) && std::isfinite(a.y);

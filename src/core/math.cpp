@@ -1,0 +1,31 @@
+// Out-of-line helpers of collide/core/math.hpp.
+
+#include <collide/core/math.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace collide {
+
+namespace {
+
+/// The power of two that takes a largest component `m` (> 0, finite) into [1, 2).
+[[nodiscard]] int unit_exponent(float m) noexcept { return -std::ilogb(m); }
+
+}  // namespace
+
+Vec2 scaled_to_unit_magnitude(Vec2 a) noexcept {
+  const float m = max_abs(a);
+  if (!(m > 0.0f) || !std::isfinite(m)) return Vec2(std::numeric_limits<float>::quiet_NaN());
+  const int e = unit_exponent(m);
+  return {std::scalbn(a.x, e), std::scalbn(a.y, e)};
+}
+
+Vec3 scaled_to_unit_magnitude(Vec3 a) noexcept {
+  const float m = max_abs(a);
+  if (!(m > 0.0f) || !std::isfinite(m)) return Vec3(std::numeric_limits<float>::quiet_NaN());
+  const int e = unit_exponent(m);
+  return {std::scalbn(a.x, e), std::scalbn(a.y, e), std::scalbn(a.z, e)};
+}
+
+}  // namespace collide

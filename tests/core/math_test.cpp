@@ -1,0 +1,37 @@
+// collide/core/math.hpp: scaled_to_unit_magnitude.
+
+#include <collide/core/math.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+#include <limits>
+
+namespace collide {
+namespace {
+
+// Scaled by a power of two (so exactly: each component's ratio to the others kept to the bit)
+// to a largest component in [1, 2), from subnormal to near-overflow magnitudes; NaN without a
+// direction.
+TEST(Math, ScaledToUnitMagnitudeKeepsTheDirectionExactly) {
+  for (const float m : {1.4e-45f, 3e-39f, 1.35525672e-19f, 0.7f, 1.0f, 1.999f, 2.0f, 3e7f, 3e38f}) {
+    const Vec3 a(m, -0.375f * m, 0.0625f * m);
+    const Vec3 u = scaled_to_unit_magnitude(a);
+    ASSERT_GE(max_abs(u), 1.0f) << m;
+    ASSERT_LT(max_abs(u), 2.0f) << m;
+    // The same power of two on every component: the ratios of a's representable components.
+    const float scale = u.x / a.x;
+    EXPECT_EQ(std::exp2(std::round(std::log2(double(scale)))), double(scale)) << m;
+    if (a.y != 0.0f && std::isnormal(a.y)) EXPECT_EQ(u.y, a.y * scale) << m;
+    if (a.z != 0.0f && std::isnormal(a.z)) EXPECT_EQ(u.z, a.z * scale) << m;
+    const Vec2 u2 = scaled_to_unit_magnitude(Vec2(a.x, a.y));
+    EXPECT_EQ(u2.x, u.x) << m;
+  }
+  EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec3(0.0f)).x));
+  EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec3(1.0f, std::numeric_limits<float>::infinity(), 0.0f)).x));
+  EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec2(std::numeric_limits<float>::quiet_NaN(), 1.0f)).y));
+}
+
+}  // namespace
+}  // namespace collide
