@@ -401,8 +401,9 @@ ShapeCastResultN<D> gjk_shape_cast(const ConvexProxyN<D>& a, const TransformN<D>
     // the edge's perpendicular, on a triangle its normal (exact even when the points are far
     // from x, which the support planes built on it need).
     const VecN<D> w0 = simplex.v[0].w;
-    const VecN<D> d = gjk_search_direction(simplex);
-    const float d_len = length(d);
+    float dd;
+    const VecN<D> d = gjk_bounded_search_direction(simplex, dd);
+    const float d_len = std::sqrt(dd);
     dist = -dot(d, w0) / d_len;
     if (!(dist > 0.0f)) {
       converged = true;  // x on the simplex: the cores touch at t

@@ -256,7 +256,10 @@ ToiResultN<D> advance(const ConvexProxyN<D>& a, const typename PairMotion<D>::Sw
     // to the barycentric weights, and an error of e radians in n moves a support plane by e
     // times the body's length: a long wall would then look much closer than it is).
     Vec n = delta * (1.0f / cores);
-    if (simplex.count >= 2 && simplex.count <= D) n = normalize(gjk_search_direction(simplex));
+    if (simplex.count >= 2 && simplex.count <= D) {
+      float dd;
+      n = normalize(gjk_bounded_search_direction(simplex, dd));
+    }
     const float extent_a = bound_a.reset(n);
     const float extent_b = bound_b.reset(inv_rotate(b_in_a, -n));
     const float separation_n = dot(centres, n) - extent_a - extent_b;  // <= core distance

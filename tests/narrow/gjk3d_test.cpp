@@ -4,8 +4,10 @@
 #include <collide/narrow/distance.hpp>
 #include <collide/narrow/gjk.hpp>
 #include <collide/narrow/overlap.hpp>
+#include <collide/ccd/shape_cast.hpp>
 
 #include "support/brute_convex3.hpp"
+#include "support/brute_triangle.hpp"
 #include "support/random_shapes3.hpp"
 #include "support/test_util.hpp"
 
@@ -135,6 +137,41 @@ TEST(Gjk3, SizeRatioOf1e4StaysAccurate) {
     const DistanceResult3 d = distance(big, Transform3{}, small, xb);
     const double truth = test::brute_distance(test::brute_core(big, Transform3{}), test::brute_core(small, xb));
     EXPECT_NEAR(d.distance, truth, 2e-3f) << k;
+  }
+}
+
+// GJK's search direction grows as the cube of the simplex's size (a segment's is |e|^2 times its
+// perpendicular), its square as the sixth power: for a needle 4e8 long (within
+// kFiniteQueryRange) the square overflowed, "origin on the simplex" followed, and a sphere 1e8
+// away was reported overlapping; the cast reported a hit at fraction 0 (found by the fuzzer's
+// cast check, stop 105). Needles and long triangles 1e5 to 1e9 long, a sphere a quarter of the
+// way out: the distance against brute force in double, and a cast towards the nearest point
+// touching when the distance says.
+TEST(Gjk3, HugeSimplexesKeepTheirSearchDirection) {
+  std::mt19937 rng(105);
+  for (const float size : {1e5f, 1e6f, 1e7f, 1e8f, 4e8f, 1e9f}) {
+    for (int k = 0; k < 40; ++k) {
+      const Quat q = test::random_rotation(rng);
+      const float width = k % 2 == 0 ? 8.0f : 0.3f * size;
+      const std::array<Vec3, 3> corners{rotate(q, Vec3(0.0f)), rotate(q, Vec3(0.0f, width, -size)), rotate(q, Vec3(0.0f, 0.0f, 8.0f))};
+      const test::DVec3 a(corners[0]), b(corners[1]), c(corners[2]);
+      // A point off the triangle's middle, a quarter of its size out of its plane and beyond.
+      const Vec3 centre = 0.5f * (corners[0] + corners[1]) + 0.25f * size * rotate(q, Vec3(1.0f, 0.3f, 0.1f));
+      const test::DVec3 nearest = test::brute_closest_on_triangle(test::DVec3(centre), a, b, c);
+      const double truth = glm::length(nearest - test::DVec3(centre));
+      const float r = static_cast<float>(0.25 * truth);
+      const Sphere s = make_sphere(Vec3(0.0f), r);
+      const Transform3 xs{centre, Quat{1, 0, 0, 0}};
+      const DistanceResult3 d = gjk_distance<3>(ConvexProxy3(s), xs, ConvexProxy3(Triangle{corners}), Transform3{});
+      ASSERT_EQ(d.status, QueryStatus::separated) << size << " " << k;
+      EXPECT_NEAR(d.distance, truth - r, 1e-5 * truth) << size << " " << k;
+      // Towards the nearest point by twice the distance: touching at (truth - r) / |v|.
+      const Vec3 v = 2.0f * Vec3(nearest - test::DVec3(centre));
+      const ShapeCastResult3 cast =
+          gjk_shape_cast<3>(ConvexProxy3(s), xs, v, ConvexProxy3(Triangle{corners}), Transform3{}, Vec3(0.0f));
+      ASSERT_TRUE(cast.hit) << size << " " << k;
+      EXPECT_NEAR(cast.fraction, 0.375, 1e-4) << size << " " << k;
+    }
   }
 }
 
