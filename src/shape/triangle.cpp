@@ -39,6 +39,11 @@ float ray_triangle_fraction(const Ray3& ray, Vec3 a, Vec3 b, Vec3 c, float max_f
   return r.valid ? r.fraction(a, b, c, max_fraction) : -1.0f;
 }
 
+/// closest_point_on_triangle: a triangle whose width (twice its area over its longest edge)
+/// is below this fraction of its longest edge is taken by its edges alone. 2^-40: far below
+/// float's resolution of the edge's length, far above double's rounding of the edge vectors.
+constexpr double kNeedleWidthRatio = 0x1p-40;
+
 // The Voronoi regions of Ericson 5.1.5 in another grouping: p projects into the face when it is
 // inside all three edges' in-plane normals (the face region); every other region's nearest
 // point lies on an edge or at a vertex, and the nearest of the three clamped edge points is it.
@@ -57,7 +62,14 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
   // each the point's offset along its edge's in-plane inward normal.
   const double wa = glm::dot(bp, glm::cross(n, bc)), wb = glm::dot(cp, glm::cross(n, ca)),
                wc = glm::dot(ap, glm::cross(n, ab));
-  if (nn > 0.0 && wa >= 0.0 && wb >= 0.0 && wc >= 0.0) {
+  // A needle narrower than kNeedleWidthRatio of its length has no face region double can
+  // tell: its edge vectors round its width away (a corner 1e-20 beside another, 4.5 from the
+  // third), the three tests read 0 or noise, and a point beyond its tip was "over the face" at
+  // distance 0 (the fuzzer's height field check, stop 105). Its nearest edge point is then the
+  // answer, within the width of the nearest point of the face.
+  const double longest2 = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+  const bool has_face = nn > kNeedleWidthRatio * kNeedleWidthRatio * longest2 * longest2;
+  if (has_face && wa >= 0.0 && wb >= 0.0 && wc >= 0.0) {
     return {Vec3(dp - n * (glm::dot(ap, n) / nn)), Vec3(glm::dvec3(wa, wb, wc) / (wa + wb + wc))};
   }
   // (a zero-length edge: its parameter 0, the distance to its one point)

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <algorithm>
 #include <random>
 #include <string>
 
@@ -94,6 +95,36 @@ TEST(Triangle, ClosestPointOnSliversIsWithinRounding) {
     ASSERT_GE(std::min({w.x, w.y, w.z}), 0.0) << i;
     ASSERT_NEAR(w.x + w.y + w.z, 1.0, 1e-6) << i;
     ASSERT_LE(glm::length(w.x * da + w.y * db + w.z * dc - dq), kTolerance) << i << " weights";
+  }
+}
+
+// Needles narrower than 2^-40 of their length, beyond what double resolves (a corner 1e-20
+// beside another, 4.5 from the third, as a height field with spacing 1e-20 makes): their edge
+// vectors round the width away and the face tests read 0, so a point beyond the tip was "over
+// the face" at distance 0 (found by the fuzzer's height field contact check, stop 105). Now such
+// a needle is its edges: the distance is the nearest edge point's, in double (segments are
+// exact there), within the needle's width.
+TEST(Triangle, ClosestPointOnNeedlesBeyondDoubleIsOnTheirEdges) {
+  const Vec3 a(4.5f, -5.74394217e-21f, -8.0f), b(4.5f, 4.5f, -3.5f), c(4.5f, 4.25605751e-21f, -8.0f);
+  const TrianglePoint tip = closest_point_on_triangle({4.5f, 5.625f, -2.375f}, a, b, c);
+  EXPECT_EQ(tip.point, b);
+  std::mt19937 rng(105);
+  const auto segment_distance = [](glm::dvec3 p, glm::dvec3 u, glm::dvec3 v) {
+    const glm::dvec3 e = v - u;
+    const double t = std::clamp(glm::dot(p - u, e) / glm::dot(e, e), 0.0, 1.0);
+    return glm::length(p - (u + t * e));
+  };
+  for (int i = 0; i < 4000; ++i) {
+    // Two corners a tiny step apart either side of the origin (where float holds it), the third
+    // up to 4 away: widths 2^-44 to 2^-120 of the length.
+    const int e = 45 + static_cast<int>(rng() % 75);
+    const Vec3 step = std::ldexp(1.0f, -e) * test::random_unit3(rng);
+    const Vec3 x = -0.5f * step, y = test::random_point3(rng, 4.0f), z = 0.5f * step;
+    const Vec3 p = i % 2 == 0 ? y + 0.5f * test::random_point3(rng, 1.0f) : test::random_point3(rng, 4.0f);
+    const TrianglePoint q = closest_point_on_triangle(p, x, y, z);
+    const glm::dvec3 dp(p), dx(x), dy(y), dz(z);
+    const double edges = std::min({segment_distance(dp, dx, dy), segment_distance(dp, dy, dz), segment_distance(dp, dz, dx)});
+    ASSERT_NEAR(glm::length(glm::dvec3(q.point) - dp), edges, 2e-6) << i << " step 2^-" << e;
   }
 }
 
