@@ -79,7 +79,11 @@ struct LevelCast {
                                         float& from) const noexcept {
     const std::array<Vec3, 3>& c = tri.vertices;
     const Vec3 e[3] = {c[1] - c[0], c[2] - c[1], c[0] - c[2]};
-    const Vec3 nn = cross(e[0], -e[2]);
+    // The area normal made in double (triangle_area_normal), rounded once: made in float, a
+    // sliver's plane turns by FLT_EPSILON times its length over its width, and the tests below
+    // called a sphere that touches such a sliver first "separated" from it (the fuzzer's cast
+    // check, stop 105: a cast hit the triangle behind it, 0.28 of its step late).
+    const Vec3 nn = Vec3(triangle_area_normal(c[0], c[1], c[2]));
     const float nn2 = dot(nn, nn);
     // gjk_shape_cast's tolerance, B's size being the triangle's (corner 0 to corner 2).
     const float size_b = length(e[2]);
