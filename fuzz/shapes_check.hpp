@@ -256,6 +256,10 @@ inline std::string check_hull_planes(const ConvexHull& hull, std::span<const Vec
 /// its distance) rounds by a few, and a wrong winner costs at most its lane's error.
 inline constexpr double kMeshNearestRounding = 64.0;
 
+/// check_level_cast's rounding allowance, in kShapeCastRounding of the coordinates: the cast's
+/// own steps and the probe's and its nearest point's float coordinates.
+inline constexpr double kCastRoundingFactor = 8.0;
+
 /// The name a level's messages start with.
 inline std::string level_name(const TriangleMesh&) { return "triangle mesh"; }
 inline std::string level_name(const HeightField&) { return "height field"; }
@@ -318,6 +322,64 @@ std::string check_level_contact(const Level& level, Vec3 centre, double nearest,
       "hull");
 }
 
+/// "" when bodies cast at the level from `centre` (world space; the level at the identity),
+/// `nearest` from its nearest point `target` (brute force), towards that point by twice that
+/// distance, first touch it when the distance says: the distance to the level falls at most as
+/// fast as the body moves, and along that line it falls exactly that fast. A sphere of radius
+/// r = nearest / 4 must hit at fraction (nearest - r) / |v|; a capsule, a box and a hull each
+/// holding that sphere and held in a ball of radius R (2r, 2.14r, 2r; turned off the level's
+/// axes as check_level_contact's) between (nearest - R) / |v| and that. Within the cast's own
+/// target separation (kShapeCastTolerance of the body's size) and rounding (kShapeCastRounding
+/// of the coordinates, times kCastRoundingFactor) plus `allowance`; a cast that stopped short
+/// of converging (max_iterations) must not have passed the latest touch. Probes nearer than 1000
+/// allowances are skipped (their line is rounding). A body whose constructor refuses its size
+/// is skipped.
+template <class Level>
+std::string check_level_cast(const Level& level, Vec3 centre, Vec3 target, double nearest, double allowance, float offset) {
+  if (!(nearest > 1000.0 * allowance) || !(max_abs(centre) <= kFiniteQueryRange)) return {};
+  const Vec3 v = 2.0f * (target - centre);
+  const double length_v = glm::length(glm::dvec3(v));
+  if (!(length_v > 0.0) || !std::isfinite(length_v)) return {};
+  const auto r = static_cast<float>(0.25 * nearest);
+  const double rounding = kCastRoundingFactor * double(kShapeCastRounding) *
+                          (length_v + double(max_abs(centre)) + double(offset) + 3.0 * nearest);
+  const std::string name = level_name(level) + ": a ";
+  auto cast = [&](const auto& body, const Transform3& xf, double inner, double outer, std::string_view what) -> std::string {
+    if (!within_finite_range(compute_aabb(body, xf))) return {};
+    const ShapeCastResult3 c = shape_cast(body, xf, v, level, Transform3{}, Vec3(0.0f));
+    const double slack = (double(kShapeCastTolerance) * 4.0 * outer + rounding + allowance) / length_v;
+    const double earliest = (nearest - outer) / length_v - slack, latest = (nearest - inner) / length_v + slack;
+    // Stopped short of converging: the fraction reached, before which there is no contact (the
+    // status' contract), must not pass the touch.
+    if (c.status == QueryStatus::max_iterations) {
+      if (!(std::isfinite(c.fraction) && c.fraction <= latest)) {
+        return name + std::string(what) + " cast at the nearest triangle stopped past the touch";
+      }
+      return {};
+    }
+    if (!c.hit) return name + std::string(what) + " cast at the nearest triangle misses it";
+    if (!std::isfinite(c.fraction) || !(c.fraction >= earliest && c.fraction <= latest)) {
+      return name + std::string(what) + " cast at the nearest triangle touches it at the wrong time";
+    }
+    if (!finite(c.point) || !finite(c.normal)) return name + std::string(what) + "'s cast is not finite";
+    return {};
+  };
+  if (std::string e = cast(make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, r, r, "sphere"); !e.empty()) return e;
+  const Transform3 turned{centre, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
+  try {
+    if (std::string e = cast(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), turned, r, 2.0 * r, "capsule"); !e.empty()) {
+      return e;
+    }
+    const Vec3 half(r, 1.25f * r, 1.5f * r);
+    if (std::string e = cast(make_box(half), turned, r, length(half), "box"); !e.empty()) return e;
+    const float c = 2.0f * r;
+    const std::array<Vec3, 6> corners{Vec3(c, 0, 0), Vec3(-c, 0, 0), Vec3(0, c, 0), Vec3(0, -c, 0), Vec3(0, 0, c), Vec3(0, 0, -c)};
+    return cast(make_convex_hull(corners), turned, r, c, "hull");
+  } catch (const InvalidInput&) {
+    return {};
+  }
+}
+
 /// Probe points about triangles (a, b, c): up to 24 triangles' corners, centroids, and points
 /// beyond their edges and off their planes, added to `probes`.
 inline void add_triangle_probes(Vec3 a, Vec3 b, Vec3 c, std::vector<Vec3>& probes) {
@@ -332,7 +394,8 @@ inline void add_triangle_probes(Vec3 a, Vec3 b, Vec3 c, std::vector<Vec3>& probe
 /// "" when bodies reaching past a height field's nearest triangle touch it, at probe points
 /// about up to 24 of its triangles (add_triangle_probes), the nearest distance by brute force
 /// over every triangle of a cell that is not a hole (closest_point_on_triangle, in double), with check_mesh_nearest's
-/// allowance: check_level_contact. Asked of fields within kFiniteQueryRange.
+/// allowance: check_level_contact, and bodies cast at the nearest point touch it when the
+/// distance says (check_level_cast). Asked of fields within kFiniteQueryRange.
 inline std::string check_height_field_contact(const HeightField& field) {
   if (!within_finite_range(compute_aabb(field, Transform3{}))) return {};
   // Every triangle of a cell that is not a hole, read from the samples (not through the field's
@@ -352,12 +415,15 @@ inline std::string check_height_field_contact(const HeightField& field) {
   for (const Vec3& p : probes) {
     if (!(max_abs(p) <= kFiniteQueryRange)) continue;
     double truth = std::numeric_limits<double>::infinity();
+    Vec3 nearest_point = p;
     for (const auto& t : triangles) {
       const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]).point;
-      truth = std::min(truth, glm::length(glm::dvec3(q) - glm::dvec3(p)));
+      const double d = glm::length(glm::dvec3(q) - glm::dvec3(p));
+      if (d < truth) truth = d, nearest_point = q;
     }
     const double allowance = kMeshNearestRounding * FLT_EPSILON * static_cast<double>(std::max(magnitude, max_abs(p))) + 1e-18;
     if (std::string touch = check_level_contact(field, p, truth, allowance, magnitude); !touch.empty()) return touch;
+    if (std::string cast = check_level_cast(field, p, nearest_point, truth, allowance, magnitude); !cast.empty()) return cast;
   }
   return {};
 }
@@ -370,7 +436,8 @@ inline std::string check_height_field_contact(const HeightField& field) {
 /// coordinates (the BVH's): up to 24 triangles' corners, centroids and points beyond their
 /// edges and off their planes, and the origin. Asked of meshes within kFiniteQueryRange. At
 /// each probe, each body holding a ball reaching past that distance must touch the mesh
-/// (check_level_contact).
+/// (check_level_contact), and bodies cast at the nearest point must touch it when the distance
+/// says (check_level_cast).
 inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
   const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   if (count == 0) return {};
@@ -388,9 +455,11 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
     const Vec3 p = probes[i];
     if (!(max_abs(p) <= kFiniteQueryRange)) continue;
     double truth = std::numeric_limits<double>::infinity();
+    Vec3 nearest_point = p;
     for (std::uint32_t t = 0; t < count; ++t) {
       const Vec3 q = closest_point_on_triangle(p, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)).point;
-      truth = std::min(truth, glm::length(glm::dvec3(q) - glm::dvec3(p)));
+      const double d = glm::length(glm::dvec3(q) - glm::dvec3(p));
+      if (d < truth) truth = d, nearest_point = q;
     }
     const double allowance =
         kMeshNearestRounding * FLT_EPSILON * static_cast<double>(std::max(magnitude, max_abs(p))) + 1e-18;
@@ -402,6 +471,10 @@ inline std::string check_mesh_nearest(const TriangleMesh& mesh) {
     }
     if (std::string touch = check_level_contact(mesh, mesh.origin + p, truth, allowance, max_abs(mesh.origin)); !touch.empty()) {
       return touch;
+    }
+    if (std::string cast = check_level_cast(mesh, mesh.origin + p, mesh.origin + nearest_point, truth, allowance, max_abs(mesh.origin));
+        !cast.empty()) {
+      return cast;
     }
   }
   return {};

@@ -99,6 +99,20 @@ TEST(ShapesFuzzRegressions, MeshContactCheckCatchesADroppedContact) {
             "triangle mesh: a hull reaching past the nearest triangle has no contact");
 }
 
+// The cast oracle (since stop 105) fails on the same moved triangle: cast at its nearest point,
+// bodies pass where the tree's boxes say nothing is.
+TEST(ShapesFuzzRegressions, MeshCastCheckCatchesAMissedTriangle) {
+  const std::vector<Vec3> vertices{{0.0f, 0.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}};
+  TriangleMesh mesh = make_triangle_mesh(vertices, std::vector<glm::uvec3>{{0, 1, 2}});
+  const Vec3 probe = mesh.origin + mesh.corner(0, 0) + Vec3(0.5f, 0.5f, 3.0f);  // 3 above the triangle
+  EXPECT_EQ(fuzz::check_level_cast(mesh, probe, probe - Vec3(0.0f, 0.0f, 3.0f), 3.0, 1e-6, 0.0f), "");
+  for (const std::uint32_t v : {mesh.triangles[0].x, mesh.triangles[0].y, mesh.triangles[0].z}) {
+    mesh.vertices[v] += Vec3(0.0f, 0.0f, 2.9f);  // 0.1 below the probe now, the tree's box 3 below
+  }
+  EXPECT_EQ(fuzz::check_level_cast(mesh, probe, probe - Vec3(0.0f, 0.0f, 0.1f), 0.1, 1e-6, 0.0f),
+            "triangle mesh: a sphere cast at the nearest triangle misses it");
+}
+
 // The same oracle on a height field (since stop 105): heights raised after the build leave the
 // blocks' height ranges where they were, so the query skips the block, and the check, which
 // measures the triangles as they are, finds the dropped contacts.
