@@ -30,6 +30,7 @@
 #include <limits>
 #include <random>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace collide::test {
@@ -126,21 +127,21 @@ inline DVec3 face_normal(const ConvexHull& hull, const HullFace& f, const Transf
   return glm::normalize(n);
 }
 
-inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transform3& xa,
-                                              const ConvexHull& b, const Transform3& xb) {
+/// K from both shapes' world vertices, their face normals (both signs taken) and edge
+/// directions (every cross product of an edge of A with an edge of B, both signs, unless
+/// parallel): the file comment's superset of K's face planes.
+inline MinkowskiReference minkowski_from(std::vector<DVec3> a, std::vector<DVec3> b, const std::vector<DVec3>& faces,
+                                         const std::vector<DVec3>& edges_a, const std::vector<DVec3>& edges_b) {
   MinkowskiReference k;
-  for (const Vec3& v : a.vertices) k.a.push_back(to_world(xa, v));
-  for (const Vec3& v : b.vertices) k.b.push_back(to_world(xb, v));
+  k.a = std::move(a);
+  k.b = std::move(b);
   const auto add = [&](DVec3 n) {
     k.normals.push_back(n);
     k.normals.push_back(-n);
   };
-  for (const HullFace& f : a.faces) add(face_normal(a, f, xa));
-  for (const HullFace& f : b.faces) add(face_normal(b, f, xb));
-  for (const HullEdge& ea : a.edges) {
-    const DVec3 da = k.a[ea.v1] - k.a[ea.v0];
-    for (const HullEdge& eb : b.edges) {
-      const DVec3 db = k.b[eb.v1] - k.b[eb.v0];
+  for (const DVec3& n : faces) add(n);
+  for (const DVec3& da : edges_a) {
+    for (const DVec3& db : edges_b) {
       const DVec3 n = glm::cross(da, db);
       const double len2 = glm::dot(n, n);
       if (len2 > 1e-24 * glm::dot(da, da) * glm::dot(db, db)) add(n / std::sqrt(len2));
@@ -151,32 +152,33 @@ inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transfo
   return k;
 }
 
+/// A placed hull's world vertices, face normals and edge directions, appended.
+inline void gather_hull(const ConvexHull& hull, const Transform3& xf, std::vector<DVec3>& vertices,
+                        std::vector<DVec3>& faces, std::vector<DVec3>& edges) {
+  const std::size_t first = vertices.size();
+  for (const Vec3& v : hull.vertices) vertices.push_back(to_world(xf, v));
+  for (const HullFace& f : hull.faces) faces.push_back(face_normal(hull, f, xf));
+  for (const HullEdge& e : hull.edges) edges.push_back(vertices[first + e.v1] - vertices[first + e.v0]);
+}
+
+inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transform3& xa,
+                                              const ConvexHull& b, const Transform3& xb) {
+  std::vector<DVec3> va, vb, faces, ea, eb;
+  gather_hull(a, xa, va, faces, ea);
+  gather_hull(b, xb, vb, faces, eb);
+  return minkowski_from(std::move(va), std::move(vb), faces, ea, eb);
+}
+
 /// K = A - T for a placed hull A and a triangle T (world space, double): T's two face
-/// directions and the cross products of A's edges with T's three edges stand in for B's face
-/// normals and edges (a triangle is a flat polytope: its faces are its plane's two sides).
+/// directions and its three edges stand in for B's face normals and edges (a triangle is a flat
+/// polytope: its faces are its plane's two sides).
 inline MinkowskiReference minkowski_reference(const ConvexHull& a, const Transform3& xa,
                                               const std::array<DVec3, 3>& triangle) {
-  MinkowskiReference k;
-  for (const Vec3& v : a.vertices) k.a.push_back(to_world(xa, v));
-  k.b.assign(triangle.begin(), triangle.end());
-  const auto add = [&](DVec3 n) {
-    k.normals.push_back(n);
-    k.normals.push_back(-n);
-  };
-  for (const HullFace& f : a.faces) add(face_normal(a, f, xa));
-  add(glm::normalize(glm::cross(triangle[1] - triangle[0], triangle[2] - triangle[0])));
-  for (const HullEdge& ea : a.edges) {
-    const DVec3 da = k.a[ea.v1] - k.a[ea.v0];
-    for (int e = 0; e < 3; ++e) {
-      const DVec3 db = triangle[(e + 1) % 3] - triangle[e];
-      const DVec3 n = glm::cross(da, db);
-      const double len2 = glm::dot(n, n);
-      if (len2 > 1e-24 * glm::dot(da, da) * glm::dot(db, db)) add(n / std::sqrt(len2));
-    }
-  }
-  k.supports.reserve(k.normals.size());
-  for (const DVec3& n : k.normals) k.supports.push_back(k.support(n));
-  return k;
+  std::vector<DVec3> va, faces, ea;
+  gather_hull(a, xa, va, faces, ea);
+  faces.push_back(glm::normalize(glm::cross(triangle[1] - triangle[0], triangle[2] - triangle[0])));
+  const std::vector<DVec3> et{triangle[1] - triangle[0], triangle[2] - triangle[1], triangle[0] - triangle[2]};
+  return minkowski_from(std::move(va), {triangle.begin(), triangle.end()}, faces, ea, et);
 }
 
 /// How a pair is placed.
