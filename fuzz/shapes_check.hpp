@@ -281,45 +281,56 @@ std::string check_level_touch(const Level& level, const Body& body, const Transf
   return {};
 }
 
-/// "" when every body of each kind that holds a ball at `centre` (world space; the level stands
-/// at the identity) reaching `allowance` past the level's nearest distance `nearest` (found by
-/// brute force) plus half of it touches the level (check_level_touch): a sphere of that radius
-/// r, and turned by a fixed rotation off the level's axes a capsule (core 2r long, radius r), a
-/// box (half extents r, 1.25r, 1.5r) and a convex hull (the octahedron of corners 2r out, whose
-/// faces lie 1.15r from its centre). A contact the level query, its early out, the closed form
-/// of a body against a triangle or the active-edge correction drops fails (stop 104: slivers'
-/// planes made in float dropped contacts 0.05 deep; stop 105: a capsule behind a thin crease).
-/// `offset` is the size of the coordinates the level rounds its own at (a mesh's origin). A
-/// body whose constructor refuses its size is skipped.
-template <class Level>
-std::string check_level_contact(const Level& level, Vec3 centre, double nearest, double allowance, float offset) {
-  if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
-  const auto r = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(offset)));
-  if (!(r > 0.0f) || !finite(r)) return {};
-  if (std::string touch = check_level_touch(level, make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, "sphere");
-      !touch.empty()) {
-    return touch;
+/// The probe bodies of the level checks, each holding the ball of radius `r` at `centre` (world
+/// space): a sphere of that radius, and turned by a fixed rotation off the level's axes a capsule
+/// (core 2r long, radius r), a box (half extents r, 1.25r, 1.5r) and a convex hull (the
+/// octahedron of corners 2r out, whose faces lie 1.15r from its centre). Each is handed to
+/// `ask(body, placement, name, bound)`, `bound` the radius of a ball about `centre` that holds
+/// it; the first non-empty answer is returned. A body whose constructor refuses its size is
+/// skipped.
+template <class Ask>
+std::string ask_probe_bodies(Vec3 centre, float r, Ask&& ask) {
+  if (std::string e = ask(make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, "sphere", double(r)); !e.empty()) {
+    return e;
   }
   const Transform3 turned{centre, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
-  auto made = [&](auto make, std::string_view what) -> std::string {
+  const auto made = [&](auto make, std::string_view what, double bound) -> std::string {
     try {
-      return check_level_touch(level, make(), turned, what);
+      return ask(make(), turned, what, bound);
     } catch (const InvalidInput&) {
       return {};
     }
   };
-  if (std::string touch = made([&] { return make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r); }, "capsule");
-      !touch.empty()) {
-    return touch;
+  if (std::string e = made([&] { return make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r); }, "capsule", 2.0 * r);
+      !e.empty()) {
+    return e;
   }
-  if (std::string touch = made([&] { return make_box(Vec3(r, 1.25f * r, 1.5f * r)); }, "box"); !touch.empty()) return touch;
+  const Vec3 half(r, 1.25f * r, 1.5f * r);
+  if (std::string e = made([&] { return make_box(half); }, "box", double(length(half))); !e.empty()) return e;
   return made(
       [&] {
         const float c = 2.0f * r;
         const std::array<Vec3, 6> corners{Vec3(c, 0, 0), Vec3(-c, 0, 0), Vec3(0, c, 0), Vec3(0, -c, 0), Vec3(0, 0, c), Vec3(0, 0, -c)};
         return make_convex_hull(corners);
       },
-      "hull");
+      "hull", 2.0 * r);
+}
+
+/// "" when every body of each kind that holds a ball at `centre` (world space; the level stands
+/// at the identity) reaching `allowance` past the level's nearest distance `nearest` (found by
+/// brute force) plus half of it touches the level (check_level_touch): ask_probe_bodies' sphere,
+/// capsule, box and hull for that radius r. A contact the level query, its early out, the closed form
+/// of a body against a triangle or the active-edge correction drops fails (stop 104: slivers'
+/// planes made in float dropped contacts 0.05 deep; stop 105: a capsule behind a thin crease).
+/// `offset` is the size of the coordinates the level rounds its own at (a mesh's origin).
+template <class Level>
+std::string check_level_contact(const Level& level, Vec3 centre, double nearest, double allowance, float offset) {
+  if (!(max_abs(centre) <= kFiniteQueryRange)) return {};
+  const auto r = static_cast<float>(1.5 * nearest + 4.0 * (allowance + FLT_EPSILON * double(offset)));
+  if (!(r > 0.0f) || !finite(r)) return {};
+  return ask_probe_bodies(centre, r, [&](const auto& body, const Transform3& xf, std::string_view what, double) {
+    return check_level_touch(level, body, xf, what);
+  });
 }
 
 /// "" when bodies cast at the level from `centre` (world space; the level at the identity),
@@ -327,13 +338,12 @@ std::string check_level_contact(const Level& level, Vec3 centre, double nearest,
 /// distance, first touch it when the distance says: the distance to the level falls at most as
 /// fast as the body moves, and along that line it falls exactly that fast. A sphere of radius
 /// r = nearest / 4 must hit at fraction (nearest - r) / |v|; a capsule, a box and a hull each
-/// holding that sphere and held in a ball of radius R (2r, 2.14r, 2r; turned off the level's
-/// axes as check_level_contact's) between (nearest - R) / |v| and that. Within the cast's own
+/// holding that sphere and held in a ball of radius R (ask_probe_bodies': 2r, 2.14r, 2r)
+/// between (nearest - R) / |v| and that. Within the cast's own
 /// target separation (kShapeCastTolerance of the body's size) and rounding (kShapeCastRounding
 /// of the coordinates, times kCastRoundingFactor) plus `allowance`; a cast that stopped short
 /// of converging (max_iterations) must not have passed the latest touch. Probes nearer than 1000
-/// allowances are skipped (their line is rounding). A body whose constructor refuses its size
-/// is skipped.
+/// allowances are skipped (their line is rounding).
 template <class Level>
 std::string check_level_cast(const Level& level, Vec3 centre, Vec3 target, double nearest, double allowance, float offset) {
   if (!(nearest > 1000.0 * allowance) || !(max_abs(centre) <= kFiniteQueryRange)) return {};
@@ -344,7 +354,9 @@ std::string check_level_cast(const Level& level, Vec3 centre, Vec3 target, doubl
   const double rounding = kCastRoundingFactor * double(kShapeCastRounding) *
                           (length_v + double(max_abs(centre)) + double(offset) + 3.0 * nearest);
   const std::string name = level_name(level) + ": a ";
-  auto cast = [&](const auto& body, const Transform3& xf, double inner, double outer, std::string_view what) -> std::string {
+  // Every body holds the sphere of radius r (inner) and lies within `outer` of the centre.
+  const double inner = r;
+  return ask_probe_bodies(centre, r, [&](const auto& body, const Transform3& xf, std::string_view what, double outer) -> std::string {
     if (!within_finite_range(compute_aabb(body, xf))) return {};
     const ShapeCastResult3 c = shape_cast(body, xf, v, level, Transform3{}, Vec3(0.0f));
     const double slack = (double(kShapeCastTolerance) * 4.0 * outer + rounding + allowance) / length_v;
@@ -363,21 +375,7 @@ std::string check_level_cast(const Level& level, Vec3 centre, Vec3 target, doubl
     }
     if (!finite(c.point) || !finite(c.normal)) return name + std::string(what) + "'s cast is not finite";
     return {};
-  };
-  if (std::string e = cast(make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, r, r, "sphere"); !e.empty()) return e;
-  const Transform3 turned{centre, glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f})};
-  try {
-    if (std::string e = cast(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), turned, r, 2.0 * r, "capsule"); !e.empty()) {
-      return e;
-    }
-    const Vec3 half(r, 1.25f * r, 1.5f * r);
-    if (std::string e = cast(make_box(half), turned, r, length(half), "box"); !e.empty()) return e;
-    const float c = 2.0f * r;
-    const std::array<Vec3, 6> corners{Vec3(c, 0, 0), Vec3(-c, 0, 0), Vec3(0, c, 0), Vec3(0, -c, 0), Vec3(0, 0, c), Vec3(0, 0, -c)};
-    return cast(make_convex_hull(corners), turned, r, c, "hull");
-  } catch (const InvalidInput&) {
-    return {};
-  }
+  });
 }
 
 /// Probe points about triangles (a, b, c): up to 24 triangles' corners, centroids, and points
