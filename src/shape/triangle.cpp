@@ -67,9 +67,11 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
   // third), the three tests read 0 or noise, and a point beyond its tip was "over the face" at
   // distance 0 (the fuzzer's height field check, stop 105). Its nearest edge point is then the
   // answer, within the width of the nearest point of the face.
-  const double longest2 = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
-  const bool has_face = nn > kNeedleWidthRatio * kNeedleWidthRatio * longest2 * longest2;
-  if (has_face && wa >= 0.0 && wb >= 0.0 && wc >= 0.0) {
+  const auto has_face = [&] {
+    const double longest2 = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+    return nn > kNeedleWidthRatio * kNeedleWidthRatio * longest2 * longest2;
+  };
+  if (wa >= 0.0 && wb >= 0.0 && wc >= 0.0 && has_face()) {
     return {Vec3(dp - n * (glm::dot(ap, n) / nn)), Vec3(glm::dvec3(wa, wb, wc) / (wa + wb + wc))};
   }
   // (a zero-length edge: its parameter 0, the distance to its one point)
