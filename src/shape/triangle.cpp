@@ -26,6 +26,16 @@ Triangle make_triangle(Vec3 a, Vec3 b, Vec3 c) {
   return Triangle{v};
 }
 
+glm::dvec3 triangle_area_normal_at_widest_corner(Vec3 a, Vec3 b, Vec3 c) noexcept {
+  const glm::dvec3 da(a), db(b), dc(c);
+  const glm::dvec3 ab = db - da, bc = dc - db, ca = da - dc;
+  const double lab = glm::dot(ab, ab), lbc = glm::dot(bc, bc), lca = glm::dot(ca, ca);
+  // (b - a) x (c - a) = ca x ab (at a) = ab x bc (at b) = bc x ca (at c)
+  if (lbc >= lab && lbc >= lca) return glm::cross(ca, ab);
+  if (lca >= lab) return glm::cross(ab, bc);
+  return glm::cross(bc, ca);
+}
+
 Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept {
   const Frame3 f = Frame3::from(xf);
   const Vec3 a = transform_point(f, triangle.vertices[0]);

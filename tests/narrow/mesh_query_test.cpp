@@ -10,6 +10,7 @@
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
 #include <collide/shape/convex_hull.hpp>
+#include <collide/shape/sphere.hpp>
 #include <collide/io/obj.hpp>
 
 #include "support/brute_convex3.hpp"
@@ -20,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -218,6 +220,39 @@ TEST(MeshQuery, BodiesAtANeedlesTinySideGetAUnitNormal) {
         check(contact(make_box(Vec3(r, 1.25f * r, 1.5f * r)), at, mesh, Transform3{}), "box");
         check(contact(make_convex_hull(octahedron), at, mesh, Transform3{}), "hull");
       }
+    }
+  }
+}
+
+// Found by fuzz_shapes' contact check (finding 23): a needle 10.8 long whose short side
+// (5.7e-14) lies at the body, its tip far away. The level contact made the triangle's normal
+// from the tip, where double rounds the short side out of two long edges: the normal turned 2%,
+// the plane through the tip missed the body by 0.2, and capsules and boxes centred on the short
+// side had no contact. Here the bodies sit on a short side of 2^-44 to 2^-100 (with the found
+// corners too, offset from the origin as the fuzzer had them); each holds the corner inside.
+TEST(MeshQuery, BodiesAtANeedlesShortSideFarFromItsTipTouchIt) {
+  const Quat turned = glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f});
+  const float o = -8.36802414e-08f;
+  std::vector<std::array<Vec3, 3>> needles{
+      {Vec3(5.24809316e-08f, -7.75f, -7.5f) + Vec3(o), Vec3(o), Vec3(-5.68434189e-14f, 0.0f, 0.0f) + Vec3(o)}};
+  for (int e = 44; e <= 100; e += 4) {
+    needles.push_back({Vec3(0.0f, -7.75f, -7.5f), Vec3(0.0f), Vec3(-std::ldexp(1.0f, -e), 0.0f, 0.0f)});
+  }
+  for (const auto& corners : needles) {
+    const std::vector<Vec3> v(corners.begin(), corners.end());
+    const TriangleMesh mesh = make_triangle_mesh(v, std::vector<glm::uvec3>{{0, 1, 2}});
+    for (const float r : {2.13623047e-4f, 0.01f}) {
+      const std::vector<Vec3> octahedron{{2 * r, 0, 0}, {-2 * r, 0, 0}, {0, 2 * r, 0}, {0, -2 * r, 0}, {0, 0, 2 * r}, {0, 0, -2 * r}};
+      const Transform3 at{corners[1], turned};
+      const auto check = [&](const Manifold3& m, const char* what) {
+        ASSERT_GT(m.count, 0) << what << " side " << distance(corners[1], corners[2]) << " r " << r;
+        EXPECT_NEAR(length(m.normal), 1.0f, 1e-5f) << what;
+        for (int i = 0; i < m.count; ++i) EXPECT_LE(m.points[i].depth, 4.0f * r) << what;
+      };
+      check(contact(make_sphere(Vec3(0.0f), r), at, mesh, Transform3{}), "sphere");
+      check(contact(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), at, mesh, Transform3{}), "capsule");
+      check(contact(make_box(Vec3(r, 1.25f * r, 1.5f * r)), at, mesh, Transform3{}), "box");
+      check(contact(make_convex_hull(octahedron), at, mesh, Transform3{}), "hull");
     }
   }
 }

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <limits>
 #include <algorithm>
 #include <random>
@@ -126,6 +127,38 @@ TEST(Triangle, ClosestPointOnNeedlesBeyondDoubleIsOnTheirEdges) {
     const double edges = std::min({segment_distance(dp, dx, dy), segment_distance(dp, dy, dz), segment_distance(dp, dz, dx)});
     ASSERT_NEAR(glm::length(glm::dvec3(q.point) - dp), edges, 2e-6) << i << " step 2^-" << e;
   }
+}
+
+// A needle whose short side lies near the origin, its tip far away: taken from the tip, the
+// short side comes out of the difference of two long edge vectors, which double rounds (a side
+// 2^-51 beside a tip 8 away: the normal was along (1, 0, 2), not (1, 1, 1)). Found by the
+// fuzzer's mesh contact check (finding 23: a capsule and a box at such a side had no contact).
+// The truth is exact: corners 0, s d and a (small integers, s a power of two) have the normal
+// s (d x a), in every order of the corners that keeps the winding.
+TEST(Triangle, AreaNormalOfANeedleIsExactFromEveryCorner) {
+  const std::array<glm::ivec3, 3> tips{glm::ivec3(8, -4, -4), glm::ivec3(-6, 3, 9), glm::ivec3(1, 7, -5)};
+  const std::array<glm::ivec3, 3> sides{glm::ivec3(1, -1, 0), glm::ivec3(2, 1, -3), glm::ivec3(0, 1, 1)};
+  int checked = 0;
+  for (const glm::ivec3& tip : tips) {
+    for (const glm::ivec3& side : sides) {
+      const glm::dvec3 truth = glm::normalize(glm::cross(glm::dvec3(side), glm::dvec3(tip)));  // exact: small integers
+      for (int e = 0; e <= 12; e += 4) {
+        for (int k = 20; k <= 90; k += 5) {
+          const Vec3 a = std::ldexp(1.0f, e) * Vec3(tip), b(0.0f), c = std::ldexp(1.0f, -k) * Vec3(side);
+          const std::array<Vec3, 3> v{a, b, c};
+          for (int first = 0; first < 3; ++first) {
+            const Vec3 p = v[std::size_t(first)], q = v[std::size_t((first + 1) % 3)], r = v[std::size_t((first + 2) % 3)];
+            const glm::dvec3 n = glm::normalize(triangle_area_normal(p, q, r));
+            ASSERT_GT(glm::dot(n, truth), 1.0 - 1e-12) << "tip 2^" << e << " side 2^-" << k << " from corner " << first;
+            const Vec3 unit = triangle_normal(p, q, r);
+            EXPECT_LE(length(unit - Vec3(truth)), 4e-7f) << "tip 2^" << e << " side 2^-" << k << " from corner " << first;
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 3 * 3 * 4 * 15 * 3);
 }
 
 TEST(Triangle, NormalIsUnitRightHandedAndSurvivesTinyTriangles) {

@@ -34,16 +34,40 @@ struct Triangle {
 /// Bounding box of the triangle placed by `xf`, world space.
 [[nodiscard]] Aabb3 compute_aabb(const Triangle& triangle, const Transform3& xf) noexcept;
 
+/// The normal (b - a) x (c - a) of triangle (a, b, c), not normalised, in double, made as the
+/// cross product of the two edges at the corner opposite the longest edge (the widest angle,
+/// whose sine is the largest): within about DBL_EPSILON of its direction for any triangle that
+/// is not collinear to double's rounding. triangle_area_normal's rare path, out of line; zero
+/// when the corners are collinear.
+[[nodiscard]] glm::dvec3 triangle_area_normal_at_widest_corner(Vec3 a, Vec3 b, Vec3 c) noexcept;
+
+/// triangle_area_normal keeps the cross product at corner a when the sine of a's angle, squared,
+/// is at least this: the normal is then within about DBL_EPSILON / sin a = 2^-33 of its
+/// direction, far inside float's rounding.
+inline constexpr double kAreaNormalMinSineSquared = 0x1p-40;
+
 /// The normal (b - a) x (c - a) of triangle (a, b, c), not normalised (its length is twice the
 /// triangle's area), in double: the differences of float corners are exact there (or within
 /// double's rounding when their magnitudes are far apart), and so are their products, so a
 /// sliver's normal (from two nearly parallel edges) keeps about 29 more bits than its length
 /// over width can cost. Made in float it turns by about FLT_EPSILON times that ratio: on a
 /// triangle 2 units long and 1e-8 wide, a plane distance or a projection off by a whole unit.
-/// Finite for any finite float corners, and zero only when they are collinear.
+/// A rounded edge turns the cross product by about DBL_EPSILON over the sine of the angle
+/// between its edges; at a needle's tip that sine can be below double's rounding (a needle 10.8
+/// long with a 5.7e-14 side, its tip 10 from the origin, turned 2%: fuzzing.md, finding 23). So
+/// when a's angle is that sharp (kAreaNormalMinSineSquared), the product is taken at the corner
+/// opposite the longest edge instead, whose sine is the largest (law of sines): the same vector
+/// in exact arithmetic. Finite for any finite float corners, and zero only when they are
+/// collinear.
 [[nodiscard]] COLLIDE_ALWAYS_INLINE glm::dvec3 triangle_area_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
   const glm::dvec3 da(a);
-  return glm::cross(glm::dvec3(b) - da, glm::dvec3(c) - da);
+  const glm::dvec3 ab = glm::dvec3(b) - da, ac = glm::dvec3(c) - da;
+  const glm::dvec3 n = glm::cross(ab, ac);
+  // |n|^2 = |ab|^2 |ac|^2 sin^2(a); nothing here overflows or underflows for float corners.
+  if (glm::dot(n, n) >= kAreaNormalMinSineSquared * glm::dot(ab, ab) * glm::dot(ac, ac)) [[likely]] {
+    return n;
+  }
+  return triangle_area_normal_at_widest_corner(a, b, c);
 }
 
 /// The squared lengths of a float normal that `triangle_normal` normalises in float: squares of
