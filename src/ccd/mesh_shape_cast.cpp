@@ -83,8 +83,17 @@ struct LevelCast {
     // sliver's plane turns by FLT_EPSILON times its length over its width, and the tests below
     // called a sphere that touches such a sliver first "separated" from it (the fuzzer's cast
     // check, stop 105: a cast hit the triangle behind it, 0.28 of its step late).
-    const Vec3 nn = Vec3(triangle_area_normal(c[0], c[1], c[2]));
-    const float nn2 = dot(nn, nn);
+    // Every test below is homogeneous in nn: a normal whose square leaves float's normal range
+    // (a needle 1e-22 wide: a subnormal square made the unit normal 1.003 long and the face hit
+    // 0.3% late, finding 24) is scaled by a power of two first.
+    const glm::dvec3 exact = triangle_area_normal(c[0], c[1], c[2]);
+    Vec3 nn = Vec3(exact);
+    float nn2 = dot(nn, nn);
+    if (!(nn2 >= kTriangleNormalDirectMinSquared && nn2 <= kTriangleNormalDirectMaxSquared)) [[unlikely]] {
+      if (exact == glm::dvec3(0.0)) return PlaneVerdict::unknown;
+      nn = Vec3(scaled_to_unit_magnitude(exact));
+      nn2 = dot(nn, nn);
+    }
     // gjk_shape_cast's tolerance, B's size being the triangle's (corner 0 to corner 2).
     const float size_b = length(e[2]);
     const float tolerance = kShapeCastTolerance * detail::smaller_size(core_size, size_b) +

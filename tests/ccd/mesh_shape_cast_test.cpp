@@ -7,6 +7,11 @@
 
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/io/obj.hpp>
+#include <collide/shape/box.hpp>
+#include <collide/shape/capsule3.hpp>
+#include <collide/shape/height_field.hpp>
+#include <collide/shape/sphere.hpp>
+#include <collide/shape/triangle_mesh.hpp>
 
 #include "support/brute_convex3.hpp"
 #include "support/brute_triangle.hpp"
@@ -473,6 +478,50 @@ TEST(MeshShapeCast, CastsStraightAtSliversTouchWhenTheDistanceSays) {
     ++checked;
   }
   EXPECT_GT(checked, 4000);
+}
+
+// Bodies cast straight down (and up) at flat levels of needles 2^-60 to 2^-90 wide: a height
+// field with that spacing along x, and a one-triangle mesh of such a needle. The touch is at
+// (h - r) / |v| for a body whose lowest point is h - r above the ground, moving |v| down. The
+// plane test squared the needles' area normal in float: subnormal below about 2^-63, so the
+// unit normal made from it was 1.003 long and the closed-form face hit 0.3% of the distance late
+// (the fuzzer's cast check, finding 24: a sphere 2 below a field with spacing 1.1e-22 touched
+// at 0.37537 of its step, not 0.375). Now such a normal is scaled by a power of two first.
+TEST(MeshShapeCast, CastsAtNeedlesWhoseNormalSquaresUnderflowTouchOnTime) {
+  int checked = 0;
+  for (int e = 60; e <= 90; e += 3) {
+    const float width = std::ldexp(1.0f, -e);
+    const std::vector<float> flat(3 * 8, -8.0f);
+    const HeightField field = make_height_field(3, 8, flat, {width, 2.75f}, Vec3(-0.75f, 0.75f, -1.0f));
+    const std::vector<Vec3> corners{{0.0f, -7.25f, 0.0f}, {0.0f, -7.25f, 19.25f}, {width, -7.25f, 0.0f}};
+    const TriangleMesh mesh = make_triangle_mesh(corners, std::vector<glm::uvec3>{{0, 1, 2}});
+    ASSERT_EQ(mesh.triangle_count(), 1u) << "width 2^-" << e;
+    for (const float side : {1.0f, -1.0f}) {
+      for (const float r : {0.5f, 0.125f}) {
+        const float h = 2.0f;  // the body's centre above (below) the ground
+        const Vec3 v(0.0f, -side * 2.0f * h, 0.0f);
+        const double expected = (h - r) / (2.0 * h);
+        const auto check = [&](const auto& body, float x, const auto& level, const char* what) {
+          const Transform3 xf{Vec3(x, -7.25f + side * h, 2.4375f), Quat{1, 0, 0, 0}};
+          const ShapeCastResult3 c = shape_cast(body, xf, v, level, Transform3{}, Vec3(0.0f));
+          ASSERT_TRUE(c.hit) << what << " width 2^-" << e;
+          EXPECT_NEAR(c.fraction, expected, 1e-5) << what << " width 2^-" << e << " side " << side << " r " << r;
+          EXPECT_NEAR(length(c.normal), 1.0f, 1e-5f) << what << " width 2^-" << e << " side " << side << " r " << r;
+          ++checked;
+        };
+        const Sphere sphere = make_sphere(Vec3(0.0f), r);
+        const Capsule3 capsule = make_capsule(Vec3(0.0f, 0.0f, -r), Vec3(0.0f, 0.0f, r), r);  // lying along z
+        const Box box = make_box(Vec3(r));
+        check(sphere, -0.75f, field, "sphere at the field");
+        check(capsule, -0.75f, field, "capsule at the field");
+        check(box, -0.75f, field, "box at the field");
+        check(sphere, 0.0f, mesh, "sphere at the mesh");
+        check(capsule, 0.0f, mesh, "capsule at the mesh");
+        check(box, 0.0f, mesh, "box at the mesh");
+      }
+    }
+  }
+  EXPECT_EQ(checked, 11 * 2 * 2 * 6);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -31,6 +32,19 @@ TEST(Math, ScaledToUnitMagnitudeKeepsTheDirectionExactly) {
   EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec3(0.0f)).x));
   EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec3(1.0f, std::numeric_limits<float>::infinity(), 0.0f)).x));
   EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(Vec2(std::numeric_limits<float>::quiet_NaN(), 1.0f)).y));
+  // In double: a float triangle's area normal can be 1e-90 or 1e77 long.
+  for (const double m : {1e-300, 1e-90, 3e-39, 0.7, 1.0, 2.0, 1e77, 1.7e308}) {
+    const glm::dvec3 a(-0.375 * m, m, 0.0625 * m);
+    const glm::dvec3 u = scaled_to_unit_magnitude(a);
+    ASSERT_GE(std::max({std::abs(u.x), std::abs(u.y), std::abs(u.z)}), 1.0) << m;
+    ASSERT_LT(std::max({std::abs(u.x), std::abs(u.y), std::abs(u.z)}), 2.0) << m;
+    const double scale = u.y / a.y;
+    EXPECT_EQ(std::exp2(std::round(std::log2(scale))), scale) << m;
+    if (std::isnormal(a.x)) EXPECT_EQ(u.x, a.x * scale) << m;
+    if (std::isnormal(a.z)) EXPECT_EQ(u.z, a.z * scale) << m;
+  }
+  EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(glm::dvec3(0.0)).x));
+  EXPECT_TRUE(std::isnan(scaled_to_unit_magnitude(glm::dvec3(1.0, std::numeric_limits<double>::infinity(), 0.0)).x));
 }
 
 }  // namespace
