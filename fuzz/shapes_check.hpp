@@ -374,6 +374,7 @@ std::string check_level_cast(const Level& level, Vec3 centre, Vec3 target, doubl
       return name + std::string(what) + " cast at the nearest triangle touches it at the wrong time";
     }
     if (!finite(c.point) || !finite(c.normal)) return name + std::string(what) + "'s cast is not finite";
+    if (!(std::abs(length(c.normal) - 1.0f) <= 1e-3f)) return name + std::string(what) + "'s cast normal is not unit";
     return {};
   });
 }
