@@ -90,7 +90,7 @@ using Vec3 = glm::vec3;
 [[nodiscard]] Vec2 scaled_to_unit_magnitude(Vec2 a) noexcept;
 [[nodiscard]] Vec3 scaled_to_unit_magnitude(Vec3 a) noexcept;
 /// The same in double, for a float-cornered triangle's area normal (triangle_area_normal) whose
-/// length leaves float's normal range (an edge 1e-22 long): converted to float after, each
+/// length leaves float's normal range (a needle 1e-22 wide): converted to float after, each
 /// component is then float's rounding of the exact one, and a unit normal made from it in float
 /// is unit to rounding (from the unscaled normal, whose square was subnormal, it was 1.003 long).
 [[nodiscard]] glm::dvec3 scaled_to_unit_magnitude(const glm::dvec3& a) noexcept;

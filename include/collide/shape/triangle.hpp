@@ -57,8 +57,9 @@ inline constexpr double kAreaNormalMinSineSquared = 0x1p-40;
 /// long with a 5.7e-14 side, its tip 10 from the origin, turned 2%: fuzzing.md, finding 23). So
 /// when a's angle is that sharp (kAreaNormalMinSineSquared), the product is taken at the corner
 /// opposite the longest edge instead, whose sine is the largest (law of sines): the same vector
-/// in exact arithmetic. Finite for any finite float corners, and zero only when they are
-/// collinear.
+/// in exact arithmetic. (Our derivation; Kahan's "Miscalculating Area and Angles of a
+/// Needle-like Triangle" orders a needle's sides for its area the same way.) Finite for any
+/// finite float corners, and zero only when they are collinear.
 [[nodiscard]] COLLIDE_ALWAYS_INLINE glm::dvec3 triangle_area_normal(Vec3 a, Vec3 b, Vec3 c) noexcept {
   const glm::dvec3 da(a);
   const glm::dvec3 ab = glm::dvec3(b) - da, ac = glm::dvec3(c) - da;
