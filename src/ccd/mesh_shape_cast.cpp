@@ -86,10 +86,13 @@ struct LevelCast {
     // Every test below is homogeneous in nn: a normal whose square leaves float's normal range
     // (a needle 1e-22 wide: a subnormal square made the unit normal 1.003 long and the face hit
     // 0.3% late, finding 24) is scaled by a power of two first.
-    const glm::dvec3 exact = triangle_area_normal(c[0], c[1], c[2]);
-    Vec3 nn = Vec3(exact);
+    Vec3 nn = Vec3(triangle_area_normal(c[0], c[1], c[2]));
     float nn2 = dot(nn, nn);
-    if (!(nn2 >= kTriangleNormalDirectMinSquared && nn2 <= kTriangleNormalDirectMaxSquared)) [[unlikely]] {
+    // A square that underflows to zero goes on to `unknown` (GJK), as before: rescaled, a
+    // field spaced 1.4e-45 (its corners' world coordinates collapsed) was cast 10% early.
+    if (nn2 > 0.0f && !(nn2 >= kTriangleNormalDirectMinSquared && nn2 <= kTriangleNormalDirectMaxSquared)) [[unlikely]] {
+      // Made again here rather than kept in double across the common path.
+      const glm::dvec3 exact = triangle_area_normal(c[0], c[1], c[2]);
       if (exact == glm::dvec3(0.0)) return PlaneVerdict::unknown;
       nn = Vec3(scaled_to_unit_magnitude(exact));
       nn2 = dot(nn, nn);
