@@ -83,18 +83,15 @@ struct LevelCast {
     // sliver's plane turns by FLT_EPSILON times its length over its width, and the tests below
     // called a sphere that touches such a sliver first "separated" from it (the fuzzer's cast
     // check, stop 105: a cast hit the triangle behind it, 0.28 of its step late).
-    // Every test below is homogeneous in nn: a normal whose square leaves float's normal range
-    // (a needle 1e-22 wide: a subnormal square made the unit normal 1.003 long and the face hit
-    // 0.3% late, finding 24) is scaled by a power of two first.
+    // Every test below is homogeneous in nn: a normal whose nonzero square leaves float's normal
+    // range (a needle 1e-22 wide: a subnormal square made the unit normal 1.003 long and the
+    // face hit 0.3% late, finding 24) is scaled by a power of two first, from the double normal
+    // made again (not kept across the common path). A square that underflows to zero goes on to
+    // `unknown` (GJK), as before: rescaled, a field spaced 1.4e-45 was cast 10% early (finding 25).
     Vec3 nn = Vec3(triangle_area_normal(c[0], c[1], c[2]));
     float nn2 = dot(nn, nn);
-    // A square that underflows to zero goes on to `unknown` (GJK), as before: rescaled, a
-    // field spaced 1.4e-45 (its corners' world coordinates collapsed) was cast 10% early.
     if (nn2 > 0.0f && !(nn2 >= kTriangleNormalDirectMinSquared && nn2 <= kTriangleNormalDirectMaxSquared)) [[unlikely]] {
-      // Made again here rather than kept in double across the common path.
-      const glm::dvec3 exact = triangle_area_normal(c[0], c[1], c[2]);
-      if (exact == glm::dvec3(0.0)) return PlaneVerdict::unknown;
-      nn = Vec3(scaled_to_unit_magnitude(exact));
+      nn = Vec3(scaled_to_unit_magnitude(triangle_area_normal(c[0], c[1], c[2])));
       nn2 = dot(nn, nn);
     }
     // gjk_shape_cast's tolerance, B's size being the triangle's (corner 0 to corner 2).
