@@ -87,7 +87,11 @@ struct LevelCast {
     // range (a needle 1e-22 wide: a subnormal square made the unit normal 1.003 long and the
     // face hit 0.3% late, finding 24) is scaled by a power of two first, from the double normal
     // made again (not kept across the common path). A square that underflows to zero goes on to
-    // `unknown` (GJK), as before: rescaled, a field spaced 1.4e-45 was cast 10% early (finding 25).
+    // `unknown` (GJK), as before. Rescaled, a field spaced 1.4e-45 was cast 10% early (finding
+    // 25): a needle that thin meets a cast in its own plane beyond its tip, and the side test of
+    // its 1.4e-45 edge there, that width times the point's distance, underflowed to zero and read
+    // as on the edge (inside). A nonzero square bounds that: width times length is then at least
+    // 3.7e-23, so such a product underflows only within 1e-15 of the length from the tip.
     Vec3 nn = Vec3(triangle_area_normal(c[0], c[1], c[2]));
     float nn2 = dot(nn, nn);
     if (nn2 > 0.0f && !(nn2 >= kTriangleNormalDirectMinSquared && nn2 <= kTriangleNormalDirectMaxSquared)) [[unlikely]] {

@@ -524,5 +524,41 @@ TEST(MeshShapeCast, CastsAtNeedlesWhoseNormalSquaresUnderflowTouchOnTime) {
   EXPECT_EQ(checked, 11 * 2 * 2 * 6);
 }
 
+// Finding 25: a height field spaced 1.4e-45 across: its cells are needles, in world space
+// segments to float, whose area normals' float squares underflow to zero. A sphere cast along a
+// needle's line at its tip first meets the needle's plane beyond the tip; the plane test's side
+// check for the tiny edge there multiplies 1.4e-45 by the tip's distance, which underflows to
+// zero and reads as on the edge, so a plane test run on such a normal (rescaled) reported that
+// early touch, 10% early. Each field here is one row of such needles rising along z from height
+// 0 to `rise` over 2 units; the sphere comes at the low end's edge from beyond it, so it first
+// touches the end point: at (offset - r) / |v|, analytic.
+TEST(MeshShapeCast, CastsAtTheTipsOfNeedlesTooThinForAFloatSquareTouchTheTip) {
+  int checked = 0;
+  for (const float width : {std::numeric_limits<float>::denorm_min(), std::ldexp(1.0f, -140), std::ldexp(1.0f, -130),
+                            std::ldexp(1.0f, -120)}) {
+    for (const float rise : {2.5f, 1.0f, -3.0f}) {
+      for (const float origin_x : {0.0f, -7.0f, 5.5f}) {
+        const std::vector<float> heights{0.0f, 0.0f, rise, rise};
+        const HeightField field = make_height_field(2, 2, heights, {width, 2.0f}, Vec3(origin_x, 0.0f, 0.0f));
+        for (const float r : {0.125f, 0.5f}) {
+          const float offset = 0.5f + r;
+          // From beyond the low end (z < 0) in the needles' own x, along z: the end stays the
+          // nearest point of the field (the needles rise away from it), and the needles' plane,
+          // tilted, is met first on their line continued beyond the end.
+          const Vec3 start(origin_x, 0.0f, -offset);
+          const Vec3 v(0.0f, 0.0f, 2.0f * offset);
+          const double expected = (offset - r) / (2.0 * offset);
+          const ShapeCastResult3 c =
+              shape_cast(make_sphere(Vec3(0.0f), r), Transform3{start, Quat{1, 0, 0, 0}}, v, field, Transform3{}, Vec3(0.0f));
+          ASSERT_TRUE(c.hit) << "width " << width << " rise " << rise << " origin " << origin_x << " r " << r;
+          EXPECT_NEAR(c.fraction, expected, 1e-5) << "width " << width << " rise " << rise << " origin " << origin_x << " r " << r;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 4 * 3 * 3 * 2);
+}
+
 }  // namespace
 }  // namespace collide
