@@ -390,33 +390,11 @@ inline void add_triangle_probes(Vec3 a, Vec3 b, Vec3 c, std::vector<Vec3>& probe
                                centroid + 0.6f * (c - centroid) + off});
 }
 
-/// True when `p` (world space) lies below one of the height field's triangles: under the
-/// terrain. check_height_field_contact asks no contact of such probes: the active edges are
-/// made for bodies above the field, and a body below it touching a spike's tip from behind,
-/// where every edge is concave seen from above, lost its contact to the correction
-/// (docs/fuzzing.md, finding 22, open: two-sided active edges are not done). The vertical line
-/// through `p` against each triangle's projection, in grid space (the field's own, where its
-/// spacing is not rounded into the origin) and double.
-inline bool below_height_field(const HeightField& field, Vec3 p) {
-  const glm::dvec3 g = glm::dvec3(p) - glm::dvec3(field.origin);
-  const auto cross2 = [](glm::dvec2 u, glm::dvec2 v) { return u.x * v.y - u.y * v.x; };
-  for (std::uint32_t t = 0; t < field.triangle_count(); ++t) {
-    if (field.is_hole(t / 2)) continue;
-    const std::array<Vec3, 3> c = field.grid_corners(t);
-    const glm::dvec2 a(c[0].x, c[0].z), b(c[1].x, c[1].z), d(c[2].x, c[2].z), q(g.x, g.z);
-    const double area = cross2(b - a, d - a);
-    if (area == 0.0) continue;
-    const double u = cross2(d - b, q - b) / area, v = cross2(a - d, q - d) / area, w = 1.0 - u - v;
-    if (u < 0.0 || v < 0.0 || w < 0.0) continue;
-    if (u * double(c[0].y) + v * double(c[1].y) + w * double(c[2].y) > g.y) return true;
-  }
-  return false;
-}
-
 /// "" when bodies reaching past a height field's nearest triangle touch it, at probe points
 /// about up to 24 of its triangles (add_triangle_probes), the nearest distance by brute force
 /// over every triangle of a cell that is not a hole (closest_point_on_triangle, in double), with check_mesh_nearest's
-/// allowance: check_level_contact (of probes not below the field, below_height_field), and
+/// allowance: check_level_contact (above the field and below it: the active edges are two-sided since
+/// stop 107, finding 22), and
 /// bodies cast at the nearest point touch it when the distance says (check_level_cast). Asked
 /// of fields within kFiniteQueryRange.
 inline std::string check_height_field_contact(const HeightField& field) {
@@ -445,9 +423,7 @@ inline std::string check_height_field_contact(const HeightField& field) {
       if (d < truth) truth = d, nearest_point = q;
     }
     const double allowance = kMeshNearestRounding * FLT_EPSILON * static_cast<double>(std::max(magnitude, max_abs(p))) + 1e-18;
-    if (!below_height_field(field, p)) {
-      if (std::string touch = check_level_contact(field, p, truth, allowance, magnitude); !touch.empty()) return touch;
-    }
+    if (std::string touch = check_level_contact(field, p, truth, allowance, magnitude); !touch.empty()) return touch;
     if (std::string cast = check_level_cast(field, p, nearest_point, truth, allowance, magnitude); !cast.empty()) return cast;
   }
   return {};

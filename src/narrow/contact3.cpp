@@ -1633,9 +1633,22 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
       on |= 1u << k;
     }
   }
-  // Asked only now (a height field computes them from its neighbours), after the early outs.
-  const std::uint8_t active_edges = edges();
-  if ((active_edges & 7u) == 7u) return;
+  // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
+  // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
+  const auto centre_face = [&]() noexcept {
+    const float side = dot(n, centroid - corners[0]);
+    return side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
+  };
+  // The edges active from the side the contact comes from (bits 3-5 behind: an edge concave
+  // from the front is convex from behind, where a body below a height field meets a spike's
+  // tip, finding 22): the normal's side, unless it lies in the plane to kParallelTolerance; then
+  // the centre's. Not the centre's always: a box under the spike, a little to one side, has its
+  // centre in front of the plane of the tip's far face, continued below the tip, and that face's
+  // clip turned its normal 107 degrees. Asked only now (a height field computes them from its
+  // neighbours), after the early outs.
+  const int from = c < -kParallelTolerance ? 0 : c > kParallelTolerance ? 1 : centre_face();
+  const auto active_edges = static_cast<std::uint8_t>((edges() >> (3 * from)) & 7u);
+  if (active_edges == 7u) return;
   bool active = false;
   switch (on) {
     case 1u: active = (active_edges & 0b101u) != 0; break;  // vertex 0: edges 0 and 2
@@ -1649,14 +1662,11 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
       // a needle seen across its length (the fuzzer's mesh probes found a sphere beside a needle
       // 1e8 long and 14 wide, touching its active long sides, whose contact the face clip below
       // dropped). The normal stands when any of its edges is active.
-      active = (active_edges & 7u) != 0;
+      active = active_edges != 0;
       break;
   }
   if (active) return;
-  // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
-  // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
-  const float side = dot(n, centroid - corners[0]);
-  const int face = side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
+  const int face = centre_face();
   Manifold3 fixed;
   const float touch = kRelativeTolerance * (size + max_abs(corners[0]));
   face_clip(face, margin + touch, fixed);

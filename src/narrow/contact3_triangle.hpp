@@ -29,11 +29,12 @@ namespace collide::detail {
 /// double (triangle_normal), for the early out and the contact: a sliver's plane made in float
 /// turns by FLT_EPSILON times its length over width.
 ///
-/// `edges()` gives the triangle's active edges (bit k: edge k, as TriangleMesh::active_edges);
-/// it is asked only when they matter (a height field computes them from its neighbours). When
-/// the manifold's normal is not the triangle's face normal (within kFaceContactSine) and the
-/// triangle's feature nearest to A along it is an inactive edge, or a vertex whose two edges are
-/// both inactive, the contact is made again with the triangle's face (the side facing A) as the
+/// `edges()` gives the triangle's active edges (active_edge_bit(k, side), as
+/// TriangleMesh::active_edges: from the front and from behind); it is asked only when they
+/// matter (a height field computes them from its neighbours). When the manifold's normal is not
+/// the triangle's face normal (within kFaceContactSine) and the triangle's feature nearest to A
+/// along it is an edge inactive from A's side (its centre's), or a vertex whose two edges are
+/// both inactive from there, the contact is made again with the triangle's face (the side facing A) as the
 /// reference face: A's incident face (or core) clipped to the triangle's side planes, depth
 /// along the face normal. A body sliding over a seam then meets the triangle it is over with
 /// the face normal, and the triangle behind the seam gives no point (Jolt's

@@ -98,11 +98,18 @@ TrianglePoint closest_point_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) noexcept
   return {Vec3(dc + t_ca * ca), {t(t_ca), 0.0f, t(1.0 - t_ca)}};
 }
 
-bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
+std::uint8_t active_edge_sides(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
   const float cos_angle = dot(n1, n2);
-  if (cos_angle < kFoldBackCosAngle) return true;
-  if (consistent && !(dot(cross(n1, n2), e) > 0.0f)) return false;  // concave (or flat: the threshold would say no)
-  return cos_angle < cos_threshold;
+  if (cos_angle < kFoldBackCosAngle) return 3u;
+  if (!(cos_angle < cos_threshold)) return 0u;  // flat from both sides
+  if (!consistent) return 3u;
+  const float turn = dot(cross(n1, n2), e);
+  // Convex from the front, or from behind; neither when the turn has no sign.
+  return turn > 0.0f ? 1u : turn < 0.0f ? 2u : 0u;
+}
+
+bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
+  return (active_edge_sides(n1, n2, e, consistent, cos_threshold) & 1u) != 0;
 }
 
 }  // namespace collide

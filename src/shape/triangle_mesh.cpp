@@ -146,23 +146,28 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
   for (std::size_t i = 0; i < sides.size();) {
     std::size_t j = i;
     while (j < sides.size() && sides[j].lo == sides[i].lo && sides[j].hi == sides[i].hi) ++j;
-    bool active = true;
-    if (j - i == 1) {
-      ++mesh.stats.boundary_edges;
-    } else if (j - i > 2) {
-      ++mesh.stats.non_manifold_edges;
-    } else {
+    if (j - i == 2) {
       const EdgeSide& a = sides[i];
       const EdgeSide& b = sides[i + 1];
       const Vec3 e = mesh.vertices[a.forward ? a.hi : a.lo] - mesh.vertices[a.forward ? a.lo : a.hi];
       // Consistent windings run a shared edge in opposite directions; otherwise turn b's normal.
       const bool consistent = a.forward != b.forward;
       const Vec3 nb = consistent ? normals[b.triangle] : -normals[b.triangle];
-      active = is_edge_active(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
-    }
-    if (active) {
+      // Sides as a sees them; b, its winding consistent, sees the same (n2 x n1 . -e is n1 x n2
+      // . e); inconsistent, both sides or neither.
+      const std::uint8_t on = active_edge_sides(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
+      if (on & 1u) ++mesh.stats.active_edges;
+      if (on & 2u) ++mesh.stats.active_edges_from_behind;
+      for (std::size_t s = i; s < j; ++s) {
+        if (on & 1u) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k, 0);
+        if (on & 2u) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k, 1);
+      }
+    } else {
+      // One triangle (a boundary) or three and more (non-manifold): active from both sides.
+      ++(j - i == 1 ? mesh.stats.boundary_edges : mesh.stats.non_manifold_edges);
       ++mesh.stats.active_edges;
-      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k);
+      ++mesh.stats.active_edges_from_behind;
+      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bits_both_sides(sides[s].k);
     }
     i = j;
   }

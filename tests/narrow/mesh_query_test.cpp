@@ -123,10 +123,10 @@ TEST(MeshQuery, SphereSlidingOverInternalEdgesGetsFaceNormal) {
   int contacts = 0;
   EXPECT_LT(slide_sphere(flat.mesh, contacts), 2e-5f);  // never a tilted (ghost) normal
   EXPECT_GT(contacts, 2000);
-  // The same grid with every edge active: the seams give tilted normals (the ghost contacts the
-  // active edges remove), so the check above can fail.
+  // The same grid with every edge active from both sides: the seams give tilted normals (the
+  // ghost contacts the active edges remove), so the check above can fail.
   TriangleMesh all_active = flat.mesh;
-  std::fill(all_active.active_edges.begin(), all_active.active_edges.end(), std::uint8_t{7});
+  std::fill(all_active.active_edges.begin(), all_active.active_edges.end(), std::uint8_t{0x3f});
   EXPECT_GT(slide_sphere(all_active, contacts), 1e-2f);
 }
 
@@ -540,6 +540,44 @@ TEST(MeshQuery, HeightFieldHolesHaveNoTriangles) {
   EXPECT_TRUE(overlap(s, Transform3{{0.5f, 0.1f, 1.5f}, Quat{1, 0, 0, 0}}, field, Transform3{}));
   // The hole's rim is a boundary: its edges are active.
   EXPECT_EQ(field.active_edges(2 * 3 + 1) & active_edge_bit(1), active_edge_bit(1));
+}
+
+// Finding 22: triangles are two-sided, and so are their active edges. A spike pointing down out
+// of a flat field: every edge at its tip is concave seen from above (inactive there) and convex
+// from below. A body under the tip touches the tip; with one-sided active edges the correction
+// turned its normal to a face's (across which the body has no depth) and the contact was
+// dropped. Under the field and under the same terrain as a mesh: spheres and upright capsules
+// whose top sphere's centre is on a line through the tip, down and a little to the side (the tip
+// stays the nearest feature: the spike's faces are 66 degrees steep), normal along that line;
+// boxes with their top face level under the tip, normal straight up.
+TEST(MeshQuery, BodiesUnderASpikeTouchItsTipFromBelow) {
+  const Vec3 tip(2.0f, -2.25f, 2.0f);
+  const Terrain spike = make_terrain(5, 1.0f, [&](float x, float z) { return x == tip.x && z == tip.z ? tip.y : 0.0f; });
+  const float r = 0.3f;
+  int checked = 0;
+  for (const float depth : {0.01f, 0.05f}) {
+    for (const Vec2 off : {Vec2(0.0f), Vec2(0.1f, 0.0f), Vec2(-0.05f, 0.08f)}) {
+      const auto check = [&](const auto& body, const Transform3& xa, Vec3 normal, const char* what) {
+        for (const bool use_field : {false, true}) {
+          const Manifold3 m = use_field ? contact(body, xa, spike.field, Transform3{}) : contact(body, xa, spike.mesh, Transform3{});
+          const std::string where = std::string(what) + (use_field ? " field" : " mesh") + " depth " +
+                                    std::to_string(depth) + " off " + std::to_string(off.x) + " " + std::to_string(off.y);
+          ASSERT_GT(m.count, 0) << where;
+          EXPECT_NEAR(dot(m.normal, normal), 1.0f, 1e-5f) << where;
+          EXPECT_NEAR(m.max_depth(), depth, 1e-4f) << where;
+          ++checked;
+        }
+      };
+      const Vec3 down = glm::normalize(Vec3(off.x, -1.0f, off.y));
+      const Vec3 centre = tip + (r - depth) * down;  // the (top) sphere's centre
+      check(make_sphere(Vec3(0.0f), r), Transform3{centre, Quat{1, 0, 0, 0}}, -down, "sphere");
+      check(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), Transform3{centre - Vec3(0.0f, r, 0.0f), Quat{1, 0, 0, 0}},
+            -down, "capsule");
+      const Vec3 box_centre(tip.x + off.x, tip.y + depth - 0.5f * r, tip.z + off.y);
+      check(make_box(Vec3(r, 0.5f * r, r)), Transform3{box_centre, Quat{1, 0, 0, 0}}, Vec3(0.0f, 1.0f, 0.0f), "box");
+    }
+  }
+  EXPECT_EQ(checked, 2 * 3 * 3 * 2);
 }
 
 // 1e4 from the origin: the same answers as near it (within float spacing there), never NaN.

@@ -247,13 +247,14 @@ Indexed bend(float degrees) {
   return m;
 }
 
-/// The bend's edge along z (x = 0): is it active on both sides?
-bool ridge_active(const TriangleMesh& mesh) {
+/// The bend's edge along z (x = 0): is it active, seen from `side` (0 above, where the
+/// triangles face; 1 below), in both triangles that share it?
+bool ridge_active(const TriangleMesh& mesh, int side = 0) {
   int active = 0, sides = 0;
   for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const auto [a, b] = edge(mesh, t, k);
-      if (a.x == 0.0f && b.x == 0.0f && a.y == 0.0f && b.y == 0.0f) ++sides, active += mesh.is_edge_active(t, k);
+      if (a.x == 0.0f && b.x == 0.0f && a.y == 0.0f && b.y == 0.0f) ++sides, active += mesh.is_edge_active(t, k, side);
     }
   }
   EXPECT_EQ(sides, 2);
@@ -275,6 +276,31 @@ TEST(TriangleMesh, ConvexEdgesSharperThanTheThresholdAreActiveConcaveOnesNever) 
   EXPECT_FALSE(ridge_active(bend(3.0f).make({std::cos(4.0f * test::kPi / 180.0f)})));
 }
 
+// Triangles are two-sided: from below, a concave edge is a ridge and a convex one a valley
+// (finding 22: a sphere under a height field touching a spike's tip, whose edges are all concave
+// from above, lost its contact to the one-sided correction).
+TEST(TriangleMesh, FromBehindConcaveEdgesSharperThanTheThresholdAreActiveConvexOnesNever) {
+  EXPECT_FALSE(ridge_active(bend(0.0f).make(), 1));
+  EXPECT_FALSE(ridge_active(bend(-3.0f).make(), 1));  // concave, gentler than 5 degrees
+  EXPECT_TRUE(ridge_active(bend(-10.0f).make(), 1));
+  EXPECT_TRUE(ridge_active(bend(-90.0f).make(), 1));
+  EXPECT_TRUE(ridge_active(bend(-170.0f).make(), 1));
+  EXPECT_FALSE(ridge_active(bend(10.0f).make(), 1));  // convex from above
+  EXPECT_FALSE(ridge_active(bend(90.0f).make(), 1));
+  EXPECT_TRUE(ridge_active(bend(179.5f).make(), 1));  // folded back: both sides
+  EXPECT_TRUE(ridge_active(bend(179.5f).make(), 0));
+  EXPECT_TRUE(ridge_active(bend(-3.0f).make({std::cos(2.0f * test::kPi / 180.0f)}), 1));
+  const TriangleMesh wall = bend(-90.0f).make();
+  EXPECT_EQ(wall.stats.active_edges, wall.stats.boundary_edges);  // the crease is not active from the front
+  EXPECT_EQ(wall.stats.active_edges_from_behind, wall.stats.boundary_edges + 1);
+  // The same edge's two sides by the rule itself: n1 = +y, n2 turned about e = +z.
+  const Vec3 up(0, 1, 0), e(0, 0, 1);
+  EXPECT_EQ(active_edge_sides(up, Vec3(0.5f, 0.866025f, 0), e, true, kActiveEdgeCosAngle), 2u);   // concave from the front
+  EXPECT_EQ(active_edge_sides(up, Vec3(-0.5f, 0.866025f, 0), e, true, kActiveEdgeCosAngle), 1u);  // convex
+  EXPECT_EQ(active_edge_sides(up, Vec3(0.5f, 0.866025f, 0), e, false, kActiveEdgeCosAngle), 3u);  // windings disagree
+  EXPECT_EQ(active_edge_sides(up, up, e, false, kActiveEdgeCosAngle), 0u);                         // flat
+}
+
 TEST(TriangleMesh, ConcaveStepHasItsInsideCornerInactiveAndItsLipActive) {
   // Profile in x-y, extruded over z in [0, 1]: floor y = 0 for x in [0, 1], wall x = 1 up to
   // y = 1 (facing the floor, -x), top y = 1 for x in [1, 2]. Inside corner at (1, 0), lip at (1, 1).
@@ -294,6 +320,10 @@ TEST(TriangleMesh, ConcaveStepHasItsInsideCornerInactiveAndItsLipActive) {
       if (a.x == 1.0f && a.y == 0.0f) EXPECT_FALSE(mesh.is_edge_active(t, k)) << "inside corner";
       if (a.x == 1.0f && a.y == 1.0f) EXPECT_TRUE(mesh.is_edge_active(t, k)) << "lip";
       if (a.x == 0.0f || a.x == 2.0f) EXPECT_TRUE(mesh.is_edge_active(t, k)) << "boundary";
+      // From behind (below the floor, behind the wall) the inside corner is the ridge.
+      if (a.x == 1.0f && a.y == 0.0f) EXPECT_TRUE(mesh.is_edge_active(t, k, 1)) << "inside corner from behind";
+      if (a.x == 1.0f && a.y == 1.0f) EXPECT_FALSE(mesh.is_edge_active(t, k, 1)) << "lip from behind";
+      if (a.x == 0.0f || a.x == 2.0f) EXPECT_TRUE(mesh.is_edge_active(t, k, 1)) << "boundary from behind";
     }
   }
 }

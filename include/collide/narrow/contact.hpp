@@ -149,9 +149,10 @@ using TriangleContactCallback = FunctionRef<bool(std::uint32_t triangle, const M
 /// Method (src/narrow/mesh_query.cpp): A's bounding box grown by the margin, in the mesh's
 /// stored frame, queries the BVH; each triangle it meets gets the convex-triangle contact of
 /// contact3.cpp, corrected for active edges (TriangleMesh::active_edges): a normal that comes
-/// from an inactive edge, or from a vertex whose edges are all inactive, is replaced by the
-/// triangle's face contact (the face looking at A), so a body sliding over the seams of a flat
-/// or concave surface never meets a tilted "ghost" normal (the idea of Jolt's ActiveEdges and
+/// from an edge inactive from A's side, or from a vertex whose edges are all inactive from it,
+/// is replaced by the triangle's face contact (the face looking at A), so a body sliding over
+/// the seams of a surface flat or concave from its side (either side: an edge concave from the
+/// front is convex from behind) never meets a tilted "ghost" normal (the idea of Jolt's ActiveEdges and
 /// Bullet's btAdjustInternalEdgeContacts). Then the normal of the deepest point is the
 /// manifold's; points of triangles whose normal is within kLevelContactMergeCos of it join
 /// with their depth along it (depth / cos), points closer than kContactMergeTolerance of A's

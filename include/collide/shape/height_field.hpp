@@ -77,11 +77,13 @@ struct HeightField {
   [[nodiscard]] Triangle triangle(std::uint32_t t) const noexcept;
   /// Sample index (j * samples_x + i, its vertex feature id) of corner k of triangle t.
   [[nodiscard]] std::uint32_t corner_sample(std::uint32_t t, int k) const noexcept;
-  /// Active edges of triangle t, bit active_edge_bit(k) for edge k, by the rule of
-  /// TriangleMesh::active_edges computed on the fly from the neighbouring cells (every triangle
-  /// faces up, so the windings agree): an edge on the field's border or next to a hole is
-  /// active; an internal edge is active when convex with normals turning by more than the angle
-  /// whose cosine is `cos_threshold` (kActiveEdgeCosAngle by default).
+  /// Active edges of triangle t, bit active_edge_bit(k, side) for edge k seen from above (side 0,
+  /// the side every triangle faces) and from below (side 1), by the rule of
+  /// TriangleMesh::active_edges computed on the fly from the neighbouring cells (the windings
+  /// agree): an edge on the field's border or next to a hole is active from both sides; an
+  /// internal edge is active from the side where it is convex (a ridge from above, a valley from
+  /// below) when the normals turn by more than the angle whose cosine is `cos_threshold`
+  /// (kActiveEdgeCosAngle by default).
   [[nodiscard]] std::uint8_t active_edges(std::uint32_t t, float cos_threshold = kActiveEdgeCosAngle) const noexcept;
 
   /// Calls `visit(triangle)` for each triangle of a non-hole cell whose bounding box overlaps

@@ -148,7 +148,7 @@ struct TrianglePoint {
 /// An internal edge between two triangles that meet at a convex dihedral angle is active when
 /// their normals turn by more than the angle whose cosine this is: 5 degrees (Jolt's default,
 /// MeshShapeSettings::mActiveEdgeCosThresholdAngle). Flatter convex edges and every concave
-/// edge are inactive.
+/// edge are inactive (seen from the side where they are concave; see active_edge_sides).
 inline constexpr float kActiveEdgeCosAngle = 0.996194698f;  // cos(5 degrees)
 
 /// Two triangles over an edge whose normals are closer to opposite than this cosine (folded
@@ -156,17 +156,33 @@ inline constexpr float kActiveEdgeCosAngle = 0.996194698f;  // cos(5 degrees)
 /// edge: the convex / concave test has no reliable sign there.
 inline constexpr float kFoldBackCosAngle = -0.999847695f;  // cos(179 degrees)
 
-/// Bit k of `TriangleMesh::active_edges[t]`: edge k (corner k to corner k + 1) of triangle t.
-[[nodiscard]] constexpr std::uint8_t active_edge_bit(int k) noexcept { return static_cast<std::uint8_t>(1u << k); }
+/// Bit of `TriangleMesh::active_edges[t]` (and `HeightField::active_edges(t)`) for edge k (corner
+/// k to corner k + 1) of triangle t, seen from its `side`: 0 the front (where the geometric normal
+/// points; bits 0-2), 1 behind it (bits 3-5). Triangles are two-sided, and an edge that is concave
+/// from the front is convex from behind: a body under a height field meets a spike's tip there
+/// (docs/fuzzing.md, finding 22).
+[[nodiscard]] constexpr std::uint8_t active_edge_bit(int k, int side = 0) noexcept {
+  return static_cast<std::uint8_t>(1u << (k + 3 * side));
+}
 
-/// Whether the edge shared by two triangles with unit normals `n1` and `n2` is active (see
-/// kActiveEdgeCosAngle). `e` is the edge's direction as triangle 1 runs it; `n2` is already
-/// turned to agree with triangle 1's winding. Convex when n2 turns away from n1 about e,
-/// (n1 x n2) . e > 0 (the idea of Jolt's ActiveEdges.h and Bullet's btInternalEdgeUtility,
-/// written here from the definition). When the two windings disagree over the edge
-/// (`consistent` false) neither side is the outside, and an edge convex from one side is concave
-/// from the other: active unless flat within the threshold. Folded-back pairs
-/// (kFoldBackCosAngle) are active.
+/// Both sides' bits (active_edge_bit) of edge k: a boundary, non-manifold or folded-back edge.
+[[nodiscard]] constexpr std::uint8_t active_edge_bits_both_sides(int k) noexcept {
+  return static_cast<std::uint8_t>(active_edge_bit(k, 0) | active_edge_bit(k, 1));
+}
+
+/// The sides of triangle 1 from which the edge it shares with triangle 2 is active (see
+/// kActiveEdgeCosAngle): bit 0 from its front (where unit normal `n1` points), bit 1 from behind.
+/// `e` is the edge's direction as triangle 1 runs it; `n2` is already turned to agree with
+/// triangle 1's winding. Convex from the front when n2 turns away from n1 about e, (n1 x n2) . e
+/// > 0 (the idea of Jolt's ActiveEdges.h and Bullet's btInternalEdgeUtility, written here from
+/// the definition), and then concave from behind; the other way round when (n1 x n2) . e < 0. A
+/// side from which the edge is convex sees it active when the normals turn by more than the
+/// threshold; a flatter edge is inactive from both. When the two windings disagree over the edge
+/// (`consistent` false) there is no front and back to tell apart: active from both sides unless
+/// flat within the threshold. Folded-back pairs (kFoldBackCosAngle) are active from both.
+[[nodiscard]] std::uint8_t active_edge_sides(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept;
+
+/// Whether that edge is active seen from triangle 1's front: bit 0 of active_edge_sides.
 [[nodiscard]] bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept;
 
 /// The triangle of a set (a TriangleBvh, a HeightField) that a ray crosses first.

@@ -36,7 +36,8 @@ struct TriangleMeshStats {
   std::size_t degenerate_triangles = 0;  ///< dropped: no area in float (see make_triangle_mesh)
   std::size_t boundary_edges = 0;        ///< edges of one triangle
   std::size_t non_manifold_edges = 0;    ///< edges of three or more triangles
-  std::size_t active_edges = 0;          ///< distinct edges marked active (boundary and non-manifold included)
+  std::size_t active_edges = 0;          ///< distinct edges active from the front (boundary and non-manifold included)
+  std::size_t active_edges_from_behind = 0;  ///< distinct edges active from behind (the same, for concave ones)
 };
 
 /// A static triangle mesh in local space ("mesh space", the caller's coordinates), two-sided.
@@ -56,10 +57,13 @@ struct TriangleMesh {
   Vec3 origin{0.0f};                          ///< mesh space point the stored coordinates are relative to
   std::vector<Vec3> vertices;                 ///< relative to `origin`, all given vertices (used or not)
   std::vector<glm::uvec3> triangles;          ///< the input's non-degenerate triangles, in input order
-  /// Per triangle, bits active_edge_bit(k) for its active edges: boundary (one triangle),
-  /// non-manifold (three or more), folded back (kFoldBackCosAngle), or convex with normals
-  /// turning by more than the options' angle. Contact generation uses only active edges' own
-  /// normals (and vertices whose edges are all inactive never push sideways).
+  /// Per triangle, bits active_edge_bit(k, side) for its active edges, seen from its front (side
+  /// 0, bits 0-2) and from behind (side 1, bits 3-5): boundary (one triangle), non-manifold (three
+  /// or more) and folded-back (kFoldBackCosAngle) edges from both sides, others from the side
+  /// where they are convex when the normals turn by more than the options' angle
+  /// (active_edge_sides). Contact generation, for a body on either side, uses only the edges
+  /// active from its side with their own normals (and vertices whose edges are all inactive
+  /// never push sideways).
   std::vector<std::uint8_t> active_edges;
   /// Input indices of the triangles dropped as degenerate (ascending): triangle t of the mesh is
   /// input triangle t + (the number of these below it), so per-triangle data can be remapped.
@@ -70,8 +74,10 @@ struct TriangleMesh {
   [[nodiscard]] std::uint32_t triangle_count() const noexcept { return static_cast<std::uint32_t>(triangles.size()); }
   /// Corner k of triangle t, local (relative to `origin`).
   [[nodiscard]] Vec3 corner(std::uint32_t t, int k) const noexcept { return vertices[triangles[t][k]]; }
-  /// True when edge k of triangle t is active.
-  [[nodiscard]] bool is_edge_active(std::uint32_t t, int k) const noexcept { return (active_edges[t] >> k) & 1u; }
+  /// True when edge k of triangle t is active seen from `side` (0 its front, 1 behind it).
+  [[nodiscard]] bool is_edge_active(std::uint32_t t, int k, int side = 0) const noexcept {
+    return (active_edges[t] & active_edge_bit(k, side)) != 0;
+  }
 };
 
 /// A triangle mesh from indexed triangles (any winding; each triangle's own winding fixes its
