@@ -267,8 +267,7 @@ struct CastSetup {
 template <Shape3DType A>
 CastSetup setup(const A& a, const Transform3& xa, Vec3 va, const Transform3& xl, Vec3 vl,
                 Vec3 offset) noexcept {
-  Transform3 level_in_a = inv_mul(xa, xl);
-  level_in_a.p += rotate(level_in_a.q, offset);
+  const Transform3 level_in_a = inv_mul(xa, xl, offset);
   const Transform3 a_in_stored = inv_mul(level_in_a, Transform3{});
   CastSetup s{LevelCast{ConvexProxy3(a), Frame3::from(level_in_a), inv_rotate(xa.q, va),
                         inv_rotate(xa.q, vl)},

@@ -97,8 +97,7 @@ struct Placement {
 };
 
 Placement place(const Transform3& xa, const Transform3& xl, Vec3 offset) noexcept {
-  Transform3 level_in_a = inv_mul(xa, xl);
-  level_in_a.p += rotate(level_in_a.q, offset);
+  const Transform3 level_in_a = inv_mul(xa, xl, offset);
   return {Frame3::from(level_in_a), inv_mul(level_in_a, Transform3{})};
 }
 

@@ -7,6 +7,7 @@
 
 #include <collide/ccd/shape_cast.hpp>
 #include <collide/io/obj.hpp>
+#include <collide/narrow/contact.hpp>
 #include <collide/shape/box.hpp>
 #include <collide/shape/capsule3.hpp>
 #include <collide/shape/height_field.hpp>
@@ -20,6 +21,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -558,6 +560,57 @@ TEST(MeshShapeCast, CastsAtTheTipsOfNeedlesTooThinForAFloatSquareTouchTheTip) {
     }
   }
   EXPECT_EQ(checked, 4 * 3 * 3 * 2);
+}
+
+// Finding 26: a capsule 7e-15 wide cast at a triangle of a mesh whose origin is 8.4e-8 from the
+// world's missed it. The level's stored frame was placed in the body's as the body's frame of
+// the level's, then the origin rotated into it: each of those terms rounds at the size of the
+// coordinates, one float spacing there, the size of the body. Now the origin is added to the
+// level's place first and the body's position taken from that sum (inv_mul with an offset),
+// exact for a level at the identity. Here bodies a few spacings wide (u, the float spacing at the
+// origin) beside a needle 8u by 120u, at origins from 9e-8 to 1.6e6: sphere and turned capsule,
+// cast in the triangle's plane at its long edge, and at rest across it (from 1.5 up); the answers must be
+// those of the same cast and contact against the triangle alone, in the mesh's own frame (where
+// the coordinates are small integers times u, exact).
+TEST(MeshShapeCast, BodiesAFloatSpacingWideBesideAFarMeshOriginMeetItAsNearTheOrigin) {
+  const Quat turned = glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f});
+  int checked = 0;
+  for (const int e : {-24, 0, 10, 20}) {
+    const float big = std::ldexp(1.5f, e);
+    const float u = std::ldexp(1.0f, e - 23);  // the float spacing in [2^e, 2^(e+1))
+    const Vec3 origin(big, -big, big);
+    const std::array<Vec3, 3> local{Vec3(-8.0f * u, 0.0f, -120.0f * u), Vec3(0.0f), Vec3(0.0f, 0.0f, -120.0f * u)};
+    const std::vector<Vec3> world{origin + local[0], origin + local[1], origin + local[2]};
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(world[k] - origin, local[k]) << "not exact at 2^" << e;
+    const TriangleMesh mesh = make_triangle_mesh(world, std::vector<glm::uvec3>{{0, 1, 2}});
+    const Triangle alone{local};
+    const Vec3 start_local(2.0f * u, 0.0f, -30.0f * u), touch_local(0.0f, 0.0f, -30.0f * u);
+    const Vec3 v = 2.0f * (touch_local - start_local);
+    const float r = 0.5f * u;
+    const auto check = [&](const auto& body, const char* what) {
+      const ShapeCastResult3 truth = shape_cast(body, Transform3{start_local, turned}, v, alone, Transform3{}, Vec3(0.0f));
+      ASSERT_TRUE(truth.hit) << what;
+      const ShapeCastResult3 c = shape_cast(body, Transform3{origin + start_local, turned}, v, mesh, Transform3{}, Vec3(0.0f));
+      ASSERT_TRUE(c.hit) << what << " at 2^" << e;
+      EXPECT_NEAR(c.fraction, truth.fraction, 1e-3) << what << " at 2^" << e;
+      // Contacts from 2^0 up: at 2^-24 (u = 7e-15) a capsule's depth against the mesh is 0.50u
+      // and against the triangle alone 0.70u, a difference of the two contact paths at that
+      // scale, open (stop 107's note).
+      if (e < 0) {
+        ++checked;
+        return;
+      }
+      const Manifold3 rest = contact(body, Transform3{touch_local, turned}, alone, Transform3{});
+      ASSERT_GT(rest.count, 0) << what;
+      const Manifold3 m = contact(body, Transform3{origin + touch_local, turned}, mesh, Transform3{});
+      ASSERT_GT(m.count, 0) << what << " at 2^" << e;
+      EXPECT_NEAR(m.max_depth() / u, rest.max_depth() / u, 1e-2) << what << " at 2^" << e;
+      ++checked;
+    };
+    check(make_sphere(Vec3(0.0f), r), "sphere");
+    check(make_capsule(Vec3(0.0f, -r, 0.0f), Vec3(0.0f, r, 0.0f), r), "capsule");
+  }
+  EXPECT_EQ(checked, 4 * 2);
 }
 
 }  // namespace
