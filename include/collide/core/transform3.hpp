@@ -75,9 +75,9 @@ struct Transform3 {
 /// b's frame (a level's stored frame: TriangleMesh::origin, HeightField::origin) expressed in the
 /// frame of a. b's translation and its rotated offset are summed first and a's position taken
 /// from that sum, so a level placed at the identity and a body beside its origin, however far
-/// both are from the world's, cancel exactly; b's frame in a's, then offset by a's rotation of
-/// the offset, rounded each term at the size of the coordinates (a capsule 7e-15 wide by a mesh
-/// whose origin is 8e-8 from the world's was cast past it: docs/fuzzing.md, finding 26).
+/// both are from the world's, cancel exactly. (Made as b's frame in a's plus the offset rotated
+/// into a's, each term rounded at the size of the coordinates: a capsule 7e-15 wide beside a
+/// mesh whose origin is 8e-8 from the world's was cast past it, docs/fuzzing.md, finding 26.)
 [[nodiscard]] inline Transform3 inv_mul(const Transform3& a, const Transform3& b, Vec3 offset) noexcept {
   const Quat ia = glm::conjugate(a.q);
   return {ia * ((b.p + b.q * offset) - a.p), ia * b.q};
