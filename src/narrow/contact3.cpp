@@ -1641,13 +1641,16 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
   };
   // The edges active from the side the contact comes from (bits 3-5 behind: an edge concave
   // from the front is convex from behind, where a body below a height field meets a spike's
-  // tip, finding 22): the normal's side, unless it lies in the plane to kParallelTolerance; then
-  // the centre's. Not the centre's always: a box under the spike, a little to one side, has its
-  // centre in front of the plane of the tip's far face, continued below the tip, and that face's
-  // clip turned its normal 107 degrees. Asked only now (a height field computes them from its
-  // neighbours), after the early outs.
-  const int from = c < -kParallelTolerance ? 0 : c > kParallelTolerance ? 1 : centre_face();
-  const auto active_edges = static_cast<std::uint8_t>((edges() >> (3 * from)) & 7u);
+  // tip, finding 22): the normal's side. Not the centre's: a box under the spike, a little to
+  // one side, has its centre in front of the plane of the tip's far face, continued below the
+  // tip, and that face's clip turned its normal 107 degrees. A normal in the plane (to
+  // kParallelTolerance) comes from neither side: an edge active from either stands (a sphere
+  // above a height field collapsed to a vertical line lost its contact at the line's top to one
+  // side's bits, finding 27). Asked only now (a height field computes them from its neighbours),
+  // after the early outs.
+  const std::uint8_t both = edges();
+  const auto active_edges = static_cast<std::uint8_t>(
+      (c < -kParallelTolerance ? both : c > kParallelTolerance ? both >> 3 : both | both >> 3) & 7u);
   if (active_edges == 7u) return;
   bool active = false;
   switch (on) {

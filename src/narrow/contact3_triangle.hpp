@@ -33,9 +33,9 @@ namespace collide::detail {
 /// TriangleMesh::active_edges: from the front and from behind); it is asked only when they
 /// matter (a height field computes them from its neighbours). When the manifold's normal is not
 /// the triangle's face normal (within kFaceContactSine) and the triangle's feature nearest to A
-/// along it is an edge inactive from the side the contact comes from (the normal's; A's
-/// centre's when the normal lies in the plane), or a vertex whose two edges are both inactive
-/// from there, the contact is made again with the triangle's face (the side facing A) as the
+/// along it is an edge inactive from the side the contact comes from (the normal's; from both
+/// when the normal lies in the plane), or a vertex whose two edges are both inactive from
+/// there, the contact is made again with the triangle's face (the side facing A) as the
 /// reference face: A's incident face (or core) clipped to the triangle's side planes, depth
 /// along the face normal. A body sliding over a seam then meets the triangle it is over with
 /// the face normal, and the triangle behind the seam gives no point (Jolt's
