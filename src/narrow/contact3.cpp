@@ -1633,12 +1633,6 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
       on |= 1u << k;
     }
   }
-  // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
-  // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
-  const auto centre_face = [&]() noexcept {
-    const float side = dot(n, centroid - corners[0]);
-    return side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
-  };
   // The edges active from the side the contact comes from (bits 3-5 behind: an edge concave
   // from the front is convex from behind, where a body below a height field meets a spike's
   // tip, finding 22): the normal's side. Not the centre's: a box under the spike, a little to
@@ -1669,7 +1663,10 @@ void use_active_edges(const std::array<Vec3, 3>& corners, Vec3 n, Vec3 centroid,
       break;
   }
   if (active) return;
-  const int face = centre_face();
+  // The face that looks at A: face 0's outward normal is n. Which side A is on is told by its
+  // centre (the replaced normal may lie almost in the triangle's plane), else by that normal.
+  const float side = dot(n, centroid - corners[0]);
+  const int face = side > 0.0f || (side == 0.0f && c < 0.0f) ? 0 : 1;
   Manifold3 fixed;
   const float touch = kRelativeTolerance * (size + max_abs(corners[0]));
   face_clip(face, margin + touch, fixed);

@@ -241,15 +241,13 @@ std::uint8_t HeightField::active_edges(std::uint32_t t, float cos_threshold) con
   for (int k = 0; k < 3; ++k) {
     const std::int64_t other = across[static_cast<std::size_t>(k)];
     if (other < 0) {  // the field's border or a hole: a boundary edge, active from both sides
-      bits |= active_edge_bits_both_sides(k);
+      bits |= active_edge_bits(k, 3u);
       continue;
     }
     const std::array<Vec3, 3> q = grid_corners(static_cast<std::uint32_t>(other));
     const Vec3 e = p[static_cast<std::size_t>((k + 1) % 3)] - p[static_cast<std::size_t>(k)];
     // Every triangle faces up: the windings agree over every edge.
-    const std::uint8_t on = active_edge_sides(n1, triangle_normal(q[0], q[1], q[2]), e, true, cos_threshold);
-    if (on & 1u) bits |= active_edge_bit(k, 0);
-    if (on & 2u) bits |= active_edge_bit(k, 1);
+    bits |= active_edge_bits(k, active_edge_sides(n1, triangle_normal(q[0], q[1], q[2]), e, true, cos_threshold));
   }
   return bits;
 }

@@ -108,8 +108,4 @@ std::uint8_t active_edge_sides(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float 
   return turn > 0.0f ? 1u : turn < 0.0f ? 2u : 0u;
 }
 
-bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept {
-  return (active_edge_sides(n1, n2, e, consistent, cos_threshold) & 1u) != 0;
-}
-
 }  // namespace collide

@@ -158,16 +158,13 @@ TriangleMesh make_triangle_mesh(std::span<const Vec3> vertices, std::span<const 
       const std::uint8_t on = active_edge_sides(normals[a.triangle], nb, e, consistent, options.active_edge_cos_angle);
       if (on & 1u) ++mesh.stats.active_edges;
       if (on & 2u) ++mesh.stats.active_edges_from_behind;
-      for (std::size_t s = i; s < j; ++s) {
-        if (on & 1u) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k, 0);
-        if (on & 2u) mesh.active_edges[sides[s].triangle] |= active_edge_bit(sides[s].k, 1);
-      }
+      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bits(sides[s].k, on);
     } else {
       // One triangle (a boundary) or three and more (non-manifold): active from both sides.
       ++(j - i == 1 ? mesh.stats.boundary_edges : mesh.stats.non_manifold_edges);
       ++mesh.stats.active_edges;
       ++mesh.stats.active_edges_from_behind;
-      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bits_both_sides(sides[s].k);
+      for (std::size_t s = i; s < j; ++s) mesh.active_edges[sides[s].triangle] |= active_edge_bits(sides[s].k, 3u);
     }
     i = j;
   }

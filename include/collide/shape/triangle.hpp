@@ -165,9 +165,10 @@ inline constexpr float kFoldBackCosAngle = -0.999847695f;  // cos(179 degrees)
   return static_cast<std::uint8_t>(1u << (k + 3 * side));
 }
 
-/// Both sides' bits (active_edge_bit) of edge k: a boundary, non-manifold or folded-back edge.
-[[nodiscard]] constexpr std::uint8_t active_edge_bits_both_sides(int k) noexcept {
-  return static_cast<std::uint8_t>(active_edge_bit(k, 0) | active_edge_bit(k, 1));
+/// The bits (active_edge_bit) of edge k for `sides` as active_edge_sides gives them: bit 0 the
+/// front, bit 1 behind; 3 for a boundary or non-manifold edge, active from both.
+[[nodiscard]] constexpr std::uint8_t active_edge_bits(int k, unsigned sides) noexcept {
+  return static_cast<std::uint8_t>(((sides & 1u) ? active_edge_bit(k, 0) : 0u) | ((sides & 2u) ? active_edge_bit(k, 1) : 0u));
 }
 
 /// The sides of triangle 1 from which the edge it shares with triangle 2 is active (see
@@ -181,9 +182,6 @@ inline constexpr float kFoldBackCosAngle = -0.999847695f;  // cos(179 degrees)
 /// (`consistent` false) there is no front and back to tell apart: active from both sides unless
 /// flat within the threshold. Folded-back pairs (kFoldBackCosAngle) are active from both.
 [[nodiscard]] std::uint8_t active_edge_sides(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept;
-
-/// Whether that edge is active seen from triangle 1's front: bit 0 of active_edge_sides.
-[[nodiscard]] bool is_edge_active(Vec3 n1, Vec3 n2, Vec3 e, bool consistent, float cos_threshold) noexcept;
 
 /// The triangle of a set (a TriangleBvh, a HeightField) that a ray crosses first.
 struct TriangleRayHit {
