@@ -256,6 +256,14 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
   return cba * dba < 0.0f && adc * bdc < 0.0f && cba * bdc > 0.0f;
 }
 
+/// Floor of the size the contact's tolerances scale with (the smaller core's size; a bare point,
+/// or a segment of no length and no radius, has size 0). It was kRelativeTolerance, 1e-5 units,
+/// which left cores smaller than that with absolute tolerances: a capsule 7e-15 wide lying
+/// across a triangle's edge took the face axis, 1.4 times its least depth, since the edge axis
+/// had to beat the face by 1e-8 (finding 26's open part). 2^-90 keeps the tolerances scaled from
+/// it (kEdgeContactTolerance of it) normal floats.
+constexpr float kMinToleranceSize = 0x1p-90f;
+
 /// Edges with a squared length below this (shorter than 2^-24) are taken by their direction
 /// scaled to unit size (scale_tiny_edge) for the edge pairs' axes: then both squares are at
 /// least 2^-48 and the parallel test's bound kParallelTolerance^2 |da|^2 |db|^2, below which
@@ -1038,6 +1046,12 @@ ContactId near_features(const Polytope3& a, const PlacedPolytope& b, Vec3 pa, Ve
   return ContactId{ka.index, kb.index, ka.type, kb.type};
 }
 
+/// contact_faceless' parallel test of two segments takes their squared lengths' product as it
+/// is within this range and from their directions scaled to unit size outside it: there its
+/// bound (kParallelTolerance^2 of it) and the squared cross product stay normal floats.
+constexpr float kParallelTermMin = 0x1p-96f;
+constexpr float kParallelTermMax = 0x1p120f;
+
 /// Two cores without faces (points and segments): closest points; parallel overlapping
 /// segments give two points (the overlap of B's segment clipped to A's slab).
 void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
@@ -1090,8 +1104,20 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
     const Vec3 db = b1 - b0;
     const float la2 = dot(da, da);
     const float lb2 = dot(db, db);
-    const Vec3 axb = cross(da, db);
-    if (dot(axb, axb) <= kParallelTolerance * kParallelTolerance * la2 * lb2) {
+    // Parallel by the sine of their angle. The test's terms are fourth powers of the lengths:
+    // outside [kParallelTermMin, kParallelTermMax] they would underflow (segments shorter than
+    // about 1e-10: crossed capsules read as parallel) or overflow (longer than about 1e9), so
+    // there it is made on the directions scaled by powers of two (the same test, exactly).
+    Vec3 ua = da;
+    Vec3 ub = db;
+    float term = la2 * lb2;
+    if (!(term >= kParallelTermMin && term <= kParallelTermMax) && la2 > 0.0f && lb2 > 0.0f) [[unlikely]] {
+      ua = scaled_to_unit_magnitude(da);
+      ub = scaled_to_unit_magnitude(db);
+      term = dot(ua, ua) * dot(ub, ub);
+    }
+    const Vec3 axb = cross(ua, ub);
+    if (dot(axb, axb) <= kParallelTolerance * kParallelTolerance * term) {
       const float inv = 1.0f / la2;
       float t0 = dot(b0 - a0, da) * inv;
       float t1 = dot(b1 - a0, da) * inv;
@@ -1355,7 +1381,7 @@ void contact_cores(const Polytope3& a, const ConvexProxy3& proxy_a, const Placed
   }
   const float radii = a.radius + b.p.radius;
   const float reach = radii + margin;
-  const float size = std::max(std::min(a.size, b.p.size), kRelativeTolerance);
+  const float size = std::max(std::min(a.size, b.p.size), kMinToleranceSize);
   // Touching within rounding counts: the clip keeps points that far apart too.
   const float touch = kRelativeTolerance * (size + max_abs(b_in_a.p));
   // The edge test's work, in solid pairs (kSatEdgePairLimit); a solid against a triangle
@@ -1570,7 +1596,7 @@ bool core_triangle_contact(const Polytope3& a, const TriangleFaces& t, float mar
   const float radii = a.radius;
   if (!(radii + margin > 0.0f)) return false;
   // contact_cores' tolerances: the smaller core's size (the triangle is in A's frame).
-  const float size = std::max(std::min(a.size, triangle_size(t.corners)), kRelativeTolerance);
+  const float size = std::max(std::min(a.size, triangle_size(t.corners)), kMinToleranceSize);
   closest_to_triangle(a, t.corners, t.n, 0.0f, kRelativeTolerance * size, d);
   found = true;
   if (d.status == QueryStatus::overlapped) return false;

@@ -3,11 +3,24 @@
 #include <collide/core/tolerance.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace collide::detail {
 namespace {
 
 [[nodiscard]] float clamp01(float x) noexcept { return std::clamp(x, 0.0f, 1.0f); }
+
+/// closest_between_segments solves its fractions on the segments as they are while the sum of
+/// their squared lengths lies in [kSegmentsSquaredMin, kSegmentsSquaredMax], else on the
+/// segments scaled by a power of two to about unit length. The denominator a e - b^2 and its
+/// parallel bound are fourth powers of the lengths: below the range they underflow (a capsule
+/// 1e-13 wide against a triangle's edge read as parallel to it, its closest points then s = 0
+/// and a level contact took the triangle's face normal: finding 26's open part), above it they
+/// overflow. Inside it the bound kParallelTolerance^2 a e stays normal for any segment that is
+/// not a point (longer than kRelativeTolerance of the other).
+constexpr float kSegmentsSquaredMin = 0x1p-32f;
+constexpr float kSegmentsSquaredMax = 0x1p40f;
 
 }  // namespace
 
@@ -24,11 +37,23 @@ PointSegmentClosest<D> closest_on_segment(VecN<D> x, VecN<D> p, VecN<D> q) noexc
 template <int D>
 SegmentSegmentClosest<D> closest_between_segments(VecN<D> p1, VecN<D> q1, VecN<D> p2,
                                                   VecN<D> q2) noexcept {
-  const VecN<D> d1 = q1 - p1;
-  const VecN<D> d2 = q2 - p2;
-  const VecN<D> r = p1 - p2;
-  const float a = dot(d1, d1);  // squared length of segment 1
-  const float e = dot(d2, d2);  // squared length of segment 2
+  VecN<D> d1 = q1 - p1;
+  VecN<D> d2 = q2 - p2;
+  VecN<D> r = p1 - p2;
+  float a = dot(d1, d1);  // squared length of segment 1
+  float e = dot(d2, d2);  // squared length of segment 2
+  // The fractions are solved on the segments scaled by a power of two (exact) when their
+  // lengths leave the range where the denominator below stays a normal float.
+  const float sum = a + e;
+  if (!(sum >= kSegmentsSquaredMin && sum <= kSegmentsSquaredMax) && sum > 0.0f &&
+      sum < std::numeric_limits<float>::infinity()) [[unlikely]] {
+    const float scale = std::ldexp(1.0f, -std::ilogb(sum) / 2);
+    d1 *= scale;
+    d2 *= scale;
+    r *= scale;
+    a = dot(d1, d1);
+    e = dot(d2, d2);
+  }
   const float f = dot(d2, r);
   // A segment shorter than this fraction of the other is a point (its direction is noise).
   const float tiny = kRelativeTolerance * kRelativeTolerance * (a + e);
@@ -63,8 +88,8 @@ SegmentSegmentClosest<D> closest_between_segments(VecN<D> p1, VecN<D> q1, VecN<D
       }
     }
   }
-  const VecN<D> point1 = p1 + s * d1;
-  const VecN<D> point2 = p2 + t * d2;
+  const VecN<D> point1 = p1 + s * (q1 - p1);
+  const VecN<D> point2 = p2 + t * (q2 - p2);
   return {s, t, point1, point2, distance_squared(point1, point2)};
 }
 

@@ -130,6 +130,33 @@ TEST(Contact3, CapsulesParallelGiveTwoPointsCrossedOne) {
   EXPECT_VEC3_NEAR(m.points[0].point, Vec3(0.3f, 0.2f, 0.0f), 1e-5f);
 }
 
+TEST(Contact3, CrossedCapsulesMeetAlikeAtEveryScale) {
+  // Two capsules crossing at 70 degrees, 0.1 deep, scaled by powers of two from 2^-60 to 2^40:
+  // the contact scales with them exactly (a power of two changes no rounding). The closest
+  // points of their cores solve a denominator of fourth powers of the lengths, which underflowed
+  // below about 1e-10 (the cores read as parallel: depth and normal of their first ends) and
+  // overflows above about 1e9 (finding 26's open part, docs/fuzzing.md).
+  const Quat turn = glm::angleAxis(70.0f * test::kPi / 180.0f, Vec3(0.0f, 1.0f, 0.0f));
+  const auto meet = [&](int e) {
+    const float s = std::ldexp(1.0f, e);
+    const Capsule3 a = make_capsule(Vec3(-s, 0.0f, 0.0f), Vec3(s, 0.0f, 0.0f), 0.25f * s);
+    const Capsule3 b = make_capsule(Vec3(-s, 0.0f, 0.0f), Vec3(s, 0.0f, 0.0f), 0.25f * s);
+    return contact(a, Transform3{}, b, Transform3{Vec3(0.3f * s, 0.4f * s, 0.2f * s), turn});
+  };
+  const Manifold3 unit = meet(0);
+  ASSERT_EQ(unit.count, 1);
+  EXPECT_NEAR(unit.points[0].depth, 0.1f, 1e-5f);
+  EXPECT_VEC3_NEAR(unit.normal, Vec3(0.0f, 1.0f, 0.0f), 1e-5f);
+  for (const int e : {-60, -43, -30, -20, 20, 30, 40}) {
+    const float s = std::ldexp(1.0f, e);
+    const Manifold3 m = meet(e);
+    ASSERT_EQ(m.count, 1) << "at 2^" << e;
+    EXPECT_EQ(m.normal, unit.normal) << "at 2^" << e;
+    EXPECT_EQ(m.points[0].depth / s, unit.points[0].depth) << "at 2^" << e;
+    EXPECT_EQ(m.points[0].point / s, unit.points[0].point) << "at 2^" << e;
+  }
+}
+
 TEST(Contact3, CrossedBoxEdgesGiveOneEdgeEdgePoint) {
   // Two long bars, one along x on top of the other along z, both turned 45 degrees about their
   // long axis so that their ridges cross: an edge-edge contact.
