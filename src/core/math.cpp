@@ -36,4 +36,26 @@ glm::dvec3 scaled_to_unit_magnitude(const glm::dvec3& a) noexcept {
   return {std::scalbn(a.x, e), std::scalbn(a.y, e), std::scalbn(a.z, e)};
 }
 
+namespace {
+
+template <class V>
+V unit_of_scaled_impl(V a) noexcept {
+  const V s = scaled_to_unit_magnitude(a);  // NaN without a direction
+  return s * (1.0f / std::sqrt(dot(s, s)));
+}
+
+template <class V>
+V normalize_scaled_or_zero_impl(V a) noexcept {
+  const float m = max_abs(a);
+  if (!(m > kNoDirectionLength) || !std::isfinite(m)) return V(0.0f);
+  return unit_of_scaled_impl(a);
+}
+
+}  // namespace
+
+Vec2 unit_of_scaled(Vec2 a) noexcept { return unit_of_scaled_impl(a); }
+Vec3 unit_of_scaled(Vec3 a) noexcept { return unit_of_scaled_impl(a); }
+Vec2 normalize_scaled_or_zero(Vec2 a) noexcept { return normalize_scaled_or_zero_impl(a); }
+Vec3 normalize_scaled_or_zero(Vec3 a) noexcept { return normalize_scaled_or_zero_impl(a); }
+
 }  // namespace collide

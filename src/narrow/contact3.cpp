@@ -1067,7 +1067,7 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
   float s = std::sqrt(c.distance_squared);
   Vec3 n;
   if (s > kRelativeTolerance * (max_abs(c.point1) + max_abs(c.point2) + radii)) {
-    n = (c.point2 - c.point1) * (1.0f / s);
+    n = unit_from(c.point2 - c.point1, c.distance_squared);
   } else {
     // The cores cross: any direction across both will do (one along a segment would not part
     // them: a sphere centred on a segment was pushed along it). Take the one across both
@@ -1359,7 +1359,7 @@ bool closest_to_triangle(const Polytope3& a, const std::array<Vec3, 3>& t, Vec3 
     d.point_b = d.point_a;
     return true;
   }
-  const Vec3 unit = (on_b - on_a) * (1.0f / core_distance);
+  const Vec3 unit = unit_from(on_b - on_a, best);
   d.status = QueryStatus::separated;
   d.normal = unit;
   d.point_a = on_a + a.radius * unit;

@@ -37,10 +37,40 @@ using Vec3 = glm::vec3;
 }
 [[nodiscard]] inline float distance(Vec2 a, Vec2 b) noexcept { return length(b - a); }
 
-/// `a` scaled to unit length; the zero vector when `a` is too short to have a direction.
+/// Squared lengths within [kUnitSquaredMin, kUnitSquaredMax] make a unit vector to rounding by
+/// one division by their root. Outside it the squares of the components are subnormal or
+/// overflow: a closest-point difference 1e-19 long came out of such a division 0.854 long (the
+/// fuzzer's height field contact, finding 28), and a vector longer than about 1e19 came out
+/// zero. unit_from and normalize_or_zero scale those by a power of two first.
+inline constexpr float kUnitSquaredMin = 0x1p-100f;
+inline constexpr float kUnitSquaredMax = 0x1p100f;
+/// Vectors with no component longer than this have no direction for normalize_or_zero.
+inline constexpr float kNoDirectionLength = 1e-30f;
+
+/// The out-of-line halves of unit_from and normalize_or_zero for squared lengths outside
+/// [kUnitSquaredMin, kUnitSquaredMax]: `a` scaled by a power of two (scaled_to_unit_magnitude),
+/// then to unit length. unit_of_scaled gives NaN components for a zero or non-finite `a`;
+/// normalize_scaled_or_zero gives zero for those and for `a` within kNoDirectionLength.
+[[nodiscard]] Vec2 unit_of_scaled(Vec2 a) noexcept;
+[[nodiscard]] Vec3 unit_of_scaled(Vec3 a) noexcept;
+[[nodiscard]] Vec2 normalize_scaled_or_zero(Vec2 a) noexcept;
+[[nodiscard]] Vec3 normalize_scaled_or_zero(Vec3 a) noexcept;
+
+/// `a` (finite, not zero) scaled to unit length, `a2` its squared length as computed
+/// (length_squared, or a closest-point routine's distance_squared): unit to rounding at every
+/// magnitude, from a subnormal difference to one near float's largest (kUnitSquaredMin).
+[[nodiscard]] inline Vec2 unit_from(Vec2 a, float a2) noexcept {
+  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  return unit_of_scaled(a);
+}
+
+/// `a` scaled to unit length (to rounding at every magnitude, kUnitSquaredMin); the zero vector
+/// when `a` is too short to have a direction (no component longer than kNoDirectionLength) or
+/// not finite.
 [[nodiscard]] inline Vec2 normalize_or_zero(Vec2 a) noexcept {
-  const float len = length(a);
-  return len > 1e-30f ? a * (1.0f / len) : Vec2{0.0f, 0.0f};
+  const float a2 = length_squared(a);
+  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  return normalize_scaled_or_zero(a);
 }
 
 // ---- 3D: the same names for Vec3 (glm's functions, under the names 2D code uses) ----------
@@ -62,10 +92,15 @@ using Vec3 = glm::vec3;
   return length_squared(b - a);
 }
 [[nodiscard]] inline float distance(Vec3 a, Vec3 b) noexcept { return length(b - a); }
-/// `a` scaled to unit length; the zero vector when `a` is too short to have a direction.
+/// The same as the 2D unit_from and normalize_or_zero, for 3D vectors.
+[[nodiscard]] inline Vec3 unit_from(Vec3 a, float a2) noexcept {
+  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  return unit_of_scaled(a);
+}
 [[nodiscard]] inline Vec3 normalize_or_zero(Vec3 a) noexcept {
-  const float len = length(a);
-  return len > 1e-30f ? a * (1.0f / len) : Vec3{0.0f, 0.0f, 0.0f};
+  const float a2 = length_squared(a);
+  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  return normalize_scaled_or_zero(a);
 }
 /// |a| per component: the sign bits cleared (one and-mask). glm::abs is written as
 /// `x >= 0 ? x : -x`, which the compiler must keep as a compare and branch per component (it
