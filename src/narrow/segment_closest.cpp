@@ -18,7 +18,11 @@ namespace {
 /// 1e-13 wide against a triangle's edge read as parallel to it, its closest points then s = 0
 /// and a level contact took the triangle's face normal: finding 26's open part), above it they
 /// overflow. Inside it the bound kParallelTolerance^2 a e stays normal for any segment that is
-/// not a point (longer than kRelativeTolerance of the other).
+/// not a point (longer than kRelativeTolerance of the other). The scale also multiplies the
+/// offset r between the segments, and stays finite for every query kFiniteQueryRange covers:
+/// the sum is 0 (no scaling) or at least the least subnormal, 2^-149, so the scale is at most
+/// 2^74, and r within 2^31 becomes at most 2^105. Beyond that range (segments 1e-18 long 1e21
+/// apart) r may overflow and the fractions be NaN, as the range's contract allows.
 constexpr float kSegmentsSquaredMin = 0x1p-32f;
 constexpr float kSegmentsSquaredMax = 0x1p40f;
 
