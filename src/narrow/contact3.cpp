@@ -265,20 +265,31 @@ FaceQuery query_faces_b(const Polytope3& a, const PlacedPolytope& b, float reach
 constexpr float kMinToleranceSize = 0x1p-90f;
 
 /// Edges with a squared length below this (shorter than 2^-24) are taken by their direction
-/// scaled to unit size (scale_tiny_edge) for the edge pairs' axes: then both squares are at
+/// scaled to unit size (scale_edge) for the edge pairs' axes: then both squares are at
 /// least 2^-48 and the parallel test's bound kParallelTolerance^2 |da|^2 |db|^2, below which
 /// an axis counts as parallel, stays in float's normal range, and so does the squared length
 /// of every axis that passes it.
 constexpr float kTinyEdgeSquared = 0x1p-48f;
+/// Above this squared length (longer than 2^30) contact_faceless takes a segment by its scaled
+/// direction too (scale_edge<true>): its parallel test multiplies two squared lengths, and
+/// within [kTinyEdgeSquared, kHugeEdgeSquared] each their product, [2^-96, 2^120], and the bound
+/// made from it stay normal floats. (The edge pairs' axes need no such bound: their edges lie
+/// within kFiniteQueryRange, so their squared cross products stay below 2^124.)
+constexpr float kHugeEdgeSquared = 0x1p60f;
 
-/// An edge direction `d` with its squared length `d2`, for the edge pairs' axes (their cross
-/// products): a tiny edge's (below kTinyEdgeSquared) scaled to unit size. A needle's side 1.4e-19
-/// long against a capsule's core gave an axis whose squared length, about 1e-46, is subnormal:
-/// the normal came out 1.5% off unit length (the fuzzer's contact check, finding 18), and the
-/// parallel test's bound had underflowed to zero. The axis' direction is the same; the
-/// separation and the unit axis are made from it as from any other.
-COLLIDE_ALWAYS_INLINE void scale_tiny_edge(Vec3& d, float& d2) noexcept {
-  if (!(d2 >= kTinyEdgeSquared)) [[unlikely]] {
+/// An edge direction `d` with its squared length `d2`, for products of edges (the edge pairs'
+/// axes, their cross products; contact_faceless' parallel test): a tiny edge's (below
+/// kTinyEdgeSquared) and, with `kHugeToo`, a huge one's (above kHugeEdgeSquared) scaled by a
+/// power of two to unit size. A needle's side 1.4e-19 long against a capsule's core gave an
+/// axis whose squared length, about 1e-46, is subnormal: the normal came out 1.5% off unit
+/// length (the fuzzer's contact check, finding 18), and the parallel test's bound had
+/// underflowed to zero. The direction is the same to the bit, so every test made from it
+/// (a ratio of equal powers of the lengths) decides as on the edge itself, and the separation
+/// and the unit axis are made from it as from any other.
+template <bool kHugeToo = false>
+COLLIDE_ALWAYS_INLINE void scale_edge(Vec3& d, float& d2) noexcept {
+  const bool outside = kHugeToo ? !(d2 >= kTinyEdgeSquared && d2 <= kHugeEdgeSquared) : !(d2 >= kTinyEdgeSquared);
+  if (outside) [[unlikely]] {
     d = scaled_to_unit_magnitude(d);
     d2 = dot(d, d);
   }
@@ -353,7 +364,7 @@ EdgeQuery query_box_triangle_edges(const Polytope3& a, const PlacedPolytope& b, 
     db2s[std::size_t(j)] = dot(dbs[std::size_t(j)], dbs[std::size_t(j)]);
   }
   if (!(std::min({db2s[0], db2s[1], db2s[2]}) >= kTinyEdgeSquared)) [[unlikely]] {
-    for (int j = 0; j < 3; ++j) scale_tiny_edge(dbs[std::size_t(j)], db2s[std::size_t(j)]);
+    for (int j = 0; j < 3; ++j) scale_edge(dbs[std::size_t(j)], db2s[std::size_t(j)]);
   }
   for (int j = 0; j < 3; ++j) {
     const HullEdge& eb = b.p.edges[j];
@@ -410,7 +421,7 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     d2[std::size_t(j)] = dot(e.d, e.d);
   }
   if (!(std::min({d2[0], d2[1], d2[2]}) >= kTinyEdgeSquared)) [[unlikely]] {
-    for (int j = 0; j < 3; ++j) scale_tiny_edge(te[std::size_t(j)].d, d2[std::size_t(j)]);
+    for (int j = 0; j < 3; ++j) scale_edge(te[std::size_t(j)].d, d2[std::size_t(j)]);
   }
   for (int j = 0; j < 3; ++j) {
     const HullEdge& eb = b.p.edges[j];
@@ -487,7 +498,7 @@ EdgeQuery query_solid_triangle_edges(const Polytope3& a, const PlacedPolytope& b
     const Vec3 pa = a.vertex(ea.v0);
     Vec3 da = a.vertex(ea.v1) - pa;
     float da2 = dot(da, da);
-    if constexpr (kScaleA) scale_tiny_edge(da, da2);
+    if constexpr (kScaleA) scale_edge(da, da2);
     const Vec3 mid = a.faces[ea.face0].normal + a.faces[ea.face1].normal;  // inside A's arc
     for (int j = 0; j < 3; ++j) {
       if ((across & (1u << j)) == 0) continue;
@@ -523,7 +534,7 @@ EdgeQuery query_edges_between(const Polytope3& a, const PlacedPolytope& b, float
     const Vec3 pb = b.vertex(eb.v0);
     Vec3 db = b.vertex(eb.v1) - pb;
     float db2 = dot(db, db);
-    scale_tiny_edge(db, db2);
+    scale_edge(db, db2);
     // The arcs' axes (b x a, d x c) are taken from the edge directions, which point the same
     // way (v0 - v1: face0 lies left of v0 -> v1, so n0 x n1 runs along v1 - v0): on nearly
     // coplanar faces the cross product of the float normals can get the sign wrong.
@@ -542,7 +553,7 @@ EdgeQuery query_edges_between(const Polytope3& a, const PlacedPolytope& b, float
         continue;
       }
       float da2 = dot(da, da);
-      if constexpr (kScaleA) scale_tiny_edge(da, da2);
+      if constexpr (kScaleA) scale_edge(da, da2);
       Vec3 l = cross(da, db);
       const float ll = dot(l, l);
       // Parallel edges: their axis is a face normal's or nothing new.
@@ -1046,12 +1057,6 @@ ContactId near_features(const Polytope3& a, const PlacedPolytope& b, Vec3 pa, Ve
   return ContactId{ka.index, kb.index, ka.type, kb.type};
 }
 
-/// contact_faceless' parallel test of two segments takes their squared lengths' product as it
-/// is within this range and from their directions scaled to unit size outside it: there its
-/// bound (kParallelTolerance^2 of it) and the squared cross product stay normal floats.
-constexpr float kParallelTermMin = 0x1p-96f;
-constexpr float kParallelTermMax = 0x1p120f;
-
 /// Two cores without faces (points and segments): closest points; parallel overlapping
 /// segments give two points (the overlap of B's segment clipped to A's slab).
 void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
@@ -1105,19 +1110,19 @@ void contact_faceless(const Polytope3& a, const PlacedPolytope& b, float margin,
     const float la2 = dot(da, da);
     const float lb2 = dot(db, db);
     // Parallel by the sine of their angle. The test's terms are fourth powers of the lengths:
-    // outside [kParallelTermMin, kParallelTermMax] they would underflow (segments shorter than
-    // about 1e-10: crossed capsules read as parallel) or overflow (longer than about 1e9), so
-    // there it is made on the directions scaled by powers of two (the same test, exactly).
+    // they would underflow for segments shorter than about 1e-10 (crossed capsules read as
+    // parallel) or overflow for ones longer than about 1e9, so such a segment is taken by its
+    // direction scaled by a power of two (scale_edge: the same test, exactly).
     Vec3 ua = da;
     Vec3 ub = db;
-    float term = la2 * lb2;
-    if (!(term >= kParallelTermMin && term <= kParallelTermMax) && la2 > 0.0f && lb2 > 0.0f) [[unlikely]] {
-      ua = scaled_to_unit_magnitude(da);
-      ub = scaled_to_unit_magnitude(db);
-      term = dot(ua, ua) * dot(ub, ub);
+    float ua2 = la2;
+    float ub2 = lb2;
+    if (la2 > 0.0f && lb2 > 0.0f) {
+      scale_edge<true>(ua, ua2);
+      scale_edge<true>(ub, ub2);
     }
     const Vec3 axb = cross(ua, ub);
-    if (dot(axb, axb) <= kParallelTolerance * kParallelTolerance * term) {
+    if (dot(axb, axb) <= kParallelTolerance * kParallelTolerance * ua2 * ub2) {
       const float inv = 1.0f / la2;
       float t0 = dot(b0 - a0, da) * inv;
       float t1 = dot(b1 - a0, da) * inv;
