@@ -2,6 +2,7 @@
 // the brute-force reference of support/brute_convex3.hpp, under random rigid transforms.
 
 #include <collide/narrow/distance.hpp>
+#include <collide/narrow/epa.hpp>
 #include <collide/narrow/gjk.hpp>
 #include <collide/narrow/overlap.hpp>
 #include <collide/ccd/shape_cast.hpp>
@@ -172,6 +173,44 @@ TEST(Gjk3, HugeSimplexesKeepTheirSearchDirection) {
       ASSERT_TRUE(cast.hit) << size << " " << k;
       EXPECT_NEAR(cast.fraction, 0.375, 1e-4) << size << " " << k;
     }
+  }
+}
+
+// Two boxes, B turned off the axes, overlapping by 1.0 s and then 0.99 s apart, scaled by powers
+// of two from 2^-60 to 2^20: distance, overlap and penetration scale with them. The simplex
+// solver's sub-areas and sub-volumes are fourth and third powers of the size and EPA's face
+// normals second powers: below about 2^-37 they underflowed, the overlapping pair read 0.32 s
+// apart and the apart pair 1.45 s (finding 29, docs/fuzzing.md), and EPA's faces had no
+// direction. Against the unit size, to float rounding (a power of two changes none, but the
+// loops' absolute terms round at other bits).
+TEST(Gjk3, BoxPairAnswersAlikeAtEveryScale) {
+  const Quat turn = glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f});
+  struct Answer {
+    float penetration_depth, distance;
+    Vec3 penetration_normal, distance_normal;
+  };
+  const auto ask = [&](int e) {
+    const float s = std::ldexp(1.0f, e);
+    const Box box = make_box(Vec3(s, 1.25f * s, 1.5f * s));
+    const Transform3 in{Vec3(1.7f * s, 0.3f * s, 0.2f * s), turn};
+    const Transform3 apart{Vec3(3.7f * s, 0.3f * s, 0.2f * s), turn};
+    const PenetrationResult3 p = penetration(box, Transform3{}, box, in);
+    EXPECT_EQ(p.status, QueryStatus::overlapped) << "at 2^" << e;
+    const DistanceResult3 d = distance(box, Transform3{}, box, apart);
+    EXPECT_EQ(d.status, QueryStatus::separated) << "at 2^" << e;
+    EXPECT_TRUE(overlap(box, Transform3{}, box, in)) << "at 2^" << e;
+    EXPECT_FALSE(overlap(box, Transform3{}, box, apart)) << "at 2^" << e;
+    return Answer{p.depth / s, d.distance / s, p.normal, d.normal};
+  };
+  const Answer unit = ask(0);
+  EXPECT_NEAR(unit.penetration_depth, 1.00785f, 1e-4f);
+  EXPECT_NEAR(unit.distance, 0.992148f, 1e-4f);
+  for (const int e : {-60, -55, -50, -45, -40, -35, -30, -20, 10, 20}) {
+    const Answer a = ask(e);
+    EXPECT_NEAR(a.penetration_depth, unit.penetration_depth, 1e-5f) << "at 2^" << e;
+    EXPECT_NEAR(a.distance, unit.distance, 1e-5f) << "at 2^" << e;
+    EXPECT_VEC3_NEAR(a.penetration_normal, unit.penetration_normal, 1e-5f);
+    EXPECT_VEC3_NEAR(a.distance_normal, unit.distance_normal, 1e-5f);
   }
 }
 

@@ -158,15 +158,21 @@ template <class PA, class PB>
 [[nodiscard]] EpaResult run_epa(const PA& a, const PB& b, const Frame3& b_in_a,
                                 const GjkSimplexN<3>& simplex, float scale) noexcept {
   static_assert(SupportMap<PA, 3> && SupportMap<PB, 3>);
-  const float tol = kRelativeTolerance * scale;
+  // A tiny problem (below kGjkTinySimplex) runs on A - B scaled by a power of two to unit size:
+  // its faces' normals are products of two edges, whose squares underflowed for shapes 2^-40
+  // units in size and left every face without a direction (finding 29). Depths are scaled back
+  // at the end; the witness points come from the unscaled points of A and B.
+  const float sigma = gjk_tiny_simplex_scale(scale);
+  const float tol = kRelativeTolerance * scale * sigma;
   // Support values below this count as zero: the origin is within rounding of A - B's
   // boundary (tol from GJK's stop, tol more from the new points' own rounding).
   const float touch = 2.0f * tol;
   EpaResult out;
   const auto support = [&](Vec3 d) {
     ++out.iterations;
-    return gjk_vertex<3>(a, b, b_in_a, a.support_index(d),
-                         b.support_index(inv_rotate(b_in_a, -d)));
+    GjkVertexN<3> v = gjk_vertex<3>(a, b, b_in_a, a.support_index(d), b.support_index(inv_rotate(b_in_a, -d)));
+    v.w *= sigma;
+    return v;
   };
   // The cores touch along `d` (h(d) <= touch): depth 0, witnesses from GJK's simplex.
   const auto touching = [&](Vec3 d) {
@@ -182,7 +188,7 @@ template <class PA, class PB>
   Vec3 best_dir = b_in_a.p == Vec3(0.0f) ? Vec3(1, 0, 0) : normalize(b_in_a.p);
   const auto stuck = [&]() {
     out.status = QueryStatus::max_iterations;
-    out.depth = best_h < INFINITY ? std::max(best_h, 0.0f) : 0.0f;
+    out.depth = best_h < INFINITY ? std::max(best_h, 0.0f) / sigma : 0.0f;
     out.normal = best_dir;
     gjk_witness_points(simplex, out.point_a, out.point_b);
     return out;
@@ -206,6 +212,7 @@ template <class PA, class PB>
 
   // Grow the simplex to a triangle that passes within tol of the origin.
   GjkSimplexN<3> s = simplex;
+  for (int i = 0; i < s.count; ++i) s.v[i].w *= sigma;
   while (s.count < 3) {
     // Candidate directions perpendicular to the simplex (a point: the six axis directions).
     std::array<Vec3, 6> dirs{};
@@ -283,7 +290,7 @@ template <class PA, class PB>
   // into, whose barycentric coordinates give the witness points.
   f = poly.coplanar_face_nearest_origin(f, tol);
   const EpaPolytope::Face& face = poly.face(f);
-  out.depth = poly.distance(f) > 0.0f ? poly.distance(f) : 0.0f;
+  out.depth = poly.distance(f) > 0.0f ? poly.distance(f) / sigma : 0.0f;
   out.normal = face.normal;
   poly.witness_points(f, out.point_a, out.point_b);
   return out;

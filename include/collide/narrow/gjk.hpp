@@ -197,7 +197,33 @@ COLLIDE_ALWAYS_INLINE void gjk_solve_triangle(GjkSimplexN<2>& s) noexcept {
 struct GjkSubSimplex3 {
   unsigned keep = 0;                  ///< bit i: vertex i is in the sub-simplex
   float distance_squared = INFINITY;  ///< |closest point|^2
+  bool faint = false;                 ///< a sub-area's or sub-volume's scale left float's normal range (kGjkFaintProduct)
 };
+
+/// A triangle's squared normal (a fourth power of its size) or a tetrahedron's volume (a third
+/// power) below this is faint: for a simplex smaller than kGjkTinySimplex the 3D solver solves it
+/// again on its points scaled by a power of two (gjk_solve_3d). Below 2^-31 units a fourth power is
+/// subnormal and below 2^-37 zero: overlapping boxes 2^-40 units in size read as apart (finding
+/// 29, docs/fuzzing.md).
+inline constexpr float kGjkFaintProduct = 0x1p-100f;
+/// A simplex whose largest coordinate is below this is tiny: its faint products are its size,
+/// not its shape, and a power-of-two scale makes them normal (the signs, the nearest sub-simplex
+/// and the weights unchanged, exactly).
+inline constexpr float kGjkTinySimplex = 0x1p-20f;
+
+/// The power of two that takes `m` (the largest coordinate of a simplex's points) into [1, 2)
+/// when m is tiny (below kGjkTinySimplex, not zero); else 1.
+[[nodiscard]] inline float gjk_tiny_simplex_scale(float m) noexcept {
+  return m < kGjkTinySimplex && m > 0.0f ? std::ldexp(1.0f, -std::ilogb(m)) : 1.0f;
+}
+
+/// The largest coordinate among the first `count` simplex points' w.
+template <int D>
+[[nodiscard]] inline float gjk_simplex_magnitude(const GjkSimplexN<D>& s) noexcept {
+  float m = 0.0f;
+  for (int i = 0; i < s.count; ++i) m = std::max(m, max_abs(s.v[i].w));
+  return m;
+}
 
 /// The nearer of two candidates (the first on ties).
 [[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_nearer(GjkSubSimplex3 a, GjkSubSimplex3 b) noexcept {
@@ -233,6 +259,7 @@ struct GjkSubSimplex3 {
   bool out1 = true;
   bool out2 = true;
   bool out3 = true;
+  const bool faint = !(nn >= kGjkFaintProduct);
   if (nn > 0.0f) {
     const Vec3 p0 = (dot(s1, n) / nn) * n;
     const Vec3 a1 = s1 - p0;
@@ -241,12 +268,13 @@ struct GjkSubSimplex3 {
     out1 = !(dot(n, cross(a2, a3)) > 0.0f);
     out2 = !(dot(n, cross(a3, a1)) > 0.0f);
     out3 = !(dot(n, cross(a1, a2)) > 0.0f);
-    if (!out1 && !out2 && !out3) return {b1 | b2 | b3, dot(p0, p0)};
+    if (!out1 && !out2 && !out3) return {b1 | b2 | b3, dot(p0, p0), faint};
   }
   GjkSubSimplex3 best;
   if (out1) best = gjk_closest_segment3(s2, s3, b2, b3);
   if (out2) best = gjk_nearer(best, gjk_closest_segment3(s1, s3, b1, b3));
   if (out3) best = gjk_nearer(best, gjk_closest_segment3(s1, s2, b1, b2));
+  best.faint = faint;
   return best;
 }
 
@@ -272,16 +300,18 @@ struct GjkSubSimplex3 {
   const float c3 = gjk_volume(w1, w2, o, w4);
   const float c4 = gjk_volume(w1, w2, w3, o);
   const float det = c1 + c2 + c3 + c4;
+  const bool faint = !(std::fabs(det) >= kGjkFaintProduct);
   const bool in1 = gjk_same_sign(det, c1);
   const bool in2 = gjk_same_sign(det, c2);
   const bool in3 = gjk_same_sign(det, c3);
   const bool in4 = gjk_same_sign(det, c4);
-  if (in1 && in2 && in3 && in4) return {15u, 0.0f};
+  if (in1 && in2 && in3 && in4) return {15u, 0.0f, faint};
   GjkSubSimplex3 best;
   if (!in1) best = gjk_closest_triangle3(w2, w3, w4, 2u, 4u, 8u);
   if (!in2) best = gjk_nearer(best, gjk_closest_triangle3(w1, w3, w4, 1u, 4u, 8u));
   if (!in3) best = gjk_nearer(best, gjk_closest_triangle3(w1, w2, w4, 1u, 2u, 8u));
   if (!in4) best = gjk_nearer(best, gjk_closest_triangle3(w1, w2, w3, 1u, 2u, 4u));
+  best.faint = best.faint || faint;
   return best;
 }
 
@@ -300,34 +330,52 @@ COLLIDE_ALWAYS_INLINE void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
 
 /// The solver of a 3D simplex of 3 or 4 vertices: reduce it to the sub-simplex whose Voronoi
 /// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
+/// The 3D solver's answer for simplex `s` with its points scaled by `scale` (1: as they are).
+[[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_closest_sub_simplex3(const GjkSimplexN<3>& s, float scale) noexcept {
+  return s.count == 4 ? gjk_closest_tetrahedron3(scale * gjk_load<3>(s.v[0].w), scale * gjk_load<3>(s.v[1].w),
+                                                 scale * gjk_load<3>(s.v[2].w), scale * gjk_load<3>(s.v[3].w))
+                      : gjk_closest_triangle3(scale * gjk_load<3>(s.v[0].w), scale * gjk_load<3>(s.v[1].w),
+                                              scale * gjk_load<3>(s.v[2].w), 1u, 2u, 4u);
+}
+
+/// gjk_closest_sub_simplex3 again for a faint answer: on the points scaled to unit size when
+/// the simplex is tiny (kGjkTinySimplex), else the answer as it was (a sliver or a flat
+/// tetrahedron of normal size). Out of line: a cold path.
+[[nodiscard]] inline GjkSubSimplex3 gjk_closest_sub_simplex3_rescaled(const GjkSimplexN<3>& s, GjkSubSimplex3 sub) noexcept {
+  const float scale = gjk_tiny_simplex_scale(gjk_simplex_magnitude(s));
+  return scale == 1.0f ? sub : gjk_closest_sub_simplex3(s, scale);
+}
+
 COLLIDE_ALWAYS_INLINE void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
-  const GjkSubSimplex3 sub =
-      s.count == 4 ? gjk_closest_tetrahedron3(gjk_load<3>(s.v[0].w), gjk_load<3>(s.v[1].w),
-                                              gjk_load<3>(s.v[2].w), gjk_load<3>(s.v[3].w))
-                   : gjk_closest_triangle3(gjk_load<3>(s.v[0].w), gjk_load<3>(s.v[1].w),
-                                           gjk_load<3>(s.v[2].w), 1u, 2u, 4u);
+  GjkSubSimplex3 sub = gjk_closest_sub_simplex3(s, 1.0f);
+  if (sub.faint) [[unlikely]] sub = gjk_closest_sub_simplex3_rescaled(s, sub);
   gjk_keep(s, sub.keep);
 }
 
 /// Barycentric weights of the origin's closest point on a reduced 3D simplex (the one the
 /// solver kept, whose Voronoi region holds the origin: no weight negative): sub-lengths,
 /// sub-areas along the normal, or sub-volumes over their sum.
+/// A tiny simplex (kGjkTinySimplex) is weighed on its points scaled to unit size, as the solver
+/// decides it: the weights are ratios, unchanged by the scale.
 [[nodiscard]] inline std::array<float, 4> gjk_weights3(const GjkSimplexN<3>& s) noexcept {
   std::array<float, 4> lambda{1.0f, 0.0f, 0.0f, 0.0f};
+  const float scale = s.count >= 2 ? gjk_tiny_simplex_scale(gjk_simplex_magnitude(s)) : 1.0f;
+  std::array<Vec3, 4> w{};
+  for (int i = 0; i < s.count; ++i) w[static_cast<std::size_t>(i)] = scale * s.v[i].w;
   if (s.count == 2) {
-    const Vec3 t = s.v[1].w - s.v[0].w;
-    const float u1 = dot(s.v[1].w, t);
-    const float u2 = -dot(s.v[0].w, t);
+    const Vec3 t = w[1] - w[0];
+    const float u1 = dot(w[1], t);
+    const float u2 = -dot(w[0], t);
     const float sum = u1 + u2;  // = t.t > 0 when the solver kept the edge
     if (sum > 0.0f) lambda = {u1 / sum, u2 / sum, 0.0f, 0.0f};
   } else if (s.count == 3) {
-    const Vec3 n = cross(s.v[1].w - s.v[0].w, s.v[2].w - s.v[0].w);
+    const Vec3 n = cross(w[1] - w[0], w[2] - w[0]);
     const float nn = dot(n, n);
     if (nn > 0.0f) {
-      const Vec3 p0 = (dot(s.v[0].w, n) / nn) * n;
-      const Vec3 a1 = s.v[0].w - p0;
-      const Vec3 a2 = s.v[1].w - p0;
-      const Vec3 a3 = s.v[2].w - p0;
+      const Vec3 p0 = (dot(w[0], n) / nn) * n;
+      const Vec3 a1 = w[0] - p0;
+      const Vec3 a2 = w[1] - p0;
+      const Vec3 a3 = w[2] - p0;
       const float c1 = dot(n, cross(a2, a3));
       const float c2 = dot(n, cross(a3, a1));
       const float c3 = dot(n, cross(a1, a2));
@@ -336,10 +384,10 @@ COLLIDE_ALWAYS_INLINE void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
     }
   } else if (s.count == 4) {
     const Vec3 o(0.0f);
-    const float c1 = gjk_volume(o, s.v[1].w, s.v[2].w, s.v[3].w);
-    const float c2 = gjk_volume(s.v[0].w, o, s.v[2].w, s.v[3].w);
-    const float c3 = gjk_volume(s.v[0].w, s.v[1].w, o, s.v[3].w);
-    const float c4 = gjk_volume(s.v[0].w, s.v[1].w, s.v[2].w, o);
+    const float c1 = gjk_volume(o, w[1], w[2], w[3]);
+    const float c2 = gjk_volume(w[0], o, w[2], w[3]);
+    const float c3 = gjk_volume(w[0], w[1], o, w[3]);
+    const float c4 = gjk_volume(w[0], w[1], w[2], o);
     const float det = c1 + c2 + c3 + c4;
     if (det != 0.0f) lambda = {c1 / det, c2 / det, c3 / det, c4 / det};
   }
@@ -404,6 +452,14 @@ template <int D>
   dd = dot(d, d);
   if constexpr (D == 3) {
     if (!(dd <= kGjkDirectionMaxSquared && dd >= 1.0f / kGjkDirectionMaxSquared)) [[unlikely]] {
+      // A tiny simplex's direction (a third power of its size for a segment) is made again on
+      // its points scaled to unit size, before its digits are lost to subnormals.
+      const float scale = gjk_tiny_simplex_scale(gjk_simplex_magnitude(s));
+      if (scale != 1.0f) {
+        GjkSimplexN<D> scaled = s;
+        for (int i = 0; i < s.count; ++i) scaled.v[i].w = scale * s.v[i].w;
+        d = gjk_search_direction(scaled);
+      }
       d = scaled_to_unit_magnitude(d);
       dd = dot(d, d);
     }
