@@ -212,9 +212,10 @@ inline constexpr float kGjkFaintProduct = 0x1p-100f;
 inline constexpr float kGjkTinySimplex = 0x1p-20f;
 
 /// The power of two that takes `m` (the largest coordinate of a simplex's points) into [1, 2)
-/// when m is tiny (below kGjkTinySimplex, not zero); else 1.
+/// when m is tiny (below kGjkTinySimplex, not zero); else 1. At most 2^126 (a float): a
+/// subnormal m is taken up to 2^-23 at least.
 [[nodiscard]] inline float gjk_tiny_simplex_scale(float m) noexcept {
-  return m < kGjkTinySimplex && m > 0.0f ? std::ldexp(1.0f, -std::ilogb(m)) : 1.0f;
+  return m < kGjkTinySimplex && m > 0.0f ? std::ldexp(1.0f, std::min(-std::ilogb(m), 126)) : 1.0f;
 }
 
 /// The largest coordinate among the first `count` simplex points' w.
