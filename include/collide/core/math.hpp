@@ -39,7 +39,7 @@ using Vec3 = glm::vec3;
 
 /// Squared lengths within [kUnitSquaredMin, kUnitSquaredMax] make a unit vector to rounding by
 /// one division by their root. Outside it the squares of the components are subnormal or
-/// overflow: a closest-point difference 1e-19 long came out of such a division 0.854 long (the
+/// overflow: a closest-point difference about 1e-20 long came out of such a division 0.854 long (the
 /// fuzzer's height field contact, finding 28), and a vector longer than about 1e19 came out
 /// zero. unit_from and normalize_or_zero scale those by a power of two first.
 inline constexpr float kUnitSquaredMin = 0x1p-100f;
