@@ -329,8 +329,6 @@ COLLIDE_ALWAYS_INLINE void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
   s.count = n;
 }
 
-/// The solver of a 3D simplex of 3 or 4 vertices: reduce it to the sub-simplex whose Voronoi
-/// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
 /// The 3D solver's answer for simplex `s` with its points scaled by `scale` (1: as they are).
 [[nodiscard]] COLLIDE_ALWAYS_INLINE GjkSubSimplex3 gjk_closest_sub_simplex3(const GjkSimplexN<3>& s, float scale) noexcept {
   return s.count == 4 ? gjk_closest_tetrahedron3(scale * gjk_load<3>(s.v[0].w), scale * gjk_load<3>(s.v[1].w),
@@ -341,12 +339,15 @@ COLLIDE_ALWAYS_INLINE void gjk_keep(GjkSimplexN<D>& s, unsigned keep) noexcept {
 
 /// gjk_closest_sub_simplex3 again for a faint answer: on the points scaled to unit size when
 /// the simplex is tiny (kGjkTinySimplex), else the answer as it was (a sliver or a flat
-/// tetrahedron of normal size). Out of line: a cold path.
+/// tetrahedron of normal size). Not forced inline: a cold path.
 [[nodiscard]] inline GjkSubSimplex3 gjk_closest_sub_simplex3_rescaled(const GjkSimplexN<3>& s, GjkSubSimplex3 sub) noexcept {
   const float scale = gjk_tiny_simplex_scale(gjk_simplex_magnitude(s));
   return scale == 1.0f ? sub : gjk_closest_sub_simplex3(s, scale);
 }
 
+/// The solver of a 3D simplex of 3 or 4 vertices: reduce it to the sub-simplex whose Voronoi
+/// region holds the origin; 4 vertices kept means the origin is inside (the cores overlap).
+/// A faint answer of a tiny simplex is made again on its points scaled to unit size.
 COLLIDE_ALWAYS_INLINE void gjk_solve_3d(GjkSimplexN<3>& s) noexcept {
   GjkSubSimplex3 sub = gjk_closest_sub_simplex3(s, 1.0f);
   if (sub.faint) [[unlikely]] sub = gjk_closest_sub_simplex3_rescaled(s, sub);
