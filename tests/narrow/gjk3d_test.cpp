@@ -181,8 +181,9 @@ TEST(Gjk3, HugeSimplexesKeepTheirSearchDirection) {
 // solver's sub-areas and sub-volumes are fourth and third powers of the size and EPA's face
 // normals second powers: below about 2^-37 they underflowed, the overlapping pair read 0.32 s
 // apart and the apart pair 1.45 s (finding 29, docs/fuzzing.md), and EPA's faces had no
-// direction. Against the unit size, to float rounding (a power of two changes none, but the
-// loops' absolute terms round at other bits).
+// direction. The distance against brute force at unit size; every scale against the unit
+// size, to float rounding (a power of two changes none, but the loops' absolute terms round at
+// other bits).
 TEST(Gjk3, BoxPairAnswersAlikeAtEveryScale) {
   const Quat turn = glm::normalize(Quat{0.8f, 0.36f, -0.24f, 0.42f});
   struct Answer {
@@ -198,13 +199,19 @@ TEST(Gjk3, BoxPairAnswersAlikeAtEveryScale) {
     EXPECT_EQ(p.status, QueryStatus::overlapped) << "at 2^" << e;
     const DistanceResult3 d = distance(box, Transform3{}, box, apart);
     EXPECT_EQ(d.status, QueryStatus::separated) << "at 2^" << e;
+    EXPECT_GT(p.depth, 0.0f) << "at 2^" << e;
+    EXPECT_LT(p.depth, 2.0f * s) << "at 2^" << e;
     EXPECT_TRUE(overlap(box, Transform3{}, box, in)) << "at 2^" << e;
     EXPECT_FALSE(overlap(box, Transform3{}, box, apart)) << "at 2^" << e;
     return Answer{p.depth / s, d.distance / s, p.normal, d.normal};
   };
   const Answer unit = ask(0);
-  EXPECT_NEAR(unit.penetration_depth, 1.00785f, 1e-4f);
-  EXPECT_NEAR(unit.distance, 0.992148f, 1e-4f);
+  // At unit size, the distance against brute force (double; its own tolerances are absolute, so
+  // it is asked there only).
+  const Box box = make_box(Vec3(1.0f, 1.25f, 1.5f));
+  const double truth = test::brute_distance(test::brute_core(box, Transform3{}),
+                                            test::brute_core(box, Transform3{Vec3(3.7f, 0.3f, 0.2f), turn}));
+  EXPECT_NEAR(double(unit.distance), truth, 1e-5);
   for (const int e : {-60, -55, -50, -45, -40, -35, -30, -20, 10, 20}) {
     const Answer a = ask(e);
     EXPECT_NEAR(a.penetration_depth, unit.penetration_depth, 1e-5f) << "at 2^" << e;
