@@ -44,6 +44,10 @@ using Vec3 = glm::vec3;
 /// zero. unit_from and normalize_or_zero scale those by a power of two first.
 inline constexpr float kUnitSquaredMin = 0x1p-100f;
 inline constexpr float kUnitSquaredMax = 0x1p100f;
+/// True when squared length `a2` makes a unit vector to rounding by one division by its root.
+[[nodiscard]] constexpr bool unit_squared_in_range(float a2) noexcept {
+  return a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax;
+}
 /// Vectors with no component longer than this have no direction for normalize_or_zero.
 inline constexpr float kNoDirectionLength = 1e-30f;
 
@@ -60,7 +64,7 @@ inline constexpr float kNoDirectionLength = 1e-30f;
 /// (length_squared, or a closest-point routine's distance_squared): unit to rounding at every
 /// magnitude, from a subnormal difference to one near float's largest (kUnitSquaredMin).
 [[nodiscard]] inline Vec2 unit_from(Vec2 a, float a2) noexcept {
-  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  if (unit_squared_in_range(a2)) [[likely]] return a * (1.0f / std::sqrt(a2));
   return unit_of_scaled(a);
 }
 
@@ -69,7 +73,7 @@ inline constexpr float kNoDirectionLength = 1e-30f;
 /// not finite.
 [[nodiscard]] inline Vec2 normalize_or_zero(Vec2 a) noexcept {
   const float a2 = length_squared(a);
-  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  if (unit_squared_in_range(a2)) [[likely]] return a * (1.0f / std::sqrt(a2));
   return normalize_scaled_or_zero(a);
 }
 
@@ -94,12 +98,12 @@ inline constexpr float kNoDirectionLength = 1e-30f;
 [[nodiscard]] inline float distance(Vec3 a, Vec3 b) noexcept { return length(b - a); }
 /// The same as the 2D unit_from and normalize_or_zero, for 3D vectors.
 [[nodiscard]] inline Vec3 unit_from(Vec3 a, float a2) noexcept {
-  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  if (unit_squared_in_range(a2)) [[likely]] return a * (1.0f / std::sqrt(a2));
   return unit_of_scaled(a);
 }
 [[nodiscard]] inline Vec3 normalize_or_zero(Vec3 a) noexcept {
   const float a2 = length_squared(a);
-  if (a2 >= kUnitSquaredMin && a2 <= kUnitSquaredMax) [[likely]] return a * (1.0f / std::sqrt(a2));
+  if (unit_squared_in_range(a2)) [[likely]] return a * (1.0f / std::sqrt(a2));
   return normalize_scaled_or_zero(a);
 }
 /// |a| per component: the sign bits cleared (one and-mask). glm::abs is written as
